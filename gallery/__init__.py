@@ -1,0 +1,1 @@
+"""gallery: builds an HTML page of what lenslab does, from its own renders."""

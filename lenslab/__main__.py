@@ -1,0 +1,5 @@
+import sys
+
+from lenslab.cli.main import main
+
+sys.exit(main())

@@ -1,0 +1,80 @@
+"""Entry point of the ``lenslab`` command.
+
+Every subcommand is a module ``lenslab.cli.<module>`` with two functions:
+
+- ``add_arguments(parser)``: declares its options (argparse only; no heavy import at module level),
+- ``run(args) -> int``: does the work (heavy imports happen here) and returns the exit code.
+
+Keeping the command modules light is what makes ``lenslab --help`` instant.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# name -> (module, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "info": ("info", "print format, size, channels, statistics and lens model of image files"),
+    "convert": ("convert", "convert images between PPM/PGM, PFM, JPG, PNG and EXR (batch, with tone mapping)"),
+    "lenses": ("lenses", "list every lens model with its parameters, ranges and defaults"),
+    "warp": ("warp", "reproject images from one lens into another (HDR in, HDR out)"),
+    "tonemap": ("tonemap", "tone-map an HDR image to a display image with a chosen curve"),
+    "curves": ("curves", "plot every tone curve on one chart"),
+    "compare-tones": ("compare_tones", "side-by-side strip of one image under several tone curves"),
+    "fit": ("fit", "fit lens models and tone curves with nlopt"),
+    "validate": ("validate", "check warps against direct ray-traced renders and measure the speed/accuracy trade"),
+    "demo": ("demo", "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"),
+    "bench": ("bench", "benchmarks, reported as ratios against a baseline measured in the same run"),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from lenslab import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="lenslab",
+        description=(
+            "Lenses and tone curves for HDR images. Reproject panoramas into fisheye, swirl, "
+            "distorted and tiled views, tone-map them, convert between image formats, and check "
+            "every warp against a direct ray-traced render."
+        ),
+        epilog="Run 'lenslab COMMAND --help' for the options of one command.",
+    )
+    parser.add_argument("--version", action="version", version=f"lenslab {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (module_name, help_text) in COMMANDS.items():
+        try:
+            module = importlib.import_module(f"lenslab.cli.{module_name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"lenslab.cli.{module_name}":
+                raise
+            continue  # command not built yet
+        p = sub.add_parser(name, help=help_text, description=(module.__doc__ or help_text).strip(),
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.add_arguments(p)
+        p.set_defaults(_module=module)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "_module", None) is None:
+        parser.print_help()
+        return 2
+    from lenslab.errors import LenslabError
+
+    try:
+        return int(args._module.run(args) or 0)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except (LenslabError, OSError) as exc:
+        print(f"lenslab {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,36 @@
+"""The project's own exception types.
+
+Every error a user can cause is one of these, and its message says what was wrong and what to do.
+They subclass the built-in type a caller would expect (ValueError for bad values, OSError stays
+OSError), so ``except ValueError`` keeps working.
+"""
+
+from __future__ import annotations
+
+
+class LenslabError(Exception):
+    """Base of every lenslab error (mixed into a built-in type below)."""
+
+
+class FormatError(LenslabError, ValueError):
+    """A file's content is not a valid image of the format it claims, or cannot be written so."""
+
+
+class LensError(LenslabError, ValueError):
+    """A lens or camera specification is invalid (unknown model, parameter or value out of range)."""
+
+
+class ToneError(LenslabError, ValueError):
+    """An unknown tone curve, or a curve parameter out of range."""
+
+
+class WarpError(LenslabError, ValueError):
+    """A warp cannot be done as asked (incompatible cameras, parallax, bad sizes)."""
+
+
+class FitError(LenslabError, ValueError):
+    """A fit could not be set up or did not converge; carries the best point found when there is one."""
+
+    def __init__(self, message: str, best=None):
+        super().__init__(message)
+        self.best = best

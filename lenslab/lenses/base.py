@@ -1,0 +1,257 @@
+"""The lens interface: continuous pixel coordinates <-> unit ray directions in camera space.
+
+Conventions (see ``docs/conventions.md``):
+
+- pixel (x, y): x right, y down, origin at the top-left *corner* of the image; centres at (x+0.5, y+0.5);
+- normalised coordinates ``u = 2x/W - 1`` and ``v = (1 - 2y/H) * H/W`` (same scale on both axes);
+- camera space: +x right, +y up, +z forward (the optical axis).
+
+Every model is one small subclass of :class:`Lens` that states its equation in its docstring and
+implements both directions, each returning a validity mask. Arrays go in with any leading shape
+(``(..., 2)`` pixels, ``(..., 3)`` directions) and come out with the same leading shape, float64.
+No NaN or inf ever leaves a model: where ``valid`` is False the returned values are 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from lenslab.errors import LensError
+
+FLOAT = np.float64
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of a lens model, as listed by ``lenslab lenses`` and parsed from a spec."""
+
+    name: str
+    default: Any
+    doc: str
+    lo: float | None = None  # inclusive bounds for numbers (None: unbounded)
+    hi: float | None = None
+    choices: tuple[str, ...] | None = None  # for string parameters
+    lo_open: bool = False  # True: the lower bound itself is excluded
+    hi_open: bool = False
+
+    @property
+    def kind(self) -> type:
+        if self.choices is not None:
+            return str
+        if isinstance(self.default, bool):
+            return bool
+        if isinstance(self.default, int):
+            return int
+        if isinstance(self.default, str):
+            return str
+        return float
+
+    def describe_range(self) -> str:
+        if self.choices is not None:
+            return "one of " + ", ".join(self.choices)
+        if self.lo is None and self.hi is None:
+            return "any"
+        lo = "-inf" if self.lo is None else f"{self.lo:g}"
+        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
+
+    def convert(self, model: str, value: Any) -> Any:
+        """Convert a spec value (often a string) to this parameter's type and check its range."""
+        kind = self.kind
+        try:
+            if kind is bool:
+                if isinstance(value, str):
+                    low = value.strip().lower()
+                    if low not in ("true", "false", "1", "0", "yes", "no"):
+                        raise ValueError(value)
+                    value = low in ("true", "1", "yes")
+                else:
+                    value = bool(value)
+            elif kind is int:
+                fv = float(value)
+                if fv != int(fv):
+                    raise ValueError(value)
+                value = int(fv)
+            elif kind is float:
+                value = float(value)
+            else:
+                value = str(value)
+        except (TypeError, ValueError):
+            raise LensError(
+                f"{model}: parameter {self.name}={value!r} is not a {kind.__name__} "
+                f"(expected {self.describe_range()})"
+            ) from None
+        if kind in (int, float):
+            if not np.isfinite(value):
+                raise LensError(f"{model}: parameter {self.name} must be finite, got {value}")
+            bad = (
+                (self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo)))
+                or (self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi)))
+            )
+            if bad:
+                raise LensError(
+                    f"{model}: parameter {self.name}={value:g} is out of range {self.describe_range()}"
+                )
+        if self.choices is not None and value not in self.choices:
+            raise LensError(
+                f"{model}: parameter {self.name}={value!r} is not valid; choose one of {', '.join(self.choices)}"
+            )
+        return value
+
+
+def as_points(a, last: int, what: str) -> np.ndarray:
+    """Return ``a`` as a float64 array whose last axis has length ``last``."""
+    arr = np.asarray(a, dtype=FLOAT)
+    if arr.ndim == 0 or arr.shape[-1] != last:
+        raise LensError(f"{what} must have shape (..., {last}), got {arr.shape}")
+    return arr
+
+
+def normalize(d: np.ndarray) -> np.ndarray:
+    """Unit vectors along the last axis (zero vectors stay zero)."""
+    n = np.sqrt(np.einsum("...i,...i->...", d, d))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = d / n[..., None]
+    return np.where(n[..., None] > 0, out, 0.0)
+
+
+def clean(values: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Zero the entries flagged invalid or non-finite, and flag non-finite ones invalid."""
+    valid = np.asarray(valid, dtype=bool) & np.all(np.isfinite(values), axis=-1)
+    values = np.where(valid[..., None], values, 0.0)
+    return values, valid
+
+
+class Lens:
+    """A lens model bound to an image size ``width x height``.
+
+    Subclasses set ``name`` and ``params`` and implement the two normalised-coordinate maps
+    :meth:`uv_to_dir` and :meth:`dir_to_uv` (or override the pixel-level methods directly).
+    """
+
+    name: ClassVar[str] = ""
+    summary: ClassVar[str] = ""
+    params: ClassVar[tuple[Param, ...]] = ()
+
+    def __init__(self, width: int, height: int, **values: Any):
+        self.width, self.height = check_size(width, height)
+        known = {p.name: p for p in self.params}
+        unknown = sorted(set(values) - set(known))
+        if unknown:
+            raise LensError(
+                f"{self.name}: unknown parameter(s) {', '.join(unknown)}; valid: "
+                + (", ".join(known) or "none")
+            )
+        for p in self.params:
+            setattr(self, p.name, p.convert(self.name, values.get(p.name, p.default)))
+        self._check()
+
+    # -- hooks -----------------------------------------------------------------------------
+    def _check(self) -> None:
+        """Cross-parameter validation (raise LensError)."""
+
+    def uv_to_dir(self, uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def dir_to_uv(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    # -- pixel level -----------------------------------------------------------------------
+    @property
+    def aspect(self) -> float:
+        """H / W: the range of v is [-aspect, aspect]."""
+        return self.height / self.width
+
+    def pixel_to_uv(self, xy: np.ndarray) -> np.ndarray:
+        xy = np.asarray(xy, dtype=FLOAT)
+        u = 2.0 * xy[..., 0] / self.width - 1.0
+        v = (1.0 - 2.0 * xy[..., 1] / self.height) * self.aspect
+        return np.stack([u, v], axis=-1)
+
+    def uv_to_pixel(self, uv: np.ndarray) -> np.ndarray:
+        uv = np.asarray(uv, dtype=FLOAT)
+        x = (uv[..., 0] + 1.0) * (0.5 * self.width)
+        y = (1.0 - uv[..., 1] / self.aspect) * (0.5 * self.height)
+        return np.stack([x, y], axis=-1)
+
+    def in_image(self, xy: np.ndarray) -> np.ndarray:
+        x, y = xy[..., 0], xy[..., 1]
+        return (x >= 0) & (x <= self.width) & (y >= 0) & (y <= self.height)
+
+    def pixel_to_dir(self, xy) -> tuple[np.ndarray, np.ndarray]:
+        """Unit directions (float64, ``(..., 3)``) and validity for continuous pixel coordinates."""
+        xy = as_points(xy, 2, "pixel coordinates")
+        with np.errstate(all="ignore"):
+            d, valid = self.uv_to_dir(self.pixel_to_uv(xy))
+        return clean(d, valid & np.all(np.isfinite(xy), axis=-1))
+
+    def dir_to_pixel(self, dirs) -> tuple[np.ndarray, np.ndarray]:
+        """Continuous pixel coordinates (float64, ``(..., 2)``) and validity for directions.
+
+        Directions need not be unit length. ``valid`` is False where the model cannot see the
+        direction or where it falls outside the image.
+        """
+        d = normalize(as_points(dirs, 3, "directions"))
+        with np.errstate(all="ignore"):
+            uv, valid = self.dir_to_uv(d)
+            xy = self.uv_to_pixel(uv)
+        valid = valid & self.in_image(xy) & np.any(d != 0, axis=-1)
+        return clean(xy, valid)
+
+    def pixel_origin(self, xy) -> np.ndarray:
+        """Ray origins relative to the camera's eye, in camera space (zero for a single-eye lens)."""
+        xy = np.asarray(xy, dtype=FLOAT)
+        return np.zeros(xy.shape[:-1] + (3,), dtype=FLOAT)
+
+    @property
+    def eye_offsets(self) -> np.ndarray:
+        """Distinct eye offsets (camera space) used by this lens, shape (n, 3); one zero row by default."""
+        return np.zeros((1, 3), dtype=FLOAT)
+
+    # -- identity --------------------------------------------------------------------------
+    def param_values(self) -> dict[str, Any]:
+        return {p.name: getattr(self, p.name) for p in self.params}
+
+    def spec(self) -> str:
+        """Canonical spec string, e.g. ``fisheye:fov=180,mapping=equisolid`` (size not included)."""
+        parts = []
+        for p in self.params:
+            val = getattr(self, p.name)
+            parts.append(f"{p.name}={val:.17g}" if isinstance(val, float) else f"{p.name}={val}")
+        return self.name + (":" + ",".join(parts) if parts else "")
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"model": self.name, "size": [self.width, self.height], **self.param_values()}
+
+    def with_size(self, width: int, height: int) -> "Lens":
+        return type(self)(width, height, **self.param_values())
+
+    def __repr__(self) -> str:
+        return f"<{self.spec()} {self.width}x{self.height}>"
+
+    def __eq__(self, other: object) -> bool:
+        return (
+            isinstance(other, Lens)
+            and type(other) is type(self)
+            and (self.width, self.height) == (other.width, other.height)
+            and self.to_dict() == other.to_dict()
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.spec(), self.width, self.height))
+
+
+MAX_SIDE = 1 << 17  # 131072 px: larger sides are refused as absurd
+
+
+def check_size(width, height) -> tuple[int, int]:
+    try:
+        w, h = int(width), int(height)
+    except (TypeError, ValueError):
+        raise LensError(f"image size must be two integers, got {width!r} x {height!r}") from None
+    if w != width or h != height or not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+        raise LensError(f"image size {width} x {height} is invalid: each side must be an integer in 1..{MAX_SIDE}")
+    return w, h

@@ -1,0 +1,49 @@
+"""The pinhole (rectilinear) camera."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses.base import Lens, Param
+from lenslab.lenses.registry import register
+
+
+@register
+class Perspective(Lens):
+    r"""Pinhole perspective projection; straight lines stay straight.
+
+    With ``t = tan(fov/2)`` (horizontal fov across the image width)::
+
+        d ~ (u t, v t_v, 1),  normalised,    t_v = t, or tan(vfov/2) * W/H when vfov is given
+
+    The inverse is ``u = (dx/dz) / t``, ``v = (dy/dz) / t_v``, valid for ``dz > 0`` inside the image.
+    """
+
+    name = "perspective"
+    summary = "pinhole camera (rectilinear)"
+    params = (
+        Param("fov", 90.0, "horizontal field of view, degrees", 0.0, 180.0, lo_open=True, hi_open=True),
+        Param("vfov", 0.0, "vertical field of view, degrees (0: square pixels from fov)", 0.0, 180.0, hi_open=True),
+    )
+
+    @property
+    def t(self) -> float:
+        return float(np.tan(np.radians(self.fov) / 2))
+
+    @property
+    def tv(self) -> float:
+        if self.vfov > 0:
+            return float(np.tan(np.radians(self.vfov) / 2) / self.aspect)
+        return self.t
+
+    def uv_to_dir(self, uv):
+        d = np.stack([uv[..., 0] * self.t, uv[..., 1] * self.tv, np.ones(uv.shape[:-1])], axis=-1)
+        d /= np.sqrt(np.einsum("...i,...i->...", d, d))[..., None]
+        return d, np.ones(uv.shape[:-1], dtype=bool)
+
+    def dir_to_uv(self, d):
+        z = d[..., 2]
+        valid = z > 0
+        zs = np.where(valid, z, 1.0)
+        uv = np.stack([d[..., 0] / zs / self.t, d[..., 1] / zs / self.tv], axis=-1)
+        return uv, valid

@@ -1,0 +1,103 @@
+"""Camera poses: a rotation camera -> world and an eye point."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lenslab.errors import LensError
+
+
+def _rx(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]], dtype=np.float64)
+
+
+def _ry(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]], dtype=np.float64)
+
+
+def _rz(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]], dtype=np.float64)
+
+
+def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:
+    """Rotation camera -> world from yaw, pitch, roll in degrees.
+
+    Yaw turns right about +y (forward +z toward +x), pitch turns up about +x (forward toward +y),
+    roll turns about +z (right +x toward up +y); applied roll, then pitch, then yaw:
+    ``R = Ry(yaw) @ Rx(-pitch) @ Rz(roll)``.
+    """
+    return _ry(np.radians(yaw)) @ _rx(-np.radians(pitch)) @ _rz(np.radians(roll))
+
+
+def matrix_to_ypr(r: np.ndarray) -> tuple[float, float, float]:
+    """Inverse of :func:`ypr_matrix` (degrees); pitch in [-90, 90]."""
+    f = r[:, 2]  # forward in world
+    yaw = np.degrees(np.arctan2(f[0], f[2]))
+    pitch = np.degrees(np.arcsin(np.clip(f[1], -1.0, 1.0)))
+    rest = (_rx(np.radians(pitch)) @ _ry(-np.radians(yaw))) @ r  # = Rz(roll)
+    roll = np.degrees(np.arctan2(rest[1, 0], rest[0, 0]))
+    return float(yaw), float(pitch), float(roll)
+
+
+def look_at_matrix(eye, at, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """Rotation camera -> world whose +z points from ``eye`` to ``at`` and whose +y leans to ``up``."""
+    eye, at, up = (np.asarray(v, dtype=np.float64) for v in (eye, at, up))
+    f = at - eye
+    n = np.linalg.norm(f)
+    if not n > 0:
+        raise LensError("look-at: the eye and the target point are the same; move one of them")
+    f /= n
+    right = np.cross(up, f)
+    rn = np.linalg.norm(right)
+    if rn < 1e-12:
+        raise LensError("look-at: the up vector is parallel to the viewing direction; give another up")
+    right /= rn
+    true_up = np.cross(f, right)
+    return np.stack([right, true_up, f], axis=1)
+
+
+@dataclass
+class Pose:
+    """Rotation camera -> world (3x3, float64) and eye point (world)."""
+
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    eye: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self):
+        self.rotation = np.asarray(self.rotation, dtype=np.float64).reshape(3, 3)
+        self.eye = np.asarray(self.eye, dtype=np.float64).reshape(3)
+        if not np.allclose(self.rotation @ self.rotation.T, np.eye(3), atol=1e-9):
+            raise LensError("pose: the rotation matrix is not orthonormal")
+
+    @classmethod
+    def from_ypr(cls, yaw=0.0, pitch=0.0, roll=0.0, eye=(0.0, 0.0, 0.0)) -> "Pose":
+        return cls(ypr_matrix(yaw, pitch, roll), np.asarray(eye, dtype=np.float64))
+
+    @classmethod
+    def look_at(cls, eye, at, up=(0.0, 1.0, 0.0)) -> "Pose":
+        return cls(look_at_matrix(eye, at, up), np.asarray(eye, dtype=np.float64))
+
+    @property
+    def ypr(self) -> tuple[float, float, float]:
+        return matrix_to_ypr(self.rotation)
+
+    def to_dict(self) -> dict:
+        yaw, pitch, roll = self.ypr
+        out = {"yaw": yaw, "pitch": pitch, "roll": roll, "eye": [float(v) for v in self.eye]}
+        if not np.allclose(ypr_matrix(yaw, pitch, roll), self.rotation, atol=1e-12):
+            out = {"rotation": [[float(v) for v in row] for row in self.rotation], "eye": out["eye"]}
+        return out
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Pose":
+        eye = d.get("eye", (0.0, 0.0, 0.0))
+        if "rotation" in d:
+            return cls(np.asarray(d["rotation"], dtype=np.float64), eye)
+        if "at" in d or "look_at" in d:
+            return cls.look_at(eye, d.get("at", d.get("look_at")), d.get("up", (0.0, 1.0, 0.0)))
+        return cls.from_ypr(d.get("yaw", 0.0), d.get("pitch", 0.0), d.get("roll", 0.0), eye)

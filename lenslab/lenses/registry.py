@@ -1,0 +1,88 @@
+"""The one registry from model name to lens class, and the spec syntax every command uses.
+
+A spec is ``name`` or ``name:key=value,key=value``, for example ``fisheye:fov=180,mapping=equisolid``,
+``swirl:amount=6`` or ``pincushion:k1=0.3,k2=0.05,fov=90``. Unknown names or parameters are errors that
+list the valid ones.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from lenslab.errors import LensError
+
+REGISTRY: dict[str, type] = {}
+
+
+def register(cls):
+    """Class decorator: add a :class:`~lenslab.lenses.base.Lens` subclass under ``cls.name``."""
+    if not cls.name or cls.name in REGISTRY:
+        raise RuntimeError(f"lens name {cls.name!r} missing or registered twice")
+    REGISTRY[cls.name] = cls
+    return cls
+
+
+def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
+    """Split ``name:key=value,...`` into the name and a dict of raw string values."""
+    if not isinstance(spec, str) or not spec.strip():
+        raise LensError(f"empty lens spec; valid models: {', '.join(sorted(REGISTRY))}")
+    name, _, rest = spec.strip().partition(":")
+    name = name.strip().lower()
+    values: dict[str, str] = {}
+    if rest.strip():
+        for item in rest.split(","):
+            key, eq, value = item.partition("=")
+            key = key.strip()
+            if not eq or not key:
+                raise LensError(f"lens spec {spec!r}: expected key=value, got {item!r}")
+            if key in values:
+                raise LensError(f"lens spec {spec!r}: parameter {key} given twice")
+            values[key] = value.strip()
+    return name, values
+
+
+def lens_class(name: str) -> type:
+    _load_models()
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise LensError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}") from None
+
+
+def make_lens(spec: str | dict, size: tuple[int, int] | None = None, **overrides: Any):
+    """Build a lens from a spec string (or a dict from :meth:`Lens.to_dict`) and an image size.
+
+    ``size`` is ``(width, height)``; a dict may carry its own ``size``.
+    """
+    _load_models()
+    if isinstance(spec, dict):
+        values = dict(spec)
+        name = str(values.pop("model", "")).lower()
+        dict_size = values.pop("size", None)
+        size = size or (tuple(dict_size) if dict_size is not None else None)
+    else:
+        name, values = parse_spec(spec)
+    values.update(overrides)
+    cls = lens_class(name)
+    if size is None:
+        size = getattr(cls, "default_size", None)
+        if size is None:
+            raise LensError(f"lens {name}: an image size (width, height) is needed")
+    return cls.from_values(size[0], size[1], values) if hasattr(cls, "from_values") else cls(size[0], size[1], **values)
+
+
+_LOADED = False
+
+
+def _load_models() -> None:
+    """Import the model modules so that their ``@register`` decorators run."""
+    global _LOADED
+    if _LOADED:
+        return
+    _LOADED = True
+    import importlib
+
+    from lenslab.lenses import MODEL_MODULES
+
+    for mod in MODEL_MODULES:
+        importlib.import_module(f"lenslab.lenses.{mod}")

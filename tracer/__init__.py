@@ -1,0 +1,1 @@
+"""tracer: a compact reference ray tracer for lenslab cameras (pyvista scenes, embree ray casts)."""
