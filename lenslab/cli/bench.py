@@ -1,0 +1,38 @@
+"""Benchmarks. Each prints its figures as ratios against a baseline measured in the same run,
+because machines are shared and noisy.
+
+  lenslab bench io       read/write throughput per format against numpy.fromfile/tofile
+  lenslab bench lenses   directions per second per lens model against plain NumPy equirect
+  lenslab bench tone     megapixels per second per curve against numpy.clip
+  lenslab bench warp     equirect -> fisheye warps against cv2.remap with precomputed maps
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+
+TARGETS = {
+    "io": "read/write throughput per format, and convert throughput",
+    "lenses": "pixel_to_dir and dir_to_pixel throughput per lens model",
+    "tone": "tone curve throughput per curve",
+    "warp": "warp throughput and peak memory",
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest="target", metavar="TARGET", required=True)
+    for name, help_text in TARGETS.items():
+        try:
+            module = importlib.import_module(f"lenslab.bench.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"lenslab.bench.{name}":
+                raise
+            continue
+        p = sub.add_parser(name, help=help_text, description=(module.__doc__ or help_text).strip())
+        module.add_arguments(p)
+        p.set_defaults(_bench=module)
+
+
+def run(args: argparse.Namespace) -> int:
+    return int(args._bench.run(args) or 0)
