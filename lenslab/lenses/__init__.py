@@ -7,7 +7,7 @@
 from __future__ import annotations
 
 # Modules whose classes register themselves; add a model by adding its module here.
-MODEL_MODULES = ("equirect", "perspective")
+MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled")
 
 from lenslab.lenses.base import Lens, Param  # noqa: E402
 from lenslab.lenses.camera import Camera, rotation_between, sample_offsets  # noqa: E402
@@ -16,7 +16,10 @@ from lenslab.lenses.registry import REGISTRY, make_lens, parse_spec, register, _
 
 _load_models()
 
+from lenslab.lenses.cameraio import load_camera, load_cameras, save_camera, save_cameras  # noqa: E402
+
 __all__ = [
     "Lens", "Param", "Camera", "Pose", "REGISTRY", "make_lens", "parse_spec", "register",
     "rotation_between", "sample_offsets", "look_at_matrix", "ypr_matrix",
+    "load_camera", "load_cameras", "save_camera", "save_cameras",
 ]

@@ -112,16 +112,27 @@ def as_points(a, last: int, what: str) -> np.ndarray:
 
 def normalize(d: np.ndarray) -> np.ndarray:
     """Unit vectors along the last axis (zero vectors stay zero)."""
-    n = np.sqrt(np.einsum("...i,...i->...", d, d))
+    n2 = np.einsum("...i,...i->...", d, d)
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = d / n[..., None]
-    return np.where(n[..., None] > 0, out, 0.0)
+        out = d / np.sqrt(n2)[..., None]
+    zero = ~(n2 > 0)
+    if zero.any():
+        out[zero] = 0.0
+    return out
 
 
-def clean(values: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Zero the entries flagged invalid or non-finite, and flag non-finite ones invalid."""
-    valid = np.asarray(valid, dtype=bool) & np.all(np.isfinite(values), axis=-1)
-    values = np.where(valid[..., None], values, 0.0)
+def clean(values: np.ndarray, valid: np.ndarray, inplace: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Zero the entries flagged invalid or non-finite, and flag non-finite ones invalid.
+
+    With ``inplace=True`` the zeros are written into ``values`` itself (for arrays the caller owns).
+    """
+    # one pass finds non-finite rows: a NaN or inf in any component makes the squared norm non-finite
+    with np.errstate(over="ignore", invalid="ignore"):
+        finite = np.isfinite(np.einsum("...i,...i->...", values, values))
+    valid = np.logical_and(valid, finite)
+    if not inplace:
+        values = values.copy()
+    np.copyto(values, 0.0, where=~valid[..., None])
     return values, valid
 
 
@@ -167,26 +178,66 @@ class Lens:
 
     def pixel_to_uv(self, xy: np.ndarray) -> np.ndarray:
         xy = np.asarray(xy, dtype=FLOAT)
-        u = 2.0 * xy[..., 0] / self.width - 1.0
-        v = (1.0 - 2.0 * xy[..., 1] / self.height) * self.aspect
-        return np.stack([u, v], axis=-1)
+        uv = np.empty(xy.shape, dtype=FLOAT)
+        u, v = uv[..., 0], uv[..., 1]
+        np.multiply(xy[..., 0], 2.0, out=u)  # u = 2x/W - 1, in this order: exact 0 at the centre
+        u /= self.width
+        u -= 1.0
+        np.multiply(xy[..., 1], 2.0, out=v)  # v = (1 - 2y/H) * H/W
+        v /= self.height
+        np.subtract(1.0, v, out=v)
+        if self.width != self.height:
+            v *= self.aspect
+        return uv
 
     def uv_to_pixel(self, uv: np.ndarray) -> np.ndarray:
         uv = np.asarray(uv, dtype=FLOAT)
-        x = (uv[..., 0] + 1.0) * (0.5 * self.width)
-        y = (1.0 - uv[..., 1] / self.aspect) * (0.5 * self.height)
-        return np.stack([x, y], axis=-1)
+        xy = np.empty(uv.shape, dtype=FLOAT)
+        x, y = xy[..., 0], xy[..., 1]
+        np.add(uv[..., 0], 1.0, out=x)  # x = (u + 1) W/2
+        x *= 0.5 * self.width
+        if self.width != self.height:  # y = (1 - v / aspect) H/2
+            np.divide(uv[..., 1], self.aspect, out=y)
+            np.subtract(1.0, y, out=y)
+        else:
+            np.subtract(1.0, uv[..., 1], out=y)
+        y *= 0.5 * self.height
+        return xy
+
+    #: pixels up to this far outside the image (in px) still count as inside and are moved onto the
+    #: edge: a direction computed from an edge pixel comes back a few ulps (or, for the numerically
+    #: inverted models, up to ~1e-9 px) off the edge, and must still be seen
+    edge_slack: ClassVar[float] = 1e-6
+
+    def snap_to_image(self, xy: np.ndarray) -> np.ndarray:
+        """Validity of pixel positions (inside the image, within :attr:`edge_slack`); those within
+        the slack outside the image are moved onto its edge, in place."""
+        e = self.edge_slack
+        x, y = xy[..., 0], xy[..., 1]
+        ok = x >= -e
+        ok &= x <= self.width + e
+        ok &= y >= -e
+        ok &= y <= self.height + e
+        np.clip(x, 0.0, self.width, out=x)
+        np.clip(y, 0.0, self.height, out=y)
+        return ok
 
     def in_image(self, xy: np.ndarray) -> np.ndarray:
         x, y = xy[..., 0], xy[..., 1]
-        return (x >= 0) & (x <= self.width) & (y >= 0) & (y <= self.height)
+        ok = x >= 0
+        ok &= x <= self.width
+        ok &= y >= 0
+        ok &= y <= self.height
+        return ok
 
     def pixel_to_dir(self, xy) -> tuple[np.ndarray, np.ndarray]:
         """Unit directions (float64, ``(..., 3)``) and validity for continuous pixel coordinates."""
         xy = as_points(xy, 2, "pixel coordinates")
         with np.errstate(all="ignore"):
             d, valid = self.uv_to_dir(self.pixel_to_uv(xy))
-        return clean(d, valid & np.all(np.isfinite(xy), axis=-1))
+        with np.errstate(over="ignore", invalid="ignore"):
+            valid = np.logical_and(valid, np.isfinite(np.einsum("...i,...i->...", xy, xy)))
+        return clean(d, valid, inplace=True)
 
     def dir_to_pixel(self, dirs) -> tuple[np.ndarray, np.ndarray]:
         """Continuous pixel coordinates (float64, ``(..., 2)``) and validity for directions.
@@ -194,12 +245,19 @@ class Lens:
         Directions need not be unit length. ``valid`` is False where the model cannot see the
         direction or where it falls outside the image.
         """
-        d = normalize(as_points(dirs, 3, "directions"))
+        d = as_points(dirs, 3, "directions")
         with np.errstate(all="ignore"):
+            n2 = np.einsum("...i,...i->...", d, d)
+            nonzero = (n2 > 0) & np.isfinite(n2)
+            d = d / np.sqrt(n2)[..., None]
+            if not nonzero.all():
+                d[~nonzero] = (0.0, 0.0, 1.0)  # any unit vector; flagged invalid below
             uv, valid = self.dir_to_uv(d)
             xy = self.uv_to_pixel(uv)
-        valid = valid & self.in_image(xy) & np.any(d != 0, axis=-1)
-        return clean(xy, valid)
+        valid = np.logical_and(valid, nonzero)
+        valid &= self.snap_to_image(xy)  # also False for NaN coordinates
+        np.copyto(xy, 0.0, where=~valid[..., None])
+        return xy, valid
 
     def pixel_origin(self, xy) -> np.ndarray:
         """Ray origins relative to the camera's eye, in camera space (zero for a single-eye lens)."""
@@ -220,7 +278,7 @@ class Lens:
         parts = []
         for p in self.params:
             val = getattr(self, p.name)
-            parts.append(f"{p.name}={val:.17g}" if isinstance(val, float) else f"{p.name}={val}")
+            parts.append(f"{p.name}={format_number(val)}" if isinstance(val, float) else f"{p.name}={val}")
         return self.name + (":" + ",".join(parts) if parts else "")
 
     def to_dict(self) -> dict[str, Any]:
@@ -242,6 +300,12 @@ class Lens:
 
     def __hash__(self) -> int:
         return hash((self.spec(), self.width, self.height))
+
+
+def format_number(val: float) -> str:
+    """Shortest text that reads back as the same float: ``0.3``, ``90``, ``1e-05``."""
+    text = repr(float(val))
+    return text[:-2] if text.endswith(".0") else text
 
 
 MAX_SIDE = 1 << 17  # 131072 px: larger sides are refused as absurd

@@ -49,8 +49,20 @@ class Equirect(Lens):
         """True when the left and right edges are the same meridian."""
         return self.lon_max - self.lon_min == 360.0
 
+    # normalised-plane maps, so that swirl and the distortions can bend an equirect too; a bent point
+    # outside the longitude/latitude rectangle is invalid (the map would repeat directions there)
+    def uv_to_dir(self, uv):
+        return self.pixel_to_dir(self.uv_to_pixel(uv))
+
+    def dir_to_uv(self, d):
+        xy, valid = self.dir_to_pixel(d)
+        return self.pixel_to_uv(xy), valid
+
     def pixel_to_dir(self, xy):
-        xy = as_points(xy, 2, "pixel coordinates")
+        with np.errstate(all="ignore"):  # non-finite or absurd pixels are flagged, not warned about
+            return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"))
+
+    def _pixel_to_dir(self, xy):
         lon0, lon1 = np.radians(self.lon_min), np.radians(self.lon_max)
         lat0, lat1 = np.radians(self.lat_min), np.radians(self.lat_max)
         if self.full_sphere:  # the exact forms of the conventions
@@ -85,6 +97,9 @@ class Equirect(Lens):
                 phi = lon0 + np.mod(phi - lon0, 2 * np.pi)
             x = (phi - lon0) / (lon1 - lon0) * self.width
             y = (lat1 - theta) / (lat1 - lat0) * self.height
-            valid = (x >= 0) & (x <= self.width) & (y >= 0) & (y <= self.height)
+            valid = None
+        xy = np.stack([x, y], axis=-1).astype(FLOAT)
+        if valid is None:
+            valid = self.snap_to_image(xy)  # within edge_slack of the range counts, moved onto the edge
         valid &= np.any(d != 0, axis=-1)
-        return clean(np.stack([x, y], axis=-1).astype(FLOAT), valid)
+        return clean(xy, valid, inplace=True)

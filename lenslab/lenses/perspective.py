@@ -37,13 +37,27 @@ class Perspective(Lens):
         return self.t
 
     def uv_to_dir(self, uv):
-        d = np.stack([uv[..., 0] * self.t, uv[..., 1] * self.tv, np.ones(uv.shape[:-1])], axis=-1)
-        d /= np.sqrt(np.einsum("...i,...i->...", d, d))[..., None]
+        d = np.empty(uv.shape[:-1] + (3,), dtype=np.float64)
+        x, y, z = d[..., 0], d[..., 1], d[..., 2]
+        np.multiply(uv[..., 0], self.t, out=x)
+        np.multiply(uv[..., 1], self.tv, out=y)
+        np.multiply(x, x, out=z)  # z = 1 / sqrt(x^2 + y^2 + 1), then x, y scaled by it
+        z += y * y
+        z += 1.0
+        np.sqrt(z, out=z)
+        np.divide(1.0, z, out=z)
+        x *= z
+        y *= z
         return d, np.ones(uv.shape[:-1], dtype=bool)
 
     def dir_to_uv(self, d):
         z = d[..., 2]
         valid = z > 0
-        zs = np.where(valid, z, 1.0)
-        uv = np.stack([d[..., 0] / zs / self.t, d[..., 1] / zs / self.tv], axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = np.divide(1.0, z)
+        uv = np.empty(d.shape[:-1] + (2,), dtype=np.float64)
+        np.multiply(d[..., 0], inv, out=uv[..., 0])
+        np.multiply(d[..., 1], inv, out=uv[..., 1])
+        uv[..., 0] /= self.t
+        uv[..., 1] /= self.tv
         return uv, valid

@@ -30,7 +30,12 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
     name = name.strip().lower()
     values: dict[str, str] = {}
     if rest.strip():
-        for item in rest.split(","):
+        # a model may take its first value without a key, e.g. ``tiled:2x2`` for ``tiled:grid=2x2``
+        _load_models()
+        positional = getattr(REGISTRY.get(name), "positional", None)
+        for i, item in enumerate(rest.split(",")):
+            if i == 0 and positional and "=" not in item and item.strip():
+                item = f"{positional}={item}"
             key, eq, value = item.partition("=")
             key = key.strip()
             if not eq or not key:

@@ -1,0 +1,70 @@
+"""Build (or rebuild) a gallery page: ``python -m gallery OUT [--hdri DIR] [--report DIR] [--check]``.
+
+OUT is a folder: one made by ``lenslab demo`` keeps the records of its renders in ``gallery.json`` and
+its page is rebuilt from them (adding the cards asked for); an empty or new folder gets a page with
+the cards asked for alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m gallery", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out", type=Path, help="gallery folder (index.html is written there)")
+    p.add_argument("--hdri", type=Path, metavar="DIR",
+                   help="folder of equirect HDR panoramas (.exr/.pfm) to warp into a couple of lenses")
+    p.add_argument("--report", type=Path, metavar="DIR",
+                   help="a 'lenslab validate' report folder, shown as the speed/accuracy card")
+    p.add_argument("--title", help="page title (default: the one stored with the page, else 'lenslab gallery')")
+    p.add_argument("--check", action="store_true",
+                   help="open the page in headless Chromium, check that every image loads and save "
+                        "screenshot.png next to it")
+    p.add_argument("--readme-images", type=Path, metavar="DIR",
+                   help="also write small JPG montages of the page (each under 60 KB) into DIR, for a README")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    from gallery.browser import check_page
+    from gallery.build import build_gallery, load_manifest
+    from lenslab.errors import LenslabError
+
+    try:
+        stored = load_manifest(args.out)
+        report = args.report or stored.get("validate_report")
+        hdri = args.hdri or stored.get("hdri_dir")
+        if not stored["items"] and report is None and hdri is None:
+            print(f"python -m gallery: error: {args.out} holds no gallery records (gallery.json); "
+                  "run 'lenslab demo -o DIR' first, or give --hdri DIR or --report DIR", file=sys.stderr)
+            return 2
+        index = build_gallery(args.out, *stored["items"], validate_report=report, hdri_dir=hdri,
+                              title=args.title or stored.get("title"), progress=not args.quiet)
+        print(f"gallery: {index}")
+        if args.readme_images is not None:
+            from gallery.montage import readme_images
+
+            for path in readme_images(args.out, args.readme_images):
+                print(f"  {path} ({path.stat().st_size / 1000:.0f} KB)")
+        if args.check:
+            shot = Path(args.out) / "screenshot.png"
+            problems = check_page(index, shot)
+            for p in problems:
+                print(f"  {p}", file=sys.stderr)
+            print(f"checked in Chromium: {'all images loaded' if not problems else f'{len(problems)} problem(s)'}; "
+                  f"screenshot {shot}")
+            return 1 if problems else 0
+    except (LenslabError, OSError) as exc:
+        print(f"python -m gallery: error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

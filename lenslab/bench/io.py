@@ -1,0 +1,137 @@
+"""Image I/O throughput: read and write per format on a 4096 x 2048 float RGB image, as ratios against
+the raw floor (numpy.tofile / numpy.fromfile of the same float32 bytes, measured in the same run), and
+``convert`` throughput in images per second (2048 x 1024 float EXRs -> Hable-tone-mapped JPG) with one
+job and with every core, against a plain OpenEXR + NumPy + OpenCV script doing the same work.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import time
+from pathlib import Path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true",
+                        help="small images (1024 x 512 and 512 x 256) for a fast smoke run")
+    parser.add_argument("--repeat", type=int, default=3, help="timed runs per figure; the best counts (default 3)")
+    parser.add_argument("--images", type=int, default=16, help="EXRs in the convert benchmark (default 16)")
+    parser.add_argument("--dir", default=None, help="scratch directory (default: a temporary one)")
+
+
+def _test_image(w: int, h: int):
+    """A smooth HDR scene with fine noise (compresses like a real render, not like random bits)."""
+    import numpy as np
+
+    y, x = np.mgrid[0:h, 0:w].astype(np.float32)
+    u, v = x / w, y / h
+    rng = np.random.default_rng(0)
+    base = np.stack([np.sin(6.3 * u) * np.cos(3.1 * v), np.cos(9.4 * u + 2 * v), np.sin(4 * v - 3 * u)], -1)
+    img = np.exp2(3.0 * base) * 0.5
+    img *= 1.0 + 0.02 * rng.standard_normal(img.shape, dtype=np.float32)
+    img[int(h * 0.2):int(h * 0.25), int(w * 0.6):int(w * 0.62)] = 200.0  # a light source
+    return img.astype(np.float32)
+
+
+def _plain_convert(src: str, dst: str) -> None:
+    """What a careful user would write by hand: the baseline the convert figures are compared with."""
+    import cv2
+    import numpy as np
+    import OpenEXR
+
+    ch = OpenEXR.File(src, separate_channels=True).channels()
+    img = np.stack([ch[c].pixels for c in "RGB"], -1).astype(np.float32)
+    a, b, c, d, e, f = 0.15, 0.50, 0.10, 0.20, 0.02, 0.30
+
+    def hable(x):
+        return (x * (a * x + c * b) + d * e) / (x * (a * x + b) + d * f) - e / f
+
+    x = np.minimum(hable(2.0 * np.maximum(img, 0)) / hable(11.2), 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    cv2.imwrite(dst, (srgb[..., ::-1] * 255 + 0.5).astype(np.uint8), [cv2.IMWRITE_JPEG_QUALITY, 95])
+
+
+def run(args: argparse.Namespace) -> int:
+    import warnings
+
+    import numpy as np
+
+    import lenslab.io as lio
+    from lenslab.bench.timing import best_time, ratio_line
+    from lenslab.cli.convert import convert_many
+
+    warnings.simplefilter("ignore")
+    w, h = (1024, 512) if args.quick else (4096, 2048)
+    cw, ch = (512, 256) if args.quick else (2048, 1024)
+    rep = max(1, args.repeat)
+    with tempfile.TemporaryDirectory(dir=args.dir) as tmp:
+        d = Path(tmp)
+        img = _test_image(w, h)
+        raw = d / "floor.raw"
+        print(f"lenslab bench io: {w} x {h} float32 RGB ({img.nbytes / 2**20:.0f} MiB), best of {rep}, "
+              f"{os.cpu_count()} cores")
+        t_write = best_time(lambda: img.tofile(raw), rep)
+        t_read = best_time(lambda: np.fromfile(raw, np.float32).reshape(h, w, 3), rep)
+        print(ratio_line("floor write  numpy.tofile", t_write, t_write))
+        print(ratio_line("floor read   numpy.fromfile", t_read, t_read))
+        ldr = np.clip(img / 8, 0, 1)
+        cases = [
+            ("pfm", "a.pfm", img, {}),
+            ("exr half zip", "a.exr", img, {}),
+            ("exr float zip", "f.exr", img, {"pixel_type": "float"}),
+            ("exr half piz", "p.exr", img, {"compression": "piz"}),
+            ("exr half none", "n.exr", img, {"compression": "none"}),
+            ("ppm 8-bit", "a.ppm", ldr, {}),
+            ("ppm 16-bit", "b.ppm", ldr, {"bits": 16}),
+            ("png 8-bit", "a.png", ldr, {}),
+            ("png 16-bit", "b.png", ldr, {"bits": 16}),
+            ("jpg q95 4:4:4", "a.jpg", ldr, {"quality": 95}),
+        ]
+        print("\nwrite (ratio to numpy.tofile of the same float32 image)")
+        for label, name, data, opts in cases:
+            t = best_time(lambda: lio.write(d / name, data, **opts), rep)
+            size = (d / name).stat().st_size
+            print(ratio_line(f"  {label}", t, t_write, f"{size / 2**20:7.1f} MiB"))
+        print("\nread (ratio to numpy.fromfile of the same float32 image)")
+        for label, name, _, _ in cases:
+            t = best_time(lambda: lio.read(d / name), rep)
+            print(ratio_line(f"  {label}", t, t_read))
+
+        n = max(2, args.images)
+        src = d / "exrs"
+        src.mkdir()
+        scene = _test_image(cw, ch)
+        for i in range(n):
+            lio.write(src / f"img{i:03d}.exr", np.roll(scene, i * 37, axis=1), pixel_type="float")
+        files = sorted(str(p) for p in src.iterdir())
+        out = d / "jpgs"
+        out.mkdir()
+        print(f"\nconvert {n} x {cw} x {ch} float EXR (ZIP) -> Hable-tone-mapped JPG q95 (images per second)")
+
+        def plain():
+            for f in files:
+                _plain_convert(f, str(out / (Path(f).stem + "_plain.jpg")))
+
+        t_plain = best_time(plain, rep)
+        print(f"  {'plain OpenEXR + NumPy + OpenCV script':<40s} {n / t_plain:8.2f} img/s   1.00x baseline")
+        options = {"to": "jpg", "tone": "hable", "exposure": 0.0, "overwrite": True, "quality": 95, "bits": None,
+                   "pixel_type": "half", "compression": "zip", "data_window": False}
+        pairs = [(f, out / (Path(f).stem + ".jpg")) for f in files]
+        cores = os.cpu_count() or 1
+        runs = [("lenslab convert --jobs 1", 1, "thread")]
+        if cores > 1:
+            runs += [(f"lenslab convert --jobs {cores} (threads)", cores, "thread"),
+                     (f"lenslab convert --jobs {cores} (processes)", cores, "process")]
+        for label, jobs, pool in runs:
+            def go():
+                res = convert_many(pairs, options, jobs=jobs, progress=False, pool=pool)
+                bad = [r for r in res if r[2]]
+                if bad:
+                    raise RuntimeError(f"convert failed: {bad[0]}")
+            t0 = time.perf_counter()
+            t = best_time(go, rep)
+            del t0
+            print(f"  {label:<40s} {n / t:8.2f} img/s   {t_plain / t:5.2f}x baseline")
+    return 0

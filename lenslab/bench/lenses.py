@@ -1,0 +1,85 @@
+"""Lens throughput: directions per second for pixel_to_dir and dir_to_pixel of each model on a
+2048 x 2048 grid of pixel centres (--size to change), as a ratio against plain NumPy evaluating the
+equirect formula on the same grid in the same run (forward: phi, theta -> d; inverse: two atan2).
+
+dir_to_pixel is fed each model's own output directions. The aim is every model within 3x of the
+baseline, except the numerically inverted sides (marked "solve"): the division-model distortions'
+dir_to_pixel, the Brown polynomial's pixel_to_dir and the seed fisheye's dir_to_pixel, which run a
+bracketed Newton iteration per element.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+DEFAULT_SPECS = (
+    "equirect",
+    "equirect:lon_min=-90,lon_max=90,lat_min=-45,lat_max=45",
+    "perspective:fov=90",
+    "fisheye:fov=180,mapping=equidistant",
+    "fisheye:fov=180,mapping=equisolid",
+    "fisheye:fov=180,mapping=stereographic",
+    "fisheye:fov=180,mapping=orthographic",
+    "seedfisheye:fov=120",
+    "cubemap:layout=3x2",
+    "cubemap:layout=6x1",
+    "swirl:amount=6",
+    "pincushion:k1=0.3,k2=0.05,fov=90",
+    "barrel:k1=-0.3,fov=90",
+    "brown:k1=-0.05,fov=90",
+    "tiled:2x2",
+)
+
+#: (model name, direction) pairs solved numerically
+SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("seedfisheye", "d2p")}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--size", type=int, default=2048, help="grid side in pixels (default 2048)")
+    parser.add_argument("--repeat", type=int, default=3, help="best of N runs per figure (default 3)")
+    parser.add_argument("--models", default="", help="semicolon-separated lens specs (default: one or more per model)")
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from lenslab.bench.timing import best_time, ratio_line
+    from lenslab.lenses import make_lens
+
+    n = int(args.size)
+    repeat = max(1, int(args.repeat))
+    specs = [s.strip() for s in args.models.split(";") if s.strip()] or list(DEFAULT_SPECS)
+    ys, xs = np.mgrid[0:n, 0:n].astype(np.float64) + 0.5
+    xy = np.stack([xs, ys], axis=-1)
+    del xs, ys
+    count = n * n
+
+    def equirect_forward():
+        phi = (2.0 * xy[..., 0] / n - 1.0) * np.pi
+        theta = (1.0 - 2.0 * xy[..., 1] / n) * (np.pi / 2)
+        ct = np.cos(theta)
+        return np.stack([ct * np.sin(phi), np.sin(theta), ct * np.cos(phi)], axis=-1)
+
+    dirs0 = equirect_forward()
+
+    def equirect_inverse():
+        phi = np.arctan2(dirs0[..., 0], dirs0[..., 2])
+        theta = np.arctan2(dirs0[..., 1], np.hypot(dirs0[..., 0], dirs0[..., 2]))
+        return np.stack([(phi / np.pi + 1.0) * (0.5 * n), (1.0 - theta / (np.pi / 2)) * (0.5 * n)], axis=-1)
+
+    base_f = best_time(equirect_forward, repeat=repeat)
+    base_i = best_time(equirect_inverse, repeat=repeat)
+    print(f"lens models on a {n} x {n} grid ({count / 1e6:.1f} M directions); baselines: plain NumPy equirect")
+    print(ratio_line("baseline forward (pixel -> dir)", base_f, base_f, f"{count / base_f / 1e6:7.1f} Mdir/s"))
+    print(ratio_line("baseline inverse (dir -> pixel)", base_i, base_i, f"{count / base_i / 1e6:7.1f} Mdir/s"))
+    for spec in specs:
+        lens = make_lens(spec, (n, n))
+        t_f = best_time(lambda: lens.pixel_to_dir(xy), repeat=repeat)
+        dirs, valid = lens.pixel_to_dir(xy)
+        t_i = best_time(lambda: lens.dir_to_pixel(dirs), repeat=repeat)
+        for label, t, base, key in (("p2d", t_f, base_f, "p2d"), ("d2p", t_i, base_i, "d2p")):
+            mark = "  (solve)" if (lens.name, key) in SOLVED else ""
+            print(ratio_line(f"{spec[:34]} {label}", t, base,
+                             f"{count / t / 1e6:7.1f} Mdir/s{mark}"))
+        del dirs, valid
+    return 0

@@ -1,0 +1,80 @@
+"""Tone curve throughput: megapixels per second per curve on a float32 RGB image (4096 x 2048 unless
+--quick), as a ratio against numpy.clip(image, 0, 1) on the same array in the same run.
+
+The test image is a lognormal HDR field (median 0.18, a few stops of spread) with a small sun near
+30000. The closed-form curves aim to stay within 4x of the numpy.clip floor. Each figure's baseline is
+re-measured alternately with it (best of N each), so a change in the machine's load between rows
+does not skew the ratios. The OpenCV local operators (drago, mantiuk) are timed once each and are
+much slower by nature.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true", help="use a 1024 x 512 image (a few seconds in all)")
+    parser.add_argument("--curves", default="", help="comma-separated curve names (default: every curve)")
+    parser.add_argument("--repeat", type=int, default=5, help="best of N runs per figure (default 5)")
+    parser.add_argument("--no-local", action="store_true", help="skip the slow OpenCV local operators")
+
+
+def test_image(width: int, height: int, seed: int = 0):
+    """Lognormal HDR float32 RGB image with a small very bright sun."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    img = (0.18 * np.exp2(rng.normal(0.0, 2.0, (height, width, 3)))).astype(np.float32)
+    r = max(2, height // 64)
+    img[height // 4 - r: height // 4 + r, width // 3 - r: width // 3 + r] = 30000.0
+    return img
+
+
+def paired_best(fn, baseline, repeat: int) -> tuple[float, float]:
+    """Best wall times of ``fn()`` and ``baseline()``, run alternately ``repeat`` times each."""
+    import time
+
+    best_fn = best_base = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        baseline()
+        t1 = time.perf_counter()
+        fn()
+        t2 = time.perf_counter()
+        best_base, best_fn = min(best_base, t1 - t0), min(best_fn, t2 - t1)
+    return best_fn, best_base
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from lenslab.bench.timing import best_time, ratio_line
+    from lenslab.tone import CURVES, get_curve, tonemap
+
+    width, height = (1024, 512) if args.quick else (4096, 2048)
+    img = test_image(width, height)
+    mpix = width * height / 1e6
+    names = [get_curve(n).name for n in args.curves.split(",") if n.strip()] or list(CURVES)
+    repeat = max(1, args.repeat)
+
+    def clip():
+        return np.clip(img, 0, 1)
+
+    tonemap(img[:8, :8], "hable", exposure="auto", mode="luminance")  # first-call imports stay out of the figures
+    base = best_time(clip, repeat=repeat)
+    print(f"tone curves on a {width} x {height} float32 RGB image ({mpix:.1f} MP); baseline numpy.clip(img, 0, 1)")
+    print(ratio_line("numpy.clip (baseline)", base, base, f"{mpix / base:8.1f} MP/s"))
+    rows = []
+    for name in names:
+        kind = CURVES[name].kind
+        if kind == "local" and args.no_local:
+            continue
+        for mode in (("per-channel",) if kind == "local" else ("per-channel", "luminance")):
+            label = name if kind == "local" else f"{name} [{mode}]"
+            rows.append((label, lambda name=name, mode=mode: tonemap(img, name, mode=mode), kind == "local"))
+    rows.append(("hable [per-channel] exposure=auto", lambda: tonemap(img, "hable", exposure="auto"), False))
+    for label, fn, slow in rows:
+        t, b = paired_best(fn, clip, 1 if slow else repeat)
+        print(ratio_line(label, t, b, f"{mpix / t:8.1f} MP/s"))
+    return 0

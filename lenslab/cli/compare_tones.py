@@ -1,0 +1,107 @@
+"""Side-by-side strip of one HDR image under several tone curves, each panel labelled with its curve.
+
+Every panel gets the same exposure (stops, or 'auto' chosen once from the image) and mode.
+Panels wider than --panel-width are shrunk with area averaging (in linear light).
+
+  lenslab compare-tones pano.exr -o strip.jpg --curves clamp,reinhard,hable
+  lenslab compare-tones pano.exr -o strip.png --curves hable,aces,agx,pbr-neutral --exposure auto --vertical
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", help="HDR image to read")
+    parser.add_argument("-o", "--output", required=True, help="strip image to write (JPG, PNG, ...)")
+    parser.add_argument("--curves", default="clamp,reinhard,hable",
+                        help="comma-separated curve names, left to right (default clamp,reinhard,hable: the seed's figure)")
+    parser.add_argument("--exposure", default="0", help="exposure in stops for every panel, or 'auto' (default 0)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",
+                       help="curves act on each channel (default)")
+    group.add_argument("--luminance", dest="mode", action="store_const", const="luminance",
+                       help="curves act on luminance (keeps hue)")
+    parser.set_defaults(mode="per-channel")
+    parser.add_argument("--panel-width", type=int, default=1024,
+                        help="shrink panels wider than this many pixels (0: keep full size; default 1024)")
+    parser.add_argument("--vertical", action="store_true", help="stack panels top to bottom instead")
+    parser.add_argument("--primaries", default="sRGB", help="colourspace for luminance weights (default sRGB)")
+    parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
+                        help="dither when quantising (default on)")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
+
+
+def label_panel(panel, text: str):
+    """Write ``text`` in the top-left corner of a float image (white on a dark outline), in place.
+
+    OpenCV draws text on 8-bit images only: the glyphs are drawn into 8-bit masks (anti-aliased) and
+    blended into the float panel.
+    """
+    import cv2
+    import numpy as np
+
+    h, w = panel.shape[:2]
+    scale = max(0.5, min(w, h) / 400.0)
+    thick = max(1, round(scale * 2))
+    org = (int(10 * scale), int(30 * scale))
+    outline = np.zeros((h, w), np.uint8)
+    fill = np.zeros((h, w), np.uint8)
+    cv2.putText(outline, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, 255, thick * 3, cv2.LINE_AA)
+    cv2.putText(fill, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, 255, thick, cv2.LINE_AA)
+    dark = (outline.astype(np.float32) / 255)[..., None]
+    light = (fill.astype(np.float32) / 255)[..., None]
+    panel *= 1 - dark
+    panel += light
+    np.clip(panel, 0, 1, out=panel)
+    return panel
+
+
+def run(args: argparse.Namespace) -> int:
+    import cv2
+    import numpy as np
+
+    from lenslab import io, tone
+    from lenslab.cli.tonemap import tonemap_reporting, write_tone_mapped
+    from lenslab.errors import ToneError
+
+    names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]
+    if not names:
+        raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
+    image, _ = io.read(args.input)
+    if image.ndim == 3 and image.shape[2] in (2, 4):
+        image = image[..., :-1]
+    if image.ndim == 2:
+        image = image[..., None]
+    ev = args.exposure
+    if str(ev).strip().lower() == "auto":
+        ev = tone.auto_exposure(image, primaries=args.primaries)
+        if not args.quiet:
+            print(f"{args.input}: auto exposure {ev:+.2f} stops", file=sys.stderr)
+    panels = []
+    for i, name in enumerate(names):
+        out, _ = tonemap_reporting(image, name, ev, args.mode, {}, args.primaries, args.input,
+                                   quiet=True, report=i == 0)  # the input's repairs, once
+        h, w = out.shape[:2]
+        if args.panel_width and w > args.panel_width:
+            size = (args.panel_width, max(1, round(h * args.panel_width / w)))
+            out = cv2.resize(out, size, interpolation=cv2.INTER_AREA)
+            if out.ndim == 2:
+                out = out[..., None]
+        panels.append(label_panel(np.ascontiguousarray(out), name))
+    gap_shape = list(panels[0].shape)
+    if args.vertical:
+        gap_shape[0] = 4
+    else:
+        gap_shape[1] = 4
+    gap = np.ones(gap_shape, np.float32)
+    parts = []
+    for i, p in enumerate(panels):
+        parts.extend([gap, p] if i else [p])
+    strip = np.concatenate(parts, axis=0 if args.vertical else 1)
+    write_tone_mapped(args.output, strip, dither=args.dither)
+    if not args.quiet:
+        print(f"{args.output}: {strip.shape[1]} x {strip.shape[0]}, curves {', '.join(names)}", file=sys.stderr)
+    return 0

@@ -1,0 +1,248 @@
+"""Convert images between EXR, PFM, PPM/PGM, JPG and PNG, many at a time.
+
+Inputs may be files, directories (every image file in them) and glob patterns ('renders/*.exr';
+quote them to let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a
+single input, or next to each input. HDR sources (EXR, PFM) written to display formats (PPM/PGM, JPG,
+PNG) go through a tone curve first (--tone, --exposure), then the sRGB encoding.
+
+An existing output is never replaced without --overwrite. Every file is written to a temporary name
+and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
+reason and the others go on; the exit code is 1 if any failed.
+
+examples:
+  lenslab convert renders/ --to jpg -o previews/ --tone hable --exposure 1
+  lenslab convert 'scans/*.ppm' --to exr --jobs 0
+  lenslab convert pano.exr:left --to png -o left.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import sys
+from pathlib import Path
+
+FORMATS = ("ppm", "pgm", "pfm", "jpg", "png", "exr")
+LDR = ("ppm", "pgm", "jpg", "png")
+INPUT_EXTENSIONS = {".exr", ".pfm", ".ppm", ".pgm", ".pbm", ".pnm", ".jpg", ".jpeg", ".png"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
+    parser.add_argument("--to", required=True, choices=FORMATS, metavar="FORMAT",
+                        help=f"output format: {', '.join(FORMATS)}")
+    parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
+                        help="output directory (created if missing), or a file name when there is one input; "
+                             "default: next to each input")
+    parser.add_argument("--tone", default="hable", metavar="CURVE",
+                        help="tone curve for HDR -> display formats (default: hable; clamp keeps the values "
+                             "as they are, clipped to 1)")
+    parser.add_argument("--exposure", default="0", metavar="EV",
+                        help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
+    parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
+                        help="files converted in parallel (default 1; 0 = one per CPU core)")
+    parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    parser.add_argument("--quality", type=int, default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
+    parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
+                        help="PNG/PPM/PGM bits per sample (default 8)")
+    parser.add_argument("--pixel-type", choices=("half", "float"), default="half",
+                        help="EXR sample type (default half)")
+    parser.add_argument("--compression", default="zip",
+                        help="EXR compression (default zip, readable everywhere; also piz, zips, rle, none, "
+                             "pxr24, b44, dwaa, dwab, zstd, htj2k256)")
+    parser.add_argument("--data-window", action="store_true",
+                        help="EXR input: keep the stored data window instead of placing it in the display window")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+
+
+def expand_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]]:
+    """Files to convert, and (input, reason) for inputs that match nothing."""
+    files: list[str] = []
+    missing: list[tuple[str, str]] = []
+    for pat in patterns:
+        if os.path.isdir(pat):
+            found = sorted(str(p) for p in Path(pat).iterdir()
+                           if p.is_file() and p.suffix.lower() in INPUT_EXTENSIONS)
+            if not found:
+                missing.append((pat, "the directory holds no image files"))
+            files.extend(found)
+        elif glob.has_magic(pat) and not os.path.exists(pat):
+            found = sorted(p for p in glob.glob(pat) if os.path.isfile(p))
+            if not found:
+                missing.append((pat, "the pattern matches no file"))
+            files.extend(found)
+        else:
+            files.append(pat)  # a file, or a missing one: reported when read
+    seen: set[str] = set()
+    unique = [f for f in files if not (f in seen or seen.add(f))]
+    return unique, missing
+
+
+def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[str, Path]]:
+    """(input, output path) pairs; raises OSError/ValueError when -o cannot be used as asked."""
+    from lenslab.errors import FormatError
+    from lenslab.io import split_selector
+
+    ext = "." + to
+    if output is not None:
+        out = Path(output)
+        as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
+        if not as_file:
+            if out.exists() and not out.is_dir():
+                raise NotADirectoryError(f"{out}: exists and is not a directory; with several inputs -o "
+                                         "must be a directory")
+            out.mkdir(parents=True, exist_ok=True)
+    pairs, targets = [], {}
+    for f in files:
+        src, selector = split_selector(f)
+        stem = src.stem + (f"_{selector.replace(':', '_')}" if selector else "")
+        if output is None:
+            dst = src.with_name(stem + ext)
+        elif as_file:
+            dst = out
+        else:
+            dst = out / (stem + ext)
+        if dst in targets:
+            raise FormatError(f"{f} and {targets[dst]} would both be written to {dst}; convert them separately")
+        targets[dst] = f
+        pairs.append((f, dst))
+    return pairs
+
+
+def convert_one(src: str, dst: str, options: dict) -> str:
+    """Read, tone-map if needed, write. Returns the output path; raises on failure."""
+    import numpy as np
+
+    from lenslab.errors import FormatError
+    from lenslab.io import read, split_selector, write
+
+    src_file, _ = split_selector(src)
+    if os.path.exists(dst) and src_file.exists() and os.path.samefile(dst, src_file):
+        raise FormatError(f"{src}: the output would replace the input; choose another format or -o")
+    if not options["overwrite"] and os.path.exists(dst):
+        raise FileExistsError(f"{dst}: already exists; pass --overwrite to replace it")
+    image, meta = read(src, data_window=options["data_window"])
+    to, exposure = options["to"], options["exposure"]
+    if to in LDR and (not meta["display_encoded"] or exposure == "auto"):
+        from lenslab.tone import tonemap
+
+        image = tonemap(image, curve=options["tone"], exposure=exposure)
+    elif exposure == "auto":
+        raise FormatError("--exposure auto applies when writing display formats (jpg, png, ppm, pgm)")
+    elif exposure != 0.0:
+        image = image * np.float32(2.0 ** exposure)
+    write_opts: dict = {}
+    if to == "jpg":
+        write_opts["quality"] = options["quality"]
+    if to in ("png", "ppm", "pgm") and options["bits"]:
+        write_opts["bits"] = options["bits"]
+    if to == "exr":
+        write_opts["pixel_type"] = options["pixel_type"]
+        write_opts["compression"] = options["compression"]
+        write_opts["threads"] = options.get("exr_threads", -1)
+        if meta.get("camera") is not None:
+            write_opts["camera"] = meta["camera"]
+    write(dst, image, format=to, overwrite=options["overwrite"], **write_opts)
+    return dst
+
+
+def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]]:
+    """Convert one file; returns (input, output, error or None, warnings raised on the way)."""
+    import warnings
+
+    src, dst, options = job
+    from lenslab.errors import LenslabError
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            convert_one(src, dst, options)
+            error = None
+        except (LenslabError, OSError) as exc:
+            error = str(exc)
+        except Exception as exc:  # an unexpected failure on one file must not stop the others
+            error = f"{type(exc).__name__}: {exc}"
+    notes = list(dict.fromkeys(str(w.message) for w in caught))
+    return src, dst, error, notes
+
+
+def _init_worker() -> None:
+    try:
+        import cv2
+        cv2.setNumThreads(1)
+    except ImportError:  # pragma: no cover
+        pass
+
+
+def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, progress: bool = True,
+                 pool: str = "process") -> list[tuple[str, str, str | None, list[str]]]:
+    """Convert every (input, output) pair; returns (input, output, error or None, warnings) in input order."""
+    from tqdm import tqdm
+
+    if jobs <= 0:
+        jobs = os.cpu_count() or 1
+    jobs = min(jobs, max(1, len(pairs)))
+    work = [(src, str(dst), options) for src, dst in pairs]
+    bar = tqdm(total=len(work), unit="img", disable=not progress, file=sys.stderr, leave=False)
+    results: dict[int, tuple] = {}
+    try:
+        if jobs == 1:
+            for i, job in enumerate(work):
+                results[i] = _worker(job)
+                bar.update()
+        else:
+            import concurrent.futures as cf
+
+            if pool == "process":
+                import multiprocessing as mp
+
+                ctx = mp.get_context("forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn")
+                executor = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker)
+                work = [(s, d, {**o, "exr_threads": 1}) for s, d, o in work]
+            else:
+                executor = cf.ThreadPoolExecutor(jobs)
+            with executor:
+                futures = {executor.submit(_worker, job): i for i, job in enumerate(work)}
+                for fut in cf.as_completed(futures):
+                    results[futures[fut]] = fut.result()
+                    bar.update()
+    finally:
+        bar.close()
+    return [results[i] for i in range(len(work))]
+
+
+def run(args: argparse.Namespace) -> int:
+    files, missing = expand_inputs(args.inputs)
+    exposure = args.exposure
+    if exposure != "auto":
+        try:
+            exposure = float(exposure)
+        except ValueError:
+            from lenslab.errors import ToneError
+            raise ToneError(f"--exposure must be a number of stops or 'auto', not {args.exposure!r}") from None
+    if args.bits and args.to in ("jpg", "exr", "pfm"):
+        from lenslab.errors import FormatError
+        raise FormatError(f"--bits applies to png, ppm and pgm, not {args.to}")
+    for pat, reason in missing:
+        print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
+    if not files:
+        print("lenslab convert: error: nothing to convert", file=sys.stderr)
+        return 1
+    pairs = plan_outputs(files, args.to, args.output)
+    options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
+               "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
+               "compression": args.compression, "data_window": args.data_window}
+    progress = not args.quiet and sys.stderr.isatty()
+    results = convert_many(pairs, options, jobs=args.jobs, progress=progress)
+    for src, _, _, notes in results:
+        for note in notes:  # repaired values, clamped halves: reported, never hidden
+            print(f"lenslab convert: note: {src}: {note}", file=sys.stderr)
+    failed = [(s, e) for s, _, e, _ in results if e]
+    for src, err in failed:
+        print(f"lenslab convert: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+    done = len(results) - len(failed)
+    if not args.quiet:
+        print(f"converted {done} of {len(results)} file(s) to {args.to.upper()}"
+              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+    return 1 if failed or missing else 0

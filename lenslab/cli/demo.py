@@ -1,0 +1,364 @@
+"""Trace the built-in Cornell box once, warp it into every lens and build the HTML gallery.
+
+With no input at all, the demo:
+
+  1. traces the Cornell box as a full-sphere HDR panorama from a point inside the box;
+  2. warps that one panorama into every lens model: the four fisheye mappings, the original
+     renderer's fisheye, swirl, pincushion, barrel, Brown distortion, perspective, cube map, a 2x2
+     multi-view (four cameras sharing the panorama's eye, each with its own pose) and a little planet
+     (a stereographic fisheye looking straight down with a very wide field of view);
+  3. traces two of those views directly (the equisolid fisheye and the 2x2 multi-view) and measures the
+     warp against them: relative L1 error, the direct trace's own noise, and the time of each;
+  4. tone-maps one view with every tone curve;
+  5. writes EXR (with the camera in the header), PFM, PPM and JPG files, builds index.html and prints
+     where it is.
+
+--quality fast (the default) finishes in well under a minute on two cores; --quality full traces
+bigger and cleaner images for a few minutes. --size, --view-size, --spp and --direct-spp override
+either preset.
+
+The output folder must be new or empty: the demo refuses to write into a folder that holds anything,
+so it never mixes its files with yours. With --overwrite it writes into the folder anyway, replacing
+the files it makes (each one written to a temporary name first, then renamed) and leaving every other
+file alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+DEFAULT_OUT = "lenslab-demo"
+
+# quality -> panorama size, panorama spp, view side, direct-trace spp
+PRESETS = {
+    "fast": {"size": (1024, 512), "spp": 8, "view": 256, "direct_spp": 32},
+    "full": {"size": (2048, 1024), "spp": 32, "view": 512, "direct_spp": 128},
+}
+
+SCENE = "cornell"
+INTEGRATOR = "path"
+MAX_DEPTH = 8
+# The eye: inside the box, centred left-right, a little above mid height, 6 cm behind its open front
+# (metres), so a forward fisheye sees all five walls, both blocks and the light.
+EYE = (0.278, 0.30, 0.06)
+WARP = {"filter": "bilinear", "samples": 1, "antialias": True}
+COMPARED = ("fisheye, equisolid", "2x2 multi-view")
+SAMPLE_CURVE_VIEW = "fisheye, equisolid"  # the view the tone curves are compared on
+# Models not given a view of their own: the panorama is the equirect; pincushion and barrel are the
+# two signs of the general division model.
+NOT_A_VIEW = {"equirect": "the panorama itself", "distortion": "shown as pincushion and barrel"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", type=Path, default=Path(DEFAULT_OUT), metavar="DIR",
+                        help=f"output folder (default: {DEFAULT_OUT}/); must be new or empty unless --overwrite")
+    parser.add_argument("--quality", choices=sorted(PRESETS), default="fast",
+                        help="fast: 1024x512 panorama at 8 spp, 256 px views, direct traces at 32 spp, well under a "
+                             "minute (default); "
+                             "full: 2048x1024 at 32 spp, 512 px views, direct traces at 128 spp, a few minutes")
+    parser.add_argument("--size", metavar="WxH", type=_size,
+                        help="panorama size, width twice the height (default: from --quality)")
+    parser.add_argument("--view-size", metavar="N", type=_positive_int,
+                        help="side of the square views in pixels (default: from --quality)")
+    parser.add_argument("--spp", type=_positive_int, metavar="N",
+                        help="samples per pixel of the panorama (default: from --quality)")
+    parser.add_argument("--direct-spp", type=_positive_int, metavar="N",
+                        help="samples per pixel of the two direct traces (default: from --quality)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed of the traces (default: 0)")
+    parser.add_argument("--hdri", type=Path, metavar="DIR",
+                        help="also warp your own equirect HDR panoramas (.exr/.pfm in DIR) into a couple of lenses")
+    parser.add_argument("--report", type=Path, metavar="DIR",
+                        help="add the speed/accuracy plot of a 'lenslab validate' report folder")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="write into a folder that is not empty, replacing the demo's own files there")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar and no report, only the gallery path")
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, e.g. 1024x512") from None
+    if h < 2 or w != 2 * h:
+        raise argparse.ArgumentTypeError(f"{text!r}: a full-sphere panorama is twice as wide as high, e.g. 1024x512")
+    return w, h
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be at least 1")
+    return n
+
+
+def check_output(out: Path, overwrite: bool) -> None:
+    """Refuse a non-empty folder (or a file) unless ``overwrite``; create the folder."""
+    if out.exists() and not out.is_dir():
+        raise FileExistsError(f"{out} is a file, not a folder; choose another output folder with -o")
+    if out.is_dir() and any(out.iterdir()) and not overwrite:
+        raise FileExistsError(f"{out} is not empty; choose a new folder with -o DIR, or give --overwrite to "
+                              "write into it (the demo's own files there are replaced, others are kept)")
+    out.mkdir(parents=True, exist_ok=True)
+
+
+def slug(text: str) -> str:
+    import re
+
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+
+
+def lens_views(view: int) -> list[dict]:
+    """The views the panorama is warped into: name, lens, size, pose and a note for the page."""
+    from lenslab.lenses import REGISTRY
+
+    half = max(1, view // 2)
+    views = [
+        dict(name="perspective", spec="perspective:fov=90"),
+        dict(name="fisheye, equidistant", spec="fisheye:fov=180,mapping=equidistant"),
+        dict(name="fisheye, equisolid", spec="fisheye:fov=180,mapping=equisolid"),
+        dict(name="fisheye, stereographic", spec="fisheye:fov=180,mapping=stereographic"),
+        dict(name="fisheye, orthographic", spec="fisheye:fov=180,mapping=orthographic"),
+        dict(name="the original renderer's fisheye", spec="seedfisheye:fov=180",
+             note="its angle folds back past 180 degrees at 80% of the radius; beyond the fold pixels are invalid"),
+        dict(name="swirl", spec="swirl:amount=6"),
+        dict(name="pincushion", spec="pincushion:k1=0.3"),
+        dict(name="barrel", spec="barrel:k1=-0.3"),
+        dict(name="Brown distortion", spec="brown:k1=-0.05"),
+        dict(name="cube map", spec="cubemap:layout=3x2", size=(3 * half, 2 * half)),
+        dict(name="2x2 multi-view", spec="tiled:2x2", size=(2 * half, 2 * half), tiles=[
+            {"lens": "perspective:fov=80", "yaw": 0.0},
+            {"lens": "perspective:fov=80", "yaw": -50.0, "pitch": -25.0},
+            {"lens": "perspective:fov=80", "yaw": 50.0, "pitch": -25.0},
+            {"lens": "perspective:fov=80", "pitch": 70.0},
+        ], note="four cameras sharing the panorama's eye: ahead, down-left, down-right, up at the light"),
+        dict(name="little planet", spec="fisheye:fov=240,mapping=stereographic", pose={"pitch": -90.0},
+             note="stereographic fisheye looking straight down"),
+    ]
+    names = {v["spec"].partition(":")[0] for v in views}
+    for model in REGISTRY:  # any model added later still gets a view, with its defaults
+        if model not in names and model not in NOT_A_VIEW:
+            views.append(dict(name=model, spec=model))
+    for v in views:
+        v.setdefault("size", (view, view))
+        v.setdefault("pose", {})
+        v.setdefault("note", "")
+    return [v for v in views if v["spec"].partition(":")[0] in REGISTRY]
+
+
+def make_camera(v: dict, eye):
+    from lenslab.lenses import REGISTRY, Camera, Pose, make_lens
+
+    w, h = v["size"]
+    if "tiles" in v:
+        lens = REGISTRY["tiled"](w, h, grid=v["spec"].partition(":")[2] or "2x2", tiles=v["tiles"])
+    else:
+        lens = make_lens(v["spec"], (w, h))
+    p = v["pose"]
+    return Camera(lens, Pose.from_ypr(p.get("yaw", 0.0), p.get("pitch", 0.0), p.get("roll", 0.0), eye))
+
+
+class Run:
+    """Writes the demo's files and remembers them, with a progress bar over the steps."""
+
+    def __init__(self, out: Path, total: int, quiet: bool):
+        from tqdm import tqdm
+
+        self.out = out
+        self.files: list[dict[str, str]] = []
+        self.quiet = quiet
+        self.bar = tqdm(total=total, desc="demo", unit="step", file=sys.stderr, leave=False,
+                        disable=quiet or not sys.stderr.isatty(),
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {n_fmt}/{total_fmt} [{elapsed}<{remaining}]")
+
+    def step(self, desc: str) -> None:
+        self.bar.set_description_str(desc)
+
+    def done(self, n: int = 1) -> None:
+        self.bar.update(n)
+
+    def say(self, line: str = "") -> None:
+        if not self.quiet:
+            self.bar.write(line, file=sys.stdout)
+
+    def write(self, rel: str, image, what: str, **options) -> str:
+        from lenslab.io import write
+
+        path = self.out / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write(path, image, overwrite=True, **options)
+        fmt = path.suffix.lstrip(".").upper()
+        self.files.append({"path": rel, "format": fmt, "what": what})
+        return rel
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    import tracer
+    from gallery import build_gallery
+    from gallery.items import Display, FileList, LensView, Panorama, RunInfo, ToneSet
+    from lenslab import metrics
+    from lenslab.lenses import Camera, Pose, make_lens
+    from lenslab.tone import auto_exposure, curve_names, tonemap
+    from lenslab.warp import warp
+
+    t_start = time.perf_counter()
+    preset = PRESETS[args.quality]
+    pano_size = args.size or preset["size"]
+    view = args.view_size or preset["view"]
+    spp = args.spp or preset["spp"]
+    direct_spp = args.direct_spp or preset["direct_spp"]
+    out: Path = args.output
+    for name, folder in (("--hdri", args.hdri), ("--report", args.report)):
+        if folder is not None and not folder.is_dir():
+            raise FileNotFoundError(f"{name} {folder}: no such folder")
+    check_output(out, args.overwrite)
+
+    views = lens_views(view)
+    compared = [v for v in views if v["name"] in COMPARED]
+    curves = curve_names()
+    run_ = Run(out, total=2 + len(views) + len(compared) + 2, quiet=args.quiet)
+    say = run_.say
+    try:
+        say(f"lenslab demo: the {SCENE} box, a {pano_size[0]}x{pano_size[1]} panorama at {spp} spp, "
+            f"{len(views)} lenses at {view} px ({args.quality} quality)")
+
+        # 1. the panorama
+        run_.step("loading the scene")
+        scene = tracer.load_scene(SCENE)
+        pcam = Camera(make_lens("equirect", pano_size), Pose(eye=np.asarray(EYE)))
+        run_.step(f"tracing the panorama ({spp} spp)")
+        pano = tracer.render(scene, pcam, spp=spp, seed=args.seed, integrator=INTEGRATOR, max_depth=MAX_DEPTH)
+        run_.done()
+        ev = auto_exposure(pano.image)
+        say(f"traced the panorama {pano_size[0]}x{pano_size[1]}, {spp} spp, {INTEGRATOR} depth {MAX_DEPTH}: "
+            f"{pano.seconds:.1f} s (display exposure {ev:+.2f} EV, auto)")
+
+        run_.step("writing the panorama")
+        pano_img = np.ascontiguousarray(pano.image, dtype=np.float32)
+        pano_display = tonemap(pano_img, curve="hable", exposure=ev)
+        run_.write("panorama.exr", pano_img, "the traced HDR panorama, with its camera in the header",
+                   camera=pcam)
+        run_.write("panorama.pfm", pano_img, "the same HDR panorama as PFM (32-bit float)")
+        run_.write("panorama.ppm", pano_display, "tone-mapped (hable), 16-bit PPM", bits=16)
+        run_.write("panorama.jpg", pano_display, "tone-mapped (hable), JPG")
+        run_.done()
+
+        # 2. every lens, warped (a first tiny warp compiles the warp kernels, so that no view's time
+        # includes that one-off cost)
+        run_.step("compiling the warp kernels")
+        t0 = time.perf_counter()
+        tiny = Camera(make_lens("equirect", (16, 8)), Pose(eye=np.asarray(EYE)))
+        warp(np.zeros((8, 16, 3), np.float32), tiny, make_camera(dict(spec="fisheye", size=(8, 8), pose={}), EYE),
+             **WARP)
+        compile_seconds = time.perf_counter() - t0
+        records: dict[str, LensView] = {}
+        warped: dict[str, tuple] = {}
+        warp_total = 0.0
+        for v in views:
+            run_.step(f"warping: {v['name']}")
+            cam = make_camera(v, EYE)
+            t0 = time.perf_counter()
+            img, alpha = warp(pano_img, pcam, cam, **WARP)
+            seconds = time.perf_counter() - t0
+            warp_total += seconds
+            s = slug(v["name"])
+            rgba = np.concatenate([img, alpha[..., None]], axis=-1).astype(np.float32)
+            rel = run_.write(f"views/{s}.exr", rgba, f"{v['name']}: warped HDR with alpha and camera", camera=cam)
+            run_.write(f"views/{s}.jpg", tonemap(img, curve="hable", exposure=ev), f"{v['name']}: tone-mapped")
+            warped[v["name"]] = (img, alpha, cam)
+            records[v["name"]] = LensView(
+                name=v["name"], spec=cam.lens.spec() if "tiles" not in v else v["spec"], size=tuple(cam.size),
+                warped=rel, warp_seconds=seconds, pose={k: float(x) for k, x in v["pose"].items()},
+                settings=dict(WARP), note=v["note"])
+            run_.done()
+        say(f"warped the panorama into {len(views)} lenses in {warp_total:.2f} s "
+            f"(bilinear with the footprint prefilter; compiling the warp kernels took {compile_seconds:.1f} s before)")
+
+        # 3. direct traces of two views, and the warp's error against them
+        for v in compared:
+            name = v["name"]
+            img, alpha, cam = warped[name]
+            run_.step(f"tracing directly: {name} ({direct_spp} spp)")
+            ref = tracer.render(scene, cam, spp=direct_spp, seed=args.seed + 1, integrator=INTEGRATOR,
+                                max_depth=MAX_DEPTH)
+            s = slug(name)
+            ref_rgba = np.concatenate([ref.image, ref.alpha[..., None]], axis=-1).astype(np.float32)
+            rel = run_.write(f"direct/{s}.exr", ref_rgba, f"{name}: traced directly, with alpha and camera",
+                             camera=cam)
+            run_.write(f"direct/{s}.pfm", ref.image, f"{name}: traced directly, PFM")
+            run_.write(f"direct/{s}.jpg", tonemap(ref.image, curve="hable", exposure=ev),
+                       f"{name}: traced directly, tone-mapped")
+            valid = metrics.valid_mask(ref.alpha, alpha)
+            edges = metrics.edge_mask_from_image(ref.image, radius=2, mask=valid)
+            stats = metrics.compare(ref.image, img, ref.alpha, alpha, edges=edges,
+                                    ref_stderr=np.sqrt(np.maximum(ref.variance, 0.0)), with_flip=False)
+            error = {"l1": stats["l1"], "l1_interior": stats.get("l1_interior"),
+                     "l1_edge": stats.get("l1_edge"), "noise_l1": stats.get("noise_l1"),
+                     "excess_l1": stats.get("excess_l1"), "psnr_log": stats["psnr_log"]}
+            r = records[name]
+            r.direct, r.trace_seconds, r.trace_spp = rel, ref.seconds, ref.spp
+            r.error = {k: float(x) for k, x in error.items() if x is not None}
+            say(f"  {name:<22s} warp {r.warp_seconds * 1e3:6.0f} ms   direct trace {ref.seconds:6.2f} s "
+                f"({direct_spp} spp)   relative L1 {100 * stats['l1']:.2f}% "
+                f"(the direct trace's own noise alone: {100 * (stats.get('noise_l1') or 0):.2f}%)")
+            run_.done()
+
+        # 4. tone curves
+        run_.step("tone curves")
+        sample_img, _, _ = warped.get(SAMPLE_CURVE_VIEW, next(iter(warped.values())))
+        sample_rel = records.get(SAMPLE_CURVE_VIEW, next(iter(records.values()))).warped
+        for c in curves:
+            run_.write(f"tone/{c}.jpg", tonemap(sample_img, curve=c, exposure=ev), f"tone curve {c}")
+        run_.write("tone/hable.ppm", tonemap(sample_img, curve="hable", exposure=ev), "tone curve hable, 8-bit PPM")
+        say(f"tone-mapped the {SAMPLE_CURVE_VIEW} view with {len(curves)} curves: {', '.join(curves)}")
+        run_.done()
+
+        # 5. the gallery
+        run_.step("building the gallery")
+        seconds_so_far = time.perf_counter() - t_start
+        items = [
+            Display(curve="hable", exposure=ev),
+            Panorama(path="panorama.exr", spec=pcam.lens.spec(), size=pano_size, scene=SCENE, spp=pano.spp,
+                     seconds=pano.seconds, eye=EYE, integrator=INTEGRATOR, max_depth=MAX_DEPTH),
+            *[records[v["name"]] for v in views],
+            ToneSet(source=sample_rel, curves=curves, exposure=ev, label=f"{SAMPLE_CURVE_VIEW} view, auto"),
+            FileList(files=list(run_.files)),
+            RunInfo(command=_command_line(args), seconds=seconds_so_far,
+                    settings={"quality": args.quality, "panorama": f"{pano_size[0]}x{pano_size[1]} at {spp} spp",
+                              "views": f"{view} px", "direct traces": f"{direct_spp} spp"}),
+        ]
+        index = build_gallery(out, *items, validate_report=args.report, hdri_dir=args.hdri,
+                              title="lenslab demo: one panorama, every lens")
+        run_.done()
+    finally:
+        run_.close()
+    total = time.perf_counter() - t_start
+    if not args.quiet:
+        kinds = sorted({f["format"] for f in run_.files})
+        print(f"wrote {len(run_.files)} image files ({', '.join(kinds)}) under {out}/ in {total:.1f} s in total")
+    print(f"gallery: {index}")
+    return 0
+
+
+def _command_line(args: argparse.Namespace) -> str:
+    parts = ["lenslab", "demo"]
+    if args.output != Path(DEFAULT_OUT):
+        parts += ["-o", str(args.output)]
+    if args.quality != "fast":
+        parts += ["--quality", args.quality]
+    if args.size:
+        parts += ["--size", f"{args.size[0]}x{args.size[1]}"]
+    for flag, value in (("--view-size", args.view_size), ("--spp", args.spp), ("--direct-spp", args.direct_spp)):
+        if value:
+            parts += [flag, str(value)]
+    return " ".join(parts)

@@ -1,0 +1,115 @@
+"""Tone-map an HDR image (EXR, PFM, ...) to a display image with a chosen curve.
+
+Exposure comes first (stops, or 'auto': the log-average luminance, leaving out the darkest and
+brightest percent, goes to middle grey), then the curve, per channel or on luminance (keeps hue).
+NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr.
+LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (dithered unless
+--no-dither); float outputs (EXR, PFM) keep the display-linear values.
+
+Examples:
+  lenslab tonemap pano.exr -o pano.jpg
+  lenslab tonemap pano.exr -o pano.png --curve aces --exposure auto --luminance
+  lenslab tonemap pano.exr -o pano.jpg --curve hable --param preset=gdc --param white=8
+  lenslab curves --list        (every curve with its parameters)
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", help="HDR image to read (EXR selectors like file.exr:left work)")
+    parser.add_argument("-o", "--output", required=True, help="image to write (format from the extension)")
+    parser.add_argument("--curve", default="hable",
+                        help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
+    parser.add_argument("--exposure", default="0",
+                        help="exposure in stops applied before the curve, or 'auto' (default 0)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",
+                       help="apply the curve to R, G and B separately (default; bright colours go to white)")
+    group.add_argument("--luminance", dest="mode", action="store_const", const="luminance",
+                       help="apply the curve to luminance and scale RGB by it (keeps hue and saturation)")
+    parser.set_defaults(mode="per-channel")
+    parser.add_argument("--param", action="append", default=[], metavar="K=V",
+                        help="a curve parameter, e.g. --param white=8 (repeatable)")
+    parser.add_argument("--primaries", default="sRGB",
+                        help="RGB colourspace of the image for luminance weights (colour-science name, default sRGB)")
+    parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
+                        help="dither when quantising to 8/16-bit to avoid banding in smooth skies (default on)")
+    parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
+                        help="bit depth for PNG/PPM/PGM output (default 8)")
+    parser.add_argument("--overwrite", action=argparse.BooleanOptionalAction, default=True,
+                        help="replace an existing output file (default yes)")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
+
+
+def parse_params(items: list[str]) -> dict:
+    """["white=8", "preset=gdc"] -> {"white": "8", "preset": "gdc"} (the curve validates the values)."""
+    from lenslab.errors import ToneError
+
+    params = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise ToneError(f"--param {item!r} is not of the form NAME=VALUE (e.g. --param white=8)")
+        params[key.strip()] = value.strip()
+    return params
+
+
+def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, quiet=False, report=True):
+    """tonemap() with its repair warnings turned into one stderr line each; returns (image, ev)."""
+    import warnings
+
+    from lenslab import tone
+
+    ev = exposure
+    if str(exposure).strip().lower() == "auto":
+        ev = tone.auto_exposure(image, primaries=primaries)
+        if not quiet:
+            print(f"{label}: auto exposure {ev:+.2f} stops", file=sys.stderr)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", tone.ToneWarning)
+        out = tone.tonemap(image, curve, ev, mode, primaries=primaries, **params)
+    for w in caught:
+        if isinstance(w.message, tone.ToneWarning):
+            if report:
+                print(f"{label}: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return out, ev
+
+
+def write_tone_mapped(path, image, dither=True, bits=None, overwrite=True, camera=None) -> None:
+    """Write display-linear values: LDR formats encode to sRGB and quantise; float formats keep them."""
+    from lenslab import io
+    from lenslab.io.detect import format_for_path
+
+    options = {"overwrite": overwrite}
+    fmt = format_for_path(path, None)
+    if fmt not in io.HDR_FORMATS:
+        options["dither"] = dither
+        if bits:
+            options["bits"] = bits
+    if camera is not None and fmt == "exr":
+        options["camera"] = camera
+    io.write(path, image, **options)
+
+
+def run(args: argparse.Namespace) -> int:
+    from lenslab import io, tone
+
+    curve = tone.get_curve(args.curve)
+    params = parse_params(args.param)
+    curve.resolve(params)  # fail before reading a large file
+    image, meta = io.read(args.input)
+    out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,
+                                args.input, args.quiet)
+    write_tone_mapped(args.output, out, dither=args.dither, bits=args.bits, overwrite=args.overwrite,
+                      camera=meta.get("camera"))
+    if not args.quiet:
+        h, w = out.shape[:2]
+        print(f"{args.output}: {w} x {h}, curve {curve.name} ({args.mode}), exposure {float(ev):+.2f} stops",
+              file=sys.stderr)
+    return 0

@@ -1,0 +1,174 @@
+"""Check warps against direct ray-traced renders, and measure the speed/accuracy trade.
+
+Renders the reference view directly through the target camera, renders equirect panoramas from the same
+eye at each size, warps each into the target camera with each setting, and compares: relative L1,
+PSNR of log radiance, share of pixels off by more than 5% and FLIP, over the valid pixels, on the
+edges (within 2 px of silhouettes and shadow edges) and away from them, next to the reference's own
+Monte Carlo noise. Writes REPORT/results.json, REPORT/report.md and plots.
+
+Two modes:
+  Monte Carlo (default)  the whole pipeline: path-traced panoramas and reference, noise included.
+  --noise-free           resampling error alone: fixed sub-pixel sample positions and a point light
+                         (the Cornell box becomes cornell-point, rendered with the direct integrator).
+                         --scene analytic is a noise-free environment with no geometry, whose radiance
+                         is a closed-form function of direction (no tracer needed).
+
+Warp settings (--filters): nearest, bilinear, bicubic, lanczos; 'antialias' is bilinear with the
+footprint prefilter (or FILTER+antialias); append @KxK for sub-samples: bilinear@2x2.
+
+Examples:
+  lenslab validate --scene cornell --to fisheye:fov=180,mapping=equisolid -o report/
+  lenslab validate --noise-free --to swirl:amount=6 --size 256x256 --pano-sizes 1024x512,2048x1024 -o r/
+  lenslab validate --noise-free --tune 0.5% -o r/          # cheapest setting within 0.5% relative L1
+  lenslab validate --noise-free --amortised -o r/          # K views: one panorama + K warps vs K renders
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def _percent(text: str) -> float:
+    t = text.strip()
+    try:
+        return float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an error like 0.005 or 0.5%") from None
+
+
+def _int_list(text: str) -> list[int]:
+    try:
+        vals = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of integers") from None
+    if any(v < 1 for v in vals):
+        raise argparse.ArgumentTypeError("sample counts must be at least 1")
+    return vals
+
+
+def _vec3(text: str) -> tuple[float, float, float]:
+    try:
+        vals = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 3:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a point X,Y,Z")
+    return vals
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scene", default="cornell",
+                        help="tracer scene to render (default cornell; any built-in or scene file of the "
+                             "tracer), or 'analytic' for the noise-free analytic environment")
+    parser.add_argument("--to", dest="to", default="fisheye:fov=180,mapping=equisolid", metavar="SPEC",
+                        help="target lens spec (default fisheye:fov=180,mapping=equisolid)")
+    parser.add_argument("--size", default="512x512", metavar="WxH", help="target image size (default 512x512)")
+    parser.add_argument("--yaw", type=float, default=None, help="target yaw in degrees (default: the scene's view)")
+    parser.add_argument("--pitch", type=float, default=0.0, help="target pitch in degrees")
+    parser.add_argument("--roll", type=float, default=0.0, help="target roll in degrees")
+    parser.add_argument("--eye", type=_vec3, default=None, metavar="X,Y,Z",
+                        help="target (and panorama) eye point (default: the scene's default view)")
+    parser.add_argument("--look-at", type=_vec3, default=None, metavar="X,Y,Z",
+                        help="point the target looks at (default: the scene's default view)")
+    parser.add_argument("--pano-sizes", default="1024x512,2048x1024,4096x2048", metavar="LIST",
+                        help="panorama sizes to render and warp from (default 1024x512,2048x1024,4096x2048)")
+    parser.add_argument("--filters", default="bilinear,bilinear@2x2,antialias,lanczos", metavar="LIST",
+                        help="warp settings to compare (default bilinear,bilinear@2x2,antialias,lanczos)")
+    parser.add_argument("--spp", type=int, default=None,
+                        help="samples per pixel of the panoramas (default 1 noise-free, 16 Monte Carlo)")
+    ref = parser.add_mutually_exclusive_group()
+    ref.add_argument("--reference-spp", type=int, default=None, metavar="N",
+                     help="samples per pixel of the reference (default 64 noise-free, 1024 Monte Carlo)")
+    ref.add_argument("--reference-error", type=_percent, default=None, metavar="E",
+                     help="render the reference with enough samples that its own noise reads as at most E "
+                          "relative L1 (e.g. 0.1%%)")
+    parser.add_argument("--direct-spp", type=_int_list, default=None, metavar="LIST",
+                        help="also render the target directly at these sample counts, the alternative to "
+                             "warping (default 1,4,16; 'none' is not accepted, give --direct-spp 1 at least)")
+    parser.add_argument("--noise-free", action="store_true",
+                        help="measure resampling error alone: fixed sample positions and a point light")
+    parser.add_argument("--integrator", default=None, choices=("path", "direct"),
+                        help="tracer integrator (default path; direct in --noise-free)")
+    parser.add_argument("--max-depth", type=int, default=8, help="path length limit (default 8)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed of the Monte Carlo renders")
+    parser.add_argument("--repeat", type=int, default=3, help="time each warp as the best of N runs (default 3)")
+    parser.add_argument("--no-flip", action="store_true", help="skip the FLIP metric (the slowest one)")
+    parser.add_argument("--tune", type=_percent, default=None, metavar="TARGET",
+                        help="choose the cheapest panorama size, setting and samples reaching TARGET relative "
+                             "L1 (e.g. 0.5%%), from the table and a fitted model")
+    parser.add_argument("--amortised", action="store_true",
+                        help="also measure K views (fisheye, swirl, pincushion, 2x2 tiles) from one panorama "
+                             "against K direct renders at equal error, K = 1, 4, 16")
+    parser.add_argument("--amortised-size", default="256x256", metavar="WxH",
+                        help="view size for --amortised (default 256x256)")
+    parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    from lenslab.lenses import Camera
+    from lenslab.validate import report as report_mod
+    from lenslab.validate.run import ValidationError, WarpSetting, parse_size, validate
+    from lenslab.validate.sources import make_source
+
+    size = parse_size(args.size)
+    pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]
+    if not pano_sizes:
+        raise ValidationError("--pano-sizes is empty; give e.g. 1024x512,2048x1024")
+    settings = [WarpSetting.parse(s) for s in args.filters.split(",") if s.strip()]
+    analytic = args.scene in ("analytic", "analytic-sky")
+    noise_free = bool(args.noise_free) or analytic
+    progress = not args.quiet and sys.stderr.isatty()
+
+    # the source and the target camera's pose (a tracer scene suggests one in its default view)
+    source = make_source(args.scene, args.integrator, args.max_depth, noise_free)
+    eye, look_at = (0.0, 0.0, 0.0), None
+    view = None if analytic else getattr(source.scene, "views", {}).get("default")
+    if view is not None:
+        eye, look_at = tuple(view.eye), tuple(view.look_at)
+    if args.eye is not None:
+        eye = args.eye
+        if args.look_at is None and look_at is not None:  # keep the view's direction from the new eye
+            import numpy as np
+
+            look_at = tuple(np.add(eye, np.subtract(view.look_at, view.eye)))
+    if args.look_at is not None:
+        look_at = args.look_at
+    if args.yaw is not None or look_at is None:
+        target = Camera.from_spec(args.to, size, yaw=args.yaw or 0.0, pitch=args.pitch, roll=args.roll, eye=eye)
+    else:
+        target = Camera.from_spec(args.to, size, eye=eye, look_at=look_at)
+
+    spp = args.spp or (1 if noise_free else 16)
+    reference_spp = args.reference_spp or (None if args.reference_error is not None else (64 if noise_free else 1024))
+    direct_spp = args.direct_spp if args.direct_spp is not None else [1, 4, 16]
+    seed = None if noise_free else args.seed
+
+    val = validate(source, target, pano_sizes, settings, spp=spp, reference_spp=reference_spp,
+                   reference_error=args.reference_error, seed=seed, direct_spp=direct_spp,
+                   repeat=args.repeat, with_flip=not args.no_flip, progress=progress)
+    extra, sections = {}, []
+    if args.tune is not None:
+        from lenslab.validate.tune import tune
+
+        t = tune(val.rows, args.tune)
+        extra["tune"] = t
+        sections += ["## Tuning", "", "```", t["summary"], "```", ""]
+        print(t["summary"])
+    if args.amortised:
+        from lenslab.validate.amortised import amortised, markdown
+
+        best_aa = next((s for s in settings if s.antialias), settings[0])
+        a = amortised(source, pano_sizes[-1], parse_size(args.amortised_size), best_aa, spp=spp,
+                      reference_spp=reference_spp or 64, direct_spp=direct_spp, seed=seed, eye=eye,
+                      yaw0=float(target.pose.ypr[0]), pitch=float(target.pose.ypr[1]), progress=progress)
+        extra["amortised"] = a
+        sections.append(markdown(a))
+    out = report_mod.write_report(val, args.output, extra, sections)
+    best = min(val.rows, key=lambda r: r["l1"])
+    print(f"reference: {val.meta['reference']['spp']} spp in {val.meta['reference']['seconds']:.2f} s; "
+          f"best: {best['label']} at {100 * best['l1']:.3f}% relative L1 "
+          f"({100 * best.get('l1_interior', float('nan')):.3f}% away from edges)")
+    print(f"report written to {out}/report.md")
+    return 0

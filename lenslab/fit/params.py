@@ -1,0 +1,192 @@
+"""Which parameters of a lens model a fit moves, where they start, and the box they move in.
+
+A model spec such as ``fisheye:mapping=equisolid`` or ``brown:fov=90`` names the model to fit:
+
+- parameters given in the spec stay fixed at those values;
+- the other numeric parameters are fitted (except a few that switch a feature on, like ``vfov``);
+- the other choice parameters (like a fisheye's ``mapping``) are tried in turn, and the best kept.
+
+``free=`` names the fitted parameters explicitly; a value the spec gives for one of them is then its
+starting point. ``bounds=`` overrides a parameter's range; a parameter the model leaves unbounded
+moves within ``start +- max(1, |start|)`` unless told otherwise.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from lenslab.errors import FitError, LensError
+from lenslab.lenses import REGISTRY, parse_spec
+from lenslab.lenses.base import Lens, Param
+
+# float parameters whose default switches a feature off or sets a frame rather than a shape: they
+# are fitted only when named in ``free``
+NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "lon_min", "lon_max", "lat_min", "lat_max", "cx", "cy"})
+
+OPEN_BOUND_MARGIN = 1e-6  # fraction of the range kept away from an open bound (e.g. perspective fov < 180)
+
+
+def parse_bounds(text: str | None) -> dict[str, tuple[float, float]]:
+    """``"k1=-1:1,fov=60:120"`` -> ``{"k1": (-1, 1), "fov": (60, 120)}``."""
+    out: dict[str, tuple[float, float]] = {}
+    if not text:
+        return out
+    for item in text.split(","):
+        name, eq, rng = item.partition("=")
+        lo, colon, hi = rng.partition(":")
+        try:
+            if not (eq and colon and name.strip()):
+                raise ValueError
+            out[name.strip()] = (float(lo), float(hi))
+        except ValueError:
+            raise FitError(f"bounds {item!r}: expected NAME=LOW:HIGH, for example k1=-0.5:0.5") from None
+    return out
+
+
+def parse_names(text: str | Sequence[str] | None) -> tuple[str, ...] | None:
+    if text is None:
+        return None
+    if isinstance(text, str):
+        return tuple(n.strip() for n in text.split(",") if n.strip())
+    return tuple(text)
+
+
+@dataclass
+class ParamSpace:
+    """The parameters a fit moves for one model bound to one image size."""
+
+    cls: type
+    size: tuple[int, int]
+    fixed: dict[str, Any]
+    names: tuple[str, ...]
+    start: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    choices: dict[str, tuple[str, ...]] = field(default_factory=dict)  # tried in turn
+    defaults: np.ndarray | None = None  # the model's own defaults (a second start), within the bounds
+
+    def __post_init__(self):
+        if self.defaults is None:
+            self.defaults = self.start.copy()
+
+    @property
+    def model(self) -> str:
+        return self.cls.name
+
+    def combinations(self) -> list[dict[str, str]]:
+        """Every assignment of the choice parameters that are tried in turn (one empty dict if none)."""
+        keys = list(self.choices)
+        return [dict(zip(keys, combo)) for combo in itertools.product(*(self.choices[k] for k in keys))]
+
+    def values(self, x: Sequence[float], combo: Mapping[str, str] | None = None) -> dict[str, Any]:
+        vals = dict(self.fixed)
+        vals.update(combo or {})
+        for name, v in zip(self.names, x):
+            vals[name] = float(v)
+        return vals
+
+    def make(self, x: Sequence[float], combo: Mapping[str, str] | None = None) -> Lens:
+        """The lens with parameters ``x`` (raises LensError where the model refuses them)."""
+        return self.cls(self.size[0], self.size[1], **self.values(x, combo))
+
+    def try_make(self, x, combo=None) -> Lens | None:
+        try:
+            return self.make(x, combo)
+        except LensError:
+            return None
+
+
+def model_params(cls: type, given: Mapping[str, Any]) -> list[Param]:
+    """The parameters of a model, with those of its base model for the bent ones (swirl, distortion)."""
+    out = list(cls.params)
+    if any(p.name == "base" for p in out):
+        base = str(given.get("base", next(p.default for p in out if p.name == "base"))).strip().lower()
+        base_cls = REGISTRY.get(base)
+        if base_cls is None:
+            raise FitError(f"{cls.name}: unknown base model {base!r}; valid models: {', '.join(sorted(REGISTRY))}")
+        names = {p.name for p in out}
+        out += [p for p in model_params(base_cls, given) if p.name not in names]
+    return out
+
+
+def _numeric_bounds(p: Param, start: float) -> tuple[float, float]:
+    lo = p.lo if p.lo is not None else None
+    hi = p.hi if p.hi is not None else None
+    half = max(1.0, abs(start))
+    if lo is None and hi is None:
+        return start - half, start + half
+    if lo is None:
+        lo = min(start, hi) - half
+    if hi is None:
+        hi = max(start, lo) + half
+    margin = OPEN_BOUND_MARGIN * (hi - lo)
+    return lo + (margin if p.lo_open else 0.0), hi - (margin if p.hi_open else 0.0)
+
+
+def build_space(
+    model: str,
+    size: tuple[int, int],
+    *,
+    free: Sequence[str] | str | None = None,
+    bounds: Mapping[str, tuple[float, float]] | str | None = None,
+    start_from: Lens | None = None,
+) -> ParamSpace:
+    """The fit's parameter space for the model spec ``model`` at image size ``size``.
+
+    ``start_from``: a lens whose parameters of the same name (like ``fov``) give starting values.
+    """
+    name, given = parse_spec(model)
+    if name not in REGISTRY:
+        raise FitError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
+    cls = REGISTRY[name]
+    params = {p.name: p for p in model_params(cls, given)}
+    unknown = sorted(set(given) - set(params))
+    if unknown:
+        raise FitError(f"{name}: unknown parameter(s) {', '.join(unknown)}; valid: {', '.join(params) or 'none'}")
+    bounds = parse_bounds(bounds) if isinstance(bounds, str) or bounds is None else dict(bounds)
+    free_names = parse_names(free)
+    converted = {k: params[k].convert(name, v) for k, v in given.items()}
+    numeric = [p for p in params.values() if p.kind is float]
+    if free_names is None:
+        free_names = tuple(p.name for p in numeric if p.name not in given and p.name not in NOT_FITTED_BY_DEFAULT)
+    for n in free_names:
+        if n not in params:
+            raise FitError(f"{name}: cannot fit {n!r}: no such parameter; valid: {', '.join(params)}")
+        if params[n].kind is not float:
+            raise FitError(f"{name}: parameter {n} is not a real number; give its value in the model spec instead")
+    for n in bounds:
+        if n not in free_names:
+            raise FitError(f"{name}: bounds given for {n}, which is not fitted; fitted: {', '.join(free_names) or 'none'}")
+    source_values = start_from.param_values() if start_from is not None else {}
+    start, lower, upper, defaults = [], [], [], []
+    for n in free_names:
+        p = params[n]
+        d = float(converted.get(n, p.default))
+        if n in converted:
+            s = float(converted[n])
+        else:
+            s = float(p.default)
+            sv = source_values.get(n)
+            if isinstance(sv, float) and not isinstance(sv, bool):
+                try:
+                    s = float(p.convert(name, sv))
+                except LensError:
+                    pass
+        lo, hi = bounds.get(n, _numeric_bounds(p, s))
+        if not lo < hi:
+            raise FitError(f"{name}: bounds for {n} are empty ({lo:g} >= {hi:g}); give LOW < HIGH")
+        s = min(max(s, lo), hi)
+        defaults.append(min(max(d, lo), hi))
+        start.append(s)
+        lower.append(lo)
+        upper.append(hi)
+    fixed = {k: v for k, v in converted.items() if k not in free_names}
+    choices = {p.name: p.choices for p in params.values()
+               if p.choices is not None and p.name not in given and len(p.choices) > 1}
+    return ParamSpace(cls, (int(size[0]), int(size[1])), fixed, tuple(free_names),
+                      np.asarray(start, dtype=np.float64), np.asarray(lower, dtype=np.float64),
+                      np.asarray(upper, dtype=np.float64), choices, np.asarray(defaults, dtype=np.float64))

@@ -1,0 +1,335 @@
+"""OpenEXR through the official ``OpenEXR`` bindings.
+
+Reading
+- Selects a part of a multipart file (``file.exr:2`` or ``file.exr:rgba_left``) and a layer
+  (``file.exr:left`` reads ``left.R``, ``left.G``, ... ; ``file.exr:2:left`` both); without a
+  selector: the first part, and its base (undotted) channels.
+- Channels become R, G, B (+ A); Y (+ A); luminance-chroma Y, RY, BY (+ A), converted to RGB; a lone
+  channel of any name becomes a one-channel image; any other set is stacked in name order.
+- Luminance-chroma: the subsampled chroma is upsampled (linear interpolation between the stored
+  samples, which sit on even pixel coordinates) and ``R = (RY + 1) Y``, ``B = (BY + 1) Y``,
+  ``G = (Y - wR R - wB B) / wG`` with the luminance weights of the file's chromaticities.
+- Colour with a ``chromaticities`` attribute other than Rec.709 is converted to Rec.709 primaries
+  (``rec709=False`` keeps the file's primaries).
+- The data window is placed in the display window (outside it: 0, alpha 0) unless
+  ``data_window=True`` keeps the stored pixels as they are.
+- Tiled and mip-mapped files read at their full-resolution level. Deep files are refused.
+
+Writing: half (default) or float, ZIP compression by default, the camera as a TOML string attribute
+``lenslab.camera``. Values beyond half's range are clamped to +-65504 and counted in a
+:class:`HalfOverflowWarning`; infinities and NaN are kept.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from lenslab.errors import FormatError
+from lenslab.io.limits import check_size
+
+HALF_MAX = 65504.0
+REC709 = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)
+CAMERA_ATTRIBUTE = "lenslab.camera"
+COMPRESSIONS = ("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
+                "htj2k32")
+_RESERVED = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "pixelAspectRatio",
+             "screenWindowCenter", "screenWindowWidth", "type", "tiles", "name", "version", "chunkCount"}
+
+
+class HalfOverflowWarning(UserWarning):
+    """Values beyond the range of half floats were clamped to +-65504 when writing an EXR."""
+
+
+def _plain(value):
+    """Header attribute -> plain Python (lists, numbers, strings) for meta and JSON."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (tuple, list)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (str, int, float, bool)) or value is None:
+        return value
+    if isinstance(value, (np.integer, np.floating)):
+        return value.item()
+    if hasattr(value, "name") and isinstance(getattr(value, "name"), str):  # enums
+        return value.name
+    return repr(value)
+
+
+def _split_selector(selector: str | None) -> tuple[str | None, str | None]:
+    if not selector:
+        return None, None
+    if ":" in selector:
+        part, layer = selector.split(":", 1)
+        return part or None, layer or None
+    return selector, None
+
+
+def _find_part(path, parts, part_sel: str | None, layer_sel: str | None):
+    """(part index, layer) for the selector; a lone selector is a part index, a part name or a layer."""
+    names = [p.name() for p in parts]
+    if part_sel is None:
+        return 0, layer_sel
+    if part_sel.isdigit():
+        i = int(part_sel)
+        if i >= len(parts):
+            raise FormatError(f"{path}: part {i} does not exist; the file has {len(parts)} part(s) "
+                              f"({', '.join(repr(n) for n in names)})")
+        return i, layer_sel
+    if part_sel in names:
+        return names.index(part_sel), layer_sel
+    if layer_sel is None:  # a lone name that is not a part: a layer of the first part with it
+        for i, p in enumerate(parts):
+            if any(c.startswith(part_sel + ".") for c in _channel_names(p)):
+                return i, part_sel
+    layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in _channel_names(p) if "." in c})
+    raise FormatError(f"{path}: no part or layer named {part_sel!r}; parts: "
+                      f"{', '.join(repr(n) for n in names)}; layers: {', '.join(layers) or 'none'}")
+
+
+def _channel_names(part) -> list[str]:
+    chans = part.header.get("channels") if isinstance(part.header, dict) else None
+    if chans is None:
+        return list(part.channels)
+    return [c.name for c in chans]
+
+
+def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]:
+    """Short name -> full channel name for ``layer`` (None: the base layer, or the only layer)."""
+    if layer is not None:
+        sel = {n[len(layer) + 1:]: n for n in names if n.startswith(layer + ".") and "." not in n[len(layer) + 1:]}
+        if not sel:
+            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {', '.join(names)}")
+        return sel
+    base = {n: n for n in names if "." not in n}
+    if base:
+        return base
+    layers = sorted({n.rsplit(".", 1)[0] for n in names})
+    if len(layers) == 1:
+        return {n.rsplit(".", 1)[1]: n for n in names}
+    raise FormatError(f"{path}: the part has no base channels, only layers {', '.join(layers)}; "
+                      f"choose one as 'file.exr:LAYER'")
+
+
+def upsample(a: np.ndarray, xs: int, ys: int, w: int, h: int, x0: int, y0: int) -> np.ndarray:
+    """A subsampled channel back to full resolution by linear interpolation between its samples.
+
+    Stored samples sit at absolute pixel coordinates divisible by the sampling rate.
+    """
+    out = a.astype(np.float32)
+    for axis, s, n, o in ((1, xs, w, x0), (0, ys, h, y0)):
+        if s == 1:
+            continue
+        pos = (np.arange(n) + o) / s - np.ceil(o / s)  # position of each full pixel in sample units
+        m = out.shape[axis]
+        f = np.floor(pos).astype(np.intp)
+        i0, i1 = np.clip(f, 0, m - 1), np.clip(f + 1, 0, m - 1)  # beyond the samples: the nearest one
+        t = (pos - f).astype(np.float32)
+        a0, a1 = np.take(out, i0, axis=axis), np.take(out, i1, axis=axis)
+        shape = (1, n) if axis == 1 else (n, 1)
+        out = a0 + (a1 - a0) * t.reshape(shape)
+    return out
+
+
+def _npm(chromaticities) -> np.ndarray:
+    """RGB -> XYZ matrix of the primaries and white point (x, y pairs; Y of white = 1)."""
+    import colour
+
+    c = np.asarray(chromaticities, dtype=np.float64)
+    return colour.normalised_primary_matrix(c[:6].reshape(3, 2), c[6:8])
+
+
+def luminance_weights(chromaticities=None) -> np.ndarray:
+    """(wR, wG, wB): the Y row of the RGB -> XYZ matrix of the chromaticities (Rec.709 if None)."""
+    return _npm(chromaticities if chromaticities is not None else REC709)[1]
+
+
+def yca_to_rgb(y: np.ndarray, ry: np.ndarray, by: np.ndarray, weights) -> np.ndarray:
+    """Luminance-chroma (full-resolution Y, RY, BY) -> RGB, float32 H x W x 3.
+
+    ``RY = (R - Y) / Y`` and ``BY = (B - Y) / Y`` as OpenEXR stores them, so ``R = (RY + 1) Y``,
+    ``B = (BY + 1) Y`` and G follows from ``Y = wR R + wG G + wB B``.
+    """
+    wr, wg, wb = (np.float32(v) for v in weights)
+    r = (ry + np.float32(1)) * y
+    b = (by + np.float32(1)) * y
+    g = (y - wr * r - wb * b) / wg
+    return np.stack([r, g, b], axis=-1).astype(np.float32, copy=False)
+
+
+def _to_float(pixels: np.ndarray) -> np.ndarray:
+    return pixels if pixels.dtype == np.float32 else pixels.astype(np.float32)
+
+
+def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
+             rec709: bool = True) -> tuple[np.ndarray, dict]:
+    import OpenEXR
+
+    part_sel, layer_sel = _split_selector(selector)
+    try:
+        head = OpenEXR.File(str(path), header_only=True)
+        parts = head.parts
+    except Exception as exc:  # the bindings raise RuntimeError/ValueError with the library's message
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({exc}); the file is damaged") from None
+    if not parts:
+        raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
+    index, layer = _find_part(path, parts, part_sel, layer_sel)
+    hpart = parts[index]
+    storage = _plain(hpart.type())
+    if "deep" in str(storage).lower():
+        raise FormatError(f"{path}: part {index} ({hpart.name()!r}) is a deep image (several samples per "
+                          "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
+    for p in parts:
+        (dx0, dy0), (dx1, dy1) = (tuple(int(v) for v in a) for a in p.header["dataWindow"])
+        check_size(path, dx1 - dx0 + 1, dy1 - dy0 + 1)
+    header = hpart.header
+    (x0, y0), (x1, y1) = (tuple(int(v) for v in a) for a in header["dataWindow"])
+    (X0, Y0), (X1, Y1) = (tuple(int(v) for v in a) for a in header["displayWindow"])
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    check_size(path, X1 - X0 + 1, Y1 - Y0 + 1)
+    names = _channel_names(hpart)
+    short = _layer_channels(path, names, layer)
+    sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
+
+    try:
+        full = OpenEXR.File(str(path), separate_channels=True)
+        chans = full.parts[index].channels
+    except Exception as exc:
+        raise FormatError(f"{path}: OpenEXR cannot read the pixels ({exc}); the file is truncated or "
+                          "damaged") from None
+
+    def get(name: str) -> np.ndarray:
+        ch = chans.get(short[name])
+        if ch is None or ch.pixels is None:
+            raise FormatError(f"{path}: channel {short[name]!r} has no pixel data; the file is damaged")
+        pix = ch.pixels
+        if pix.dtype == object:
+            raise FormatError(f"{path}: channel {short[name]!r} holds deep samples; lenslab reads flat images")
+        xs, ys = sampling.get(short[name], (1, 1))
+        if (xs, ys) != (1, 1):
+            return upsample(pix, xs, ys, w, h, x0, y0)
+        if pix.shape != (h, w):
+            raise FormatError(f"{path}: channel {short[name]!r} is {pix.shape[1]} x {pix.shape[0]}, not the data "
+                              f"window's {w} x {h}; the file is damaged")
+        return pix  # half, float or uint: converted to float32 once, when copied into the image
+
+    chroma = header.get("chromaticities")
+    keys = set(short)
+    ignored: list[str] = []
+    converted = False
+    if len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
+        (name,) = keys
+        planes, out_names = [get(name)], [name]
+    elif keys & {"R", "G", "B"}:
+        planes = [get(c) if c in keys else None for c in "RGB"]  # None: a missing colour channel is 0
+        out_names = ["R", "G", "B"]
+        ignored = sorted(keys - {"R", "G", "B", "A"})
+    elif "Y" in keys:
+        y = get("Y")
+        if "RY" in keys and "BY" in keys:
+            rgb = yca_to_rgb(_to_float(y), get("RY"), get("BY"), luminance_weights(chroma))
+            planes, out_names = [rgb[..., 0], rgb[..., 1], rgb[..., 2]], ["R", "G", "B"]
+            converted = True
+        elif "A" in keys:
+            planes, out_names = [y, y, y], ["R", "G", "B"]
+        else:
+            planes, out_names = [y], ["Y"]
+        ignored = sorted(keys - {"Y", "RY", "BY", "A"})
+    else:
+        order = sorted(keys)
+        planes, out_names = [get(c) for c in order], order
+    if "A" in keys and out_names[:3] == ["R", "G", "B"]:
+        planes.append(get("A"))
+        out_names.append("A")
+    image = np.empty((h, w, len(planes)), np.float32)
+    for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
+        image[..., i] = 0 if plane is None else plane
+
+    primaries_converted = False
+    if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
+            not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
+        m = np.linalg.solve(_npm(REC709), _npm(chroma)).astype(np.float32)  # file RGB -> XYZ -> Rec.709
+        image[..., :3] = image[..., :3] @ m.T
+        primaries_converted = True
+
+    if not data_window and (x0, y0, x1, y1) != (X0, Y0, X1, Y1):
+        placed = np.zeros((Y1 - Y0 + 1, X1 - X0 + 1, image.shape[2]), np.float32)
+        ix0, iy0, ix1, iy1 = max(x0, X0), max(y0, Y0), min(x1, X1), min(y1, Y1)
+        if ix0 <= ix1 and iy0 <= iy1:
+            placed[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
+        image = placed
+
+    pixel_types = {_plain(c.type()) for n, c in chans.items() if n in short.values()}
+    bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
+    attributes = {k: _plain(v) for k, v in header.items() if k != "channels"}
+    meta = {
+        "format": "exr",
+        "bit_depth": bits,
+        "sample_type": "float" if pixel_types <= {"FLOAT"} else ("half" if pixel_types <= {"HALF"} else
+                                                              "/".join(sorted(t.lower() for t in pixel_types))),
+        "channels": out_names,
+        "display_encoded": False,
+        "attributes": attributes,
+        "part": index,
+        "part_name": hpart.name(),
+        "parts": [p.name() for p in parts],
+        "layer": layer,
+        "file_channels": names,
+        "ignored_channels": [short[c] for c in ignored],
+        "luminance_chroma": converted,
+        "primaries_converted_to_rec709": primaries_converted,
+        "data_window": [x0, y0, x1, y1],
+        "display_window": [X0, Y0, X1, Y1],
+        "origin": [x0, y0] if data_window else [X0, Y0],
+        "storage": storage,
+    }
+    return image, meta
+
+
+def to_half(image: np.ndarray) -> np.ndarray:
+    """float32 -> float16 with finite values beyond half's range clamped (warned with their count)."""
+    big = np.abs(image) > HALF_MAX
+    big &= np.isfinite(image)
+    n = int(np.count_nonzero(big))
+    if n:
+        image = np.where(big, np.copysign(np.float32(HALF_MAX), image), image)
+        warnings.warn(f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}; write with "
+                      "pixel_type='float' to keep them", HalfOverflowWarning, stacklevel=4)
+    return image.astype(np.float16)
+
+
+def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
+              channels: list[str] | None = None, attributes: dict | None = None, camera=None,
+              threads: int = -1) -> None:
+    import OpenEXR
+
+    h, w, c = image.shape
+    if pixel_type not in ("half", "float"):
+        raise FormatError(f"EXR pixel_type must be 'half' or 'float', not {pixel_type!r}")
+    comp = str(compression).lower().replace("_compression", "")
+    if comp not in COMPRESSIONS:
+        raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
+                          "(zip is the most widely readable)")
+    if channels is None:
+        channels = {1: ["Y"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
+        if channels is None:
+            raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
+    if len(channels) != c:
+        raise FormatError(f"{len(channels)} channel names given for an image with {c} channels")
+    data = to_half(image) if pixel_type == "half" else np.asarray(image, np.float32)
+    enum = "NO_COMPRESSION" if comp == "none" else f"{comp.upper()}_COMPRESSION"
+    header = {"compression": getattr(OpenEXR, enum), "type": OpenEXR.scanlineimage}
+    for k, v in (attributes or {}).items():
+        if k in _RESERVED:
+            continue
+        header[k] = v
+    if camera is not None:
+        header[CAMERA_ATTRIBUTE] = camera.to_toml()
+    # the bindings need each channel contiguous (they write strided arrays wrongly)
+    chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
+    try:
+        OpenEXR.File(header, chans, threads).write(str(tmp))
+    except (TypeError, ValueError, RuntimeError) as exc:
+        raise FormatError(f"OpenEXR could not write the image ({exc})") from None

@@ -1,0 +1,132 @@
+"""JPG and PNG through OpenCV (``cv2.imdecode``/``cv2.imencode``), sRGB-encoded 8-bit (PNG also 16-bit).
+
+OpenCV works in BGR order; images here are RGB. JPG EXIF orientation is not applied (pixels are
+returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
+standard-dynamic-range image.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from lenslab.errors import FormatError
+from lenslab.io.limits import check_size
+
+
+def _png_size(data: bytes) -> tuple[int, int] | None:
+    if len(data) >= 24 and data[12:16] == b"IHDR":
+        return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+    return None
+
+
+def _jpg_size(data: bytes) -> tuple[int, int] | None:
+    """Width and height from the first start-of-frame marker, or None if none is found."""
+    pos, n = 2, len(data)
+    while pos + 4 <= n:
+        if data[pos] != 0xFF:
+            return None
+        marker = data[pos + 1]
+        if marker == 0xFF:
+            pos += 1
+            continue
+        length = int.from_bytes(data[pos + 2:pos + 4], "big")
+        if 0xC0 <= marker <= 0xCF and marker not in (0xC4, 0xC8, 0xCC):
+            if pos + 9 > n:
+                return None
+            return int.from_bytes(data[pos + 7:pos + 9], "big"), int.from_bytes(data[pos + 5:pos + 7], "big")
+        pos += 2 + length
+    return None
+
+
+def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]:
+    import cv2
+
+    data = path.read_bytes()
+    size = _png_size(data) if fmt == "png" else _jpg_size(data)
+    if size is None:
+        raise FormatError(f"{path}: the {fmt.upper()} header is missing or damaged")
+    check_size(path, *size)
+    if fmt == "jpg" and data.rfind(b"\xff\xd9") < 0:
+        raise FormatError(f"{path}: the JPG has no end-of-image marker; it is truncated")
+    if fmt == "png" and b"IEND" not in data[-32:]:
+        raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
+    codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    if codes is None:
+        raise FormatError(f"{path}: OpenCV cannot decode this {fmt.upper()}; the file is damaged")
+    if codes.ndim == 2:
+        codes = codes[..., None]
+    c = codes.shape[2]
+    if c == 3:
+        codes = codes[..., ::-1]
+    elif c == 4:
+        codes = codes[..., [2, 1, 0, 3]]
+    if codes.dtype == np.uint8:
+        maxval, bits = 255, 8
+    elif codes.dtype == np.uint16:
+        maxval, bits = 65535, 16
+    else:
+        raise FormatError(f"{path}: {fmt.upper()} with {codes.dtype} samples is not supported; use 8 or 16 bits")
+    if raw:
+        image = codes.astype(np.float32) / np.float32(maxval)
+    else:
+        from lenslab.io.encode import decode_srgb
+        image = decode_srgb(codes, maxval)
+        if c in (2, 4):  # alpha is linear coverage, never display-encoded
+            image[..., -1] = codes[..., -1].astype(np.float32) / np.float32(maxval)
+    names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
+    meta = {
+        "format": fmt,
+        "bit_depth": bits,
+        "sample_type": "uint",
+        "channels": names,
+        "display_encoded": not raw,
+        "attributes": {},
+    }
+    return np.ascontiguousarray(image, dtype=np.float32), meta
+
+
+def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
+               subsampling: str | None = None, bits: int = 8, dither: bool = False,
+               compression: int = 3) -> bytes:
+    """Encode a float image (C = 1, 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes."""
+    import cv2
+
+    from lenslab.io.encode import encode_quantise, quantise
+
+    c = image.shape[2]
+    if fmt == "jpg":
+        if bits != 8:
+            raise FormatError(f"JPG holds 8-bit samples only, not bits={bits}; use PNG for 16 bits")
+        if not 0 <= int(quality) <= 100:
+            raise FormatError(f"JPG quality must be 0..100, not {quality}")
+    elif bits not in (8, 16):
+        raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
+    if raw:
+        codes = quantise(image, bits, dither=dither)
+    elif c == 4:
+        codes = encode_quantise(image[..., :3], bits, dither=dither)
+        codes = np.concatenate([codes, quantise(image[..., 3:], bits)], axis=-1)
+    else:
+        codes = encode_quantise(image, bits, dither=dither)
+    if c == 3:
+        codes = codes[..., ::-1]
+    elif c == 4:
+        codes = codes[..., [2, 1, 0, 3]]
+    codes = np.ascontiguousarray(codes)
+    if fmt == "jpg":
+        sub = subsampling or ("444" if int(quality) >= 90 else "420")
+        factors = {"444": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_444, "422": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_422,
+                   "420": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_420, "411": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_411,
+                   "440": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_440}
+        key = str(sub).replace(":", "")
+        if key not in factors:
+            raise FormatError(f"unknown JPG chroma subsampling {subsampling!r}; choose 444, 422 or 420")
+        params = [cv2.IMWRITE_JPEG_QUALITY, int(quality), cv2.IMWRITE_JPEG_SAMPLING_FACTOR, factors[key]]
+        ok, buf = cv2.imencode(".jpg", codes, params)
+    else:
+        ok, buf = cv2.imencode(".png", codes, [cv2.IMWRITE_PNG_COMPRESSION, int(compression)])
+    if not ok:
+        raise FormatError(f"OpenCV could not encode the image as {fmt.upper()}")
+    return buf.tobytes()

@@ -1,0 +1,76 @@
+"""Radial distortion with the Brown (Brown-Conrady) polynomial."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses.base import FLOAT, Param
+from lenslab.lenses.distortion import smallest_positive_root
+from lenslab.lenses.registry import register
+from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.wrapped import Wrapped
+
+
+@register
+class Brown(Wrapped):
+    r"""Radial distortion, Brown polynomial: ``r_d = r_u (1 + k1 r_u^2 + k2 r_u^4)``.
+
+    ``r_u`` is the radius of the ideal (undistorted) point seen by the base model (perspective by
+    default) and ``r_d = sqrt(u^2 + v^2)`` its radius in the image; ``k1 < 0`` barrel, ``k1 > 0``
+    pincushion. The direction -> pixel side is the closed form; pixel -> direction solves the
+    polynomial for ``r_u`` by bracketed Newton (start ``r_u = r_d``, bisection whenever a step leaves the
+    bracket, stop below 1e-13, no fixed count). With ``s = r_u^2`` the polynomial folds where
+    ``dr_d/dr_u = 1 + 3 k1 s + 5 k2 s^2`` reaches 0: pixels at or beyond the fold radius are invalid.
+    """
+
+    name = "brown"
+    summary = "radial distortion, Brown polynomial r_d = r_u (1 + k1 r_u^2 + k2 r_u^4)"
+    own_params = (
+        Param("k1", -0.05, "r^2 coefficient (< 0 barrel, > 0 pincushion)"),
+        Param("k2", 0.0, "r^4 coefficient"),
+    )
+
+    def _check(self) -> None:
+        s_fold = smallest_positive_root(5.0 * self.k2, 3.0 * self.k1)
+        self.ru_fold = float(np.sqrt(s_fold))  # undistorted radius of the fold (inf: none)
+        self.rd_fold = float(self.radius_map(np.array([self.ru_fold]))[0][0]) if np.isfinite(s_fold) else np.inf
+        # bracket for the solve: the fold, or far enough that every image radius is inside
+        r_corner = float(np.hypot(1.0, self.aspect))
+        hi = self.ru_fold
+        if not np.isfinite(hi):
+            hi = r_corner
+            while self.radius_map(np.array([hi]))[0][0] < r_corner:
+                hi *= 2.0
+        self.ru_hi = hi
+
+    def radius_map(self, r_u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``r_d`` and ``dr_d/dr_u`` at undistorted radii ``r_u`` (float64)."""
+        s = r_u * r_u
+        return r_u * (1.0 + s * (self.k1 + self.k2 * s)), 1.0 + s * (3.0 * self.k1 + 5.0 * self.k2 * s)
+
+    def invert_radius(self, r_d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Solve ``r_d = g(r_u)`` for ``r_u``: ``(r_u, valid, converged)`` as flat float64/bool arrays."""
+        r_d = np.asarray(r_d, dtype=FLOAT).ravel()
+        inside = (r_d >= 0) & (r_d < self.rd_fold)
+        sel = np.flatnonzero(inside)
+        x, conv = invert_increasing(self.radius_map, r_d[sel], 0.0, self.ru_hi, r_d[sel])
+        r_u = np.zeros(r_d.shape, dtype=FLOAT)
+        r_u[sel] = x
+        converged = np.zeros(r_d.shape, dtype=bool)
+        converged[sel] = conv
+        return r_u, inside & converged, converged
+
+    def bend(self, uv):
+        u, v = uv[..., 0], uv[..., 1]
+        r_d = np.sqrt(u * u + v * v)
+        r_u, valid, _ = self.invert_radius(r_d)
+        r_u = r_u.reshape(r_d.shape)
+        # (u, v) r_u / r_d, with the limit 1 at the centre
+        scale = np.divide(r_u, r_d, out=np.ones(r_d.shape), where=r_d > 0)
+        return uv * scale[..., None], valid.reshape(r_d.shape)
+
+    def unbend(self, uv):
+        u, v = uv[..., 0], uv[..., 1]
+        s = u * u + v * v
+        poly = 1.0 + s * (self.k1 + self.k2 * s)
+        return uv * poly[..., None], s < self.ru_fold * self.ru_fold

@@ -1,0 +1,141 @@
+"""Fisheye lenses: equidistant, equisolid, stereographic and orthographic mappings."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.errors import LensError
+from lenslab.lenses.base import FLOAT, Lens, Param
+from lenslab.lenses.registry import register
+
+#: largest fov (degrees) each mapping allows, and whether that bound itself is allowed
+FOV_LIMITS = {
+    "equidistant": (360.0, True),   # a = r F reaches the back pole (-z) at the rim
+    "equisolid": (360.0, True),     # 2 asin(r sin(F/2)) reaches pi at F = 180
+    "stereographic": (360.0, False),  # tan(F/2) diverges at F = 180
+    "orthographic": (180.0, True),  # asin(r sin F) only sees the front hemisphere
+}
+
+#: slack on the rim test of the inverse: a direction exactly on the rim comes back at r = 1 to a few
+#: ulps, and must still count as seen (1e-12 of the radius is 4e-9 px at 8192 px width)
+RIM_SLACK = 1e-12
+RIM_R2 = (1.0 + RIM_SLACK) ** 2  # both directions accept r <= 1 + RIM_SLACK, so rim points round-trip
+
+
+@register
+class Fisheye(Lens):
+    r"""Fisheye lens, angle from the axis a function of the image radius: ``a = g(r)``.
+
+    With ``r = sqrt(u^2 + v^2)`` and ``F = fov/2``::
+
+        equidistant    a = r F
+        equisolid      a = 2 asin(r sin(F/2))      (equal areas hold equal solid angles)
+        stereographic  a = 2 atan(r tan(F/2))
+        orthographic   a = asin(r sin F)            (F <= 90 deg)
+        d = (sin(a) u/r, sin(a) v/r, cos(a))        (d = +z at r = 0: the limit, no division)
+
+    Valid for ``r <= 1`` (to 1e-12, so that rim points survive rounding both ways): the image circle touches the left and right edges, so a pixel on that rim
+    is ``fov/2`` from the axis. Allowed fov: equidistant and equisolid up to 360 (the rim is then the
+    back pole -z), stereographic below 360, orthographic up to 180.
+
+    The inverse uses ``rho = sqrt(dx^2 + dy^2)`` and ``dz`` (no trigonometry except equidistant's
+    ``atan2``): equisolid ``r = rho / (sin(F/2) sqrt(2 (1 + dz)))``, stereographic
+    ``r = rho / (tan(F/2) (1 + dz))`` (each with the complementary form behind the camera, where
+    ``1 + dz`` cancels), orthographic ``r = rho / sin F`` for ``dz >= 0``; ``(u, v) = (dx, dy) r / rho``.
+    """
+
+    name = "fisheye"
+    summary = "fisheye lens: equidistant, equisolid, stereographic or orthographic mapping"
+    params = (
+        Param("fov", 180.0, "field of view across the image width (the image circle), degrees; "
+              "up to 360 for equidistant and equisolid, below 360 stereographic, up to 180 orthographic",
+              0.0, 360.0, lo_open=True),
+        Param("mapping", "equidistant", "angle-from-axis mapping a = g(r)",
+              choices=tuple(FOV_LIMITS)),
+    )
+
+    def _check(self) -> None:
+        hi, closed = FOV_LIMITS[self.mapping]
+        if self.fov > hi or (self.fov == hi and not closed):
+            bound = f"<= {hi:g}" if closed else f"< {hi:g}"
+            raise LensError(
+                f"fisheye: fov={self.fov:g} is too wide for the {self.mapping} mapping (it needs fov {bound}); "
+                f"use a narrower fov, or mapping=equidistant (up to 360)"
+            )
+        self.F = np.radians(self.fov) / 2.0
+
+    # -- pixel -> direction ------------------------------------------------------------------
+    def uv_to_dir(self, uv):
+        u, v = uv[..., 0], uv[..., 1]
+        r2 = u * u + v * v
+        d = np.empty(uv.shape[:-1] + (3,), dtype=FLOAT)
+        F, m = self.F, self.mapping
+        if m == "equidistant":
+            r = np.sqrt(r2)
+            a = r * F
+            sa = np.sin(a)
+            # sin(a)/r, with its limit F at r = 0
+            k = np.divide(sa, r, out=np.full(r.shape, F), where=r > 0)
+            np.cos(a, out=d[..., 2])
+        elif m == "equisolid":
+            s = np.sin(F / 2)
+            # sin(a) = 2 r s sqrt(1 - r^2 s^2), cos(a) = 1 - 2 r^2 s^2
+            q = r2 * (s * s)
+            k = np.sqrt(np.maximum(1.0 - q, 0.0))  # >= 0 also a hair past the rim (RIM_SLACK)
+            k *= 2.0 * s
+            np.multiply(q, -2.0, out=d[..., 2])
+            d[..., 2] += 1.0
+        elif m == "stereographic":
+            t = np.tan(F / 2)
+            # with q = r t = tan(a/2): sin(a) = 2q/(1+q^2), cos(a) = (1-q^2)/(1+q^2)
+            q2 = r2 * (t * t)
+            k = 1.0 / (1.0 + q2)
+            np.multiply(k, 1.0 - q2, out=d[..., 2])
+            k *= 2.0 * t
+        else:  # orthographic: sin(a) = r sin F, cos(a) = sqrt(1 - r^2 sin^2 F)
+            s = np.sin(F)
+            k = s
+            np.sqrt(np.maximum(1.0 - r2 * (s * s), 0.0), out=d[..., 2])
+        np.multiply(u, k, out=d[..., 0])
+        np.multiply(v, k, out=d[..., 1])
+        return d, r2 <= RIM_R2
+
+    # -- direction -> pixel ------------------------------------------------------------------
+    def dir_to_uv(self, d):
+        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
+        rho2 = dx * dx + dy * dy
+        rho = np.sqrt(rho2)
+        F, m = self.F, self.mapping
+        if m == "equidistant":
+            theta = np.arctan2(rho, dz)
+            r = theta / F
+            k = np.divide(r, rho, out=np.full(r.shape, 1.0 / F), where=rho > 0)
+        elif m == "equisolid":
+            s = np.sin(F / 2)
+            front = dz >= 0
+            # r = sin(theta/2)/s; sin(theta/2) = rho / sqrt(2(1+dz)) in front, sqrt((1-dz)/2) behind
+            k = np.where(front, 1.0 / (s * np.sqrt(2.0 * (1.0 + dz))), np.sqrt(0.5 * (1.0 - dz)) / (s * rho))
+            r = k * rho
+            if not np.all(front):
+                r = np.where(front, r, np.sqrt(0.5 * (1.0 - dz)) / s)
+        elif m == "stereographic":
+            t = np.tan(F / 2)
+            front = dz >= 0
+            # r = tan(theta/2)/t; tan(theta/2) = rho/(1+dz) = (1-dz)/rho
+            k = np.where(front, 1.0 / (t * (1.0 + dz)), (1.0 - dz) / (t * rho2))
+            r = np.where(front, k * rho, (1.0 - dz) / (t * rho))
+        else:  # orthographic
+            s = np.sin(F)
+            k = np.full(rho.shape, 1.0 / s)
+            r = rho / s
+        uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+        np.multiply(dx, k, out=uv[..., 0])
+        np.multiply(dy, k, out=uv[..., 1])
+        valid = r <= 1.0 + RIM_SLACK
+        if m == "orthographic":
+            valid &= dz >= 0
+        # the back pole (seen only at fov 360): every rim point is that direction; take the right edge
+        pole = (rho == 0) & (dz < 0)
+        if np.any(pole):
+            uv[pole] = (1.0, 0.0)
+        return uv, valid

@@ -1,0 +1,99 @@
+"""The seed renderer's legacy fisheye formula, kept to reproduce its renders."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses.base import FLOAT, Lens, Param
+from lenslab.lenses.registry import register
+from lenslab.lenses.solve import invert_increasing
+
+#: tan(F r) may rise to pi: there the direction reaches the back pole, and beyond it the image folds
+T_FOLD = np.pi
+
+
+@register
+class SeedFisheye(Lens):
+    r"""The seed renderer's fisheye: ``t = tan(r F)``, ``d ~ (sin(t) u, sin(t) v, cos(t))``, normalised.
+
+    With ``r = sqrt(u^2 + v^2)`` and ``F = fov/2``. Because ``(u, v)`` is not divided by ``r``, the
+    angle from the axis is ``psi(r) = atan2(r sin t, cos t)`` (about ``F r^2`` near the centre), not
+    ``t``; at the rim (``r = 1``) it is ``t = tan(F)``. Consequences, for the record:
+
+    - the rim passes 90 degrees from the axis once fov exceeds 2 atan(pi/2) = 115.0 degrees;
+    - where ``t`` reaches pi the direction is the back pole ``-z`` for every azimuth, and beyond it the
+      image folds back over directions already seen (not injective): this happens inside the image
+      once ``tan(F) > pi``, fov above 2 atan(pi) = 144.7 degrees, at ``r = atan(pi) / F``;
+    - ``tan`` diverges at the rim when fov = 180.
+
+    Valid pixels: ``r <= 1`` and ``t < pi``; on that disc ``psi`` is increasing, since
+    ``dpsi/dr ~ sin(t) cos(t) + r F (1 + t^2) > 0`` for ``t`` in ``[0, pi)``. The inverse solves
+    ``psi(r) = theta`` (angle of the direction from the axis) by bracketed Newton from
+    ``r0 = sqrt(theta / F)``; directions it cannot reach or whose solve does not converge are invalid.
+    """
+
+    name = "seedfisheye"
+    summary = "the seed renderer's legacy fisheye, t = tan(r F) (reproduces its renders; folds above fov 144.7)"
+    params = (
+        Param("fov", 180.0, "fov parameter of the seed formula, degrees (not the angle actually seen)",
+              0.0, 180.0, lo_open=True),
+    )
+
+    def _check(self) -> None:
+        self.F = float(np.radians(self.fov) / 2.0)
+        # radius of the fold (t = pi), or the rim when the fold lies outside the image circle
+        self.r_max = min(1.0, float(np.arctan(T_FOLD) / self.F))
+        self.folds = self.r_max < 1.0
+
+    def psi(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angle from the axis and its derivative at image radius ``r`` (float64)."""
+        t = np.tan(r * self.F)
+        st, ct = np.sin(t), np.cos(t)
+        y = r * st
+        den = ct * ct + y * y
+        dt = self.F * (1.0 + t * t)
+        psi = np.arctan2(y, ct)
+        psi[y < 0] += 2.0 * np.pi  # past the fold (t > pi): keep psi increasing so the bracket holds
+        return psi, (st * ct + r * dt) / den
+
+    @property
+    def max_angle(self) -> float:
+        """Largest angle from the axis the lens sees (radians); pi (not reached) when it folds."""
+        return float(np.pi if self.folds else self.psi(np.array([1.0]))[0][0])
+
+    def uv_to_dir(self, uv):
+        u, v = uv[..., 0], uv[..., 1]
+        r = np.sqrt(u * u + v * v)
+        t = np.tan(r * self.F)
+        st = np.sin(t)
+        d = np.empty(uv.shape[:-1] + (3,), dtype=FLOAT)
+        np.multiply(u, st, out=d[..., 0])
+        np.multiply(v, st, out=d[..., 1])
+        np.cos(t, out=d[..., 2])
+        d /= np.sqrt(np.einsum("...i,...i->...", d, d))[..., None]
+        valid = r <= 1.0 + 1e-12  # the rim, to rounding (the inverse returns r <= 1 up to an ulp)
+        if self.folds:
+            valid &= r < self.r_max
+        valid &= (t >= 0) & (t < T_FOLD)
+        return d, valid
+
+    def dir_to_uv(self, d):
+        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
+        rho = np.sqrt(dx * dx + dy * dy)
+        theta = np.arctan2(rho, dz).ravel()
+        psi_max = self.max_angle
+        inside = (theta < psi_max) if self.folds else (theta <= psi_max * (1.0 + 1e-12))
+        sel = np.flatnonzero(inside)
+        th = theta[sel]
+        x0 = np.sqrt(th / self.F)
+        x, conv = invert_increasing(self.psi, th, 0.0, self.r_max, x0)
+        r = np.zeros(theta.shape, dtype=FLOAT)
+        r[sel] = x
+        ok = np.zeros(theta.shape, dtype=bool)
+        ok[sel] = conv
+        r = r.reshape(rho.shape)
+        k = np.divide(r, rho, out=np.zeros(r.shape), where=rho > 0)
+        uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+        np.multiply(dx, k, out=uv[..., 0])
+        np.multiply(dy, k, out=uv[..., 1])
+        return uv, ok.reshape(rho.shape)

@@ -1,0 +1,34 @@
+"""The resampling engine: reproject an image from one lens into another, HDR in, HDR out.
+
+``lenslab.warp.warp(image, src_camera, dst_camera, filter="bilinear", samples=1, antialias=False)``
+returns ``(image, alpha)``: float32, never clamped, colour premultiplied by the coverage ``alpha``
+(the OpenEXR convention), exactly 0 where no sample lands on the source. See :func:`warp`.
+
+Modules: :mod:`~lenslab.warp.maps` (where each output sample reads the source, float64),
+:mod:`~lenslab.warp.filters` (exact nearest/bilinear/bicubic/Lanczos samplers),
+:mod:`~lenslab.warp.seam` (the equirect seam and poles), :mod:`~lenslab.warp.antialias` (footprint
+prefilter), :mod:`~lenslab.warp.batch` (one cached map for many images), :mod:`~lenslab.warp.engine`
+(the banded loop).
+"""
+
+from __future__ import annotations
+
+import sys
+import types
+
+from lenslab.errors import WarpError
+from lenslab.warp.engine import WarpPlan, tile_cameras, warp, warp_tiles
+from lenslab.warp.filters import FILTERS
+from lenslab.warp.maps import ParallaxWarning, check_eyes, exact_map
+
+__all__ = ["warp", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS", "check_eyes", "exact_map"]
+
+
+class _CallableModule(types.ModuleType):
+    """Lets ``lenslab.warp(...)`` call :func:`warp` even once this package has been imported."""
+
+    def __call__(self, *args, **kwargs):
+        return warp(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -1,0 +1,253 @@
+"""The warp itself: a plan (cameras, filter, sampling) run band by band over the output.
+
+Memory stays bounded whatever the sizes: the output is produced in bands of rows, each needing only
+its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 working set of the
+lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
+working set. A plan made with ``cache=True`` keeps every band's map (for many images of the same
+geometry, see :mod:`lenslab.warp.batch`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Callable
+
+import numpy as np
+
+from lenslab.errors import WarpError
+from lenslab.lenses import Camera, Pose
+from lenslab.warp import antialias as aa
+from lenslab.warp.filters import FILTERS, finite_source, sample
+from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
+from lenslab.warp.seam import border_of
+
+BAND_POINTS = 1 << 18  # output samples per band
+
+
+class WarpPlan:
+    """Everything about a warp except the pixels: reusable for many images of one geometry.
+
+    See :func:`lenslab.warp.warp` for the parameters. With ``cache=True`` the maps are computed
+    once, on first use, and kept (``map_bytes`` tells how much memory they take).
+    """
+
+    def __init__(self, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
+                 antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
+                 exact_map: bool = False, cache: bool = False, band_points: int = BAND_POINTS):
+        for name, cam in (("source", src_camera), ("destination", dst_camera)):
+            if not isinstance(cam, Camera):
+                raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
+                                "build one with Camera.from_spec(spec, (width, height))")
+        if filter not in FILTERS:
+            raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+        try:
+            samples = int(samples)
+        except (TypeError, ValueError):
+            raise WarpError(f"samples must be a whole number of samples per pixel, got {samples!r}") from None
+        if not 1 <= samples <= 1024:
+            raise WarpError(f"samples per pixel must be in 1..1024, got {samples}")
+        self.src, self.dst = src_camera, dst_camera
+        self.filter, self.samples, self.antialias = filter, samples, bool(antialias)
+        self.seed = seed
+        self.cache = bool(cache)
+        self.band_points = max(1, int(band_points))
+        self._bands: list | None = None
+        self.border = border_of(src_camera.lens)
+        self.parts = None
+        if getattr(dst_camera.lens, "name", "") == "tiled":
+            # one plan per tile: each tile's map is smooth (and interpolated) on its own
+            opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
+                        allow_parallax=allow_parallax, exact_map=exact_map, cache=cache, band_points=band_points)
+            self.parts = [(x0, y0, WarpPlan(src_camera, cam, **opts)) for x0, y0, cam in tile_cameras(dst_camera)
+                          if cam is not None]
+            self.parallax = max([p.parallax for _, _, p in self.parts], default=0.0)
+            self.mapper = None
+            return
+        self.parallax = check_eyes(src_camera, dst_camera, allow_parallax)
+        self.mapper = Mapper(src_camera, dst_camera, exact=exact_map)
+
+    # -- geometry ------------------------------------------------------------------------------
+    @property
+    def out_shape(self) -> tuple[int, int]:
+        return self.dst.height, self.dst.width
+
+    def band_rows(self) -> list[tuple[int, int]]:
+        w, h = self.dst.size
+        per = self.samples * (aa.JACOBIAN_POINTS if self.antialias else 1)
+        rows = max(1, self.band_points // max(1, w * per))
+        return [(r, min(h, r + rows)) for r in range(0, h, rows)]
+
+    def _offsets(self, r0: int, r1: int) -> np.ndarray:
+        if self.seed is None or self.samples == 1:
+            return sample_pattern(self.samples)
+        return self.dst.pixel_grid(slice(r0, r1), self.samples, self.seed) - np.concatenate(
+            [np.broadcast_to(np.arange(self.dst.width, dtype=np.float64)[None, :, None, None],
+                             (r1 - r0, self.dst.width, self.samples, 1)),
+             np.broadcast_to(np.arange(r0, r1, dtype=np.float64)[:, None, None, None],
+                             (r1 - r0, self.dst.width, self.samples, 1))], axis=-1)
+
+    def _band(self, r0: int, r1: int):
+        if self.antialias:
+            return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
+        return self.mapper.map_band(r0, r1, self._offsets(r0, r1))
+
+    def bands(self):
+        """The map of every band, computed now (and kept when the plan caches)."""
+        if self._bands is not None:
+            yield from self._bands
+            return
+        kept = [] if self.cache else None
+        for r0, r1 in self.band_rows():
+            band = self._band(r0, r1)
+            if kept is not None:
+                kept.append(band)
+            yield band
+        if kept is not None:
+            self._bands = kept
+
+    @property
+    def map_bytes(self) -> int:
+        if self.parts is not None:
+            return sum(p.map_bytes for _, _, p in self.parts)
+        return 0 if self._bands is None else sum(b.nbytes for b in self._bands)
+
+    # -- pixels --------------------------------------------------------------------------------
+    def check_image(self, image) -> np.ndarray:
+        arr = np.asarray(image)
+        if arr.ndim not in (2, 3) or arr.size == 0:
+            raise WarpError(f"the image must be an H x W or H x W x C array, got shape {arr.shape}")
+        h, w = arr.shape[:2]
+        if (w, h) != self.src.size:
+            raise WarpError(
+                f"the image is {w}x{h} but the source camera is {self.src.width}x{self.src.height}; "
+                "give a source camera of the image's size (e.g. Camera(lens.with_size(w, h), pose))")
+        if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+            raise WarpError(f"the image must hold real numbers, got dtype {arr.dtype}")
+        arr3 = arr[..., None] if arr.ndim == 2 else arr
+        return np.ascontiguousarray(arr3, dtype=np.float32)
+
+    def run(self, image, progress: Callable[[int], None] | None = None):
+        """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size."""
+        src = self.check_image(image)
+        src, bad = finite_source(src)
+        if bad:
+            warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
+                          "float32", RuntimeWarning, stacklevel=3)
+        h, w = self.out_shape
+        out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
+        alpha = np.zeros((h, w), dtype=np.float32)
+        self.render(src, out, alpha, progress)
+        if np.ndim(image) == 2:
+            out = out[..., 0]
+        return out, alpha
+
+    def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
+               progress: Callable[[int], None] | None = None) -> None:
+        """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
+        if self.parts is not None:
+            for x0, y0, part in self.parts:
+                h, w = part.out_shape
+                part.render(src, out[y0:y0 + h, x0:x0 + w], alpha[y0:y0 + h, x0:x0 + w], progress)
+            return
+        pyramid = aa.pyramid(src, self.border) if self.antialias else None
+        for band in self.bands():
+            sl = slice(band.r0, band.r1)
+            if self.antialias:
+                aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
+            else:
+                sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+            if progress is not None:
+                progress(band.r1 - band.r0)
+
+
+def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
+    """``(x0, y0, camera)`` of every tile of a tiled camera, in tile order (None for a tile with no camera).
+
+    Each tile camera has the tile's lens, the tile's rotation composed with the tiled camera's, and the
+    tile's eye placed in the world.
+    """
+    lens = camera.lens
+    tw, th = lens.tile_size
+    out = []
+    for k, tile in enumerate(lens.tile_list):
+        x0, y0 = (k % lens.cols) * tw, (k // lens.cols) * th
+        if tile is None:
+            out.append((x0, y0, None))
+            continue
+        rot = camera.pose.rotation @ tile.pose.rotation
+        eye = camera.pose.eye + camera.pose.rotation @ tile.pose.eye
+        out.append((x0, y0, Camera(tile.lens, Pose(rot, eye))))
+    return out
+
+
+def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
+    """Warp one source per tile into a tiled camera: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
+
+    For multi-view outputs whose tiles stand at different eye points, with one panorama recorded at
+    each tile's eye. ``None`` (or a list shorter than the tiles) leaves a tile empty (alpha 0). Options
+    are those of :func:`warp`. Returns ``(image, alpha)`` like :func:`warp`.
+    """
+    if getattr(dst_camera.lens, "name", "") != "tiled":
+        raise WarpError(f"warp_tiles needs a tiled output camera, got {dst_camera.lens.spec()}; use warp() instead")
+    tiles = tile_cameras(dst_camera)
+    images, src_cameras = list(images), list(src_cameras)
+    if len(images) != len(src_cameras) or len(images) > len(tiles):
+        raise WarpError(f"give one image and one source camera per tile ({len(tiles)} tiles); got "
+                        f"{len(images)} images and {len(src_cameras)} cameras")
+    progress = options.pop("progress", None)
+    out = alpha = None
+    channels = None
+    for (x0, y0, cam), img, src in zip(tiles, images, src_cameras):
+        if img is None or cam is None:
+            continue
+        plan = WarpPlan(src, cam, **options)
+        arr = plan.check_image(img)
+        if channels is None:
+            channels = arr.shape[2]
+            out = np.zeros((dst_camera.height, dst_camera.width, channels), dtype=np.float32)
+            alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
+        elif arr.shape[2] != channels:
+            raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
+        arr, _ = finite_source(arr)
+        plan.render(arr, out[y0:y0 + cam.height, x0:x0 + cam.width], alpha[y0:y0 + cam.height, x0:x0 + cam.width],
+                    progress)
+    if out is None:
+        raise WarpError("no tile has both a camera and a source image: nothing to warp")
+    return out, alpha
+
+
+def warp(image, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
+         antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
+         exact_map: bool = False, band_points: int = BAND_POINTS,
+         progress: Callable[[int], None] | None = None):
+    """Reproject ``image`` seen by ``src_camera`` into the view of ``dst_camera``.
+
+    Returns ``(image, alpha)``: float32 arrays ``H x W x C`` (``H x W`` for a 2-D input) and ``H x W``
+    of the destination camera's size. Each output pixel takes ``samples`` stratified sub-pixel samples
+    (strata centres, or jittered per row with ``seed``); a sample is *valid* when its output ray exists
+    (e.g. inside a fisheye's circle) and the source lens sees that direction inside its image.
+
+    - ``alpha`` is the coverage: the fraction of the pixel's samples that are valid; exactly 0 where
+      none is.
+    - The colour is *premultiplied* by alpha (the OpenEXR convention): the sum of the valid samples
+      divided by the number of samples. Divide by alpha where alpha > 0 to get straight colour.
+    - Values are never clamped (HDR in, HDR out), the work is float32 in, float32 out (weights and
+      maps in float64) and NaN is never produced.
+
+    ``filter`` is ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (see :mod:`lenslab.warp.filters`).
+    ``antialias=True`` prefilters by each pixel's footprint on the source (see
+    :mod:`lenslab.warp.antialias`), for outputs that shrink the source; it combines with ``samples``.
+    An equirect source wraps at its seam and continues across its poles (:mod:`lenslab.warp.seam`).
+
+    The output camera's eye must be the source's (a panorama holds one eye point): otherwise a
+    :class:`~lenslab.errors.WarpError` explains the parallax, or with ``allow_parallax=True`` a
+    :class:`~lenslab.warp.maps.ParallaxWarning` is issued and every ray is taken from the source's eye.
+    ``exact_map=True`` evaluates the lens models at every sample instead of interpolating a checked
+    lattice (see :mod:`lenslab.warp.maps`). ``progress`` is called with the number of rows done.
+    """
+    plan = WarpPlan(src_camera, dst_camera, filter=filter, samples=samples, antialias=antialias, seed=seed,
+                    allow_parallax=allow_parallax, exact_map=exact_map, band_points=band_points)
+    return plan.run(image, progress=progress)
+
+
+__all__ = ["WarpPlan", "warp", "warp_tiles", "tile_cameras", "MapBand"]

@@ -1,0 +1,195 @@
+"""Reconstruction filters: read a float32 source at fractional positions, exactly.
+
+Each sampler takes a band of the map (source index coordinates per output sample, the centre of
+source pixel ``(i, j)`` at ``(i, j)``) and returns, per output pixel, the *sum of its valid samples
+divided by the number of samples* (colour premultiplied by coverage) and the coverage itself.
+
+Filters (separable, weights computed in float64 from the exact fractional position):
+
+- ``nearest``: the pixel whose centre is nearest (ties go right/down);
+- ``bilinear``: the 2x2 tent, ``w(t) = 1 - |t|``;
+- ``bicubic``: Catmull-Rom (Keys' cubic with ``a = -0.5``), 4x4 taps; interpolating, reproduces
+  quadratics, overshoots a little at sharp edges (never clamped: HDR stays HDR);
+- ``lanczos``: Lanczos-3 windowed sinc, 6x6 taps, weights normalised to sum to 1.
+
+Why not ``cv2.remap``: with float maps OpenCV rounds the fractional position to 1/32 pixel
+(``INTER_BITS = 5``), an error of up to 1/64 pixel times the local gradient; in HDR images with
+sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
+and it cannot fold taps across the poles. These samplers use the exact position, fold every tap
+through :mod:`lenslab.warp.seam`, skip taps of zero weight (so an infinite source value never
+turns into NaN) and run in parallel over rows (numba).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from numba import prange
+
+from lenslab.warp.seam import fold_index
+
+FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
+#: filter name -> (compiled kernel id, support radius in source pixels)
+_KIND = {"nearest": (0, 1), "bilinear": (1, 1), "bicubic": (2, 2), "lanczos": (3, 3)}
+
+
+def filter_radius(name: str) -> int:
+    return _KIND[name][1]
+
+
+def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, border, filter: str,
+           out: np.ndarray, alpha: np.ndarray) -> None:
+    """Fill ``out`` (h, W, C) float32 and ``alpha`` (h, W) float32 from a map band (h, W, S)."""
+    kind = _KIND[filter][0]
+    wrap, top, bottom = border.flags
+    if kind == 1:
+        _bilinear(src, xs, ys, valid, wrap, top, bottom, out, alpha)
+    else:
+        _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha)
+
+
+@numba.njit(parallel=True, cache=True)
+def _bilinear(src, xs, ys, valid, wrap, top, bottom, out, alpha):
+    h, w, n = xs.shape
+    sh, sw, nc = src.shape
+    inv = 1.0 / n
+    for r in prange(h):
+        acc = np.zeros(nc)
+        for c in range(w):
+            acc[:] = 0.0
+            hits = 0
+            for k in range(n):
+                if not valid[r, c, k]:
+                    continue
+                hits += 1
+                x = np.float64(xs[r, c, k])
+                y = np.float64(ys[r, c, k])
+                fx0 = np.floor(x)
+                fy0 = np.floor(y)
+                i0 = int(fx0)
+                j0 = int(fy0)
+                tx = x - fx0
+                ty = y - fy0
+                if i0 >= 0 and j0 >= 0 and i0 + 1 < sw and j0 + 1 < sh:
+                    w00 = (1.0 - tx) * (1.0 - ty)
+                    w10 = tx * (1.0 - ty)
+                    w01 = (1.0 - tx) * ty
+                    w11 = tx * ty
+                    for ch in range(nc):
+                        v = 0.0
+                        if w00 != 0.0:
+                            v += w00 * src[j0, i0, ch]
+                        if w10 != 0.0:
+                            v += w10 * src[j0, i0 + 1, ch]
+                        if w01 != 0.0:
+                            v += w01 * src[j0 + 1, i0, ch]
+                        if w11 != 0.0:
+                            v += w11 * src[j0 + 1, i0 + 1, ch]
+                        acc[ch] += v
+                else:
+                    for dj in range(2):
+                        wy = ty if dj else 1.0 - ty
+                        if wy == 0.0:
+                            continue
+                        for di in range(2):
+                            wx = tx if di else 1.0 - tx
+                            if wx == 0.0:
+                                continue
+                            ii, jj = fold_index(i0 + di, j0 + dj, sw, sh, wrap, top, bottom)
+                            for ch in range(nc):
+                                acc[ch] += wx * wy * src[jj, ii, ch]
+            for ch in range(nc):
+                out[r, c, ch] = acc[ch] * inv
+            alpha[r, c] = hits * inv
+
+
+@numba.njit(inline="always", cache=True)
+def _weight(kind, t):
+    a = abs(t)
+    if kind == 2:  # Catmull-Rom
+        if a < 1.0:
+            return (1.5 * a - 2.5) * a * a + 1.0
+        if a < 2.0:
+            return ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0
+        return 0.0
+    # Lanczos-3
+    if a == 0.0:
+        return 1.0
+    if a >= 3.0:
+        return 0.0
+    pa = np.pi * a
+    return 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
+
+
+@numba.njit(parallel=True, cache=True)
+def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
+    h, w, n = xs.shape
+    sh, sw, nc = src.shape
+    inv = 1.0 / n
+    rad = 2 if kind == 2 else 3
+    for r in prange(h):
+        acc = np.zeros(nc)
+        wx = np.zeros(2 * rad)
+        wy = np.zeros(2 * rad)
+        for c in range(w):
+            acc[:] = 0.0
+            hits = 0
+            for k in range(n):
+                if not valid[r, c, k]:
+                    continue
+                hits += 1
+                x = np.float64(xs[r, c, k])
+                y = np.float64(ys[r, c, k])
+                if kind == 0:
+                    ii, jj = fold_index(int(np.floor(x + 0.5)), int(np.floor(y + 0.5)), sw, sh, wrap, top, bottom)
+                    for ch in range(nc):
+                        acc[ch] += src[jj, ii, ch]
+                    continue
+                i0 = int(np.floor(x))
+                j0 = int(np.floor(y))
+                sx = 0.0
+                sy = 0.0
+                for t in range(2 * rad):
+                    wx[t] = _weight(kind, x - (i0 - rad + 1 + t))
+                    wy[t] = _weight(kind, y - (j0 - rad + 1 + t))
+                    sx += wx[t]
+                    sy += wy[t]
+                for tj in range(2 * rad):
+                    if wy[tj] == 0.0:
+                        continue
+                    for ti in range(2 * rad):
+                        ww = wx[ti] * wy[tj]
+                        if ww == 0.0:
+                            continue
+                        ww /= sx * sy
+                        ii, jj = fold_index(i0 - rad + 1 + ti, j0 - rad + 1 + tj, sw, sh, wrap, top, bottom)
+                        for ch in range(nc):
+                            acc[ch] += ww * src[jj, ii, ch]
+            for ch in range(nc):
+                out[r, c, ch] = acc[ch] * inv
+            alpha[r, c] = hits * inv
+
+
+@numba.njit(parallel=True, cache=True)
+def all_finite(a):
+    """True when every value of the C-contiguous array ``a`` is finite (no temporary arrays)."""
+    flat = a.reshape(-1)
+    n = flat.size
+    chunks = 64
+    bad = np.zeros(chunks, dtype=np.bool_)
+    size = (n + chunks - 1) // chunks
+    for b in prange(chunks):
+        for i in range(b * size, min(n, (b + 1) * size)):
+            if not np.isfinite(flat[i]):
+                bad[b] = True
+                break
+    return not bad.any()
+
+
+def finite_source(src: np.ndarray) -> tuple[np.ndarray, int]:
+    """``src`` itself when all finite, else a copy with NaN -> 0 and +-inf -> +-float32 max; and the count."""
+    if all_finite(src):
+        return src, 0
+    bad = int(np.count_nonzero(~np.isfinite(src)))
+    big = np.finfo(np.float32).max
+    return np.nan_to_num(src, nan=0.0, posinf=big, neginf=-big), bad

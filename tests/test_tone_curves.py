@@ -1,0 +1,235 @@
+"""Each tone curve against its published formula, evaluated independently here in float64, and the
+properties every curve must have: monotonic over 0..1e30, exactly 0 at 0, never above 1, defined at
+denormals."""
+
+from __future__ import annotations
+
+import math
+
+import colour
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from lenslab import tone
+
+# float32 evaluation of a rational curve of a few operations against a float64 reference: each
+# operation rounds by at most 2^-24 relative, a dozen of them stay well inside 1e-5
+RTOL = 1e-5
+ATOL = 1e-7  # near 0 the absolute float32 rounding of values ~1e-3 is ~1e-10; 1e-7 is generous but tight
+
+POINTS = np.array([0.0, 1e-6, 1e-3, 0.01, 0.05, 0.18, 0.5, 1.0, 2.0, 4.0, 5.6, 8.0, 11.2, 100.0, 1e4])
+GLOBAL = [n for n, c in tone.CURVES.items() if c.kind != "local"]
+
+
+def u2(x):
+    """Uncharted 2 partial curve exactly as published (Hable 2010), float64."""
+    A, B, C, D, E, F = 0.15, 0.50, 0.10, 0.20, 0.02, 0.30
+    return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F
+
+
+def u2_gdc(x):
+    A, B, C, D, E, F = 0.22, 0.30, 0.10, 0.20, 0.01, 0.30
+    return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F
+
+
+def test_hable_matches_the_seed_reference_values():
+    # the seed: exposure bias 2.0, white 11.2, no clamp; hable(1.0) = U2(2) / U2(11.2)
+    ref = u2(2.0 * POINTS) / u2(11.2)
+    assert u2(2.0) / u2(11.2) == pytest.approx(0.4929185, abs=5e-7)  # the published constants' value
+    got = tone.hable(POINTS.astype(np.float32))
+    np.testing.assert_allclose(got, np.minimum(ref, 1.0), rtol=RTOL, atol=ATOL)
+    assert tone.hable(np.float32([5.6]))[0] == 1.0  # 5.6 * bias 2.0 = white 11.2
+    assert tone.hable(np.float32([0.0]))[0] == 0.0
+
+
+def test_hable_gdc_preset_and_custom_constants():
+    ref = np.minimum(u2_gdc(2.0 * POINTS) / u2_gdc(11.2), 1.0)
+    np.testing.assert_allclose(tone.hable(POINTS.astype(np.float32), preset="gdc"), ref, rtol=RTOL, atol=ATOL)
+    # every constant is a parameter: giving the GDC set by hand is the same curve
+    custom = tone.hable(POINTS.astype(np.float32), A=0.22, B=0.30, E=0.01)
+    np.testing.assert_allclose(custom, ref, rtol=RTOL, atol=ATOL)
+    # bias and white move the curve as the formula says
+    ref2 = np.minimum(u2(3.0 * POINTS) / u2(6.0), 1.0)
+    np.testing.assert_allclose(tone.hable(POINTS.astype(np.float32), exposure_bias=3.0, white=6.0), ref2,
+                               rtol=RTOL, atol=ATOL)
+
+
+@pytest.mark.parametrize("name, ref", [
+    ("clamp", lambda x: np.minimum(x, 1.0)),
+    ("reinhard", lambda x: x / (1 + x)),
+    ("reinhard-extended", lambda x: np.minimum(x * (1 + x / 16.0) / (1 + x), 1.0)),  # white 4
+    ("aces", lambda x: np.clip(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0, 1)),
+    ("gamma", lambda x: colour.models.eotf_sRGB(np.minimum(x, 1.0) ** (1 / 2.2))),
+])
+def test_closed_form_curves_match_their_formula(name, ref):
+    got = tone.tonemap(POINTS.astype(np.float32), name)
+    np.testing.assert_allclose(got, ref(POINTS), rtol=RTOL, atol=ATOL)
+
+
+def test_exposure_is_a_multiplier_in_stops():
+    for ev in (-3.0, 1.5, 4.0):
+        got = tone.tonemap(POINTS.astype(np.float32), "hable", exposure=ev)
+        ref = np.minimum(u2(2.0 * POINTS * 2.0 ** ev) / u2(11.2), 1.0)
+        np.testing.assert_allclose(got, ref, rtol=RTOL, atol=ATOL)
+
+
+def test_reinhard_extended_white_point_reaches_one():
+    got = tone.reinhard_extended(np.float32([2.5, 5.0, 6.0]), white=5.0)
+    assert got[1] == 1.0 and got[2] == 1.0
+    assert got[0] == pytest.approx(2.5 * (1 + 2.5 / 25) / 3.5, rel=RTOL)
+
+
+def test_reinhard2002_key_and_log_average():
+    x = np.float32([0.0, 0.01, 0.1, 1.0, 10.0])
+    got = tone.reinhard2002(x, key=0.18, log_avg=0.5)
+    L = 0.18 / 0.5 * x.astype(np.float64)
+    np.testing.assert_allclose(got, L / (1 + L), rtol=RTOL, atol=ATOL)
+    # without log_avg: Reinhard's exp(mean(log(delta + Lw))) over the values themselves
+    lavg = math.exp(np.mean(np.log(1e-4 + x.astype(np.float64))))
+    L = 0.18 / lavg * x.astype(np.float64)
+    np.testing.assert_allclose(tone.reinhard2002(x), L / (1 + L), rtol=RTOL, atol=ATOL)
+    # burn-out white in scaled units: eq. 4
+    got = tone.reinhard2002(x, key=0.18, log_avg=0.18, white=2.0)
+    L = x.astype(np.float64)
+    np.testing.assert_allclose(got, np.minimum(L * (1 + L / 4) / (1 + L), 1), rtol=RTOL, atol=ATOL)
+
+
+def test_reinhard2002_in_tonemap_is_exposure_invariant():
+    rng = np.random.default_rng(3)
+    img = (0.3 * np.exp2(rng.normal(0, 2, (16, 16, 3)))).astype(np.float32)
+    a = tone.tonemap(img, "reinhard2002", exposure=0)
+    b = tone.tonemap(img, "reinhard2002", exposure=3)
+    # the key scaling cancels the exposure except through delta = 1e-4, far below these pixels
+    np.testing.assert_allclose(a, b, rtol=1e-3, atol=1e-5)
+
+
+HILL_IN = np.array([[0.59719, 0.35458, 0.04823], [0.07600, 0.90834, 0.01566], [0.02840, 0.13383, 0.83777]])
+HILL_OUT = np.array([[1.60475, -0.53108, -0.07367], [-0.10208, 1.10813, -0.00605], [-0.00327, -0.07276, 1.07602]])
+RGB = np.array([[0.0, 0.0, 0.0], [0.18, 0.18, 0.18], [1.0, 0.5, 0.1], [0.02, 0.3, 0.9], [8.0, 2.0, 0.5],
+                [0.001, 0.002, 0.0], [40.0, 40.0, 40.0], [0.5, 0.01, 0.01]])
+
+
+def test_aces_hill_matches_the_rrt_odt_fit():
+    def fit(v):
+        return (v * (v + 0.0245786) - 0.000090537) / (v * (0.983729 * v + 0.4329510) + 0.238081)
+
+    ref = np.clip(fit(RGB @ HILL_IN.T) @ HILL_OUT.T, 0, 1)
+    got = tone.aces_hill(RGB.astype(np.float32))
+    # the fit subtracts nearly equal numbers near v = 0.0032: 1e-5 absolute covers float32 there
+    np.testing.assert_allclose(got, ref, rtol=1e-4, atol=1e-5)
+
+
+def test_agx_matches_the_minimal_reference():
+    inset = np.array([[0.842479062253094, 0.0784335999999992, 0.0792237451477643],
+                      [0.0423282422610123, 0.878468636469772, 0.0791661274605434],
+                      [0.0423756549057051, 0.0784336, 0.879142973793104]])
+    outset = np.array([[1.19687900512017, -0.0980208811401368, -0.0990297440797205],
+                       [-0.0528968517574562, 1.15190312990417, -0.0989611768448433],
+                       [-0.0529716355144438, -0.0980434501171241, 1.15107367264116]])
+    lo, hi = -12.47393, 4.026069
+    v = np.clip(np.log2(np.maximum(RGB @ inset.T, 1e-10)), lo, hi)
+    t = (v - lo) / (hi - lo)
+    s = 15.5 * t**6 - 40.14 * t**5 + 31.96 * t**4 - 6.868 * t**3 + 0.4298 * t**2 + 0.1191 * t - 0.00232
+    ref = np.clip(s @ outset.T, 0, 1) ** 2.2
+    got = tone.agx(RGB.astype(np.float32))
+    # log2 and a 6th-order polynomial in float32: 2e-5 absolute is a few hundred ulps of output ~0.5
+    np.testing.assert_allclose(got, ref, rtol=1e-4, atol=2e-5)
+
+
+def pbr_neutral_ref(c):
+    """Khronos PBR Neutral reference shader, transcribed per pixel in float64."""
+    c = np.array(c, dtype=np.float64)
+    start, desat = 0.8 - 0.04, 0.15
+    x = c.min()
+    offset = x - 6.25 * x * x if x < 0.08 else 0.04
+    c = c - offset
+    peak = c.max()
+    if peak < start:
+        return c
+    d = 1 - start
+    new_peak = 1 - d * d / (peak + d - start)
+    c = c * (new_peak / peak)
+    g = 1 - 1 / (desat * (peak - new_peak) + 1)
+    return c * (1 - g) + new_peak * g
+
+
+def test_pbr_neutral_matches_the_khronos_reference():
+    ref = np.array([pbr_neutral_ref(p) for p in RGB])
+    got = tone.pbr_neutral(RGB.astype(np.float32))
+    np.testing.assert_allclose(got, ref, rtol=RTOL, atol=ATOL)
+    # below the shoulder grey comes out as it went in, minus the toe offset
+    assert tone.pbr_neutral(np.float32([[0.5, 0.5, 0.5]]))[0, 0] == pytest.approx(0.46, rel=RTOL)
+
+
+SWEEP = np.unique(np.concatenate([[0.0, 1e-45, 1e-40, 1.17e-38], np.logspace(-38, 30, 6000)]).astype(np.float32))
+
+
+@pytest.mark.parametrize("name", GLOBAL)
+def test_monotonic_bounded_zero_at_zero_and_defined_at_denormals(name):
+    y = tone.tonemap(SWEEP, name)
+    assert y.dtype == np.float32 and np.all(np.isfinite(y))
+    assert y[0] == 0.0, "a curve must map 0 to exactly 0"
+    assert np.all(y >= 0) and np.all(y <= 1)
+    assert np.all(np.diff(y) >= 0), f"{name} decreases at {SWEEP[1:][np.diff(y) < 0][:5]}"
+    # RGB curves on grey pixels, per channel mode: same properties
+    grey = tone.tonemap(np.repeat(SWEEP[:, None], 3, axis=1)[None], name)[0]
+    assert np.all(np.isfinite(grey)) and np.all(grey >= 0) and np.all(grey <= 1)
+    assert np.all(grey[0] == 0)
+    lum = grey @ tone.luminance_weights()
+    assert np.all(np.diff(lum) >= -1e-6)  # 1e-6: float32 rounding of the weighted sum of 3 channels
+
+
+@settings(max_examples=300, deadline=None)
+@given(a=st.floats(0, float(np.float32(1e30)), width=32), b=st.floats(0, float(np.float32(1e30)), width=32),
+       name=st.sampled_from(GLOBAL), ev=st.sampled_from([-8.0, 0.0, 3.5]))
+def test_monotonic_property(a, b, name, ev):
+    lo, hi = sorted((a, b))
+    y = tone.tonemap(np.float32([lo, hi]), name, exposure=ev)
+    assert 0 <= y[0] <= y[1] <= 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(rgb=st.lists(st.floats(0, 1e6, width=32), min_size=3, max_size=3), name=st.sampled_from(GLOBAL),
+       mode=st.sampled_from(["per-channel", "luminance"]))
+def test_rgb_outputs_stay_in_range(rgb, name, mode):
+    y = tone.tonemap(np.float32(rgb).reshape(1, 1, 3), name, mode=mode)
+    assert np.all(np.isfinite(y)) and np.all(y >= 0) and np.all(y <= 1)
+
+
+def test_curve_functions_are_pure_and_keep_shape_and_dtype():
+    x = np.linspace(0, 20, 24, dtype=np.float64).reshape(2, 3, 4)
+    before = x.copy()
+    for fn in (tone.clamp, tone.reinhard, tone.hable, tone.aces):
+        y = fn(x)
+        assert y.shape == x.shape and y.dtype == np.float32
+        np.testing.assert_array_equal(x, before)
+
+
+def test_every_curve_has_a_docstring_with_formula_and_declared_params():
+    for name, curve in tone.CURVES.items():
+        assert len(curve.doc) > 60, name
+        for p in curve.params:
+            assert p.doc and p.range_text()
+    assert {"clamp", "gamma", "reinhard", "reinhard-extended", "reinhard2002", "hable", "aces", "aces-hill",
+            "agx", "pbr-neutral", "drago", "mantiuk"} <= set(tone.CURVES)
+
+
+@pytest.mark.parametrize("name", GLOBAL)
+def test_monotonic_between_neighbouring_floats(name):
+    # 2 x 20000 consecutive float32 values around each point: no rounding step may reverse the order
+    for centre in (1e-4, 0.003, 0.08, 0.18, 0.76, 1.0, 5.59, 7.2, 30.0):
+        base = np.float32(centre).view(np.int32)
+        xs = (base + np.arange(-20000, 20000, dtype=np.int32)).view(np.float32)
+        y = tone.tonemap(xs, name)
+        assert np.all(np.diff(y) >= 0), f"{name} steps back near {centre}"
+
+
+@pytest.mark.parametrize("name", ["aces-hill", "agx", "pbr-neutral"])
+def test_rgb_curves_on_grey_agree_with_their_scalar_form(name):
+    x = np.float32([0, 0.001, 0.01, 0.18, 0.5, 1, 4, 100])
+    rgb = tone.tonemap(np.repeat(x[:, None], 3, axis=1)[None], name)[0]
+    # the RGB matrices are the identity on grey only to 4-5 digits (row sums 1 +- 1.4e-4), which
+    # the curves' slopes (< 1.5 per unit) carry through: 5e-6 bounds what is left after weighing
+    np.testing.assert_allclose(tone.tonemap(x, name), rgb @ tone.luminance_weights(), atol=5e-6)

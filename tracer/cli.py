@@ -1,0 +1,194 @@
+"""tracer: a reference ray tracer that renders scenes through any lenslab camera into HDR images.
+
+  tracer render --scene cornell --camera fisheye:fov=180 --size 512x512 --spp 64 -o out.exr
+  tracer bench                         ray-cast and path-tracing throughput, as ratios
+  tracer scenes                        the built-in scenes
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def _triple(text: str) -> tuple[float, float, float]:
+    try:
+        vals = tuple(float(v) for v in text.replace(" ", "").split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected X,Y,Z numbers, got {text!r}") from None
+    if len(vals) != 3:
+        raise argparse.ArgumentTypeError(f"expected three comma-separated numbers X,Y,Z, got {text!r}")
+    return vals
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a size WxH such as 512x256, got {text!r}") from None
+    if w < 1 or h < 1:
+        raise argparse.ArgumentTypeError(f"width and height must be positive, got {text!r}")
+    return w, h
+
+
+def _seed(text: str):
+    if text.lower() == "none":
+        return None
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"a seed is an integer or 'none', got {text!r}") from None
+
+
+def add_render_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", default="cornell",
+                   help="built-in scene name (cornell, cornell-point, sky, furnace, plane, arealight) or a scene "
+                        "file (.obj with .mtl, .ply, .stl, .toml); default cornell")
+    p.add_argument("--env", metavar="EXR", help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
+    p.add_argument("--camera", metavar="SPEC",
+                   help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
+                        "(default: the scene's own camera lens)")
+    p.add_argument("--size", type=_size, metavar="WxH",
+                   help="image size in pixels (default 512x512, or the size stored in --camera-file)")
+    p.add_argument("--spp", type=int, default=64,
+                   help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
+    p.add_argument("-o", "--output", required=True, metavar="FILE",
+                   help="output image (.exr keeps HDR and stores the camera in its header; .pfm also HDR)")
+    p.add_argument("--view", metavar="NAME", help="the scene's named camera view to start from (default: its first)")
+    p.add_argument("--camera-file", metavar="TOML",
+                   help="camera(s) in TOML as written by lenslab (one camera, or tables of cameras picked by --view); "
+                        "replaces --camera and the pose options; --size still resizes it")
+    p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's)")
+    p.add_argument("--look-at", type=_triple, metavar="X,Y,Z", help="point the camera looks at")
+    p.add_argument("--up", type=_triple, metavar="X,Y,Z", help="up direction for --look-at (default 0,1,0)")
+    p.add_argument("--yaw", type=float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
+                        "target); with --pitch and --roll a full orientation")
+    p.add_argument("--pitch", type=float, help="camera tilt up, degrees")
+    p.add_argument("--roll", type=float, help="camera roll about its axis, degrees")
+    p.add_argument("--integrator", choices=("path", "direct"), default="path",
+                   help="path: path tracing with MIS and Russian roulette (default); direct: direct lighting only")
+    p.add_argument("--max-depth", type=int, default=8, help="maximum bounces (default 8; 1 = direct light)")
+    p.add_argument("--time-budget", type=float, metavar="S", help="stop near S seconds: passes are sized from the measured speed to end within the "
+                        "budget (the first pass, 2 samples per pixel, always runs)")
+    p.add_argument("--target-error", type=float, metavar="E",
+                   help="stop once the estimated relative standard error of the image falls below E (e.g. 0.01)")
+    p.add_argument("--variance-out", metavar="FILE", help="also write the per-pixel variance of the mean (EXR/PFM)")
+    p.add_argument("--seed", type=_seed, default=0,
+                   help="random seed (default 0; the same seed gives the same image); 'none' puts samples at the "
+                        "strata centres")
+    p.add_argument("--threads", type=int, help="worker threads (default: every core)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
+
+
+def _camera(args, scene):
+    from lenslab.lenses import Camera, make_lens
+
+    if args.camera_file:
+        import tomllib
+        from pathlib import Path
+
+        path = Path(args.camera_file)
+        if not path.is_file():
+            raise FileNotFoundError(f"{path}: no such camera file")
+        doc = tomllib.loads(path.read_text())
+        if "lens" not in doc:
+            tables = {k: v for k, v in doc.items() if isinstance(v, dict) and "lens" in v}
+            if not tables:
+                raise ValueError(f"{path}: no camera found (expected a [lens] table, or tables of cameras)")
+            name = args.view or next(iter(tables))
+            if name not in tables:
+                raise ValueError(f"{path}: no camera named {name!r}; found {', '.join(tables)}")
+            doc = tables[name]
+        cam = Camera.from_dict(doc)
+        if args.size is not None and tuple(args.size) != cam.size:
+            cam = Camera(cam.lens.with_size(*args.size), cam.pose)
+        return cam
+    pose = {}
+    if args.eye is not None:
+        pose["eye"] = args.eye
+    if args.look_at is not None:
+        pose["look_at"] = args.look_at
+    if args.up is not None:
+        pose["up"] = args.up
+    for k in ("yaw", "pitch", "roll"):
+        if getattr(args, k) is not None:
+            pose[k] = getattr(args, k)
+    if args.view is not None and args.view not in scene.views:
+        raise ValueError(f"scene {scene.name} has no view {args.view!r}; views: {', '.join(scene.views) or 'none'}")
+    size = args.size or (512, 512)
+    if args.camera:
+        make_lens(args.camera, size)  # report a bad spec before anything else
+    return scene.camera(args.camera, size, view=args.view, **pose)
+
+
+def run_render(args) -> int:
+    from tracer.load import load_scene
+    from tracer.rendering import render
+
+    if args.spp < 1:
+        raise ValueError(f"--spp must be at least 1, got {args.spp}")
+    if args.max_depth < 0:
+        raise ValueError(f"--max-depth must be 0 or more, got {args.max_depth}")
+    kwargs = {"env": args.env} if args.env else {}
+    if args.env and args.scene != "sky":
+        raise ValueError("--env lights the built-in 'sky' scene; a TOML scene names its own [environment]")
+    scene = load_scene(args.scene, **kwargs)
+    camera = _camera(args, scene)
+    result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator, max_depth=args.max_depth,
+                    progress=not args.quiet, time_budget=args.time_budget, target_error=args.target_error,
+                    threads=args.threads)
+    result.save(args.output, args.variance_out)
+    if not args.quiet:
+        rate = result.info["samples_per_second"]
+        print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp "
+              f"({result.stopped_by}), {result.seconds:.2f} s, {rate / 1e6:.3f} Msamples/s, "
+              f"relative error {result.relative_error:.4f}", file=sys.stderr)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="tracer", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    p = sub.add_parser("render", help="render a scene through a lenslab camera",
+                       description="Render a scene through any lenslab camera into an HDR image; the camera is "
+                                   "written into the EXR header.")
+    add_render_arguments(p)
+    p.set_defaults(_run=run_render)
+    from tracer import bench
+
+    b = sub.add_parser("bench", help="ray-cast and path-tracing throughput", description=bench.__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    bench.add_arguments(b)
+    b.set_defaults(_run=bench.run)
+    s = sub.add_parser("scenes", help="list the built-in scenes")
+    s.set_defaults(_run=run_scenes)
+    return parser
+
+
+def run_scenes(args) -> int:
+    from tracer.builtin import BUILTINS
+    from tracer import builtin
+
+    print((builtin.__doc__ or "").strip())
+    print("\nnames: " + ", ".join(BUILTINS))
+    return 0
+
+
+def main(argv=None) -> int:
+    from lenslab.errors import LenslabError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._run(args) or 0)
+    except (LenslabError, OSError, ValueError) as exc:
+        print(f"tracer {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"tracer {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
