@@ -202,8 +202,10 @@ class Img:
         return (f'<img src="{esc(self.src)}" width="{self.width}" height="{self.height}" alt="{esc(alt)}"{c}>')
 
     def figure(self, caption: str, alt: str | None = None, cls: str = "", extra: str = "") -> str:
-        return (f'<figure{f" class={chr(34)}{esc(cls)}{chr(34)}" if cls else ""}>'
-                f'<a href="{esc(self.src)}">{self.tag(alt or caption)}</a>'
+        """``<figure>`` with the image (linked to itself) and a caption; ``caption`` and ``extra`` are HTML."""
+        c = f' class="{esc(cls)}"' if cls else ""
+        alt_text = alt if alt is not None else re.sub(r"<[^>]+>", " ", caption)
+        return (f'<figure{c}><a href="{esc(self.src)}">{self.tag(" ".join(html.unescape(alt_text).split()))}</a>'
                 f"<figcaption>{caption}{extra}</figcaption></figure>")
 
 
@@ -299,10 +301,11 @@ def build_gallery(out_dir, *items, validate_report=None, hdri_dir=None, title: s
     for f in files:
         jobs.append(("files", lambda f=f: cards.files(page, f)))
 
-    sections = []
-    from tqdm import tqdm
     import sys
 
+    from tqdm import tqdm
+
+    sections = []
     bar = tqdm(jobs, desc="gallery", unit="card", disable=not (progress and sys.stderr.isatty()), leave=False)
     for _, job in bar:
         page.repairs.clear()

@@ -18,6 +18,11 @@ defaults; an unknown name or a parameter out of range raises :class:`lenslab.err
 what is valid. The closed-form curves are also module functions (``hable(x, **params)`` ...) that
 take any float array and return float32 of the same shape.
 
+Order: every curve except the local ones is monotone in float32 itself, not only on paper. The
+rational curves are evaluated in a form whose every step is a rounded monotone operation (the plain
+ratio of two increasing polynomials can step back by an ulp between neighbouring inputs); the RGB
+curves (aces-hill, agx, pbr-neutral) use such a form on grey and on luminance.
+
 Speed: the closed-form curves run over the image in cache-sized blocks with in-place float32
 ufuncs, exposure folded into the curve's constants, so one sweep through memory does the repair,
 the exposure and the curve.
@@ -217,8 +222,9 @@ _EOTF_CELLS = 1 << 16
 
 
 @functools.lru_cache(maxsize=1)
-def _srgb_eotf_table() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """colour-science's sRGB EOTF sampled at 2^16 + 1 even points of [0, 1] (value, step, next value).
+def _srgb_eotf_table() -> np.ndarray:
+    """colour-science's sRGB EOTF sampled at 2^16 + 1 even points of [0, 1], as float32 pairs
+    (value at cell start, value at cell end) so that one gather fetches both.
 
     Linear interpolation between them is off by at most h^2/8 max|f''| ~ 1e-10 (h = 2^-16): below
     float32's resolution, at table-lookup speed.
@@ -226,31 +232,31 @@ def _srgb_eotf_table() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     import colour
 
     table = np.asarray(colour.models.eotf_sRGB(np.linspace(0.0, 1.0, _EOTF_CELLS + 1)), dtype=np.float64)
-    value = table[:-1].astype(F32)
-    nxt = table[1:].astype(F32)
-    return value, (nxt - value).astype(F32), nxt
+    return np.stack([table[:-1], table[1:]], axis=1).astype(F32)
 
 
 def _build_gamma(p, scale):
     s, inv = F32(scale), F32(1.0 / p["gamma"])
-    value, step, nxt = _srgb_eotf_table()
+    pairs = _srgb_eotf_table()
     cells = F32(_EOTF_CELLS)
 
     def k(src, dst, scratch):
-        t, _ = scratch
+        t, f = scratch
         np.multiply(src, s, out=dst)
         np.clip(dst, F32(0), F32(1), out=dst)
         np.log2(dst, out=dst)                  # v = x^(1/gamma) = exp2(log2(x) / gamma); 0 -> -inf -> 0
         dst *= inv
         np.exp2(dst, out=dst)
         dst *= cells                           # then the sRGB EOTF by interpolation in its table
-        i = dst.astype(np.int32)
-        np.clip(i, 0, _EOTF_CELLS - 1, out=i)
-        np.subtract(dst, i, out=t)             # exact: the fractional part
-        np.take(step, i, out=dst)
+        np.floor(dst, out=f)
+        np.clip(f, F32(0), F32(_EOTF_CELLS - 1), out=f)
+        np.subtract(dst, f, out=t)             # exact: the fractional part (1 at v = 1)
+        ends = np.take(pairs, f.astype(np.int32), axis=0)
+        lo, hi = ends[:, 0], ends[:, 1]
+        np.subtract(hi, lo, out=dst)
         dst *= t
-        dst += np.take(value, i)
-        np.minimum(dst, np.take(nxt, i), out=dst)  # never past the next sample: monotone across cells
+        dst += lo
+        np.minimum(dst, hi, out=dst)           # never past the cell's end: monotone across cells
     return k
 
 
@@ -783,15 +789,16 @@ def _sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: _
         # where the peak channel passes 1, blend toward grey (Ld, Ld, Ld): t = (1 - Ld) / (peak - Ld),
         # which is >= 1 (no change) wherever the peak is within range
         np.fmax(np.fmax(p[0], p[1], out=pk), p[2], out=pk)
-        pk -= Ld
-        np.clip(pk, _TINY, None, out=pk)
-        np.subtract(F32(1), Ld, out=r)
-        r /= pk
-        np.clip(r, F32(0), F32(1), out=r)
-        p -= Ld
-        p *= r
-        p += Ld
-        np.clip(p, F32(0), F32(1), out=p)
+        if pk.max() > 1:
+            pk -= Ld
+            np.clip(pk, _TINY, None, out=pk)
+            np.subtract(F32(1), Ld, out=r)
+            r /= pk
+            np.clip(r, F32(0), F32(1), out=r)
+            p -= Ld
+            p *= r
+            p += Ld
+            np.clip(p, F32(0), F32(1), out=p)
         if inf_cols is not None:
             p[:, inf_cols] = 1
         for c in range(3):
@@ -851,7 +858,7 @@ def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str 
     scale = 2.0 ** ev
     rgb = x.ndim == 3 and x.shape[-1] == 3
     # luminance weights only where something weighs channels (importing colour-science takes a while)
-    needs_weights = rgb and (mode_key == "luminance" or spec.kind in ("image", "local")) or spec.kind == "rgb"
+    needs_weights = spec.kind in ("rgb", "local") or (rgb and (mode_key == "luminance" or spec.kind == "image"))
     weights = luminance_weights(primaries) if needs_weights else None
     counts = _Counts()
 

@@ -19,6 +19,21 @@ from lenslab.errors import ToneError
 _MIN_SIDE = {"drago": 1, "mantiuk": 4}
 
 
+def _quietly(fn, *args):
+    """Call ``fn`` with OpenCV's notices about its own internals (not about the image) silenced."""
+    import cv2
+
+    logging = getattr(getattr(cv2, "utils", None), "logging", None)
+    if logging is None:  # pragma: no cover - builds without the logging module
+        return fn(*args)
+    level = logging.getLogLevel()
+    logging.setLogLevel(logging.LOG_LEVEL_ERROR)
+    try:
+        return fn(*args)
+    finally:
+        logging.setLogLevel(level)
+
+
 def apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     """Run the OpenCV operator ``name`` on a repaired, exposed float32 image; float32, same shape."""
     import cv2
@@ -51,7 +66,7 @@ def apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
                                       saturation=float(params["saturation"]))
     else:  # pragma: no cover - the registry only routes these two here
         raise ToneError(f"no OpenCV operator called {name!r}")
-    out = op.process(img)
+    out = _quietly(op.process, img)
     bad = ~np.isfinite(out)
     if bad.any():
         # OpenCV leaves NaN where it divides 0 by 0, and a NaN spoils its final stretch to [0, 1]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -83,8 +85,8 @@ def test_division_model_as_brown_is_within_five_hundredths_of_a_pixel(k1):
 
 
 def test_an_unknown_fisheye_mapping_is_found():
-    source = make_lens("fisheye:fov=190,mapping=equisolid", (256, 256))
-    fit = fit_lens(source, "fisheye")
+    source = make_lens("fisheye:fov=190,mapping=equisolid", (128, 128))
+    fit = fit_lens(source, "fisheye", report_grid=65)
     assert fit.lens.mapping == "equisolid"
     assert fit.lens.fov == pytest.approx(190, abs=1e-7)  # exact model: exact recovery (see above)
     assert len(fit.tried) == 4 and fit.ok
@@ -93,28 +95,29 @@ def test_an_unknown_fisheye_mapping_is_found():
 
 
 def test_an_impossible_fit_reports_a_large_residual_and_why():
-    source = make_lens("fisheye:fov=360", (256, 256))
-    fit = fit_lens(source, "perspective")  # never raises for a poor fit
+    source = make_lens("fisheye:fov=360", (128, 128))
+    fit = fit_lens(source, "perspective", report_grid=65)  # never raises for a poor fit
     assert not fit.ok
     assert fit.max > 100  # px: rays behind the camera are nowhere near any perspective pixel
     # half the sphere and more lies 90 deg or further off axis: a perspective sees none of it
     assert fit.unseen_fraction > 0.5
     reason = fit.reason()
-    assert "does not see" in reason and "180.0 deg" in reason
+    assert "does not see" in reason
+    assert float(re.search(r"some are ([\d.]+) deg from the axis", reason).group(1)) > 170
     report = "\n".join(fit.report())
     assert "NOT A GOOD FIT" in report and "OK" not in report.split("verdict:")[1]
 
 
 def test_a_poor_but_possible_fit_is_not_called_good():
     # pincushion is not a perspective at any fov: the fit is the best compromise, and says so
-    fit = fit_lens(make_lens("pincushion:k1=0.2,fov=90", (128, 128)), "perspective")
+    fit = fit_lens(make_lens("pincushion:k1=0.2,fov=90", (128, 128)), "perspective", report_grid=65)
     assert not fit.ok and fit.max > 0.5 and "above the tolerance" in fit.reason()
 
 
 def test_fits_are_deterministic():
     source = make_lens("barrel:k1=-0.1,k2=0.01,fov=80", (200, 150))
-    a = fit_lens(source, "brown")
-    b = fit_lens(source, "brown")
+    a = fit_lens(source, "brown", report_grid=65, global_start=None)  # global starts: test_fit_optimize
+    b = fit_lens(source, "brown", report_grid=65, global_start=None)
     assert a.lens.spec() == b.lens.spec()
     assert np.array_equal(a.residuals.r, b.residuals.r)
     assert a.optimizer.evaluations == b.optimizer.evaluations

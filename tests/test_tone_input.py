@@ -185,6 +185,17 @@ def test_drago_and_mantiuk_match_opencv_when_nothing_is_clipped():
     np.testing.assert_allclose(tone.mantiuk(img), ref, atol=1e-6)
 
 
+@pytest.mark.parametrize("name", ["drago", "mantiuk"])
+def test_local_operators_on_grey_images_equal_the_colour_result(name):
+    rng = np.random.default_rng(7)
+    grey = (0.2 * np.exp2(rng.normal(0, 1, (16, 20, 1)))).astype(np.float32)
+    out = tone.tonemap(grey, name)
+    assert out.shape == grey.shape
+    colour = tone.tonemap(np.repeat(grey, 3, axis=2), name)
+    # OpenCV's Rec.601 luma of equal channels is the channel to float32 rounding
+    np.testing.assert_allclose(out[..., 0], colour.mean(axis=2), atol=1e-5)
+
+
 def test_drago_headroom_keeps_a_sun_from_crushing_the_scene():
     rng = np.random.default_rng(6)
     img = (0.2 * np.exp2(rng.normal(0, 1, (64, 64, 3)))).astype(np.float32)

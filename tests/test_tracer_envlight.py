@@ -58,7 +58,7 @@ def test_constant_environment_is_uniform():
     env = ConstantEnvironment((1.0, 2.0, 3.0))
     d, pdf = env.sample(np.random.default_rng(0).random((1000, 2)))
     np.testing.assert_allclose(np.linalg.norm(d, axis=1), 1, rtol=1e-6)  # float32 unit vectors
-    np.testing.assert_allclose(pdf, 1 / (4 * np.pi), rtol=1e-7)
+    np.testing.assert_allclose(pdf, 1 / (4 * np.pi), rtol=1e-7)  # a float32 constant
     np.testing.assert_array_equal(env.eval(d), np.broadcast_to([1, 2, 3], (1000, 3)))
     with pytest.raises(ValueError):
         ConstantEnvironment(-1.0)

@@ -92,7 +92,9 @@ def test_every_model_converges_to_the_truth(model):
 @pytest.mark.parametrize("model", ["fisheye", "perspective", "equirect"])
 def test_smooth_scene_error_orders(model):
     """On a smooth scene the filters show their textbook orders: nearest O(h), bilinear O(h^2),
-    Catmull-Rom and Lanczos better than bilinear."""
+    Catmull-Rom better still. Lanczos-3 does not reproduce linear functions exactly (its normalised
+    weights leave an O(h) term with a small constant): far better than nearest, not better than bilinear
+    on smooth content (measured 2x worse at 512 px); its strength is sharpness, not smooth gradients."""
     dst = dst_camera(model)
     ref, cover = truth(dst, smooth_scene)
     full = cover == 1
@@ -102,10 +104,13 @@ def test_smooth_scene_error_orders(model):
         for filt in ("nearest", "bilinear", "bicubic", "lanczos"):
             out, _ = warp(img, src, dst, filter=filt, samples=SAMPLES)
             err[filt, width] = float(np.abs(out - ref)[full].max())
-    # 4x finer: O(h) gives 4x, O(h^2) 16x; allow for the constant's drift (measured ratios in the comments)
+    # 4x finer: O(h) gives 4x, O(h^2) 16x; measured nearest 4.4-5.3x, bilinear 15.4-16.2x, Lanczos ~4x,
+    # Catmull-Rom > 100x; the bounds allow for the constants' drift
     assert err["nearest", 128] / err["nearest", 512] > 3.0
     assert err["bilinear", 128] / err["bilinear", 512] > 12.0
+    assert err["lanczos", 128] / err["lanczos", 512] > 3.0
+    assert err["bicubic", 128] / err["bicubic", 512] > 20.0
     for width in (128, 512):
         assert err["bilinear", width] < err["nearest", width] / 4
-        assert err["bicubic", width] < err["bilinear", width]
-        assert err["lanczos", width] < err["bilinear", width]
+        assert err["bicubic", width] < err["bilinear", width] / 4
+        assert err["lanczos", width] < err["nearest", width] / 4

@@ -1,8 +1,8 @@
 """Ray casts through embree (embreex, the engine behind trimesh's and pyvista's ray tracing).
 
 The embree scene is built once per tracer scene and queried many times. Embree works in float32;
-vertices are shifted so the scene's bounding-box centre is the origin, which keeps float32 precision
-where the geometry is. Embree releases the GIL during a query, so large batches are split over a
+vertices are shifted so the scene's bounding-box centre is the origin (``centre=True``, or by the
+caller, as :class:`~tracer.scene.Scene` does), which keeps float32 precision where the geometry is. Embree releases the GIL during a query, so large batches are split over a
 thread pool.
 """
 
@@ -36,13 +36,13 @@ def pool() -> ThreadPoolExecutor:
 class Accelerator:
     """An embree BVH over one triangle mesh; closest-hit and any-hit (shadow) queries."""
 
-    def __init__(self, vertices: np.ndarray, triangles: np.ndarray):
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, centre: bool = True):
         from embreex import rtcore_scene
         from embreex.mesh_construction import TriangleMesh
 
         v = np.asarray(vertices, dtype=np.float64)
         t = np.ascontiguousarray(triangles, dtype=np.int32)
-        self.shift = 0.5 * (v.min(axis=0) + v.max(axis=0)) if len(v) else np.zeros(3)
+        self.shift = 0.5 * (v.min(axis=0) + v.max(axis=0)) if (len(v) and centre) else np.zeros(3)
         self.n_triangles = len(t)
         self.scene = rtcore_scene.EmbreeScene()
         if len(t):
@@ -59,6 +59,8 @@ class Accelerator:
     def _origins(self, origins: np.ndarray) -> np.ndarray:
         """Origins relative to the scene centre, float32, in one pass whatever the input precision."""
         origins = np.asarray(origins)
+        if not self.shift.any():
+            return np.ascontiguousarray(origins, dtype=F32)
         out = np.empty(origins.shape, dtype=F32)
         shift = self.shift.astype(origins.dtype) if origins.dtype in (np.float32, np.float64) else self.shift
         np.subtract(origins, shift, out=out, casting="unsafe")

@@ -133,6 +133,9 @@ def run_render(args) -> int:
     if args.env and args.scene != "sky":
         raise ValueError("--env lights the built-in 'sky' scene; a TOML scene names its own [environment]")
     scene = load_scene(args.scene, **kwargs)
+    if scene.dropped and not args.quiet:
+        print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
+              file=sys.stderr)
     camera = _camera(args, scene)
     result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator, max_depth=args.max_depth,
                     progress=not args.quiet, time_budget=args.time_budget, target_error=args.target_error,

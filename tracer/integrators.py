@@ -37,7 +37,7 @@ def _light_choice(scene) -> tuple[float, float]:
 
 def trace(scene, origins: np.ndarray, dirs: np.ndarray, rng: np.random.Generator, integrator: str = "path",
           max_depth: int = 8, rr_depth: int = 3, threads: int | None = 1) -> np.ndarray:
-    """Radiance arriving at ``origins`` from ``dirs`` (unit), float32 ``(N, 3)``."""
+    """Radiance arriving at ``origins`` (world) from ``dirs`` (unit), float32 ``(N, 3)``."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"unknown integrator {integrator!r}; use one of {', '.join(INTEGRATORS)}")
     if max_depth < 0:
@@ -57,7 +57,8 @@ def trace(scene, origins: np.ndarray, dirs: np.ndarray, rng: np.random.Generator
     # state of the live paths; each path's radiance ``L`` travels with it and is written to ``out``
     # when the path ends (cheaper than scattering into ``out`` at every bounce)
     idx = np.arange(n_rays)
-    o = np.asarray(origins, dtype=F32)
+    o = np.empty((n_rays, 3), dtype=F32)
+    np.subtract(origins, scene.shift, out=o, casting="unsafe")  # into the scene's local frame
     d = np.asarray(dirs, dtype=F32)
     beta = np.ones((n_rays, 3), dtype=F32)
     L = np.zeros((n_rays, 3), dtype=F32)
@@ -175,7 +176,7 @@ def _next_event(scene, p, n, wo, mat, beta, rng, p_area, p_env, mis, eps, thread
             src = g if a is None else a[g]
             light_pdf = p_area * scene.light_area_pdf[k[g]] * dist2[g] / np.maximum(np.abs(cos_l[g]), 1e-12)
             wig = take(wi, g)
-            fcos, bsdf_pdf = table.eval(mat[src], take(n, src), take(wo, src), wig, cos_i[g])
+            fcos, bsdf_pdf = table.eval(mat[src], n, wo, wig, cos_i[g], rows=src)
             w = power_heuristic(light_pdf, bsdf_pdf) if mis else F32(1)
             val = fcos * take(table.emission, lmat[g]) * (w / light_pdf)[:, None]
             blocked = scene.accel.occluded(take(origin, src), wig, dist[g] * F32(1 - 1e-4) - 2 * eps, threads=threads)
@@ -191,7 +192,7 @@ def _next_event(scene, p, n, wo, mat, beta, rng, p_area, p_env, mis, eps, thread
             if len(g):
                 eg, wig = e[g], take(wi, g)
                 light_pdf = p_env * env_pdf[g]
-                fcos, bsdf_pdf = table.eval(mat[eg], take(n, eg), take(wo, eg), wig, cos_i[g])
+                fcos, bsdf_pdf = table.eval(mat[eg], n, wo, wig, cos_i[g], rows=eg)
                 w = power_heuristic(light_pdf, bsdf_pdf) if mis else F32(1)
                 blocked = scene.accel.occluded(take(origin, eg), wig, None, threads=threads)
                 vis = np.flatnonzero(~blocked)
@@ -205,7 +206,7 @@ def _next_event(scene, p, n, wo, mat, beta, rng, p_area, p_env, mis, eps, thread
         g = np.flatnonzero(cos_i > 0)
         if len(g):
             wig = take(wi, g)
-            fcos, _ = table.eval(mat[g], take(n, g), take(wo, g), wig, cos_i[g])
+            fcos, _ = table.eval(mat[g], n, wo, wig, cos_i[g], rows=g)
             blocked = scene.accel.occluded(take(origin, g), wig, dist[g] * F32(1 - 1e-4) - 2 * eps, threads=threads)
             vis = np.flatnonzero(~blocked)
             contrib[g[vis]] += take(fcos, vis) * inten[None, :] / dist2[g[vis]][:, None]

@@ -5,7 +5,8 @@ OBJ: ``v`` and ``f`` (polygons are fan-triangulated; negative indices count back
 zero ``Kd``, makes a perfect mirror of reflectance ``Ks``), ``Ke`` emission, and ``Ka`` as emission
 when the scene asks for it (``ambient_as_emission``, as some course files light their scenes).
 
-A TOML scene names meshes, materials, lights, an environment and cameras::
+A bare mesh file without emitters is lit by a uniform white sky (radiance 1) and seen from a camera
+that frames it. A TOML scene names meshes, materials, lights, an environment and cameras::
 
     [scene]
     name = "demo"
@@ -76,7 +77,12 @@ def load_scene(source, **kwargs) -> Scene:
     if suffix == ".toml":
         return load_toml(path, **kwargs)
     parts, dropped = load_mesh(path, **kwargs)
-    return merge_meshes(parts, name=path.stem, dropped=dropped)
+    scene = merge_meshes(parts, name=path.stem, dropped=dropped)
+    if not scene.has_area_lights:
+        from tracer.envlight import ConstantEnvironment
+
+        scene.environment = ConstantEnvironment(1.0)  # a bare mesh is shown under a uniform white sky
+    return scene
 
 
 # -- OBJ / MTL -------------------------------------------------------------------------------
@@ -150,7 +156,9 @@ def read_obj(path: Path, ambient_as_emission: bool = False, material: Material |
         key, args = tokens[0], tokens[1:]
         where = f"{path}:{lineno}"
         if key == "v":
-            verts.append(_floats(args, 3, where) if len(args) >= 3 else _floats(args, 3, where))
+            if len(args) < 3:
+                raise SceneError(f"{where}: a vertex needs x y z, got {' '.join(args)!r}")
+            verts.append(_floats(args, 3, where))
         elif key == "f":
             idx = []
             for a in args:

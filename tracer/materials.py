@@ -92,12 +92,15 @@ class MaterialTable:
         return not (self.has["glossy"] or self.has["mirror"])
 
     def eval(self, mat: np.ndarray, n: np.ndarray, wo: np.ndarray, wi: np.ndarray,
-             cos_i: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+             cos_i: np.ndarray | None = None, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``f(wo, wi) * max(0, n . wi)`` (N, 3) and the solid-angle pdf of sampling ``wi`` (N,).
 
-        ``cos_i = n . wi`` may be passed when already known. Delta (mirror) materials give 0 for
-        both: they are never hit by a sampled direction.
+        ``cos_i = n . wi`` may be passed when already known; with ``rows``, entry ``i`` uses
+        ``n[rows[i]]`` and ``wo[rows[i]]`` (gathered only where a glossy lobe needs them). Delta
+        (mirror) materials give 0 for both: they are never hit by a sampled direction.
         """
+        if rows is not None and not self.lambertian_only:
+            n, wo, rows = take(n, rows), take(wo, rows), None
         if cos_i is None:
             cos_i = dot(n, wi)
         pdf = np.maximum(cos_i, 0) * INV_PI

@@ -208,8 +208,14 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
                 break
             rows = max(1, batch // (width * pass_spp))
             jobs = [ex.submit(band, pass_no, pass_spp, r0, min(height, r0 + rows)) for r0 in range(0, height, rows)]
-            for j in jobs:
-                j.result()
+            try:
+                for j in jobs:
+                    j.result()
+            except BaseException:  # an error or Ctrl-C: drop the bands not started yet
+                ex.shutdown(wait=True, cancel_futures=True)
+                if bar is not None:
+                    bar.close()
+                raise
             done += pass_spp
             pass_no += 1
             if target_error is not None and done >= 2 and done < spp:

@@ -48,14 +48,6 @@ def to_world(local: np.ndarray, n: np.ndarray) -> np.ndarray:
     return local[:, 0:1] * s + local[:, 1:2] * t + local[:, 2:3] * n
 
 
-def cosine_hemisphere(u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
-    """Local directions with density ``cos(theta) / pi`` about +z (Malley's method)."""
-    r = np.sqrt(u1)
-    phi = (2 * np.pi) * u2
-    z = np.sqrt(np.maximum(0.0, 1.0 - u1))
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1).astype(F32)
-
-
 def cosine_around(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
     """World directions with density ``max(0, n . w) / pi`` about the unit normals ``n``.
 
@@ -120,10 +112,9 @@ class Distribution1D:
 
     def sample_discrete(self, u: np.ndarray) -> np.ndarray:
         """Bin indices (int64) drawn with probability ``pmf``."""
-        idx = np.searchsorted(self.cdf, u, side="right") - 1
-        idx = np.clip(idx, 0, self.n - 1)
-        # never return an empty bin (possible only when u lands exactly on a flat stretch)
-        return idx
+        # side="right" skips empty bins (their CDF step is flat); callers still check the density
+        # they get, for the rounding-level chance of landing past the last non-empty bin
+        return np.clip(np.searchsorted(self.cdf, u, side="right") - 1, 0, self.n - 1)
 
     def sample_continuous(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions in ``[0, n)`` (bin index plus the offset inside it) and bin indices."""

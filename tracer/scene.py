@@ -83,7 +83,10 @@ class Scene:
             raise SceneError("the scene has no triangles, no environment and no lights: nothing to render")
         self.vertices, self.triangles, self.material_ids = v, t.astype(np.int32), m.astype(np.int32)
         self.table = MaterialTable(list(self.materials))
-        self.v0 = v[t[:, 0]].astype(F32) if len(t) else np.zeros((0, 3), F32)
+        # the integrator works in float32 relative to the centre of the geometry, where float32 is
+        # most precise: ``local = world - shift``
+        self.shift = 0.5 * (v[t].reshape(-1, 3).min(axis=0) + v[t].reshape(-1, 3).max(axis=0)) if len(t) else np.zeros(3)
+        self.v0 = (v[t[:, 0]] - self.shift).astype(F32) if len(t) else np.zeros((0, 3), F32)
         self.e1 = (v[t[:, 1]] - v[t[:, 0]]).astype(F32) if len(t) else np.zeros((0, 3), F32)
         self.e2 = (v[t[:, 2]] - v[t[:, 0]]).astype(F32) if len(t) else np.zeros((0, 3), F32)
         self.normals = (cross / np.where(area2 > 0, area2, 1)[:, None]).astype(F32)
@@ -111,7 +114,8 @@ class Scene:
         self.light_area_pdf = np.zeros(len(self.triangles), dtype=F32)
         if self.light_dist is not None:
             self.light_area_pdf[self.light_triangles] = (self.light_dist.pmf / self.areas[self.light_triangles]).astype(F32)
-        self.point_light_pos = np.array([p.position for p in self.point_lights], dtype=F32).reshape(-1, 3)
+        self.point_light_pos = (np.array([p.position for p in self.point_lights], dtype=np.float64).reshape(-1, 3)
+                                - self.shift).astype(F32)
         self.point_light_int = np.array([p.intensity for p in self.point_lights], dtype=F32).reshape(-1, 3)
 
     @property
@@ -121,11 +125,12 @@ class Scene:
     # -- geometry --------------------------------------------------------------------------
     @property
     def accel(self):
-        """The embree accelerator, built on first use and kept for the life of the scene."""
+        """The embree accelerator (in the scene's local frame, ``world - shift``), built on first use and
+        kept for the life of the scene."""
         if self._accel is None:
             from tracer.accel import Accelerator
 
-            self._accel = Accelerator(self.vertices, self.triangles)
+            self._accel = Accelerator(self.vertices - self.shift, self.triangles, centre=False)
         return self._accel
 
     @property
@@ -140,12 +145,23 @@ class Scene:
         """
         from lenslab.lenses import Camera
 
-        v = self.views.get(view or "default") or (next(iter(self.views.values())) if self.views else View())
+        v = self.views.get(view or "default") or (next(iter(self.views.values())) if self.views else self.framing_view())
         if any(k in pose for k in ("yaw", "pitch", "roll")) and "look_at" not in pose:
             return Camera.from_spec(lens or v.lens, size, yaw=pose.get("yaw", 0.0), pitch=pose.get("pitch", 0.0),
                                     roll=pose.get("roll", 0.0), eye=pose.get("eye", v.eye))
         return Camera.from_spec(lens or v.lens, size, eye=pose.get("eye", v.eye),
                                 look_at=pose.get("look_at", v.look_at), up=pose.get("up", v.up))
+
+    def framing_view(self, fov: float = 60.0) -> View:
+        """A view from -z that frames the whole geometry (for scenes that name no camera)."""
+        if not len(self.triangles):
+            return View(lens=f"perspective:fov={fov:g}")
+        lo, hi = self.bounds
+        centre = 0.5 * (lo + hi)
+        radius = 0.5 * float(np.linalg.norm(hi - lo))
+        distance = radius / np.sin(np.radians(fov) / 2) if radius > 0 else 1.0
+        eye = centre - np.array([0.0, 0.0, distance])
+        return View(eye=tuple(eye), look_at=tuple(centre), lens=f"perspective:fov={fov:g}")
 
     def summary(self) -> str:
         kinds = sorted({m.kind for m in self.materials})

@@ -14,7 +14,7 @@ def _summary(curve: str) -> str:
     from lenslab.tone import CURVES
 
     c = CURVES.get(curve)
-    text = c.summary if c is not None else ""
+    text = (c.summary if c is not None else "").replace("``", "")
     if len(text) > 80:  # a caption, not the whole reference: cut at a word
         text = text[:80].rsplit(" ", 1)[0] + "\u2026"
     return text

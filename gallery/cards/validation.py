@@ -42,7 +42,7 @@ def plot_trade(data: dict, title: str):
 
     rows = [r for r in data["rows"] if _finite(r.get("seconds")) and _finite(r.get("l1")) and r["seconds"] > 0
             and r["l1"] > 0]
-    fig, ax = plt.subplots(figsize=(7.2, 4.4), layout="constrained")
+    fig, ax = plt.subplots(figsize=(8.4, 4.4), layout="constrained")
     groups: dict[str, list[dict]] = {}
     for r in rows:
         key = "direct trace" if r.get("kind") == "direct" else (
@@ -60,14 +60,26 @@ def plot_trade(data: dict, title: str):
     noise = (data.get("meta") or {}).get("reference", {}).get("noise_l1")
     if _finite(noise) and noise > 0:
         ax.axhline(100 * noise, color="tab:red", ls="--", lw=1, label="reference noise floor")
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
     ax.set_xscale("log")
     ax.set_yscale("log")
+    def label(unit: str, minor_leads: str):
+        def fmt(v, _):  # minor ticks labelled at the given leading digits, so short ranges still get numbers
+            return f"{v:g}{unit}" if f"{v:.0e}"[0] in minor_leads else ""
+        return FuncFormatter(fmt)
+
+    for axis, unit, leads in ((ax.xaxis, " s", "125"), (ax.yaxis, "%", "12345678")):
+        axis.set_major_locator(LogLocator(base=10))
+        axis.set_minor_locator(LogLocator(base=10, subs=tuple(range(2, 10))))
+        axis.set_major_formatter(label(unit, "123456789"))
+        axis.set_minor_formatter(label(unit, leads))
     ax.set_xlabel("seconds (panorama trace + warp, or direct trace)")
-    ax.set_ylabel("relative L1 error vs reference (%)")
+    ax.set_ylabel("relative L1 error vs reference")
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     if rows:
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return fig
 
 

@@ -140,7 +140,6 @@ def convert_one(src: str, dst: str, options: dict) -> str:
     if to == "exr":
         write_opts["pixel_type"] = options["pixel_type"]
         write_opts["compression"] = options["compression"]
-        write_opts["threads"] = options.get("exr_threads", -1)
         if meta.get("camera") is not None:
             write_opts["camera"] = meta["camera"]
     write(dst, image, format=to, overwrite=options["overwrite"], **write_opts)
@@ -168,11 +167,13 @@ def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]
 
 
 def _init_worker() -> None:
-    try:
-        import cv2
-        cv2.setNumThreads(1)
-    except ImportError:  # pragma: no cover
-        pass
+    """One codec thread per worker process: the processes already fill the cores."""
+    import cv2
+
+    import lenslab.io.exr
+
+    cv2.setNumThreads(1)
+    lenslab.io.exr.THREADS = 1
 
 
 def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, progress: bool = True,
@@ -197,9 +198,11 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, pr
             if pool == "process":
                 import multiprocessing as mp
 
-                ctx = mp.get_context("forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn")
+                # fork: the workers start with lenslab, NumPy and the codecs already imported (a fresh
+                # interpreter per worker costs seconds of imports before the first image)
+                methods = mp.get_all_start_methods()
+                ctx = mp.get_context("fork" if "fork" in methods else "spawn")
                 executor = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker)
-                work = [(s, d, {**o, "exr_threads": 1}) for s, d, o in work]
             else:
                 executor = cf.ThreadPoolExecutor(jobs)
             with executor:

@@ -201,16 +201,6 @@ class Run:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    import tracer
-    from gallery import build_gallery
-    from gallery.items import Display, FileList, LensView, Panorama, RunInfo, ToneSet
-    from lenslab import metrics
-    from lenslab.lenses import Camera, Pose, make_lens
-    from lenslab.tone import auto_exposure, curve_names, tonemap
-    from lenslab.warp import warp
-
     t_start = time.perf_counter()
     preset = PRESETS[args.quality]
     pano_size = args.size or preset["size"]
@@ -223,117 +213,30 @@ def run(args: argparse.Namespace) -> int:
             raise FileNotFoundError(f"{name} {folder}: no such folder")
     check_output(out, args.overwrite)
 
+    from gallery import build_gallery
+    from gallery.items import Display, FileList, Panorama, RunInfo, ToneSet
+
     views = lens_views(view)
     compared = [v for v in views if v["name"] in COMPARED]
-    curves = curve_names()
-    run_ = Run(out, total=2 + len(views) + len(compared) + 2, quiet=args.quiet)
-    say = run_.say
+    run_ = Run(out, total=3 + len(views) + len(compared) + 2, quiet=args.quiet)
     try:
-        say(f"lenslab demo: the {SCENE} box, a {pano_size[0]}x{pano_size[1]} panorama at {spp} spp, "
-            f"{len(views)} lenses at {view} px ({args.quality} quality)")
-
-        # 1. the panorama
-        run_.step("loading the scene")
-        scene = tracer.load_scene(SCENE)
-        pcam = Camera(make_lens("equirect", pano_size), Pose(eye=np.asarray(EYE)))
-        run_.step(f"tracing the panorama ({spp} spp)")
-        pano = tracer.render(scene, pcam, spp=spp, seed=args.seed, integrator=INTEGRATOR, max_depth=MAX_DEPTH)
-        run_.done()
-        ev = auto_exposure(pano.image)
-        say(f"traced the panorama {pano_size[0]}x{pano_size[1]}, {spp} spp, {INTEGRATOR} depth {MAX_DEPTH}: "
-            f"{pano.seconds:.1f} s (display exposure {ev:+.2f} EV, auto)")
-
-        run_.step("writing the panorama")
-        pano_img = np.ascontiguousarray(pano.image, dtype=np.float32)
-        pano_display = tonemap(pano_img, curve="hable", exposure=ev)
-        run_.write("panorama.exr", pano_img, "the traced HDR panorama, with its camera in the header",
-                   camera=pcam)
-        run_.write("panorama.pfm", pano_img, "the same HDR panorama as PFM (32-bit float)")
-        run_.write("panorama.ppm", pano_display, "tone-mapped (hable), 16-bit PPM", bits=16)
-        run_.write("panorama.jpg", pano_display, "tone-mapped (hable), JPG")
-        run_.done()
-
-        # 2. every lens, warped (a first tiny warp compiles the warp kernels, so that no view's time
-        # includes that one-off cost)
-        run_.step("compiling the warp kernels")
-        t0 = time.perf_counter()
-        tiny = Camera(make_lens("equirect", (16, 8)), Pose(eye=np.asarray(EYE)))
-        warp(np.zeros((8, 16, 3), np.float32), tiny, make_camera(dict(spec="fisheye", size=(8, 8), pose={}), EYE),
-             **WARP)
-        compile_seconds = time.perf_counter() - t0
-        records: dict[str, LensView] = {}
-        warped: dict[str, tuple] = {}
-        warp_total = 0.0
-        for v in views:
-            run_.step(f"warping: {v['name']}")
-            cam = make_camera(v, EYE)
-            t0 = time.perf_counter()
-            img, alpha = warp(pano_img, pcam, cam, **WARP)
-            seconds = time.perf_counter() - t0
-            warp_total += seconds
-            s = slug(v["name"])
-            rgba = np.concatenate([img, alpha[..., None]], axis=-1).astype(np.float32)
-            rel = run_.write(f"views/{s}.exr", rgba, f"{v['name']}: warped HDR with alpha and camera", camera=cam)
-            run_.write(f"views/{s}.jpg", tonemap(img, curve="hable", exposure=ev), f"{v['name']}: tone-mapped")
-            warped[v["name"]] = (img, alpha, cam)
-            records[v["name"]] = LensView(
-                name=v["name"], spec=cam.lens.spec() if "tiles" not in v else v["spec"], size=tuple(cam.size),
-                warped=rel, warp_seconds=seconds, pose={k: float(x) for k, x in v["pose"].items()},
-                settings=dict(WARP), note=v["note"])
-            run_.done()
-        say(f"warped the panorama into {len(views)} lenses in {warp_total:.2f} s "
-            f"(bilinear with the footprint prefilter; compiling the warp kernels took {compile_seconds:.1f} s before)")
-
-        # 3. direct traces of two views, and the warp's error against them
+        run_.say(f"lenslab demo: the {SCENE} box, a {pano_size[0]}x{pano_size[1]} panorama at {spp} spp, "
+                 f"{len(views)} lenses at {view} px ({args.quality} quality)")
+        scene, pcam, pano, ev = trace_panorama(run_, pano_size, spp, args.seed)
+        records, warped = warp_views(run_, views, pcam, pano.image, ev)
         for v in compared:
-            name = v["name"]
-            img, alpha, cam = warped[name]
-            run_.step(f"tracing directly: {name} ({direct_spp} spp)")
-            ref = tracer.render(scene, cam, spp=direct_spp, seed=args.seed + 1, integrator=INTEGRATOR,
-                                max_depth=MAX_DEPTH)
-            s = slug(name)
-            ref_rgba = np.concatenate([ref.image, ref.alpha[..., None]], axis=-1).astype(np.float32)
-            rel = run_.write(f"direct/{s}.exr", ref_rgba, f"{name}: traced directly, with alpha and camera",
-                             camera=cam)
-            run_.write(f"direct/{s}.pfm", ref.image, f"{name}: traced directly, PFM")
-            run_.write(f"direct/{s}.jpg", tonemap(ref.image, curve="hable", exposure=ev),
-                       f"{name}: traced directly, tone-mapped")
-            valid = metrics.valid_mask(ref.alpha, alpha)
-            edges = metrics.edge_mask_from_image(ref.image, radius=2, mask=valid)
-            stats = metrics.compare(ref.image, img, ref.alpha, alpha, edges=edges,
-                                    ref_stderr=np.sqrt(np.maximum(ref.variance, 0.0)), with_flip=False)
-            error = {"l1": stats["l1"], "l1_interior": stats.get("l1_interior"),
-                     "l1_edge": stats.get("l1_edge"), "noise_l1": stats.get("noise_l1"),
-                     "excess_l1": stats.get("excess_l1"), "psnr_log": stats["psnr_log"]}
-            r = records[name]
-            r.direct, r.trace_seconds, r.trace_spp = rel, ref.seconds, ref.spp
-            r.error = {k: float(x) for k, x in error.items() if x is not None}
-            say(f"  {name:<22s} warp {r.warp_seconds * 1e3:6.0f} ms   direct trace {ref.seconds:6.2f} s "
-                f"({direct_spp} spp)   relative L1 {100 * stats['l1']:.2f}% "
-                f"(the direct trace's own noise alone: {100 * (stats.get('noise_l1') or 0):.2f}%)")
-            run_.done()
+            compare_view(run_, scene, records[v["name"]], warped[v["name"]], direct_spp, args.seed + 1, ev)
+        tone = tone_curves(run_, records, warped, ev)
 
-        # 4. tone curves
-        run_.step("tone curves")
-        sample_img, _, _ = warped.get(SAMPLE_CURVE_VIEW, next(iter(warped.values())))
-        sample_rel = records.get(SAMPLE_CURVE_VIEW, next(iter(records.values()))).warped
-        for c in curves:
-            run_.write(f"tone/{c}.jpg", tonemap(sample_img, curve=c, exposure=ev), f"tone curve {c}")
-        run_.write("tone/hable.ppm", tonemap(sample_img, curve="hable", exposure=ev), "tone curve hable, 8-bit PPM")
-        say(f"tone-mapped the {SAMPLE_CURVE_VIEW} view with {len(curves)} curves: {', '.join(curves)}")
-        run_.done()
-
-        # 5. the gallery
         run_.step("building the gallery")
-        seconds_so_far = time.perf_counter() - t_start
         items = [
             Display(curve="hable", exposure=ev),
             Panorama(path="panorama.exr", spec=pcam.lens.spec(), size=pano_size, scene=SCENE, spp=pano.spp,
                      seconds=pano.seconds, eye=EYE, integrator=INTEGRATOR, max_depth=MAX_DEPTH),
             *[records[v["name"]] for v in views],
-            ToneSet(source=sample_rel, curves=curves, exposure=ev, label=f"{SAMPLE_CURVE_VIEW} view, auto"),
+            tone,
             FileList(files=list(run_.files)),
-            RunInfo(command=_command_line(args), seconds=seconds_so_far,
+            RunInfo(command=_command_line(args), seconds=time.perf_counter() - t_start,
                     settings={"quality": args.quality, "panorama": f"{pano_size[0]}x{pano_size[1]} at {spp} spp",
                               "views": f"{view} px", "direct traces": f"{direct_spp} spp"}),
         ]
@@ -342,12 +245,134 @@ def run(args: argparse.Namespace) -> int:
         run_.done()
     finally:
         run_.close()
-    total = time.perf_counter() - t_start
     if not args.quiet:
         kinds = sorted({f["format"] for f in run_.files})
-        print(f"wrote {len(run_.files)} image files ({', '.join(kinds)}) under {out}/ in {total:.1f} s in total")
+        print(f"wrote {len(run_.files)} image files ({', '.join(kinds)}) under {out}/ "
+              f"in {time.perf_counter() - t_start:.1f} s in total")
     print(f"gallery: {index}")
     return 0
+
+
+def trace_panorama(run_: Run, size: tuple[int, int], spp: int, seed: int):
+    """Trace the scene's panorama from :data:`EYE` and write it as EXR, PFM, PPM and JPG.
+
+    Returns the scene, the panorama camera, the render and the display exposure (auto, from the panorama).
+    """
+    import numpy as np
+
+    import tracer
+    from lenslab.lenses import Camera, Pose, make_lens
+    from lenslab.tone import auto_exposure, tonemap
+
+    run_.step("loading the scene")
+    scene = tracer.load_scene(SCENE)
+    pcam = Camera(make_lens("equirect", size), Pose(eye=np.asarray(EYE)))
+    run_.step(f"tracing the panorama ({spp} spp)")
+    pano = tracer.render(scene, pcam, spp=spp, seed=seed, integrator=INTEGRATOR, max_depth=MAX_DEPTH)
+    pano.image = np.ascontiguousarray(pano.image, dtype=np.float32)
+    run_.done()
+    ev = auto_exposure(pano.image)
+    run_.say(f"traced the panorama {size[0]}x{size[1]}, {spp} spp, {INTEGRATOR} depth {MAX_DEPTH}: "
+             f"{pano.seconds:.1f} s (display exposure {ev:+.2f} EV, auto)")
+    run_.step("writing the panorama")
+    display = tonemap(pano.image, curve="hable", exposure=ev)
+    run_.write("panorama.exr", pano.image, "the traced HDR panorama, with its camera in the header", camera=pcam)
+    run_.write("panorama.pfm", pano.image, "the same HDR panorama as PFM (32-bit float)")
+    run_.write("panorama.ppm", display, "tone-mapped (hable), 16-bit PPM", bits=16)
+    run_.write("panorama.jpg", display, "tone-mapped (hable), JPG")
+    run_.done()
+    return scene, pcam, pano, ev
+
+
+def warp_views(run_: Run, views: list[dict], pcam, pano_image, ev: float):
+    """Warp the panorama into every view; write each as EXR (RGBA, camera) and JPG.
+
+    Returns the :class:`gallery.items.LensView` records and ``name -> (image, alpha, camera)``.
+    """
+    import numpy as np
+
+    from gallery.items import LensView
+    from lenslab.lenses import Camera, Pose, make_lens
+    from lenslab.tone import tonemap
+    from lenslab.warp import warp
+
+    # a first tiny warp compiles the warp kernels, so that no view's time includes that one-off cost
+    run_.step("compiling the warp kernels")
+    t0 = time.perf_counter()
+    tiny = Camera(make_lens("equirect", (16, 8)), Pose(eye=np.asarray(EYE)))
+    warp(np.zeros((8, 16, 3), np.float32), tiny, make_camera(dict(spec="fisheye", size=(8, 8), pose={}), EYE),
+         **WARP)
+    compile_seconds = time.perf_counter() - t0
+    run_.done()
+    records: dict[str, LensView] = {}
+    warped: dict[str, tuple] = {}
+    for v in views:
+        run_.step(f"warping: {v['name']}")
+        cam = make_camera(v, EYE)
+        t0 = time.perf_counter()
+        img, alpha = warp(pano_image, pcam, cam, **WARP)
+        seconds = time.perf_counter() - t0
+        s = slug(v["name"])
+        rgba = np.concatenate([img, alpha[..., None]], axis=-1).astype(np.float32)
+        rel = run_.write(f"views/{s}.exr", rgba, f"{v['name']}: warped HDR with alpha and camera", camera=cam)
+        run_.write(f"views/{s}.jpg", tonemap(img, curve="hable", exposure=ev), f"{v['name']}: tone-mapped")
+        warped[v["name"]] = (img, alpha, cam)
+        records[v["name"]] = LensView(
+            name=v["name"], spec=v["spec"] if "tiles" in v else cam.lens.spec(), size=tuple(cam.size),
+            warped=rel, warp_seconds=seconds, pose={k: float(x) for k, x in v["pose"].items()},
+            settings=dict(WARP), note=v["note"])
+        run_.done()
+    total = sum(r.warp_seconds for r in records.values())
+    run_.say(f"warped the panorama into {len(views)} lenses in {total:.2f} s (bilinear with the footprint "
+             f"prefilter; compiling the warp kernels took {compile_seconds:.1f} s before)")
+    return records, warped
+
+
+def compare_view(run_: Run, scene, record, warped, spp: int, seed: int, ev: float) -> None:
+    """Trace a view directly, write it, and store the warp's error against it in ``record``."""
+    import numpy as np
+
+    import tracer
+    from lenslab import metrics
+    from lenslab.tone import tonemap
+
+    img, alpha, cam = warped
+    name = record.name
+    run_.step(f"tracing directly: {name} ({spp} spp)")
+    ref = tracer.render(scene, cam, spp=spp, seed=seed, integrator=INTEGRATOR, max_depth=MAX_DEPTH)
+    s = slug(name)
+    ref_rgba = np.concatenate([ref.image, ref.alpha[..., None]], axis=-1).astype(np.float32)
+    rel = run_.write(f"direct/{s}.exr", ref_rgba, f"{name}: traced directly, with alpha and camera", camera=cam)
+    run_.write(f"direct/{s}.pfm", ref.image, f"{name}: traced directly, PFM")
+    run_.write(f"direct/{s}.jpg", tonemap(ref.image, curve="hable", exposure=ev), f"{name}: traced directly, tone-mapped")
+    valid = metrics.valid_mask(ref.alpha, alpha)
+    edges = metrics.edge_mask_from_image(ref.image, radius=2, mask=valid)
+    stats = metrics.compare(ref.image, img, ref.alpha, alpha, edges=edges,
+                            ref_stderr=np.sqrt(np.maximum(ref.variance, 0.0)), with_flip=False)
+    keys = ("l1", "l1_interior", "l1_edge", "noise_l1", "excess_l1", "psnr_log")
+    record.direct, record.trace_seconds, record.trace_spp = rel, ref.seconds, ref.spp
+    record.error = {k: float(stats[k]) for k in keys if stats.get(k) is not None}
+    run_.say(f"  {name:<22s} warp {record.warp_seconds * 1e3:6.0f} ms   direct trace {ref.seconds:6.2f} s "
+             f"({spp} spp)   relative L1 {100 * stats['l1']:.2f}% "
+             f"(the direct trace's own noise alone: {100 * (stats.get('noise_l1') or 0):.2f}%)")
+    run_.done()
+
+
+def tone_curves(run_: Run, records: dict, warped: dict, ev: float):
+    """Tone-map one view with every curve (JPG each, and a PPM); returns its :class:`gallery.items.ToneSet`."""
+    from gallery.items import ToneSet
+    from lenslab.tone import curve_names, tonemap
+
+    run_.step("tone curves")
+    name = SAMPLE_CURVE_VIEW if SAMPLE_CURVE_VIEW in warped else next(iter(warped))
+    image = warped[name][0]
+    curves = curve_names()
+    for c in curves:
+        run_.write(f"tone/{c}.jpg", tonemap(image, curve=c, exposure=ev), f"tone curve {c}")
+    run_.write("tone/hable.ppm", tonemap(image, curve="hable", exposure=ev), "tone curve hable, 8-bit PPM")
+    run_.say(f"tone-mapped the {name} view with {len(curves)} curves: {', '.join(curves)}")
+    run_.done()
+    return ToneSet(source=records[name].warped, curves=curves, exposure=ev, label=f"{name} view, auto")
 
 
 def _command_line(args: argparse.Namespace) -> str:

@@ -4,14 +4,17 @@ The source lens and the candidate share the image size. Over a grid of pixel cen
 edges included) the source gives a ray ``d_s(x, y)``. Two residuals are offered, both in pixels:
 
 - ``space="direction"`` (default): the candidate's ray ``d_c(x, y)`` at the same pixel, its difference
-  from ``d_s`` turned into a pixel offset through the source's local Jacobian,
-  ``|J^+ (d_c - d_s)|`` with ``J = d d_s / d(x, y)`` (exact to first order, forward maps only);
+  from ``d_s`` turned into a pixel offset through the candidate's local Jacobian,
+  ``|J^+ (d_s - d_c)|`` with ``J = d d_c / d(x, y)``: the first-order form of the pixel residual below,
+  smooth in the parameters and needing only forward maps;
 - ``space="pixel"``: where the candidate puts the source's ray, ``|p_c(d_s(x, y)) - (x, y)|`` (uses the
-  candidate's inverse, numerical for some models).
+  candidate's inverse, numerical for some models); the direction-space answer is its starting point.
 
 The objective is the mean squared residual; pixels the candidate cannot map count as a residual of
-the image diagonal. The report gives RMS and maximum residual (and where the maximum is) on a finer
-grid, how many source rays the fitted model cannot see, and a verdict against a tolerance.
+the image diagonal. The report measures the fitted lens on a finer grid of pixel centres in pixel
+space (the direction-space estimate for rays the fitted lens cannot place): RMS and maximum residual
+and where the maximum is, how many source rays the fitted model does not see, and a verdict against
+a tolerance. A poor fit is reported as such, never raised.
 """
 
 from __future__ import annotations
@@ -272,7 +275,7 @@ class LensFit:
         lines.append(f"free:     {', '.join(self.free) or 'none'}")
         x, y = self.max_at
         lines.append(f"residual: RMS {self.rms:.4g} px, max {self.max:.4g} px at pixel ({x:.1f}, {y:.1f}) "
-                     f"[{self.space} space, {len(self.residuals.xy) if self.residuals else 0} samples]")
+                     f"[{len(self.residuals.xy) if self.residuals else 0} pixel centres; fit in {self.space} space]")
         if self.residuals is not None and (self.unseen_fraction or self.unmapped_fraction):
             lines.append(f"coverage: {100 * (1 - self.unmapped_fraction):.1f}% of the source's pixels mapped, "
                          f"{100 * self.unseen_fraction:.1f}% of its rays out of the model's view")

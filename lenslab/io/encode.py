@@ -4,9 +4,9 @@ LDR files (PPM/PGM, JPG, PNG) hold sRGB-encoded code values. Reading decodes the
 writing encodes linear light in [0, 1] and quantises with round-to-nearest (optionally dithered).
 
 Speed without hand-writing the curve: decoding goes through a table of every code value, built once
-per maxval with colour-science's sRGB EOTF. Encoding to 8 bits goes through a table of the 255
+per maxval with colour-science's sRGB EOTF. Encoding to 8 or 16 bits goes through a table of the
 decision thresholds (the linear values where the rounded code steps up), again computed with
-colour-science: the result is exactly ``round(255 * eotf_inverse_sRGB(x))`` at table-lookup speed.
+colour-science: the result is exactly ``round(maxval * eotf_inverse_sRGB(x))`` at table-lookup speed.
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ import functools
 
 import numpy as np
 
-_FINE = 1 << 14  # cells of the 8-bit encoding table; finer than the narrowest code step (3.0e-4)
 
 
 @functools.lru_cache(maxsize=8)
@@ -40,19 +39,27 @@ def encode_srgb(linear: np.ndarray) -> np.ndarray:
     return np.asarray(colour.models.eotf_inverse_sRGB(x), dtype=np.float32)
 
 
-@functools.lru_cache(maxsize=1)
-def _encode8_tables() -> tuple[np.ndarray, np.ndarray]:
+#: table cells per bit depth, finer than the narrowest code step (near black, on the linear segment:
+#: 1 / (255 * 12.92) = 3.0e-4 for 8 bits, 1.2e-6 for 16), so at most one threshold falls in a cell
+_CELLS = {8: 1 << 14, 16: 1 << 20}
+
+
+@functools.lru_cache(maxsize=2)
+def _encode_tables(bits: int) -> tuple[np.ndarray, np.ndarray]:
+    """(code at each cell's lower edge, the next threshold above it) for exact table encoding."""
     import colour
 
-    # linear value at which the rounded 8-bit code reaches k (k = 1..255)
-    thr64 = np.asarray(colour.models.eotf_sRGB((np.arange(1, 256) - 0.5) / 255.0), dtype=np.float64)
+    maxval = (1 << bits) - 1
+    cells = _CELLS[bits]
+    # linear value at which the rounded code reaches k (k = 1..maxval), from colour-science's EOTF
+    thr64 = np.asarray(colour.models.eotf_sRGB((np.arange(1, maxval + 1) - 0.5) / maxval), dtype=np.float64)
     # the smallest float32 not below each threshold, so that float32 comparisons round as float64 would
     thr = thr64.astype(np.float32)
-    low32 = thr.astype(np.float64) < thr64
-    thr[low32] = np.nextafter(thr[low32], np.float32(np.inf))
-    cells = (np.arange(_FINE + 1, dtype=np.float64) / _FINE).astype(np.float32)
-    low = np.searchsorted(thr, cells, side="right").astype(np.uint8)  # code at each cell's lower edge
-    # the next threshold above each cell (at most one per cell); NaN past the last so nothing passes 255
+    below = thr.astype(np.float64) < thr64
+    thr[below] = np.nextafter(thr[below], np.float32(np.inf))
+    edges = (np.arange(cells + 1, dtype=np.float64) / cells).astype(np.float32)
+    low = np.searchsorted(thr, edges, side="right").astype(np.uint8 if bits == 8 else np.uint16)
+    # the next threshold above each cell; NaN past the last, so that nothing passes maxval
     nxt = np.append(thr, np.float32(np.nan))[low]
     return low, nxt.astype(np.float32)
 
@@ -82,34 +89,34 @@ def quantise(values: np.ndarray, bits: int, dither: bool = False, seed: int | No
 def encode_quantise(linear: np.ndarray, bits: int = 8, dither: bool = False, seed: int | None = 0) -> np.ndarray:
     """Linear light -> sRGB code values (uint8 for 8 bits, uint16 for 16 bits), rounded to nearest.
 
-    NaN becomes 0, values are clipped to [0, 1]. The 8-bit path without dither is a table lookup
-    that gives exactly the rounded colour-science encoding.
+    NaN becomes 0, values are clipped to [0, 1]. Without dither this is a table lookup that gives
+    exactly the rounded colour-science encoding.
     """
-    if bits == 8 and not dither:
-        return _encode8(np.asarray(linear, dtype=np.float32))
+    if bits in _CELLS and not dither:
+        return _encode_table(np.asarray(linear, dtype=np.float32), bits)
     return quantise(encode_srgb(linear), bits, dither=dither, seed=seed)
 
 
 _BLOCK = 1 << 16  # values per block: the block and its scratch buffers stay in a core's L2 cache
 
 
-def _encode8(x: np.ndarray) -> np.ndarray:
-    """Exact 8-bit sRGB encoding by table lookup, in cache-sized blocks (one sweep through memory).
+def _encode_table(x: np.ndarray, bits: int) -> np.ndarray:
+    """Exact 8- or 16-bit sRGB encoding by table lookup, in cache-sized blocks (one sweep through memory).
 
     Per value: ``i = floor(clip(x * FINE))`` picks a table cell; the cell's lower-edge code, plus one
     if ``x`` reaches the single threshold that may fall inside the cell. ``fmax``/``fmin`` send NaN
     and -inf to cell 0 and +inf to the last cell; the threshold test is False for NaN.
     """
-    low, nxt = _encode8_tables()
+    low, nxt = _encode_tables(bits)
     flat = np.ascontiguousarray(x).reshape(-1)
-    out = np.empty(flat.shape, np.uint8)
+    out = np.empty(flat.shape, low.dtype)
     n = flat.size
     bs = min(_BLOCK, max(n, 1))
     y = np.empty(bs, np.float32)
     i = np.empty(bs, np.intp)
     t = np.empty(bs, np.float32)
     hit = np.empty(bs, np.bool_)
-    fine = np.float32(_FINE)
+    fine = np.float32(_CELLS[bits])
     for s in range(0, n, bs):
         e = min(s + bs, n)
         m = e - s

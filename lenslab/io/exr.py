@@ -22,6 +22,7 @@ Writing: half (default) or float, ZIP compression by default, the camera as a TO
 
 from __future__ import annotations
 
+import os
 import warnings
 from pathlib import Path
 
@@ -37,6 +38,11 @@ COMPRESSIONS = ("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dw
                 "htj2k32")
 _RESERVED = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "pixelAspectRatio",
              "screenWindowCenter", "screenWindowWidth", "type", "tiles", "name", "version", "chunkCount"}
+
+
+#: threads the OpenEXR codec may use per file (the bindings default to none); batch conversion with
+#: several worker processes sets it to 1 in each
+THREADS = os.cpu_count() or 1
 
 
 class HalfOverflowWarning(UserWarning):
@@ -194,7 +200,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
 
     try:
-        full = OpenEXR.File(str(path), separate_channels=True)
+        full = OpenEXR.File(str(path), separate_channels=True, num_threads=THREADS)
         chans = full.parts[index].channels
     except Exception as exc:
         raise FormatError(f"{path}: OpenEXR cannot read the pixels ({exc}); the file is truncated or "
@@ -302,7 +308,7 @@ def to_half(image: np.ndarray) -> np.ndarray:
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
-              threads: int = -1) -> None:
+              threads: int | None = None) -> None:
     import OpenEXR
 
     h, w, c = image.shape
@@ -330,6 +336,6 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
     # the bindings need each channel contiguous (they write strided arrays wrongly)
     chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
     try:
-        OpenEXR.File(header, chans, threads).write(str(tmp))
+        OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
         raise FormatError(f"OpenEXR could not write the image ({exc})") from None

@@ -7,7 +7,7 @@ import numpy as np
 from lenslab.lenses.base import FLOAT, Param
 from lenslab.lenses.distortion import smallest_positive_root
 from lenslab.lenses.registry import register
-from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.solve import BROWN, inverse_table, kernel_settings, solve_radial
 from lenslab.lenses.wrapped import Wrapped
 
 
@@ -53,7 +53,7 @@ class Brown(Wrapped):
         r_d = np.asarray(r_d, dtype=FLOAT).ravel()
         inside = (r_d >= 0) & (r_d < self.rd_fold)
         sel = np.flatnonzero(inside)
-        x, conv = invert_increasing(self.radius_map, r_d[sel], 0.0, self.ru_hi, r_d[sel])
+        x, conv = solve_radial(BROWN, self.k1, self.k2, r_d[sel], self.ru_hi, r_d[sel])
         r_u = np.zeros(r_d.shape, dtype=FLOAT)
         r_u[sel] = x
         converged = np.zeros(r_d.shape, dtype=bool)
@@ -61,13 +61,18 @@ class Brown(Wrapped):
         return r_u, inside & converged, converged
 
     def bend(self, uv):
-        u, v = uv[..., 0], uv[..., 1]
-        r_d = np.sqrt(u * u + v * v)
-        r_u, valid, _ = self.invert_radius(r_d)
-        r_u = r_u.reshape(r_d.shape)
-        # (u, v) r_u / r_d, with the limit 1 at the centre
-        scale = np.divide(r_u, r_d, out=np.ones(r_d.shape), where=r_d > 0)
-        return uv * scale[..., None], valid.reshape(r_d.shape)
+        """Undistorted ``(u, v) r_u / r_d`` (limit 1 at the centre): the compiled solve of
+        ``r_d = g(r_u)`` fused with the range test (same steps as :meth:`invert_radius`)."""
+        from lenslab.lenses.solve_kernels import brown_bend
+
+        if getattr(self, "_table", None) is None:
+            self._table = inverse_table(self.radius_map, min(self.ru_fold, self.ru_hi))
+        table, step = self._table
+        flat = np.ascontiguousarray(uv, dtype=FLOAT).reshape(-1, 2)
+        out = np.empty(flat.shape, dtype=FLOAT)
+        valid = np.empty(flat.shape[0], dtype=np.bool_)
+        brown_bend(flat, self.k1, self.k2, self.ru_hi, self.rd_fold, table, step, *kernel_settings(), out, valid)
+        return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
 
     def unbend(self, uv):
         u, v = uv[..., 0], uv[..., 1]

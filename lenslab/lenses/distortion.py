@@ -6,7 +6,7 @@ import numpy as np
 
 from lenslab.lenses.base import FLOAT, Param
 from lenslab.lenses.registry import register
-from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.solve import DIVISION, DIVISION_RECIPROCAL, inverse_table, kernel_settings, solve_radial
 from lenslab.lenses.wrapped import Wrapped
 
 
@@ -118,11 +118,11 @@ class Distortion(Wrapped):
                 x = np.empty(t.shape, dtype=FLOAT)
                 conv = np.empty(t.shape, dtype=bool)
                 far = t > 1.0
-                x[~far], conv[~far] = invert_increasing(self.radius_map, t[~far], 0.0, hi, x0[~far])
-                x[far], conv[far] = invert_increasing(self._reciprocal_radius_map, -1.0 / t[far], 0.0, hi,
-                                                      x0[far])
+                x[~far], conv[~far] = solve_radial(DIVISION, self.k1, self.k2, t[~far], hi, x0[~far])
+                x[far], conv[far] = solve_radial(DIVISION_RECIPROCAL, self.k1, self.k2, -1.0 / t[far], hi,
+                                                 x0[far])
             else:
-                x, conv = invert_increasing(self.radius_map, t, 0.0, hi, x0)
+                x, conv = solve_radial(DIVISION, self.k1, self.k2, t, hi, x0)
         r_d = np.zeros(r_u.shape, dtype=FLOAT)
         r_d[sel] = x
         converged = np.zeros(r_u.shape, dtype=bool)
@@ -130,14 +130,28 @@ class Distortion(Wrapped):
         valid = inside & converged
         return r_d, valid, converged
 
+    def _kernel_args(self):
+        """Bracket, range and starting-guess table of the compiled inverse (built once)."""
+        if getattr(self, "_kargs", None) is None:
+            hi = min(self.r_fold, self.r_corner)
+            folds = hi == self.r_fold
+            f_hi = np.inf if (folds and self.pole) else float(self.radius_map(np.array([hi]))[0][0])
+            table, step = inverse_table(self.radius_map, hi, cap=1e3)
+            self._kargs = (hi, f_hi, folds, self.pole and folds, table, step)
+        return self._kargs
+
     def unbend(self, uv):
-        u, v = uv[..., 0], uv[..., 1]
-        r_u = np.sqrt(u * u + v * v)
-        r_d, valid, _ = self.invert_radius(r_u)
-        s = r_d * r_d
-        den = 1.0 + s * (self.k1 + self.k2 * s)
-        out = uv * den.reshape(r_u.shape)[..., None]
-        return out, valid.reshape(r_u.shape)
+        """Image ``(u, v)`` of undistorted points: the compiled solve of ``r_u = f(r_d)``, fused with the
+        range test and rescaling (same steps as :meth:`invert_radius`)."""
+        from lenslab.lenses.solve_kernels import division_unbend
+
+        hi, f_hi, strict, pole, table, step = self._kernel_args()
+        flat = np.ascontiguousarray(uv, dtype=FLOAT).reshape(-1, 2)
+        out = np.empty(flat.shape, dtype=FLOAT)
+        valid = np.empty(flat.shape[0], dtype=np.bool_)
+        division_unbend(flat, self.k1, self.k2, hi, f_hi, strict, pole, table, step, *kernel_settings(),
+                        out, valid)
+        return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
 
 
 @register

@@ -6,7 +6,7 @@ import numpy as np
 
 from lenslab.lenses.base import FLOAT, Lens, Param
 from lenslab.lenses.registry import register
-from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.solve import inverse_table, kernel_settings
 
 #: tan(F r) may rise to pi: there the direction reaches the back pole, and beyond it the image folds
 T_FOLD = np.pi
@@ -78,22 +78,15 @@ class SeedFisheye(Lens):
         return d, valid
 
     def dir_to_uv(self, d):
-        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
-        rho = np.sqrt(dx * dx + dy * dy)
-        theta = np.arctan2(rho, dz).ravel()
-        psi_max = self.max_angle
-        inside = (theta < psi_max) if self.folds else (theta <= psi_max * (1.0 + 1e-12))
-        sel = np.flatnonzero(inside)
-        th = theta[sel]
-        x0 = np.sqrt(th / self.F)
-        x, conv = invert_increasing(self.psi, th, 0.0, self.r_max, x0)
-        r = np.zeros(theta.shape, dtype=FLOAT)
-        r[sel] = x
-        ok = np.zeros(theta.shape, dtype=bool)
-        ok[sel] = conv
-        r = r.reshape(rho.shape)
-        k = np.divide(r, rho, out=np.zeros(r.shape), where=rho > 0)
-        uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
-        np.multiply(dx, k, out=uv[..., 0])
-        np.multiply(dy, k, out=uv[..., 1])
-        return uv, ok.reshape(rho.shape)
+        """Solve ``psi(r) = theta`` per direction: compiled bracketed Newton from a table guess."""
+        from lenslab.lenses.solve_kernels import seed_dir_to_uv
+
+        if getattr(self, "_table", None) is None:
+            self._table = inverse_table(self.psi, self.r_max, sqrt_map=True)
+        table, step = self._table
+        flat = np.ascontiguousarray(d, dtype=FLOAT).reshape(-1, 3)
+        out = np.empty((flat.shape[0], 2), dtype=FLOAT)
+        valid = np.empty(flat.shape[0], dtype=np.bool_)
+        psi_max = self.max_angle if self.folds else self.max_angle * (1.0 + 1e-12)
+        seed_dir_to_uv(flat, self.F, self.r_max, psi_max, self.folds, table, step, *kernel_settings(), out, valid)
+        return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])

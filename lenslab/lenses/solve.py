@@ -23,7 +23,8 @@ FLOAT = np.float64
 #: returned value is usually far closer than that.
 TOL = 1e-13
 MAX_ITER = 100
-#: a residual within this many ulps of the target counts as solved: evaluating f takes a handful of
+EPS = float(np.finfo(np.float64).eps)
+#: a residual within this many ulps (units of EPS * |target|) of the target counts as solved: evaluating f takes a handful of
 #: roundings, so its value is no more exact than that (next to a fold, where the slope is small, this
 #: is the test that ends the solve: the root is then pinned as well as float64 allows)
 RESIDUAL_ULPS = 8.0
@@ -87,7 +88,7 @@ def invert_increasing(
             # a residual at the rounding level of the target (nothing left to gain: next to a fold,
             # where the slope vanishes, this is as close as float64 can pin the root), or a bracket
             # narrower than the tolerance
-            at_rounding = np.abs(res) <= RESIDUAL_ULPS * np.spacing(np.abs(t))
+            at_rounding = np.abs(res) <= (RESIDUAL_ULPS * EPS) * np.abs(t)
             done = (small & ~bad) | at_rounding | (b - a <= tol)
             xn = np.where(at_rounding, x, xn)
             last_step = np.abs(xn - x)
@@ -99,3 +100,52 @@ def invert_increasing(
                 idx, x, a, b, t = idx[keep], x[keep], a[keep], b[keep], t[keep]
                 last_step = last_step[keep]
     return out, converged
+
+
+# -- compiled kernels for the radial maps of the models ------------------------------------------
+#: radial maps with a compiled solver: (name, meaning of p0, p1)
+DIVISION, DIVISION_RECIPROCAL, BROWN, SEED_PSI = 0, 1, 2, 3
+
+
+def solve_radial(kind: int, p0: float, p1: float, target: np.ndarray, hi: float,
+                 x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`invert_increasing` for one of the built-in radial maps, compiled (one pass, no temporaries).
+
+    ``kind`` is :data:`DIVISION` (``x / (1 + p0 x^2 + p1 x^4)``), :data:`DIVISION_RECIPROCAL`
+    (``-(1 + p0 x^2 + p1 x^4) / x``), :data:`BROWN` (``x (1 + p0 x^2 + p1 x^4)``) or :data:`SEED_PSI`
+    (the seed fisheye's ``atan2(x sin t, cos t)``, ``t = tan(p0 x)``); the bracket is ``[0, hi]``.
+    Same algorithm and tests as :func:`invert_increasing`, element by element.
+    """
+    from lenslab.lenses.solve_kernels import solve_radial_kernel
+
+    target = np.ascontiguousarray(target, dtype=FLOAT).ravel()
+    x0 = np.ascontiguousarray(x0, dtype=FLOAT).ravel()
+    out = np.empty(target.shape, dtype=FLOAT)
+    conv = np.empty(target.shape, dtype=np.bool_)
+    solve_radial_kernel(int(kind), float(p0), float(p1), target, float(hi), x0, TOL, RESIDUAL_TOL,
+                        RESIDUAL_ULPS * EPS, MAX_ITER, out, conv)
+    return out, conv
+
+
+def inverse_table(f: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], hi: float, n: int = 1024,
+                  sqrt_map: bool = False, cap: float = np.inf) -> tuple[np.ndarray, float]:
+    """Starting guesses for the compiled solvers: the inverse of an increasing ``f`` on ``[0, hi]``,
+    sampled at ``n + 1`` uniform steps of ``f`` (or of ``sqrt(f)``), up to ``min(f(hi), cap)``.
+
+    Returns ``(table, step)``: ``table[j]`` ~ the ``x`` with ``g(f(x)) = j * step``.
+    """
+    x = np.linspace(0.0, hi, 16 * n + 1)[:-1]
+    with np.errstate(all="ignore"):
+        y = f(x)[0]
+    keep = np.isfinite(y) & (y <= cap)
+    keep &= np.concatenate([[True], np.diff(y) > 0])  # strictly increasing samples only
+    x, y = x[keep], y[keep]
+    g = np.sqrt(np.maximum(y, 0.0)) if sqrt_map else y
+    step = float(g[-1] / n) if g[-1] > 0 else 1.0
+    table = np.interp(np.arange(n + 1) * step, g, x)
+    return np.ascontiguousarray(table, dtype=FLOAT), step
+
+
+def kernel_settings() -> tuple[float, float, float, int]:
+    """The solver settings in the order the compiled kernels take them."""
+    return TOL, RESIDUAL_TOL, RESIDUAL_ULPS * EPS, MAX_ITER

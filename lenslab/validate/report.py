@@ -118,7 +118,7 @@ def markdown(val, extra_sections: Sequence[str] = ()) -> str:
 
 
 def _best_worst(val):
-    rows = [r for r in val.rows if r["label"] in val.images and np.isfinite(r["l1"])]
+    rows = [r for r in val.rows if r["label"] in val.images and np.isfinite(r["l1"]) and r["kind"] == "warp"]
     if not rows:
         return None, None
     best = min(rows, key=lambda r: r["l1"])

@@ -29,6 +29,8 @@ import numba
 import numpy as np
 from numba import prange
 
+from lenslab.warp.dispatch import kernel
+
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.seam import Border, fold_index
 
@@ -71,7 +73,7 @@ def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> Foo
     ys = band.ys.reshape(h, w, 5, n)
     vs = band.valid.reshape(h, w, 5, n)
     foot = np.empty((h, w, n, 4), dtype=np.float32)
-    _secants(xs, ys, vs, mapper.wrap, foot)
+    _secants(xs, ys, vs, mapper.wrap, foot, work=xs.size)
     # samples whose five points disagree on validity straddle the edge of the valid region (a
     # fisheye's rim, a source image's border): their coverage is partial, so they are split into
     # EDGE_SPLIT x EDGE_SPLIT plain sub-samples that measure it
@@ -91,7 +93,7 @@ def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> Foo
                          (exy[..., 0] - 0.5).astype(np.float32), (exy[..., 1] - 0.5).astype(np.float32), ev)
 
 
-@numba.njit(parallel=True, cache=True)
+@kernel
 def _secants(xs, ys, vs, wrap, foot):
     h, w, _, n = xs.shape
     for r in prange(h):
@@ -140,7 +142,7 @@ def sample_footprint(levels: numba.typed.List, band: FootprintBand, border: Bord
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
     _footprint(levels, band.xs, band.ys, band.valid & ~band.edge, band.foot, wrap, top, bottom, MAX_TAPS, DENSITY,
-               out, alpha)
+               out, alpha, work=16 * band.xs.size)
     if len(band.edge_idx):
         _edges(levels[0], band.edge_idx, band.edge_xs, band.edge_ys, band.edge_valid, band.xs.shape[2],
                wrap, top, bottom, out, alpha)
@@ -222,7 +224,7 @@ def _box_at(img, x, y, bw, bh, wrap, top, bottom, acc, weight, kx, ky):
                 acc[ch] += ww * img[jj, ii, ch]
 
 
-@numba.njit(parallel=True, cache=True)
+@kernel
 def _footprint(pyr, xs, ys, valid, foot, wrap, top, bottom, max_taps, density, out, alpha):
     h, w, n = xs.shape
     nc = out.shape[2]

@@ -26,6 +26,8 @@ import numba
 import numpy as np
 from numba import prange
 
+from lenslab.warp.dispatch import kernel
+
 from lenslab.warp.seam import fold_index
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
@@ -43,12 +45,12 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     kind = _KIND[filter][0]
     wrap, top, bottom = border.flags
     if kind == 1:
-        _bilinear(src, xs, ys, valid, wrap, top, bottom, out, alpha)
+        _bilinear(src, xs, ys, valid, wrap, top, bottom, out, alpha, work=xs.size)
     else:
-        _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha)
+        _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha, work=xs.size * (4 if kind else 1))
 
 
-@numba.njit(parallel=True, cache=True)
+@kernel
 def _bilinear(src, xs, ys, valid, wrap, top, bottom, out, alpha):
     h, w, n = xs.shape
     sh, sw, nc = src.shape
@@ -121,7 +123,7 @@ def _weight(kind, t):
     return 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
 
 
-@numba.njit(parallel=True, cache=True)
+@kernel
 def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
     h, w, n = xs.shape
     sh, sw, nc = src.shape

@@ -15,7 +15,9 @@ map is evaluated exactly on a lattice of nodes every ``step`` output pixels and 
 between (bicubic Catmull-Rom, in float64, the seam unwrapped). A lattice cell is interpolated only
 where that is safe: all 16 nodes of its stencil are valid and the interpolation agrees with the exact
 map at four interior check points (t = 1/4, 3/4 on each axis) to within ``tol`` source pixels (default
-1/500; the largest error measured anywhere in such cells stays about that size). A cell whose 16 nodes
+1/500; the largest error measured anywhere in such cells stays about that size). Errors are measured on
+the sphere: for an equirect source an error in x counts cos(latitude) times (its columns crowd
+together toward the poles), in units of the source's row height. A cell whose 16 nodes
 and check points all lie where the output lens has no ray (outside a fisheye's circle) is empty. Every
 other cell
 (the rim of a fisheye, a pole, the seam of an equirect output, a fold of a distortion model, the
@@ -31,6 +33,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 from numba import prange
+
+from lenslab.warp.dispatch import kernel
 
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
@@ -163,11 +167,25 @@ class Mapper:
             dx = ix - exy[..., 0]
             if self.wrap:
                 dx -= self.wrap * np.round(dx / self.wrap)
+            dx *= self._x_scale(exy[..., 1])
             dy = iy - exy[..., 1]
             ok &= ev & (np.abs(dx) <= self.tol) & (np.abs(dy) <= self.tol)
             dead &= ~evd
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
         return nx, ny, state
+
+    def _x_scale(self, y: np.ndarray) -> np.ndarray | float:
+        """Length on the sphere of one source column at row ``y``, in pixels (cos(latitude) for equirect).
+
+        Map errors are judged by the distance they move a sample on the sphere: near a pole an equirect's
+        columns crowd together, and a large error in x is a small one there.
+        """
+        lens = self.src.lens
+        if getattr(lens, "name", "") != "equirect":
+            return 1.0
+        lat = np.radians(lens.lat_max - (y / lens.height) * (lens.lat_max - lens.lat_min))
+        return np.abs(np.cos(lat)) * (np.radians(lens.lon_max - lens.lon_min) / lens.width) / (
+            np.radians(lens.lat_max - lens.lat_min) / lens.height)
 
     def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, 2, 4, 4)``, ``c[.., k, b, a]`` of tx^a ty^b."""
@@ -214,7 +232,7 @@ class Mapper:
         cb1 = min(state.shape[0], int(np.floor((r1 - 1 + offsets[..., 1].max()) / self.step)) + 1)
         need = np.empty((h, w, n), dtype=np.bool_)
         _lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets,
-                      xs, ys, valid, need)
+                      xs, ys, valid, need, work=xs.size)
         flat = np.flatnonzero(need)
         if len(flat):  # the cells the lattice cannot serve, sample by sample
             r, c, k = np.unravel_index(flat, need.shape)
@@ -311,7 +329,7 @@ def _lattice_grid(nx, ny, tx, ty, wrap):
 _CR = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
 
 
-@numba.njit(parallel=True, cache=True)
+@kernel
 def _lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need):
     h, w, n = xs.shape
     ho, wo = offs.shape[0], offs.shape[1]

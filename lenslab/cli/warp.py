@@ -1,0 +1,298 @@
+"""Reproject images from one lens into another: HDR in, HDR out, anti-aliased, with alpha.
+
+Each output pixel looks along its ray(s) of the output camera (--to, --size, --yaw/--pitch/--roll or
+--look-at) and reads the source image where the source camera (--from) sees that direction. Values
+are never clamped; the output's alpha is the coverage (the fraction of the pixel's samples that land
+on the source), written as the A channel of EXR and PNG, with the colour premultiplied by it (the
+OpenEXR convention). EXR output records the output camera in its header, so it can be warped again.
+
+The source camera comes from --from, else from the file's own header (EXR written by lenslab), else
+a full equirect panorama is assumed when the image is twice as wide as it is tall.
+
+Several inputs (files, directories or glob patterns) with one geometry share one map, computed
+once; -o is then a directory. A failing input is reported and the others go on; the exit code is 1
+if any failed. Outputs are written to a temporary name and renamed.
+
+Shrinking a detailed source (a 4K panorama into a 1K fisheye) aliases with one sample per pixel:
+add --antialias (a footprint filter, about the cost of 2x2 supersampling) or --samples 16.
+
+examples:
+  lenslab warp pano.exr -o fish.exr --to fisheye:fov=180 --size 1024x1024 --antialias
+  lenslab warp pano.exr -o view.jpg --to perspective:fov=70 --size 1280x720 --yaw 30 --pitch -10
+  lenslab warp 'frames/*.exr' -o fisheye/ --to fisheye:fov=200,mapping=equisolid --size 2048x2048
+  lenslab warp fish.exr -o pano.exr --to equirect --size 4096x2048      (the camera comes from fish.exr)
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+OUTPUT_FORMATS = ("exr", "pfm", "png", "jpg", "ppm", "pgm")
+LDR = ("png", "jpg", "ppm", "pgm")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
+    parser.add_argument("-o", "--output", required=True, metavar="OUT",
+                        help="output file (one input), or directory (created if missing)")
+    parser.add_argument("--to", required=True, metavar="SPEC",
+                        help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
+                             "tiled:2x2,tiles=cams.toml (see 'lenslab lenses')")
+    parser.add_argument("--from", dest="source", metavar="SPEC",
+                        help="source lens; default: the camera stored in the file, else equirect when the "
+                             "image is twice as wide as tall")
+    parser.add_argument("--size", metavar="WxH",
+                        help="output size in pixels; default: the source's height squared (2:1 for equirect)")
+    pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
+    pose.add_argument("--yaw", type=float, default=0.0, help="turn right about the up axis")
+    pose.add_argument("--pitch", type=float, default=0.0, help="turn up")
+    pose.add_argument("--roll", type=float, default=0.0, help="turn about the viewing axis")
+    pose.add_argument("--look-at", metavar="X,Y,Z",
+                      help="look along this direction instead of --yaw/--pitch/--roll, e.g. 0,1,0 straight up")
+    pose.add_argument("--eye", metavar="X,Y,Z", default=None,
+                      help="output eye point (default: the source's); another point needs --allow-parallax")
+    quality = parser.add_argument_group("sampling")
+    quality.add_argument("--filter", choices=("nearest", "bilinear", "bicubic", "lanczos"), default="bilinear",
+                         help="reconstruction filter (default bilinear; bicubic = Catmull-Rom, lanczos = Lanczos-3)")
+    quality.add_argument("--samples", type=int, default=1, metavar="N",
+                         help="stratified samples per output pixel (e.g. 4, 16; default 1)")
+    quality.add_argument("--seed", type=int, default=None,
+                         help="jitter the samples within their strata with this seed (default: strata centres)")
+    quality.add_argument("--antialias", action="store_true",
+                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels)")
+    quality.add_argument("--exact-map", action="store_true",
+                         help="evaluate the lens models at every sample (default: a checked interpolation "
+                              "lattice, within 1/100 pixel)")
+    out = parser.add_argument_group("output")
+    out.add_argument("--format", choices=OUTPUT_FORMATS, default=None,
+                     help="output format when -o is a directory (default exr), else from the file name")
+    out.add_argument("--tone", default="hable", metavar="CURVE",
+                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable)")
+    out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
+    out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
+    out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")
+    out.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    parser.add_argument("--allow-parallax", action="store_true",
+                        help="warp views whose eye differs from the source's anyway (warns: parallax is not "
+                             "reproduced)")
+    parser.add_argument("--autoscale", action="store_true",
+                        help="scale the output lens to fit the source's field of view (from the fitting module)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    from lenslab.errors import WarpError
+
+    w, sep, h = str(text).lower().partition("x")
+    try:
+        size = int(w), int(h)
+    except ValueError:
+        size = (0, 0)
+    if not sep or size[0] < 1 or size[1] < 1:
+        raise WarpError(f"--size {text!r} must be WIDTHxHEIGHT in pixels, e.g. 1024x1024")
+    return size
+
+
+def parse_vector(text: str, what: str) -> tuple[float, float, float]:
+    from lenslab.errors import WarpError
+
+    try:
+        v = tuple(float(p) for p in str(text).split(","))
+    except ValueError:
+        v = ()
+    if len(v) != 3:
+        raise WarpError(f"{what} {text!r} must be three numbers X,Y,Z, e.g. 0,0,1")
+    return v
+
+
+def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
+    """The source camera: --from, else the file's camera, else equirect for a 2:1 image."""
+    from lenslab.errors import WarpError
+    from lenslab.lenses import Camera
+
+    h, w = shape[:2]
+    if spec:
+        return Camera.from_spec(spec, (w, h))
+    cam = meta.get("camera")
+    if cam is not None:
+        if cam.size != (w, h):
+            return Camera(cam.lens.with_size(w, h), cam.pose)
+        return cam
+    if w == 2 * h:
+        return Camera.from_spec("equirect", (w, h))
+    raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
+                    "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
+
+
+def default_size(spec: str, src_h: int) -> tuple[int, int]:
+    from lenslab.lenses.registry import parse_spec
+
+    name, _ = parse_spec(spec)
+    if name == "equirect":
+        return 2 * src_h, src_h
+    if name == "cubemap":
+        face = max(1, src_h // 2)
+        return 3 * face, 2 * face
+    return src_h, src_h
+
+
+def output_camera(args, src, size: tuple[int, int]):
+    """The output camera: its lens at ``size``, its pose in the world frame (the source's pose, if its
+    file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise."""
+    import numpy as np
+
+    from lenslab.lenses import Camera, Pose, make_lens
+
+    lens = make_lens(args.to, size)
+    eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
+    if args.look_at:
+        target = np.add(eye, parse_vector(args.look_at, "--look-at"))
+        return Camera(lens, Pose.look_at(eye, target))
+    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
+
+
+def autoscale_camera(src, dst):
+    """Hook for --autoscale: the output camera scaled to fit the source (provided by lenslab.fit)."""
+    from lenslab.errors import WarpError
+
+    try:
+        from lenslab.fit.autoscale import autoscale_camera as fit_autoscale
+    except ImportError:
+        raise WarpError("--autoscale is not available in this installation (lenslab.fit.autoscale is missing); "
+                        "give the output lens's parameters explicitly") from None
+    return fit_autoscale(src, dst)
+
+
+def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
+    from lenslab.errors import FormatError
+    from lenslab.io import split_selector
+
+    out = Path(output)
+    as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
+    if not as_file:
+        if out.exists() and not out.is_dir():
+            raise NotADirectoryError(f"{out}: exists and is not a directory; with several inputs -o must be a "
+                                     "directory")
+        out.mkdir(parents=True, exist_ok=True)
+    ext = "." + (fmt or "exr")
+    pairs, seen = [], {}
+    for f in files:
+        src, selector = split_selector(f)
+        dst = out if as_file else out / (src.stem + (f"_{selector.replace(':', '_')}" if selector else "") + ext)
+        if dst in seen:
+            raise FormatError(f"{f} and {seen[dst]} would both be written to {dst}; warp them separately")
+        seen[dst] = f
+        pairs.append((f, dst))
+    return pairs
+
+
+def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
+    import numpy as np
+
+    from lenslab.errors import FormatError
+    from lenslab.io import read, write
+    from lenslab.io.detect import format_for_path
+
+    fmt = format_for_path(dst_path, None)
+    if not args.overwrite and dst_path.exists():
+        raise FileExistsError(f"{dst_path}: already exists; pass --overwrite to replace it")
+    image, meta = read(src_path)
+    src = source_camera(args.source, meta, image.shape)
+    size = parse_size(args.size) if args.size else default_size(args.to, image.shape[0])
+    dst = output_camera(args, src, size)
+    if args.autoscale:
+        dst = autoscale_camera(src, dst)
+    has_alpha = image.shape[2] in (2, 4)
+    out, coverage = cache.warp(image, src, dst, progress=progress)
+    if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
+        colour, alpha = out[..., :-1], out[..., -1]
+    else:
+        colour, alpha = out, coverage
+    keep_alpha = not args.no_alpha and fmt in ("exr", "png")
+    exposure = args.exposure
+    if fmt in LDR and (not meta["display_encoded"] or exposure == "auto"):
+        from lenslab.tone import tonemap
+
+        rgba = np.concatenate([colour, alpha[..., None]], axis=-1)
+        mapped = tonemap(rgba, curve=args.tone, exposure=exposure)
+        colour, alpha = mapped[..., :-1], mapped[..., -1]
+    elif exposure == "auto":
+        raise FormatError("--exposure auto applies when writing display formats (png, jpg, ppm, pgm)")
+    elif float(exposure) != 0.0:
+        colour = colour * np.float32(2.0 ** float(exposure))
+    opts: dict = {}
+    if keep_alpha:
+        if colour.shape[2] == 1 and fmt == "png":
+            colour = np.repeat(colour, 3, axis=2)
+        result = np.concatenate([colour, alpha[..., None]], axis=-1)
+        if fmt == "exr" and colour.shape[2] == 1:
+            opts["channels"] = ["Y", "A"]
+    else:
+        result = colour
+    if fmt == "exr":
+        opts["camera"] = dst
+        opts["pixel_type"] = args.pixel_type
+    write(dst_path, result, format=fmt, overwrite=args.overwrite, **opts)
+
+
+def run(args: argparse.Namespace) -> int:
+    import warnings
+
+    from tqdm import tqdm
+
+    from lenslab.cli.convert import expand_inputs
+    from lenslab.errors import LenslabError, ToneError, WarpError
+    from lenslab.warp.batch import PlanCache
+
+    if args.look_at and (args.yaw or args.pitch or args.roll):
+        raise WarpError("give either --look-at or --yaw/--pitch/--roll, not both")
+    if args.exposure != "auto":
+        try:
+            float(args.exposure)
+        except ValueError:
+            raise ToneError(f"--exposure must be a number of stops or 'auto', not {args.exposure!r}") from None
+    if args.size:
+        parse_size(args.size)
+    files, missing = expand_inputs(args.inputs)
+    for pat, reason in missing:
+        print(f"lenslab warp: {pat}: {reason}", file=sys.stderr)
+    if not files:
+        print("lenslab warp: error: nothing to warp", file=sys.stderr)
+        return 1
+    pairs = plan_outputs(files, args.output, args.format)
+    cache = PlanCache(filter=args.filter, samples=args.samples, antialias=args.antialias, seed=args.seed,
+                      allow_parallax=args.allow_parallax, exact_map=args.exact_map)
+    show = not args.quiet and sys.stderr.isatty()
+    failed = []
+    bar = tqdm(total=len(pairs), unit="img", disable=not show or len(pairs) == 1, file=sys.stderr, leave=False)
+    for src_path, dst_path in pairs:
+        rows = None
+        if show and len(pairs) == 1:
+            rows = tqdm(unit="row", file=sys.stderr, leave=False, desc=os.path.basename(src_path))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
+                error = None
+            except (LenslabError, OSError) as exc:
+                error = str(exc)
+            except Exception as exc:  # one bad file must not stop the batch
+                error = f"{type(exc).__name__}: {exc}"
+            finally:
+                if rows is not None:
+                    rows.close()
+        for note in dict.fromkeys(str(w.message) for w in caught):
+            print(f"lenslab warp: note: {src_path}: {note}", file=sys.stderr)
+        if error:
+            failed.append(src_path)
+            print(f"lenslab warp: FAILED: {error if src_path in error else f'{src_path}: {error}'}", file=sys.stderr)
+        bar.update()
+    bar.close()
+    if not args.quiet:
+        done = len(pairs) - len(failed)
+        print(f"warped {done} of {len(pairs)} file(s) with {cache.built} map(s)"
+              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+    return 1 if failed or missing else 0

@@ -1,0 +1,61 @@
+"""Many images, one geometry: plans whose maps are computed once and reused.
+
+A batch of frames from the same camera into the same output costs one map computation; every later
+frame is a sampling pass only. :class:`PlanCache` keeps the plans of the geometries seen so far (a
+batch usually has one), with their maps cached while they fit in ``max_map_bytes``; a geometry whose
+maps would not fit is warped band by band as usual, without caching.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+
+from lenslab.lenses import Camera
+from lenslab.warp.engine import WarpPlan
+
+MAX_MAP_BYTES = 1 << 30  # 1 GiB of cached maps at most
+
+
+def geometry_key(src: Camera, dst: Camera) -> str:
+    """A string identifying a (source camera, destination camera) pair, sizes and poses included."""
+    import json
+
+    return json.dumps([src.to_dict(), dst.to_dict()], sort_keys=True, default=str)
+
+
+def map_bytes_estimate(dst: Camera, samples: int, antialias: bool) -> int:
+    """Bytes the cached maps of a plan will take (9 per sample, 25 with the footprint)."""
+    per = 9 + (16 if antialias else 0)
+    return dst.width * dst.height * samples * per
+
+
+class PlanCache:
+    """Plans by geometry, least recently used dropped first (``keep`` geometries at most)."""
+
+    def __init__(self, keep: int = 2, max_map_bytes: int = MAX_MAP_BYTES, **options):
+        self.keep = max(1, int(keep))
+        self.max_map_bytes = int(max_map_bytes)
+        self.options = options
+        self._plans: OrderedDict[str, WarpPlan] = OrderedDict()
+        self.built = 0  # plans made (map computations), for reporting
+
+    def plan(self, src: Camera, dst: Camera) -> WarpPlan:
+        key = geometry_key(src, dst)
+        if key in self._plans:
+            self._plans.move_to_end(key)
+            return self._plans[key]
+        cache = map_bytes_estimate(dst, self.options.get("samples", 1), self.options.get("antialias", False)) \
+            <= self.max_map_bytes // self.keep
+        plan = WarpPlan(src, dst, cache=cache, **self.options)
+        self.built += 1
+        self._plans[key] = plan
+        while len(self._plans) > self.keep:
+            self._plans.popitem(last=False)
+        return plan
+
+    def warp(self, image, src: Camera, dst: Camera, progress=None):
+        """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp`."""
+        return self.plan(src, dst).run(image, progress=progress)
+
+
+__all__ = ["PlanCache", "geometry_key", "MAX_MAP_BYTES"]
