@@ -30,7 +30,7 @@ def mixed(tmp_path):
     lio.write(d / "d.jpg", rng.random((12, 16, 3)).astype(np.float32))
     lio.write(d / "e.pgm", rng.random((12, 16, 1)).astype(np.float32), bits=16)
     (d / "z_corrupt.exr").write_bytes((d / "a.exr").read_bytes()[:200])
-    (d / "notes.txt").write_text("not an image")  # not an image extension: ignored in a directory
+    (d / "readme.txt").write_text("not an image")  # not an image extension: ignored in a directory
     return d
 
 

@@ -81,3 +81,22 @@ def test_fit_tone_with_a_fixed_parameter(tmp_path, capsys):
                  "--free", "exposure"])
     out = capsys.readouterr().out
     assert code == 0 and re.search(r"fitted:\s+exposure=-0\.25", out)
+
+
+@pytest.mark.parametrize("mode", ["fill", "cover"])
+def test_warp_autoscale(tmp_path, capsys, mode):
+    """``lenslab warp --autoscale``: fill leaves no empty output pixel (alpha 1 everywhere, through the
+    warp's own interpolated map); cover shows every source pixel, so the output has an empty margin."""
+    io.write(tmp_path / "src.exr", np.ones((120, 160, 3), np.float32), pixel_type="float")
+    args = ["warp", str(tmp_path / "src.exr"), "-o", str(tmp_path / "out.exr"), "--from", "barrel:k1=-0.25,fov=90",
+            "--to", "perspective:fov=90", "--size", "160x120", "--autoscale"] + ([mode] if mode == "cover" else [])
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    assert f"autoscale {mode}: scale" in err and "COBYLA check: agrees" in err
+    out, meta = io.read(tmp_path / "out.exr")
+    fov = meta["camera"].lens.fov
+    if mode == "fill":
+        assert out.shape[2] == 4 and np.all(out[..., 3] == 1.0)
+        assert 95 < fov < 105  # the barrel lens sees more than its nominal 90 deg (see test_fit_autoscale)
+    else:
+        assert np.any(out[..., 3] == 0.0) and fov > 110

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 import lenslab.io as lio
 from lenslab.errors import FormatError
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _valid_files() -> dict[str, bytes]:

@@ -102,6 +102,10 @@ def test_exr_camera_round_trip(tmp_path):
     assert meta["attributes"]["lenslab.camera"] == cam.to_toml()
     _, meta = lio.read(lio.write(tmp_path / "nocam.exr", asym()))
     assert meta["camera"] is None
+    p = lio.write(tmp_path / "badcam.exr", asym(), attributes={"lenslab.camera": "[lens]\nmodel = 'nosuch'\n"})
+    with pytest.warns(lio.CameraAttributeWarning, match="nosuch|model|lens"):
+        img, meta = lio.read(p)
+    assert meta["camera"] is None and img.shape == (37, 53, 3)  # the pixels still read
 
 
 def test_ppm_16bit_bit_exact(tmp_path):

@@ -243,3 +243,18 @@ def test_import_is_light_and_the_entry_points_exist():
             "print(heavy); tracer.render, tracer.load_scene, tracer.RenderResult")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_cli_display_output_is_tone_mapped(tmp_path):
+    from lenslab.io import read
+    from lenslab.tone import tonemap
+
+    out, hdr = tmp_path / "c.png", tmp_path / "c.exr"
+    args = ["render", "--size", "16x16", "--spp", "2", "--seed", "4", "-q"]
+    assert main(args + ["-o", str(out), "--tone", "reinhard", "--exposure", "1"]) == 0
+    assert main(args + ["-o", str(hdr)]) == 0
+    png, _ = read(out)
+    radiance, _ = read(hdr)
+    # the same render, tone mapped then 8-bit sRGB encoded: within half an 8-bit step after decoding
+    # (in linear light the step is largest near white, 1 - srgb_decode(254.5 / 255) ~ 0.0045)
+    np.testing.assert_allclose(png, tonemap(radiance, "reinhard", exposure=1.0), atol=0.005)

@@ -54,7 +54,7 @@ EYE = (0.278, 0.274, 0.001)  # metres: the middle of the box's open front, just 
 POSE = {"yaw": 10.0, "pitch": -5.0}
 SIZE = (128, 128)
 PANO = (1024, 512)
-REF_SPP = 64  # an 8x8 grid of fixed samples per reference pixel
+REF_SPP = 16  # a 4x4 grid of fixed samples per reference pixel (8x8 in the full-size table)
 
 # The bounds, at the CI size as at full size (see the table above)
 INTERIOR = 0.01

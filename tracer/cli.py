@@ -9,6 +9,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
+
+DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
 
 
 def _triple(text: str) -> tuple[float, float, float]:
@@ -38,6 +41,15 @@ def _seed(text: str):
         return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"a seed is an integer or 'none', got {text!r}") from None
+
+
+def _exposure(text: str):
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"exposure is a number of stops or 'auto', got {text!r}") from None
 
 
 def add_render_arguments(p: argparse.ArgumentParser) -> None:
@@ -76,6 +88,11 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=_seed, default=0,
                    help="random seed (default 0; the same seed gives the same image); 'none' puts samples at the "
                         "strata centres")
+    p.add_argument("--tone", default="hable", metavar="CURVE",
+                   help="tone curve for display outputs (.png, .jpg, .ppm): hable (default), reinhard, aces, clamp; "
+                        "EXR and PFM keep the linear radiance")
+    p.add_argument("--exposure", type=_exposure, default=0.0, metavar="EV",
+                   help="exposure in stops before the tone curve, or 'auto' (display outputs only; default 0)")
     p.add_argument("--threads", type=int, help="worker threads (default: every core)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
 
@@ -132,6 +149,12 @@ def run_render(args) -> int:
     kwargs = {"env": args.env} if args.env else {}
     if args.env and args.scene != "sky":
         raise ValueError("--env lights the built-in 'sky' scene; a TOML scene names its own [environment]")
+    if Path(args.output).suffix.lower() in DISPLAY_SUFFIXES:
+        import numpy as np
+
+        from lenslab.tone import tonemap
+
+        tonemap(np.zeros((1, 1, 3), np.float32), args.tone)  # a bad curve name fails now, not after the render
     scene = load_scene(args.scene, **kwargs)
     if scene.dropped and not args.quiet:
         print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
@@ -140,7 +163,17 @@ def run_render(args) -> int:
     result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator, max_depth=args.max_depth,
                     progress=not args.quiet, time_budget=args.time_budget, target_error=args.target_error,
                     threads=args.threads)
-    result.save(args.output, args.variance_out)
+    if Path(args.output).suffix.lower() in DISPLAY_SUFFIXES:
+        from lenslab.io import write
+        from lenslab.tone import tonemap
+
+        exposure = args.exposure
+        shown = result.rgba if float(result.alpha.min()) < 1 else result.image
+        write(args.output, tonemap(shown, args.tone, exposure=exposure))
+        if args.variance_out:
+            result.save(None, args.variance_out)
+    else:
+        result.save(args.output, args.variance_out)
     if not args.quiet:
         rate = result.info["samples_per_second"]
         print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp "

@@ -135,13 +135,13 @@ def trace(scene, origins: np.ndarray, dirs: np.ndarray, rng: np.random.Generator
             alive = survive & (bmax > 0)
         else:
             alive = bmax > 0
+        o = p + eps * n  # the next ray leaves from just above the surface
         live = np.flatnonzero(alive)
         if len(live) < len(idx):
             dead = np.flatnonzero(~alive)
             out[idx[dead]] = take(L, dead)
-            idx, p, n, wi, beta, L = idx[live], take(p, live), take(n, live), take(wi, live), take(beta, live), take(L, live)
+            idx, o, wi, beta, L = idx[live], take(o, live), take(wi, live), take(beta, live), take(L, live)
             pdf, delta = pdf[live], delta[live]
-        o = p + eps * n
         d = wi
         prev_pdf = pdf
         specular = delta
@@ -163,12 +163,11 @@ def _next_event(scene, p, n, wo, mat, beta, rng, p_area, p_env, mis, eps, thread
         ua, pa, na = (u, p, n) if a is None else (take(u, a), take(p, a), take(n, a))
         k = scene.light_triangles[scene.light_dist.sample_discrete(ua[:, 0])]
         b1, b2 = uniform_triangle(ua[:, 1], ua[:, 2])
-        tri = take(scene.triangle_rows, k)  # v0 | e1 | e2 | normal
-        wi = tri[:, 0:3] + b1[:, None] * tri[:, 3:6] + b2[:, None] * tri[:, 6:9] - pa
+        wi = take(scene.v0, k) + b1[:, None] * take(scene.e1, k) + b2[:, None] * take(scene.e2, k) - pa
         dist2 = dot(wi, wi)
         dist = np.sqrt(dist2)
         wi /= dist[:, None]
-        cos_l = -dot(tri[:, 9:12], wi)
+        cos_l = -dot(take(scene.normals, k), wi)
         lmat = scene.material_ids[k]
         cos_i = dot(na, wi)
         g = np.flatnonzero((cos_i > 0) & ((cos_l > 0) | table.two_sided[lmat]))

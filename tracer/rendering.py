@@ -71,8 +71,10 @@ class RenderResult:
         """Write the image (RGBA where some pixels lie outside the lens) with its camera; optionally the variance."""
         from tracer.imageio import write_image
 
-        image = self.rgba if float(self.alpha.min()) < 1 else self.image
-        out = write_image(path, image, camera=self.camera, overwrite=overwrite, attributes=self.attributes)
+        out = None
+        if path is not None:
+            image = self.rgba if float(self.alpha.min()) < 1 else self.image
+            out = write_image(path, image, camera=self.camera, overwrite=overwrite, attributes=self.attributes)
         if variance_path is not None:
             write_image(variance_path, self.variance, camera=self.camera, overwrite=overwrite,
                         attributes={**self.attributes, "tracer.content": "variance of each pixel's mean"})

@@ -91,8 +91,6 @@ class Scene:
         self.e2 = (v[t[:, 2]] - v[t[:, 0]]).astype(F32) if len(t) else np.zeros((0, 3), F32)
         self.normals = (cross / np.where(area2 > 0, area2, 1)[:, None]).astype(F32)
         self.areas = 0.5 * area2
-        # v0, e1, e2 and the unit normal side by side: one gather fetches all a light sample needs
-        self.triangle_rows = np.ascontiguousarray(np.hstack([self.v0, self.e1, self.e2, self.normals]), dtype=F32)
         self.diagonal = max(diag, 1e-6)
         # offset of secondary ray origins off their surface: about a hundred float32 rounding steps of
         # the largest coordinates (renders show no self-shadowing down to 1e-6 of the diagonal)

@@ -41,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
     parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
-                        help="files converted in parallel (default 1; 0 = one per CPU core)")
+                        help="files converted in parallel by worker processes (default 1; 0 = one per CPU core)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--quality", type=int, default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
@@ -167,13 +167,13 @@ def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]
 
 
 def _init_worker() -> None:
-    """One codec thread per worker process: the processes already fill the cores."""
+    """No codec threads in worker processes: the processes already fill the cores."""
     import cv2
 
     import lenslab.io.exr
 
     cv2.setNumThreads(1)
-    lenslab.io.exr.THREADS = 1
+    lenslab.io.exr.THREADS = 0  # decode in the calling thread: no codec thread pool in a forked child
 
 
 def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, progress: bool = True,

@@ -14,8 +14,13 @@ With no input at all, the demo:
      where it is.
 
 --quality fast (the default) finishes in well under a minute on two cores; --quality full traces
-bigger and cleaner images for a few minutes. --size, --view-size, --spp and --direct-spp override
+bigger and cleaner images in several minutes. --size, --view-size, --spp and --direct-spp override
 either preset.
+
+What it writes: index.html (open it in a browser) with style.css and its images in img/;
+panorama.exr/.pfm/.ppm/.jpg; views/NAME.exr and .jpg for every lens; direct/NAME.exr, .pfm and .jpg
+for the two direct traces; tone/CURVE.jpg for every tone curve; gallery.json, the records
+'python -m gallery DIR' rebuilds the page from.
 
 The output folder must be new or empty: the demo refuses to write into a folder that holds anything,
 so it never mixes its files with yours. With --overwrite it writes into the folder anyway, replacing

@@ -78,8 +78,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--allow-parallax", action="store_true",
                         help="warp views whose eye differs from the source's anyway (warns: parallax is not "
                              "reproduced)")
-    parser.add_argument("--autoscale", action="store_true",
-                        help="scale the output lens to fit the source's field of view (from the fitting module)")
+    parser.add_argument("--autoscale", nargs="?", const="fill", choices=("fill", "cover"), default=None,
+                        metavar="MODE",
+                        help="scale the output lens's field of view: 'fill' (the default mode) takes the widest "
+                             "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
+                             "put it after the input files")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
 
 
@@ -154,7 +157,7 @@ def output_camera(args, src, size: tuple[int, int]):
     return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
 
 
-def autoscale_camera(src, dst):
+def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False):
     """Hook for --autoscale: the output camera scaled to fit the source (provided by lenslab.fit)."""
     from lenslab.errors import WarpError
 
@@ -163,7 +166,8 @@ def autoscale_camera(src, dst):
     except ImportError:
         raise WarpError("--autoscale is not available in this installation (lenslab.fit.autoscale is missing); "
                         "give the output lens's parameters explicitly") from None
-    return fit_autoscale(src, dst)
+    return fit_autoscale(src, dst, mode, samples,
+                         report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)))
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
@@ -204,7 +208,7 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     size = parse_size(args.size) if args.size else default_size(args.to, image.shape[0])
     dst = output_camera(args, src, size)
     if args.autoscale:
-        dst = autoscale_camera(src, dst)
+        dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet)
     has_alpha = image.shape[2] in (2, 4)
     out, coverage = cache.warp(image, src, dst, progress=progress)
     if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha

@@ -319,3 +319,23 @@ def _cobyla_check(crit: _Criterion, base: Lens, s: float, grow: bool) -> str:
     if better and not crit.full_failures(scaled_lens(base, float(res.x[0]))).any():
         return f"DISAGREES: it found scale {res.x[0]:.8g} feasible ({res.evaluations} evaluations)"
     return f"agrees (best feasible {res.x[0]:.8g}, {res.evaluations} evaluations)"
+
+
+_CAMERA_CACHE: dict[tuple, AutoscaleResult] = {}
+
+
+def autoscale_camera(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, report=None) -> Camera:
+    """The output camera of a warp with its field auto-scaled (see :func:`autoscale`).
+
+    For ``lenslab warp --autoscale``: a batch of images of one geometry computes the scale once.
+    ``report``, if given, is called with each line of the summary.
+    """
+    key = (src.lens.spec(), src.size, src.pose.rotation.tobytes(), dst.lens.spec(), dst.size,
+           dst.pose.rotation.tobytes(), mode, int(samples))
+    result = _CAMERA_CACHE.get(key)
+    if result is None:
+        result = _CAMERA_CACHE[key] = autoscale(src, dst, mode, samples)
+        if report is not None:
+            for line in result.report():
+                report(line)
+    return Camera(result.lens, dst.pose)

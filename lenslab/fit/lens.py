@@ -355,9 +355,9 @@ def fit_lens(
 def _search(f, ps: ParamSpace, starts, method: str, global_start: str | None, tolerance: float):
     """Local searches from each start; a global start as asked (or, for "auto", when they fall short)."""
     candidates = []
-    if global_start in (None, "auto"):
+    if global_start in (None, "auto") or not ps.names:
         candidates += [_attempt(f, ps, s0, method, None) for s0 in starts]
-    if global_start is not None:
+    if global_start is not None and ps.names:  # (nothing free: the one evaluation is the answer)
         ok_local = any(c.value <= _tol_value(tolerance) for c in candidates)
         if global_start != "auto" or not ok_local:
             candidates.append(_attempt(f, ps, starts[0], method, "direct-l" if global_start == "auto" else global_start))

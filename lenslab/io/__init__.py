@@ -26,6 +26,7 @@ Formats without alpha (PPM, PFM, JPG) drop the alpha channel; PGM and ``Pf`` hol
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -35,8 +36,8 @@ from lenslab.io.atomic import atomic_write_path
 from lenslab.io.detect import HDR_FORMATS, format_for_path, sniff
 from lenslab.io.exr import CAMERA_ATTRIBUTE, HalfOverflowWarning
 
-__all__ = ["read", "write", "split_selector", "FormatError", "HalfOverflowWarning", "atomic_write_path",
-           "HDR_FORMATS", "sniff"]
+__all__ = ["read", "write", "split_selector", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
+           "atomic_write_path", "HDR_FORMATS", "sniff"]
 
 
 def split_selector(path: str | os.PathLike) -> tuple[Path, str | None]:
@@ -53,6 +54,10 @@ def split_selector(path: str | os.PathLike) -> tuple[Path, str | None]:
     return Path(text), None
 
 
+class CameraAttributeWarning(UserWarning):
+    """A file's ``lenslab.camera`` attribute could not be turned into a camera (the pixels still read)."""
+
+
 def _camera(path, text):
     if not text:
         return None
@@ -60,9 +65,11 @@ def _camera(path, text):
     from lenslab.lenses import Camera
 
     try:
-        return Camera.from_toml(text)
+        return Camera.from_toml(str(text))
     except (LensError, KeyError, TypeError, ValueError) as exc:
-        raise FormatError(f"{path}: the {CAMERA_ATTRIBUTE} attribute is not a valid camera ({exc})") from None
+        warnings.warn(f"{path}: the {CAMERA_ATTRIBUTE} attribute is not a camera this lenslab understands "
+                      f"({exc}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
+        return None
 
 
 def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = False,

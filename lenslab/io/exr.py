@@ -40,8 +40,8 @@ _RESERVED = {"channels", "compression", "dataWindow", "displayWindow", "lineOrde
              "screenWindowCenter", "screenWindowWidth", "type", "tiles", "name", "version", "chunkCount"}
 
 
-#: threads the OpenEXR codec may use per file (the bindings default to none); batch conversion with
-#: several worker processes sets it to 1 in each
+#: threads the OpenEXR codec may use per file (the bindings default to none; 0 = decode in the calling
+#: thread); batch conversion with several worker processes sets it to 0 in each
 THREADS = os.cpu_count() or 1
 
 
@@ -199,8 +199,16 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     short = _layer_channels(path, names, layer)
     sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
 
+    # plain RGB(A) of one sample type: the library interleaves while decoding (no copy afterwards)
+    whole = "RGBA" if sorted(names) == ["A", "B", "G", "R"] else "RGB" if sorted(names) == ["B", "G", "R"] else None
     try:
-        full = OpenEXR.File(str(path), separate_channels=True, num_threads=THREADS)
+        types = {_plain(c.type()) for c in header.get("channels", [])}
+    except (IndexError, ValueError, RuntimeError, TypeError):  # some headers do not say until the pixels are read
+        types = set()
+    if whole and (len(types) != 1 or set(sampling.values()) != {(1, 1)}):
+        whole = None
+    try:
+        full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
         chans = full.parts[index].channels
     except Exception as exc:
         raise FormatError(f"{path}: OpenEXR cannot read the pixels ({exc}); the file is truncated or "
@@ -223,9 +231,16 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
 
     chroma = header.get("chromaticities")
     keys = set(short)
+    if whole is not None:
+        block = chans.get(whole)
+        if block is None or block.pixels is None or block.pixels.shape != (h, w, len(whole)):
+            raise FormatError(f"{path}: the pixel data does not match the header; the file is damaged")
+        keys = set()  # handled here, not channel by channel below
     ignored: list[str] = []
     converted = False
-    if len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
+    if whole is not None:
+        planes, out_names = [], list(whole)
+    elif len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
         (name,) = keys
         planes, out_names = [get(name)], [name]
     elif keys & {"R", "G", "B"}:
@@ -249,9 +264,12 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     if "A" in keys and out_names[:3] == ["R", "G", "B"]:
         planes.append(get("A"))
         out_names.append("A")
-    image = np.empty((h, w, len(planes)), np.float32)
-    for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
-        image[..., i] = 0 if plane is None else plane
+    if whole is not None:
+        image = np.ascontiguousarray(block.pixels, dtype=np.float32)
+    else:
+        image = np.empty((h, w, len(planes)), np.float32)
+        for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
+            image[..., i] = 0 if plane is None else plane
 
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
@@ -267,7 +285,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             placed[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
         image = placed
 
-    pixel_types = {_plain(c.type()) for n, c in chans.items() if n in short.values()}
+    pixel_types = types if whole is not None else {_plain(c.type()) for n, c in chans.items() if n in short.values()}
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
     attributes = {k: _plain(v) for k, v in header.items() if k != "channels"}
     meta = {

@@ -115,10 +115,9 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     else:
         codes = encode_quantise(image, bits, dither=dither)
     if c == 3:
-        codes = codes[..., ::-1]
+        codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
     elif c == 4:
-        codes = codes[..., [2, 1, 0, 3]]
-    codes = np.ascontiguousarray(codes)
+        codes = cv2.cvtColor(np.ascontiguousarray(codes), cv2.COLOR_RGBA2BGRA)
     if fmt == "jpg":
         sub = subsampling or ("444" if int(quality) >= 90 else "420")
         factors = {"444": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_444, "422": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_422,

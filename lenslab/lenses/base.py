@@ -252,10 +252,21 @@ class Lens:
             d = d / np.sqrt(n2)[..., None]
             if not nonzero.all():
                 d[~nonzero] = (0.0, 0.0, 1.0)  # any unit vector; flagged invalid below
+        xy, valid = self.dir_to_pixel_unit(d)
+        if not nonzero.all():
+            valid &= nonzero
+            np.copyto(xy, 0.0, where=~valid[..., None])
+        return xy, valid
+
+    def dir_to_pixel_unit(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`dir_to_pixel` for directions already known to be finite unit vectors (float64
+        ``(..., 3)``): skips the normalisation, for callers that hold such directions (tiles)."""
+        if type(self).dir_to_pixel is not Lens.dir_to_pixel:  # a model with its own pixel-level inverse
+            return self.dir_to_pixel(d)
+        with np.errstate(all="ignore"):
             uv, valid = self.dir_to_uv(d)
             xy = self.uv_to_pixel(uv)
-        valid = np.logical_and(valid, nonzero)
-        valid &= self.snap_to_image(xy)  # also False for NaN coordinates
+        valid = np.logical_and(valid, self.snap_to_image(xy))  # also False for NaN coordinates
         np.copyto(xy, 0.0, where=~valid[..., None])
         return xy, valid
 

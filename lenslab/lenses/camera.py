@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Lens, normalize
-from lenslab.lenses.pose import Pose
+from lenslab.lenses.base import FLOAT, Lens, as_points, normalize
+from lenslab.lenses.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens
 
 
@@ -79,13 +79,18 @@ class Camera:
     def pixel_to_world(self, xy) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """World ray origins, unit world directions (float64) and validity for pixel coordinates."""
         d, valid = self.lens.pixel_to_dir(xy)
-        dw = d @ self.pose.rotation.T
-        origins = self.lens.pixel_origin(xy) @ self.pose.rotation.T + self.pose.eye
+        dw = rotate_rows(d, self.pose.rotation)
+        if np.any(self.lens.eye_offsets != 0):  # per-pixel eye points (tiled multi-view)
+            origins = rotate_rows(self.lens.pixel_origin(xy), self.pose.rotation)
+            origins += self.pose.eye
+        else:
+            origins = np.empty(d.shape, dtype=FLOAT)
+            origins[...] = self.pose.eye
         return origins, dw, valid
 
     def world_to_pixel(self, dirs) -> tuple[np.ndarray, np.ndarray]:
         """Pixel coordinates and validity of world directions seen from the eye."""
-        d = np.asarray(dirs, dtype=FLOAT) @ self.pose.rotation  # world -> camera (R^T d)
+        d = rotate_rows(as_points(dirs, 3, "directions"), self.pose.rotation.T)  # world -> camera (R^T d)
         return self.lens.dir_to_pixel(d)
 
     def pixel_grid(self, rows: slice | None = None, samples: int = 1, seed: int | None = None) -> np.ndarray:

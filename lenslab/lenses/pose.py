@@ -24,6 +24,19 @@ def _rz(a: float) -> np.ndarray:
     return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]], dtype=np.float64)
 
 
+def rotate_rows(v: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Rows of ``v`` (``(..., 3)``) turned by the 3x3 matrix ``r``: ``v @ r.T``, as a new C-ordered
+    float64 array.
+
+    Computed as one matrix product along the long axis, ``(r @ v.T).T``: NumPy's ``v @ r.T`` with a
+    transposed 3x3 operand is some twenty times slower on millions of rows.
+    """
+    v = np.asarray(v, dtype=np.float64)
+    flat = v.reshape(-1, 3)
+    out = np.ascontiguousarray((np.asarray(r, dtype=np.float64) @ flat.T).T)
+    return out.reshape(v.shape)
+
+
 def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:
     """Rotation camera -> world from yaw, pitch, roll in degrees.
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.lenses.base import FLOAT, Lens, Param, as_points, check_size, clean, normalize
-from lenslab.lenses.pose import Pose
+from lenslab.lenses.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens, register
 
 
@@ -50,10 +50,12 @@ def read_tiles_file(path: str | Path) -> list[dict[str, Any]]:
 class Tile:
     """One tile: a lens bound to the tile size and a pose relative to the tiled camera."""
 
-    __slots__ = ("lens", "pose")
+    __slots__ = ("lens", "pose", "turn")
 
     def __init__(self, lens: Lens, pose: Pose):
         self.lens, self.pose = lens, pose
+        # the rotation, or None when it is the identity (then the tile's directions need no turn)
+        self.turn = None if np.array_equal(pose.rotation, np.eye(3)) else pose.rotation
 
     def to_dict(self) -> dict[str, Any]:
         return {"lens": self.lens.to_dict(), **self.pose.to_dict()}
@@ -155,29 +157,39 @@ class Tiled(Lens):
         return np.where(ok, row * self.cols + col, -1), col, row
 
     def _per_tile(self, xy: np.ndarray):
-        """Yield ``(tile, mask, local_xy)`` for every tile with a camera and pixels in ``xy``."""
-        idx, col, row = self.tile_index(xy)
+        """Yield ``(tile, index, local_xy)`` per tile with a camera and pixels in ``xy`` (flattened to
+        ``(n, 2)``): the flat indices of its pixels and their coordinates inside the tile."""
+        flat = xy.reshape(-1, 2)
+        idx, col, row = self.tile_index(flat)
         tw, th = self.tile_size
         for k, tile in enumerate(self.tile_list):
             if tile is None:
                 continue
-            m = idx == k
-            if not np.any(m):
+            sel = np.flatnonzero(idx == k)
+            if sel.size == 0:
                 continue
-            local = xy[m].copy()
-            local[:, 0] -= col[m] * tw
-            local[:, 1] -= row[m] * th
-            yield tile, m, local
+            local = np.take(flat, sel, axis=0)
+            local[:, 0] -= (k % self.cols) * tw
+            local[:, 1] -= (k // self.cols) * th
+            yield tile, sel, local
+
+    @staticmethod
+    def _rotate(d: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+        """``d @ rotation.T`` (rows turned by ``rotation``), skipped for the identity."""
+        return d if rotation is None else rotate_rows(d, rotation)
 
     def pixel_to_dir(self, xy):
         xy = as_points(xy, 2, "pixel coordinates")
-        d = np.zeros(xy.shape[:-1] + (3,), dtype=FLOAT)
-        valid = np.zeros(xy.shape[:-1], dtype=bool)
-        for tile, m, local in self._per_tile(xy):
+        n = int(np.prod(xy.shape[:-1]))
+        d = np.zeros((n, 3), dtype=FLOAT)
+        valid = np.zeros(n, dtype=bool)
+        for tile, sel, local in self._per_tile(xy):
             dk, vk = tile.lens.pixel_to_dir(local)
-            d[m] = dk @ tile.pose.rotation.T
-            valid[m] = vk
-        return clean(d, valid & self.in_image(xy))
+            d[sel] = self._rotate(dk, tile.turn)
+            valid[sel] = vk
+        d = d.reshape(xy.shape[:-1] + (3,))
+        valid = valid.reshape(xy.shape[:-1]) & self.in_image(xy)
+        return clean(d, valid, inplace=True)
 
     def dir_to_pixel(self, dirs):
         d = normalize(as_points(dirs, 3, "directions"))
@@ -189,26 +201,29 @@ class Tiled(Lens):
         for k, tile in enumerate(self.tile_list):
             if tile is None or todo.size == 0:
                 continue
-            local, vk = tile.lens.dir_to_pixel(flat[todo] @ tile.pose.rotation)  # R^T d
+            local = np.take(flat, todo, axis=0)
+            if tile.turn is not None:
+                local = rotate_rows(local, tile.turn.T)  # R^T d, row by row
+            local_xy, vk = tile.lens.dir_to_pixel_unit(local)
             hit = todo[vk]
             # keep points off the tile's right and bottom edges (those pixels belong to the next tile)
-            loc = np.minimum(local[vk], (tw - BORDER_NUDGE, th - BORDER_NUDGE))
+            loc = np.minimum(local_xy[vk], (tw - BORDER_NUDGE, th - BORDER_NUDGE))
             xy[hit] = loc + ((k % self.cols) * tw, (k // self.cols) * th)
             valid[hit] = True
             todo = todo[~vk]
-        return clean(xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1]))
+        return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
     def pixel_origin(self, xy) -> np.ndarray:
         """Each pixel's eye point: its tile's eye (plus the tile lens's own offsets), tiled-camera frame."""
         xy = as_points(xy, 2, "pixel coordinates")
-        out = np.zeros(xy.shape[:-1] + (3,), dtype=FLOAT)
-        for tile, m, local in self._per_tile(xy):
-            out[m] = tile.lens.pixel_origin(local) @ tile.pose.rotation.T + tile.pose.eye
-        return out
+        out = np.zeros((int(np.prod(xy.shape[:-1])), 3), dtype=FLOAT)
+        for tile, sel, local in self._per_tile(xy):
+            out[sel] = self._rotate(tile.lens.pixel_origin(local), tile.turn) + tile.pose.eye
+        return out.reshape(xy.shape[:-1] + (3,))
 
     @property
     def eye_offsets(self) -> np.ndarray:
-        eyes = [t.lens.eye_offsets @ t.pose.rotation.T + t.pose.eye for t in self.tile_list if t is not None]
+        eyes = [rotate_rows(t.lens.eye_offsets, t.pose.rotation) + t.pose.eye for t in self.tile_list if t is not None]
         if not eyes:
             return np.zeros((1, 3), dtype=FLOAT)
         return np.unique(np.concatenate(eyes, axis=0), axis=0)

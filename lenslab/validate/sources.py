@@ -133,6 +133,7 @@ class TracerSource:
         self.noise_free = bool(noise_free)
         self.render_options = render_options
         self.name = f"{scene} ({integrator}, depth {max_depth})"
+        self.point_light_drop = 0.0
         if point_light_drop and len(getattr(self.scene, "point_lights", ())):
             self._lower_point_lights(float(point_light_drop))
             self.name += f", point light lowered {point_light_drop:g}"
@@ -144,9 +145,10 @@ class TracerSource:
         than the rest of the image; that singular spot, not the lens, would then set every error
         figure. Lowered, it lights the ceiling smoothly and still casts hard shadows.
         """
-        pos = np.array(self.scene.point_light_pos, dtype=np.float32)
+        pos = np.array(self.scene.point_light_pos, dtype=np.float32)  # in whatever frame the tracer keeps
         pos[:, 1] -= drop
         self.scene.point_light_pos = pos
+        self.point_light_drop = drop
 
     def render(self, camera: Camera, spp: int = 1, seed: int | None = 0) -> Render:
         if self.noise_free:
@@ -158,17 +160,24 @@ class TracerSource:
         return out
 
     def light_points(self, max_points: int = 16) -> np.ndarray:
-        """Points whose visibility defines shadow edges: the point lights, and the corners and centroids
-        of the emissive triangles (at most ``max_points``), float64 ``(n, 3)``."""
+        """Points (world space) whose visibility defines shadow edges: the point lights (as this source
+        placed them), and the corners and centroids of the emissive triangles; float64 ``(n, 3)``."""
         sc = self.scene
-        pts = [np.asarray(sc.point_light_pos, dtype=np.float64).reshape(-1, 3)]
+        pts = [np.array([p.position for p in getattr(sc, "point_lights", [])], dtype=np.float64).reshape(-1, 3)]
+        pts[0][:, 1] -= self.point_light_drop
         lt = np.asarray(getattr(sc, "light_triangles", np.zeros(0, int)))
         if len(lt):
             tri = np.asarray(sc.vertices, dtype=np.float64)[np.asarray(sc.triangles)[lt]]  # (n, 3, 3)
             pts.append(tri.mean(axis=1))
             pts.append(np.unique(tri.reshape(-1, 3), axis=0))
-        pts = np.concatenate(pts, axis=0)
-        return pts[:max_points]
+        return np.concatenate(pts, axis=0)[:max_points]
+
+    def _accel_frame(self) -> np.ndarray:
+        """The offset to subtract from world points before querying the scene's accelerator."""
+        accel = self.scene.accel
+        if np.any(np.asarray(getattr(accel, "shift", np.zeros(3)))):
+            return np.zeros(3)  # the accelerator takes world points and shifts them itself
+        return np.asarray(getattr(self.scene, "shift", np.zeros(3)), dtype=np.float64)
 
     def aovs(self, camera: Camera) -> dict[str, np.ndarray]:
         """Geometric AOVs of each pixel-centre ray, cast with the scene's own accelerator (not timed).
@@ -181,6 +190,7 @@ class TracerSource:
         """
         sc = self.scene
         w, h = camera.size
+        shift = self._accel_frame()
         centres = camera.pixel_grid(None, 1, None)[:, :, 0]
         origins, dirs, valid = camera.pixel_to_world(centres)
         o, d, ok = origins.reshape(-1, 3), dirs.reshape(-1, 3), valid.reshape(-1)
@@ -188,7 +198,7 @@ class TracerSource:
         dist = np.full(len(ok), np.inf)
         k = np.nonzero(ok)[0]
         if len(k):
-            p, t = sc.accel.intersect(o[k], d[k])
+            p, t = sc.accel.intersect(o[k] - shift, d[k])
             prim[k], dist[k] = p, t
         normals = np.asarray(sc.normals, dtype=np.float64)
         hit = prim >= 0
@@ -204,7 +214,7 @@ class TracerSource:
             for i, lp in enumerate(self.light_points()):
                 to = lp[None, :] - start
                 facing = np.einsum("ij,ij->i", to, nf) > 0
-                blocked = sc.accel.occluded(start, to, tmax=0.999)
+                blocked = sc.accel.occluded(start - shift, to, tmax=0.999)
                 bits |= (facing & ~blocked).astype(np.int64) << i
             label[hk] = mats * (1 << 16) + bits
         return {"depth": dist.reshape(h, w), "normal": n.reshape(h, w, 3), "prim_id": label.reshape(h, w)}

@@ -17,7 +17,7 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, Pose
 from lenslab.warp import antialias as aa
-from lenslab.warp.filters import FILTERS, finite_source, sample
+from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.seam import border_of
 
@@ -129,14 +129,15 @@ class WarpPlan:
     def run(self, image, progress: Callable[[int], None] | None = None):
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size."""
         src = self.check_image(image)
-        src, bad = finite_source(src)
-        if bad:
-            warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
-                          "float32", RuntimeWarning, stacklevel=3)
         h, w = self.out_shape
         out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
         alpha = np.zeros((h, w), dtype=np.float32)
         self.render(src, out, alpha, progress)
+        if not all_finite(out):  # NaN or inf in the source reached the output: read them as finite
+            src, bad = finite_source(src)
+            warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
+                          "float32", RuntimeWarning, stacklevel=2)
+            self.render(src, out, alpha, None)
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
@@ -208,11 +209,13 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
             alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
         elif arr.shape[2] != channels:
             raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        arr, _ = finite_source(arr)
         plan.render(arr, out[y0:y0 + cam.height, x0:x0 + cam.width], alpha[y0:y0 + cam.height, x0:x0 + cam.width],
                     progress)
     if out is None:
         raise WarpError("no tile has both a camera and a source image: nothing to warp")
+    if not all_finite(out):
+        raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
+                        "repairs and reports them)")
     return out, alpha
 
 

@@ -172,10 +172,14 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
             alpha[r, c] = hits * inv
 
 
-@numba.njit(parallel=True, cache=True)
-def all_finite(a):
-    """True when every value of the C-contiguous array ``a`` is finite (no temporary arrays)."""
-    flat = a.reshape(-1)
+def all_finite(a: np.ndarray) -> bool:
+    """True when every value of ``a`` is finite (no temporary arrays)."""
+    flat = np.ascontiguousarray(a).reshape(-1)
+    return bool(_all_finite(flat, work=flat.size // 8))
+
+
+@kernel
+def _all_finite(flat):
     n = flat.size
     chunks = 64
     bad = np.zeros(chunks, dtype=np.bool_)

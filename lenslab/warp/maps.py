@@ -91,13 +91,16 @@ def exact_map(src: Camera, dst: Camera, points: np.ndarray) -> tuple[np.ndarray,
     return xy, valid
 
 
-def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray):
-    """Like :func:`exact_map`, plus whether the output ray itself exists (``dst`` validity alone)."""
+def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: bool = False):
+    """Like :func:`exact_map`, plus whether the output ray itself exists (``dst`` validity alone)
+    and, with ``with_dirs``, the ray directions in the source's camera space."""
     d, valid_dst = dst.lens.pixel_to_dir(points)
     r = rotation_between(src, dst)
     if not np.array_equal(r, np.eye(3)):
         d = np.einsum("...j,ij->...i", d, r)
     xy, valid_src = src.lens.dir_to_pixel(d)  # zero where invalid (a zero direction is invalid)
+    if with_dirs:
+        return xy, valid_dst & valid_src, valid_dst, d
     return xy, valid_dst & valid_src, valid_dst
 
 
@@ -137,6 +140,8 @@ class Mapper:
         piecewise = {src.lens.name, dst.lens.name} & PIECEWISE_MODELS
         self.step = int(step)
         self.tol = float(tol)
+        lens = src.lens
+        self.sphere = getattr(lens, "name", "") == "equirect" and getattr(lens, "full_sphere", False)
         self.lattice = None
         if not exact and not piecewise and self.width * self.height >= 16 * self.step * self.step:
             self.lattice = self._build_lattice()
@@ -149,30 +154,51 @@ class Mapper:
         xn = (np.arange(ncx + 3, dtype=np.float64) - 1.0) * s
         yn = (np.arange(ncy + 3, dtype=np.float64) - 1.0) * s
         pts = np.stack(np.meshgrid(xn, yn, indexing="xy"), axis=-1)
-        xy, v, vd = exact_map_parts(self.src, self.dst, pts)
+        xy, v, vd, dirs = exact_map_parts(self.src, self.dst, pts, with_dirs=True)
         nx, ny, have = _ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
+        win = np.lib.stride_tricks.sliding_window_view
+
+        def corners(m):
+            return m[1:-2, 1:-2] & m[2:-1, 1:-2] & m[1:-2, 2:-1] & m[2:-1, 2:-1]
+
         # a cell interpolates when its 4 corners are valid and its 16 stencil nodes have values
         # (invalid nodes just outside the valid region get extrapolated ghost values; the checks
         # below decide whether the result is good enough)
-        ok = np.lib.stride_tricks.sliding_window_view(have, (4, 4)).all(axis=(-1, -2))
-        ok &= v[1:-2, 1:-2] & v[2:-1, 1:-2] & v[1:-2, 2:-1] & v[2:-1, 2:-1]
-        dead = ~np.lib.stride_tricks.sliding_window_view(vd, (4, 4)).any(axis=(-1, -2))  # no output ray
-        # check the interpolation at four interior points of each cell (the centre alone is a blind
-        # spot: Catmull-Rom's error is odd about it)
+        ok = win(have, (4, 4)).all(axis=(-1, -2)) & corners(v)
+        dead = ~win(vd, (4, 4)).any(axis=(-1, -2))  # no output ray anywhere near
+        nodes = [nx, ny]
+        if self.sphere:
+            # second chance for cells near a pole: interpolate the ray direction (smooth there) and
+            # project it exactly; only where the output rays exist
+            gd = [_ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
+            nodes += [g[0] for g in gd]
+            ok_dir = win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd)
+        # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
+        # error is odd about it)
         for tx, ty in ((0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)):
             gx = (np.arange(ncx) + tx) * s
             gy = (np.arange(ncy) + ty) * s
             exy, ev, evd = exact_map_parts(self.src, self.dst, np.stack(np.meshgrid(gx, gy, indexing="xy"), axis=-1))
             ix, iy = _lattice_grid(nx, ny, tx, ty, self.wrap)
-            dx = ix - exy[..., 0]
-            if self.wrap:
-                dx -= self.wrap * np.round(dx / self.wrap)
-            dx *= self._x_scale(exy[..., 1])
-            dy = iy - exy[..., 1]
-            ok &= ev & (np.abs(dx) <= self.tol) & (np.abs(dy) <= self.tol)
+            ok &= ev & self._close(ix, iy, exy)
             dead &= ~evd
+            if self.sphere:
+                wx, wy = _CR @ tx ** np.arange(4), _CR @ ty ** np.arange(4)
+                d = np.stack([np.einsum("j,...ji,i->...", wy, win(n, (4, 4)), wx) for n in nodes[2:]], axis=-1)
+                px, py = _sphere_project(d, self.src.lens.width, self.src.lens.height)
+                ok_dir &= ev & self._close(px, py, exy)
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
-        return nx, ny, state
+        if self.sphere:
+            state[(state == 0) & ok_dir] = 2
+        return np.stack(nodes), state
+
+    def _close(self, ix, iy, exy) -> np.ndarray:
+        """Interpolated positions within ``tol`` of the exact ones (measured on the sphere)."""
+        dx = ix - exy[..., 0]
+        if self.wrap:
+            dx -= self.wrap * np.round(dx / self.wrap)
+        dx *= self._x_scale(exy[..., 1])
+        return (np.abs(dx) <= self.tol) & (np.abs(iy - exy[..., 1]) <= self.tol)
 
     def _x_scale(self, y: np.ndarray) -> np.ndarray | float:
         """Length on the sphere of one source column at row ``y``, in pixels (cos(latitude) for equirect).
@@ -188,22 +214,21 @@ class Mapper:
             np.radians(lens.lat_max - lens.lat_min) / lens.height)
 
     def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
-        """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, 2, 4, 4)``, ``c[.., k, b, a]`` of tx^a ty^b."""
-        nx, ny, _ = self.lattice
-        px = np.lib.stride_tricks.sliding_window_view(nx[cb0:cb1 + 3], (4, 4))  # (rows, ncx, 4, 4) [j, i]
-        py = np.lib.stride_tricks.sliding_window_view(ny[cb0:cb1 + 3], (4, 4))
+        """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
+        tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
+        nodes = self.lattice[0][:, cb0:cb1 + 3]
+        p = np.lib.stride_tricks.sliding_window_view(nodes, (4, 4), axis=(1, 2))  # (K, rows, ncx, 4, 4) [j, i]
         if self.wrap:
-            ref = px[..., 1:2, 1:2]
-            px = px - self.wrap * np.round((px - ref) / self.wrap)
-        coef = np.empty(px.shape[:2] + (2, 4, 4))
-        coef[..., 0, :, :] = _CR.T @ px @ _CR  # c[b, a] = sum_ji CR[j, b] p[j, i] CR[i, a]
-        coef[..., 1, :, :] = _CR.T @ py @ _CR
-        return coef
+            px = p[0]
+            p = p.copy()
+            p[0] = px - self.wrap * np.round((px - px[..., 1:2, 1:2]) / self.wrap)
+        coef = _CR.T @ p @ _CR  # c[b, a] = sum_ji CR[j, b] p[j, i] CR[i, a]
+        return np.ascontiguousarray(np.moveaxis(coef, 0, 2))
 
     @property
     def lattice_fraction(self) -> float:
         """Fraction of the output's lattice cells that are interpolated (the rest is computed exactly)."""
-        return 0.0 if self.lattice is None else float((self.lattice[2] == 1).mean())
+        return 0.0 if self.lattice is None else float((self.lattice[1] > 0).mean())
 
     # -- bands -----------------------------------------------------------------------------
     def map_band(self, r0: int, r1: int, offsets: np.ndarray) -> MapBand:
@@ -227,12 +252,12 @@ class Mapper:
             xs[~v] = 0.0
             ys[~v] = 0.0
             return MapBand(r0, r1, xs, ys, valid)
-        state = self.lattice[2]
+        state = self.lattice[1]
         cb0 = max(0, int(np.floor((r0 + offsets[..., 1].min()) / self.step)))
         cb1 = min(state.shape[0], int(np.floor((r1 - 1 + offsets[..., 1].max()) / self.step)) + 1)
         need = np.empty((h, w, n), dtype=np.bool_)
         _lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets,
-                      xs, ys, valid, need, work=xs.size)
+                      float(self.src.width), float(self.src.height), xs, ys, valid, need, work=xs.size)
         flat = np.flatnonzero(need)
         if len(flat):  # the cells the lattice cannot serve, sample by sample
             r, c, k = np.unravel_index(flat, need.shape)
@@ -245,31 +270,34 @@ class Mapper:
 
 
 def _ghost_nodes(nx, ny, valid, wrap):
-    """Fill invalid lattice nodes next to valid ones by linear extrapolation (x pass, then y pass).
+    """Fill invalid lattice nodes next to valid ones by extrapolation (an x pass, then a y pass):
+    quadratic from three valid neighbours in a line, linear from two.
 
     Returns the filled x and y node values (C-contiguous float64) and which nodes now have a value.
     """
     gx, gy, have = nx.copy(), ny.copy(), valid.copy()
     for axis in (1, 0):
-        src_have = have.copy()
+        known = have.copy()
         for step in (1, -1):
-            a = np.roll(src_have, step, axis=axis)  # neighbour at i - step
-            b = np.roll(src_have, 2 * step, axis=axis)  # and at i - 2 step
-            fill = ~have & a & b
+            def shifted(a, k):
+                return np.roll(a, k * step, axis=axis)
+
+            two = ~have & shifted(known, 1) & shifted(known, 2)
             # np.roll wraps around the lattice's edges: never extrapolate from the other side
             edge = [slice(None)] * 2
-            edge[axis] = slice(0, 2) if step == 1 else slice(-2, None)
-            fill[tuple(edge)] = False
-            if not fill.any():
+            edge[axis] = slice(0, 3) if step == 1 else slice(-3, None)
+            two[tuple(edge)] = False
+            if not two.any():
                 continue
-            x1, x2 = np.roll(gx, step, axis=axis), np.roll(gx, 2 * step, axis=axis)
-            y1, y2 = np.roll(gy, step, axis=axis), np.roll(gy, 2 * step, axis=axis)
-            dx = x1 - x2
-            if wrap:
-                dx -= wrap * np.round(dx / wrap)
-            gx[fill] = (x1 + dx)[fill]
-            gy[fill] = (2.0 * y1 - y2)[fill]
-            have |= fill
+            three = two & shifted(known, 3)
+            x1, x2, x3 = shifted(gx, 1), shifted(gx, 2), shifted(gx, 3)
+            if wrap:  # unwrap the neighbours relative to the nearest
+                x2 = x2 - wrap * np.round((x2 - x1) / wrap)
+                x3 = x3 - wrap * np.round((x3 - x1) / wrap)
+            y1, y2, y3 = shifted(gy, 1), shifted(gy, 2), shifted(gy, 3)
+            gx[two] = np.where(three, 3 * x1 - 3 * x2 + x3, 2 * x1 - x2)[two]
+            gy[two] = np.where(three, 3 * y1 - 3 * y2 + y3, 2 * y1 - y2)[two]
+            have |= two
     return np.ascontiguousarray(gx), np.ascontiguousarray(gy), have
 
 
@@ -329,8 +357,17 @@ def _lattice_grid(nx, ny, tx, ty, wrap):
 _CR = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
 
 
+@numba.njit(inline="always", cache=True)
+def _poly(coef, cr, ca, q, tx, ty):
+    acc = 0.0
+    for b in range(3, -1, -1):
+        acc = acc * ty + (((coef[cr, ca, q, b, 3] * tx + coef[cr, ca, q, b, 2]) * tx
+                           + coef[cr, ca, q, b, 1]) * tx + coef[cr, ca, q, b, 0])
+    return acc
+
+
 @kernel
-def _lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need):
+def _lattice_eval(coef, state, cb0, step, r0, offs, src_w, src_h, xs, ys, valid, need):
     h, w, n = xs.shape
     ho, wo = offs.shape[0], offs.shape[1]
     ncy, ncx = state.shape
@@ -345,19 +382,22 @@ def _lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need):
                 ca = min(max(int(np.floor(px)), 0), ncx - 1)
                 cb = min(max(int(np.floor(py)), 0), ncy - 1)
                 st = state[cb, ca]
+                tx = px - ca
+                ty = py - cb
+                cr = cb - cb0
                 if st == 1:
-                    tx = px - ca
-                    ty = py - cb
-                    cr = cb - cb0
-                    ax = 0.0
-                    ay = 0.0
-                    for b in range(3, -1, -1):
-                        ax = ax * ty + (((coef[cr, ca, 0, b, 3] * tx + coef[cr, ca, 0, b, 2]) * tx
-                                         + coef[cr, ca, 0, b, 1]) * tx + coef[cr, ca, 0, b, 0])
-                        ay = ay * ty + (((coef[cr, ca, 1, b, 3] * tx + coef[cr, ca, 1, b, 2]) * tx
-                                         + coef[cr, ca, 1, b, 1]) * tx + coef[cr, ca, 1, b, 0])
-                    xs[r, c, k] = ax - 0.5
-                    ys[r, c, k] = ay - 0.5
+                    xs[r, c, k] = _poly(coef, cr, ca, 0, tx, ty) - 0.5
+                    ys[r, c, k] = _poly(coef, cr, ca, 1, tx, ty) - 0.5
+                    valid[r, c, k] = True
+                    need[r, c, k] = False
+                elif st == 2:  # interpolated direction, projected onto the full-sphere equirect
+                    dx = _poly(coef, cr, ca, 2, tx, ty)
+                    dy = _poly(coef, cr, ca, 3, tx, ty)
+                    dz = _poly(coef, cr, ca, 4, tx, ty)
+                    phi = np.arctan2(dx, dz)
+                    theta = np.arctan2(dy, np.sqrt(dx * dx + dz * dz))
+                    xs[r, c, k] = (phi / np.pi + 1.0) * (0.5 * src_w) - 0.5
+                    ys[r, c, k] = (1.0 - theta / (0.5 * np.pi)) * (0.5 * src_h) - 0.5
                     valid[r, c, k] = True
                     need[r, c, k] = False
                 else:
@@ -365,3 +405,10 @@ def _lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need):
                     ys[r, c, k] = 0.0
                     valid[r, c, k] = False
                     need[r, c, k] = st == 0
+
+
+def _sphere_project(d: np.ndarray, width: int, height: int):
+    """Full-sphere equirect pixel coordinates of (not necessarily unit) directions (the lens's formulas)."""
+    phi = np.arctan2(d[..., 0], d[..., 2])
+    theta = np.arctan2(d[..., 1], np.hypot(d[..., 0], d[..., 2]))
+    return (phi / np.pi + 1.0) * (0.5 * width), (1.0 - theta / (np.pi / 2)) * (0.5 * height)
