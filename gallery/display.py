@@ -13,7 +13,7 @@ INVALID_GREY = 0.2
 
 #: Full scale of difference maps: a pixel whose mean absolute difference equals this fraction of the
 #: reference's mean radiance is shown at the top of the colour map.
-DIFF_SCALE = 0.5
+DIFF_SCALE = 0.25
 
 DIFF_COLORMAP = "inferno"
 

@@ -5,7 +5,7 @@ writes, under ``dest``:
 
 - ``panorama.jpg``: the traced panorama;
 - ``lenses.jpg``: a grid of eight lens views;
-- ``compare.jpg``: warped, traced and difference map of the first compared view;
+- ``compare.jpg``: warped, traced and difference map of a compared view (the equisolid fisheye if shown);
 - ``tones.jpg``: a row of tone curves;
 - ``hdri.jpg``: sky dome and little planet of the first panoramas of an HDRI folder, when the page has them.
 
@@ -86,7 +86,7 @@ def readme_images(gallery_dir: str | Path, dest: str | Path, max_bytes: int = MA
     views = [p for p in views if p.is_file()] or sorted(src.glob("view-*.jpg"))[:8]
     if views:
         written.append(write_within(dest / "lenses.jpg", grid([_load(p) for p in views], 4, 190), max_bytes))
-    diffs = sorted(src.glob("*-difference.jpg"))
+    diffs = sorted(src.glob("*-difference.jpg"), key=lambda p: (not p.name.startswith(FEATURED[0]), p.name))
     if diffs:
         key = diffs[0].name[: -len("-difference.jpg")]
         trio = [_load(src / f"{key}-{part}.jpg") for part in ("warped", "direct", "difference")]

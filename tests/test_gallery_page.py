@@ -288,3 +288,23 @@ def test_readme_montages_stay_under_their_byte_budget(stand_in, tmp_path):
     for p in written:
         assert p.stat().st_size <= MAX_BYTES, p.name
         assert cv2.imread(str(p)) is not None, p.name
+
+
+@pytest.mark.slow
+def test_validation_card_reads_a_real_validate_report(tmp_path):
+    import contextlib
+    import io
+
+    from lenslab.cli.main import main as lenslab_main
+
+    report = tmp_path / "report"
+    args = ["validate", "--scene", "analytic", "--to", "fisheye:fov=180", "--size", "32x32", "--pano-sizes",
+            "64x32,128x64", "--filters", "bilinear,antialias", "--no-flip", "--repeat", "1", "-o", str(report), "-q"]
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        assert lenslab_main(args) == 0
+    index = build_gallery(tmp_path / "out", validate_report=report)
+    page = assert_page_images_decode(index)
+    assert [Path(t["src"]).name for t in page.images] == ["validation-report.png"]
+    pareto = json.loads((report / "results.json").read_text())["pareto"]
+    text = index.read_text(encoding="utf-8")
+    assert pareto and all(f"<td>{html.escape(label)}</td>" in text for label in pareto)

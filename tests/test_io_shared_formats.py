@@ -26,9 +26,10 @@ REFUSED = {  # file -> what the refusal must say
     "openexr-images/v2/LowResLeftView/Trunks.exr": "deep image",
     "openexr-images/v2/Stereo/Trunks.exr": "deep image",
 }
+# where the collection is absent, one placeholder case lets the shared_data fixture do the skipping
 ALL = sorted(str(p.relative_to(HERE)) for p in HERE.rglob("*")
              if p.is_file() and p.suffix.lower() in {".exr", ".pfm", ".ppm", ".pgm", ".pbm", ".jpg"}) \
-    if HERE.is_dir() else []
+    if HERE.is_dir() else ["(collection absent)"]
 
 
 @pytest.fixture(scope="module")

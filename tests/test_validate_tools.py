@@ -72,6 +72,18 @@ def test_tune_solves_a_power_law():
     assert t2["choice"]["from"] == "table" and t2["choice"]["label"] == "1024 aa"
 
 
+def test_tune_offers_the_direct_render_for_comparison():
+    rows = [{"kind": "direct", "label": f"direct {n} spp", "spp": n, "l1": 0.04 / math.sqrt(n),
+             "seconds": 0.1 + 0.1 * n} for n in (1, 4, 16)]
+    rows.append({"kind": "warp", "label": "1024 aa", "setting": "antialias", "filter": "bilinear", "samples": 1,
+                 "antialias": True, "pano_size": [1024, 512], "spp": 1, "l1": 0.004, "seconds": 1.0,
+                 "trace_seconds": 0.9, "warp_seconds": 0.1})
+    t = tune(rows, 0.005)
+    # 0.04 / sqrt(spp) <= 0.005  ->  spp = 64, in 0.1 + 6.4 s
+    assert t["direct"]["spp"] == 64 and t["direct"]["predicted_seconds"] == pytest.approx(6.5)
+    assert t["choice"]["label"] == "1024 aa" and "direct render" in t["summary"]
+
+
 def test_fit_spp_power():
     e1, p = fit_spp_power([1, 4, 16], [0.08, 0.04, 0.02])
     assert (e1, p) == (pytest.approx(0.08), pytest.approx(0.5))

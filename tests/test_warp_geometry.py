@@ -117,3 +117,38 @@ def test_pole_fold_reads_the_opposite_meridian():
     # y = -0.5: halfway between row 0 on the far meridian (the texel itself after the fold) and row 0
     # of column 11 (zero): 0.5; y = -1.0 is row 0 folded = the texel: 1.0; mean of the two samples 0.75
     assert out[0, 0, 0] == pytest.approx(0.75)
+
+
+def test_padded_copy_matches_the_folded_taps():
+    # seam.pad (for code that wants plain arrays) agrees with the samplers' per-tap folding
+    from lenslab.warp.seam import border_of, pad
+
+    src = eq(64, 32)
+    padded = pad(NOISE, border_of(src.lens), 3)
+    assert padded.shape == (38, 70, 3)
+    np.testing.assert_array_equal(padded[3:-3, 3:-3], NOISE)
+    np.testing.assert_array_equal(padded[3:-3, :3], NOISE[:, -3:])  # wrapped columns at the seam
+    # row -1 is row 0 half a turn away; row -2 is row 1 there
+    np.testing.assert_array_equal(padded[2, 3:-3], np.roll(NOISE[0], -32, axis=0))
+    np.testing.assert_array_equal(padded[1, 3:-3], np.roll(NOISE[1], -32, axis=0))
+    np.testing.assert_array_equal(padded[-1, 3:-3], np.roll(NOISE[-3], -32, axis=0))
+    # a perspective source clamps to its edge
+    persp = pad(NOISE, border_of(Camera.from_spec("perspective", (64, 32)).lens), 2)
+    np.testing.assert_array_equal(persp[0, 2:-2], NOISE[0])
+
+
+def test_v360_compat_reproduces_its_half_pixel_convention():
+    from lenslab.warp.compat_v360 import v360_plan
+
+    src = eq(64, 32)
+    # same size: v360's two half-pixel offsets cancel, the identity is exact
+    out, _ = v360_plan(src, src).run(NOISE)
+    np.testing.assert_array_equal(out, NOISE)
+    # a 2x reduction: v360 samples at output corners, i.e. exactly on source pixel (2i, 2j); lenslab
+    # samples output centres, halfway between source pixels 2i and 2i+1
+    small = eq(32, 16)
+    out, _ = v360_plan(src, small).run(NOISE)
+    np.testing.assert_allclose(out, NOISE[::2, ::2], rtol=0, atol=2e-5)  # float32 map rounding
+    ours, _ = warp(NOISE, src, small)
+    np.testing.assert_allclose(ours[2:-2], 0.25 * (NOISE[::2, ::2] + NOISE[1::2, ::2] + NOISE[::2, 1::2]
+                                                   + NOISE[1::2, 1::2])[2:-2], rtol=0, atol=2e-5)

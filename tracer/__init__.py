@@ -3,7 +3,9 @@
 ``tracer.load_scene("cornell")`` (or a path to an OBJ, PLY, STL or TOML scene) gives a :class:`Scene`;
 ``tracer.render(scene, camera, spp=64, seed=0, integrator="path", max_depth=8)`` traces it through
 any :class:`lenslab.lenses.Camera` and returns a :class:`RenderResult` (image, per-pixel variance of the
-mean, alpha, spp, seconds). Importing this package is cheap: the modules load on first use.
+mean, alpha, spp, seconds). For noise-free references, render ``cornell-point`` (or any scene lit by
+point lights) with ``integrator="direct"`` and ``seed=None`` (samples at the strata centres).
+Importing this package is cheap: the modules load on first use.
 """
 
 from __future__ import annotations

@@ -70,7 +70,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera-file", metavar="TOML",
                    help="camera(s) in TOML as written by lenslab (one camera, or tables of cameras picked by --view); "
                         "replaces --camera and the pose options; --size still resizes it")
-    p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's)")
+    p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's; a new eye keeps the view's direction)")
     p.add_argument("--look-at", type=_triple, metavar="X,Y,Z", help="point the camera looks at")
     p.add_argument("--up", type=_triple, metavar="X,Y,Z", help="up direction for --look-at (default 0,1,0)")
     p.add_argument("--yaw", type=float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "

@@ -1,7 +1,8 @@
 """Rendering an image: primary rays from a lenslab camera, traced in bands of rows, with error tracking.
 
 Work is split into passes (groups of samples per pixel) and each pass into bands of rows, so memory
-is bounded by ``batch`` samples per worker whatever the sample count. Each band's random numbers come
+is bounded by ``batch`` samples per worker whatever the sample count (plus 44 bytes per pixel for
+the image accumulators). Each band's random numbers come
 from its own generator seeded by ``(seed, pass, first row)``: a fixed seed gives the same image
 whatever the number of threads. Bands run on a thread pool (NumPy and embree release the GIL).
 
@@ -155,10 +156,11 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
     adaptive = time_budget is not None or target_error is not None
     scene.accel  # build the accelerator before the clock starts
 
-    count = np.zeros((height, width), dtype=np.float64)
+    # per-pixel accumulators: the mean in float64, the rest in float32 (counts are exact to 2^24 samples)
+    count = np.zeros((height, width), dtype=np.float32)
     mean = np.zeros((height, width, 3), dtype=np.float64)
-    m2 = np.zeros((height, width, 3), dtype=np.float64)
-    valid = np.zeros((height, width), dtype=np.float64)
+    m2 = np.zeros((height, width, 3), dtype=np.float32)
+    valid = np.zeros((height, width), dtype=np.float32)
 
     bar = None
     if progress:
@@ -185,7 +187,7 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
         b_mean = x.mean(axis=2, dtype=np.float64)
         dev = x - b_mean[:, :, None].astype(np.float32)
         b_m2 = np.einsum("hwsc,hwsc->hwc", dev, dev, dtype=np.float64)
-        n_a = count[r0:r1, :, None]
+        n_a = count[r0:r1, :, None].astype(np.float64)
         n_b = float(pass_spp)
         n = n_a + n_b
         delta = b_mean - mean[r0:r1]
@@ -221,7 +223,8 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
             done += pass_spp
             pass_no += 1
             if target_error is not None and done >= 2 and done < spp:
-                var = m2 / (count * (count - 1))[..., None]
+                n = count.astype(np.float64)[..., None]
+                var = m2 / (n * (n - 1))
                 if relative_error(mean, var) <= target_error:
                     stopped_by = "error"
                     break
@@ -229,7 +232,8 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
     if bar is not None:
         bar.close()
     with np.errstate(divide="ignore", invalid="ignore"):
-        variance = np.where(count[..., None] >= 2, m2 / (count * (count - 1))[..., None], np.inf)
+        n = count.astype(np.float64)[..., None]
+        variance = np.where(n >= 2, m2 / (n * (n - 1)), np.inf)
     return RenderResult(
         image=mean.astype(np.float32), variance=variance.astype(np.float32),
         alpha=(valid / np.maximum(count, 1)).astype(np.float32), spp=done, seconds=seconds, camera=camera,

@@ -139,7 +139,8 @@ class Scene:
     def camera(self, lens: str | None = None, size=(512, 512), view: str | None = None, **pose):
         """A :class:`~lenslab.lenses.Camera` with ``lens`` (default: the view's own) at a named view.
 
-        ``pose`` keywords (``yaw``, ``pitch``, ``roll``, ``eye``, ``look_at``, ``up``) override the view.
+        ``pose`` keywords (``yaw``, ``pitch``, ``roll``, ``eye``, ``look_at``, ``up``) override the view;
+        a new ``eye`` alone keeps the view's viewing direction.
         """
         from lenslab.lenses import Camera
 
@@ -147,8 +148,10 @@ class Scene:
         if any(k in pose for k in ("yaw", "pitch", "roll")) and "look_at" not in pose:
             return Camera.from_spec(lens or v.lens, size, yaw=pose.get("yaw", 0.0), pitch=pose.get("pitch", 0.0),
                                     roll=pose.get("roll", 0.0), eye=pose.get("eye", v.eye))
-        return Camera.from_spec(lens or v.lens, size, eye=pose.get("eye", v.eye),
-                                look_at=pose.get("look_at", v.look_at), up=pose.get("up", v.up))
+        eye = pose.get("eye", v.eye)
+        # a new eye alone keeps the view's direction (not its target point)
+        at = pose["look_at"] if "look_at" in pose else np.asarray(eye, float) + np.subtract(v.look_at, v.eye)
+        return Camera.from_spec(lens or v.lens, size, eye=eye, look_at=at, up=pose.get("up", v.up))
 
     def framing_view(self, fov: float = 60.0) -> View:
         """A view from -z that frames the whole geometry (for scenes that name no camera)."""

@@ -80,12 +80,17 @@ def _formats(d: Path, img, raw: Path, rep: int, w: int, h: int) -> None:
     import lenslab.io as lio
     from lenslab.bench.timing import best_time, ratio_line
 
-    floor = {"write": float("inf"), "read": float("inf")}
+    def paired(fn, floor_fn):
+        """Best times of ``fn`` and of the floor, measured alternately the same number of times, so
+        that load from other processes weighs on both alike."""
+        t, f = float("inf"), float("inf")
+        for _ in range(rep):
+            f = min(f, best_time(floor_fn, 1))
+            t = min(t, best_time(fn, 1))
+        return t, f
 
-    def measure_floor():  # re-measured between formats: the best over the run is the floor
-        floor["write"] = min(floor["write"], best_time(lambda: img.tofile(raw), 2))
-        floor["read"] = min(floor["read"], best_time(lambda: np.fromfile(raw, np.float32), 2))
-
+    write_floor = lambda: img.tofile(raw)  # noqa: E731
+    read_floor = lambda: np.fromfile(raw, np.float32)  # noqa: E731
     ldr = np.clip(img / 8, 0, 1)
     cases = [
         ("pfm", "a.pfm", img, {}),
@@ -99,23 +104,21 @@ def _formats(d: Path, img, raw: Path, rep: int, w: int, h: int) -> None:
         ("png 16-bit", "b.png", ldr, {"bits": 16}),
         ("jpg q95 4:4:4", "a.jpg", ldr, {"quality": 95}),
     ]
-    times = {}
+    write_floor()
+    rows = []
     for label, name, data, opts in cases:
-        measure_floor()
-        tw = best_time(lambda: lio.write(d / name, data, **opts), rep)
-        measure_floor()
-        tr = best_time(lambda: lio.read(d / name), rep)
-        times[label] = (tw, tr, (d / name).stat().st_size)
-    measure_floor()
-    print(ratio_line("floor write  numpy.tofile", floor["write"], floor["write"]))
-    print(ratio_line("floor read   numpy.fromfile", floor["read"], floor["read"]))
-    print("\nwrite (ratio to numpy.tofile of the same float32 image; LDR rows include sRGB encoding)")
-    for label, (tw, _, size) in times.items():
-        print(ratio_line(f"  {label}", tw, floor["write"], f"{size / 2**20:7.1f} MiB"))
-    print("\nread (ratio to numpy.fromfile of the same float32 image; LDR rows include sRGB decoding)")
-    for label, (_, tr, _) in times.items():
-        print(ratio_line(f"  {label}", tr, floor["read"]))
-
+        tw, fw = paired(lambda: lio.write(d / name, data, **opts), write_floor)
+        tr, fr = paired(lambda: lio.read(d / name), read_floor)
+        rows.append((label, tw, fw, tr, fr, (d / name).stat().st_size))
+    fw_all, fr_all = min(r[2] for r in rows), min(r[4] for r in rows)
+    print(ratio_line("floor write  numpy.tofile", fw_all, fw_all))
+    print(ratio_line("floor read   numpy.fromfile", fr_all, fr_all))
+    print("\nwrite, as a ratio to numpy.tofile timed alternately with it (LDR rows include sRGB encoding)")
+    for label, tw, fw, _, _, size in rows:
+        print(ratio_line(f"  {label}", tw, fw, f"{size / 2**20:7.1f} MiB"))
+    print("\nread, as a ratio to numpy.fromfile timed alternately with it (LDR rows include sRGB decoding)")
+    for label, _, _, tr, fr, _ in rows:
+        print(ratio_line(f"  {label}", tr, fr))
 
 
 def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:

@@ -88,6 +88,8 @@ def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[st
     if output is not None:
         out = Path(output)
         as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
+        if not as_file and not out.is_dir() and out.suffix.lower() in INPUT_EXTENSIONS:
+            raise FormatError(f"-o {out} names a file but there are {len(files)} inputs; give a directory")
         if not as_file:
             if out.exists() and not out.is_dir():
                 raise NotADirectoryError(f"{out}: exists and is not a directory; with several inputs -o "
@@ -176,6 +178,26 @@ def _init_worker() -> None:
     lenslab.io.exr.THREADS = 0  # decode in the calling thread: no codec thread pool in a forked child
 
 
+_PRELOAD = ["lenslab.cli.convert", "lenslab.io", "lenslab.io.exr", "lenslab.io.ldr", "lenslab.io.pnm",
+            "lenslab.io.pfm", "lenslab.io.encode", "lenslab.tone", "numpy", "cv2", "OpenEXR", "colour"]
+
+
+def _process_context():
+    """Worker processes forked from a clean server that has imported lenslab and the codecs once.
+
+    A plain fork of this process is unsafe (OpenCV's and OpenEXR's thread pools do not survive it and
+    a child can hang on their locks); a fresh interpreter per worker costs seconds of imports. The
+    fork server imports once, before any codec has started a thread, and every worker forks from it.
+    """
+    import multiprocessing as mp
+
+    if "forkserver" not in mp.get_all_start_methods():
+        return mp.get_context("spawn")
+    ctx = mp.get_context("forkserver")
+    ctx.set_forkserver_preload(_PRELOAD)
+    return ctx
+
+
 def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, progress: bool = True,
                  pool: str = "process") -> list[tuple[str, str, str | None, list[str]]]:
     """Convert every (input, output) pair; returns (input, output, error or None, warnings) in input order."""
@@ -196,19 +218,18 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, pr
             import concurrent.futures as cf
 
             if pool == "process":
-                import multiprocessing as mp
-
-                # fork: the workers start with lenslab, NumPy and the codecs already imported (a fresh
-                # interpreter per worker costs seconds of imports before the first image)
-                methods = mp.get_all_start_methods()
-                ctx = mp.get_context("fork" if "fork" in methods else "spawn")
+                ctx = _process_context()
                 executor = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker)
             else:
                 executor = cf.ThreadPoolExecutor(jobs)
             with executor:
                 futures = {executor.submit(_worker, job): i for i, job in enumerate(work)}
                 for fut in cf.as_completed(futures):
-                    results[futures[fut]] = fut.result()
+                    i = futures[fut]
+                    try:
+                        results[i] = fut.result()
+                    except Exception as exc:  # a worker died (out of memory, a crash in a codec)
+                        results[i] = (work[i][0], work[i][1], f"the worker process failed ({exc!r})", [])
                     bar.update()
     finally:
         bar.close()

@@ -9,7 +9,8 @@ Monte Carlo noise. Writes REPORT/results.json, REPORT/report.md and plots.
 Two modes:
   Monte Carlo (default)  the whole pipeline: path-traced panoramas and reference, noise included.
   --noise-free           resampling error alone: fixed sub-pixel sample positions and a point light
-                         (the Cornell box becomes cornell-point, rendered with the direct integrator).
+                         (the Cornell box becomes cornell-point, its light 15 cm under the ceiling,
+                         rendered with the direct integrator).
                          --scene analytic is a noise-free environment with no geometry, whose radiance
                          is a closed-form function of direction (no tracer needed).
 
@@ -38,6 +39,8 @@ def _percent(text: str) -> float:
 
 
 def _int_list(text: str) -> list[int]:
+    if text.strip().lower() == "none":
+        return []
     try:
         vals = [int(v) for v in text.split(",") if v.strip()]
     except ValueError:
@@ -85,7 +88,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           "relative L1 (e.g. 0.1%%)")
     parser.add_argument("--direct-spp", type=_int_list, default=None, metavar="LIST",
                         help="also render the target directly at these sample counts, the alternative to "
-                             "warping (default 1,4,16; 'none' is not accepted, give --direct-spp 1 at least)")
+                             "warping, for the plot, --tune and --amortised (default 1,4,16; 'none' to skip)")
     parser.add_argument("--noise-free", action="store_true",
                         help="measure resampling error alone: fixed sample positions and a point light")
     parser.add_argument("--integrator", default=None, choices=("path", "direct"),
@@ -161,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
 
         best_aa = next((s for s in settings if s.antialias), settings[0])
         a = amortised(source, pano_sizes[-1], parse_size(args.amortised_size), best_aa, spp=spp,
-                      reference_spp=reference_spp or 64, direct_spp=direct_spp, seed=seed, eye=eye,
+                      reference_spp=reference_spp or 64, direct_spp=direct_spp or [1, 4, 16], seed=seed, eye=eye,
                       yaw0=float(target.pose.ypr[0]), pitch=float(target.pose.ypr[1]), progress=progress)
         extra["amortised"] = a
         sections.append(markdown(a))

@@ -83,6 +83,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="scale the output lens's field of view: 'fill' (the default mode) takes the widest "
                              "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
                              "put it after the input files")
+    parser.add_argument("--compat", choices=("v360",), default=None,
+                        help="map pixels as ffmpeg's v360 filter does (samples at pixel corners, input centres "
+                             "at integer coordinates, no pole continuation), to match footage converted with it")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
 
 
@@ -249,6 +252,7 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.cli.convert import expand_inputs
     from lenslab.errors import LenslabError, ToneError, WarpError
+    from lenslab.warp import WarpPlan
     from lenslab.warp.batch import PlanCache
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
@@ -267,7 +271,10 @@ def run(args: argparse.Namespace) -> int:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, args.format)
-    cache = PlanCache(filter=args.filter, samples=args.samples, antialias=args.antialias, seed=args.seed,
+    factory = WarpPlan
+    if args.compat == "v360":
+        from lenslab.warp.compat_v360 import V360Plan as factory
+    cache = PlanCache(factory=factory, filter=args.filter, samples=args.samples, antialias=args.antialias, seed=args.seed,
                       allow_parallax=args.allow_parallax, exact_map=args.exact_map)
     show = not args.quiet and sys.stderr.isatty()
     failed = []

@@ -7,7 +7,10 @@ file's magic bytes, never its name. ``meta`` holds ``format``, ``bit_depth``, ``
 and ``camera`` (a :class:`lenslab.lenses.Camera` if the file stores one, else None).
 
 EXR selectors: ``"file.exr:left"`` (a layer), ``"file.exr:2"`` or ``"file.exr:rgba_left"`` (a part),
-``"file.exr:2:left"`` (both).
+``"file.exr:2:left"`` (both). Read options: ``data_window=True`` keeps an EXR's stored data window
+instead of placing it in the display window; ``rec709=False`` keeps an EXR's own primaries. PFM's
+scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes beyond
+:data:`lenslab.io.limits.MAX_PIXELS` are refused before any allocation.
 
 ``write(path, image, format=None, **options)``: the format from ``format=`` or the extension; the
 file is written to a temporary name and renamed (see :mod:`lenslab.io.atomic`). Options:
@@ -15,7 +18,8 @@ file is written to a temporary name and renamed (see :mod:`lenslab.io.atomic`). 
 - all: ``overwrite=True``; ``camera=`` (EXR stores it as the ``lenslab.camera`` TOML attribute)
 - LDR (ppm/pgm/jpg/png): ``raw=False`` (True: values are code values / maxval, no sRGB encoding),
   ``dither=False``; ``bits=8|16`` (PPM/PGM, PNG); ``ascii=False`` (P3/P2 instead of P6/P5);
-  ``quality=95`` and ``subsampling="444"|"422"|"420"`` (JPG; 4:4:4 by default at quality >= 90)
+  ``quality=95`` and ``subsampling="444"|"422"|"420"`` (JPG; 4:4:4 by default at quality >= 90);
+  ``compression=1`` (PNG zlib level)
 - PFM: ``byte_order="little"|"big"``, ``scale=1.0``
 - EXR: ``pixel_type="half"|"float"``, ``compression="zip"`` (see ``lenslab.io.exr.COMPRESSIONS``),
   ``channels=[names]``, ``attributes={name: value}``
@@ -117,13 +121,11 @@ def _fit_channels(a: np.ndarray, fmt: str) -> np.ndarray:
         if c == 1:
             return a
         raise FormatError(f"PGM holds one channel; this image has {c}: write PPM, or keep one channel")
-    if fmt in ("ppm", "jpg", "pfm"):
+    if fmt in ("ppm", "jpg", "pfm"):  # no alpha in these formats: colour (or grey) only
         if c == 4:
             return a[..., :3]
         if c == 2:
             return a[..., :1]
-        if c == 1 and fmt == "ppm":
-            return a
         return a
     if fmt == "png" and c == 2:
         raise FormatError("PNG cannot hold two channels here; give 1, 3 or 4")

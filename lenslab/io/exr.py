@@ -314,9 +314,11 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
 
 def to_half(image: np.ndarray) -> np.ndarray:
     """float32 -> float16 with finite values beyond half's range clamped (warned with their count)."""
-    big = np.abs(image) > HALF_MAX
-    big &= np.isfinite(image)
-    n = int(np.count_nonzero(big))
+    big = np.abs(image) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
+    n = 0
+    if big.any():
+        big &= np.isfinite(image)
+        n = int(np.count_nonzero(big))
     if n:
         image = np.where(big, np.copysign(np.float32(HALF_MAX), image), image)
         warnings.warn(f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}; write with "

@@ -71,10 +71,14 @@ def read_pfm(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
                               f"({row_bytes * height} bytes) but the file holds {max(size - offset, 0)}; "
                               "it is truncated")
         image = np.empty((height, width, channels), dtype=np.float32)
-        f.seek(offset)
-        for y in range(height - 1, -1, -1):  # rows run bottom to top in the file
-            if f.readinto(memoryview(image[y]).cast("B")) != row_bytes:
-                raise FormatError(f"{path}: the file ended while reading row {y}; it is truncated")
+        rows = [memoryview(image[y]).cast("B") for y in range(height - 1, -1, -1)]  # bottom to top
+        if hasattr(os, "preadv"):
+            got = _preadv_all(f.fileno(), rows, offset)
+        else:  # pragma: no cover - platforms without preadv
+            f.seek(offset)
+            got = sum(f.readinto(r) for r in rows)
+        if got != row_bytes * height:
+            raise FormatError(f"{path}: the file ended while reading the pixels; it is truncated")
     little = scale < 0
     if little != (np.little_endian):
         image.byteswap(inplace=True)
@@ -125,6 +129,25 @@ def _header_bytes(c: int, w: int, h: int, scale: float) -> bytes:
     if "e" not in text and "." in text and "n" not in text:
         text += "0" * (-(len(head) + len(text) + 1) % 64)
     return head + text.encode() + b"\n"
+
+
+def _preadv_all(fd: int, buffers: list, offset: int, batch: int = 1024) -> int:
+    """Fill every buffer in order from ``offset`` with scattered reads; returns the bytes read."""
+    total = 0
+    for i in range(0, len(buffers), batch):
+        pending = buffers[i:i + batch]
+        while pending:
+            n = os.preadv(fd, pending, offset)
+            if n <= 0:
+                return total
+            offset += n
+            total += n
+            while pending and n >= len(pending[0]):
+                n -= len(pending[0])
+                pending.pop(0)
+            if pending and n:
+                pending[0] = pending[0][n:]
+    return total
 
 
 def _writev_all(fd: int, buffers: list, batch: int = 1024) -> None:

@@ -252,7 +252,7 @@ class Lens:
             d = d / np.sqrt(n2)[..., None]
             if not nonzero.all():
                 d[~nonzero] = (0.0, 0.0, 1.0)  # any unit vector; flagged invalid below
-        xy, valid = self.dir_to_pixel_unit(d)
+        xy, valid = self._uv_dir_to_pixel(d)
         if not nonzero.all():
             valid &= nonzero
             np.copyto(xy, 0.0, where=~valid[..., None])
@@ -263,6 +263,10 @@ class Lens:
         ``(..., 3)``): skips the normalisation, for callers that hold such directions (tiles)."""
         if type(self).dir_to_pixel is not Lens.dir_to_pixel:  # a model with its own pixel-level inverse
             return self.dir_to_pixel(d)
+        return self._uv_dir_to_pixel(d)
+
+    def _uv_dir_to_pixel(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Unit directions -> pixels through :meth:`dir_to_uv`, with the image test."""
         with np.errstate(all="ignore"):
             uv, valid = self.dir_to_uv(d)
             xy = self.uv_to_pixel(uv)

@@ -64,6 +64,10 @@ class Cubemap(Lens):
         self._A, self._B, self._C = axes[:, 0], axes[:, 1], axes[:, 2]
         # slot of each face direction, by the index of its major axis: +x, -x, +y, -y, +z, -z
         self._slot_of_axis = np.array([order.index(c) for c in "rludfb"])
+        # every face's A and B are signed unit axes: on the x faces A is along z and B along y, on the
+        # y faces A along x and B along z, on the z faces A along x and B along y; keep their signs
+        self._sA = axes[:, 0].sum(axis=1)
+        self._sB = axes[:, 1].sum(axis=1)
 
     @property
     def face_size(self) -> tuple[float, float]:
@@ -79,36 +83,67 @@ class Cubemap(Lens):
         fy = xy[..., 1] / eh
         col = np.clip(np.floor(fx), 0, self.cols - 1)
         row = np.clip(np.floor(fy), 0, self.rows - 1)
-        uf = 2.0 * (fx - col) - 1.0
-        vf = 2.0 * (fy - row) - 1.0
-        face = (row * self.cols + col).astype(np.intp)
-        face = np.where(np.isfinite(fx) & np.isfinite(fy), face, 0)
-        d = self._A[face] * uf[..., None]
-        d += self._B[face] * vf[..., None]
-        d += self._C[face]
-        d /= np.sqrt(np.einsum("...i,...i->...", d, d))[..., None]
-        return clean(d, self.in_image(xy))
+        uf = fx - col
+        uf *= 2.0
+        uf -= 1.0
+        vf = fy - row
+        vf *= 2.0
+        vf -= 1.0
+        ok = np.isfinite(fx) & np.isfinite(fy)
+        face = row * self.cols
+        face += col
+        face = np.where(ok, face, 0).astype(np.intp)
+        # d = (uf A + vf B + C) / sqrt(uf^2 + vf^2 + 1), one component at a time (A, B, C orthonormal)
+        inv = uf * uf
+        inv += vf * vf
+        inv += 1.0
+        np.sqrt(inv, out=inv)
+        np.divide(1.0, inv, out=inv)
+        d = np.empty(xy.shape[:-1] + (3,), dtype=FLOAT)
+        for j in range(3):
+            o = d[..., j]
+            np.multiply(self._A[:, j].take(face), uf, out=o)
+            o += self._B[:, j].take(face) * vf
+            o += self._C[:, j].take(face)
+            o *= inv
+        return clean(d, self.in_image(xy) & ok, inplace=True)
 
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")
-        a = np.abs(d)
-        axis = np.argmax(a, axis=-1)  # 0 x, 1 y, 2 z (first on ties)
-        comp = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0]
-        slot = self._slot_of_axis[2 * axis + (comp < 0)]
         with np.errstate(all="ignore"):
-            t = np.einsum("...i,...i->...", d, self._C[slot])
-            uf = np.einsum("...i,...i->...", d, self._A[slot]) / t
-            vf = np.einsum("...i,...i->...", d, self._B[slot]) / t
+            return self._dir_to_pixel(d)
+
+    def _dir_to_pixel(self, d):
+        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
+        a = np.abs(d)
+        axis = np.argmax(a, axis=-1)  # 0 x, 1 y, 2 z (the first on ties)
+        t = np.take_along_axis(a, axis[..., None], axis=-1)[..., 0]  # |major component| = d . C
+        neg = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0] < 0
+        slot = self._slot_of_axis.take(2 * axis + neg)
+        # uf = d . A / t, vf = d . B / t, with A and B signed axes (see _check)
+        uf = np.where(axis == 0, dz, dx)
+        uf *= self._sA.take(slot)
+        uf /= t
+        vf = np.where(axis == 1, dz, dy)
+        vf *= self._sB.take(slot)
+        vf /= t
         ew, eh = self.face_size
         col = slot % self.cols
         row = slot // self.cols
         xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
-        xy[..., 0] = (col + 0.5 * (uf + 1.0)) * ew
-        xy[..., 1] = (row + 0.5 * (vf + 1.0)) * eh
+        x, y = xy[..., 0], xy[..., 1]
+        np.add(uf, 1.0, out=x)
+        x *= 0.5
+        x += col
+        x *= ew
+        np.add(vf, 1.0, out=y)
+        y *= 0.5
+        y += row
+        y *= eh
         # a point on a face's right or bottom edge is moved BORDER_NUDGE px back into that face, so
         # that pixel_to_dir (which gives border pixels to the face right of or below them) returns
         # the same direction
-        np.minimum(xy[..., 0], (col + 1) * ew - BORDER_NUDGE, out=xy[..., 0])
-        np.minimum(xy[..., 1], (row + 1) * eh - BORDER_NUDGE, out=xy[..., 1])
-        valid = (t > 0) & self.snap_to_image(xy)
+        np.minimum(x, (col + 1) * ew - BORDER_NUDGE, out=x)
+        np.minimum(y, (row + 1) * eh - BORDER_NUDGE, out=y)
+        valid = (t > 0) & np.isfinite(t) & self.snap_to_image(xy)
         return clean(xy, valid, inplace=True)

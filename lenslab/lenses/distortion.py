@@ -21,7 +21,8 @@ def smallest_positive_root(c2: float, c1: float, c0: float = 1.0) -> float:
     if disc < 0:
         return np.inf
     q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))  # the stable pair of roots q/c2, c0/q
-    roots = [r for r in ((q / c2) if q != 0 else np.inf, (c0 / q) if q != 0 else np.inf) if r > 0]
+    with np.errstate(over="ignore", divide="ignore"):  # a tiny c2 puts one root at infinity
+        roots = [r for r in ((q / c2) if q != 0 else np.inf, (c0 / q) if q != 0 else np.inf) if r > 0]
     return float(min(roots)) if roots else np.inf
 
 
@@ -38,10 +39,10 @@ class Distortion(Wrapped):
     numerator or of the denominator bounds the valid disc. Pixels at or beyond it are invalid.
 
     The inverse (direction -> pixel) has no closed form: ``r_u = f(r_d)`` is solved for ``r_d`` by
-    Newton's method inside the bracket ``[0, r_fold]`` with bisection whenever a step leaves it,
-    starting from the exact ``k2 = 0`` root ``2 r_u / (1 + sqrt(1 - 4 k1 r_u^2))``, until the step is
-    below 1e-13 or the residual is at rounding level; directions whose solve does not converge are
-    reported invalid. When the bound is a pole of ``r_u`` (the denominator's root), radii ``r_u > 1``
+    Newton's method inside the bracket ``[0, r_fold]`` with bisection whenever a step leaves it or
+    fails to halve the previous one, starting from a table of the inverse (``invert_radius``: from the
+    exact ``k2 = 0`` root ``2 r_u / (1 + sqrt(1 - 4 k1 r_u^2))``), until the step is below 1e-13 or
+    the residual is at rounding level; directions whose solve does not converge are reported invalid. When the bound is a pole of ``r_u`` (the denominator's root), radii ``r_u > 1``
     are solved as ``-1/r_u = -(1 + k1 r_d^2 + k2 r_d^4) / r_d``, which stays straight next to the pole.
     """
 

@@ -65,41 +65,74 @@ class Equirect(Lens):
     def _pixel_to_dir(self, xy):
         lon0, lon1 = np.radians(self.lon_min), np.radians(self.lon_max)
         lat0, lat1 = np.radians(self.lat_min), np.radians(self.lat_max)
-        if self.full_sphere:  # the exact forms of the conventions
-            phi = (2.0 * xy[..., 0] / self.width - 1.0) * np.pi
-            theta = (1.0 - 2.0 * xy[..., 1] / self.height) * (np.pi / 2)
+        x, y = xy[..., 0], xy[..., 1]
+        if self.full_sphere:  # the exact forms of the conventions, in this order
+            phi = 2.0 * x
+            phi /= self.width
+            phi -= 1.0
+            phi *= np.pi
+            theta = 2.0 * y
+            theta /= self.height
+            np.subtract(1.0, theta, out=theta)
+            theta *= np.pi / 2
         else:
-            phi = lon0 + (xy[..., 0] / self.width) * (lon1 - lon0)
-            theta = lat1 - (xy[..., 1] / self.height) * (lat1 - lat0)
+            phi = x / self.width
+            phi *= lon1 - lon0
+            phi += lon0
+            theta = y / self.height
+            theta *= lat1 - lat0
+            np.subtract(lat1, theta, out=theta)
+        d = np.empty(xy.shape[:-1] + (3,), dtype=FLOAT)
         ct = np.cos(theta)
-        d = np.stack([ct * np.sin(phi), np.sin(theta), ct * np.cos(phi)], axis=-1)
+        np.sin(phi, out=d[..., 0])
+        d[..., 0] *= ct
+        np.sin(theta, out=d[..., 1])
+        np.cos(phi, out=d[..., 2])
+        d[..., 2] *= ct
         # exact poles at the edges, whatever cos(pi/2) rounds to
-        top = xy[..., 1] == 0
-        bottom = xy[..., 1] == self.height
-        if self.lat_max == 90.0 and np.any(top):
-            d[top] = (0.0, 1.0, 0.0)
-        if self.lat_min == -90.0 and np.any(bottom):
-            d[bottom] = (0.0, -1.0, 0.0)
-        return clean(d, self.in_image(xy))
+        if self.lat_max == 90.0:
+            top = y == 0
+            if top.any():
+                d[top] = (0.0, 1.0, 0.0)
+        if self.lat_min == -90.0:
+            bottom = y == self.height
+            if bottom.any():
+                d[bottom] = (0.0, -1.0, 0.0)
+        return clean(d, self.in_image(xy), inplace=True)
 
     def dir_to_pixel(self, dirs):
-        d = normalize(as_points(dirs, 3, "directions"))
-        phi = np.arctan2(d[..., 0], d[..., 2])
-        theta = np.arctan2(d[..., 1], np.hypot(d[..., 0], d[..., 2]))
+        d = as_points(dirs, 3, "directions")
+        with np.errstate(all="ignore"):
+            return self._dir_to_pixel(d)
+
+    def _dir_to_pixel(self, d):
+        # atan2 needs no unit vectors: only zero and non-finite directions are flagged
+        n2 = np.einsum("...i,...i->...", d, d)
+        ok = (n2 > 0) & np.isfinite(n2)
+        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
+        phi = np.arctan2(dx, dz)
+        theta = np.arctan2(dy, np.hypot(dx, dz))
+        xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+        x, y = xy[..., 0], xy[..., 1]
         if self.full_sphere:
-            x = (phi / np.pi + 1.0) * (0.5 * self.width)
-            y = (1.0 - theta / (np.pi / 2)) * (0.5 * self.height)
-            valid = np.ones(x.shape, dtype=bool)
+            np.divide(phi, np.pi, out=x)  # x = (phi/pi + 1) W/2, y = (1 - theta/(pi/2)) H/2
+            x += 1.0
+            x *= 0.5 * self.width
+            np.divide(theta, np.pi / 2, out=y)
+            np.subtract(1.0, y, out=y)
+            y *= 0.5 * self.height
+            valid = ok
         else:
             lon0, lon1 = np.radians(self.lon_min), np.radians(self.lon_max)
             lat0, lat1 = np.radians(self.lat_min), np.radians(self.lat_max)
-            if not self.wraps:  # bring phi into [lon0, lon0 + 2pi)
-                phi = lon0 + np.mod(phi - lon0, 2 * np.pi)
-            x = (phi - lon0) / (lon1 - lon0) * self.width
-            y = (lat1 - theta) / (lat1 - lat0) * self.height
-            valid = None
-        xy = np.stack([x, y], axis=-1).astype(FLOAT)
-        if valid is None:
-            valid = self.snap_to_image(xy)  # within edge_slack of the range counts, moved onto the edge
-        valid &= np.any(d != 0, axis=-1)
-        return clean(xy, valid, inplace=True)
+            if not self.wraps:  # bring phi into [lon0, lon0 + 2pi) (atan2 gives [-pi, pi], lon0 >= -pi)
+                phi[phi < lon0] += 2 * np.pi
+            np.subtract(phi, lon0, out=x)
+            x /= lon1 - lon0
+            x *= self.width
+            np.subtract(lat1, theta, out=y)
+            y /= lat1 - lat0
+            y *= self.height
+            valid = ok & self.snap_to_image(xy)  # within edge_slack of the range counts, moved onto the edge
+        np.copyto(xy, 0.0, where=~valid[..., None])  # atan2 of finite values: finite everywhere else
+        return xy, valid

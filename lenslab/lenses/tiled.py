@@ -50,15 +50,40 @@ def read_tiles_file(path: str | Path) -> list[dict[str, Any]]:
 class Tile:
     """One tile: a lens bound to the tile size and a pose relative to the tiled camera."""
 
-    __slots__ = ("lens", "pose", "turn")
+    __slots__ = ("lens", "pose", "turn", "cos_reach")
 
     def __init__(self, lens: Lens, pose: Pose):
         self.lens, self.pose = lens, pose
         # the rotation, or None when it is the identity (then the tile's directions need no turn)
         self.turn = None if np.array_equal(pose.rotation, np.eye(3)) else pose.rotation
+        self.cos_reach = reach_cosine(lens)
 
     def to_dict(self) -> dict[str, Any]:
         return {"lens": self.lens.to_dict(), **self.pose.to_dict()}
+
+
+#: margin added to the sampled reach of a tile's lens: the largest angle between samples 1/64 of the
+#: image apart cannot exceed the sampled largest by more than this for any model of this package
+REACH_MARGIN = np.radians(5.0)
+
+
+def reach_cosine(lens: Lens) -> float:
+    """Cosine of an angle from the lens axis (+z) beyond which the lens certainly sees nothing, or -1.
+
+    Sampled over a 65 x 65 grid and the border of the image, plus :data:`REACH_MARGIN`. ``dir_to_pixel``
+    of a tiled lens skips a tile's lens for directions outside its reach (a cheap dot product).
+    """
+    t = np.linspace(0.0, 1.0, 65)
+    edge = np.linspace(0.0, 1.0, 1025)
+    pts = [np.stack(np.meshgrid(t, t), axis=-1).reshape(-1, 2)]
+    for e in (0.0, 1.0):
+        pts += [np.c_[edge, np.full_like(edge, e)], np.c_[np.full_like(edge, e), edge]]
+    xy = np.concatenate(pts) * (lens.width, lens.height)
+    d, ok = lens.pixel_to_dir(xy)
+    if not ok.any():
+        return -1.0
+    reach = float(np.max(np.arccos(np.clip(d[ok, 2], -1.0, 1.0)))) + REACH_MARGIN
+    return -1.0 if reach >= np.pi else float(np.cos(reach))
 
 
 @register
@@ -197,20 +222,28 @@ class Tiled(Lens):
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)
         valid = np.zeros(flat.shape[0], dtype=bool)
         tw, th = self.tile_size
-        todo = np.flatnonzero(np.any(flat != 0, axis=-1))
+        rest = np.flatnonzero(np.any(flat != 0, axis=-1))  # directions no tile has claimed yet
         for k, tile in enumerate(self.tile_list):
-            if tile is None or todo.size == 0:
+            if tile is None or rest.size == 0:
                 continue
-            local = np.take(flat, todo, axis=0)
+            rows = np.take(flat, rest, axis=0)
+            pos = None  # positions in `rest` handed to this tile's lens (None: all)
+            if tile.cos_reach > -1.0:  # only directions within the tile lens's reach (a dot product)
+                pos = np.flatnonzero(rows @ tile.pose.rotation[:, 2] >= tile.cos_reach)
+                rows = np.take(rows, pos, axis=0)
             if tile.turn is not None:
-                local = rotate_rows(local, tile.turn.T)  # R^T d, row by row
-            local_xy, vk = tile.lens.dir_to_pixel_unit(local)
-            hit = todo[vk]
+                rows = rotate_rows(rows, tile.turn.T)  # R^T d, row by row
+            local_xy, vk = tile.lens.dir_to_pixel_unit(rows)
+            seen = np.flatnonzero(vk) if pos is None else pos[vk]
+            hit = rest[seen]
             # keep points off the tile's right and bottom edges (those pixels belong to the next tile)
             loc = np.minimum(local_xy[vk], (tw - BORDER_NUDGE, th - BORDER_NUDGE))
-            xy[hit] = loc + ((k % self.cols) * tw, (k // self.cols) * th)
+            loc += ((k % self.cols) * tw, (k // self.cols) * th)
+            xy[hit] = loc
             valid[hit] = True
-            todo = todo[~vk]
+            left = np.ones(rest.shape, dtype=bool)
+            left[seen] = False
+            rest = rest[left]
         return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
     def pixel_origin(self, xy) -> np.ndarray:

@@ -151,6 +151,29 @@ def solve(model: ErrorModel, target: float, max_width: float, max_spp: float) ->
             "predicted_l1": model.error(wr, sr), "predicted_seconds": model.seconds(wr, sr)}
 
 
+def direct_alternative(rows: Sequence[dict[str, Any]], target: float, error_key: str = "l1"):
+    """Samples per pixel a direct render of the target needs for ``target``, from the ``direct`` rows.
+
+    Fits ``e = e1 spp^-p`` (least squares in log space) and ``t = t0 + t1 spp`` (least squares).
+    """
+    d = [r for r in rows if r.get("kind") == "direct" and np.isfinite(r.get(error_key, np.nan)) and r[error_key] > 0]
+    if len(d) < 2:
+        return None
+    spp = np.array([r["spp"] for r in d], dtype=np.float64)
+    err = np.array([r[error_key] for r in d], dtype=np.float64)
+    sec = np.array([r["seconds"] for r in d], dtype=np.float64)
+    if np.ptp(np.log(spp)) == 0:
+        return None
+    slope, icpt = np.polyfit(np.log(spp), np.log(err), 1)
+    p = max(-slope, 0.05)
+    need = max(1, int(math.ceil((math.exp(icpt) / target) ** (1.0 / p))))
+    t1, t0 = np.polyfit(spp, sec, 1)
+    if t1 <= 0:
+        t1, t0 = float(np.median(sec / spp)), 0.0
+    return {"spp": need, "predicted_l1": math.exp(icpt) * need ** (-p),
+            "predicted_seconds": max(float(t0), 0.0) + float(t1) * need, "exponent": p}
+
+
 def tune(rows: Sequence[dict[str, Any]], target: float, error_key: str = "l1") -> dict[str, Any]:
     """Choose the cheapest setting reaching ``target`` relative L1; returns a dict with a ``summary``."""
     warp_rows = [r for r in rows if r.get("kind", "warp") == "warp" and np.isfinite(r.get(error_key, np.nan))]
@@ -197,7 +220,14 @@ def tune(rows: Sequence[dict[str, Any]], target: float, error_key: str = "l1") -
                      f"{model_choice['pano_size'][1]}, {model_choice['spp']} spp (predicted; not yet measured)")
     else:
         lines.append("chosen: nothing; render the target directly or allow a larger error")
+    direct = direct_alternative(rows, target, error_key)
+    if direct is not None:
+        lines.append(
+            f"for comparison, one direct render of the target: {direct['spp']} spp predicted to give "
+            f"{100 * direct['predicted_l1']:.3f}% in {direct['predicted_seconds']:.3f} s "
+            f"(the panorama pays off once several views share it: see the amortised trade)")
     return {
+        "direct": direct,
         "target": target,
         "choice": choice,
         "table_choice": None if table_choice is None else table_choice["label"],

@@ -32,7 +32,8 @@ def map_bytes_estimate(dst: Camera, samples: int, antialias: bool) -> int:
 class PlanCache:
     """Plans by geometry, least recently used dropped first (``keep`` geometries at most)."""
 
-    def __init__(self, keep: int = 2, max_map_bytes: int = MAX_MAP_BYTES, **options):
+    def __init__(self, keep: int = 2, max_map_bytes: int = MAX_MAP_BYTES, factory=WarpPlan, **options):
+        self.factory = factory  # the plan class (e.g. compat_v360.V360Plan)
         self.keep = max(1, int(keep))
         self.max_map_bytes = int(max_map_bytes)
         self.options = options
@@ -46,7 +47,7 @@ class PlanCache:
             return self._plans[key]
         cache = map_bytes_estimate(dst, self.options.get("samples", 1), self.options.get("antialias", False)) \
             <= self.max_map_bytes // self.keep
-        plan = WarpPlan(src, dst, cache=cache, **self.options)
+        plan = self.factory(src, dst, cache=cache, **self.options)
         self.built += 1
         self._plans[key] = plan
         while len(self._plans) > self.keep:

@@ -16,12 +16,12 @@ PARALLEL_MIN_WORK = 1 << 16  # output samples (or similar units) below which a c
 class Kernel:
     """A function compiled twice: ``k(*args, work=n)`` picks the build."""
 
-    def __init__(self, fn):
-        self.parallel = numba.njit(parallel=True, cache=True)(fn)
+    def __init__(self, fn, **options):
+        self.parallel = numba.njit(parallel=True, cache=True, **options)(fn)
         # a distinct function object, so that the two builds keep distinct on-disk caches
         clone = type(fn)(fn.__code__, fn.__globals__, fn.__name__ + "_serial", fn.__defaults__, fn.__closure__)
         clone.__qualname__ = fn.__qualname__ + "_serial"
-        self.serial = numba.njit(parallel=False, cache=True)(clone)
+        self.serial = numba.njit(parallel=False, cache=True, **options)(clone)
         self.__doc__ = fn.__doc__
         self.__name__ = fn.__name__
 
@@ -34,3 +34,11 @@ class Kernel:
 def kernel(fn) -> Kernel:
     """Decorator: compile ``fn`` (which may use ``numba.prange``) as a :class:`Kernel`."""
     return Kernel(fn)
+
+
+def _kernel_options(**options):
+    """``@kernel.options(fastmath=True)``: a :class:`Kernel` with extra numba options."""
+    return lambda fn: Kernel(fn, **options)
+
+
+kernel.options = _kernel_options

@@ -154,7 +154,7 @@ class Mapper:
         xn = (np.arange(ncx + 3, dtype=np.float64) - 1.0) * s
         yn = (np.arange(ncy + 3, dtype=np.float64) - 1.0) * s
         pts = np.stack(np.meshgrid(xn, yn, indexing="xy"), axis=-1)
-        xy, v, vd, dirs = exact_map_parts(self.src, self.dst, pts, with_dirs=True)
+        xy, v, vd, dirs = _chunked(self.src, self.dst, pts, True)
         nx, ny, have = _ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
         win = np.lib.stride_tricks.sliding_window_view
 
@@ -178,7 +178,7 @@ class Mapper:
         for tx, ty in ((0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)):
             gx = (np.arange(ncx) + tx) * s
             gy = (np.arange(ncy) + ty) * s
-            exy, ev, evd = exact_map_parts(self.src, self.dst, np.stack(np.meshgrid(gx, gy, indexing="xy"), axis=-1))
+            exy, ev, evd = _chunked(self.src, self.dst, np.stack(np.meshgrid(gx, gy, indexing="xy"), axis=-1), False)
             ix, iy = _lattice_grid(nx, ny, tx, ty, self.wrap)
             ok &= ev & self._close(ix, iy, exy)
             dead &= ~evd
@@ -267,6 +267,19 @@ class Mapper:
             ys.reshape(-1)[flat] = np.where(v, xy[:, 1] - 0.5, 0.0)
             valid.reshape(-1)[flat] = v
         return MapBand(r0, r1, xs, ys, valid)
+
+
+EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
+
+
+def _chunked(src: Camera, dst: Camera, points: np.ndarray, with_dirs: bool):
+    """:func:`exact_map_parts` over a grid of points, ``EXACT_CHUNK`` rows of points at a time."""
+    shape = points.shape[:-1]
+    flat = points.reshape(-1, 2)
+    parts = [exact_map_parts(src, dst, flat[i:i + EXACT_CHUNK], with_dirs)
+             for i in range(0, len(flat), EXACT_CHUNK)]
+    return tuple(np.concatenate([p[k] for p in parts]).reshape(shape + parts[0][k].shape[1:])
+                 for k in range(len(parts[0])))
 
 
 def _ghost_nodes(nx, ny, valid, wrap):
