@@ -229,8 +229,8 @@ def save_manifest(out_dir: Path, items: list, validate_report, hdri_dir, title: 
         "generator": "lenslab gallery",
         "title": title,
         "items": [to_json(i) for i in items],
-        "validate_report": str(validate_report) if validate_report else None,
-        "hdri_dir": str(hdri_dir) if hdri_dir else None,
+        "validate_report": str(Path(validate_report).resolve()) if validate_report else None,
+        "hdri_dir": str(Path(hdri_dir).resolve()) if hdri_dir else None,
     }
     path = Path(out_dir) / MANIFEST
     with atomic_write_path(path, overwrite=True) as tmp:

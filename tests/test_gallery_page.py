@@ -123,11 +123,12 @@ def validation_report(folder: Path) -> Path:
 
 
 def hdri_folder(folder: Path) -> Path:
-    """Two small equirect panoramas (EXR and PFM), one image that is not a panorama, one text file."""
+    """Two small equirect panoramas (EXR and PFM), an image that is not a panorama, a broken EXR and a text file."""
     folder.mkdir(parents=True)
     write(folder / "a.exr", _scene(32, 64, 5), pixel_type="float")
     write(folder / "b.pfm", _scene(16, 32, 6))
     write(folder / "not-a-panorama.exr", _scene(20, 30, 7))
+    (folder / "broken.exr").write_bytes(b"v/1\x01 not really an EXR")
     (folder / "notes.txt").write_text("not an image")
     return folder
 
@@ -234,7 +235,9 @@ def test_hdri_card_warps_each_panorama_and_names_the_skipped(stand_in):
     for src in hdri:
         if src.endswith(("sky-dome.jpg", "little-planet.jpg")):
             assert cv2.imread(str(index.parent / src)).shape[:2] == (256, 256)
-    assert "not-a-panorama.exr (30x20" in index.read_text(encoding="utf-8")
+    text = index.read_text(encoding="utf-8")
+    assert "not-a-panorama.exr (30x20" in text
+    assert "broken.exr (" in text  # an unreadable file is named with its reason, and the page still builds
 
 
 def test_hdri_card_on_the_real_panoramas(shared_data, tmp_path):

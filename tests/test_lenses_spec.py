@@ -177,6 +177,14 @@ def test_camera_files_with_several_cameras(tmp_path):
     (tmp_path / "hand.toml").write_text('lens = "fisheye:fov=180"\nsize = [100, 100]\nyaw = 90.0\n')
     hand = load_camera(tmp_path / "hand.toml")
     assert hand.lens.fov == 180.0 and np.allclose(hand.pose.rotation[:, 2], [1, 0, 0])
+    # a hand-written tiled camera names its tiles file relative to itself
+    sub = tmp_path / "rig"
+    sub.mkdir()
+    (sub / "tiles.toml").write_text('[[tiles]]\nlens = "perspective:fov=50"\neye = [0.0, 1.0, 0.0]\n')
+    (sub / "cam.toml").write_text('lens = "tiled:2x1,tiles=tiles.toml"\nsize = [200, 100]\n')
+    tiled = load_camera(sub / "cam.toml")
+    assert tiled.lens.tile_list[0].lens.fov == 50.0 and tiled.lens.tile_list[1] is None
+    assert np.array_equal(tiled.lens.eye_offsets, [[0.0, 1.0, 0.0]])
     (tmp_path / "bad.toml").write_text("yaw = 1\n")
     with pytest.raises(LensError):
         load_cameras(tmp_path / "bad.toml")

@@ -192,3 +192,23 @@ def test_cubemap_face_seams_are_not_special(panorama, cubemap_reference, setting
     elsewhere = metrics.relative_l1(ref.image, img, valid & ~border)
     # twice the rest, plus 0.5% for the seams' smaller sample of pixels (the measured ratio is 0.9-1.0)
     assert on_seams <= 2 * elsewhere + 0.005, (on_seams, elsewhere)
+
+
+def test_monte_carlo_mode_separates_the_reference_noise():
+    # The whole pipeline with path tracing: the reference is the mean of two independent halves, whose
+    # difference gives its noise floor; every row reports it and the excess over it.
+    from lenslab.validate.run import validate
+
+    src = make_source("cornell", noise_free=False)
+    target = Camera.from_spec("fisheye:fov=180,mapping=equisolid", (32, 32), eye=EYE, **POSE)
+    val = validate(src, target, [(256, 128)], [WarpSetting.parse("antialias")], spp=2, reference_spp=32,
+                   seed=3, direct_spp=(2,), repeat=1, with_flip=False, progress=False)
+    assert val.meta["mode"] == "monte-carlo" and val.meta["reference"]["noise_method"] == "two halves"
+    assert val.meta["reference"]["spp"] == 32
+    floor = val.meta["reference"]["noise_l1"]
+    assert floor > 0
+    for row in val.rows:
+        assert row["noise_l1"] == pytest.approx(floor)
+        assert row["excess_l1"] == pytest.approx(max(row["l1"] - floor, 0.0))
+        # a 2-spp image against a 32-spp reference: its own noise is larger than the reference's
+        assert row["l1"] > floor

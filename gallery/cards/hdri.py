@@ -37,6 +37,7 @@ def hdri(page: Page, folder: Path) -> str:
     the brightest and darkest pixels), since real skies differ by many stops."""
     import numpy as np
 
+    from lenslab.errors import FormatError
     from lenslab.io import read
     from lenslab.lenses import Camera
     from lenslab.warp import warp
@@ -49,7 +50,11 @@ def hdri(page: Page, folder: Path) -> str:
          Camera.from_spec(VIEWS[0][1], (8, 8), **VIEWS[0][2]), antialias=True)
     rows, skipped = [], []
     for path in paths[:MAX_PANORAMAS]:
-        image, meta = read(path)
+        try:
+            image, meta = read(path)
+        except (FormatError, OSError) as exc:  # one bad file in a user's folder does not stop the page
+            skipped.append(f"{path.name} ({exc})")
+            continue
         h, w = image.shape[:2]
         src = meta.get("camera") if isinstance(meta, dict) else None
         if src is None:

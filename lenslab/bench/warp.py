@@ -97,8 +97,10 @@ def speed(args) -> None:
     theirs = cv2.remap(src_img, mx, my, cv2.INTER_LINEAR)
     m = valid[..., None] & np.ones(3, bool)
     diff = np.abs(ours - theirs)[m]
-    print(f"cv2.remap's 1/32-pixel weights vs exact bilinear: relative L1 {diff.sum() / np.abs(ours[m]).sum():.2e}, "
-          f"largest relative difference in a pixel {np.max(diff / np.maximum(np.abs(ours[m]), 1e-6)):.2%}")
+    rel = diff / np.maximum(np.abs(ours[m]), 1e-3 * np.abs(ours[m]).mean())
+    print(f"cv2.remap's 1/32-pixel weights vs exact bilinear: relative L1 {diff.sum() / np.abs(ours[m]).sum():.2e}; "
+          f"per pixel relative difference: 99.9th percentile {np.percentile(rel, 99.9):.2%}, max {rel.max():.1%} "
+          f"(largest absolute {diff.max():.3g}, at the sun's edge)")
 
 
 def accuracy(args) -> None:

@@ -11,7 +11,8 @@ A camera file looks like::
     mapping = "equisolid"
 
 A tiled camera's lens table holds its tiles as ``[[lens.tiles]]`` tables (lens, pose and eye each),
-so per-tile eye points survive the trip. Several cameras go in one file as ``[[cameras]]`` tables.
+so per-tile eye points survive the trip; a hand-written ``lens = "tiled:2x2,tiles=cams.toml"`` reads
+the tiles from ``cams.toml`` next to the camera file. Several cameras go in one file as ``[[cameras]]`` tables.
 This is the same TOML that ``Camera.to_toml`` writes and image headers store.
 """
 
@@ -47,10 +48,29 @@ def load_cameras(path: str | Path) -> list[Camera]:
     cams = []
     for i, table in enumerate(tables):
         try:
-            cams.append(Camera.from_dict(table))
+            cams.append(Camera.from_dict(_resolve_tiles_path(table, Path(path).parent)))
         except LensError as exc:
             raise LensError(f"{path}: camera {i}: {exc}") from None
     return cams
+
+
+def _resolve_tiles_path(table: dict, folder: Path) -> dict:
+    """A tiled lens's relative ``tiles=FILE`` is taken relative to the camera file's folder."""
+    lens = table.get("lens") if isinstance(table, dict) else None
+    if isinstance(lens, str) and lens.strip().lower().startswith("tiled"):
+        name, _, rest = lens.partition(":")
+        items = []
+        for item in rest.split(",") if rest.strip() else []:
+            key, eq, value = item.partition("=")
+            if eq and key.strip() == "tiles" and value.strip() and not Path(value.strip()).is_absolute():
+                item = f"tiles={folder / value.strip()}"
+            items.append(item)
+        return {**table, "lens": name + (":" + ",".join(items) if items else "")}
+    if isinstance(lens, dict) and isinstance(lens.get("tiles"), str) and lens["tiles"].strip():
+        tiles = Path(lens["tiles"].strip())
+        if not tiles.is_absolute():
+            return {**table, "lens": {**lens, "tiles": str(folder / tiles)}}
+    return table
 
 
 def load_camera(path: str | Path) -> Camera:

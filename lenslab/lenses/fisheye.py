@@ -34,8 +34,8 @@ class Fisheye(Lens):
         orthographic   a = asin(r sin F)            (F <= 90 deg)
         d = (sin(a) u/r, sin(a) v/r, cos(a))        (d = +z at r = 0: the limit, no division)
 
-    Valid for ``r <= 1`` (to 1e-12, so that rim points survive rounding both ways): the image circle touches the left and right edges, so a pixel on that rim
-    is ``fov/2`` from the axis. Allowed fov: equidistant and equisolid up to 360 (the rim is then the
+    Valid for ``r <= 1`` (to 1e-12, so that rim points survive rounding both ways): the image circle
+    touches the left and right edges, so a pixel on that rim is ``fov/2`` from the axis. Allowed fov: equidistant and equisolid up to 360 (the rim is then the
     back pole -z), stereographic below 360, orthographic up to 180.
 
     The inverse uses ``rho = sqrt(dx^2 + dy^2)`` and ``dz`` (no trigonometry except equidistant's
@@ -112,18 +112,29 @@ class Fisheye(Lens):
             k = np.divide(r, rho, out=np.full(r.shape, 1.0 / F), where=rho > 0)
         elif m == "equisolid":
             s = np.sin(F / 2)
-            front = dz >= 0
             # r = sin(theta/2)/s; sin(theta/2) = rho / sqrt(2(1+dz)) in front, sqrt((1-dz)/2) behind
-            k = np.where(front, 1.0 / (s * np.sqrt(2.0 * (1.0 + dz))), np.sqrt(0.5 * (1.0 - dz)) / (s * rho))
+            k = 1.0 + dz
+            k *= 2.0 * s * s
+            np.sqrt(k, out=k)
+            np.divide(1.0, k, out=k)
             r = k * rho
-            if not np.all(front):
-                r = np.where(front, r, np.sqrt(0.5 * (1.0 - dz)) / s)
+            back = dz < 0
+            if back.any():
+                half = np.sqrt(0.5 * (1.0 - dz[back]))
+                r[back] = half / s
+                k[back] = half / (s * rho[back])
         elif m == "stereographic":
             t = np.tan(F / 2)
-            front = dz >= 0
-            # r = tan(theta/2)/t; tan(theta/2) = rho/(1+dz) = (1-dz)/rho
-            k = np.where(front, 1.0 / (t * (1.0 + dz)), (1.0 - dz) / (t * rho2))
-            r = np.where(front, k * rho, (1.0 - dz) / (t * rho))
+            # r = tan(theta/2)/t; tan(theta/2) = rho/(1+dz) in front, (1-dz)/rho behind
+            k = 1.0 + dz
+            k *= t
+            np.divide(1.0, k, out=k)
+            r = k * rho
+            back = dz < 0
+            if back.any():
+                num = 1.0 - dz[back]
+                r[back] = num / (t * rho[back])
+                k[back] = num / (t * rho2[back])
         else:  # orthographic
             s = np.sin(F)
             k = np.full(rho.shape, 1.0 / s)

@@ -102,7 +102,8 @@ class Tiled(Lens):
 
     Tiles come from a TOML file (``tiled:2x2,tiles=cams.toml``) with one ``[[tiles]]`` table per tile,
     or a list of tables, each ``lens`` (a spec or a table) plus a pose (``yaw``/``pitch``/``roll`` or
-    ``at``/``up`` or ``rotation``) and ``eye``; an empty table is a tile with no camera. Without tiles,
+    ``at``/``up`` or ``rotation``) and ``eye``; an empty table is a tile with no camera (a relative
+    file name is read from the current folder, or, inside a camera file, next to it). Without tiles,
     every tile is a 90-degree perspective camera turned by ``360 k / n`` degrees of yaw.
     """
 
