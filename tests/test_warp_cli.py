@@ -99,3 +99,14 @@ def test_parallax_needs_permission(pano, tmp_path):
     args = ["warp", str(path), "-o", str(out), "--to", "perspective", "--size", "8x8", "--eye", "1,0,0", "-q"]
     assert main(args) == 1 and not out.exists()
     assert main(args + ["--allow-parallax"]) == 0 and out.exists()
+
+
+def test_compat_v360_maps_like_ffmpeg(pano, tmp_path):
+    path, img = pano
+    out = tmp_path / "half.exr"
+    args = ["warp", str(path), "-o", str(out), "--to", "equirect", "--size", "32x16", "--compat", "v360",
+            "--pixel-type", "float", "-q"]
+    assert main(args) == 0
+    # v360 reads source pixel (2i, 2j) for output pixel (i, j) of a 2x reduction
+    np.testing.assert_allclose(read(out)[0][..., :3], img[::2, ::2], rtol=0, atol=1e-4)
+    assert main(args + ["--samples", "4", "--overwrite"]) == 1  # one sample per pixel, as v360

@@ -100,7 +100,7 @@ def speed(args) -> None:
     rel = diff / np.maximum(np.abs(ours[m]), 1e-3 * np.abs(ours[m]).mean())
     print(f"cv2.remap's 1/32-pixel weights vs exact bilinear: relative L1 {diff.sum() / np.abs(ours[m]).sum():.2e}; "
           f"per pixel relative difference: 99.9th percentile {np.percentile(rel, 99.9):.2%}, max {rel.max():.1%} "
-          f"(largest absolute {diff.max():.3g}, at the sun's edge)")
+          f"(largest absolute {diff.max():.3g})")
 
 
 def accuracy(args) -> None:
@@ -162,7 +162,8 @@ def big(args) -> None:
     mb = 1 / 2**20
     fixed = peak - out.nbytes - alpha.nbytes
     print(f"big: 16384x8192 float RGB -> 8192x8192 {args.dst} in {dt:.1f} s")
-    print(f"  source {src_img.nbytes * mb:.0f} MiB, output {out.nbytes * mb:.0f} MiB + alpha {alpha.nbytes * mb:.0f} MiB")
+    print(f"  source {src_img.nbytes * mb:.0f} MiB, output {out.nbytes * mb:.0f} MiB "
+          f"+ alpha {alpha.nbytes * mb:.0f} MiB")
     print(f"  peak traced allocations during the warp {peak * mb:.0f} MiB = output + alpha + working set "
           f"{fixed * mb:.0f} MiB")
     print(f"  process peak RSS {rss * mb:.0f} MiB (before the source: {rss0 * mb:.0f} MiB)")

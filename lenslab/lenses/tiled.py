@@ -221,30 +221,29 @@ class Tiled(Lens):
         d = normalize(as_points(dirs, 3, "directions"))
         flat = d.reshape(-1, 3)
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)
-        valid = np.zeros(flat.shape[0], dtype=bool)
+        free = np.any(flat != 0, axis=-1)  # directions no tile has claimed yet
         tw, th = self.tile_size
-        rest = np.flatnonzero(np.any(flat != 0, axis=-1))  # directions no tile has claimed yet
-        for k, tile in enumerate(self.tile_list):
-            if tile is None or rest.size == 0:
+        tiles = [(k, t) for k, t in enumerate(self.tile_list) if t is not None]
+        # each tile's lens only sees directions within its reach of the tile's axis: one product
+        # gives every direction's cosine to every tile axis
+        axes = np.array([t.pose.rotation[:, 2] for _, t in tiles]).reshape(-1, 3)
+        along = flat @ np.ascontiguousarray(axes.T) if tiles else None
+        for j, (k, tile) in enumerate(tiles):
+            cand = free & (along[:, j] >= tile.cos_reach) if tile.cos_reach > -1.0 else free
+            cand = np.flatnonzero(cand)
+            if cand.size == 0:
                 continue
-            rows = np.take(flat, rest, axis=0)
-            pos = None  # positions in `rest` handed to this tile's lens (None: all)
-            if tile.cos_reach > -1.0:  # only directions within the tile lens's reach (a dot product)
-                pos = np.flatnonzero(rows @ tile.pose.rotation[:, 2] >= tile.cos_reach)
-                rows = np.take(rows, pos, axis=0)
+            rows = np.take(flat, cand, axis=0)
             if tile.turn is not None:
                 rows = rotate_rows(rows, tile.turn.T)  # R^T d, row by row
             local_xy, vk = tile.lens.dir_to_pixel_unit(rows)
-            seen = np.flatnonzero(vk) if pos is None else pos[vk]
-            hit = rest[seen]
+            hit = cand[vk]
             # keep points off the tile's right and bottom edges (those pixels belong to the next tile)
             loc = np.minimum(local_xy[vk], (tw - BORDER_NUDGE, th - BORDER_NUDGE))
             loc += ((k % self.cols) * tw, (k // self.cols) * th)
             xy[hit] = loc
-            valid[hit] = True
-            left = np.ones(rest.shape, dtype=bool)
-            left[seen] = False
-            rest = rest[left]
+            free[hit] = False
+        valid = np.any(flat != 0, axis=-1) & ~free
         return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
     def pixel_origin(self, xy) -> np.ndarray:

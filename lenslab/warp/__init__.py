@@ -21,7 +21,8 @@ from lenslab.warp.engine import WarpPlan, tile_cameras, warp, warp_tiles
 from lenslab.warp.filters import FILTERS
 from lenslab.warp.maps import ParallaxWarning, check_eyes, exact_map
 
-__all__ = ["warp", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS", "check_eyes", "exact_map"]
+__all__ = ["warp", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS",
+           "check_eyes", "exact_map"]
 
 
 class _CallableModule(types.ModuleType):
