@@ -67,26 +67,29 @@ def run(args: argparse.Namespace) -> int:
         theta = np.arctan2(dirs0[..., 1], np.hypot(dirs0[..., 0], dirs0[..., 2]))
         return np.stack([(phi / np.pi + 1.0) * (0.5 * n), (1.0 - theta / (np.pi / 2)) * (0.5 * n)], axis=-1)
 
-    # the machine is shared: the baselines are timed again next to every model and the best of all
-    # their runs is the reference, so a burst of load during one figure does not skew every ratio
+    # the machine is shared and its load varies: each figure is timed interleaved with its baseline
+    # (model, baseline, model, baseline, ...), and the ratio is of the best of each, so both come from
+    # the same stretch of time
+    def paired(fn, base_fn):
+        t_best = b_best = float("inf")
+        for _ in range(repeat):
+            t_best = min(t_best, best_time(fn, repeat=1))
+            b_best = min(b_best, best_time(base_fn, repeat=1))
+        return t_best, b_best
+
+    print(f"lens models on a {n} x {n} grid ({count / 1e6:.1f} M directions); each figure against plain NumPy "
+          f"equirect timed alongside it (best of {repeat}, interleaved)")
     base_f = best_time(equirect_forward, repeat=repeat)
     base_i = best_time(equirect_inverse, repeat=repeat)
-    rows = []
-    for spec in specs:
-        lens = make_lens(spec, (n, n))
-        t_f = best_time(lambda: lens.pixel_to_dir(xy), repeat=repeat)
-        dirs, valid = lens.pixel_to_dir(xy)
-        t_i = best_time(lambda: lens.dir_to_pixel(dirs), repeat=repeat)
-        del dirs, valid
-        base_f = min(base_f, best_time(equirect_forward, repeat=2))
-        base_i = min(base_i, best_time(equirect_inverse, repeat=2))
-        rows.append((spec, lens.name, t_f, t_i))
-    print(f"lens models on a {n} x {n} grid ({count / 1e6:.1f} M directions); baselines: plain NumPy equirect "
-          f"(best of all their runs)")
     print(ratio_line("baseline forward (pixel -> dir)", base_f, base_f, f"{count / base_f / 1e6:7.1f} Mdir/s"))
     print(ratio_line("baseline inverse (dir -> pixel)", base_i, base_i, f"{count / base_i / 1e6:7.1f} Mdir/s"))
-    for spec, name, t_f, t_i in rows:
-        for label, t, base, key in (("p2d", t_f, base_f, "p2d"), ("d2p", t_i, base_i, "d2p")):
-            mark = "  (solve)" if (name, key) in SOLVED else ""
-            print(ratio_line(f"{spec[:34]} {label}", t, base, f"{count / t / 1e6:7.1f} Mdir/s{mark}"))
+    for spec in specs:
+        lens = make_lens(spec, (n, n))
+        t_f, b_f = paired(lambda: lens.pixel_to_dir(xy), equirect_forward)
+        dirs, valid = lens.pixel_to_dir(xy)
+        t_i, b_i = paired(lambda: lens.dir_to_pixel(dirs), equirect_inverse)
+        del dirs, valid
+        for label, t, base, key in (("p2d", t_f, b_f, "p2d"), ("d2p", t_i, b_i, "d2p")):
+            mark = "  (solve)" if (lens.name, key) in SOLVED else ""
+            print(ratio_line(f"{spec[:34]} {label}", t, base, f"{count / t / 1e6:7.1f} Mdir/s{mark}"), flush=True)
     return 0

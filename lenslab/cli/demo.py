@@ -46,7 +46,7 @@ PRESETS = {
 SCENE = "cornell"
 INTEGRATOR = "path"
 MAX_DEPTH = 8
-# The eye: inside the box, centred left-right, a little above mid height, 6 cm behind its open front
+# The eye: inside the box, centred left-right, a little above mid height, 6 cm in from its open front
 # (metres), so a forward fisheye sees all five walls, both blocks and the light.
 EYE = (0.278, 0.30, 0.06)
 WARP = {"filter": "bilinear", "samples": 1, "antialias": True}
@@ -63,7 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quality", choices=sorted(PRESETS), default="fast",
                         help="fast: 1024x512 panorama at 8 spp, 256 px views, direct traces at 32 spp, well under a "
                              "minute (default); "
-                             "full: 2048x1024 at 32 spp, 512 px views, direct traces at 128 spp, a few minutes")
+                             "full: 2048x1024 at 32 spp, 512 px views, direct traces at 128 spp, several minutes")
     parser.add_argument("--size", metavar="WxH", type=_size,
                         help="panorama size, width twice the height (default: from --quality)")
     parser.add_argument("--view-size", metavar="N", type=_positive_int,

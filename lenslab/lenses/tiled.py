@@ -221,15 +221,16 @@ class Tiled(Lens):
         d = normalize(as_points(dirs, 3, "directions"))
         flat = d.reshape(-1, 3)
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)
-        free = np.any(flat != 0, axis=-1)  # directions no tile has claimed yet
+        seen_any = np.any(flat != 0, axis=-1)  # zero vectors (and so non-finite input) are never seen
+        free = seen_any.copy()  # directions no tile has claimed yet
         tw, th = self.tile_size
         tiles = [(k, t) for k, t in enumerate(self.tile_list) if t is not None]
         # each tile's lens only sees directions within its reach of the tile's axis: one product
         # gives every direction's cosine to every tile axis
         axes = np.array([t.pose.rotation[:, 2] for _, t in tiles]).reshape(-1, 3)
-        along = flat @ np.ascontiguousarray(axes.T) if tiles else None
+        along = axes @ flat.T  # (tiles, n): one row per tile
         for j, (k, tile) in enumerate(tiles):
-            cand = free & (along[:, j] >= tile.cos_reach) if tile.cos_reach > -1.0 else free
+            cand = free & (along[j] >= tile.cos_reach) if tile.cos_reach > -1.0 else free
             cand = np.flatnonzero(cand)
             if cand.size == 0:
                 continue
@@ -243,7 +244,7 @@ class Tiled(Lens):
             loc += ((k % self.cols) * tw, (k // self.cols) * th)
             xy[hit] = loc
             free[hit] = False
-        valid = np.any(flat != 0, axis=-1) & ~free
+        valid = seen_any & ~free
         return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
     def pixel_origin(self, xy) -> np.ndarray:

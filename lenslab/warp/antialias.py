@@ -12,9 +12,12 @@ prefilter spends the work only where it is needed:
 2. A box-filtered pyramid of the source (each level halves the previous by 2x2 averaging; the seam
    and pole structure of an equirect survives the halving) provides pre-averaged texels.
 3. The level ``L`` is the finest at which the footprint spans at most ``MAX_TAPS`` texels along its
-   longer side; the parallelogram is then covered by a grid of ``na x nb`` bilinear taps at most
-   ``1/DENSITY`` texel apart along ``a`` and ``b`` (anisotropic: a long thin footprint near a pole gets
-   many taps along its length, few across), and the taps are averaged.
+   longer side; the parallelogram is then split into ``na x nb`` cells, about ``1/DENSITY`` texel
+   each along ``a`` and ``b`` (anisotropic: a long thin footprint near a pole gets many cells along
+   its length, few across), or kept whole when its edges lie within ``AXIS_TOL`` texel of the axes.
+4. Each cell is replaced by the axis-aligned box with the same second moments, and the bilinear
+   reconstruction is averaged over that box exactly: separable weights, the tent integrated over the
+   box (:func:`_box_tent`). The cells' means are averaged.
 
 The result approximates the box average of the bilinear reconstruction over the pixel, which is what
 dense supersampling converges to; ``lenslab bench warp`` measures the difference on real panoramas.
@@ -37,6 +40,7 @@ from lenslab.warp.seam import Border, fold_index
 JACOBIAN_POINTS = 5  # map evaluations per sample: the centre and the four secant ends
 EDGE_SPLIT = 4  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
 MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from
+AXIS_TOL = 0.25  # texels: a footprint whose edges stray less than this from the axes is one box
 DENSITY = 0.75  # cells per texel along each side of the footprint (measured best accuracy per cost)
 
 
@@ -120,13 +124,25 @@ def _secants(xs, ys, vs, wrap, foot):
                     foot[r, c, k, 2 * axis + 1] = dy
 
 
-def pyramid(src: np.ndarray, border: Border) -> numba.typed.List:
+@dataclass
+class Pyramid:
+    """Box-filtered levels of a source: level 0 is the source itself, the others packed in one buffer."""
+
+    level0: np.ndarray  # the source, flattened (a view, no copy)
+    rest: np.ndarray  # levels 1.. one after the other, flattened float32
+    shapes: np.ndarray  # (L, 2) int64: (height, width) of each level
+    offsets: np.ndarray  # (L,) int64: start of each level in ``rest`` (0 for level 0)
+    channels: int
+    source: np.ndarray  # the source, H x W x C
+
+
+def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     """Box-filtered levels of ``src``: level 0 is ``src``, each next one halves it (2x2 mean).
 
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
-    or below 2 pixels.
+    or below 2 pixels. The extra levels take a third of the source's memory.
     """
-    levels = [src]
+    levels = []
     cur = src
     while cur.shape[0] >= 2 and cur.shape[1] >= 2 and cur.shape[0] % 2 == 0 and cur.shape[1] % 2 == 0:
         nxt = cv2.resize(cur, (cur.shape[1] // 2, cur.shape[0] // 2), interpolation=cv2.INTER_AREA)
@@ -134,17 +150,21 @@ def pyramid(src: np.ndarray, border: Border) -> numba.typed.List:
             nxt = nxt[..., None]
         levels.append(np.ascontiguousarray(nxt, dtype=np.float32))
         cur = nxt
-    return numba.typed.List(levels)
+    shapes = np.array([src.shape[:2]] + [lv.shape[:2] for lv in levels], dtype=np.int64)
+    sizes = [lv.size for lv in levels]
+    offsets = np.concatenate([[0, 0], np.cumsum(sizes)[:-1]]).astype(np.int64)[:len(shapes)]
+    rest = np.concatenate([lv.reshape(-1) for lv in levels]) if levels else np.zeros(1, np.float32)
+    return Pyramid(src.reshape(-1), rest, shapes, offsets, src.shape[2], src)
 
 
-def sample_footprint(levels: numba.typed.List, band: FootprintBand, border: Border, out: np.ndarray,
+def sample_footprint(pyr: Pyramid, band: FootprintBand, border: Border, out: np.ndarray,
                      alpha: np.ndarray) -> None:
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
-    _footprint(levels, band.xs, band.ys, band.valid & ~band.edge, band.foot, wrap, top, bottom, MAX_TAPS, DENSITY,
-               out, alpha, work=16 * band.xs.size)
+    _footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, band.xs, band.ys, band.valid & ~band.edge,
+               band.foot, wrap, top, bottom, MAX_TAPS, DENSITY, out, alpha, work=16 * band.xs.size)
     if len(band.edge_idx):
-        _edges(levels[0], band.edge_idx, band.edge_xs, band.edge_ys, band.edge_valid, band.xs.shape[2],
+        _edges(pyr.source, band.edge_idx, band.edge_xs, band.edge_ys, band.edge_valid, band.xs.shape[2],
                wrap, top, bottom, out, alpha)
 
 
@@ -193,9 +213,9 @@ def _box_tent(d, width):
 
 
 @numba.njit(inline="always", cache=True)
-def _box_at(img, x, y, bw, bh, wrap, top, bottom, acc, weight, kx, ky):
-    """Add ``weight`` x the mean of img's bilinear reconstruction over the box (bw x bh) centred at (x, y)."""
-    sh, sw, nc = img.shape
+def _box_at(buf, base, sh, sw, nc, x, y, bw, bh, wrap, top, bottom, acc, weight, kx, ky):
+    """Add ``weight`` x the mean of a level's bilinear reconstruction over the box (bw x bh) centred at
+    (x, y); the level is ``buf[base:]``, ``sh x sw x nc``."""
     rx = 1.0 + 0.5 * bw
     ry = 1.0 + 0.5 * bh
     i0 = int(np.floor(x - rx)) + 1
@@ -221,20 +241,22 @@ def _box_at(img, x, y, bw, bh, wrap, top, bottom, acc, weight, kx, ky):
             if ww == 0.0:
                 continue
             if inside:
-                ii, jj = i0 + i, j0 + j
+                p = base + ((j0 + j) * sw + i0 + i) * nc
             else:
                 ii, jj = fold_index(i0 + i, j0 + j, sw, sh, wrap, top, bottom)
+                p = base + (jj * sw + ii) * nc
             for ch in range(nc):
-                acc[ch] += ww * img[jj, ii, ch]
+                acc[ch] += ww * buf[p + ch]
 
 
 @kernel.options(fastmath=True)
-def _footprint(pyr, xs, ys, valid, foot, wrap, top, bottom, max_taps, density, out, alpha):
+def _footprint(level0, rest, shapes, offsets, xs, ys, valid, foot, wrap, top, bottom, max_taps, density,
+               out, alpha):
     h, w, n = xs.shape
     nc = out.shape[2]
-    nlev = len(pyr)
+    nlev = shapes.shape[0]
     inv = 1.0 / n
-    h0 = pyr[0].shape[0]
+    h0 = shapes[0, 0]
     for r in prange(h):
         acc = np.zeros(nc)
         kx = np.zeros(8)
@@ -256,10 +278,14 @@ def _footprint(pyr, xs, ys, valid, foot, wrap, top, bottom, max_taps, density, o
                 lev = 0
                 while lev + 1 < nlev and longest > max_taps * (1 << lev):
                     lev += 1
-                img = pyr[lev]
-                scale = img.shape[0] / h0  # texels of this level per source pixel
+                lh = shapes[lev, 0]
+                lw = shapes[lev, 1]
+                scale = lh / h0  # texels of this level per source pixel
                 na = max(1, int(np.ceil(la * scale * density)))
                 nb = max(1, int(np.ceil(lb * scale * density)))
+                if (la * scale <= 3.0 and lb * scale <= 3.0 and min(abs(ax), abs(ay)) * scale <= AXIS_TOL
+                        and min(abs(bx), abs(by)) * scale <= AXIS_TOL):
+                    na = nb = 1  # edges within AXIS_TOL texel of the axes: one box covers it exactly enough
                 # each of the na x nb cells of the footprint is averaged over the axis-aligned box
                 # with the same second moments (exact for an axis-aligned footprint)
                 bw = min(3.0, scale * np.sqrt((ax / na) ** 2 + (bx / nb) ** 2))
@@ -273,7 +299,11 @@ def _footprint(pyr, xs, ys, valid, foot, wrap, top, bottom, max_taps, density, o
                         fa = (i + 0.5) / na - 0.5
                         px = (cx + fa * ax + fb * bx) * scale - 0.5
                         py = (cy + fa * ay + fb * by) * scale - 0.5
-                        _box_at(img, px, py, bw, bh, wrap, top, bottom, acc, wgt, kx, ky)
+                        if lev == 0:
+                            _box_at(level0, 0, lh, lw, nc, px, py, bw, bh, wrap, top, bottom, acc, wgt, kx, ky)
+                        else:
+                            _box_at(rest, offsets[lev], lh, lw, nc, px, py, bw, bh, wrap, top, bottom, acc, wgt,
+                                    kx, ky)
             for ch in range(nc):
                 out[r, c, ch] = acc[ch] * inv
             alpha[r, c] = hits * inv

@@ -43,6 +43,8 @@ from lenslab.lenses import Camera, rotation_between, sample_offsets
 PIECEWISE_MODELS = frozenset({"tiled", "cubemap"})
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
+#: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
+CHECK_POINTS = ((0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75))
 LATTICE_TOL = 2e-3  # source pixels: the largest interpolation error a lattice cell may show at its checks
 
 
@@ -175,7 +177,7 @@ class Mapper:
             ok_dir = win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd)
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it)
-        for tx, ty in ((0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)):
+        for tx, ty in CHECK_POINTS:
             gx = (np.arange(ncx) + tx) * s
             gy = (np.arange(ncy) + ty) * s
             exy, ev, evd = _chunked(self.src, self.dst, np.stack(np.meshgrid(gx, gy, indexing="xy"), axis=-1), False)
