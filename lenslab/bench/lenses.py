@@ -2,10 +2,13 @@
 2048 x 2048 grid of pixel centres (--size to change), as a ratio against plain NumPy evaluating the
 equirect formula on the same grid in the same run (forward: phi, theta -> d; inverse: two atan2).
 
-dir_to_pixel is fed each model's own output directions. The aim is every model within 3x of the
-baseline, except the numerically inverted sides (marked "solve"): the division-model distortions'
-dir_to_pixel, the Brown polynomial's pixel_to_dir and the seed fisheye's dir_to_pixel, which run a
-bracketed Newton iteration per element.
+dir_to_pixel is fed each model's own output directions. Each figure is timed interleaved with its
+baseline (the machine's load varies), best of --repeat runs of each. The aim is every model within 3x
+of the baseline, except the numerically inverted sides (marked "solve"): the division-model
+distortions' dir_to_pixel, the Brown polynomial's pixel_to_dir and the seed fisheye's dir_to_pixel,
+which run a compiled bracketed Newton iteration per element (the seed fisheye's needs four
+transcendental functions per step, about 5x); and the tiled grid's dir_to_pixel, which searches its
+tiles in order for the first that sees each direction (about 6x for 2x2).
 """
 
 from __future__ import annotations

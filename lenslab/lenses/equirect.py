@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Lens, Param, as_points, clean, normalize
+from lenslab.lenses.base import FLOAT, Lens, Param, as_points, clean
 from lenslab.lenses.registry import register
 
 

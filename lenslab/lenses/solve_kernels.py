@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numba
-import numpy as np
 
 JIT = dict(cache=True, error_model="numpy")
 

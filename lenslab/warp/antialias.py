@@ -193,14 +193,10 @@ def _bilinear_at(img, x, y, wrap, top, bottom, acc, weight):
 
 @numba.njit(inline="always", cache=True)
 def _tent_cdf(u):
-    """Integral of the tent max(0, 1 - |t|) from -inf to u."""
-    if u <= -1.0:
-        return 0.0
-    if u < 0.0:
-        return 0.5 * (u + 1.0) * (u + 1.0)
-    if u < 1.0:
-        return 1.0 - 0.5 * (1.0 - u) * (1.0 - u)
-    return 1.0
+    """Integral of the tent max(0, 1 - |t|) from -inf to u: 0.5 + v - v|v|/2 with v = clip(u, -1, 1)
+    (the two quadratic pieces in one branch-free form)."""
+    v = min(1.0, max(-1.0, u))
+    return 0.5 + v - 0.5 * v * abs(v)
 
 
 @numba.njit(inline="always", cache=True)

@@ -46,7 +46,12 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     wrap, top, bottom = border.flags
     if kind == 1:
         sh, sw, nc = src.shape
-        _bilinear(src.reshape(-1), sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha, work=xs.size)
+        if xs.shape[2] == 1:  # one sample per pixel: 2-D maps (views, no copy)
+            one = _bilinear1_rgb if nc == 3 else _bilinear1
+            one(src.reshape(-1), sw, sh, nc, xs[..., 0], ys[..., 0], valid[..., 0], wrap, top, bottom, out, alpha,
+                work=xs.size)
+        else:
+            _bilinear(src.reshape(-1), sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha, work=xs.size)
     else:
         _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha, work=xs.size * (4 if kind else 1))
 
@@ -109,6 +114,61 @@ def _bilinear(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
                 for ch in range(nc):
                     out[r, c, ch] = acc[ch] * inv
             alpha[r, c] = hits * inv
+
+
+@kernel.options(fastmath=True, error_model="numpy")
+def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
+    """One sample per pixel (the common case, and the cached-map batch path): no accumulation, lerps."""
+    h, w = xs.shape
+    for r in prange(h):
+        for c in range(w):
+            if not valid[r, c]:
+                for ch in range(nc):
+                    out[r, c, ch] = 0.0
+                alpha[r, c] = 0.0
+                continue
+            x = xs[r, c]
+            y = ys[r, c]
+            fx0 = np.floor(x)
+            fy0 = np.floor(y)
+            tx = x - fx0
+            ty = y - fy0
+            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
+            for ch in range(nc):
+                a = flat[p00 + ch]
+                b = flat[p01 + ch]
+                upper = a + tx * (flat[p10 + ch] - a)
+                lower = b + tx * (flat[p11 + ch] - b)
+                out[r, c, ch] = upper + ty * (lower - upper)
+            alpha[r, c] = 1.0
+
+
+@kernel.options(fastmath=True, error_model="numpy")
+def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
+    """:func:`_bilinear1` for three channels (the channel loop unrolled by the compiler)."""
+    h, w = xs.shape
+    for r in prange(h):
+        for c in range(w):
+            if not valid[r, c]:
+                out[r, c, 0] = 0.0
+                out[r, c, 1] = 0.0
+                out[r, c, 2] = 0.0
+                alpha[r, c] = 0.0
+                continue
+            x = xs[r, c]
+            y = ys[r, c]
+            fx0 = np.floor(x)
+            fy0 = np.floor(y)
+            tx = x - fx0
+            ty = y - fy0
+            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, 3, wrap, top, bottom)
+            for ch in range(3):
+                a = flat[p00 + ch]
+                b = flat[p01 + ch]
+                upper = a + tx * (flat[p10 + ch] - a)
+                lower = b + tx * (flat[p11 + ch] - b)
+                out[r, c, ch] = upper + ty * (lower - upper)
+            alpha[r, c] = 1.0
 
 
 @numba.njit(inline="always", cache=True)

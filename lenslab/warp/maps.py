@@ -99,7 +99,7 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
     d, valid_dst = dst.lens.pixel_to_dir(points)
     r = rotation_between(src, dst)
     if not np.array_equal(r, np.eye(3)):
-        d = np.einsum("...j,ij->...i", d, r)
+        d = d @ r.T
     xy, valid_src = src.lens.dir_to_pixel(d)  # zero where invalid (a zero direction is invalid)
     if with_dirs:
         return xy, valid_dst & valid_src, valid_dst, d
@@ -185,8 +185,7 @@ class Mapper:
             ok &= ev & self._close(ix, iy, exy)
             dead &= ~evd
             if self.sphere:
-                wx, wy = _CR @ tx ** np.arange(4), _CR @ ty ** np.arange(4)
-                d = np.stack([np.einsum("j,...ji,i->...", wy, win(n, (4, 4)), wx) for n in nodes[2:]], axis=-1)
+                d = np.stack([_lattice_grid(n, n, tx, ty, 0.0)[0] for n in nodes[2:]], axis=-1)
                 px, py = _sphere_project(d, self.src.lens.width, self.src.lens.height)
                 ok_dir &= ev & self._close(px, py, exy)
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
@@ -218,14 +217,10 @@ class Mapper:
     def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
         tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
-        nodes = self.lattice[0][:, cb0:cb1 + 3]
-        p = np.lib.stride_tricks.sliding_window_view(nodes, (4, 4), axis=(1, 2))  # (K, rows, ncx, 4, 4) [j, i]
-        if self.wrap:
-            px = p[0]
-            p = p.copy()
-            p[0] = px - self.wrap * np.round((px - px[..., 1:2, 1:2]) / self.wrap)
-        coef = _CR.T @ p @ _CR  # c[b, a] = sum_ji CR[j, b] p[j, i] CR[i, a]
-        return np.ascontiguousarray(np.moveaxis(coef, 0, 2))
+        nodes, state = self.lattice
+        coef = np.zeros((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))
+        _cell_coefficients(nodes, state, cb0, cb1, self.wrap, _CR, coef)
+        return coef
 
     @property
     def lattice_fraction(self) -> float:
@@ -372,6 +367,42 @@ def _lattice_grid(nx, ny, tx, ty, wrap):
 _CR = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
 
 
+@numba.njit(cache=True)
+def _cell_coefficients(nodes, state, cb0, cb1, wrap, cr_basis, coef):
+    """Fill ``coef[row, ca, q]`` = CR^T P CR (``c[b, a]`` of tx^a ty^b) for the cells that interpolate:
+    x and y for state 1, the direction for state 2; the x stencil unwrapped across the seam."""
+    ncx = state.shape[1]
+    p = np.empty((4, 4))
+    t = np.empty((4, 4))
+    for cb in range(cb0, cb1):
+        for ca in range(ncx):
+            st = state[cb, ca]
+            if st <= 0:
+                continue
+            q0, q1 = (0, 2) if st == 1 else (2, 5)
+            for q in range(q0, q1):
+                ref = nodes[q, cb + 1, ca + 1]
+                for j in range(4):
+                    for i in range(4):
+                        v = nodes[q, cb + j, ca + i]
+                        if q == 0 and wrap > 0.0:
+                            v -= wrap * np.floor((v - ref) / wrap + 0.5)
+                        p[j, i] = v
+                # t = p @ CR, then c = CR^T @ t
+                for j in range(4):
+                    for a in range(4):
+                        acc = 0.0
+                        for i in range(4):
+                            acc += p[j, i] * cr_basis[i, a]
+                        t[j, a] = acc
+                for b in range(4):
+                    for a in range(4):
+                        acc = 0.0
+                        for j in range(4):
+                            acc += cr_basis[j, b] * t[j, a]
+                        coef[cb - cb0, ca, q, b, a] = acc
+
+
 @numba.njit(inline="always", cache=True)
 def _poly(coef, cr, ca, q, tx, ty):
     acc = 0.0
@@ -390,7 +421,7 @@ def _lattice_eval(coef, state, cb0, step, r0, offs, src_w, src_h, xs, ys, valid,
     for r in prange(h):
         ro = r % ho
         for c in range(w):
-            co = c % wo
+            co = c if wo > 1 else 0
             for k in range(n):
                 px = (c + offs[ro, co, k, 0]) * inv
                 py = (r0 + r + offs[ro, co, k, 1]) * inv
