@@ -33,7 +33,6 @@ import numpy as np
 from numba import prange
 
 from lenslab.warp.dispatch import kernel
-
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.seam import Border, fold_index
 

@@ -5,7 +5,7 @@ its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 w
 lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
 working set, plus the map lattice (five float64 per 8 x 8 output pixels). Measured by
 ``lenslab bench warp --big``: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 fisheye
-(0.75 GiB + 0.25 GiB alpha) allocates 54 MiB beyond the output. ``antialias=True`` adds the source's
+(0.75 GiB + 0.25 GiB alpha) allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's
 mip pyramid (a third of the source). A plan made with ``cache=True`` keeps every band's map (for many
 images of the same geometry, see :mod:`lenslab.warp.batch`).
 """

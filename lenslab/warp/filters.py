@@ -26,8 +26,8 @@ import numba
 import numpy as np
 from numba import prange
 
-from lenslab.warp.dispatch import kernel
 
+from lenslab.warp.dispatch import kernel
 from lenslab.warp.seam import fold_index
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")

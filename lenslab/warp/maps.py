@@ -13,16 +13,19 @@ resolves 1/1000 of a pixel.
 Evaluating the lens models for every output sample is the costly part of a warp, so by default the
 map is evaluated exactly on a lattice of nodes every ``step`` output pixels and interpolated in
 between (bicubic Catmull-Rom, in float64, the seam unwrapped). A lattice cell is interpolated only
-where that is safe: all 16 nodes of its stencil are valid and the interpolation agrees with the exact
-map at four interior check points (t = 1/4, 3/4 on each axis) to within ``tol`` source pixels (default
-1/500; the largest error measured anywhere in such cells stays about that size). Errors are measured on
-the sphere: for an equirect source an error in x counts cos(latitude) times (its columns crowd
-together toward the poles), in units of the source's row height. A cell whose 16 nodes
-and check points all lie where the output lens has no ray (outside a fisheye's circle) is empty. Every
-other cell
-(the rim of a fisheye, a pole, the seam of an equirect output, a fold of a distortion model, the
-edges between tiles or cube faces) is computed exactly, sample by sample. ``exact=True`` skips the
-lattice altogether.
+where that is safe: its 4 corners are valid, its 16 stencil nodes have values (invalid nodes just
+outside the valid region get extrapolated ghost values) and the interpolation agrees with the exact map
+at four interior check points (t = 1/4, 3/4 on each axis) to within ``tol`` source pixels (default
+1/500; the largest error measured anywhere in such cells is about 1/250, see the tests). Errors are
+measured on the sphere: for an equirect source an error in x counts cos(latitude) times (its columns
+crowd together toward the poles), in units of the source's row height.
+
+For a full-sphere equirect source, a cell that fails (near a pole, where longitude is singular) gets a
+second chance: the ray *direction* is interpolated instead (smooth there) and projected exactly. A cell
+whose 16 nodes and check points all lie where the output lens has no ray (outside a fisheye's circle)
+is empty. Every other cell (the rim of a fisheye, a fold of a distortion model, a strongly curved swirl)
+is computed exactly, sample by sample; so are tiled and cube-map cameras, whose maps jump between
+tiles and faces. ``exact=True`` skips the lattice altogether.
 """
 
 from __future__ import annotations
@@ -34,10 +37,9 @@ import numba
 import numpy as np
 from numba import prange
 
-from lenslab.warp.dispatch import kernel
-
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
+from lenslab.warp.dispatch import kernel
 
 #: Lens models whose maps are piecewise (tiles, cube faces): never interpolated across cells.
 PIECEWISE_MODELS = frozenset({"tiled", "cubemap"})
