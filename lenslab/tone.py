@@ -25,7 +25,10 @@ curves (aces-hill, agx, pbr-neutral) use such a form on grey and on luminance.
 
 Speed: the closed-form curves run over the image in cache-sized blocks with in-place float32
 ufuncs, exposure folded into the curve's constants, so one sweep through memory does the repair,
-the exposure and the curve.
+the exposure and the curve. Powers are float32 log2/exp2 pairs whose arguments are kept away from
+log2(0) and from denormal results of exp2 (NumPy's SIMD loops leave their fast path there and run
+10 to 100 times slower: a black border would otherwise cost more than the rest of the image); the
+offset this floor leaves is subtracted, so 0 still maps to exactly 0.
 """
 
 from __future__ import annotations
@@ -54,7 +57,11 @@ MIDDLE_GREY = 0.18
 EXPOSURE_RANGE = (-100.0, 100.0)
 _BLOCK = 1 << 16  # values per block: the block and two scratch buffers stay inside a core's L2 cache
 _TINY = F32(1e-37)  # smallest luminance divided by (below it a pixel is black to float32)
+# the clip ufunc itself: np.clip's argument handling costs ~3 us a call, more than clipping a block
+# in cache; where numpy does not expose it, np.clip does the same
+_clip = getattr(getattr(getattr(np, "_core", None), "umath", None), "clip", None) or np.clip
 _BIG = F32(1e15)  # inputs are capped here where a curve squares them (1e30 still fits in float32)
+_FMAX = F32(np.finfo(np.float32).max)
 
 
 class ToneWarning(UserWarning):
@@ -214,49 +221,86 @@ def _build_clamp(p, scale):
         if s != 1:
             np.multiply(src, s, out=dst)
             src = dst
-        np.clip(src, F32(0), F32(1), out=dst)
+        _clip(src, F32(0), F32(1), out=dst)
     return k
 
 
-_EOTF_CELLS = 1 << 16
+# The sRGB EOTF (IEC 61966-2-1, as colour-science's ``eotf_sRGB`` defines it): v / 12.92 up to
+# v = 0.04045, ((v + 0.055) / 1.055)^2.4 above
+_SRGB_KNEE, _SRGB_SLOPE, _SRGB_OFFSET, _SRGB_POWER = 0.04045, 12.92, 0.055, 2.4
+# smallest input the gamma kernel takes the log of: float32 log2 and exp2 run at full SIMD speed only
+# away from 0 (log2(0) = -inf) and from denormal results (exp2 below -126), which cost 10 to 100 times more
+_LOG2_FLOOR = -126.0
 
 
-@functools.lru_cache(maxsize=1)
-def _srgb_eotf_table() -> np.ndarray:
-    """colour-science's sRGB EOTF sampled at 2^16 + 1 even points of [0, 1], as float32 pairs
-    (value at cell start, value at cell end) so that one gather fetches both.
+def _gamma_steps(values: np.ndarray, scale, inv: np.float32, floor: np.float32) -> np.ndarray:
+    """v = min(x, 1)^(1/gamma) as the kernel computes it: exp2(log2(clip(s x, floor, 1)) / gamma)."""
+    v = np.multiply(values, F32(scale), dtype=F32) if scale != 1 else values.astype(F32, copy=True)
+    _clip(v, floor, F32(1), out=v)
+    np.log2(v, out=v)
+    v *= inv
+    np.exp2(v, out=v)
+    return v
 
-    Linear interpolation between them is off by at most h^2/8 max|f''| ~ 1e-10 (h = 2^-16): below
-    float32's resolution, at table-lookup speed.
-    """
-    import colour
 
-    table = np.asarray(colour.models.eotf_sRGB(np.linspace(0.0, 1.0, _EOTF_CELLS + 1)), dtype=np.float64)
-    return np.stack([table[:-1], table[1:]], axis=1).astype(F32)
+def _srgb_power_steps(v: np.ndarray, out: np.ndarray, gain) -> np.ndarray:
+    """The power segment of the sRGB EOTF on max(v, knee), as the kernel computes it (in float32:
+    gain exp2(2.4 log2(u + 0.055)), gain = 1.055^-2.4 to an ulp; every step monotone)."""
+    _clip(v, F32(_SRGB_KNEE), F32(1), out=out)
+    out += F32(_SRGB_OFFSET)
+    np.log2(out, out=out)
+    out *= F32(_SRGB_POWER)
+    np.exp2(out, out=out)
+    out *= gain
+    return out
 
 
 def _build_gamma(p, scale):
-    s, inv = F32(scale), F32(1.0 / p["gamma"])
-    pairs = _srgb_eotf_table()
-    cells = F32(_EOTF_CELLS)
+    """y = sRGB_EOTF(v), v = min(x, 1)^(1/gamma), in closed form with float32 log2/exp2 (no table).
+
+    Written as y = (clip(v, v0, knee) - v0) / 12.92' + (P(max(v, knee)) - P(knee)), P the power
+    segment, v0 the value of v at the smallest input taken (see ``floor``) and 12.92' the slope that
+    maps [v0, knee] onto [0, knee / 12.92] (v0 = 2^(-149/gamma) is below 1e-11 up to gamma 4, where
+    the slope is 1/12.92 to float32). A sum of two monotone terms, each exactly 0 at x = 0 (the
+    constants come from the same float32 steps), equal to the EOTF to float32 rounding: the segments
+    meet at the knee to 3e-7 relative, as the standard's constants do."""
+    g = float(p["gamma"])
+    inv = F32(1.0 / g)
+    # the smallest input whose log is taken: exp2's argument log2(x) / gamma stays >= -126 (normal
+    # results, the fast path); inputs below it are black (their true value is below 3e-6 even at gamma 10)
+    floor = F32(max(2.0 ** -149, 2.0 ** (_LOG2_FLOOR * g)))
+    s = F32(scale)
+    v0 = F32(_gamma_steps(np.zeros(16, F32), 1.0, inv, floor)[0])      # v at x = 0
+    knee_lin = F32(_SRGB_KNEE) - v0
+    slope = F32(_SRGB_KNEE / _SRGB_SLOPE / float(knee_lin))
+    # 1.055^-2.4 rounded to float32, nudged by an ulp or two so that x >= 1 gives exactly 1
+    gain = F32((1.0 + _SRGB_OFFSET) ** -_SRGB_POWER)
+    for _ in range(8):
+        p_knee = F32(_srgb_power_steps(np.zeros(16, F32), np.empty(16, F32), gain)[0])
+        p_one = F32(_srgb_power_steps(np.ones(16, F32), np.empty(16, F32), gain)[0])
+        top = F32(knee_lin * slope) + F32(p_one - p_knee)
+        if top == 1:
+            break
+        gain = np.nextafter(gain, F32(np.inf if top < 1 else 0))
+    clip_top = bool(top > 1)  # the value at v = 1 is the largest: clip only if still past 1
 
     def k(src, dst, scratch):
-        t, f = scratch
-        np.multiply(src, s, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
-        np.log2(dst, out=dst)                  # v = x^(1/gamma) = exp2(log2(x) / gamma); 0 -> -inf -> 0
+        a, _ = scratch
+        if s != 1:
+            np.multiply(src, s, out=dst)
+            src = dst
+        _clip(src, floor, F32(1), out=dst)
+        np.log2(dst, out=dst)                  # v = exp2(log2(x) / gamma)
         dst *= inv
         np.exp2(dst, out=dst)
-        dst *= cells                           # then the sRGB EOTF by interpolation in its table
-        np.floor(dst, out=f)
-        np.clip(f, F32(0), F32(_EOTF_CELLS - 1), out=f)
-        np.subtract(dst, f, out=t)             # exact: the fractional part (1 at v = 1)
-        ends = np.take(pairs, f.astype(np.int32), axis=0)
-        lo, hi = ends[:, 0], ends[:, 1]
-        np.subtract(hi, lo, out=dst)
-        dst *= t
-        dst += lo
-        np.minimum(dst, hi, out=dst)           # never past the cell's end: monotone across cells
+        _srgb_power_steps(dst, a, gain)        # the power segment past the knee ...
+        a -= p_knee
+        dst -= v0                              # ... plus the linear one below it
+        _clip(dst, F32(0), knee_lin, out=dst)
+        dst *= slope
+        dst += a
+        if clip_top:
+            _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -291,7 +335,7 @@ def _rational_kernel(a1, a0, b1, b0, cap):
 
     def k_(src, dst, scratch):
         t, u = scratch
-        np.clip(src, F32(0), cap, out=dst)
+        _clip(src, F32(0), cap, out=dst)
         np.multiply(dst, a1, out=t)
         t += a0
         np.multiply(dst, t, out=u)
@@ -300,7 +344,7 @@ def _rational_kernel(a1, a0, b1, b0, cap):
         t += u
         t += k
         np.divide(F32(1), t, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k_
 
 
@@ -380,7 +424,7 @@ def _build_aces_hill(p, scale):
     def k(src, dst, scratch):  # planar (3, n) blocks
         v, t = scratch
         np.matmul(m_in, src, out=v)
-        np.clip(v, F32(0), _BIG, out=v)
+        _clip(v, F32(0), _BIG, out=v)
         # RRTAndODTFit: (v (v + 0.0245786) - 0.000090537) / (v (0.983729 v + 0.4329510) + 0.238081)
         np.multiply(v, F32(0.983729), out=t)
         t += F32(0.4329510)
@@ -391,7 +435,7 @@ def _build_aces_hill(p, scale):
         dst -= F32(0.000090537)
         np.divide(dst, t, out=v)
         np.matmul(m_out, v, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -406,32 +450,49 @@ AGX_MIN_EV, AGX_MAX_EV = -12.47393, 4.026069
 AGX_POLY = (15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232)  # t^6 ... t^0
 
 
+# the 2.2 power takes the log of max(y, this): 2.2 log2 stays above -126, where exp2 is on its fast
+# path (log2(0) and denormal results of exp2 cost 10 to 100 times more); its value is subtracted
+_AGX_POWER_FLOOR = 2.0 ** -56
+
+
+def _agx_power_offset(dtype) -> float:
+    """The value the 2.2 power gives at its floor, computed with the same steps as the kernels."""
+    f = np.full(16, _AGX_POWER_FLOOR, dtype)
+    np.log2(f, out=f)
+    f *= dtype(2.2)
+    np.exp2(f, out=f)
+    return dtype(f[0])
+
+
 def _build_agx(p, scale):
     m_in = (AGX_INSET * scale).astype(F32)
     m_out = AGX_OUTSET.astype(F32)
-    lo, span = F32(AGX_MIN_EV), F32(AGX_MAX_EV - AGX_MIN_EV)
+    # the log2 encoding t = (log2 v - min) / span, clipped to [0, 1]: v is clipped to the encoding's
+    # range first, so that t = log2(v) / span - min / span needs no second clip (to an ulp)
+    v_lo, v_hi = F32(2.0 ** AGX_MIN_EV), F32(2.0 ** AGX_MAX_EV)
+    k, c = F32(1.0 / (AGX_MAX_EV - AGX_MIN_EV)), F32(-AGX_MIN_EV / (AGX_MAX_EV - AGX_MIN_EV))
+    floor, offset = F32(_AGX_POWER_FLOOR), _agx_power_offset(F32)
 
-    def k(src, dst, scratch):  # planar (3, n) blocks
+    def k_(src, dst, scratch):  # planar (3, n) blocks
         v, t = scratch
         np.matmul(m_in, src, out=v)
-        np.clip(v, F32(1e-10), _BIG, out=v)
+        _clip(v, v_lo, v_hi, out=v)
         np.log2(v, out=v)
-        v -= lo
-        v /= span
-        np.clip(v, F32(0), F32(1), out=v)
+        v *= k
+        v += c
         np.multiply(v, F32(AGX_POLY[0]), out=t)   # Horner: the 6th-order fit of the AgX sigmoid
         for coef in AGX_POLY[1:-1]:
             t += F32(coef)
             t *= v
         t += F32(AGX_POLY[-1])
         np.matmul(m_out, t, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
         # the sigmoid's output is display-encoded with a 2.2 power: y = v^2.2 = exp2(2.2 log2 v)
-        with np.errstate(divide="ignore"):
-            np.log2(dst, out=dst)
+        _clip(dst, floor, F32(1), out=dst)
+        np.log2(dst, out=dst)
         dst *= F32(2.2)
         np.exp2(dst, out=dst)
-    return k
+        dst -= offset                              # exactly 0 where the sigmoid is at or below 0
+    return k_
 
 
 def _build_pbr_neutral(p, scale):
@@ -443,18 +504,21 @@ def _build_pbr_neutral(p, scale):
         v, t = scratch
         low, peak, ratio = v[0], v[1], v[2]
         new_peak, h = t[0], t[1]
-        np.multiply(src, s, out=dst)
-        np.clip(dst, F32(0), _BIG, out=dst)
+        x = src  # repaired: finite and >= 0, which is all the steps below need
+        if s != 1:
+            np.multiply(src, s, out=dst)
+            _clip(dst, F32(0), _BIG, out=dst)
+            x = dst
         # toe offset: low - 6.25 low^2 below 0.08, else 0.04 (= the same expression at low = 0.08)
-        np.fmin(np.fmin(dst[0], dst[1], out=low), dst[2], out=low)
-        np.clip(low, F32(0), F32(0.08), out=low)
+        np.fmin(np.fmin(x[0], x[1], out=low), x[2], out=low)
+        _clip(low, F32(0), F32(0.08), out=low)
         np.multiply(low, F32(-6.25), out=h)
         h += F32(1)
         low *= h
-        dst -= low
+        np.subtract(x, low, out=dst)
         np.fmax(np.fmax(dst[0], dst[1], out=peak), dst[2], out=peak)
         # shoulder on the peak: below `start` the factors below are exactly 1 and 0
-        np.clip(peak, F32(start), _BIG, out=peak)
+        _clip(peak, F32(start), _BIG, out=peak)
         np.add(peak, F32(d - start), out=new_peak)
         np.divide(F32(-d * d), new_peak, out=new_peak)
         new_peak += F32(1)
@@ -468,7 +532,7 @@ def _build_pbr_neutral(p, scale):
         h *= new_peak
         dst *= ratio
         dst += h
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -483,18 +547,18 @@ def _build_aces_hill_grey(p, scale):
     def k(src, dst, scratch):
         a, u = scratch
         np.multiply(src, s, out=dst)
-        np.clip(dst, F32(0), _BIG, out=dst)
+        _clip(dst, F32(0), _BIG, out=dst)
         np.divide(F32(q), dst, out=a)
         np.subtract(dst, a, out=a)
         a += F32(pp)
-        np.clip(a, _TINY, None, out=a)       # a = v + p - q/v
+        _clip(a, _TINY, _FMAX, out=a)       # a = v + p - q/v
         np.multiply(dst, a, out=u)           # u = v a = v (v + p) - q
         np.divide(n, u, out=u)
         np.divide(m, a, out=a)
         a += u
         a += F32(c)
         np.divide(F32(1), a, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -509,19 +573,19 @@ def _build_pbr_neutral_grey(p, scale):
     def k(src, dst, scratch):
         a, u = scratch
         np.multiply(src, s, out=dst)
-        np.clip(dst, F32(0), _BIG, out=dst)
-        np.clip(dst, F32(0), F32(0.08), out=a)
+        _clip(dst, F32(0), _BIG, out=dst)
+        _clip(dst, F32(0), F32(0.08), out=a)
         a *= a
         a *= F32(6.25)
         dst -= F32(0.04)
         np.fmax(dst, a, out=dst)                 # z
-        np.clip(dst, F32(start), _BIG, out=a)
+        _clip(dst, F32(start), _BIG, out=a)
         a += F32(d - start)
         np.divide(F32(-d * d), a, out=a)
         a -= at_start                            # s(max(z, start)) - s(start), exactly 0 at start
-        np.clip(dst, F32(0), F32(start), out=dst)
+        _clip(dst, F32(0), F32(start), out=dst)
         dst += a
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -530,23 +594,24 @@ def _build_agx_grey(p, scale):
     matrices (the identity on grey to 4 digits), in float64 so that rounding cannot reverse the order
     of two neighbouring inputs once the result is rounded to float32."""
     lo, span = AGX_MIN_EV, AGX_MAX_EV - AGX_MIN_EV
+    offset = _agx_power_offset(np.float64)
 
     def k(src, dst, scratch):
         v = src.astype(np.float64) * scale
-        np.clip(v, 1e-10, 1e15, out=v)
+        _clip(v, 1e-10, 1e15, out=v)
         np.log2(v, out=v)
         v -= lo
         v /= span
-        np.clip(v, 0.0, 1.0, out=v)
+        _clip(v, 0.0, 1.0, out=v)
         t = np.full_like(v, AGX_POLY[0])
         for coef in AGX_POLY[1:]:
             t *= v
             t += coef
-        np.clip(t, 0.0, 1.0, out=t)
-        with np.errstate(divide="ignore"):
-            np.log2(t, out=t)
+        _clip(t, _AGX_POWER_FLOOR, 1.0, out=t)
+        np.log2(t, out=t)
         t *= 2.2
         np.exp2(t, out=t)
+        t -= offset                          # exactly 0 where the sigmoid is at or below 0
         dst[...] = t
     return k
 
@@ -560,7 +625,7 @@ def _grey_kernel(rgb_kernel, weights):
         out = np.empty((3, src.size), F32)
         rgb_kernel(grey, out, [np.empty_like(out), np.empty_like(out)])
         np.matmul(w, out, out=dst)
-        np.clip(dst, F32(0), F32(1), out=dst)
+        _clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
@@ -714,9 +779,12 @@ def _repair(block: np.ndarray, counts: _Counts) -> np.ndarray:
     return posinf
 
 
+_FIRST_NOT_CLEAN = np.uint32(0x7F800000)  # +inf's bits; NaN lie above, negatives (sign bit set) far above
+
+
 def _clean(block: np.ndarray) -> bool:
-    lo, hi = block.min(), block.max()
-    return bool(lo >= 0) and bool(hi < np.inf)  # NaN fails both comparisons
+    """True when every float32 value is finite and >= +0, tested in one sweep on the bit patterns."""
+    return bool(block.view(np.uint32).max() < _FIRST_NOT_CLEAN)
 
 
 def _sweep_values(flat: np.ndarray, out: np.ndarray, kernel, counts: _Counts) -> None:
@@ -760,45 +828,53 @@ def _sweep_rgb(px: np.ndarray, out: np.ndarray, kernel, counts: _Counts) -> None
 
 
 def _sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: _Counts) -> None:
-    """Curve on luminance, RGB scaled by curve(L)/L; over-range pixels blended toward grey."""
+    """Curve on luminance, RGB scaled by curve(L)/L; over-range pixels blended toward grey.
+
+    One planar copy of each block (contiguous rows keep every ufunc on its fast path); the scaling
+    and the blend toward grey are one multiply-add per channel with per-pixel factors."""
     n = px.shape[0]
     step = _BLOCK // 3
-    w0, w1, w2 = (F32(v) for v in np.asarray(weights, dtype=F32))
-    pl = np.empty((3, min(step, n)), F32)
-    lum, mapped, ratio, peak = (np.empty(min(step, n), F32) for _ in range(4))
-    scratch = [np.empty(min(step, n), F32) for _ in range(2)]
+    size = min(step, n)
+    w = np.asarray(weights, dtype=F32).reshape(1, 3)
+    pl = np.empty((3, size), F32)
+    lum, mapped, ratio, peak = (np.empty(size, F32) for _ in range(4))
+    scratch = [np.empty(size, F32) for _ in range(2)]
+    big = _FMAX
     for s in range(0, n, step):
         e = min(s + step, n)
         m = e - s
         src, dst = px[s:e], out[s:e]
         p = pl[:, :m]
         np.copyto(p, src.T)
+        L, Ld, r, pk = lum[:m], mapped[:m], ratio[:m], peak[:m]
         inf_cols = None
         if not _clean(p):
             inf_cols = _repair(p, counts).any(axis=0)
-        L, Ld, r, pk = lum[:m], mapped[:m], ratio[:m], peak[:m]
-        np.multiply(p[0], w0, out=L)
-        np.multiply(p[1], w1, out=r)
-        L += r
-        np.multiply(p[2], w2, out=r)
-        L += r
+        np.fmax(p[0], p[1], out=pk)
+        np.fmax(pk, p[2], out=pk)               # the brightest channel
+        np.matmul(w, p, out=L[None])
         kernel(L, Ld, [t[:m] for t in scratch])
-        np.clip(L, _TINY, None, out=L)          # curve(0) = 0, so black pixels get ratio 0
+        L += _TINY                              # exact above 1e-30; curve(0) = 0: black gets ratio 0
         np.divide(Ld, L, out=r)
-        p *= r
-        # where the peak channel passes 1, blend toward grey (Ld, Ld, Ld): t = (1 - Ld) / (peak - Ld),
-        # which is >= 1 (no change) wherever the peak is within range
-        np.fmax(np.fmax(p[0], p[1], out=pk), p[2], out=pk)
+        pk *= r                                 # the brightest channel after scaling
         if pk.max() > 1:
+            # blend toward grey (Ld, Ld, Ld) until the peak fits: out = Ld + (p r - Ld) t with
+            # t = (1 - Ld) / (peak - Ld) clipped to [0, 1], i.e. p (r t) + Ld (1 - t) in one sweep
+            # (t = 1, offset exactly 0, wherever the peak is within range)
+            t, b = scratch[0][:m], scratch[1][:m]
             pk -= Ld
-            np.clip(pk, _TINY, None, out=pk)
-            np.subtract(F32(1), Ld, out=r)
-            r /= pk
-            np.clip(r, F32(0), F32(1), out=r)
-            p -= Ld
+            _clip(pk, _TINY, big, out=pk)
+            np.subtract(F32(1), Ld, out=t)
+            t /= pk
+            _clip(t, F32(0), F32(1), out=t)
+            r *= t
+            np.multiply(Ld, t, out=b)
+            np.subtract(Ld, b, out=b)
             p *= r
-            p += Ld
-            np.clip(p, F32(0), F32(1), out=p)
+            p += b
+            _clip(p, F32(0), F32(1), out=p)
+        else:
+            p *= r
         if inf_cols is not None:
             p[:, inf_cols] = 1
         for c in range(3):
@@ -934,8 +1010,9 @@ def clamp(x) -> np.ndarray:
 def gamma(x, gamma: float = 2.2) -> np.ndarray:
     """Plain display gamma: code value v = min(x, 1)^(1/gamma) instead of the sRGB curve.
 
-    Returned display-linear as y = sRGB_EOTF(v) (colour-science), so that the sRGB encoding done when
-    writing yields exactly v, as renderers that write ``pow(c, 1/2.2)`` do.
+    Returned display-linear as y = sRGB_EOTF(v) (IEC 61966-2-1 as colour-science defines it,
+    evaluated in closed form to float32 rounding), so that the sRGB encoding done when writing yields
+    v, as renderers that write ``pow(c, 1/2.2)`` do. Exactly 0 at 0 and exactly 1 from x = 1 up.
     """
     return _values("gamma", x, {"gamma": gamma})
 

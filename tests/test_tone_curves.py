@@ -233,3 +233,49 @@ def test_rgb_curves_on_grey_agree_with_their_scalar_form(name):
     # the RGB matrices are the identity on grey only to 4-5 digits (row sums 1 +- 1.4e-4), which
     # the curves' slopes (< 1.5 per unit) carry through: 5e-6 bounds what is left after weighing
     np.testing.assert_allclose(tone.tonemap(x, name), rgb @ tone.luminance_weights(), atol=5e-6)
+
+
+@pytest.mark.parametrize("g", [0.5, 1.0, 1.8, 2.2, 2.4, 4.0])
+def test_gamma_is_the_srgb_eotf_of_the_power_for_any_gamma(g):
+    x = np.concatenate([POINTS, np.float32(0.04045) ** g * np.float32([0.999, 1.0, 1.001])]).astype(np.float32)
+    v = np.minimum(x.astype(np.float64), 1.0) ** (1 / g)
+    ref = colour.models.eotf_sRGB(v)
+    got = tone.gamma(x, gamma=g)
+    # four float32 log2/exp2 steps of a few ulps each; 3e-7 more where the sRGB segments meet
+    np.testing.assert_allclose(got, ref, rtol=RTOL, atol=ATOL)
+    assert got[0] == 0.0
+    assert np.all(got[x >= 1] == 1.0)  # white is exactly white, for the writer's sRGB encoding
+    # written through the sRGB encoding, the code value is the plain power: what pow(c, 1/g) gives
+    np.testing.assert_allclose(colour.models.eotf_inverse_sRGB(got.astype(np.float64)), v, atol=2e-6)
+
+
+@pytest.mark.parametrize("g", [0.7, 2.2, 3.0])
+def test_gamma_steps_never_back_across_its_knee_and_floor(g):
+    # consecutive float32 inputs around the input where v reaches the sRGB knee 0.04045, and
+    # around the smallest input whose logarithm is taken (below it the output is exactly 0)
+    knee = np.float32(0.04045 ** g)
+    floor = np.float32(max(2.0 ** -149, 2.0 ** (-126.0 * g)))
+    for centre in (knee, floor, np.float32(1.0)):
+        base = np.int64(centre.view(np.int32))
+        xs = np.clip(base + np.arange(-30000, 30000), 0, None).astype(np.int32).view(np.float32)
+        y = tone.gamma(xs, gamma=g)
+        assert np.all(np.diff(y) >= 0), f"gamma {g} steps back near {centre}"
+        assert np.all((y >= 0) & (y <= 1))
+
+
+def test_luminance_mode_against_an_independent_float64_reference():
+    rng = np.random.default_rng(11)
+    img = (0.3 * np.exp2(rng.normal(0, 2.5, (48, 64, 3)))).astype(np.float32)
+    w = np.array([0.2126, 0.7152, 0.0722])
+    for name in ("clamp", "reinhard", "hable", "gamma"):
+        got = tone.tonemap(img, name, mode="luminance").astype(np.float64)
+        x = img.astype(np.float64)
+        lum = x @ w
+        ld = tone.tonemap(lum.astype(np.float32), name).astype(np.float64)
+        rgb = x * (ld / np.maximum(lum, 1e-300))[..., None]
+        peak = rgb.max(axis=-1, keepdims=True)
+        t = np.clip((1 - ld[..., None]) / np.maximum(peak - ld[..., None], 1e-300), 0, 1)
+        ref = np.clip(ld[..., None] + (rgb - ld[..., None]) * t, 0, 1)
+        # float32 luminance, ratio and blend: a few ulps of values <= 1
+        np.testing.assert_allclose(got, ref, atol=3e-6, err_msg=name)
+        assert got.max() <= 1 and got.min() >= 0

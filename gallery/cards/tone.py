@@ -47,18 +47,15 @@ def tone_curves(page: Page, item: ToneSet | None = None) -> str:
     highlights out; curves that approach it slowly keep detail in lights and skies at the cost of
     contrast. drago and mantiuk depend on the whole image, so they are drawn (dashed) as their response
     to a ramp. ``lenslab curves -o curves.png`` draws this chart."""
-    import argparse
-    import contextlib
-    import io
-
-    from lenslab.cli import curves as curves_command
+    from lenslab.io.atomic import atomic_write_path
+    from lenslab.tone_plot import plot_curves
 
     path, rel = page.new_image_path("tone-curves", "png")
-    names = ",".join(item.curves) if item is not None else ""
+    names = list(item.curves) if item is not None else None
     exposure = float(item.exposure) if item is not None else 0.0
-    args = argparse.Namespace(output=str(path), curves=names, stops=(-10.0, 8.0), exposure=exposure, list=False)
-    with contextlib.redirect_stderr(io.StringIO()):  # the command's own one-line report
-        curves_command.run(args)
+    fig = plot_curves(names, stops=(-10.0, 8.0), exposure=exposure)
+    with atomic_write_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
     img = page.written_image(rel)
     return section("curves", "The tone curves", tone_curves,
                    f'<div class="figures wide">{img.figure(f"tone curves at exposure {exposure:+.2f} EV")}</div>',
