@@ -1,38 +1,33 @@
-"""Compiled kernels in two builds, parallel and serial, chosen per call by the amount of work.
+"""Compiled kernels: one serial build each, run in parallel band by band.
 
-Starting numba's worker threads costs little on an idle machine but up to a scheduler time slice
-(milliseconds) on a busy one, which dominates small calls (a narrow band, a thumbnail). Kernels
-decorated with :func:`kernel` run serially below ``PARALLEL_MIN_WORK`` work items, or when numba is
-limited to one thread, and in parallel otherwise.
+Each kernel is compiled once (numba, cached on disk), serially and without the GIL, so the engine
+runs one band per thread (:func:`run_bands`). A parallel build per kernel would double what a first
+run has to compile, and starting numba's worker threads for each small call costs up to a scheduler
+time slice on a busy machine; whole bands per thread keep every core busy with neither cost.
 """
 
 from __future__ import annotations
 
-import numba
+from concurrent.futures import ThreadPoolExecutor
 
-PARALLEL_MIN_WORK = 1 << 16  # output samples (or similar units) below which a call runs serially
+import numba
 
 
 class Kernel:
-    """A function compiled twice: ``k(*args, work=n)`` picks the build."""
+    """A function compiled once, serially and releasing the GIL; ``k(*args, work=n)`` runs it (``work``
+    is accepted for callers that state the size of the call, and ignored)."""
 
     def __init__(self, fn, **options):
-        self.parallel = numba.njit(parallel=True, cache=True, **options)(fn)
-        # a distinct function object, so that the two builds keep distinct on-disk caches
-        clone = type(fn)(fn.__code__, fn.__globals__, fn.__name__ + "_serial", fn.__defaults__, fn.__closure__)
-        clone.__qualname__ = fn.__qualname__ + "_serial"
-        self.serial = numba.njit(parallel=False, cache=True, **options)(clone)
+        self.serial = numba.njit(cache=True, nogil=True, **options)(fn)
         self.__doc__ = fn.__doc__
         self.__name__ = fn.__name__
 
-    def __call__(self, *args, work: int):
-        if work >= PARALLEL_MIN_WORK and numba.get_num_threads() > 1:
-            return self.parallel(*args)
+    def __call__(self, *args, work: int = 0):
         return self.serial(*args)
 
 
 def kernel(fn) -> Kernel:
-    """Decorator: compile ``fn`` (which may use ``numba.prange``) as a :class:`Kernel`."""
+    """Decorator: compile ``fn`` (``numba.prange`` loops run as plain loops) as a :class:`Kernel`."""
     return Kernel(fn)
 
 
@@ -42,3 +37,32 @@ def _kernel_options(**options):
 
 
 kernel.options = _kernel_options
+
+
+def threads() -> int:
+    """Threads to run bands on: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
+    return max(1, int(numba.get_num_threads()))
+
+
+def run_bands(jobs, work, on_done=None) -> list:
+    """``[work(job) for job in jobs]``, on :func:`threads` threads when there is more than one job
+    (results in order); ``on_done(result)`` is called in the calling thread as each finishes, in order."""
+    jobs = list(jobs)
+    n = min(threads(), len(jobs))
+    if n <= 1:
+        out = []
+        for job in jobs:
+            res = work(job)
+            if on_done is not None:
+                on_done(res)
+            out.append(res)
+        return out
+    with ThreadPoolExecutor(max_workers=n) as pool:
+        futures = [pool.submit(work, job) for job in jobs]
+        out = []
+        for fut in futures:
+            res = fut.result()
+            if on_done is not None:
+                on_done(res)
+            out.append(res)
+        return out

@@ -3,10 +3,11 @@
 Memory stays bounded whatever the sizes: the output is produced in bands of rows, each needing only
 its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 working set of the
 lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
-working set, plus the map lattice (five float64 per 8 x 8 output pixels). Measured by
-``lenslab bench warp --big``: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 fisheye
-(0.75 GiB + 0.25 GiB alpha) allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's
-mip pyramid (a third of the source). A plan made with ``cache=True`` keeps every band's map (for many
+working set per thread (bands run one per thread, ``numba.set_num_threads`` of them at once), plus
+the map lattice (five float64 per 8 x 8 output pixels). Measured by ``lenslab bench warp --big``, one
+thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 fisheye (0.75 GiB + 0.25 GiB alpha)
+allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's mip pyramid (a third of
+the source) and 16 bytes of footprint per output pixel of a band. A plan made with ``cache=True`` keeps every band's map (for many
 images of the same geometry, see :mod:`lenslab.warp.batch`).
 """
 
@@ -20,6 +21,7 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, Pose
 from lenslab.warp import antialias as aa
+from lenslab.warp.dispatch import run_bands, threads
 from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.seam import border_of
@@ -76,8 +78,9 @@ class WarpPlan:
 
     def band_rows(self) -> list[tuple[int, int]]:
         w, h = self.dst.size
-        per = self.samples * (aa.JACOBIAN_POINTS if self.antialias else 1)
+        per = self.samples * (aa.JACOBIAN_POINTS if self.antialias and self.samples > 1 else 1)
         rows = max(1, self.band_points // max(1, w * per))
+        rows = min(rows, -(-h // threads()))  # at least one band per thread
         return [(r, min(h, r + rows)) for r in range(0, h, rows)]
 
     def _offsets(self, r0: int, r1: int) -> np.ndarray:
@@ -153,14 +156,36 @@ class WarpPlan:
                 _render_region(part, src, out, alpha, x0, y0, progress)
             return
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
-        for band in self.bands():
+
+        def draw(band):
             sl = slice(band.r0, band.r1)
             if self.antialias:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+            return band
+
+        def done(band):
             if progress is not None:
                 progress(band.r1 - band.r0)
+
+        if self._bands is not None:
+            run_bands(self._bands, draw, done)
+            return
+        # one band per thread, map and pixels; a band's map is dropped once drawn unless the plan caches
+        if self.cache:
+            self._bands = run_bands(self.band_rows(), lambda rows: draw(self._band(*rows)), done)
+        else:
+            run_bands(self.band_rows(), lambda rows: _Rows(draw(self._band(*rows))), done)
+
+
+class _Rows:
+    """The rows a band covered, without its map (what a plan that does not cache keeps of a band)."""
+
+    __slots__ = ("r0", "r1")
+
+    def __init__(self, band):
+        self.r0, self.r1 = band.r0, band.r1
 
 
 def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:

@@ -11,6 +11,15 @@ continuous neighbourhood:
 - every other border (perspective, fisheye, partial equirect...) clamps to the edge pixel: a point that
   the lens maps inside the image but between its edge and the first pixel centre takes the edge value.
 
+A cube-map or tiled *source* is folded at the edges of the whole image only: inside it, the filters
+see one image, so a sample within the outer half pixel of a face reads the adjacent pixels of the
+layout, which belong to another face (or tile) and generally show another direction. The reach is
+the filter's support beyond the face edge: 1/2 px of interpolation for ``bilinear`` (the taps of the
+pixel across the seam), 1.5 px for ``bicubic``, 2.5 px for ``lanczos``, and with ``antialias`` half the
+footprint plus one texel of the pyramid level read (deeper levels average across faces). Pixels of
+the output that see a source face's outermost pixel row or column are affected; convert such a source
+to equirect first (``lenslab warp --to equirect``) when that matters.
+
 :func:`border_of` describes the border of a lens, :func:`fold_index` applies it to one tap (compiled, used
 by the samplers), and :func:`pad` makes an explicitly padded copy for code that wants plain arrays
 (``cv2.remap``, the mip pyramid of a small level).
