@@ -45,7 +45,7 @@ def _read_bytes(data: bytes, suffix: str = ".img"):
         return lio.read(p)
 
 
-def _only_format_error(data: bytes, suffix: str = ".img") -> None:
+def check_only_format_error(data: bytes, suffix: str = ".img") -> None:
     try:
         img, meta = _read_bytes(data, suffix)
     except FormatError as exc:
@@ -59,7 +59,7 @@ def _only_format_error(data: bytes, suffix: str = ".img") -> None:
 @given(name=st.sampled_from(sorted(VALID)), cut=st.floats(0.0, 1.0, exclude_max=True))
 def test_truncated_files_raise_format_error(name, cut):
     data = VALID[name]
-    _only_format_error(data[: int(len(data) * cut)])
+    check_only_format_error(data[: int(len(data) * cut)])
 
 
 @FUZZ
@@ -69,7 +69,7 @@ def test_bit_flips_raise_only_format_error(name, flips):
     data = bytearray(VALID[name])
     for where, bit in flips:
         data[int(where * len(data))] ^= 1 << bit
-    _only_format_error(bytes(data))
+    check_only_format_error(bytes(data))
 
 
 @FUZZ
@@ -77,7 +77,7 @@ def test_bit_flips_raise_only_format_error(name, flips):
                               b"\x89PNG\r\n\x1a\n", b"\xff\xd8\xff"]),
        rest=st.binary(max_size=200))
 def test_random_payload_after_magic(magic, rest):
-    _only_format_error(magic + rest)
+    check_only_format_error(magic + rest)
 
 
 @FUZZ
@@ -87,7 +87,7 @@ def test_random_payload_after_magic(magic, rest):
        tail=st.binary(max_size=64))
 def test_random_headers(magic, fields, tail):
     header = magic + b"\n" + b" ".join(str(f).encode() for f in fields) + b"\n"
-    _only_format_error(header + tail)
+    check_only_format_error(header + tail)
 
 
 @pytest.mark.parametrize("data, match", [
