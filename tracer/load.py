@@ -98,18 +98,21 @@ def _floats(tokens, n, where):
     return vals
 
 
+def _statements(path: Path):
+    """``(where, keyword, arguments)`` for each non-empty line of an OBJ or MTL file, comments removed."""
+    for lineno, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+        tokens = line.split("#", 1)[0].split()
+        if tokens:
+            yield f"{path}:{lineno}", tokens[0], tokens[1:]
+
+
 def read_mtl(path: Path, ambient_as_emission: bool = False) -> dict[str, Material]:
     """Materials of an MTL file by name."""
     if not path.is_file():
         raise SceneError(f"{path}: the material library named by the OBJ file does not exist")
     raw: dict[str, dict] = {}
     current = None
-    for lineno, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
-        tokens = line.split("#", 1)[0].split()
-        if not tokens:
-            continue
-        key, args = tokens[0], tokens[1:]
-        where = f"{path}:{lineno}"
+    for where, key, args in _statements(path):
         if key == "newmtl":
             if not args:
                 raise SceneError(f"{where}: newmtl without a name")
@@ -149,12 +152,7 @@ def read_obj(path: Path, ambient_as_emission: bool = False, material: Material |
     library: dict[str, Material] = {}
     current = "default"
     dropped = 0
-    for lineno, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
-        tokens = line.split("#", 1)[0].split()
-        if not tokens:
-            continue
-        key, args = tokens[0], tokens[1:]
-        where = f"{path}:{lineno}"
+    for where, key, args in _statements(path):
         if key == "v":
             if len(args) < 3:
                 raise SceneError(f"{where}: a vertex needs x y z, got {' '.join(args)!r}")

@@ -238,13 +238,9 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, pr
 
 def run(args: argparse.Namespace) -> int:
     files, missing = expand_inputs(args.inputs)
-    exposure = args.exposure
-    if exposure != "auto":
-        try:
-            exposure = float(exposure)
-        except ValueError:
-            from lenslab.errors import ToneError
-            raise ToneError(f"--exposure must be a number of stops or 'auto', not {args.exposure!r}") from None
+    from lenslab.cli.options import parse_exposure
+
+    exposure = parse_exposure(args.exposure)
     if args.bits and args.to in ("jpg", "exr", "pfm"):
         from lenslab.errors import FormatError
         raise FormatError(f"--bits applies to png, ppm and pgm, not {args.to}")

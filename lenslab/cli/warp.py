@@ -252,17 +252,15 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from lenslab.cli.convert import expand_inputs
-    from lenslab.errors import LenslabError, ToneError, WarpError
+    from lenslab.errors import LenslabError, WarpError
     from lenslab.warp import WarpPlan
     from lenslab.warp.batch import PlanCache
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
         raise WarpError("give either --look-at or --yaw/--pitch/--roll, not both")
-    if args.exposure != "auto":
-        try:
-            float(args.exposure)
-        except ValueError:
-            raise ToneError(f"--exposure must be a number of stops or 'auto', not {args.exposure!r}") from None
+    from lenslab.cli.options import parse_exposure
+
+    args.exposure = parse_exposure(args.exposure)
     if args.size:
         parse_size(args.size)
     files, missing = expand_inputs(args.inputs)
