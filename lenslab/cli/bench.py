@@ -31,8 +31,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
             continue
         p = sub.add_parser(name, help=help_text, description=(module.__doc__ or help_text).strip())
         module.add_arguments(p)
-        p.set_defaults(_bench=module)
+        p.add_argument("--json", metavar="FILE", default=None,
+                       help="also write every figure, its aim and whether it is met, as JSON to FILE "
+                            "(tools/speed_table.py builds the README's speed table from such files)")
+        p.set_defaults(_bench=module, _bench_name=name)
 
 
 def run(args: argparse.Namespace) -> int:
-    return int(args._bench.run(args) or 0)
+    import sys
+
+    from lenslab.bench import results
+
+    record = results.start()
+    status = int(args._bench.run(args) or 0)
+    if getattr(args, "json", None):
+        results.write(args.json, args._bench_name, record, argv=sys.argv[1:])
+        print(f"figures written to {args.json}")
+    return status
