@@ -15,8 +15,12 @@ from lenslab.lenses.solve import invert_increasing
 from tests.test_lenses_roundtrip import CASES
 
 
-@pytest.mark.parametrize("spec,size", [c for c in CASES if not c[0].startswith(("cubemap", "tiled", "equirect:"))],
-                         ids=[c[0] for c in CASES if not c[0].startswith(("cubemap", "tiled", "equirect:"))])
+#: models whose image centre is not the forward direction (face borders, two lenses, looking down, off centre)
+NOT_CENTRED = ("cubemap", "tiled", "equirect:", "eac", "dual-fisheye", "little-planet", "fisheye:vfov=150")
+
+
+@pytest.mark.parametrize("spec,size", [c for c in CASES if not c[0].startswith(NOT_CENTRED)],
+                         ids=[c[0] for c in CASES if not c[0].startswith(NOT_CENTRED)])
 def test_centre_pixel_is_plus_z(spec, size):
     lens = make_lens(spec, size)
     d, ok = lens.pixel_to_dir([[size[0] / 2, size[1] / 2]])

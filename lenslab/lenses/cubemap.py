@@ -1,4 +1,5 @@
-"""Cube maps: six 90-degree perspective faces in the 3x2 and 6x1 layouts of ffmpeg's v360 filter."""
+"""Cube maps: six 90-degree perspective faces in the 3x2, 6x1 and 1x6 layouts of ffmpeg's v360 filter,
+or a 4x3 cross."""
 
 from __future__ import annotations
 
@@ -19,18 +20,28 @@ FACE_AXES = {
     "f": ((1, 0, 0), (0, -1, 0), (0, 0, 1)),     # front:   d = (uf, -vf, 1)
     "b": ((-1, 0, 0), (0, -1, 0), (0, 0, -1)),   # back:    d = (-uf, -vf, -1)
 }
-LAYOUTS = {"3x2": (3, 2), "6x1": (6, 1)}
+LAYOUTS = {"3x2": (3, 2), "6x1": (6, 1), "1x6": (1, 6), "4x3": (4, 3)}
+#: cells of the grid that hold a face, row by row (the others have no rays): the 4x3 cross has the up
+#: face above the front, left, front, right and back across the middle and the down face below the front
+CELLS = {"3x2": tuple(range(6)), "6x1": tuple(range(6)), "1x6": tuple(range(6)), "4x3": (1, 4, 5, 6, 7, 9)}
+#: the face order a layout takes when ``order`` keeps its default, rludfb
+DEFAULT_ORDER = {"4x3": "ulfrbd"}
 #: pixels by which dir_to_pixel keeps a point off the right and bottom edges of its face
 BORDER_NUDGE = 1e-9
 
 
 @register
 class Cubemap(Lens):
-    r"""Cube map: six 90-degree perspective faces, laid out 3x2 or 6x1 as ffmpeg's v360 filter does.
+    r"""Cube map: six 90-degree perspective faces in a 3x2, 6x1, 1x6 or 4x3-cross layout.
+
+    The first three are ffmpeg v360's ``c3x2``, ``c6x1`` and ``c1x6``.
 
     Faces are ``W/cols x H/rows``, numbered row by row (``face = row * cols + col``); ``order`` names
     the direction of each face in that numbering, ffmpeg's default ``rludfb``: right, left, up,
-    down, front, back (3x2: top row right-left-up, bottom row down-front-back). Inside a face,
+    down, front, back (3x2: top row right-left-up, bottom row down-front-back). The 4x3 cross has
+    faces in six of its twelve cells (the others have no rays): by default up above the front, then
+    left, front, right, back across the middle row and down below the front (``order`` then names the
+    faces of those six cells, row by row, ``ulfrbd``). Inside a face,
     ``uf = 2 (x - col W/cols) / (W/cols) - 1`` and ``vf = 2 (y - row H/rows) / (H/rows) - 1``, and::
 
         right d ~ (1, -vf, -uf)    left d ~ (-1, -vf, uf)    up    d ~ (uf, 1, vf)
@@ -47,7 +58,8 @@ class Cubemap(Lens):
     name = "cubemap"
     summary = "cube map, six 90-degree faces in ffmpeg v360's 3x2 or 6x1 layout"
     params = (
-        Param("layout", "3x2", "face grid: 3x2 (3 columns, 2 rows) or 6x1", choices=tuple(LAYOUTS)),
+        Param("layout", "3x2", "face grid: 3x2 (3 columns, 2 rows), 6x1, 1x6 or the 4x3 cross",
+              choices=tuple(LAYOUTS)),
         Param("order", "rludfb", "direction of each face, row by row: r l u d f b (ffmpeg's in_forder/out_forder)"),
     )
 
@@ -60,10 +72,16 @@ class Cubemap(Lens):
             )
         self.order = order
         self.cols, self.rows = LAYOUTS[self.layout]
-        axes = np.array([FACE_AXES[c] for c in order], dtype=FLOAT)  # (6, 3 vectors, 3)
+        cells = CELLS[self.layout]
+        layout_order = DEFAULT_ORDER.get(self.layout, "rludfb") if order == "rludfb" else order
+        # per grid cell: the face's axes (zero for empty cells) and whether the cell holds a face
+        axes = np.zeros((self.cols * self.rows, 3, 3), dtype=FLOAT)
+        axes[list(cells)] = [FACE_AXES[c] for c in layout_order]
+        self._used = np.zeros(self.cols * self.rows, dtype=bool)
+        self._used[list(cells)] = True
         self._A, self._B, self._C = axes[:, 0], axes[:, 1], axes[:, 2]
-        # slot of each face direction, by the index of its major axis: +x, -x, +y, -y, +z, -z
-        self._slot_of_axis = np.array([order.index(c) for c in "rludfb"])
+        # cell of each face direction, by the index of its major axis: +x, -x, +y, -y, +z, -z
+        self._slot_of_axis = np.array([cells[layout_order.index(c)] for c in "rludfb"])
         # every face's A and B are signed unit axes: on the x faces A is along z and B along y, on the
         # y faces A along x and B along z, on the z faces A along x and B along y; keep their signs
         self._sA = axes[:, 0].sum(axis=1)
@@ -106,7 +124,7 @@ class Cubemap(Lens):
             o += self._B[:, j].take(face) * vf
             o += self._C[:, j].take(face)
             o *= inv
-        return clean(d, self.in_image(xy) & ok, inplace=True)
+        return clean(d, self.in_image(xy) & ok & self._used.take(face), inplace=True)
 
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")

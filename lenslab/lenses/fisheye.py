@@ -38,6 +38,14 @@ class Fisheye(Lens):
     touches the left and right edges, so a pixel on that rim is ``fov/2`` from the axis. Allowed fov: equidistant and equisolid up to 360 (the rim is then the
     back pole -z), stereographic below 360, orthographic up to 180.
 
+    Full-frame and off-centre fisheyes: the field of view may instead be given across the image height
+    (``vfov``: ``a = vfov/2`` at ``r = H/W``) or its diagonal (``dfov``: ``a = dfov/2`` at
+    ``r = hypot(1, H/W)``); ``r`` is then divided by that radius before ``g``. Such a lens is masked only
+    where its mapping ends (equidistant at 180 degrees from the axis, equisolid where ``r sin(F/2)``
+    reaches 1, orthographic at 90 degrees; stereographic never), not at the image's width. ``cx`` and
+    ``cy`` move the centre of the circle from the image centre, in the units of ``(u, v)`` (half the image
+    width; ``cy`` up): ``r = sqrt((u - cx)^2 + (v - cy)^2)``.
+
     The inverse uses ``rho = sqrt(dx^2 + dy^2)`` and ``dz`` (no trigonometry except equidistant's
     ``atan2``): equisolid ``r = rho / (sin(F/2) sqrt(2 (1 + dz)))``, stereographic
     ``r = rho / (tan(F/2) (1 + dz))`` (each with the complementary form behind the camera, where
@@ -52,20 +60,66 @@ class Fisheye(Lens):
               0.0, 360.0, lo_open=True),
         Param("mapping", "equidistant", "angle-from-axis mapping a = g(r)",
               choices=tuple(FOV_LIMITS)),
+        Param("vfov", 0.0, "field of view across the image height instead of fov, degrees (0: use fov); "
+              "masked only where the mapping ends", 0.0, 360.0),
+        Param("dfov", 0.0, "field of view across the image diagonal instead of fov, degrees (0: use fov), "
+              "e.g. a full-frame fisheye; masked only where the mapping ends", 0.0, 360.0),
+        Param("cx", 0.0, "centre of the image circle right of the image centre, in half image widths"),
+        Param("cy", 0.0, "centre of the image circle above the image centre, in half image widths"),
     )
+    #: parameters left out of the spec when they hold these values (so that older specs read the same)
+    quiet_defaults = {"vfov": 0.0, "dfov": 0.0, "cx": 0.0, "cy": 0.0}
 
     def _check(self) -> None:
+        given = [name for name in ("vfov", "dfov") if getattr(self, name) > 0]
+        if len(given) > 1:
+            raise LensError("fisheye: give one of fov, vfov and dfov, not vfov and dfov together")
+        if given and self.fov != 180.0:
+            raise LensError(f"fisheye: give one of fov, vfov and dfov, not fov={self.fov:g} and {given[0]} together")
+        key = given[0] if given else "fov"
+        angle = getattr(self, key)
         hi, closed = FOV_LIMITS[self.mapping]
-        if self.fov > hi or (self.fov == hi and not closed):
+        if angle > hi or (angle == hi and not closed):
             bound = f"<= {hi:g}" if closed else f"< {hi:g}"
             raise LensError(
-                f"fisheye: fov={self.fov:g} is too wide for the {self.mapping} mapping (it needs fov {bound}); "
-                f"use a narrower fov, or mapping=equidistant (up to 360)"
+                f"fisheye: {key}={angle:g} is too wide for the {self.mapping} mapping (it needs {key} {bound}); "
+                f"use a narrower {key}, or mapping=equidistant (up to 360)"
             )
-        self.F = np.radians(self.fov) / 2.0
+        self.F = np.radians(angle) / 2.0
+        #: normalised radius at which the angle from the axis is F: the half width, height or diagonal
+        self.r_ref = {"fov": 1.0, "vfov": self.aspect, "dfov": float(np.hypot(1.0, self.aspect))}[key]
+        #: largest radius (over r_ref) with a ray: the image width for fov, else where the mapping ends
+        self.s_max = 1.0 if key == "fov" else mapping_end(self.mapping, self.F)
+        self._s_max2 = (self.s_max * (1.0 + RIM_SLACK)) ** 2
+
+    def spec(self) -> str:
+        text = super().spec()
+        name, _, rest = text.partition(":")
+        keep = [p for p in rest.split(",")
+                if not (p.partition("=")[0] in self.quiet_defaults
+                        and getattr(self, p.partition("=")[0]) == self.quiet_defaults[p.partition("=")[0]])]
+        if self.vfov > 0 or self.dfov > 0:
+            keep = [p for p in keep if not p.startswith("fov=")]
+        return name + ":" + ",".join(keep)
+
+    def _to_local(self, uv):
+        """(u, v) relative to the circle's centre, over r_ref (a new array only when it differs)."""
+        if self.cx == 0.0 and self.cy == 0.0 and self.r_ref == 1.0:
+            return uv
+        out = uv - (self.cx, self.cy)
+        out /= self.r_ref
+        return out
+
+    def _from_local(self, uv):
+        if self.cx == 0.0 and self.cy == 0.0 and self.r_ref == 1.0:
+            return uv
+        uv *= self.r_ref
+        uv += (self.cx, self.cy)
+        return uv
 
     # -- pixel -> direction ------------------------------------------------------------------
     def uv_to_dir(self, uv):
+        uv = self._to_local(uv)
         u, v = uv[..., 0], uv[..., 1]
         r2 = u * u + v * v
         d = np.empty(uv.shape[:-1] + (3,), dtype=FLOAT)
@@ -98,7 +152,7 @@ class Fisheye(Lens):
             np.sqrt(np.maximum(1.0 - r2 * (s * s), 0.0), out=d[..., 2])
         np.multiply(u, k, out=d[..., 0])
         np.multiply(v, k, out=d[..., 1])
-        return d, r2 <= RIM_R2
+        return d, r2 <= self._s_max2
 
     # -- direction -> pixel ------------------------------------------------------------------
     def dir_to_uv(self, d):
@@ -142,11 +196,24 @@ class Fisheye(Lens):
         uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
         np.multiply(dx, k, out=uv[..., 0])
         np.multiply(dy, k, out=uv[..., 1])
-        valid = r <= 1.0 + RIM_SLACK
+        valid = r <= self.s_max * (1.0 + RIM_SLACK)
         if m == "orthographic":
             valid &= dz >= 0
         # the back pole (seen only at fov 360): every rim point is that direction; take the right edge
         pole = (rho == 0) & (dz < 0)
         if np.any(pole):
-            uv[pole] = (1.0, 0.0)
-        return uv, valid
+            uv[pole] = (self.s_max, 0.0)
+        return self._from_local(uv), valid
+
+
+def mapping_end(mapping: str, F: float) -> float:
+    """Radius (in units of the radius where the angle is F) at which a mapping ends: equidistant at
+    180 degrees from the axis, equisolid where r sin(F/2) = 1 (180 degrees), orthographic at 90 degrees;
+    stereographic reaches 180 degrees only at infinity (a large finite radius stands for it)."""
+    if mapping == "equidistant":
+        return float(np.pi / F)
+    if mapping == "equisolid":
+        return float(1.0 / np.sin(F / 2))
+    if mapping == "orthographic":
+        return float(1.0 / np.sin(F))
+    return 1e6

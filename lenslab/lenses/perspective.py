@@ -16,6 +16,9 @@ class Perspective(Lens):
 
         d ~ (u t, v t_v, 1),  normalised,    t_v = t, or tan(vfov/2) * W/H when vfov is given
 
+    With ``dfov`` (the field of view across the image diagonal) instead, pixels are square and
+    ``t = t_v = tan(dfov/2) / hypot(1, H/W)``.
+
     The inverse is ``u = (dx/dz) / t``, ``v = (dy/dz) / t_v``, valid for ``dz > 0`` inside the image.
     """
 
@@ -24,14 +27,32 @@ class Perspective(Lens):
     params = (
         Param("fov", 90.0, "horizontal field of view, degrees", 0.0, 180.0, lo_open=True, hi_open=True),
         Param("vfov", 0.0, "vertical field of view, degrees (0: square pixels from fov)", 0.0, 180.0, hi_open=True),
+        Param("dfov", 0.0, "diagonal field of view instead of fov, degrees, square pixels (0: use fov)",
+              0.0, 180.0, hi_open=True),
     )
+
+    def _check(self) -> None:
+        from lenslab.errors import LensError
+
+        if self.dfov > 0 and (self.vfov > 0 or self.fov != 90.0):
+            raise LensError("perspective: give dfov alone (square pixels), not with fov or vfov")
+
+    def spec(self) -> str:
+        text = super().spec()
+        if self.dfov > 0:
+            return f"{self.name}:dfov={self.dfov:g}"
+        return text.replace(",dfov=0", "")
 
     @property
     def t(self) -> float:
+        if self.dfov > 0:
+            return float(np.tan(np.radians(self.dfov) / 2) / np.hypot(1.0, self.aspect))
         return float(np.tan(np.radians(self.fov) / 2))
 
     @property
     def tv(self) -> float:
+        if self.dfov > 0:
+            return self.t
         if self.vfov > 0:
             return float(np.tan(np.radians(self.vfov) / 2) / self.aspect)
         return self.t

@@ -1,0 +1,83 @@
+"""Dual fisheye: two fisheye lenses back to back, side by side in one frame (consumer 360 cameras)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses.base import FLOAT, Lens, Param
+from lenslab.lenses.fisheye import FOV_LIMITS, Fisheye
+from lenslab.lenses.registry import register
+
+#: camera -> back-lens frame: the front lens turned half a turn about +y (its right is -x)
+BACK = np.diag([-1.0, 1.0, -1.0])
+
+
+@register
+class DualFisheye(Lens):
+    r"""Two fisheyes back to back, side by side: the front lens (axis +z) and the back lens.
+
+    The back lens looks along -z, turned half a turn about +y (its image right is -x); each lens fills
+    one half of the frame.
+
+    Each half of width ``W/2`` is one :class:`~lenslab.lenses.fisheye.Fisheye` with the given ``fov``
+    and ``mapping``, its circle inscribed in the half's width: ``u_h = 2 (x - x_0) / (W/2) - 1``,
+    ``v_h = (1 - 2y/H) H / (W/2)``. ``front`` says which half holds the front lens (v360's
+    ``dfisheye`` puts it on the right).
+
+    As a source, a direction is read from the lens whose axis is nearer (the front one for ``dz >= 0``):
+    with ``fov >= 180`` every direction is seen, from a point no more than 90 degrees off that lens's
+    axis. As an output each half is one fisheye, overlap included.
+    """
+
+    name = "dual-fisheye"
+    summary = "two fisheyes back to back, side by side (front and back lens)"
+    params = (
+        Param("fov", 190.0, "field of view of each lens across its half of the frame, degrees", 0.0, 360.0,
+              lo_open=True),
+        Param("mapping", "equidistant", "angle-from-axis mapping of both lenses", choices=tuple(FOV_LIMITS)),
+        Param("front", "left", "half of the frame holding the front lens", choices=("left", "right")),
+    )
+
+    def _check(self) -> None:
+        self._lens = Fisheye(max(1, self.width // 2), self.height, fov=self.fov, mapping=self.mapping)
+        self.half = self.width / 2.0
+        self._front_x0 = 0.0 if self.front == "left" else self.half
+
+    def pixel_to_dir(self, xy):
+        from lenslab.lenses.base import as_points, clean
+
+        xy = as_points(xy, 2, "pixel coordinates")
+        with np.errstate(all="ignore"):
+            x, y = xy[..., 0], xy[..., 1]
+            right = x >= self.half
+            back = right if self.front == "left" else ~right
+            x0 = np.where(right, self.half, 0.0)
+            uv = np.empty(xy.shape, dtype=FLOAT)
+            uv[..., 0] = 2.0 * (x - x0) / self.half - 1.0
+            uv[..., 1] = (1.0 - 2.0 * y / self.height) * (self.height / self.half)
+            d, ok = self._lens.uv_to_dir(uv)
+            d[back] = d[back] @ BACK
+            ok &= self.in_image(xy) & np.isfinite(x) & np.isfinite(y)
+        return clean(d, ok, inplace=True)
+
+    def dir_to_pixel(self, dirs):
+        from lenslab.lenses.base import as_points, clean
+
+        d = as_points(dirs, 3, "directions")
+        with np.errstate(all="ignore"):
+            n = np.sqrt(np.einsum("...i,...i->...", d, d))
+            good = (n > 0) & np.isfinite(n)
+            d = d / np.where(good, n, 1.0)[..., None]
+            back = d[..., 2] < 0
+            local = d.copy()
+            local[back] = local[back] @ BACK
+            uv, ok = self._lens.dir_to_uv(local)
+            x0 = np.where(back, self.half - self._front_x0, self._front_x0)
+            xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+            xy[..., 0] = (uv[..., 0] + 1.0) * 0.5 * self.half + x0
+            xy[..., 1] = (1.0 - uv[..., 1] * (self.half / self.height)) * 0.5 * self.height
+            # a point on the shared edge belongs to the right half: keep the left lens's points off it
+            left = x0 == 0.0
+            xy[..., 0] = np.where(left, np.minimum(xy[..., 0], self.half * (1.0 - 1e-15)), xy[..., 0])
+            ok &= good & self.snap_to_image(xy)
+        return clean(xy, ok, inplace=True)
