@@ -41,6 +41,18 @@ CASES = [
     ("brown:k1=0.1,k2=0.05,base=fisheye,fov=150", (W, W)),
     ("tiled:2x2", (W, 4096)),
     ("tiled:3x1", (W - 2, 2000)),
+    # calibrated cameras: numbers of a 1024-px calibration image, scaled 8x (centred: cx = 511.5)
+    ("opencv:fx=600,fy=600,cx=511.5,cy=383.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0015,k3=-0.01,k4=0.02,k5=0.001,"
+     "k6=0.0005,s1=0.001,s2=-0.0002,s3=0.0007,s4=0.0001,width=1024,height=768", (W, 6144)),
+    ("opencv:fx=500,fy=500,cx=511.5,cy=383.5,width=1024,height=768", (W, 6144)),
+    ("kannala-brandt:fx=350,fy=350,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,width=1024,height=1024",
+     (W, W)),
+    ("opencv-fisheye:fx=300,fy=300,cx=511.5,cy=383.5,k1=0.02,width=1024,height=768", (W, 6144)),
+    ("omnidir:fx=1000,fy=1000,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,width=1024,height=1024",
+     (W, W)),
+    ("double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024", (W, W)),
+    ("eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024", (W, W)),
+    ("ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024", (W, W)),
     ("fisheye:dfov=180", (W, 5461)),  # a full-frame fisheye on a 3:2 sensor
     ("fisheye:vfov=150,mapping=equisolid,cx=0.05,cy=-0.02", (W, 5461)),
     ("perspective:dfov=100", (W, 5461)),

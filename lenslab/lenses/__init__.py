@@ -8,7 +8,8 @@ from __future__ import annotations
 
 # Modules whose classes register themselves; add a model by adding its module here.
 MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled",
-                 "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "presets")
+                 "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "presets",
+                 "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam")
 
 from lenslab.lenses.base import Lens, Param  # noqa: E402
 from lenslab.lenses.camera import Camera, rotation_between, sample_offsets  # noqa: E402

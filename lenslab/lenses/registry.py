@@ -57,9 +57,16 @@ def lens_class(name: str) -> type:
 def make_lens(spec: str | dict, size: tuple[int, int] | None = None, **overrides: Any):
     """Build a lens from a spec string (or a dict from :meth:`Lens.to_dict`) and an image size.
 
-    ``size`` is ``(width, height)``; a dict may carry its own ``size``.
+    ``size`` is ``(width, height)``; a dict may carry its own ``size``. A spec naming a camera file
+    (``cal.yaml``, ``cameras.txt#2``...) reads its lens, scaled to ``size`` when that differs.
     """
     _load_models()
+    from lenslab.calibfiles import is_camera_file
+
+    if is_camera_file(spec):  # a calibration file (OpenCV, Kalibr, COLMAP, OCamCalib, TOML): FILE or FILE#ID
+        from lenslab.calibfiles import read_lens
+
+        return read_lens(spec, size)
     if isinstance(spec, dict):
         values = dict(spec)
         name = str(values.pop("model", "")).lower()

@@ -1,0 +1,113 @@
+"""Calibration files of other tools, read and written as lenslab lenses: one plugin per format.
+
+``read_lens("cal.yaml")`` reads OpenCV FileStorage YAML/JSON (``cv2.FileStorage``), Kalibr camchain
+YAML, COLMAP ``cameras.txt`` (``cameras.txt#2`` picks camera 2), OCamCalib ``calib_results.txt`` and
+lenslab's camera TOML; ``write_lens(path, lens)`` writes one. Each plugin converts pixel conventions at
+its boundary (see ``docs/conventions.md``, "Calibrated cameras"). Every problem with a file is a
+one-line :class:`~lenslab.errors.LensError` naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+
+from lenslab.errors import LensError
+
+#: format name -> plugin module (in lenslab.calibfiles); the order is the order of sniffing
+FORMATS = {"opencv": "opencv", "kalibr": "kalibr", "colmap": "colmap", "ocam": "ocamcalib", "toml": "toml"}
+SUFFIXES = (".yaml", ".yml", ".json", ".xml", ".txt", ".toml")
+
+
+def plugin(name: str):
+    try:
+        return importlib.import_module(f"lenslab.calibfiles.{FORMATS[name]}")
+    except KeyError:
+        raise LensError(f"unknown calibration format {name!r}; valid: {', '.join(FORMATS)}") from None
+
+
+def split_pick(spec: str) -> tuple[Path, str | None]:
+    """``FILE#ID`` -> (FILE, ID); ``FILE`` -> (FILE, None)."""
+    path, sep, pick = str(spec).partition("#")
+    return Path(path), (pick.strip() or None) if sep else None
+
+
+def is_camera_file(spec) -> bool:
+    """True when a camera spec names a file (an existing one, or a calibration file's name)."""
+    if not isinstance(spec, str) or not spec.strip():
+        return False
+    path, _ = split_pick(spec.strip())
+    if ":" in spec and not path.exists():
+        return False  # a model spec such as fisheye:fov=180
+    return path.is_file() or path.suffix.lower() in SUFFIXES
+
+
+def sniff(path: Path, text: str) -> str:
+    """The format of a file, from its content (then its name)."""
+    for name in FORMATS:
+        if plugin(name).sniff(path, text):
+            return name
+    raise LensError(f"{path}: not a calibration file lenslab knows (OpenCV YAML/JSON, Kalibr camchain, "
+                    "COLMAP cameras.txt, OCamCalib calib_results.txt or lenslab TOML)")
+
+
+def read_text(path: Path) -> str:
+    if not path.is_file():
+        raise LensError(f"{path}: no such camera file")
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise LensError(f"{path}: not a text file; a camera file is YAML, JSON, TOML or text") from None
+
+
+def read_lenses(spec: str) -> tuple[str, list[tuple[str, object]]]:
+    """The format and every camera of a file as ``(id, lens)`` pairs."""
+    path, _ = split_pick(spec)
+    text = read_text(path)
+    fmt = sniff(path, text)
+    return fmt, plugin(fmt).read(path, text)
+
+
+def read_lens(spec: str, size: tuple[int, int] | None = None):
+    """The lens of a camera file (``FILE#ID`` picks one of several), scaled to ``size`` if given."""
+    path, pick = split_pick(spec)
+    _, cams = read_lenses(spec)
+    if pick is not None:
+        found = [lens for cid, lens in cams if cid == pick]
+        if not found:
+            raise LensError(f"{path}: no camera {pick!r}; it holds {', '.join(cid for cid, _ in cams)}")
+        lens = found[0]
+    elif len(cams) == 1:
+        lens = cams[0][1]
+    else:
+        raise LensError(f"{path}: holds {len(cams)} cameras; pick one as {path}#ID "
+                        f"(IDs: {', '.join(cid for cid, _ in cams)})")
+    if size is not None and tuple(size) != (lens.width, lens.height):
+        lens = lens.with_size(*size)
+    return lens
+
+
+def default_format(path: Path, lens) -> str:
+    """The format a file name asks for: .toml lenslab, .txt COLMAP (OCamCalib for ocam), .yaml/.json
+    OpenCV (Kalibr for double-sphere and eucm, which OpenCV has not)."""
+    suffix = path.suffix.lower()
+    if suffix == ".toml":
+        return "toml"
+    if suffix == ".txt":
+        return "ocam" if lens.name == "ocam" else "colmap"
+    if suffix in (".yaml", ".yml", ".json", ".xml"):
+        return "kalibr" if lens.name in ("double-sphere", "eucm") and suffix in (".yaml", ".yml") else "opencv"
+    raise LensError(f"{path}: cannot tell the format from the name; use .yaml/.json (OpenCV), .txt (COLMAP or "
+                    "OCamCalib), .toml (lenslab), or say --format")
+
+
+def write_lens(path, lens, fmt: str | None = None, overwrite: bool = False) -> Path:
+    """Write ``lens`` as a calibration file (atomically); the format from ``fmt`` or the file name."""
+    from lenslab.io.atomic import atomic_write_path
+
+    path = Path(path)
+    fmt = fmt or default_format(path, lens)
+    mod = plugin(fmt)
+    with atomic_write_path(path, overwrite=overwrite) as tmp:
+        mod.write(tmp, lens)
+    return path

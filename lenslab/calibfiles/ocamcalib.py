@@ -1,0 +1,77 @@
+"""OCamCalib's ``calib_results.txt`` (Scaramuzza's toolbox, as its ``get_ocam_model`` reads it).
+
+Five data lines between ``#`` comments: ``N a0 a1 ... `` (the cam2world polynomial), ``M p0 p1 ...``
+(world2cam's inverse polynomial), ``xc yc`` (centre row and column, counted from 0: the C convention,
+pixel centres at integers), ``c d e`` (affine) and ``height width``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lenslab.errors import LensError
+
+LABELS = ("the polynomial line", "the inverse polynomial line", "the centre line (xc yc)",
+          "the affine line (c d e)", "the size line (height width)")
+
+
+def sniff(path: Path, text: str) -> bool:
+    return "cam2world" in text or "DIRECT mapping function" in text or path.name.startswith("calib_results")
+
+
+def _data_lines(path: Path, text: str) -> list[list[float]]:
+    rows = []
+    for line in text.splitlines():
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        try:
+            rows.append([float(p) for p in s.split()])
+        except ValueError:
+            raise LensError(f"{path}: {LABELS[min(len(rows), 4)]} must hold numbers, got {s[:40]!r}") from None
+    return rows
+
+
+def read(path: Path, text: str):
+    from lenslab.lenses import make_lens
+    from lenslab.lenses.ocam import format_coefficients
+
+    rows = _data_lines(path, text)
+    if len(rows) < 5:
+        raise LensError(f"{path}: missing {LABELS[len(rows)]}")
+    pol, inv, centre, affine, size = rows[:5]
+    for label, row in ((LABELS[0], pol), (LABELS[1], inv)):
+        if not row or int(row[0]) != len(row) - 1:
+            raise LensError(f"{path}: {label} must start with its count of coefficients")
+    for label, row, n in ((LABELS[2], centre, 2), (LABELS[3], affine, 3), (LABELS[4], size, 2)):
+        if len(row) != n:
+            raise LensError(f"{path}: {label} needs {n} numbers, got {len(row)}")
+    h, w = int(size[0]), int(size[1])
+    values = {"pol": format_coefficients(pol[1:]), "invpol": format_coefficients(inv[1:]),
+              "xc": centre[0], "yc": centre[1], "c": affine[0], "d": affine[1], "e": affine[2],
+              "width": w, "height": h}
+    try:
+        return [("0", make_lens({"model": "ocam", **values}, (w, h)))]
+    except LensError as exc:
+        raise LensError(f"{path}: {exc}") from None
+
+
+def write(path: Path, lens) -> None:
+    if lens.name != "ocam":
+        raise LensError(f"{path}: OCamCalib files hold the ocam model only, not {lens.name}")
+    pol, inv = lens.pol_c, lens.invpol_c
+
+    def line(c):
+        return f"{len(c)} " + " ".join(repr(float(x)) for x in c)
+
+    text = ("#polynomial coefficients for the DIRECT mapping function (ocam_model.ss in MATLAB). "
+            "These are used by cam2world\n\n" + line(pol) + "\n\n"
+            "#polynomial coefficients for the inverse mapping function (ocam_model.invpol in MATLAB). "
+            "These are used by world2cam\n\n" + line(inv) + "\n\n"
+            '#center: "row" and "column", starting from 0 (C convention)\n\n'
+            f"{lens.xc!r} {lens.yc!r}\n\n"
+            '#affine parameters "c", "d", "e"\n\n'
+            f"{lens.c!r} {lens.d!r} {lens.e!r}\n\n"
+            '#image size: "height" and "width"\n\n'
+            f"{lens.height} {lens.width}\n")
+    Path(path).write_text(text, encoding="utf-8")

@@ -1,0 +1,140 @@
+"""OpenCV FileStorage (YAML, JSON or XML) as ``cv2.FileStorage`` writes it.
+
+Keys: ``camera_matrix`` (3x3), ``distortion_coefficients`` (4, 5, 8, 12 or 14 numbers: OpenCV's
+``k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]``), ``image_width``, ``image_height``; a fisheye
+(Kannala-Brandt) says ``fisheye_model: 1`` as OpenCV's calibration sample writes it, or
+``distortion_model: equidistant`` (Kalibr's word), and has ``k1..k4``; ``xi`` makes it ``cv2.omnidir``
+(``k1 k2 p1 p2``, skew in ``camera_matrix[0][1]``). Pixel centres at integers: numbers verbatim.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from lenslab.errors import LensError
+
+OPENCV_KEYS = "k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4".split()
+
+
+def sniff(path: Path, text: str) -> bool:
+    head = text.lstrip()[:200]
+    return head.startswith("%YAML") or head.startswith("<?xml") or ("camera_matrix" in text and "cam0" not in text)
+
+
+def _fs(path: Path):
+    import cv2
+
+    try:
+        fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
+    except cv2.error as exc:
+        raise LensError(f"{path}: cv2.FileStorage cannot read it: {str(exc).strip().splitlines()[-1]}") from None
+    if not fs.isOpened():
+        raise LensError(f"{path}: cv2.FileStorage cannot read it")
+    return fs
+
+
+def _number(path, fs, key, required=True):
+    node = fs.getNode(key)
+    if node.empty():
+        if required:
+            raise LensError(f"{path}: missing key {key!r}")
+        return None
+    if node.isString():
+        text = node.string().strip().lower()
+        return text
+    if node.isMap() or node.isSeq():
+        m = node.mat()
+        if m is None or m.size != 1:
+            raise LensError(f"{path}: key {key!r} must be one number")
+        return float(m.ravel()[0])
+    return float(node.real())
+
+
+def read(path: Path, text: str):
+    from lenslab.lenses import make_lens
+
+    fs = _fs(path)
+    try:
+        K = fs.getNode("camera_matrix").mat()
+        if K is None:
+            raise LensError(f"{path}: missing key 'camera_matrix'")
+        if K.shape != (3, 3):
+            raise LensError(f"{path}: key 'camera_matrix' must be a 3x3 matrix, got shape {K.shape}")
+        D = fs.getNode("distortion_coefficients").mat()
+        if D is None:
+            raise LensError(f"{path}: missing key 'distortion_coefficients'")
+        D = D.ravel().astype(float)
+        w = _number(path, fs, "image_width")
+        h = _number(path, fs, "image_height")
+        xi = _number(path, fs, "xi", required=False)
+        fisheye = _number(path, fs, "fisheye_model", required=False)
+        model = _number(path, fs, "distortion_model", required=False)
+    finally:
+        fs.release()
+    if isinstance(model, str) and model not in ("equidistant", "radtan", "plumb_bob", "rational_polynomial"):
+        raise LensError(f"{path}: unknown distortion_model {model!r}; valid: equidistant, radtan, plumb_bob, "
+                        "rational_polynomial")
+    values = {"fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], "width": int(w), "height": int(h)}
+    if xi is not None:
+        if D.size != 4:
+            raise LensError(f"{path}: key 'distortion_coefficients' of an omnidir camera (with xi) needs 4 numbers "
+                            f"(k1 k2 p1 p2), got {D.size}")
+        values.update(xi=xi, s=K[0, 1], **dict(zip("k1 k2 p1 p2".split(), D)))
+        name = "omnidir"
+    elif fisheye == 1 or model == "equidistant":
+        if D.size != 4:
+            raise LensError(f"{path}: key 'distortion_coefficients' of a fisheye camera needs 4 numbers "
+                            f"(k1 k2 k3 k4), got {D.size}")
+        values.update(zip("k1 k2 k3 k4".split(), D))
+        name = "kannala-brandt"
+    else:
+        if D.size not in (4, 5, 8, 12, 14):
+            raise LensError(f"{path}: key 'distortion_coefficients' needs 4, 5, 8, 12 or 14 numbers, got {D.size}")
+        if D.size == 14 and D[12:].any():
+            raise LensError(f"{path}: key 'distortion_coefficients': the tilt terms tauX, tauY are not supported")
+        values.update(zip(OPENCV_KEYS, D[:12]))
+        name = "opencv"
+    if name != "omnidir" and K[0, 1] != 0:
+        raise LensError(f"{path}: key 'camera_matrix' has a skew, which only the omnidir model (with xi) takes")
+    try:
+        lens = make_lens({"model": name, **{k: float(v) if k not in ("width", "height") else v
+                                            for k, v in values.items()}}, (int(w), int(h)))
+    except LensError as exc:
+        raise LensError(f"{path}: {exc}") from None
+    return [("0", lens)]
+
+
+def write(path: Path, lens) -> None:
+    import cv2
+
+    v = lens.param_values()
+    K = np.array([[v["fx"], v.get("s", 0.0), v["cx"]], [0.0, v["fy"], v["cy"]], [0.0, 0.0, 1.0]])
+    extra = {}
+    if lens.name == "opencv":
+        D = np.array([v[k] for k in OPENCV_KEYS])
+        n = 12 if D[8:].any() else 8 if D[5:8].any() else 5 if D[4] else 4
+        D = D[:n]
+    elif lens.name in ("kannala-brandt", "opencv-fisheye"):
+        if any(v[k] for k in "p1 p2 s1 s2 s3 s4".split()):
+            raise LensError(f"{path}: OpenCV's fisheye model has no tangential or thin-prism terms; "
+                            "write this camera as COLMAP cameras.txt or lenslab TOML")
+        D = np.array([v[k] for k in "k1 k2 k3 k4".split()])
+        extra["fisheye_model"] = 1
+    elif lens.name == "omnidir":
+        D = np.array([v[k] for k in "k1 k2 p1 p2".split()])
+        extra["xi"] = v["xi"]
+    else:
+        raise LensError(f"{path}: OpenCV has no {lens.name} model; write it as Kalibr YAML (--format kalibr) "
+                        "or lenslab TOML")
+    fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_WRITE)
+    try:
+        fs.write("image_width", int(lens.width))
+        fs.write("image_height", int(lens.height))
+        for k, val in extra.items():
+            fs.write(k, val)
+        fs.write("camera_matrix", K)
+        fs.write("distortion_coefficients", D.reshape(-1, 1))
+    finally:
+        fs.release()

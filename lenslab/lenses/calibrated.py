@@ -1,0 +1,203 @@
+"""What the calibrated-camera models share: OpenCV's pixel and camera frames, intrinsics, scaling.
+
+Calibrated models (``opencv``, ``kannala-brandt``, ``omnidir``, ``double-sphere``, ``eucm``,
+``ocam``) take the numbers of the tool that calibrated them verbatim: intrinsics in pixels of the
+calibration image (``width`` x ``height``, part of the spec), the tool's parameter names. Their
+equations work in OpenCV's frames, and this module converts at the boundary:
+
+- pixels: OpenCV puts pixel centres at integer coordinates, lenslab at ``x + 0.5``; so lenslab's
+  ``(x, y)`` is OpenCV's ``(x - 0.5, y - 0.5)``;
+- camera space: OpenCV's ``(X right, Y down, Z forward)`` is lenslab's ``(x, -y, z)``.
+
+A model is a projection to a normalised plane, ``(X, Y, Z) -> (mx, my)``, an optional distortion of
+that plane (:class:`~lenslab.lenses.polydistort.PolyDistortion`), and the affine intrinsics
+``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses implement :meth:`project` and
+:meth:`unproject` (and :meth:`make_distortion` when they distort).
+
+A lens built for another image size scales the intrinsics about the image's corner (lenslab's frame):
+``fx' = fx sx``, ``cx' + 0.5 = (cx + 0.5) sx`` with ``sx = W' / width`` (``y`` likewise).
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import numpy as np
+
+from lenslab.errors import LensError
+from lenslab.lenses.base import FLOAT, MAX_SIDE, Lens, Param, as_points, check_size, clean
+
+SIZE_PARAMS = (
+    Param("width", 0, "calibration image width in px; the intrinsics are in its pixels (0: this image's)", 0, MAX_SIDE),
+    Param("height", 0, "calibration image height in px (0: this image's)", 0, MAX_SIDE),
+)
+
+
+def intrinsics_params(fx: float, fy: float, cx: float, cy: float) -> tuple[Param, ...]:
+    """The pinhole intrinsics, OpenCV's names and pixel convention (pixel centres at integers)."""
+    return (
+        Param("fx", fx, "focal length along x, px of the calibration image", 0.0, None, lo_open=True),
+        Param("fy", fy, "focal length along y, px", 0.0, None, lo_open=True),
+        Param("cx", cx, "principal point x, px; OpenCV's pixel centres (lenslab's x - 0.5)"),
+        Param("cy", cy, "principal point y, px (lenslab's y - 0.5)"),
+    )
+
+
+def coefficient_params(names: str, doc: str) -> tuple[Param, ...]:
+    return tuple(Param(n, 0.0, doc) for n in names.split())
+
+
+class Calibrated(Lens):
+    """A calibrated camera: projection, distortion, intrinsics; OpenCV's frames inside."""
+
+    #: names of the parameters scaled like ``fx`` (x) and ``fy`` (y) for another image size
+    x_scaled: ClassVar[tuple[str, ...]] = ("fx",)
+    y_scaled: ClassVar[tuple[str, ...]] = ("fy",)
+    #: the intrinsics' skew parameter name (``u = fx mx + skew my + cx``), if the model has one
+    skew_name: ClassVar[str | None] = None
+
+    def __init__(self, width: int, height: int, /, **values: Any):
+        # Lens.__init__ with the calibration size among the parameters: the intrinsics are first
+        # scaled to this image, whose size the ``width`` and ``height`` parameters then equal
+        self.width, self.height = check_size(width, height)
+        known = {p.name for p in self.params}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            raise LensError(f"{self.name}: unknown parameter(s) {', '.join(unknown)}; valid: {', '.join(known)}")
+        values = self.scaled_values(self.width, self.height, values)
+        for p in self.params:
+            if p.name not in ("width", "height"):
+                setattr(self, p.name, p.convert(self.name, values.get(p.name, p.default)))
+        self._check()
+
+    @classmethod
+    def scaled_values(cls, width: int, height: int, values: dict[str, Any]) -> dict[str, Any]:
+        """The parameter values for a ``width x height`` image, given values for their own ``width``,
+        ``height`` (the calibration size; 0 or absent: this image's)."""
+        params = {p.name: p for p in cls.params}
+        values = dict(values)
+        cw = params["width"].convert(cls.name, values.get("width", 0)) or width
+        ch = params["height"].convert(cls.name, values.get("height", 0)) or height
+        values["width"], values["height"] = int(width), int(height)
+        if (cw, ch) == (width, height):
+            return values
+        sx, sy = width / cw, height / ch
+        got = {k: params[k].convert(cls.name, values.get(k, params[k].default)) for k in params
+               if k not in ("width", "height")}
+        values.update(cls.scale(got, sx, sy))
+        return values
+
+    @classmethod
+    def scale(cls, v: dict[str, float], sx: float, sy: float) -> dict[str, float]:
+        """Intrinsics for pixels ``sx`` x ``sy`` times as many (about the image's corner)."""
+        out = {}
+        for k in cls.x_scaled + ((cls.skew_name,) if cls.skew_name else ()):
+            out[k] = v[k] * sx
+        for k in cls.y_scaled:
+            out[k] = v[k] * sy
+        out["cx"] = (v["cx"] + 0.5) * sx - 0.5
+        out["cy"] = (v["cy"] + 0.5) * sy - 0.5
+        return out
+
+    def _check(self) -> None:
+        self.distortion = self.make_distortion()
+
+    # -- hooks -----------------------------------------------------------------------------------
+    def make_distortion(self):
+        """The distortion of the normalised plane (None: none)."""
+        return None
+
+    def project(self, X, Y, Z):
+        """Normalised ``(mx, my)`` and validity of unit rays in OpenCV's camera frame."""
+        raise NotImplementedError
+
+    def unproject(self, mx, my):
+        """Unit rays ``(X, Y, Z)`` (OpenCV's frame) and validity of normalised points."""
+        raise NotImplementedError
+
+    # -- affine intrinsics -------------------------------------------------------------------------
+    @property
+    def skew(self) -> float:
+        return float(getattr(self, self.skew_name)) if self.skew_name else 0.0
+
+    def pixel_to_plane(self, u, v):
+        """OpenCV pixel -> distorted normalised point."""
+        my = (v - self.cy) / self.fy
+        mx = (u - self.cx - self.skew * my) / self.fx
+        return mx, my
+
+    def plane_to_pixel(self, mx, my):
+        return self.fx * mx + self.skew * my + self.cx, self.fy * my + self.cy
+
+    # -- lenslab's interface ---------------------------------------------------------------------
+    def pixel_to_dir(self, xy):
+        xy = as_points(xy, 2, "pixel coordinates")
+        shape = xy.shape[:-1]
+        flat = xy.reshape(-1, 2)
+        with np.errstate(all="ignore"):
+            X, Y, Z, valid = self.pixel_to_ray(flat[:, 0] - 0.5, flat[:, 1] - 0.5)
+            valid &= np.isfinite(flat).all(axis=-1)
+        d = np.empty(flat.shape[:-1] + (3,), dtype=FLOAT)
+        d[:, 0], d[:, 1], d[:, 2] = X, -Y, Z
+        d, valid = clean(d, valid, inplace=True)
+        return d.reshape(shape + (3,)), valid.reshape(shape)
+
+    def pixel_to_ray(self, u, v):
+        """OpenCV pixels -> unit rays in OpenCV's camera frame (1-D arrays) and validity."""
+        mx, my = self.pixel_to_plane(u, v)
+        ok = np.isfinite(mx) & np.isfinite(my)
+        if self.distortion is not None:
+            mx, my, ok2, _ = self.distortion.invert(np.where(ok, mx, 0.0), np.where(ok, my, 0.0))
+            ok &= ok2
+        X, Y, Z, ok3 = self.unproject(mx, my)
+        return X, Y, Z, ok & ok3
+
+    def ray_to_pixel(self, X, Y, Z):
+        """Unit rays in OpenCV's frame -> OpenCV pixels (1-D arrays) and validity."""
+        mx, my, ok = self.project(X, Y, Z)
+        if self.distortion is not None:
+            mx, my, ok2 = self.distortion.apply(mx, my)
+            ok &= ok2
+        u, v = self.plane_to_pixel(mx, my)
+        return u, v, ok
+
+    def dir_to_pixel(self, dirs):
+        d = as_points(dirs, 3, "directions")
+        shape = d.shape[:-1]
+        flat = d.reshape(-1, 3)
+        with np.errstate(all="ignore"):
+            n = np.sqrt(np.einsum("ij,ij->i", flat, flat))
+            nonzero = (n > 0) & np.isfinite(n)
+            unit = flat / np.where(nonzero, n, 1.0)[:, None]
+            unit[~nonzero] = (0.0, 0.0, 1.0)
+            u, v, ok = self.ray_to_pixel(unit[:, 0], -unit[:, 1], unit[:, 2])
+        xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
+        xy[:, 0] = u + 0.5
+        xy[:, 1] = v + 0.5
+        ok &= nonzero & np.isfinite(xy).all(axis=-1)
+        np.copyto(xy, 0.0, where=~ok[:, None])
+        ok &= self.snap_to_image(xy)
+        np.copyto(xy, 0.0, where=~ok[:, None])
+        return xy.reshape(shape + (2,)), ok.reshape(shape)
+
+    def dir_to_pixel_unit(self, d):
+        return self.dir_to_pixel(d)
+
+    def _check_positive(self, **values: float) -> None:
+        for k, v in values.items():
+            if not v > 0:
+                raise LensError(f"{self.name}: {k} must be positive, got {v:g}")
+
+
+def divide(X, Y, den, ok):
+    """``(X/den, Y/den)`` where ``ok`` and ``den > 0`` (the validity returned), zeros elsewhere."""
+    ok = ok & (den > 0)
+    inv = 1.0 / np.where(ok, den, 1.0)
+    return np.where(ok, X * inv, 0.0), np.where(ok, Y * inv, 0.0), ok
+
+
+def unit_rows(X, Y, Z):
+    """``(X, Y, Z)`` scaled to unit length (zero stays zero)."""
+    n = np.sqrt(X * X + Y * Y + Z * Z)
+    inv = np.where(n > 0, 1.0 / np.where(n > 0, n, 1.0), 0.0)
+    return X * inv, Y * inv, Z * inv

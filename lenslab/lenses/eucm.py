@@ -1,0 +1,57 @@
+"""The enhanced unified camera model of Khomutenko, Garcia and Martinet (RA-L 2016), as in Basalt."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses.base import Param
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, divide, intrinsics_params, unit_rows
+from lenslab.lenses.double_sphere import alpha_w
+from lenslab.lenses.registry import register
+
+
+@register
+class EUCM(Calibrated):
+    r"""Enhanced unified camera model: the unit sphere stretched into an ellipsoid by ``beta``.
+
+    In OpenCV's frame::
+
+        d = sqrt(beta (x^2 + y^2) + z^2)
+        u = fx x / (alpha d + (1 - alpha) z) + cx,   v likewise with fy, y, cy
+
+    valid for ``z > -w d`` with ``w = alpha/(1 - alpha)`` for ``alpha <= 0.5`` else ``(1 - alpha)/alpha``.
+    The inverse is closed form: with ``m = ((u - cx)/fx, (v - cy)/fy)``, ``r^2 = |m|^2``,
+    ``mz = (1 - beta alpha^2 r^2) / (alpha sqrt(1 - (2 alpha - 1) beta r^2) + 1 - alpha)``, valid for
+    ``r^2 <= 1/(beta (2 alpha - 1))`` when ``alpha > 0.5``; the ray is ``(mx, my, mz)`` normalised.
+    Reference: B. Khomutenko, G. Garcia, P. Martinet, "An Enhanced Unified Camera Model", IEEE RA-L 1(1),
+    2016; the validity region as given by Usenko et al., 3DV 2018.
+    """
+
+    name = "eucm"
+    summary = "enhanced unified camera model (Khomutenko et al. 2016; Basalt, Kalibr eucm): alpha, beta"
+    params = (
+        intrinsics_params(250.0, 250.0, 499.5, 499.5)
+        + (Param("alpha", 0.5, "projection parameter", 0.0, 1.0),
+           Param("beta", 1.0, "ellipsoid parameter", 0.0, None, lo_open=True))
+        + SIZE_PARAMS
+    )
+
+    def _check(self) -> None:
+        super()._check()
+        self.w = alpha_w(self.alpha)
+
+    def project(self, X, Y, Z):
+        a, b = self.alpha, self.beta
+        d = np.sqrt(b * (X * X + Y * Y) + Z * Z)
+        return divide(X, Y, a * d + (1.0 - a) * Z, Z > -self.w * d)
+
+    def unproject(self, mx, my):
+        a, b = self.alpha, self.beta
+        r2 = mx * mx + my * my
+        q = 1.0 - (2.0 * a - 1.0) * b * r2
+        ok = q >= 0 if a > 0.5 else np.ones(r2.shape, dtype=bool)
+        mz = (1.0 - b * a * a * r2) / (a * np.sqrt(np.maximum(q, 0.0)) + 1.0 - a)
+        X, Y, Z = unit_rows(mx, my, mz)
+        d = np.sqrt(b * (X * X + Y * Y) + Z * Z)
+        ok &= Z > -self.w * d
+        return X, Y, Z, ok

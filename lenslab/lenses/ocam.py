@@ -1,0 +1,126 @@
+"""Scaramuzza's omnidirectional model, as OCamCalib's ``calib_results.txt`` holds it."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.polynomial import polynomial as P
+
+from lenslab.errors import LensError
+from lenslab.lenses.base import FLOAT, Param
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, unit_rows
+from lenslab.lenses.polydistort import first_positive_root
+from lenslab.lenses.registry import register
+from lenslab.lenses.solve import invert_increasing
+
+
+def parse_coefficients(model: str, name: str, text: str) -> np.ndarray:
+    """Numbers separated by spaces or semicolons, e.g. ``"-250 0 0.002"``."""
+    parts = [p for p in str(text).replace(";", " ").split() if p]
+    try:
+        out = np.array([float(p) for p in parts], dtype=FLOAT)
+    except ValueError:
+        raise LensError(f"{model}: {name}={text!r} must be numbers separated by spaces or ';'") from None
+    if not np.isfinite(out).all():
+        raise LensError(f"{model}: {name} must be finite numbers")
+    return out
+
+
+def format_coefficients(c) -> str:
+    return " ".join(repr(float(v)) for v in c)
+
+
+@register
+class OCam(Calibrated):
+    r"""Scaramuzza's model (OCamCalib): a polynomial of the image radius gives the ray's third component.
+
+    OCamCalib's frame: ``x`` along image rows (down), ``y`` along columns (right), ``z = x cross y``
+    (away from the scene: the camera looks down ``-z``); pixel centres at integer ``(row, column)``
+    counted from 0 (the C convention of ``calib_results.txt``): lenslab's ``(x, y)`` is OCamCalib's
+    ``(row, column) = (y - 0.5, x - 0.5)``. With ``[row - xc, col - yc] = [[c, d], [e, 1]] [xp, yp]``
+    and ``rho = |(xp, yp)|``, the ray is ``(xp, yp, pol(rho))``, ``pol(rho) = a0 + a1 rho + a2 rho^2 + ...``
+    (``cam2world``). Directions -> pixels solves ``atan2(rho, -pol(rho)) = angle from the axis`` for
+    ``rho`` by bracketed Newton (exact; OCamCalib's ``world2cam`` evaluates ``invpol``, a fit of that
+    inverse, which is kept here only to be written back). Valid up to the first radius where that
+    angle stops increasing (the first positive root of ``rho pol'(rho) - pol(rho)``).
+    Reference: D. Scaramuzza, A. Martinelli, R. Siegwart, "A Toolbox for Easily Calibrating
+    Omnidirectional Cameras", IROS 2006; OCamCalib's ``ocam_functions.c``.
+    """
+
+    name = "ocam"
+    summary = "Scaramuzza's omnidirectional model (OCamCalib calib_results.txt): pol, invpol, xc, yc, c, d, e"
+    params = (
+        Param("pol", "-250 0 0.002", "cam2world polynomial a0 a1 a2 ... (spaces or ';' between)"),
+        Param("invpol", "", "world2cam polynomial as OCamCalib fitted it (kept for files; not used)"),
+        Param("xc", 499.5, "centre row, px, counted from 0 (OCamCalib's C convention)"),
+        Param("yc", 499.5, "centre column, px, counted from 0"),
+        Param("c", 1.0, "affine c"), Param("d", 0.0, "affine d"), Param("e", 0.0, "affine e"),
+    ) + SIZE_PARAMS
+
+    @classmethod
+    def scale(cls, v: dict[str, Any], sx: float, sy: float) -> dict[str, Any]:
+        pol = parse_coefficients(cls.name, "pol", v["pol"])
+        inv = parse_coefficients(cls.name, "invpol", v["invpol"])
+        return {
+            "pol": format_coefficients(pol * sx ** (1.0 - np.arange(pol.size))),
+            "invpol": format_coefficients(inv * sx) if inv.size else "",
+            "c": v["c"] * sy / sx, "d": v["d"] * sy / sx,
+            "xc": (v["xc"] + 0.5) * sy - 0.5, "yc": (v["yc"] + 0.5) * sx - 0.5,
+        }
+
+    def _check(self) -> None:
+        self.pol_c = parse_coefficients(self.name, "pol", self.pol)
+        self.invpol_c = parse_coefficients(self.name, "invpol", self.invpol)
+        self.pol, self.invpol = format_coefficients(self.pol_c), format_coefficients(self.invpol_c)  # one spelling
+        if self.pol_c.size == 0 or not self.pol_c[0] < 0:
+            raise LensError(f"{self.name}: pol must start with a negative a0 (OCamCalib looks down -z), got {self.pol!r}")
+        det = self.c - self.d * self.e
+        if det == 0:
+            raise LensError(f"{self.name}: the affine matrix [[c, d], [e, 1]] is singular (c = d e)")
+        self.invdet = 1.0 / det
+        self.distortion = None
+        # the end of the monotone range: rho pol'(rho) - pol(rho) = 0
+        h = P.polysub(P.polymul([0.0, 1.0], P.polyder(self.pol_c)), self.pol_c)
+        self.rho_fold = first_positive_root(h)
+        # the solve's bracket never needs to pass far beyond the image's farthest corner
+        corners = np.array([[0, 0], [0, self.width], [self.height, 0], [self.height, self.width]], float) - 0.5
+        xp, yp = self._affine_inverse(corners[:, 0], corners[:, 1])
+        self.rho_hi = min(self.rho_fold, 4.0 * float(np.hypot(xp, yp).max()) + 1.0)
+        self._angle_hi = float(self._angle(np.array([self.rho_hi]))[0][0])
+
+    def _affine_inverse(self, row, col):
+        r, c = row - self.xc, col - self.yc
+        return self.invdet * (r - self.d * c), self.invdet * (-self.e * r + self.c * c)
+
+    def _angle(self, rho):
+        """Angle from the axis at radius ``rho`` and its derivative."""
+        p = P.polyval(rho, self.pol_c)
+        dp = P.polyval(rho, P.polyder(self.pol_c))
+        return np.arctan2(rho, -p), (rho * dp - p) / (rho * rho + p * p)
+
+    def pixel_to_ray(self, u, v):
+        xp, yp = self._affine_inverse(v, u)  # OpenCV (u, v) = (column, row)
+        rho = np.hypot(xp, yp)
+        zp = P.polyval(rho, self.pol_c)
+        X, Y, Z = unit_rows(yp, xp, -zp)  # OCamCalib (x down, y right, z back) -> OpenCV
+        ok = rho < self.rho_fold if np.isfinite(self.rho_fold) else np.isfinite(rho)
+        return X, Y, Z, ok & np.isfinite(rho)
+
+    def ray_to_pixel(self, X, Y, Z):
+        lat = np.hypot(X, Y)
+        a = np.arctan2(lat, Z)
+        strict = np.isfinite(self.rho_fold) and self.rho_hi == self.rho_fold
+        ok = (a < self._angle_hi) if strict else (a <= self._angle_hi)
+        sel = np.flatnonzero(ok)
+        rho = np.zeros(a.shape, dtype=FLOAT)
+        if sel.size:
+            grid = np.linspace(0.0, self.rho_hi, 257)
+            x0 = np.interp(a[sel], self._angle(grid)[0], grid)
+            rho[sel], conv = invert_increasing(self._angle, a[sel], 0.0, self.rho_hi, x0)
+            ok[sel] &= conv
+        k = np.where(lat > 0, rho / np.where(lat > 0, lat, 1.0), 0.0)
+        xp, yp = Y * k, X * k  # OCamCalib x = rows (OpenCV Y), y = columns (OpenCV X)
+        row = self.c * xp + self.d * yp + self.xc
+        col = self.e * xp + yp + self.yc
+        return col, row, ok
