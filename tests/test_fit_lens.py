@@ -32,6 +32,13 @@ SELF_FITS = [
     ("brown:k1=0.05,k2=-0.01,fov=60", "brown:k1=0,k2=0,fov=70", "k1,k2,fov"),
     ("equirect:lon_min=-60,lon_max=60,lat_min=-30,lat_max=40",
      "equirect:lon_min=-50,lon_max=70,lat_min=-35,lat_max=30", "lon_min,lon_max,lat_min,lat_max"),
+    ("cylindrical:fov=200", "cylindrical:fov=180", "fov"),
+    ("cylindrical-equal-area:fov=300", "cylindrical-equal-area:fov=280", "fov"),
+    ("mercator:fov=250", "mercator:fov=230", "fov"),
+    ("pannini:fov=140,d=0.8,vcomp=0.3", "pannini:fov=130,d=0.6,vcomp=0.2", "fov,d,vcomp"),
+    ("dual-fisheye:fov=175", "dual-fisheye:fov=160", "fov"),  # no overlap: one pixel per direction
+    ("eac:pad=2", "eac:pad=1", "pad"),
+    ("little-planet:fov=250", "little-planet:fov=230", "fov"),
 ]
 
 

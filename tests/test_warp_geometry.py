@@ -137,18 +137,38 @@ def test_padded_copy_matches_the_folded_taps():
     np.testing.assert_array_equal(persp[0, 2:-2], NOISE[0])
 
 
+def v360_equirect_resample(img: np.ndarray, w_out: int, h_out: int) -> np.ndarray:
+    """What ffmpeg 5.1's ``v360=e:e:interp=line`` gives for an equirect-to-equirect resize, in float64.
+
+    Measured with a source whose values encode their coordinates (tests/test_v360_ffmpeg.py compares
+    the real filter): v360 samples the output's pixel centres, ``p = (i + 1/2) W / w_out`` in source
+    pixels, and reads the source at index ``p (W - 1) / W`` (its [-1, 1] spans the first to the last
+    pixel centre), bilinearly, columns wrapping and rows clamped.
+    """
+    h, w = img.shape[:2]
+    ix = (np.arange(w_out) + 0.5) * w / w_out * (w - 1) / w
+    iy = (np.arange(h_out) + 0.5) * h / h_out * (h - 1) / h
+    x0, y0 = np.floor(ix).astype(int), np.floor(iy).astype(int)
+    fx, fy = (ix - x0)[None, :, None], (iy - y0)[:, None, None]
+    xa, xb = x0 % w, (x0 + 1) % w
+    ya, yb = np.clip(y0, 0, h - 1), np.clip(y0 + 1, 0, h - 1)
+    f = img.astype(np.float64)
+    top = f[ya][:, xa] * (1 - fx) + f[ya][:, xb] * fx
+    bottom = f[yb][:, xa] * (1 - fx) + f[yb][:, xb] * fx
+    return top * (1 - fy) + bottom * fy
+
+
 def test_v360_compat_reproduces_its_half_pixel_convention():
     from lenslab.warp.compat_v360 import v360_plan
 
     src = eq(64, 32)
-    # same size: v360's two half-pixel offsets cancel, the identity is exact
+    # same size: v360 reads index (i + 1/2)(W - 1)/W, not pixel i: the identity blurs, as ffmpeg's does
     out, _ = v360_plan(src, src).run(NOISE)
-    np.testing.assert_array_equal(out, NOISE)
-    # a 2x reduction: v360 samples at output corners, i.e. exactly on source pixel (2i, 2j); lenslab
-    # samples output centres, halfway between source pixels 2i and 2i+1
+    np.testing.assert_allclose(out, v360_equirect_resample(NOISE, 64, 32), rtol=0, atol=2e-5)  # float32 map
+    # a 2x reduction: v360 reads index (2i + 1)(W - 1)/W; lenslab averages pixels 2i and 2i + 1
     small = eq(32, 16)
     out, _ = v360_plan(src, small).run(NOISE)
-    np.testing.assert_allclose(out, NOISE[::2, ::2], rtol=0, atol=2e-5)  # float32 map rounding
+    np.testing.assert_allclose(out, v360_equirect_resample(NOISE, 32, 16), rtol=0, atol=2e-5)
     ours, _ = warp(NOISE, src, small)
     np.testing.assert_allclose(ours[2:-2], 0.25 * (NOISE[::2, ::2] + NOISE[1::2, ::2] + NOISE[::2, 1::2]
                                                    + NOISE[1::2, 1::2])[2:-2], rtol=0, atol=2e-5)

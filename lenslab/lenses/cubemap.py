@@ -88,6 +88,11 @@ class Cubemap(Lens):
         self._sB = axes[:, 1].sum(axis=1)
 
     @property
+    def v360_read(self) -> str | None:
+        """How ffmpeg's v360 reads this layout as its input (it has no cross)."""
+        return None if self.layout == "4x3" else "centre"
+
+    @property
     def face_size(self) -> tuple[float, float]:
         return self.width / self.cols, self.height / self.rows
 

@@ -41,6 +41,8 @@ class _Cylinder(Lens):
         Param("fov", 360.0, "longitude range across the image width, degrees", 0.0, 360.0, lo_open=True),
         Param("vfov", 0.0, "latitude range across the image height, degrees (0: square pixels)", 0.0, 180.0),
     )
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "span"
     #: whether the model reaches the poles at a finite height (vfov = 180 allowed)
     vfov_180 = False
 

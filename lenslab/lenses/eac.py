@@ -49,6 +49,8 @@ class EquiAngularCubemap(Lens):
 
     name = "eac"
     summary = "equi-angular cube map (YouTube's 360 format), v360's 3x2 layout"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "centre"
     params = (
         Param("pad", 0.0, "pixels of padding round each row of faces (v360's eac: 2)", 0.0, 64.0),
     )

@@ -27,6 +27,8 @@ class Equirect(Lens):
 
     name = "equirect"
     summary = "latitude/longitude panorama (full sphere, or a longitude/latitude range)"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "span"
     params = (
         Param("lon_min", -180.0, "left edge longitude, degrees", -180.0, 180.0),
         Param("lon_max", 180.0, "right edge longitude, degrees", -180.0, 180.0),

@@ -70,6 +70,11 @@ class Fisheye(Lens):
     #: parameters left out of the spec when they hold these values (so that older specs read the same)
     quiet_defaults = {"vfov": 0.0, "dfov": 0.0, "cx": 0.0, "cy": 0.0}
 
+    @property
+    def v360_read(self) -> str | None:
+        """How ffmpeg's v360 reads this fisheye as its input (it has no off-centre circle)."""
+        return "span" if self.cx == 0.0 and self.cy == 0.0 else None
+
     def _check(self) -> None:
         given = [name for name in ("vfov", "dfov") if getattr(self, name) > 0]
         if len(given) > 1:

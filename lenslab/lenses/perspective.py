@@ -24,6 +24,8 @@ class Perspective(Lens):
 
     name = "perspective"
     summary = "pinhole camera (rectilinear)"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "span"
     params = (
         Param("fov", 90.0, "horizontal field of view, degrees", 0.0, 180.0, lo_open=True, hi_open=True),
         Param("vfov", 0.0, "vertical field of view, degrees (0: square pixels from fov)", 0.0, 180.0, hi_open=True),

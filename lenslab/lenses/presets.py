@@ -43,6 +43,8 @@ class LittlePlanet(Lens):
 
     name = "little-planet"
     summary = "little planet: a stereographic fisheye looking straight down, forward at the top"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "span"  # v360 sg with pitch=-90
     params = (
         Param("fov", 270.0, "field of view across the image width, degrees (below 360)", 0.0, 360.0,
               lo_open=True, hi_open=True),

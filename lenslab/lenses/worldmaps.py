@@ -42,6 +42,8 @@ class Hammer(Lens):
 
     name = "hammer"
     summary = "Hammer-Aitoff: the whole sphere in a 2:1 ellipse, equal-area"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "shift"  # half a pixel off its other projections
 
     def uv_to_dir(self, uv):
         u, v = uv[..., 0], uv[..., 1]
@@ -93,6 +95,8 @@ class Sinusoidal(Lens):
 
     name = "sinusoidal"
     summary = "sinusoidal: the whole sphere between two sine curves, equal-area"
+    #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
+    v360_read = "span"
 
     def uv_to_dir(self, uv):
         u, v = uv[..., 0], uv[..., 1]

@@ -1,16 +1,22 @@
 """ffmpeg v360's pixel mapping, for matching footage already converted with it.
 
-ffmpeg's v360 filter puts each output sample at the *corner* of its pixel (``(2 i / W - 1)`` for
-column ``i``) and reads the input with the centre of pixel ``i`` at coordinate ``i`` (``u = (phi / pi
-+ 1) W / 2``, taps at ``floor(u)`` and ``floor(u) + 1``). In lenslab's terms (centres at ``+0.5`` on
-both sides) that is an output offset of ``-1/2`` pixel and an input offset of ``+1/2`` pixel: the two
-cancel when the sizes are equal, and disagree by up to half a source pixel when they are not (a 2x
-reduction of an equirect reads source pixel ``2 i`` instead of the average of ``2 i`` and ``2 i + 1``).
-Its equirect input clamps at the poles instead of continuing across them.
+Measured on Debian's ffmpeg 5.1 (a source whose 16-bit values encode their own coordinates, read back
+through ``v360=...:interp=line``; ``tests/test_v360_ffmpeg.py`` compares every shared projection both
+ways), v360 samples every output projection at its pixel *centres*, as lenslab does, and reads its
+input in one of three ways, each lens saying which with its ``v360_read`` attribute:
 
-:func:`v360_plan` reproduces those conventions with lenslab's lens models and exact filters. It does
-not reproduce v360's other habits (clamping float input to [0, 1], leaving fisheye corners unmasked,
-its own bicubic/Lanczos weights): the output keeps HDR values and alpha.
+- ``"span"`` (equirect, flat, the fisheyes, mercator, cylindrical, pannini, sinusoidal, half equirect):
+  the projection's range ``[-1, 1]`` covers the span from the centre of the first pixel to the centre
+  of the last, ``index = p (W - 1) / W`` for lenslab's continuous coordinate ``p`` (a shrink of half a
+  pixel at each edge); ``"span-halves"`` (dual fisheye) does that within each half of the frame;
+- ``"centre"`` (the cube maps, EAC): lenslab's own convention, ``index = p - 1/2``;
+- ``"shift"`` (hammer): ``index = p``, half a pixel off.
+
+Its equirect input clamps at the poles instead of continuing across them. :class:`V360Plan`
+reproduces these conventions with lenslab's lens models and filters. It does not reproduce v360's
+other habits (clamping float input to [0, 1], filling pixels outside an output projection with
+whatever its formulas give, reading a cube face's neighbour face at face edges, the integer face sizes
+it rounds non-divisible cube maps to): the output keeps HDR values and alpha.
 """
 
 from __future__ import annotations
@@ -23,6 +29,38 @@ from lenslab.warp.engine import WarpPlan
 from lenslab.warp.maps import MapBand
 from lenslab.warp.seam import Border
 
+READS = ("span", "span-halves", "centre", "shift")
+
+
+def v360_read(lens) -> str:
+    """How v360 reads ``lens`` as its input (see the module docstring); a WarpError if it has no
+    counterpart in v360."""
+    how = getattr(lens, "v360_read", None)
+    if how not in READS:
+        raise WarpError(f"--compat v360: ffmpeg's v360 has no projection matching {lens.spec()}; "
+                        "see docs/v360.md for the projections both share")
+    return how
+
+
+def to_v360_index(xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, lens, how: str) -> None:
+    """Move lenslab's index coordinates (``p - 1/2``) to the ones v360 reads at, in place (float32)."""
+    x, y = xs[valid], ys[valid]
+    if how == "centre":
+        return
+    x += np.float32(0.5)  # back to lenslab's continuous coordinate p
+    y += np.float32(0.5)
+    if how != "shift":
+        if how == "span-halves":
+            half = lens.width / 2.0
+            right = x >= half
+            x -= np.where(right, np.float32(half), np.float32(0.0)).astype(np.float32)
+            x *= np.float32((half - 1.0) / half)
+            x += np.where(right, np.float32(half), np.float32(0.0)).astype(np.float32)
+        else:
+            x *= np.float32((lens.width - 1.0) / lens.width)
+        y *= np.float32((lens.height - 1.0) / lens.height)
+    xs[valid], ys[valid] = x, y
+
 
 class V360Plan(WarpPlan):
     """A :class:`WarpPlan` with v360's sample positions (see the module docstring)."""
@@ -30,20 +68,14 @@ class V360Plan(WarpPlan):
     def __init__(self, src_camera: Camera, dst_camera: Camera, **options):
         if options.get("samples", 1) != 1 or options.get("antialias", False):
             raise WarpError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
-        if getattr(dst_camera.lens, "name", "") == "tiled":
-            raise WarpError("--compat v360 has no tiled outputs; warp each view separately")
+        self.read = v360_read(src_camera.lens)
+        v360_read(dst_camera.lens)  # the output must be a v360 projection too
         super().__init__(src_camera, dst_camera, **options)
         self.border = Border(self.border.wrap, False, False)  # v360 clamps rows at the poles
 
-    def _offsets(self, r0: int, r1: int) -> np.ndarray:
-        # samples at the pixel corners; a hair below them, so that the top row of an equirect output keeps
-        # its longitude (v360's float32 cos(pi/2) is not 0 either) instead of landing on the pole itself
-        return np.array([[0.0, 1e-9]])
-
     def _band(self, r0: int, r1: int) -> MapBand:
         band = self.mapper.map_band(r0, r1, self._offsets(r0, r1))
-        band.xs[band.valid] += np.float32(0.5)  # the input's pixel centres at integer coordinates
-        band.ys[band.valid] += np.float32(0.5)
+        to_v360_index(band.xs, band.ys, band.valid, self.src.lens, self.read)
         return band
 
 
@@ -52,4 +84,4 @@ def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
     return V360Plan(src_camera, dst_camera, **options)
 
 
-__all__ = ["V360Plan", "v360_plan"]
+__all__ = ["V360Plan", "v360_plan", "v360_read"]
