@@ -211,7 +211,7 @@ def test_every_curve_has_a_docstring_with_formula_and_declared_params():
     for name, curve in tone.CURVES.items():
         assert len(curve.doc) > 60, name
         for p in curve.params:
-            assert p.doc and p.range_text()
+            assert p.doc and p.describe_range()
     assert {"clamp", "gamma", "reinhard", "reinhard-extended", "reinhard2002", "hable", "aces", "aces-hill",
             "agx", "pbr-neutral", "drago", "mantiuk"} <= set(tone.CURVES)
 

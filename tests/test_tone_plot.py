@@ -7,7 +7,7 @@ import pytest
 
 from lenslab import tone
 from lenslab.errors import ToneError
-from lenslab.tone_plot import curve_samples, plot_curves
+from lenslab.tone.plot import curve_samples, plot_curves
 
 
 def test_plot_curves_draws_every_curve_on_both_panels():

@@ -48,7 +48,7 @@ def tone_curves(page: Page, item: ToneSet | None = None) -> str:
     contrast. drago and mantiuk depend on the whole image, so they are drawn (dashed) as their response
     to a ramp. ``lenslab curves -o curves.png`` draws this chart."""
     from lenslab.io.atomic import atomic_write_path
-    from lenslab.tone_plot import plot_curves
+    from lenslab.tone.plot import plot_curves
 
     path, rel = page.new_image_path("tone-curves", "png")
     names = list(item.curves) if item is not None else None

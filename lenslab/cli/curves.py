@@ -9,7 +9,7 @@ to a horizontal ramp image covering the same range, which depends on the image.
   lenslab curves -o curves.png
   lenslab curves --list
 
-From Python, ``lenslab.tone_plot.plot_curves(names, stops, exposure)`` returns the same chart as a
+From Python, ``lenslab.tone.plot.plot_curves(names, stops, exposure)`` returns the same chart as a
 matplotlib Figure.
 """
 
@@ -29,8 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def curve_samples(name: str, stops, exposure: float = 0.0, n: int = 512):
-    """(input values, display-linear output) for plotting one curve (see :mod:`lenslab.tone_plot`)."""
-    from lenslab.tone_plot import curve_samples as samples
+    """(input values, display-linear output) for plotting one curve (see :mod:`lenslab.tone.plot`)."""
+    from lenslab.tone.plot import curve_samples as samples
 
     return samples(name, stops, exposure, n)
 
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
         print(tone.describe_curves())
         return 0
     from lenslab.io.atomic import atomic_write_path
-    from lenslab.tone_plot import plot_curves
+    from lenslab.tone.plot import plot_curves
 
     fig = plot_curves(args.curves, args.stops, args.exposure)
     with atomic_write_path(args.output) as tmp:

@@ -7,8 +7,8 @@ A model spec such as ``fisheye:mapping=equisolid`` or ``brown:fov=90`` names the
 - the other choice parameters (like a fisheye's ``mapping``) are tried in turn, and the best kept.
 
 ``free=`` names the fitted parameters explicitly; a value the spec gives for one of them is then its
-starting point. ``bounds=`` overrides a parameter's range; a parameter the model leaves unbounded
-moves within ``start +- max(1, |start|)`` unless told otherwise.
+starting point. ``bounds=`` overrides a parameter's range; otherwise it moves within the box
+:meth:`lenslab.params.Param.search_bounds` gives (the same rule as for tone curves).
 """
 
 from __future__ import annotations
@@ -26,8 +26,6 @@ from lenslab.lenses.base import Lens, Param
 # float parameters whose default switches a feature off or sets a frame rather than a shape: they
 # are fitted only when named in ``free``
 NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "lon_min", "lon_max", "lat_min", "lat_max", "cx", "cy"})
-
-OPEN_BOUND_MARGIN = 1e-6  # fraction of the range kept away from an open bound (e.g. perspective fov < 180)
 
 
 def parse_bounds(text: str | None) -> dict[str, tuple[float, float]]:
@@ -113,20 +111,6 @@ def model_params(cls: type, given: Mapping[str, Any]) -> list[Param]:
     return out
 
 
-def _numeric_bounds(p: Param, start: float) -> tuple[float, float]:
-    lo = p.lo if p.lo is not None else None
-    hi = p.hi if p.hi is not None else None
-    half = max(1.0, abs(start))
-    if lo is None and hi is None:
-        return start - half, start + half
-    if lo is None:
-        lo = min(start, hi) - half
-    if hi is None:
-        hi = max(start, lo) + half
-    margin = OPEN_BOUND_MARGIN * (hi - lo)
-    return lo + (margin if p.lo_open else 0.0), hi - (margin if p.hi_open else 0.0)
-
-
 def build_space(
     model: str,
     size: tuple[int, int],
@@ -176,7 +160,7 @@ def build_space(
                     s = float(p.convert(name, sv))
                 except LensError:
                     pass
-        lo, hi = bounds.get(n, _numeric_bounds(p, s))
+        lo, hi = bounds.get(n) or p.search_bounds(s)
         if not lo < hi:
             raise FitError(f"{name}: bounds for {n} are empty ({lo:g} >= {hi:g}); give LOW < HIGH")
         s = min(max(s, lo), hi)

@@ -9,7 +9,8 @@ Which parameters move: by default the exposure (in stops) and every numeric curv
 default of its own, except those that only trade places with the exposure (Hable's ``exposure_bias``)
 and curves whose scale comes from the image (where the exposure cancels). Hable's shape constants
 ``A``..``F`` follow the preset unless named in ``free``. Positive parameters with a wide range move
-in log scale.
+in log scale. Every parameter moves within the box :meth:`lenslab.params.Param.search_bounds`
+gives (the same rule as for lens models) unless ``bounds`` says otherwise.
 
 The colour difference is reported before (the curve's defaults, exposure 0) and after the fit as
 CIEDE2000 (colour-science ``delta_E(..., method="CIE 2000")``) on CIE Lab of the two images' linear
@@ -32,14 +33,14 @@ from lenslab.fit.params import parse_bounds, parse_names
 
 MAX_PIXELS = 1 << 16  # pixels the objective looks at (evenly spread over the image)
 EXPOSURE_BOUNDS = (-16.0, 16.0)  # stops
-LOG_SPAN = 64.0  # a positive parameter moves within [default / 64, default * 64] unless told otherwise
 NOT_FITTED_BY_DEFAULT = frozenset({"exposure_bias", "delta", "headroom"})
 
 
 def srgb_encode(x: np.ndarray) -> np.ndarray:
-    import colour
+    """Linear values clipped to [0, 1] -> sRGB code values, float64 (:mod:`lenslab.srgb`)."""
+    from lenslab import srgb
 
-    return np.asarray(colour.cctf_encoding(np.clip(x, 0.0, 1.0), function="sRGB"), dtype=np.float64)
+    return srgb.eotf_inverse(np.clip(x, 0.0, 1.0))
 
 
 def lab(rgb_linear: np.ndarray) -> np.ndarray:
@@ -123,7 +124,10 @@ class ToneFit:
         """The ``lenslab tonemap`` options that reproduce the fitted look."""
         from lenslab import tone
 
-        defaults = {p.name: p.default for p in tone.get_curve(self.curve).params}
+        spec = tone.get_curve(self.curve)
+        # the values the curve takes when given only the same choices (Hable's preset fills A..F)
+        defaults = spec.resolve({p.name: self.params[p.name] for p in spec.params
+                                 if p.choices is not None and p.name in self.params})
         parts = [f"--curve {self.curve}", f"--exposure {self.exposure:.6g}"]
         for k, v in self.params.items():
             if k in self.free or (v is not None and v != defaults.get(k)):
@@ -179,24 +183,8 @@ def _variables(curve, free: Sequence[str] | None, bounds: dict, fixed: dict) -> 
             numeric = [p.name for p in spec.params if p.choices is None]
             raise FitError(f"curve {spec.name!r} has no numeric parameter {n!r}; its parameters: "
                            f"exposure, {', '.join(numeric)}")
-        p = params[n]
-        start = resolved.get(n)
-        if start is None and spec.name == "hable":
-            start = tone.HABLE_PRESETS[resolved["preset"]][n]
-        start = float(start)
-        if n in bounds:
-            lo, hi = bounds[n]
-        elif p.low >= 0 and start > 0:
-            lo = max(p.low, start / LOG_SPAN) if math.isfinite(p.low) else start / LOG_SPAN
-            hi = min(p.high, start * LOG_SPAN)
-        else:
-            half = max(1.0, abs(start))
-            lo = max(p.low, start - half)
-            hi = min(p.high, start + half)
-        if p.low_open and lo <= p.low:
-            lo = p.low + 1e-9 * max(1.0, abs(hi - p.low))
-        if p.high_open and hi >= p.high:
-            hi = p.high - 1e-9 * max(1.0, abs(p.high - lo))
+        start = float(resolved[n])  # a value derived from others (Hable's A..F) is resolved too
+        lo, hi = bounds[n] if n in bounds else params[n].search_bounds(start)
         log = lo > 0 and hi / lo > 8.0
         out.append(Variable(n, min(max(start, lo), hi), lo, hi, log))
     return out

@@ -1,12 +1,13 @@
-"""Display encoding: the sRGB transfer function (from colour-science) and integer quantisation.
+"""Display encoding: the sRGB transfer function (:mod:`lenslab.srgb`) and integer quantisation.
 
 LDR files (PPM/PGM, JPG, PNG) hold sRGB-encoded code values. Reading decodes them to linear light;
 writing encodes linear light in [0, 1] and quantises with round-to-nearest (optionally dithered).
 
 Speed without hand-writing the curve: decoding goes through a table of every code value, built once
-per maxval with colour-science's sRGB EOTF. Encoding to 8 or 16 bits goes through a table of the
-decision thresholds (the linear values where the rounded code steps up), again computed with
-colour-science: the result is exactly ``round(maxval * eotf_inverse_sRGB(x))`` at table-lookup speed.
+per maxval with the sRGB EOTF. Encoding to 8 or 16 bits goes through a table of the decision
+thresholds (the linear values where the rounded code steps up), again from the EOTF: the result is
+exactly ``round(maxval * eotf_inverse_sRGB(x))`` at table-lookup speed. :mod:`lenslab.srgb` agrees with
+colour-science to float64 rounding without importing it (a second of start-up).
 """
 
 from __future__ import annotations
@@ -15,15 +16,14 @@ import functools
 
 import numpy as np
 
+from lenslab import srgb
 
 
 @functools.lru_cache(maxsize=8)
 def decode_table(maxval: int) -> np.ndarray:
     """float32 table: code value 0..maxval -> linear light (sRGB EOTF of code/maxval)."""
-    import colour
-
     codes = np.arange(maxval + 1, dtype=np.float64) / maxval
-    return np.asarray(colour.models.eotf_sRGB(codes), dtype=np.float32)
+    return srgb.eotf(codes).astype(np.float32)
 
 
 def decode_srgb(codes: np.ndarray, maxval: int) -> np.ndarray:
@@ -33,10 +33,7 @@ def decode_srgb(codes: np.ndarray, maxval: int) -> np.ndarray:
 
 def encode_srgb(linear: np.ndarray) -> np.ndarray:
     """Linear light -> sRGB-encoded value (float32, the same shape); inputs are clipped to [0, 1] first."""
-    import colour
-
-    x = np.clip(np.nan_to_num(linear, nan=0.0), 0.0, 1.0)
-    return np.asarray(colour.models.eotf_inverse_sRGB(x), dtype=np.float32)
+    return srgb.encode(linear)
 
 
 #: table cells per bit depth, finer than the narrowest code step (near black, on the linear segment:
@@ -47,12 +44,10 @@ _CELLS = {8: 1 << 14, 16: 1 << 20}
 @functools.lru_cache(maxsize=2)
 def _encode_tables(bits: int) -> tuple[np.ndarray, np.ndarray]:
     """(code at each cell's lower edge, the next threshold above it) for exact table encoding."""
-    import colour
-
     maxval = (1 << bits) - 1
     cells = _CELLS[bits]
-    # linear value at which the rounded code reaches k (k = 1..maxval), from colour-science's EOTF
-    thr64 = np.asarray(colour.models.eotf_sRGB((np.arange(1, maxval + 1) - 0.5) / maxval), dtype=np.float64)
+    # linear value at which the rounded code reaches k (k = 1..maxval), from the sRGB EOTF
+    thr64 = srgb.eotf((np.arange(1, maxval + 1) - 0.5) / maxval)
     # the smallest float32 not below each threshold, so that float32 comparisons round as float64 would
     thr = thr64.astype(np.float32)
     below = thr.astype(np.float64) < thr64

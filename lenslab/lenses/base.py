@@ -14,92 +14,14 @@ No NaN or inf ever leaves a model: where ``valid`` is False the returned values 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from lenslab.errors import LensError
+from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
 
 FLOAT = np.float64
-
-
-@dataclass(frozen=True)
-class Param:
-    """One parameter of a lens model, as listed by ``lenslab lenses`` and parsed from a spec."""
-
-    name: str
-    default: Any
-    doc: str
-    lo: float | None = None  # inclusive bounds for numbers (None: unbounded)
-    hi: float | None = None
-    choices: tuple[str, ...] | None = None  # for string parameters
-    lo_open: bool = False  # True: the lower bound itself is excluded
-    hi_open: bool = False
-
-    @property
-    def kind(self) -> type:
-        if self.choices is not None:
-            return str
-        if isinstance(self.default, bool):
-            return bool
-        if isinstance(self.default, int):
-            return int
-        if isinstance(self.default, str):
-            return str
-        return float
-
-    def describe_range(self) -> str:
-        if self.choices is not None:
-            return "one of " + ", ".join(self.choices)
-        if self.lo is None and self.hi is None:
-            return "any"
-        lo = "-inf" if self.lo is None else f"{self.lo:g}"
-        hi = "inf" if self.hi is None else f"{self.hi:g}"
-        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
-
-    def convert(self, model: str, value: Any) -> Any:
-        """Convert a spec value (often a string) to this parameter's type and check its range."""
-        kind = self.kind
-        try:
-            if kind is bool:
-                if isinstance(value, str):
-                    low = value.strip().lower()
-                    if low not in ("true", "false", "1", "0", "yes", "no"):
-                        raise ValueError(value)
-                    value = low in ("true", "1", "yes")
-                else:
-                    value = bool(value)
-            elif kind is int:
-                fv = float(value)
-                if fv != int(fv):
-                    raise ValueError(value)
-                value = int(fv)
-            elif kind is float:
-                value = float(value)
-            else:
-                value = str(value)
-        except (TypeError, ValueError):
-            raise LensError(
-                f"{model}: parameter {self.name}={value!r} is not a {kind.__name__} "
-                f"(expected {self.describe_range()})"
-            ) from None
-        if kind in (int, float):
-            if not np.isfinite(value):
-                raise LensError(f"{model}: parameter {self.name} must be finite, got {value}")
-            bad = (
-                (self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo)))
-                or (self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi)))
-            )
-            if bad:
-                raise LensError(
-                    f"{model}: parameter {self.name}={value:g} is out of range {self.describe_range()}"
-                )
-        if self.choices is not None and value not in self.choices:
-            raise LensError(
-                f"{model}: parameter {self.name}={value!r} is not valid; choose one of {', '.join(self.choices)}"
-            )
-        return value
 
 
 def as_points(a, last: int, what: str) -> np.ndarray:

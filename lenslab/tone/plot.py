@@ -16,8 +16,13 @@ from typing import Iterable
 
 import numpy as np
 
-from lenslab import tone
 from lenslab.errors import ToneError
+from lenslab.srgb import encode as encode_srgb
+
+from .exposure import MIDDLE_GREY
+from .mapping import tonemap
+from .registry import CURVES, get_curve
+from .reinhard import reinhard2002
 
 __all__ = ["plot_curves", "curve_samples"]
 
@@ -25,19 +30,19 @@ __all__ = ["plot_curves", "curve_samples"]
 def curve_samples(name: str, stops=(-10.0, 8.0), exposure: float = 0.0, n: int = 512):
     """(input values, display-linear output), float32 arrays of ``n``, for plotting one curve."""
     x = np.exp2(np.linspace(stops[0], stops[1], n)).astype(np.float32)
-    curve = tone.get_curve(name)
+    curve = get_curve(name)
     if curve.kind == "local":
         ramp = np.repeat(np.repeat(x[None, :, None], 8, axis=0), 3, axis=2)
-        y = tone.tonemap(ramp, curve.name, exposure=exposure)[4, :, 1]
+        y = tonemap(ramp, curve.name, exposure=exposure)[4, :, 1]
     elif curve.kind == "image":
-        y = tone.reinhard2002(x * np.float32(2.0 ** exposure), log_avg=tone.MIDDLE_GREY)
+        y = reinhard2002(x * np.float32(2.0 ** exposure), log_avg=MIDDLE_GREY)
     else:
-        y = tone.tonemap(x, curve.name, exposure=exposure)
+        y = tonemap(x, curve.name, exposure=exposure)
     return x, y
 
 
 def plot_curves(names: Iterable[str] | str | None = None, stops=(-10.0, 8.0), exposure: float = 0.0):
-    """Every tone curve in ``names`` (default: all of :data:`lenslab.tone.CURVES`; a comma-separated
+    """Every tone curve in ``names`` (default: all of :data:`lenslab.CURVES`; a comma-separated
     string works too) against scene-linear input from ``2**stops[0]`` to ``2**stops[1]``, after
     ``exposure`` stops. Returns a ``matplotlib.figure.Figure``; save it with ``fig.savefig(path)``.
     Unknown names and an empty or reversed range raise :class:`lenslab.errors.ToneError`."""
@@ -45,11 +50,9 @@ def plot_curves(names: Iterable[str] | str | None = None, stops=(-10.0, 8.0), ex
     from matplotlib.figure import Figure
     from matplotlib.ticker import FuncFormatter
 
-    from lenslab.io.encode import encode_srgb
-
     if isinstance(names, str):
         names = names.split(",")
-    chosen = [tone.get_curve(n).name for n in (names or []) if str(n).strip()] or list(tone.CURVES)
+    chosen = [get_curve(n).name for n in (names or []) if str(n).strip()] or list(CURVES)
     lo, hi = (float(v) for v in stops)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ToneError(f"stops ({lo:g}, {hi:g}): give a finite range LOW < HIGH, such as (-10, 8)")
@@ -60,7 +63,7 @@ def plot_curves(names: Iterable[str] | str | None = None, stops=(-10.0, 8.0), ex
     cmap = matplotlib.colormaps["tab20"]
     for i, name in enumerate(chosen):
         x, y = curve_samples(name, (lo, hi), exposure)
-        style = "--" if tone.CURVES[name].kind == "local" else "-"
+        style = "--" if CURVES[name].kind == "local" else "-"
         for ax, values in ((ax_enc, encode_srgb(y)), (ax_lin, y)):
             ax.plot(x, values, style, color=cmap(i % 20), label=name, linewidth=1.6)
     for ax, title in ((ax_enc, "display value (sRGB-encoded)"), (ax_lin, "display-linear output")):
@@ -69,7 +72,7 @@ def plot_curves(names: Iterable[str] | str | None = None, stops=(-10.0, 8.0), ex
         ax.set_xlabel("scene-linear input, stops from 1.0")
         ax.set_title(title)
         ax.set_ylim(-0.02, 1.02)
-        ax.axvline(tone.MIDDLE_GREY, color="0.6", linewidth=0.8, linestyle=":")
+        ax.axvline(MIDDLE_GREY, color="0.6", linewidth=0.8, linestyle=":")
         ax.grid(True, which="major", alpha=0.3)
     ax_enc.legend(loc="upper left", fontsize=9)
     fig.suptitle(f"lenslab tone curves (exposure {exposure:+g} stops; dotted line: middle grey 0.18)")

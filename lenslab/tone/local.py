@@ -1,4 +1,4 @@
-"""OpenCV's local tone-mapping operators (Drago, Mantiuk) behind ``lenslab.tone``'s curve interface.
+"""OpenCV's local tone-mapping operators (Drago, Mantiuk) as curves of ``lenslab.tone``.
 
 These are not per-pixel curves: each pixel's result depends on the whole image. OpenCV first divides
 the image by its maximum and floors luminance at 1e-4 of it before taking logarithms, so a sun of
@@ -8,6 +8,11 @@ brightest percent left out); whatever lies above is white in the result anyway. 
 is left at 1 (the output is display-linear: lenslab's writer applies the sRGB encoding) and its
 output, stretched by OpenCV to [0, 1], is cleaned of the NaN it can leave (and then stretched again).
 OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally.
+
+>>> ramp = np.repeat(np.geomspace(0.01, 100.0, 16, dtype=np.float32)[None, :, None], 3, axis=2)
+>>> y = drago(np.repeat(ramp, 4, axis=0))[0, :, 0]
+>>> bool(np.all(np.diff(y) > 0)), float(y[-1])              # OpenCV stretches the result to [0, 1]
+(True, 1.0)
 """
 
 from __future__ import annotations
@@ -15,6 +20,13 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import ToneError
+from lenslab.params import Param
+
+from .exposure import log_average, luminance_sample
+from .mapping import tonemap
+from .registry import register
+
+
 
 _MIN_SIDE = {"drago": 1, "mantiuk": 4}
 
@@ -34,11 +46,9 @@ def _quietly(fn, *args):
         logging.setLogLevel(level)
 
 
-def apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
+def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     """Run the OpenCV operator ``name`` on a repaired, exposed float32 image; float32, same shape."""
     import cv2
-
-    from lenslab.tone import _luminance_sample, log_average
 
     x = np.asarray(image, dtype=np.float32)
     shape = x.shape
@@ -54,7 +64,7 @@ def apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
         raise ToneError(f"curve {name!r} needs an image at least {_MIN_SIDE[name]} pixels on each side "
                         f"(got {w} x {h}); use a per-pixel curve for tiny images")
     img = np.ascontiguousarray(img, dtype=np.float32)
-    avg = log_average(_luminance_sample(img, weights), trim=1.0)
+    avg = log_average(luminance_sample(img, weights), trim=1.0)
     if avg <= 0:
         return np.zeros(shape, np.float32)  # nothing positive: black stays black
     img = np.minimum(img, np.float32(avg * 2.0 ** params["headroom"]))
@@ -79,3 +89,37 @@ def apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     if grey:
         out = out.mean(axis=-1, dtype=np.float32)
     return np.ascontiguousarray(out, dtype=np.float32).reshape(shape)
+
+
+_LOCAL_HEADROOM = Param("headroom", 12.0, "stops above the log-average kept before OpenCV's "
+                        "normalisation by the maximum (brighter is clipped)", 1.0, 30.0)
+
+
+_DRAGO_P = (Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
+            Param("bias", 0.85, "bias of the logarithmic base (Drago: 0.7 to 0.9)", 0.0, 1.0, lo_open=True),
+            _LOCAL_HEADROOM)
+_MANTIUK_P = (Param("scale", 0.7, "contrast scale factor (lower: stronger compression)", 0.0, 2.0, lo_open=True),
+              Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
+              _LOCAL_HEADROOM)
+
+
+@register("drago", "local", _DRAGO_P, build=lambda image, p, w: _apply("drago", image, p, w))
+def drago(rgb, saturation: float = 1.0, bias: float = 0.85, headroom: float = 12.0) -> np.ndarray:
+    """Drago adaptive logarithmic mapping (OpenCV ``createTonemapDrago``):
+    Ld = log(L + 1) / log(2 + 8 (L / Lmax)^(log(bias) / log(0.5))), L relative to the log-average.
+
+    Drago, Myszkowski, Annen, Chiba, "Adaptive Logarithmic Mapping For Displaying High Contrast
+    Scenes", Eurographics 2003. Not a per-pixel curve: it depends on the image's maximum and average.
+    """
+    return tonemap(rgb, "drago", saturation=saturation, bias=bias, headroom=headroom)
+
+
+@register("mantiuk", "local", _MANTIUK_P, build=lambda image, p, w: _apply("mantiuk", image, p, w))
+def mantiuk(rgb, scale: float = 0.7, saturation: float = 1.0, headroom: float = 12.0) -> np.ndarray:
+    """Mantiuk contrast-domain mapping (OpenCV ``createTonemapMantiuk``): contrasts of the log
+    luminance pyramid are scaled (``scale``) and the image is rebuilt by conjugate gradients.
+
+    Mantiuk, Myszkowski, Seidel, "A Perceptual Framework for Contrast Processing of High Dynamic
+    Range Images", ACM TAP 2006. A local operator: not a per-pixel curve.
+    """
+    return tonemap(rgb, "mantiuk", scale=scale, saturation=saturation, headroom=headroom)

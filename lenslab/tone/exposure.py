@@ -1,0 +1,156 @@
+"""Exposure: luminance weights, log-averages and automatic exposure.
+
+Exposure is in stops, ``x * 2**EV``. ``auto`` picks EV so that the log-average luminance, with the
+darkest and brightest percent of the positive pixels left out, lands on middle grey (0.18).
+Luminance weights are the Y row of the image's RGB -> XYZ matrix: the sRGB standard's own for sRGB
+(the default), from chromaticities by SMPTE RP 177, or from colour-science for any other colourspace name.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from lenslab.errors import ToneError
+
+F32 = np.float32
+MIDDLE_GREY = 0.18
+#: exposure accepted, in stops (2**100 and 2**-100 are still ordinary float32 numbers)
+EXPOSURE_RANGE = (-100.0, 100.0)
+# the Y row of IEC 61966-2-1's own RGB -> XYZ matrix (rounded to 4 digits there; colour-science's sRGB
+# colourspace uses the same published matrix)
+_KNOWN_WEIGHTS = {"sRGB": (0.2126, 0.7152, 0.0722)}
+
+
+def _luminance_row(xy: np.ndarray) -> np.ndarray:
+    """The Y row of the RGB -> XYZ matrix of primaries and white point ``xy`` ((4, 2): R, G, B, W),
+    as SMPTE RP 177 derives it (what colour-science's ``normalised_primary_matrix`` computes)."""
+    xyz = np.column_stack([xy[:, 0], xy[:, 1], 1.0 - xy[:, 0] - xy[:, 1]]) / xy[:, 1:2]  # X/Y, 1, Z/Y
+    try:
+        gains = np.linalg.solve(xyz[:3].T, xyz[3])
+    except np.linalg.LinAlgError:
+        raise ToneError(f"primaries {xy.tolist()} are not usable: the three colours are not independent") from None
+    return gains  # the Y of each primary is 1 before scaling: the Y row is the gains
+
+
+@functools.lru_cache(maxsize=32)
+def _weights_by_name(name: str) -> tuple[float, float, float]:
+    if name in _KNOWN_WEIGHTS:  # no colour-science import (a second) for the common case
+        return _KNOWN_WEIGHTS[name]
+    import colour
+
+    if name not in colour.RGB_COLOURSPACES:
+        close = [n for n in colour.RGB_COLOURSPACES if name.lower() in n.lower()][:8]
+        hint = f" (close: {', '.join(close)})" if close else " such as sRGB, ITU-R BT.2020, ACEScg, Display P3"
+        raise ToneError(f"unknown RGB colourspace {name!r} for luminance weights; use a colour-science "
+                        f"colourspace name{hint}")
+    return tuple(float(v) for v in colour.RGB_COLOURSPACES[name].matrix_RGB_to_XYZ[1])
+
+
+def luminance_weights(primaries="sRGB") -> np.ndarray:
+    """Luminance weights (Y row of RGB -> XYZ) from colour-science, float32 (3,).
+
+    ``primaries``: a colour-science colourspace name (``"sRGB"``: Rec.709, 0.2126 0.7152 0.0722),
+    chromaticities ``((xr, yr), (xg, yg), (xb, yb), (xw, yw))`` as an EXR header stores them, or
+    three weights directly.
+    """
+    if primaries is None:
+        primaries = "sRGB"
+    if isinstance(primaries, str):
+        return np.array(_weights_by_name(primaries), dtype=F32)
+    arr = np.asarray(primaries, dtype=np.float64)
+    if arr.shape == (3,):
+        w = arr
+    elif arr.shape == (4, 2):
+        w = _luminance_row(arr)
+    else:
+        raise ToneError(f"primaries must be a colourspace name, 4 (x, y) chromaticities or 3 weights; "
+                        f"got shape {arr.shape}")
+    if not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
+        raise ToneError(f"luminance weights {w.tolist()} are not usable: they must be finite and >= 0")
+    return w.astype(F32)
+
+
+def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18) -> np.ndarray:
+    """Luminance of (an evenly strided sample of) the image, float64, bad values as in tonemap
+    (NaN and negatives count as 0, pixels with a +inf channel are dropped)."""
+    x = np.asarray(image)
+    if x.ndim == 3 and x.shape[-1] in (2, 4):
+        x = x[..., :-1]
+    channels = 3 if x.ndim == 3 and x.shape[-1] == 3 else 1
+    px = x.reshape(-1, channels)
+    step = max(1, -(-px.shape[0] // max_samples))
+    planes = np.array(px[::step].T, dtype=np.float64)  # (channels, n): contiguous rows
+    finite = np.ones(planes.shape[1], bool)
+    for row in planes:
+        finite &= ~np.isposinf(row)
+    np.nan_to_num(planes, copy=False, nan=0.0, posinf=0.0, neginf=0.0)
+    np.clip(planes, 0.0, None, out=planes)
+    if channels == 3:
+        w = np.asarray(weights, dtype=np.float64)
+        lum = planes[0] * w[0] + planes[1] * w[1] + planes[2] * w[2]
+    else:
+        lum = planes[0]
+    return lum[finite]
+
+
+def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None) -> float:
+    """Log-average (geometric mean) of luminance values.
+
+    ``delta=None``: over the positive values only, with the ``trim`` percent darkest and brightest of
+    them left out (0 when there are none). ``delta > 0``: Reinhard et al.'s ``exp(mean(log(delta + L)))``
+    over every value.
+    """
+    lum = np.asarray(lum, dtype=np.float64).reshape(-1)
+    if delta is not None:
+        return float(np.exp(np.mean(np.log(delta + lum)))) if lum.size else 0.0
+    logs = np.log2(lum[lum > 0])
+    if logs.size == 0:
+        return 0.0
+    if trim > 0:
+        lo, hi = np.percentile(logs, [trim, 100.0 - trim])
+        kept = logs[(logs >= lo) & (logs <= hi)]
+        logs = kept if kept.size else logs
+    return float(2.0 ** np.mean(logs))
+
+
+def auto_exposure(image, key: float = MIDDLE_GREY, trim: float = 1.0, primaries="sRGB") -> float:
+    """Exposure in stops that brings the image's log-average luminance to ``key`` (middle grey).
+
+    The average is taken over positive pixels (black borders, e.g. outside a fisheye circle, are
+    not scene content), with the ``trim`` percent darkest and brightest left out: a small sun of
+    30000 does not drag the rest into black. An image with no positive pixel gets 0 (it stays black).
+    The result is limited to :data:`EXPOSURE_RANGE`.
+    """
+    if not 0 <= trim < 50:
+        raise ToneError(f"auto exposure: trim={trim:g} must be a percentage in [0, 50)")
+    if not key > 0:
+        raise ToneError(f"auto exposure: key={key:g} must be > 0 (middle grey is 0.18)")
+    x = np.asarray(image)
+    colour_image = x.ndim == 3 and x.shape[-1] in (3, 4)
+    avg = log_average(luminance_sample(x, luminance_weights(primaries) if colour_image else None), trim=trim)
+    if avg <= 0:
+        return 0.0
+    return float(np.clip(math.log2(key / avg), *EXPOSURE_RANGE))
+
+
+def parse_exposure(exposure, image, primaries) -> float:
+    if isinstance(exposure, str):
+        text = exposure.strip().lower()
+        if text == "auto":
+            return auto_exposure(image, primaries=primaries)
+        try:
+            exposure = float(text)
+        except ValueError:
+            raise ToneError(f"exposure {exposure!r} is neither a number of stops nor 'auto'") from None
+    try:
+        ev = float(exposure)
+    except (TypeError, ValueError):
+        raise ToneError(f"exposure {exposure!r} is neither a number of stops nor 'auto'") from None
+    if not EXPOSURE_RANGE[0] <= ev <= EXPOSURE_RANGE[1]:
+        raise ToneError(f"exposure {ev:g} stops is out of range; give a number in "
+                        f"[{EXPOSURE_RANGE[0]:g}, {EXPOSURE_RANGE[1]:g}] or 'auto'")
+    return ev
+

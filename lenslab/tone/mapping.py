@@ -1,0 +1,148 @@
+"""``tonemap``: the one entry point; repair, exposure and curve in a fixed order.
+
+``tonemap(image, curve="hable", exposure=0.0, mode="per-channel", **params)`` returns display-linear
+float32 (not yet sRGB-encoded: ``lenslab.io.write`` encodes). The order of work is fixed:
+
+1. bad values are repaired and counted: NaN -> 0, +inf -> white, negatives (and -inf) -> 0; when there
+   were any, a :class:`ToneWarning` carrying the counts is issued (never silently);
+2. exposure in stops, ``x * 2**EV``; ``exposure="auto"`` picks EV so that the log-average luminance,
+   with the darkest and brightest percent of the pixels left out, lands on middle grey (0.18);
+3. the curve, either on each channel (``mode="per-channel"``) or on luminance (``mode="luminance"``:
+   RGB is scaled by ``curve(L) / L``, which keeps the ratios between channels, i.e. the hue; a pixel
+   whose brightest channel would then pass 1 is blended toward grey of the same luminance until it
+   fits, so luminance and hue angle survive and only saturation gives way).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from lenslab.errors import ToneError
+
+from .exposure import log_average, luminance_sample, luminance_weights, parse_exposure
+from .kernels import F32
+from .registry import get_curve
+from .sweep import Counts, repair, sweep_luminance, sweep_rgb, sweep_values
+
+
+class ToneWarning(UserWarning):
+    """Bad input values were repaired while tone mapping. ``nan``, ``posinf`` and ``negative`` hold
+    the counts (negative includes -inf); ``total`` is the number of values looked at."""
+
+    def __init__(self, message: str, nan: int = 0, posinf: int = 0, negative: int = 0, total: int = 0):
+        super().__init__(message)
+        self.nan, self.posinf, self.negative, self.total = int(nan), int(posinf), int(negative), int(total)
+
+
+
+def warn_repairs(counts: Counts, total: int) -> None:
+    if not counts.any():
+        return
+    parts = []
+    if counts.nan:
+        parts.append(f"{counts.nan} NaN set to 0")
+    if counts.posinf:
+        parts.append(f"{counts.posinf} +inf set to white")
+    if counts.negative:
+        parts.append(f"{counts.negative} negative set to 0")
+    msg = f"tone mapping repaired {', '.join(parts)} (of {total} values)"
+    warnings.warn(ToneWarning(msg, counts.nan, counts.posinf, counts.negative, total), stacklevel=3)
+
+
+def as_float32(image) -> np.ndarray:
+    x = np.asarray(image)
+    if x.dtype != F32:
+        x = x.astype(F32)
+    return np.ascontiguousarray(x)
+
+
+def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
+            *, primaries="sRGB", **params) -> np.ndarray:
+    """Tone-map scene-linear ``image`` to display-linear float32 in [0, 1] (same shape).
+
+    ``image``: H x W x C (C = 1, 3; 2 or 4 with alpha last, colour premultiplied as in OpenEXR:
+    the curve acts on the unpremultiplied colour and alpha passes through clipped to [0, 1]), or any
+    array of single-channel values. ``curve``: a name in :data:`CURVES`. ``exposure``: stops, or
+    ``"auto"``. ``mode``: ``"per-channel"`` or ``"luminance"``. ``primaries``: for the luminance
+    weights (see :func:`luminance_weights`). ``params``: the curve's parameters.
+    Bad values are repaired and reported with a :class:`ToneWarning`.
+    """
+    spec = get_curve(curve)
+    resolved = spec.resolve(params)
+    mode_key = str(mode).strip().lower()
+    if mode_key not in ("per-channel", "luminance"):
+        raise ToneError(f"tone mode {mode!r} is not valid; use 'per-channel' or 'luminance'")
+    x = as_float32(image)
+    if x.ndim == 3 and x.shape[-1] not in (1, 2, 3, 4):
+        raise ToneError(f"image has {x.shape[-1]} channels; tone mapping takes 1 or 3 (plus alpha)")
+    if x.ndim == 3 and x.shape[-1] in (2, 4):
+        alpha = np.clip(np.nan_to_num(x[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
+        colour_part = x[..., :-1].copy()
+        a = alpha[..., None]
+        np.divide(colour_part, a, out=colour_part, where=a > 0)
+        mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, **resolved)
+        mapped *= a
+        return np.concatenate([mapped, alpha[..., None].astype(F32)], axis=-1)
+
+    ev = parse_exposure(exposure, x, primaries)
+    scale = 2.0 ** ev
+    rgb = x.ndim == 3 and x.shape[-1] == 3
+    # luminance weights only where something weighs channels (importing colour-science takes a while)
+    needs_weights = spec.kind == "local" or (rgb and (mode_key == "luminance" or spec.kind == "image"))
+    weights = luminance_weights(primaries) if needs_weights else None
+    counts = Counts()
+
+    if spec.kind == "local":
+        clean = x.copy()
+        inf_mask = repair(clean, counts)
+        clean *= F32(scale)
+        out = spec.build(clean, resolved, weights)
+        out[inf_mask.any(axis=-1) if rgb else inf_mask] = 1
+        warn_repairs(counts, x.size)
+        return out
+
+    if spec.kind == "image":
+        # Reinhard et al. 2002: the scale key / log-average comes from the image's luminance
+        lum = luminance_sample(x, weights) * scale
+        avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
+        scale = scale * resolved["key"] / max(avg, 1e-30)
+
+    out = np.empty_like(x)
+    with np.errstate(divide="ignore", over="ignore"):
+        _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts)
+    warn_repairs(counts, x.size)
+    return out
+
+
+def _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts):
+    if spec.kind == "rgb":
+        if rgb and mode_key == "per-channel":
+            sweep_rgb(x.reshape(-1, 3), out.reshape(-1, 3), spec.build(resolved, scale), counts)
+        else:
+            grey = spec.build_grey(resolved, scale)  # the curve on grey values: on luminance, or grey images
+            if rgb:
+                sweep_luminance(x.reshape(-1, 3), out.reshape(-1, 3), grey, weights, counts)
+            else:
+                sweep_values(x.reshape(-1), out.reshape(-1), grey, counts)
+    else:
+        kernel = spec.build(resolved, scale)
+        if rgb and mode_key == "luminance":
+            sweep_luminance(x.reshape(-1, 3), out.reshape(-1, 3), kernel, weights, counts)
+        else:
+            sweep_values(x.reshape(-1), out.reshape(-1), kernel, counts)
+
+
+def values(curve: str, x, params) -> np.ndarray:
+    arr = as_float32(x)
+    out = tonemap(arr.reshape(-1), curve, 0.0, "per-channel", **params)
+    return out.reshape(arr.shape)
+
+
+def triples(curve: str, x, params) -> np.ndarray:
+    arr = as_float32(x)
+    if arr.ndim >= 1 and arr.shape[-1] == 3:
+        return tonemap(arr.reshape(-1, 1, 3), curve, 0.0, "per-channel", **params).reshape(arr.shape)
+    return values(curve, arr, params)
+

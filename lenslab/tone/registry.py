@@ -1,0 +1,105 @@
+"""The curve registry: every tone curve by name, with its declared parameters.
+
+A curve module registers itself with :func:`register`; the command line (``--curve``, ``lenslab curves
+--list``), the chart, the fits and the tests all read :data:`CURVES`. An unknown name or a bad
+parameter raises :class:`lenslab.errors.ToneError` listing what is valid.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from lenslab.errors import ToneError
+from lenslab.params import Param
+
+KINDS = ("scalar", "rgb", "image", "local")
+
+
+@dataclass(frozen=True)
+class Curve:
+    """A registered tone curve.
+
+    ``kind`` says how it acts: ``"scalar"`` (one pure function of each value), ``"rgb"`` (acts on RGB
+    triples: colour matrices or a cross-channel rule; on luminance or grey data it acts on (L, L, L)),
+    ``"image"`` (a scalar curve whose scale comes from the image's log-average) or ``"local"``
+    (OpenCV operators whose result at a pixel depends on the whole image; they always work on
+    luminance with their own saturation control, so ``mode`` does not apply).
+
+    ``build(params, scale)`` makes the kernel (see :mod:`lenslab.tone.kernels`) with the exposure
+    ``scale`` folded in; ``build_grey`` the same curve on grey values for ``"rgb"`` curves; for
+    ``"local"`` curves ``build(image, params, weights)`` maps a whole repaired, exposed image.
+    ``check(params)`` completes the resolved parameters (values derived from others) and refuses
+    combinations no single range can express.
+    """
+
+    name: str
+    function: Callable
+    params: tuple[Param, ...]
+    kind: str
+    summary: str
+    build: Callable | None = field(default=None, repr=False)
+    build_grey: Callable | None = field(default=None, repr=False)
+    check: Callable[[dict], dict] | None = field(default=None, repr=False)
+
+    @property
+    def doc(self) -> str:
+        return (self.function.__doc__ or self.summary).strip()
+
+    def resolve(self, params: dict | None = None) -> dict:
+        """Validated parameters with defaults filled in; raises ToneError on unknown names or bad values."""
+        params = dict(params or {})
+        known = {p.name: p for p in self.params}
+        unknown = [k for k in params if k not in known]
+        if unknown:
+            if known:
+                valid = "; ".join(p.describe() for p in self.params)
+                raise ToneError(f"curve {self.name!r} has no parameter {', '.join(map(repr, unknown))}; "
+                                f"its parameters are: {valid}")
+            raise ToneError(f"curve {self.name!r} takes no parameters (got {', '.join(map(repr, unknown))})")
+        out = {}
+        for p in self.params:
+            given = params.get(p.name)
+            out[p.name] = p.default if given is None else p.convert(f"curve {self.name!r}", given, ToneError)
+        return self.check(out) if self.check else out
+
+
+CURVES: dict[str, Curve] = {}
+
+
+def register(name: str, kind: str, params: tuple[Param, ...] = (), build: Callable | None = None,
+             build_grey: Callable | None = None, check: Callable[[dict], dict] | None = None):
+    """Decorator: register the curve function it wraps as ``name`` (its docstring's first paragraph
+    is the summary ``lenslab curves --list`` prints)."""
+    if kind not in KINDS:  # pragma: no cover - a programming error in a curve module
+        raise ValueError(f"curve kind {kind!r}; use one of {', '.join(KINDS)}")
+
+    def deco(fn):
+        first_paragraph = (fn.__doc__ or "").strip().split("\n\n")[0]
+        summary = " ".join(line.strip() for line in first_paragraph.splitlines())
+        CURVES[name] = Curve(name, fn, tuple(params), kind, summary, build, build_grey, check)
+        return fn
+    return deco
+
+
+def curve_names() -> list[str]:
+    """Every registered curve name, in the order they are listed to users."""
+    return list(CURVES)
+
+
+def get_curve(name: str) -> Curve:
+    """The curve called ``name`` (case-insensitive; ``_`` and ``-`` are interchangeable)."""
+    key = str(name).strip().lower().replace("_", "-")
+    if key not in CURVES:
+        raise ToneError(f"unknown tone curve {name!r}; valid curves: {', '.join(CURVES)}")
+    return CURVES[key]
+
+
+def describe_curves() -> str:
+    """A plain-text listing of every curve: summary and parameters with ranges and defaults."""
+    lines = []
+    for c in CURVES.values():
+        lines.append(f"{c.name:<18s} {c.summary}")
+        for p in c.params:
+            lines.append(f"{'':<20s}{p.describe()}")
+    return "\n".join(lines)
