@@ -36,10 +36,16 @@ def is_camera_file(spec) -> bool:
     """True when a camera spec names a file (an existing one, or a calibration file's name)."""
     if not isinstance(spec, str) or not spec.strip():
         return False
+    from lenslab.lenses.registry import REGISTRY
+
     path, _ = split_pick(spec.strip())
-    if ":" in spec and not path.exists():
+    try:
+        exists = path.is_file()
+    except OSError:  # a name too long for a file: a lens spec
+        exists = False
+    if not exists and spec.partition(":")[0].strip().lower() in REGISTRY:
         return False  # a model spec such as fisheye:fov=180
-    return path.is_file() or path.suffix.lower() in SUFFIXES
+    return exists or (":" not in spec and path.suffix.lower() in SUFFIXES)
 
 
 def sniff(path: Path, text: str) -> str:

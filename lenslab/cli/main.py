@@ -20,12 +20,14 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "convert": ("convert", "convert images between PPM/PGM, PFM, JPG, PNG and EXR (batch, with tone mapping)"),
     "lenses": ("lenses", "list every lens model with its parameters, ranges and defaults"),
     "warp": ("warp", "reproject images from one lens into another (HDR in, HDR out)"),
+    "stmap": ("stmap", "write a lens-to-lens warp as an ST map (Nuke's STMap convention) for compositors"),
     "tonemap": ("tonemap", "tone-map an HDR image to a display image with a chosen curve"),
     "curves": ("curves", "plot every tone curve on one chart"),
     "compare-tones": ("compare_tones", "side-by-side strip of one image under several tone curves"),
     "fit": ("fit", "fit lens models and tone curves with nlopt"),
     "validate": ("validate", "check warps against direct ray-traced renders and measure the speed/accuracy trade"),
     "demo": ("demo", "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"),
+    "camera": ("camera", "show calibrated cameras and convert them between OpenCV, Kalibr, COLMAP and OCamCalib files"),
     "bench": ("bench", "benchmarks, reported as ratios against a baseline measured in the same run"),
 }
 

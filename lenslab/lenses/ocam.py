@@ -81,12 +81,13 @@ class OCam(Calibrated):
         self.invdet = 1.0 / det
         self.distortion = None
         # the end of the monotone range: rho pol'(rho) - pol(rho) = 0
-        h = P.polysub(P.polymul([0.0, 1.0], P.polyder(self.pol_c)), self.pol_c)
-        self.rho_fold = first_positive_root(h)
         # the solve's bracket never needs to pass far beyond the image's farthest corner
         corners = np.array([[0, 0], [0, self.width], [self.height, 0], [self.height, self.width]], float) - 0.5
         xp, yp = self._affine_inverse(corners[:, 0], corners[:, 1])
-        self.rho_hi = min(self.rho_fold, 4.0 * float(np.hypot(xp, yp).max()) + 1.0)
+        rho_cap = 4.0 * float(np.hypot(xp, yp).max()) + 1.0
+        h = P.polysub(P.polymul([0.0, 1.0], P.polyder(self.pol_c)), self.pol_c)
+        self.rho_fold = first_positive_root(h, rho_cap)
+        self.rho_hi = min(self.rho_fold, rho_cap)
         self._angle_hi = float(self._angle(np.array([self.rho_hi]))[0][0])
 
     def _affine_inverse(self, row, col):

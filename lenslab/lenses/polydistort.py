@@ -35,24 +35,31 @@ TOL_2D = 1e-14
 MAX_ITER_2D = 40
 
 
-def first_positive_root(coeffs) -> float:
-    """Smallest positive real root of the polynomial ``sum c_i s^i`` (``inf`` if none)."""
-    c = np.trim_zeros(np.asarray(coeffs, dtype=FLOAT), "b")
-    if c.size <= 1:
+def first_positive_root(coeffs, s_max: float = np.inf) -> float:
+    """Smallest positive ``s <= s_max`` where the polynomial ``sum c_i s^i`` (positive at 0) changes sign
+    (``inf`` if none). Found by sampling (dense up to 10, geometric beyond, to 1e6 when ``s_max`` is
+    infinite) and bisection to the last bit: robust where eigenvalue root finders are not (a
+    negligible leading coefficient throws ``polyroots`` off)."""
+    c = np.asarray(coeffs, dtype=FLOAT)
+    top = min(float(s_max), 1e6)
+    grid = np.linspace(0.0, min(top, 10.0), 4001)
+    if top > 10.0:
+        grid = np.concatenate([grid, np.geomspace(10.0, top, 2001)[1:]])
+    vals = P.polyval(grid, c)
+    sign0 = np.sign(vals[0]) or 1.0
+    bad = np.flatnonzero(np.sign(vals) != sign0)
+    if bad.size == 0:
         return np.inf
-    roots = P.polyroots(c)
-    real = roots[(np.abs(roots.imag) <= 1e-12 * np.maximum(1.0, np.abs(roots.real))) & (roots.real > 0)].real
-    if real.size == 0:
-        return np.inf
-    s = float(real.min())
-    # polish the root (polyroots' eigenvalues lose a few digits) by Newton on the polynomial
-    d = P.polyder(c)
-    for _ in range(4):
-        fd = P.polyval(s, d)
-        if fd == 0:
+    lo, hi = float(grid[bad[0] - 1]), float(grid[bad[0]])
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
             break
-        s -= P.polyval(s, c) / fd
-    return s
+        if np.sign(P.polyval(mid, c)) == sign0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
 
 
 class PolyDistortion:
@@ -67,7 +74,8 @@ class PolyDistortion:
         self.s = np.array(list(s) + [0.0] * (4 - len(s)), dtype=FLOAT)
         self.radial_only = self.p1 == 0 and self.p2 == 0 and not self.s.any()
         self.identity = self.radial_only and not self.a.any() and not self.b.any()
-        self.fold = min(self._fold_radius(), float(limit))  # undistorted radius bound (may be inf)
+        self.limit = float(limit)
+        self.fold = min(self._fold_radius(), self.limit)  # undistorted radius bound (may be inf)
         self.max_iterations = 0  # largest iteration count of the last inverse (for the benchmark)
 
     # -- the radial map -------------------------------------------------------------------------
@@ -79,7 +87,8 @@ class PolyDistortion:
         # d/dr [r N(s)/D(s)] with s = r^2 has numerator (N + 2 s N') D - 2 s N D'
         num = P.polysub(P.polymul(P.polyadd(n, 2.0 * P.polymul(s_poly, P.polyder(n))), d),
                         2.0 * P.polymul(s_poly, P.polymul(n, P.polyder(d))))
-        s_fold = min(first_positive_root(num), first_positive_root(d))
+        s_max = self.limit * self.limit
+        s_fold = min(first_positive_root(num, s_max), first_positive_root(d, s_max))
         return float(np.sqrt(s_fold))
 
     def radial(self, r2):

@@ -1,0 +1,111 @@
+"""Show and convert calibrated cameras: OpenCV, Kalibr, COLMAP, OCamCalib and lenslab camera files.
+
+A camera is a calibration file (OpenCV FileStorage YAML/JSON, Kalibr camchain YAML, COLMAP cameras.txt,
+OCamCalib calib_results.txt, lenslab TOML; FILE#ID picks one camera of several) or a lens spec with its
+calibration size, e.g. opencv:fx=900,fy=900,cx=639.5,cy=359.5,k1=-0.2,width=1280,height=720.
+The same files work wherever lenslab takes a lens (warp --from/--to, fit, tracer).
+
+Examples:
+  lenslab camera show calib.yaml
+  lenslab camera show sparse/cameras.txt#2
+  lenslab camera convert camchain.yaml -o fisheye.yaml           (Kalibr -> OpenCV, read by cv2.FileStorage)
+  lenslab camera convert calib.yaml -o cameras.txt               (OpenCV -> COLMAP)
+  lenslab camera convert calib_results.txt -o cam.toml --size 1920x1080
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+FORMAT_CHOICES = ("opencv", "kalibr", "colmap", "ocam", "toml")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
+    show = sub.add_parser("show", help="print the camera model, its parameters and field of view",
+                          description="Print the camera model of a calibration file or spec.")
+    show.add_argument("camera", metavar="CAMERA", help="calibration file (FILE or FILE#ID) or lens spec")
+    show.add_argument("--size", metavar="WxH", help="show the camera scaled to this image size")
+    conv = sub.add_parser("convert", help="write a camera in another calibration format",
+                          description="Convert a camera between OpenCV, Kalibr, COLMAP, OCamCalib and lenslab files.")
+    conv.add_argument("camera", metavar="CAMERA", help="calibration file (FILE or FILE#ID) or lens spec")
+    conv.add_argument("-o", "--output", required=True, metavar="OUT",
+                      help="file to write; the format follows its name: .yaml/.json OpenCV (Kalibr for "
+                           "double-sphere and eucm), .txt COLMAP (OCamCalib for ocam), .toml lenslab")
+    conv.add_argument("--format", choices=FORMAT_CHOICES, help="write this format whatever the name says")
+    conv.add_argument("--size", metavar="WxH", help="scale the intrinsics to this image size first")
+    conv.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
+
+
+def load(spec: str, size_text: str | None):
+    from lenslab.cli.warp import parse_size
+    from lenslab.errors import LensError
+    from lenslab.lenses import make_lens
+    from lenslab.lenses.registry import lens_class, parse_spec
+
+    size = parse_size(size_text) if size_text else None
+    from lenslab.calibfiles import is_camera_file
+
+    if is_camera_file(spec):
+        return make_lens(spec, size)
+    name, values = parse_spec(spec)
+    if size is None:
+        if "width" not in values or "height" not in values:
+            if not {p.name for p in lens_class(name).params} >= {"width", "height"}:
+                raise LensError(f"{spec}: give the image size with --size WxH")
+            raise LensError(f"{spec}: give the calibration size as width=...,height=... (or --size WxH)")
+        size = (int(float(values["width"])), int(float(values["height"])))
+    return make_lens(spec, size)
+
+
+def field_of_view(lens) -> tuple[float, float]:
+    """Angles (degrees) between the left and right edges and the top and bottom edges, through the
+    image centre (NaN where an edge is not seen)."""
+    import numpy as np
+
+    w, h = lens.width, lens.height
+    d, ok = lens.pixel_to_dir(np.array([[0.0, h / 2], [w, h / 2], [w / 2, 0.0], [w / 2, h]]))
+
+    def angle(a, b):
+        if not (ok[a] and ok[b]):
+            return math.nan
+        za = np.arccos(np.clip(d[a, 2], -1, 1))
+        zb = np.arccos(np.clip(d[b, 2], -1, 1))
+        return math.degrees(za + zb)
+
+    return angle(0, 1), angle(2, 3)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from lenslab.errors import LensError
+
+    lens = load(args.camera, args.size)
+    if args.action == "show":
+        from lenslab.lenses.base import format_number
+
+        print(f"{args.camera}: {lens.name}, {lens.width}x{lens.height}")
+        for k, v in lens.param_values().items():
+            print(f"  {k:8s} {format_number(v) if isinstance(v, float) else v}")
+        hfov, vfov = field_of_view(lens)
+        text = lambda a: "beyond the image" if math.isnan(a) else f"{a:.2f} deg"  # noqa: E731
+        print(f"  field across the width {text(hfov)}, across the height {text(vfov)} (through the centre)")
+        print(f"  spec: {lens.spec()}")
+        return 0
+    from lenslab.calibfiles import split_pick, write_lens
+
+    out = Path(args.output)
+    src, _ = split_pick(args.camera)
+    if src.exists() and out.exists() and out.resolve() == src.resolve():
+        raise LensError(f"{out}: is the input; write to another file")
+    if out.exists() and not args.overwrite:
+        raise LensError(f"{out}: already exists; pass --overwrite to replace it")
+    try:
+        write_lens(out, lens, args.format, overwrite=args.overwrite)
+    except LensError as exc:
+        msg = str(exc)
+        raise LensError(msg if msg.startswith(str(out)) else f"{out}: {msg}") from None
+    print(f"{out}: {lens.name} {lens.width}x{lens.height}")
+    return 0
