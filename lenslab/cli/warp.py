@@ -22,6 +22,7 @@ examples:
   lenslab warp pano.exr -o view.jpg --to perspective:fov=70 --size 1280x720 --yaw 30 --pitch -10
   lenslab warp 'frames/*.exr' -o fisheye/ --to fisheye:fov=200,mapping=equisolid --size 2048x2048
   lenslab warp fish.exr -o pano.exr --to equirect --size 4096x2048      (the camera comes from fish.exr)
+  lenslab warp plate.exr -o undistorted.exr --stmap undistort.exr --filter bicubic --samples 4
 """
 
 from __future__ import annotations
@@ -39,9 +40,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
                         help="output file (one input), or directory (created if missing)")
-    parser.add_argument("--to", required=True, metavar="SPEC",
+    parser.add_argument("--to", metavar="SPEC",
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
-                             "tiled:2x2,tiles=cams.toml (see 'lenslab lenses')")
+                             "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'); or give --stmap")
+    parser.add_argument("--stmap", metavar="MAP",
+                        help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
+                             "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
+                             "the map's size; see 'lenslab stmap')")
     parser.add_argument("--from", dest="source", metavar="SPEC",
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
@@ -208,13 +213,19 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     if not args.overwrite and dst_path.exists():
         raise FileExistsError(f"{dst_path}: already exists; pass --overwrite to replace it")
     image, meta = read(src_path)
-    src = source_camera(args.source, meta, image.shape)
-    size = parse_size(args.size) if args.size else default_size(args.to, image.shape[0])
-    dst = output_camera(args, src, size)
-    if args.autoscale:
-        dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet)
     has_alpha = image.shape[2] in (2, 4)
-    out, coverage = cache.warp(image, src, dst, progress=progress)
+    if args.stmap:
+        from lenslab.stmap import warp_with_st_map
+
+        dst = None
+        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, progress=progress)
+    else:
+        src = source_camera(args.source, meta, image.shape)
+        size = parse_size(args.size) if args.size else default_size(args.to, image.shape[0])
+        dst = output_camera(args, src, size)
+        if args.autoscale:
+            dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet)
+        out, coverage = cache.warp(image, src, dst, progress=progress)
     if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
         colour, alpha = out[..., :-1], out[..., -1]
     else:
@@ -258,6 +269,20 @@ def run(args: argparse.Namespace) -> int:
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
         raise WarpError("give either --look-at or --yaw/--pitch/--roll, not both")
+    if not args.to and not args.stmap:
+        raise WarpError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
+    if args.stmap:
+        taken = [flag for flag, on in (("--to", args.to), ("--from", args.source), ("--size", args.size),
+                                        ("--compat", args.compat), ("--antialias", args.antialias),
+                                        ("--autoscale", args.autoscale), ("--look-at", args.look_at),
+                                        ("--eye", args.eye), ("--yaw/--pitch/--roll", args.yaw or args.pitch or args.roll))
+                 if on]
+        if taken:
+            raise WarpError(f"--stmap gives the whole geometry; drop {', '.join(taken)} (use --samples to "
+                            "anti-alias)")
+        from lenslab.stmap import read_st_map
+
+        args.st = read_st_map(args.stmap)
     from lenslab.cli.options import parse_exposure
 
     args.exposure = parse_exposure(args.exposure)

@@ -1,0 +1,67 @@
+"""Write the map of a lens-to-lens warp as an ST map, for Nuke, Fusion, After Effects or any compositor.
+
+Each pixel of the map (the size of the output, --size) holds where that output pixel's centre reads the
+source, in Nuke's STMap convention: R = s = x / W and G = t = 1 - y / H of the source position (pixel
+centres at +0.5, t growing upward), A = 1 where the output pixel has a ray that the source sees, else 0.
+The map is a 32-bit float EXR. --from is the lens the footage was shot with, --to the lens you want: a
+map from a distorted lens to a perspective one undistorts, the other way round it distorts (to match CG
+to a plate). Apply it with Nuke's STMap node, or with 'lenslab warp IMAGE --stmap MAP'.
+
+examples:
+  lenslab stmap --from fisheye:fov=180,mapping=equisolid --to perspective:fov=100 --size 1920x1080 -o undistort.exr
+  lenslab stmap --from perspective:fov=100 --to fisheye:fov=180,mapping=equisolid --size 2048x2048 \\
+      --source-size 1920x1080 -o distort.exr
+  lenslab stmap --from dual-fisheye:fov=190 --source-size 5760x2880 --to equirect --size 5760x2880 -o stitch.exr
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", required=True, metavar="MAP.exr", help="the ST map to write (EXR)")
+    parser.add_argument("--from", dest="source", required=True, metavar="SPEC",
+                        help="lens of the source footage, e.g. fisheye:fov=180 (see 'lenslab lenses')")
+    parser.add_argument("--to", required=True, metavar="SPEC", help="lens of the output, e.g. perspective:fov=90")
+    parser.add_argument("--size", required=True, metavar="WxH", help="output (and map) size in pixels")
+    parser.add_argument("--source-size", metavar="WxH", help="size of the source footage (default: --size)")
+    parser.add_argument("--yaw", type=float, default=0.0, help="turn the output camera right, degrees")
+    parser.add_argument("--pitch", type=float, default=0.0, help="turn the output camera up, degrees")
+    parser.add_argument("--roll", type=float, default=0.0, help="turn the output camera about its axis, degrees")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing map")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from tqdm import tqdm
+
+    from lenslab.cli.warp import parse_size
+    from lenslab.errors import FormatError
+    from lenslab.io.detect import format_for_path
+    from lenslab.lenses import Camera, Pose, make_lens
+    from lenslab.stmap import st_map, write_st_map
+
+    out = Path(args.output)
+    if format_for_path(out, None) != "exr":
+        raise FormatError(f"{out}: an ST map is written as a float EXR; name it .exr")
+    if out.exists() and not args.overwrite:
+        raise FileExistsError(f"{out}: already exists; pass --overwrite to replace it")
+    size = parse_size(args.size)
+    src_size = parse_size(args.source_size) if args.source_size else size
+    src = Camera.from_spec(args.source, src_size)
+    dst = Camera(make_lens(args.to, size), Pose.from_ypr(args.yaw, args.pitch, args.roll))
+    show = not args.quiet and sys.stderr.isatty()
+    with tqdm(total=size[1], unit="row", disable=not show, file=sys.stderr, leave=False) as bar:
+        st = st_map(src, dst, progress=bar.update)
+    write_st_map(out, st, overwrite=args.overwrite,
+                 attributes={"lenslab:stmap": f"from {src.lens.spec()} {src_size[0]}x{src_size[1]} "
+                                               f"to {dst.lens.spec()} {size[0]}x{size[1]}"})
+    if not args.quiet:
+        seen = float(st[..., 3].mean())
+        print(f"wrote {out}: {size[0]}x{size[1]} ST map, {100 * seen:.1f}% of pixels see the source",
+              file=sys.stderr)
+    return 0

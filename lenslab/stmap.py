@@ -1,0 +1,152 @@
+"""ST maps: lens-to-lens inverse maps for compositors, in Nuke's STMap convention.
+
+An ST map is an image the size of the output whose pixel ``(i, j)`` holds where the output pixel's
+centre reads the source, as fractions of the source's size::
+
+    R = s = x_src / W_src          G = t = 1 - y_src / H_src          A = 1 where there is a ray, else 0
+
+with ``(x_src, y_src)`` in lenslab's continuous pixel coordinates (the centre of source pixel ``(k, l)``
+at ``(k + 1/2, l + 1/2)``), so ``s = (k + 1/2) / W`` at a pixel centre and ``t`` grows upward, as Nuke's
+STMap node reads them. Maps are written as 32-bit float EXR (half floats would move a 4096-pixel source
+by up to a pixel); B is 0. A map from lens A to lens B (``--from A --to B``) puts an image shot with A
+into B: from a distorted lens to an ideal one it undistorts, the other way round it distorts.
+
+Reading accepts maps made by any tool: float EXR (or PFM, TIFF-free formats lenslab reads) with s and
+t in the first two channels and, if present, validity in the fourth (``A > 1/2``); without alpha every
+pixel whose ``s, t`` is finite and inside ``[0, 1]`` counts.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from lenslab.errors import WarpError
+
+#: source pixels apart beyond which two neighbouring map entries are taken for a jump (a seam, a face
+#: edge) and never interpolated between
+JUMP = 4.0
+
+
+def st_map(src, dst, progress: Callable[[int], None] | None = None, band_rows: int = 64) -> np.ndarray:
+    """The ST map (float32 ``H x W x 4``: s, t, 0, A) of the warp from camera ``src`` into camera ``dst``,
+    exact (the lens models evaluated in float64 at every output pixel centre)."""
+    from lenslab.warp.maps import exact_map
+
+    w, h = dst.size
+    sw, sh = src.size
+    out = np.zeros((h, w, 4), dtype=np.float32)
+    xs = np.arange(w, dtype=np.float64) + 0.5
+    for r0 in range(0, h, band_rows):
+        r1 = min(h, r0 + band_rows)
+        pts = np.stack(np.meshgrid(xs, np.arange(r0, r1, dtype=np.float64) + 0.5), axis=-1)
+        xy, ok = exact_map(src, dst, pts)
+        band = out[r0:r1]
+        band[..., 0] = np.where(ok, xy[..., 0] / sw, 0.0)
+        band[..., 1] = np.where(ok, 1.0 - xy[..., 1] / sh, 0.0)
+        band[..., 3] = ok
+        if progress is not None:
+            progress(r1 - r0)
+    return out
+
+
+def write_st_map(path, st: np.ndarray, overwrite: bool = False, attributes: dict | None = None):
+    """Write an ST map as a float32 RGBA EXR (temporary name, then renamed)."""
+    from lenslab.io import write
+
+    return write(path, st, format="exr", overwrite=overwrite, pixel_type="float",
+                 channels=["R", "G", "B", "A"], attributes=attributes or {})
+
+
+def read_st_map(path) -> np.ndarray:
+    """Read an ST map made by any tool: float32 ``H x W x 4`` (s, t, 0, A), A in {0, 1}."""
+    from lenslab.io import read
+
+    img, meta = read(path, rec709=False)
+    if img.shape[2] < 2:
+        raise WarpError(f"{path}: an ST map needs s and t in its first two channels; this image has one")
+    st = np.zeros(img.shape[:2] + (4,), dtype=np.float32)
+    s, t = img[..., 0], img[..., 1]
+    finite = np.isfinite(s) & np.isfinite(t)
+    if img.shape[2] >= 4:
+        ok = finite & (img[..., 3] > 0.5)
+    else:
+        ok = finite & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+    st[..., 0] = np.where(ok, s, 0.0)
+    st[..., 1] = np.where(ok, t, 0.0)
+    st[..., 3] = ok
+    return st
+
+
+def source_positions(st: np.ndarray, src_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Source pixel positions (lenslab's continuous coordinates, float64) and validity of a map's entries."""
+    sw, sh = src_size
+    ok = st[..., 3] > 0.5
+    x = st[..., 0].astype(np.float64) * sw
+    y = (1.0 - st[..., 1].astype(np.float64)) * sh
+    return x, y, ok
+
+
+def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, r0: int = 0, r1: int | None = None):
+    """Index coordinates (float32 ``h x W x S``, the centre of source pixel k at k) and validity of the
+    sub-pixel samples at ``offsets`` (``S x 2`` in [0, 1]) of the output pixels of rows ``r0:r1``.
+
+    The map holds pixel centres; a sample elsewhere interpolates it bilinearly from the four nearest
+    centres (clamped at the image's edges), unless they span a jump (more than ``JUMP`` source pixels
+    apart, or one without a ray): it then takes its own pixel's entry.
+    """
+    x, y, ok = source_positions(st, src_size)
+    h, w = ok.shape
+    r1 = h if r1 is None else r1
+    xs = np.empty((r1 - r0, w, len(offsets)), dtype=np.float32)
+    ys = np.empty_like(xs)
+    valid = np.empty(xs.shape, dtype=bool)
+    jj, ii = np.mgrid[r0:r1, 0:w]
+    for k, (ox, oy) in enumerate(np.asarray(offsets, dtype=np.float64)):
+        gx, gy = ii + ox - 0.5, jj + oy - 0.5  # position on the grid of centres
+        x0 = np.clip(np.floor(gx).astype(np.intp), 0, w - 1)
+        y0 = np.clip(np.floor(gy).astype(np.intp), 0, h - 1)
+        x1, y1 = np.minimum(x0 + 1, w - 1), np.minimum(y0 + 1, h - 1)
+        fx = np.clip(gx - x0, 0.0, 1.0)
+        fy = np.clip(gy - y0, 0.0, 1.0)
+        corners = [(y0, x0), (y0, x1), (y1, x0), (y1, x1)]
+        cx = np.stack([x[c] for c in corners])
+        cy = np.stack([y[c] for c in corners])
+        cok = np.stack([ok[c] for c in corners]).all(axis=0)
+        smooth = cok & (np.ptp(cx, axis=0) <= JUMP) & (np.ptp(cy, axis=0) <= JUMP)
+        wts = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy])
+        xs[..., k] = np.where(smooth, (wts * cx).sum(axis=0), x[r0:r1]) - 0.5
+        ys[..., k] = np.where(smooth, (wts * cy).sum(axis=0), y[r0:r1]) - 0.5
+        valid[..., k] = ok[r0:r1]
+    np.copyto(xs, 0.0, where=~valid)
+    np.copyto(ys, 0.0, where=~valid)
+    return xs, ys, valid
+
+
+def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
+                     progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Warp ``image`` (H x W x C) by an ST map: ``(float32 h x w x C, alpha float32 h x w)`` of the map's
+    size, with lenslab's reconstruction filters and ``samples`` stratified samples per pixel. Taps
+    outside the source clamp to its edge."""
+    from lenslab.warp.filters import FILTERS, sample
+    from lenslab.warp.maps import sample_pattern
+    from lenslab.warp.seam import Border
+
+    if filter not in FILTERS:
+        raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+    src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
+    h, w = st.shape[:2]
+    out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
+    alpha = np.zeros((h, w), dtype=np.float32)
+    offsets = sample_pattern(int(samples))
+    rows = max(1, (1 << 18) // max(1, w * len(offsets)))
+    for r0 in range(0, h, rows):
+        r1 = min(h, r0 + rows)
+        xs, ys, valid = map_samples(st, (src.shape[1], src.shape[0]), offsets, r0, r1)
+        sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
+        if progress is not None:
+            progress(r1 - r0)
+    if image.ndim == 2:
+        out = out[..., 0]
+    return out, alpha
