@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import ast
 import json
 import subprocess
 import sys
+from pathlib import Path
 
-HEAVY = ("numpy", "cv2", "OpenEXR", "colour", "pyvista", "vtk", "trimesh", "embreex", "matplotlib", "nlopt", "numba", "tracer")
+import pytest
+
+HEAVY = ("numpy", "cv2", "OpenEXR", "colour", "pyvista", "vtk", "trimesh", "embreex", "matplotlib", "nlopt", "numba")
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _modules_after(code: str) -> set[str]:
@@ -46,18 +51,78 @@ def test_warping_and_converting_never_load_the_tracer_or_pyvista():
     assert not loaded & {"tracer", "pyvista", "vtk", "trimesh", "embreex"}, sorted(loaded)
 
 
-def test_lenslab_package_never_imports_tracer_at_module_level():
-    # Only the commands whose job is tracing (demo, validate) may import it, inside their functions.
-    import ast
-    from pathlib import Path
+def _imports(path: Path) -> list[str]:
+    """Every module named by an import statement of ``path``, at module level or inside a function."""
+    names = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.append(node.module)
+    return names
 
-    root = Path(__file__).resolve().parents[1] / "lenslab"
-    offenders = []
-    for path in root.rglob("*.py"):
-        tree = ast.parse(path.read_text())
-        for node in tree.body:  # module level only
-            if isinstance(node, ast.Import) and any(a.name.split(".")[0] == "tracer" for a in node.names):
-                offenders.append(str(path))
-            if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "tracer":
-                offenders.append(str(path))
+
+def test_lenslab_never_imports_the_tracer_or_the_gallery():
+    # The layers: image work (lenslab) <- tracer <- gallery. The commands that need the tracer come in
+    # through the lenslab.commands entry-point group, so not even a function of lenslab imports them.
+    offenders = [f"{path.relative_to(ROOT)}: {name}" for path in sorted((ROOT / "lenslab").rglob("*.py"))
+                 for name in _imports(path) if name.split(".")[0] in ("tracer", "gallery")]
     assert offenders == []
+
+
+def test_the_tracer_never_imports_the_gallery():
+    offenders = [f"{path.relative_to(ROOT)}: {name}" for path in sorted((ROOT / "tracer").rglob("*.py"))
+                 for name in _imports(path) if name.split(".")[0] == "gallery"]
+    assert offenders == []
+
+
+# lenslab joins this list when lenslab.calibfiles and lenslab.lenses.registry stop importing each other.
+@pytest.mark.parametrize("packages", [("gallery",), ("tracer",)])
+def test_no_import_cycle_between_modules(packages):
+    # A module graph of the package (every import statement, including those inside functions, since
+    # a cycle there is still two modules that cannot be understood apart).
+    modules = {}
+    for pkg in packages:
+        for path in (ROOT / pkg).rglob("*.py"):
+            rel = path.relative_to(ROOT).with_suffix("")
+            name = ".".join(rel.parts[:-1] if rel.name == "__init__" else rel.parts)
+            modules[name] = path
+    graph = {}
+    for name, path in modules.items():
+        deps = set()
+        for imp in _imports(path):
+            while imp and imp not in modules:  # "from pkg.mod import name" -> pkg.mod
+                imp = imp.rpartition(".")[0]
+            # a package's __init__ importing its own submodules is how a package is made, not a cycle
+            if imp and imp != name and not imp.startswith(name + "."):
+                deps.add(imp)
+        graph[name] = deps
+    cycles, state = [], {}
+
+    def visit(node, stack):
+        state[node] = 1
+        stack.append(node)
+        for dep in sorted(graph[node]):
+            if state.get(dep) == 1:
+                cycles.append(stack[stack.index(dep):] + [dep])
+            elif dep not in state:
+                visit(dep, stack)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [])
+    assert cycles == [], [" -> ".join(c) for c in cycles]
+
+
+def test_demo_and_validate_come_from_the_entry_point_group():
+    from importlib.metadata import entry_points
+
+    from lenslab.cli.main import COMMANDS, build_parser
+
+    group = {ep.name: ep.value for ep in entry_points(group="lenslab.commands")}
+    assert group == {"demo": "gallery.demo", "validate": "tracer.validate.command"}
+    assert not {"demo", "validate"} & set(COMMANDS)
+    help_text = build_parser().format_help()
+    assert "demo" in help_text and "validate" in help_text

@@ -160,7 +160,7 @@ def test_bad_options_are_refused():
 
 
 def test_command_module_imports_only_the_standard_library():
-    code = ("import sys, lenslab.cli.demo as d; heavy = [m for m in ('numpy', 'cv2', 'tracer', 'gallery.build', "
+    code = ("import sys, gallery.demo as d; heavy = [m for m in ('numpy', 'cv2', 'tracer', 'gallery.build', "
             "'matplotlib', 'OpenEXR') if m in sys.modules]; print(heavy)")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert res.stdout.strip() == "[]"

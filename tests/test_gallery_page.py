@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 
 from gallery import cards
 from gallery.browser import check_page, find_chromium
-from gallery.build import build_gallery, card_text, load_manifest
+from gallery.build import build_gallery, load_manifest
+from gallery.page import card_text
 from gallery.display import difference
 from gallery.errors import GalleryError
 from gallery.items import Display, FileList, LensView, Panorama, RunInfo, ToneSet, from_json, to_json

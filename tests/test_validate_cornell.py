@@ -54,7 +54,7 @@ from lenslab import metrics
 from lenslab.lenses import REGISTRY, Camera, Pose
 from lenslab.lenses.pose import ypr_matrix
 from lenslab.validate.run import WarpSetting, call_warp, check, edges_for, panorama_camera
-from lenslab.validate.sources import make_source
+from tracer.validate.source import make_source
 from lenslab.warp import warp
 
 EYE = (0.278, 0.274, 0.001)  # metres: the middle of the box's open front, just inside

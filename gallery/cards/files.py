@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gallery.build import Page, esc, fmt_bytes, section
+from gallery.page import Page, esc, fmt_bytes, section
 from gallery.items import FileList
 
 

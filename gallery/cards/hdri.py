@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from gallery.build import Page, esc, fmt_seconds, section
+from gallery.page import Page, esc, fmt_seconds, section
 from gallery.display import fit_within
 from gallery.errors import GalleryError
 

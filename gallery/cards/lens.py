@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gallery.build import Img, Page, esc, facts_table, fmt_percent, fmt_seconds, section, slug
+from gallery.page import Img, Page, esc, facts_table, fmt_percent, fmt_seconds, section, slug
 from gallery.display import DIFF_SCALE, colour_map, difference, fit_within, legend_gradient
 from gallery.items import LensView
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gallery.build import Page, facts_table, fmt_seconds, section
+from gallery.page import Page, facts_table, fmt_seconds, section
 from gallery.display import fit_within
 from gallery.items import Panorama
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gallery.build import Page, esc, section
+from gallery.page import Page, esc, section
 from gallery.display import fit_within
 from gallery.items import ToneSet
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from gallery.build import Page, esc, fmt_percent, fmt_seconds, section
+from gallery.page import Page, esc, fmt_percent, fmt_seconds, section
 from gallery.errors import GalleryError
 
 RESULTS = "results.json"

@@ -6,6 +6,10 @@ Every subcommand is a module ``lenslab.cli.<module>`` with two functions:
 - ``run(args) -> int``: does the work (heavy imports happen here) and returns the exit code.
 
 Keeping the command modules light is what makes ``lenslab --help`` instant.
+
+Commands of other packages join through the ``lenslab.commands`` entry-point group (pyproject.toml):
+each entry names a module with the same two functions and a one-line ``HELP``. The tracer's
+``validate`` and the gallery's ``demo`` come in this way, so lenslab itself never imports them.
 """
 
 from __future__ import annotations
@@ -25,17 +29,25 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "curves": ("curves", "plot every tone curve on one chart"),
     "compare-tones": ("compare_tones", "side-by-side strip of one image under several tone curves"),
     "fit": ("fit", "fit lens models and tone curves with nlopt"),
-    "validate": ("validate", "check warps against direct ray-traced renders and measure the speed/accuracy trade"),
-    "demo": ("demo", "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"),
     "camera": ("camera", "show calibrated cameras and convert them between OpenCV, Kalibr, COLMAP and OCamCalib files"),
     "bench": ("bench", "benchmarks, reported as ratios against a baseline measured in the same run"),
 }
 
+ENTRY_POINTS = "lenslab.commands"
+
+
+def plugin_commands() -> dict:
+    """``name -> entry point`` of the ``lenslab.commands`` group (read from the installed metadata)."""
+    from importlib.metadata import entry_points
+
+    return {ep.name: ep for ep in entry_points(group=ENTRY_POINTS) if ep.name not in COMMANDS}
+
 
 def build_parser() -> argparse.ArgumentParser:
     from lenslab import __version__
+    from lenslab.cli.policy import ArgumentParser
 
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="lenslab",
         description=(
             "Lenses and tone curves for HDR images. Reproject panoramas into fisheye, swirl, "
@@ -57,25 +69,24 @@ def build_parser() -> argparse.ArgumentParser:
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(p)
         p.set_defaults(_module=module)
+    for name, ep in sorted(plugin_commands().items()):
+        module = ep.load()  # a light module: its heavy imports happen in run()
+        p = sub.add_parser(name, help=getattr(module, "HELP", None), description=(module.__doc__ or "").strip(),
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.add_arguments(p)
+        p.set_defaults(_module=module)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    from lenslab.cli.policy import EXIT_USAGE, run_command
+
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
     if getattr(args, "_module", None) is None:
         parser.print_help()
-        return 2
-    from lenslab.errors import LenslabError
-
-    try:
-        return int(args._module.run(args) or 0)
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
-    except (LenslabError, OSError) as exc:
-        print(f"lenslab {args.command}: error: {exc}", file=sys.stderr)
-        return 1
+        return EXIT_USAGE
+    return run_command(f"lenslab {args.command}", lambda: args._module.run(args))
 
 
 if __name__ == "__main__":  # pragma: no cover

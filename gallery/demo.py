@@ -35,6 +35,9 @@ import sys
 import time
 from pathlib import Path
 
+from lenslab.cli.policy import positive_int
+
+HELP = "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"
 DEFAULT_OUT = "lenslab-demo"
 
 # quality -> panorama size, panorama spp, view side, direct-trace spp
@@ -66,11 +69,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "full: 2048x1024 at 32 spp, 512 px views, direct traces at 128 spp, several minutes")
     parser.add_argument("--size", metavar="WxH", type=_size,
                         help="panorama size, width twice the height (default: from --quality)")
-    parser.add_argument("--view-size", metavar="N", type=_positive_int,
+    parser.add_argument("--view-size", metavar="N", type=positive_int,
                         help="side of the square views in pixels (default: from --quality)")
-    parser.add_argument("--spp", type=_positive_int, metavar="N",
+    parser.add_argument("--spp", type=positive_int, metavar="N",
                         help="samples per pixel of the panorama (default: from --quality)")
-    parser.add_argument("--direct-spp", type=_positive_int, metavar="N",
+    parser.add_argument("--direct-spp", type=positive_int, metavar="N",
                         help="samples per pixel of the two direct traces (default: from --quality)")
     parser.add_argument("--seed", type=int, default=0, help="random seed of the traces (default: 0)")
     parser.add_argument("--hdri", type=Path, metavar="DIR",
@@ -90,16 +93,6 @@ def _size(text: str) -> tuple[int, int]:
     if h < 2 or w != 2 * h:
         raise argparse.ArgumentTypeError(f"{text!r}: a full-sphere panorama is twice as wide as high, e.g. 1024x512")
     return w, h
-
-
-def _positive_int(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} must be at least 1")
-    return n
 
 
 def check_output(out: Path, overwrite: bool) -> None:
@@ -219,7 +212,7 @@ def run(args: argparse.Namespace) -> int:
     check_output(out, args.overwrite)
 
     from gallery import build_gallery
-    from gallery.items import Display, FileList, Panorama, RunInfo, ToneSet
+    from gallery.items import Display, FileList, Panorama, RunInfo
 
     views = lens_views(view)
     compared = [v for v in views if v["name"] in COMPARED]

@@ -29,6 +29,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+HELP = "check warps against direct ray-traced renders and measure the speed/accuracy trade"
+
 
 def _percent(text: str) -> float:
     t = text.strip()
@@ -113,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.lenses import Camera
     from lenslab.validate import report as report_mod
     from lenslab.validate.run import ValidationError, WarpSetting, parse_size, validate
-    from lenslab.validate.sources import make_source
+    from tracer.validate.source import make_source
 
     size = parse_size(args.size)
     pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]
