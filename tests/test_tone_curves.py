@@ -56,18 +56,6 @@ def test_hable_gdc_preset_and_custom_constants():
                                rtol=RTOL, atol=ATOL)
 
 
-@pytest.mark.parametrize("name, ref", [
-    ("clamp", lambda x: np.minimum(x, 1.0)),
-    ("reinhard", lambda x: x / (1 + x)),
-    ("reinhard-extended", lambda x: np.minimum(x * (1 + x / 16.0) / (1 + x), 1.0)),  # white 4
-    ("aces", lambda x: np.clip(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0, 1)),
-    ("gamma", lambda x: colour.models.eotf_sRGB(np.minimum(x, 1.0) ** (1 / 2.2))),
-])
-def test_closed_form_curves_match_their_formula(name, ref):
-    got = tone.tonemap(POINTS.astype(np.float32), name)
-    np.testing.assert_allclose(got, ref(POINTS), rtol=RTOL, atol=ATOL)
-
-
 def test_exposure_is_a_multiplier_in_stops():
     for ev in (-3.0, 1.5, 4.0):
         got = tone.tonemap(POINTS.astype(np.float32), "hable", exposure=ev)
@@ -103,64 +91,6 @@ def test_reinhard2002_in_tonemap_is_exposure_invariant():
     b = tone.tonemap(img, "reinhard2002", exposure=3)
     # the key scaling cancels the exposure except through delta = 1e-4, far below these pixels
     np.testing.assert_allclose(a, b, rtol=1e-3, atol=1e-5)
-
-
-HILL_IN = np.array([[0.59719, 0.35458, 0.04823], [0.07600, 0.90834, 0.01566], [0.02840, 0.13383, 0.83777]])
-HILL_OUT = np.array([[1.60475, -0.53108, -0.07367], [-0.10208, 1.10813, -0.00605], [-0.00327, -0.07276, 1.07602]])
-RGB = np.array([[0.0, 0.0, 0.0], [0.18, 0.18, 0.18], [1.0, 0.5, 0.1], [0.02, 0.3, 0.9], [8.0, 2.0, 0.5],
-                [0.001, 0.002, 0.0], [40.0, 40.0, 40.0], [0.5, 0.01, 0.01]])
-
-
-def test_aces_hill_matches_the_rrt_odt_fit():
-    def fit(v):
-        return (v * (v + 0.0245786) - 0.000090537) / (v * (0.983729 * v + 0.4329510) + 0.238081)
-
-    ref = np.clip(fit(RGB @ HILL_IN.T) @ HILL_OUT.T, 0, 1)
-    got = tone.aces_hill(RGB.astype(np.float32))
-    # the fit subtracts nearly equal numbers near v = 0.0032: 1e-5 absolute covers float32 there
-    np.testing.assert_allclose(got, ref, rtol=1e-4, atol=1e-5)
-
-
-def test_agx_matches_the_minimal_reference():
-    inset = np.array([[0.842479062253094, 0.0784335999999992, 0.0792237451477643],
-                      [0.0423282422610123, 0.878468636469772, 0.0791661274605434],
-                      [0.0423756549057051, 0.0784336, 0.879142973793104]])
-    outset = np.array([[1.19687900512017, -0.0980208811401368, -0.0990297440797205],
-                       [-0.0528968517574562, 1.15190312990417, -0.0989611768448433],
-                       [-0.0529716355144438, -0.0980434501171241, 1.15107367264116]])
-    lo, hi = -12.47393, 4.026069
-    v = np.clip(np.log2(np.maximum(RGB @ inset.T, 1e-10)), lo, hi)
-    t = (v - lo) / (hi - lo)
-    s = 15.5 * t**6 - 40.14 * t**5 + 31.96 * t**4 - 6.868 * t**3 + 0.4298 * t**2 + 0.1191 * t - 0.00232
-    ref = np.clip(s @ outset.T, 0, 1) ** 2.2
-    got = tone.agx(RGB.astype(np.float32))
-    # log2 and a 6th-order polynomial in float32: 2e-5 absolute is a few hundred ulps of output ~0.5
-    np.testing.assert_allclose(got, ref, rtol=1e-4, atol=2e-5)
-
-
-def pbr_neutral_ref(c):
-    """Khronos PBR Neutral reference shader, transcribed per pixel in float64."""
-    c = np.array(c, dtype=np.float64)
-    start, desat = 0.8 - 0.04, 0.15
-    x = c.min()
-    offset = x - 6.25 * x * x if x < 0.08 else 0.04
-    c = c - offset
-    peak = c.max()
-    if peak < start:
-        return c
-    d = 1 - start
-    new_peak = 1 - d * d / (peak + d - start)
-    c = c * (new_peak / peak)
-    g = 1 - 1 / (desat * (peak - new_peak) + 1)
-    return c * (1 - g) + new_peak * g
-
-
-def test_pbr_neutral_matches_the_khronos_reference():
-    ref = np.array([pbr_neutral_ref(p) for p in RGB])
-    got = tone.pbr_neutral(RGB.astype(np.float32))
-    np.testing.assert_allclose(got, ref, rtol=RTOL, atol=ATOL)
-    # below the shoulder grey comes out as it went in, minus the toe offset
-    assert tone.pbr_neutral(np.float32([[0.5, 0.5, 0.5]]))[0, 0] == pytest.approx(0.46, rel=RTOL)
 
 
 SWEEP = np.unique(np.concatenate([[0.0, 1e-45, 1e-40, 1.17e-38], np.logspace(-38, 30, 6000)]).astype(np.float32))
@@ -226,15 +156,6 @@ def test_monotonic_between_neighbouring_floats(name):
         assert np.all(np.diff(y) >= 0), f"{name} steps back near {centre}"
 
 
-@pytest.mark.parametrize("name", ["aces-hill", "agx", "pbr-neutral"])
-def test_rgb_curves_on_grey_agree_with_their_scalar_form(name):
-    x = np.float32([0, 0.001, 0.01, 0.18, 0.5, 1, 4, 100])
-    rgb = tone.tonemap(np.repeat(x[:, None], 3, axis=1)[None], name)[0]
-    # the RGB matrices are the identity on grey only to 4-5 digits (row sums 1 +- 1.4e-4), which
-    # the curves' slopes (< 1.5 per unit) carry through: 5e-6 bounds what is left after weighing
-    np.testing.assert_allclose(tone.tonemap(x, name), rgb @ tone.luminance_weights(), atol=5e-6)
-
-
 @pytest.mark.parametrize("g", [0.5, 1.0, 1.8, 2.2, 2.4, 4.0])
 def test_gamma_is_the_srgb_eotf_of_the_power_for_any_gamma(g):
     x = np.concatenate([POINTS, np.float32(0.04045) ** g * np.float32([0.999, 1.0, 1.001])]).astype(np.float32)
@@ -261,21 +182,3 @@ def test_gamma_steps_never_back_across_its_knee_and_floor(g):
         y = tone.gamma(xs, gamma=g)
         assert np.all(np.diff(y) >= 0), f"gamma {g} steps back near {centre}"
         assert np.all((y >= 0) & (y <= 1))
-
-
-def test_luminance_mode_against_an_independent_float64_reference():
-    rng = np.random.default_rng(11)
-    img = (0.3 * np.exp2(rng.normal(0, 2.5, (48, 64, 3)))).astype(np.float32)
-    w = np.array([0.2126, 0.7152, 0.0722])
-    for name in ("clamp", "reinhard", "hable", "gamma"):
-        got = tone.tonemap(img, name, mode="luminance").astype(np.float64)
-        x = img.astype(np.float64)
-        lum = x @ w
-        ld = tone.tonemap(lum.astype(np.float32), name).astype(np.float64)
-        rgb = x * (ld / np.maximum(lum, 1e-300))[..., None]
-        peak = rgb.max(axis=-1, keepdims=True)
-        t = np.clip((1 - ld[..., None]) / np.maximum(peak - ld[..., None], 1e-300), 0, 1)
-        ref = np.clip(ld[..., None] + (rgb - ld[..., None]) * t, 0, 1)
-        # float32 luminance, ratio and blend: a few ulps of values <= 1
-        np.testing.assert_allclose(got, ref, atol=3e-6, err_msg=name)
-        assert got.max() <= 1 and got.min() >= 0

@@ -25,20 +25,19 @@ that take any float array and return float32 of the same shape.
 from __future__ import annotations
 
 from lenslab.params import Param
-
-from .exposure import EXPOSURE_RANGE, MIDDLE_GREY, auto_exposure, log_average, luminance_weights
-from .mapping import ToneWarning, tonemap
-from .registry import CURVES, Curve, curve_names, describe_curves, get_curve
+from lenslab.tone.exposure import EXPOSURE_RANGE, MIDDLE_GREY, auto_exposure, log_average, luminance_weights
+from lenslab.tone.mapping import ToneWarning, tonemap
+from lenslab.tone.registry import CURVES, Curve, curve_names, describe_curves, get_curve
 
 # the curve modules register themselves, in the order users see them listed
-from .gamma import clamp, gamma  # noqa: E402  isort: skip
-from .reinhard import reinhard, reinhard2002, reinhard_extended  # noqa: E402  isort: skip
-from .hable import HABLE_PRESETS, hable  # noqa: E402  isort: skip
-from .aces import aces  # noqa: E402  isort: skip
-from .aces_hill import ACES_HILL_INPUT, ACES_HILL_OUTPUT, aces_hill  # noqa: E402  isort: skip
-from .agx import AGX_INSET, AGX_MAX_EV, AGX_MIN_EV, AGX_OUTSET, AGX_POLY, agx  # noqa: E402  isort: skip
-from .pbr_neutral import pbr_neutral  # noqa: E402  isort: skip
-from .local import drago, mantiuk  # noqa: E402  isort: skip
+from lenslab.tone.gamma import clamp, gamma  # isort: skip
+from lenslab.tone.reinhard import reinhard, reinhard2002, reinhard_extended  # isort: skip
+from lenslab.tone.hable import HABLE_PRESETS, hable  # isort: skip
+from lenslab.tone.aces import aces  # isort: skip
+from lenslab.tone.aces_hill import ACES_HILL_INPUT, ACES_HILL_OUTPUT, aces_hill  # isort: skip
+from lenslab.tone.agx import AGX_INSET, AGX_MAX_EV, AGX_MIN_EV, AGX_OUTSET, AGX_POLY, agx  # isort: skip
+from lenslab.tone.pbr_neutral import pbr_neutral  # isort: skip
+from lenslab.tone.local import drago, mantiuk  # isort: skip
 
 __all__ = [
     "CURVES", "Curve", "Param", "ToneWarning", "tonemap", "auto_exposure", "log_average",

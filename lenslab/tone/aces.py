@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 
-from .kernels import rational_kernel
-from .mapping import values
-from .registry import register
+from lenslab.tone.kernels import rational_kernel
+from lenslab.tone.mapping import values
+from lenslab.tone.registry import register
 
 _ACES = dict(a=2.51, b=0.03, c=2.43, d=0.59, e=0.14)
 

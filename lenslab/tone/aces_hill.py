@@ -6,17 +6,17 @@ XYZ -> D65-to-D60 -> AP1 -> RRT saturation; M_out: ODT saturation -> XYZ -> D60-
 matrices are the identity on grey to 5 digits, so on grey values (and on luminance) the curve is the
 fit alone.
 
->>> [round(float(v), 5) for v in aces_hill([[0.18, 0.18, 0.18]])[0]]
-[0.16806, 0.16806, 0.16806]
+>>> [round(float(v), 5) for v in aces_hill([[0.18, 0.18, 0.18]])[0]]     # fit(0.18) = 0.036734 / 0.347889
+[0.10559, 0.10559, 0.10559]
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .kernels import BIG, F32, FMAX, TINY, clip
-from .mapping import triples
-from .registry import register
+from lenslab.tone.kernels import BIG, F32, FMAX, TINY, clip
+from lenslab.tone.mapping import triples
+from lenslab.tone.registry import register
 
 # Stephen Hill's fit (BakingLab, ACES.hlsl): sRGB -> XYZ -> D65->D60 -> AP1 -> RRT_SAT, and back
 ACES_HILL_INPUT = np.array([[0.59719, 0.35458, 0.04823],

@@ -5,17 +5,17 @@ sigmoid 15.5t^6 - 40.14t^5 + 31.96t^4 - 6.868t^3 + 0.4298t^2 + 0.1191t - 0.00232
 then display-linear by the 2.2 power. Benjamin Wrensch, "Minimal AgX Implementation" (2024),
 default look. The matrices are the identity on grey to 4 digits.
 
->>> round(float(agx([[0.18, 0.18, 0.18]])[0, 1]), 4)
-0.1904
+>>> round(float(agx([[0.18, 0.18, 0.18]])[0, 1]), 4)     # t = 10 / 16.5, sigmoid 0.49673, ^2.2
+0.2145
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .kernels import F32, clip, power_offset
-from .mapping import triples
-from .registry import register
+from lenslab.tone.kernels import F32, clip, power_offset
+from lenslab.tone.mapping import triples
+from lenslab.tone.registry import register
 
 # Benjamin Wrensch, "Minimal AgX Implementation" (2024), after Troy Sobotka's AgX
 AGX_INSET = np.array([[0.842479062253094, 0.0784335999999992, 0.0792237451477643],

@@ -10,7 +10,7 @@ renderers that write ``pow(c, 1/2.2)`` do.
 >>> from lenslab import srgb
 >>> v = float(srgb.eotf_inverse(gamma([0.18], gamma=2.2)[0]))   # the code value written
 >>> round(v, 5), round(0.18 ** (1 / 2.2), 5)
-(0.45865, 0.45865)
+(0.45866, 0.45866)
 """
 
 from __future__ import annotations
@@ -19,10 +19,9 @@ import numpy as np
 
 from lenslab import srgb
 from lenslab.params import Param
-
-from .kernels import F32, clip
-from .mapping import values
-from .registry import register
+from lenslab.tone.kernels import F32, clip
+from lenslab.tone.mapping import values
+from lenslab.tone.registry import register
 
 
 def _build_clamp(p, scale):

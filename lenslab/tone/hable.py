@@ -5,8 +5,8 @@ John Hable, "Filmic Tonemapping Operators" (blog, 2010): A=0.15 B=0.50 C=0.10 D=
 exposure bias 2.0, W = 11.2 (the seed's defaults); his GDC 2010 talk "Uncharted 2: HDR Lighting" uses
 A=0.22 B=0.30 E=0.01 (``preset="gdc"``).
 
->>> round(float(hable([1.0])[0]), 6)          # f(2.0) / f(11.2) with the blog constants
-0.492918
+>>> round(float(hable([1.0])[0]), 5)          # f(2.0) / f(11.2) with the blog constants
+0.49292
 >>> float(hable([5.6])[0])                    # 5.6 x bias 2.0 = W: white
 1.0
 """
@@ -17,10 +17,9 @@ import numpy as np
 
 from lenslab.errors import ToneError
 from lenslab.params import Param
-
-from .kernels import rational_kernel
-from .mapping import values
-from .registry import register
+from lenslab.tone.kernels import rational_kernel
+from lenslab.tone.mapping import values
+from lenslab.tone.registry import register
 
 HABLE_PRESETS = {
     # Hable's blog post "Filmic Tonemapping Operators" (2010): the seed's constants

@@ -21,12 +21,9 @@ import numpy as np
 
 from lenslab.errors import ToneError
 from lenslab.params import Param
-
-from .exposure import log_average, luminance_sample
-from .mapping import tonemap
-from .registry import register
-
-
+from lenslab.tone.exposure import log_average, luminance_sample
+from lenslab.tone.mapping import tonemap
+from lenslab.tone.registry import register
 
 _MIN_SIDE = {"drago": 1, "mantiuk": 4}
 

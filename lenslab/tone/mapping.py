@@ -20,11 +20,15 @@ import warnings
 import numpy as np
 
 from lenslab.errors import ToneError
-
-from .exposure import log_average, luminance_sample, luminance_weights, parse_exposure
-from .kernels import F32
-from .registry import get_curve
-from .sweep import Counts, repair, sweep_luminance, sweep_rgb, sweep_values
+from lenslab.tone.exposure import (
+    log_average,
+    luminance_sample,
+    luminance_weights,
+    parse_exposure,
+)
+from lenslab.tone.kernels import F32
+from lenslab.tone.registry import get_curve
+from lenslab.tone.sweep import Counts, repair, sweep_luminance, sweep_rgb, sweep_values
 
 
 class ToneWarning(UserWarning):

@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernels import BIG, F32, clip
-from .mapping import triples
-from .registry import register
+from lenslab.tone.kernels import BIG, F32, clip
+from lenslab.tone.mapping import triples
+from lenslab.tone.registry import register
+
 
 def _build_pbr_neutral(p, scale):
     s = F32(scale)

@@ -18,11 +18,10 @@ import numpy as np
 
 from lenslab.errors import ToneError
 from lenslab.srgb import encode as encode_srgb
-
-from .exposure import MIDDLE_GREY
-from .mapping import tonemap
-from .registry import CURVES, get_curve
-from .reinhard import reinhard2002
+from lenslab.tone.exposure import MIDDLE_GREY
+from lenslab.tone.mapping import tonemap
+from lenslab.tone.registry import CURVES, get_curve
+from lenslab.tone.reinhard import reinhard2002
 
 __all__ = ["plot_curves", "curve_samples"]
 

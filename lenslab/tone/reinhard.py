@@ -18,12 +18,11 @@ import math
 import numpy as np
 
 from lenslab.params import Param
-
-from .exposure import MIDDLE_GREY, log_average, luminance_sample
-from .kernels import F32, rational_kernel
-from .mapping import as_float32, values, warn_repairs
-from .registry import get_curve, register
-from .sweep import Counts, sweep_values
+from lenslab.tone.exposure import MIDDLE_GREY, log_average, luminance_sample
+from lenslab.tone.kernels import F32, rational_kernel
+from lenslab.tone.mapping import as_float32, values, warn_repairs
+from lenslab.tone.registry import get_curve, register
+from lenslab.tone.sweep import Counts, sweep_values
 
 
 def _build_reinhard(p, scale):

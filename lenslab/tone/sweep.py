@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernels import F32, FMAX, TINY, clip
+from lenslab.tone.kernels import F32, FMAX, TINY, clip
 
 BLOCK = 1 << 16  # values per block: the block and two scratch buffers stay inside a core's L2 cache
 

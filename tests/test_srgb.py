@@ -1,0 +1,88 @@
+"""sRGB in one place: lenslab.srgb against colour-science, the file formats' tables built from it, and
+the commands' light paths that no longer import colour-science or numba."""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+import json
+import subprocess
+import sys
+
+import colour
+import numpy as np
+import pytest
+
+from lenslab import srgb
+from lenslab.io import encode
+
+# dense codes and values, with both sides of each segment's knee
+GRID = np.unique(np.concatenate([np.linspace(0.0, 1.0, 200001), np.geomspace(1e-9, 1.0, 20001),
+                                 np.nextafter(0.04045, [0.0, 1.0]), np.nextafter(0.0031308, [0.0, 1.0]),
+                                 [0.040449936, 0.04045, 0.0031308]]))
+
+
+def test_transfer_functions_equal_colour_science():
+    # the same float64 formula and the same switch points: equal to the last bit
+    np.testing.assert_array_equal(srgb.eotf(GRID), colour.models.eotf_sRGB(GRID))
+    np.testing.assert_array_equal(srgb.eotf_inverse(GRID), colour.models.eotf_inverse_sRGB(GRID))
+    x = np.array([np.nan, -1.0, 0.5, 2.0, np.inf])
+    np.testing.assert_array_equal(srgb.encode(x), np.float32(colour.models.eotf_inverse_sRGB([0, 0, 0.5, 1, 1])))
+
+
+@pytest.mark.parametrize("maxval", [1, 255, 1023, 65535])
+def test_decode_tables_equal_colour_science(maxval):
+    codes = np.arange(maxval + 1) / maxval
+    np.testing.assert_array_equal(encode.decode_table(maxval), np.float32(colour.models.eotf_sRGB(codes)))
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+def test_table_encoding_rounds_colour_sciences_encoding(bits):
+    maxval = (1 << bits) - 1
+    rng = np.random.default_rng(bits)
+    x = np.concatenate([rng.random(200000), rng.random(20000) ** 6]).astype(np.float32)
+    ref = np.floor(maxval * colour.models.eotf_inverse_sRGB(x.astype(np.float64)) + 0.5)
+    np.testing.assert_array_equal(encode.encode_quantise(x, bits, dither=False), ref)
+
+
+def _loaded_after(code: str) -> set[str]:
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys, json\n"
+                          "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules})))"],
+                         check=True, capture_output=True, text=True).stdout
+    return set(json.loads(out.strip().splitlines()[-1]))
+
+
+def test_reading_tone_mapping_and_writing_ldr_import_neither_colour_science_nor_numba(tmp_path):
+    loaded = _loaded_after(
+        "import numpy as np\n"
+        "from lenslab import io, tone\n"
+        f"p = {str(tmp_path / 'a.png')!r}\n"
+        "img = np.random.default_rng(0).random((16, 32, 3)).astype(np.float32) * 4\n"
+        "for mode in ('per-channel', 'luminance'):\n"
+        "    for curve in ('hable', 'agx', 'reinhard2002'):\n"
+        "        io.write(p, tone.tonemap(img, curve, 'auto', mode), overwrite=True)\n"
+        "io.read(p)\n"
+    )
+    assert not loaded & {"colour", "numba", "scipy"}, sorted(loaded & {"colour", "numba", "scipy"})
+
+
+@pytest.mark.parametrize("module", ["lenslab.params", "lenslab.srgb", "lenslab.tone.gamma", "lenslab.tone.reinhard",
+                                    "lenslab.tone.hable", "lenslab.tone.aces", "lenslab.tone.aces_hill",
+                                    "lenslab.tone.agx", "lenslab.tone.pbr_neutral", "lenslab.tone.local"])
+def test_module_examples(module):
+    # each curve module's example shows its published value (checked by hand against the formula)
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.attempted > 0 and result.failed == 0
+
+
+@pytest.mark.parametrize("space", ["sRGB", "ITU-R BT.2020", "Display P3", "ACEScg"])
+def test_luminance_weights_from_chromaticities_equal_colour_science(space):
+    from lenslab import tone
+
+    cs = colour.RGB_COLOURSPACES[space]
+    xy = np.vstack([cs.primaries, cs.whitepoint])
+    ref = colour.normalised_primary_matrix(cs.primaries, cs.whitepoint)[1]
+    # computed in float64 by SMPTE RP 177 as colour-science does, returned as float32: one rounding
+    np.testing.assert_allclose(tone.luminance_weights(xy), ref, rtol=1e-7, atol=0)
+    # a name goes to colour-science's own matrix (sRGB: the standard's published row, no import)
+    np.testing.assert_allclose(tone.luminance_weights(space), cs.matrix_RGB_to_XYZ[1], rtol=1e-7, atol=0)
