@@ -57,6 +57,7 @@ SHARED = [
     ("cylindrical:fov=180,vfov=100", "cylindrical:h_fov=180:v_fov=100", (64, 64)),
     ("cylindrical-equal-area:vfov=180", "cylindricalea", (128, 64)),
     ("mercator", "mercator", (64, 64)),
+    (f"mercator:vfov={2 * math.degrees(math.atan(math.sinh(math.pi)))!r}", "mercator", (128, 64)),
     (f"pannini:d=1,fov={PAN!r}", "pannini:h_fov=1", (64, 64)),
     ("hammer", "hammer", (128, 64)),
     ("sinusoidal", "sinusoidal", (128, 64)),
@@ -173,3 +174,17 @@ def test_compat_refuses_projections_v360_lacks(tmp_path):
     for to in ("swirl", "cubemap:layout=4x3", "fisheye:fov=180,cx=0.1"):
         assert main(["warp", str(src), "--to", to, "--size", "64x48", "--compat", "v360", "-o", str(out), "-q"]) == 1
         assert not out.exists()
+
+
+@pytest.mark.parametrize("v360_opt,flags", [("yaw=30", ["--yaw", "30"]), ("pitch=20", ["--pitch", "20"]),
+                                            ("roll=25", ["--roll", "-25"]),  # v360's roll turns the other way
+                                            ("yaw=30:pitch=20:roll=25", ["--yaw", "30", "--pitch", "20", "--roll", "-25"])])
+def test_rotations_match_ffmpeg(tmp_path, v360_opt, flags):
+    codes = source_codes(128, 64)
+    theirs = run_ffmpeg(tmp_path, codes, f"input=e:output=flat:h_fov=90:v_fov=90:{v360_opt}", (64, 64))
+    src, out = tmp_path / "in.exr", tmp_path / "out.exr"
+    write(src, codes.astype(np.float32) / 255, pixel_type="float")
+    assert main(["warp", str(src), "--from", "equirect", "--to", "perspective:fov=90", "--size", "64x64",
+                 "--compat", "v360", *flags, "--pixel-type", "float", "-o", str(out), "-q"]) == 0
+    ours = read(out)[0]
+    compare(ours[..., :3].astype(np.float64) * 255, ours[..., 3], theirs, np.zeros((64, 64), dtype=bool))
