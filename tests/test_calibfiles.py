@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from lenslab.calibfiles import read_lens, write_lens
+from lenslab.calibfiles import CameraFileError, read_lens, write_lens
 from lenslab.cli.main import main
 from lenslab.errors import LensError
 from lenslab.lenses import Camera, make_lens
@@ -136,7 +136,7 @@ def test_kalibr_camchain_by_hand(tmp_path, cam):
 def test_kalibr_needs_a_pick_when_it_holds_several(tmp_path):
     path = tmp_path / "camchain.yaml"
     path.write_text(KALIBR)
-    with pytest.raises(LensError, match=r"holds 5 cameras; pick one as .*#ID \(IDs: cam0, cam1"):
+    with pytest.raises(CameraFileError, match=r"holds 5 cameras; pick one as .*#ID \(IDs: cam0, cam1"):
         read_lens(str(path))
 
 
@@ -264,11 +264,11 @@ def test_bad_files_get_one_line_errors(tmp_path, name, text, message, capsys):
     path.write_text(text)
     spec = str(path) + ("#cam0" if "cam0" in message else "#cam2" if "cam2" in message else
                         "#cam3" if "cam3" in message else "")
-    with pytest.raises(LensError) as info:
+    with pytest.raises(CameraFileError) as info:
         read_lens(spec)
     text = str(info.value)
     assert message in text and "\n" not in text and text.startswith(str(path))
-    # the command says the same on one line, exit status 1
+    # the command says the same on one line, exit status 1 (a failed input)
     assert main(["camera", "show", spec]) == 1
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
@@ -288,7 +288,8 @@ def test_camera_command_converts_kalibr_to_a_yaml_cv2_reads(tmp_path, capsys):
     # never overwrites without --overwrite, never the input, one-line errors
     assert main(["camera", "convert", f"{src}#cam1", "-o", str(out)]) == 1
     assert main(["camera", "convert", str(out), "-o", str(out), "--overwrite"]) == 1
-    assert main(["camera", "convert", f"{src}#cam3", "-o", str(tmp_path / "ds.txt")]) == 1  # COLMAP has no ds
+    # COLMAP has no double-sphere: a bad choice of output, a usage error (2)
+    assert main(["camera", "convert", f"{src}#cam3", "-o", str(tmp_path / "ds.txt")]) == 2
     assert "COLMAP has no double-sphere model" in capsys.readouterr().err
     assert not (tmp_path / "ds.txt").exists()
     assert main(["camera", "show", str(out)]) == 0

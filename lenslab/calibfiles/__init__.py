@@ -4,7 +4,8 @@
 YAML, COLMAP ``cameras.txt`` (``cameras.txt#2`` picks camera 2), OCamCalib ``calib_results.txt`` and
 lenslab's camera TOML; ``write_lens(path, lens)`` writes one. Each plugin converts pixel conventions at
 its boundary (see ``docs/conventions.md``, "Calibrated cameras"). Every problem with a file is a
-one-line :class:`~lenslab.errors.LensError` naming the file and the key.
+one-line :class:`CameraFileError` naming the file and the key; a camera a format cannot hold is a
+:class:`~lenslab.errors.LensError` (the user's choice of format).
 """
 
 from __future__ import annotations
@@ -12,7 +13,12 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from lenslab.errors import LensError
+from lenslab.errors import LenslabError, LensError
+
+
+class CameraFileError(LenslabError, ValueError):
+    """A camera file is missing, unreadable, or lacks or misuses a key (the message names the file and
+    the key). A failed input, not a usage error: commands exit with status 1."""
 
 #: format name -> plugin module (in lenslab.calibfiles); the order is the order of sniffing
 FORMATS = {"opencv": "opencv", "kalibr": "kalibr", "colmap": "colmap", "ocam": "ocamcalib", "toml": "toml"}
@@ -53,17 +59,17 @@ def sniff(path: Path, text: str) -> str:
     for name in FORMATS:
         if plugin(name).sniff(path, text):
             return name
-    raise LensError(f"{path}: not a calibration file lenslab knows (OpenCV YAML/JSON, Kalibr camchain, "
+    raise CameraFileError(f"{path}: not a calibration file lenslab knows (OpenCV YAML/JSON, Kalibr camchain, "
                     "COLMAP cameras.txt, OCamCalib calib_results.txt or lenslab TOML)")
 
 
 def read_text(path: Path) -> str:
     if not path.is_file():
-        raise LensError(f"{path}: no such camera file")
+        raise CameraFileError(f"{path}: no such camera file")
     try:
         return path.read_text(encoding="utf-8")
     except UnicodeDecodeError:
-        raise LensError(f"{path}: not a text file; a camera file is YAML, JSON, TOML or text") from None
+        raise CameraFileError(f"{path}: not a text file; a camera file is YAML, JSON, TOML or text") from None
 
 
 def read_lenses(spec: str) -> tuple[str, list[tuple[str, object]]]:
@@ -81,12 +87,12 @@ def read_lens(spec: str, size: tuple[int, int] | None = None):
     if pick is not None:
         found = [lens for cid, lens in cams if cid == pick]
         if not found:
-            raise LensError(f"{path}: no camera {pick!r}; it holds {', '.join(cid for cid, _ in cams)}")
+            raise CameraFileError(f"{path}: no camera {pick!r}; it holds {', '.join(cid for cid, _ in cams)}")
         lens = found[0]
     elif len(cams) == 1:
         lens = cams[0][1]
     else:
-        raise LensError(f"{path}: holds {len(cams)} cameras; pick one as {path}#ID "
+        raise CameraFileError(f"{path}: holds {len(cams)} cameras; pick one as {path}#ID "
                         f"(IDs: {', '.join(cid for cid, _ in cams)})")
     if size is not None and tuple(size) != (lens.width, lens.height):
         lens = lens.with_size(*size)

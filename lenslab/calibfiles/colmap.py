@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from lenslab.calibfiles import CameraFileError
 from lenslab.errors import LensError
 
 #: COLMAP model -> (lenslab model, parameter names in COLMAP's order; f means fx = fy)
@@ -43,21 +44,21 @@ def read(path: Path, text: str):
             continue
         where = f"{path}: line {n}"
         if len(parts) < 4:
-            raise LensError(f"{where}: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...")
+            raise CameraFileError(f"{where}: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...")
         cid, model = parts[0], parts[1]
         if model not in MODELS:
             if model == "FOV":
-                raise LensError(f"{where}: COLMAP's FOV model is not supported; valid: {', '.join(MODELS)}")
-            raise LensError(f"{where}: unknown camera model {model!r}; valid: {', '.join(MODELS)}")
+                raise CameraFileError(f"{where}: COLMAP's FOV model is not supported; valid: {', '.join(MODELS)}")
+            raise CameraFileError(f"{where}: unknown camera model {model!r}; valid: {', '.join(MODELS)}")
         name, keys = MODELS[model]
         keys = keys.split()
         try:
             w, h = int(parts[2]), int(parts[3])
             nums = [float(p) for p in parts[4:]]
         except ValueError:
-            raise LensError(f"{where}: WIDTH, HEIGHT and the parameters must be numbers") from None
+            raise CameraFileError(f"{where}: WIDTH, HEIGHT and the parameters must be numbers") from None
         if len(nums) != len(keys):
-            raise LensError(f"{where}: {model} takes {len(keys)} parameters ({', '.join(keys)}), got {len(nums)}")
+            raise CameraFileError(f"{where}: {model} takes {len(keys)} parameters ({', '.join(keys)}), got {len(nums)}")
         values = dict(zip(keys, nums))
         if "f" in values:
             values["fx"] = values["fy"] = values.pop("f")
@@ -65,10 +66,10 @@ def read(path: Path, text: str):
         values["cy"] -= 0.5
         try:
             cams.append((cid, make_lens({"model": name, **values, "width": w, "height": h}, (w, h))))
-        except LensError as exc:
-            raise LensError(f"{where}: {exc}") from None
+        except LensError as exc:  # a bad value in the file
+            raise CameraFileError(f"{where}: {exc}") from None
     if not cams:
-        raise LensError(f"{path}: no camera line (CAMERA_ID MODEL WIDTH HEIGHT PARAMS...)")
+        raise CameraFileError(f"{path}: no camera line (CAMERA_ID MODEL WIDTH HEIGHT PARAMS...)")
     return cams
 
 

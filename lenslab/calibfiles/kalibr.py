@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from lenslab.calibfiles import CameraFileError
 from lenslab.errors import LensError
 
 INTRINSICS = {
@@ -31,9 +32,9 @@ def _load(path: Path, text: str) -> dict:
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise LensError(f"{path}: not valid YAML: {str(exc).splitlines()[0]}") from None
+        raise CameraFileError(f"{path}: not valid YAML: {str(exc).splitlines()[0]}") from None
     if not isinstance(data, dict):
-        raise LensError(f"{path}: a Kalibr camchain holds cam0, cam1, ... tables")
+        raise CameraFileError(f"{path}: a Kalibr camchain holds cam0, cam1, ... tables")
     return data
 
 
@@ -41,18 +42,18 @@ def _lens_of(path: Path, cid: str, cam) -> object:
     from lenslab.lenses import make_lens
 
     if not isinstance(cam, dict):
-        raise LensError(f"{path}: {cid} must be a table")
+        raise CameraFileError(f"{path}: {cid} must be a table")
     for key in REQUIRED:
         if key not in cam:
             if key in ("distortion_model", "distortion_coeffs") and cam.get("camera_model") in ("ds", "eucm"):
                 continue
-            raise LensError(f"{path}: {cid}: missing key {key!r}")
+            raise CameraFileError(f"{path}: {cid}: missing key {key!r}")
     model = str(cam["camera_model"])
     dist = str(cam.get("distortion_model", "none"))
     if model not in INTRINSICS:
-        raise LensError(f"{path}: {cid}: unknown camera_model {model!r}; valid: {', '.join(INTRINSICS)}")
+        raise CameraFileError(f"{path}: {cid}: unknown camera_model {model!r}; valid: {', '.join(INTRINSICS)}")
     if dist not in DISTORTIONS:
-        raise LensError(f"{path}: {cid}: unknown distortion_model {dist!r}; valid: {', '.join(DISTORTIONS)}")
+        raise CameraFileError(f"{path}: {cid}: unknown distortion_model {dist!r}; valid: {', '.join(DISTORTIONS)}")
     names = INTRINSICS[model].split()
     dnames = DISTORTIONS[dist].split()
     intr = _numbers(path, cid, "intrinsics", cam["intrinsics"], len(names))
@@ -63,26 +64,26 @@ def _lens_of(path: Path, cid: str, cam) -> object:
         name = "kannala-brandt" if dist == "equidistant" else "opencv"
     elif model == "omni":
         if dist == "equidistant":
-            raise LensError(f"{path}: {cid}: distortion_model 'equidistant' goes with camera_model 'pinhole' only")
+            raise CameraFileError(f"{path}: {cid}: distortion_model 'equidistant' goes with camera_model 'pinhole' only")
         name = "omnidir"
     else:
         if dist != "none":
-            raise LensError(f"{path}: {cid}: camera_model {model!r} takes distortion_model 'none', got {dist!r}")
+            raise CameraFileError(f"{path}: {cid}: camera_model {model!r} takes distortion_model 'none', got {dist!r}")
         name = {"ds": "double-sphere", "eucm": "eucm"}[model]
     w, h = int(res[0]), int(res[1])
     try:
         return make_lens({"model": name, **values, "width": w, "height": h}, (w, h))
-    except LensError as exc:
-        raise LensError(f"{path}: {cid}: {exc}") from None
+    except LensError as exc:  # a bad value in the file
+        raise CameraFileError(f"{path}: {cid}: {exc}") from None
 
 
 def _numbers(path, cid, key, value, n):
     try:
         out = [float(v) for v in value]
     except (TypeError, ValueError):
-        raise LensError(f"{path}: {cid}: key {key!r} must be a list of numbers") from None
+        raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of numbers") from None
     if len(out) != n:
-        raise LensError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(out)}")
+        raise CameraFileError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(out)}")
     return out
 
 
@@ -90,7 +91,7 @@ def read(path: Path, text: str):
     data = _load(path, text)
     cams = [(k, v) for k, v in data.items() if str(k).startswith("cam")]
     if not cams:
-        raise LensError(f"{path}: missing key 'cam0' (a Kalibr camchain holds cam0, cam1, ...)")
+        raise CameraFileError(f"{path}: missing key 'cam0' (a Kalibr camchain holds cam0, cam1, ...)")
     return [(str(k), _lens_of(path, str(k), v)) for k, v in cams]
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from lenslab.calibfiles import CameraFileError
 from lenslab.errors import LensError
 
 LABELS = ("the polynomial line", "the inverse polynomial line", "the centre line (xc yc)",
@@ -28,7 +29,7 @@ def _data_lines(path: Path, text: str) -> list[list[float]]:
         try:
             rows.append([float(p) for p in s.split()])
         except ValueError:
-            raise LensError(f"{path}: {LABELS[min(len(rows), 4)]} must hold numbers, got {s[:40]!r}") from None
+            raise CameraFileError(f"{path}: {LABELS[min(len(rows), 4)]} must hold numbers, got {s[:40]!r}") from None
     return rows
 
 
@@ -38,22 +39,22 @@ def read(path: Path, text: str):
 
     rows = _data_lines(path, text)
     if len(rows) < 5:
-        raise LensError(f"{path}: missing {LABELS[len(rows)]}")
+        raise CameraFileError(f"{path}: missing {LABELS[len(rows)]}")
     pol, inv, centre, affine, size = rows[:5]
     for label, row in ((LABELS[0], pol), (LABELS[1], inv)):
         if not row or int(row[0]) != len(row) - 1:
-            raise LensError(f"{path}: {label} must start with its count of coefficients")
+            raise CameraFileError(f"{path}: {label} must start with its count of coefficients")
     for label, row, n in ((LABELS[2], centre, 2), (LABELS[3], affine, 3), (LABELS[4], size, 2)):
         if len(row) != n:
-            raise LensError(f"{path}: {label} needs {n} numbers, got {len(row)}")
+            raise CameraFileError(f"{path}: {label} needs {n} numbers, got {len(row)}")
     h, w = int(size[0]), int(size[1])
     values = {"pol": format_coefficients(pol[1:]), "invpol": format_coefficients(inv[1:]),
               "xc": centre[0], "yc": centre[1], "c": affine[0], "d": affine[1], "e": affine[2],
               "width": w, "height": h}
     try:
         return [("0", make_lens({"model": "ocam", **values}, (w, h)))]
-    except LensError as exc:
-        raise LensError(f"{path}: {exc}") from None
+    except LensError as exc:  # a bad value in the file
+        raise CameraFileError(f"{path}: {exc}") from None
 
 
 def write(path: Path, lens) -> None:

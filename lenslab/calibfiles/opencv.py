@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from lenslab.calibfiles import CameraFileError
 from lenslab.errors import LensError
 
 OPENCV_KEYS = "k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4".split()
@@ -29,9 +30,9 @@ def _fs(path: Path):
     try:
         fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
     except cv2.error as exc:
-        raise LensError(f"{path}: cv2.FileStorage cannot read it: {str(exc).strip().splitlines()[-1]}") from None
+        raise CameraFileError(f"{path}: cv2.FileStorage cannot read it: {str(exc).strip().splitlines()[-1]}") from None
     if not fs.isOpened():
-        raise LensError(f"{path}: cv2.FileStorage cannot read it")
+        raise CameraFileError(f"{path}: cv2.FileStorage cannot read it")
     return fs
 
 
@@ -39,7 +40,7 @@ def _number(path, fs, key, required=True):
     node = fs.getNode(key)
     if node.empty():
         if required:
-            raise LensError(f"{path}: missing key {key!r}")
+            raise CameraFileError(f"{path}: missing key {key!r}")
         return None
     if node.isString():
         text = node.string().strip().lower()
@@ -47,7 +48,7 @@ def _number(path, fs, key, required=True):
     if node.isMap() or node.isSeq():
         m = node.mat()
         if m is None or m.size != 1:
-            raise LensError(f"{path}: key {key!r} must be one number")
+            raise CameraFileError(f"{path}: key {key!r} must be one number")
         return float(m.ravel()[0])
     return float(node.real())
 
@@ -59,12 +60,12 @@ def read(path: Path, text: str):
     try:
         K = fs.getNode("camera_matrix").mat()
         if K is None:
-            raise LensError(f"{path}: missing key 'camera_matrix'")
+            raise CameraFileError(f"{path}: missing key 'camera_matrix'")
         if K.shape != (3, 3):
-            raise LensError(f"{path}: key 'camera_matrix' must be a 3x3 matrix, got shape {K.shape}")
+            raise CameraFileError(f"{path}: key 'camera_matrix' must be a 3x3 matrix, got shape {K.shape}")
         D = fs.getNode("distortion_coefficients").mat()
         if D is None:
-            raise LensError(f"{path}: missing key 'distortion_coefficients'")
+            raise CameraFileError(f"{path}: missing key 'distortion_coefficients'")
         D = D.ravel().astype(float)
         w = _number(path, fs, "image_width")
         h = _number(path, fs, "image_height")
@@ -74,35 +75,35 @@ def read(path: Path, text: str):
     finally:
         fs.release()
     if isinstance(model, str) and model not in ("equidistant", "radtan", "plumb_bob", "rational_polynomial"):
-        raise LensError(f"{path}: unknown distortion_model {model!r}; valid: equidistant, radtan, plumb_bob, "
+        raise CameraFileError(f"{path}: unknown distortion_model {model!r}; valid: equidistant, radtan, plumb_bob, "
                         "rational_polynomial")
     values = {"fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], "width": int(w), "height": int(h)}
     if xi is not None:
         if D.size != 4:
-            raise LensError(f"{path}: key 'distortion_coefficients' of an omnidir camera (with xi) needs 4 numbers "
+            raise CameraFileError(f"{path}: key 'distortion_coefficients' of an omnidir camera (with xi) needs 4 numbers "
                             f"(k1 k2 p1 p2), got {D.size}")
         values.update(xi=xi, s=K[0, 1], **dict(zip("k1 k2 p1 p2".split(), D)))
         name = "omnidir"
     elif fisheye == 1 or model == "equidistant":
         if D.size != 4:
-            raise LensError(f"{path}: key 'distortion_coefficients' of a fisheye camera needs 4 numbers "
+            raise CameraFileError(f"{path}: key 'distortion_coefficients' of a fisheye camera needs 4 numbers "
                             f"(k1 k2 k3 k4), got {D.size}")
         values.update(zip("k1 k2 k3 k4".split(), D))
         name = "kannala-brandt"
     else:
         if D.size not in (4, 5, 8, 12, 14):
-            raise LensError(f"{path}: key 'distortion_coefficients' needs 4, 5, 8, 12 or 14 numbers, got {D.size}")
+            raise CameraFileError(f"{path}: key 'distortion_coefficients' needs 4, 5, 8, 12 or 14 numbers, got {D.size}")
         if D.size == 14 and D[12:].any():
-            raise LensError(f"{path}: key 'distortion_coefficients': the tilt terms tauX, tauY are not supported")
+            raise CameraFileError(f"{path}: key 'distortion_coefficients': the tilt terms tauX, tauY are not supported")
         values.update(zip(OPENCV_KEYS, D[:12]))
         name = "opencv"
     if name != "omnidir" and K[0, 1] != 0:
-        raise LensError(f"{path}: key 'camera_matrix' has a skew, which only the omnidir model (with xi) takes")
+        raise CameraFileError(f"{path}: key 'camera_matrix' has a skew, which only the omnidir model (with xi) takes")
     try:
         lens = make_lens({"model": name, **{k: float(v) if k not in ("width", "height") else v
                                             for k, v in values.items()}}, (int(w), int(h)))
-    except LensError as exc:
-        raise LensError(f"{path}: {exc}") from None
+    except LensError as exc:  # a bad value in the file
+        raise CameraFileError(f"{path}: {exc}") from None
     return [("0", lens)]
 
 

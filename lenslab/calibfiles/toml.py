@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from lenslab.calibfiles import CameraFileError
 from lenslab.errors import LensError
 
 
@@ -16,10 +17,10 @@ def read(path: Path, text: str):
 
     try:
         return [(str(i), cam.lens) for i, cam in enumerate(load_cameras(path))]
-    except LensError:
-        raise
+    except LensError as exc:  # its message names the file
+        raise CameraFileError(str(exc)) from None
     except (KeyError, TypeError) as exc:
-        raise LensError(f"{path}: missing or bad key {exc}") from None
+        raise CameraFileError(f"{path}: missing or bad key {exc}") from None
 
 
 def write(path: Path, lens) -> None:

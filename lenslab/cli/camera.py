@@ -78,8 +78,6 @@ def field_of_view(lens) -> tuple[float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from lenslab.errors import LensError
 
     lens = load(args.camera, args.size)
@@ -95,13 +93,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"  spec: {lens.spec()}")
         return 0
     from lenslab.calibfiles import split_pick, write_lens
+    from lenslab.cli.policy import check_output
 
-    out = Path(args.output)
     src, _ = split_pick(args.camera)
-    if src.exists() and out.exists() and out.resolve() == src.resolve():
-        raise LensError(f"{out}: is the input; write to another file")
-    if out.exists() and not args.overwrite:
-        raise LensError(f"{out}: already exists; pass --overwrite to replace it")
+    out = check_output(args.output, [src] if src.exists() else [], args.overwrite)
     try:
         write_lens(out, lens, args.format, overwrite=args.overwrite)
     except LensError as exc:

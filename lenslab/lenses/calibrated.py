@@ -101,6 +101,11 @@ class Calibrated(Lens):
 
     def _check(self) -> None:
         self.distortion = self.make_distortion()
+        if self.distortion is not None:  # the inverse's bracket: twice the image's farthest corner
+            u = np.array([-0.5, self.width - 0.5, -0.5, self.width - 0.5])
+            v = np.array([-0.5, -0.5, self.height - 0.5, self.height - 0.5])
+            mx, my = self.pixel_to_plane(u, v)
+            self.distortion.prepare(2.0 * float(np.hypot(mx, my).max()))
 
     # -- hooks -----------------------------------------------------------------------------------
     def make_distortion(self):

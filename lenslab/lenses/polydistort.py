@@ -15,11 +15,11 @@ derivative's numerator is a polynomial in ``r^2`` whose first positive root (or 
 the fold radius. Points at or beyond it are invalid both ways, and so are points where the Jacobian of
 the whole map is not positive (the tangential and prism terms can fold it too).
 
-The inverse: with no tangential or prism terms it is one radius, solved by
-:func:`lenslab.lenses.solve.invert_increasing` (bracketed Newton); otherwise that radial solution
-starts a 2-D Newton on the whole map, steps halved until they stay inside the fold radius, at most
-:data:`MAX_ITER_2D` iterations, converged when the residual is below :data:`TOL_2D`. Points that do not
-converge are invalid, never returned as if they had.
+The inverse (compiled: :mod:`lenslab.lenses.calibrated_kernels`): the radius is solved by the
+safeguarded Newton of :func:`lenslab.lenses.solve.invert_increasing` from a table of the inverse;
+with tangential or prism terms that radial solution starts a 2-D Newton on the whole map, steps halved
+until they stay inside the fold radius, at most :data:`MAX_ITER_2D` iterations, converged when the
+residual is below :data:`TOL_2D`. Points that do not converge are invalid, never returned as if they had.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import polynomial as P
 
-from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.solve import inverse_table, kernel_settings
 
 FLOAT = np.float64
 #: residual of the 2-D solve in normalised units (1e-14 of the focal length: 1e-11 px at f = 1000 px)
@@ -110,125 +110,50 @@ class PolyDistortion:
 
     # -- forward ---------------------------------------------------------------------------------
     def apply(self, x, y):
-        """Distorted ``(x_d, y_d)`` and validity (inside the fold, positive Jacobian)."""
-        r2 = x * x + y * y
-        valid = r2 < self.fold * self.fold
+        """Distorted ``(x_d, y_d)`` and validity (inside the fold, positive Jacobian); compiled."""
+        from lenslab.lenses.calibrated_kernels import distort_kernel
+
+        x = np.ascontiguousarray(x, dtype=FLOAT)
+        y = np.ascontiguousarray(y, dtype=FLOAT)
         if self.identity:
-            return x.copy(), y.copy(), valid
-        R, _ = self.radial(r2)
-        xd = x * R
-        yd = y * R
-        if not self.radial_only:
-            xd, yd = self._tangential(x, y, r2, xd, yd)
-            valid &= self._det(x, y) > 0
+            return x.copy(), y.copy(), x * x + y * y < self.fold * self.fold
+        xd = np.empty_like(x)
+        yd = np.empty_like(y)
+        valid = np.empty(x.shape, dtype=np.bool_)
+        distort_kernel(x, y, self.a, self.b, self.p1, self.p2, self.s, not self.radial_only, self.fold, xd, yd, valid)
         return xd, yd, valid
 
-    def _tangential(self, x, y, r2, xd, yd):
-        p1, p2, s = self.p1, self.p2, self.s
-        r4 = r2 * r2
-        xd = xd + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x) + s[0] * r2 + s[1] * r4
-        yd = yd + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y + s[2] * r2 + s[3] * r4
-        return xd, yd
-
-    def _jacobian(self, x, y):
-        r2 = x * x + y * y
-        R, dR = self.radial(r2)  # dR/d(r^2); d(r^2)/dx = 2x
-        p1, p2, s = self.p1, self.p2, self.s
-        ds_x = s[0] + 2.0 * s[1] * r2  # d(s1 r^2 + s2 r^4)/d(r^2)
-        ds_y = s[2] + 2.0 * s[3] * r2
-        j11 = R + 2.0 * x * x * dR + 2.0 * p1 * y + 6.0 * p2 * x + 2.0 * x * ds_x
-        j12 = 2.0 * x * y * dR + 2.0 * p1 * x + 2.0 * p2 * y + 2.0 * y * ds_x
-        j21 = 2.0 * x * y * dR + 2.0 * p1 * x + 2.0 * p2 * y + 2.0 * x * ds_y
-        j22 = R + 2.0 * y * y * dR + 6.0 * p1 * y + 2.0 * p2 * x + 2.0 * y * ds_y
-        return j11, j12, j21, j22
-
-    def _det(self, x, y):
-        j11, j12, j21, j22 = self._jacobian(x, y)
-        return j11 * j22 - j12 * j21
-
     # -- inverse ---------------------------------------------------------------------------------
+    def prepare(self, rd_max: float) -> None:
+        """Set up the inverse for distorted radii up to ``rd_max`` (the image's farthest corner, with a
+        margin): the bracket of the radial solve and its table of starting guesses."""
+        hi = self.fold
+        if not np.isfinite(hi):  # no fold: a bracket wide enough for every radius in the image
+            hi = max(float(rd_max), 1e-3)
+            while self.radius_map(np.array([hi]))[0][0] < rd_max and hi < 1e12:
+                hi *= 2.0
+        self.hi = hi
+        self.f_hi = float(self.radius_map(np.array([hi]))[0][0])
+        self.strict = bool(np.isfinite(self.fold))
+        self.table = inverse_table(self.radius_map, hi)
+
     def invert(self, xd, yd):
         """Undistorted ``(x, y)``, validity and convergence for distorted points (1-D float64 arrays)."""
-        xd = np.asarray(xd, dtype=FLOAT)
-        yd = np.asarray(yd, dtype=FLOAT)
+        from lenslab.lenses.calibrated_kernels import undistort_kernel
+
+        xd = np.ascontiguousarray(xd, dtype=FLOAT)
+        yd = np.ascontiguousarray(yd, dtype=FLOAT)
         if self.identity:
             ok = xd * xd + yd * yd < self.fold * self.fold
             self.max_iterations = 0
             return xd.copy(), yd.copy(), ok, np.ones(xd.shape, dtype=bool)
-        x, y, ok, conv = self._invert_radial(xd, yd)
-        if not self.radial_only:
-            x, y, ok, conv = self._newton_2d(xd, yd, x, y, ok)
-        return x, y, ok, conv
-
-    def _invert_radial(self, xd, yd):
-        rd = np.hypot(xd, yd)
-        hi = self.fold
-        if not np.isfinite(hi):  # no fold: a bracket wide enough for every target
-            hi = 1.0
-            top = float(np.max(rd, initial=0.0, where=np.isfinite(rd)))
-            while self.radius_map(np.array([hi]))[0][0] < top and hi < 1e12:
-                hi *= 2.0
-        f_hi = float(self.radius_map(np.array([hi]))[0][0])
-        strict = np.isfinite(self.fold)
-        inside = (rd >= 0) & ((rd < f_hi) if strict else (rd <= f_hi))
-        sel = np.flatnonzero(inside)
-        r = np.zeros(rd.shape, dtype=FLOAT)
-        conv = np.zeros(rd.shape, dtype=bool)
-        if sel.size:
-            t = rd[sel]
-            # the counting wrapper records the iterations of the solve (for the benchmark's statement)
-            calls = [0]
-
-            def f(v):
-                calls[0] += 1
-                return self.radius_map(v)
-
-            r[sel], conv[sel] = invert_increasing(f, t, 0.0, hi, t.copy())
-            self.max_iterations = calls[0]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            scale = np.where(rd > 0, r / np.where(rd > 0, rd, 1.0), 1.0 / self.radial(np.zeros(1))[0][0])
-        ok = inside & conv
-        if strict:
-            ok &= r < self.fold
-        return xd * scale, yd * scale, ok, conv
-
-    def _newton_2d(self, xd, yd, x, y, ok):
-        """Newton on the whole map from the radial solution; steps halved to stay inside the fold."""
-        x = np.where(ok, x, xd)
-        y = np.where(ok, y, yd)
-        fold2 = self.fold * self.fold
-        inside = (x * x + y * y < fold2) & np.isfinite(xd) & np.isfinite(yd)
-        x = np.where(inside, x, 0.0)
-        y = np.where(inside, y, 0.0)
-        conv = np.zeros(xd.shape, dtype=bool)
-        idx = np.flatnonzero(inside)
-        cx, cy, tx, ty = x[idx], y[idx], xd[idx], yd[idx]
-        it = 0
-        with np.errstate(all="ignore"):
-            for it in range(1, MAX_ITER_2D + 1):
-                fx, fy, _ = self.apply(cx, cy)
-                ex, ey = fx - tx, fy - ty
-                done = np.hypot(ex, ey) <= TOL_2D * np.maximum(1.0, np.hypot(tx, ty))
-                if done.any():
-                    x[idx[done]], y[idx[done]] = cx[done], cy[done]
-                    conv[idx[done]] = True
-                    keep = ~done
-                    idx, cx, cy, tx, ty, ex, ey = idx[keep], cx[keep], cy[keep], tx[keep], ty[keep], ex[keep], ey[keep]
-                if idx.size == 0:
-                    break
-                j11, j12, j21, j22 = self._jacobian(cx, cy)
-                det = j11 * j22 - j12 * j21
-                sx = (j22 * ex - j12 * ey) / det
-                sy = (j11 * ey - j21 * ex) / det
-                step = np.ones(cx.shape)
-                for _ in range(30):  # halve the step until it stays inside the fold
-                    nx, ny = cx - step * sx, cy - step * sy
-                    out = ~(nx * nx + ny * ny < fold2)
-                    if not out.any():
-                        break
-                    step = np.where(out, 0.5 * step, step)
-                cx, cy = cx - step * sx, cy - step * sy
-        self.max_iterations = max(self.max_iterations, it)
-        valid = conv & (x * x + y * y < fold2)
-        valid &= self._det(x, y) > 0
-        return x, y, valid, conv
+        if getattr(self, "table", None) is None:
+            self.prepare(float(np.max(np.hypot(xd, yd), initial=1.0, where=np.isfinite(xd) & np.isfinite(yd))))
+        x = np.empty_like(xd)
+        y = np.empty_like(yd)
+        ok = np.empty(xd.shape, dtype=np.bool_)
+        table, step = self.table
+        self.max_iterations = undistort_kernel(
+            xd, yd, self.a, self.b, self.p1, self.p2, self.s, not self.radial_only, self.fold, self.hi, self.f_hi,
+            self.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D, x, y, ok)
+        return x, y, ok, ok.copy()

@@ -1,0 +1,202 @@
+"""Compiled (numba) inverses of the calibrated models: one safeguarded Newton for their radial maps.
+
+The safeguarded Newton of :func:`lenslab.lenses.solve.invert_increasing` (its steps and settings,
+as in :mod:`lenslab.lenses.solve_kernels`), for two families of increasing maps with arbitrary
+coefficients:
+
+- ``POLY``: OpenCV's radial map ``r (1 + a1 r^2 + .. + a4 r^8) / (1 + b1 r^2 + b2 r^4 + b3 r^6)``
+  (opencv, kannala-brandt on the angle, omnidir), followed, with tangential or thin-prism terms, by a
+  2-D Newton on the whole distortion (steps halved to stay inside the fold);
+- ``OCAM``: OCamCalib's angle from the axis ``atan2(rho, -pol(rho))``.
+
+Starting guesses come from a table of the inverse (``lenslab.lenses.solve.inverse_table``). Each
+kernel returns the largest iteration count it needed (the benchmark states it).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from lenslab.lenses.solve_kernels import _guess
+
+JIT = dict(cache=True, error_model="numpy")
+POLY, OCAM = 0, 1
+
+
+@numba.njit(inline="always", **JIT)
+def _radial(r, a, b):
+    """``R(r)`` and ``dR/d(r^2)`` of the rational radial factor."""
+    s = r * r
+    num = 1.0 + s * (a[0] + s * (a[1] + s * (a[2] + s * a[3])))
+    dnum = a[0] + s * (2.0 * a[1] + s * (3.0 * a[2] + s * 4.0 * a[3]))
+    den = 1.0 + s * (b[0] + s * (b[1] + s * b[2]))
+    dden = b[0] + s * (2.0 * b[1] + s * 3.0 * b[2])
+    return num / den, (dnum * den - num * dden) / (den * den)
+
+
+@numba.njit(inline="always", **JIT)
+def _value(kind, x, a, b):
+    """Value and derivative of map ``kind`` at ``x``."""
+    if kind == POLY:
+        R, dR = _radial(x, a, b)
+        return x * R, R + 2.0 * x * x * dR
+    p = 0.0
+    dp = 0.0
+    for j in range(a.shape[0] - 1, -1, -1):  # Horner for pol and its derivative
+        dp = dp * x + p
+        p = p * x + a[j]
+    return math.atan2(x, -p), (x * dp - p) / (x * x + p * p)
+
+
+@numba.njit(inline="always", **JIT)
+def _solve(kind, a, b, t, hi, x0, tol, res_tol, rel_ulps, max_iter):
+    """Safeguarded Newton for one element on ``[0, hi]``: ``(x, converged, iterations)``.
+
+    The steps of ``solve_kernels._solve`` (which is bound to its two-coefficient maps) for these maps
+    with coefficient arrays; a compiled function passed as an argument would share one loop, but numba
+    cannot cache kernels that take one."""
+    lo_b = 0.0
+    hi_b = hi
+    x = min(max(x0, lo_b), hi_b)
+    last_step = math.inf
+    for it in range(1, max_iter + 1):
+        fx, dfx = _value(kind, x, a, b)
+        res = fx - t
+        if res < 0.0:
+            lo_b = x
+        else:
+            hi_b = x
+        xn = x - res / dfx
+        step = abs(xn - x)
+        small = step <= tol
+        far = abs(res) > res_tol * max(1.0, abs(t))
+        bad = not (xn >= lo_b and xn <= hi_b) or (small and far) or step > 0.5 * last_step
+        if bad:
+            xn = 0.5 * (lo_b + hi_b)
+        at_rounding = abs(res) <= rel_ulps * abs(t)
+        done = (small and not bad) or at_rounding or (hi_b - lo_b <= tol)
+        if at_rounding:
+            xn = x
+        last_step = abs(xn - x)
+        x = xn
+        if done:
+            return x, True, it
+    return x0, False, max_iter
+
+
+@numba.njit(inline="always", **JIT)
+def _distort(x, y, a, b, p1, p2, s):
+    """OpenCV's distortion of one point and its Jacobian."""
+    r2 = x * x + y * y
+    R, dR = _radial(math.sqrt(r2), a, b)
+    xd = x * R + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x) + s[0] * r2 + s[1] * r2 * r2
+    yd = y * R + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y + s[2] * r2 + s[3] * r2 * r2
+    dsx = s[0] + 2.0 * s[1] * r2
+    dsy = s[2] + 2.0 * s[3] * r2
+    j11 = R + 2.0 * x * x * dR + 2.0 * p1 * y + 6.0 * p2 * x + 2.0 * x * dsx
+    j12 = 2.0 * x * y * dR + 2.0 * p1 * x + 2.0 * p2 * y + 2.0 * y * dsx
+    j21 = 2.0 * x * y * dR + 2.0 * p1 * x + 2.0 * p2 * y + 2.0 * x * dsy
+    j22 = R + 2.0 * y * y * dR + 6.0 * p1 * y + 2.0 * p2 * x + 2.0 * y * dsy
+    return xd, yd, j11, j12, j21, j22
+
+
+@numba.njit(**JIT)
+def undistort_kernel(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, table, tstep,
+                     tol, res_tol, rel_ulps, max_iter, tol_2d, max_iter_2d, out_x, out_y, valid):
+    """Undistort points of the normalised plane; returns the largest iteration count (1-D + 2-D) of the
+    points that converged (the others are invalid)."""
+    fold2 = fold * fold
+    worst = 0
+    for i in range(mx.shape[0]):
+        xd = mx[i]
+        yd = my[i]
+        out_x[i] = 0.0
+        out_y[i] = 0.0
+        valid[i] = False
+        rd = math.sqrt(xd * xd + yd * yd)
+        if not ((rd < f_hi) if strict else (rd <= f_hi)):  # also False for NaN
+            continue
+        r, ok, its = _solve(POLY, a, b, rd, hi, _guess(rd, table, tstep, False), tol, res_tol, rel_ulps, max_iter)
+        if not ok or (strict and not r < fold):
+            continue
+        if rd > 0.0:
+            x = xd * (r / rd)
+            y = yd * (r / rd)
+        else:
+            x = xd
+            y = yd
+        if tangential:
+            ok = False
+            for it2 in range(1, max_iter_2d + 1):
+                fx, fy, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
+                ex = fx - xd
+                ey = fy - yd
+                if math.sqrt(ex * ex + ey * ey) <= tol_2d * max(1.0, rd):
+                    ok = True
+                    break
+                det = j11 * j22 - j12 * j21
+                sx = (j22 * ex - j12 * ey) / det
+                sy = (j11 * ey - j21 * ex) / det
+                step = 1.0
+                for _ in range(30):  # halve the step until it stays inside the fold
+                    nx = x - step * sx
+                    ny = y - step * sy
+                    if nx * nx + ny * ny < fold2:
+                        break
+                    step *= 0.5
+                x -= step * sx
+                y -= step * sy
+            its += it2
+            if ok:
+                _, _, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
+                ok = j11 * j22 - j12 * j21 > 0.0 and x * x + y * y < fold2
+        if ok:
+            worst = max(worst, its)
+            out_x[i] = x
+            out_y[i] = y
+            valid[i] = True
+    return worst
+
+
+@numba.njit(**JIT)
+def ocam_kernel(angle, pol, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter, rho, valid):
+    """OCamCalib: the radius ``rho`` whose ray is ``angle`` from the axis; the largest iteration count."""
+    empty = np.zeros(3)
+    worst = 0
+    for i in range(angle.shape[0]):
+        t = angle[i]
+        rho[i] = 0.0
+        valid[i] = False
+        if not ((t < a_hi) if strict else (t <= a_hi)):
+            continue
+        x, ok, its = _solve(OCAM, pol, empty, t, hi, _guess(t, table, tstep, False), tol, res_tol, rel_ulps,
+                            max_iter)
+        if ok:
+            worst = max(worst, its)
+            rho[i] = x
+            valid[i] = True
+    return worst
+
+
+@numba.njit(**JIT)
+def distort_kernel(x, y, a, b, p1, p2, s, tangential, fold, out_x, out_y, valid):
+    """OpenCV's distortion of points inside the fold (with a positive Jacobian when tangential)."""
+    fold2 = fold * fold
+    for i in range(x.shape[0]):
+        xi = x[i]
+        yi = y[i]
+        ok = xi * xi + yi * yi < fold2
+        if ok:
+            xd, yd, j11, j12, j21, j22 = _distort(xi, yi, a, b, p1, p2, s)
+            if tangential:
+                ok = j11 * j22 - j12 * j21 > 0.0
+        if ok:
+            out_x[i] = xd
+            out_y[i] = yd
+        else:
+            out_x[i] = 0.0
+            out_y[i] = 0.0
+        valid[i] = ok
