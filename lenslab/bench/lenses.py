@@ -31,6 +31,17 @@ DEFAULT_SPECS = (
     "barrel:k1=-0.3,fov=90",
     "brown:k1=-0.05,fov=90",
     "tiled:2x2",
+    "cubemap:layout=4x3",
+    "eac",
+    "dual-fisheye:fov=190",
+    "cylindrical",
+    "cylindrical-equal-area",
+    "mercator",
+    "pannini",
+    "hammer",
+    "sinusoidal",
+    "little-planet",
+    "fisheye:dfov=180",
 )
 
 #: (model name, direction) pairs solved numerically

@@ -37,10 +37,12 @@ BORDER_NUDGE = 1e-9
 
 @register
 class EquiAngularCubemap(Lens):
-    r"""Equi-angular cube map in v360's 3x2 layout (see the module docstring).
+    r"""Equi-angular cube map (YouTube's 360 format) in v360's 3x2 layout, pixels evenly spaced in angle.
 
-    With ``p`` the pad in pixels, ``t = 3 (x/W - p/W) / (1 - 2p/W)`` (face column ``floor(t)``,
-    ``fx = t - col``) and, in row ``r = floor(2y/H)``, ``fy = (y/H - p/H - r/2) / (1/2 - 2p/H)``; then
+    Top row left, front, right (upright); bottom row down, back, up, turned a quarter so that the row
+    runs along the back of the cube. With ``p`` the pad in pixels (v360's ``eac``: 2, round each row),
+    ``c = 3 (x/W - p/W) / (1 - 2p/W)`` (face column ``floor(c)``, ``fx = c - col``) and, in row
+    ``r = floor(2y/H)``, ``fy = (y/H - p/H - r/2) / (1/2 - 2p/H)``; then
     ``s = 2 fx - 1``, ``t = 2 fy - 1`` and ``uf = tan(pi/4 s)``, ``vf = tan(pi/4 t)``,
     ``d = normalise(uf A + vf B + C)`` with the face's axes. The inverse takes the face of the largest
     component of ``d`` (ties: x, then y, then z), ``uf = d.A / d.C``, ``vf = d.B / d.C`` and
