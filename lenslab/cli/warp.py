@@ -140,8 +140,12 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
 
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
-    from lenslab.lenses.registry import parse_spec
+    from lenslab.calibfiles import is_camera_file
+    from lenslab.lenses.registry import make_lens, parse_spec
 
+    if is_camera_file(spec):  # a calibrated camera: the size it was calibrated at
+        lens = make_lens(spec)
+        return lens.width, lens.height
     name, _ = parse_spec(spec)
     if name == "equirect":
         return 2 * src_h, src_h
