@@ -3,6 +3,7 @@ because machines are shared and noisy.
 
   lenslab bench io       read/write throughput per format against numpy.fromfile/tofile
   lenslab bench lenses   directions per second per lens model against plain NumPy equirect
+  lenslab bench startup  whole-command wall time on a 256 x 128 image against python -c "import numpy"
   lenslab bench tone     megapixels per second per curve against numpy.clip
   lenslab bench warp     equirect -> fisheye warps against cv2.remap with precomputed maps
 """
@@ -15,6 +16,7 @@ import importlib
 TARGETS = {
     "io": "read/write throughput per format, and convert throughput",
     "lenses": "pixel_to_dir and dir_to_pixel throughput per lens model",
+    "startup": "wall time of convert, tonemap and warp on a small image",
     "tone": "tone curve throughput per curve",
     "warp": "warp throughput and peak memory",
 }

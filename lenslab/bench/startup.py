@@ -1,0 +1,82 @@
+"""Start-up: the wall time of whole commands on one small image, as a user waits for them.
+
+``lenslab convert``, ``lenslab tonemap`` and ``lenslab warp`` each run on one 256 x 128 EXR panorama
+(written first to a temporary directory), as separate processes, the median of --repeat runs after
+one warm-up run that is not counted (a warm machine: Python's bytecode and numba's kernel caches are
+filled, so the child processes may write them even where this shell forbids it). The aim is 0.4 s
+for each. The baseline, measured in the same run, is ``python -c "import numpy"``: the floor any
+command of lenslab starts from.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+AIM_SECONDS = 0.4
+
+COMMANDS = {
+    "convert": ["convert", "{src}", "--to", "png", "-o", "{dir}/out.png", "--overwrite"],
+    "tonemap": ["tonemap", "{src}", "-o", "{dir}/out.jpg", "--overwrite"],
+    "warp": ["warp", "{src}", "-o", "{dir}/out.exr", "--to", "fisheye:fov=180", "--size", "128x128",
+             "--overwrite"],
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--repeat", type=int, default=7, help="runs per command; the median is reported (default 7)")
+    parser.add_argument("--commands", default=",".join(COMMANDS),
+                        help=f"comma-separated commands to time (default {','.join(COMMANDS)})")
+
+
+def wall_times(argv: list[str], repeat: int, env: dict) -> list[float]:
+    """Wall times of ``repeat`` runs of ``argv`` after one uncounted warm-up; a failed run raises."""
+    import subprocess
+    import time
+
+    times = []
+    for i in range(repeat + 1):
+        t0 = time.perf_counter()
+        done = subprocess.run(argv, env=env, capture_output=True, text=True)
+        elapsed = time.perf_counter() - t0
+        if done.returncode != 0:
+            raise RuntimeError(f"{' '.join(argv)} failed ({done.returncode}): {done.stderr.strip()[-300:]}")
+        if i:
+            times.append(elapsed)
+    return times
+
+
+def run(args: argparse.Namespace) -> int:
+    import os
+    import statistics
+    import sys
+    import tempfile
+
+    import numpy as np
+
+    from lenslab import io
+    from lenslab.bench.results import figure, mark
+
+    names = [n.strip() for n in args.commands.split(",") if n.strip()]
+    unknown = [n for n in names if n not in COMMANDS]
+    if unknown:
+        print(f"lenslab bench startup: unknown command(s) {', '.join(unknown)}; valid: {', '.join(COMMANDS)}",
+              file=sys.stderr)
+        return 2
+    repeat = max(1, args.repeat)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    with tempfile.TemporaryDirectory(prefix="lenslab-startup-") as tmp:
+        src = os.path.join(tmp, "pano.exr")
+        rng = np.random.default_rng(0)
+        io.write(src, (0.18 * np.exp2(rng.normal(0.0, 2.0, (128, 256, 3)))).astype(np.float32))
+        base = statistics.median(wall_times([sys.executable, "-c", "import numpy"], repeat, env))
+        print(f"start-up of whole commands on a 256 x 128 image, median of {repeat} runs after a warm-up; "
+              f"aim {AIM_SECONDS:g} s each", flush=True)
+        label = 'python -c "import numpy" (baseline)'
+        print(f"{label:<34s} {base:7.3f} s", flush=True)
+        for name in names:
+            argv = [sys.executable, "-m", "lenslab"] + [a.format(src=src, dir=tmp) for a in COMMANDS[name]]
+            t = statistics.median(wall_times(argv, repeat, env))
+            ok = figure(f"startup.{name}", f"lenslab {name} of a 256x128 image, whole process", t, "s",
+                        aim=AIM_SECONDS, better="lower", note=f"baseline python -c 'import numpy' {base:.3f} s")
+            print(f"{'lenslab ' + name:<34s} {t:7.3f} s  {t / base:5.1f}x baseline  {mark(ok)}", flush=True)
+    return 0
