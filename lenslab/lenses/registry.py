@@ -33,7 +33,7 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
         # a model may take its first value without a key, e.g. ``tiled:2x2`` for ``tiled:grid=2x2``
         _load_models()
         positional = getattr(REGISTRY.get(name), "positional", None)
-        for i, item in enumerate(rest.split(",")):
+        for i, item in enumerate(split_items(rest, spec)):
             if i == 0 and positional and "=" not in item and item.strip():
                 item = f"{positional}={item}"
             key, eq, value = item.partition("=")
@@ -44,6 +44,23 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
                 raise LensError(f"lens spec {spec!r}: parameter {key} given twice")
             values[key] = value.strip()
     return name, values
+
+
+def split_items(rest: str, spec: str) -> list[str]:
+    """Split on commas outside double quotes; quotes around a value are dropped
+    (``lens="Canon IXUS 400 & compatibles, with ..."`` keeps its comma)."""
+    items, cur, quoted = [], [], False
+    for ch in rest:
+        if ch == '"':
+            quoted = not quoted
+        elif ch == "," and not quoted:
+            items.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+    if quoted:
+        raise LensError(f"lens spec {spec!r}: unbalanced double quote")
+    return items + ["".join(cur)]
 
 
 def lens_class(name: str) -> type:
