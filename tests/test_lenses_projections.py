@@ -209,3 +209,24 @@ def test_dual_fisheye_reads_the_overlap_from_the_nearer_lens():
     lens = make_lens("dual-fisheye:fov=200", (w, h))
     out, ok = lens.pixel_to_dir(np.array([[w / 2 - 1e-9, h / 2], [0.0, h / 2]]))
     assert ok.all() and np.abs(out - [direction(100, 0), direction(-100, 0)]).max() < 1e-8
+
+
+def test_dual_fisheye_blend_weights_fall_to_zero_at_each_rim():
+    lens = make_lens("dual-fisheye:fov=200", (800, 400))
+    F = math.radians(100)
+    band = 2 * F - math.pi
+    rng = np.random.default_rng(4)
+    d = rng.normal(size=(5000, 3))
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    views = lens.blend_views(d)
+    a_front = np.arccos(np.clip(d[:, 2], -1, 1))
+    for k, (xy, ok, w) in enumerate(views):
+        a = a_front if k == 0 else math.pi - a_front
+        # the smoothstep of the margin to the rim across the overlap, transcribed: 3w^2 - 2w^3
+        m = np.clip((F - a) / band, 0, 1)
+        assert np.abs(w - (3 * m**2 - 2 * m**3)).max() < 1e-12
+        # each reading is a pixel of that lens that sees the direction
+        back, _ = lens.pixel_to_dir(xy[ok])
+        assert np.abs(back - d[ok]).max() < 1e-12
+        assert ((xy[ok, 0] < 400) == (k == 0)).all()  # front lens on the left half
+    assert np.abs(views[0][2] + views[1][2] - 1).max() < 1e-15

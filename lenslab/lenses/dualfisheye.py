@@ -26,7 +26,9 @@ class DualFisheye(Lens):
 
     As a source, a direction is read from the lens whose axis is nearer (the front one for ``dz >= 0``):
     with ``fov >= 180`` every direction is seen, from a point no more than 90 degrees off that lens's
-    axis. As an output each half is one fisheye, overlap included.
+    axis. :meth:`blend_views` gives both readings of a direction in the overlap with weights that fall
+    smoothly to 0 at each circle's rim and sum to 1, for blending the seam. As an output each half is
+    one fisheye, overlap included.
     """
 
     name = "dual-fisheye"
@@ -83,3 +85,46 @@ class DualFisheye(Lens):
             xy[..., 0] = np.where(left, np.minimum(xy[..., 0], self.half * (1.0 - 1e-15)), xy[..., 0])
             ok &= good & self.snap_to_image(xy)
         return clean(xy, ok, inplace=True)
+
+    def blend_views(self, dirs):
+        """Both lenses' pixels for each direction, with blend weights: ``[(xy, valid, weight), ...]``
+        (front lens, then back lens; float64, weight 0 where that lens does not see the direction).
+
+        With ``a`` the angle from a lens's axis and ``F = fov/2``, its margin ``m = F - a`` falls to 0 at
+        its rim; across the overlap (``2F - 180`` degrees wide) the two margins sum to its width, and
+        each weight is the smoothstep ``w^2 (3 - 2w)`` of ``w = m / (2F - pi)``: continuous with its
+        slope, 1/2 each at 90 degrees, 0 at each rim, and the two sum to 1. Without an overlap
+        (``fov <= 180``) a direction's one lens weighs 1.
+        """
+        from lenslab.lenses.base import as_points, clean
+
+        d = as_points(dirs, 3, "directions")
+        with np.errstate(all="ignore"):
+            n = np.sqrt(np.einsum("...i,...i->...", d, d))
+            good = (n > 0) & np.isfinite(n)
+            d = d / np.where(good, n, 1.0)[..., None]
+            band = 2.0 * self._lens.F - np.pi
+            views = []
+            for back, x0 in ((False, self._front_x0), (True, self.half - self._front_x0)):
+                local = d @ BACK if back else d
+                uv, ok = self._lens.dir_to_uv(local)
+                xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+                xy[..., 0] = (uv[..., 0] + 1.0) * 0.5 * self.half + x0
+                xy[..., 1] = (1.0 - uv[..., 1] * (self.half / self.height)) * 0.5 * self.height
+                if x0 == 0.0:  # the shared edge belongs to the right half
+                    xy[..., 0] = np.minimum(xy[..., 0], self.half * (1.0 - 1e-15))
+                ok &= good & self.snap_to_image(xy)
+                a = np.arctan2(np.hypot(local[..., 0], local[..., 1]), local[..., 2])
+                if band > 0:
+                    w = np.clip((self._lens.F - a) / band, 0.0, 1.0)
+                    w = w * w * (3.0 - 2.0 * w)
+                else:
+                    w = np.ones(a.shape)
+                w = np.where(ok, w, 0.0)
+                xy, ok = clean(xy, ok, inplace=True)
+                views.append((xy, ok, w))
+            total = views[0][2] + views[1][2]
+            for _, ok, w in views:
+                np.divide(w, total, out=w, where=total > 0)
+                ok &= w > 0
+        return views
