@@ -73,10 +73,11 @@ def centre_rays(lens) -> tuple[np.ndarray, np.ndarray]:
     return lens.pixel_to_dir(np.stack([xs, ys], -1))
 
 
+@pytest.mark.parametrize("exact", [True, False], ids=["exact-map", "lattice"])
 @pytest.mark.parametrize("spec,size", CASES, ids=[c[0] for c in CASES])
-def test_each_output_pixel_gets_its_own_ray(spec, size):
+def test_each_output_pixel_gets_its_own_ray(spec, size, exact):
     src, dst = Camera.from_spec("equirect", PANO), Camera.from_spec(spec, size)
-    out, alpha = warp(RAYS, src, dst, exact_map=True)
+    out, alpha = warp(RAYS, src, dst, exact_map=exact)
     rays, ok = centre_rays(dst.lens)
     keep = ok & (alpha > 0.999)
     assert keep.mean() > 0.3
