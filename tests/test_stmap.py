@@ -122,16 +122,26 @@ def test_warp_applies_a_map_without_alpha_from_another_tool(tmp_path):
     assert got[..., 3].min() == 1.0
 
 
+def exit_code(args) -> int:
+    """The command's exit code, whether it returns it or argparse exits with it."""
+    try:
+        return main(args)
+    except SystemExit as exc:
+        return int(exc.code)
+
+
 def test_stmap_command_refuses_bad_requests(tmp_path):
     out = tmp_path / "m.exr"
     base = ["stmap", "--from", "fisheye:fov=180", "--to", "perspective", "--size", "16x16", "-q"]
-    assert main(base + ["-o", str(tmp_path / "m.png")]) == 1  # ST maps are float EXR
-    assert main(base + ["-o", str(out)]) == 0
+    assert exit_code(base + ["-o", str(tmp_path / "m.png")]) == 2  # ST maps are float EXR: a usage error
+    assert not (tmp_path / "m.png").exists()
+    assert exit_code(base + ["-o", str(out)]) == 0
     before = out.read_bytes()
-    assert main(base + ["-o", str(out)]) == 1 and out.read_bytes() == before  # no --overwrite
-    assert main(["stmap", "--from", "fishey", "--to", "perspective", "--size", "16x16", "-o", str(out),
-                 "--overwrite", "-q"]) == 1
+    assert exit_code(base + ["-o", str(out)]) == 1 and out.read_bytes() == before  # no --overwrite
+    assert exit_code(["stmap", "--from", "fishey", "--to", "perspective", "--size", "16x16", "-o", str(out),
+                 "--overwrite", "-q"]) == 2  # a bad spec is a usage error
+    assert exit_code(["stmap", "--from", "fisheye", "--to", "perspective", "--size", "16", "-o", str(out), "-q"]) == 2
     src = tmp_path / "in.exr"
     write(src, np.zeros((16, 16, 3), np.float32))
-    assert main(["warp", str(src), "--stmap", str(out), "--to", "equirect", "-o", str(tmp_path / "o.exr"), "-q"]) == 1
-    assert main(["warp", str(src), "-o", str(tmp_path / "o.exr"), "-q"]) == 1  # neither --to nor --stmap
+    assert exit_code(["warp", str(src), "--stmap", str(out), "--to", "equirect", "-o", str(tmp_path / "o.exr"), "-q"]) == 1
+    assert exit_code(["warp", str(src), "-o", str(tmp_path / "o.exr"), "-q"]) == 1  # neither --to nor --stmap

@@ -19,14 +19,18 @@ from __future__ import annotations
 import argparse
 import sys
 
+from lenslab.cli.policy import image_size
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", required=True, metavar="MAP.exr", help="the ST map to write (EXR)")
     parser.add_argument("--from", dest="source", required=True, metavar="SPEC",
                         help="lens of the source footage, e.g. fisheye:fov=180 (see 'lenslab lenses')")
     parser.add_argument("--to", required=True, metavar="SPEC", help="lens of the output, e.g. perspective:fov=90")
-    parser.add_argument("--size", required=True, metavar="WxH", help="output (and map) size in pixels")
-    parser.add_argument("--source-size", metavar="WxH", help="size of the source footage (default: --size)")
+    parser.add_argument("--size", required=True, metavar="WxH", type=image_size,
+                        help="output (and map) size in pixels")
+    parser.add_argument("--source-size", metavar="WxH", type=image_size,
+                        help="size of the source footage (default: --size)")
     parser.add_argument("--yaw", type=float, default=0.0, help="turn the output camera right, degrees")
     parser.add_argument("--pitch", type=float, default=0.0, help="turn the output camera up, degrees")
     parser.add_argument("--roll", type=float, default=0.0, help="turn the output camera about its axis, degrees")
@@ -39,19 +43,16 @@ def run(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from lenslab.cli.warp import parse_size
-    from lenslab.errors import FormatError
-    from lenslab.io.detect import format_for_path
+    from lenslab.cli.policy import UsageError, check_output
     from lenslab.lenses import Camera, Pose, make_lens
     from lenslab.stmap import st_map, write_st_map
 
     out = Path(args.output)
-    if format_for_path(out, None) != "exr":
-        raise FormatError(f"{out}: an ST map is written as a float EXR; name it .exr")
-    if out.exists() and not args.overwrite:
-        raise FileExistsError(f"{out}: already exists; pass --overwrite to replace it")
-    size = parse_size(args.size)
-    src_size = parse_size(args.source_size) if args.source_size else size
+    if out.suffix.lower() != ".exr":
+        raise UsageError(f"{out}: an ST map is written as a float EXR; name it .exr")
+    check_output(out, [], args.overwrite)
+    size = args.size
+    src_size = args.source_size or size
     src = Camera.from_spec(args.source, src_size)
     dst = Camera(make_lens(args.to, size), Pose.from_ypr(args.yaw, args.pitch, args.roll))
     show = not args.quiet and sys.stderr.isatty()
