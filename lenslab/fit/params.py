@@ -25,7 +25,7 @@ from lenslab.lenses.base import Lens, Param
 
 # float parameters whose default switches a feature off or sets a frame rather than a shape: they
 # are fitted only when named in ``free``
-NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "lon_min", "lon_max", "lat_min", "lat_max", "cx", "cy"})
+NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "dfov", "pad", "lon_min", "lon_max", "lat_min", "lat_max", "cx", "cy"})
 
 
 def parse_bounds(text: str | None) -> dict[str, tuple[float, float]]:
