@@ -23,9 +23,12 @@ import os
 import sys
 from pathlib import Path
 
-FORMATS = ("ppm", "pgm", "pfm", "jpg", "png", "exr")
-LDR = ("ppm", "pgm", "jpg", "png")
-INPUT_EXTENSIONS = {".exr", ".pfm", ".ppm", ".pgm", ".pbm", ".pnm", ".jpg", ".jpeg", ".png"}
+from lenslab.io.registry import hdr_formats, input_extensions, writable
+
+#: every format lenslab writes, from the format plugins (lenslab.io.formats)
+FORMATS = writable()
+LDR = tuple(f for f in FORMATS if f not in hdr_formats())
+INPUT_EXTENSIONS = input_extensions()
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

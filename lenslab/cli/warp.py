@@ -32,8 +32,11 @@ import os
 import sys
 from pathlib import Path
 
-OUTPUT_FORMATS = ("exr", "pfm", "png", "jpg", "ppm", "pgm")
-LDR = ("png", "jpg", "ppm", "pgm")
+from lenslab.io.registry import hdr_formats, writable
+
+#: every format lenslab writes, from the format plugins (lenslab.io.formats)
+OUTPUT_FORMATS = writable()
+LDR = tuple(f for f in OUTPUT_FORMATS if f not in hdr_formats())
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

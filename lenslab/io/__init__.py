@@ -1,4 +1,5 @@
-"""Image files in and out: EXR, PFM, PPM/PGM/PBM, JPG and PNG.
+"""Image files in and out: every format of :mod:`lenslab.io.registry` (EXR, Radiance HDR, TIFF, PFM,
+PPM/PGM/PBM, JPG, PNG; ``lenslab info --formats`` lists them with what each holds).
 
 ``read(path) -> (image, meta)``: ``image`` is float32 ``H x W x C`` in linear light (LDR formats are
 decoded from sRGB; ``raw=True`` gives code values scaled to [0, 1] instead). The format comes from the
@@ -37,11 +38,14 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.io.atomic import atomic_write_path
-from lenslab.io.detect import HDR_FORMATS, format_for_path, sniff
+from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
 from lenslab.io.exr import CAMERA_ATTRIBUTE, HalfOverflowWarning
 
 __all__ = ["read", "write", "split_selector", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
-           "atomic_write_path", "HDR_FORMATS", "sniff"]
+           "atomic_write_path", "HDR_FORMATS", "sniff", "formats"]
+
+#: formats holding linear floats (high dynamic range); the others hold display-encoded codes
+HDR_FORMATS = hdr_formats()
 
 
 def split_selector(path: str | os.PathLike) -> tuple[Path, str | None]:
@@ -80,21 +84,11 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
          rec709: bool = True) -> tuple[np.ndarray, dict]:
     """Read an image file -> (float32 H x W x C array, meta). See the module docstring."""
     file, selector = split_selector(path)
-    fmt = sniff(file)
-    if selector is not None and fmt != "exr":
-        raise FormatError(f"{file}: a ':{selector}' selector only applies to EXR files (this is {fmt.upper()})")
-    if fmt == "exr":
-        from lenslab.io.exr import read_exr
-        image, meta = read_exr(file, selector, data_window=data_window, rec709=rec709)
-    elif fmt == "pfm":
-        from lenslab.io.pfm import read_pfm
-        image, meta = read_pfm(file)
-    elif fmt == "pnm":
-        from lenslab.io.pnm import read_pnm
-        image, meta = read_pnm(file, raw=raw)
-    else:
-        from lenslab.io.ldr import read_ldr
-        image, meta = read_ldr(file, fmt, raw=raw)
+    fmt = get(sniff(file))
+    if selector is not None and not fmt.selectors:
+        raise FormatError(f"{file}: a ':{selector}' selector only applies to EXR files (this is {fmt.title})")
+    given = {"raw": raw, "data_window": data_window, "rec709": rec709}
+    image, meta = fmt.read(file, selector, **{k: given[k] for k in fmt.read_options if k in given})
     meta["path"] = str(file)
     meta["size"] = [int(image.shape[1]), int(image.shape[0])]
     meta["camera"] = _camera(file, meta["attributes"].get(CAMERA_ATTRIBUTE))
@@ -115,60 +109,43 @@ def _as_image(array) -> np.ndarray:
     return a.astype(np.float32, copy=False)
 
 
-def _fit_channels(a: np.ndarray, fmt: str) -> np.ndarray:
+def fit_channels(a: np.ndarray, fmt) -> np.ndarray:
+    """Fit an H x W x C image to what ``fmt`` (a :class:`lenslab.io.plugin.Format`) holds.
+
+    A format without alpha drops it (RGBA -> RGB, grey+alpha -> grey); any other mismatch is a
+    FormatError that says what the format holds.
+    """
     c = a.shape[2]
-    if fmt == "pgm":
-        if c == 1:
-            return a
-        raise FormatError(f"PGM holds one channel; this image has {c}: write PPM, or keep one channel")
-    if fmt in ("ppm", "jpg", "pfm"):  # no alpha in these formats: colour (or grey) only
-        if c == 4:
-            return a[..., :3]
-        if c == 2:
-            return a[..., :1]
+    if c in fmt.channels:
         return a
-    if fmt == "png" and c == 2:
-        raise FormatError("PNG cannot hold two channels here; give 1, 3 or 4")
-    return a
+    if not fmt.alpha and c in (2, 4) and c - 1 in fmt.channels:
+        return a[..., :c - 1]
+    holds = " or ".join(str(n) for n in fmt.channels)
+    hint = {"pgm": ": write PPM, or keep one channel"}.get(fmt.name, "")
+    raise FormatError(f"{fmt.title} holds {holds} channel(s); this image has {c}{hint}")
 
 
 def write(path: str | os.PathLike, array, format: str | None = None, *, overwrite: bool = True,
           camera=None, **options) -> Path:
     """Write an image; returns the path written. See the module docstring for the options."""
     target = Path(path)
-    fmt = format_for_path(target, format)
-    image = _as_image(array) if not (fmt == "exr" and "channels" in options) else np.asarray(array, np.float32)
+    fmt = get(format_for_path(target, format))
+    named = "channels" in options and "channels" in fmt.write_options
+    image = np.asarray(array, np.float32) if named else _as_image(array)
     if image.ndim == 2:
         image = image[..., None]
-    image = _fit_channels(image, fmt)
-    if fmt == "ppm" and image.shape[2] == 1 and target.suffix.lower() == ".ppm":
-        image = np.repeat(image, 3, axis=2)  # a .ppm is colour; grey goes to .pgm
-    if fmt == "ppm" and image.shape[2] == 1:
-        fmt = "pgm"
-
-    def unknown(allowed: set[str]):
-        extra = set(options) - allowed
-        if extra:
-            raise FormatError(f"unknown option(s) for {fmt.upper()}: {', '.join(sorted(extra))}; allowed: "
-                              f"{', '.join(sorted(allowed))}")
-
-    if camera is not None and fmt != "exr":
-        raise FormatError(f"{fmt.upper()} cannot store a camera; write EXR to keep the lens model with the image")
+    if not named:
+        image = fit_channels(image, fmt)
+    if fmt.name == "ppm" and image.shape[2] == 1 and target.suffix.lower() != ".ppm":
+        fmt = get("pgm")  # grey to .pnm: a PGM
+    extra = set(options) - set(fmt.write_options)
+    if extra:
+        raise FormatError(f"unknown option(s) for {fmt.title}: {', '.join(sorted(extra))}; allowed: "
+                          f"{', '.join(sorted(fmt.write_options))}")
+    if camera is not None:
+        if not fmt.camera:
+            raise FormatError(f"{fmt.title} cannot store a camera; write EXR to keep the lens model with the image")
+        options["camera"] = camera
     with atomic_write_path(target, overwrite=overwrite) as tmp:
-        if fmt == "exr":
-            unknown({"pixel_type", "compression", "channels", "attributes", "threads"})
-            from lenslab.io.exr import write_exr
-            write_exr(tmp, image, camera=camera, **options)
-        elif fmt == "pfm":
-            unknown({"byte_order", "scale"})
-            from lenslab.io.pfm import write_pfm
-            write_pfm(tmp, image, **options)
-        elif fmt in ("ppm", "pgm"):
-            unknown({"bits", "ascii", "raw", "dither"})
-            from lenslab.io.pnm import encode_pnm
-            tmp.write_bytes(encode_pnm(image, **options))
-        else:
-            unknown({"raw", "quality", "subsampling", "bits", "dither", "compression"})
-            from lenslab.io.ldr import encode_ldr
-            tmp.write_bytes(encode_ldr(image, fmt, **options))
+        fmt.write(tmp, image, **options)
     return target

@@ -1,0 +1,31 @@
+"""JPEG: 8-bit sRGB colour or grey through OpenCV (codec: :mod:`lenslab.io.ldr`).
+
+Ultra HDR JPEGs (a gain map in an MPF secondary image) are read as their SDR base image; the gain
+map is ignored and ``meta["attributes"]["gain_map"]`` says so (``lenslab info`` shows it).
+"""
+
+from __future__ import annotations
+
+from lenslab.io.plugin import Format
+
+
+def _read(path, selector=None, raw=False):
+    from lenslab.io.ldr import read_ldr
+
+    return read_ldr(path, "jpg", raw=raw)
+
+
+def _write(tmp, image, **options):
+    from lenslab.io.ldr import encode_ldr
+
+    tmp.write_bytes(encode_ldr(image, "jpg", **options))
+
+
+FORMATS = (Format(
+    name="jpg", title="JPEG", extensions=(".jpg", ".jpeg", ".jpe", ".jfif"),
+    magic=lambda head: head.startswith(b"\xff\xd8\xff"), hdr=False, alpha=False, channels=(1, 3),
+    bit_depths=(8,), sample_types=("uint",), read=_read, write=_write, read_options=("raw",),
+    write_options={"quality": "0..100 (default 95)", "subsampling": "444, 422 or 420 (default 444 at quality >= 90)",
+                   "raw": "True: code values / 255, no sRGB encoding", "dither": "True: TPDF dither",
+                   "bits": "8 only"},
+    note="Ultra HDR: the SDR base image is read, the gain map ignored"),)

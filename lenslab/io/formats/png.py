@@ -1,0 +1,26 @@
+"""PNG: 8- or 16-bit sRGB grey, RGB or RGBA through OpenCV (codec: :mod:`lenslab.io.ldr`)."""
+
+from __future__ import annotations
+
+from lenslab.io.plugin import Format
+
+
+def _read(path, selector=None, raw=False):
+    from lenslab.io.ldr import read_ldr
+
+    return read_ldr(path, "png", raw=raw)
+
+
+def _write(tmp, image, **options):
+    from lenslab.io.ldr import encode_ldr
+
+    tmp.write_bytes(encode_ldr(image, "png", **options))
+
+
+FORMATS = (Format(
+    name="png", title="PNG", extensions=(".png",), magic=lambda head: head.startswith(b"\x89PNG\r\n\x1a\n"),
+    hdr=False, alpha=True, channels=(1, 3, 4), bit_depths=(8, 16), sample_types=("uint",), read=_read,
+    write=_write, read_options=("raw",),
+    write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
+                   "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither"},
+    note="alpha is stored linear (coverage), colour sRGB-encoded"),)

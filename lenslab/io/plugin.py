@@ -1,0 +1,68 @@
+"""What a file format plugin declares: one :class:`Format` record per format, in the manner of imageio v3.
+
+A plugin is one module under :mod:`lenslab.io.formats` holding a module-level ``FORMATS`` tuple of
+records. Each record says what the format is called, the extensions it is written with, how to
+recognise its first bytes, what it holds (linear HDR floats or display-encoded codes, alpha,
+channel counts, bit depths, sample types), which read and write options it takes, and the two
+functions that read and write it. Detection (:mod:`lenslab.io.registry`), ``lenslab.read`` /
+``lenslab.write``, ``lenslab info --formats`` and the command-line format choices all derive from
+these records, so adding a format is adding one module.
+
+The read and write functions import their codec lazily: the registry loads every plugin at once and
+must stay quick to import (commands start without importing OpenEXR, OpenCV or tifffile).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+
+@dataclass(frozen=True)
+class Format:
+    """One file format.
+
+    ``read(path, selector, **read_options) -> (float32 H x W x C image, meta)`` receives only the
+    options named in ``read_options``; ``write(tmp_path, image, **write_options)`` writes a float32
+    image whose channel count is one of ``channels`` (the caller has already fitted it).
+    """
+
+    name: str
+    title: str
+    extensions: tuple[str, ...]
+    #: True if ``head`` (the first 32 bytes of a file) starts a file of this format
+    magic: Callable[[bytes], bool]
+    #: holds linear floats (written without a tone curve); False: display-encoded codes
+    hdr: bool
+    alpha: bool
+    #: channel counts a written file may hold (before alpha is dropped for formats without it)
+    channels: tuple[int, ...]
+    bit_depths: tuple[int, ...]
+    sample_types: tuple[str, ...]
+    read: Callable | None = None
+    write: Callable | None = None
+    read_options: tuple[str, ...] = ()
+    #: write option name -> one line of help
+    write_options: dict[str, str] = field(default_factory=dict)
+    #: accepts ``file:selector`` (parts and layers)
+    selectors: bool = False
+    #: can store a lenslab camera
+    camera: bool = False
+    #: one line for ``lenslab info --formats`` and the docs
+    note: str = ""
+
+    @property
+    def readable(self) -> bool:
+        return self.read is not None
+
+    @property
+    def writable(self) -> bool:
+        return self.write is not None
+
+    def describe(self) -> dict:
+        """The record as plain JSON-ready data."""
+        return {"name": self.name, "title": self.title, "extensions": list(self.extensions), "hdr": self.hdr,
+                "alpha": self.alpha, "channels": list(self.channels), "bit_depths": list(self.bit_depths),
+                "sample_types": list(self.sample_types), "read": self.readable, "write": self.writable,
+                "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
+                "note": self.note}

@@ -1,0 +1,112 @@
+"""The one registry of file formats, built from the plugins in :mod:`lenslab.io.formats`.
+
+Every module in that package with a ``FORMATS`` tuple of :class:`lenslab.io.plugin.Format` records
+is a plugin; nothing else needs to name it. Reading detects the format by magic bytes (a file's name
+is never trusted); writing takes it from an explicit name or the output's extension.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import os
+import pkgutil
+from pathlib import Path
+
+from lenslab.errors import FormatError
+from lenslab.io.plugin import Format
+
+#: bytes read from the start of a file for detection
+HEAD_BYTES = 32
+
+
+@functools.lru_cache(maxsize=1)
+def formats() -> dict[str, Format]:
+    """Every format by name, in plugin-module order."""
+    import lenslab.io.formats as package
+
+    found: dict[str, Format] = {}
+    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        for fmt in getattr(module, "FORMATS", ()):
+            if fmt.name in found:
+                raise RuntimeError(f"two plugins declare the format {fmt.name!r}")
+            found[fmt.name] = fmt
+    return found
+
+
+def readable() -> tuple[str, ...]:
+    return tuple(n for n, f in formats().items() if f.readable)
+
+
+def writable() -> tuple[str, ...]:
+    return tuple(n for n, f in formats().items() if f.writable)
+
+
+def hdr_formats() -> frozenset[str]:
+    """Formats that hold linear floats (no tone curve on writing)."""
+    return frozenset(n for n, f in formats().items() if f.hdr)
+
+
+def input_extensions() -> frozenset[str]:
+    """Extensions of every readable format (for picking files out of a directory)."""
+    return frozenset(e for f in formats().values() if f.readable for e in f.extensions)
+
+
+def _titles(names) -> str:
+    return ", ".join(formats()[n].title for n in names)
+
+
+def get(name: str) -> Format:
+    """The record of a format by name or extension (``"jpeg"``, ``".tif"``); FormatError listing the names."""
+    key = name.lower().lstrip(".")
+    table = formats()
+    if key in table:
+        return table[key]
+    for fmt in table.values():
+        if "." + key in fmt.extensions:
+            return fmt
+    raise FormatError(f"unknown format {name!r}; lenslab knows {', '.join(table)}")
+
+
+def sniff_bytes(head: bytes) -> str | None:
+    """Format name from the first bytes of a file, or None if no plugin recognises them."""
+    for fmt in formats().values():
+        if fmt.readable and fmt.magic(head):
+            return fmt.name
+    return None
+
+
+def sniff(path: str | os.PathLike) -> str:
+    """Format of the file at ``path`` by its magic bytes; OSError if unreadable, FormatError if unknown."""
+    p = Path(path)
+    if p.is_dir():
+        raise IsADirectoryError(f"{p}: is a directory, not an image file")
+    with open(p, "rb") as f:
+        head = f.read(HEAD_BYTES)
+    name = sniff_bytes(head)
+    if name is None:
+        if not head:
+            raise FormatError(f"{p}: the file is empty")
+        raise FormatError(f"{p}: not a recognised image (first bytes {head[:8]!r}); lenslab reads "
+                          f"{_titles(readable())}")
+    return name
+
+
+def format_for_path(path: str | os.PathLike, format: str | None = None) -> str:
+    """Output format from an explicit ``format`` name or else the file's extension."""
+    if format is not None:
+        try:
+            fmt = get(format)
+        except FormatError:
+            fmt = None
+        if fmt is None or not fmt.writable:
+            raise FormatError(f"unknown output format {format!r}; choose one of {', '.join(writable())}")
+        return fmt.name
+    ext = Path(path).suffix.lower()
+    for fmt in formats().values():
+        if fmt.writable and ext in fmt.extensions:
+            return fmt.name
+    exts = ", ".join(formats()[n].extensions[0] for n in writable())
+    what = f"the extension {ext!r}" if ext else "a name without an extension"
+    raise FormatError(f"{path}: cannot tell the output format from {what}; end the name with one of {exts}")
