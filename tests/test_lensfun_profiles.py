@@ -153,3 +153,41 @@ def test_effects_choose_and_quotes_keep_commas():
     assert only.dist is None and only.channel_lenses() is not None and only.falloff([[0.0, 0.0]]) is not None
     none = make_lens('lensfun:lens="Canon EF 70-300mm f/4.5-5.6 DO IS USM",effects=none', (64, 48))
     assert none.channel_lenses() is None and none.falloff([[0.0, 0.0]]) is None
+
+
+def test_lenses_command_shows_what_profiles_hold(capsys):
+    from lenslab.cli.main import main
+
+    assert main(["lenses", "--lensfun", "samyang 8mm"]) == 0
+    out = capsys.readouterr().out
+    # the bundled database's entry (lensfun 0.3.4 slr-samyang.xml): stereographic, ptlens and poly3 TCA at 8 mm
+    assert "Samyang 8mm f/3.5 Fish-Eye CS" in out
+    block = out.split("Samyang 8mm f/3.5 Fish-Eye CS", 1)[1].split("\n\n", 1)[0]
+    assert "stereographic" in block and "ptlens at 8 mm" in block and "poly3 at 8 mm" in block
+    assert main(["lenses", "--lensfun", "no such lens anywhere"]) != 0
+
+
+def test_own_database_with_or_without_the_bundled_one(tmp_path, monkeypatch, capsys):
+    from lenslab.cli.main import main
+
+    monkeypatch.setenv(lensfun_db.ENV_DB, "")
+    monkeypatch.setenv(lensfun_db.ENV_BUNDLED, "1")
+    (tmp_path / "mine.xml").write_text(
+        '<lensdatabase version="1"><lens><maker>Acme</maker><model>Acme Test 20mm f/2</model>'
+        "<mount>Canon EF</mount><cropfactor>1</cropfactor><calibration>"
+        '<distortion model="poly3" focal="20" k1="0.01"/></calibration></lens></lensdatabase>')
+    assert main(["lenses", "--lensfun", "acme test", "--lensfun-db", str(tmp_path), "--lensfun-db-only"]) == 0
+    assert "poly3 at 20 mm" in capsys.readouterr().out
+    assert not lensfun_db.find_lenses("samyang 8mm")  # the bundled files are left out
+    lens = make_lens("lensfun:lens=acme test", (300, 200))
+    # poly3 on lensfun's plane: a point at r_u lands at r_u P(r_u), P = 1 - k1 + k1 r_u^2 (k1 = 0.01)
+    arc = math.hypot(1.5, 1)  # lensfun's default 3:2 calibration sensor, image 299 x 199 between centres
+    ns = 2 / 199 * arc / math.hypot(299 / 199, 1)
+    q = np.array([100 - 149.5, 50 - 99.5]) * ns  # an undistorted point
+    got, ok = lens.dir_to_pixel(np.array([[q[0], -q[1], lens.f]]))
+    want = q * (0.99 + 0.01 * (q @ q)) / ns + np.array([150.0, 100.0])
+    # 1e-7 px: lensfun stores k1 = 0.01 as float32 (off by 2e-10), which moves this point by ~6e-9 px
+    assert ok[0] and np.abs(got[0] - want).max() < 1e-7
+    lensfun_db.use_database([str(tmp_path)], bundled=True)
+    assert lensfun_db.find_lenses("samyang 8mm") and lensfun_db.find_lenses("acme test")
+    lensfun_db.use_database([], bundled=True)

@@ -5,6 +5,8 @@ default, range and meaning). With model names: the full description of those mod
 A lens is named on the command line and in config files by a spec, ``name:key=value,...``, e.g.
 ``fisheye:fov=180,mapping=equisolid``, ``swirl:amount=6,base=fisheye,fov=180``,
 ``pincushion:k1=0.3,k2=0.05,fov=90`` or ``tiled:2x2,tiles=cams.toml``.
+Real lenses: ``--lensfun "samyang 8mm"`` searches the lensfun database and shows each profile; use one
+as ``lensfun:lens=NAME,camera=NAME,focal=8,aperture=5.6`` (quote a name holding a comma: lens="...").
 """
 
 from __future__ import annotations
@@ -19,6 +21,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="show the full description of these models (default: list every model)")
     parser.add_argument("--json", action="store_true",
                         help="print the models and parameters as JSON (for scripts)")
+    parser.add_argument("--lensfun", metavar="QUERY",
+                        help='find real lenses and cameras in the lensfun database, e.g. "samyang 8mm", and show '
+                             "what each profile holds (needs lenslab[lensfun])")
+    parser.add_argument("--lensfun-db", metavar="DIR", action="append", default=[],
+                        help="also read your own lensfun XML files from DIR (a directory or one file; repeatable)")
+    parser.add_argument("--lensfun-db-only", action="store_true",
+                        help="read only the --lensfun-db files, not the database bundled with lensfunpy")
 
 
 def _default_text(value) -> str:
@@ -45,7 +54,31 @@ def _describe(cls) -> dict:
     return out
 
 
+def run_lensfun(args: argparse.Namespace) -> int:
+    from lenslab.errors import LensError
+    from lenslab.lenses import lensfun_db
+
+    if args.lensfun_db or args.lensfun_db_only:
+        lensfun_db.use_database(args.lensfun_db, bundled=not args.lensfun_db_only)
+    if args.lensfun is None:
+        return 0
+    lenses, cameras = lensfun_db.find_lenses(args.lensfun), lensfun_db.find_cameras(args.lensfun)
+    if not lenses and not cameras:
+        raise LensError(f"lensfun: no lens or camera matches {args.lensfun!r}")
+    for i, lens in enumerate(lenses):
+        print(("\n" if i else "") + "\n".join(lensfun_db.describe_lens(lens)))
+    if cameras:
+        print(("\n" if lenses else "") + "Cameras (camera=NAME sets the crop factor):")
+        for cam in cameras:
+            print("  " + lensfun_db.describe_camera(cam))
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.lensfun is not None or args.lensfun_db or args.lensfun_db_only:
+        if args.lensfun is None:
+            raise SystemExit("lenslab lenses: --lensfun-db needs --lensfun QUERY")
+        return run_lensfun(args)
     from lenslab.lenses import REGISTRY
     from lenslab.lenses.registry import lens_class
 

@@ -131,6 +131,9 @@ def find_lenses(query: str, camera=None) -> list:
             if key not in seen:
                 seen.add(key)
                 out.append(lens)
+    if not out and camera is None:  # lenses of a mount no camera in the database has: every word in the name
+        low = query.lower().split()
+        out = [l for l in db.lenses if all(w in f"{l.maker} {l.model}".lower() for w in low)]
     out.sort(key=lambda l: -l.score)
     exact = [l for l in out if l.model.lower() == query.strip().lower()]
     return exact + [l for l in out if l not in exact]
@@ -225,3 +228,46 @@ def interpolate_real_focal(table: tuple[tuple[float, float], ...], focal: float)
     y1 = below[1][1] if len(below) > 1 else None
     y4 = above[1][1] if len(above) > 1 else None
     return hermite(y1, y2, y3, y4, (focal - f2) / (f3 - f2))
+
+
+# -- what a profile holds ----------------------------------------------------------------------------
+def _focals(entries) -> str:
+    fs = sorted({float(e.focal) for e in entries})
+    return ", ".join(f"{f:g}" for f in fs) + " mm"
+
+
+def describe_lens(lens) -> list[str]:
+    """Lines saying what a lensfun profile holds, for ``lenslab lenses --lensfun``."""
+    def rng(a, b, unit=""):
+        a, b = (float(v) if v else 0.0 for v in (a, b))
+        return (f"{a:g}" if not b or a == b else f"{a:g}-{b:g}") + unit if a else "?"
+
+    facts = xml_facts(lens.maker, lens.model, float(lens.crop_factor))
+    quoted = f'"{lens.model}"' if "," in lens.model else lens.model
+    lines = [f"{lens.maker}: {lens.model}",
+             f"  spec        lensfun:lens={quoted}",
+             f"  type        {TYPES.get(lens.type.name, lens.type.name.lower())}, crop factor {float(lens.crop_factor):g}, "
+             f"aspect {facts.aspect:.4g}, focal {rng(lens.min_focal, lens.max_focal, ' mm')}, "
+             f"f/{rng(lens.min_aperture, lens.max_aperture)}"]
+    dist = list(lens.calib_distortion or [])
+    models = sorted({e.model.name.lower() for e in dist})
+    lines.append(f"  distortion  {'/'.join(models)} at {_focals(dist)}" if dist else "  distortion  none")
+    tca = list(lens.calib_tca or [])
+    models = sorted({e.model.name.lower() for e in tca})
+    lines.append(f"  tca         {'/'.join(models)} at {_focals(tca)}" if tca else "  tca         none")
+    vig = list(lens.calib_vignetting or [])
+    if vig:
+        aps = sorted({float(e.aperture) for e in vig})
+        dists = sorted({float(e.distance) for e in vig})
+        lines.append(f"  vignetting  pa, {len(vig)} entries at {_focals(vig)}, f/{', '.join(f'{a:g}' for a in aps)}, "
+                     f"{', '.join(f'{d:g}' for d in dists)} m")
+    else:
+        lines.append("  vignetting  none")
+    if facts.real_focal:
+        lines.append("  real focal  " + ", ".join(f"{f:g} -> {r:g} mm" for f, r in facts.real_focal))
+    return lines
+
+
+def describe_camera(cam) -> str:
+    variant = f" ({cam.variant})" if getattr(cam, "variant", None) else ""
+    return f"{cam.maker}: {cam.model}{variant}, mount {cam.mount}, crop factor {float(cam.crop_factor):g}"
