@@ -155,6 +155,11 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if name == "cubemap":
         face = max(1, src_h // 2)
         return 3 * face, 2 * face
+    from lenslab.lenses.registry import lens_class
+
+    aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
+    if aspect:
+        return max(1, round(src_h * aspect)), src_h
     return src_h, src_h
 
 

@@ -62,6 +62,9 @@ class _Cylinder(Lens):
     def spec(self) -> str:
         return super().spec().replace(",vfov=0", "")
 
+    #: the frame the model fills at fov 360 with square pixels, width / height (lenslab warp's default size)
+    frame_aspect = 2.0
+
     @property
     def wraps(self) -> bool:
         """True when the left and right edges are the same meridian (fov = 360)."""
@@ -126,6 +129,7 @@ class CylindricalEqualArea(_Cylinder):
 
     name = "cylindrical-equal-area"
     summary = "Lambert's equal-area cylinder: longitude across, sin(latitude) up"
+    frame_aspect = np.pi  # the poles on the top and bottom edges
     vfov_180 = True
 
     def v_to_lat(self, y):
@@ -149,6 +153,7 @@ class Mercator(_Cylinder):
 
     name = "mercator"
     summary = "Mercator: conformal, longitude across, atanh(sin latitude) up"
+    frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps
 
     def v_to_lat(self, y):
         return np.tanh(y), 1.0 / np.cosh(y), np.isfinite(y)

@@ -35,6 +35,8 @@ class DualFisheye(Lens):
     summary = "two fisheyes back to back, side by side (front and back lens)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span-halves"
+    #: the frame the model fills, width / height (the default output size of lenslab warp)
+    frame_aspect = 2.0
     params = (
         Param("fov", 190.0, "field of view of each lens across its half of the frame, degrees", 0.0, 360.0,
               lo_open=True),

@@ -53,6 +53,8 @@ class EquiAngularCubemap(Lens):
     summary = "equi-angular cube map (YouTube's 360 format), v360's 3x2 layout"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "centre"
+    #: the frame the model fills, width / height (the default output size of lenslab warp)
+    frame_aspect = 1.5
     params = (
         Param("pad", 0.0, "pixels of padding round each row of faces (v360's eac: 2)", 0.0, 64.0),
     )

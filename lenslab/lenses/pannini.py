@@ -57,6 +57,8 @@ class Pannini(Lens):
     summary = "Pannini: wide views with straight verticals (distance d, vertical compression)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"
+    #: the frame the model fills, width / height (the default output size of lenslab warp)
+    frame_aspect = 1.5
     params = (
         Param("fov", 150.0, "horizontal field of view, degrees (below 2 acos(-d), or 2 acos(-1/d) for d > 1)",
               0.0, 360.0, lo_open=True, hi_open=True),

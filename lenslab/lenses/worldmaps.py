@@ -44,6 +44,8 @@ class Hammer(Lens):
     summary = "Hammer-Aitoff: the whole sphere in a 2:1 ellipse, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "shift"  # half a pixel off its other projections
+    #: the frame the model fills, width / height (the default output size of lenslab warp)
+    frame_aspect = 2.0
 
     def uv_to_dir(self, uv):
         u, v = uv[..., 0], uv[..., 1]
@@ -97,6 +99,8 @@ class Sinusoidal(Lens):
     summary = "sinusoidal: the whole sphere between two sine curves, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"
+    #: the frame the model fills, width / height (the default output size of lenslab warp)
+    frame_aspect = 2.0
 
     def uv_to_dir(self, uv):
         u, v = uv[..., 0], uv[..., 1]
