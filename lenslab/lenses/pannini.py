@@ -75,6 +75,8 @@ class Pannini(Lens):
                             f"{2 * np.degrees(limit):.6g}); use a narrower fov or a smaller d")
         self.F = float(F)
         self.x_f = float(pannini_x(F, self.d))
+        # |phi| <= F  <=>  cos(phi) >= cos(F) (F <= pi), with the slack of a direction on the edge
+        self._cos_edge = float(np.cos(F * (1.0 + 1e-12)))
 
     def _vscale(self, S):
         return 1.0 + (1.0 - self.vcomp) * (S - 1.0)
@@ -100,16 +102,18 @@ class Pannini(Lens):
 
     def dir_to_uv(self, dv):
         dx, dy, dz = dv[..., 0], dv[..., 1], dv[..., 2]
-        c = np.hypot(dx, dz)
-        phi = np.arctan2(dx, dz)
+        c = np.hypot(dx, dz)  # cos(latitude); cos(phi) = dz / c, sin(phi) = dx / c
+        inv_c = np.divide(1.0, c, out=np.zeros_like(c), where=c > 0)
         d = self.d
-        cphi = np.cos(phi)
-        S = (d + 1.0) / (d + cphi)
-        ok = (np.abs(phi) <= self.F * (1.0 + 1e-12)) & (c > 0) & (d + cphi > 0)
+        cphi = dz * inv_c
+        S = d + cphi
+        ok = (cphi >= self._cos_edge) & (c > 0) & (S > 0)
+        np.divide(d + 1.0, S, out=S, where=ok)  # S = (d + 1) / (d + cos phi)
         uv = np.empty(dv.shape[:-1] + (2,), dtype=FLOAT)
-        np.multiply(S, np.sin(phi), out=uv[..., 0])
+        np.multiply(dx, inv_c, out=uv[..., 0])
+        uv[..., 0] *= S
         uv[..., 0] /= self.x_f
-        tan_t = np.divide(dy, c, out=np.zeros_like(dy), where=c > 0)
-        np.multiply(tan_t, self._vscale(S), out=uv[..., 1])
+        np.multiply(dy, inv_c, out=uv[..., 1])  # tan(latitude)
+        uv[..., 1] *= self._vscale(S)
         uv[..., 1] /= self.x_f
         return uv, ok & np.isfinite(uv).all(axis=-1)
