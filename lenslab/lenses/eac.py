@@ -64,6 +64,8 @@ class EquiAngularCubemap(Lens):
 
         axes = np.array(EAC_AXES, dtype=FLOAT)
         self._A, self._B, self._C = axes[:, 0], axes[:, 1], axes[:, 2]
+        self._iA, self._sA = np.abs(self._A).argmax(axis=1), self._A.sum(axis=1)
+        self._iB, self._sB = np.abs(self._B).argmax(axis=1), self._B.sum(axis=1)
         # slot of each major axis +x, -x, +y, -y, +z, -z (the slot whose C is that axis)
         majors = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
         self._slot_of_axis = np.array([EAC_AXES.index(next(a for a in EAC_AXES if a[2] == m)) for m in majors])
@@ -105,8 +107,11 @@ class EquiAngularCubemap(Lens):
         neg = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0] < 0
         slot = self._slot_of_axis.take(2 * axis + neg)
         t = np.take_along_axis(a, axis[..., None], axis=-1)[..., 0]  # d . C > 0
-        uf = np.einsum("...i,...i->...", d, self._A[slot]) / t
-        vf = np.einsum("...i,...i->...", d, self._B[slot]) / t
+        # A and B are signed unit axes: d . A is one component of d times a sign
+        uf = np.take_along_axis(d, self._iA.take(slot)[..., None], axis=-1)[..., 0]
+        uf *= self._sA.take(slot) / t
+        vf = np.take_along_axis(d, self._iB.take(slot)[..., None], axis=-1)[..., 0]
+        vf *= self._sB.take(slot) / t
         fx = (4.0 / np.pi) * np.arctan(uf)
         fx += 1.0
         fx *= 0.5
