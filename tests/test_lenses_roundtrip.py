@@ -75,6 +75,11 @@ CASES = [
     ("sinusoidal", (W, W // 2)),
     ("half-equirect", (W, W)),
     ("little-planet", (W, W)),
+    # real lenses from the lensfun database (lenslab[lensfun]); TCA and vignetting leave the green geometry alone
+    ("lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10", (W, 5461)),
+    ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120", (W, 5461)),
+    ("lensfun:lens=Canon PowerShot G12 & compatibles (Standard),focal=10", (W, 6144)),
+    ("optics:tca=1.001/0.999,vignetting=cos4,base=fisheye,fov=180", (W, W)),
 ]
 
 #: the one table of tolerances. Pixel errors are in pixels at 8192 px width, direction errors in radians.
