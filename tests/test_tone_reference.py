@@ -183,3 +183,20 @@ def test_published_values():
     normal = np.cross(bright, np.ones(3))
     # float32 outputs of size <= 1 against normals of size ~20: 1e-5 is a few ulps of the products
     assert np.abs(np.einsum("ij,ij->i", out, normal)).max() < 1e-5 * np.linalg.norm(normal, axis=1).max()
+
+
+@pytest.mark.parametrize("name, mode", [("hable", "luminance"), ("agx", "per-channel"), ("reinhard", "per-channel")])
+def test_threads_share_large_images_without_changing_a_bit(name, mode):
+    # 640 x 640 RGB is 1.2 M values: past the size at which the sweep splits an image between threads
+    img = np.tile(scene(9), (27, 20, 1))[:640, :640].copy()
+    img[5, 7] = [np.nan, np.inf, -1.0]
+    img[600, 3, 1] = -np.inf
+    runs = []
+    for threads in (1, 2, 3):
+        with pytest.warns(tone.ToneWarning) as caught:
+            out = tone.tonemap(img, name, mode=mode, threads=threads)
+        w = next(c.message for c in caught if isinstance(c.message, tone.ToneWarning))
+        runs.append((out, (w.nan, w.posinf, w.negative)))
+    for out, counts in runs[1:]:
+        np.testing.assert_array_equal(out, runs[0][0])
+        assert counts == runs[0][1] == (1, 1, 2)

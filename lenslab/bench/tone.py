@@ -22,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--curves", default="", help="comma-separated curve names (default: every curve)")
     parser.add_argument("--repeat", type=int, default=5, help="best of N runs per figure (default 5)")
     parser.add_argument("--no-local", action="store_true", help="skip the slow OpenCV local operators")
+    parser.add_argument("--threads", type=int, default=None,
+                        help="threads tonemap may use (default: every core, as the commands do); "
+                             "numpy.clip runs on one either way")
 
 
 def test_image(width: int, height: int, seed: int = 0):
@@ -62,13 +65,18 @@ def run(args: argparse.Namespace) -> int:
     mpix = width * height / 1e6
     names = [get_curve(n).name for n in args.curves.split(",") if n.strip()] or list(CURVES)
     repeat = max(1, args.repeat)
+    threads = args.threads
+    from lenslab.tone.sweep import available_cores
+
+    used = available_cores() if threads is None else max(1, threads)
 
     def clip():
         return np.clip(img, 0, 1)
 
     tonemap(img[:8, :8], "hable", exposure="auto", mode="luminance")  # first-call imports stay out of the figures
     base = best_time(clip, repeat=repeat)
-    print(f"tone curves on a {width} x {height} float32 RGB image ({mpix:.1f} MP); baseline numpy.clip(img, 0, 1)")
+    print(f"tone curves on a {width} x {height} float32 RGB image ({mpix:.1f} MP), {used} thread(s); "
+          "baseline numpy.clip(img, 0, 1), one thread")
     print(ratio_line("numpy.clip (baseline)", base, base, f"{mpix / base:8.1f} MP/s"))
     rows = []
     for name in names:
@@ -78,12 +86,13 @@ def run(args: argparse.Namespace) -> int:
         for mode in (("per-channel",) if kind == "local" else ("per-channel", "luminance")):
             label = name if kind == "local" else f"{name} [{mode}]"
             key = f"tone.{name}" if kind == "local" else f"tone.{name}.{mode.replace('-', '_')}"
-            rows.append((key, label, lambda name=name, mode=mode: tonemap(img, name, mode=mode), kind == "local"))
+            rows.append((key, label, lambda name=name, mode=mode: tonemap(img, name, mode=mode, threads=threads),
+                         kind == "local"))
     rows.append(("tone.hable.per_channel_auto_exposure", "hable [per-channel] exposure=auto",
-                 lambda: tonemap(img, "hable", exposure="auto"), False))
+                 lambda: tonemap(img, "hable", exposure="auto", threads=threads), False))
     for key, label, fn, local in rows:
         t, b = paired_best(fn, clip, 1 if local else repeat)
         ok = figure(key, f"tone {label} vs numpy.clip", t / b, "x", aim=None if local else AIM_RATIO,
-                    note=f"{width}x{height} float32 RGB, {mpix / t:.1f} MP/s")
+                    note=f"{width}x{height} float32 RGB, {used} thread(s), {mpix / t:.1f} MP/s")
         print(ratio_line(label, t, b, f"{mpix / t:8.1f} MP/s  {mark(ok)}"))
     return 0

@@ -34,26 +34,27 @@ _AGX_POWER_FLOOR = 2.0 ** -56
 
 
 def _build_agx(p, scale):
-    m_in = (AGX_INSET * scale).astype(F32)
+    span = AGX_MAX_EV - AGX_MIN_EV
+    # the log2 encoding t = (log2 v - min) / span, clipped to [0, 1], as w = log2(v 2^-min) clipped to
+    # [0, span] (the 2^-min folded into the inset matrix) and t = w / span folded into the
+    # polynomial's coefficients, a_i / span^i: Horner's partial sums are those of t scaled by powers
+    # of span, so rounding is the same
+    m_in = (AGX_INSET * scale * 2.0 ** -AGX_MIN_EV).astype(F32)
     m_out = AGX_OUTSET.astype(F32)
-    # the log2 encoding t = (log2 v - min) / span, clipped to [0, 1]: v is clipped to the encoding's
-    # range first, so that t = log2(v) / span - min / span needs no second clip (to an ulp)
-    v_lo, v_hi = F32(2.0 ** AGX_MIN_EV), F32(2.0 ** AGX_MAX_EV)
-    k, c = F32(1.0 / (AGX_MAX_EV - AGX_MIN_EV)), F32(-AGX_MIN_EV / (AGX_MAX_EV - AGX_MIN_EV))
+    v_hi = F32(2.0 ** span)
+    poly = [F32(a / span ** (len(AGX_POLY) - 1 - i)) for i, a in enumerate(AGX_POLY)]
     floor, offset = F32(_AGX_POWER_FLOOR), power_offset(_AGX_POWER_FLOOR, 2.2, F32)
 
     def k_(src, dst, scratch):  # planar (3, n) blocks
         v, t = scratch
         np.matmul(m_in, src, out=v)
-        clip(v, v_lo, v_hi, out=v)
+        clip(v, F32(1), v_hi, out=v)
         np.log2(v, out=v)
-        v *= k
-        v += c
-        np.multiply(v, F32(AGX_POLY[0]), out=t)   # Horner: the 6th-order fit of the AgX sigmoid
-        for coef in AGX_POLY[1:-1]:
-            t += F32(coef)
+        np.multiply(v, poly[0], out=t)             # Horner: the 6th-order fit of the AgX sigmoid
+        for coef in poly[1:-1]:
+            t += coef
             t *= v
-        t += F32(AGX_POLY[-1])
+        t += poly[-1]
         np.matmul(m_out, t, out=dst)
         # the sigmoid's output is display-encoded with a 2.2 power: y = v^2.2 = exp2(2.2 log2 v)
         clip(dst, floor, F32(1), out=dst)

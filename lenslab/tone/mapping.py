@@ -28,7 +28,7 @@ from lenslab.tone.exposure import (
 )
 from lenslab.tone.kernels import F32
 from lenslab.tone.registry import get_curve
-from lenslab.tone.sweep import Counts, repair, sweep_luminance, sweep_rgb, sweep_values
+from lenslab.tone.sweep import Counts, repair, run_split, sweep_luminance, sweep_rgb, sweep_values
 
 
 class ToneWarning(UserWarning):
@@ -63,15 +63,16 @@ def as_float32(image) -> np.ndarray:
 
 
 def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
-            *, primaries="sRGB", **params) -> np.ndarray:
+            *, primaries="sRGB", threads: int | None = None, **params) -> np.ndarray:
     """Tone-map scene-linear ``image`` to display-linear float32 in [0, 1] (same shape).
 
     ``image``: H x W x C (C = 1, 3; 2 or 4 with alpha last, colour premultiplied as in OpenEXR:
     the curve acts on the unpremultiplied colour and alpha passes through clipped to [0, 1]), or any
     array of single-channel values. ``curve``: a name in :data:`CURVES`. ``exposure``: stops, or
     ``"auto"``. ``mode``: ``"per-channel"`` or ``"luminance"``. ``primaries``: for the luminance
-    weights (see :func:`luminance_weights`). ``params``: the curve's parameters.
-    Bad values are repaired and reported with a :class:`ToneWarning`.
+    weights (see :func:`luminance_weights`). ``threads``: how many threads share a large image (None:
+    every core this process may use; the result does not depend on it). ``params``: the curve's
+    parameters. Bad values are repaired and reported with a :class:`ToneWarning`.
     """
     spec = get_curve(curve)
     resolved = spec.resolve(params)
@@ -86,7 +87,8 @@ def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str 
         colour_part = x[..., :-1].copy()
         a = alpha[..., None]
         np.divide(colour_part, a, out=colour_part, where=a > 0)
-        mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, **resolved)
+        mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, threads=threads,
+                         **resolved)
         mapped *= a
         return np.concatenate([mapped, alpha[..., None].astype(F32)], axis=-1)
 
@@ -115,27 +117,24 @@ def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str 
 
     out = np.empty_like(x)
     with np.errstate(divide="ignore", over="ignore"):
-        _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts)
+        _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads)
     warn_repairs(counts, x.size)
     return out
 
 
-def _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts):
-    if spec.kind == "rgb":
-        if rgb and mode_key == "per-channel":
-            sweep_rgb(x.reshape(-1, 3), out.reshape(-1, 3), spec.build(resolved, scale), counts)
-        else:
-            grey = spec.build_grey(resolved, scale)  # the curve on grey values: on luminance, or grey images
-            if rgb:
-                sweep_luminance(x.reshape(-1, 3), out.reshape(-1, 3), grey, weights, counts)
-            else:
-                sweep_values(x.reshape(-1), out.reshape(-1), grey, counts)
+def _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads):
+    if spec.kind == "rgb" and rgb and mode_key == "per-channel":
+        sweep, kernel, extra = sweep_rgb, spec.build(resolved, scale), ()
     else:
-        kernel = spec.build(resolved, scale)
+        # an RGB curve on grey values or on luminance takes its grey form
+        kernel = spec.build_grey(resolved, scale) if spec.kind == "rgb" else spec.build(resolved, scale)
         if rgb and mode_key == "luminance":
-            sweep_luminance(x.reshape(-1, 3), out.reshape(-1, 3), kernel, weights, counts)
+            sweep, extra = sweep_luminance, (weights,)
         else:
-            sweep_values(x.reshape(-1), out.reshape(-1), kernel, counts)
+            sweep, extra = sweep_values, ()
+    src = x.reshape(-1, 3) if sweep is not sweep_values else x.reshape(-1)
+    dst = out.reshape(src.shape)
+    run_split(sweep, src, dst, kernel, extra, counts, threads)
 
 
 def values(curve: str, x, params) -> np.ndarray:

@@ -8,11 +8,56 @@ on planar RGB triples, or on luminance with RGB scaled by ``curve(L) / L``.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from lenslab.tone.kernels import F32, FMAX, TINY, clip
 
 BLOCK = 1 << 16  # values per block: the block and two scratch buffers stay inside a core's L2 cache
+THREAD_MIN = 1 << 19  # values a thread must have to be worth starting (8 blocks)
+
+
+def available_cores() -> int:
+    """Cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - platforms without affinity
+        return os.cpu_count() or 1
+
+
+def run_split(sweep, src: np.ndarray, dst: np.ndarray, kernel, extra: tuple, counts: "Counts",
+              threads: int | None = None) -> None:
+    """``sweep(src, dst, kernel, *extra, counts)`` over contiguous pieces of the rows of ``src`` on up
+    to ``threads`` threads (None: every core; NumPy's ufuncs release the GIL), counts added up. The
+    pieces are whole blocks, so the result is the same for any number of threads."""
+    rows = src.shape[0]
+    per_row = src.size // max(rows, 1)
+    n = available_cores() if threads is None else max(1, int(threads))
+    n = max(1, min(n, src.size // THREAD_MIN))
+    if n == 1:
+        sweep(src, dst, kernel, *extra, counts)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    step = BLOCK // per_row
+    piece = -(-rows // n)
+    piece = -(-piece // step) * step
+    parts = [(s, min(s + piece, rows)) for s in range(0, rows, piece)]
+    tallies = [Counts() for _ in parts]
+    state = np.geterr()  # NumPy's error state is per thread: the workers take the caller's
+
+    def work(job):
+        (a, b), tally = job
+        with np.errstate(**state):
+            sweep(src[a:b], dst[a:b], kernel, *extra, tally)
+
+    with ThreadPoolExecutor(len(parts)) as pool:
+        list(pool.map(work, zip(parts, tallies)))
+    for t in tallies:
+        counts.nan += t.nan
+        counts.posinf += t.posinf
+        counts.negative += t.negative
 
 
 class Counts:
@@ -88,8 +133,8 @@ def sweep_rgb(px: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> None:
 def sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: Counts) -> None:
     """Curve on luminance, RGB scaled by curve(L)/L; over-range pixels blended toward grey.
 
-    One planar copy of each block (contiguous rows keep every ufunc on its fast path); the scaling
-    and the blend toward grey are one multiply-add per channel with per-pixel factors."""
+    One planar copy of each block (contiguous rows keep every ufunc on its fast path); the scaling is
+    one multiply per channel, and the blend toward grey touches only the pixels that need it."""
     n = px.shape[0]
     step = BLOCK // 3
     size = min(step, n)
@@ -97,44 +142,67 @@ def sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: Co
     pl = np.empty((3, size), F32)
     lum, mapped, ratio, peak = (np.empty(size, F32) for _ in range(4))
     scratch = [np.empty(size, F32) for _ in range(2)]
-    big = FMAX
     for s in range(0, n, step):
         e = min(s + step, n)
         m = e - s
         src, dst = px[s:e], out[s:e]
         p = pl[:, :m]
-        np.copyto(p, src.T)
+        p[...] = src.T
         L, Ld, r, pk = lum[:m], mapped[:m], ratio[:m], peak[:m]
         inf_cols = None
         if not is_clean(p):
             inf_cols = repair(p, counts).any(axis=0)
-        np.fmax(p[0], p[1], out=pk)
-        np.fmax(pk, p[2], out=pk)               # the brightest channel
         np.matmul(w, p, out=L[None])
         kernel(L, Ld, [t[:m] for t in scratch])
         L += TINY                              # exact above 1e-30; curve(0) = 0: black gets ratio 0
         np.divide(Ld, L, out=r)
+        np.fmax(p[0], p[1], out=pk)
+        np.fmax(pk, p[2], out=pk)
         pk *= r                                 # the brightest channel after scaling
-        if pk.max() > 1:
+        over = np.flatnonzero(pk > 1) if pk.max() > 1 else None
+        if over is not None and over.size * 8 >= m:
             # blend toward grey (Ld, Ld, Ld) until the peak fits: out = Ld + (p r - Ld) t with
-            # t = (1 - Ld) / (peak - Ld) clipped to [0, 1], i.e. p (r t) + Ld (1 - t) in one sweep
-            # (t = 1, offset exactly 0, wherever the peak is within range)
-            t, b = scratch[0][:m], scratch[1][:m]
+            # t = (1 - Ld) / (peak - Ld) clipped to [0, 1] (1 where the peak is within range), as
+            # p (r t) + Ld (1 - t): one multiply-add per channel
+            t, ofs = scratch[0][:m], scratch[1][:m]
             pk -= Ld
-            clip(pk, TINY, big, out=pk)
+            clip(pk, TINY, FMAX, out=pk)
             np.subtract(F32(1), Ld, out=t)
             t /= pk
             clip(t, F32(0), F32(1), out=t)
             r *= t
-            np.multiply(Ld, t, out=b)
-            np.subtract(Ld, b, out=b)
+            np.multiply(Ld, t, out=ofs)
+            np.subtract(Ld, ofs, out=ofs)
             p *= r
-            p += b
-            clip(p, F32(0), F32(1), out=p)
+            p += ofs
+            if inf_cols is not None:
+                p[:, inf_cols] = 1
+            for c in range(3):                   # the clip to [0, 1] is the copy back
+                clip(p[c], F32(0), F32(1), out=dst[:, c])
+        elif over is not None:  # a few pixels: the same blend on those alone
+            p *= r
+            _blend_to_grey(p[:, over], Ld[over], pk[over], p, over)
+            if inf_cols is not None:
+                p[:, inf_cols] = 1
+            for c in range(3):
+                dst[:, c] = p[c]
         else:
-            p *= r
-        if inf_cols is not None:
-            p[:, inf_cols] = 1
-        for c in range(3):
-            dst[:, c] = p[c]
+            for c in range(3):                   # the scaling is the copy back
+                np.multiply(p[c], r, out=dst[:, c])
+            if inf_cols is not None:
+                dst[inf_cols] = 1
 
+
+def _blend_to_grey(c: np.ndarray, ld: np.ndarray, peak: np.ndarray, whole, where) -> None:
+    """c (3, k) <- ld + (c - ld) t, t = clip((1 - ld) / (peak - ld), 0, 1), clipped to [0, 1]; then
+    written back into ``whole[:, where]`` when ``c`` is a gathered copy. ``peak`` is overwritten."""
+    peak -= ld
+    clip(peak, TINY, FMAX, out=peak)
+    np.divide(F32(1) - ld, peak, out=peak)
+    clip(peak, F32(0), F32(1), out=peak)
+    c -= ld
+    c *= peak
+    c += ld
+    clip(c, F32(0), F32(1), out=c)
+    if whole is not None:
+        whole[:, where] = c
