@@ -11,9 +11,11 @@ import argparse
 import sys
 from pathlib import Path
 
+from lenslab.cli.policy import ArgumentParser, UsageError, run_command
+
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m gallery", description=__doc__,
+    p = ArgumentParser(prog="python -m gallery", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", type=Path, help="gallery folder (index.html is written there)")
     p.add_argument("--hdri", type=Path, metavar="DIR",
@@ -26,43 +28,49 @@ def build_parser() -> argparse.ArgumentParser:
                         "screenshot.png next to it")
     p.add_argument("--readme-images", type=Path, metavar="DIR",
                    help="also write small JPG montages of the page (each under 60 KB) into DIR, for a README")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the page (index.html, its images and the README montages) when it exists")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
+    return run_command("python -m gallery", lambda: run(args))
+
+
+def run(args) -> int:
     from gallery.browser import check_page
     from gallery.build import build_gallery, load_manifest
-    from lenslab.errors import LenslabError
+    from lenslab.cli.policy import check_output, check_output_dir
 
-    try:
-        stored = load_manifest(args.out)
-        report = args.report or stored.get("validate_report")
-        hdri = args.hdri or stored.get("hdri_dir")
-        if not stored["items"] and report is None and hdri is None:
-            print(f"python -m gallery: error: {args.out} holds no gallery records (gallery.json); "
-                  "run 'lenslab demo -o DIR' first, or give --hdri DIR or --report DIR", file=sys.stderr)
-            return 2
-        index = build_gallery(args.out, *stored["items"], validate_report=report, hdri_dir=hdri,
-                              title=args.title or stored.get("title"), progress=not args.quiet)
-        print(f"gallery: {index}")
-        if args.readme_images is not None:
-            from gallery.montage import readme_images
+    stored = load_manifest(args.out)
+    report = args.report or stored.get("validate_report")
+    hdri = args.hdri or stored.get("hdri_dir")
+    if not stored["items"] and report is None and hdri is None:
+        raise UsageError(f"{args.out} holds no gallery records (gallery.json); run 'lenslab demo -o DIR' "
+                         "first, or give --hdri DIR or --report DIR")
+    check_output_dir(args.out)
+    check_output(Path(args.out) / "index.html", overwrite=args.overwrite)
+    for folder in (report, hdri):
+        if folder is not None and Path(folder).resolve() == Path(args.out).resolve():
+            raise UsageError(f"{folder} is an input of the page; give another output folder")
+    index = build_gallery(args.out, *stored["items"], validate_report=report, hdri_dir=hdri,
+                          title=args.title or stored.get("title"), progress=not args.quiet)
+    print(f"gallery: {index}")
+    if args.readme_images is not None:
+        from gallery.montage import readme_images
 
-            for path in readme_images(args.out, args.readme_images):
-                print(f"  {path} ({path.stat().st_size / 1000:.0f} KB)")
-        if args.check:
-            shot = Path(args.out) / "screenshot.png"
-            problems = check_page(index, shot)
-            for p in problems:
-                print(f"  {p}", file=sys.stderr)
-            print(f"checked in Chromium: {'all images loaded' if not problems else f'{len(problems)} problem(s)'}; "
-                  f"screenshot {shot}")
-            return 1 if problems else 0
-    except (LenslabError, OSError) as exc:
-        print(f"python -m gallery: error: {exc}", file=sys.stderr)
-        return 1
+        for path in readme_images(args.out, args.readme_images):
+            print(f"  {path} ({path.stat().st_size / 1000:.0f} KB)")
+    if args.check:
+        shot = Path(args.out) / "screenshot.png"
+        problems = check_page(index, shot)
+        for p in problems:
+            print(f"  {p}", file=sys.stderr)
+        print(f"checked in Chromium: {'all images loaded' if not problems else f'{len(problems)} problem(s)'}; "
+              f"screenshot {shot}")
+        return 1 if problems else 0
     return 0
 
 

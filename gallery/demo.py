@@ -3,8 +3,8 @@
 With no input at all, the demo:
 
   1. traces the Cornell box as a full-sphere HDR panorama from a point inside the box;
-  2. warps that one panorama into every lens model: the four fisheye mappings, the original
-     renderer's fisheye, swirl, pincushion, barrel, Brown distortion, perspective, cube map, a 2x2
+  2. warps that one panorama into every lens model: the four fisheye mappings, the
+     tan-warped fisheye, swirl, pincushion, barrel, Brown distortion, perspective, cube map, a 2x2
      multi-view (four cameras sharing the panorama's eye, each with its own pose) and a little planet
      (a stereographic fisheye looking straight down with a very wide field of view);
   3. traces two of those views directly (the equisolid fisheye and the 2x2 multi-view) and measures the
@@ -35,7 +35,7 @@ import sys
 import time
 from pathlib import Path
 
-from lenslab.cli.policy import positive_int
+from lenslab.cli.policy import UsageError, positive_int
 
 HELP = "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"
 DEFAULT_OUT = "lenslab-demo"
@@ -122,7 +122,7 @@ def lens_views(view: int) -> list[dict]:
         dict(name="fisheye, equisolid", spec="fisheye:fov=180,mapping=equisolid"),
         dict(name="fisheye, stereographic", spec="fisheye:fov=180,mapping=stereographic"),
         dict(name="fisheye, orthographic", spec="fisheye:fov=180,mapping=orthographic"),
-        dict(name="the original renderer's fisheye", spec="seedfisheye:fov=180",
+        dict(name="tan-warped fisheye", spec="seedfisheye:fov=180",
              note="its angle folds back past 180 degrees at 80% of the radius; beyond the fold pixels are invalid"),
         dict(name="swirl", spec="swirl:amount=6"),
         dict(name="pincushion", spec="pincushion:k1=0.3"),
@@ -140,13 +140,25 @@ def lens_views(view: int) -> list[dict]:
     ]
     names = {v["spec"].partition(":")[0] for v in views}
     for model in REGISTRY:  # any model added later still gets a view, with its defaults
-        if model not in names and model not in NOT_A_VIEW:
-            views.append(dict(name=model, spec=model))
+        if model not in names and model not in NOT_A_VIEW and _has_defaults(model):
+            views.append(dict(name=f"{model} (its defaults)", spec=model))
     for v in views:
         v.setdefault("size", (view, view))
         v.setdefault("pose", {})
         v.setdefault("note", "")
     return [v for v in views if v["spec"].partition(":")[0] in REGISTRY]
+
+
+def _has_defaults(model: str) -> bool:
+    """Whether the model makes a lens from its defaults alone (a lensfun profile needs a lens name)."""
+    from lenslab.errors import LensError
+    from lenslab.lenses import make_lens
+
+    try:
+        make_lens(model, (64, 64))
+    except LensError:
+        return False
+    return True
 
 
 def make_camera(v: dict, eye):
@@ -209,6 +221,8 @@ def run(args: argparse.Namespace) -> int:
     for name, folder in (("--hdri", args.hdri), ("--report", args.report)):
         if folder is not None and not folder.is_dir():
             raise FileNotFoundError(f"{name} {folder}: no such folder")
+        if folder is not None and folder.resolve() == out.resolve():
+            raise UsageError(f"{name} {folder} is an input of the demo; give another output folder with -o")
     check_output(out, args.overwrite)
 
     from gallery import build_gallery

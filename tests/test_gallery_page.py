@@ -221,7 +221,10 @@ def test_rebuild_from_the_stored_records(stand_in, tmp_path):
     assert stored["title"] == "stand-in <gallery>"
     from gallery.__main__ import main
 
-    assert main([str(index.parent), "--quiet"]) == 0
+    before = index.read_bytes()
+    assert main([str(index.parent), "--quiet"]) == 1  # the page exists: replaced only with --overwrite
+    assert index.read_bytes() == before
+    assert main([str(index.parent), "--quiet", "--overwrite"]) == 0
     assert_page_images_decode(index)
     # an empty folder with nothing to show is refused with exit code 2
     assert main([str(tmp_path / "empty"), "--quiet"]) == 2

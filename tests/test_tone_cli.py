@@ -53,12 +53,13 @@ def test_tonemap_command_params_and_auto_exposure(hdr, tmp_path, capsys):
 
 def test_tonemap_command_errors_are_clear(hdr, tmp_path, capsys):
     path, _ = hdr
-    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--curve", "nope"]) == 1
+    # a bad curve or parameter is a usage error: exit code 2, one line
+    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--curve", "nope"]) == 2
     err = capsys.readouterr().err
     assert "unknown tone curve 'nope'" in err and "pbr-neutral" in err
-    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--param", "white"]) == 1
+    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--param", "white"]) == 2
     assert "NAME=VALUE" in capsys.readouterr().err
-    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--param", "white=0"]) == 1
+    assert main(["tonemap", str(path), "-o", str(tmp_path / "x.png"), "--param", "white=0"]) == 2
     assert "out of range" in capsys.readouterr().err
 
 

@@ -178,5 +178,5 @@ def test_cli_end_to_end(tmp_path, capsys):
     assert "chosen:" in capsys.readouterr().out
     # a bad setting is a clear error, not a traceback
     code = main(["validate", "--scene", "analytic", "--filters", "gaussian", "-q", "-o", str(out)])
-    assert code == 1
+    assert code == 2  # a bad value: a usage error
     assert "unknown filter 'gaussian'" in capsys.readouterr().err

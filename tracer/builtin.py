@@ -7,7 +7,12 @@
   red wall on the left as in the photographs. Albedos and the light's radiance are the usual RGB
   reductions of the published spectra (as in Bitterli's and Mitsuba's versions): white
   (0.725, 0.71, 0.68), red (0.63, 0.065, 0.05), green (0.14, 0.45, 0.091), light (17, 12, 4).
-  The published camera (35 mm focal length, 25 mm film) has a 39.3 degree field of view.
+  Views: ``default`` is the published camera's line of sight (x = 278 mm, y = 273 mm, looking along
+  +z into the box, +y up) with the eye in the box's opening (1 mm inside the front plane), so that any
+  lens, a 180-degree fisheye included, sees the box and nothing but the box; its own lens is a
+  90-degree perspective, which shows the whole back wall. ``published`` is the published camera
+  itself: the eye 800 mm in front of the opening, 35 mm focal length on 25 mm film (a 39.3 degree
+  field of view), the framing of the photographs.
 - ``cornell-point``: the same box lit by a point light just under the ceiling instead of the area
   light: with ``integrator="direct"`` and ``seed=None`` its renders are free of noise.
 - ``sky``: a mirror sphere, a glossy (Phong) sphere and a diffuse box on a ground plane, under an open
@@ -54,7 +59,8 @@ TALL_BLOCK = [
     [(314.0, 0.0, 456.0), (314.0, 330.0, 456.0), (265.0, 330.0, 296.0), (265.0, 0.0, 296.0)],
     [(265.0, 0.0, 296.0), (265.0, 330.0, 296.0), (423.0, 330.0, 247.0), (423.0, 0.0, 247.0)],
 ]
-CAMERA_EYE = (278.0, 273.0, -800.0)
+CAMERA_EYE = (278.0, 273.0, -800.0)  # published, millimetres
+OPENING_EYE = (278.0, 273.0, 1.0)  # the same line of sight, 1 mm inside the opening (z = 0)
 CAMERA_FOV = float(np.degrees(2 * np.arctan(12.5 / 35.0)))  # 25 mm film, 35 mm lens
 
 
@@ -93,10 +99,11 @@ def cornell(light: str = "area") -> Scene:
         points.append(PointLight(centre, tuple(np.asarray(LIGHT.emission) * area)))
     else:
         raise ValueError(f"cornell: light must be 'area' or 'point', got {light!r}")
-    eye = _cornell_points([CAMERA_EYE])[0]
-    view = View(eye=tuple(eye), look_at=tuple(eye + [0, 0, 1]), lens=f"perspective:fov={CAMERA_FOV:.4f}")
+    eye, inside = _cornell_points([CAMERA_EYE, OPENING_EYE])
+    published = View(eye=tuple(eye), look_at=tuple(eye + [0, 0, 1]), lens=f"perspective:fov={CAMERA_FOV:.4f}")
+    default = View(eye=tuple(inside), look_at=tuple(inside + [0, 0, 1]), lens="perspective:fov=90")
     name = "cornell" if light == "area" else "cornell-point"
-    return merge_meshes(parts, point_lights=points, views={"default": view}, name=name)
+    return merge_meshes(parts, point_lights=points, views={"default": default, "published": published}, name=name)
 
 
 def _sphere(center, radius, resolution=48, inward=False):

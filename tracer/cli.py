@@ -11,6 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from lenslab.cli.policy import ArgumentParser, image_size, non_negative_int, positive_float, positive_int, run_command
+
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
 
 
@@ -22,16 +24,6 @@ def _triple(text: str) -> tuple[float, float, float]:
     if len(vals) != 3:
         raise argparse.ArgumentTypeError(f"expected three comma-separated numbers X,Y,Z, got {text!r}")
     return vals
-
-
-def _size(text: str) -> tuple[int, int]:
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a size WxH such as 512x256, got {text!r}") from None
-    if w < 1 or h < 1:
-        raise argparse.ArgumentTypeError(f"width and height must be positive, got {text!r}")
-    return w, h
 
 
 def _seed(text: str):
@@ -60,9 +52,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera", metavar="SPEC",
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens)")
-    p.add_argument("--size", type=_size, metavar="WxH",
+    p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default 512x512, or the size stored in --camera-file)")
-    p.add_argument("--spp", type=int, default=64,
+    p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",
                    help="output image (.exr keeps HDR and stores the camera in its header; .pfm also HDR)")
@@ -79,21 +71,25 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--roll", type=float, help="camera roll about its axis, degrees")
     p.add_argument("--integrator", choices=("path", "direct"), default="path",
                    help="path: path tracing with MIS and Russian roulette (default); direct: direct lighting only")
-    p.add_argument("--max-depth", type=int, default=8, help="maximum bounces (default 8; 1 = direct light)")
-    p.add_argument("--time-budget", type=float, metavar="S", help="stop near S seconds: passes are sized from the measured speed to end within the "
+    p.add_argument("--max-depth", type=non_negative_int, default=8, help="maximum bounces (default 8; 1 = direct light)")
+    p.add_argument("--time-budget", type=positive_float, metavar="S", help="stop near S seconds: passes are sized from the measured speed to end within the "
                         "budget (the first pass, 2 samples per pixel, always runs)")
-    p.add_argument("--target-error", type=float, metavar="E",
-                   help="stop once the estimated relative standard error of the image falls below E (e.g. 0.01)")
+    p.add_argument("--target-error", type=positive_float, metavar="E",
+                   help="stop once the image's noise falls below E: the RMS standard error of the pixel means, "
+                        "relative to the image's mean value (0.01 = 1%%)")
     p.add_argument("--variance-out", metavar="FILE", help="also write the per-pixel variance of the mean (EXR/PFM)")
     p.add_argument("--seed", type=_seed, default=0,
                    help="random seed (default 0; the same seed gives the same image); 'none' puts samples at the "
                         "strata centres")
+    from lenslab.tone import curve_names
+
     p.add_argument("--tone", default="hable", metavar="CURVE",
-                   help="tone curve for display outputs (.png, .jpg, .ppm): hable (default), reinhard, aces, clamp; "
-                        "EXR and PFM keep the linear radiance")
+                   help=f"tone curve for display outputs (.png, .jpg, .ppm): {', '.join(curve_names())} "
+                        "(default hable; 'lenslab curves --list' describes them); EXR and PFM keep the linear radiance")
     p.add_argument("--exposure", type=_exposure, default=0.0, metavar="EV",
                    help="exposure in stops before the tone curve, or 'auto' (display outputs only; default 0)")
-    p.add_argument("--threads", type=int, help="worker threads (default: every core)")
+    p.add_argument("--threads", type=positive_int, help="worker threads (default: every core)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing output files (never an input)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
 
 
@@ -139,22 +135,24 @@ def _camera(args, scene):
 
 
 def run_render(args) -> int:
+    from lenslab.cli.policy import UsageError, check_output
     from tracer.load import load_scene
     from tracer.rendering import render
 
-    if args.spp < 1:
-        raise ValueError(f"--spp must be at least 1, got {args.spp}")
-    if args.max_depth < 0:
-        raise ValueError(f"--max-depth must be 0 or more, got {args.max_depth}")
+    inputs = [f for f in (args.env, args.camera_file, args.scene) if f and Path(f).exists()]
+    for out in (args.output, args.variance_out):
+        if out:
+            check_output(out, inputs, args.overwrite)
+    if args.variance_out and same_path(args.variance_out, args.output):
+        raise UsageError("--variance-out must name another file than -o")
     kwargs = {"env": args.env} if args.env else {}
     if args.env and args.scene != "sky":
         raise ValueError("--env lights the built-in 'sky' scene; a TOML scene names its own [environment]")
-    if Path(args.output).suffix.lower() in DISPLAY_SUFFIXES:
-        import numpy as np
+    from lenslab.tone import get_curve
 
-        from lenslab.tone import tonemap
-
-        tonemap(np.zeros((1, 1, 3), np.float32), args.tone)  # a bad curve name fails now, not after the render
+    get_curve(args.tone)  # a bad curve name fails now, not after the render
+    if Path(args.output).suffix.lower() not in DISPLAY_SUFFIXES and args.exposure != 0.0:
+        raise UsageError("--exposure applies to display outputs (.png, .jpg, .ppm); EXR and PFM keep the radiance")
     scene = load_scene(args.scene, **kwargs)
     if scene.dropped and not args.quiet:
         print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
@@ -169,21 +167,31 @@ def run_render(args) -> int:
 
         exposure = args.exposure
         shown = result.rgba if float(result.alpha.min()) < 1 else result.image
-        write(args.output, tonemap(shown, args.tone, exposure=exposure))
+        write(args.output, tonemap(shown, args.tone, exposure=exposure), overwrite=args.overwrite)
         if args.variance_out:
-            result.save(None, args.variance_out)
+            result.save(None, args.variance_out, overwrite=args.overwrite)
     else:
-        result.save(args.output, args.variance_out)
+        result.save(args.output, args.variance_out, overwrite=args.overwrite)
     if not args.quiet:
         rate = result.info["samples_per_second"]
-        print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp "
-              f"({result.stopped_by}), {result.seconds:.2f} s, {rate / 1e6:.3f} Msamples/s, "
-              f"relative error {result.relative_error:.4f}", file=sys.stderr)
+        stopped = {"time": ", stopped by --time-budget", "error": ", stopped by --target-error"}
+        print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp"
+              f"{stopped.get(result.stopped_by, '')}, {result.seconds:.2f} s, {rate / 1e6:.3f} Msamples/s, "
+              f"noise {_percent(result.relative_error)} (RMS standard error of the pixel means, relative to "
+              f"the image's mean value)", file=sys.stderr)
     return 0
 
 
+def _percent(x: float) -> str:
+    return "unknown (fewer than 2 samples per pixel)" if x == float("inf") else f"{100 * x:.3g}%"
+
+
+def same_path(a, b) -> bool:
+    return Path(a).absolute() == Path(b).absolute()
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="tracer", description=__doc__,
+    parser = ArgumentParser(prog="tracer", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     p = sub.add_parser("render", help="render a scene through a lenslab camera",
@@ -212,18 +220,9 @@ def run_scenes(args) -> int:
 
 
 def main(argv=None) -> int:
-    from lenslab.errors import LenslabError
-
     parser = build_parser()
-    args = parser.parse_args(argv)
-    try:
-        return int(args._run(args) or 0)
-    except (LenslabError, OSError, ValueError) as exc:
-        print(f"tracer {args.command}: error: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print(f"tracer {args.command}: interrupted", file=sys.stderr)
-        return 130
+    args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
+    return run_command(f"tracer {args.command}", lambda: args._run(args))
 
 
 if __name__ == "__main__":

@@ -104,7 +104,7 @@ def lens_views(page: Page, views: list[LensView]) -> str:
     circle are transparent rather than smeared.
 
     The tiled view is four cameras sharing the panorama's eye, each with its own pose, as in the 2x2
-    multi-view of the original renderer; the little planet is a stereographic fisheye looking straight
+    multi-view; the little planet is a stereographic fisheye looking straight
     down with a very wide field of view."""
     tiles = "".join(_tile(page, v) for v in views)
     return section("lenses", "Every lens, warped from one panorama", lens_views, f'<div class="figures grid">{tiles}</div>',

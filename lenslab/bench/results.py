@@ -52,7 +52,8 @@ def start() -> dict[str, Any]:
     return {"started": time.time(), "load_start": _load()}
 
 
-def write(path: str, benchmark: str, run: dict[str, Any], argv: list[str] | None = None) -> None:
+def write(path: str, benchmark: str, run: dict[str, Any], argv: list[str] | None = None,
+          overwrite: bool = True) -> None:
     """Write the figures recorded since :func:`start` as JSON (temporary name, then rename)."""
     from lenslab.io.atomic import atomic_write_path
 
@@ -65,7 +66,7 @@ def write(path: str, benchmark: str, run: dict[str, Any], argv: list[str] | None
         "seconds": round(time.time() - run.get("started", time.time()), 2),
         "figures": list(_FIGURES),
     }
-    with atomic_write_path(path) as tmp:
+    with atomic_write_path(path, overwrite=overwrite) as tmp:
         with open(tmp, "w", encoding="utf-8") as f:
             json.dump(record, f, indent=1)
             f.write("\n")

@@ -36,6 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         p.add_argument("--json", metavar="FILE", default=None,
                        help="also write every figure, its aim and whether it is met, as JSON to FILE "
                             "(tools/speed_table.py builds the README's speed table from such files)")
+        p.add_argument("--overwrite", action="store_true", help="replace an existing --json FILE")
         p.set_defaults(_bench=module, _bench_name=name)
 
 
@@ -44,9 +45,13 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.bench import results
 
+    if getattr(args, "json", None):  # refused before the benchmark runs, not after
+        from lenslab.cli.policy import check_output
+
+        check_output(args.json, (), args.overwrite)
     record = results.start()
     status = int(args._bench.run(args) or 0)
     if getattr(args, "json", None):
-        results.write(args.json, args._bench_name, record, argv=sys.argv[1:])
+        results.write(args.json, args._bench_name, record, argv=sys.argv[1:], overwrite=args.overwrite)
         print(f"figures written to {args.json}")
     return status

@@ -12,12 +12,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from lenslab.cli.policy import non_negative_int
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="HDR image to read")
     parser.add_argument("-o", "--output", required=True, help="strip image to write (JPG, PNG, ...)")
     parser.add_argument("--curves", default="clamp,reinhard,hable",
-                        help="comma-separated curve names, left to right (default clamp,reinhard,hable: the seed's figure)")
+                        help="comma-separated curve names, left to right (default clamp,reinhard,hable: no curve, the "
+                             "classic photographic curve and a filmic one)")
     parser.add_argument("--exposure", default="0", help="exposure in stops for every panel, or 'auto' (default 0)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",
@@ -25,12 +28,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--luminance", dest="mode", action="store_const", const="luminance",
                        help="curves act on luminance (keeps hue)")
     parser.set_defaults(mode="per-channel")
-    parser.add_argument("--panel-width", type=int, default=1024,
+    parser.add_argument("--panel-width", type=non_negative_int, default=1024,
                         help="shrink panels wider than this many pixels (0: keep full size; default 1024)")
     parser.add_argument("--vertical", action="store_true", help="stack panels top to bottom instead")
     parser.add_argument("--primaries", default="sRGB", help="colourspace for luminance weights (default sRGB)")
     parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
                         help="dither when quantising (default on)")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
 
 
@@ -64,12 +68,14 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from lenslab import io, tone
+    from lenslab.cli.policy import check_output
     from lenslab.cli.tonemap import tonemap_reporting, write_tone_mapped
     from lenslab.errors import ToneError
 
     names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]
     if not names:
         raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
+    check_output(args.output, [args.input], args.overwrite)
     image, _ = io.read(args.input)
     if image.ndim == 3 and image.shape[2] in (2, 4):
         image = image[..., :-1]
@@ -101,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     for i, p in enumerate(panels):
         parts.extend([gap, p] if i else [p])
     strip = np.concatenate(parts, axis=0 if args.vertical else 1)
-    write_tone_mapped(args.output, strip, dither=args.dither)
+    write_tone_mapped(args.output, strip, dither=args.dither, overwrite=args.overwrite)
     if not args.quiet:
         print(f"{args.output}: {strip.shape[1]} x {strip.shape[0]}, curves {', '.join(names)}", file=sys.stderr)
     return 0

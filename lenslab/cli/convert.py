@@ -23,6 +23,8 @@ import os
 import sys
 from pathlib import Path
 
+from lenslab.cli.policy import int_in, non_negative_int
+
 from lenslab.io.registry import hdr_formats, input_extensions, writable
 
 #: every format lenslab writes, from the format plugins (lenslab.io.formats)
@@ -43,10 +45,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "as they are, clipped to 1)")
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
-    parser.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
+    parser.add_argument("--jobs", "-j", type=non_negative_int, default=1, metavar="N",
                         help="files converted in parallel by worker processes (default 1; 0 = one per CPU core)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    parser.add_argument("--quality", type=int, default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
+    parser.add_argument("--quality", type=int_in(0, 100), default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
                         help="PNG/PPM/PGM bits per sample (default 8)")
     parser.add_argument("--pixel-type", choices=("half", "float"), default="half",
@@ -84,6 +86,7 @@ def expand_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]
 
 def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[str, Path]]:
     """(input, output path) pairs; raises OSError/ValueError when -o cannot be used as asked."""
+    from lenslab.cli.policy import check_output_dir
     from lenslab.errors import FormatError
     from lenslab.io import split_selector
 
@@ -94,10 +97,7 @@ def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[st
         if not as_file and not out.is_dir() and out.suffix.lower() in INPUT_EXTENSIONS:
             raise FormatError(f"-o {out} names a file but there are {len(files)} inputs; give a directory")
         if not as_file:
-            if out.exists() and not out.is_dir():
-                raise NotADirectoryError(f"{out}: exists and is not a directory; with several inputs -o "
-                                         "must be a directory")
-            out.mkdir(parents=True, exist_ok=True)
+            check_output_dir(out)  # created by run() once everything is checked
     pairs, targets = [], {}
     for f in files:
         src, selector = split_selector(f)
@@ -119,14 +119,12 @@ def convert_one(src: str, dst: str, options: dict) -> str:
     """Read, tone-map if needed, write. Returns the output path; raises on failure."""
     import numpy as np
 
+    from lenslab.cli.policy import check_output
     from lenslab.errors import FormatError
     from lenslab.io import read, split_selector, write
 
     src_file, _ = split_selector(src)
-    if os.path.exists(dst) and src_file.exists() and os.path.samefile(dst, src_file):
-        raise FormatError(f"{src}: the output would replace the input; choose another format or -o")
-    if not options["overwrite"] and os.path.exists(dst):
-        raise FileExistsError(f"{dst}: already exists; pass --overwrite to replace it")
+    check_output(dst, [src_file], options["overwrite"])
     image, meta = read(src, data_window=options["data_window"])
     to, exposure = options["to"], options["exposure"]
     if to in LDR and (not meta["display_encoded"] or exposure == "auto"):
@@ -156,6 +154,7 @@ def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]
     import warnings
 
     src, dst, options = job
+    from lenslab.cli.policy import user_notes
     from lenslab.errors import LenslabError
 
     with warnings.catch_warnings(record=True) as caught:
@@ -167,8 +166,7 @@ def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]
             error = str(exc)
         except Exception as exc:  # an unexpected failure on one file must not stop the others
             error = f"{type(exc).__name__}: {exc}"
-    notes = list(dict.fromkeys(str(w.message) for w in caught))
-    return src, dst, error, notes
+    return src, dst, error, user_notes(caught)
 
 
 def _init_worker() -> None:
@@ -182,7 +180,7 @@ def _init_worker() -> None:
 
 
 _PRELOAD = ["lenslab.cli.convert", "lenslab.io", "lenslab.io.exr", "lenslab.io.ldr", "lenslab.io.pnm",
-            "lenslab.io.pfm", "lenslab.io.encode", "lenslab.tone", "numpy", "cv2", "OpenEXR", "colour"]
+            "lenslab.io.pfm", "lenslab.io.encode", "lenslab.tone", "numpy", "cv2", "OpenEXR"]
 
 
 def _process_context():
@@ -252,7 +250,15 @@ def run(args: argparse.Namespace) -> int:
     if not files:
         print("lenslab convert: error: nothing to convert", file=sys.stderr)
         return 1
+    if args.to in LDR:
+        from lenslab.tone import get_curve
+
+        get_curve(args.tone)  # an unknown curve: one usage error, before any folder is made
     pairs = plan_outputs(files, args.to, args.output)
+    if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
+        from lenslab.cli.policy import make_output_dir
+
+        make_output_dir(args.output)
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
                "compression": args.compression, "data_window": args.data_window}

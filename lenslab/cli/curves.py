@@ -16,7 +16,10 @@ matplotlib Figure.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
+
+CHART_FORMATS = ("png", "svg", "pdf")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,6 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="input range in stops from 1.0 (default -10 8)")
     parser.add_argument("--exposure", type=float, default=0.0, help="exposure in stops applied before the curves")
     parser.add_argument("--list", action="store_true", help="print every curve with its parameters and exit")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing chart")
 
 
 def curve_samples(name: str, stops, exposure: float = 0.0, n: int = 512):
@@ -41,12 +45,25 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print(tone.describe_curves())
         return 0
+    from lenslab.cli.policy import UsageError, check_output
     from lenslab.io.atomic import atomic_write_path
+
+    kind = str(args.output).rsplit(".", 1)[-1].lower()
+    if kind not in CHART_FORMATS:
+        raise UsageError(f"{args.output}: a chart is written as {', '.join(CHART_FORMATS)}; give one of those extensions")
+    low, high = args.stops
+    if not (math.isfinite(low) and math.isfinite(high) and low < high):
+        raise UsageError(f"--stops {low:g} {high:g}: give a finite range with LOW below HIGH, e.g. -10 8")
+    if not math.isfinite(args.exposure):
+        raise UsageError(f"--exposure {args.exposure}: give a finite number of stops")
+    for name in (n for n in args.curves.split(",") if n.strip()):
+        tone.get_curve(name.strip())  # an unknown name is a usage error, before anything is drawn
+    check_output(args.output, (), args.overwrite)
     from lenslab.tone.plot import plot_curves
 
     fig = plot_curves(args.curves, args.stops, args.exposure)
-    with atomic_write_path(args.output) as tmp:
-        fig.savefig(tmp, dpi=110, format=str(args.output).rsplit(".", 1)[-1].lower())
+    with atomic_write_path(args.output, overwrite=args.overwrite) as tmp:
+        fig.savefig(tmp, dpi=110, format=kind)
     count = len([n for n in args.curves.split(",") if n.strip()]) or len(tone.CURVES)
     print(f"{args.output}: {count} curves", file=sys.stderr)
     return 0

@@ -132,4 +132,6 @@ def run(args: argparse.Namespace) -> int:
             print(_text(d))
     if args.json:
         print(json.dumps(_json_safe(results), indent=2, allow_nan=False, default=str))
+    if failed:
+        print(f"lenslab info: {failed} of {len(args.files)} files could not be read", file=sys.stderr)
     return 1 if failed else 0

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -44,6 +45,12 @@ class ArgumentParser(argparse.ArgumentParser):
     whose message says what is expected); argparse's usage dump is left for ``--help``.
     """
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # No option starts with a digit: "-100x100" or "-3e-5" after an option is its (bad or negative)
+        # value, for the option's type to judge, not an unknown option.
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
     def error(self, message: str):  # noqa: D401 - argparse's hook
         print(f"{self.prog}: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
@@ -64,6 +71,9 @@ def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = 
     """
     out = Path(path)
     for src in inputs:
+        src = str(src)
+        if ":" in src and not os.path.exists(src):  # an EXR part or layer selector: file.exr:left
+            src = src.rpartition(":")[0]
         if same_file(out, src) or (Path(src).absolute() == out.absolute()):
             raise OutputError(f"{out}: is an input of this command; it is never written over, even with "
                               "--overwrite: choose another output name")
@@ -99,6 +109,13 @@ def make_output_dir(path: str | os.PathLike) -> Path:
 # NumPy's arithmetic notes (NaN or inf met in a cast, a division, a log) are the commands' business to
 # handle and report in the user's terms; they never reach the terminal as library warnings.
 _NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
+
+
+def user_notes(caught) -> list[str]:
+    """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out)."""
+    notes = (str(w.message) for w in caught
+             if not (issubclass(w.category, RuntimeWarning) and re.search(_NUMPY_NOTES, str(w.message))))
+    return list(dict.fromkeys(notes))
 
 
 def run_command(prog: str, func: Callable[[], int | None]) -> int:
@@ -145,15 +162,35 @@ def _closed_pipe() -> int:
     return EXIT_OK
 
 
-def positive_int(text: str) -> int:
-    """argparse ``type=``: a whole number of at least 1 (``--jobs``, ``--spp``)."""
+def positive_float(text: str) -> float:
+    """argparse ``type=``: a finite number above 0 (``--time-budget``, ``--target-error``)."""
     try:
-        n = int(text)
+        x = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"{text!r}: must be at least 1")
-    return n
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (x > 0 and x != float("inf")):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a finite number above 0")
+    return x
+
+
+def int_in(low: int, high: int | None = None):
+    """argparse ``type=`` factory: a whole number from ``low`` (to ``high``), e.g. ``--quality``."""
+
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if n < low or (high is not None and n > high):
+            raise argparse.ArgumentTypeError(f"{text!r}: must be from {low} to {high}" if high is not None
+                                             else f"{text!r}: must be at least {low}")
+        return n
+
+    return parse
+
+
+positive_int = int_in(1)  # --jobs, --spp, --samples
+non_negative_int = int_in(0)  # --max-depth, or a count where 0 means "no limit"
 
 
 def image_size(text: str) -> tuple[int, int]:

@@ -40,8 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="dither when quantising to 8/16-bit to avoid banding in smooth skies (default on)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
                         help="bit depth for PNG/PPM/PGM output (default 8)")
-    parser.add_argument("--overwrite", action=argparse.BooleanOptionalAction, default=True,
-                        help="replace an existing output file (default yes)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
 
 
@@ -99,10 +99,12 @@ def write_tone_mapped(path, image, dither=True, bits=None, overwrite=True, camer
 
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
+    from lenslab.cli.policy import check_output
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
     curve.resolve(params)  # fail before reading a large file
+    check_output(args.output, [args.input], args.overwrite)
     image, meta = io.read(args.input)
     out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,
                                 args.input, args.quiet)

@@ -32,6 +32,8 @@ import os
 import sys
 from pathlib import Path
 
+from lenslab.cli.policy import image_size, positive_int
+
 from lenslab.io.registry import hdr_formats, writable
 
 #: every format lenslab writes, from the format plugins (lenslab.io.formats)
@@ -53,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--from", dest="source", metavar="SPEC",
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
-    parser.add_argument("--size", metavar="WxH",
+    parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's height squared (2:1 for equirect)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=float, default=0.0, help="turn right about the up axis")
@@ -66,7 +68,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     quality = parser.add_argument_group("sampling")
     quality.add_argument("--filter", choices=("nearest", "bilinear", "bicubic", "lanczos"), default="bilinear",
                          help="reconstruction filter (default bilinear; bicubic = Catmull-Rom, lanczos = Lanczos-3)")
-    quality.add_argument("--samples", type=int, default=1, metavar="N",
+    quality.add_argument("--samples", type=positive_int, default=1, metavar="N",
                          help="stratified samples per output pixel (e.g. 4, 16; default 1)")
     quality.add_argument("--seed", type=int, default=None,
                          help="jitter the samples within their strata with this seed (default: strata centres)")
@@ -96,6 +98,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="map pixels as ffmpeg's v360 filter does (samples at pixel corners, input centres "
                              "at integer coordinates, no pole continuation), to match footage converted with it")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
+    from lenslab.cli.options import add_scheduler_options
+
+    add_scheduler_options(parser)
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -191,17 +196,28 @@ def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False):
                          report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)))
 
 
+def check_once(args) -> None:
+    """What does not depend on one input, checked before any file is read or folder made: the lenses,
+    the tone curve for display outputs."""
+    from lenslab.lenses.registry import make_lens
+    from lenslab.tone import get_curve
+
+    if args.to:
+        make_lens(args.to, args.size or default_size(args.to, 256))
+    if args.source:
+        make_lens(args.source, (512, 256))
+    get_curve(args.tone)
+
+
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
+    from lenslab.cli.policy import check_output_dir
     from lenslab.errors import FormatError
     from lenslab.io import split_selector
 
     out = Path(output)
     as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
     if not as_file:
-        if out.exists() and not out.is_dir():
-            raise NotADirectoryError(f"{out}: exists and is not a directory; with several inputs -o must be a "
-                                     "directory")
-        out.mkdir(parents=True, exist_ok=True)
+        check_output_dir(out)  # created by run() once everything is checked
     ext = "." + (fmt or "exr")
     pairs, seen = [], {}
     for f in files:
@@ -217,13 +233,13 @@ def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[s
 def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     import numpy as np
 
+    from lenslab.cli.policy import check_output
     from lenslab.errors import FormatError
     from lenslab.io import read, write
     from lenslab.io.detect import format_for_path
 
     fmt = format_for_path(dst_path, None)
-    if not args.overwrite and dst_path.exists():
-        raise FileExistsError(f"{dst_path}: already exists; pass --overwrite to replace it")
+    check_output(dst_path, [src_path], args.overwrite)
     image, meta = read(src_path)
     has_alpha = image.shape[2] in (2, 4)
     if args.stmap:
@@ -233,7 +249,7 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, progress=progress)
     else:
         src = source_camera(args.source, meta, image.shape)
-        size = parse_size(args.size) if args.size else default_size(args.to, image.shape[0])
+        size = args.size or default_size(args.to, image.shape[0])
         dst = output_camera(args, src, size)
         if args.autoscale:
             dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet)
@@ -269,15 +285,26 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     write(dst_path, result, format=fmt, overwrite=args.overwrite, **opts)
 
 
+def plan_cache(args):
+    """The plans (maps) of this command's warps, one per geometry, made once and reused."""
+    from lenslab.warp import WarpPlan
+    from lenslab.warp.batch import PlanCache
+
+    factory = WarpPlan
+    if args.compat == "v360":
+        from lenslab.warp.compat_v360 import V360Plan as factory
+    return PlanCache(factory=factory, filter=args.filter, samples=args.samples, antialias=args.antialias,
+                     seed=args.seed, allow_parallax=args.allow_parallax, exact_map=args.exact_map)
+
+
 def run(args: argparse.Namespace) -> int:
     import warnings
 
     from tqdm import tqdm
 
     from lenslab.cli.convert import expand_inputs
+    from lenslab.cli.policy import make_output_dir, user_notes
     from lenslab.errors import LenslabError, WarpError
-    from lenslab.warp import WarpPlan
-    from lenslab.warp.batch import PlanCache
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
         raise WarpError("give either --look-at or --yaw/--pitch/--roll, not both")
@@ -298,8 +325,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.cli.options import parse_exposure
 
     args.exposure = parse_exposure(args.exposure)
-    if args.size:
-        parse_size(args.size)
+    check_once(args)
     files, missing = expand_inputs(args.inputs)
     for pat, reason in missing:
         print(f"lenslab warp: {pat}: {reason}", file=sys.stderr)
@@ -307,12 +333,23 @@ def run(args: argparse.Namespace) -> int:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, args.format)
-    factory = WarpPlan
-    if args.compat == "v360":
-        from lenslab.warp.compat_v360 import V360Plan as factory
-    cache = PlanCache(factory=factory, filter=args.filter, samples=args.samples, antialias=args.antialias,
-                      seed=args.seed,
-                      allow_parallax=args.allow_parallax, exact_map=args.exact_map)
+    if len(pairs) > 1 or Path(args.output).suffix == "":
+        make_output_dir(args.output)
+    from lenslab.cluster.run import skip_existing
+
+    pairs, skipped = skip_existing(pairs, args.skip_existing)
+    if skipped and not args.quiet:
+        print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
+    from lenslab.cluster import scheduler_address
+
+    where = scheduler_address(args)
+    if where is not None:
+        from lenslab.cluster.command import batch_on_cluster
+        from lenslab.cluster.tasks import plain_options
+
+        status = batch_on_cluster("lenslab warp", where, "warp_task", pairs, plain_options(args), args.quiet, "warped")
+        return 1 if status or missing else 0
+    cache = plan_cache(args)
     show = not args.quiet and sys.stderr.isatty()
     failed = []
     bar = tqdm(total=len(pairs), unit="img", disable=not show or len(pairs) == 1, file=sys.stderr, leave=False)
@@ -332,7 +369,7 @@ def run(args: argparse.Namespace) -> int:
             finally:
                 if rows is not None:
                     rows.close()
-        for note in dict.fromkeys(str(w.message) for w in caught):
+        for note in user_notes(caught):
             print(f"lenslab warp: note: {src_path}: {note}", file=sys.stderr)
         if error:
             failed.append(src_path)

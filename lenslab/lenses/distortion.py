@@ -47,7 +47,7 @@ class Distortion(Wrapped):
     """
 
     name = "distortion"
-    summary = "radial distortion, division model of the seed (k1 > 0 pincushion, k1 < 0 barrel)"
+    summary = "radial distortion, division model (k1 > 0 pincushion, k1 < 0 barrel)"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient of the division model (> 0 pincushion, < 0 barrel)"),
         Param("k2", 0.0, "r^4 coefficient of the division model"),

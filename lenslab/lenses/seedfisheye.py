@@ -33,9 +33,9 @@ class SeedFisheye(Lens):
     """
 
     name = "seedfisheye"
-    summary = "the seed renderer's legacy fisheye, t = tan(r F) (reproduces its renders; folds above fov 144.7)"
+    summary = "tan-warped fisheye: angle from tan(r F), steep towards the rim (folds back above fov 144.7)"
     params = (
-        Param("fov", 180.0, "fov parameter of the seed formula, degrees (not the angle actually seen)",
+        Param("fov", 180.0, "the formula's fov parameter F = fov/2, degrees (not the angle actually seen)",
               0.0, 180.0, lo_open=True),
     )
 

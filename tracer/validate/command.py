@@ -28,6 +28,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
+
+from lenslab.cli.policy import image_size, non_negative_int, positive_int
+
+# the files a report holds (lenslab.validate.report): an earlier run's are replaced only with --overwrite
+REPORT_FILES = ("results.json", "report.md")
 
 HELP = "check warps against direct ray-traced renders and measure the speed/accuracy trade"
 
@@ -68,7 +74,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "tracer), or 'analytic' for the noise-free analytic environment")
     parser.add_argument("--to", dest="to", default="fisheye:fov=180,mapping=equisolid", metavar="SPEC",
                         help="target lens spec (default fisheye:fov=180,mapping=equisolid)")
-    parser.add_argument("--size", default="512x512", metavar="WxH", help="target image size (default 512x512)")
+    parser.add_argument("--size", type=image_size, default=(512, 512), metavar="WxH",
+                        help="target image size (default 512x512)")
     parser.add_argument("--yaw", type=float, default=None, help="target yaw in degrees (default: the scene's view)")
     parser.add_argument("--pitch", type=float, default=0.0, help="target pitch in degrees")
     parser.add_argument("--roll", type=float, default=0.0, help="target roll in degrees")
@@ -80,10 +87,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="panorama sizes to render and warp from (default 1024x512,2048x1024,4096x2048)")
     parser.add_argument("--filters", default="bilinear,bilinear@2x2,antialias,lanczos", metavar="LIST",
                         help="warp settings to compare (default bilinear,bilinear@2x2,antialias,lanczos)")
-    parser.add_argument("--spp", type=int, default=None,
+    parser.add_argument("--spp", type=positive_int, default=None,
                         help="samples per pixel of the panoramas (default 1 noise-free, 16 Monte Carlo)")
     ref = parser.add_mutually_exclusive_group()
-    ref.add_argument("--reference-spp", type=int, default=None, metavar="N",
+    ref.add_argument("--reference-spp", type=positive_int, default=None, metavar="N",
                      help="samples per pixel of the reference (default 64 noise-free, 1024 Monte Carlo)")
     ref.add_argument("--reference-error", type=_percent, default=None, metavar="E",
                      help="render the reference with enough samples that its own noise reads as at most E "
@@ -95,9 +102,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="measure resampling error alone: fixed sample positions and a point light")
     parser.add_argument("--integrator", default=None, choices=("path", "direct"),
                         help="tracer integrator (default path; direct in --noise-free)")
-    parser.add_argument("--max-depth", type=int, default=8, help="path length limit (default 8)")
+    parser.add_argument("--max-depth", type=non_negative_int, default=8, help="path length limit (default 8)")
     parser.add_argument("--seed", type=int, default=0, help="random seed of the Monte Carlo renders")
-    parser.add_argument("--repeat", type=int, default=3, help="time each warp as the best of N runs (default 3)")
+    parser.add_argument("--repeat", type=positive_int, default=3, help="time each warp as the best of N runs (default 3)")
     parser.add_argument("--no-flip", action="store_true", help="skip the FLIP metric (the slowest one)")
     parser.add_argument("--tune", type=_percent, default=None, metavar="TARGET",
                         help="choose the cheapest panorama size, setting and samples reaching TARGET relative "
@@ -105,9 +112,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--amortised", action="store_true",
                         help="also measure K views (fisheye, swirl, pincushion, 2x2 tiles) from one panorama "
                              "against K direct renders at equal error, K = 1, 4, 16")
-    parser.add_argument("--amortised-size", default="256x256", metavar="WxH",
+    parser.add_argument("--amortised-size", type=image_size, default=(256, 256), metavar="WxH",
                         help="view size for --amortised (default 256x256)")
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
+    parser.add_argument("--overwrite", action="store_true", help="replace the report of an earlier run in DIR")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
 
@@ -117,11 +125,21 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.validate.run import ValidationError, WarpSetting, parse_size, validate
     from tracer.validate.source import make_source
 
-    size = parse_size(args.size)
+    from lenslab.cli.policy import UsageError, check_output, check_output_dir
+
+    size = args.size
     pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]
     if not pano_sizes:
         raise ValidationError("--pano-sizes is empty; give e.g. 1024x512,2048x1024")
-    settings = [WarpSetting.parse(s) for s in args.filters.split(",") if s.strip()]
+    try:
+        settings = [WarpSetting.parse(s) for s in args.filters.split(",") if s.strip()]
+    except ValidationError as exc:  # a bad --filters value: a usage error
+        raise UsageError(str(exc)) from None
+    Camera.from_spec(args.to, size)  # a bad lens spec is a usage error, before anything is rendered
+    check_output_dir(args.output)
+    if Path(args.output).is_dir():
+        for name in REPORT_FILES:
+            check_output(Path(args.output) / name, overwrite=args.overwrite)
     analytic = args.scene in ("analytic", "analytic-sky")
     noise_free = bool(args.noise_free) or analytic
     progress = not args.quiet and sys.stderr.isatty()
@@ -165,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.validate.amortised import amortised, markdown
 
         best_aa = next((s for s in settings if s.antialias), settings[0])
-        a = amortised(source, pano_sizes[-1], parse_size(args.amortised_size), best_aa, spp=spp,
+        a = amortised(source, pano_sizes[-1], args.amortised_size, best_aa, spp=spp,
                       reference_spp=reference_spp or 64, direct_spp=direct_spp or [1, 4, 16], seed=seed, eye=eye,
                       yaw0=float(target.pose.ypr[0]), pitch=float(target.pose.ypr[1]), progress=progress)
         extra["amortised"] = a
