@@ -230,3 +230,14 @@ def test_dual_fisheye_blend_weights_fall_to_zero_at_each_rim():
         assert np.abs(back - d[ok]).max() < 1e-12
         assert ((xy[ok, 0] < 400) == (k == 0)).all()  # front lens on the left half
     assert np.abs(views[0][2] + views[1][2] - 1).max() < 1e-15
+
+
+def test_octahedron_folds_the_back_into_the_corners():
+    size = (400, 400)
+    # front: (x, y) / (|x| + |y| + |z|); the octahedral encoding of normals (Meyer et al. 2010, v360's octahedron)
+    d = np.array([0.3, 0.5, 0.8])
+    assert np.abs(pixel("octahedron", size, d) - to_pixel(0.3 / 1.6, 0.5 / 1.6, size)).max() < 1e-9
+    # back: the same point folded out, ((1 - |y|) sign x, (1 - |x|) sign y)
+    d = np.array([0.3, -0.5, -0.8])
+    x, y = 0.3 / 1.6, -0.5 / 1.6
+    assert np.abs(pixel("octahedron", size, d) - to_pixel(1 - abs(y), -(1 - abs(x)), size)).max() < 1e-9

@@ -75,6 +75,7 @@ CASES = [
     ("sinusoidal", (W, W // 2)),
     ("half-equirect", (W, W)),
     ("little-planet", (W, W)),
+    ("octahedron", (W, W)),
     # real lenses from the lensfun database (lenslab[lensfun]); TCA and vignetting leave the green geometry alone
     ("lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10", (W, 5461)),
     ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120", (W, 5461)),
@@ -208,6 +209,8 @@ def shared_pixels(lens, xy):
         d, _ = lens.pixel_to_dir(xy)
         back = (x >= lens.width / 2) == (lens.front == "left")
         return np.where(back, d[:, 2] > -1e-9, d[:, 2] < 1e-9) | near(x / (lens.width / 2), lens.width / 2)
+    if lens.name == "octahedron":  # the square's edges fold onto themselves (the back's outline)
+        return (x == 0) | (x == lens.width) | (y == 0) | (y == lens.height)
     if lens.name in ("hammer", "sinusoidal"):  # the outline is the back meridian, seen from both sides
         d, _ = lens.pixel_to_dir(xy)
         return (np.abs(d[:, 0]) < 1e-9) & (d[:, 2] < 0)

@@ -61,6 +61,7 @@ SHARED = [
     (f"pannini:d=1,fov={PAN!r}", "pannini:h_fov=1", (64, 64)),
     ("hammer", "hammer", (128, 64)),
     ("sinusoidal", "sinusoidal", (128, 64)),
+    ("octahedron", "octahedron", (64, 64)),
 ]
 
 

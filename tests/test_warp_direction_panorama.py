@@ -46,6 +46,7 @@ CASES = [
     ("sinusoidal", (256, 128)),
     ("half-equirect", (128, 128)),
     ("little-planet", (128, 128)),
+    ("octahedron", (128, 128)),
     ("swirl:amount=3", (128, 128)),
     ("distortion:k1=-0.2,fov=100", (160, 120)),
     ("brown:k1=0.05,fov=90", (160, 120)),

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 # Modules whose classes register themselves; add a model by adding its module here.
 MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled",
-                 "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "presets",
+                 "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "octahedron", "presets",
                  "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam",
                  "chroma", "lensfun_profile")
 
