@@ -27,7 +27,7 @@ def test_tonemap_command_writes_what_the_api_computes_and_reports_repairs(hdr, t
     assert main(["tonemap", str(path), "-o", str(out), "--curve", "aces", "--exposure", "1",
                  "--luminance", "--no-dither", "--bits", "16"]) == 0
     err = capsys.readouterr().err
-    assert "1 NaN set to 0" in err and "1 +inf set to white" in err and "1 negative set to 0" in err
+    assert "1 NaN set to 0" in err and "1 +inf set to white" in err and "1 negative value, down to -2, set to 0" in err  # the -2.0 put in above
     got, meta = io.read(out)
     with pytest.warns(tone.ToneWarning, match="1 NaN"):
         ref = tone.tonemap(io.read(path)[0], "aces", exposure=1, mode="luminance")

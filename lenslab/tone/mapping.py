@@ -50,7 +50,11 @@ def warn_repairs(counts: Counts, total: int) -> None:
     if counts.posinf:
         parts.append(f"{counts.posinf} +inf set to white")
     if counts.negative:
-        parts.append(f"{counts.negative} negative set to 0")
+        # "slightly": above -1e-4 of white, under half an 8-bit code value once sRGB-encoded (a filter's
+        # ringing or a codec's rounding), as against real negative light
+        how = "slightly negative" if counts.lowest >= -1e-4 else "negative"
+        parts.append(f"{counts.negative} {how} value{'s' if counts.negative != 1 else ''}, down to "
+                     f"{counts.lowest:.2g}, set to 0")
     msg = f"tone mapping repaired {', '.join(parts)} (of {total} values)"
     warnings.warn(ToneWarning(msg, counts.nan, counts.posinf, counts.negative, total), stacklevel=3)
 

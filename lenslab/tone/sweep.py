@@ -58,13 +58,15 @@ def run_split(sweep, src: np.ndarray, dst: np.ndarray, kernel, extra: tuple, cou
         counts.nan += t.nan
         counts.posinf += t.posinf
         counts.negative += t.negative
+        counts.lowest = min(counts.lowest, t.lowest)
 
 
 class Counts:
-    __slots__ = ("nan", "posinf", "negative")
+    __slots__ = ("nan", "posinf", "negative", "lowest")
 
     def __init__(self):
         self.nan = self.posinf = self.negative = 0
+        self.lowest = 0.0  # the most negative value repaired (-inf included)
 
     def any(self) -> bool:
         return bool(self.nan or self.posinf or self.negative)
@@ -77,7 +79,10 @@ def repair(block: np.ndarray, counts: Counts) -> np.ndarray:
     neg = block < 0
     counts.nan += int(np.count_nonzero(nan))
     counts.posinf += int(np.count_nonzero(posinf))
-    counts.negative += int(np.count_nonzero(neg))
+    n_neg = int(np.count_nonzero(neg))
+    counts.negative += n_neg
+    if n_neg:
+        counts.lowest = min(counts.lowest, float(block[neg].min()))
     block[nan | posinf | neg] = 0
     return posinf
 
