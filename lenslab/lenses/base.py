@@ -20,6 +20,8 @@ import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
+from lenslab.lenses.protocol import (  # noqa: F401  (the records the hooks return)
+    Across, Piece, PixelKernel, Seams, finite_difference_jacobian)
 
 FLOAT = np.float64
 
@@ -91,6 +93,54 @@ class Lens:
 
     def dir_to_uv(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
+
+    # -- what the warp engine asks (lenslab.lenses.protocol); defaults hold for any model ----
+    def seams(self) -> Seams:
+        """How the image continues beyond its edges: a period in x (a full-turn panorama) and poles
+        whose rows continue on the opposite meridian. Default: none, taps clamp to the edge pixel."""
+        return Seams()
+
+    def pieces(self) -> tuple[Piece, ...]:
+        """The rectangles of a piecewise image (cube faces, tiles, dual-fisheye halves), each with
+        what lies across its edges for cube-like layouts. Default: one piece, the whole image."""
+        return (Piece(0.0, 0.0, float(self.width), float(self.height)),)
+
+    def valid_pixels(self, xy) -> np.ndarray:
+        """Which continuous pixel positions (``(..., 2)``) carry a ray. Default: where
+        :meth:`pixel_to_dir` is valid."""
+        return self.pixel_to_dir(xy)[1]
+
+    def pixel_kernel(self) -> PixelKernel | None:
+        """A compiled ``dir -> pixel`` (see :class:`~lenslab.lenses.protocol.PixelKernel`), or None
+        (the default): the engine then calls the vectorised :meth:`dir_to_pixel`."""
+        return None
+
+    def dir_to_pixel_jacobian(self, dirs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(xy, jac, valid)``: pixel positions, their derivative ``(..., 2, 3)`` with respect to the
+        unit direction (in its tangent plane) and validity, for footprints. Default: central finite
+        differences of :meth:`dir_to_pixel`."""
+        return finite_difference_jacobian(self, as_points(dirs, 3, "directions"))
+
+    def column_scale(self, y) -> np.ndarray | float:
+        """Length on the sphere of one pixel step in x relative to one step in y, at rows ``y``: how
+        much a map error in x counts (a full-sphere equirect's columns crowd toward the poles,
+        cos(latitude)). Default 1."""
+        return 1.0
+
+    def channel_lenses(self) -> tuple["Lens", "Lens", "Lens"] | None:
+        """One lens per R, G, B channel (chromatic aberration), or None (the default: one lens for all).
+
+        As a destination, output channel ``c`` at a pixel takes its ray from channel lens ``c``; as a
+        source, channel ``c`` is read at channel lens ``c``'s :meth:`dir_to_pixel`. Alpha stays one
+        per pixel, from the G lens. Extra channels beyond three follow G."""
+        return None
+
+    def falloff(self, xy) -> np.ndarray | None:
+        """Relative illumination (vignetting, 1 on the axis) at continuous pixel positions ``(..., 2)``,
+        float64 ``(...)``, or None (the default: 1 everywhere). As a destination the output is
+        multiplied by it; as a source the sample is divided by it (never by less than
+        ``lenslab.lenses.protocol.MIN_FALLOFF``)."""
+        return None
 
     # -- pixel level -----------------------------------------------------------------------
     @property
