@@ -7,7 +7,9 @@ baseline (the machine's load varies), best of --repeat runs of each. The aim is 
 of the baseline, except the numerically inverted sides (marked "solve"): the division-model
 distortions' dir_to_pixel, the Brown polynomial's pixel_to_dir and the seed fisheye's dir_to_pixel,
 which run a compiled bracketed Newton iteration per element (the seed fisheye's needs four
-transcendental functions per step, about 5x); and the tiled grid's dir_to_pixel, which searches its
+transcendental functions per step, about 5x), and the calibrated cameras' solved sides (OpenCV's and
+Kannala-Brandt's undistortion, with a 2-D Newton for tangential terms, and OCamCalib's direction ->
+pixel), printed with the largest iteration count they needed; and the tiled grid's dir_to_pixel, which searches its
 tiles in order for the first that sees each direction (about 6x for 2x2).
 """
 
@@ -42,10 +44,20 @@ DEFAULT_SPECS = (
     "sinusoidal",
     "little-planet",
     "fisheye:dfov=180",
+    # calibrated cameras (numbers of a 1024-px calibration, scaled to the grid)
+    "opencv:fx=600,fy=600,cx=511.5,cy=511.5,k1=-0.28,k2=0.09,k3=-0.01,k4=0.02,k5=0.001,k6=0.0005,width=1024,height=1024",
+    "opencv:fx=600,fy=600,cx=511.5,cy=511.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0015,k3=-0.01,k4=0.02,k5=0.001,"
+    "k6=0.0005,s1=0.001,s2=-0.0002,s3=0.0007,s4=0.0001,width=1024,height=1024",
+    "kannala-brandt:fx=250,fy=250,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,width=1024,height=1024",
+    "omnidir:fx=400,fy=400,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,width=1024,height=1024",
+    "double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024",
+    "eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024",
+    "ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024",
 )
 
 #: (model name, direction) pairs solved numerically
-SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("seedfisheye", "d2p")}
+SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("seedfisheye", "d2p"),
+          ("opencv", "p2d"), ("kannala-brandt", "p2d"), ("omnidir", "p2d"), ("ocam", "d2p")}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -105,5 +117,8 @@ def run(args: argparse.Namespace) -> int:
         del dirs, valid
         for label, t, base, key in (("p2d", t_f, b_f, "p2d"), ("d2p", t_i, b_i, "d2p")):
             mark = "  (solve)" if (lens.name, key) in SOLVED else ""
+            its = getattr(lens, "solver_iterations", {}).get(key) if mark else None
+            if its:  # calibrated models state the largest iteration count their solve needed
+                mark = f"  (solve, <= {its} iterations)"
             print(ratio_line(f"{spec[:34]} {label}", t, base, f"{count / t / 1e6:7.1f} Mdir/s{mark}"), flush=True)
     return 0

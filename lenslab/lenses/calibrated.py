@@ -11,8 +11,10 @@ equations work in OpenCV's frames, and this module converts at the boundary:
 
 A model is a projection to a normalised plane, ``(X, Y, Z) -> (mx, my)``, an optional distortion of
 that plane (:class:`~lenslab.lenses.polydistort.PolyDistortion`), and the affine intrinsics
-``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses implement :meth:`project` and
-:meth:`unproject` (and :meth:`make_distortion` when they distort).
+``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses implement :meth:`unproject` (pixel ->
+direction, NumPy) and name their projection for the compiled direction -> pixel kernel
+(:attr:`kernel_kind`, :meth:`kernel_params`; :mod:`lenslab.lenses.calibrated_kernels`), and
+:meth:`make_distortion` when they distort.
 
 A lens built for another image size scales the intrinsics about the image's corner (lenslab's frame):
 ``fx' = fx sx``, ``cx' + 0.5 = (cx + 0.5) sx`` with ``sx = W' / width`` (``y`` likewise).
@@ -112,10 +114,6 @@ class Calibrated(Lens):
         """The distortion of the normalised plane (None: none)."""
         return None
 
-    def project(self, X, Y, Z):
-        """Normalised ``(mx, my)`` and validity of unit rays in OpenCV's camera frame."""
-        raise NotImplementedError
-
     def unproject(self, mx, my):
         """Unit rays ``(X, Y, Z)`` (OpenCV's frame) and validity of normalised points."""
         raise NotImplementedError
@@ -130,9 +128,6 @@ class Calibrated(Lens):
         my = (v - self.cy) / self.fy
         mx = (u - self.cx - self.skew * my) / self.fx
         return mx, my
-
-    def plane_to_pixel(self, mx, my):
-        return self.fx * mx + self.skew * my + self.cx, self.fy * my + self.cy
 
     # -- lenslab's interface ---------------------------------------------------------------------
     def pixel_to_dir(self, xy):
@@ -157,48 +152,40 @@ class Calibrated(Lens):
         X, Y, Z, ok3 = self.unproject(mx, my)
         return X, Y, Z, ok & ok3
 
-    def ray_to_pixel(self, X, Y, Z):
-        """Unit rays in OpenCV's frame -> OpenCV pixels (1-D arrays) and validity."""
-        mx, my, ok = self.project(X, Y, Z)
-        if self.distortion is not None:
-            mx, my, ok2 = self.distortion.apply(mx, my)
-            ok &= ok2
-        u, v = self.plane_to_pixel(mx, my)
-        return u, v, ok
+    #: the compiled projection (calibrated_kernels.PINHOLE...) of the model's dir_to_pixel
+    kernel_kind: ClassVar[int | None] = None
+
+    def kernel_params(self) -> tuple[float, ...]:
+        """The projection's parameters ``q`` for the compiled kernel."""
+        return ()
 
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")
         shape = d.shape[:-1]
-        flat = d.reshape(-1, 3)
-        with np.errstate(all="ignore"):
-            n = np.sqrt(np.einsum("ij,ij->i", flat, flat))
-            nonzero = (n > 0) & np.isfinite(n)
-            unit = flat / np.where(nonzero, n, 1.0)[:, None]
-            unit[~nonzero] = (0.0, 0.0, 1.0)
-            u, v, ok = self.ray_to_pixel(unit[:, 0], -unit[:, 1], unit[:, 2])
+        flat = np.ascontiguousarray(d.reshape(-1, 3), dtype=FLOAT)
+        from lenslab.lenses.calibrated_kernels import project_kernel
+
         xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
-        xy[:, 0] = u + 0.5
-        xy[:, 1] = v + 0.5
-        ok &= nonzero & np.isfinite(xy).all(axis=-1)
-        np.copyto(xy, 0.0, where=~ok[:, None])
-        ok &= self.snap_to_image(xy)
-        np.copyto(xy, 0.0, where=~ok[:, None])
+        ok = np.empty(flat.shape[0], dtype=np.bool_)
+        dist = self.distortion
+        none = dist is None or dist.identity
+        a, b, s = (np.zeros(4), np.zeros(3), np.zeros(4)) if dist is None else (dist.a, dist.b, dist.s)
+        project_kernel(flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), a, b,
+                       0.0 if dist is None else dist.p1, 0.0 if dist is None else dist.p2, s,
+                       not none, bool(dist is not None and not dist.radial_only),
+                       np.inf if dist is None else dist.fold, self.fx, self.fy, self.skew, self.cx, self.cy,
+                       float(self.width), float(self.height), self.edge_slack, xy, ok)
         return xy.reshape(shape + (2,)), ok.reshape(shape)
+
+    @property
+    def solver_iterations(self) -> dict[str, int]:
+        """The largest iteration count of the last solved inverse, by side (``p2d``/``d2p``)."""
+        if self.distortion is not None and not self.distortion.identity:
+            return {"p2d": self.distortion.max_iterations}
+        return {}
 
     def dir_to_pixel_unit(self, d):
         return self.dir_to_pixel(d)
-
-    def _check_positive(self, **values: float) -> None:
-        for k, v in values.items():
-            if not v > 0:
-                raise LensError(f"{self.name}: {k} must be positive, got {v:g}")
-
-
-def divide(X, Y, den, ok):
-    """``(X/den, Y/den)`` where ``ok`` and ``den > 0`` (the validity returned), zeros elsewhere."""
-    ok = ok & (den > 0)
-    inv = 1.0 / np.where(ok, den, 1.0)
-    return np.where(ok, X * inv, 0.0), np.where(ok, Y * inv, 0.0), ok
 
 
 def unit_rows(X, Y, Z):

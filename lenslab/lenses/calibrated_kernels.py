@@ -162,22 +162,36 @@ def undistort_kernel(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict
 
 
 @numba.njit(**JIT)
-def ocam_kernel(angle, pol, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter, rho, valid):
-    """OCamCalib: the radius ``rho`` whose ray is ``angle`` from the axis; the largest iteration count."""
+def ocam_project_kernel(d, pol, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter,
+                        c, dd, e, xc, yc, width, height, slack, out, valid):
+    """OCamCalib, lenslab directions -> lenslab pixels: the radius ``rho`` whose ray is the direction's
+    angle from the axis (solved), then ``row = c xp + d yp + xc``, ``col = e xp + yp + yc`` (OCamCalib's
+    ``xp`` along rows = lenslab's ``-y``, ``yp`` along columns = ``x``); the largest iteration count."""
     empty = np.zeros(3)
     worst = 0
-    for i in range(angle.shape[0]):
-        t = angle[i]
-        rho[i] = 0.0
+    for i in range(d.shape[0]):
+        X = d[i, 0]
+        Y = -d[i, 1]  # OpenCV's frame: y down
+        Z = d[i, 2]
+        out[i, 0] = 0.0
+        out[i, 1] = 0.0
         valid[i] = False
+        n2 = X * X + Y * Y + Z * Z
+        if not (n2 > 0.0 and n2 < math.inf):
+            continue
+        lat = math.sqrt(X * X + Y * Y)
+        t = math.atan2(lat, Z)
         if not ((t < a_hi) if strict else (t <= a_hi)):
             continue
-        x, ok, its = _solve(OCAM, pol, empty, t, hi, _guess(t, table, tstep, False), tol, res_tol, rel_ulps,
-                            max_iter)
-        if ok:
-            worst = max(worst, its)
-            rho[i] = x
-            valid[i] = True
+        rho, ok, its = _solve(OCAM, pol, empty, t, hi, _guess(t, table, tstep, False), tol, res_tol, rel_ulps,
+                              max_iter)
+        if not ok:
+            continue
+        worst = max(worst, its)
+        k = rho / lat if lat > 0.0 else 0.0
+        xp = Y * k
+        yp = X * k
+        _store(i, e * xp + yp + yc + 0.5, c * xp + dd * yp + xc + 0.5, width, height, slack, out, valid)  # col, row
     return worst
 
 
@@ -200,3 +214,90 @@ def distort_kernel(x, y, a, b, p1, p2, s, tangential, fold, out_x, out_y, valid)
             out_x[i] = 0.0
             out_y[i] = 0.0
         valid[i] = ok
+
+
+@numba.njit(inline="always", **JIT)
+def _store(i, u, v, width, height, slack, out, valid):
+    """Pixel ``i`` if inside the image (within ``slack`` px of it counts, moved onto the edge)."""
+    if u >= -slack and u <= width + slack and v >= -slack and v <= height + slack:
+        out[i, 0] = min(max(u, 0.0), width)
+        out[i, 1] = min(max(v, 0.0), height)
+        valid[i] = True
+
+
+# -- direction -> pixel, fused: projection, distortion, intrinsics, image test -------------------------
+PINHOLE, EQUIDISTANT, UNIFIED, DOUBLE_SPHERE, EUCM = 0, 1, 2, 3, 4
+
+
+@numba.njit(**JIT)
+def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, fy, skew, cx, cy, width, height,
+                   slack, out, valid):
+    """lenslab directions (any length) -> lenslab pixels of a calibrated model, with validity.
+
+    ``kind`` picks the projection to the normalised plane (in OpenCV's frame ``X, -Y, Z``) with its
+    parameters ``q``: PINHOLE ``X/Z``; EQUIDISTANT ``theta (X, Y)/rho``; UNIFIED (Mei) ``X/(Z + xi)``,
+    ``q = (xi, w)``; DOUBLE_SPHERE ``q = (xi, alpha, w2)``; EUCM ``q = (alpha, beta, w)``. Then OpenCV's
+    distortion (inside the fold, positive Jacobian), ``u = fx x + skew y + cx + 0.5``, ``v = fy y + cy + 0.5``
+    and the image test (within ``slack`` px of the edges counts, moved onto them)."""
+    fold2 = fold * fold
+    for i in range(d.shape[0]):
+        X = d[i, 0]
+        Y = -d[i, 1]
+        Z = d[i, 2]
+        out[i, 0] = 0.0
+        out[i, 1] = 0.0
+        valid[i] = False
+        n2 = X * X + Y * Y + Z * Z
+        if not (n2 > 0.0 and n2 < math.inf):
+            continue
+        inv = 1.0 / math.sqrt(n2)
+        X *= inv
+        Y *= inv
+        Z *= inv
+        if kind == PINHOLE:
+            if not Z > 0.0:
+                continue
+            mx = X / Z
+            my = Y / Z
+        elif kind == EQUIDISTANT:
+            rho = math.sqrt(X * X + Y * Y)
+            if rho > 0.0:
+                k = math.atan2(rho, Z) / rho
+            elif Z > 0.0:
+                k = 1.0
+            else:
+                continue  # the back pole: a whole circle of the plane
+            mx = X * k
+            my = Y * k
+        elif kind == UNIFIED:
+            den = Z + q[0]
+            if not (Z > -q[1] and den > 0.0):
+                continue
+            mx = X / den
+            my = Y / den
+        elif kind == DOUBLE_SPHERE:
+            xi = q[0]
+            al = q[1]
+            d1 = math.sqrt(X * X + Y * Y + Z * Z)
+            zz = xi * d1 + Z
+            d2 = math.sqrt(X * X + Y * Y + zz * zz)
+            den = al * d2 + (1.0 - al) * zz
+            if not (Z > -q[2] * d1 and den > 0.0):
+                continue
+            mx = X / den
+            my = Y / den
+        else:  # EUCM
+            al = q[0]
+            dd = math.sqrt(q[1] * (X * X + Y * Y) + Z * Z)
+            den = al * dd + (1.0 - al) * Z
+            if not (Z > -q[2] * dd and den > 0.0):
+                continue
+            mx = X / den
+            my = Y / den
+        if distort:
+            if not mx * mx + my * my < fold2:
+                continue
+            mx, my, j11, j12, j21, j22 = _distort(mx, my, a, b, p1, p2, s)
+            if tangential and not j11 * j22 - j12 * j21 > 0.0:
+                continue
+        _store(i, fx * mx + skew * my + cx + 0.5, fy * my + cy + 0.5, width, height, slack, out, valid)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses.base import Param
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, divide, intrinsics_params
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, intrinsics_params
+from lenslab.lenses.calibrated_kernels import DOUBLE_SPHERE
 from lenslab.lenses.registry import register
 
 
@@ -46,12 +47,10 @@ class DoubleSphere(Calibrated):
         w1 = alpha_w(self.alpha)
         self.w2 = (w1 + self.xi) / np.sqrt(2.0 * w1 * self.xi + self.xi ** 2 + 1.0)
 
-    def project(self, X, Y, Z):
-        xi, a = self.xi, self.alpha
-        d1 = np.sqrt(X * X + Y * Y + Z * Z)
-        zz = xi * d1 + Z
-        d2 = np.sqrt(X * X + Y * Y + zz * zz)
-        return divide(X, Y, a * d2 + (1.0 - a) * zz, Z > -self.w2 * d1)
+    kernel_kind = DOUBLE_SPHERE  # the projection above, compiled
+
+    def kernel_params(self):
+        return (self.xi, self.alpha, self.w2)
 
     def unproject(self, mx, my):
         xi, a = self.xi, self.alpha

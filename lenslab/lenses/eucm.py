@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses.base import Param
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, divide, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated_kernels import EUCM as EUCM_KIND
 from lenslab.lenses.double_sphere import alpha_w
 from lenslab.lenses.registry import register
 
@@ -40,10 +41,10 @@ class EUCM(Calibrated):
         super()._check()
         self.w = alpha_w(self.alpha)
 
-    def project(self, X, Y, Z):
-        a, b = self.alpha, self.beta
-        d = np.sqrt(b * (X * X + Y * Y) + Z * Z)
-        return divide(X, Y, a * d + (1.0 - a) * Z, Z > -self.w * d)
+    kernel_kind = EUCM_KIND  # the projection above, compiled
+
+    def kernel_params(self):
+        return (self.alpha, self.beta, self.w)
 
     def unproject(self, mx, my):
         a, b = self.alpha, self.beta

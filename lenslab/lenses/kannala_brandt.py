@@ -5,17 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
+from lenslab.lenses.calibrated_kernels import EQUIDISTANT
 from lenslab.lenses.polydistort import PolyDistortion
 from lenslab.lenses.registry import register
-
-
-def equidistant_project(X, Y, Z):
-    """The equidistant plane: ``theta (X, Y) / rho`` with ``theta = atan2(rho, Z)``, ``rho = |(X, Y)|``.
-    Valid everywhere except the back pole (a whole circle of the plane)."""
-    rho = np.hypot(X, Y)
-    theta = np.arctan2(rho, Z)
-    k = np.where(rho > 0, theta / np.where(rho > 0, rho, 1.0), 1.0)  # theta/rho -> 1 on the axis (Z = 1)
-    return X * k, Y * k, (rho > 0) | (Z > 0)
 
 
 def equidistant_unproject(mx, my):
@@ -60,8 +52,8 @@ class KannalaBrandt(Calibrated):
         """Largest angle from the axis the model sees, radians (the end of its monotone range)."""
         return self.distortion.fold
 
-    def project(self, X, Y, Z):
-        return equidistant_project(X, Y, Z)
+    #: the equidistant plane theta (X, Y) / |(X, Y)|, theta = atan2(|(X, Y)|, Z); all but the back pole
+    kernel_kind = EQUIDISTANT
 
     def unproject(self, mx, my):
         X, Y, Z, ok = equidistant_unproject(mx, my)

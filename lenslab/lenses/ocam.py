@@ -8,7 +8,7 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Param
+from lenslab.lenses.base import FLOAT, Param, as_points
 from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, unit_rows
 from lenslab.lenses.polydistort import first_positive_root
 from lenslab.lenses.registry import register
@@ -100,6 +100,10 @@ class OCam(Calibrated):
         dp = P.polyval(rho, P.polyder(self.pol_c))
         return np.arctan2(rho, -p), (rho * dp - p) / (rho * rho + p * p)
 
+    @property
+    def solver_iterations(self) -> dict[str, int]:
+        return {"d2p": getattr(self, "max_iterations", 0)}
+
     def pixel_to_ray(self, u, v):
         xp, yp = self._affine_inverse(v, u)  # OpenCV (u, v) = (column, row)
         rho = np.hypot(xp, yp)
@@ -108,21 +112,19 @@ class OCam(Calibrated):
         ok = rho < self.rho_fold if np.isfinite(self.rho_fold) else np.isfinite(rho)
         return X, Y, Z, ok & np.isfinite(rho)
 
-    def ray_to_pixel(self, X, Y, Z):
-        lat = np.hypot(X, Y)
-        a = np.arctan2(lat, Z)
-        strict = bool(np.isfinite(self.rho_fold) and self.rho_hi == self.rho_fold)
-        from lenslab.lenses.calibrated_kernels import ocam_kernel
+    def dir_to_pixel(self, dirs):
+        from lenslab.lenses.calibrated_kernels import ocam_project_kernel
 
+        d = as_points(dirs, 3, "directions")
+        shape = d.shape[:-1]
+        flat = np.ascontiguousarray(d.reshape(-1, 3), dtype=FLOAT)
         if getattr(self, "_table", None) is None:
             self._table = inverse_table(self._angle, self.rho_hi)
         table, step = self._table
-        rho = np.empty(a.shape, dtype=FLOAT)
-        ok = np.empty(a.shape, dtype=np.bool_)
-        self.max_iterations = ocam_kernel(np.ascontiguousarray(a), self.pol_c, self.rho_hi, self._angle_hi, strict,
-                                          table, step, *kernel_settings(), rho, ok)
-        k = np.where(lat > 0, rho / np.where(lat > 0, lat, 1.0), 0.0)
-        xp, yp = Y * k, X * k  # OCamCalib x = rows (OpenCV Y), y = columns (OpenCV X)
-        row = self.c * xp + self.d * yp + self.xc
-        col = self.e * xp + yp + self.yc
-        return col, row, ok
+        strict = bool(np.isfinite(self.rho_fold) and self.rho_hi == self.rho_fold)
+        xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
+        ok = np.empty(flat.shape[0], dtype=np.bool_)
+        self.max_iterations = ocam_project_kernel(
+            flat, self.pol_c, self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
+            self.c, self.d, self.e, self.xc, self.yc, float(self.width), float(self.height), self.edge_slack, xy, ok)
+        return xy.reshape(shape + (2,)), ok.reshape(shape)

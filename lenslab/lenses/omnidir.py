@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses.base import Param
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, divide, intrinsics_params
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
+from lenslab.lenses.calibrated_kernels import UNIFIED
 from lenslab.lenses.polydistort import PolyDistortion
 from lenslab.lenses.registry import register
 
@@ -51,8 +52,10 @@ class Omnidir(Calibrated):
     def make_distortion(self):
         return PolyDistortion(a=(self.k1, self.k2), p1=self.p1, p2=self.p2, limit=self.radius_limit)
 
-    def project(self, X, Y, Z):
-        return divide(X, Y, Z + self.xi, Z > -self.w)
+    kernel_kind = UNIFIED  # (X, Y) / (Z + xi) for unit rays, valid for Z > -w
+
+    def kernel_params(self):
+        return (self.xi, self.w)
 
     def unproject(self, mx, my):
         xi = self.xi

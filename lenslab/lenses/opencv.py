@@ -4,14 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, divide, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated_kernels import PINHOLE
 from lenslab.lenses.polydistort import PolyDistortion
 from lenslab.lenses.registry import register
-
-
-def pinhole_project(X, Y, Z):
-    """``(X/Z, Y/Z)``, valid in front of the camera (``Z > 0``)."""
-    return divide(X, Y, Z, Z > 0)
 
 
 @register
@@ -46,8 +42,7 @@ class OpenCV(Calibrated):
         return PolyDistortion(a=(self.k1, self.k2, self.k3), b=(self.k4, self.k5, self.k6), p1=self.p1, p2=self.p2,
                               s=(self.s1, self.s2, self.s3, self.s4))
 
-    def project(self, X, Y, Z):
-        return pinhole_project(X, Y, Z)
+    kernel_kind = PINHOLE  # (X/Z, Y/Z), valid for Z > 0
 
     def unproject(self, mx, my):
         X, Y, Z = unit_rows(mx, my, np.ones_like(mx))
