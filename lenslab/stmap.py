@@ -24,9 +24,10 @@ import numpy as np
 
 from lenslab.errors import WarpError
 
-#: source pixels apart beyond which two neighbouring map entries are taken for a jump (a seam, a face
-#: edge) and never interpolated between
-JUMP = 4.0
+#: a link between neighbouring map entries is a jump (a seam, a face edge), never interpolated across,
+#: when it is longer than JUMP_RATIO times the shorter of the links beside it plus JUMP_SLACK source px
+JUMP_RATIO = 4.0
+JUMP_SLACK = 1.0
 
 
 def st_map(src, dst, progress: Callable[[int], None] | None = None, band_rows: int = 64) -> np.ndarray:
@@ -88,16 +89,36 @@ def source_positions(st: np.ndarray, src_size: tuple[int, int]) -> tuple[np.ndar
     return x, y, ok
 
 
+def smooth_links(x: np.ndarray, y: np.ndarray, ok: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The links between neighbouring entries along ``axis`` (1: across, 0: down): their source-pixel
+    steps ``(dx, dy)`` and whether each is smooth (both ends valid and not a jump, see JUMP_RATIO).
+    Arrays have one entry fewer along ``axis``."""
+    dx, dy = np.diff(x, axis=axis), np.diff(y, axis=axis)
+    both = np.diff(ok.astype(np.int8), axis=axis) == 0
+    both &= np.delete(ok, 0, axis=axis)
+    length = np.where(both, np.hypot(dx, dy), np.inf)
+    n = length.shape[axis]
+    edge = np.full_like(np.take(length, [0], axis=axis), np.inf)
+    before = np.concatenate([edge, np.take(length, range(n - 1), axis=axis)], axis=axis)
+    after = np.concatenate([np.take(length, range(1, n), axis=axis), edge], axis=axis)
+    near = np.minimum(before, after)
+    with np.errstate(invalid="ignore"):
+        smooth = both & ~(length > JUMP_RATIO * near + JUMP_SLACK)
+    return dx, dy, smooth
+
+
 def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, r0: int = 0, r1: int | None = None):
     """Index coordinates (float32 ``h x W x S``, the centre of source pixel k at k) and validity of the
     sub-pixel samples at ``offsets`` (``S x 2`` in [0, 1]) of the output pixels of rows ``r0:r1``.
 
     The map holds pixel centres; a sample elsewhere interpolates it bilinearly from the four nearest
-    centres (clamped at the image's edges), unless they span a jump (more than ``JUMP`` source pixels
-    apart, or one without a ray): it then takes its own pixel's entry.
+    centres (clamped at the image's edges), unless a link between them is not smooth (a jump, or an
+    entry without a ray; see :func:`smooth_links`): it then takes its own pixel's entry.
     """
     x, y, ok = source_positions(st, src_size)
     h, w = ok.shape
+    _, _, sx = smooth_links(x, y, ok, 1)  # (h, w - 1)
+    _, _, sy = smooth_links(x, y, ok, 0)  # (h - 1, w)
     r1 = h if r1 is None else r1
     xs = np.empty((r1 - r0, w, len(offsets)), dtype=np.float32)
     ys = np.empty_like(xs)
@@ -113,8 +134,13 @@ def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, 
         corners = [(y0, x0), (y0, x1), (y1, x0), (y1, x1)]
         cx = np.stack([x[c] for c in corners])
         cy = np.stack([y[c] for c in corners])
-        cok = np.stack([ok[c] for c in corners]).all(axis=0)
-        smooth = cok & (np.ptp(cx, axis=0) <= JUMP) & (np.ptp(cy, axis=0) <= JUMP)
+        smooth = np.stack([ok[c] for c in corners]).all(axis=0)
+        if w > 1:  # the links across the top and bottom pairs and down the left and right pairs
+            lx = np.minimum(x0, w - 2)
+            smooth &= np.where(x1 > x0, sx[y0, lx] & sx[y1, lx], True)
+        if h > 1:
+            ly = np.minimum(y0, h - 2)
+            smooth &= np.where(y1 > y0, sy[ly, x0] & sy[ly, x1], True)
         wts = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy])
         xs[..., k] = np.where(smooth, (wts * cx).sum(axis=0), x[r0:r1]) - 0.5
         ys[..., k] = np.where(smooth, (wts * cy).sum(axis=0), y[r0:r1]) - 0.5
@@ -124,27 +150,63 @@ def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, 
     return xs, ys, valid
 
 
+def footprints(st: np.ndarray, src_size: tuple[int, int]) -> np.ndarray:
+    """Each entry's footprint on the source (float32 ``H x W x 4``: the steps ``a`` across and ``b`` down,
+    in source pixels): central differences between neighbouring entries, one-sided beside a jump or an
+    entry without a ray, zero with neither neighbour."""
+    x, y, ok = source_positions(st, src_size)
+    foot = np.zeros(ok.shape + (4,), dtype=np.float32)
+    for axis, k in ((1, 0), (0, 2)):
+        dx, dy, smooth = smooth_links(x, y, ok, axis)
+        for step, col in ((dx, k), (dy, k + 1)):
+            step = np.where(smooth, step, 0.0)
+            pad = np.zeros_like(np.take(step, [0], axis=axis))
+            lo = np.concatenate([pad, step], axis=axis)  # the link before each entry
+            hi = np.concatenate([step, pad], axis=axis)  # the link after it
+            s_pad = np.zeros_like(np.take(smooth, [0], axis=axis))
+            n = np.concatenate([s_pad, smooth], axis=axis).astype(np.float32) + np.concatenate([smooth, s_pad], axis=axis)
+            foot[..., col] = np.divide(lo + hi, n, out=np.zeros(n.shape), where=n > 0)
+    return foot
+
+
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
+                     antialias: bool = False,
                      progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` (H x W x C) by an ST map: ``(float32 h x w x C, alpha float32 h x w)`` of the map's
-    size, with lenslab's reconstruction filters and ``samples`` stratified samples per pixel. Taps
-    outside the source clamp to its edge."""
+    size, with lenslab's reconstruction filters and ``samples`` stratified samples per pixel, or, with
+    ``antialias``, lenslab's footprint prefilter (one sample per pixel, its footprint from the map's
+    differences between neighbouring pixels; see :mod:`lenslab.warp.antialias`). Taps outside the
+    source clamp to its edge."""
+    from lenslab.warp import antialias as aa
     from lenslab.warp.filters import FILTERS, sample
     from lenslab.warp.maps import sample_pattern
     from lenslab.warp.seam import Border
 
     if filter not in FILTERS:
         raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+    if antialias and samples != 1:
+        raise WarpError("with an ST map, give either --antialias or --samples, not both")
     src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
     h, w = st.shape[:2]
+    size = (src.shape[1], src.shape[0])
     out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
     alpha = np.zeros((h, w), dtype=np.float32)
     offsets = sample_pattern(int(samples))
+    pyramid = aa.pyramid(src, Border()) if antialias else None
+    foot = footprints(st, size) if antialias else None
     rows = max(1, (1 << 18) // max(1, w * len(offsets)))
     for r0 in range(0, h, rows):
         r1 = min(h, r0 + rows)
-        xs, ys, valid = map_samples(st, (src.shape[1], src.shape[0]), offsets, r0, r1)
-        sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
+        xs, ys, valid = map_samples(st, size, offsets, r0, r1)
+        if antialias:
+            k = aa.EDGE_SPLIT ** 2
+            band = aa.FootprintBand(r0, r1, xs, ys, valid, np.ascontiguousarray(foot[r0:r1, :, None]),
+                                    np.zeros(valid.shape, dtype=bool), np.zeros(0, dtype=np.int64),
+                                    np.zeros((0, k), np.float32), np.zeros((0, k), np.float32),
+                                    np.zeros((0, k), dtype=bool))
+            aa.sample_footprint(pyramid, band, Border(), out[r0:r1], alpha[r0:r1])
+        else:
+            sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
         if progress is not None:
             progress(r1 - r0)
     if image.ndim == 2:

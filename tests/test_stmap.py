@@ -145,3 +145,24 @@ def test_stmap_command_refuses_bad_requests(tmp_path):
     write(src, np.zeros((16, 16, 3), np.float32))
     assert exit_code(["warp", str(src), "--stmap", str(out), "--to", "equirect", "-o", str(tmp_path / "o.exr"), "-q"]) == 1
     assert exit_code(["warp", str(src), "-o", str(tmp_path / "o.exr"), "-q"]) == 1  # neither --to nor --stmap
+
+
+def test_antialias_through_an_st_map_approaches_supersampling(tmp_path):
+    """A detailed panorama shrunk into a small fisheye: --antialias with an ST map lands as close to
+    dense supersampling (the box average of the pixel) as the lens warp's own --antialias does."""
+    from lenslab.lenses import Camera
+    from lenslab.stmap import warp_with_st_map
+    from lenslab.warp import warp
+
+    img = np.random.default_rng(0).random((512, 1024, 3)).astype(np.float32)
+    src, dst = Camera.from_spec("equirect", (1024, 512)), Camera.from_spec("fisheye:fov=180", (96, 96))
+    st = st_map(src, dst)
+    ours, a1 = warp_with_st_map(img, st, antialias=True)
+    plain, _ = warp_with_st_map(img, st)
+    lens_aa, a2 = warp(img, src, dst, antialias=True)
+    dense, a3 = warp(img, src, dst, samples=64)
+    keep = (a1 > 0.999) & (a2 > 0.999) & (a3 > 0.999)
+    err = np.abs(ours - dense)[keep].mean()
+    # measured 0.0042 against the lens warp's 0.0044 and 0.15 without a prefilter: within 20% of the lens warp's
+    assert err < 1.2 * np.abs(lens_aa - dense)[keep].mean()
+    assert err < 0.1 * np.abs(plain - dense)[keep].mean()

@@ -51,7 +51,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
-                             "the map's size; see 'lenslab stmap')")
+                             "the map's size; --filter, --samples and --antialias apply; see 'lenslab stmap')")
     parser.add_argument("--from", dest="source", metavar="SPEC",
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
@@ -246,7 +246,8 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         from lenslab.stmap import warp_with_st_map
 
         dst = None
-        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, progress=progress)
+        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
+                                         progress=progress)
     else:
         src = source_camera(args.source, meta, image.shape)
         size = args.size or default_size(args.to, image.shape[0])
@@ -312,13 +313,12 @@ def run(args: argparse.Namespace) -> int:
         raise WarpError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
     if args.stmap:
         taken = [flag for flag, on in (("--to", args.to), ("--from", args.source), ("--size", args.size),
-                                        ("--compat", args.compat), ("--antialias", args.antialias),
+                                        ("--compat", args.compat),
                                         ("--autoscale", args.autoscale), ("--look-at", args.look_at),
                                         ("--eye", args.eye), ("--yaw/--pitch/--roll", args.yaw or args.pitch or args.roll))
                  if on]
         if taken:
-            raise WarpError(f"--stmap gives the whole geometry; drop {', '.join(taken)} (use --samples to "
-                            "anti-alias)")
+            raise WarpError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
         from lenslab.stmap import read_st_map
 
         args.st = read_st_map(args.stmap)
