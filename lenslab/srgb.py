@@ -1,29 +1,37 @@
-"""The sRGB transfer function, in one place for the whole of lenslab.
+"""The sRGB transfer function, in one place for the whole of lenslab: colour-science's, and tables of it.
 
-IEC 61966-2-1:1999 (the sRGB standard), as colour-science defines it (``colour.models.eotf_sRGB``
-and ``eotf_inverse_sRGB``); the tests hold these to colour-science's answers at float64 precision.
+IEC 61966-2-1:1999 as colour-science implements it (``colour.models.eotf_sRGB`` and
+``eotf_inverse_sRGB``): decoding takes a code value ``v`` in [0, 1] to linear light, ``v / 12.92`` up
+to 0.04045, ``((v + 0.055) / 1.055) ** 2.4`` above; encoding is its inverse. :func:`eotf` and
+:func:`eotf_inverse` are colour-science's functions themselves.
 
-- decoding, code value ``v`` in [0, 1] -> linear light: ``v / 12.92`` up to ``v = 0.04045``, else
-  ``((v + 0.055) / 1.055) ** 2.4``;
-- encoding, linear ``x`` -> code value: ``12.92 x`` up to ``x = 0.0031308``, else
-  ``1.055 x ** (1 / 2.4) - 0.055``.
+Importing colour-science takes about a second, too long for a command that reads or writes one small
+file. So the formats and the tone curves use tables of those functions, built with colour-science the
+first time they are needed and kept as ``.npy`` files in the user's cache directory
+(``$LENSLAB_CACHE_DIR``, else ``$XDG_CACHE_HOME/lenslab``, else ``~/.cache/lenslab``; where nothing
+can be written the tables are built in memory each time):
 
-Written here with NumPy alone so that reading or writing an 8-bit file needs no colour-science import
-(which takes about a second). The file formats build their lookup tables from these
-(:mod:`lenslab.io.encode`), the tone curves take the constants (``gamma``), the fits compare
-encoded values.
+- :func:`decode_table` (maxval 255 or 65535 cached): every code value's linear light, as float32;
+- :func:`thresholds`: the linear values where the rounded 8- or 16-bit code steps up (exact table
+  encoding, :mod:`lenslab.io.encode`);
+- :func:`encode`: linear light to code values in float32 by linear interpolation in a table of 65537
+  points over the curved segment, within 1e-7 of colour-science (the tests hold it there).
 
->>> float(eotf(0.5))
-0.21404114048223255
->>> float(eotf_inverse(0.18))
-0.46135612950044164
+The standard's constants (:data:`KNEE` ...) are here too, for the ``gamma`` tone curve's closed form.
+
+>>> round(float(encode([0.18])[0]), 6), round(float(decode_table(255)[118]), 6)   # middle grey
+(0.461356, 0.181164)
 """
 
 from __future__ import annotations
 
+import functools
+import os
+from pathlib import Path
+
 import numpy as np
 
-#: linear value where the two segments of the encoding meet
+#: linear value where the encoding changes segment
 KNEE_LINEAR = 0.0031308
 SLOPE = 12.92
 #: code value where the decoding changes segment: the encoding of KNEE_LINEAR, 0.040449936 (the
@@ -32,23 +40,91 @@ KNEE = KNEE_LINEAR * SLOPE
 OFFSET = 0.055
 POWER = 2.4
 
+ENCODE_POINTS = 1 << 16  # intervals of the encoding table over [0, 1]
+_CACHE_VERSION = 2
+
 
 def eotf(code) -> np.ndarray:
-    """sRGB code values (any float array) -> linear light, float64; values outside [0, 1] follow the
-    same two segments (the power one mirrored below 0, as colour-science does not: it is not used there)."""
-    v = np.asarray(code, dtype=np.float64)
-    return np.where(v <= KNEE, v / SLOPE, ((np.maximum(v, KNEE) + OFFSET) / (1.0 + OFFSET)) ** POWER)
+    """sRGB code values -> linear light, float64 (colour-science's ``eotf_sRGB``)."""
+    import colour
+
+    return np.asarray(colour.models.eotf_sRGB(np.asarray(code, dtype=np.float64)), dtype=np.float64)
 
 
 def eotf_inverse(linear) -> np.ndarray:
-    """Linear light -> sRGB code values, float64 (inputs below 0 stay on the linear segment)."""
-    x = np.asarray(linear, dtype=np.float64)
-    return np.where(x <= KNEE_LINEAR, x * SLOPE,
-                    (1.0 + OFFSET) * np.maximum(x, KNEE_LINEAR) ** (1.0 / POWER) - OFFSET)
+    """Linear light -> sRGB code values, float64 (colour-science's ``eotf_inverse_sRGB``)."""
+    import colour
+
+    return np.asarray(colour.models.eotf_inverse_sRGB(np.asarray(linear, dtype=np.float64)), dtype=np.float64)
+
+
+def cache_dir() -> Path:
+    """Where the tables are kept (see the module's description)."""
+    env = os.environ.get("LENSLAB_CACHE_DIR")
+    if env:
+        return Path(env)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "lenslab"
+
+
+def _cached(name: str, length: int, dtype, build) -> np.ndarray:
+    """The table ``name`` from the cache (checked for its length and type), else ``build()`` and keep it."""
+    path = cache_dir() / f"srgb-v{_CACHE_VERSION}-{name}.npy"
+    try:
+        table = np.load(path, allow_pickle=False)
+        if table.shape == (length,) and table.dtype == dtype:
+            return table
+    except (OSError, ValueError):
+        pass
+    table = np.ascontiguousarray(build(), dtype=dtype)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        with open(tmp, "wb") as f:
+            np.save(f, table, allow_pickle=False)
+        os.replace(tmp, path)  # whole or not at all: another process may be reading it
+    except OSError:
+        pass  # a read-only home: the table is rebuilt next time
+    return table
+
+
+@functools.lru_cache(maxsize=8)
+def decode_table(maxval: int) -> np.ndarray:
+    """float32 table: code value 0..maxval -> linear light (the EOTF of code / maxval)."""
+    maxval = int(maxval)
+
+    def build():
+        return eotf(np.arange(maxval + 1, dtype=np.float64) / maxval)
+    if maxval not in (255, 65535):
+        return build().astype(np.float32)
+    return _cached(f"decode-{maxval}", maxval + 1, np.float32, build)
+
+
+@functools.lru_cache(maxsize=2)
+def thresholds(bits: int) -> np.ndarray:
+    """float64: the linear value at which the rounded ``bits``-bit code reaches k, for k = 1..2^bits - 1
+    (the EOTF of (k - 0.5) / maxval)."""
+    maxval = (1 << int(bits)) - 1
+    return _cached(f"thresholds-{bits}", maxval, np.float64,
+                   lambda: eotf((np.arange(1, maxval + 1, dtype=np.float64) - 0.5) / maxval))
+
+
+@functools.lru_cache(maxsize=1)
+def _encode_table() -> tuple[np.ndarray, np.ndarray, float]:
+    """(value at each point, step to the next, slope below the knee) of the encoding: ENCODE_POINTS
+    intervals over the curved segment [KNEE_LINEAR, 1]; the straight one below needs only its slope."""
+    grid = KNEE_LINEAR + (1.0 - KNEE_LINEAR) * np.arange(ENCODE_POINTS + 1, dtype=np.float64) / ENCODE_POINTS
+    table = _cached("encode", ENCODE_POINTS + 1, np.float64, lambda: eotf_inverse(grid))
+    return table[:-1].astype(np.float32), np.diff(table).astype(np.float32), float(table[0] / KNEE_LINEAR)
 
 
 def encode(linear) -> np.ndarray:
     """Linear light -> sRGB code values in [0, 1], float32 of the same shape: NaN and values below 0
-    become 0, values above 1 (and +inf) become 1, then :func:`eotf_inverse`."""
-    x = np.nan_to_num(np.asarray(linear, dtype=np.float64), nan=0.0, posinf=1.0, neginf=0.0)
-    return eotf_inverse(np.clip(x, 0.0, 1.0)).astype(np.float32)
+    become 0, values above 1 (and +inf) become 1. Linear interpolation in a table of the encoding's
+    curved segment (within 1e-7 of colour-science), its straight segment by its slope."""
+    base, step, slope = _encode_table()
+    x = np.clip(np.nan_to_num(np.asarray(linear, dtype=np.float64), nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    t = np.maximum(x - KNEE_LINEAR, 0.0) * (ENCODE_POINTS / (1.0 - KNEE_LINEAR))
+    i = np.minimum(t.astype(np.intp), ENCODE_POINTS - 1)
+    curved = base[i] + step[i] * (t - i)
+    return np.where(x <= KNEE_LINEAR, x * slope, curved).astype(np.float32)

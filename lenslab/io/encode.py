@@ -3,11 +3,12 @@
 LDR files (PPM/PGM, JPG, PNG) hold sRGB-encoded code values. Reading decodes them to linear light;
 writing encodes linear light in [0, 1] and quantises with round-to-nearest (optionally dithered).
 
-Speed without hand-writing the curve: decoding goes through a table of every code value, built once
-per maxval with the sRGB EOTF. Encoding to 8 or 16 bits goes through a table of the decision
-thresholds (the linear values where the rounded code steps up), again from the EOTF: the result is
-exactly ``round(maxval * eotf_inverse_sRGB(x))`` at table-lookup speed. :mod:`lenslab.srgb` agrees with
-colour-science to float64 rounding without importing it (a second of start-up).
+Speed without hand-writing the curve: decoding goes through a table of every code value
+(:func:`lenslab.srgb.decode_table`). Encoding to 8 or 16 bits goes through a table of the decision
+thresholds (the linear values where the rounded code steps up, :func:`lenslab.srgb.thresholds`): the
+result is exactly ``round(maxval * eotf_inverse_sRGB(x))`` at table-lookup speed. Those tables are
+colour-science's function, built once and cached on disk, so a command that writes one small file
+does not wait for colour-science to import.
 """
 
 from __future__ import annotations
@@ -19,16 +20,9 @@ import numpy as np
 from lenslab import srgb
 
 
-@functools.lru_cache(maxsize=8)
-def decode_table(maxval: int) -> np.ndarray:
-    """float32 table: code value 0..maxval -> linear light (sRGB EOTF of code/maxval)."""
-    codes = np.arange(maxval + 1, dtype=np.float64) / maxval
-    return srgb.eotf(codes).astype(np.float32)
-
-
 def decode_srgb(codes: np.ndarray, maxval: int) -> np.ndarray:
     """Integer code values (0..maxval) -> linear light, float32."""
-    return decode_table(int(maxval))[codes]
+    return srgb.decode_table(int(maxval))[codes]
 
 
 def encode_srgb(linear: np.ndarray) -> np.ndarray:
@@ -47,7 +41,7 @@ def _encode_tables(bits: int) -> tuple[np.ndarray, np.ndarray]:
     maxval = (1 << bits) - 1
     cells = _CELLS[bits]
     # linear value at which the rounded code reaches k (k = 1..maxval), from the sRGB EOTF
-    thr64 = srgb.eotf((np.arange(1, maxval + 1) - 0.5) / maxval)
+    thr64 = srgb.thresholds(bits)
     # the smallest float32 not below each threshold, so that float32 comparisons round as float64 would
     thr = thr64.astype(np.float32)
     below = thr.astype(np.float64) < thr64
