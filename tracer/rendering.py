@@ -24,6 +24,7 @@ import numpy as np
 
 from tracer.accel import cpu_count
 from tracer.integrators import INTEGRATORS, trace
+from tracer.lensfx import apply_lens_effects, has_effects
 
 DEFAULT_BATCH = 1 << 17  # samples per band: bounds the memory of a worker (about 40 MB)
 STEP_SPP = 16  # samples per pass when stopping on a time budget or a target error
@@ -169,6 +170,8 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
         bar = tqdm(total=spp * width * height, unit="spl", unit_scale=True, file=sys.stderr,
                    disable=not sys.stderr.isatty(), leave=False, desc=f"tracing {scene.name}")
 
+    effects = has_effects(camera.lens)
+
     def band(pass_no: int, pass_spp: int, r0: int, r1: int) -> None:
         grid_seed = None if seed is None else _sub_seed(seed, pass_no)
         o, d, ok = camera.rays(samples=pass_spp, seed=grid_seed, rows=slice(r0, r1))
@@ -183,6 +186,9 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
             if len(k):
                 radiance[k] = trace(scene, np.take(o, k, axis=0), np.take(d, k, axis=0), rng, integrator, max_depth,
                                     rr_depth, threads=1)
+        if effects:  # a ray per colour channel (chromatic aberration) and the vignetting weight
+            xy = camera.pixel_grid(slice(r0, r1), pass_spp, grid_seed).reshape(-1, 2)
+            radiance = apply_lens_effects(scene, camera, xy, radiance, rng, integrator, max_depth, rr_depth)
         x = radiance.reshape(h, width, pass_spp, 3)
         b_mean = x.mean(axis=2, dtype=np.float64)
         dev = x - b_mean[:, :, None].astype(np.float32)
@@ -262,6 +268,10 @@ def trace_pixels(scene, camera, xy, spp: int = 1, seed: int | None = 0, integrat
     x = np.zeros((n, spp, 3), dtype=np.float64)
     if len(rep):
         x[ok] = trace(scene, o[rep], d[rep], rng, integrator, max_depth, rr_depth).reshape(-1, spp, 3)
+    if has_effects(camera.lens):  # a ray per colour channel and the vignetting weight, as in render()
+        xs = np.repeat(xy, spp, axis=0)
+        x = apply_lens_effects(scene, camera, xs, x.reshape(-1, 3), rng, integrator, max_depth,
+                               rr_depth).reshape(n, spp, 3)
     mean = x.mean(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         var = x.var(axis=1, ddof=1) / spp if spp > 1 else np.full((n, 3), np.inf)
