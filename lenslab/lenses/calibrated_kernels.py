@@ -161,6 +161,23 @@ def undistort_kernel(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict
     return worst
 
 
+@numba.njit(inline="always", **JIT)
+def _cv_ray(d, i, out, valid):
+    """Direction ``i`` (lenslab's frame, any length) as a unit ray in OpenCV's frame (y down), and
+    whether it is one (finite, non-zero); clears the outputs of element ``i``."""
+    out[i, 0] = 0.0
+    out[i, 1] = 0.0
+    valid[i] = False
+    X = d[i, 0]
+    Y = -d[i, 1]
+    Z = d[i, 2]
+    n2 = X * X + Y * Y + Z * Z
+    if not (n2 > 0.0 and n2 < math.inf):
+        return False, 0.0, 0.0, 1.0
+    inv = 1.0 / math.sqrt(n2)
+    return True, X * inv, Y * inv, Z * inv
+
+
 @numba.njit(**JIT)
 def ocam_project_kernel(d, pol, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter,
                         c, dd, e, xc, yc, width, height, slack, out, valid):
@@ -170,14 +187,8 @@ def ocam_project_kernel(d, pol, hi, a_hi, strict, table, tstep, tol, res_tol, re
     empty = np.zeros(3)
     worst = 0
     for i in range(d.shape[0]):
-        X = d[i, 0]
-        Y = -d[i, 1]  # OpenCV's frame: y down
-        Z = d[i, 2]
-        out[i, 0] = 0.0
-        out[i, 1] = 0.0
-        valid[i] = False
-        n2 = X * X + Y * Y + Z * Z
-        if not (n2 > 0.0 and n2 < math.inf):
+        ok, X, Y, Z = _cv_ray(d, i, out, valid)
+        if not ok:
             continue
         lat = math.sqrt(X * X + Y * Y)
         t = math.atan2(lat, Z)
@@ -241,19 +252,9 @@ def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, f
     and the image test (within ``slack`` px of the edges counts, moved onto them)."""
     fold2 = fold * fold
     for i in range(d.shape[0]):
-        X = d[i, 0]
-        Y = -d[i, 1]
-        Z = d[i, 2]
-        out[i, 0] = 0.0
-        out[i, 1] = 0.0
-        valid[i] = False
-        n2 = X * X + Y * Y + Z * Z
-        if not (n2 > 0.0 and n2 < math.inf):
+        ok, X, Y, Z = _cv_ray(d, i, out, valid)
+        if not ok:
             continue
-        inv = 1.0 / math.sqrt(n2)
-        X *= inv
-        Y *= inv
-        Z *= inv
         if kind == PINHOLE:
             if not Z > 0.0:
                 continue
