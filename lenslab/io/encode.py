@@ -120,3 +120,25 @@ def _encode_table(x: np.ndarray, bits: int) -> np.ndarray:
         np.greater_equal(xb, tb, out=hb)
         ob += hb
     return out.reshape(x.shape)
+
+
+def decode_codes(codes: np.ndarray, maxval: int, raw: bool = False) -> np.ndarray:
+    """Integer samples H x W x C of an LDR file -> float32: colour sRGB-decoded to linear light (``raw``:
+    code / maxval), and alpha (the last channel of 2 or 4) always code / maxval, since it is coverage."""
+    if raw:
+        return codes.astype(np.float32) / np.float32(maxval)
+    image = decode_srgb(codes, maxval)
+    if codes.shape[-1] in (2, 4):
+        image[..., -1] = codes[..., -1].astype(np.float32) / np.float32(maxval)
+    return image
+
+
+def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool = False) -> np.ndarray:
+    """Float32 H x W x C -> uint8/uint16 samples: colour sRGB-encoded (``raw``: value * maxval), alpha
+    (the last channel of 2 or 4) always value * maxval; rounded to nearest."""
+    if raw:
+        return quantise(image, bits, dither=dither)
+    if image.shape[-1] not in (2, 4):
+        return encode_quantise(image, bits, dither=dither)
+    codes = encode_quantise(image[..., :-1], bits, dither=dither)
+    return np.concatenate([codes, quantise(image[..., -1:], bits)], axis=-1)

@@ -68,13 +68,9 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         maxval, bits = 65535, 16
     else:
         raise FormatError(f"{path}: {fmt.upper()} with {codes.dtype} samples is not supported; use 8 or 16 bits")
-    if raw:
-        image = codes.astype(np.float32) / np.float32(maxval)
-    else:
-        from lenslab.io.encode import decode_srgb
-        image = decode_srgb(codes, maxval)
-        if c in (2, 4):  # alpha is linear coverage, never display-encoded
-            image[..., -1] = codes[..., -1].astype(np.float32) / np.float32(maxval)
+    from lenslab.io.encode import decode_codes
+
+    image = decode_codes(codes, maxval, raw)
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,
@@ -97,7 +93,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     """
     import cv2
 
-    from lenslab.io.encode import encode_quantise, quantise
+    from lenslab.io.encode import encode_codes
 
     c = image.shape[2]
     if fmt == "jpg":
@@ -107,13 +103,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
             raise FormatError(f"JPG quality must be 0..100, not {quality}")
     elif bits not in (8, 16):
         raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
-    if raw:
-        codes = quantise(image, bits, dither=dither)
-    elif c == 4:
-        codes = encode_quantise(image[..., :3], bits, dither=dither)
-        codes = np.concatenate([codes, quantise(image[..., 3:], bits)], axis=-1)
-    else:
-        codes = encode_quantise(image, bits, dither=dither)
+    codes = encode_codes(image, bits, raw, dither)
     if c == 3:
         codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
     elif c == 4:

@@ -1,0 +1,30 @@
+"""TIFF: float32, half, 16- and 8-bit grey or RGB, with alpha, through tifffile (codec: :mod:`lenslab.io.tiff`)."""
+
+from __future__ import annotations
+
+from lenslab.io.plugin import Format
+
+
+def _read(path, selector=None, raw=False):
+    from lenslab.io.tiff import read_tiff
+
+    return read_tiff(path, raw=raw)
+
+
+def _write(tmp, image, **options):
+    from lenslab.io.tiff import write_tiff
+
+    write_tiff(tmp, image, **options)
+
+
+FORMATS = (Format(
+    name="tiff", title="TIFF", extensions=(".tif", ".tiff"),
+    magic=lambda head: head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"),
+    hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(8, 16, 32), sample_types=("uint", "half", "float"),
+    read=_read, write=_write, read_options=("raw",),
+    write_options={"sample_type": "float (default), half, uint16 or uint8 (integers sRGB-encoded)",
+                   "compression": "zlib (default), lzw, zstd or none",
+                   "predictor": "True (default): horizontal or floating-point predictor",
+                   "raw": "True: integer codes = value * maxval, no sRGB encoding",
+                   "dither": "True: TPDF dither before rounding to integers"},
+    note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file"),)

@@ -1,0 +1,107 @@
+"""TIFF through ``tifffile``: float32, half, 16-bit and 8-bit samples, grey or RGB, with or without alpha.
+
+Reading: the first image of the file (``meta["attributes"]["pages"]`` counts them), chunky or planar.
+Float samples (32-bit, 16-bit half, 64-bit) are linear light; 8- and 16-bit unsigned integer samples
+are sRGB-encoded like PNG's and decoded to linear (``raw=True`` gives code / maxval), with alpha
+(an extra sample) kept linear. Photometric interpretations other than grey (min-is-black) and RGB
+(palette, YCbCr, CMYK, min-is-white) are refused with a FormatError.
+
+Writing: ``sample_type="float"`` (default, 32-bit), ``"half"``, ``"uint16"`` or ``"uint8"`` (the
+integer types sRGB-encoded unless ``raw=True``); alpha is written as an extra sample, marked
+associated (premultiplied, as EXR's) for float and unassociated for integers (as PNG's);
+``compression="zlib"`` (Adobe Deflate, default), ``"lzw"``, ``"zstd"`` or ``"none"``, with the
+horizontal (integer) or floating-point predictor unless ``predictor=False``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from lenslab.errors import FormatError
+from lenslab.io.limits import check_size
+
+SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "uint8": np.uint8}
+COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}
+
+
+def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
+    import tifffile
+
+    try:
+        tif = tifffile.TiffFile(path)
+    except (tifffile.TiffFileError, ValueError, OSError) as exc:
+        raise FormatError(f"{path}: not a readable TIFF ({exc})") from None
+    with tif:
+        if not tif.pages:
+            raise FormatError(f"{path}: the TIFF holds no image")
+        page = tif.pages.first
+        photometric = page.photometric.name
+        if photometric not in ("MINISBLACK", "RGB"):
+            raise FormatError(f"{path}: TIFF with {photometric} photometric interpretation is not supported; "
+                              "lenslab reads grey and RGB")
+        check_size(path, int(page.imagewidth), int(page.imagelength), int(page.samplesperpixel))
+        try:
+            data = page.asarray()
+        except Exception as exc:  # a codec failure inside tifffile/imagecodecs: damaged data
+            raise FormatError(f"{path}: the TIFF's pixel data cannot be decoded ({exc})") from None
+        axes = page.axes
+        attrs = {"pages": len(tif.pages), "compression": page.compression.name.lower(),
+                 "photometric": photometric.lower(), "planar": "separate" if int(page.planarconfig) == 2 else "contig",
+                 "extrasamples": [int(v) for v in page.extrasamples]}
+        if page.description:
+            attrs["description"] = page.description
+    if "S" in axes:
+        data = np.moveaxis(data, axes.index("S"), -1)
+        axes = axes.replace("S", "") + "S"
+    while data.ndim > (3 if axes.endswith("S") else 2):  # depth or other leading axes: the first slice
+        data = data[0]
+    if data.ndim == 2:
+        data = data[..., None]
+    c = data.shape[2]
+    if c > 4:
+        data, c = data[..., :4], 4
+    kind = data.dtype.kind
+    if kind == "f":
+        image = data.astype(np.float32)
+        bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
+    elif data.dtype in (np.uint8, np.uint16):
+        from lenslab.io.encode import decode_codes
+
+        bits, sample, encoded = data.dtype.itemsize * 8, "uint", not raw
+        image = decode_codes(data, np.iinfo(data.dtype).max, raw)
+    else:
+        raise FormatError(f"{path}: TIFF with {data.dtype} samples is not supported; lenslab reads float "
+                          "(16, 32, 64-bit) and unsigned 8- and 16-bit samples")
+    names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
+    meta = {"format": "tiff", "bit_depth": bits, "sample_type": sample, "channels": names,
+            "display_encoded": encoded, "attributes": attrs}
+    return np.ascontiguousarray(image, dtype=np.float32), meta
+
+
+def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compression: str = "zlib",
+               predictor: bool = True, raw: bool = False, dither: bool = False) -> None:
+    import tifffile
+
+    if sample_type not in SAMPLE_TYPES:
+        raise FormatError(f"TIFF sample_type must be one of {', '.join(SAMPLE_TYPES)}, not {sample_type!r}")
+    comp = str(compression).lower()
+    if comp not in COMPRESSIONS:
+        raise FormatError(f"unknown TIFF compression {compression!r}; choose one of {', '.join(COMPRESSIONS)}")
+    c = image.shape[2]
+    dtype = SAMPLE_TYPES[sample_type]
+    alpha = c in (2, 4)
+    if np.dtype(dtype).kind == "f":
+        data = image.astype(dtype)
+    else:
+        from lenslab.io.encode import encode_codes
+
+        data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither)
+    options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
+               "software": "lenslab", "metadata": None}
+    if alpha:
+        options["extrasamples"] = ["assocalpha" if np.dtype(dtype).kind == "f" else "unassalpha"]
+    if predictor and COMPRESSIONS[comp] is not None:
+        options["predictor"] = "floatingpoint" if np.dtype(dtype).kind == "f" else "horizontal"
+    tifffile.imwrite(tmp, data if c > 1 else data[..., 0], **options)
