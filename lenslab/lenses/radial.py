@@ -69,25 +69,30 @@ class Radial:
         hi_r = min(self.r_max, R_LIMIT)
         top = float(self.forward(np.array(hi_r)))
         valid = np.isfinite(rd) & (rd >= 0) & (rd <= top)
-        t = np.where(valid, rd, 0.0)
-        lo = np.zeros_like(t)
-        hi = np.full_like(t, hi_r)
-        lin = self.coeffs[0]
-        r = np.clip(t / lin, 0.0, hi_r)
+        out = np.zeros(rd.shape, dtype=np.float64)
+        idx = np.flatnonzero(valid)  # points still iterating (flat indices)
+        t = rd.reshape(-1)[idx]
+        r = np.clip(t / self.coeffs[0], 0.0, hi_r) if self.coeffs[0] > 0 else np.zeros_like(t)
+        lo, hi = np.zeros_like(t), np.full_like(t, hi_r)
+        flat = out.reshape(-1)
         for _ in range(60):
+            if not idx.size:
+                break
             f = self.forward(r) - t
-            lo = np.where(f <= 0, r, lo)
-            hi = np.where(f >= 0, r, hi)
+            below = f <= 0
+            lo[below] = r[below]
+            hi[~below] = r[~below]
             d = np.polynomial.polynomial.polyval(r, self._df)
             with np.errstate(divide="ignore", invalid="ignore"):
-                step = r - f / d
-            bad = ~((step > lo) & (step < hi))
-            nxt = np.where(bad, 0.5 * (lo + hi), step)
-            done = np.abs(nxt - r) <= 1e-15 * np.maximum(1.0, r)
-            r = nxt
-            if done.all():
-                break
-        return np.where(valid, r, 0.0), valid
+                nxt = r - f / d
+            bad = ~((nxt >= lo) & (nxt <= hi))
+            nxt[bad] = 0.5 * (lo[bad] + hi[bad])
+            done = np.abs(nxt - r) <= 1e-14 * np.maximum(1.0, r)
+            flat[idx[done]] = nxt[done]
+            keep = ~done
+            idx, t, r, lo, hi = idx[keep], t[keep], nxt[keep], lo[keep], hi[keep]
+        flat[idx] = r  # not settled to 1e-14 in 60 steps (bisection's floor): the last iterate
+        return out, valid
 
 
 def scale_points(q: np.ndarray, radial: Radial, invert: bool) -> tuple[np.ndarray, np.ndarray]:
