@@ -91,6 +91,12 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threads", type=positive_int, help="worker threads (default: every core)")
     p.add_argument("--overwrite", action="store_true", help="replace existing output files (never an input)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
+    from lenslab.cli.options import add_scheduler_options
+
+    add_scheduler_options(p, skip_existing=False)
+    p.add_argument("--tiles", type=positive_int, metavar="N",
+                   help="with --scheduler: trace the image as N tiles of rows on the workers (default 4 per worker "
+                        "thread); the image is bit for bit the one a local render with the same --seed makes")
 
 
 def _camera(args, scene):
@@ -158,9 +164,13 @@ def run_render(args) -> int:
         print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
               file=sys.stderr)
     camera = _camera(args, scene)
-    result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator, max_depth=args.max_depth,
-                    progress=not args.quiet, time_budget=args.time_budget, target_error=args.target_error,
-                    threads=args.threads)
+    from tracer.tiles import render_on_cluster
+
+    result = render_on_cluster(args, camera)  # None without --scheduler (or DASK_SCHEDULER_ADDRESS)
+    if result is None:
+        result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator,
+                        max_depth=args.max_depth, progress=not args.quiet, time_budget=args.time_budget,
+                        target_error=args.target_error, threads=args.threads)
     if Path(args.output).suffix.lower() in DISPLAY_SUFFIXES:
         from lenslab.io import write
         from lenslab.tone import tonemap

@@ -2,9 +2,11 @@
 
 Work is split into passes (groups of samples per pixel) and each pass into bands of rows, so memory
 is bounded by ``batch`` samples per worker whatever the sample count (plus 44 bytes per pixel for
-the image accumulators). Each band's random numbers come
-from its own generator seeded by ``(seed, pass, first row)``: a fixed seed gives the same image
-whatever the number of threads. Bands run on a thread pool (NumPy and embree release the GIL).
+the image accumulators). The bands are the same in every pass (:func:`band_rows` rows each, at most
+``MAX_BAND_ROWS``) and each band's random numbers come from its own generator seeded by ``(seed, pass,
+first row)``: a fixed seed gives the same image whatever the number of threads, and any run of whole
+bands (``rows=``, the tiles of :mod:`tracer.tiles`) renders exactly the pixels the whole image has
+there. Bands run on a thread pool (NumPy and embree release the GIL).
 
 Per-pixel mean and variance are accumulated with Welford's algorithm (merged per band with Chan et
 al.'s update). ``variance`` is the estimated variance of each pixel's mean, ``M2 / (n (n - 1))``; with
@@ -28,6 +30,7 @@ from tracer.lensfx import apply_lens_effects, has_effects
 
 DEFAULT_BATCH = 1 << 17  # samples per band: bounds the memory of a worker (about 40 MB)
 STEP_SPP = 16  # samples per pass when stopping on a time budget or a target error
+MAX_BAND_ROWS = 8  # rows per band at most: small images still split into bands (threads, tiles)
 
 
 @dataclass
@@ -122,13 +125,21 @@ def _next_pass(done: int, spp: int, width: int, batch: int, elapsed: float, time
     return step
 
 
+def band_rows(width: int, spp: int, batch: int = DEFAULT_BATCH, adaptive: bool = False) -> int:
+    """Rows per band, the same in every pass: the largest pass's samples of a band fit in ``batch``."""
+    cap = max(1, batch // max(1, width))
+    largest = min(int(spp), cap, STEP_SPP) if adaptive else min(int(spp), cap)
+    return int(min(MAX_BAND_ROWS, max(1, batch // (max(1, width) * largest))))
+
+
 def _sub_seed(seed: int | None, *keys: int) -> int:
     return int(np.random.SeedSequence([0 if seed is None else int(seed), *keys]).generate_state(1)[0])
 
 
 def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str = "path", max_depth: int = 8,
            progress: bool = False, time_budget: float | None = None, target_error: float | None = None,
-           threads: int | None = None, batch: int = DEFAULT_BATCH, rr_depth: int = 3) -> RenderResult:
+           threads: int | None = None, batch: int = DEFAULT_BATCH, rr_depth: int = 3,
+           rows: tuple[int, int] | None = None) -> RenderResult:
     """Render ``scene`` through ``camera`` (a :class:`lenslab.lenses.Camera`).
 
     ``spp`` samples per pixel is the maximum when ``time_budget`` (seconds) or ``target_error`` (relative
@@ -138,6 +149,8 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
     ``seed=None`` puts the sub-pixel samples at the strata centres (a fixed grid; path sampling still
     uses seed 0), which with ``integrator="direct"`` and point lights gives noise-free images.
     ``threads`` defaults to every core; ``batch`` bounds the samples traced at once per thread.
+    ``rows=(r0, r1)`` renders those rows only (``r0`` a multiple of :func:`band_rows`): the result holds
+    ``r1 - r0`` rows, bit for bit the same as those rows of the whole image (not with a stopping rule).
     """
     if isinstance(scene, str):
         from tracer.load import load_scene
@@ -153,8 +166,16 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
     if target_error is not None and not target_error > 0:
         raise ValueError(f"target error must be positive, got {target_error}")
     threads = cpu_count() if threads is None else max(1, int(threads))
-    width, height = camera.width, camera.height
+    width, full_height = camera.width, camera.height
     adaptive = time_budget is not None or target_error is not None
+    rows_per_band = band_rows(width, spp, batch, adaptive)
+    top, bottom = (0, full_height) if rows is None else (int(rows[0]), int(rows[1]))
+    if not (0 <= top < bottom <= full_height) or top % rows_per_band or (
+            bottom % rows_per_band and bottom != full_height):
+        raise ValueError(f"rows {rows} are not whole bands of {rows_per_band} rows of a {full_height}-row image")
+    if rows is not None and adaptive:
+        raise ValueError("a time budget or a target error needs the whole image, not a run of rows")
+    height = bottom - top  # the accumulators hold these rows; band row r0 is image row top + r0
     scene.accel  # build the accelerator before the clock starts
 
     # per-pixel accumulators: the mean in float64, the rest in float32 (counts are exact to 2^24 samples)
@@ -174,10 +195,10 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
 
     def band(pass_no: int, pass_spp: int, r0: int, r1: int) -> None:
         grid_seed = None if seed is None else _sub_seed(seed, pass_no)
-        o, d, ok = camera.rays(samples=pass_spp, seed=grid_seed, rows=slice(r0, r1))
+        o, d, ok = camera.rays(samples=pass_spp, seed=grid_seed, rows=slice(top + r0, top + r1))
         h = r1 - r0
         o, d, ok = o.reshape(-1, 3), d.reshape(-1, 3), ok.reshape(-1)
-        rng = np.random.default_rng([0 if seed is None else int(seed), pass_no, r0, 1])
+        rng = np.random.default_rng([0 if seed is None else int(seed), pass_no, top + r0, 1])
         if ok.all():
             radiance = trace(scene, o, d, rng, integrator, max_depth, rr_depth, threads=1)
         else:
@@ -187,7 +208,7 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
                 radiance[k] = trace(scene, np.take(o, k, axis=0), np.take(d, k, axis=0), rng, integrator, max_depth,
                                     rr_depth, threads=1)
         if effects:  # a ray per colour channel (chromatic aberration) and the vignetting weight
-            xy = camera.pixel_grid(slice(r0, r1), pass_spp, grid_seed).reshape(-1, 2)
+            xy = camera.pixel_grid(slice(top + r0, top + r1), pass_spp, grid_seed).reshape(-1, 2)
             radiance = apply_lens_effects(scene, camera, xy, radiance, rng, integrator, max_depth, rr_depth)
         x = radiance.reshape(h, width, pass_spp, 3)
         b_mean = x.mean(axis=2, dtype=np.float64)
@@ -216,8 +237,8 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
                 if done < spp:
                     stopped_by = "time"
                 break
-            rows = max(1, batch // (width * pass_spp))
-            jobs = [ex.submit(band, pass_no, pass_spp, r0, min(height, r0 + rows)) for r0 in range(0, height, rows)]
+            jobs = [ex.submit(band, pass_no, pass_spp, r0, min(height, r0 + rows_per_band))
+                    for r0 in range(0, height, rows_per_band)]
             try:
                 for j in jobs:
                     j.result()

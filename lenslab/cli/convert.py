@@ -59,6 +59,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--data-window", action="store_true",
                         help="EXR input: keep the stored data window instead of placing it in the display window")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    from lenslab.cli.options import add_scheduler_options
+
+    add_scheduler_options(parser)
 
 
 def expand_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]]:
@@ -262,6 +265,19 @@ def run(args: argparse.Namespace) -> int:
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
                "compression": args.compression, "data_window": args.data_window}
+    from lenslab.cluster.run import skip_existing
+
+    pairs, skipped = skip_existing(pairs, args.skip_existing)
+    if skipped and not args.quiet:
+        print(f"lenslab convert: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
+    from lenslab.cluster import scheduler_address
+
+    where = scheduler_address(args)
+    if where is not None:
+        from lenslab.cluster.command import batch_on_cluster
+
+        status = batch_on_cluster("lenslab convert", where, "convert_task", pairs, options, args.quiet, "converted")
+        return 1 if status or missing else 0
     progress = not args.quiet and sys.stderr.isatty()
     results = convert_many(pairs, options, jobs=args.jobs, progress=progress)
     for src, _, _, notes in results:

@@ -13,3 +13,19 @@ def parse_exposure(text: str) -> float | str:
         from lenslab.errors import ToneError
 
         raise ToneError(f"--exposure must be a number of stops or 'auto', not {text!r}") from None
+
+
+def add_scheduler_options(parser, skip_existing: bool = True) -> None:
+    """``--scheduler``, ``--scheduler-file`` (and ``--skip-existing``) of every batch command: one task
+    per file on a Dask cluster (:mod:`lenslab.cluster`)."""
+    group = parser.add_argument_group("running on a Dask cluster (see README: 'Beyond one machine')")
+    group.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="send one task per file to the Dask scheduler at ADDRESS (e.g. tcp://host:8786; "
+                            "default: $DASK_SCHEDULER_ADDRESS, else this machine); the workers must see the "
+                            "same files")
+    group.add_argument("--scheduler-file", metavar="FILE", default=None,
+                       help="the same, with the address read from the file 'dask scheduler --scheduler-file' wrote")
+    if skip_existing:
+        group.add_argument("--skip-existing", action="store_true",
+                           help="leave outputs that already exist alone and do the others (resumes an "
+                                "interrupted batch)")

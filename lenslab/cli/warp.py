@@ -347,7 +347,8 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.cluster.command import batch_on_cluster
         from lenslab.cluster.tasks import plain_options
 
-        status = batch_on_cluster("lenslab warp", where, "warp_task", pairs, plain_options(args), args.quiet, "warped")
+        status = batch_on_cluster("lenslab warp", where, "warp_task", pairs,
+                                  plain_options(args, paths=("source", "to", "stmap")), args.quiet, "warped")
         return 1 if status or missing else 0
     cache = plan_cache(args)
     show = not args.quiet and sys.stderr.isatty()

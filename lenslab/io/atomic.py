@@ -13,6 +13,21 @@ from pathlib import Path
 from typing import Iterator
 
 
+TEMPORARY_TAG = ".tmp-"  # temporaries are named .STEM.tmp-PID-RANDOM.SUFFIX beside their target
+
+
+def temporaries(path: str | os.PathLike) -> list[Path]:
+    """Temporary files of ``path`` left by writers that were killed before they could rename or remove
+    them (a lost cluster worker, a power cut); a batch removes them once no writer of ``path`` runs."""
+    import glob
+
+    target = Path(path)
+    if not target.parent.is_dir():
+        return []
+    pattern = f".{glob.escape(target.stem)}{TEMPORARY_TAG}*{glob.escape(target.suffix)}"
+    return sorted(target.parent.glob(pattern))
+
+
 @contextlib.contextmanager
 def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; on success rename it to ``path``, on failure remove it.
@@ -29,7 +44,7 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
     parent = target.parent
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
-    tmp = parent / f".{target.stem}.tmp-{os.getpid()}-{secrets.token_hex(4)}{target.suffix}"
+    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{os.getpid()}-{secrets.token_hex(4)}{target.suffix}"
     try:
         yield tmp
         if not tmp.exists():

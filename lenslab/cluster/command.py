@@ -1,0 +1,41 @@
+"""The batch commands' cluster path: connect, run one task per file, report as a local run does."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+
+def batch_on_cluster(command: str, where: dict, task: str, pairs: list[tuple], options: dict,
+                     quiet: bool = False, verb: str = "processed") -> int:
+    """Run ``lenslab.cluster.tasks.<task>(input, output, options)`` for every pair on the cluster at
+    ``where``; print each note and failure, a summary and what each worker did. Returns 1 if any failed."""
+    from lenslab.cluster import tasks
+    from lenslab.cluster.connect import client_for
+    from lenslab.cluster.run import run_batch, worker_summary
+
+    fn = getattr(tasks, task)
+    workers: dict = {}
+    # workers have their own working folder: they get absolute paths, the messages keep the user's
+    jobs = [(os.path.abspath(src), os.path.abspath(dst), options) for src, dst in pairs]
+    with client_for(where) as client:
+        done = run_batch(client, fn, jobs, [dst for _, dst in pairs], name=command.split()[-1],
+                         progress=not quiet, workers=workers)
+        address = client.scheduler.address
+    results = [(str(src), str(dst), err, notes) for (src, dst), (_, _, err, notes) in zip(pairs, done)]
+    for src, _, _, notes in results:
+        for note in notes:
+            print(f"{command}: note: {src}: {note}", file=sys.stderr)
+    failed = [(src, err) for src, _, err, _ in results if err]
+    for src, err in failed:
+        print(f"{command}: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+    if not quiet:
+        done = len(results) - len(failed)
+        print(f"{verb} {done} of {len(results)} file(s) on the cluster at {address}"
+              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+        for line in worker_summary(workers):
+            print(line, file=sys.stderr)
+    return 1 if failed else 0
+
+
+__all__ = ["batch_on_cluster"]

@@ -1,0 +1,64 @@
+"""Where the Dask scheduler is (``--scheduler``, ``--scheduler-file``, ``DASK_SCHEDULER_ADDRESS``) and
+the client to it. Dask is imported only when a cluster is used."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from typing import Iterator
+
+ENV = "DASK_SCHEDULER_ADDRESS"
+CONNECT_TIMEOUT = "10s"
+
+
+def scheduler_address(args) -> dict | None:
+    """``{"address": ...}`` or ``{"scheduler_file": ...}`` from the options, else from
+    ``DASK_SCHEDULER_ADDRESS``; None: run on this machine."""
+    address = getattr(args, "scheduler", None)
+    path = getattr(args, "scheduler_file", None)
+    if address and path:
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError("give --scheduler or --scheduler-file, not both")
+    if path:
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"{path}: no such scheduler file (written by 'dask scheduler "
+                                    "--scheduler-file FILE')")
+        return {"scheduler_file": str(path)}
+    address = address or os.environ.get(ENV) or None
+    return {"address": address} if address else None
+
+
+@contextlib.contextmanager
+def client_for(where: dict) -> Iterator:
+    """A :class:`distributed.Client` connected to ``where`` (see :func:`scheduler_address`), closed after.
+
+    A scheduler that cannot be reached is an :class:`OSError` that names it.
+    """
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover - dask is in the cluster extra
+        raise RuntimeError("--scheduler needs Dask: pip install 'lenslab[cluster]'") from None
+    target = where.get("address") or where.get("scheduler_file")
+    try:
+        client = Client(timeout=CONNECT_TIMEOUT, set_as_default=False, **where)
+    except (OSError, TimeoutError) as exc:
+        raise OSError(f"cannot reach the Dask scheduler at {target}: {exc}") from None
+    try:
+        yield client
+    finally:
+        with contextlib.suppress(Exception):
+            client.close(timeout=5)
+
+
+@contextlib.contextmanager
+def local_cluster(workers: int = 2, threads: int = 1) -> Iterator:
+    """A scheduler and ``workers`` worker processes on this machine (no dashboard), with a client to it."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=workers, threads_per_worker=threads, processes=True, dashboard_address=None,
+                      silence_logs=40) as cluster, Client(cluster, set_as_default=False) as client:
+        yield client
+
+
+__all__ = ["scheduler_address", "client_for", "local_cluster", "ENV"]
