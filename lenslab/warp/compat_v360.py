@@ -10,7 +10,7 @@ input in one of three ways, each lens saying which with its ``v360_read`` attrib
   of the last, ``index = p (W - 1) / W`` for lenslab's continuous coordinate ``p`` (a shrink of half a
   pixel at each edge); ``"span-halves"`` (dual fisheye) does that within each half of the frame;
 - ``"centre"`` (the cube maps, EAC): lenslab's own convention, ``index = p - 1/2``;
-- ``"shift"`` (hammer): ``index = p``, half a pixel off.
+- ``"shift"`` (hammer): ``index = p``, half a pixel further right and down than lenslab.
 
 Its equirect input clamps at the poles instead of continuing across them. :class:`V360Plan`
 reproduces these conventions with lenslab's lens models and filters. It does not reproduce v360's
