@@ -50,12 +50,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--quality", type=int_in(0, 100), default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
-                        help="PNG/PPM/PGM bits per sample (default 8)")
-    parser.add_argument("--pixel-type", choices=("half", "float"), default="half",
-                        help="EXR sample type (default half)")
-    parser.add_argument("--compression", default="zip",
+                        help="PNG/PPM/PGM bits per sample (default 8); TIFF: 8- or 16-bit display-encoded "
+                             "integers instead of floats")
+    parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
+                        help="EXR/TIFF float type (default: the input's for EXR to EXR, else half for EXR, "
+                             "float for TIFF)")
+    parser.add_argument("--compression", default=None,
                         help="EXR compression (default zip, readable everywhere; also piz, zips, rle, none, "
-                             "pxr24, b44, dwaa, dwab, zstd, htj2k256)")
+                             "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")
+    parser.add_argument("--recursive", "-r", action="store_true",
+                        help="walk directories into their sub-folders and mirror the tree under -o")
     parser.add_argument("--data-window", action="store_true",
                         help="EXR input: keep the stored data window instead of placing it in the display window")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -64,19 +68,35 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_scheduler_options(parser)
 
 
-def expand_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]]:
-    """Files to convert, and (input, reason) for inputs that match nothing."""
+def _glob_root(pattern: str) -> str:
+    """The folder a glob pattern starts from: its leading components without wildcards."""
+    parts = Path(pattern).parts
+    fixed = [p for p in parts[:next((i for i, p in enumerate(parts) if glob.has_magic(p)), len(parts))]]
+    return str(Path(*fixed)) if fixed else "."
+
+
+def expand_inputs(patterns: list[str], recursive: bool = False,
+                  roots: dict[str, str] | None = None) -> tuple[list[str], list[tuple[str, str]]]:
+    """Files to convert, and (input, reason) for inputs that match nothing.
+
+    Directories give their image files (``recursive``: in every sub-folder too); ``**`` in a glob
+    pattern matches any depth. ``roots`` (if given) receives, for every file found in a directory or
+    by a pattern, the folder it was found under, so that outputs can mirror the tree.
+    """
     files: list[str] = []
     missing: list[tuple[str, str]] = []
+    roots = {} if roots is None else roots
     for pat in patterns:
         if os.path.isdir(pat):
-            found = sorted(str(p) for p in Path(pat).iterdir()
-                           if p.is_file() and p.suffix.lower() in INPUT_EXTENSIONS)
+            walk = Path(pat).rglob("*") if recursive else Path(pat).iterdir()
+            found = sorted(str(p) for p in walk if p.is_file() and p.suffix.lower() in INPUT_EXTENSIONS)
             if not found:
                 missing.append((pat, "the directory holds no image files"))
             files.extend(found)
+            roots.update((f, pat) for f in found)
         elif glob.has_magic(pat) and not os.path.exists(pat):
-            found = sorted(p for p in glob.glob(pat) if os.path.isfile(p))
+            found = sorted(p for p in glob.glob(pat, recursive=True) if os.path.isfile(p))
+            roots.update((f, _glob_root(pat)) for f in found)
             if not found:
                 missing.append((pat, "the pattern matches no file"))
             files.extend(found)
@@ -87,13 +107,19 @@ def expand_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]
     return unique, missing
 
 
-def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[str, Path]]:
-    """(input, output path) pairs; raises OSError/ValueError when -o cannot be used as asked."""
+def plan_outputs(files: list[str], to: str, output: str | None,
+                 roots: dict[str, str] | None = None) -> list[tuple[str, Path]]:
+    """(input, output path) pairs; raises OSError/ValueError when -o cannot be used as asked.
+
+    With ``roots`` (from :func:`expand_inputs`), a file found under a folder goes to the same
+    sub-folder of ``-o``: the input tree is mirrored."""
     from lenslab.cli.policy import check_output_dir
     from lenslab.errors import FormatError
     from lenslab.io import split_selector
 
-    ext = "." + to
+    from lenslab.io.registry import get
+
+    ext = get(to).extensions[0]
     if output is not None:
         out = Path(output)
         as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
@@ -110,7 +136,8 @@ def plan_outputs(files: list[str], to: str, output: str | None) -> list[tuple[st
         elif as_file:
             dst = out
         else:
-            dst = out / (stem + ext)
+            sub = Path(os.path.relpath(src.parent, roots[f])) if roots and f in roots else Path(".")
+            dst = out / sub / (stem + ext)
         if dst in targets:
             raise FormatError(f"{f} and {targets[dst]} would both be written to {dst}; convert them separately")
         targets[dst] = f
@@ -125,12 +152,16 @@ def convert_one(src: str, dst: str, options: dict) -> str:
     from lenslab.cli.policy import check_output
     from lenslab.errors import FormatError
     from lenslab.io import read, split_selector, write
+    from lenslab.io.registry import get
 
     src_file, _ = split_selector(src)
     check_output(dst, [src_file], options["overwrite"])
     image, meta = read(src, data_window=options["data_window"])
     to, exposure = options["to"], options["exposure"]
-    if to in LDR and (not meta["display_encoded"] or exposure == "auto"):
+    fmt = get(to)
+    bits = options.get("bits")
+    integers = bool(bits) and "sample_type" in fmt.write_options  # TIFF with --bits: display-encoded
+    if (to in LDR or integers) and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
 
         image = tonemap(image, curve=options["tone"], exposure=exposure)
@@ -138,18 +169,35 @@ def convert_one(src: str, dst: str, options: dict) -> str:
         raise FormatError("--exposure auto applies when writing display formats (jpg, png, ppm, pgm)")
     elif exposure != 0.0:
         image = image * np.float32(2.0 ** exposure)
-    write_opts: dict = {}
-    if to == "jpg":
-        write_opts["quality"] = options["quality"]
-    if to in ("png", "ppm", "pgm") and options["bits"]:
-        write_opts["bits"] = options["bits"]
-    if to == "exr":
-        write_opts["pixel_type"] = options["pixel_type"]
-        write_opts["compression"] = options["compression"]
-        if meta.get("camera") is not None:
-            write_opts["camera"] = meta["camera"]
+    write_opts = write_options(fmt, meta, options)
     write(dst, image, format=to, overwrite=options["overwrite"], **write_opts)
     return dst
+
+
+def write_options(fmt, meta: dict, options: dict) -> dict:
+    """The write options of format ``fmt`` from the command's options and what the input held.
+
+    EXR to EXR keeps the input's float type (half or float; integer channels become float) unless
+    --pixel-type says otherwise."""
+    opts: dict = {}
+    accepts = fmt.write_options
+    pixel_type = options.get("pixel_type")
+    if "quality" in accepts and options.get("quality") is not None:
+        opts["quality"] = options["quality"]
+    if "bits" in accepts and options.get("bits"):
+        opts["bits"] = options["bits"]
+    if "sample_type" in accepts:
+        opts["sample_type"] = f"uint{options['bits']}" if options.get("bits") else (pixel_type or "float")
+    if "pixel_type" in accepts:
+        if pixel_type is None:
+            kept = meta["sample_type"] if meta["format"] == fmt.name else "half"
+            pixel_type = kept if kept in ("half", "float") else "float"
+        opts["pixel_type"] = pixel_type
+    if "compression" in accepts and fmt.name in ("exr", "tiff"):
+        opts["compression"] = options.get("compression") or {"exr": "zip", "tiff": "zlib"}[fmt.name]
+    if fmt.camera and meta.get("camera") is not None:
+        opts["camera"] = meta["camera"]
+    return opts
 
 
 def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]]:
@@ -241,13 +289,14 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, pr
 
 
 def run(args: argparse.Namespace) -> int:
-    files, missing = expand_inputs(args.inputs)
+    roots: dict[str, str] = {}
+    files, missing = expand_inputs(args.inputs, args.recursive, roots)
     from lenslab.cli.options import parse_exposure
 
     exposure = parse_exposure(args.exposure)
-    if args.bits and args.to in ("jpg", "exr", "pfm"):
+    if args.bits and args.to in ("jpg", "exr", "pfm", "hdr"):
         from lenslab.errors import FormatError
-        raise FormatError(f"--bits applies to png, ppm and pgm, not {args.to}")
+        raise FormatError(f"--bits applies to png, ppm, pgm and tiff, not {args.to}")
     for pat, reason in missing:
         print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
     if not files:
@@ -257,11 +306,13 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.tone import get_curve
 
         get_curve(args.tone)  # an unknown curve: one usage error, before any folder is made
-    pairs = plan_outputs(files, args.to, args.output)
+    pairs = plan_outputs(files, args.to, args.output, roots)
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
         from lenslab.cli.policy import make_output_dir
 
         make_output_dir(args.output)
+        for folder in sorted({Path(dst).parent for _, dst in pairs}):
+            folder.mkdir(parents=True, exist_ok=True)  # the mirrored sub-folders
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
                "compression": args.compression, "data_window": args.data_window}
