@@ -27,7 +27,13 @@ ACES_HILL_OUTPUT = np.array([[1.60475, -0.53108, -0.07367],
                              [-0.00327, -0.07276, 1.07602]])
 
 
+# RRTAndODTFit: fit(v) = (v (v + A) - B) / (v (C v + D) + E)
+A, B, C, D, E = 0.0245786, 0.000090537, 0.983729, 0.4329510, 0.238081
+
+
 def _build_aces_hill(p, scale):
+    """On colours: the fit as published, between the two matrices (negative near black, before the
+    output matrix mixes the channels)."""
     m_in = (ACES_HILL_INPUT * scale).astype(F32)
     m_out = ACES_HILL_OUTPUT.astype(F32)
 
@@ -35,42 +41,39 @@ def _build_aces_hill(p, scale):
         v, t = scratch
         np.matmul(m_in, src, out=v)
         clip(v, F32(0), BIG, out=v)
-        # RRTAndODTFit: (v (v + 0.0245786) - 0.000090537) / (v (0.983729 v + 0.4329510) + 0.238081)
-        np.multiply(v, F32(0.983729), out=t)
-        t += F32(0.4329510)
+        np.multiply(v, F32(C), out=t)
+        t += F32(D)
         t *= v
-        t += F32(0.238081)
-        np.add(v, F32(0.0245786), out=dst)  # src is no longer needed: dst serves as scratch
+        t += F32(E)
+        np.add(v, F32(A), out=dst)  # src is no longer needed: dst serves as scratch
         dst *= v
-        dst -= F32(0.000090537)
+        dst -= F32(B)
         np.divide(dst, t, out=v)
         np.matmul(m_out, v, out=dst)
         clip(dst, F32(0), F32(1), out=dst)
     return k
 
 
-
 def _build_aces_hill_grey(p, scale):
-    """The Hill fit on grey (its matrices are the identity on grey to 5 digits), in a form whose every
-    step is monotone: 1 / fit = c + m / (v + p - q/v) + n / (v (v + p - q/v)), m = d - c p, n = e + c q;
-    where v + p - q/v <= 0 the fit is <= 0 and the result 0."""
+    """On grey (the matrices are the identity on grey to 5 digits): the same fit, clipped at 0, in a
+    form whose every step is monotone: 1 / fit = C + m / a + n / (v a), a = v + A - B / v, m = D - C A,
+    n = E + C B; where a <= 0 the fit is <= 0 and the result 0."""
     s = F32(scale)
-    pp, q, c, d, e = 0.0245786, 0.000090537, 0.983729, 0.4329510, 0.238081
-    m, n = F32(d - c * pp), F32(e + c * q)
+    m, n = F32(D - C * A), F32(E + C * B)
 
     def k(src, dst, scratch):
         a, u = scratch
         np.multiply(src, s, out=dst)
         clip(dst, F32(0), BIG, out=dst)
-        np.divide(F32(q), dst, out=a)
+        np.divide(F32(B), dst, out=a)
         np.subtract(dst, a, out=a)
-        a += F32(pp)
-        clip(a, TINY, FMAX, out=a)       # a = v + p - q/v
-        np.multiply(dst, a, out=u)           # u = v a = v (v + p) - q
+        a += F32(A)
+        clip(a, TINY, FMAX, out=a)           # a = v + A - B / v
+        np.multiply(dst, a, out=u)           # u = v a = v (v + A) - B
         np.divide(n, u, out=u)
         np.divide(m, a, out=a)
         a += u
-        a += F32(c)
+        a += F32(C)
         np.divide(F32(1), a, out=dst)
         clip(dst, F32(0), F32(1), out=dst)
     return k

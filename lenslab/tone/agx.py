@@ -31,67 +31,74 @@ AGX_POLY = (15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232)  # t^6 ... t^
 # the 2.2 power takes the log of max(y, this): 2.2 log2 stays above -126, where exp2 is on its fast
 # path (log2(0) and denormal results of exp2 cost 10 to 100 times more); its value is subtracted
 _AGX_POWER_FLOOR = 2.0 ** -56
+_SPAN = AGX_MAX_EV - AGX_MIN_EV
+
+
+class _Steps:
+    """The AgX curve after the inset matrix, written once for both kernels in the dtype they work in
+    (float32 on colours; float64 on grey, so that rounding cannot reverse the order of two neighbouring
+    inputs once the result is rounded to float32).
+
+    The log2 encoding t = (log2 v - min) / span, clipped to [0, 1], is w = log2(v 2^-min) with v 2^-min
+    clipped to [1, 2^span] (``gain`` folds 2^-min into what multiplies the input) and t = w / span
+    folded into the polynomial's coefficients, a_i / span^i: Horner's partial sums are those in t
+    scaled by powers of span, so the rounding is the same."""
+
+    def __init__(self, dtype):
+        self.dtype = dtype
+        self.gain = 2.0 ** -AGX_MIN_EV
+        self.top = dtype(2.0 ** _SPAN)
+        self.poly = [dtype(a / _SPAN ** (len(AGX_POLY) - 1 - i)) for i, a in enumerate(AGX_POLY)]
+        self.floor = dtype(_AGX_POWER_FLOOR)
+        self.offset = power_offset(_AGX_POWER_FLOOR, 2.2, dtype)
+
+    def sigmoid(self, v, t):
+        """t = the sigmoid of the encoding of v (v already times ``gain``; v is overwritten)."""
+        one = self.dtype(1)
+        clip(v, one, self.top, out=v)
+        np.log2(v, out=v)
+        np.multiply(v, self.poly[0], out=t)        # Horner: the 6th-order fit of the AgX sigmoid
+        for coef in self.poly[1:-1]:
+            t += coef
+            t *= v
+        t += self.poly[-1]
+
+    def display(self, y):
+        """y = y^2.2 in place, as exp2(2.2 log2 y) above the floor; exactly 0 where y <= 0."""
+        clip(y, self.floor, self.dtype(1), out=y)
+        np.log2(y, out=y)
+        y *= self.dtype(2.2)
+        np.exp2(y, out=y)
+        y -= self.offset
 
 
 def _build_agx(p, scale):
-    span = AGX_MAX_EV - AGX_MIN_EV
-    # the log2 encoding t = (log2 v - min) / span, clipped to [0, 1], as w = log2(v 2^-min) clipped to
-    # [0, span] (the 2^-min folded into the inset matrix) and t = w / span folded into the
-    # polynomial's coefficients, a_i / span^i: Horner's partial sums are those of t scaled by powers
-    # of span, so rounding is the same
-    m_in = (AGX_INSET * scale * 2.0 ** -AGX_MIN_EV).astype(F32)
+    steps = _Steps(F32)
+    m_in = (AGX_INSET * (scale * steps.gain)).astype(F32)
     m_out = AGX_OUTSET.astype(F32)
-    v_hi = F32(2.0 ** span)
-    poly = [F32(a / span ** (len(AGX_POLY) - 1 - i)) for i, a in enumerate(AGX_POLY)]
-    floor, offset = F32(_AGX_POWER_FLOOR), power_offset(_AGX_POWER_FLOOR, 2.2, F32)
 
     def k_(src, dst, scratch):  # planar (3, n) blocks
         v, t = scratch
         np.matmul(m_in, src, out=v)
-        clip(v, F32(1), v_hi, out=v)
-        np.log2(v, out=v)
-        np.multiply(v, poly[0], out=t)             # Horner: the 6th-order fit of the AgX sigmoid
-        for coef in poly[1:-1]:
-            t += coef
-            t *= v
-        t += poly[-1]
+        steps.sigmoid(v, t)
         np.matmul(m_out, t, out=dst)
-        # the sigmoid's output is display-encoded with a 2.2 power: y = v^2.2 = exp2(2.2 log2 v)
-        clip(dst, floor, F32(1), out=dst)
-        np.log2(dst, out=dst)
-        dst *= F32(2.2)
-        np.exp2(dst, out=dst)
-        dst -= offset                              # exactly 0 where the sigmoid is at or below 0
+        steps.display(dst)
     return k_
 
 
-
 def _build_agx_grey(p, scale):
-    """AgX on grey: the sigmoid of the log2 encoding and the 2.2 power, without the inset and outset
-    matrices (the identity on grey to 4 digits), in float64 so that rounding cannot reverse the order
-    of two neighbouring inputs once the result is rounded to float32."""
-    lo, span = AGX_MIN_EV, AGX_MAX_EV - AGX_MIN_EV
-    offset = power_offset(_AGX_POWER_FLOOR, 2.2, np.float64)
+    """AgX on grey: the same steps without the inset and outset matrices (the identity on grey to 4
+    digits), in float64."""
+    steps = _Steps(np.float64)
+    gain = scale * steps.gain
 
     def k(src, dst, scratch):
-        v = src.astype(np.float64) * scale
-        clip(v, 1e-10, 1e15, out=v)
-        np.log2(v, out=v)
-        v -= lo
-        v /= span
-        clip(v, 0.0, 1.0, out=v)
-        t = np.full_like(v, AGX_POLY[0])
-        for coef in AGX_POLY[1:]:
-            t *= v
-            t += coef
-        clip(t, _AGX_POWER_FLOOR, 1.0, out=t)
-        np.log2(t, out=t)
-        t *= 2.2
-        np.exp2(t, out=t)
-        t -= offset                          # exactly 0 where the sigmoid is at or below 0
+        v = np.multiply(src, gain, dtype=np.float64)
+        t = np.empty_like(v)
+        steps.sigmoid(v, t)
+        steps.display(t)
         dst[...] = t
     return k
-
 
 
 @register("agx", "rgb", build=_build_agx, build_grey=_build_agx_grey)

@@ -17,10 +17,21 @@ from lenslab.tone.mapping import triples
 from lenslab.tone.registry import register
 
 
+F90, KS, KD = 0.04, 0.8 - 0.04, 0.15  # the specification's names: Fresnel F90, compression start, desaturation
+_D = 1.0 - KS
+
+
+def _shoulder(peak, out):
+    """out = newPeak = 1 - (1 - Ks)^2 / (peak + 1 - 2 Ks), with ``peak`` raised to Ks first (in place):
+    the shoulder, shared by both kernels; exactly Ks at and below Ks."""
+    clip(peak, F32(KS), BIG, out=peak)
+    np.add(peak, F32(_D - KS), out=out)
+    np.divide(F32(-_D * _D), out, out=out)
+    out += F32(1)
+
+
 def _build_pbr_neutral(p, scale):
     s = F32(scale)
-    start, desat = 0.8 - 0.04, 0.15
-    d = 1.0 - start
 
     def k(src, dst, scratch):  # planar (3, n) blocks; branch-free form of the reference shader
         v, t = scratch
@@ -31,22 +42,18 @@ def _build_pbr_neutral(p, scale):
             np.multiply(src, s, out=dst)
             clip(dst, F32(0), BIG, out=dst)
             x = dst
-        # toe offset: low - 6.25 low^2 below 0.08, else 0.04 (= the same expression at low = 0.08)
+        # toe offset f: low - low^2 / (4 F90) below 2 F90, else F90 (= the same expression at 2 F90)
         np.fmin(np.fmin(x[0], x[1], out=low), x[2], out=low)
-        clip(low, F32(0), F32(0.08), out=low)
-        np.multiply(low, F32(-6.25), out=h)
+        clip(low, F32(0), F32(2 * F90), out=low)
+        np.multiply(low, F32(-1 / (4 * F90)), out=h)
         h += F32(1)
         low *= h
         np.subtract(x, low, out=dst)
         np.fmax(np.fmax(dst[0], dst[1], out=peak), dst[2], out=peak)
-        # shoulder on the peak: below `start` the factors below are exactly 1 and 0
-        clip(peak, F32(start), BIG, out=peak)
-        np.add(peak, F32(d - start), out=new_peak)
-        np.divide(F32(-d * d), new_peak, out=new_peak)
-        new_peak += F32(1)
+        _shoulder(peak, new_peak)                # below Ks the factors below are exactly 1 and 0
         np.divide(new_peak, peak, out=ratio)
-        np.subtract(peak, new_peak, out=h)       # h = 1 / (desat (peak - newPeak) + 1) = 1 - g
-        h *= F32(desat)
+        np.subtract(peak, new_peak, out=h)       # h = 1 / (Kd (peak - newPeak) + 1) = 1 - g
+        h *= F32(KD)
         h += F32(1)
         np.divide(F32(1), h, out=h)
         ratio *= h                               # out = c (ratio h) + newPeak (1 - h)
@@ -59,28 +66,27 @@ def _build_pbr_neutral(p, scale):
 
 
 def _build_pbr_neutral_grey(p, scale):
-    """PBR Neutral on grey, monotone step by step: z = max(6.25 min(x, 0.08)^2, x - 0.04) (the toe),
-    y = min(z, 0.76) + s(max(z, 0.76)) - s(0.76), s(z) = 1 - 0.24^2 / (z - 0.52), s(0.76) = 0.76."""
+    """PBR Neutral on grey, where the colour is its own peak and the result is newPeak: monotone step
+    by step, z = max(min(x, 2 F90)^2 / (4 F90), x - F90) (x minus the toe offset), then
+    y = min(z, Ks) + shoulder(max(z, Ks)) - shoulder(Ks), shoulder(Ks) = Ks."""
     s = F32(scale)
-    start = 0.8 - 0.04
-    d = 1.0 - start
-    at_start = F32(-d * d) / (F32(start) + F32(d - start))  # the same float32 steps as below
+    at_start = np.full(1, KS, F32)
+    _shoulder(at_start.copy(), at_start)         # shoulder(Ks) by the same float32 steps
 
     def k(src, dst, scratch):
         a, u = scratch
         np.multiply(src, s, out=dst)
         clip(dst, F32(0), BIG, out=dst)
-        clip(dst, F32(0), F32(0.08), out=a)
+        clip(dst, F32(0), F32(2 * F90), out=a)
         a *= a
-        a *= F32(6.25)
-        dst -= F32(0.04)
+        a *= F32(1 / (4 * F90))
+        dst -= F32(F90)
         np.fmax(dst, a, out=dst)                 # z
-        clip(dst, F32(start), BIG, out=a)
-        a += F32(d - start)
-        np.divide(F32(-d * d), a, out=a)
-        a -= at_start                            # s(max(z, start)) - s(start), exactly 0 at start
-        clip(dst, F32(0), F32(start), out=dst)
-        dst += a
+        np.copyto(a, dst)
+        _shoulder(a, u)
+        u -= at_start[0]                         # shoulder(max(z, Ks)) - shoulder(Ks), exactly 0 at Ks
+        clip(dst, F32(0), F32(KS), out=dst)
+        dst += u
         clip(dst, F32(0), F32(1), out=dst)
     return k
 
