@@ -39,6 +39,9 @@ SELF_FITS = [
     ("dual-fisheye:fov=175", "dual-fisheye:fov=160", "fov"),  # no overlap: one pixel per direction
     ("eac:pad=2", "eac:pad=1", "pad"),
     ("little-planet:fov=250", "little-planet:fov=230", "fov"),
+    # a real zoom lens: its focal length, between the database's calibrations (lenslab[lensfun])
+    ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120",
+     "lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=100", "focal"),
 ]
 
 

@@ -81,6 +81,8 @@ SPECS = {
     "perspective": ["perspective:fov=90"],
     "cubemap": ["cubemap"],
     "tiled": ["tiled"],
+    # a real full-frame fisheye from the lensfun database (its geometry: the warp traces one ray per pixel)
+    "lensfun": ["lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10,effects=distortion"],
 }
 NOT_TARGETS = {"equirect"}  # the panorama itself
 
