@@ -7,7 +7,8 @@ coefficients:
 - ``POLY``: OpenCV's radial map ``r (1 + a1 r^2 + .. + a4 r^8) / (1 + b1 r^2 + b2 r^4 + b3 r^6)``
   (opencv, kannala-brandt on the angle, omnidir), followed, with tangential or thin-prism terms, by a
   2-D Newton on the whole distortion (steps halved to stay inside the fold);
-- ``OCAM``: OCamCalib's angle from the axis ``atan2(rho, -pol(rho))``.
+- ``OCAM``: OCamCalib's angle from the axis ``atan2(rho, -pol(rho))`` reaching ``t``, solved as the
+  root of ``rho cos(t) + pol(rho) sin(t)`` (the same sign as the angle minus ``t``; no arctangent).
 
 Starting guesses come from a table of the inverse (``lenslab.lenses.solve.inverse_table``). Each
 kernel returns the largest iteration count it needed (the benchmark states it).
@@ -48,7 +49,9 @@ def _value(kind, x, a, b):
     for j in range(a.shape[0] - 1, -1, -1):  # Horner for pol and its derivative
         dp = dp * x + p
         p = p * x + a[j]
-    return math.atan2(x, -p), (x * dp - p) / (x * x + p * p)
+    # rho cos(t) + pol(rho) sin(t) = |(rho, -pol)| sin(angle(rho) - t): the sign of angle(rho) - t with
+    # no arctangent; b = (cos t, sin t)
+    return x * b[0] + p * b[1], b[0] + dp * b[1]
 
 
 @numba.njit(inline="always", **JIT)
@@ -179,12 +182,12 @@ def _cv_ray(d, i, out, valid):
 
 
 @numba.njit(**JIT)
-def ocam_project_kernel(d, pol, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter,
+def ocam_project_kernel(d, pol_unit, hi, a_hi, strict, table, tstep, tol, res_tol, rel_ulps, max_iter,
                         c, dd, e, xc, yc, width, height, slack, out, valid):
     """OCamCalib, lenslab directions -> lenslab pixels: the radius ``rho`` whose ray is the direction's
     angle from the axis (solved), then ``row = c xp + d yp + xc``, ``col = e xp + yp + yc`` (OCamCalib's
     ``xp`` along rows = lenslab's ``-y``, ``yp`` along columns = ``x``); the largest iteration count."""
-    empty = np.zeros(3)
+    cs = np.zeros(3)
     worst = 0
     for i in range(d.shape[0]):
         ok, X, Y, Z = _cv_ray(d, i, out, valid)
@@ -194,8 +197,13 @@ def ocam_project_kernel(d, pol, hi, a_hi, strict, table, tstep, tol, res_tol, re
         t = math.atan2(lat, Z)
         if not ((t < a_hi) if strict else (t <= a_hi)):
             continue
-        rho, ok, its = _solve(OCAM, pol, empty, t, hi, _guess(t, table, tstep, False), tol, res_tol, rel_ulps,
-                              max_iter)
+        cs[0] = math.cos(t)
+        cs[1] = math.sin(t)
+        # solved for u = rho / hi in [0, 1] with pol_unit(u) = pol(u hi) / hi: dimensionless, so the
+        # tolerances mean what they mean for the other solves
+        u, ok, its = _solve(OCAM, pol_unit, cs, 0.0, 1.0, _guess(t, table, tstep, False) / hi, tol, res_tol,
+                            rel_ulps, max_iter)
+        rho = u * hi
         if not ok:
             continue
         worst = max(worst, its)

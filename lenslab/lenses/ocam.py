@@ -125,6 +125,6 @@ class OCam(Calibrated):
         xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
         ok = np.empty(flat.shape[0], dtype=np.bool_)
         self.max_iterations = ocam_project_kernel(
-            flat, self.pol_c, self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
+            flat, self.pol_c * self.rho_hi ** (np.arange(self.pol_c.size) - 1.0), self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
             self.c, self.d, self.e, self.xc, self.yc, float(self.width), float(self.height), self.edge_slack, xy, ok)
         return xy.reshape(shape + (2,)), ok.reshape(shape)
