@@ -88,11 +88,15 @@ def test_more_samples_can_only_narrow_the_fill():
     assert four.scale <= one.scale
 
 
-def test_a_full_panorama_fills_any_field_up_to_the_model_limit():
+def test_a_full_panorama_leaves_nothing_to_fill_and_the_field_is_kept():
+    # A full panorama fills every field up to the model's limit (a 360-degree fisheye is a flat disc of
+    # one direction at its rim): there is no answer to search for, the field the user gave stays.
     src = Camera.from_spec("equirect", (360, 180))
-    res = autoscale(src, Camera.from_spec("fisheye:fov=90", (128, 128)), "fill")
-    assert res.lens.fov == pytest.approx(360.0)
-    assert res.bad_one_percent_beyond == -1 and res.notes
+    for spec, fov in (("fisheye:fov=90", 90.0), ("fisheye:fov=240,mapping=stereographic", 240.0),
+                      ("perspective:fov=90", 90.0)):
+        res = autoscale(src, Camera.from_spec(spec, (128, 128), pitch=-90.0), "fill")
+        assert res.kept and res.lens.fov == fov, spec
+        assert "nothing to fill" in res.report()[0] and "kept" in res.report()[0]
 
 
 def test_what_cannot_be_done_is_an_error_that_says_so():

@@ -98,6 +98,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="map pixels as ffmpeg's v360 filter does (samples at pixel corners, input centres "
                              "at integer coordinates, no pole continuation), to match footage converted with it")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
+    parser.add_argument("--verbose", "-v", action="store_true",
+                        help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
     from lenslab.cli.options import add_scheduler_options
 
     add_scheduler_options(parser)
@@ -183,7 +185,7 @@ def output_camera(args, src, size: tuple[int, int]):
     return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
 
 
-def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False):
+def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):
     """Hook for --autoscale: the output camera scaled to fit the source (provided by lenslab.fit)."""
     from lenslab.errors import WarpError
 
@@ -193,7 +195,8 @@ def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False):
         raise WarpError("--autoscale is not available in this installation (lenslab.fit.autoscale is missing); "
                         "give the output lens's parameters explicitly") from None
     return fit_autoscale(src, dst, mode, samples,
-                         report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)))
+                         report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)),
+                         verbose=verbose)
 
 
 def check_once(args) -> None:
@@ -253,7 +256,7 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         size = args.size or default_size(args.to, image.shape[0])
         dst = output_camera(args, src, size)
         if args.autoscale:
-            dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet)
+            dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
         out, coverage = cache.warp(image, src, dst, progress=progress)
     if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
         colour, alpha = out[..., :-1], out[..., -1]

@@ -20,6 +20,20 @@ two until the criterion changes, then bisect (in log scale) until the bracket is
 only when those pass; the answer is verified on every pixel. nlopt's COBYLA, started at the answer
 with the constraint "no hole" (or "nothing cropped"), then confirms that no better feasible scale is
 within reach; a disagreement is reported.
+
+The answer is always a field the model accepts, written as a spec that parses back to the same lens.
+Two cases have no answer to search for:
+
+- ``fill`` when the output has no hole even at the widest field its model allows (the source covers
+  every direction the output can look along, e.g. a full panorama): there is nothing to fill, and the
+  field of view is kept as given;
+- an answer within :data:`EDGE_RTOL` of the end of the model's range (``cover`` from a 180-degree
+  fisheye into a perspective view would need a 179.997-degree perspective, a view that is all
+  stretched rim): no usable field does it, and :class:`FitError` says so.
+
+A model whose parameters hold no field of view (a cube map, a calibrated camera) cannot be scaled:
+:func:`autoscale` raises :class:`FitError` naming it, and :func:`autoscale_camera` reports that and
+keeps the camera as given.
 """
 
 from __future__ import annotations
@@ -35,25 +49,49 @@ from lenslab.lenses.base import Lens
 
 MODES = ("fill", "cover")
 RTOL = 1e-7  # relative width of the final bracket on the scale
+# an answer this close (relative) to the end of the model's range is that end: a view that has to stretch
+# to its model's limit (a perspective of 179.997 degrees) shows nothing usable
+EDGE_RTOL = 1e-4
 SPARSE = 8  # the sparse pre-check tests every SPARSE-th pixel (plus the border ring)
 
 
-def scaled_lens(lens: Lens, s: float) -> Lens | None:
-    """The lens with its field scaled by ``s`` (None where the model does not allow that field)."""
+RANGES = (("lon_min", "lon_max"), ("lat_min", "lat_max"))
+
+
+def has_field(lens: Lens) -> bool:
+    """Whether the lens's parameters hold a field of view that auto-scale can scale."""
     values = lens.param_values()
-    if "fov" in values and isinstance(values["fov"], float):
+    return (isinstance(values.get("fov"), float)
+            or {"lon_min", "lon_max", "lat_min", "lat_max"} <= values.keys())
+
+
+def no_field_message(lens: Lens) -> str:
+    return (f"cannot auto-scale a {lens.name} output: its parameters hold no field of view to scale; "
+            "its field is kept as given")
+
+
+def scaled_lens(lens: Lens, s: float) -> Lens | None:
+    """The lens with its field scaled by ``s`` (None where the model does not allow that field, or where
+    its spec would not read back as the same lens)."""
+    from lenslab.lenses import make_lens
+
+    values = lens.param_values()
+    if isinstance(values.get("fov"), float):
         values["fov"] = values["fov"] * s
-        if values.get("vfov"):
-            values["vfov"] = values["vfov"] * s
+        for alt in ("vfov", "dfov"):  # the other ways of giving the same field, when given
+            if values.get(alt):
+                values[alt] = values[alt] * s
     elif {"lon_min", "lon_max", "lat_min", "lat_max"} <= values.keys():
-        for lo, hi in (("lon_min", "lon_max"), ("lat_min", "lat_max")):
+        for lo, hi in RANGES:
             c, half = 0.5 * (values[lo] + values[hi]), 0.5 * (values[hi] - values[lo]) * s
             values[lo], values[hi] = c - half, c + half
     else:
-        raise FitError(f"cannot auto-scale a {lens.name} output: it has no field of view to scale; "
-                       "use a perspective, fisheye, equirect or other lens with a fov")
+        raise FitError(no_field_message(lens))
     try:
-        return type(lens)(lens.width, lens.height, **values)
+        out = type(lens)(lens.width, lens.height, **values)
+        # the lens its printed spec reads back as (the spec rounds; it can even leave the model's range):
+        # what is tested is what the user is told
+        return make_lens(out.spec(), (out.width, out.height))
     except LensError:
         return None
 
@@ -105,7 +143,9 @@ class _Criterion:
             self.full_ok = ok
             self.full_dirs = np.where(ok[:, None], d @ self.rot, 0.0)
             d, ok = src.lens.pixel_to_dir(self.active)
-            self.active_dirs = d[ok] @ self.rot
+            outline = _outline_dirs(src.lens) @ self.rot  # the pixels' corners and the exact rim
+            self.extra_dirs = outline
+            self.active_dirs = np.concatenate([d[ok] @ self.rot, outline])
 
     def _seen(self, lens: Lens, pts: np.ndarray | None, dirs: np.ndarray | None) -> np.ndarray:
         if self.mode == "fill":
@@ -125,25 +165,59 @@ class _Criterion:
         return int((~self._seen(lens, None, self.active_dirs)).sum())
 
     def full_failures(self, lens: Lens) -> np.ndarray:
-        """Mask over every sample of the ones that fail."""
+        """Mask over every sample of the ones that fail (for cover, then over the outline's points)."""
         self.full_evaluations += 1
         if self.mode == "fill":
             return ~self._seen(lens, self.full, None)
         fail = np.zeros(len(self.full), dtype=bool)
         fail[self.full_ok] = ~self._seen(lens, None, self.full_dirs[self.full_ok])
-        return fail
+        return np.concatenate([fail, ~self._seen(lens, None, self.extra_dirs)])
 
     def activate(self, fail: np.ndarray) -> None:
         """Add failing samples to the active set (so the next search respects them)."""
-        self.active = np.concatenate([self.active, self.full[fail]])
+        n = len(self.full)
+        self.active = np.concatenate([self.active, self.full[fail[:n]]])
         if self.mode == "cover":
-            self.active_dirs = np.concatenate([self.active_dirs, self.full_dirs[fail]])
+            self.active_dirs = np.concatenate([self.active_dirs, self.full_dirs[fail[:n]]])
 
     def pixels(self, lens: Lens | None) -> int:
         """Number of *pixels* (not samples) that fail, on every pixel."""
         if lens is None:
             return -1
-        return int(self.full_failures(lens).reshape(-1, self.samples).any(axis=1).sum())
+        return int(self.full_failures(lens)[: len(self.full)].reshape(-1, self.samples).any(axis=1).sum())
+
+
+def _outline_dirs(lens: Lens, steps: int = 40) -> np.ndarray:
+    """Directions of the source's pixel corners and of the exact rim of its valid region: ``(n, 3)``.
+
+    Showing all of a source means showing each pixel's whole area, up to where the lens stops seeing:
+    a 180-degree fisheye's rim pixels reach 90 degrees off its axis, which no perspective view shows.
+    The rim is found on every pixel edge whose two corners disagree, by bisection to ``2**-steps`` px.
+    """
+    w, h = lens.width, lens.height
+    gx, gy = np.meshgrid(np.arange(w + 1, dtype=np.float64), np.arange(h + 1, dtype=np.float64))
+    corners = np.stack([gx, gy], axis=-1)
+    d, ok = lens.pixel_to_dir(corners.reshape(-1, 2))
+    ok = ok.reshape(h + 1, w + 1)
+    found = [d[ok.ravel()]]
+    for axis in (0, 1):  # edges along y, then along x
+        a = corners[:-1, :] if axis == 0 else corners[:, :-1]
+        b = corners[1:, :] if axis == 0 else corners[:, 1:]
+        oka = ok[:-1, :] if axis == 0 else ok[:, :-1]
+        okb = ok[1:, :] if axis == 0 else ok[:, 1:]
+        cut = oka != okb
+        if not cut.any():
+            continue
+        inside = np.where(oka[cut][:, None], a[cut], b[cut])  # the valid end
+        outside = np.where(oka[cut][:, None], b[cut], a[cut])
+        for _ in range(steps):
+            mid = 0.5 * (inside + outside)
+            good = lens.pixel_to_dir(mid)[1]
+            inside = np.where(good[:, None], mid, inside)
+            outside = np.where(good[:, None], outside, mid)
+        dd, okk = lens.pixel_to_dir(inside)
+        found.append(dd[okk])
+    return np.concatenate(found)
 
 
 @dataclass
@@ -161,32 +235,48 @@ class AutoscaleResult:
     cobyla: str
     seconds: float
     notes: list[str] = field(default_factory=list)
+    pixels: int = 0  # pixels the criterion is counted over (the output's for fill, the source's for cover)
+    kept: bool = False  # nothing to fill: the field was kept as given
 
     @property
     def lens(self) -> Lens:
         return self.camera.lens
 
-    def report(self) -> list[str]:
-        what = "holes" if self.mode == "fill" else "cropped source pixels"
-        beyond = "wider" if self.mode == "fill" else "narrower"
-        lines = [f"autoscale {self.mode}: scale {self.scale:.8g} ({self.before} -> {self.after})",
-                 f"  {what}: {self.bad_at_scale} at this scale, "
-                 + (f"{self.bad_one_percent_beyond} with a 1% {beyond} field" if self.bad_one_percent_beyond >= 0
-                    else f"a 1% {beyond} field is outside the model's range"),
-                 f"  {self.evaluations} evaluations, {self.seconds:.2f} s; COBYLA check: {self.cobyla}"]
-        lines += [f"  note: {n}" for n in self.notes]
+    def report(self, verbose: bool = False) -> list[str]:
+        """What a user reads: old -> new field, and the share of empty (or cropped) pixels around it;
+        with ``verbose``, the search's own figures too."""
+        if self.kept:
+            lines = [f"autoscale {self.mode}: {self.notes[0]} ({self.before} kept)"]
+        else:
+            beyond = "wider" if self.mode == "fill" else "narrower"
+            if self.bad_one_percent_beyond < 0:
+                then = f"a 1% {beyond} field is outside what the model allows"
+            else:
+                share = 100.0 * self.bad_one_percent_beyond / max(1, self.pixels)
+                then = (f"a 1% {beyond} field would leave {share:.2g}% of the output's pixels empty"
+                        if self.mode == "fill" else
+                        f"a 1% {beyond} field would crop {share:.2g}% of the source's pixels")
+            what = "no empty pixel" if self.mode == "fill" else "every source pixel shown"
+            lines = [f"autoscale {self.mode}: {self.before} -> {self.after}: {what}; {then}"]
+        if verbose:
+            lines += [f"  scale {self.scale:.10g}; {self.bad_at_scale} failing pixels at it; "
+                      f"{self.evaluations} evaluations in {self.seconds:.2f} s; COBYLA check: {self.cobyla}"]
+            lines += [f"  note: {n}" for n in self.notes[1 if self.kept else 0:]]
         return lines
 
 
 def autoscale(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, rtol: float = RTOL) -> AutoscaleResult:
     """Scale ``dst``'s field of view so that the warp from ``src`` fills it (``fill``) or shows all of ``src``
-    (``cover``); see the module docstring. Raises :class:`FitError` when no scale can do it."""
+    (``cover``); see the module docstring. Raises :class:`FitError` when no usable scale does it."""
     t0 = time.perf_counter()
     if mode not in MODES:
         raise FitError(f"unknown autoscale mode {mode!r}; choose one of {', '.join(MODES)}")
-    crit = _Criterion(src, dst, mode, int(samples))
     base = dst.lens
-    scaled_lens(base, 1.0)  # raises for a lens without a field to scale
+    if not has_field(base):
+        raise FitError(no_field_message(base))
+    base = scaled_lens(base, 1.0) or base  # as its spec reads back
+    crit = _Criterion(src, Camera(base, dst.pose), mode, int(samples))
+    w, h = dst.size if mode == "fill" else src.size
 
     def feasible(s: float) -> bool:
         return crit.count(scaled_lens(base, s)) == 0
@@ -196,33 +286,43 @@ def autoscale(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, rt
 
     notes: list[str] = []
     for _ in range(50):  # search on the active set; verify on every sample; repeat with the failures added
-        good = _search(feasible, exists, mode, rtol, notes, base, src)
+        good, edge = _search(feasible, exists, mode, rtol, base, src)
         fail = crit.full_failures(scaled_lens(base, good))
         if not fail.any():
+            if edge == "open":  # fill holds up to the widest field the model allows: nothing to fill
+                good = 1.0
             break
         crit.activate(fail)
     else:  # pragma: no cover
         raise FitError("auto-scale did not settle: every search found new failing pixels")
     lens = scaled_lens(base, good)
-    bad_here = 0  # verified on every sample above
+    if edge == "open":
+        notes.append(f"the source covers every direction the {base.name} output can look along, up to the "
+                     "widest field its model allows: there is nothing to fill, and the field of view is kept")
+        return AutoscaleResult(mode, 1.0, Camera(lens, dst.pose), field_description(base), field_description(lens),
+                               0, -1, crit.evaluations + crit.full_evaluations, "not needed",
+                               time.perf_counter() - t0, notes, w * h, kept=True)
+    if edge == "limit":
+        raise FitError(_at_limit(mode, base, lens, src))
     up = mode == "fill"
-    beyond = good * (1.01 if up else 1 / 1.01)
-    beyond_lens = scaled_lens(base, beyond)
+    beyond_lens = scaled_lens(base, good * (1.01 if up else 1 / 1.01))
     bad_beyond = crit.pixels(beyond_lens) if beyond_lens is not None else -1
     cobyla = _cobyla_check(crit, base, good, up)
     return AutoscaleResult(mode, float(good), Camera(lens, dst.pose), field_description(base),
-                           field_description(lens), bad_here, bad_beyond, crit.evaluations + crit.full_evaluations,
-                           cobyla,
-                           time.perf_counter() - t0, notes)
+                           field_description(lens), 0, bad_beyond, crit.evaluations + crit.full_evaluations,
+                           cobyla, time.perf_counter() - t0, notes, w * h)
 
 
-def _search(feasible, exists, mode: str, rtol: float, notes: list[str], base: Lens, src: Camera) -> float:
-    """Bracket and bisect the scale where ``feasible`` changes; returns the feasible end."""
+def _search(feasible, exists, mode: str, rtol: float, base: Lens, src: Camera) -> tuple[float, str | None]:
+    """Bracket and bisect the scale where ``feasible`` changes; returns the feasible end and what the
+    search met: ``"open"`` (feasible up to the model's widest field, fill), ``"limit"`` (the answer lies
+    within :data:`EDGE_RTOL` of the model's range end) or None."""
     # fill: feasible below the answer, infeasible above; cover: the reverse
     up = mode == "fill"
     toward_bad = 2.0 if up else 0.5
     good: float | None = None
     bad: float | None = None
+    edge: float | None = None
     if feasible(1.0):
         good = 1.0
         for _ in range(64):
@@ -230,10 +330,9 @@ def _search(feasible, exists, mode: str, rtol: float, notes: list[str], base: Le
             if not exists(nxt):
                 edge = _range_edge(exists, good, nxt)
                 if feasible(edge):
+                    if up:
+                        return edge, "open"
                     good = edge
-                    note = "the criterion holds up to the end of the model's range: its limit was taken"
-                    if note not in notes:
-                        notes.append(note)
                 else:
                     bad = edge
                 break
@@ -268,7 +367,18 @@ def _search(feasible, exists, mode: str, rtol: float, notes: list[str], base: Le
             else:
                 hi = mid
         good = lo if up else hi
-    return good
+    if edge is not None and abs(good / edge - 1.0) < EDGE_RTOL:
+        return good, "limit"
+    return good, None
+
+
+def _at_limit(mode: str, base: Lens, lens: Lens, src: Camera) -> str:
+    if mode == "cover":
+        return (f"no usable field of view of the {base.name} output shows all of the source {src.lens.name}: it "
+                f"would take {field_description(lens)}, the very end of what the model allows; use a wider "
+                "model (a fisheye or equirect) or --autoscale fill")
+    return (f"no usable field of view of the {base.name} output is free of holes: it would take "
+            f"{field_description(lens)}, the very end of what the model allows (check the cameras' orientations)")
 
 
 def _range_edge(exists, inside: float, outside: float) -> float:
@@ -290,7 +400,7 @@ def _impossible(mode: str, lens: Lens, src: Camera) -> str:
         return (f"no field of view of the {lens.name} output is free of holes: even its narrowest view looks "
                 f"outside the source {src.lens.name} (check the cameras' orientations)")
     return (f"no field of view of the {lens.name} output shows all of the source {src.lens.name}: use a wider "
-            "model (fisheye or equirect) or autoscale fill")
+            "model (fisheye or equirect) or --autoscale fill")
 
 
 def _cobyla_check(crit: _Criterion, base: Lens, s: float, grow: bool) -> str:
@@ -324,18 +434,24 @@ def _cobyla_check(crit: _Criterion, base: Lens, s: float, grow: bool) -> str:
 _CAMERA_CACHE: dict[tuple, AutoscaleResult] = {}
 
 
-def autoscale_camera(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, report=None) -> Camera:
+def autoscale_camera(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, report=None,
+                     verbose: bool = False) -> Camera:
     """The output camera of a warp with its field auto-scaled (see :func:`autoscale`).
 
     For ``lenslab warp --autoscale``: a batch of images of one geometry computes the scale once.
-    ``report``, if given, is called with each line of the summary.
+    ``report``, if given, is called with each line of the summary (the search's figures too with
+    ``verbose``). A lens with no field of view to scale is reported and kept as given.
     """
+    if not has_field(dst.lens):
+        if report is not None:
+            report(no_field_message(dst.lens))
+        return dst
     key = (src.lens.spec(), src.size, src.pose.rotation.tobytes(), dst.lens.spec(), dst.size,
            dst.pose.rotation.tobytes(), mode, int(samples))
     result = _CAMERA_CACHE.get(key)
     if result is None:
         result = _CAMERA_CACHE[key] = autoscale(src, dst, mode, samples)
         if report is not None:
-            for line in result.report():
+            for line in result.report(verbose):
                 report(line)
     return Camera(result.lens, dst.pose)
