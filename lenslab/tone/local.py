@@ -89,7 +89,7 @@ def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
 
 
 _LOCAL_HEADROOM = Param("headroom", 12.0, "stops above the log-average kept before OpenCV's "
-                        "normalisation by the maximum (brighter is clipped)", 1.0, 30.0)
+                        "normalisation by the maximum (brighter is clipped)", 1.0, 30.0, units="stops")
 
 
 _DRAGO_P = (Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
