@@ -241,3 +241,49 @@ def test_octahedron_folds_the_back_into_the_corners():
     d = np.array([0.3, -0.5, -0.8])
     x, y = 0.3 / 1.6, -0.5 / 1.6
     assert np.abs(pixel("octahedron", size, d) - to_pixel(1 - abs(y), -(1 - abs(x)), size)).max() < 1e-9
+
+
+def edge_point(piece, edge: int, s: float, depth: float) -> np.ndarray:
+    """The point ``depth`` px inside edge ``edge`` (left, right, top, bottom) of a piece, at position ``s``
+    along it (top to bottom on left/right edges, left to right on top/bottom ones)."""
+    x0, y0, w, h = piece.rect
+    return np.array([(x0 + depth, y0 + s), (x0 + w - depth, y0 + s), (x0 + s, y0 + depth), (x0 + s, y0 + h - depth)][edge])
+
+
+@pytest.mark.parametrize("spec,size", [("eac", (600, 400)), ("eac:pad=2", (592, 400)), ("octahedron", (300, 300))])
+def test_what_lies_across_each_piece_edge_is_its_neighbour_on_the_sphere(spec, size):
+    """Half a pixel inside an edge and half a pixel inside what its piece says lies across it are one
+    pixel apart on the sphere (to 1.5 pixels' angle: the spacing changes a little across an edge); any
+    other edge or direction along it is tens of pixels away."""
+    lens = make_lens(spec, size)
+    pieces = lens.pieces()
+    checked = 0
+    for piece in pieces:
+        for edge, other in enumerate(piece.across):
+            if other is None:
+                continue
+            length = piece.height if edge < 2 else piece.width
+            for s in np.array([0.2, 0.5, 0.85]) * length:
+                here, step = edge_point(piece, edge, s, 0.5), edge_point(piece, edge, s, 1.5)
+                t = length - s if other.reversed else s
+                there = edge_point(pieces[other.piece], other.edge, t, 0.5)
+                (d_here, d_step, d_there), ok = lens.pixel_to_dir(np.array([here, step, there]))
+                assert ok.all()
+                pixel_angle = np.arccos(np.clip(d_here @ d_step, -1, 1))
+                assert np.arccos(np.clip(d_here @ d_there, -1, 1)) < 1.5 * pixel_angle, (piece, edge, s)
+                checked += 1
+    assert checked >= (12 if spec == "octahedron" else 72)
+
+
+def test_full_turn_cylinders_wrap_and_lambert_reaches_its_poles():
+    for spec, poles in (("cylindrical", False), ("mercator", False), ("cylindrical-equal-area:vfov=180", True)):
+        lens = make_lens(spec, (400, 200))
+        seams = lens.seams()
+        assert seams.period_x == 400 and seams.pole_top == seams.pole_bottom == poles
+        # the left and right edges are one meridian (the back, longitude 180)
+        (a, b), ok = lens.pixel_to_dir(np.array([[0.0, 70.0], [400.0, 70.0]]))
+        assert ok.all() and np.abs(a - b).max() < 1e-15 and a[2] < 0
+    assert not make_lens("cylindrical:fov=180", (400, 200)).seams().wraps
+    # the two halves of a dual fisheye are separate pieces with nothing across their edges
+    halves = make_lens("dual-fisheye", (400, 200)).pieces()
+    assert [p.rect for p in halves] == [(0, 0, 200, 200), (200, 0, 200, 200)] and all(p.across is None for p in halves)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.base import FLOAT, Lens, Param
+from lenslab.lenses.base import FLOAT, Lens, Param, Seams
 from lenslab.lenses.registry import register
 
 #: slack on the longitude test of the inverse: a direction on the left or right edge comes back a few
@@ -69,6 +69,13 @@ class _Cylinder(Lens):
     def wraps(self) -> bool:
         """True when the left and right edges are the same meridian (fov = 360)."""
         return self.fov == 360.0
+
+    def seams(self) -> Seams:
+        """A full turn wraps (period W); with it, Lambert's cylinder at vfov 180 has its poles on the edges."""
+        if not self.wraps:
+            return Seams()
+        poles = self.vfov == 180.0
+        return Seams(float(self.width), poles, poles)
 
     def uv_to_dir(self, uv):
         phi = uv[..., 0] * self.F

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.base import FLOAT, Lens, Param
+from lenslab.lenses.base import FLOAT, Lens, Param, Piece
 from lenslab.lenses.fisheye import FOV_LIMITS, Fisheye
 from lenslab.lenses.registry import register
 
@@ -48,6 +48,10 @@ class DualFisheye(Lens):
         self._lens = Fisheye(max(1, self.width // 2), self.height, fov=self.fov, mapping=self.mapping)
         self.half = self.width / 2.0
         self._front_x0 = 0.0 if self.front == "left" else self.half
+
+    def pieces(self):
+        """The two halves, one lens each; nothing lies across their edges (taps stay in their half)."""
+        return (Piece(0.0, 0.0, self.half, float(self.height)), Piece(self.half, 0.0, self.half, float(self.height)))
 
     def pixel_to_dir(self, xy):
         from lenslab.lenses.base import as_points, clean

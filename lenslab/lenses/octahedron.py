@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.base import FLOAT, Lens
+from lenslab.lenses.base import FLOAT, Lens, Piece
+from lenslab.lenses.protocol import BOTTOM, LEFT, RIGHT, TOP, Across
 from lenslab.lenses.registry import register
 
 
@@ -27,6 +28,12 @@ class Octahedron(Lens):
     v360_read = "span"
     #: the frame the model fills, width / height (the default output size of lenslab warp)
     frame_aspect = 1.0
+
+    def pieces(self):
+        """One piece whose edges fold onto themselves: beyond the left edge at height s lies the left
+        edge at height H - s (and likewise for the other three)."""
+        across = tuple(Across(0, e, True) for e in (LEFT, RIGHT, TOP, BOTTOM))
+        return (Piece(0.0, 0.0, float(self.width), float(self.height), across=across),)
 
     def uv_to_dir(self, uv):
         u, v = uv[..., 0], uv[..., 1]
