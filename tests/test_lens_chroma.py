@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from lenslab.lenses import Camera, make_lens
 
@@ -128,3 +130,19 @@ def test_tracer_traces_a_ray_per_channel_and_the_falloff():
         assert (diff > 1e-5 * np.abs(want).max()).mean() < 0.01
         assert diff.max() < 0.02
     assert np.abs(res.image[..., 0] - res.image[..., 2]).max() > 0.05  # red and blue really differ
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.9, 1.1), st.floats(-0.05, 0.05), st.floats(-0.05, 0.05), st.floats(0.0, 1.5))
+def test_radial_inverse_solves_lensfun_polynomials(v, c, b, frac):
+    """r P(r) at the solved radius gives back r_d (float64 transcription of lensfun's poly3 TCA)."""
+    from lenslab.lenses.radial import Radial
+
+    rad = Radial((v, c, b))
+    r_top = min(rad.r_max, 8.0)
+    ru = np.array([frac / 1.5 * r_top])
+    rd = ru * (v + c * ru + b * ru * ru)
+    got, ok = rad.inverse(rd)
+    assert ok[0]
+    # 1e-12: the solve stops at 1e-14 relative steps; the polynomial's own rounding is ~1e-16 r
+    assert abs(got[0] - ru[0]) <= 1e-12 * max(1.0, ru[0]) / max(rad.scale(ru)[0], 1e-3) + 1e-12

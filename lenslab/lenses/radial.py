@@ -37,13 +37,23 @@ class Radial:
         return self.coeffs.size == 1 and self.coeffs[0] == 1.0
 
     def _rising_limit(self) -> float:
-        """Smallest r > 0 where f'(r) = 0 (f rises on [0, r_max]); inf when f' stays positive."""
-        if self._df[0] <= 0:
+        """Smallest r > 0 where f'(r) = 0 (f rises on [0, r_max]), within :data:`R_LIMIT`; inf when f'
+        stays positive there. Found on a fine grid, then bisected (robust for any coefficients)."""
+        if not self._df[0] > 0:
             return 0.0
-        roots = np.roots(self._df[::-1]) if self._df.size > 1 else np.array([])
-        real = roots[np.abs(roots.imag) < 1e-12].real
-        real = real[real > 0]
-        return float(real.min()) if real.size else np.inf
+        grid = np.linspace(0.0, R_LIMIT, 8193)
+        with np.errstate(all="ignore"):
+            fails = np.flatnonzero(~(np.polynomial.polynomial.polyval(grid, self._df) > 0))
+        if not fails.size:
+            return np.inf
+        lo, hi = grid[fails[0] - 1], grid[fails[0]]
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            if np.polynomial.polynomial.polyval(mid, self._df) > 0:
+                lo = mid
+            else:
+                hi = mid
+        return float(lo)
 
     def scale(self, r: np.ndarray) -> np.ndarray:
         """``P(r)``."""
