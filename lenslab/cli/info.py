@@ -1,12 +1,17 @@
 """Print what image files hold: format, size, channels, sample type, per-channel min/mean/max (over
 finite values), counts of NaN, infinite and negative values, and the lens model if the file carries
-a camera (EXR files written by lenslab do).
+a camera (EXR files written by lenslab do). Then the file's structure: every EXR part with its
+storage, compression, data and display windows, layers, channels (pixel type and sampling) and
+attributes; TIFF pages; the Radiance header; the streams of a video; whether a JPEG's Ultra HDR gain
+map was ignored.
 
 EXR selectors work here too: 'file.exr:left' (a layer), 'file.exr:2' or 'file.exr:NAME' (a part).
+'lenslab info --formats' lists every format lenslab reads and writes, with what each holds.
 
 examples:
   lenslab info pano.exr
   lenslab info --json renders/*.exr > stats.json
+  lenslab info --formats
 """
 
 from __future__ import annotations
@@ -17,7 +22,10 @@ import sys
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("files", nargs="+", metavar="FILE", help="image files (EXR, PFM, PPM/PGM/PBM, JPG, PNG)")
+    parser.add_argument("files", nargs="*", metavar="FILE",
+                        help="image or video files (see --formats for the formats lenslab knows)")
+    parser.add_argument("--formats", action="store_true",
+                        help="list the formats lenslab reads and writes, with what each holds")
     parser.add_argument("--json", action="store_true", help="print one JSON list with an object per file")
     parser.add_argument("--raw", action="store_true",
                         help="statistics of the stored code values (scaled to 0..1) instead of linear light")
@@ -29,8 +37,16 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     """Everything ``info`` prints about one file, as a JSON-ready dict."""
     import numpy as np
 
-    from lenslab.io import read
+    from lenslab.io import read, split_selector
+    from lenslab.io.probe import probe
+    from lenslab.io.registry import get, sniff
 
+    file, _ = split_selector(path)
+    fmt = get(sniff(file))
+    if fmt.kind == "video":
+        from lenslab.io.probe import video_streams
+
+        return {"file": str(path), "format": fmt.name, "video": video_streams(file)}
     image, meta = read(path, raw=raw, data_window=data_window)
     stats = []
     for i, name in enumerate(meta["channels"]):
@@ -66,22 +82,71 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
             out[key] = meta[key]
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
     out["attributes"] = attrs
+    out["structure"] = probe(file, fmt.name)
     return out
+
+
+def _structure_lines(d: dict) -> list[str]:
+    st = d.get("structure") or {}
+    lines = []
+    for p in st.get("parts", []):
+        name = f" ({p['name']})" if p["name"] else ""
+        lines.append(f"  part {p['index']}{name}: "
+                     f"{p['storage']}, {p['compression']} compression, data window {p['data_window']}, display "
+                     f"window {p['display_window']}, {p['line_order']}")
+        chans = ", ".join(c["name"] + " " + c["type"] + ("" if c["sampling"] == [1, 1] else
+                                                          f" {c['sampling'][0]}x{c['sampling'][1]}-sampled")
+                          for c in p["channels"])
+        lines.append(f"    channels: {chans}")
+        if p["layers"]:
+            lines.append(f"    layers: {', '.join(p['layers'])}")
+        for k, v in p["attributes"].items():
+            if k != "lenslab.camera":
+                lines.append(f"    {k}: {v}")
+    for i, p in enumerate(st.get("pages", [])):
+        lines.append(f"  page {i}: {p['axes']} {p['shape']} {p['dtype']}, {p['compression']} compression, "
+                     f"{p['photometric']}, {p['planar']}" + (f", extra samples {p['extrasamples']}"
+                                                              if p["extrasamples"] else ""))
+    if "resolution" in st:
+        lines.append(f"  resolution line: {st['resolution']}")
+    return lines
+
+
+def _video_text(d: dict) -> str:
+    v = d["video"]
+    dur = f", {v['duration_s']:.3f} s" if v["duration_s"] is not None else ""
+    lines = [f"{d['file']}: video ({v['container']}{dur}), {len(v['streams'])} stream(s)"]
+    for s in v["streams"]:
+        if s["kind"] == "video":
+            lines.append(f"  stream {s['index']}: video {s['codec']} {s['width']} x {s['height']} {s['pixel_format']}, "
+                         f"{s['frame_rate']} fps, {s['frames']} frames, primaries {s['colour_primaries']}, "
+                         f"transfer {s['transfer']}, matrix {s['matrix']}, range {s['range']}")
+        elif s["kind"] == "audio":
+            lines.append(f"  stream {s['index']}: audio {s['codec']} {s['sample_rate']} Hz, {s['channels']} channel(s)")
+        else:
+            lines.append(f"  stream {s['index']}: {s['kind']} {s['codec']}")
+    return "\n".join(lines)
+
+
+def formats_text() -> str:
+    """The table printed by ``lenslab info --formats``, from the format plugins."""
+    from lenslab.io.registry import formats
+
+    lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<34s} {'extensions':<24s} notes"]
+    for f in formats().values():
+        holds = ("linear HDR" if f.hdr else "display-encoded") + (", alpha" if f.alpha else "") + \
+            f", {'/'.join(str(b) for b in f.bit_depths)}-bit"
+        lines.append(f"{f.name:<7s} {'yes' if f.readable else '-':<5s} {'yes' if f.writable else '-':<6s} "
+                     f"{holds:<34s} {' '.join(f.extensions):<24s} {f.note}")
+    return "\n".join(lines)
 
 
 def _text(d: dict) -> str:
     lines = [f"{d['file']}: {d['format'].upper()} {d['width']} x {d['height']}, {len(d['channels'])} channel(s) "
              f"{','.join(d['channels'])}, {d['sample_type']} {d['bit_depth']}-bit"
              f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"]
-    if d.get("part_name") is not None and d.get("format") == "exr":
-        extra = f"  part {d['part']}"
-        if d["part_name"]:
-            extra += f" ({d['part_name']})"
-        if d.get("layer"):
-            extra += f", layer {d['layer']}"
-        if d.get("data_window") != d.get("display_window"):
-            extra += f", data window {d['data_window']} in display window {d['display_window']}"
-        lines.append(extra)
+    if d.get("layer"):
+        lines.append(f"  layer {d['layer']} of part {d['part']}")
     if d.get("luminance_chroma"):
         lines.append("  luminance/chroma (Y, RY, BY) converted to RGB")
     if d.get("primaries_converted_to_rec709"):
@@ -97,6 +162,10 @@ def _text(d: dict) -> str:
         lines.append(f"  {s['channel']:<8s} {num(s['min'])} {num(s['mean'])} {num(s['max'])} "
                      f"{s['nan']:8d} {s['inf']:8d} {s['negative']:9d}")
     lines.append(f"  lens: {d['lens']}" if d["lens"] else "  lens: none stored")
+    lines += _structure_lines(d)
+    if set(d.get("structure") or {}) <= {"file_bytes"}:  # no structure probe: the reader's attributes
+        for k, v in d["attributes"].items():
+            lines.append(f"  {k}: {v}")
     return "\n".join(lines)
 
 
@@ -116,6 +185,18 @@ def _json_safe(value):
 def run(args: argparse.Namespace) -> int:
     from lenslab.errors import LenslabError
 
+    if args.formats:
+        if args.json:
+            from lenslab.io.registry import formats
+
+            print(json.dumps([f.describe() for f in formats().values()], indent=2))
+        else:
+            print(formats_text())
+        return 0
+    if not args.files:
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError("give one or more files, or --formats")
     results, failed = [], 0
     for path in args.files:
         try:
@@ -129,7 +210,7 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             results.append(d)
         else:
-            print(_text(d))
+            print(_video_text(d) if "video" in d else _text(d))
     if args.json:
         print(json.dumps(_json_safe(results), indent=2, allow_nan=False, default=str))
     if failed:

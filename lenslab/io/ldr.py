@@ -78,9 +78,17 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         "sample_type": "uint",
         "channels": names,
         "display_encoded": not raw,
-        "attributes": {},
+        "attributes": _gain_map_note(data) if fmt == "jpg" else {},
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta
+
+
+def _gain_map_note(data: bytes) -> dict:
+    """Ultra HDR / Adobe gain-map JPEGs: say that the gain map is present and not applied."""
+    if b"hdrgm:" not in data and b"urn:iso:std:iso:ts:21496" not in data:
+        return {}
+    return {"gain_map": "Ultra HDR gain map present and ignored: this is the SDR base image (display-referred, "
+                        "not the HDR rendition)"}
 
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,

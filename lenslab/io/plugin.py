@@ -50,6 +50,8 @@ class Format:
     camera: bool = False
     #: one line for ``lenslab info --formats`` and the docs
     note: str = ""
+    #: "image", or "video" (many frames: ``read`` gives the first, :mod:`lenslab.io.video` the rest)
+    kind: str = "image"
 
     @property
     def readable(self) -> bool:
@@ -65,4 +67,4 @@ class Format:
                 "alpha": self.alpha, "channels": list(self.channels), "bit_depths": list(self.bit_depths),
                 "sample_types": list(self.sample_types), "read": self.readable, "write": self.writable,
                 "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
-                "note": self.note}
+                "note": self.note, "kind": self.kind}
