@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import ArgumentParser, UsageError, run_command
+from lenslab.cli.policy import ArgumentParser, OutputError, UsageError, run_command
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -50,11 +50,12 @@ def run(args) -> int:
     if not stored["items"] and report is None and hdri is None:
         raise UsageError(f"{args.out} holds no gallery records (gallery.json); run 'lenslab demo -o DIR' "
                          "first, or give --hdri DIR or --report DIR")
-    check_output_dir(args.out)
-    check_output(Path(args.out) / "index.html", overwrite=args.overwrite)
     for folder in (report, hdri):
         if folder is not None and Path(folder).resolve() == Path(args.out).resolve():
-            raise UsageError(f"{folder} is an input of the page; give another output folder")
+            raise OutputError(f"{folder} is an input of the page; it is never written into, even with "
+                              "--overwrite: give another output folder")
+    check_output_dir(args.out)
+    check_output(Path(args.out) / "index.html", overwrite=args.overwrite)
     index = build_gallery(args.out, *stored["items"], validate_report=report, hdri_dir=hdri,
                           title=args.title or stored.get("title"), progress=not args.quiet)
     print(f"gallery: {index}")

@@ -1,0 +1,144 @@
+"""The output policy, for every command of every entry point (derived from the parsers).
+
+Every command that writes is run against an output that already exists (no --overwrite) and against
+its own input (with --overwrite, by the same path and through a symbolic link): it refuses with one
+error line and exit code 1, and the file's bytes are unchanged. A command added later fails
+``test_every_command_is_classified`` until it has a row here.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.cli_entry_points import all_commands, run
+
+KEEP = b"an earlier result the user wants to keep\n"
+
+# Commands that write no file (they print): nothing to refuse.
+PRINTS = {"lenslab info", "lenslab lenses", "lenslab fit lens", "lenslab fit points", "lenslab fit tone",
+          "lenslab camera show", "tracer bench", "tracer scenes"}
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    from lenslab.io import write
+
+    d = tmp_path_factory.mktemp("outputs")
+    rng = np.random.default_rng(1)
+    pano = rng.uniform(0.0, 4.0, (32, 64, 3)).astype(np.float32)
+    write(d / "pano.pfm", pano)
+    write(d / "pano.exr", pano)
+    (d / "hdri").mkdir()
+    write(d / "hdri" / "sky.exr", pano)
+    (d / "cam.toml").write_text("[lens]\nmodel = \"fisheye\"\nsize = [64, 64]\nfov = 180.0\n")
+    for name in ("existing.exr", "existing.png", "existing.jpg", "existing.json", "existing.toml"):
+        (d / name).write_bytes(KEEP)
+    for folder, name in (("demo", "notes.txt"), ("report", "results.json"), ("page", "index.html")):
+        (d / folder).mkdir()
+        (d / folder / name).write_bytes(KEEP)
+    return d
+
+
+def _existing(d: Path) -> dict[str, tuple[list[str], Path]]:
+    """command -> (arguments that aim at an existing output, that output)."""
+    json_ = d / "existing.json"
+    cases = {
+        "lenslab convert": (["--to", "exr", str(d / "pano.pfm"), "-o", str(d / "existing.exr")], d / "existing.exr"),
+        "lenslab warp": ([str(d / "pano.pfm"), "-o", str(d / "existing.exr"), "--to", "fisheye:fov=180"],
+                         d / "existing.exr"),
+        "lenslab stmap": (["-o", str(d / "existing.exr"), "--from", "equirect", "--to", "fisheye:fov=180",
+                           "--size", "16x16"], d / "existing.exr"),
+        "lenslab tonemap": ([str(d / "pano.pfm"), "-o", str(d / "existing.png")], d / "existing.png"),
+        "lenslab curves": (["-o", str(d / "existing.png")], d / "existing.png"),
+        "lenslab compare-tones": ([str(d / "pano.pfm"), "-o", str(d / "existing.jpg")], d / "existing.jpg"),
+        "lenslab camera convert": ([str(d / "cam.toml"), "-o", str(d / "existing.toml")], d / "existing.toml"),
+        "lenslab demo": (["-o", str(d / "demo"), "--quiet"], d / "demo" / "notes.txt"),
+        "lenslab validate": (["--scene", "analytic", "-o", str(d / "report"), "-q"], d / "report" / "results.json"),
+        "tracer render": (["--scene", "cornell", "--size", "8x8", "--spp", "1", "-o", str(d / "existing.exr"), "-q"],
+                          d / "existing.exr"),
+        "python -m gallery": ([str(d / "page"), "--hdri", str(d / "hdri"), "--quiet"], d / "page" / "index.html"),
+    }
+    for c in all_commands():
+        if c.name.startswith("lenslab bench "):  # refused before the benchmark runs
+            cases[c.name] = (["--json", str(json_)], json_)
+    return cases
+
+
+def _own_input(d: Path, link: bool) -> dict[str, tuple[list[str], Path]]:
+    """command -> (arguments whose output is the command's own input, that input), with --overwrite.
+
+    With ``link``, the output is a symbolic link to the input (or the input a link to the output)."""
+    pfm, exr = d / "pano.pfm", d / "pano.exr"
+    via_pfm, via_exr = (d / "link-to-pano.pfm", d / "link-to-pano.exr") if link else (pfm, exr)
+    cases = {
+        "lenslab convert": (["--to", "exr", str(exr), "-o", str(via_exr), "--overwrite"], exr),
+        "lenslab warp": ([str(exr), "-o", str(via_exr), "--to", "fisheye:fov=180", "--overwrite"], exr),
+        "lenslab tonemap": ([str(via_pfm), "-o", str(pfm), "--overwrite"], pfm),
+        "lenslab compare-tones": ([str(pfm), "-o", str(via_pfm), "--overwrite"], pfm),
+        "lenslab camera convert": ([str(d / "cam.toml"), "-o", str(d / ("link-to-cam.toml" if link else "cam.toml")),
+                                    "--overwrite"], d / "cam.toml"),
+        "tracer render": (["--scene", "sky", "--env", str(exr), "--size", "8x8", "--spp", "1", "-o", str(via_exr),
+                           "--overwrite", "-q"], exr),
+    }
+    if not link:  # folders: the output folder is an input folder
+        cases["lenslab demo"] = (["-o", str(d / "hdri"), "--hdri", str(d / "hdri"), "--overwrite", "--quiet"],
+                                 d / "hdri" / "sky.exr")
+        cases["python -m gallery"] = ([str(d / "hdri"), "--hdri", str(d / "hdri"), "--overwrite", "--quiet"],
+                                      d / "hdri" / "sky.exr")
+    return cases
+
+
+# Writers with no input a user could name as their output (reason given).
+NO_INPUT_TO_WRITE_OVER = {
+    "lenslab stmap": "its inputs are lens specs or calibration files, never the .exr map it writes",
+    "lenslab curves": "it reads nothing",
+    "lenslab validate": "it renders its own inputs",
+    "lenslab bench": "it measures its own data",
+}
+
+
+def _commands() -> dict:
+    return {c.name: c for c in all_commands()}
+
+
+def test_every_command_is_classified(tmp_path):
+    names = set(_commands())
+    existing = set(_existing(tmp_path))
+    assert names == existing | PRINTS, sorted(names ^ (existing | PRINTS))
+    own = set(_own_input(tmp_path, link=False))
+    for name in existing - own:
+        assert name in NO_INPUT_TO_WRITE_OVER or name.rpartition(" ")[0] in NO_INPUT_TO_WRITE_OVER, name
+
+
+@pytest.mark.parametrize("name", sorted(set(_existing(Path("/nonexistent")))))
+def test_an_existing_output_is_refused(work, name):
+    args, protected = _existing(work)[name]
+    before = protected.read_bytes()
+    code, _, err = run(_commands()[name], args)
+    assert code == 1, (name, err)
+    assert "already exists" in err or "not empty" in err, err
+    assert len(err.strip().splitlines()) <= 2 and "Traceback" not in err  # the error, and a batch's summary
+    assert protected.read_bytes() == before == KEEP
+
+
+OWN = [(name, link) for link in (False, True) for name in sorted(_own_input(Path("/nonexistent"), link))]
+
+
+@pytest.mark.parametrize("name,link", OWN, ids=[f"{n}, {'through a link' if k else 'same path'}" for n, k in OWN])
+def test_an_input_is_never_written_over(work, name, link):
+    args, protected = _own_input(work, link)[name]
+    for target, source in (("link-to-pano.pfm", "pano.pfm"), ("link-to-pano.exr", "pano.exr"),
+                           ("link-to-cam.toml", "cam.toml")):
+        if not (work / target).is_symlink():
+            os.symlink(work / source, work / target)
+    before = protected.read_bytes()
+    code, _, err = run(_commands()[name], args)
+    assert code == 1, (name, err)
+    assert "input" in err, err
+    assert "Traceback" not in err
+    assert protected.read_bytes() == before
+    assert not [p for p in work.rglob(".*tmp*")], "a temporary file was left behind"
