@@ -107,7 +107,18 @@ def smooth_links(x: np.ndarray, y: np.ndarray, ok: np.ndarray, axis: int) -> tup
     return dx, dy, smooth
 
 
-def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, r0: int = 0, r1: int | None = None):
+class MapGrid:
+    """An ST map's source positions and the smoothness of the links between its entries, worked out
+    once for a whole warp (see :func:`map_samples`)."""
+
+    def __init__(self, st: np.ndarray, src_size: tuple[int, int]):
+        self.x, self.y, self.ok = source_positions(st, src_size)
+        self.sx = smooth_links(self.x, self.y, self.ok, 1)[2]  # (h, w - 1)
+        self.sy = smooth_links(self.x, self.y, self.ok, 0)[2]  # (h - 1, w)
+
+
+def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np.ndarray, r0: int = 0,
+                r1: int | None = None):
     """Index coordinates (float32 ``h x W x S``, the centre of source pixel k at k) and validity of the
     sub-pixel samples at ``offsets`` (``S x 2`` in [0, 1]) of the output pixels of rows ``r0:r1``.
 
@@ -115,10 +126,9 @@ def map_samples(st: np.ndarray, src_size: tuple[int, int], offsets: np.ndarray, 
     centres (clamped at the image's edges), unless a link between them is not smooth (a jump, or an
     entry without a ray; see :func:`smooth_links`): it then takes its own pixel's entry.
     """
-    x, y, ok = source_positions(st, src_size)
+    grid = st if isinstance(st, MapGrid) else MapGrid(st, src_size)
+    x, y, ok, sx, sy = grid.x, grid.y, grid.ok, grid.sx, grid.sy
     h, w = ok.shape
-    _, _, sx = smooth_links(x, y, ok, 1)  # (h, w - 1)
-    _, _, sy = smooth_links(x, y, ok, 0)  # (h - 1, w)
     r1 = h if r1 is None else r1
     xs = np.empty((r1 - r0, w, len(offsets)), dtype=np.float32)
     ys = np.empty_like(xs)
@@ -194,10 +204,11 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     offsets = sample_pattern(int(samples))
     pyramid = aa.pyramid(src, Border()) if antialias else None
     foot = footprints(st, size) if antialias else None
+    grid = MapGrid(st, size)
     rows = max(1, (1 << 18) // max(1, w * len(offsets)))
     for r0 in range(0, h, rows):
         r1 = min(h, r0 + rows)
-        xs, ys, valid = map_samples(st, size, offsets, r0, r1)
+        xs, ys, valid = map_samples(grid, size, offsets, r0, r1)
         if antialias:
             k = aa.EDGE_SPLIT ** 2
             band = aa.FootprintBand(r0, r1, xs, ys, valid, np.ascontiguousarray(foot[r0:r1, :, None]),
