@@ -7,6 +7,7 @@ import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.lenses.base import FLOAT, Lens, Param, as_points, clean
+from lenslab.lenses.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
 #: per face, camera-space axes (A, B, C) with  d ~ uf A + vf B + C, where (uf, vf) run over [-1, 1]
@@ -91,6 +92,13 @@ class Cubemap(Lens):
     def v360_read(self) -> str | None:
         """How ffmpeg's v360 reads this layout as its input (it has no cross)."""
         return None if self.layout == "4x3" else "centre"
+
+    def pieces(self):
+        """The six faces, each with the face and edge across each of its edges (the cube folded flat)."""
+        ew, eh = self.face_size
+        cells = [k for k in range(self.cols * self.rows) if self._used[k]]
+        rects = [((k % self.cols) * ew, (k // self.cols) * eh, ew, eh) for k in cells]
+        return cube_pieces(rects, [(self._A[k], self._B[k], self._C[k]) for k in cells])
 
     @property
     def face_size(self) -> tuple[float, float]:

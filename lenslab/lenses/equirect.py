@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Lens, Param, as_points, clean
+from lenslab.lenses.base import FLOAT, Lens, Param, Seams, as_points, clean
 from lenslab.lenses.registry import register
 
 
@@ -50,6 +50,18 @@ class Equirect(Lens):
     def wraps(self) -> bool:
         """True when the left and right edges are the same meridian."""
         return self.lon_max - self.lon_min == 360.0
+
+    def seams(self) -> Seams:
+        """A full turn wraps (period W); with it, a latitude range reaching +-90 has poles."""
+        if not self.wraps:
+            return Seams()
+        return Seams(float(self.width), self.lat_max == 90.0, self.lat_min == -90.0)
+
+    def column_scale(self, y):
+        """cos(latitude) x (radians per column) / (radians per row): columns crowd toward the poles."""
+        lat = np.radians(self.lat_max - (np.asarray(y, dtype=FLOAT) / self.height) * (self.lat_max - self.lat_min))
+        return np.abs(np.cos(lat)) * (np.radians(self.lon_max - self.lon_min) / self.width) / (
+            np.radians(self.lat_max - self.lat_min) / self.height)
 
     # normalised-plane maps, so that swirl and the distortions can bend an equirect too; a bent point
     # outside the longitude/latitude rectangle is invalid (the map would repeat directions there)

@@ -128,3 +128,38 @@ def finite_difference_jacobian(lens, dirs: np.ndarray, eps: float = 1e-6):
 
 #: a source's falloff is never divided by less than this (a vignetted corner near 0 would blow up noise)
 MIN_FALLOFF = 1e-3
+
+
+#: per edge (left, right, top, bottom): (sign, axis) of its outward vector and of the direction in which
+#: positions along it run, in terms of a face's axes A (across, left to right) and B (down)
+_EDGE_OUT = ((-1, 0), (1, 0), (-1, 1), (1, 1))
+_EDGE_ALONG = ((1, 1), (1, 1), (1, 0), (1, 0))
+
+
+def cube_pieces(rects, axes) -> tuple[Piece, ...]:
+    """Pieces of a cube layout: ``rects[k] = (x0, y0, w, h)`` of face ``k`` and ``axes[k] = (A, B, C)``
+    with ``d ~ uf A + vf B + C`` across it (``uf`` left to right, ``vf`` top to bottom, both in [-1, 1]).
+
+    Across each face edge lies the face whose centre axis ``C`` is that edge's outward vector, along its
+    edge whose outward vector is this face's ``C`` (the cube folded flat along their common edge)."""
+    axes = [np.asarray(a, dtype=np.float64) for a in axes]
+
+    def vec(k, sign_axis):
+        sign, which = sign_axis
+        return sign * axes[k][which]
+
+    pieces = []
+    for f in range(len(axes)):
+        across = []
+        for e in range(4):
+            out = vec(f, _EDGE_OUT[e])
+            found = None
+            for g in range(len(axes)):
+                if g != f and np.allclose(axes[g][2], out):
+                    for e2 in range(4):
+                        if np.allclose(vec(g, _EDGE_OUT[e2]), axes[f][2]):
+                            rev = float(np.dot(vec(f, _EDGE_ALONG[e]), vec(g, _EDGE_ALONG[e2]))) < 0
+                            found = Across(g, e2, rev)
+            across.append(found)
+        pieces.append(Piece(*map(float, rects[f]), across=tuple(across)))
+    return tuple(pieces)

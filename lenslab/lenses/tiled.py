@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Lens, Param, as_points, check_size, clean, normalize
+from lenslab.lenses.base import FLOAT, Lens, Param, Piece, as_points, check_size, clean, normalize
 from lenslab.lenses.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens, register
 
@@ -246,6 +246,13 @@ class Tiled(Lens):
             free[hit] = False
         valid = seen_any & ~free
         return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+
+    def pieces(self):
+        """One piece per tile, each a camera of its own: the tile's lens and pose (None for an empty tile)."""
+        tw, th = self.tile_size
+        return tuple(Piece(float((k % self.cols) * tw), float((k // self.cols) * th), float(tw), float(th),
+                           lens=None if t is None else t.lens, pose=None if t is None else t.pose)
+                     for k, t in enumerate(self.tile_list))
 
     def pixel_origin(self, xy) -> np.ndarray:
         """Each pixel's eye point: its tile's eye (plus the tile lens's own offsets), tiled-camera frame."""

@@ -5,8 +5,10 @@ returns ``(image, alpha)``: float32, never clamped, colour premultiplied by the 
 (the OpenEXR convention), exactly 0 where no sample lands on the source. See :func:`warp`.
 
 Modules: :mod:`~lenslab.warp.maps` (where each output sample reads the source, float64),
-:mod:`~lenslab.warp.filters` (exact nearest/bilinear/bicubic/Lanczos samplers),
-:mod:`~lenslab.warp.seam` (the equirect seam and poles), :mod:`~lenslab.warp.antialias` (footprint
+:mod:`~lenslab.warp.lattice` (the map's lattice), :mod:`~lenslab.warp.filters` (exact
+nearest/bilinear/bicubic/Lanczos samplers), :mod:`~lenslab.warp.pyramid` (the footprint sampler),
+:mod:`~lenslab.warp.given` (warping by a map from elsewhere),
+:mod:`~lenslab.warp.seam` (seams, poles and piece edges), :mod:`~lenslab.warp.antialias` (footprint
 prefilter), :mod:`~lenslab.warp.batch` (one cached map for many images), :mod:`~lenslab.warp.engine`
 (the banded loop).
 """

@@ -1,6 +1,6 @@
 """Anti-aliasing by footprint: average the source over the region each output pixel covers.
 
-Where the output shrinks the source (a wide fisheye from a detailed panorama, the rows near a pole),
+Where the output shrinks the source (a wide-angle view of a detailed panorama, the rows near a pole),
 one bilinear tap per pixel skips most of the source and small bright features (the sun) flicker in
 and out. Supersampling (``samples=N``) fixes it at N times the cost everywhere. The footprint
 prefilter spends the work only where it is needed:
@@ -14,7 +14,7 @@ prefilter spends the work only where it is needed:
    q(p - (h, 0))`` with ``h`` half the stratum's side, their ends kept inside the cube face of the
    sample.
 2. A box-filtered pyramid of the source (each level halves the previous by 2x2 averaging; the seam
-   and pole structure of an equirect survives the halving) provides pre-averaged texels.
+   and pole structure of a panorama survives the halving; :mod:`lenslab.warp.pyramid`) provides pre-averaged texels.
 3. The level ``L`` is the finest at which the footprint spans at most ``MAX_TAPS`` texels along its
    longer side. A footprint at most 3 texels wide and tall whose x-y covariance is about zero
    (``AXIS_TOL``) is read as one axis-aligned box with its second moments; any other is split into
@@ -25,7 +25,7 @@ prefilter spends the work only where it is needed:
    box (:func:`_tent_box_weights`). The cells' weights are summed in one window of texels, which is
    then read once.
 5. A pixel whose validity differs from a neighbour's (or, on the image's border, from the point half
-   a pixel outside) straddles the edge of the valid region (a fisheye's rim, a source image's
+   a pixel outside) straddles the edge of the valid region (a circular image's rim, a source image's
    border): it is split into ``EDGE_SPLIT x EDGE_SPLIT`` sub-samples mapped exactly, which measure its
    partial coverage.
 
@@ -37,20 +37,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numba
 import numpy as np
 
 from lenslab.warp.dispatch import kernel
 from lenslab.warp.maps import MapBand, Mapper, exact_map
-from lenslab.warp.seam import Border, fold_index
+from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
 
 JACOBIAN_POINTS = 5  # map evaluations per sample with samples > 1: the centre and the four secant ends
 EDGE_SPLIT = 4  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
-MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from
-AXIS_TOL = 0.125  # texels^2: a footprint whose x-y covariance (times 12) is below this is one box
-DENSITY = 0.75  # cells per texel along each side of the footprint (measured best accuracy per cost)
-WINDOW = 16  # texels: the side of the window of weights a footprint is gathered through (fits MAX_TAPS + 5)
 
 
 @dataclass
@@ -91,9 +86,9 @@ def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> Foo
     ys = band.ys.reshape(h, w, 5, n)
     vs = band.valid.reshape(h, w, 5, n)
     foot = np.empty((h, w, n, 4), dtype=np.float32)
-    _secants(xs, ys, vs, mapper.wrap, foot, work=xs.size)
+    _secants(xs, ys, vs, mapper.wrap, foot)
     # samples whose five points disagree on validity straddle the edge of the valid region (a
-    # fisheye's rim, a source image's border): their coverage is partial, so they are split into
+    # circular image's rim, a source image's border): their coverage is partial, so they are split into
     # EDGE_SPLIT x EDGE_SPLIT plain sub-samples that measure it
     edge = vs.any(axis=2) & ~vs.all(axis=2)
     return _split_edges(mapper, r0, offsets, half, np.ascontiguousarray(xs[:, :, 0]),
@@ -152,10 +147,14 @@ def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, f
 
 
 def _pieces(lens):
-    """``(piece width, piece height)`` of an output lens whose map jumps between pieces (a cube map's
-    faces), else None."""
-    if getattr(lens, "name", "") == "cubemap":
-        return lens.face_size
+    """``(piece width, piece height)`` of an output lens whose pieces (cube faces, the halves of a
+    double image) tile it in a grid of one size, so that its map jumps at their edges; else None."""
+    pieces = lens.pieces()
+    if len(pieces) < 2:
+        return None
+    fw, fh = pieces[0].width, pieces[0].height
+    if all(p.width == fw and p.height == fh and p.x0 % fw == 0 and p.y0 % fh == 0 for p in pieces):
+        return fw, fh
     return None
 
 
@@ -256,260 +255,3 @@ def _secants(xs, ys, vs, wrap, foot):
                         dx -= wrap * np.floor(dx / wrap + 0.5)
                     foot[r, c, k, 2 * axis] = dx
                     foot[r, c, k, 2 * axis + 1] = dy
-
-
-@dataclass
-class Pyramid:
-    """Box-filtered levels of a source: level 0 is the source itself, the others packed in one buffer."""
-
-    level0: np.ndarray  # the source, flattened (a view, no copy)
-    rest: np.ndarray  # levels 1.. one after the other, flattened float32
-    shapes: np.ndarray  # (L, 2) int64: (height, width) of each level
-    offsets: np.ndarray  # (L,) int64: start of each level in ``rest`` (0 for level 0)
-    channels: int
-    source: np.ndarray  # the source, H x W x C
-
-
-def pyramid(src: np.ndarray, border: Border) -> Pyramid:
-    """Box-filtered levels of ``src``: level 0 is ``src``, each next one halves it (2x2 mean).
-
-    Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
-    or below 2 pixels. The extra levels take a third of the source's memory.
-    """
-    levels = []
-    cur = src
-    while cur.shape[0] >= 2 and cur.shape[1] >= 2 and cur.shape[0] % 2 == 0 and cur.shape[1] % 2 == 0:
-        nxt = cv2.resize(cur, (cur.shape[1] // 2, cur.shape[0] // 2), interpolation=cv2.INTER_AREA)
-        if nxt.ndim == 2:
-            nxt = nxt[..., None]
-        levels.append(np.ascontiguousarray(nxt, dtype=np.float32))
-        cur = nxt
-    shapes = np.array([src.shape[:2]] + [lv.shape[:2] for lv in levels], dtype=np.int64)
-    sizes = [lv.size for lv in levels]
-    offsets = np.concatenate([[0, 0], np.cumsum(sizes)[:-1]]).astype(np.int64)[:len(shapes)]
-    rest = np.concatenate([lv.reshape(-1) for lv in levels]) if levels else np.zeros(1, np.float32)
-    return Pyramid(src.reshape(-1), rest, shapes, offsets, src.shape[2], src)
-
-
-def sample_footprint(pyr: Pyramid, band: FootprintBand, border: Border, out: np.ndarray,
-                     alpha: np.ndarray) -> None:
-    """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
-    wrap, top, bottom = border.flags
-    _footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, band.xs, band.ys, band.valid & ~band.edge,
-               band.foot, wrap, top, bottom, MAX_TAPS, DENSITY, AXIS_TOL, out, alpha, work=16 * band.xs.size)
-    if len(band.edge_idx):
-        _edges(pyr.source, band.edge_idx, band.edge_xs, band.edge_ys, band.edge_valid, band.xs.shape[2],
-               wrap, top, bottom, out, alpha)
-
-
-@numba.njit(inline="always", cache=True)
-def _bilinear_at(img, x, y, wrap, top, bottom, acc, weight):
-    sh, sw, nc = img.shape
-    fx0 = np.floor(x)
-    fy0 = np.floor(y)
-    i0 = int(fx0)
-    j0 = int(fy0)
-    tx = x - fx0
-    ty = y - fy0
-    for dj in range(2):
-        wy = ty if dj else 1.0 - ty
-        if wy == 0.0:
-            continue
-        for di in range(2):
-            wx = tx if di else 1.0 - tx
-            if wx == 0.0:
-                continue
-            ii, jj = fold_index(i0 + di, j0 + dj, sw, sh, wrap, top, bottom)
-            ww = weight * wx * wy
-            for ch in range(nc):
-                acc[ch] += ww * img[jj, ii, ch]
-
-
-@numba.njit(inline="always", cache=True)
-def _tent_cdf(u):
-    """Integral of the tent max(0, 1 - |t|) from -inf to u: 0.5 + v - v|v|/2 with v = clip(u, -1, 1)
-    (the two quadratic pieces in one branch-free form)."""
-    v = min(1.0, max(-1.0, u))
-    return 0.5 + v - 0.5 * v * abs(v)
-
-
-@numba.njit(inline="always", cache=True)
-def _tent_box_weights(x, width, i0, n, k):
-    """``k[:n]`` = weights of texels ``i0..i0+n-1`` when the bilinear reconstruction is averaged over
-    the box of ``width`` centred at ``x`` (the tent integrated over the box); returns their sum."""
-    s = 0.0
-    if width < 1e-6:
-        for i in range(n):
-            k[i] = max(0.0, 1.0 - abs(x - (i0 + i)))
-            s += k[i]
-        return s
-    hw = 0.5 * width
-    inv = 1.0 / width
-    for i in range(n):
-        d = x - (i0 + i)
-        k[i] = (_tent_cdf(d + hw) - _tent_cdf(d - hw)) * inv
-        s += k[i]
-    return s
-
-
-@kernel.options(fastmath=True)
-def _footprint(level0, rest, shapes, offsets, xs, ys, valid, foot, wrap, top, bottom, max_taps, density,
-               axis_tol, out, alpha):
-    h, w, n = xs.shape
-    nc = out.shape[2]
-    nlev = shapes.shape[0]
-    inv = 1.0 / n
-    h0 = shapes[0, 0]
-    for r in range(h):
-        acc = np.zeros(nc)
-        kx = np.zeros(WINDOW)
-        ky = np.zeros(WINDOW)
-        wgt = np.zeros((WINDOW, WINDOW))
-        for c in range(w):
-            acc[:] = 0.0
-            a0 = 0.0
-            a1 = 0.0
-            a2 = 0.0
-            hits = 0
-            for k in range(n):
-                if not valid[r, c, k]:
-                    continue
-                hits += 1
-                ax = np.float64(foot[r, c, k, 0])
-                ay = np.float64(foot[r, c, k, 1])
-                bx = np.float64(foot[r, c, k, 2])
-                by = np.float64(foot[r, c, k, 3])
-                la = np.sqrt(ax * ax + ay * ay)
-                lb = np.sqrt(bx * bx + by * by)
-                longest = max(la, lb)
-                lev = 0
-                while lev + 1 < nlev and longest > max_taps * (1 << lev):
-                    lev += 1
-                lh = shapes[lev, 0]
-                lw = shapes[lev, 1]
-                scale = lh / h0  # texels of this level per source pixel
-                # second moments of the footprint (a parallelogram), in texels^2 x 12: the variance
-                # of a box of width w is w^2 / 12
-                sxx = (ax * ax + bx * bx) * scale * scale
-                syy = (ay * ay + by * by) * scale * scale
-                sxy = (ax * ay + bx * by) * scale * scale
-                cx = (np.float64(xs[r, c, k]) + 0.5) * scale - 0.5
-                cy = (np.float64(ys[r, c, k]) + 0.5) * scale - 0.5
-                if sxx <= 9.0 and syy <= 9.0 and abs(sxy) <= axis_tol:
-                    na = nb = nsl = 1  # x-y covariance about 0: one box has the footprint's second moments
-                    bw = np.sqrt(sxx)
-                    bh = np.sqrt(syy)
-                else:
-                    # na x nb cells along the footprint's sides, each averaged over the axis-aligned
-                    # box with its second moments
-                    na = max(1, int(np.ceil(la * scale * density)))
-                    nb = max(1, int(np.ceil(lb * scale * density)))
-                    nsl = na * nb
-                    bw = scale * np.sqrt((ax / na) ** 2 + (bx / nb) ** 2)
-                    bh = scale * np.sqrt((ay / na) ** 2 + (by / nb) ** 2)
-                bw = min(3.0, bw)
-                bh = min(3.0, bh)
-                buf = level0 if lev == 0 else rest
-                base = offsets[lev]
-                if nsl == 1:  # one box: separable weights, read directly
-                    i0 = int(np.floor(cx - 1.0 - 0.5 * bw)) + 1
-                    j0 = int(np.floor(cy - 1.0 - 0.5 * bh)) + 1
-                    ni = int(np.floor(cx + 1.0 + 0.5 * bw)) + 1 - i0
-                    nj = int(np.floor(cy + 1.0 + 0.5 * bh)) + 1 - j0
-                    norm = 1.0 / (_tent_box_weights(cx, bw, i0, ni, kx) * _tent_box_weights(cy, bh, j0, nj, ky))
-                    inside = i0 >= 0 and j0 >= 0 and i0 + ni <= lw and j0 + nj <= lh
-                    for j in range(nj):
-                        wj = ky[j] * norm
-                        for i in range(ni):
-                            ww = kx[i] * wj
-                            if inside:
-                                p = base + ((j0 + j) * lw + i0 + i) * nc
-                            else:
-                                ii, jj = fold_index(i0 + i, j0 + j, lw, lh, wrap, top, bottom)
-                                p = base + (jj * lw + ii) * nc
-                            if nc == 3:
-                                a0 += ww * buf[p]
-                                a1 += ww * buf[p + 1]
-                                a2 += ww * buf[p + 2]
-                            else:
-                                for ch in range(nc):
-                                    acc[ch] += ww * buf[p + ch]
-                    continue
-                ex = 0.5 * scale * (abs(ax) * (1.0 - 1.0 / na) + abs(bx) * (1.0 - 1.0 / nb)) + 1.0 + 0.5 * bw
-                ey = 0.5 * scale * (abs(ay) * (1.0 - 1.0 / na) + abs(by) * (1.0 - 1.0 / nb)) + 1.0 + 0.5 * bh
-                wx0 = int(np.floor(cx - ex)) + 1
-                wy0 = int(np.floor(cy - ey)) + 1
-                nwx = min(int(np.floor(cx + ex)) - wx0 + 1, WINDOW)
-                nwy = min(int(np.floor(cy + ey)) - wy0 + 1, WINDOW)
-                for j in range(nwy):
-                    for i in range(nwx):
-                        wgt[j, i] = 0.0
-                cell = 1.0 / nsl
-                for q in range(nsl):
-                    fa = (q % na + 0.5) / na - 0.5
-                    fb = (q // na + 0.5) / nb - 0.5
-                    px = cx + (fa * ax + fb * bx) * scale
-                    py = cy + (fa * ay + fb * by) * scale
-                    rx = 1.0 + 0.5 * bw
-                    ry = 1.0 + 0.5 * bh
-                    i0 = max(int(np.floor(px - rx)) + 1, wx0)
-                    j0 = max(int(np.floor(py - ry)) + 1, wy0)
-                    ni = min(int(np.floor(px + rx)) + 1, wx0 + nwx) - i0
-                    nj = min(int(np.floor(py + ry)) + 1, wy0 + nwy) - j0
-                    if ni <= 0 or nj <= 0:
-                        continue
-                    sx = _tent_box_weights(px, bw, i0, ni, kx)
-                    sy = _tent_box_weights(py, bh, j0, nj, ky)
-                    norm = cell / (sx * sy)
-                    for j in range(nj):
-                        wj = ky[j] * norm
-                        for i in range(ni):
-                            wgt[j0 - wy0 + j, i0 - wx0 + i] += kx[i] * wj
-                inside = wx0 >= 0 and wy0 >= 0 and wx0 + nwx <= lw and wy0 + nwy <= lh
-                for j in range(nwy):
-                    for i in range(nwx):
-                        ww = wgt[j, i]
-                        if ww == 0.0:
-                            continue
-                        if inside:
-                            p = base + ((wy0 + j) * lw + wx0 + i) * nc
-                        else:
-                            ii, jj = fold_index(wx0 + i, wy0 + j, lw, lh, wrap, top, bottom)
-                            p = base + (jj * lw + ii) * nc
-                        if nc == 3:
-                            a0 += ww * buf[p]
-                            a1 += ww * buf[p + 1]
-                            a2 += ww * buf[p + 2]
-                        else:
-                            for ch in range(nc):
-                                acc[ch] += ww * buf[p + ch]
-            if nc == 3:
-                acc[0] = a0
-                acc[1] = a1
-                acc[2] = a2
-            for ch in range(nc):
-                out[r, c, ch] = acc[ch] * inv
-            alpha[r, c] = hits * inv
-
-
-@numba.njit(cache=True, nogil=True)
-def _edges(src, idx, exs, eys, evalid, n, wrap, top, bottom, out, alpha):
-    """Add the split edge samples: each contributes (sum of its valid sub-samples) / (K n)."""
-    nc = out.shape[2]
-    w = out.shape[1]
-    m, kk = exs.shape
-    acc = np.zeros(nc)
-    for e in range(m):
-        pix = idx[e] // n
-        r = pix // w
-        c = pix % w
-        acc[:] = 0.0
-        hits = 0
-        for q in range(kk):
-            if evalid[e, q]:
-                hits += 1
-                _bilinear_at(src, np.float64(exs[e, q]), np.float64(eys[e, q]), wrap, top, bottom, acc, 1.0)
-        scale = 1.0 / (kk * n)
-        for ch in range(nc):
-            out[r, c, ch] += acc[ch] * scale
-        alpha[r, c] += hits * scale

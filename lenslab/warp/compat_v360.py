@@ -5,21 +5,21 @@ through ``v360=...:interp=line``; ``tests/test_v360_ffmpeg.py`` compares every s
 ways), v360 samples every output projection at its pixel *centres*, as lenslab does, and reads its
 input in one of three ways, each lens saying which with its ``v360_read`` attribute:
 
-- ``"span"`` (equirect, flat, the fisheyes, mercator, cylindrical, pannini, sinusoidal, half equirect):
-  the projection's range ``[-1, 1]`` covers the span from the centre of the first pixel to the centre
-  of the last, ``index = p (W - 1) / W`` for lenslab's continuous coordinate ``p`` (a shrink of half a
-  pixel at each edge); ``"span-halves"`` (dual fisheye) does that within each half of the frame;
-- ``"centre"`` (the cube maps, EAC): lenslab's own convention, ``index = p - 1/2``;
-- ``"shift"`` (hammer): ``index = p``, half a pixel further right and down than lenslab.
+- ``"span"`` (most projections; docs/v360.md lists which lens reads which way): the projection's
+  range ``[-1, 1]`` covers the span from the centre of the first pixel to the centre of the last, ``index = p (W - 1) / W`` for lenslab's continuous coordinate ``p`` (a shrink of half a
+  pixel at each edge); ``"span-halves"`` (two images side by side) does that within each half of the frame;
+- ``"centre"`` (the cube layouts): lenslab's own convention, ``index = p - 1/2``;
+- ``"shift"``: ``index = p``, half a pixel further right and down than lenslab.
 
-Its equirect input clamps at the poles instead of continuing across them. :class:`V360Plan`
+Its panorama input clamps at the poles instead of continuing across them. :class:`V360Plan`
 reproduces these conventions with lenslab's lens models and filters. It does not reproduce v360's
 other habits (clamping float input to [0, 1], filling pixels outside an output projection with
-whatever its formulas give, reading a cube face's neighbour face at face edges, the integer face sizes
-it rounds non-divisible cube maps to): the output keeps HDR values and alpha.
+whatever its formulas give, the integer face sizes it rounds non-divisible cube maps to): the output keeps HDR values and alpha.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -27,7 +27,6 @@ from lenslab.errors import WarpError
 from lenslab.lenses import Camera
 from lenslab.warp.engine import WarpPlan
 from lenslab.warp.maps import MapBand
-from lenslab.warp.seam import Border
 
 READS = ("span", "span-halves", "centre", "shift")
 
@@ -71,7 +70,7 @@ class V360Plan(WarpPlan):
         self.read = v360_read(src_camera.lens)
         v360_read(dst_camera.lens)  # the output must be a v360 projection too
         super().__init__(src_camera, dst_camera, **options)
-        self.border = Border(self.border.wrap, False, False)  # v360 clamps rows at the poles
+        self.border = replace(self.border, pole_top=False, pole_bottom=False)  # v360 clamps rows at the poles
 
     def _band(self, r0: int, r1: int) -> MapBand:
         band = self.mapper.map_band(r0, r1, self._offsets(r0, r1))

@@ -14,15 +14,14 @@ import numba
 
 
 class Kernel:
-    """A function compiled once, serially and releasing the GIL; ``k(*args, work=n)`` runs it (``work``
-    is accepted for callers that state the size of the call, and ignored)."""
+    """A function compiled once, serially and releasing the GIL; ``k(*args)`` runs it."""
 
     def __init__(self, fn, **options):
         self.serial = numba.njit(cache=True, nogil=True, **options)(fn)
         self.__doc__ = fn.__doc__
         self.__name__ = fn.__name__
 
-    def __call__(self, *args, work: int = 0):
+    def __call__(self, *args):
         return self.serial(*args)
 
 

@@ -5,7 +5,7 @@ its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 w
 lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
 working set per thread (bands run one per thread, ``numba.set_num_threads`` of them at once), plus
 the map lattice (five float64 per 8 x 8 output pixels). Measured by ``lenslab bench warp --big``, one
-thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 fisheye (0.75 GiB + 0.25 GiB alpha)
+thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 180-degree view (0.75 GiB + 0.25 GiB alpha)
 allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's mip pyramid (a third of
 the source) and 16 bytes of footprint per output pixel of a band. A plan made with ``cache=True`` keeps every band's map (for many
 images of the same geometry, see :mod:`lenslab.warp.batch`).
@@ -59,7 +59,7 @@ class WarpPlan:
         self._bands: list | None = None
         self.border = border_of(src_camera.lens)
         self.parts = None
-        if getattr(dst_camera.lens, "name", "") == "tiled":
+        if has_camera_pieces(dst_camera):
             # one plan per tile: each tile's map is smooth (and interpolated) on its own
             opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
                         allow_parallax=allow_parallax, exact_map=exact_map, cache=cache, band_points=band_points)
@@ -199,35 +199,40 @@ def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) 
     alpha[y0:y0 + h, x0:x0 + w] = part_alpha
 
 
-def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
-    """``(x0, y0, camera)`` of every tile of a tiled camera, in tile order (None for a tile with no camera).
+def has_camera_pieces(camera: Camera) -> bool:
+    """Whether the camera's image is made of pieces that are cameras of their own (tiles)."""
+    pieces = camera.lens.pieces()
+    return len(pieces) > 1 and any(p.lens is not None for p in pieces)
 
-    Each tile camera has the tile's lens, the tile's rotation composed with the tiled camera's, and the
-    tile's eye placed in the world.
+
+def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
+    """``(x0, y0, camera)`` of every piece of a camera whose pieces are cameras of their own (tiles), in
+    order (None for a piece with no camera).
+
+    Each piece camera has the piece's lens, its rotation composed with the whole camera's, and its eye
+    placed in the world.
     """
-    lens = camera.lens
-    tw, th = lens.tile_size
     out = []
-    for k, tile in enumerate(lens.tile_list):
-        x0, y0 = (k % lens.cols) * tw, (k // lens.cols) * th
-        if tile is None:
+    for piece in camera.lens.pieces():
+        x0, y0 = int(piece.x0), int(piece.y0)
+        if piece.lens is None:
             out.append((x0, y0, None))
             continue
-        rot = camera.pose.rotation @ tile.pose.rotation
-        eye = camera.pose.eye + camera.pose.rotation @ tile.pose.eye
-        out.append((x0, y0, Camera(tile.lens, Pose(rot, eye))))
+        rot = camera.pose.rotation @ piece.pose.rotation
+        eye = camera.pose.eye + camera.pose.rotation @ piece.pose.eye
+        out.append((x0, y0, Camera(piece.lens, Pose(rot, eye))))
     return out
 
 
 def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
-    """Warp one source per tile into a tiled camera: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
+    """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
 
     For multi-view outputs whose tiles stand at different eye points, with one panorama recorded at
     each tile's eye. ``None`` (or a list shorter than the tiles) leaves a tile empty (alpha 0). Options
     are those of :func:`warp`. Returns ``(image, alpha)`` like :func:`warp`.
     """
-    if getattr(dst_camera.lens, "name", "") != "tiled":
-        raise WarpError(f"warp_tiles needs a tiled output camera, got {dst_camera.lens.spec()}; use warp() instead")
+    if not has_camera_pieces(dst_camera):
+        raise WarpError(f"warp_tiles needs an output camera made of tiles, got {dst_camera.lens.spec()}; use warp() instead")
     tiles = tile_cameras(dst_camera)
     images, src_cameras = list(images), list(src_cameras)
     if len(images) != len(src_cameras) or len(images) > len(tiles):
@@ -265,7 +270,7 @@ def warp(image, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear"
     Returns ``(image, alpha)``: float32 arrays ``H x W x C`` (``H x W`` for a 2-D input) and ``H x W``
     of the destination camera's size. Each output pixel takes ``samples`` stratified sub-pixel samples
     (strata centres, or jittered per row with ``seed``); a sample is *valid* when its output ray exists
-    (e.g. inside a fisheye's circle) and the source lens sees that direction inside its image.
+    (e.g. inside a circular image's circle) and the source lens sees that direction inside its image.
 
     - ``alpha`` is the coverage: the fraction of the pixel's samples that are valid; exactly 0 where
       none is.
@@ -277,7 +282,8 @@ def warp(image, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear"
     ``filter`` is ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (see :mod:`lenslab.warp.filters`).
     ``antialias=True`` prefilters by each pixel's footprint on the source (see
     :mod:`lenslab.warp.antialias`), for outputs that shrink the source; it combines with ``samples``.
-    An equirect source wraps at its seam and continues across its poles (:mod:`lenslab.warp.seam`).
+    A source wraps at its seams, continues across its poles and reads across its pieces' edges as its
+    lens says (:mod:`lenslab.warp.seam`).
 
     The output camera's eye must be the source's (a panorama holds one eye point): otherwise a
     :class:`~lenslab.errors.WarpError` explains the parallax, or with ``allow_parallax=True`` a

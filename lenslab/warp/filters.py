@@ -12,7 +12,7 @@ Filters (separable, weights computed in float64 from the exact fractional positi
   quadratics, overshoots a little at sharp edges (never clamped: HDR stays HDR);
 - ``lanczos``: Lanczos-3 windowed sinc, 6x6 taps, weights normalised to sum to 1.
 
-Why not ``cv2.remap``: with float maps OpenCV rounds the fractional position to 1/32 pixel
+Why not ``cv2.remap``: with float maps cv2 rounds the fractional position to 1/32 pixel
 (``INTER_BITS = 5``), an error of up to 1/64 pixel times the local gradient; in HDR images with
 sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
 and it cannot fold taps across the poles. These samplers use the exact position, fold every tap
@@ -25,34 +25,32 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-
 from lenslab.warp.dispatch import kernel
-from lenslab.warp.seam import fold_index
+from lenslab.warp.seam import fold_index, fold_piece, piece_at
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
-#: filter name -> (compiled kernel id, support radius in source pixels)
-_KIND = {"nearest": (0, 1), "bilinear": (1, 1), "bicubic": (2, 2), "lanczos": (3, 3)}
-
-
-def filter_radius(name: str) -> int:
-    return _KIND[name][1]
+#: filter name -> compiled kernel id (also its support radius in source pixels, but 1 for nearest)
+_KIND = {"nearest": 0, "bilinear": 1, "bicubic": 2, "lanczos": 3}
 
 
 def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, border, filter: str,
            out: np.ndarray, alpha: np.ndarray) -> None:
-    """Fill ``out`` (h, W, C) float32 and ``alpha`` (h, W) float32 from a map band (h, W, S)."""
-    kind = _KIND[filter][0]
+    """Fill ``out`` (h, W, C) float32 and ``alpha`` (h, W) float32 from a map band (h, W, S).
+
+    A source whose pieces have neighbours (``border.has_pieces``, a cube map) is read through the
+    separable sampler, whose taps leaving a sample's piece read the neighbouring piece."""
+    kind = _KIND[filter]
     wrap, top, bottom = border.flags
-    if kind == 1:
+    if kind == 1 and not border.has_pieces:
         sh, sw, nc = src.shape
         if xs.shape[2] == 1:  # one sample per pixel: 2-D maps (views, no copy)
             one = _bilinear1_rgb if nc == 3 else _bilinear1
-            one(src.reshape(-1), sw, sh, nc, xs[..., 0], ys[..., 0], valid[..., 0], wrap, top, bottom, out, alpha,
-                work=xs.size)
+            one(src.reshape(-1), sw, sh, nc, xs[..., 0], ys[..., 0], valid[..., 0], wrap, top, bottom, out, alpha)
         else:
-            _bilinear(src.reshape(-1), sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha, work=xs.size)
+            _bilinear(src.reshape(-1), sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha)
     else:
-        _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha, work=xs.size * (4 if kind else 1))
+        cw, ch = border.cell
+        _separable(src, xs, ys, valid, wrap, top, bottom, border.pieces, border.grid, cw, ch, kind, out, alpha)
 
 
 @numba.njit(inline="always", cache=True)
@@ -173,6 +171,8 @@ def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alph
 @numba.njit(inline="always", cache=True)
 def _weight(kind, t):
     a = abs(t)
+    if kind == 1:  # tent
+        return max(0.0, 1.0 - a)
     if kind == 2:  # Catmull-Rom
         if a < 1.0:
             return (1.5 * a - 2.5) * a * a + 1.0
@@ -188,12 +188,20 @@ def _weight(kind, t):
     return 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
 
 
+@numba.njit(inline="always", cache=True)
+def _fold(i, j, sw, sh, wrap, top, bottom, piece, table):
+    if piece >= 0:
+        return fold_piece(i, j, piece, table)
+    return fold_index(i, j, sw, sh, wrap, top, bottom)
+
+
 @kernel
-def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
+def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind, out, alpha):
     h, w, n = xs.shape
     sh, sw, nc = src.shape
     inv = 1.0 / n
-    rad = 2 if kind == 2 else 3
+    rad = max(kind, 1)
+    pieces = table.shape[0] > 0
     for r in range(h):
         acc = np.zeros(nc)
         wx = np.zeros(2 * rad)
@@ -207,10 +215,12 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
                 hits += 1
                 x = np.float64(xs[r, c, k])
                 y = np.float64(ys[r, c, k])
+                piece = piece_at(x, y, grid, cw, ch) if pieces else -1
                 if kind == 0:
-                    ii, jj = fold_index(int(np.floor(x + 0.5)), int(np.floor(y + 0.5)), sw, sh, wrap, top, bottom)
-                    for ch in range(nc):
-                        acc[ch] += src[jj, ii, ch]
+                    ii, jj = _fold(int(np.floor(x + 0.5)), int(np.floor(y + 0.5)), sw, sh, wrap, top, bottom,
+                                   piece, table)
+                    for ch_ in range(nc):
+                        acc[ch_] += src[jj, ii, ch_]
                     continue
                 i0 = int(np.floor(x))
                 j0 = int(np.floor(y))
@@ -229,11 +239,11 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, kind, out, alpha):
                         if ww == 0.0:
                             continue
                         ww /= sx * sy
-                        ii, jj = fold_index(i0 - rad + 1 + ti, j0 - rad + 1 + tj, sw, sh, wrap, top, bottom)
-                        for ch in range(nc):
-                            acc[ch] += ww * src[jj, ii, ch]
-            for ch in range(nc):
-                out[r, c, ch] = acc[ch] * inv
+                        ii, jj = _fold(i0 - rad + 1 + ti, j0 - rad + 1 + tj, sw, sh, wrap, top, bottom, piece, table)
+                        for ch_ in range(nc):
+                            acc[ch_] += ww * src[jj, ii, ch_]
+            for ch_ in range(nc):
+                out[r, c, ch_] = acc[ch_] * inv
             alpha[r, c] = hits * inv
 
 

@@ -17,16 +17,17 @@ where that is safe: its 4 corners are valid, its 16 stencil nodes have values (i
 outside the valid region get extrapolated ghost values) and the interpolation agrees with the exact map
 at four interior check points (t = 1/4, 3/4 on each axis) to within ``tol`` source pixels (default
 1/500; the largest error measured anywhere in such cells is about 1/350, checked at every pixel by the
-tests to 1/200, and to 1/50 near singular points). Errors are
-measured on the sphere: for an equirect source an error in x counts cos(latitude) times (its columns
-crowd together toward the poles), in units of the source's row height.
+tests to 1/200, and to 1/50 near singular points). Errors are measured on the sphere: an error in x
+counts as much as the source lens's ``column_scale`` says (a full-sphere panorama's columns crowd
+together toward the poles: cos(latitude)), in units of the source's row height.
 
-For a full-sphere equirect source, a cell that fails (near a pole, where longitude is singular) gets a
-second chance: the ray *direction* is interpolated instead (smooth there) and projected exactly. A cell
-whose 16 nodes and check points all lie where the output lens has no ray (outside a fisheye's circle)
-is empty. Every other cell (the rim of a fisheye, a fold of a distortion model, a strongly curved swirl)
-is computed exactly, sample by sample; so are tiled and cube-map cameras, whose maps jump between
-tiles and faces. ``exact=True`` skips the lattice altogether.
+For a source whose seams have a pole, a cell that fails (near the pole, where x is singular) gets a
+second chance: the ray *direction* is interpolated instead (smooth there) and projected exactly by the
+source lens. A cell whose 16 nodes and check points all lie where the output lens has no ray
+(outside a circular image) is empty. Every other cell (the rim of a circular image, a fold of a lens
+model, a strongly curved map) is computed exactly, sample by sample; so are cameras made of pieces
+(the lens's ``pieces``), whose maps jump between tiles and faces. ``exact=True`` skips the lattice
+altogether.
 """
 
 from __future__ import annotations
@@ -34,15 +35,13 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
-from lenslab.warp.dispatch import kernel, run_bands
-
-#: Lens models whose maps are piecewise (tiles, cube faces): never interpolated across cells.
-PIECEWISE_MODELS = frozenset({"tiled", "cubemap"})
+from lenslab.warp.dispatch import run_bands
+from lenslab.warp.lattice import (CR_BASIS, NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval,
+                                  lattice_grid, lattice_rows)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -124,9 +123,13 @@ class MapBand:
 
 
 def wrap_width(src: Camera) -> float:
-    """Period of the source's x coordinate (W for a full-turn equirect, else 0: no wrap)."""
-    lens = src.lens
-    return float(lens.width) if getattr(lens, "name", "") == "equirect" and getattr(lens, "wraps", False) else 0.0
+    """Period of the source's x coordinate in pixels (0: no wrap), as the source lens states it."""
+    return float(src.lens.seams().period_x)
+
+
+def piecewise(camera: Camera) -> bool:
+    """Whether a camera's image is made of pieces (faces, tiles) whose map jumps at their edges."""
+    return len(camera.lens.pieces()) > 1
 
 
 class Mapper:
@@ -141,13 +144,12 @@ class Mapper:
         self.src, self.dst = src, dst
         self.width, self.height = dst.size
         self.wrap = wrap_width(src)
-        piecewise = {src.lens.name, dst.lens.name} & PIECEWISE_MODELS
         self.step = int(step)
         self.tol = float(tol)
-        lens = src.lens
-        self.sphere = getattr(lens, "name", "") == "equirect" and getattr(lens, "full_sphere", False)
+        # a source with a pole (where its x is singular) may interpolate the ray direction instead
+        self.sphere = src.lens.seams().has_pole
         self.lattice = None
-        if not exact and not piecewise and self.width * self.height >= 16 * self.step * self.step:
+        if not exact and not piecewise(src) and not piecewise(dst) and self.width * self.height >= 16 * self.step * self.step:
             self.lattice = self._build_lattice()
 
     # -- lattice ---------------------------------------------------------------------------
@@ -164,7 +166,7 @@ class Mapper:
         exact = run_bands([(pts, True)] + [(g, False) for g in checks],
                           lambda job: _chunked(self.src, self.dst, *job))
         xy, v, vd, dirs = exact[0]
-        nx, ny, have = _ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
+        nx, ny, have = ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
         win = np.lib.stride_tricks.sliding_window_view
 
         def corners(m):
@@ -179,19 +181,19 @@ class Mapper:
         if self.sphere:
             # second chance for cells near a pole: interpolate the ray direction (smooth there) and
             # project it exactly; only where the output rays exist
-            gd = [_ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
+            gd = [ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
             nodes += [g[0] for g in gd]
             ok_dir = win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd)
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it)
         for (tx, ty), (exy, ev, evd) in zip(CHECK_POINTS, exact[1:]):
-            ix, iy = _lattice_grid(nx, ny, tx, ty, self.wrap)
+            ix, iy = lattice_grid(nx, ny, tx, ty, self.wrap)
             ok &= ev & self._close(ix, iy, exy)
             dead &= ~evd
             if self.sphere:
-                d = np.stack([_lattice_grid(n, n, tx, ty, 0.0)[0] for n in nodes[2:]], axis=-1)
-                px, py = _sphere_project(d, self.src.lens.width, self.src.lens.height)
-                ok_dir &= ev & self._close(px, py, exy)
+                d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0] for n in nodes[2:]], axis=-1)
+                pxy, pv = self.src.lens.dir_to_pixel(d)
+                ok_dir &= ev & pv & self._close(pxy[..., 0], pxy[..., 1], exy)
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
         if self.sphere:
             state[(state == 0) & ok_dir] = 2
@@ -202,28 +204,15 @@ class Mapper:
         dx = ix - exy[..., 0]
         if self.wrap:
             dx -= self.wrap * np.round(dx / self.wrap)
-        dx *= self._x_scale(exy[..., 1])
+        dx *= self.src.lens.column_scale(exy[..., 1])  # measured on the sphere
         return (np.abs(dx) <= self.tol) & (np.abs(iy - exy[..., 1]) <= self.tol)
-
-    def _x_scale(self, y: np.ndarray) -> np.ndarray | float:
-        """Length on the sphere of one source column at row ``y``, in pixels (cos(latitude) for equirect).
-
-        Map errors are judged by the distance they move a sample on the sphere: near a pole an equirect's
-        columns crowd together, and a large error in x is a small one there.
-        """
-        lens = self.src.lens
-        if getattr(lens, "name", "") != "equirect":
-            return 1.0
-        lat = np.radians(lens.lat_max - (y / lens.height) * (lens.lat_max - lens.lat_min))
-        return np.abs(np.cos(lat)) * (np.radians(lens.lon_max - lens.lon_min) / lens.width) / (
-            np.radians(lens.lat_max - lens.lat_min) / lens.height)
 
     def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
         tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
         nodes, state = self.lattice
         coef = np.zeros((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))
-        _cell_coefficients(nodes, state, cb0, cb1, self.wrap, _CR, coef)
+        cell_coefficients(nodes, state, cb0, cb1, self.wrap, CR_BASIS, coef)
         return coef
 
     @property
@@ -256,22 +245,32 @@ class Mapper:
         state = self.lattice[1]
         cb0 = max(0, int(np.floor((r0 + offsets[..., 1].min()) / self.step)))
         cb1 = min(state.shape[0], int(np.floor((r1 - 1 + offsets[..., 1].max()) / self.step)) + 1)
-        need = np.empty((h, w, n), dtype=np.bool_)
+        need = np.empty((h, w, n), dtype=np.int8)
+        dirs = np.empty((h, w, n, 3)) if (state[cb0:cb1] == 2).any() else np.empty((1, 1, 1, 3))
         if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel (the common case)
-            _lattice_rows(self._coefficients(cb0, cb1), state, cb0, 1.0 / self.step, r0, offsets,
-                          float(self.src.width), float(self.src.height), xs, ys, valid, need)
+            lattice_rows(self._coefficients(cb0, cb1), state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid,
+                         need, dirs)
         else:
-            _lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets,
-                          float(self.src.width), float(self.src.height), xs, ys, valid, need)
-        flat = np.flatnonzero(need)
+            lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets, xs, ys, valid,
+                         need, dirs)
+        flat = np.flatnonzero(need == NEED_PROJECT)
+        if len(flat):  # interpolated directions, projected by the source lens
+            xy, v = self.src.lens.dir_to_pixel(dirs.reshape(-1, 3)[flat])
+            self._store(flat, xy, v, xs, ys, valid)
+        flat = np.flatnonzero(need == NEED_EXACT)
         if len(flat):  # the cells the lattice cannot serve, sample by sample
             r, c, k = np.unravel_index(flat, need.shape)
             o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
             xy, v = exact_map(self.src, self.dst, np.stack([c + o[:, 0], r0 + r + o[:, 1]], axis=-1))
-            xs.reshape(-1)[flat] = np.where(v, xy[:, 0] - 0.5, 0.0)
-            ys.reshape(-1)[flat] = np.where(v, xy[:, 1] - 0.5, 0.0)
-            valid.reshape(-1)[flat] = v
+            self._store(flat, xy, v, xs, ys, valid)
         return MapBand(r0, r1, xs, ys, valid)
+
+    @staticmethod
+    def _store(flat, xy, v, xs, ys, valid) -> None:
+        """Write source positions ``xy`` (valid ``v``) as index coordinates at flat positions ``flat``."""
+        xs.reshape(-1)[flat] = np.where(v, xy[:, 0] - 0.5, 0.0)
+        ys.reshape(-1)[flat] = np.where(v, xy[:, 1] - 0.5, 0.0)
+        valid.reshape(-1)[flat] = v
 
 
 EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
@@ -287,232 +286,6 @@ def _chunked(src: Camera, dst: Camera, points: np.ndarray, with_dirs: bool):
                  for k in range(len(parts[0])))
 
 
-def _ghost_nodes(nx, ny, valid, wrap):
-    """Fill invalid lattice nodes next to valid ones by extrapolation (an x pass, then a y pass):
-    quadratic from three valid neighbours in a line, linear from two.
-
-    Returns the filled x and y node values (C-contiguous float64) and which nodes now have a value.
-    """
-    gx, gy, have = nx.copy(), ny.copy(), valid.copy()
-    for axis in (1, 0):
-        known = have.copy()
-        for step in (1, -1):
-            def shifted(a, k):
-                return np.roll(a, k * step, axis=axis)
-
-            two = ~have & shifted(known, 1) & shifted(known, 2)
-            # np.roll wraps around the lattice's edges: never extrapolate from the other side
-            edge = [slice(None)] * 2
-            edge[axis] = slice(0, 3) if step == 1 else slice(-3, None)
-            two[tuple(edge)] = False
-            if not two.any():
-                continue
-            three = two & shifted(known, 3)
-            x1, x2, x3 = shifted(gx, 1), shifted(gx, 2), shifted(gx, 3)
-            if wrap:  # unwrap the neighbours relative to the nearest
-                x2 = x2 - wrap * np.round((x2 - x1) / wrap)
-                x3 = x3 - wrap * np.round((x3 - x1) / wrap)
-            y1, y2, y3 = shifted(gy, 1), shifted(gy, 2), shifted(gy, 3)
-            gx[two] = np.where(three, 3 * x1 - 3 * x2 + x3, 2 * x1 - x2)[two]
-            gy[two] = np.where(three, 3 * y1 - 3 * y2 + y3, 2 * y1 - y2)[two]
-            have |= two
-    return np.ascontiguousarray(gx), np.ascontiguousarray(gy), have
-
-
 def sample_pattern(samples: int) -> np.ndarray:
     """Fixed stratified sub-pixel offsets, shape (S, 2): strata centres of a k x k grid (or n-rooks)."""
     return sample_offsets(int(samples), (), None)
-
-
-# -- compiled kernels --------------------------------------------------------------------------
-
-@numba.njit(inline="always", cache=True)
-def _cr_weights(t):
-    t2 = t * t
-    t3 = t2 * t
-    return (
-        0.5 * (-t3 + 2.0 * t2 - t),
-        0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
-        0.5 * (-3.0 * t3 + 4.0 * t2 + t),
-        0.5 * (t3 - t2),
-    )
-
-
-@numba.njit(inline="always", cache=True)
-def _cr_eval(nx, ny, ca, cb, tx, ty, wrap):
-    wx = _cr_weights(tx)
-    wy = _cr_weights(ty)
-    ref = nx[cb + 1, ca + 1]
-    sx = 0.0
-    sy = 0.0
-    for j in range(4):
-        rx = 0.0
-        ry = 0.0
-        for i in range(4):
-            v = nx[cb + j, ca + i]
-            if wrap > 0.0:
-                v -= wrap * np.floor((v - ref) / wrap + 0.5)
-            rx += wx[i] * v
-            ry += wx[i] * ny[cb + j, ca + i]
-        sx += wy[j] * rx
-        sy += wy[j] * ry
-    return sx, sy
-
-
-@numba.njit(cache=True, nogil=True)
-def _lattice_grid(nx, ny, tx, ty, wrap):
-    ncy = nx.shape[0] - 3
-    ncx = nx.shape[1] - 3
-    ox = np.empty((ncy, ncx))
-    oy = np.empty((ncy, ncx))
-    for cb in range(ncy):
-        for ca in range(ncx):
-            ox[cb, ca], oy[cb, ca] = _cr_eval(nx, ny, ca, cb, tx, ty, wrap)
-    return ox, oy
-
-
-# Catmull-Rom basis: weight_i(t) = sum_a _CR[i, a] t^a
-_CR = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
-
-
-@numba.njit(cache=True, nogil=True)
-def _cell_coefficients(nodes, state, cb0, cb1, wrap, cr_basis, coef):
-    """Fill ``coef[row, ca, q]`` = CR^T P CR (``c[b, a]`` of tx^a ty^b) for the cells that interpolate:
-    x and y for state 1, the direction for state 2; the x stencil unwrapped across the seam."""
-    ncx = state.shape[1]
-    p = np.empty((4, 4))
-    t = np.empty((4, 4))
-    for cb in range(cb0, cb1):
-        for ca in range(ncx):
-            st = state[cb, ca]
-            if st <= 0:
-                continue
-            q0, q1 = (0, 2) if st == 1 else (2, 5)
-            for q in range(q0, q1):
-                ref = nodes[q, cb + 1, ca + 1]
-                for j in range(4):
-                    for i in range(4):
-                        v = nodes[q, cb + j, ca + i]
-                        if q == 0 and wrap > 0.0:
-                            v -= wrap * np.floor((v - ref) / wrap + 0.5)
-                        p[j, i] = v
-                # t = p @ CR, then c = CR^T @ t
-                for j in range(4):
-                    for a in range(4):
-                        acc = 0.0
-                        for i in range(4):
-                            acc += p[j, i] * cr_basis[i, a]
-                        t[j, a] = acc
-                for b in range(4):
-                    for a in range(4):
-                        acc = 0.0
-                        for j in range(4):
-                            acc += cr_basis[j, b] * t[j, a]
-                        coef[cb - cb0, ca, q, b, a] = acc
-
-
-@numba.njit(inline="always", cache=True)
-def _poly(coef, cr, ca, q, tx, ty):
-    acc = 0.0
-    for b in range(3, -1, -1):
-        acc = acc * ty + (((coef[cr, ca, q, b, 3] * tx + coef[cr, ca, q, b, 2]) * tx
-                           + coef[cr, ca, q, b, 1]) * tx + coef[cr, ca, q, b, 0])
-    return acc
-
-
-@kernel
-def _lattice_eval(coef, state, cb0, step, r0, offs, src_w, src_h, xs, ys, valid, need):
-    h, w, n = xs.shape
-    ho, wo = offs.shape[0], offs.shape[1]
-    ncy, ncx = state.shape
-    inv = 1.0 / step
-    for r in range(h):
-        ro = r % ho
-        for c in range(w):
-            co = c if wo > 1 else 0
-            for k in range(n):
-                px = (c + offs[ro, co, k, 0]) * inv
-                py = (r0 + r + offs[ro, co, k, 1]) * inv
-                ca = min(max(int(np.floor(px)), 0), ncx - 1)
-                cb = min(max(int(np.floor(py)), 0), ncy - 1)
-                st = state[cb, ca]
-                tx = px - ca
-                ty = py - cb
-                cr = cb - cb0
-                if st == 1:
-                    xs[r, c, k] = _poly(coef, cr, ca, 0, tx, ty) - 0.5
-                    ys[r, c, k] = _poly(coef, cr, ca, 1, tx, ty) - 0.5
-                    valid[r, c, k] = True
-                    need[r, c, k] = False
-                elif st == 2:  # interpolated direction, projected onto the full-sphere equirect
-                    dx = _poly(coef, cr, ca, 2, tx, ty)
-                    dy = _poly(coef, cr, ca, 3, tx, ty)
-                    dz = _poly(coef, cr, ca, 4, tx, ty)
-                    phi = np.arctan2(dx, dz)
-                    theta = np.arctan2(dy, np.sqrt(dx * dx + dz * dz))
-                    xs[r, c, k] = (phi / np.pi + 1.0) * (0.5 * src_w) - 0.5
-                    ys[r, c, k] = (1.0 - theta / (0.5 * np.pi)) * (0.5 * src_h) - 0.5
-                    valid[r, c, k] = True
-                    need[r, c, k] = False
-                else:
-                    xs[r, c, k] = 0.0
-                    ys[r, c, k] = 0.0
-                    valid[r, c, k] = False
-                    need[r, c, k] = st == 0
-
-
-@numba.njit(cache=True, nogil=True)
-def _lattice_rows(coef, state, cb0, inv, r0, offs, src_w, src_h, xs, ys, valid, need):
-    """:func:`_lattice_eval` for offsets shared by every pixel: along a row of samples ty is fixed, so
-    each cell's bicubic collapses to a cubic in tx (``rc``), made once per cell and row."""
-    h, w, n = xs.shape
-    ncy, ncx = state.shape
-    rc = np.empty((5, 4))
-    for r in range(h):
-        for k in range(n):
-            py = (r0 + r + offs[0, 0, k, 1]) * inv
-            cb = min(max(int(np.floor(py)), 0), ncy - 1)
-            ty = py - cb
-            cr = cb - cb0
-            cur = -1
-            st = 0
-            for c in range(w):
-                px = (c + offs[0, 0, k, 0]) * inv
-                ca = min(max(int(np.floor(px)), 0), ncx - 1)
-                if ca != cur:
-                    cur = ca
-                    st = state[cb, ca]
-                    if st > 0:
-                        q0, q1 = (0, 2) if st == 1 else (2, 5)
-                        for q in range(q0, q1):
-                            for a in range(4):
-                                rc[q, a] = ((coef[cr, ca, q, 3, a] * ty + coef[cr, ca, q, 2, a]) * ty
-                                            + coef[cr, ca, q, 1, a]) * ty + coef[cr, ca, q, 0, a]
-                tx = px - ca
-                if st == 1:
-                    xs[r, c, k] = ((rc[0, 3] * tx + rc[0, 2]) * tx + rc[0, 1]) * tx + rc[0, 0] - 0.5
-                    ys[r, c, k] = ((rc[1, 3] * tx + rc[1, 2]) * tx + rc[1, 1]) * tx + rc[1, 0] - 0.5
-                    valid[r, c, k] = True
-                    need[r, c, k] = False
-                elif st == 2:  # interpolated direction, projected onto the full-sphere equirect
-                    dx = ((rc[2, 3] * tx + rc[2, 2]) * tx + rc[2, 1]) * tx + rc[2, 0]
-                    dy = ((rc[3, 3] * tx + rc[3, 2]) * tx + rc[3, 1]) * tx + rc[3, 0]
-                    dz = ((rc[4, 3] * tx + rc[4, 2]) * tx + rc[4, 1]) * tx + rc[4, 0]
-                    phi = np.arctan2(dx, dz)
-                    theta = np.arctan2(dy, np.sqrt(dx * dx + dz * dz))
-                    xs[r, c, k] = (phi / np.pi + 1.0) * (0.5 * src_w) - 0.5
-                    ys[r, c, k] = (1.0 - theta / (0.5 * np.pi)) * (0.5 * src_h) - 0.5
-                    valid[r, c, k] = True
-                    need[r, c, k] = False
-                else:
-                    xs[r, c, k] = 0.0
-                    ys[r, c, k] = 0.0
-                    valid[r, c, k] = False
-                    need[r, c, k] = st == 0
-
-
-def _sphere_project(d: np.ndarray, width: int, height: int):
-    """Full-sphere equirect pixel coordinates of (not necessarily unit) directions (the lens's formulas)."""
-    phi = np.arctan2(d[..., 0], d[..., 2])
-    theta = np.arctan2(d[..., 1], np.hypot(d[..., 0], d[..., 2]))
-    return (phi / np.pi + 1.0) * (0.5 * width), (1.0 - theta / (np.pi / 2)) * (0.5 * height)

@@ -1,56 +1,145 @@
-"""Borders of a source image: the equirect seam wraps, a row across a pole continues on the opposite meridian.
+"""Borders of a source image: what a filter tap outside the image, or outside its piece, reads.
 
-A filter tap that falls outside the source image is folded back in, so every filter sees a
-continuous neighbourhood:
+The source lens says how its image continues (:meth:`~lenslab.lenses.base.Lens.seams` and
+:meth:`~lenslab.lenses.base.Lens.pieces`); a tap beyond an edge is folded back in, so every filter
+sees a continuous neighbourhood:
 
-- a full-turn equirect (``lon_max - lon_min = 360``) wraps horizontally: column ``-1`` is column ``W-1``;
-- at a pole (``lat_max = 90`` or ``lat_min = -90`` on a full-turn equirect) the row above the top row is
-  the top row itself on the opposite meridian, half a turn away: row ``-1 - j`` of column ``i`` is
-  row ``j`` of column ``i + W/2`` (for odd ``W`` the half turn is rounded down to ``(W-1)/2`` columns,
-  half a pixel short);
-- every other border (perspective, fisheye, partial equirect...) clamps to the edge pixel: a point that
-  the lens maps inside the image but between its edge and the first pixel centre takes the edge value.
+- an image with a period in x (a full-turn panorama) wraps horizontally: column ``-1`` is ``W-1``;
+- beyond a pole edge the row ``-1 - j`` of column ``i`` is row ``j`` of column ``i + W/2`` (the
+  opposite meridian; for odd ``W`` the half turn is rounded down to ``(W-1)/2`` columns, half a pixel
+  short);
+- a piecewise image whose pieces say what lies across their edges (cube faces) reads a tap that
+  leaves the sample's piece from the neighbouring piece, the cube folded flat along their common edge
+  (the tap ``k + 1/2`` px beyond the edge reads the pixel ``k + 1/2`` px inside the neighbour's edge),
+  for every filter (pieces need whole-pixel rectangles; the footprint prefilter's coarser pyramid
+  levels still average across pieces);
+- every other border clamps to the edge pixel: a point that the lens maps inside the image but
+  between its edge and the first pixel centre takes the edge value.
 
-A cube-map or tiled *source* is folded at the edges of the whole image only: inside it, the filters
-see one image, so a sample within the outer half pixel of a face reads the adjacent pixels of the
-layout, which belong to another face (or tile) and generally show another direction. The reach is
-the filter's support beyond the face edge: 1/2 px of interpolation for ``bilinear`` (the taps of the
-pixel across the seam), 1.5 px for ``bicubic``, 2.5 px for ``lanczos``, and with ``antialias`` half the
-footprint plus one texel of the pyramid level read (deeper levels average across faces). Pixels of
-the output that see a source face's outermost pixel row or column are affected; convert such a source
-to equirect first (``lenslab warp --to equirect``) when that matters.
-
-:func:`border_of` describes the border of a lens, :func:`fold_index` applies it to one tap (compiled, used
-by the samplers), and :func:`pad` makes an explicitly padded copy for code that wants plain arrays
-(``cv2.remap``, the mip pyramid of a small level).
+:func:`border_of` describes the border of a lens, :func:`fold_index` and :func:`fold_piece` apply it to
+one tap (compiled, used by the samplers), and :func:`pad` makes an explicitly padded copy for code that
+wants plain arrays (``cv2.remap``, the mip pyramid of a small level).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
 
 
-@dataclass(frozen=True)
-class Border:
-    """How taps outside the source image are folded back in."""
+NO_PIECES = np.zeros((0, 16), dtype=np.int64)
+NO_GRID = np.full((1, 1), -1, dtype=np.int64)
 
-    wrap: bool = False  # columns wrap (full-turn equirect)
+
+@dataclass(frozen=True, eq=False)
+class Border:
+    """How taps outside the source image (or outside their piece) are folded back in."""
+
+    wrap: bool = False  # columns wrap (a full turn)
     pole_top: bool = False  # the top edge is a pole: reflect across it onto the opposite meridian
     pole_bottom: bool = False
+    #: per piece: x0, y0, w, h, then (piece, edge, reversed) across its left, right, top, bottom edges
+    #: (piece -1: nothing across); empty when the source has no piece topology
+    pieces: np.ndarray = field(default_factory=lambda: NO_PIECES)
+    #: the piece under each cell of a grid of ``cell`` = (width, height) pixels (-1: none)
+    grid: np.ndarray = field(default_factory=lambda: NO_GRID)
+    cell: tuple[int, int] = (1, 1)
 
     @property
     def flags(self) -> tuple[bool, bool, bool]:
         return self.wrap, self.pole_top, self.pole_bottom
 
+    @property
+    def has_pieces(self) -> bool:
+        return len(self.pieces) > 0
+
 
 def border_of(lens) -> Border:
-    """The border rules of a source lens (see the module docstring)."""
-    if getattr(lens, "name", "") == "equirect" and getattr(lens, "wraps", False):
-        return Border(True, lens.lat_max == 90.0, lens.lat_min == -90.0)
-    return Border()
+    """The border rules of a source lens: its seams and, for pieces on a grid of whole pixels with
+    neighbours across their edges, the piece table (see the module docstring)."""
+    seams = lens.seams()
+    if seams.wraps and seams.period_x != lens.width:
+        raise ValueError(f"{lens.spec()}: a period of {seams.period_x} px is not the image width {lens.width}")
+    table, grid, cell = piece_table(lens.pieces())
+    return Border(seams.wraps, seams.pole_top and seams.wraps, seams.pole_bottom and seams.wraps, table, grid, cell)
+
+
+def piece_table(pieces):
+    """``(table, grid, cell)`` of :class:`Border` for ``pieces`` (empty unless they have neighbours and
+    whole-pixel rectangles of one size on a grid)."""
+    if len(pieces) < 2 or all(p.across is None for p in pieces):
+        return NO_PIECES, NO_GRID, (1, 1)
+    rects = np.array([p.rect for p in pieces], dtype=np.float64)
+    cw, ch = rects[0, 2], rects[0, 3]
+    whole = np.all(rects == np.round(rects)) and np.all(rects[:, 2] == cw) and np.all(rects[:, 3] == ch)
+    if not whole or np.any(rects[:, 0] % cw) or np.any(rects[:, 1] % ch):
+        return NO_PIECES, NO_GRID, (1, 1)
+    table = np.full((len(pieces), 16), -1, dtype=np.int64)
+    table[:, :4] = rects.astype(np.int64)
+    for k, p in enumerate(pieces):
+        for e, a in enumerate(p.across or (None,) * 4):
+            if a is not None:
+                table[k, 4 + 3 * e:7 + 3 * e] = (a.piece, a.edge, int(a.reversed))
+    cols = int((rects[:, 0] // cw).max()) + 1
+    rows = int((rects[:, 1] // ch).max()) + 1
+    grid = np.full((rows, cols), -1, dtype=np.int64)
+    grid[(rects[:, 1] // ch).astype(int), (rects[:, 0] // cw).astype(int)] = np.arange(len(pieces))
+    return table, grid, (int(cw), int(ch))
+
+
+@numba.njit(inline="always", cache=True)
+def piece_at(x, y, grid, cw, ch):
+    """The piece holding index coordinates ``(x, y)`` (pixel centres at whole numbers), or -1."""
+    col = int(np.floor((x + 0.5) / cw))
+    row = int(np.floor((y + 0.5) / ch))
+    if row < 0 or col < 0 or row >= grid.shape[0] or col >= grid.shape[1]:
+        return -1
+    return grid[row, col]
+
+
+@numba.njit(inline="always", cache=True)
+def fold_piece(i, j, p, table):
+    """Fold tap (column ``i``, row ``j``) of a sample in piece ``p`` into that piece or, beyond one of
+    its edges, into the neighbour across it (the deeper of two edges for a corner tap); clamped into
+    the piece where nothing lies across."""
+    x0 = table[p, 0]
+    y0 = table[p, 1]
+    pw = table[p, 2]
+    ph = table[p, 3]
+    li = i - x0
+    lj = j - y0
+    if li >= 0 and lj >= 0 and li < pw and lj < ph:
+        return i, j
+    ex = -1 - li if li < 0 else li - pw
+    ey = -1 - lj if lj < 0 else lj - ph
+    if ex >= ey:
+        edge = 0 if li < 0 else 1
+        k = ex
+        s = min(max(lj, 0), ph - 1)
+    else:
+        edge = 2 if lj < 0 else 3
+        k = ey
+        s = min(max(li, 0), pw - 1)
+    q = table[p, 4 + 3 * edge]
+    if q < 0:
+        return min(max(i, x0), x0 + pw - 1), min(max(j, y0), y0 + ph - 1)
+    e2 = table[p, 5 + 3 * edge]
+    qw = table[q, 2]
+    qh = table[q, 3]
+    n = qh if e2 < 2 else qw
+    if table[p, 6 + 3 * edge]:
+        s = (ph if edge < 2 else pw) - 1 - s
+    s = min(max(s, 0), n - 1)
+    k = min(k, (qw if e2 < 2 else qh) - 1)
+    if e2 == 0:
+        return table[q, 0] + k, table[q, 1] + s
+    if e2 == 1:
+        return table[q, 0] + qw - 1 - k, table[q, 1] + s
+    if e2 == 2:
+        return table[q, 0] + s, table[q, 1] + k
+    return table[q, 0] + s, table[q, 1] + qh - 1 - k
 
 
 @numba.njit(inline="always", cache=True)

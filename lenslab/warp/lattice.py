@@ -1,0 +1,230 @@
+"""The map lattice's arithmetic: ghost nodes beyond the valid region, Catmull-Rom coefficients per cell,
+and the compiled kernels that evaluate a band of the map from them (see :mod:`lenslab.warp.maps`)."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from lenslab.warp.dispatch import kernel
+
+
+def ghost_nodes(nx, ny, valid, wrap):
+    """Fill invalid lattice nodes next to valid ones by extrapolation (an x pass, then a y pass):
+    quadratic from three valid neighbours in a line, linear from two.
+
+    Returns the filled x and y node values (C-contiguous float64) and which nodes now have a value.
+    """
+    gx, gy, have = nx.copy(), ny.copy(), valid.copy()
+    for axis in (1, 0):
+        known = have.copy()
+        for step in (1, -1):
+            def shifted(a, k):
+                return np.roll(a, k * step, axis=axis)
+
+            two = ~have & shifted(known, 1) & shifted(known, 2)
+            # np.roll wraps around the lattice's edges: never extrapolate from the other side
+            edge = [slice(None)] * 2
+            edge[axis] = slice(0, 3) if step == 1 else slice(-3, None)
+            two[tuple(edge)] = False
+            if not two.any():
+                continue
+            three = two & shifted(known, 3)
+            x1, x2, x3 = shifted(gx, 1), shifted(gx, 2), shifted(gx, 3)
+            if wrap:  # unwrap the neighbours relative to the nearest
+                x2 = x2 - wrap * np.round((x2 - x1) / wrap)
+                x3 = x3 - wrap * np.round((x3 - x1) / wrap)
+            y1, y2, y3 = shifted(gy, 1), shifted(gy, 2), shifted(gy, 3)
+            gx[two] = np.where(three, 3 * x1 - 3 * x2 + x3, 2 * x1 - x2)[two]
+            gy[two] = np.where(three, 3 * y1 - 3 * y2 + y3, 2 * y1 - y2)[two]
+            have |= two
+    return np.ascontiguousarray(gx), np.ascontiguousarray(gy), have
+
+
+@numba.njit(inline="always", cache=True)
+def _cr_weights(t):
+    t2 = t * t
+    t3 = t2 * t
+    return (
+        0.5 * (-t3 + 2.0 * t2 - t),
+        0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
+        0.5 * (-3.0 * t3 + 4.0 * t2 + t),
+        0.5 * (t3 - t2),
+    )
+
+
+@numba.njit(inline="always", cache=True)
+def _cr_eval(nx, ny, ca, cb, tx, ty, wrap):
+    wx = _cr_weights(tx)
+    wy = _cr_weights(ty)
+    ref = nx[cb + 1, ca + 1]
+    sx = 0.0
+    sy = 0.0
+    for j in range(4):
+        rx = 0.0
+        ry = 0.0
+        for i in range(4):
+            v = nx[cb + j, ca + i]
+            if wrap > 0.0:
+                v -= wrap * np.floor((v - ref) / wrap + 0.5)
+            rx += wx[i] * v
+            ry += wx[i] * ny[cb + j, ca + i]
+        sx += wy[j] * rx
+        sy += wy[j] * ry
+    return sx, sy
+
+
+@numba.njit(cache=True, nogil=True)
+def lattice_grid(nx, ny, tx, ty, wrap):
+    ncy = nx.shape[0] - 3
+    ncx = nx.shape[1] - 3
+    ox = np.empty((ncy, ncx))
+    oy = np.empty((ncy, ncx))
+    for cb in range(ncy):
+        for ca in range(ncx):
+            ox[cb, ca], oy[cb, ca] = _cr_eval(nx, ny, ca, cb, tx, ty, wrap)
+    return ox, oy
+
+
+#: Catmull-Rom basis: weight_i(t) = sum_a _CR[i, a] t^a
+CR_BASIS = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
+
+
+@numba.njit(cache=True, nogil=True)
+def cell_coefficients(nodes, state, cb0, cb1, wrap, cr_basis, coef):
+    """Fill ``coef[row, ca, q]`` = CR^T P CR (``c[b, a]`` of tx^a ty^b) for the cells that interpolate:
+    x and y for state 1, the direction for state 2; the x stencil unwrapped across the seam."""
+    ncx = state.shape[1]
+    p = np.empty((4, 4))
+    t = np.empty((4, 4))
+    for cb in range(cb0, cb1):
+        for ca in range(ncx):
+            st = state[cb, ca]
+            if st <= 0:
+                continue
+            q0, q1 = (0, 2) if st == 1 else (2, 5)
+            for q in range(q0, q1):
+                ref = nodes[q, cb + 1, ca + 1]
+                for j in range(4):
+                    for i in range(4):
+                        v = nodes[q, cb + j, ca + i]
+                        if q == 0 and wrap > 0.0:
+                            v -= wrap * np.floor((v - ref) / wrap + 0.5)
+                        p[j, i] = v
+                # t = p @ CR, then c = CR^T @ t
+                for j in range(4):
+                    for a in range(4):
+                        acc = 0.0
+                        for i in range(4):
+                            acc += p[j, i] * cr_basis[i, a]
+                        t[j, a] = acc
+                for b in range(4):
+                    for a in range(4):
+                        acc = 0.0
+                        for j in range(4):
+                            acc += cr_basis[j, b] * t[j, a]
+                        coef[cb - cb0, ca, q, b, a] = acc
+
+
+@numba.njit(inline="always", cache=True)
+def _poly(coef, cr, ca, q, tx, ty):
+    acc = 0.0
+    for b in range(3, -1, -1):
+        acc = acc * ty + (((coef[cr, ca, q, b, 3] * tx + coef[cr, ca, q, b, 2]) * tx
+                           + coef[cr, ca, q, b, 1]) * tx + coef[cr, ca, q, b, 0])
+    return acc
+
+
+NEED_DONE, NEED_EXACT, NEED_PROJECT = 0, 1, 2  # what a sample still needs after the lattice kernels
+
+
+@numba.njit(inline="always", cache=True)
+def _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs):
+    """One sample from its cell: a position (state 1), a direction to project (2), exact (0) or none (-1)."""
+    if st == 1:
+        xs[r, c, k] = x - 0.5
+        ys[r, c, k] = y - 0.5
+        valid[r, c, k] = True
+        need[r, c, k] = NEED_DONE
+        return
+    xs[r, c, k] = 0.0
+    ys[r, c, k] = 0.0
+    valid[r, c, k] = False
+    if st == 2:
+        dirs[r, c, k, 0] = dx
+        dirs[r, c, k, 1] = dy
+        dirs[r, c, k, 2] = dz
+        need[r, c, k] = NEED_PROJECT
+    else:
+        need[r, c, k] = NEED_EXACT if st == 0 else NEED_DONE
+
+
+@kernel
+def lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need, dirs):
+    """The map of a band from the lattice, per-sample offsets ``offs`` (h, W, S, 2): index coordinates,
+    validity, and per sample what it still needs (``NEED_*``; ``dirs`` holds the directions to project)."""
+    h, w, n = xs.shape
+    ho, wo = offs.shape[0], offs.shape[1]
+    ncy, ncx = state.shape
+    inv = 1.0 / step
+    for r in range(h):
+        ro = r % ho
+        for c in range(w):
+            co = c if wo > 1 else 0
+            for k in range(n):
+                px = (c + offs[ro, co, k, 0]) * inv
+                py = (r0 + r + offs[ro, co, k, 1]) * inv
+                ca = min(max(int(np.floor(px)), 0), ncx - 1)
+                cb = min(max(int(np.floor(py)), 0), ncy - 1)
+                st = state[cb, ca]
+                tx = px - ca
+                ty = py - cb
+                cr = cb - cb0
+                x = y = dx = dy = dz = 0.0
+                if st == 1:
+                    x = _poly(coef, cr, ca, 0, tx, ty)
+                    y = _poly(coef, cr, ca, 1, tx, ty)
+                elif st == 2:
+                    dx = _poly(coef, cr, ca, 2, tx, ty)
+                    dy = _poly(coef, cr, ca, 3, tx, ty)
+                    dz = _poly(coef, cr, ca, 4, tx, ty)
+                _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
+
+
+@numba.njit(cache=True, nogil=True)
+def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
+    """:func:`lattice_eval` for offsets shared by every pixel: along a row of samples ty is fixed, so
+    each cell's bicubic collapses to a cubic in tx (``rc``), made once per cell and row."""
+    h, w, n = xs.shape
+    ncy, ncx = state.shape
+    rc = np.empty((5, 4))
+    for r in range(h):
+        for k in range(n):
+            py = (r0 + r + offs[0, 0, k, 1]) * inv
+            cb = min(max(int(np.floor(py)), 0), ncy - 1)
+            ty = py - cb
+            cr = cb - cb0
+            cur = -1
+            st = 0
+            for c in range(w):
+                px = (c + offs[0, 0, k, 0]) * inv
+                ca = min(max(int(np.floor(px)), 0), ncx - 1)
+                if ca != cur:
+                    cur = ca
+                    st = state[cb, ca]
+                    if st > 0:
+                        q0, q1 = (0, 2) if st == 1 else (2, 5)
+                        for q in range(q0, q1):
+                            for a in range(4):
+                                rc[q, a] = ((coef[cr, ca, q, 3, a] * ty + coef[cr, ca, q, 2, a]) * ty
+                                            + coef[cr, ca, q, 1, a]) * ty + coef[cr, ca, q, 0, a]
+                tx = px - ca
+                x = y = dx = dy = dz = 0.0
+                if st == 1:
+                    x = ((rc[0, 3] * tx + rc[0, 2]) * tx + rc[0, 1]) * tx + rc[0, 0]
+                    y = ((rc[1, 3] * tx + rc[1, 2]) * tx + rc[1, 1]) * tx + rc[1, 0]
+                elif st == 2:
+                    dx = ((rc[2, 3] * tx + rc[2, 2]) * tx + rc[2, 1]) * tx + rc[2, 0]
+                    dy = ((rc[3, 3] * tx + rc[3, 2]) * tx + rc[3, 1]) * tx + rc[3, 0]
+                    dz = ((rc[4, 3] * tx + rc[4, 2]) * tx + rc[4, 1]) * tx + rc[4, 0]
+                _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
