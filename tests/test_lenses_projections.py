@@ -287,3 +287,19 @@ def test_full_turn_cylinders_wrap_and_lambert_reaches_its_poles():
     # the two halves of a dual fisheye are separate pieces with nothing across their edges
     halves = make_lens("dual-fisheye", (400, 200)).pieces()
     assert [p.rect for p in halves] == [(0, 0, 200, 200), (200, 0, 200, 200)] and all(p.across is None for p in halves)
+
+
+@pytest.mark.parametrize("spec", ["cylindrical:fov=300,vfov=120", "cylindrical-equal-area:vfov=180", "mercator",
+                                  "mercator:fov=200,vfov=150"])
+def test_cylinder_column_scale_is_the_ratio_of_steps_on_the_sphere(spec):
+    """One column step over one row step, both measured on the sphere by finite differences."""
+    lens = make_lens(spec, (400, 200))
+    ys = np.array([20.5, 60.5, 100.0, 170.25])
+    h = 1e-4
+    pts = np.stack([np.full_like(ys, 150.0), ys], -1)
+    d0 = lens.pixel_to_dir(pts)[0]
+    dxs = lens.pixel_to_dir(pts + [h, 0])[0]
+    dys = lens.pixel_to_dir(pts + [0, h])[0]
+    want = np.linalg.norm(dxs - d0, axis=-1) / np.linalg.norm(dys - d0, axis=-1)
+    # 1e-5 relative: one-sided differences with h = 1e-4 px
+    assert np.allclose(lens.column_scale(ys), want, rtol=1e-5)

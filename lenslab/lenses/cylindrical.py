@@ -77,6 +77,17 @@ class _Cylinder(Lens):
         poles = self.vfov == 180.0
         return Seams(float(self.width), poles, poles)
 
+    def column_scale(self, y):
+        """Length on the sphere of one column step over one row step at rows ``y``:
+        ``cos(theta) h'(theta) F / Fv`` for latitude spacing ``v Fv = h(theta)``."""
+        v = (1.0 - 2.0 * np.asarray(y, dtype=FLOAT) / self.height) * self.aspect
+        s, c, _ = self.v_to_lat(v * self.Fv)
+        return c * self.slope(s, c) * (self.F / self.Fv)
+
+    def slope(self, s, c):
+        """``h'(theta)`` at latitude with sine ``s`` and cosine ``c``."""
+        raise NotImplementedError
+
     def uv_to_dir(self, uv):
         phi = uv[..., 0] * self.F
         sin_t, cos_t, ok = self.v_to_lat(uv[..., 1] * self.Fv)
@@ -125,6 +136,9 @@ class Cylindrical(_Cylinder):
         ok = c > 0
         return np.divide(s, c, out=np.zeros(np.shape(s)), where=ok), ok
 
+    def slope(self, s, c):  # d tan / d theta = 1 / cos^2
+        return 1.0 / (c * c)
+
 
 @register
 class CylindricalEqualArea(_Cylinder):
@@ -146,6 +160,9 @@ class CylindricalEqualArea(_Cylinder):
 
     def lat_to_v(self, s, c):
         return np.array(s, dtype=FLOAT, copy=True), np.ones(np.shape(s), dtype=bool)
+
+    def slope(self, s, c):  # d sin / d theta = cos
+        return c
 
 
 @register
@@ -169,3 +186,6 @@ class Mercator(_Cylinder):
         ok = c > 0
         # atanh(s) = asinh(s / c): accurate near the poles, where 1 - s loses digits
         return np.arcsinh(np.divide(s, c, out=np.zeros(np.shape(s)), where=ok)), ok
+
+    def slope(self, s, c):  # d atanh(sin) / d theta = 1 / cos
+        return 1.0 / c
