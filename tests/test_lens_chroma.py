@@ -146,3 +146,50 @@ def test_radial_inverse_solves_lensfun_polynomials(v, c, b, frac):
     assert ok[0]
     # 1e-12: the solve stops at 1e-14 relative steps; the polynomial's own rounding is ~1e-16 r
     assert abs(got[0] - ru[0]) <= 1e-12 * max(1.0, ru[0]) / max(rad.scale(ru)[0], 1e-3) + 1e-12
+
+
+CORNELL_EYE = (0.278, 0.274, 0.001)  # as in test_validate_cornell: the box's open front, looking in
+#: (lens with effects, the same geometry without them)
+EFFECT_SPECS = [
+    ("optics:tca=1.01/0.99,vignetting=pa/-0.3/0.1/-0.05,base=perspective,fov=90", "perspective:fov=90"),
+    ("lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=12,aperture=4",  # distortion, TCA, vignetting
+     "lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=12,effects=distortion"),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("spec,plain_spec", EFFECT_SPECS, ids=[s for s, _ in EFFECT_SPECS])
+def test_a_warp_per_channel_with_falloff_agrees_with_a_direct_trace(spec, plain_spec):
+    """The Cornell box traced into a panorama, warped into each channel lens and multiplied by the
+    falloff, against the tracer's own render through the lens (a ray per channel, falloff weights)."""
+    pytest.importorskip("lensfunpy")
+    from lenslab import metrics
+    from lenslab.validate.run import WarpSetting, call_warp, check, edges_for, panorama_camera
+    from lenslab.warp import warp
+    from tracer.validate.source import make_source
+
+    source = make_source("cornell", noise_free=True)  # point light, direct integrator, fixed samples
+    target = Camera.from_spec(spec, (128, 128), eye=CORNELL_EYE, yaw=10.0, pitch=-5.0)
+    pcam = panorama_camera(target, (1024, 512))
+    pano = source.render(pcam, spp=1, seed=None)
+    ref = source.render(target, spp=16, seed=None)
+    edges, _ = edges_for(ref, 2, shadows=False)
+    setting = WarpSetting.parse("antialias")
+    plain = make_lens(plain_spec, (128, 128))  # green's geometry, with no effects for the engine to apply
+    red, _, blue = target.lens.channel_lenses()
+    img = np.zeros((128, 128, 3), np.float32)
+    for c, ch in enumerate((red, plain, blue)):
+        out, a = call_warp(warp, pano.image, pcam, Camera(ch, target.pose), setting)
+        img[..., c] = out[..., c]
+        if c == 1:
+            alpha = a  # alpha is the green (geometric) lens's
+    yy, xx = np.mgrid[0:128, 0:128]
+    img *= target.lens.falloff(np.stack([xx + 0.5, yy + 0.5], -1))[..., None].astype(np.float32)
+    m = metrics.compare(ref.image, img, ref.alpha, alpha, edges=edges, ref_stderr=ref.stderr, with_flip=False)
+    # the validation bounds every lens model meets (1% away from edges, 2% overall; see test_validate_cornell)
+    verdict = check(m, interior=0.01, overall=0.02)
+    assert verdict, f"{spec}: {verdict}"
+    # the plain geometric warp (one ray for all channels, no falloff) does not: the effects are traced
+    geo, a = call_warp(warp, pano.image, pcam, Camera(plain, target.pose), setting)
+    bad = metrics.compare(ref.image, geo, ref.alpha, a, edges=edges, ref_stderr=ref.stderr, with_flip=False)
+    assert not check(bad, interior=0.01, overall=0.02)
