@@ -46,6 +46,7 @@ SHARED = [
     # square frames, so its h_fov and v_fov are given: dfov times the half width (height) over the half diagonal
     ("fisheye:dfov=200", f"fisheye:h_fov={200 * 48 / math.hypot(48, 32)!r}:v_fov={200 * 32 / math.hypot(48, 32)!r}",
      (96, 64)),
+    ("fisheye:dfov=250", "fisheye:d_fov=250", (64, 64)),  # v360's d_fov holds on square frames
     ("fisheye:fov=180,mapping=stereographic", "sg:h_fov=180:v_fov=180", (64, 64)),
     ("fisheye:fov=200,mapping=equisolid", "equisolid:h_fov=200:v_fov=200", (64, 64)),
     ("fisheye:fov=160,mapping=orthographic", "og:h_fov=160:v_fov=160", (64, 64)),
