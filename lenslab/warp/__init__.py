@@ -21,9 +21,10 @@ import types
 from lenslab.errors import WarpError
 from lenslab.warp.engine import WarpPlan, tile_cameras, warp, warp_tiles
 from lenslab.warp.filters import FILTERS
+from lenslab.warp.given import warp_with_map
 from lenslab.warp.maps import ParallaxWarning, check_eyes, exact_map
 
-__all__ = ["warp", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS",
+__all__ = ["warp", "warp_with_map", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS",
            "check_eyes", "exact_map"]
 
 

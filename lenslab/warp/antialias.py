@@ -107,7 +107,7 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
     pieces = _pieces(mapper.dst.lens) or (0.0, 0.0)
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)
-    _neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, a0, mapper.wrap,
+    neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, a0, mapper.wrap,
                        float(pieces[0]), float(pieces[1]), foot, edge)
     top = r0 - a0
     valid = band.valid[top:top + h]
@@ -183,7 +183,7 @@ def _inside_piece(allo, offsets, r0, h, w, pieces):
 
 
 @numba.njit(cache=True, nogil=True)
-def _neighbour_secants(xs, ys, vs, top, row0, wrap, piece_w, piece_h, foot, edge):
+def neighbour_secants(xs, ys, vs, top, row0, wrap, piece_w, piece_h, foot, edge):
     """Footprint sides of the pixels of rows ``top:top + h`` of a map of pixel centres (``xs`` etc.
     (rows, W); the band's first row is image row ``row0 + top``) from their neighbours."""
     h, w = foot.shape[0], foot.shape[1]

@@ -1,0 +1,99 @@
+"""Warping by a map made elsewhere (scikit-image's ``warp`` shape): the engine takes any inverse map.
+
+An ST map from a compositing tool, a map from OpenCV's ``initUndistortRectifyMap`` or one a user
+computed: for every output pixel, the continuous source position it reads. :func:`warp_with_map`
+samples the source there with lenslab's exact filters and, with ``antialias``, averages it over each
+pixel's footprint (the map's differences between neighbouring pixels, as for a lens-to-lens warp).
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from lenslab.errors import WarpError
+from lenslab.warp import antialias as aa
+from lenslab.warp.dispatch import run_bands
+from lenslab.warp.filters import FILTERS, sample
+from lenslab.warp.seam import Border, border_of
+
+BAND_ROWS_POINTS = 1 << 18  # output pixels per band
+
+
+def warp_with_map(image, src_xy, valid=None, filter: str = "bilinear", antialias: bool = False, source=None,
+                  progress: Callable[[int], None] | None = None):
+    """Warp ``image`` (H x W or H x W x C) by an inverse map: ``(image, alpha)`` float32 of the map's size.
+
+    - ``src_xy``: ``(h, w, 2)`` source positions in lenslab's continuous pixel coordinates (x right,
+      y down, origin at the image's top-left corner, pixel centres at +0.5), one per output pixel
+      centre; any float dtype (computed in float64, stored as float32 index coordinates).
+    - ``valid``: ``(h, w)`` bool, where the map has a source position; default: where ``src_xy`` is
+      finite. Positions outside the source image read its edge (or beyond its seams, see ``source``).
+    - ``filter``: ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos``.
+    - ``antialias``: average the source over each pixel's footprint (from the map's differences
+      between neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
+    - ``source``: a :class:`~lenslab.lenses.base.Lens` or :class:`~lenslab.lenses.Camera` whose seams
+      and pieces say how taps beyond the source's edges continue (a panorama's wrap and poles, a cube
+      map's neighbouring faces); default: taps clamp to the edge pixel.
+
+    Alpha is 1 where valid and 0 elsewhere; colour is 0 where invalid. NaN is never produced from a
+    finite source.
+    """
+    if filter not in FILTERS:
+        raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+    img = np.asarray(image)
+    if img.ndim not in (2, 3) or img.size == 0 or not np.issubdtype(img.dtype, np.number):
+        raise WarpError(f"the image must be an H x W or H x W x C array of numbers, got shape {img.shape}")
+    src = np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32)
+    xy = np.asarray(src_xy)
+    if xy.ndim != 3 or xy.shape[2] != 2:
+        raise WarpError(f"the map must have shape (h, w, 2) (a source x, y per output pixel), got {xy.shape}")
+    h, w = xy.shape[:2]
+    with np.errstate(invalid="ignore", over="ignore"):
+        xs = xy[..., 0].astype(np.float32) - np.float32(0.5)
+        ys = xy[..., 1].astype(np.float32) - np.float32(0.5)
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    if valid is not None:
+        valid = np.asarray(valid, dtype=bool)
+        if valid.shape != (h, w):
+            raise WarpError(f"valid must have the map's shape {(h, w)}, got {valid.shape}")
+        ok &= valid
+    xs[~ok] = 0.0
+    ys[~ok] = 0.0
+    border = Border() if source is None else border_of(getattr(source, "lens", source))
+    out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
+    alpha = np.zeros((h, w), dtype=np.float32)
+    rows = max(1, BAND_ROWS_POINTS // max(1, w))
+    pyr = aa.pyramid(src, border) if antialias else None
+
+    def draw(rows_):
+        r0, r1 = rows_
+        if antialias:
+            band = footprint_of_map(xs, ys, ok, r0, r1, float(src.shape[1]) if border.wrap else 0.0)
+            aa.sample_footprint(pyr, band, border, out[r0:r1], alpha[r0:r1])
+        else:
+            sample(src, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], border, filter,
+                   out[r0:r1], alpha[r0:r1])
+        return rows_
+
+    done = None if progress is None else (lambda rows_: progress(rows_[1] - rows_[0]))
+    run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], draw, done)
+    if img.ndim == 2:
+        out = out[..., 0]
+    return out, alpha
+
+
+def footprint_of_map(xs, ys, ok, r0: int, r1: int, wrap: float) -> aa.FootprintBand:
+    """The footprint band of rows ``r0:r1`` of a given map (index coordinates, (h, w) float32; ``wrap``
+    the source's period in x, 0 for none): sides
+    from the differences between neighbouring pixels; no pixel is split at the edge of the valid
+    region (there is no lens to map its sub-samples), so coverage there is 0 or 1."""
+    h, w = r1 - r0, xs.shape[1]
+    foot = np.empty((h, w, 1, 4), dtype=np.float32)
+    edge = np.empty((h, w, 1), dtype=np.bool_)
+    aa.neighbour_secants(xs, ys, ok, r0, 0, wrap, 0.0, 0.0, foot, edge)
+    none = np.zeros(0, dtype=np.int64)
+    return aa.FootprintBand(r0, r1, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], foot,
+                            np.zeros((h, w, 1), dtype=np.bool_), none, np.zeros((0, 1), np.float32),
+                            np.zeros((0, 1), np.float32), np.zeros((0, 1), bool))
