@@ -63,8 +63,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--data-window", action="store_true",
                         help="EXR input: keep the stored data window instead of placing it in the display window")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    from lenslab.cli.display import add_display_arguments
     from lenslab.cli.options import add_scheduler_options
 
+    add_display_arguments(parser)
     add_scheduler_options(parser)
 
 
@@ -161,7 +163,14 @@ def convert_one(src: str, dst: str, options: dict) -> str:
     fmt = get(to)
     bits = options.get("bits")
     integers = bool(bits) and "sample_type" in fmt.write_options  # TIFF with --bits: display-encoded
-    if (to in LDR or integers) and (not meta["display_encoded"] or exposure == "auto"):
+    shown: dict = {}
+    if options.get("display"):  # an OpenColorIO display transform instead of the tone curve
+        from lenslab.cli.display import apply_display
+
+        if exposure == "auto":
+            raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
+        image, shown = apply_display(image * np.float32(2.0 ** exposure), fmt, options)
+    elif (to in LDR or integers) and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
 
         image = tonemap(image, curve=options["tone"], exposure=exposure)
@@ -169,7 +178,7 @@ def convert_one(src: str, dst: str, options: dict) -> str:
         raise FormatError("--exposure auto applies when writing display formats (jpg, png, ppm, pgm)")
     elif exposure != 0.0:
         image = image * np.float32(2.0 ** exposure)
-    write_opts = write_options(fmt, meta, options)
+    write_opts = {**write_options(fmt, meta, options), **shown}
     write(dst, image, format=to, overwrite=options["overwrite"], **write_opts)
     return dst
 
@@ -289,6 +298,8 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, pr
 
 
 def run(args: argparse.Namespace) -> int:
+    from lenslab.cli.display import display_options
+
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
     from lenslab.cli.options import parse_exposure
@@ -315,7 +326,7 @@ def run(args: argparse.Namespace) -> int:
             folder.mkdir(parents=True, exist_ok=True)  # the mirrored sub-folders
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
-               "compression": args.compression, "data_window": args.data_window}
+               "compression": args.compression, "data_window": args.data_window, **display_options(args)}
     from lenslab.cluster.run import skip_existing
 
     pairs, skipped = skip_existing(pairs, args.skip_existing)

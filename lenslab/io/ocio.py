@@ -1,0 +1,111 @@
+"""OpenColorIO display transforms: scene-linear pixels -> a display's code values through a config's view.
+
+The config is ``ocio://default`` (the built-in CG config shipped with the ``opencolorio`` wheel: sRGB,
+Display P3, Rec.1886, Rec.2100-PQ displays; ACES 2.0 SDR/HDR, Un-tone-mapped and Video views), any
+other built-in (``ocio://studio-config-latest`` adds Rec.2100-HLG), or a studio's config file. The
+input colour space defaults to linear Rec.709 (lenslab reads every file into Rec.709 primaries; an
+EXR's own chromaticities are converted on reading) and may be any colour space of the config.
+
+Names may be given in full (``"sRGB - Display"``, ``"ACES 2.0 - SDR 100 nits (Rec.709)"``), or by
+any unique case-insensitive part (``srgb``, ``rec.2100-pq``, ``"sdr 100 nits (rec.709)"``). A
+name that matches nothing or several is an error listing the valid ones.
+
+The transform is OpenColorIO's own CPU processor (float32, in place on a copy); alpha passes through
+unchanged. The result is display-encoded: files store it as code values without lenslab's sRGB
+encoding (``raw=True``).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from lenslab.errors import FormatError
+
+DEFAULT_CONFIG = "ocio://default"
+DEFAULT_COLORSPACE = "lin_rec709"
+
+
+class OCIOError(FormatError):
+    """An OpenColorIO config, display, view or colour space cannot be used as asked."""
+
+
+def _ocio():
+    try:
+        import PyOpenColorIO
+    except ImportError:
+        raise OCIOError("display transforms need OpenColorIO: pip install 'lenslab[ocio]'") from None
+    return PyOpenColorIO
+
+
+@functools.lru_cache(maxsize=4)
+def load_config(source: str | None = None):
+    """An OpenColorIO config from a file or an ``ocio://`` name (default: ``ocio://default``)."""
+    ocio = _ocio()
+    try:
+        return ocio.Config.CreateFromFile(str(source or DEFAULT_CONFIG))
+    except Exception as exc:
+        raise OCIOError(f"cannot load the OpenColorIO config {source or DEFAULT_CONFIG!r} ({exc})") from None
+
+
+def _pick(kind: str, name: str, choices: list[str]) -> str:
+    low = name.lower()
+    for c in choices:
+        if c.lower() == low:
+            return c
+    found = [c for c in choices if low in c.lower()]
+    if len(found) == 1:
+        return found[0]
+    which = "matches several" if found else "is not one"
+    raise OCIOError(f"{kind} {name!r} {which} of the config's: {'; '.join(found or choices)}")
+
+
+def resolve(config, display: str, view: str | None, colorspace: str | None = None) -> tuple[str, str, str]:
+    """(display, view, colour space) as the config names them; ``view`` None: the display's default."""
+    d = _pick("display", display, list(config.getDisplays()))
+    views = list(config.getViews(d))
+    v = _pick(f"view of {d!r}", view, views) if view else config.getDefaultView(d)
+    cs_name = colorspace or DEFAULT_COLORSPACE
+    cs = config.getCanonicalName(cs_name) or None
+    if not cs:
+        cs = _pick("colour space", cs_name, [c.getName() for c in config.getColorSpaces()])
+    return d, v, cs
+
+
+def is_hdr_display(display: str) -> bool:
+    """A display whose code values cover more than SDR (PQ, HLG): needs 16-bit files or 10-bit video."""
+    low = display.lower()
+    return any(k in low for k in ("pq", "hlg", "st2084", "hdr"))
+
+
+def processor(display: str, view: str | None = None, colorspace: str | None = None, config: str | None = None):
+    """OpenColorIO's CPU processor for scene-linear ``colorspace`` -> ``display`` through ``view``."""
+    ocio = _ocio()
+    cfg = load_config(config)
+    d, v, cs = resolve(cfg, display, view, colorspace)
+    t = ocio.DisplayViewTransform(src=cs, display=d, view=v)
+    try:
+        return cfg.getProcessor(t).getDefaultCPUProcessor(), (d, v, cs)
+    except Exception as exc:
+        raise OCIOError(f"OpenColorIO cannot build the transform {cs!r} -> {d!r} / {v!r} ({exc})") from None
+
+
+def display_transform(image: np.ndarray, display: str, view: str | None = None, colorspace: str | None = None,
+                      config: str | None = None) -> np.ndarray:
+    """float32 H x W x C scene-linear -> display code values (float32, same shape; alpha unchanged).
+
+    One channel is treated as grey (R = G = B) and returned as one channel.
+    """
+    cpu, _ = processor(display, view, colorspace, config)
+    a = np.asarray(image, np.float32)
+    c = a.shape[-1]
+    rgb = np.repeat(a[..., :1], 3, axis=-1) if c in (1, 2) else a[..., :3]
+    out = np.array(rgb, dtype=np.float32, order="C")  # a copy: OpenColorIO works in place
+    cpu.applyRGB(out)
+    out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
+    if c in (1, 2):
+        out = out[..., :1]
+    if c in (2, 4):
+        out = np.concatenate([out, a[..., -1:]], axis=-1)
+    return out.astype(np.float32, copy=False)
