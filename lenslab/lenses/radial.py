@@ -8,7 +8,7 @@ radius where the map stops rising (beyond it a model has no inverse: those point
 
 >>> Radial((1.0, 0.0, 0.1)).forward(np.array([0.5, 1.0]))
 array([0.5125, 1.1   ])
->>> float(Radial((1.0, 0.0, 0.1)).inverse(np.array([1.1]))[0][0])
+>>> round(float(Radial((1.0, 0.0, 0.1)).inverse(np.array([1.1]))[0][0]), 12)
 1.0
 """
 
@@ -68,11 +68,13 @@ class Radial:
         return (r >= 0) & (r <= min(self.r_max, R_LIMIT))
 
     def inverse(self, rd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``r_u`` with ``r_u P(r_u) = r_d`` on the rising branch, and validity.
+        """``r_u`` with ``r_u P(r_u) = r_d`` on the rising branch, and validity (float64).
 
-        Safeguarded Newton: the root stays bracketed in ``[lo, hi]`` and a step leaving the bracket
-        bisects instead, so it converges for every ``r_d`` below the branch's top.
+        The project's bracketed Newton (:func:`lenslab.lenses.solve.invert_increasing`) on
+        ``[0, r_max]``; radii beyond the branch's top and unconverged ones are invalid.
         """
+        from lenslab.lenses.solve import invert_increasing
+
         rd = np.asarray(rd, dtype=np.float64)
         if self.identity:
             return rd.copy(), np.isfinite(rd) & (rd >= 0)
@@ -80,28 +82,15 @@ class Radial:
         top = float(self.forward(np.array(hi_r)))
         valid = np.isfinite(rd) & (rd >= 0) & (rd <= top)
         out = np.zeros(rd.shape, dtype=np.float64)
-        idx = np.flatnonzero(valid)  # points still iterating (flat indices)
-        t = rd.reshape(-1)[idx]
-        r = np.clip(t / self.coeffs[0], 0.0, hi_r) if self.coeffs[0] > 0 else np.zeros_like(t)
-        lo, hi = np.zeros_like(t), np.full_like(t, hi_r)
-        flat = out.reshape(-1)
-        for _ in range(60):
-            if not idx.size:
-                break
-            f = self.forward(r) - t
-            below = f <= 0
-            lo[below] = r[below]
-            hi[~below] = r[~below]
-            d = np.polynomial.polynomial.polyval(r, self._df)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                nxt = r - f / d
-            bad = ~((nxt >= lo) & (nxt <= hi))
-            nxt[bad] = 0.5 * (lo[bad] + hi[bad])
-            done = np.abs(nxt - r) <= 1e-14 * np.maximum(1.0, r)
-            flat[idx[done]] = nxt[done]
-            keep = ~done
-            idx, t, r, lo, hi = idx[keep], t[keep], nxt[keep], lo[keep], hi[keep]
-        flat[idx] = r  # not settled to 1e-14 in 60 steps (bisection's floor): the last iterate
+        t = rd[valid]
+        if t.size:
+            def f(x):
+                return self.forward(x), np.polynomial.polynomial.polyval(x, self._df)
+
+            x0 = t / self.coeffs[0] if self.coeffs[0] > 0 else t
+            r, ok = invert_increasing(f, t, 0.0, hi_r, x0)
+            out[valid] = np.where(ok, r, 0.0)
+            valid[valid] = ok
         return out, valid
 
 
