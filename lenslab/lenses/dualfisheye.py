@@ -66,7 +66,9 @@ class DualFisheye(Lens):
             uv[..., 0] = 2.0 * (x - x0) / self.half - 1.0
             uv[..., 1] = (1.0 - 2.0 * y / self.height) * (self.height / self.half)
             d, ok = self._lens.uv_to_dir(uv)
-            d[back] = d[back] @ BACK
+            flip = np.where(back, -1.0, 1.0)  # the back lens: half a turn about +y (x and z change sign)
+            d[..., 0] *= flip
+            d[..., 2] *= flip
             ok &= self.in_image(xy) & np.isfinite(x) & np.isfinite(y)
         return clean(d, ok, inplace=True)
 
@@ -79,8 +81,8 @@ class DualFisheye(Lens):
             good = (n > 0) & np.isfinite(n)
             d = d / np.where(good, n, 1.0)[..., None]
             back = d[..., 2] < 0
-            local = d.copy()
-            local[back] = local[back] @ BACK
+            flip = np.where(back, -1.0, 1.0)  # into the back lens's frame: x and z change sign
+            local = d * np.stack([flip, np.ones_like(flip), flip], axis=-1)
             uv, ok = self._lens.dir_to_uv(local)
             x0 = np.where(back, self.half - self._front_x0, self._front_x0)
             xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
