@@ -71,16 +71,17 @@ class Param:
 
     # -- describing ----------------------------------------------------------------------------
     def describe_range(self) -> str:
-        """``(0, 180)``, ``[0, inf)``, ``any`` or ``one of blog, gdc``."""
+        """``(0, 180)``, ``[0, inf)`` (no bound: an open end), ``(0, inf]`` (infinity itself allowed),
+        ``any``, ``true or false`` or ``one of blog, gdc``."""
         if self.choices is not None:
             return "one of " + ", ".join(self.choices)
         if self.kind is bool:
             return "true or false"
         if self.lo is None and self.hi is None:
             return "any"
-        lo = "-inf" if self.lo is None else format_value(self.lo)
-        hi = "inf" if self.hi is None else format_value(self.hi)
-        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
+        lo = "(-inf" if self.lo is None else ("(" if self.lo_open else "[") + format_value(self.lo)
+        hi = "inf)" if self.hi is None else format_value(self.hi) + (")" if self.hi_open else "]")
+        return f"{lo}, {hi}"
 
     def describe(self) -> str:
         """One line: ``name=default  range  units  doc``."""

@@ -26,7 +26,8 @@ def test_lenses_and_curves_share_the_one_type():
 def test_the_existing_keyword_names_still_build_a_param():
     p = Param(name="k1", default=0.3, doc="r^2 coefficient", lo=0.0, hi=None, choices=None, lo_open=True,
               hi_open=False, units="")
-    assert (p.kind, p.describe_range()) == (float, "(0, inf]")
+    assert (p.kind, p.describe_range()) == (float, "(0, inf)")  # no bound above: inf itself is refused
+    assert Param("white", math.inf, "", 0.0, math.inf, lo_open=True).describe_range() == "(0, inf]"
     assert Param("fov", 90.0, "fov", 0.0, 180.0, lo_open=True, hi_open=True, units="degrees").describe() == \
         "fov=90  (0, 180) degrees  fov"
 
