@@ -20,7 +20,6 @@ import numpy as np
 
 from lenslab.lenses.base import FLOAT, Lens, Param, as_points, clean
 from lenslab.lenses.protocol import cube_pieces
-from lenslab.lenses.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
 #: per slot (row by row), camera-space axes (A, B, C) with  d ~ uf A + vf B + C, where (uf, vf) are the
@@ -74,12 +73,6 @@ class EquiAngularCubemap(Lens):
         self.pu, self.pv = self.pad / self.width, self.pad / self.height
         if not (self.pu < 0.25 and self.pv < 0.1):
             raise LensError(f"eac: pad={self.pad:g} leaves no room for the faces of a {self.width}x{self.height} image")
-
-    def pieces(self):
-        """The six faces (inside the pad), each with the face and edge across each of its edges."""
-        fw, fh = (self.width - 2.0 * self.pad) / 3.0, self.height / 2.0 - 2.0 * self.pad
-        rects = [(self.pad + (k % 3) * fw, (k // 3) * self.height / 2.0 + self.pad, fw, fh) for k in range(6)]
-        return cube_pieces(rects, EAC_AXES)
 
     def pieces(self):
         """The six faces, padding left out, each with the face and edge across each of its edges (the
