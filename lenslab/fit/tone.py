@@ -116,10 +116,6 @@ class ToneFit:
     seconds: float = 0.0
     notes: list[str] = field(default_factory=list)
 
-    @property
-    def improved(self) -> bool:
-        return self.rms_after <= self.rms_before
-
     def command_line(self) -> str:
         """The ``lenslab tonemap`` options that reproduce the fitted look."""
         from lenslab import tone
