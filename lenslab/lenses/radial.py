@@ -31,6 +31,7 @@ class Radial:
         self._df = self.coeffs * np.arange(1, self.coeffs.size + 1)
         self.r_max = self._rising_limit()
         self.rd_max = float(self.forward(np.array(self.r_max))) if np.isfinite(self.r_max) else np.inf
+        self._table = None
 
     @property
     def identity(self) -> bool:
@@ -73,7 +74,7 @@ class Radial:
         The project's bracketed Newton (:func:`lenslab.lenses.solve.invert_increasing`) on
         ``[0, r_max]``; radii beyond the branch's top and unconverged ones are invalid.
         """
-        from lenslab.lenses.solve import invert_increasing
+        from lenslab.lenses.solve import inverse_table, invert_increasing
 
         rd = np.asarray(rd, dtype=np.float64)
         if self.identity:
@@ -87,7 +88,10 @@ class Radial:
             def f(x):
                 return self.forward(x), np.polynomial.polynomial.polyval(x, self._df)
 
-            x0 = t / self.coeffs[0] if self.coeffs[0] > 0 else t
+            if self._table is None:  # starting guesses within ~1e-6: Newton then needs two or three steps
+                self._table = inverse_table(f, hi_r)
+            table, step = self._table
+            x0 = np.interp(t / step, np.arange(table.size, dtype=np.float64), table)
             r, ok = invert_increasing(f, t, 0.0, hi_r, x0)
             out[valid] = np.where(ok, r, 0.0)
             valid[valid] = ok
