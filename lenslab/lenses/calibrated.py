@@ -11,10 +11,10 @@ equations work in OpenCV's frames, and this module converts at the boundary:
 
 A model is a projection to a normalised plane, ``(X, Y, Z) -> (mx, my)``, an optional distortion of
 that plane (:class:`~lenslab.lenses.polydistort.PolyDistortion`), and the affine intrinsics
-``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses implement :meth:`unproject` (pixel ->
-direction, NumPy) and name their projection for the compiled direction -> pixel kernel
-(:attr:`kernel_kind`, :meth:`kernel_params`; :mod:`lenslab.lenses.calibrated_kernels`), and
-:meth:`make_distortion` when they distort.
+``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses name their projection for the compiled
+kernels of both directions (:attr:`kernel_kind`, :meth:`kernel_params`;
+:mod:`lenslab.lenses.calibrated_kernels`, where the closed forms are) and give :meth:`make_distortion`
+when they distort; a model of another shape (``ocam``) overrides the pixel-level methods.
 
 A lens built for another image size scales the intrinsics about the image's corner (lenslab's frame):
 ``fx' = fx sx``, ``cx' + 0.5 = (cx + 0.5) sx`` with ``sx = W' / width`` (``y`` likewise).
@@ -27,7 +27,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, MAX_SIDE, Lens, Param, as_points, check_size, clean
+from lenslab.lenses.base import FLOAT, MAX_SIDE, Lens, Param, as_points, check_size
 
 SIZE_PARAMS = (
     Param("width", 0, "calibration image width in px; the intrinsics are in its pixels (0: this image's)", 0, MAX_SIDE),
@@ -114,10 +114,6 @@ class Calibrated(Lens):
         """The distortion of the normalised plane (None: none)."""
         return None
 
-    def unproject(self, mx, my):
-        """Unit rays ``(X, Y, Z)`` (OpenCV's frame) and validity of normalised points."""
-        raise NotImplementedError
-
     # -- affine intrinsics -------------------------------------------------------------------------
     @property
     def skew(self) -> float:
@@ -131,26 +127,30 @@ class Calibrated(Lens):
 
     # -- lenslab's interface ---------------------------------------------------------------------
     def pixel_to_dir(self, xy):
+        from lenslab.lenses.calibrated_kernels import unproject_kernel
+        from lenslab.lenses.polydistort import MAX_ITER_2D, TOL_2D
+        from lenslab.lenses.solve import kernel_settings
+
         xy = as_points(xy, 2, "pixel coordinates")
         shape = xy.shape[:-1]
-        flat = xy.reshape(-1, 2)
-        with np.errstate(all="ignore"):
-            X, Y, Z, valid = self.pixel_to_ray(flat[:, 0] - 0.5, flat[:, 1] - 0.5)
-            valid &= np.isfinite(flat).all(axis=-1)
-        d = np.empty(flat.shape[:-1] + (3,), dtype=FLOAT)
-        d[:, 0], d[:, 1], d[:, 2] = X, -Y, Z
-        d, valid = clean(d, valid, inplace=True)
-        return d.reshape(shape + (3,)), valid.reshape(shape)
+        flat = np.ascontiguousarray(xy.reshape(-1, 2), dtype=FLOAT)
+        d = np.empty((flat.shape[0], 3), dtype=FLOAT)
+        ok = np.empty(flat.shape[0], dtype=np.bool_)
+        dist = self.distortion
+        if dist is None:  # a model without distortion: the solve's arguments are unused
+            from lenslab.lenses.polydistort import PolyDistortion
 
-    def pixel_to_ray(self, u, v):
-        """OpenCV pixels -> unit rays in OpenCV's camera frame (1-D arrays) and validity."""
-        mx, my = self.pixel_to_plane(u, v)
-        ok = np.isfinite(mx) & np.isfinite(my)
+            dist = PolyDistortion()
+            dist.prepare(1.0)
+        table, step = dist.table
+        worst = unproject_kernel(
+            flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), dist.a, dist.b, dist.p1,
+            dist.p2, dist.s, self.distortion is not None and not dist.identity, not dist.radial_only, dist.fold,
+            dist.hi, dist.f_hi, dist.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D,
+            self.fx, self.fy, self.skew, self.cx, self.cy, d, ok)
         if self.distortion is not None:
-            mx, my, ok2, _ = self.distortion.invert(np.where(ok, mx, 0.0), np.where(ok, my, 0.0))
-            ok &= ok2
-        X, Y, Z, ok3 = self.unproject(mx, my)
-        return X, Y, Z, ok & ok3
+            self.distortion.max_iterations = worst
+        return d.reshape(shape + (3,)), ok.reshape(shape)
 
     #: the compiled projection (calibrated_kernels.PINHOLE...) of the model's dir_to_pixel
     kernel_kind: ClassVar[int | None] = None

@@ -106,62 +106,44 @@ def _distort(x, y, a, b, p1, p2, s):
     return xd, yd, j11, j12, j21, j22
 
 
-@numba.njit(**JIT)
-def undistort_kernel(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, table, tstep,
-                     tol, res_tol, rel_ulps, max_iter, tol_2d, max_iter_2d, out_x, out_y, valid):
-    """Undistort points of the normalised plane; returns the largest iteration count (1-D + 2-D) of the
-    points that converged (the others are invalid)."""
+@numba.njit(inline="always", **JIT)
+def _undistort(xd, yd, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, table, tstep,
+               tol, res_tol, rel_ulps, max_iter, tol_2d, max_iter_2d):
+    """Undistort one point of the normalised plane: ``(ok, x, y, iterations)`` (1-D + 2-D)."""
     fold2 = fold * fold
-    worst = 0
-    for i in range(mx.shape[0]):
-        xd = mx[i]
-        yd = my[i]
-        out_x[i] = 0.0
-        out_y[i] = 0.0
-        valid[i] = False
-        rd = math.sqrt(xd * xd + yd * yd)
-        if not ((rd < f_hi) if strict else (rd <= f_hi)):  # also False for NaN
-            continue
-        r, ok, its = _solve(POLY, a, b, rd, hi, _guess(rd, table, tstep, False), tol, res_tol, rel_ulps, max_iter)
-        if not ok or (strict and not r < fold):
-            continue
-        if rd > 0.0:
-            x = xd * (r / rd)
-            y = yd * (r / rd)
-        else:
-            x = xd
-            y = yd
-        if tangential:
-            ok = False
-            for it2 in range(1, max_iter_2d + 1):
-                fx, fy, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
-                ex = fx - xd
-                ey = fy - yd
-                if math.sqrt(ex * ex + ey * ey) <= tol_2d * max(1.0, rd):
-                    ok = True
-                    break
-                det = j11 * j22 - j12 * j21
-                sx = (j22 * ex - j12 * ey) / det
-                sy = (j11 * ey - j21 * ex) / det
-                step = 1.0
-                for _ in range(30):  # halve the step until it stays inside the fold
-                    nx = x - step * sx
-                    ny = y - step * sy
-                    if nx * nx + ny * ny < fold2:
-                        break
-                    step *= 0.5
-                x -= step * sx
-                y -= step * sy
-            its += it2
-            if ok:
-                _, _, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
-                ok = j11 * j22 - j12 * j21 > 0.0 and x * x + y * y < fold2
-        if ok:
-            worst = max(worst, its)
-            out_x[i] = x
-            out_y[i] = y
-            valid[i] = True
-    return worst
+    rd = math.sqrt(xd * xd + yd * yd)
+    if not ((rd < f_hi) if strict else (rd <= f_hi)):  # also False for NaN
+        return False, 0.0, 0.0, 0
+    r, ok, its = _solve(POLY, a, b, rd, hi, _guess(rd, table, tstep, False), tol, res_tol, rel_ulps, max_iter)
+    if not ok or (strict and not r < fold):
+        return False, 0.0, 0.0, its
+    x = xd * (r / rd) if rd > 0.0 else xd
+    y = yd * (r / rd) if rd > 0.0 else yd
+    if not tangential:
+        return True, x, y, its
+    ok = False
+    it2 = 0
+    for it2 in range(1, max_iter_2d + 1):
+        fx, fy, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
+        ex = fx - xd
+        ey = fy - yd
+        if math.sqrt(ex * ex + ey * ey) <= tol_2d * max(1.0, rd):
+            ok = True
+            break
+        det = j11 * j22 - j12 * j21
+        sx = (j22 * ex - j12 * ey) / det
+        sy = (j11 * ey - j21 * ex) / det
+        step = 1.0
+        for _ in range(30):  # halve the step until it stays inside the fold
+            if (x - step * sx) ** 2 + (y - step * sy) ** 2 < fold2:
+                break
+            step *= 0.5
+        x -= step * sx
+        y -= step * sy
+    if ok:
+        _, _, j11, j12, j21, j22 = _distort(x, y, a, b, p1, p2, s)
+        ok = j11 * j22 - j12 * j21 > 0.0 and x * x + y * y < fold2
+    return ok, x, y, its + it2
 
 
 @numba.njit(inline="always", **JIT)
@@ -310,3 +292,75 @@ def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, f
             if tangential and not j11 * j22 - j12 * j21 > 0.0:
                 continue
         _store(i, fx * mx + skew * my + cx + 0.5, fy * my + cy + 0.5, width, height, slack, out, valid)
+
+
+@numba.njit(**JIT)
+def unproject_kernel(xy, kind, q, a, b, p1, p2, s, distort, tangential, fold, hi, f_hi, strict, table, tstep,
+                     tol, res_tol, rel_ulps, max_iter, tol_2d, max_iter_2d, fx, fy, skew, cx, cy, out, valid):
+    """lenslab pixels -> lenslab unit directions of a calibrated model, with validity: OpenCV's pixel
+    ``(x - 0.5, y - 0.5)``, the inverse intrinsics, undistortion (solved) and the projection's closed-form
+    inverse (``kind`` and ``q`` as for :func:`project_kernel`). Returns the largest iteration count of the
+    points whose solve converged (the others are invalid)."""
+    worst = 0
+    for i in range(xy.shape[0]):
+        out[i, 0] = 0.0
+        out[i, 1] = 0.0
+        out[i, 2] = 0.0
+        valid[i] = False
+        my = (xy[i, 1] - 0.5 - cy) / fy
+        mx = (xy[i, 0] - 0.5 - cx - skew * my) / fx
+        if not (math.isfinite(mx) and math.isfinite(my)):
+            continue
+        if distort:
+            ok, mx, my, its = _undistort(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, table, tstep,
+                                         tol, res_tol, rel_ulps, max_iter, tol_2d, max_iter_2d)
+            if not ok:
+                continue
+            worst = max(worst, its)
+        r2 = mx * mx + my * my
+        if kind == PINHOLE:
+            X, Y, Z = mx, my, 1.0
+        elif kind == EQUIDISTANT:
+            th = math.sqrt(r2)
+            if not th < math.pi:
+                continue
+            k = math.sin(th) / th if th > 0.0 else 1.0
+            X, Y, Z = mx * k, my * k, math.cos(th)
+        elif kind == UNIFIED:
+            xi = q[0]
+            disc = 1.0 + (1.0 - xi * xi) * r2
+            if xi > 1.0 and not disc > 0.0:
+                continue
+            k = (xi + math.sqrt(max(disc, 0.0))) / (r2 + 1.0)
+            X, Y, Z = k * mx, k * my, k - xi
+        elif kind == DOUBLE_SPHERE:
+            xi = q[0]
+            al = q[1]
+            qq = 1.0 - (2.0 * al - 1.0) * r2
+            if al > 0.5 and qq < 0.0:
+                continue
+            mz = (1.0 - al * al * r2) / (al * math.sqrt(max(qq, 0.0)) + 1.0 - al)
+            k = (mz * xi + math.sqrt(max(mz * mz + (1.0 - xi * xi) * r2, 0.0))) / (mz * mz + r2)
+            X, Y, Z = k * mx, k * my, k * mz - xi
+            if not Z > -q[2]:  # the paper's region z > -w2 |x| (unit ray)
+                continue
+        else:  # EUCM
+            al = q[0]
+            be = q[1]
+            qq = 1.0 - (2.0 * al - 1.0) * be * r2
+            if al > 0.5 and qq < 0.0:
+                continue
+            X, Y, Z = mx, my, (1.0 - be * al * al * r2) / (al * math.sqrt(max(qq, 0.0)) + 1.0 - al)
+        n = math.sqrt(X * X + Y * Y + Z * Z)
+        if not (n > 0.0 and n < math.inf):
+            continue
+        X /= n
+        Y /= n
+        Z /= n
+        if kind == EUCM and not Z > -q[2] * math.sqrt(q[1] * (X * X + Y * Y) + Z * Z):
+            continue
+        out[i, 0] = X
+        out[i, 1] = -Y  # OpenCV's y down -> lenslab's y up
+        out[i, 2] = Z
+        valid[i] = True
+    return worst

@@ -51,14 +51,3 @@ class DoubleSphere(Calibrated):
 
     def kernel_params(self):
         return (self.xi, self.alpha, self.w2)
-
-    def unproject(self, mx, my):
-        xi, a = self.xi, self.alpha
-        r2 = mx * mx + my * my
-        q = 1.0 - (2.0 * a - 1.0) * r2
-        ok = q >= 0 if a > 0.5 else np.ones(r2.shape, dtype=bool)
-        mz = (1.0 - a * a * r2) / (a * np.sqrt(np.maximum(q, 0.0)) + 1.0 - a)
-        k = (mz * xi + np.sqrt(np.maximum(mz * mz + (1.0 - xi * xi) * r2, 0.0))) / (mz * mz + r2)
-        X, Y, Z = k * mx, k * my, k * mz - xi
-        ok &= Z > -self.w2  # the ray is unit length: the paper's region z > -w2 d1
-        return X, Y, Z, ok

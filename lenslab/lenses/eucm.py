@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from lenslab.lenses.base import Param
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, intrinsics_params
 from lenslab.lenses.calibrated_kernels import EUCM as EUCM_KIND
 from lenslab.lenses.double_sphere import alpha_w
 from lenslab.lenses.registry import register
@@ -45,14 +43,3 @@ class EUCM(Calibrated):
 
     def kernel_params(self):
         return (self.alpha, self.beta, self.w)
-
-    def unproject(self, mx, my):
-        a, b = self.alpha, self.beta
-        r2 = mx * mx + my * my
-        q = 1.0 - (2.0 * a - 1.0) * b * r2
-        ok = q >= 0 if a > 0.5 else np.ones(r2.shape, dtype=bool)
-        mz = (1.0 - b * a * a * r2) / (a * np.sqrt(np.maximum(q, 0.0)) + 1.0 - a)
-        X, Y, Z = unit_rows(mx, my, mz)
-        d = np.sqrt(b * (X * X + Y * Y) + Z * Z)
-        ok &= Z > -self.w * d
-        return X, Y, Z, ok

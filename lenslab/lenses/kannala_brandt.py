@@ -55,10 +55,6 @@ class KannalaBrandt(Calibrated):
     #: the equidistant plane theta (X, Y) / |(X, Y)|, theta = atan2(|(X, Y)|, Z); all but the back pole
     kernel_kind = EQUIDISTANT
 
-    def unproject(self, mx, my):
-        X, Y, Z, ok = equidistant_unproject(mx, my)
-        return X, Y, Z, ok
-
 
 @register
 class OpenCVFisheye(KannalaBrandt):

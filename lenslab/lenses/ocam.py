@@ -8,7 +8,7 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 
 from lenslab.errors import LensError
-from lenslab.lenses.base import FLOAT, Param, as_points
+from lenslab.lenses.base import FLOAT, Param, as_points, clean
 from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, unit_rows
 from lenslab.lenses.polydistort import first_positive_root
 from lenslab.lenses.registry import register
@@ -104,13 +104,20 @@ class OCam(Calibrated):
     def solver_iterations(self) -> dict[str, int]:
         return {"d2p": getattr(self, "max_iterations", 0)}
 
-    def pixel_to_ray(self, u, v):
-        xp, yp = self._affine_inverse(v, u)  # OpenCV (u, v) = (column, row)
-        rho = np.hypot(xp, yp)
-        zp = P.polyval(rho, self.pol_c)
-        X, Y, Z = unit_rows(yp, xp, -zp)  # OCamCalib (x down, y right, z back) -> OpenCV
-        ok = rho < self.rho_fold if np.isfinite(self.rho_fold) else np.isfinite(rho)
-        return X, Y, Z, ok & np.isfinite(rho)
+    def pixel_to_dir(self, xy):
+        xy = as_points(xy, 2, "pixel coordinates")
+        shape = xy.shape[:-1]
+        flat = xy.reshape(-1, 2)
+        with np.errstate(all="ignore"):
+            xp, yp = self._affine_inverse(flat[:, 1] - 0.5, flat[:, 0] - 0.5)  # (row, column), from 0
+            rho = np.hypot(xp, yp)
+            zp = P.polyval(rho, self.pol_c)
+            ok = (rho < self.rho_fold) & np.isfinite(rho)
+            d = np.empty(flat.shape[:-1] + (3,), dtype=FLOAT)
+            # OCamCalib (x down, y right, z back) -> lenslab (right, up, forward) = (y, -x, -z), unit length
+            d[:, 0], d[:, 1], d[:, 2] = unit_rows(yp, -xp, -zp)
+        d, ok = clean(d, ok, inplace=True)
+        return d.reshape(shape + (3,)), ok.reshape(shape)
 
     def dir_to_pixel(self, dirs):
         from lenslab.lenses.calibrated_kernels import ocam_project_kernel

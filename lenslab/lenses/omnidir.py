@@ -56,11 +56,3 @@ class Omnidir(Calibrated):
 
     def kernel_params(self):
         return (self.xi, self.w)
-
-    def unproject(self, mx, my):
-        xi = self.xi
-        r2 = mx * mx + my * my
-        disc = 1.0 + (1.0 - xi * xi) * r2
-        ok = disc > 0 if xi > 1 else np.ones(r2.shape, dtype=bool)
-        k = (xi + np.sqrt(np.maximum(disc, 0.0))) / (r2 + 1.0)
-        return k * mx, k * my, k - xi, ok

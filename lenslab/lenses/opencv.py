@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params, unit_rows
+from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
 from lenslab.lenses.calibrated_kernels import PINHOLE
 from lenslab.lenses.polydistort import PolyDistortion
 from lenslab.lenses.registry import register
@@ -43,7 +41,3 @@ class OpenCV(Calibrated):
                               s=(self.s1, self.s2, self.s3, self.s4))
 
     kernel_kind = PINHOLE  # (X/Z, Y/Z), valid for Z > 0
-
-    def unproject(self, mx, my):
-        X, Y, Z = unit_rows(mx, my, np.ones_like(mx))
-        return X, Y, Z, np.ones(mx.shape, dtype=bool)

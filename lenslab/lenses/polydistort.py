@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import polynomial as P
 
-from lenslab.lenses.solve import inverse_table, kernel_settings
+from lenslab.lenses.solve import inverse_table
 
 FLOAT = np.float64
 #: residual of the 2-D solve in normalised units (1e-14 of the focal length: 1e-11 px at f = 1000 px)
@@ -77,6 +77,7 @@ class PolyDistortion:
         self.limit = float(limit)
         self.fold = min(self._fold_radius(), self.limit)  # undistorted radius bound (may be inf)
         self.max_iterations = 0  # largest iteration count of the last inverse (for the benchmark)
+        self.table = None
 
     # -- the radial map -------------------------------------------------------------------------
     def _fold_radius(self) -> float:
@@ -136,24 +137,3 @@ class PolyDistortion:
         self.f_hi = float(self.radius_map(np.array([hi]))[0][0])
         self.strict = bool(np.isfinite(self.fold))
         self.table = inverse_table(self.radius_map, hi)
-
-    def invert(self, xd, yd):
-        """Undistorted ``(x, y)``, validity and convergence for distorted points (1-D float64 arrays)."""
-        from lenslab.lenses.calibrated_kernels import undistort_kernel
-
-        xd = np.ascontiguousarray(xd, dtype=FLOAT)
-        yd = np.ascontiguousarray(yd, dtype=FLOAT)
-        if self.identity:
-            ok = xd * xd + yd * yd < self.fold * self.fold
-            self.max_iterations = 0
-            return xd.copy(), yd.copy(), ok, np.ones(xd.shape, dtype=bool)
-        if getattr(self, "table", None) is None:
-            self.prepare(float(np.max(np.hypot(xd, yd), initial=1.0, where=np.isfinite(xd) & np.isfinite(yd))))
-        x = np.empty_like(xd)
-        y = np.empty_like(yd)
-        ok = np.empty(xd.shape, dtype=np.bool_)
-        table, step = self.table
-        self.max_iterations = undistort_kernel(
-            xd, yd, self.a, self.b, self.p1, self.p2, self.s, not self.radial_only, self.fold, self.hi, self.f_hi,
-            self.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D, x, y, ok)
-        return x, y, ok, ok.copy()
