@@ -11,7 +11,7 @@ STMap node reads them. Maps are written as 32-bit float EXR (half floats would m
 by up to a pixel); B is 0. A map from lens A to lens B (``--from A --to B``) puts an image shot with A
 into B: from a distorted lens to an ideal one it undistorts, the other way round it distorts.
 
-Reading accepts maps made by any tool: float EXR (or PFM, TIFF-free formats lenslab reads) with s and
+Reading accepts maps made by any tool: float EXR (or any float format lenslab reads) with s and
 t in the first two channels and, if present, validity in the fourth (``A > 1/2``); without alpha every
 pixel whose ``s, t`` is finite and inside ``[0, 1]`` counts.
 """
@@ -160,35 +160,16 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
     return xs, ys, valid
 
 
-def footprints(st: np.ndarray, src_size: tuple[int, int]) -> np.ndarray:
-    """Each entry's footprint on the source (float32 ``H x W x 4``: the steps ``a`` across and ``b`` down,
-    in source pixels): central differences between neighbouring entries, one-sided beside a jump or an
-    entry without a ray, zero with neither neighbour."""
-    x, y, ok = source_positions(st, src_size)
-    foot = np.zeros(ok.shape + (4,), dtype=np.float32)
-    for axis, k in ((1, 0), (0, 2)):
-        dx, dy, smooth = smooth_links(x, y, ok, axis)
-        for step, col in ((dx, k), (dy, k + 1)):
-            step = np.where(smooth, step, 0.0)
-            pad = np.zeros_like(np.take(step, [0], axis=axis))
-            lo = np.concatenate([pad, step], axis=axis)  # the link before each entry
-            hi = np.concatenate([step, pad], axis=axis)  # the link after it
-            s_pad = np.zeros_like(np.take(smooth, [0], axis=axis))
-            n = np.concatenate([s_pad, smooth], axis=axis).astype(np.float32) + np.concatenate([smooth, s_pad], axis=axis)
-            foot[..., col] = np.divide(lo + hi, n, out=np.zeros(n.shape), where=n > 0)
-    return foot
-
-
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` (H x W x C) by an ST map: ``(float32 h x w x C, alpha float32 h x w)`` of the map's
-    size, with lenslab's reconstruction filters and ``samples`` stratified samples per pixel, or, with
-    ``antialias``, lenslab's footprint prefilter (one sample per pixel, its footprint from the map's
-    differences between neighbouring pixels; see :mod:`lenslab.warp.antialias`). Taps outside the
-    source clamp to its edge."""
-    from lenslab.warp import antialias as aa
+    size. One sample per pixel goes through the engine's :func:`~lenslab.warp.given.warp_with_map`
+    (lenslab's filters, and its footprint prefilter with ``antialias``); ``samples`` > 1 takes that
+    many stratified samples per pixel, the map interpolated between pixel centres
+    (:func:`map_samples`). Taps outside the source clamp to its edge."""
     from lenslab.warp.filters import FILTERS, sample
+    from lenslab.warp.given import warp_with_map
     from lenslab.warp.maps import sample_pattern
     from lenslab.warp.seam import Border
 
@@ -196,28 +177,22 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
         raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
     if antialias and samples != 1:
         raise WarpError("with an ST map, give either --antialias or --samples, not both")
+    size = (image.shape[1], image.shape[0])
+    if samples == 1:
+        x, y, ok = source_positions(st, size)
+        return warp_with_map(image, np.stack([x, y], axis=-1), ok, filter=filter, antialias=antialias,
+                             progress=progress)
     src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
     h, w = st.shape[:2]
-    size = (src.shape[1], src.shape[0])
     out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
     alpha = np.zeros((h, w), dtype=np.float32)
     offsets = sample_pattern(int(samples))
-    pyramid = aa.pyramid(src, Border()) if antialias else None
-    foot = footprints(st, size) if antialias else None
     grid = MapGrid(st, size)
     rows = max(1, (1 << 18) // max(1, w * len(offsets)))
     for r0 in range(0, h, rows):
         r1 = min(h, r0 + rows)
         xs, ys, valid = map_samples(grid, size, offsets, r0, r1)
-        if antialias:
-            k = aa.EDGE_SPLIT ** 2
-            band = aa.FootprintBand(r0, r1, xs, ys, valid, np.ascontiguousarray(foot[r0:r1, :, None]),
-                                    np.zeros(valid.shape, dtype=bool), np.zeros(0, dtype=np.int64),
-                                    np.zeros((0, k), np.float32), np.zeros((0, k), np.float32),
-                                    np.zeros((0, k), dtype=bool))
-            aa.sample_footprint(pyramid, band, Border(), out[r0:r1], alpha[r0:r1])
-        else:
-            sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
+        sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
         if progress is not None:
             progress(r1 - r0)
     if image.ndim == 2:
