@@ -45,10 +45,23 @@ def panorama(width: int, fn=scene) -> tuple[np.ndarray, Camera]:
 
 
 def truth(dst: Camera, fn=scene) -> tuple[np.ndarray, np.ndarray]:
-    """The function averaged over each pixel's strata (premultiplied by coverage) and the coverage."""
+    """The function averaged over each pixel's strata (premultiplied by coverage) and the coverage.
+
+    A lens with per-channel optics takes channel c along its channel lens c's rays (coverage from G),
+    and the result is dimmed by its falloff at each pixel centre (the engine's documented rule)."""
     _, d, v = dst.rays(samples=SAMPLES, seed=None)
     f = np.where(v[..., None], fn(d), 0.0)
-    return f.mean(axis=2), v.mean(axis=2)
+    channels = dst.lens.channel_lenses()
+    if channels is not None:
+        for c, lens in enumerate(channels):
+            _, dc, vc = Camera(lens, dst.pose).rays(samples=SAMPLES, seed=None)
+            f[..., c] = np.where(vc, fn(dc)[..., c], 0.0)
+    out = f.mean(axis=2)
+    y, x = np.mgrid[0:dst.height, 0:dst.width] + 0.5
+    fall = dst.lens.falloff(np.stack([x, y], axis=-1))
+    if fall is not None:
+        out *= fall[..., None]
+    return out, v.mean(axis=2)
 
 
 def dst_camera(model: str) -> Camera:

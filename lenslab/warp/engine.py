@@ -24,6 +24,7 @@ from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
 from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
+from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
 
 BAND_POINTS = 1 << 18  # output samples per band
@@ -38,7 +39,8 @@ class WarpPlan:
 
     def __init__(self, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
                  antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
-                 exact_map: bool = False, cache: bool = False, band_points: int = BAND_POINTS):
+                 exact_map: bool = False, cache: bool = False, band_points: int = BAND_POINTS,
+                 optics: bool = True):
         for name, cam in (("source", src_camera), ("destination", dst_camera)):
             if not isinstance(cam, Camera):
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
@@ -68,6 +70,20 @@ class WarpPlan:
             self.parallax = max([p.parallax for _, _, p in self.parts], default=0.0)
             self.mapper = None
             return
+        # per-channel lenses and falloffs (lenslab.warp.optics); the channel plans leave them to this one
+        self.channels = None
+        self.src_falloff = self.dst_falloff = None
+        if optics:
+            self.src_falloff, self.dst_falloff = falloff_image(src_camera.lens), falloff_image(dst_camera.lens)
+            pairs = channel_cameras(src_camera, dst_camera)
+            if pairs is not None:
+                opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
+                            allow_parallax=allow_parallax, exact_map=exact_map, cache=cache,
+                            band_points=band_points, optics=False)
+                self.channels = [WarpPlan(s, d, **opts) for s, d in pairs]
+                self.parallax = max(p.parallax for p in self.channels)
+                self.mapper = None
+                return
         self.parallax = check_eyes(src_camera, dst_camera, allow_parallax)
         self.mapper = Mapper(src_camera, dst_camera, exact=exact_map)
 
@@ -115,6 +131,8 @@ class WarpPlan:
     def map_bytes(self) -> int:
         if self.parts is not None:
             return sum(p.map_bytes for _, _, p in self.parts)
+        if self.channels is not None:
+            return sum(p.map_bytes for p in self.channels)
         return 0 if self._bands is None else sum(b.nbytes for b in self._bands)
 
     # -- pixels --------------------------------------------------------------------------------
@@ -155,6 +173,16 @@ class WarpPlan:
             for x0, y0, part in self.parts:
                 _render_region(part, src, out, alpha, x0, y0, progress)
             return
+        if self.src_falloff is not None:
+            src = divide_by_falloff(src, self.src_falloff)
+        if self.channels is not None:
+            render_channels(self.channels, src, out, alpha, progress)
+        else:
+            self._render_bands(src, out, alpha, progress)
+        if self.dst_falloff is not None:
+            out *= self.dst_falloff[..., None]
+
+    def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
 
         def draw(band):
