@@ -32,6 +32,7 @@ CASES = {
     "equisolid, between calibrations": ("Canon EF 8-15mm f/4L Fisheye USM", "crop=1", 10, 0, 1000, (600, 400)),
     "stereographic": ("Samyang 12mm f/2.8 Fish-Eye ED AS NCS", "crop=1", 12, 0, 1000, (600, 400)),
     "equisolid with a real focal length and 4:3 sensor": ("AEE SD19 & compatibles", "", 5, 0, 1000, (640, 480)),
+    "stereographic on a named camera": ("Samyang 8mm f/3.5 Fish-Eye CS", "camera=Canon EOS 600D", 8, 0, 1000, (600, 400)),
 }
 
 # the focal length lensfun's geometry step uses, mm: nominal, or the XML's real focal length over
@@ -48,7 +49,13 @@ def setup(case):
     lens = make_lens(spec, size)
     lfl = lensfun_db.pick_lens(name)
     assert lfl.model == name
-    crop = float(extra.split("=")[1]) if extra else float(lfl.crop_factor)
+    if extra.startswith("camera="):  # the camera's crop factor, as lensfun's database gives it
+        cam = [c for c in lensfun_db.database().cameras if c.model == extra.split("=")[1]]
+        assert len(cam) == 1
+        crop = float(cam[0].crop_factor)
+        assert crop != float(lfl.crop_factor)  # the calibration's sensor differs: the rescaling is exercised
+    else:
+        crop = float(extra.split("=")[1]) if extra else float(lfl.crop_factor)
     return lens, lfl, crop, focal, aperture or 0.0, distance, size
 
 
