@@ -359,3 +359,21 @@ def test_different_image_size_scales_about_the_corner():
     b, okb = big.dir_to_pixel(d)
     both = oka & okb
     assert both.sum() > 100 and np.abs(b[both] - 2 * a[both]).max() < 1e-9
+
+
+@settings(max_examples=30, deadline=None)
+@given(model=st.sampled_from(["double-sphere", "eucm", "omnidir"]), p=st.floats(0.05, 0.95), q=st.floats(0.3, 1.6),
+       fx=st.floats(0.0, 1.0), fy=st.floats(0.0, 1.0))
+def test_unified_models_pixel_round_trip_property(model, p, q, fx, fy):
+    """Any parameters, any pixel: a valid pixel's direction comes back to it (1e-9 px), an invalid one is 0."""
+    extra = {"double-sphere": f"xi={q - 1.0},alpha={p}", "eucm": f"alpha={p},beta={q}",
+             "omnidir": f"xi={q},k1={p - 0.5},p1=0.001"}[model]
+    lens = make_lens(f"{model}:fx=150,fy=150,cx=319.5,cy=239.5,{extra},width=640,height=480", (640, 480))
+    xy = np.array([[fx * 640, fy * 480]])
+    d, ok = lens.pixel_to_dir(xy)
+    assert np.isfinite(d).all()
+    if not ok[0]:
+        assert (d == 0).all()
+        return
+    back, ok2 = lens.dir_to_pixel(d)
+    assert ok2[0] and np.abs(back - xy).max() < RT_TOL
