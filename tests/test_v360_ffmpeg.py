@@ -27,9 +27,9 @@ from lenslab.warp.maps import exact_map
 #: float32 map is ~1e-3 px from the float64 one, 0.01 code at this image's steepest 8 codes/px
 TOL = 1.1
 #: output pixels left out of the comparison: those whose sample lies within this many source pixels
-#: of a place where the two disagree by design (a cube face's edge: v360 reads the neighbouring face,
-#: lenslab the next pixel of the layout; the edge of the source's valid region, where v360 and lenslab
-#: decide visibility from float32 and float64 numbers)
+#: of a place where the two disagree by design (a cube face's edge: both read the neighbouring face, v360
+#: the nearest pixel of it, lenslab its continuation, interpolated; the edge of the source's valid
+#: region, where v360 and lenslab decide visibility from float32 and float64 numbers)
 EDGE = 1.5
 
 PAN = 4 * math.degrees(math.atan(0.5))  # Pannini d = 1: x = 2 tan(phi/2) = 1 at the edge, phi = 2 atan(1/2)
