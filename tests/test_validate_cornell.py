@@ -82,7 +82,10 @@ SPECS = {
     "cubemap": ["cubemap"],
     "tiled": ["tiled"],
     # a real full-frame fisheye from the lensfun database (its geometry: the warp traces one ray per pixel)
-    "lensfun": ["lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10,effects=distortion"],
+    "lensfun": ["lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10,effects=distortion",
+                # all three effects of the real lens: distortion, a ray per channel (TCA) and vignetting
+                "lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=12,aperture=4"],
+    "optics": ["optics:tca=1.01/0.99,vignetting=pa/-0.3/0.1/-0.05,base=perspective,fov=90"],
 }
 NOT_TARGETS = {"equirect"}  # the panorama itself
 
