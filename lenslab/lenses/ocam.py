@@ -41,8 +41,8 @@ class OCam(Calibrated):
     ``(row, column) = (y - 0.5, x - 0.5)``. With ``[row - xc, col - yc] = [[c, d], [e, 1]] [xp, yp]``
     and ``rho = |(xp, yp)|``, the ray is ``(xp, yp, pol(rho))``, ``pol(rho) = a0 + a1 rho + a2 rho^2 + ...``
     (``cam2world``). Directions -> pixels solves ``atan2(rho, -pol(rho)) = angle from the axis`` for
-    ``rho`` by bracketed Newton (compiled, from a table of the inverse) (exact; OCamCalib's ``world2cam`` evaluates ``invpol``, a fit of that
-    inverse, which is kept here only to be written back). Valid up to the first radius where that
+    ``rho`` exactly, by a compiled bracketed Newton from a table of the inverse; OCamCalib's
+    ``world2cam`` evaluates ``invpol``, a fit of that inverse, kept here only to be written back. Valid up to the first radius where that
     angle stops increasing (the first positive root of ``rho pol'(rho) - pol(rho)``).
     Reference: D. Scaramuzza, A. Martinelli, R. Siegwart, "A Toolbox for Easily Calibrating
     Omnidirectional Cameras", IROS 2006; OCamCalib's ``ocam_functions.c``.
