@@ -198,3 +198,28 @@ def test_own_database_with_or_without_the_bundled_one(tmp_path, monkeypatch, cap
     lensfun_db.use_database([str(tmp_path)], bundled=True)
     assert lensfun_db.find_lenses("samyang 8mm") and lensfun_db.find_lenses("acme test")
     lensfun_db.use_database([], bundled=True)
+
+
+@pytest.mark.parametrize("reverse", [False, True], ids=["remove", "apply"])
+def test_warp_removes_and_applies_vignetting_as_lensfun_does(reverse):
+    """A flat white frame warped between the lens with its vignetting and without (same geometry, same
+    pixels): lensfun's own colour modification of the same frame is the answer."""
+    from lenslab.lenses import Camera, Pose
+    from lenslab.warp import warp
+
+    case = "poly3, poly3 TCA, vignetting, zoom between calibrations"
+    lens, lfl, crop, focal, aperture, distance, size = setup(case)
+    assert "effects" not in lens.spec()  # all of them: the two below choose
+    vig = make_lens(f"{lens.spec()},effects=vignetting", size)
+    bare = make_lens(f"{lens.spec()},effects=none", size)
+    src, dst = (bare, vig) if reverse else (vig, bare)
+    ones = np.ones((size[1], size[0], 3), np.float32)
+    pose = Pose.from_ypr(0, 0, 0)
+    out, alpha = warp(ones, Camera(src, pose), Camera(dst, pose), filter="bilinear", samples=1)
+    m = modifier(lfl, crop, size, focal, aperture, distance, lf.ModifyFlags.VIGNETTING, reverse,
+                 pixel_format=np.float32)
+    want = np.ones_like(ones)
+    assert m.apply_color_modification(want)
+    assert (alpha == 1).all()
+    # 2e-5 relative: lensfun's float32 illumination (1e-5, see VIG_TOL) and the warp's float32 output
+    np.testing.assert_allclose(out, want, rtol=2e-5)
