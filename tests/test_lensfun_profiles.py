@@ -223,3 +223,55 @@ def test_warp_removes_and_applies_vignetting_as_lensfun_does(reverse):
     assert (alpha == 1).all()
     # 2e-5 relative: lensfun's float32 illumination (1e-5, see VIG_TOL) and the warp's float32 output
     np.testing.assert_allclose(out, want, rtol=2e-5)
+
+
+OFFSET_XML = """<lensdatabase version="1">
+<lens><maker>Acme</maker><model>Acme Offset 24mm f/2</model><mount>Canon EF</mount><cropfactor>1.5</cropfactor>
+<aspect-ratio>4:3</aspect-ratio><center x="0.06" y="-0.04"/>
+<calibration><distortion model="ptlens" focal="24" a="0.01" b="-0.03" c="0.02"/>
+<tca model="linear" focal="24" kr="1.0004" kb="0.9997"/>
+<vignetting model="pa" focal="24" aperture="2" distance="10" k1="-0.4" k2="0.2" k3="-0.05"/></calibration></lens>
+</lensdatabase>"""
+
+
+def test_own_profile_with_an_off_centre_lens_and_another_sensor(tmp_path, monkeypatch):
+    """A profile of your own (no lens in the bundled database has a centre offset): 4:3 calibration
+    sensor at crop 1.5, image at crop 1.6, lens centre moved; geometry, TCA and vignetting against lensfun."""
+    monkeypatch.setenv(lensfun_db.ENV_DB, "")
+    monkeypatch.setenv(lensfun_db.ENV_BUNDLED, "1")
+    (tmp_path / "acme.xml").write_text(OFFSET_XML)
+    lensfun_db.use_database([str(tmp_path)], bundled=False)
+    try:
+        size = (500, 360)
+        lens = make_lens("lensfun:lens=acme offset,crop=1.6,aperture=2,distance=10", size)
+        lfl = lensfun_db.pick_lens("acme offset")
+        # lensfun's frame, transcribed: unit radius over the 4:3 calibration sensor, centre moved by
+        # (0.06, -0.04) units of half the shorter span
+        s = 359
+        ns = 2 / s * (math.hypot(4 / 3, 1) / math.hypot(499 / 359, 1) * 1.5 / 1.6)
+        centre = np.array([499 / 2 + 0.06 * s / 2, 359 / 2 - 0.04 * s / 2])
+        f = 24 / (math.hypot(36, 24) / 2 / math.hypot(4 / 3, 1) / 1.5)
+        m = lf.Modifier(lfl, 1.6, *size)
+        m.initialize(24, 2, 10, scale=1.0, flags=lf.ModifyFlags.DISTORTION)
+        for (i, j) in grid(size):
+            ref = m.apply_geometry_distortion(i, j, 1, 1)[0, 0].astype(np.float64)
+            q = (np.array([i, j]) - centre) * ns
+            xy, ok = lens.dir_to_pixel_unbounded(np.array([[q[0], -q[1], f]]))
+            assert ok[0] and np.abs(xy[0] - 0.5 - ref).max() < POS_TOL, ((i, j), xy, ref)
+        m = lf.Modifier(lfl, 1.6, *size)
+        m.initialize(24, 2, 10, scale=1.0, flags=lf.ModifyFlags.TCA)
+        red, green, blue = lens.channel_lenses()
+        for (i, j) in grid(size):
+            ref = m.apply_subpixel_distortion(i, j, 1, 1)[0, 0].astype(np.float64) + 0.5
+            d, _ = green.pixel_to_dir(np.array([[i + 0.5, j + 0.5]]))
+            for c, ch in ((0, red), (2, blue)):
+                got, ok = ch.dir_to_pixel_unbounded(d)
+                assert ok[0] and np.abs(got[0] - ref[c]).max() < POS_TOL
+        m = lf.Modifier(lfl, 1.6, *size)
+        m.initialize(24, 2, 10, scale=1.0, flags=lf.ModifyFlags.VIGNETTING, pixel_format=np.float32)
+        img = np.ones((size[1], size[0], 3), np.float32)
+        assert m.apply_color_modification(img)
+        yy, xx = np.mgrid[0 : size[1], 0 : size[0]]
+        np.testing.assert_allclose(img[..., 1], 1 / lens.falloff(np.stack([xx + 0.5, yy + 0.5], -1)), rtol=VIG_TOL)
+    finally:
+        lensfun_db.use_database([], bundled=True)
