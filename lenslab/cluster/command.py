@@ -14,15 +14,31 @@ def batch_on_cluster(command: str, where: dict, task: str, pairs: list[tuple], o
     from lenslab.cluster.connect import client_for
     from lenslab.cluster.run import run_batch, worker_summary
 
+    from lenslab.cli.policy import check_output
+
     fn = getattr(tasks, task)
     workers: dict = {}
+    # Outputs are checked here, once, before any task runs. A task may run twice (its worker died after
+    # writing the file but before the scheduler heard of it): the second run finds the first one's
+    # complete output and replaces it with the same bytes, so the tasks may overwrite.
+    refused, ready = {}, []
+    for src, dst in pairs:
+        try:
+            check_output(dst, [src], options.get("overwrite", False))
+            ready.append((src, dst))
+        except OSError as exc:
+            refused[(str(src), str(dst))] = str(exc)
+    rerunnable = {**options, "overwrite": True}
     # workers have their own working folder: they get absolute paths, the messages keep the user's
-    jobs = [(os.path.abspath(src), os.path.abspath(dst), options) for src, dst in pairs]
+    jobs = [(os.path.abspath(src), os.path.abspath(dst), rerunnable) for src, dst in ready]
     with client_for(where) as client:
-        done = run_batch(client, fn, jobs, [dst for _, dst in pairs], name=command.split()[-1],
+        done = run_batch(client, fn, jobs, [dst for _, dst in ready], name=command.split()[-1],
                          progress=not quiet, workers=workers)
         address = client.scheduler.address
-    results = [(str(src), str(dst), err, notes) for (src, dst), (_, _, err, notes) in zip(pairs, done)]
+    by_pair = {(str(src), str(dst)): (err and err.replace(os.path.abspath(src), str(src)), notes)
+               for (src, dst), (_, _, err, notes) in zip(ready, done)}
+    results = [(str(src), str(dst), *by_pair.get((str(src), str(dst)), (refused.get((str(src), str(dst))), [])))
+               for src, dst in pairs]
     for src, _, _, notes in results:
         for note in notes:
             print(f"{command}: note: {src}: {note}", file=sys.stderr)

@@ -1,0 +1,225 @@
+"""Cluster benchmark: a batch of frames and one traced panorama on Dask workers against one local job.
+
+Warp: 32 frames of 2048x1024 EXR (``--quick``: 16 of 1024x512) into a 1024x1024 equisolid fisheye,
+
+  one job        the frames one after the other in this process, one thread (the baseline)
+  local default  the same on every core (lenslab warp without a scheduler: the warp's own threads)
+  2 workers      one task per frame on a LocalCluster of two single-threaded worker processes
+
+with the speed-up and efficiency of the two workers against one job (aim: 1.7x), and the overhead of a
+task: the workers' busy time taken from their wall time, per task (aim: under 20 ms). The warp's map
+is made once per worker; its cost is set beside the cost of scattering the map's bytes to the workers.
+Convert: the same frames to EXR with ``--jobs 1``, ``--jobs 2`` and the two workers.
+
+Trace: ``tracer render --scheduler`` of a 2048x1024 panorama of the Cornell box at 64 spp (``--quick``:
+512x256 at 16 spp) on one worker and on two, the speed-up against one worker (aim: 1.7x). Both clusters
+are started before the clock starts; every figure's machine load is in the JSON record.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+AIM_SPEEDUP = 1.7  # two workers against one job, on two cores
+AIM_OVERHEAD_MS = 20.0  # scheduling cost of one task
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true",
+                        help="16 frames of 1024x512 and a 512x256 panorama at 16 spp (about a minute)")
+    parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
+    parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
+
+
+def make_frames(folder: Path, n: int, width: int, height: int) -> list[Path]:
+    """``n`` smooth HDR frames (a sky gradient, a sun and a drifting pattern) as half EXR files."""
+    import numpy as np
+
+    from lenslab.io import write
+
+    y, x = np.mgrid[0:height, 0:width].astype(np.float32)
+    sky = (1.5 - y / height)[..., None] * np.array([0.4, 0.6, 1.0], np.float32)
+    paths = []
+    for i in range(n):
+        image = sky + 0.2 * (1 + np.sin((x + 37 * i) / 23.0) * np.cos(y / 17.0))[..., None]
+        image[(x - width * (0.3 + 0.01 * i)) ** 2 + (y - height * 0.3) ** 2 < (height / 40) ** 2] = 5000.0
+        path = folder / f"frame{i:04d}.exr"
+        write(path, image.astype(np.float32))
+        paths.append(path)
+    return paths
+
+
+def warp_options(inputs: Path, output: Path) -> dict:
+    from lenslab.cli.main import build_parser
+    from lenslab.cluster.tasks import plain_options
+
+    args = build_parser().parse_args(["warp", str(inputs), "-o", str(output), "--to",
+                                      "fisheye:fov=180,mapping=equisolid", "--size", "1024x1024", "-q"])
+    return plain_options(args)
+
+
+def _local(task, frames, out: Path, options: dict, threads: int) -> float:
+    import cv2
+    import numba
+
+    numba.set_num_threads(threads)
+    cv2.setNumThreads(threads)
+    t0 = time.perf_counter()
+    for src in frames:
+        _, _, error, _ = task(str(src), str(out / (src.stem + ".exr")), options)
+        if error:
+            raise RuntimeError(error)
+    return time.perf_counter() - t0
+
+
+def _on_cluster(client, task, frames, out: Path, options: dict) -> tuple[float, float]:
+    """Wall time of the batch, and the workers' summed busy time."""
+    from lenslab.cluster.run import run_batch
+
+    workers: dict = {}
+    jobs = [(str(src), str(out / (src.stem + ".exr")), options) for src in frames]
+    t0 = time.perf_counter()
+    results = run_batch(client, task, jobs, [j[1] for j in jobs], name="bench", workers=workers)
+    wall = time.perf_counter() - t0
+    errors = [r[2] for r in results if r[2]]
+    if errors:
+        raise RuntimeError(errors[0])
+    return wall, sum(s for _, s in workers.values())
+
+
+def _fresh(folder: Path) -> Path:
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    return folder
+
+
+def batches(args, tmp: Path) -> None:
+    from lenslab.bench.results import figure, mark
+    from lenslab.cluster.connect import local_cluster
+    from lenslab.cluster.tasks import convert_task, warp_task
+
+    n = args.frames or (16 if args.quick else 32)
+    width, height = (1024, 512) if args.quick else (2048, 1024)
+    frames = make_frames(_fresh(tmp / "in"), n, width, height)
+    options = warp_options(tmp / "in", tmp / "out")
+    options["overwrite"] = True
+    _local(warp_task, frames[:1], _fresh(tmp / "out"), options, 1)  # compile or load the kernels first
+    one = _local(warp_task, frames, _fresh(tmp / "out"), options, 1)
+    cores = os.cpu_count() or 1
+    default = _local(warp_task, frames, _fresh(tmp / "out"), options, cores)
+    with local_cluster(workers=2) as client:
+        _on_cluster(client, warp_task, frames[:2], _fresh(tmp / "out"), options)  # workers load the kernels
+        wall, busy = _on_cluster(client, warp_task, frames, _fresh(tmp / "out"), options)
+        map_build, scatter = map_costs(client, options, frames[0])
+        convert = {"to": "exr", "tone": "hable", "exposure": 0.0, "overwrite": True, "quality": 95, "bits": None,
+                   "pixel_type": "half", "compression": "zip", "data_window": False}
+        c_wall, _ = _on_cluster(client, convert_task, frames, _fresh(tmp / "out"), convert)
+    print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024 (load {os.getloadavg()[0]:.2f})")
+    print(f"  one job, one thread        {one:8.2f} s   baseline")
+    print(f"  local, {cores} threads          {default:8.2f} s   {one / default:5.2f}x")
+    speedup = one / wall
+    ok = figure("cluster.warp_two_workers_speedup", f"warp {n} frames: two Dask workers vs one job", speedup, "x",
+                aim=AIM_SPEEDUP, better="higher")
+    print(f"  two Dask workers           {wall:8.2f} s   {speedup:5.2f}x (aim {AIM_SPEEDUP}x) {mark(ok)}; "
+          f"efficiency {speedup / 2:.0%}")
+    figure("cluster.warp_local_threads_speedup", f"warp {n} frames: local on every core vs one job", one / default, "x")
+    figure("cluster.warp_two_workers_efficiency", "warp: two workers' efficiency against one job", speedup / 2, "",
+           better="higher")
+    overhead = max(0.0, (2 * wall - busy) / n) * 1e3
+    ok = figure("cluster.task_overhead_ms", "scheduling overhead per task", overhead, "ms", aim=AIM_OVERHEAD_MS)
+    print(f"  overhead per task          {overhead:8.1f} ms  (aim under {AIM_OVERHEAD_MS:g} ms) {mark(ok)}")
+    figure("cluster.map_build_ms", "warp map made on a worker", map_build * 1e3, "ms")
+    figure("cluster.map_scatter_ms", "warp map made once and scattered to two workers", (map_build + scatter) * 1e3,
+           "ms")
+    # made on every worker at once, the map costs its build time of wall clock; scattered, it is built once
+    # and then shipped: build time plus scatter time (less CPU in all, more wall clock)
+    print(f"  the map made on a worker   {map_build * 1e3:8.1f} ms of wall clock (every worker at once); made once "
+          f"and scattered {(map_build + scatter) * 1e3:.1f} ms ({scatter * 1e3:.1f} ms of it to ship the bytes)")
+    c_one = convert_jobs(frames, tmp, convert, 1)
+    c_two = convert_jobs(frames, tmp, convert, 2)
+    print(f"convert: {n} frames to EXR: --jobs 1 {c_one:.2f} s, --jobs 2 {c_two:.2f} s ({c_one / c_two:.2f}x), "
+          f"two Dask workers {c_wall:.2f} s ({c_one / c_wall:.2f}x)")
+    figure("cluster.convert_jobs2_speedup", f"convert {n} frames: --jobs 2 vs --jobs 1", c_one / c_two, "x")
+    figure("cluster.convert_two_workers_speedup", f"convert {n} frames: two Dask workers vs --jobs 1",
+           c_one / c_wall, "x", aim=AIM_SPEEDUP, better="higher")
+
+
+def convert_jobs(frames, tmp: Path, options: dict, jobs: int) -> float:
+    from lenslab.cli.convert import convert_many
+
+    out = _fresh(tmp / "out")
+    pairs = [(str(src), out / (src.stem + ".exr")) for src in frames]
+    t0 = time.perf_counter()
+    results = convert_many(pairs, options, jobs=jobs, progress=False)
+    seconds = time.perf_counter() - t0
+    if any(r[2] for r in results):
+        raise RuntimeError(next(r[2] for r in results if r[2]))
+    return seconds
+
+
+def map_costs(client, options: dict, frame: Path) -> tuple[float, float]:
+    """Seconds to make the warp's map on a worker (the first frame's extra time over a later one) and to
+    scatter an array of the map's size to both workers."""
+    import numpy as np
+
+    from lenslab.cluster.run import submit
+    from lenslab.cluster.tasks import warp_task
+    from lenslab.warp.batch import map_bytes_estimate
+
+    t = []
+    opts = {**options, "overwrite": True}
+    for i in range(2):  # a fresh geometry (its own yaw), then the same again: the difference is the map
+        opts_i = {**opts, "yaw": 0.5}
+        out = str(frame.with_name(f"map-{i}.exr"))
+        t.append(submit(client, warp_task, str(frame), out, opts_i, name="map").result()[2])
+    build = max(0.0, t[0] - t[1])
+    from lenslab.lenses import Camera
+
+    dst = Camera.from_spec("fisheye:fov=180,mapping=equisolid", (1024, 1024))
+    payload = np.zeros(map_bytes_estimate(dst, 1, False) // 4, dtype=np.float32)
+    t0 = time.perf_counter()
+    future = client.scatter(payload, broadcast=True)
+    client.replicate([future])
+    scatter = time.perf_counter() - t0
+    client.cancel([future])
+    return build, scatter
+
+
+def trace(args, tmp: Path) -> None:
+    from lenslab.bench.results import figure, mark
+    from lenslab.cluster.connect import local_cluster
+
+    size, spp = ("512x256", 16) if args.quick else ("2048x1024", 64)
+    exe = [shutil.which("tracer")] if shutil.which("tracer") else [sys.executable, "-m", "tracer.cli"]
+    command = exe + ["render", "--scene", "cornell", "--camera", "equirect", "--seed", "1", "-q", "--overwrite"]
+    times = {}
+    for workers in (1, 2):
+        with local_cluster(workers=workers) as client:
+            address = client.scheduler.address
+            out = str(tmp / f"trace-{workers}.exr")
+            subprocess.run(command + ["--size", "64x32", "--spp", "1", "-o", out, "--scheduler", address],
+                           check=True)  # the workers load the scene and build its embree structure
+            t0 = time.perf_counter()
+            subprocess.run(command + ["--size", size, "--spp", str(spp), "-o", out, "--scheduler", address],
+                           check=True)
+            times[workers] = time.perf_counter() - t0
+    speedup = times[1] / times[2]
+    ok = figure("cluster.trace_two_workers_speedup", f"trace {size} at {spp} spp: two workers vs one", speedup, "x",
+                aim=AIM_SPEEDUP, better="higher")
+    print(f"trace: cornell panorama {size} at {spp} spp (load {os.getloadavg()[0]:.2f}): one worker "
+          f"{times[1]:.2f} s, two workers {times[2]:.2f} s, {speedup:.2f}x (aim {AIM_SPEEDUP}x) {mark(ok)}")
+
+
+def run(args: argparse.Namespace) -> int:
+    with tempfile.TemporaryDirectory(prefix="lenslab-bench-cluster-") as tmp:
+        batches(args, Path(tmp))
+        if not args.skip_trace:
+            trace(args, Path(tmp))
+    return 0

@@ -1,0 +1,159 @@
+"""Batches and tiled renders on a Dask cluster: two worker processes of a LocalCluster on this machine.
+
+The reference of every comparison is the same command run locally, without a scheduler: a cluster
+run must give the same bytes (files) or the same float32 pixels (renders), not merely similar ones.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("distributed")
+
+from lenslab.cli.main import main as lenslab  # noqa: E402
+from lenslab.io import read, write  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """The address of a scheduler with two single-threaded worker processes, no dashboard."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=40) as cluster:
+        yield cluster.scheduler_address
+
+
+def _frames(folder: Path, n: int, size=(64, 32), seed=0) -> list[Path]:
+    folder.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
+    paths = []
+    for i in range(n):
+        path = folder / f"frame{i:03d}.exr"
+        write(path, (rng.random((size[1], size[0], 3), dtype=np.float32) * 8).astype(np.float32))
+        paths.append(path)
+    return paths
+
+
+def _no_temporaries(folder: Path) -> None:
+    left = [p.name for p in folder.iterdir() if ".tmp-" in p.name]
+    assert not left, f"temporary files left behind: {left}"
+
+
+def _same_bytes(a: Path, b: Path) -> None:
+    names = sorted(p.name for p in a.iterdir())
+    assert names == sorted(p.name for p in b.iterdir())
+    for name in names:
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+
+
+def test_convert_and_warp_of_12_files_on_the_cluster_give_the_local_bytes(tmp_path, scheduler):
+    _frames(tmp_path / "in", 12)
+    for cmd in (["convert", str(tmp_path / "in"), "--to", "pfm"],
+                ["warp", str(tmp_path / "in"), "--to", "fisheye:fov=180,mapping=equisolid", "--size", "32x32"]):
+        local, remote = tmp_path / f"{cmd[0]}-local", tmp_path / f"{cmd[0]}-cluster"
+        assert lenslab(cmd + ["-o", str(local), "-q"]) == 0
+        assert lenslab(cmd + ["-o", str(remote), "-q", "--scheduler", scheduler]) == 0
+        assert len(list(remote.iterdir())) == 12
+        _same_bytes(local, remote)
+        _no_temporaries(remote)
+
+
+def test_the_scheduler_comes_from_the_environment_and_skip_existing_resumes(tmp_path, scheduler, monkeypatch):
+    _frames(tmp_path / "in", 4)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "frame001.pfm").write_bytes(b"left alone")  # a stand-in for an output of an interrupted run
+    monkeypatch.setenv("DASK_SCHEDULER_ADDRESS", scheduler)
+    assert lenslab(["convert", str(tmp_path / "in"), "--to", "pfm", "-o", str(out), "-q", "--skip-existing"]) == 0
+    assert (out / "frame001.pfm").read_bytes() == b"left alone"
+    assert sorted(p.name for p in out.iterdir()) == [f"frame{i:03d}.pfm" for i in range(4)]
+    # without --skip-existing an existing output is a failure of that file only (no --overwrite)
+    assert lenslab(["convert", str(tmp_path / "in"), "--to", "pfm", "-o", str(out), "-q"]) == 1
+
+
+def test_a_corrupt_input_fails_alone(tmp_path, scheduler, capsys):
+    frames = _frames(tmp_path / "in", 5)
+    bad = tmp_path / "in" / "frame002.exr"
+    bad.write_bytes(frames[0].read_bytes()[:200])  # a truncated EXR: the header survives, the pixels do not
+    out = tmp_path / "out"
+    status = lenslab(["convert", str(tmp_path / "in"), "--to", "exr", "-o", str(out), "--scheduler", scheduler])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "FAILED" in err and "frame002.exr" in err and "converted 4 of 5" in err
+    assert sorted(p.name for p in out.iterdir()) == [f"frame{i:03d}.exr" for i in (0, 1, 3, 4)]
+    for i in (0, 1, 3, 4):  # complete files: they read back as the source (half EXR: within half rounding)
+        got, _ = read(out / f"frame{i:03d}.exr")
+        want, _ = read(frames[i])
+        np.testing.assert_allclose(got, want, rtol=2 ** -11)  # half has an 11-bit significand
+
+
+def test_a_worker_killed_mid_batch_has_its_files_done_elsewhere(tmp_path, scheduler):
+    from distributed import Client
+
+    _frames(tmp_path / "in", 12, size=(512, 256))
+    args = ["warp", str(tmp_path / "in"), "--to", "fisheye:fov=180", "--size", "256x256", "--samples", "9", "-q"]
+    local = tmp_path / "local"
+    assert lenslab(args + ["-o", str(local)]) == 0
+    out = tmp_path / "out"
+    result = {}
+    run = threading.Thread(target=lambda: result.setdefault("status", lenslab(
+        args + ["-o", str(out), "--scheduler", scheduler])))
+    killed = None
+    with Client(scheduler, set_as_default=False) as client:
+        pids = client.run(os.getpid)
+        run.start()
+        deadline = time.monotonic() + 60
+        while killed is None and time.monotonic() < deadline and run.is_alive():
+            busy = [w for w, keys in client.processing().items() if keys]
+            if busy and out.is_dir() and any(out.iterdir()):  # work done and work under way: kill a busy worker
+                killed = busy[0]
+                os.kill(pids[killed], signal.SIGKILL)
+            time.sleep(0.02)
+        run.join(120)
+    assert killed is not None, "the batch ended before a worker could be killed"
+    assert result.get("status") == 0
+    _no_temporaries(out)
+    _same_bytes(local, out)
+    for path in out.iterdir():
+        image, _ = read(path)
+        assert image.shape == (256, 256, 4)
+
+
+def test_tiled_render_on_two_workers_equals_the_local_render_bit_for_bit(tmp_path, scheduler):
+    from tracer.cli import main as tracer
+
+    common = ["render", "--scene", "cornell", "--camera", "fisheye:fov=180,mapping=equisolid", "--size", "40x36",
+              "--spp", "6", "--seed", "7", "-q"]
+    assert tracer(common + ["-o", str(tmp_path / "local.exr")]) == 0
+    assert tracer(common + ["-o", str(tmp_path / "tiled.exr"), "--scheduler", scheduler, "--tiles", "4"]) == 0
+    local, _ = read(tmp_path / "local.exr")
+    tiled, _ = read(tmp_path / "tiled.exr")
+    assert local.dtype == tiled.dtype == np.float32
+    assert np.array_equal(local, tiled)
+    assert float(local.max()) > 0  # the image holds light, not zeros on both sides
+
+
+@pytest.mark.parametrize("tiles", [1, 2, 3, 5, 100])
+def test_any_tiling_renders_the_pixels_of_the_whole_image(tiles):
+    from tracer.load import load_scene
+    from tracer.rendering import render
+    from tracer.tiles import tile_rows
+
+    scene = load_scene("cornell")
+    camera = scene.camera("equirect", (24, 20))
+    whole = render(scene, camera, spp=5, seed=3, threads=2)
+    ranges = tile_rows(camera, 5, tiles)
+    assert ranges[0][0] == 0 and ranges[-1][1] == 20 and all(a[1] == b[0] for a, b in zip(ranges, ranges[1:]))
+    parts = [render(scene, camera, spp=5, seed=3, threads=1, rows=r) for r in ranges]
+    for name in ("image", "variance", "alpha"):
+        assert np.array_equal(np.concatenate([getattr(p, name) for p in parts]), getattr(whole, name)), name
