@@ -57,6 +57,8 @@ def run(command: Command, args: list[str]) -> tuple[int, str, str]:
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
             code = command.main([*command.prefix, *args])
-        except SystemExit as exc:
-            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+        except SystemExit as exc:  # as the interpreter does: a text is printed and means exit status 1
+            if isinstance(exc.code, str):
+                print(exc.code, file=err)
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
     return int(code), out.getvalue(), err.getvalue()

@@ -77,7 +77,9 @@ def run_lensfun(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     if args.lensfun is not None or args.lensfun_db or args.lensfun_db_only:
         if args.lensfun is None:
-            raise SystemExit("lenslab lenses: --lensfun-db needs --lensfun QUERY")
+            from lenslab.cli.policy import UsageError
+
+            raise UsageError("--lensfun-db and --lensfun-db-only go with --lensfun QUERY")
         return run_lensfun(args)
     from lenslab.lenses import REGISTRY
     from lenslab.lenses.registry import lens_class
