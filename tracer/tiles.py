@@ -31,13 +31,20 @@ def scene_key(scene: str, env: str | None = None) -> tuple:
     return (stamp(scene), stamp(env))
 
 
-def worker_scene(scene: str, env: str | None = None):
-    """The scene loaded once in this process (the accelerator built on first use), then reused."""
-    key = scene_key(scene, env)
+def worker_scene(scene: str, env: str | None = None, prepare: tuple | None = None):
+    """The scene loaded once in this process (the accelerator built on first use), then reused.
+
+    ``prepare``: ``(function, args)`` applied to the loaded scene before use, ``function(scene, *args)``
+    (a module-level function: it travels by name), e.g. to move its lights as a validation source does.
+    """
+    key = scene_key(scene, env) + ((prepare[0].__module__, prepare[0].__qualname__, tuple(prepare[1])),) \
+        if prepare else scene_key(scene, env)
     if key not in _SCENES:
         from tracer.load import load_scene
 
         loaded = load_scene(scene, **({"env": env} if env else {}))
+        if prepare:
+            prepare[0](loaded, *prepare[1])
         loaded.accel  # build the embree structure here, on the worker, once
         while len(_SCENES) >= _KEEP_SCENES:
             _SCENES.pop(next(iter(_SCENES)))
@@ -45,12 +52,13 @@ def worker_scene(scene: str, env: str | None = None):
     return _SCENES[key]
 
 
-def render_tile(scene: str, env: str | None, camera, rows: tuple[int, int], options: dict) -> dict:
+def render_tile(scene: str, env: str | None, camera, rows: tuple[int, int], options: dict,
+                prepare: tuple | None = None) -> dict:
     """Trace ``rows`` of the image on this worker; returns the tile's float32 arrays."""
     from lenslab.cluster.tasks import worker_threads
     from tracer.rendering import render
 
-    result = render(worker_scene(scene, env), camera, rows=rows, threads=worker_threads(), **options)
+    result = render(worker_scene(scene, env, prepare), camera, rows=rows, threads=worker_threads(), **options)
     return {"rows": rows, "image": result.image, "variance": result.variance, "alpha": result.alpha,
             "scene": result.info.get("scene", "")}
 
@@ -68,11 +76,12 @@ def tile_rows(camera, spp: int, tiles: int, batch: int | None = None) -> list[tu
 
 
 def render_tiled(client, scene: str, camera, spp: int = 16, seed: int | None = 0, integrator: str = "path",
-                 max_depth: int = 8, tiles: int | None = None, env: str | None = None, progress: bool = False):
+                 max_depth: int = 8, tiles: int | None = None, env: str | None = None, progress: bool = False,
+                 prepare: tuple | None = None):
     """Render ``camera``'s image of ``scene`` as tiles on ``client``'s workers; a
     :class:`~tracer.rendering.RenderResult` equal, pixel for pixel, to ``render(scene, camera, ...)``.
 
-    ``tiles`` defaults to four per worker thread. A worker lost mid-render has its tiles traced again
+    ``tiles`` defaults to four per worker thread; ``prepare`` see :func:`worker_scene`. A worker lost mid-render has its tiles traced again
     elsewhere (by the scheduler); Ctrl-C cancels the tiles not done.
     """
     from lenslab.cluster.run import gather_as_completed, submit
@@ -83,7 +92,8 @@ def render_tiled(client, scene: str, camera, spp: int = 16, seed: int | None = 0
     ranges = tile_rows(camera, spp, tiles)
     options = {"spp": int(spp), "seed": seed, "integrator": integrator, "max_depth": int(max_depth)}
     start = time.perf_counter()
-    futures = [submit(client, render_tile, scene, env, camera, r, options, name="tracer-tile") for r in ranges]
+    futures = [submit(client, render_tile, scene, env, camera, r, options, prepare, name="tracer-tile")
+               for r in ranges]
     height, width = camera.height, camera.width
     image = np.empty((height, width, 3), dtype=np.float32)
     variance = np.empty((height, width, 3), dtype=np.float32)
@@ -141,4 +151,20 @@ def render_on_cluster(args, camera):
     return result
 
 
-__all__ = ["render_tiled", "render_on_cluster", "render_tile", "tile_rows", "worker_scene"]
+def attach_cluster(source, args) -> None:
+    """``lenslab validate --scheduler``: the tracer source renders its images as tiles on the cluster
+    (the same pixels as here); the client closes when the source is dropped or the program ends."""
+    import weakref
+
+    from lenslab.cluster import scheduler_address
+    from lenslab.cluster.connect import client_for
+
+    where = scheduler_address(args)
+    if where is None or not hasattr(source, "scene_name"):
+        return
+    connection = client_for(where)
+    source.client = connection.__enter__()
+    weakref.finalize(source, connection.__exit__, None, None, None)
+
+
+__all__ = ["render_tiled", "render_on_cluster", "attach_cluster", "render_tile", "tile_rows", "worker_scene"]

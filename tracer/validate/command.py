@@ -117,6 +117,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
     parser.add_argument("--overwrite", action="store_true", help="replace the report of an earlier run in DIR")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    from lenslab.cli.options import add_scheduler_options
+
+    add_scheduler_options(parser, skip_existing=False)  # every trace as tiles on the cluster's workers
 
 
 def run(args: argparse.Namespace) -> int:
@@ -146,6 +149,9 @@ def run(args: argparse.Namespace) -> int:
 
     # the source and the target camera's pose (a tracer scene suggests one in its default view)
     source = make_source(args.scene, args.integrator, args.max_depth, noise_free)
+    from tracer.tiles import attach_cluster
+
+    attach_cluster(source, args)  # with --scheduler: the traces run as tiles on the workers, same pixels
     eye, look_at = (0.0, 0.0, 0.0), None
     view = None if analytic else getattr(source.scene, "views", {}).get("default")
     if view is not None:

@@ -44,16 +44,21 @@ class TracerSource:
         than the rest of the image; that singular spot, not the lens, would then set every error
         figure. Lowered, it lights the ceiling smoothly and still casts hard shadows.
         """
-        pos = np.array(self.scene.point_light_pos, dtype=np.float32)  # in whatever frame the tracer keeps
-        pos[:, 1] -= drop
-        self.scene.point_light_pos = pos
+        lower_point_lights(self.scene, drop)
         self.point_light_drop = drop
 
     def render(self, camera: Camera, spp: int = 1, seed: int | None = 0) -> Render:
         if self.noise_free:
             seed = None
-        res = self.tracer.render(self.scene, camera, spp=spp, seed=seed, integrator=self.integrator,
-                                 max_depth=self.max_depth, **self.render_options)
+        if getattr(self, "client", None) is not None:  # tiles on a Dask cluster: the same pixels as here
+            from tracer.tiles import render_tiled
+
+            res = render_tiled(self.client, self.scene_name, camera, spp=spp, seed=seed, integrator=self.integrator,
+                               max_depth=self.max_depth,
+                               prepare=(lower_point_lights, (self.point_light_drop,)) if self.point_light_drop else None)
+        else:
+            res = self.tracer.render(self.scene, camera, spp=spp, seed=seed, integrator=self.integrator,
+                                     max_depth=self.max_depth, **self.render_options)
         out = _from_tracer_result(res, spp, self.name, noise_free=self.noise_free)
         out.aovs.update(self.aovs(camera))
         return out
@@ -153,6 +158,13 @@ def _from_tracer_result(res, spp: int, name: str, noise_free: bool) -> Render:
 
 
 NOISE_FREE_CORNELL_DROP = 0.14  # metres: the point light 15 cm under the ceiling instead of 1 cm
+
+
+def lower_point_lights(scene, drop: float) -> None:
+    """Move the scene's point lights down by ``drop`` scene units (see :meth:`TracerSource._lower_point_lights`)."""
+    pos = np.array(scene.point_light_pos, dtype=np.float32)  # in whatever frame the tracer keeps
+    pos[:, 1] -= drop
+    scene.point_light_pos = pos
 
 
 def make_source(scene: str, integrator: str | None = None, max_depth: int = 8, noise_free: bool = False):
