@@ -73,9 +73,14 @@ def xml_files() -> list[Path]:
     return files
 
 
+def settings() -> tuple[str, str]:
+    """The current database settings (your files, bundled or not): the key of every cache here."""
+    return os.environ.get(ENV_DB, ""), os.environ.get(ENV_BUNDLED, "1")
+
+
 def database():
     """The lensfunpy database for the current settings (cached)."""
-    return _database(os.environ.get(ENV_DB, ""), os.environ.get(ENV_BUNDLED, "1"))
+    return _database(*settings())
 
 
 @functools.lru_cache(maxsize=4)
@@ -165,7 +170,7 @@ class XmlFacts:
 
 
 def xml_facts(maker: str, model: str, crop: float) -> XmlFacts:
-    return _xml_facts(os.environ.get(ENV_DB, ""), os.environ.get(ENV_BUNDLED, "1")).get(
+    return _xml_facts(*settings()).get(
         (maker.lower(), model.lower(), round(crop, 3)), XmlFacts())
 
 

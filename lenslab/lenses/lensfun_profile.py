@@ -71,7 +71,8 @@ def hugin_focal_correction(dist) -> float:
 @functools.lru_cache(maxsize=64)
 def resolve(lens: str, camera: str, crop: float, focal: float, aperture: float, distance: float,
             _db: tuple) -> Profile:
-    """Look the lens up and interpolate its calibrations (lensfunpy), cached per settings."""
+    """Look the lens up and interpolate its calibrations (lensfunpy), cached per settings and per
+    database (``_db``: :func:`lenslab.lenses.lensfun_db.settings`)."""
     from lenslab.lenses import lensfun_db as ldb
 
     cam = ldb.pick_camera(camera) if camera else None
@@ -215,9 +216,8 @@ class LensfunLens(Lens):
             raise LensError("lensfun: give lens=NAME (see lenslab lenses --lensfun \"WORDS\")")
         from lenslab.lenses import lensfun_db as ldb
 
-        key = (ldb.os.environ.get(ldb.ENV_DB, ""), ldb.os.environ.get(ldb.ENV_BUNDLED, "1"))
         self.profile = p = resolve(self.lens.strip(), self.camera.strip(), self.crop, self.focal,
-                                   self.aperture, self.distance, key)
+                                   self.aperture, self.distance, ldb.settings())
         self.active = parse_effects(self.effects)
         explicit = str(self.effects).strip().lower() != "all"
         have = {"distortion": p.distortion, "tca": p.tca, "vignetting": p.vignetting}
