@@ -101,7 +101,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", "-v", action="store_true",
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
     from lenslab.cli.options import add_scheduler_options
+    from lenslab.cli.warp_video import add_video_arguments
 
+    add_video_arguments(parser)
     add_scheduler_options(parser)
 
 
@@ -239,8 +241,11 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     from lenslab.cli.policy import check_output
     from lenslab.errors import FormatError
     from lenslab.io import read, write
+    from lenslab.cli.warp_video import is_video, warp_video
     from lenslab.io.detect import format_for_path
 
+    if is_video(src_path):  # every frame with one map, to a video
+        return warp_video(src_path, dst_path, args, cache)
     fmt = format_for_path(dst_path, None)
     check_output(dst_path, [src_path], args.overwrite)
     image, meta = read(src_path)

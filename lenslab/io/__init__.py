@@ -34,12 +34,21 @@ import os
 import warnings
 from pathlib import Path
 
-import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.io.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
-from lenslab.io.exr import CAMERA_ATTRIBUTE, HalfOverflowWarning
+
+#: the EXR attribute holding a lenslab camera (TOML)
+CAMERA_ATTRIBUTE = "lenslab.camera"
+
+
+def __getattr__(name):  # the EXR codec (and NumPy) load only when used: commands start at once
+    if name == "HalfOverflowWarning":
+        from lenslab.io.exr import HalfOverflowWarning
+
+        return HalfOverflowWarning
+    raise AttributeError(f"module 'lenslab.io' has no attribute {name!r}")
 
 __all__ = ["read", "write", "split_selector", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
            "atomic_write_path", "HDR_FORMATS", "sniff", "formats"]
@@ -81,7 +90,7 @@ def _camera(path, text):
 
 
 def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = False,
-         rec709: bool = True) -> tuple[np.ndarray, dict]:
+         rec709: bool = True) -> tuple["np.ndarray", dict]:
     """Read an image file -> (float32 H x W x C array, meta). See the module docstring."""
     file, selector = split_selector(path)
     fmt = get(sniff(file))
@@ -95,7 +104,9 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     return image, meta
 
 
-def _as_image(array) -> np.ndarray:
+def _as_image(array) -> "np.ndarray":
+    import numpy as np
+
     a = np.asarray(array)
     if a.dtype.kind not in "fiub":
         raise FormatError(f"cannot write an array of dtype {a.dtype}; give a float32 image H x W x C")
@@ -109,7 +120,7 @@ def _as_image(array) -> np.ndarray:
     return a.astype(np.float32, copy=False)
 
 
-def fit_channels(a: np.ndarray, fmt) -> np.ndarray:
+def fit_channels(a: "np.ndarray", fmt) -> "np.ndarray":
     """Fit an H x W x C image to what ``fmt`` (a :class:`lenslab.io.plugin.Format`) holds.
 
     A format without alpha drops it (RGBA -> RGB, grey+alpha -> grey); any other mismatch is a
@@ -131,6 +142,8 @@ def write(path: str | os.PathLike, array, format: str | None = None, *, overwrit
     target = Path(path)
     fmt = get(format_for_path(target, format))
     named = "channels" in options and "channels" in fmt.write_options
+    import numpy as np
+
     image = np.asarray(array, np.float32) if named else _as_image(array)
     if image.ndim == 2:
         image = image[..., None]

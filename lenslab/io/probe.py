@@ -87,6 +87,18 @@ def _hdr(path: Path) -> dict:
     return {"header": attrs, "resolution": f"{s1.decode()}{a1.decode()} {n1} {s2.decode()}{a2.decode()} {n2}"}
 
 
+# FFmpeg's colour enums (libavutil/pixfmt.h) by the names ffprobe prints
+_PRIMARIES = {1: "bt709", 2: "unspecified", 5: "bt470bg", 6: "smpte170m", 9: "bt2020", 12: "smpte432 (P3-D65)"}
+_TRANSFER = {1: "bt709", 2: "unspecified", 6: "smpte170m", 13: "iec61966-2-1 (sRGB)", 14: "bt2020-10",
+             15: "bt2020-12", 16: "smpte2084 (PQ)", 18: "arib-std-b67 (HLG)"}
+_MATRIX = {0: "gbr", 1: "bt709", 2: "unspecified", 5: "bt470bg", 6: "smpte170m", 9: "bt2020nc", 10: "bt2020c"}
+_RANGE = {0: "unspecified", 1: "tv (limited)", 2: "pc (full)"}
+
+
+def _tag(names: dict, value) -> str:
+    return names.get(int(value), str(int(value)))
+
+
 def video_streams(path: Path) -> dict:
     """Container, duration and every stream of a video file (PyAV)."""
     import av
@@ -103,8 +115,9 @@ def video_streams(path: Path) -> dict:
                 cc = s.codec_context
                 d.update({"width": cc.width, "height": cc.height, "pixel_format": cc.pix_fmt,
                           "frame_rate": str(s.average_rate), "frames": int(s.frames),
-                          "colour_primaries": str(cc.color_primaries), "transfer": str(cc.color_trc),
-                          "matrix": str(cc.colorspace), "range": str(cc.color_range)})
+                          "colour_primaries": _tag(_PRIMARIES, cc.color_primaries),
+                          "transfer": _tag(_TRANSFER, cc.color_trc), "matrix": _tag(_MATRIX, cc.colorspace),
+                          "range": _tag(_RANGE, cc.color_range)})
             elif s.type == "audio":
                 d.update({"sample_rate": s.codec_context.sample_rate, "channels": s.codec_context.channels})
             streams.append(d)

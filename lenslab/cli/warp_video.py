@@ -1,0 +1,95 @@
+"""``lenslab warp`` on video: every frame warped with one map, encoded with the input's rate, colour tags
+and audio (see :mod:`lenslab.io.video` for the colour rules)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def add_video_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.io.formats.video import CODECS
+
+    g = parser.add_argument_group("video (MP4, MOV, MKV inputs)")
+    g.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
+                   help="only frames A to B-1, counted from 0 (e.g. 10:20, :50, 100:); audio is kept only for "
+                        "the whole clip")
+    g.add_argument("--codec", choices=tuple(CODECS), default=None,
+                   help="video codec (default: by the output's extension: .mp4 h264, or h265 10-bit for PQ/HLG "
+                        "input; .mov prores; .mkv ffv1)")
+
+
+def parse_frames(text: str | None) -> tuple[int, int | None]:
+    """'A:B' -> (A, B) with B None for open ends; a usage error for anything else."""
+    if not text:
+        return 0, None
+    head, sep, tail = text.partition(":")
+    try:
+        start = int(head) if head.strip() else 0
+        stop = int(tail) if tail.strip() else None
+    except ValueError:
+        start, stop, sep = -1, None, ""
+    if not sep or start < 0 or (stop is not None and stop <= start):
+        raise argparse.ArgumentTypeError(f"{text!r}: give A:B with 0 <= A < B (e.g. 10:20, :50 or 100:)")
+    return start, stop
+
+
+def is_video(path) -> bool:
+    from lenslab.io import split_selector
+    from lenslab.io.registry import get, sniff
+
+    file, _ = split_selector(path)
+    try:
+        return get(sniff(file)).kind == "video"
+    except (OSError, ValueError):
+        return False
+
+
+def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
+    """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
+    import numpy as np
+    from tqdm import tqdm
+
+    from lenslab.cli.policy import check_output
+    from lenslab.cli.warp import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.errors import FormatError
+    from lenslab.io.atomic import atomic_write_path
+    from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
+
+    if Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:
+        raise FormatError(f"{src_path} is a video: give -o NAME with one of {', '.join(VIDEO_EXTENSIONS)} "
+                          "(frames to EXR: lenslab convert VIDEO --to exr)")
+    if args.stmap:
+        raise FormatError("--stmap applies to images; warp a video with --to SPEC")
+    check_output(dst_path, [src_path], args.overwrite)
+    start, stop = getattr(args, "frames", None) or (0, None)
+    info = probe_video(src_path)
+    total = max(0, (info.frames if stop is None else min(stop, info.frames or stop)) - start)
+    src = source_camera(args.source, {"path": src_path}, (info.height, info.width))
+    size = args.size or default_size(args.to, info.height)
+    dst = output_camera(args, src, size)
+    if args.autoscale:
+        dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
+    show = not args.quiet and sys.stderr.isatty()
+    whole = start == 0 and stop is None
+    written = 0
+    with atomic_write_path(dst_path, overwrite=args.overwrite) as tmp:
+        writer = VideoWriter(tmp, info, codec=getattr(args, "codec", None), size=tuple(dst.size),
+                             audio_from=src_path if whole and info.audio else None)
+        with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
+                          desc=Path(src_path).name) as bar:
+            for _, frame in read_frames(src_path, start, stop):
+                out, _ = cache.warp(frame, src, dst)  # outside the source's view: black
+                if float(args.exposure) != 0.0:
+                    out = out * np.float32(2.0 ** float(args.exposure))
+                writer.write(out)
+                written += 1
+                bar.update()
+        if written == 0:
+            raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
+    if info.audio and not whole:
+        import warnings
+
+        warnings.warn("the audio was left out: it is kept only when the whole clip is warped", UserWarning,
+                      stacklevel=2)

@@ -1,0 +1,238 @@
+"""Video through PyAV: frames decoded to linear light, and linear frames encoded back, colour tags kept.
+
+Decoding: each frame is converted by FFmpeg's swscale to 16-bit RGB with the stream's own matrix
+(BT.709, BT.601 or BT.2020) and range, then to linear light with colour-science's transfer
+functions chosen by the stream's transfer tag:
+
+- BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
+- sRGB (IEC 61966-2-1): the sRGB EOTF
+- PQ (SMPTE ST 2084): absolute luminance in cd/m^2 divided by 203 (BT.2408 HDR reference white = 1.0)
+- HLG (ARIB STD-B67): BT.2100's HLG EOTF for a 1000 cd/m^2 display, divided by 203 likewise
+
+BT.2020 primaries are converted to linear Rec.709 (lenslab's working space; wide-gamut colours give
+negative components, kept) and back on encoding. Encoding applies the inverse of the same functions
+and writes the input's tags (primaries, transfer, matrix, range) unless told otherwise.
+
+Codecs (``CODECS``): ``h264`` (libx264, 8-bit 4:2:0), ``h265`` (libx265, 10-bit 4:2:0), ``prores``
+(prores_ks 4:2:2 10-bit) and ``ffv1`` (lossless, 10-bit 4:4:4). Audio streams are copied packet for
+packet when the whole clip is written.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from lenslab.errors import FormatError
+
+from lenslab.io.formats.video import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
+
+#: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
+REFERENCE_WHITE = 203.0
+
+# FFmpeg's enum values (libavutil/pixfmt.h)
+_TRC = {1: "bt1886", 6: "bt1886", 14: "bt1886", 15: "bt1886", 2: "bt1886", 13: "srgb", 16: "pq", 18: "hlg"}
+_SWS = {1: "itu709", 5: "itu601", 6: "smpte170m", 9: "bt2020", 10: "bt2020"}
+_BT2020 = 9
+
+
+@dataclass
+class VideoInfo:
+    """What a video stream holds, and the tags written back."""
+
+    width: int
+    height: int
+    rate: Fraction
+    frames: int
+    codec: str
+    pixel_format: str
+    primaries: int = 1
+    transfer: int = 1
+    matrix: int = 1
+    range: int = 1
+    audio: bool = False
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def curve(self) -> str:
+        return _TRC.get(self.transfer, "bt1886")
+
+    @property
+    def hdr(self) -> bool:
+        return self.curve in ("pq", "hlg")
+
+
+def _av():
+    try:
+        import av
+    except ImportError:
+        raise FormatError("video needs PyAV: pip install 'lenslab[video]'") from None
+    return av
+
+
+def _open(path):
+    av = _av()
+    try:
+        return av.open(str(path))
+    except av.error.FFmpegError as exc:
+        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({exc})") from None
+
+
+def probe_video(path) -> VideoInfo:
+    with _open(path) as c:
+        if not c.streams.video:
+            raise FormatError(f"{path}: the file holds no video stream")
+        s = c.streams.video[0]
+        cc = s.codec_context
+        frames = int(s.frames) or int(round(float(s.duration * s.time_base * s.average_rate))) if s.duration else 0
+        return VideoInfo(cc.width, cc.height, Fraction(s.average_rate or s.guessed_rate or 25), frames, cc.name,
+                         cc.pix_fmt or "", int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace),
+                         int(cc.color_range), bool(c.streams.audio))
+
+
+def _matrix_2020_to_709() -> np.ndarray:
+    import colour
+
+    cs = colour.RGB_COLOURSPACES
+    return colour.matrix_RGB_to_RGB(cs["ITU-R BT.2020"], cs["ITU-R BT.709"])
+
+
+def to_linear(codes: np.ndarray, info: VideoInfo) -> np.ndarray:
+    """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
+    import colour
+
+    v = codes.astype(np.float64)
+    curve = info.curve
+    if curve == "pq":
+        lin = colour.models.eotf_ST2084(v) / REFERENCE_WHITE
+    elif curve == "hlg":
+        lin = colour.models.eotf_HLG_BT2100(v, L_B=0, L_W=1000) / REFERENCE_WHITE
+    elif curve == "srgb":
+        lin = colour.cctf_decoding(v, "sRGB")
+    else:
+        lin = colour.models.eotf_BT1886(v, L_B=0, L_W=1)
+    if info.primaries == _BT2020:
+        lin = lin @ _matrix_2020_to_709().T
+    return lin.astype(np.float32)
+
+
+def from_linear(image: np.ndarray, info: VideoInfo) -> np.ndarray:
+    """Linear Rec.709 (H x W x 3) -> code values in [0, 1], the inverse of :func:`to_linear`."""
+    import colour
+
+    lin = np.nan_to_num(np.asarray(image, np.float64), nan=0.0, posinf=1e4, neginf=0.0)
+    if info.primaries == _BT2020:
+        lin = lin @ np.linalg.inv(_matrix_2020_to_709()).T
+    lin = np.maximum(lin, 0.0)
+    curve = info.curve
+    if curve == "pq":
+        v = colour.models.eotf_inverse_ST2084(lin * REFERENCE_WHITE)
+    elif curve == "hlg":
+        v = colour.models.eotf_inverse_HLG_BT2100(lin * REFERENCE_WHITE, L_B=0, L_W=1000)
+    elif curve == "srgb":
+        v = colour.cctf_encoding(np.minimum(lin, 1.0), "sRGB")
+    else:
+        v = colour.models.eotf_inverse_BT1886(np.minimum(lin, 1.0), L_B=0, L_W=1)
+    return np.clip(v, 0.0, 1.0)
+
+
+def _range(info: VideoInfo) -> str:
+    return "JPEG" if info.range == 2 else "MPEG"
+
+
+def frame_codes(frame, info: VideoInfo) -> np.ndarray:
+    """A decoded PyAV frame -> float64 code values in [0, 1], H x W x 3, converted with the stream's matrix."""
+    rgb = frame.reformat(format="rgb48le", src_colorspace=_SWS.get(info.matrix, "itu709"),
+                         src_color_range=_range(info), dst_color_range="JPEG")
+    return rgb.to_ndarray().astype(np.float64) / 65535.0
+
+
+def read_frames(path, start: int = 0, stop: int | None = None):
+    """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``."""
+    info = probe_video(path)
+    with _open(path) as c:
+        stream = c.streams.video[0]
+        stream.thread_type = "AUTO"
+        for i, frame in enumerate(c.decode(stream)):
+            if stop is not None and i >= stop:
+                break
+            if i >= start:
+                yield i, to_linear(frame_codes(frame, info), info)
+
+
+class VideoWriter:
+    """Encode linear frames to ``path`` with ``codec`` and ``info``'s rate and colour tags.
+
+    ``audio_from``: a video whose audio streams are copied into the output when it closes.
+    """
+
+    def __init__(self, path, info: VideoInfo, codec: str | None = None, size: tuple[int, int] | None = None,
+                 audio_from=None):
+        av = _av()
+        ext = Path(path).suffix.lower()
+        if codec is None:
+            sdr, hdr = DEFAULT_CODEC.get(ext, ("h264", "h265"))
+            codec = hdr if info.hdr else sdr
+        if codec not in CODECS:
+            raise FormatError(f"unknown video codec {codec!r}; choose one of {', '.join(CODECS)}")
+        encoder, pix_fmt, bits = CODECS[codec]
+        if info.hdr and bits < 10:
+            raise FormatError(f"{info.curve.upper()} video needs 10 bits; {codec} writes 8: use h265, prores or ffv1")
+        self.info, self.pix_fmt = info, pix_fmt
+        self.container = av.open(str(path), mode="w")
+        w, h = size or (info.width, info.height)
+        self.stream = self.container.add_stream(encoder, rate=info.rate)
+        cc = self.stream.codec_context
+        cc.width, cc.height, cc.pix_fmt = w, h, pix_fmt
+        cc.color_primaries, cc.color_trc, cc.colorspace, cc.color_range = (info.primaries, info.transfer,
+                                                                           info.matrix, info.range)
+        if encoder == "libx265":
+            cc.options = {"x265-params": "log-level=error"}
+        self.count = 0
+        self.audio_from = audio_from
+        self.audio: dict = {}
+        if audio_from is not None:  # streams are added before the first packet writes the header
+            with _open(audio_from) as src:
+                self.audio = {s.index: self.container.add_stream_from_template(s) for s in src.streams.audio}
+
+    def write(self, image: np.ndarray) -> None:
+        av = _av()
+        codes = np.round(from_linear(image[..., :3], self.info) * 65535.0).astype(np.uint16)
+        frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(codes), format="rgb48le")
+        frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
+                               src_color_range="JPEG", dst_color_range=_range(self.info))
+        # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
+        frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
+        frame.pts = self.count  # in the encoder's time base, 1 / rate
+        self.count += 1
+        for packet in self.stream.encode(frame):
+            self.container.mux(packet)
+
+    def close(self) -> None:
+        for packet in self.stream.encode():
+            self.container.mux(packet)
+        if self.audio_from is not None:
+            self._copy_audio()
+        self.container.close()
+
+    def _copy_audio(self) -> None:
+        if not self.audio:
+            return
+        with _open(self.audio_from) as src:
+            for packet in src.demux([s for s in src.streams.audio]):
+                if packet.dts is None:
+                    continue
+                packet.stream = self.audio[packet.stream.index]
+                self.container.mux(packet)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if kind is None:
+            self.close()
+        else:
+            self.container.close()
