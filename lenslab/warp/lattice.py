@@ -11,34 +11,51 @@ from lenslab.warp.dispatch import kernel
 
 def ghost_nodes(nx, ny, valid, wrap):
     """Fill invalid lattice nodes next to valid ones by extrapolation (an x pass, then a y pass):
-    quadratic from three valid neighbours in a line, linear from two.
+    quadratic from three valid neighbours in a line, linear from two (never from nodes within three
+    of the lattice's far edge, as before: the first and last three nodes along the pass are skipped).
 
     Returns the filled x and y node values (C-contiguous float64) and which nodes now have a value.
     """
-    gx, gy, have = nx.copy(), ny.copy(), valid.copy()
+    gx = np.ascontiguousarray(nx, dtype=np.float64).copy()
+    gy = np.ascontiguousarray(ny, dtype=np.float64).copy()
+    have = np.ascontiguousarray(valid, dtype=np.bool_).copy()
+    _ghost_pass(gx, gy, have, float(wrap))
+    return gx, gy, have
+
+
+@numba.njit(cache=True, nogil=True)
+def _ghost_pass(gx, gy, have, wrap):
+    rows, cols = gx.shape
     for axis in (1, 0):
         known = have.copy()
+        n = cols if axis == 1 else rows
         for step in (1, -1):
-            def shifted(a, k):
-                return np.roll(a, k * step, axis=axis)
-
-            two = ~have & shifted(known, 1) & shifted(known, 2)
-            # np.roll wraps around the lattice's edges: never extrapolate from the other side
-            edge = [slice(None)] * 2
-            edge[axis] = slice(0, 3) if step == 1 else slice(-3, None)
-            two[tuple(edge)] = False
-            if not two.any():
-                continue
-            three = two & shifted(known, 3)
-            x1, x2, x3 = shifted(gx, 1), shifted(gx, 2), shifted(gx, 3)
-            if wrap:  # unwrap the neighbours relative to the nearest
-                x2 = x2 - wrap * np.round((x2 - x1) / wrap)
-                x3 = x3 - wrap * np.round((x3 - x1) / wrap)
-            y1, y2, y3 = shifted(gy, 1), shifted(gy, 2), shifted(gy, 3)
-            gx[two] = np.where(three, 3 * x1 - 3 * x2 + x3, 2 * x1 - x2)[two]
-            gy[two] = np.where(three, 3 * y1 - 3 * y2 + y3, 2 * y1 - y2)[two]
-            have |= two
-    return np.ascontiguousarray(gx), np.ascontiguousarray(gy), have
+            for a in range(rows):
+                for b in range(cols):
+                    if have[a, b]:
+                        continue
+                    k = b if axis == 1 else a
+                    if (step == 1 and k < 3) or (step == -1 and k > n - 4):
+                        continue
+                    a1, b1 = (a, b - step) if axis == 1 else (a - step, b)
+                    a2, b2 = (a, b - 2 * step) if axis == 1 else (a - 2 * step, b)
+                    if not (known[a1, b1] and known[a2, b2]):
+                        continue
+                    a3, b3 = (a, b - 3 * step) if axis == 1 else (a - 3 * step, b)
+                    x1, x2 = gx[a1, b1], gx[a2, b2]
+                    y1, y2 = gy[a1, b1], gy[a2, b2]
+                    if wrap > 0.0:  # unwrap the neighbours relative to the nearest
+                        x2 = x2 - wrap * np.round((x2 - x1) / wrap)
+                    if known[a3, b3]:
+                        x3, y3 = gx[a3, b3], gy[a3, b3]
+                        if wrap > 0.0:
+                            x3 = x3 - wrap * np.round((x3 - x1) / wrap)
+                        gx[a, b] = 3.0 * x1 - 3.0 * x2 + x3
+                        gy[a, b] = 3.0 * y1 - 3.0 * y2 + y3
+                    else:
+                        gx[a, b] = 2.0 * x1 - x2
+                        gy[a, b] = 2.0 * y1 - y2
+                    have[a, b] = True
 
 
 @numba.njit(inline="always", cache=True)

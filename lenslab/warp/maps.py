@@ -178,25 +178,25 @@ class Mapper:
         ok = win(have, (4, 4)).all(axis=(-1, -2)) & corners(v)
         dead = ~win(vd, (4, 4)).any(axis=(-1, -2))  # no output ray anywhere near
         nodes = [nx, ny]
-        if self.sphere:
-            # second chance for cells near a pole: interpolate the ray direction (smooth there) and
-            # project it exactly; only where the output rays exist
-            gd = [ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
-            nodes += [g[0] for g in gd]
-            ok_dir = win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd)
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it)
         for (tx, ty), (exy, ev, evd) in zip(CHECK_POINTS, exact[1:]):
             ix, iy = lattice_grid(nx, ny, tx, ty, self.wrap)
             ok &= ev & self._close(ix, iy, exy)
             dead &= ~evd
-            if self.sphere:
-                d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0] for n in nodes[2:]], axis=-1)
-                pxy, pv = self.src.lens.dir_to_pixel(d)
-                ok_dir &= ev & pv & self._close(pxy[..., 0], pxy[..., 1], exy)
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
-        if self.sphere:
-            state[(state == 0) & ok_dir] = 2
+        cand = state == 0
+        if self.sphere and cand.any():
+            # second chance for the cells left near a pole: interpolate the ray direction (smooth
+            # there) and project it exactly; only where the output rays exist
+            gd = [ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
+            nodes += [g[0] for g in gd]
+            ok_dir = (win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd))[cand]
+            for (tx, ty), (exy, ev, _) in zip(CHECK_POINTS, exact[1:]):
+                d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
+                pxy, pv = self.src.lens.dir_to_pixel(d)
+                ok_dir &= ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
+            state.reshape(-1)[np.flatnonzero(cand)[ok_dir]] = 2
         return np.stack(nodes), state
 
     def _close(self, ix, iy, exy) -> np.ndarray:
