@@ -157,3 +157,31 @@ def test_any_tiling_renders_the_pixels_of_the_whole_image(tiles):
     parts = [render(scene, camera, spp=5, seed=3, threads=1, rows=r) for r in ranges]
     for name in ("image", "variance", "alpha"):
         assert np.array_equal(np.concatenate([getattr(p, name) for p in parts]), getattr(whole, name)), name
+
+
+def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, scheduler):
+    import subprocess
+    import sys
+
+    from distributed import Client
+
+    frames = _frames(tmp_path / "in", 12, size=(512, 256))
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "lenslab", "warp", str(tmp_path / "in"), "-o", str(out), "--to", "fisheye:fov=180",
+           "--size", "256x256", "--samples", "9", "-q", "--scheduler", scheduler]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while proc.poll() is None and time.monotonic() < deadline and not (out.is_dir() and any(out.iterdir())):
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    with Client(scheduler, set_as_default=False) as client:  # the tasks under way at Ctrl-C end by themselves
+        while any(client.processing().values()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+    _no_temporaries(out)
+    written = list(out.iterdir())
+    assert len(written) < len(frames)  # the rest was cancelled
+    for path in written:  # whatever was written is whole
+        image, _ = read(path)
+        assert image.shape == (256, 256, 4)
