@@ -20,9 +20,9 @@ def add_scheduler_options(parser, skip_existing: bool = True) -> None:
     per file on a Dask cluster (:mod:`lenslab.cluster`)."""
     group = parser.add_argument_group("running on a Dask cluster (see README: 'Beyond one machine')")
     group.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                       help="send one task per file to the Dask scheduler at ADDRESS (e.g. tcp://host:8786; "
-                            "default: $DASK_SCHEDULER_ADDRESS, else this machine); the workers must see the "
-                            "same files")
+                       help="run the work on the Dask cluster whose scheduler is at ADDRESS (e.g. "
+                            "tcp://host:8786), one task per file (per tile for a render); default: "
+                            "$DASK_SCHEDULER_ADDRESS, else this machine. The workers must see the same files")
     group.add_argument("--scheduler-file", metavar="FILE", default=None,
                        help="the same, with the address read from the file 'dask scheduler --scheduler-file' wrote")
     if skip_existing:
