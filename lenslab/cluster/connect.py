@@ -54,10 +54,15 @@ def client_for(where: dict) -> Iterator:
 @contextlib.contextmanager
 def local_cluster(workers: int = 2, threads: int = 1) -> Iterator:
     """A scheduler and ``workers`` worker processes on this machine (no dashboard), with a client to it."""
+    import warnings
+
     from distributed import Client, LocalCluster
 
-    with LocalCluster(n_workers=workers, threads_per_worker=threads, processes=True, dashboard_address=None,
-                      silence_logs=40) as cluster, Client(cluster, set_as_default=False) as client:
+    with warnings.catch_warnings():  # the scheduler's status page moves to a free port: nothing to report
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=threads, processes=True,
+                               dashboard_address=None, silence_logs=40)
+    with cluster, Client(cluster, set_as_default=False) as client:
         yield client
 
 
