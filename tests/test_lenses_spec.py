@@ -205,4 +205,4 @@ def test_lenses_command_lists_every_model_and_parameter(capsys):
     assert {m["name"] for m in data} == set(REGISTRY)
     assert lenslab_main(["lenses", "seedfisheye"]) == 0
     assert "144.7" in capsys.readouterr().out  # the full description, with the fold
-    assert lenslab_main(["lenses", "nosuch"]) == 1
+    assert lenslab_main(["lenses", "nosuch"]) == 2  # an unknown model name: a usage error

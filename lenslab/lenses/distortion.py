@@ -1,4 +1,4 @@
-"""Radial distortion with the division model of the seed renderer: pincushion and barrel."""
+"""Radial distortion with the division model: pincushion and barrel."""
 
 from __future__ import annotations
 

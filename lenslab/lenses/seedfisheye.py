@@ -1,4 +1,4 @@
-"""The seed renderer's legacy fisheye formula, kept to reproduce its renders."""
+"""The tan-warped fisheye: the angle grows as tan(r F), steeply towards the rim (an early renderer's formula)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ T_FOLD = np.pi
 
 @register
 class SeedFisheye(Lens):
-    r"""The seed renderer's fisheye: ``t = tan(r F)``, ``d ~ (sin(t) u, sin(t) v, cos(t))``, normalised.
+    r"""Tan-warped fisheye: ``t = tan(r F)``, ``d ~ (sin(t) u, sin(t) v, cos(t))``, normalised.
 
     With ``r = sqrt(u^2 + v^2)`` and ``F = fov/2``. Because ``(u, v)`` is not divided by ``r``, the
     angle from the axis is ``psi(r) = atan2(r sin t, cos t)`` (about ``F r^2`` near the centre), not

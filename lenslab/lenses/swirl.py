@@ -33,7 +33,7 @@ class Swirl(Wrapped):
 
     In polar coordinates ``(rho, alpha)`` of ``(u, v)``::
 
-        alpha' = alpha + rho * amount      (radians per unit radius; the seed renderer used 6.0)
+        alpha' = alpha + rho * amount      (radians per unit radius; 6.0 is a strong swirl)
         (u', v') = rho (cos alpha', sin alpha')  ->  base model (perspective by default)
 
     computed as a rotation by ``rho * amount`` (no atan2, exact at ``rho = 0``). The radius is kept,

@@ -113,7 +113,7 @@ def _build_gamma(p, scale):
 
 @register("clamp", "scalar", build=_build_clamp)
 def clamp(x) -> np.ndarray:
-    """Clip to white: y = min(x, 1). The seed's original behaviour: every value above 1 is lost."""
+    """Clip to white: y = min(x, 1). What a plain conversion to 8 bits does: every value above 1 is lost."""
     return values("clamp", x, {})
 
 

@@ -60,7 +60,7 @@ def _build_hable(p, scale):
 
 
 _HABLE_P = (
-    Param("preset", "blog", "constant set: blog (A=0.15 B=0.50 E=0.02, the seed's) or gdc "
+    Param("preset", "blog", "constant set: blog (A=0.15 B=0.50 E=0.02, his blog post's) or gdc "
           "(A=0.22 B=0.30 E=0.01)", choices=("blog", "gdc")),
     Param("exposure_bias", 2.0, "input multiplier before the curve", 0.0, 1e3, lo_open=True),
     Param("white", 11.2, "linear white W: f(bias x) / f(W), so x = W / bias reaches 1", 0.0, 1e6, lo_open=True),
@@ -77,7 +77,7 @@ _HABLE_P = (
 def hable(x, **params) -> np.ndarray:
     """Hable / Uncharted 2 filmic: y = min(f(bias x) / f(W), 1), f(x) = (x(Ax+CB)+DE) / (x(Ax+B)+DF) - E/F.
 
-    Defaults are the seed's: bias 2.0, W = 11.2, A=0.15 B=0.50 C=0.10 D=0.20 E=0.02 F=0.30 (John
+    Defaults: bias 2.0, W = 11.2, A=0.15 B=0.50 C=0.10 D=0.20 E=0.02 F=0.30 (John
     Hable, "Filmic Tonemapping Operators", 2010); ``preset="gdc"`` takes the set of his GDC 2010
     talk "Uncharted 2: HDR Lighting" (A=0.22 B=0.30 E=0.01). Every constant is a parameter.
     Evaluated as f(x) - f(0) = x (A(F-E) x + B(CF-E)) / (F (A x^2 + B x + DF)), equal in exact
