@@ -317,6 +317,13 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.tone import get_curve
 
         get_curve(args.tone)  # an unknown curve: one usage error, before any folder is made
+    if args.to == "exr":
+        from lenslab.cli.policy import UsageError
+        from lenslab.io.exr import COMPRESSIONS
+
+        if str(args.compression).lower().replace("_compression", "") not in COMPRESSIONS:
+            raise UsageError(f"--compression {args.compression}: choose one of {', '.join(COMPRESSIONS)} "
+                             "(zip is the most widely readable)")
     pairs = plan_outputs(files, args.to, args.output, roots)
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
         from lenslab.cli.policy import make_output_dir
