@@ -95,8 +95,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
                              "put it after the input files")
     parser.add_argument("--compat", choices=("v360",), default=None,
-                        help="map pixels as ffmpeg's v360 filter does (samples at pixel corners, input centres "
-                             "at integer coordinates, no pole continuation), to match footage converted with it")
+                        help="map pixels as ffmpeg's v360 filter does (how it reads each projection, no pole "
+                             "continuation, one sample per pixel; docs/v360.md lists the projections and options "
+                             "both share), to match footage converted with it")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
     parser.add_argument("--verbose", "-v", action="store_true",
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
