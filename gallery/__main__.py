@@ -56,6 +56,12 @@ def run(args) -> int:
                               "--overwrite: give another output folder")
     check_output_dir(args.out)
     check_output(Path(args.out) / "index.html", overwrite=args.overwrite)
+    if args.readme_images is not None:
+        from gallery.montage import MONTAGES
+
+        check_output_dir(args.readme_images)
+        for name in MONTAGES:
+            check_output(Path(args.readme_images) / name, overwrite=args.overwrite)
     index = build_gallery(args.out, *stored["items"], validate_report=report, hdri_dir=hdri,
                           title=args.title or stored.get("title"), progress=not args.quiet)
     print(f"gallery: {index}")

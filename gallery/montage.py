@@ -72,6 +72,9 @@ def write_within(path: Path, image: np.ndarray, max_bytes: int = MAX_BYTES) -> P
                        "make the montage smaller")
 
 
+MONTAGES = ("panorama.jpg", "lenses.jpg", "compare.jpg", "tones.jpg", "hdri.jpg")  # what readme_images writes
+
+
 def readme_images(gallery_dir: str | Path, dest: str | Path, max_bytes: int = MAX_BYTES) -> list[Path]:
     """Write the README montages of a demo gallery into ``dest``; returns the files written."""
     src = Path(gallery_dir) / "img"
