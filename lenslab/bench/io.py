@@ -18,8 +18,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=3, help="timed runs per figure; the best counts (default 3)")
     parser.add_argument("--images", type=int, default=16, help="EXRs in the convert benchmark (default 16)")
     parser.add_argument("--dir", default=None, help="scratch directory (default: a temporary one)")
-    parser.add_argument("--only", choices=("formats", "convert"), default=None,
-                        help="run only the per-format figures or only the convert figures")
+    parser.add_argument("--only", choices=("formats", "codecs", "convert"), default=None,
+                        help="run only the per-format figures, the .hdr/TIFF figures against OpenCV and tifffile, "
+                             "or the convert figures")
 
 
 def _test_image(w: int, h: int):
@@ -67,9 +68,11 @@ def run(args: argparse.Namespace) -> int:
         raw = d / "floor.raw"
         print(f"lenslab bench io: {w} x {h} float32 RGB ({img.nbytes / 2**20:.0f} MiB), best of {rep}, "
               f"{os.cpu_count()} cores", flush=True)
-        if args.only != "convert":
+        if args.only in (None, "formats"):
             _formats(d, img, raw, rep, w, h)
-        if args.only != "formats":
+        if args.only in (None, "codecs"):
+            _codecs(d, img, rep)
+        if args.only in (None, "convert"):
             _convert(d, args, cw, ch, rep)
     return 0
 
@@ -119,6 +122,54 @@ def _formats(d: Path, img, raw: Path, rep: int, w: int, h: int) -> None:
     print("\nread, as a ratio to numpy.fromfile timed alternately with it (LDR rows include sRGB decoding)")
     for label, _, _, tr, fr, _ in rows:
         print(ratio_line(f"  {label}", tr, fr))
+
+
+#: aims for lenslab's time over the reference library's on the same file (lower is better)
+CODEC_AIMS = {"hdr_read": 1.5, "hdr_write": 1.5, "tiff_read": 1.3, "tiff_write": 1.3}
+
+
+def _codecs(d: Path, img, rep: int) -> None:
+    """Radiance .hdr against cv2.imread/imwrite and TIFF against tifffile on the same image and files.
+
+    Ratios are lenslab's time over the library's, timed alternately (best of ``rep``); lenslab's
+    figures include what the libraries leave to the caller (BGR order, float32 conversion, sRGB
+    or Radiance's half-step decoding, the atomic rename).
+    """
+    import cv2
+    import numpy as np
+    import tifffile
+
+    import lenslab.io as lio
+    from lenslab.bench.results import figure, mark
+    from lenslab.bench.timing import best_time
+
+    bgr = np.ascontiguousarray(img[..., ::-1])
+    cv_file, our_file = str(d / "cv.hdr"), d / "ours.hdr"
+    tf_file, our_tif = d / "tf.tif", d / "ours.tif"
+    cv2.imwrite(cv_file, bgr)
+    lio.write(our_file, img)  # compile the run-length kernels before timing
+    lio.read(our_file)
+    cases = [
+        ("hdr_read", "read .hdr (RLE)", lambda: lio.read(cv_file), lambda: cv2.imread(cv_file, cv2.IMREAD_UNCHANGED),
+         "cv2.imread"),
+        ("hdr_write", "write .hdr (RLE)", lambda: lio.write(our_file, img), lambda: cv2.imwrite(cv_file, bgr),
+         "cv2.imwrite"),
+        ("tiff_write", "write float32 TIFF (deflate + predictor)",
+         lambda: lio.write(our_tif, img, sample_type="float"),
+         lambda: tifffile.imwrite(tf_file, img, photometric="rgb", compression="adobe_deflate",
+                                  predictor="floatingpoint"), "tifffile.imwrite"),
+        ("tiff_read", "read float32 TIFF", lambda: lio.read(tf_file), lambda: tifffile.imread(tf_file),
+         "tifffile.imread"),
+    ]
+    print("\n.hdr and TIFF against the libraries on the same image (lenslab time / library time)")
+    for key, label, ours, theirs, name in cases:
+        t, b = float("inf"), float("inf")
+        for _ in range(rep):
+            b = min(b, best_time(theirs, 1))
+            t = min(t, best_time(ours, 1))
+        ok = figure(f"io.{key}_vs_library", f"{label} vs {name}", t / b, "x", aim=CODEC_AIMS[key])
+        print(f"  {label + ' vs ' + name:<58s} {t * 1e3:8.1f} ms vs {b * 1e3:8.1f} ms  {t / b:5.2f}x  "
+              f"(aim {CODEC_AIMS[key]}x) {mark(ok)}")
 
 
 def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:

@@ -161,21 +161,6 @@ def rgbe_to_float(rgbe: np.ndarray) -> np.ndarray:
     return (rgbe[..., :3].astype(np.float32) + np.float32(0.5)) * scale[..., None]
 
 
-def float_to_rgbe(rgb: np.ndarray) -> np.ndarray:
-    """``... x 3`` float -> ``... x 4`` uint8 RGBE with Radiance's ``setcolr`` (frexp, mantissas truncated)."""
-    x = np.nan_to_num(np.asarray(rgb, np.float32), nan=0.0, posinf=np.finfo(np.float32).max, neginf=0.0)
-    x = np.maximum(x, 0.0)
-    d = x.max(axis=-1)
-    mant, exp = np.frexp(d)
-    small = d <= 1e-32
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.where(small, 0.0, mant.astype(np.float64) * 256.0 / np.where(small, 1.0, d))
-    out = np.empty(x.shape[:-1] + (4,), np.uint8)
-    out[..., :3] = np.clip(x * f[..., None], 0, 255).astype(np.uint8)
-    out[..., 3] = np.where(small, 0, np.clip(exp + 128, 0, 255))
-    return out
-
-
 def read_hdr(path: Path) -> tuple[np.ndarray, dict]:
     data = Path(path).read_bytes()
     if not data.startswith(b"#?"):
@@ -251,11 +236,46 @@ def _encode_kernel():
     return encode
 
 
+def _setcolr_kernel():
+    import math
+
+    import numba
+
+    @numba.njit(cache=True, nogil=True)
+    def setcolr(rgb, out):
+        """Radiance's setcolr per pixel in one pass: E from frexp of the largest component, mantissas
+        truncated; negative and NaN components 0, +inf the largest float32, grey (C = 1) as R = G = B."""
+        h, w, c = rgb.shape
+        for y in range(h):
+            for x in range(w):
+                r = rgb[y, x, 0]
+                g = rgb[y, x, 1 % c]
+                b = rgb[y, x, 2 % c]
+                r = r if r > 0 else 0.0  # negative and NaN -> 0
+                g = g if g > 0 else 0.0
+                b = b if b > 0 else 0.0
+                d = max(r, g, b)
+                if d <= 1e-32:
+                    out[y, x, 0] = out[y, x, 1] = out[y, x, 2] = out[y, x, 3] = 0
+                    continue
+                if d > 3.4028234663852886e38:  # +inf: the largest float32
+                    d = 3.4028234663852886e38
+                    r, g, b = min(r, d), min(g, d), min(b, d)
+                m, e = math.frexp(d)
+                f = m * 256.0 / d
+                out[y, x, 0] = min(int(r * f), 255)
+                out[y, x, 1] = min(int(g * f), 255)
+                out[y, x, 2] = min(int(b * f), 255)
+                out[y, x, 3] = min(max(e + 128, 0), 255)
+
+    return setcolr
+
+
 def encode_hdr(image: np.ndarray, rle: bool = True) -> bytes:
     """A float32 H x W x (1 or 3) image -> the bytes of a Radiance RGBE file."""
     h, w, c = image.shape
-    rgb = np.repeat(image, 3, axis=2) if c == 1 else image
-    rgbe = float_to_rgbe(rgb)
+    rgbe = np.empty((h, w, 4), np.uint8)
+    _kernel("setcolr", _setcolr_kernel)(np.ascontiguousarray(image, np.float32), rgbe)
     header = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nSOFTWARE=lenslab\n\n-Y %d +X %d\n" % (h, w)
     if not rle or not 8 <= w <= 0x7FFF:
         return header + rgbe.tobytes()
