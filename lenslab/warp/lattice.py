@@ -245,3 +245,24 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
                     dy = ((rc[3, 3] * tx + rc[3, 2]) * tx + rc[3, 1]) * tx + rc[3, 0]
                     dz = ((rc[4, 3] * tx + rc[4, 2]) * tx + rc[4, 1]) * tx + rc[4, 0]
                 _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
+
+
+@numba.njit(cache=True, nogil=True)
+def project_kernel(fn, params, d, xy, valid):
+    """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
+    ``fn`` (see :class:`~lenslab.lenses.protocol.PixelKernel`): zero and non-finite directions invalid."""
+    for i in range(d.shape[0]):
+        n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
+        ok = False
+        x = y = 0.0
+        if n2 > 0.0 and np.isfinite(n2):
+            s = np.sqrt(n2)
+            x, y, ok = fn(d[i, 0] / s, d[i, 1] / s, d[i, 2] / s, params)
+        if ok and np.isfinite(x) and np.isfinite(y):
+            xy[i, 0] = x
+            xy[i, 1] = y
+            valid[i] = True
+        else:
+            xy[i, 0] = 0.0
+            xy[i, 1] = 0.0
+            valid[i] = False

@@ -41,7 +41,7 @@ from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.warp.dispatch import run_bands
 from lenslab.warp.lattice import (CR_BASIS, NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval,
-                                  lattice_grid, lattice_rows)
+                                  lattice_grid, lattice_rows, project_kernel)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -101,10 +101,22 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
     r = rotation_between(src, dst)
     if not np.array_equal(r, np.eye(3)):
         d = d @ r.T
-    xy, valid_src = src.lens.dir_to_pixel(d)  # zero where invalid (a zero direction is invalid)
+    xy, valid_src = project(src.lens, d)  # zero where invalid (a zero direction is invalid)
     if with_dirs:
         return xy, valid_dst & valid_src, valid_dst, d
     return xy, valid_dst & valid_src, valid_dst
+
+
+def project(lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``lens.dir_to_pixel(d)``, through the lens's compiled kernel when it has one (float64 (..., 2))."""
+    kern = lens.pixel_kernel()
+    if kern is None:
+        return lens.dir_to_pixel(d)
+    flat = np.ascontiguousarray(d, dtype=np.float64).reshape(-1, 3)
+    xy = np.empty((len(flat), 2))
+    valid = np.empty(len(flat), dtype=np.bool_)
+    project_kernel(kern.fn, kern.params, flat, xy, valid)
+    return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
 
 @dataclass
@@ -194,7 +206,7 @@ class Mapper:
             ok_dir = (win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd))[cand]
             for (tx, ty), (exy, ev, _) in zip(CHECK_POINTS, exact[1:]):
                 d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
-                pxy, pv = self.src.lens.dir_to_pixel(d)
+                pxy, pv = project(self.src.lens, d)
                 ok_dir &= ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
             state.reshape(-1)[np.flatnonzero(cand)[ok_dir]] = 2
         return np.stack(nodes), state
@@ -255,7 +267,7 @@ class Mapper:
                          need, dirs)
         flat = np.flatnonzero(need == NEED_PROJECT)
         if len(flat):  # interpolated directions, projected by the source lens
-            xy, v = self.src.lens.dir_to_pixel(dirs.reshape(-1, 3)[flat])
+            xy, v = project(self.src.lens, dirs.reshape(-1, 3)[flat])
             self._store(flat, xy, v, xs, ys, valid)
         flat = np.flatnonzero(need == NEED_EXACT)
         if len(flat):  # the cells the lattice cannot serve, sample by sample
