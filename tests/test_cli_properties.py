@@ -29,7 +29,7 @@ COMMANDS = {c.name: c for c in all_commands()}
 SLOW = ("lenslab demo", "lenslab validate", "lenslab bench", "lenslab fit", "tracer render", "tracer bench",
         "python -m gallery")
 LEFT_OUT = {"--scheduler", "--scheduler-file", "--check", "--big", "--help"}
-EXAMPLES = 12  # per command: ~25 commands x 12 runs, most of them stopped by a parser in milliseconds
+EXAMPLES = 10  # per command: ~25 commands x 10 runs, most of them stopped by a parser in milliseconds
 
 INPUTS = ("pano.pfm", "pano.exr", "small.png", "cam.toml", "points.csv", "hdri")
 MISSING = ("missing.exr", "no/such/folder/x.pfm", "hdri/missing.exr")
