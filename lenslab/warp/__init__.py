@@ -4,13 +4,13 @@
 returns ``(image, alpha)``: float32, never clamped, colour premultiplied by the coverage ``alpha``
 (the OpenEXR convention), exactly 0 where no sample lands on the source. See :func:`warp`.
 
-Modules: :mod:`~lenslab.warp.maps` (where each output sample reads the source, float64),
-:mod:`~lenslab.warp.lattice` (the map's lattice), :mod:`~lenslab.warp.filters` (exact
-nearest/bilinear/bicubic/Lanczos samplers), :mod:`~lenslab.warp.pyramid` (the footprint sampler),
-:mod:`~lenslab.warp.given` (warping by a map from elsewhere),
-:mod:`~lenslab.warp.seam` (seams, poles and piece edges), :mod:`~lenslab.warp.antialias` (footprint
-prefilter), :mod:`~lenslab.warp.batch` (one cached map for many images), :mod:`~lenslab.warp.engine`
-(the banded loop).
+Modules: :mod:`~lenslab.warp.maps` (where each output sample reads the source: computed in float64,
+kept as float32 index coordinates) and :mod:`~lenslab.warp.lattice` (its interpolated lattice),
+:mod:`~lenslab.warp.filters` (exact nearest/bilinear/bicubic/Lanczos samplers), :mod:`~lenslab.warp.seam`
+(seams, poles and piece edges), :mod:`~lenslab.warp.antialias` and :mod:`~lenslab.warp.pyramid` (footprint
+prefilter), :mod:`~lenslab.warp.optics` (per-channel lenses, falloff), :mod:`~lenslab.warp.given` (warping
+by a map from elsewhere), :mod:`~lenslab.warp.batch` (one cached map for many images),
+:mod:`~lenslab.warp.engine` (the banded loop).
 """
 
 from __future__ import annotations

@@ -70,6 +70,9 @@ class V360Plan(WarpPlan):
         self.read = v360_read(src_camera.lens)
         v360_read(dst_camera.lens)  # the output must be a v360 projection too
         super().__init__(src_camera, dst_camera, **options)
+        if self.channels is not None:
+            raise WarpError("--compat v360: ffmpeg's v360 has no per-channel optics (chromatic aberration); "
+                            "drop --compat v360 or the lens's tca")
         self.border = replace(self.border, pole_top=False, pole_bottom=False)  # v360 clamps rows at the poles
 
     def _band(self, r0: int, r1: int) -> MapBand:
