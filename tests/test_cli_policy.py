@@ -85,3 +85,31 @@ def test_numpy_warnings_never_reach_the_user(shared_data, tmp_path):
         res = subprocess.run([sys.executable, "-W", "default", "-m", "lenslab", *argv], capture_output=True, text=True)
         assert res.returncode == 0, res.stderr
         assert "encountered" not in res.stderr and "Warning" not in res.stderr, res.stderr
+
+
+@pytest.mark.parametrize("raised,code", [(KeyboardInterrupt(), 130), (BrokenPipeError(32, "Broken pipe"), 0),
+                                         ("lens", 2), ("format", 1), (FileNotFoundError(2, "No such file"), 1)],
+                         ids=["interrupted", "closed pipe", "bad lens spec", "bad file", "missing file"])
+def test_exit_codes_of_the_policy(raised, code, capsys):
+    from lenslab.cli.policy import run_command
+    from lenslab.errors import FormatError, LensError
+
+    exc = {"lens": LensError("fisheye: unknown parameter(s) fvo"), "format": FormatError("x.exr: truncated")}.get(
+        raised, raised)
+
+    def fail():
+        raise exc
+
+    if code == 0:  # the closed pipe points stdout at /dev/null: give it a file of its own
+        import os
+
+        saved = os.dup(1)
+        try:
+            assert run_command("lenslab x", fail) == 0
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+    else:
+        assert run_command("lenslab x", fail) == code
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == (0 if code == 0 else 1), err  # quiet, or one line
