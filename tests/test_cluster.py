@@ -26,11 +26,10 @@ pytestmark = pytest.mark.slow
 @pytest.fixture(scope="module")
 def scheduler():
     """The address of a scheduler with two single-threaded worker processes, no dashboard."""
-    from distributed import LocalCluster
+    from lenslab.cluster.connect import local_cluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=40) as cluster:
-        yield cluster.scheduler_address
+    with local_cluster(workers=2, threads=1) as client:
+        yield client.scheduler.address
 
 
 def _frames(folder: Path, n: int, size=(64, 32), seed=0) -> list[Path]:
