@@ -31,12 +31,15 @@ from lenslab.io.registry import hdr_formats, input_extensions, writable
 FORMATS = writable()
 LDR = tuple(f for f in FORMATS if f not in hdr_formats())
 INPUT_EXTENSIONS = input_extensions()
+#: containers an image sequence can be written to (see lenslab.io.video)
+VIDEO = ("mp4", "mov", "mkv")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
-    parser.add_argument("--to", required=True, choices=FORMATS, metavar="FORMAT",
-                        help=f"output format: {', '.join(FORMATS)}")
+    parser.add_argument("--to", required=True, choices=FORMATS + VIDEO, metavar="FORMAT",
+                        help=f"output format: {', '.join(FORMATS)}; or {', '.join(VIDEO)}: every input, in order, "
+                             "as the frames of one clip (-o FILE)")
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
                              "default: next to each input")
@@ -60,6 +63,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")
     parser.add_argument("--recursive", "-r", action="store_true",
                         help="walk directories into their sub-folders and mirror the tree under -o")
+    from lenslab.cli.warp_video import parse_frames
+
+    parser.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
+                        help="video inputs: only frames A to B-1 (e.g. 10:20), written as NAME.000010.exr, ...")
+    parser.add_argument("--rate", type=float, default=24.0, metavar="FPS",
+                        help="frames per second of a clip made from images (default 24)")
+    parser.add_argument("--transfer", choices=("bt709", "pq", "hlg"), default="bt709",
+                        help="a clip made from images: bt709 SDR (tone-mapped, default), or pq / hlg HDR "
+                             "(BT.2020, 10-bit, linear 1.0 = 203 cd/m2)")
+    parser.add_argument("--codec", choices=("h264", "h265", "prores", "ffv1"), default=None,
+                        help="video codec of a clip (default by extension: .mp4 h264 or h265 for HDR, .mov prores, "
+                             ".mkv ffv1)")
     parser.add_argument("--data-window", action="store_true",
                         help="EXR input: keep the stored data window instead of placing it in the display window")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -149,16 +164,31 @@ def plan_outputs(files: list[str], to: str, output: str | None,
 
 def convert_one(src: str, dst: str, options: dict) -> str:
     """Read, tone-map if needed, write. Returns the output path; raises on failure."""
-    import numpy as np
-
     from lenslab.cli.policy import check_output
-    from lenslab.errors import FormatError
     from lenslab.io import read, split_selector, write
-    from lenslab.io.registry import get
 
     src_file, _ = split_selector(src)
     check_output(dst, [src_file], options["overwrite"])
+    from lenslab.cli.warp_video import is_video
+
+    if is_video(src_file):  # a clip: one file per frame
+        from lenslab.cli.convert_video import frames_to_files
+
+        return frames_to_files(str(src_file), dst, options)
     image, meta = read(src, data_window=options["data_window"])
+    image, write_opts = render(image, meta, options)
+    write(dst, image, format=options["to"], overwrite=options["overwrite"], **write_opts)
+    return dst
+
+
+def render(image, meta: dict, options: dict):
+    """(image as the output format stores it, write options): tone curve or display transform for
+    display outputs, exposure, and the format's options."""
+    import numpy as np
+
+    from lenslab.errors import FormatError
+    from lenslab.io.registry import get
+
     to, exposure = options["to"], options["exposure"]
     fmt = get(to)
     bits = options.get("bits")
@@ -178,9 +208,7 @@ def convert_one(src: str, dst: str, options: dict) -> str:
         raise FormatError("--exposure auto applies when writing display formats (jpg, png, ppm, pgm)")
     elif exposure != 0.0:
         image = image * np.float32(2.0 ** exposure)
-    write_opts = {**write_options(fmt, meta, options), **shown}
-    write(dst, image, format=to, overwrite=options["overwrite"], **write_opts)
-    return dst
+    return image, {**write_options(fmt, meta, options), **shown}
 
 
 def write_options(fmt, meta: dict, options: dict) -> dict:
@@ -313,6 +341,18 @@ def run(args: argparse.Namespace) -> int:
     if not files:
         print("lenslab convert: error: nothing to convert", file=sys.stderr)
         return 1
+    if args.to in VIDEO:  # every input, in order, as one clip
+        from lenslab.cli.convert_video import files_to_video
+        from lenslab.cli.policy import UsageError
+
+        if not args.output or Path(args.output).suffix.lower() != "." + args.to:
+            raise UsageError(f"--to {args.to}: name the clip with -o NAME.{args.to}")
+        options = {"tone": args.tone, "exposure": exposure, "overwrite": args.overwrite, "rate": args.rate,
+                   "transfer": args.transfer, "codec": args.codec, "quiet": args.quiet}
+        files_to_video(files, args.output, options)
+        if not args.quiet:
+            print(f"wrote {len(files)} frame(s) to {args.output}", file=sys.stderr)
+        return 1 if missing else 0
     if args.to in LDR:
         from lenslab.tone import get_curve
 
@@ -333,7 +373,8 @@ def run(args: argparse.Namespace) -> int:
             folder.mkdir(parents=True, exist_ok=True)  # the mirrored sub-folders
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
-               "compression": args.compression, "data_window": args.data_window, **display_options(args)}
+               "compression": args.compression, "data_window": args.data_window, "frames": args.frames,
+               **display_options(args)}
     from lenslab.cluster.run import skip_existing
 
     pairs, skipped = skip_existing(pairs, args.skip_existing)

@@ -1,0 +1,92 @@
+"""``lenslab convert`` on video: a clip to one image file per frame (``NAME.000000.exr``, ...), in linear
+light decoded as :mod:`lenslab.io.video` describes."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def frame_path(dst, index: int) -> Path:
+    """``out/clip.exr`` -> ``out/clip.000042.exr``: frame numbers as in the clip, from 0."""
+    d = Path(dst)
+    return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
+
+
+def frames_to_files(src: str, dst: str, options: dict) -> str:
+    """Write every frame of ``src`` (or ``options["frames"]``'s range) next to ``dst``; returns the first path."""
+    from tqdm import tqdm
+
+    from lenslab.cli.convert import render
+    from lenslab.errors import FormatError
+    from lenslab.io import write
+    from lenslab.io.video import probe_video, read_frames
+
+    info = probe_video(src)
+    start, stop = options.get("frames") or (0, None)
+    # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
+    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
+    first = None
+    total = max(0, (min(stop, info.frames) if stop is not None and info.frames else (stop or info.frames)) - start)
+    show = sys.stderr.isatty() and not options.get("quiet")
+    with tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
+              desc=Path(src).name) as bar:
+        for i, frame in read_frames(src, start, stop):
+            image, opts = render(frame, meta, options)
+            path = frame_path(dst, i)
+            write(path, image, format=options["to"], overwrite=options["overwrite"], **opts)
+            first = first or str(path)
+            bar.update()
+    if first is None:
+        raise FormatError(f"{src}: no frame in the range {start}:{'' if stop is None else stop}")
+    return first
+
+
+#: --transfer of an image sequence written as video -> FFmpeg's (primaries, transfer, matrix) tags
+TRANSFERS = {"bt709": (1, 1, 1), "pq": (9, 16, 9), "hlg": (9, 18, 9)}
+
+
+def files_to_video(files: list[str], dst: str, options: dict) -> str:
+    """Encode image files (in the order given) as one clip at ``options["rate"]`` frames per second.
+
+    ``bt709``: SDR, the tone curve (or ``--display``) first as for any display output; ``pq``/``hlg``:
+    linear light as it is (1.0 = 203 cd/m^2), BT.2020, 10-bit.
+    """
+    from fractions import Fraction
+
+    from tqdm import tqdm
+
+    from lenslab.cli.policy import check_output
+    from lenslab.errors import FormatError
+    from lenslab.io import read
+    from lenslab.io.atomic import atomic_write_path
+    from lenslab.io.video import VideoInfo, VideoWriter
+
+    check_output(dst, [Path(f) for f in files], options["overwrite"])
+    primaries, transfer, matrix = TRANSFERS[options.get("transfer") or "bt709"]
+    hdr = transfer != 1
+    show = sys.stderr.isatty() and not options.get("quiet")
+    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp:
+        writer = None
+        try:
+            for f in tqdm(files, unit="frame", disable=not show, file=sys.stderr, leave=False):
+                image, meta = read(f)
+                if not hdr and not meta["display_encoded"]:
+                    from lenslab.tone import tonemap
+
+                    image = tonemap(image, curve=options["tone"], exposure=options["exposure"])
+                if image.shape[2] == 1:
+                    image = image.repeat(3, axis=2)
+                if writer is None:
+                    h, w = image.shape[:2]
+                    info = VideoInfo(w, h, Fraction(str(options.get("rate") or 24)), len(files), "", "",
+                                     primaries, transfer, matrix, 1)
+                    writer = VideoWriter(tmp, info, codec=options.get("codec"))
+                elif image.shape[:2] != (writer.info.height, writer.info.width):
+                    raise FormatError(f"{f}: {image.shape[1]}x{image.shape[0]} differs from the first frame's "
+                                      f"{writer.info.width}x{writer.info.height}; a clip has one size")
+                writer.write(image[..., :3])
+        finally:
+            if writer is not None:
+                writer.close()
+    return dst
