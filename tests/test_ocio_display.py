@@ -86,3 +86,20 @@ def test_convert_writes_the_display_codes(tmp_path):
                  "-o", str(tmp_path / "pq.jpg"), "-q"]) == 1
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "png", "--display", "no such display",
                  "-o", str(tmp_path / "x.png"), "-q"]) == 2
+
+
+def test_warp_writes_the_display_codes(tmp_path):
+    from lenslab.lenses import Camera
+    from lenslab.warp import warp
+
+    img = (np.random.default_rng(2).random((32, 64, 3)) * 8).astype(np.float32)
+    lio.write(tmp_path / "pano.exr", img, pixel_type="float")
+    assert main(["warp", str(tmp_path / "pano.exr"), "-o", str(tmp_path / "f.png"), "--to", "fisheye:fov=180",
+                 "--size", "32x32", "--display", "srgb", "--view", "ACES 2.0 - SDR", "-q"]) == 0
+    codes = cv2.imread(str(tmp_path / "f.png"), cv2.IMREAD_UNCHANGED)
+    warped, alpha = warp(img, Camera.from_spec("equirect", (64, 32)), Camera.from_spec("fisheye:fov=180", (32, 32)))
+    inside = codes[..., 3] == 255
+    assert inside.sum() > 500 and (alpha[inside] == 1).all()
+    want = np.clip(_reference(warped, *SDR), 0, 1).astype(np.float64) * 255
+    got = codes[..., 2::-1].astype(np.float64)
+    assert np.abs(got - want)[inside].max() <= 0.5 + 255 * 1e-5  # rounding to the nearest 8-bit code

@@ -102,8 +102,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", "-v", action="store_true",
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
     from lenslab.cli.options import add_scheduler_options
+    from lenslab.cli.display import add_display_arguments
     from lenslab.cli.warp_video import add_video_arguments
 
+    add_display_arguments(parser)
     add_video_arguments(parser)
     add_scheduler_options(parser)
 
@@ -213,6 +215,9 @@ def check_once(args) -> None:
     if args.source:
         make_lens(args.source, (512, 256))
     get_curve(args.tone)
+    from lenslab.cli.display import display_options
+
+    display_options(args)  # unknown display, view or colour space: one usage error now
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
@@ -270,7 +275,17 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         colour, alpha = out, coverage
     keep_alpha = not args.no_alpha and fmt in ("exr", "png")
     exposure = args.exposure
-    if fmt in LDR and (not meta["display_encoded"] or exposure == "auto"):
+    shown: dict = {}
+    if getattr(args, "display", None):  # an OpenColorIO display transform instead of the tone curve
+        from lenslab.cli.display import apply_display
+        from lenslab.io.registry import get
+
+        if exposure == "auto":
+            raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
+        rgba = np.concatenate([colour * np.float32(2.0 ** float(exposure)), alpha[..., None]], axis=-1)
+        mapped, shown = apply_display(rgba, get(fmt), {**vars(args), "bits": None})
+        colour, alpha = mapped[..., :-1], mapped[..., -1]
+    elif fmt in LDR and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
 
         rgba = np.concatenate([colour, alpha[..., None]], axis=-1)
@@ -292,6 +307,7 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     if fmt == "exr":
         opts["camera"] = dst
         opts["pixel_type"] = args.pixel_type
+    opts.update(shown)
     write(dst_path, result, format=fmt, overwrite=args.overwrite, **opts)
 
 
