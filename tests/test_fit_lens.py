@@ -39,6 +39,21 @@ SELF_FITS = [
     ("dual-fisheye:fov=175", "dual-fisheye:fov=160", "fov"),  # no overlap: one pixel per direction
     ("eac:pad=2", "eac:pad=1", "pad"),
     ("little-planet:fov=250", "little-planet:fov=230", "fov"),
+    # calibrated cameras (intrinsics in pixels of this 256 x 192 image)
+    ("opencv:fx=200,fy=201,cx=127.5,cy=95.5,k1=-0.05,k2=0.005,width=256,height=192",
+     "opencv:fx=190,fy=190,cx=127.5,cy=95.5,k1=-0.02,k2=0,width=256,height=192", "fx,fy,k1,k2"),
+    ("kannala-brandt:fx=80,fy=80,cx=127.5,cy=95.5,k1=0.03,k2=-0.005,width=256,height=192",
+     "kannala-brandt:fx=70,fy=70,cx=127.5,cy=95.5,k1=0,k2=0,width=256,height=192", "fx,fy,k1,k2"),
+    ("opencv-fisheye:fx=80,fy=80,cx=127.5,cy=95.5,k1=0.03,width=256,height=192",
+     "opencv-fisheye:fx=75,fy=75,cx=127.5,cy=95.5,k1=0,width=256,height=192", "fx,fy,k1"),
+    ("omnidir:fx=120,fy=120,cx=127.5,cy=95.5,xi=0.8,k1=-0.02,width=256,height=192",
+     "omnidir:fx=115,fy=115,cx=127.5,cy=95.5,xi=0.7,k1=0,width=256,height=192", "fx,fy,xi,k1"),
+    ("double-sphere:fx=60,fy=60,cx=127.5,cy=95.5,xi=-0.2,alpha=0.6,width=256,height=192",
+     "double-sphere:fx=55,fy=55,cx=127.5,cy=95.5,xi=-0.1,alpha=0.55,width=256,height=192", "fx,fy,xi,alpha"),
+    ("eucm:fx=60,fy=60,cx=127.5,cy=95.5,alpha=0.6,beta=1.1,width=256,height=192",
+     "eucm:fx=55,fy=55,cx=127.5,cy=95.5,alpha=0.55,beta=1.0,width=256,height=192", "fx,fy,alpha,beta"),
+    ("ocam:pol=-80 0 0.004,xc=96.2,yc=127.1,width=256,height=192",
+     "ocam:pol=-80 0 0.004,xc=94,yc=130,width=256,height=192", "xc,yc"),
     # a real zoom lens: its focal length, between the database's calibrations (lenslab[lensfun])
     ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120",
      "lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=100", "focal"),
