@@ -30,9 +30,12 @@ from lenslab.errors import LensError
 from lenslab.lenses.base import FLOAT, MAX_SIDE, Lens, Param, as_points, check_size
 
 SIZE_PARAMS = (
-    Param("width", 0, "calibration image width in px; the intrinsics are in its pixels (0: this image's)", 0, MAX_SIDE),
+    Param("width", 0, "calibration image width in px; the intrinsics are in its pixels (0: this image's; "
+          "the default intrinsics are those of a 1000 x 1000 image)", 0, MAX_SIDE),
     Param("height", 0, "calibration image height in px (0: this image's)", 0, MAX_SIDE),
 )
+#: the image the default intrinsics describe (a spec that gives none of them is scaled from it)
+DEFAULT_CALIBRATION = (1000, 1000)
 
 
 def intrinsics_params(fx: float, fy: float, cx: float, cy: float) -> tuple[Param, ...]:
@@ -55,6 +58,9 @@ class Calibrated(Lens):
     #: names of the parameters scaled like ``fx`` (x) and ``fy`` (y) for another image size
     x_scaled: ClassVar[tuple[str, ...]] = ("fx",)
     y_scaled: ClassVar[tuple[str, ...]] = ("fy",)
+    #: the parameters in pixels of the calibration image: a spec giving none of them (and no size)
+    #: takes the defaults, which describe a :data:`DEFAULT_CALIBRATION` image
+    intrinsic_names: ClassVar[tuple[str, ...]] = ("fx", "fy", "cx", "cy")
     #: the intrinsics' skew parameter name (``u = fx mx + skew my + cx``), if the model has one
     skew_name: ClassVar[str | None] = None
 
@@ -78,6 +84,8 @@ class Calibrated(Lens):
         ``height`` (the calibration size; 0 or absent: this image's)."""
         params = {p.name: p for p in cls.params}
         values = dict(values)
+        if not ({"width", "height"} | set(cls.intrinsic_names)) & set(values):
+            values["width"], values["height"] = DEFAULT_CALIBRATION  # the defaults' own image
         cw = params["width"].convert(cls.name, values.get("width", 0)) or width
         ch = params["height"].convert(cls.name, values.get("height", 0)) or height
         values["width"], values["height"] = int(width), int(height)

@@ -58,6 +58,8 @@ class OCam(Calibrated):
         Param("c", 1.0, "affine c"), Param("d", 0.0, "affine d"), Param("e", 0.0, "affine e"),
     ) + SIZE_PARAMS
 
+    intrinsic_names = ("pol", "invpol", "xc", "yc", "c", "d")
+
     @classmethod
     def scale(cls, v: dict[str, Any], sx: float, sy: float) -> dict[str, Any]:
         pol = parse_coefficients(cls.name, "pol", v["pol"])
