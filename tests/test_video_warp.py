@@ -117,3 +117,26 @@ def test_h265_needs_ten_bits_and_frames_are_checked(tmp_path):
     with pytest.raises(SystemExit) as exc:  # an empty range: a usage error before anything is read
         main(["warp", str(tmp_path / "hdr.mkv"), "-o", str(tmp_path / "o.mkv"), "--to", TO, "--frames", "5:2", "-q"])
     assert exc.value.code == 2
+
+
+@pytest.mark.slow
+def test_display_transform_to_pq_video(tmp_path):
+    ocio = pytest.importorskip("PyOpenColorIO")
+    _make(tmp_path / "in.mkv", "ffv1", "yuv444p10le", 1, 1, 1)
+    view = "ACES 2.0 - HDR 1000 nits (Rec.2020)"
+    assert main(["warp", str(tmp_path / "in.mkv"), "-o", str(tmp_path / "pq.mkv"), "--to", TO, "--size", "32x32",
+                 "--display", "Rec.2100-PQ - Display", "--view", view, "-q"]) == 0
+    src, _, _, _, _ = _decode(tmp_path / "in.mkv")
+    with av.open(str(tmp_path / "pq.mkv")) as c:
+        cc = c.streams.video[0].codec_context
+        assert (int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace)) == (9, 16, 9)  # BT.2020 PQ tags
+        codes = [f.reformat(format="rgb48le", src_colorspace="bt2020", src_color_range="MPEG",
+                            dst_color_range="JPEG").to_ndarray() / 65535.0 for f in c.decode(c.streams.video[0])]
+    cfg = ocio.Config.CreateFromFile("ocio://default")
+    cpu = cfg.getProcessor("Linear Rec.709 (sRGB)", "Rec.2100-PQ - Display", view,
+                           ocio.TRANSFORM_DIR_FORWARD).getDefaultCPUProcessor()
+    for got, warped in zip(codes, _expected(src)):
+        want = np.ascontiguousarray(warped, np.float32).copy()
+        cpu.applyRGB(want)
+        # PQ code values through 10-bit limited-range YUV 4:4:4: a step is 1/876, two through the matrix
+        np.testing.assert_allclose(got, np.clip(want, 0, 1), atol=3 / 876)

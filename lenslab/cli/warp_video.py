@@ -62,6 +62,8 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                           "(frames to EXR: lenslab convert VIDEO --to exr)")
     if args.stmap:
         raise FormatError("--stmap applies to images; warp a video with --to SPEC")
+    if args.exposure == "auto":
+        raise FormatError("--exposure auto applies to images; give a number of stops for a video")
     check_output(dst_path, [src_path], args.overwrite)
     start, stop = getattr(args, "frames", None) or (0, None)
     info = probe_video(src_path)
@@ -71,6 +73,16 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     dst = output_camera(args, src, size)
     if args.autoscale:
         dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
+    display = getattr(args, "display", None)
+    if display:  # code values of an OpenColorIO display, tagged as that display
+        from dataclasses import replace
+
+        from lenslab.io.ocio import display_transform, processor
+        from lenslab.io.video import display_tags
+
+        name = processor(display, args.view, args.colorspace, args.ocio)[1][0]
+        primaries, transfer, matrix = display_tags(name)
+        info = replace(info, primaries=primaries, transfer=transfer, matrix=matrix)
     show = not args.quiet and sys.stderr.isatty()
     whole = start == 0 and stop is None
     written = 0
@@ -83,7 +95,9 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                 out, _ = cache.warp(frame, src, dst)  # outside the source's view: black
                 if float(args.exposure) != 0.0:
                     out = out * np.float32(2.0 ** float(args.exposure))
-                writer.write(out)
+                if display:
+                    out = display_transform(out, display, args.view, args.colorspace, args.ocio)
+                writer.write(out, encoded=bool(display))
                 written += 1
                 bar.update()
         if written == 0:

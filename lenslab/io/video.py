@@ -139,6 +139,22 @@ def from_linear(image: np.ndarray, info: VideoInfo) -> np.ndarray:
     return np.clip(v, 0.0, 1.0)
 
 
+#: OpenColorIO display (as the built-in configs name them, lower case, up to " - display") -> the
+#: (primaries, transfer, matrix) tags its code values carry in a video stream
+DISPLAY_TAGS = {"rec.2100-pq": (9, 16, 9), "rec.2100-hlg": (9, 18, 9), "st2084-p3-d65": (12, 16, 9),
+                "srgb": (1, 13, 1), "rec.1886 rec.709": (1, 1, 1), "gamma 2.2 rec.709": (1, 4, 1),
+                "display p3": (12, 13, 1)}
+
+
+def display_tags(display: str) -> tuple[int, int, int]:
+    """Video tags for the code values of an OpenColorIO display; FormatError for displays without them."""
+    key = display.lower().split(" - display")[0]
+    if key not in DISPLAY_TAGS:
+        raise FormatError(f"{display}: no video colour tags are known for this display; use one of "
+                          f"{', '.join(DISPLAY_TAGS)}")
+    return DISPLAY_TAGS[key]
+
+
 def _range(info: VideoInfo) -> str:
     return "JPEG" if info.range == 2 else "MPEG"
 
@@ -198,9 +214,12 @@ class VideoWriter:
             with _open(audio_from) as src:
                 self.audio = {s.index: self.container.add_stream_from_template(s) for s in src.streams.audio}
 
-    def write(self, image: np.ndarray) -> None:
+    def write(self, image: np.ndarray, encoded: bool = False) -> None:
+        """Encode one frame: linear Rec.709 light, or (``encoded``) code values in [0, 1] already in the
+        stream's primaries and transfer (a display transform's output)."""
         av = _av()
-        codes = np.round(from_linear(image[..., :3], self.info) * 65535.0).astype(np.uint16)
+        values = np.clip(image[..., :3], 0.0, 1.0) if encoded else from_linear(image[..., :3], self.info)
+        codes = np.round(values * 65535.0).astype(np.uint16)
         frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(codes), format="rgb48le")
         frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
                                src_color_range="JPEG", dst_color_range=_range(self.info))
