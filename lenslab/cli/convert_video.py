@@ -17,7 +17,7 @@ def frames_to_files(src: str, dst: str, options: dict) -> str:
     """Write every frame of ``src`` (or ``options["frames"]``'s range) next to ``dst``; returns the first path."""
     from tqdm import tqdm
 
-    from lenslab.cli.convert import render
+    from lenslab.cli.render import render
     from lenslab.errors import FormatError
     from lenslab.io import write
     from lenslab.io.video import probe_video, read_frames
