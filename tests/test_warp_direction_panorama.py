@@ -105,6 +105,7 @@ READ_BACK = [
     ("hammer", (1024, 512)),
     ("mercator", (512, 512)),
     ("little-planet", (512, 512)),
+    ("octahedron", (512, 512)),
 ]
 TOL_BACK = (2 * np.pi / 512) ** 2 / 4
 
@@ -134,7 +135,7 @@ def test_a_model_image_of_rays_reads_back_as_the_panorama_rays(spec, size):
         near_edge = qok & (alpha > 0.999) & ((np.abs(fx - np.round(fx)) * size[0] / 3 < 1.0)
                                              | (np.abs(fy - np.round(fy)) * size[1] / 2 < 1.0))
         # taps across a face edge read the face across it on the cube: within a pixel's angle of the ray
-        # (reading the next face of the layout instead, across the rows, is tens of degrees off)
+        # (reading the next pixel of the layout instead is tens of degrees off across the two rows)
         assert near_edge.sum() > 100
         assert angles(out[near_edge], rays[near_edge]).max() < np.pi / 2 / (size[1] / 2)
         keep &= ~near_edge
