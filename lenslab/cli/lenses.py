@@ -58,19 +58,22 @@ def run_lensfun(args: argparse.Namespace) -> int:
     from lenslab.errors import LensError
     from lenslab.lenses import lensfun_db
 
-    if args.lensfun_db or args.lensfun_db_only:
-        lensfun_db.use_database(args.lensfun_db, bundled=not args.lensfun_db_only)
+    import contextlib
+
     if args.lensfun is None:
         return 0
-    lenses, cameras = lensfun_db.find_lenses(args.lensfun), lensfun_db.find_cameras(args.lensfun)
-    if not lenses and not cameras:
-        raise LensError(f"lensfun: no lens or camera matches {args.lensfun!r}")
-    for i, lens in enumerate(lenses):
-        print(("\n" if i else "") + "\n".join(lensfun_db.describe_lens(lens)))
-    if cameras:
-        print(("\n" if lenses else "") + "Cameras (camera=NAME sets the crop factor):")
-        for cam in cameras:
-            print("  " + lensfun_db.describe_camera(cam))
+    own = args.lensfun_db or args.lensfun_db_only  # your files for this search only
+    with (lensfun_db.using_database(args.lensfun_db, bundled=not args.lensfun_db_only) if own
+          else contextlib.nullcontext()):
+        lenses, cameras = lensfun_db.find_lenses(args.lensfun), lensfun_db.find_cameras(args.lensfun)
+        if not lenses and not cameras:
+            raise LensError(f"lensfun: no lens or camera matches {args.lensfun!r}")
+        for i, lens in enumerate(lenses):
+            print(("\n" if i else "") + "\n".join(lensfun_db.describe_lens(lens)))
+        if cameras:
+            print(("\n" if lenses else "") + "Cameras (camera=NAME sets the crop factor):")
+            for cam in cameras:
+                print("  " + lensfun_db.describe_camera(cam))
     return 0
 
 

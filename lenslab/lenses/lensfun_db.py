@@ -13,6 +13,7 @@ or ``lenslab lenses --lensfun-db DIR``; ``LENSLAB_LENSFUN_BUNDLED=0`` leaves the
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 from dataclasses import dataclass, field
@@ -60,6 +61,21 @@ def use_database(paths: list[str], bundled: bool = True) -> None:
     os.environ[ENV_BUNDLED] = "1" if bundled else "0"
     _database.cache_clear()
     _xml_facts.cache_clear()
+
+
+@contextlib.contextmanager
+def using_database(paths: list[str], bundled: bool = True):
+    """:func:`use_database` for the duration of a ``with`` block; the settings before it come back after."""
+    before = {k: os.environ.get(k) for k in (ENV_DB, ENV_BUNDLED)}
+    use_database(paths, bundled)
+    try:
+        yield
+    finally:
+        for k, v in before.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
 def bundled_dir() -> Path:
