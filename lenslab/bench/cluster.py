@@ -194,11 +194,11 @@ def map_costs(client, options: dict, frame: Path) -> tuple[float, float]:
     from lenslab.warp.batch import map_bytes_estimate
 
     t = []
-    opts = {**options, "overwrite": True}
-    for i in range(2):  # a fresh geometry (its own yaw), then the same again: the difference is the map
-        opts_i = {**opts, "yaw": 0.5}
+    opts = {**options, "overwrite": True, "yaw": 0.5}  # a geometry no worker has seen yet
+    worker = sorted(client.nthreads())[0]
+    for i in range(2):  # on one worker, the first frame makes the map, the second reuses it
         out = str(frame.with_name(f"map-{i}.exr"))
-        t.append(submit(client, warp_task, str(frame), out, opts_i, name="map").result()[2])
+        t.append(submit(client, warp_task, str(frame), out, opts, name="map", workers=[worker]).result()[2])
     build = max(0.0, t[0] - t[1])
     from lenslab.lenses import Camera
 

@@ -26,11 +26,22 @@ def on_worker(fn: Callable, *args):
     return value, who, time.perf_counter() - start
 
 
-def submit(client, fn: Callable, *args, name: str = "task"):
-    """Submit ``fn(*args)`` as one task (never cached: a file may change between runs)."""
+def submit(client, fn: Callable, *args, name: str = "task", **where):
+    """Submit ``fn(*args)`` as one task (never cached: a file may change between runs); ``where`` as for
+    :meth:`distributed.Client.submit` (``workers=[...]``)."""
     import secrets
 
-    return client.submit(on_worker, fn, *args, pure=False, key=f"lenslab-{name}-{secrets.token_hex(8)}")
+    return client.submit(on_worker, fn, *args, pure=False, key=f"lenslab-{name}-{secrets.token_hex(8)}", **where)
+
+
+def submit_many(client, fn: Callable, jobs: list[tuple], name: str = "task") -> list:
+    """Submit ``fn(*job)`` for every job in one message to the scheduler (one task each)."""
+    import secrets
+
+    if not jobs:
+        return []
+    keys = [f"lenslab-{name}-{secrets.token_hex(8)}" for _ in jobs]
+    return client.map(on_worker, [fn] * len(jobs), *zip(*jobs), key=keys, pure=False)
 
 
 def gather_as_completed(client, futures: list, progress: bool = False, unit: str = "file",
@@ -78,7 +89,7 @@ def run_batch(client, task: Callable, jobs: Iterable[tuple], outputs: Iterable, 
     from lenslab.io.atomic import temporaries
 
     jobs = list(jobs)
-    futures = [submit(client, task, *job, name=name) for job in jobs]
+    futures = submit_many(client, task, jobs, name=name)
     index = {f.key: i for i, f in enumerate(futures)}
     results: dict[int, tuple] = {}
     try:
@@ -113,4 +124,4 @@ def skip_existing(pairs: list[tuple], skip: bool) -> tuple[list[tuple], int]:
     return left, len(pairs) - len(left)
 
 
-__all__ = ["run_batch", "gather_as_completed", "submit", "worker_summary", "skip_existing"]
+__all__ = ["run_batch", "gather_as_completed", "submit", "submit_many", "worker_summary", "skip_existing"]
