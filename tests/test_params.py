@@ -73,6 +73,7 @@ def test_convert_refuses_with_what_is_valid(p, text, words):
     (Param("pad", 0.0, "", 0.0, 64.0), 0.0, (0.0, 64.0)),
 ])
 def test_search_bounds_by_the_rule(p, start, box):
+    # a division, a multiplication and a margin in float64: a few ulps (1e-12 is a thousand of them)
     assert p.search_bounds(start) == pytest.approx(box, rel=1e-12, abs=1e-15)
 
 
@@ -90,8 +91,9 @@ def test_search_bounds_stay_inside_the_declared_range(lo, width, hi_none, lo_ope
     assert low < high
     assert lo is None or (low > lo if lo_open else low >= lo)
     assert hi is None or (high < hi if hi_open else high <= hi)
-    assert low - 1e-9 * abs(low) <= max(min(start, high), low) <= high  # the start can be clipped into it
+    assert low <= max(min(start, high), low) <= high  # the start can be clipped into it
     if lo is not None and lo >= 0 and start > 0:
+        # within the factor, up to the rounding of one division or multiplication (1e-12 relative)
         assert low >= start / SEARCH_FACTOR * (1 - 1e-12) and high <= start * SEARCH_FACTOR * (1 + 1e-12)
 
 
