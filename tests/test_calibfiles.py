@@ -143,7 +143,7 @@ def test_kalibr_needs_a_pick_when_it_holds_several(tmp_path):
 COLMAP = """\
 # Camera list with one line of data per camera:
 #   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]
-# Number of cameras: 9
+# Number of cameras: 10
 1 SIMPLE_PINHOLE 3072 2304 2559.81 1536 1152
 2 PINHOLE 3072 2304 2560.56 2560.56 1536 1152
 3 SIMPLE_RADIAL 3072 2304 2559.69 1536 1152 -0.0218531
@@ -153,6 +153,7 @@ COLMAP = """\
 7 OPENCV_FISHEYE 1280 1024 400 401 640.7 512.2 0.05 -0.01 0.003 -0.0005
 8 THIN_PRISM_FISHEYE 1280 1024 400 401 640.7 512.2 0.05 -0.01 0.001 -0.002 0.003 -0.0005 0.0004 -0.0003
 9 RADIAL_FISHEYE 1280 1024 400 640.7 512.2 0.05 -0.01
+10 FOV 1280 1024 600 601 640.7 512.2 0.9
 """
 #: COLMAP's principal point is OpenCV's + 0.5 (COLMAP's models.h: the top-left pixel centre is (0.5, 0.5))
 COLMAP_WANT = {
@@ -167,6 +168,7 @@ COLMAP_WANT = {
     "8": "kannala-brandt:fx=400,fy=401,cx=640.2,cy=511.7,k1=0.05,k2=-0.01,p1=0.001,p2=-0.002,k3=0.003,k4=-0.0005,"
          "s1=0.0004,s3=-0.0003,width=1280,height=1024",
     "9": "kannala-brandt:fx=400,fy=400,cx=640.2,cy=511.7,k1=0.05,k2=-0.01,width=1280,height=1024",
+    "10": "devernay-fov:fx=600,fy=601,cx=640.2,cy=511.7,omega=0.9,width=1280,height=1024",
 }
 
 

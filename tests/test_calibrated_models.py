@@ -377,3 +377,27 @@ def test_unified_models_pixel_round_trip_property(model, p, q, fx, fy):
         return
     back, ok2 = lens.dir_to_pixel(d)
     assert ok2[0] and np.abs(back - xy).max() < RT_TOL
+
+
+def test_devernay_fov_matches_colmaps_fov_camera():
+    """COLMAP's FOVCameraModel (models.h), transcribed: r_d / r_u = atan(2 r_u tan(omega/2)) / (omega r_u),
+    the inverse tan(r_d omega) / (2 r_d tan(omega/2)); COLMAP's cx is OpenCV's + 0.5, lenslab's pixel is
+    OpenCV's + 0.5: so lenslab's pixel is COLMAP's with the same numbers plus 0.5 minus 0.5."""
+    omega = 0.9
+    lens = make_lens(f"devernay-fov:fx=300,fy=301,cx=320.2,cy=239.7,omega={omega},width=640,height=480", (640, 480))
+    d = sphere(4000, 6)
+    xy, ok = lens.dir_to_pixel(d)
+    assert ok.sum() > 500
+    for (x, y, z), p in zip(to_cv(d[ok]), xy[ok]):
+        u, v = x / z, y / z
+        r = math.hypot(u, v)
+        f = math.atan(r * 2 * math.tan(omega / 2)) / (r * omega)
+        assert abs(300 * u * f + 320.2 + 0.5 - p[0]) < 1e-9 and abs(301 * v * f + 239.7 + 0.5 - p[1]) < 1e-9
+    px = pixel_centres(640, 480, 7)
+    dd, v = lens.pixel_to_dir(px)
+    assert v.all()
+    for (x, y, z), (u0, v0) in zip(to_cv(dd)[::5], px[::5]):
+        mx, my = (u0 - 0.5 - 320.2) / 300, (v0 - 0.5 - 239.7) / 301
+        rd = math.hypot(mx, my)
+        f = math.tan(rd * omega) / (rd * 2 * math.tan(omega / 2))
+        assert abs(x / z - mx * f) < 1e-12 and abs(y / z - my * f) < 1e-12

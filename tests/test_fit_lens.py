@@ -54,6 +54,8 @@ SELF_FITS = [
      "eucm:fx=55,fy=55,cx=127.5,cy=95.5,alpha=0.55,beta=1.0,width=256,height=192", "fx,fy,alpha,beta"),
     ("ocam:pol=-80 0 0.004,xc=96.2,yc=127.1,width=256,height=192",
      "ocam:pol=-80 0 0.004,xc=94,yc=130,width=256,height=192", "xc,yc"),
+    ("devernay-fov:fx=150,fy=150,cx=127.5,cy=95.5,omega=0.8,width=256,height=192",
+     "devernay-fov:fx=140,fy=140,cx=127.5,cy=95.5,omega=0.6,width=256,height=192", "fx,fy,omega"),
     # a real zoom lens: its focal length, between the database's calibrations (lenslab[lensfun])
     ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120",
      "lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=100", "focal"),

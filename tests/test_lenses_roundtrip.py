@@ -53,6 +53,7 @@ CASES = [
     ("double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024", (W, W)),
     ("eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024", (W, W)),
     ("ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024", (W, W)),
+    ("devernay-fov:fx=400,fy=400,cx=511.5,cy=383.5,omega=0.9,width=1024,height=768", (W, 6144)),
     ("fisheye:dfov=180", (W, 5461)),  # a full-frame fisheye on a 3:2 sensor
     ("fisheye:vfov=150,mapping=equisolid,cx=0.05,cy=-0.02", (W, 5461)),
     ("perspective:dfov=100", (W, 5461)),

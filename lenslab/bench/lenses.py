@@ -53,6 +53,7 @@ DEFAULT_SPECS = (
     "double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024",
     "eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024",
     "ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024",
+    "devernay-fov:fx=400,fy=400,cx=511.5,cy=511.5,omega=0.9,width=1024,height=1024",
 )
 
 #: (model name, direction) pairs solved numerically

@@ -23,6 +23,7 @@ MODELS = {
     "SIMPLE_RADIAL_FISHEYE": ("kannala-brandt", "f cx cy k1"),
     "RADIAL_FISHEYE": ("kannala-brandt", "f cx cy k1 k2"),
     "THIN_PRISM_FISHEYE": ("kannala-brandt", "fx fy cx cy k1 k2 p1 p2 k3 k4 s1 s3"),
+    "FOV": ("devernay-fov", "fx fy cx cy omega"),
 }
 
 
@@ -47,8 +48,6 @@ def read(path: Path, text: str):
             raise CameraFileError(f"{where}: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...")
         cid, model = parts[0], parts[1]
         if model not in MODELS:
-            if model == "FOV":
-                raise CameraFileError(f"{where}: COLMAP's FOV model is not supported; valid: {', '.join(MODELS)}")
             raise CameraFileError(f"{where}: unknown camera model {model!r}; valid: {', '.join(MODELS)}")
         name, keys = MODELS[model]
         keys = keys.split()
@@ -76,11 +75,11 @@ def read(path: Path, text: str):
 def colmap_model(lens) -> tuple[str, list[float]]:
     """The smallest COLMAP model that holds ``lens`` exactly, and its parameters."""
     v = dict(lens.param_values())
-    if lens.name not in ("opencv", "kannala-brandt", "opencv-fisheye"):
+    if lens.name not in ("opencv", "kannala-brandt", "opencv-fisheye", "devernay-fov"):
         raise LensError(f"COLMAP has no {lens.name} model; write OpenCV or Kalibr YAML, or lenslab TOML")
     v["cx"] += 0.5
     v["cy"] += 0.5
-    kind = "opencv" if lens.name == "opencv" else "kannala-brandt"
+    kind = "kannala-brandt" if lens.name == "opencv-fisheye" else lens.name
     for model, (name, keys) in MODELS.items():
         if name != kind or model.startswith("SIMPLE_RADIAL_FISHEYE") or model == "RADIAL_FISHEYE":
             continue

@@ -9,7 +9,7 @@ from __future__ import annotations
 # Modules whose classes register themselves; add a model by adding its module here.
 MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled",
                  "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "octahedron", "presets",
-                 "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam",
+                 "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam", "devernay_fov",
                  "chroma", "lensfun_profile")
 
 from lenslab.lenses.base import Lens, Param  # noqa: E402

@@ -218,6 +218,17 @@ def distort_kernel(x, y, a, b, p1, p2, s, tangential, fold, out_x, out_y, valid)
 
 
 @numba.njit(inline="always", **JIT)
+def _fov_factor(ru, omega, t2):
+    """``r_d / r_u`` of the FOV model, ``atan(r_u t2) / (omega r_u)`` with ``t2 = 2 tan(omega/2)`` (its
+    limits at ``r_u = 0`` and ``omega = 0``)."""
+    if omega == 0.0:
+        return 1.0
+    if ru > 0.0:
+        return math.atan(ru * t2) / (omega * ru)
+    return t2 / omega
+
+
+@numba.njit(inline="always", **JIT)
 def _store(i, u, v, width, height, slack, out, valid):
     """Pixel ``i`` if inside the image (within ``slack`` px of it counts, moved onto the edge)."""
     if u >= -slack and u <= width + slack and v >= -slack and v <= height + slack:
@@ -227,7 +238,7 @@ def _store(i, u, v, width, height, slack, out, valid):
 
 
 # -- direction -> pixel, fused: projection, distortion, intrinsics, image test -------------------------
-PINHOLE, EQUIDISTANT, UNIFIED, DOUBLE_SPHERE, EUCM = 0, 1, 2, 3, 4
+PINHOLE, EQUIDISTANT, UNIFIED, DOUBLE_SPHERE, EUCM, FOV = 0, 1, 2, 3, 4, 5
 
 
 @numba.njit(**JIT)
@@ -236,7 +247,8 @@ def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, f
     """lenslab directions (any length) -> lenslab pixels of a calibrated model, with validity.
 
     ``kind`` picks the projection to the normalised plane (in OpenCV's frame ``X, -Y, Z``) with its
-    parameters ``q``: PINHOLE ``X/Z``; EQUIDISTANT ``theta (X, Y)/rho``; UNIFIED (Mei) ``X/(Z + xi)``,
+    parameters ``q``: PINHOLE ``X/Z``; FOV ``X/Z`` scaled to ``r_d = atan(2 r_u tan(omega/2)) / omega``,
+    ``q = (omega, 2 tan(omega/2))``; EQUIDISTANT ``theta (X, Y)/rho``; UNIFIED (Mei) ``X/(Z + xi)``,
     ``q = (xi, w)``; DOUBLE_SPHERE ``q = (xi, alpha, w2)``; EUCM ``q = (alpha, beta, w)``. Then OpenCV's
     distortion (inside the fold, positive Jacobian), ``u = fx x + skew y + cx + 0.5``, ``v = fy y + cy + 0.5``
     and the image test (within ``slack`` px of the edges counts, moved onto them)."""
@@ -245,11 +257,16 @@ def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, f
         ok, X, Y, Z = _cv_ray(d, i, out, valid)
         if not ok:
             continue
-        if kind == PINHOLE:
+        if kind == PINHOLE or kind == FOV:
             if not Z > 0.0:
                 continue
             mx = X / Z
             my = Y / Z
+            if kind == FOV:  # Devernay-Faugeras: r_d = atan(2 r_u tan(omega/2)) / omega; q = (omega, 2 tan(omega/2))
+                ru = math.sqrt(mx * mx + my * my)
+                k = _fov_factor(ru, q[0], q[1])
+                mx *= k
+                my *= k
         elif kind == EQUIDISTANT:
             rho = math.sqrt(X * X + Y * Y)
             if rho > 0.0:
@@ -320,6 +337,17 @@ def unproject_kernel(xy, kind, q, a, b, p1, p2, s, distort, tangential, fold, hi
         r2 = mx * mx + my * my
         if kind == PINHOLE:
             X, Y, Z = mx, my, 1.0
+        elif kind == FOV:  # r_u = tan(r_d omega) / (2 tan(omega/2)), valid for r_d omega < pi/2
+            rd = math.sqrt(r2)
+            if not rd * q[0] < 0.5 * math.pi:
+                continue
+            if q[0] == 0.0:
+                k = 1.0
+            elif rd > 0.0:
+                k = math.tan(rd * q[0]) / (rd * q[1])
+            else:
+                k = q[0] / q[1]
+            X, Y, Z = mx * k, my * k, 1.0
         elif kind == EQUIDISTANT:
             th = math.sqrt(r2)
             if not th < math.pi:
