@@ -74,7 +74,7 @@ def _cached(name: str, length: int, dtype, build) -> np.ndarray:
         table = np.load(path, allow_pickle=False)
         if table.shape == (length,) and table.dtype == dtype:
             return table
-    except (OSError, ValueError):
+    except (OSError, ValueError, EOFError):  # missing, damaged or cut short: build it again
         pass
     table = np.ascontiguousarray(build(), dtype=dtype)
     try:
