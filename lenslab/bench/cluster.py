@@ -12,7 +12,7 @@ is made once per worker; its cost is set beside the cost of scattering the map's
 Convert: the same frames to EXR with ``--jobs 1``, ``--jobs 2`` and the two workers.
 
 Trace: ``tracer render --scheduler`` of a 2048x1024 panorama of the Cornell box at 64 spp (``--quick``:
-512x256 at 16 spp) on one worker and on two, the speed-up against one worker (aim: 1.7x). Both clusters
+4 spp) on one worker and on two, the speed-up against one worker (aim: 1.7x). Both clusters
 are started before the clock starts; every figure's machine load is in the JSON record.
 """
 
@@ -33,7 +33,7 @@ AIM_OVERHEAD_MS = 20.0  # scheduling cost of one task
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true",
-                        help="16 frames of 1024x512 and a 512x256 panorama at 16 spp (about a minute)")
+                        help="16 frames of 1024x512, and the panorama at 4 spp (a few minutes)")
     parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
     parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
 
@@ -216,7 +216,7 @@ def trace(args, tmp: Path) -> None:
     from lenslab.bench.results import figure, mark
     from lenslab.cluster.connect import local_cluster
 
-    size, spp = ("512x256", 16) if args.quick else ("2048x1024", 64)
+    size, spp = "2048x1024", (4 if args.quick else 64)
     exe = [shutil.which("tracer")] if shutil.which("tracer") else [sys.executable, "-m", "tracer.cli"]
     command = exe + ["render", "--scene", "cornell", "--camera", "equirect", "--seed", "1", "-q", "--overwrite"]
     times = {}
