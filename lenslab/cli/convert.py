@@ -279,6 +279,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.cli.options import parse_exposure
 
     exposure = parse_exposure(args.exposure)
+    display = display_options(args)  # bad display names: one usage error before any folder is made
     if args.bits and args.to in ("jpg", "exr", "pfm", "hdr"):
         from lenslab.errors import FormatError
         raise FormatError(f"--bits applies to png, ppm, pgm and tiff, not {args.to}")
@@ -320,7 +321,7 @@ def run(args: argparse.Namespace) -> int:
     options = {"to": args.to, "tone": args.tone, "exposure": exposure, "overwrite": args.overwrite,
                "quality": args.quality, "bits": args.bits, "pixel_type": args.pixel_type,
                "compression": args.compression, "data_window": args.data_window, "frames": args.frames,
-               **display_options(args)}
+               **display}
     from lenslab.cluster.run import skip_existing
 
     pairs, skipped = skip_existing(pairs, args.skip_existing)
