@@ -138,3 +138,19 @@ def test_real_panorama_against_opencv(tmp_path, shared_data):
     ours, _ = lio.read(tmp_path / "p.hdr")
     # Radiance's half step above OpenCV's value: at most the largest component / 256
     assert (np.abs(ours - theirs) <= theirs.max(axis=-1, keepdims=True) / 256 + 1e-30).all()
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+from hypothesis.extra.numpy import arrays  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(arrays(np.float32, (3, 9, 3), elements=st.floats(0, 2.0**100, width=32)), st.booleans())
+def test_encoder_matches_opencv_for_any_value(tmp_path_factory, pixels, rle):
+    """Any non-negative float32 (denormals to 2**100): the same RGBE bytes as OpenCV's encoder gives."""
+    d = tmp_path_factory.mktemp("h")
+    lio.write(d / "ours.hdr", pixels, rle=rle)
+    cv2.imwrite(str(d / "cv.hdr"), np.ascontiguousarray(pixels[..., ::-1]))
+    np.testing.assert_array_equal(cv2.imread(str(d / "ours.hdr"), cv2.IMREAD_UNCHANGED),
+                                  cv2.imread(str(d / "cv.hdr"), cv2.IMREAD_UNCHANGED))
