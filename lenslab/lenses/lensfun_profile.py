@@ -17,7 +17,7 @@ import numpy as np
 from lenslab.errors import LensError
 from lenslab.lenses.base import Lens, Param, as_points, clean, normalize
 from lenslab.lenses.chroma import ChannelLens, pa_falloff, tca_radials
-from lenslab.lenses.radial import Radial, scale_points
+from lenslab.lenses.radial import R_LIMIT, Radial, scale_points
 from lenslab.lenses.registry import register
 
 EFFECTS = ("distortion", "tca", "vignetting")
@@ -142,35 +142,6 @@ def plane_to_dir(kind: str, x: np.ndarray, y: np.ndarray, f: float) -> tuple[np.
     return d, ok
 
 
-def dir_to_plane(kind: str, d: np.ndarray, f: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Unit direction -> undistorted plane point (x, y up) and validity; the inverse of
-    :func:`plane_to_dir`."""
-    dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if kind == "rectilinear":
-            ok = dz > 0
-            return f * dx / dz, f * dy / dz, ok
-        if kind == "equirectangular":
-            return f * np.arctan2(dx, dz), f * np.arcsin(np.clip(dy, -1, 1)), np.ones(dx.shape, bool)
-        if kind == "panoramic":
-            h = np.hypot(dx, dz)
-            return f * np.arctan2(dx, dz), f * dy / h, h > 0
-        sxy = np.hypot(dx, dy)
-        theta = np.arctan2(sxy, dz)
-        if kind == "fisheye":
-            rho, ok = f * theta, np.ones(dx.shape, bool)
-        elif kind == "equisolid":
-            rho, ok = 2 * f * np.sin(theta / 2), theta < np.pi
-        elif kind == "stereographic":
-            rho, ok = 2 * f * np.tan(theta / 2), theta < np.pi
-        elif kind == "orthographic":
-            rho, ok = f * np.sin(theta), theta <= np.pi / 2
-        else:  # thoby
-            rho, ok = THOBY_K1 * f * np.sin(THOBY_K2 * theta), THOBY_K2 * theta <= np.pi / 2
-        k = np.where(sxy > 0, rho / sxy, 0.0)
-        return dx * k, dy * k, ok
-
-
 def parse_effects(text: str) -> tuple[str, ...]:
     words = [w.strip().lower() for w in str(text).replace("+", ",").replace("/", ",").split(",") if w.strip()]
     if words == ["all"]:
@@ -260,16 +231,20 @@ class LensfunLens(Lens):
         return clean(d, valid & ok, inplace=True)
 
     def dir_to_pixel_unbounded(self, dirs):
-        d = normalize(as_points(dirs, 3, "directions"))
-        nonzero = np.einsum("...i,...i->...", d, d) > 0.5
-        x, y, ok = dir_to_plane(self.profile.type, d, self.f)
-        q = np.stack([x, -y], -1)
-        ok &= nonzero & np.isfinite(q).all(-1)
-        q[~ok] = 0.0
+        """Pixels of directions, not tested against the image bounds (compiled: one pass)."""
+        from lenslab.lenses.lensfun_kernels import KINDS, dir_to_pixel
+
+        d = as_points(dirs, 3, "directions")
+        flat = np.ascontiguousarray(d.reshape(-1, 3))
+        out = np.empty((flat.shape[0], 2), dtype=np.float64)
+        valid = np.empty(flat.shape[0], dtype=bool)
         if self.dist is not None:
-            q, ok2 = scale_points(q, self.dist, invert=False)
-            ok &= ok2
-        return clean(q / self.norm + self.centre, ok, inplace=True)
+            coeffs, r_lim = self.dist.coeffs, min(self.dist.r_max, R_LIMIT)
+        else:
+            coeffs, r_lim = np.ones(1), np.inf
+        dir_to_pixel(flat, KINDS[self.profile.type], self.f, np.ascontiguousarray(coeffs, dtype=np.float64),
+                     float(r_lim), float(self.centre[0]), float(self.centre[1]), float(self.norm), out, valid)
+        return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
     def dir_to_pixel(self, dirs):
         xy, valid = self.dir_to_pixel_unbounded(dirs)
