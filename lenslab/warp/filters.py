@@ -113,6 +113,22 @@ def _bilinear(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
             alpha[r, c] = hits * inv
 
 
+@numba.njit(inline="always", cache=True)
+def lerp_at(flat, sw, sh, nc, x, y, wrap, top, bottom, out, r, c):
+    """``out[r, c]`` = the source bilinearly at float32 index coordinates ``(x, y)`` (lerps in float32)."""
+    fx0 = np.floor(x)
+    fy0 = np.floor(y)
+    tx = x - fx0
+    ty = y - fy0
+    p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
+    for ch in range(nc):
+        a = flat[p00 + ch]
+        b = flat[p01 + ch]
+        upper = a + tx * (flat[p10 + ch] - a)
+        lower = b + tx * (flat[p11 + ch] - b)
+        out[r, c, ch] = upper + ty * (lower - upper)
+
+
 @kernel.options(fastmath=True, error_model="numpy")
 def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
     """One sample per pixel (the common case, and the cached-map batch path): no accumulation, lerps."""
@@ -124,19 +140,7 @@ def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
                     out[r, c, ch] = 0.0
                 alpha[r, c] = 0.0
                 continue
-            x = xs[r, c]
-            y = ys[r, c]
-            fx0 = np.floor(x)
-            fy0 = np.floor(y)
-            tx = x - fx0
-            ty = y - fy0
-            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
-            for ch in range(nc):
-                a = flat[p00 + ch]
-                b = flat[p01 + ch]
-                upper = a + tx * (flat[p10 + ch] - a)
-                lower = b + tx * (flat[p11 + ch] - b)
-                out[r, c, ch] = upper + ty * (lower - upper)
+            lerp_at(flat, sw, sh, nc, xs[r, c], ys[r, c], wrap, top, bottom, out, r, c)
             alpha[r, c] = 1.0
 
 
@@ -152,19 +156,7 @@ def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alph
                 out[r, c, 2] = 0.0
                 alpha[r, c] = 0.0
                 continue
-            x = xs[r, c]
-            y = ys[r, c]
-            fx0 = np.floor(x)
-            fy0 = np.floor(y)
-            tx = x - fx0
-            ty = y - fy0
-            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, 3, wrap, top, bottom)
-            for ch in range(3):
-                a = flat[p00 + ch]
-                b = flat[p01 + ch]
-                upper = a + tx * (flat[p10 + ch] - a)
-                lower = b + tx * (flat[p11 + ch] - b)
-                out[r, c, ch] = upper + ty * (lower - upper)
+            lerp_at(flat, sw, sh, 3, xs[r, c], ys[r, c], wrap, top, bottom, out, r, c)
             alpha[r, c] = 1.0
 
 

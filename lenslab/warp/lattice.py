@@ -208,6 +208,23 @@ def lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need, dirs):
                 _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
 
 
+@numba.njit(inline="always", cache=True)
+def row_cubics(coef, cr, ca, st, ty, rc):
+    """``rc[q]``: the cubic in tx that cell ``ca``'s bicubic becomes along a row at ``ty`` (x, y for
+    state 1, the direction for state 2)."""
+    if st > 0:
+        q0, q1 = (0, 2) if st == 1 else (2, 5)
+        for q in range(q0, q1):
+            for a in range(4):
+                rc[q, a] = ((coef[cr, ca, q, 3, a] * ty + coef[cr, ca, q, 2, a]) * ty
+                            + coef[cr, ca, q, 1, a]) * ty + coef[cr, ca, q, 0, a]
+
+
+@numba.njit(inline="always", cache=True)
+def cubic(rc, q, tx):
+    return ((rc[q, 3] * tx + rc[q, 2]) * tx + rc[q, 1]) * tx + rc[q, 0]
+
+
 @numba.njit(cache=True, nogil=True)
 def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
     """:func:`lattice_eval` for offsets shared by every pixel: along a row of samples ty is fixed, so
@@ -229,21 +246,16 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
                 if ca != cur:
                     cur = ca
                     st = state[cb, ca]
-                    if st > 0:
-                        q0, q1 = (0, 2) if st == 1 else (2, 5)
-                        for q in range(q0, q1):
-                            for a in range(4):
-                                rc[q, a] = ((coef[cr, ca, q, 3, a] * ty + coef[cr, ca, q, 2, a]) * ty
-                                            + coef[cr, ca, q, 1, a]) * ty + coef[cr, ca, q, 0, a]
+                    row_cubics(coef, cr, ca, st, ty, rc)
                 tx = px - ca
                 x = y = dx = dy = dz = 0.0
                 if st == 1:
-                    x = ((rc[0, 3] * tx + rc[0, 2]) * tx + rc[0, 1]) * tx + rc[0, 0]
-                    y = ((rc[1, 3] * tx + rc[1, 2]) * tx + rc[1, 1]) * tx + rc[1, 0]
+                    x = cubic(rc, 0, tx)
+                    y = cubic(rc, 1, tx)
                 elif st == 2:
-                    dx = ((rc[2, 3] * tx + rc[2, 2]) * tx + rc[2, 1]) * tx + rc[2, 0]
-                    dy = ((rc[3, 3] * tx + rc[3, 2]) * tx + rc[3, 1]) * tx + rc[3, 0]
-                    dz = ((rc[4, 3] * tx + rc[4, 2]) * tx + rc[4, 1]) * tx + rc[4, 0]
+                    dx = cubic(rc, 2, tx)
+                    dy = cubic(rc, 3, tx)
+                    dz = cubic(rc, 4, tx)
                 _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
 
 

@@ -265,24 +265,27 @@ class Mapper:
         else:
             lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets, xs, ys, valid,
                          need, dirs)
-        flat = np.flatnonzero(need == NEED_PROJECT)
-        if len(flat):  # interpolated directions, projected by the source lens
-            xy, v = project(self.src.lens, dirs.reshape(-1, 3)[flat])
-            self._store(flat, xy, v, xs, ys, valid)
-        flat = np.flatnonzero(need == NEED_EXACT)
-        if len(flat):  # the cells the lattice cannot serve, sample by sample
-            r, c, k = np.unravel_index(flat, need.shape)
-            o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
-            xy, v = exact_map(self.src, self.dst, np.stack([c + o[:, 0], r0 + r + o[:, 1]], axis=-1))
-            self._store(flat, xy, v, xs, ys, valid)
+        for code in (NEED_PROJECT, NEED_EXACT):
+            flat = np.flatnonzero(need == code)
+            if len(flat):
+                self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
+                          valid.reshape(-1), flat)
         return MapBand(r0, r1, xs, ys, valid)
 
-    @staticmethod
-    def _store(flat, xy, v, xs, ys, valid) -> None:
-        """Write source positions ``xy`` (valid ``v``) as index coordinates at flat positions ``flat``."""
-        xs.reshape(-1)[flat] = np.where(v, xy[:, 0] - 0.5, 0.0)
-        ys.reshape(-1)[flat] = np.where(v, xy[:, 1] - 0.5, 0.0)
-        valid.reshape(-1)[flat] = v
+    def fill(self, flat, code, dirs, offsets, r0, shape, xs, ys, valid, at) -> None:
+        """Map the samples at flat positions ``flat`` of a band of ``shape`` (h, W, S) that the lattice
+        left: by their interpolated direction (``NEED_PROJECT``, projected by the source lens) or
+        exactly (``NEED_EXACT``); write their index coordinates and validity at ``at`` of the flat
+        arrays ``xs``, ``ys``, ``valid``."""
+        if code == NEED_PROJECT:
+            xy, v = project(self.src.lens, dirs.reshape(-1, 3)[flat])
+        else:
+            r, c, k = np.unravel_index(flat, shape)
+            o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
+            xy, v = exact_map(self.src, self.dst, np.stack([c + o[:, 0], r0 + r + o[:, 1]], axis=-1))
+        xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
+        ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
+        valid[at] = v
 
 
 EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
