@@ -1,9 +1,12 @@
-"""Convert images between EXR, PFM, PPM/PGM, JPG and PNG, many at a time.
+"""Convert images between EXR, Radiance HDR, TIFF, PFM, PPM/PGM, JPG and PNG, many at a time; video
+clips to one image per frame, and image sequences to a clip.
 
-Inputs may be files, directories (every image file in them) and glob patterns ('renders/*.exr';
-quote them to let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a
-single input, or next to each input. HDR sources (EXR, PFM) written to display formats (PPM/PGM, JPG,
-PNG) go through a tone curve first (--tone, --exposure), then the sRGB encoding.
+Inputs may be files, directories (every image file in them; --recursive: in sub-folders too, the tree
+mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any depth; quote them to
+let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a single input, or
+next to each input. HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go
+through a tone curve first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
+display transform instead (--display, --view). EXR to EXR keeps the input's pixel type.
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
@@ -13,6 +16,10 @@ examples:
   lenslab convert renders/ --to jpg -o previews/ --tone hable --exposure 1
   lenslab convert 'scans/*.ppm' --to exr --jobs 0
   lenslab convert pano.exr:left --to png -o left.png
+  lenslab convert hdris/ --recursive --to hdr -o hdr-copies/
+  lenslab convert pano.exr --to png --display Rec.2100-PQ --view 'HDR 1000 nits (Rec.2020)' -o pq.png
+  lenslab convert clip.mp4 --to exr -o frames/ --frames 0:48     (frames/clip.000000.exr ...)
+  lenslab convert 'frames/*.exr' --to mov -o clip.mov --rate 25
 """
 
 from __future__ import annotations

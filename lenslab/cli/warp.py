@@ -23,6 +23,8 @@ examples:
   lenslab warp 'frames/*.exr' -o fisheye/ --to fisheye:fov=200,mapping=equisolid --size 2048x2048
   lenslab warp fish.exr -o pano.exr --to equirect --size 4096x2048      (the camera comes from fish.exr)
   lenslab warp plate.exr -o undistorted.exr --stmap undistort.exr --filter bicubic --samples 4
+  lenslab warp clip.mp4 -o fish.mp4 --to fisheye:fov=180 --size 1080x1080 --frames 0:240
+      (video: every frame with one map; rate, colour tags and audio kept; PQ/HLG stay HDR)
 """
 
 from __future__ import annotations
