@@ -235,7 +235,10 @@ def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[s
     pairs, seen = [], {}
     for f in files:
         src, selector = split_selector(f)
-        dst = out if as_file else out / (src.stem + (f"_{selector.replace(':', '_')}" if selector else "") + ext)
+        from lenslab.cli.warp_video import is_video
+
+        own = src.suffix.lower() if fmt is None and is_video(src) else ext  # a clip stays a clip
+        dst = out if as_file else out / (src.stem + (f"_{selector.replace(':', '_')}" if selector else "") + own)
         if dst in seen:
             raise FormatError(f"{f} and {seen[dst]} would both be written to {dst}; warp them separately")
         seen[dst] = f
