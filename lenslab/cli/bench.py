@@ -6,6 +6,7 @@ because machines are shared and noisy.
   lenslab bench startup  whole-command wall time on a 256 x 128 image against python -c "import numpy"
   lenslab bench tone     megapixels per second per curve against numpy.clip
   lenslab bench warp     equirect -> fisheye warps against cv2.remap with precomputed maps
+  lenslab bench batch    8 EXR frames into a fisheye, whole process, against ffmpeg's v360
   lenslab bench cluster  32 frames and a traced panorama on two Dask workers against one local job
 """
 
@@ -20,6 +21,7 @@ TARGETS = {
     "startup": "wall time of convert, tonemap and warp on a small image",
     "tone": "tone curve throughput per curve",
     "warp": "warp throughput and peak memory",
+    "batch": "8 EXR frames into a fisheye, whole process, against ffmpeg's v360",
     "cluster": "a batch of frames and a traced panorama on Dask workers against one local job",
 }
 
