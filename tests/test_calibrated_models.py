@@ -1,6 +1,7 @@
 """Calibrated camera models against their sources: OpenCV's projectPoints, cv2.fisheye and cv2.omnidir
-(project and undistort), the double-sphere and EUCM papers' formulas and OCamCalib's cam2world,
-transcribed here in float64; fields beyond 180 degrees; round trips.
+(project and undistort, also at published calibrations), the double-sphere and EUCM papers' formulas and
+regions at the calibrations their authors published (Basalt), OCamCalib's cam2world, transcribed here in
+float64; fields beyond 180 degrees; round trips.
 
 Frames: OpenCV's pixel (u, v) is lenslab's (u + 0.5, v + 0.5) and OpenCV's camera (X, Y, Z) is lenslab's
 (X, -Y, Z) (docs/conventions.md, "Calibrated cameras").
@@ -16,6 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lenslab.calibfiles import read_lens
 from lenslab.lenses import make_lens
 
 #: OpenCV's answers are float64 evaluations of the same polynomials: they agree to ~1e-12 px; the
@@ -177,62 +179,216 @@ def test_omnidir_beyond_180_degrees_with_xi_above_1():
     assert v.all() and np.abs(back - d[:3]).max() < 1e-8  # next to the fold: rounding grows as 1/sqrt(eps)
 
 
-# -- double sphere and EUCM: the papers' formulas ----------------------------------------------------
-#: A calibration of the kind the double-sphere paper reports for its 195-degree TUM-VI lens (512 px,
-#: xi < 0, alpha > 0.5). The paper's table was not at hand offline: these numbers are of that order,
-#: and the assertions hold the implementation to the paper's equations, not to these values.
-DS = dict(fx=158.286, fy=158.274, cx=254.962, cy=256.895, xi=-0.171, alpha=0.572)
-EUCM = dict(fx=157.98, fy=157.93, cx=254.98, cy=256.89, alpha=0.626, beta=1.04)
+# -- double sphere and EUCM: the papers' formulas at published calibrations -------------------------------
+#: Published calibrations by the double-sphere paper's authors, from their Basalt project
+#: (github.com/VladyslavUsenko/basalt, data/*.json: camera 0's "intrinsics" and "resolution"): cam0 of TUM-VI's
+#: 512 px stereo pair (a 195-degree fisheye) and cam0 of EuRoC, each fitted with both models
+#: (tumvi_512_ds_calib.json, euroc_ds_calib.json, tumvi_512_eucm_calib.json, euroc_eucm_calib.json). Basalt puts
+#: pixel centres at integers, as OpenCV does: lenslab's pixel is Basalt's + 0.5.
+PUBLISHED = {
+    ("double-sphere", "tumvi"): ({"fx": 158.28600034966977, "fy": 158.2743455478755, "cx": 254.96116578191653,
+                                  "cy": 256.8894394501779, "xi": -0.17213086034353243, "alpha": 0.5931177593944744},
+                                 (512, 512)),
+    ("double-sphere", "euroc"): ({"fx": 349.7560023050409, "fy": 348.72454229977037, "cx": 365.89440762590149,
+                                  "cy": 249.32995565708704, "xi": -0.2409573942178872, "alpha": 0.566996899163044},
+                                 (752, 480)),
+    ("eucm", "tumvi"): ({"fx": 191.14799836282189, "fy": 191.13150963902818, "cx": 254.9585771534443,
+                         "cy": 256.88154645599448, "alpha": 0.6291060881178562, "beta": 1.0418067381860868},
+                        (512, 512)),
+    ("eucm", "euroc"): ({"fx": 460.76484651566468, "fy": 459.4051018049483, "cx": 365.8937161309615,
+                         "cy": 249.33499869752445, "alpha": 0.5903365915227143, "beta": 1.127468196965374},
+                        (752, 480)),
+}
+#: the paper's closed forms and lenslab's evaluate the same float64 expressions: they agree to ~1e-13 px and
+#: ~1e-16 in a unit ray; the required accuracy is 1e-6 px
+PAPER_TOL, RAY_TOL = 1e-9, 1e-12
 
 
-def ds_project(x, y, z, fx, fy, cx, cy, xi, alpha):
-    """Usenko et al. 2018, eqs. 40-45, transcribed (scalar floats)."""
-    d1 = math.sqrt(x * x + y * y + z * z)
-    d2 = math.sqrt(x * x + y * y + (xi * d1 + z) ** 2)
-    w1 = alpha / (1 - alpha) if alpha <= 0.5 else (1 - alpha) / alpha
+def spec_of(model, p, w, h):
+    return model + ":" + ",".join(f"{k}={v!r}" for k, v in p.items()) + f",width={w},height={h}"
+
+
+def papers_w(alpha):
+    """``w1`` (double sphere) or ``w`` (EUCM) of the papers' regions."""
+    return alpha / (1 - alpha) if alpha <= 0.5 else (1 - alpha) / alpha
+
+
+def ds_project(X, Y, Z, fx, fy, cx, cy, xi, alpha):
+    """Usenko et al. 2018, the double sphere projection and its region Omega, transcribed in float64 (OpenCV's
+    frame, Basalt's pixels): ``(u, v, in Omega)``."""
+    d1 = np.sqrt(X * X + Y * Y + Z * Z)
+    k = xi * d1 + Z
+    den = alpha * np.sqrt(X * X + Y * Y + k * k) + (1 - alpha) * k
+    w1 = papers_w(alpha)
     w2 = (w1 + xi) / math.sqrt(2 * w1 * xi + xi * xi + 1)
-    if not z > -w2 * d1:
-        return None
-    den = alpha * d2 + (1 - alpha) * (xi * d1 + z)
-    return fx * x / den + cx, fy * y / den + cy
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return fx * X / den + cx, fy * Y / den + cy, Z > -w2 * d1
 
 
-def eucm_project(x, y, z, fx, fy, cx, cy, alpha, beta):
-    """Khomutenko et al. 2016 with the validity region of Usenko et al. 2018, transcribed."""
-    d = math.sqrt(beta * (x * x + y * y) + z * z)
-    w = alpha / (1 - alpha) if alpha <= 0.5 else (1 - alpha) / alpha
-    if not z > -w * d:
-        return None
-    den = alpha * d + (1 - alpha) * z
-    return fx * x / den + cx, fy * y / den + cy
+def ds_unproject(u, v, fx, fy, cx, cy, xi, alpha):
+    """Usenko et al. 2018, the closed-form unprojection and its region Theta, transcribed: ``(ray, in Theta)``."""
+    mx, my = (u - cx) / fx, (v - cy) / fy
+    r2 = mx * mx + my * my
+    theta = r2 <= 1 / (2 * alpha - 1) if alpha > 0.5 else np.ones(r2.shape, bool)
+    mz = (1 - alpha * alpha * r2) / (alpha * np.sqrt(np.maximum(1 - (2 * alpha - 1) * r2, 0)) + 1 - alpha)
+    k = (mz * xi + np.sqrt(np.maximum(mz * mz + (1 - xi * xi) * r2, 0))) / (mz * mz + r2)
+    return np.c_[k * mx, k * my, k * mz - xi], theta
 
 
-@pytest.mark.parametrize("model,params,ref", [("double-sphere", DS, ds_project), ("eucm", EUCM, eucm_project)])
-def test_papers_projection_and_unprojection(model, params, ref):
-    spec = model + ":" + ",".join(f"{k}={v}" for k, v in params.items()) + ",width=512,height=512"
-    lens = make_lens(spec, (512, 512))
-    d = sphere(5000, 3)
+def eucm_project(X, Y, Z, fx, fy, cx, cy, alpha, beta):
+    """Khomutenko et al. 2016 with the region of Usenko et al. 2018, transcribed: ``(u, v, in Omega)``."""
+    d = np.sqrt(beta * (X * X + Y * Y) + Z * Z)
+    den = alpha * d + (1 - alpha) * Z
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return fx * X / den + cx, fy * Y / den + cy, Z > -papers_w(alpha) * d
+
+
+def eucm_unproject(u, v, fx, fy, cx, cy, alpha, beta):
+    """The EUCM's closed-form unprojection and its region Theta (Usenko et al. 2018), transcribed."""
+    mx, my = (u - cx) / fx, (v - cy) / fy
+    r2 = mx * mx + my * my
+    theta = r2 <= 1 / ((2 * alpha - 1) * beta) if alpha > 0.5 else np.ones(r2.shape, bool)
+    mz = (1 - beta * alpha * alpha * r2) / (alpha * np.sqrt(np.maximum(1 - (2 * alpha - 1) * beta * r2, 0))
+                                            + 1 - alpha)
+    ray = np.c_[mx, my, mz]
+    return ray / np.linalg.norm(ray, axis=1, keepdims=True), theta
+
+
+PAPER = {"double-sphere": (ds_project, ds_unproject), "eucm": (eucm_project, eucm_unproject)}
+
+
+@pytest.mark.parametrize("model,data", sorted(PUBLISHED))
+def test_papers_projection_and_unprojection_at_published_calibrations(model, data):
+    p, (w, h) = PUBLISHED[model, data]
+    lens = make_lens(spec_of(model, p, w, h), (w, h))
+    project, unproject = PAPER[model]
+    d = sphere(20000, 3)
     xy, ok = lens.dir_to_pixel(d)
-    seen = 0
-    for i, (x, y, z) in enumerate(to_cv(d)):
-        p = ref(x, y, z, **params)
-        if p is None:
-            assert not ok[i]
-            continue
-        p = (p[0] + 0.5, p[1] + 0.5)
-        if 0 <= p[0] <= 512 and 0 <= p[1] <= 512:
-            assert ok[i] and abs(xy[i, 0] - p[0]) < 1e-9 and abs(xy[i, 1] - p[1]) < 1e-9
-            seen += 1
-        else:
-            assert not ok[i]
-    assert seen > 2000
-    # the closed-form unprojection: pixel centres back through the transcribed projection
-    px = pixel_centres(512, 512, 4)
-    dd, v = lens.pixel_to_dir(px)
-    assert v.mean() > 0.7
-    for (x, y, z), (u0, v0) in zip(to_cv(dd[v])[::7], px[v][::7]):
-        u1, v1 = ref(x, y, z, **params)
-        assert abs(u1 + 0.5 - u0) < RT_TOL and abs(v1 + 0.5 - v0) < RT_TOL
+    u, v, omega = project(*to_cv(d).T, **p)
+    ref = np.c_[u, v] + 0.5  # Basalt's pixel -> lenslab's
+    inside = omega & (ref[:, 0] >= 0) & (ref[:, 0] <= w) & (ref[:, 1] >= 0) & (ref[:, 1] <= h)
+    np.testing.assert_array_equal(ok, inside)
+    assert ok.sum() > 2000 and np.abs(xy[ok] - ref[ok]).max() < PAPER_TOL  # EuRoC sees 1/8 of the sphere
+    # every pixel centre of the calibration image: the paper's unprojection of Basalt's pixel (x - 0.5, y - 0.5)
+    px = pixel_centres(w, h, 2)
+    dd, valid = lens.pixel_to_dir(px)
+    ray, theta = unproject(px[:, 0] - 0.5, px[:, 1] - 0.5, **p)
+    assert theta.all() and valid.all()  # the whole image lies inside Theta (and Omega: next test)
+    assert np.abs(to_cv(dd) - ray).max() < RAY_TOL
+    # and the paper's projection takes lenslab's rays back to the pixel centres
+    u, v, omega = project(*to_cv(dd).T, **p)
+    assert omega.all() and np.abs(np.c_[u, v] + 0.5 - px).max() < PAPER_TOL
+
+
+@pytest.mark.parametrize("model,data", sorted(PUBLISHED))
+def test_papers_validity_regions_at_published_calibrations(model, data):
+    """Omega, the directions the projection accepts (a cone about the axis set by xi and alpha, or alpha and
+    beta), and Theta, the pixels the unprojection accepts (a disc, alpha > 0.5 in all four), at the published
+    numbers. The calibration images stop short of the regions' edges (TUM-VI's corners are 120 degrees off the
+    axis, Omega's edge 125), so the same lens is also put on a canvas that holds them: the principal point at
+    its centre."""
+    p, (w, h) = PUBLISHED[model, data]
+    project, unproject = PAPER[model]
+    al = p["alpha"]
+    wv = papers_w(al)
+    if model == "double-sphere":
+        xi = p["xi"]
+        t_max = math.acos(-(wv + xi) / math.sqrt(2 * wv * xi + xi * xi + 1))  # z > -w2 |x| on the unit sphere
+        r_max = 1 / math.sqrt(2 * al - 1)
+    else:  # z > -w sqrt(beta (x^2 + y^2) + z^2): behind the camera, tan^2 = (1 - w^2) / (w^2 beta)
+        t_max = math.pi - math.atan(math.sqrt((1 - wv * wv) / (wv * wv * p["beta"])))
+        r_max = 1 / math.sqrt((2 * al - 1) * p["beta"])
+    assert al > 0.5 and 120 < math.degrees(t_max) < 140  # fields of view of 250 to 270 degrees
+    # the calibration image lies inside both regions: its corners are the farthest from the axis
+    corners = np.array([[-0.5, -0.5], [w - 0.5, -0.5], [-0.5, h - 0.5], [w - 0.5, h - 0.5]])  # lenslab's 0 and W
+    ray, theta = unproject(corners[:, 0], corners[:, 1], **p)
+    assert theta.all() and np.arccos(ray[:, 2]).max() < t_max
+    c = math.ceil(1.1 * max(p["fx"], p["fy"]) * r_max)
+    q = dict(p, cx=c - 0.5, cy=c - 0.5)
+    big = make_lens(spec_of(model, q, 2 * c, 2 * c), (2 * c, 2 * c))
+    # Omega's edge, along eight azimuths
+    phi = np.linspace(0, 2 * math.pi, 8, endpoint=False)
+    for t, want in ((t_max - 1e-7, True), (t_max + 1e-7, False)):
+        d = np.c_[math.sin(t) * np.cos(phi), math.sin(t) * np.sin(phi), np.full(8, math.cos(t))]
+        assert (big.dir_to_pixel(d)[1] == want).all() and (project(*to_cv(d).T, **q)[2] == want).all()
+    # Basalt's own test points (test_camera.cpp: x, y in -10..10, z in -5..5): valid exactly in Omega
+    g = np.stack(np.meshgrid(np.arange(-10, 11), np.arange(-10, 11), np.arange(-5, 6)), -1).reshape(-1, 3)
+    g = g[np.abs(g).sum(axis=1) > 0].astype(float)
+    xy, ok = big.dir_to_pixel(to_cv(g))
+    u, v, omega = project(*g.T, **q)
+    np.testing.assert_array_equal(ok, omega)
+    assert 0 < ok.sum() < len(g) and np.abs(xy[ok] - np.c_[u, v][ok] - 0.5).max() < PAPER_TOL
+    # Theta, and the pixels of Omega's edge: for the double sphere that circle lies just inside Theta's, and the
+    # pixels between unproject to rays outside Omega (invalid); for the EUCM the two circles are one
+    r_edge = math.hypot(*(np.r_[project(math.sin(t_max), 0.0, math.cos(t_max), **q)[:2]] - (c - 0.5))
+                        / (q["fx"], q["fy"]))
+    assert (r_edge < r_max * (1 - 1e-5)) if model == "double-sphere" else r_edge == pytest.approx(r_max, rel=1e-12)
+    r = np.r_[np.linspace(0.0, 1.2 * r_max, 2001), r_edge * (1 - 1e-9), r_edge * (1 + 1e-9),
+              0.5 * (r_edge + r_max), r_max * (1 - 1e-9), r_max * (1 + 1e-9)]
+    for a in (0.3, 2.0, 4.4):  # Basalt's pixels on rays from the principal point; lenslab's are 0.5 further
+        u, v = c - 0.5 + q["fx"] * r * math.cos(a), c - 0.5 + q["fy"] * r * math.sin(a)
+        dd, valid = big.pixel_to_dir(np.c_[u, v] + 0.5)
+        ray, theta = unproject(u, v, **q)
+        np.testing.assert_array_equal(valid, theta & project(*ray.T, **q)[2])
+        assert np.abs(to_cv(dd[valid]) - ray[valid]).max() < RAY_TOL
+        assert valid[-5] and not valid[-4] and not valid[-1]
+        assert valid[-2] == (model == "eucm") and (model == "eucm" or not valid[-3])
+
+
+@pytest.mark.parametrize("data,radius,tol", [("tumvi", 200, 0.03), ("euroc", 400, 0.02)])
+def test_basalts_double_sphere_and_eucm_fits_describe_one_lens(data, radius, tol):
+    """Basalt fitted both models to one calibration sequence: with those numbers, lenslab's double sphere and
+    EUCM send every pixel centre within ``radius`` px of the centre to the same ray (one model's ray, the
+    other's pixel). The bound is the two fits' own disagreement (measured: 0.019 px TUM-VI, 0.008 px EuRoC);
+    a misread parameter moves pixels by tens of px (xi's sign: 60 px on TUM-VI)."""
+    (p, (w, h)), (q, _) = PUBLISHED["double-sphere", data], PUBLISHED["eucm", data]
+    ds = make_lens(spec_of("double-sphere", p, w, h), (w, h))
+    eu = make_lens(spec_of("eucm", q, w, h), (w, h))
+    px = pixel_centres(w, h)
+    px = px[np.hypot(px[:, 0] - 0.5 - p["cx"], px[:, 1] - 0.5 - p["cy"]) < radius]
+    d, ok = ds.pixel_to_dir(px)
+    back, ok2 = eu.dir_to_pixel(d)
+    assert ok.all() and ok2.all() and np.abs(back - px).max() < tol
+
+
+#: Kannala-Brandt calibrations as published, read from a Kalibr camchain (pinhole-equidistant)
+KB_PUBLISHED = {
+    # TUM-VI's own Kalibr calibration of cam0 at 512 px, from the dataset's camchain (quoted in full precision
+    # by ORB-SLAM3's Examples/Monocular/TUM-VI.yaml): the lens of PUBLISHED[..., "tumvi"]
+    "tumvi": ([190.97847715128717, 190.9733070521226, 254.93170605935475, 256.8974428996504],
+              [0.0034823894022493434, 0.0007150348452162257, -0.0020532361418706202, 0.00020293673591811182],
+              [512, 512]),
+    # Basalt's data/t265_kb4_calib.json, camera 0 (Intel RealSense T265; Basalt's kb4 is this model)
+    "t265": ([286.60144163375528, 286.4617087423328, 422.2765876951761, 395.2246466040553],
+             [-0.006762412326815424, 0.045170283325720008, -0.043515167278210638, 0.008374959821591333],
+             [848, 800]),
+}
+
+
+@pytest.mark.parametrize("data", sorted(KB_PUBLISHED))
+def test_published_kannala_brandt_calibrations_match_cv2_fisheye(tmp_path, data):
+    (fx, fy, cx, cy), k, (w, h) = KB_PUBLISHED[data]
+    path = tmp_path / "camchain.yaml"
+    path.write_text(f"cam0:\n  camera_model: pinhole\n  intrinsics: {[fx, fy, cx, cy]}\n"
+                    f"  distortion_model: equidistant\n  distortion_coeffs: {k}\n  resolution: {[w, h]}\n")
+    lens = read_lens(str(path))
+    d = sphere(20000, 7)
+    xy, ok = lens.dir_to_pixel(d)
+    front = d[:, 2] > 1e-3  # cv2.fisheye divides by Z: the front hemisphere only
+    ref, _ = cv2.fisheye.projectPoints(to_cv(d[front]).reshape(-1, 1, 3), np.zeros(3), np.zeros(3),
+                                       np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1.0]]), np.array(k))
+    ref = ref.reshape(-1, 2) + 0.5
+    inside = (ref[:, 0] > 1e-3) & (ref[:, 0] < w - 1e-3) & (ref[:, 1] > 1e-3) & (ref[:, 1] < h - 1e-3)
+    assert ok[front][inside].all() and inside.sum() > 5000
+    assert np.abs(ref[ok[front]] - xy[front][ok[front]]).max() < CV_TOL
+    # the image's corners lie beyond 90 degrees, where cv2.fisheye cannot go: theta_d transcribed
+    behind = ok & ~front
+    assert behind.sum() > 100
+    X, Y, Z = to_cv(d[behind]).T
+    rho = np.hypot(X, Y)
+    t = np.arctan2(rho, Z)
+    td = t * (1 + k[0] * t**2 + k[1] * t**4 + k[2] * t**6 + k[3] * t**8)
+    assert np.abs(np.c_[fx * td * X / rho + cx, fy * td * Y / rho + cy] + 0.5 - xy[behind]).max() < CV_TOL
 
 
 def test_double_sphere_and_eucm_see_beyond_180_degrees():
