@@ -9,12 +9,41 @@
    renders its Cornell box at about 0.6 Msamples/s with scalar_rgb and 2 with llvm_ad_rgb on a
    machine of this kind).
 3. Peak memory of a render at two sample counts: bounded by the batch size, not by spp.
+4. ``--vs-mitsuba`` (when Mitsuba 3 is installed; it is not a dependency of the project): whole process,
+   ``tracer render --scene cornell`` against a Python process in which Mitsuba 3 ``scalar_rgb`` renders its
+   own Cornell box (``mi.cornell_box()``) at the same size, spp and depth (Mitsuba's max_depth is the
+   tracer's plus one) and writes it as EXR; ``--runs`` runs each, interleaved; medians of wall and CPU time
+   (user + system of the child process), as ratios tracer / Mitsuba (aim: at most 0.6x).
+
+Aims (printed with met/MISSED and written with ``--json FILE``, benchmark name "tracer"): primary rays at
+least 0.9x raw embree's throughput on the same rays; the Cornell box within 0.6x Mitsuba's time.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
 import time
+
+AIM_PRIMARY = 0.9  # tracer throughput / raw embree throughput, same rays
+AIM_MITSUBA = 0.6  # tracer time / Mitsuba 3 scalar_rgb time, whole process
+
+# Mitsuba 3 renders its own Cornell box: argv = size, spp, max_depth (Mitsuba's count), output EXR
+MITSUBA_SCRIPT = """
+import sys
+import mitsuba as mi
+mi.set_variant("scalar_rgb")
+scene = mi.cornell_box()
+scene["integrator"]["max_depth"] = int(sys.argv[3])
+scene["sensor"]["film"]["width"] = scene["sensor"]["film"]["height"] = int(sys.argv[1])
+scene["sensor"]["sampler"]["sample_count"] = int(sys.argv[2])
+mi.util.write_bitmap(sys.argv[4], mi.render(mi.load_dict(scene)))
+"""
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -23,8 +52,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-depth", type=int, default=8, help="maximum bounces (default 8)")
     p.add_argument("--rr-depth", type=int, default=5,
                    help="bounces before Russian roulette (default 5, Mitsuba's default, for a like-for-like figure)")
-    p.add_argument("--repeat", type=int, default=7, help="timing repeats; the best is kept (default 5)")
+    p.add_argument("--repeat", type=int, default=7, help="timing repeats; the best is kept (default 7)")
     p.add_argument("--threads", type=int, help="threads for the 'all threads' figures (default: every core)")
+    p.add_argument("--vs-mitsuba", action="store_true",
+                   help="also time the whole 'tracer render' of the Cornell box at --size and 64 spp against Mitsuba 3 "
+                        "scalar_rgb rendering its own Cornell box (needs 'import mitsuba'; skipped with a note without it)")
+    p.add_argument("--runs", type=int, default=5, help="whole-process runs of each renderer for --vs-mitsuba (default 5)")
+    p.add_argument("--mitsuba-only", action="store_true", help="only the --vs-mitsuba figures")
+    p.add_argument("--json", metavar="FILE", help="also write every figure, its aim and whether it is met, as JSON")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --json FILE")
 
 
 def _best(fn, repeat: int) -> tuple[float, float]:
@@ -44,7 +80,27 @@ def _line(label: str, wall: float, cpu: float, base: tuple[float, float], n: int
 
 
 def run(args) -> int:
+    from lenslab.bench import results
+
+    if args.json:  # refused before the benchmark runs, not after
+        from lenslab.cli.policy import check_output
+
+        check_output(args.json, (), args.overwrite)
+    record = results.start()
+    if not args.mitsuba_only:
+        throughput(args)
+    if args.vs_mitsuba or args.mitsuba_only:
+        vs_mitsuba(args)
+    if args.json:
+        results.write(args.json, "tracer", record, argv=sys.argv[1:], overwrite=args.overwrite)
+        print(f"figures written to {args.json}")
+    return 0
+
+
+def throughput(args) -> None:
     import numpy as np
+
+    from lenslab.bench.results import figure, mark
 
     from tracer.accel import cpu_count, pool
     from tracer.load import load_scene
@@ -74,6 +130,13 @@ def run(args) -> int:
     print(_line(f"embree run, {threads} threads (baseline)", *baseN, baseN, n, "rays"))
     oursN = _best(lambda: accel.intersect(o32, d32, threads=threads), args.repeat)
     print(_line(f"tracer intersect, {threads} threads", *oursN, baseN, n, "rays"))
+    for key, label, base, ours in (("primary_1_thread", "1 thread", base1, ours1),
+                                   ("primary_float64_1_thread", "float64 rays in, 1 thread", base1, ours64),
+                                   ("primary_all_threads", f"{threads} threads", baseN, oursN)):
+        ok = figure(f"tracer.{key}", f"primary rays, {label}: tracer / raw embree throughput", base[0] / ours[0], "x",
+                    aim=AIM_PRIMARY, better="higher")
+        print(f"  {label:<34s} tracer / raw embree throughput {base[0] / ours[0]:5.2f}x (aim at least {AIM_PRIMARY}x) "
+              f"{mark(ok)}")
 
     size = args.size
     pcam = scene.camera(size=(size, size))
@@ -105,4 +168,55 @@ def run(args) -> int:
         tracemalloc.stop()
     print(f"\nmemory (128x128, batch 32768 samples): peak {peaks[0] / 2**20:.1f} MiB at 4 spp, "
           f"{peaks[1] / 2**20:.1f} MiB at 64 spp ({peaks[1] / peaks[0]:.2f}x for 16x the samples)")
-    return 0
+
+
+def _process(cmd: list[str]) -> tuple[float, float]:
+    """Wall seconds and CPU seconds (the child's user + system) of one whole process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode:
+        raise RuntimeError(f"{' '.join(cmd[:4])}... failed: {done.stderr.strip()[-400:]}")
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def vs_mitsuba(args, spp: int = 64) -> None:
+    import importlib.util
+
+    from lenslab.bench.results import figure, mark
+
+    if importlib.util.find_spec("mitsuba") is None:
+        print("\nvs Mitsuba: mitsuba is not installed (it is not a dependency of lenslab; 'pip install mitsuba' "
+              "to measure it); figure skipped")
+        return
+    size = args.size
+    with tempfile.TemporaryDirectory(prefix="tracer-bench-") as tmp:
+        ours = [sys.executable, "-m", "tracer.cli", "render", "--scene", "cornell", "--size", f"{size}x{size}",
+                "--spp", str(spp), "--max-depth", str(args.max_depth), "-o", os.path.join(tmp, "tracer.exr"),
+                "--overwrite", "-q"]
+        if args.threads:
+            ours += ["--threads", str(args.threads)]
+        theirs = [sys.executable, "-c", MITSUBA_SCRIPT, str(size), str(spp), str(args.max_depth + 1),
+                  os.path.join(tmp, "mitsuba.exr")]
+        _process(ours)  # compiled kernels cached, files in the page cache: both start warm
+        _process(theirs)
+        print(f"\nvs Mitsuba 3 scalar_rgb, whole process: Cornell box {size}x{size}, {spp} spp, max depth "
+              f"{args.max_depth} bounces (Mitsuba's max_depth {args.max_depth + 1}), {args.runs} runs each, "
+              f"interleaved, medians (load {os.getloadavg()[0]:.2f})")
+        runs: dict[str, list[tuple[float, float]]] = {"tracer": [], "mitsuba": []}
+        for _ in range(max(1, args.runs)):
+            runs["tracer"].append(_process(ours))
+            runs["mitsuba"].append(_process(theirs))
+    med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in runs.items()}
+    for name, (wall, cpu) in med.items():
+        spread = [w for w, _ in runs[name]]
+        print(f"  {name:<8s} {wall:6.2f} s wall ({min(spread):.2f}-{max(spread):.2f}) {cpu:6.2f} s cpu")
+    for i, what in enumerate(("wall", "cpu")):
+        ratio = med["tracer"][i] / med["mitsuba"][i]
+        ok = figure(f"tracer.cornell_vs_mitsuba_{what}",
+                    f"Cornell box {size}x{size} {spp} spp, whole process: tracer / Mitsuba 3 scalar_rgb {what} time",
+                    ratio, "x", aim=AIM_MITSUBA)
+        print(f"  tracer / Mitsuba {what:<4s} {ratio:5.2f}x (aim at most {AIM_MITSUBA}x) {mark(ok)}")
+    print(f"  (load at the end {os.getloadavg()[0]:.2f})")
