@@ -36,11 +36,10 @@ from pathlib import Path
 
 from lenslab.cli.policy import image_size, positive_int
 
-from lenslab.io.registry import hdr_formats, writable
+from lenslab.io.registry import writable
 
 #: every format lenslab writes, from the format plugins (lenslab.io.formats)
 OUTPUT_FORMATS = writable()
-LDR = tuple(f for f in OUTPUT_FORMATS if f not in hdr_formats())
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -125,90 +124,10 @@ def parse_size(text: str) -> tuple[int, int]:
     return size
 
 
-def parse_vector(text: str, what: str) -> tuple[float, float, float]:
-    from lenslab.errors import WarpError
-
-    try:
-        v = tuple(float(p) for p in str(text).split(","))
-    except ValueError:
-        v = ()
-    if len(v) != 3:
-        raise WarpError(f"{what} {text!r} must be three numbers X,Y,Z, e.g. 0,0,1")
-    return v
-
-
-def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
-    """The source camera: --from, else the file's camera, else equirect for a 2:1 image."""
-    from lenslab.errors import WarpError
-    from lenslab.lenses import Camera
-
-    h, w = shape[:2]
-    if spec:
-        return Camera.from_spec(spec, (w, h))
-    cam = meta.get("camera")
-    if cam is not None:
-        if cam.size != (w, h):
-            return Camera(cam.lens.with_size(w, h), cam.pose)
-        return cam
-    if w == 2 * h:
-        return Camera.from_spec("equirect", (w, h))
-    raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
-                    "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
-
-
-def default_size(spec: str, src_h: int) -> tuple[int, int]:
-    from lenslab.calibfiles import is_camera_file
-    from lenslab.lenses.registry import make_lens, parse_spec
-
-    if is_camera_file(spec):  # a calibrated camera: the size it was calibrated at
-        lens = make_lens(spec)
-        return lens.width, lens.height
-    name, _ = parse_spec(spec)
-    if name == "equirect":
-        return 2 * src_h, src_h
-    if name == "cubemap":
-        face = max(1, src_h // 2)
-        return 3 * face, 2 * face
-    from lenslab.lenses.registry import lens_class
-
-    aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
-    if aspect:
-        return max(1, round(src_h * aspect)), src_h
-    return src_h, src_h
-
-
-def output_camera(args, src, size: tuple[int, int]):
-    """The output camera: its lens at ``size``, its pose in the world frame (the source's pose, if its
-    file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise."""
-    import numpy as np
-
-    from lenslab.lenses import Camera, Pose, make_lens
-
-    lens = make_lens(args.to, size)
-    eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
-    if args.look_at:
-        target = np.add(eye, parse_vector(args.look_at, "--look-at"))
-        return Camera(lens, Pose.look_at(eye, target))
-    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
-
-
-def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):
-    """Hook for --autoscale: the output camera scaled to fit the source (provided by lenslab.fit)."""
-    from lenslab.errors import WarpError
-
-    try:
-        from lenslab.fit.autoscale import autoscale_camera as fit_autoscale
-    except ImportError:
-        raise WarpError("--autoscale is not available in this installation (lenslab.fit.autoscale is missing); "
-                        "give the output lens's parameters explicitly") from None
-    return fit_autoscale(src, dst, mode, samples,
-                         report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)),
-                         verbose=verbose)
-
-
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs."""
+    from lenslab.cli.warp_cameras import default_size
     from lenslab.lenses.registry import make_lens
     from lenslab.tone import get_curve
 
@@ -246,94 +165,13 @@ def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[s
     return pairs
 
 
-def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
-    import numpy as np
-
-    from lenslab.cli.policy import check_output
-    from lenslab.errors import FormatError
-    from lenslab.io import read, write
-    from lenslab.cli.warp_video import is_video, warp_video
-    from lenslab.io.detect import format_for_path
-
-    if is_video(src_path):  # every frame with one map, to a video
-        return warp_video(src_path, dst_path, args, cache)
-    fmt = format_for_path(dst_path, None)
-    check_output(dst_path, [src_path], args.overwrite)
-    image, meta = read(src_path)
-    has_alpha = image.shape[2] in (2, 4)
-    if args.stmap:
-        from lenslab.stmap import warp_with_st_map
-
-        dst = None
-        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
-                                         progress=progress)
-    else:
-        src = source_camera(args.source, meta, image.shape)
-        size = args.size or default_size(args.to, image.shape[0])
-        dst = output_camera(args, src, size)
-        if args.autoscale:
-            dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
-        out, coverage = cache.warp(image, src, dst, progress=progress)
-    if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
-        colour, alpha = out[..., :-1], out[..., -1]
-    else:
-        colour, alpha = out, coverage
-    keep_alpha = not args.no_alpha and fmt in ("exr", "png")
-    exposure = args.exposure
-    shown: dict = {}
-    if getattr(args, "display", None):  # an OpenColorIO display transform instead of the tone curve
-        from lenslab.cli.display import apply_display
-        from lenslab.io.registry import get
-
-        if exposure == "auto":
-            raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
-        rgba = np.concatenate([colour * np.float32(2.0 ** float(exposure)), alpha[..., None]], axis=-1)
-        mapped, shown = apply_display(rgba, get(fmt), {**vars(args), "bits": None})
-        colour, alpha = mapped[..., :-1], mapped[..., -1]
-    elif fmt in LDR and (not meta["display_encoded"] or exposure == "auto"):
-        from lenslab.tone import tonemap
-
-        rgba = np.concatenate([colour, alpha[..., None]], axis=-1)
-        mapped = tonemap(rgba, curve=args.tone, exposure=exposure)
-        colour, alpha = mapped[..., :-1], mapped[..., -1]
-    elif exposure == "auto":
-        raise FormatError("--exposure auto applies when writing display formats (png, jpg, ppm, pgm)")
-    elif float(exposure) != 0.0:
-        colour = colour * np.float32(2.0 ** float(exposure))
-    opts: dict = {}
-    if keep_alpha:
-        if colour.shape[2] == 1 and fmt == "png":
-            colour = np.repeat(colour, 3, axis=2)
-        result = np.concatenate([colour, alpha[..., None]], axis=-1)
-        if fmt == "exr" and colour.shape[2] == 1:
-            opts["channels"] = ["Y", "A"]
-    else:
-        result = colour
-    if fmt == "exr":
-        opts["camera"] = dst
-        opts["pixel_type"] = args.pixel_type
-    opts.update(shown)
-    write(dst_path, result, format=fmt, overwrite=args.overwrite, **opts)
-
-
-def plan_cache(args):
-    """The plans (maps) of this command's warps, one per geometry, made once and reused."""
-    from lenslab.warp import WarpPlan
-    from lenslab.warp.batch import PlanCache
-
-    factory = WarpPlan
-    if args.compat == "v360":
-        from lenslab.warp.compat_v360 import V360Plan as factory
-    return PlanCache(factory=factory, filter=args.filter, samples=args.samples, antialias=args.antialias,
-                     seed=args.seed, allow_parallax=args.allow_parallax, exact_map=args.exact_map)
-
-
 def run(args: argparse.Namespace) -> int:
     import warnings
 
     from tqdm import tqdm
 
     from lenslab.cli.convert import expand_inputs
+    from lenslab.cli.warp_file import plan_cache, warp_one
     from lenslab.cli.policy import make_output_dir, user_notes
     from lenslab.errors import LenslabError, WarpError
 

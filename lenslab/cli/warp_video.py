@@ -9,7 +9,7 @@ from pathlib import Path
 
 
 def add_video_arguments(parser: argparse.ArgumentParser) -> None:
-    from lenslab.io.formats.video import CODECS
+    from lenslab.io.codecs import CODECS
 
     g = parser.add_argument_group("video (MP4, MOV, MKV inputs)")
     g.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
@@ -52,7 +52,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     from tqdm import tqdm
 
     from lenslab.cli.policy import check_output
-    from lenslab.cli.warp import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
     from lenslab.errors import FormatError
     from lenslab.io.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames

@@ -28,7 +28,7 @@ import numpy as np
 
 from lenslab.errors import FormatError
 
-from lenslab.io.formats.video import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
+from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 
 #: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
 REFERENCE_WHITE = 203.0

@@ -1,0 +1,87 @@
+"""The cameras of ``lenslab warp``: the source's (--from, the file's own, or a 2:1 panorama), the output's
+(--to at --size, posed by --yaw/--pitch/--roll or --look-at, --eye), its default size, --autoscale."""
+
+from __future__ import annotations
+
+import sys
+
+
+def parse_vector(text: str, what: str) -> tuple[float, float, float]:
+    from lenslab.errors import WarpError
+
+    try:
+        v = tuple(float(p) for p in str(text).split(","))
+    except ValueError:
+        v = ()
+    if len(v) != 3:
+        raise WarpError(f"{what} {text!r} must be three numbers X,Y,Z, e.g. 0,0,1")
+    return v
+
+
+def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
+    """The source camera: --from, else the file's camera, else equirect for a 2:1 image."""
+    from lenslab.errors import WarpError
+    from lenslab.lenses import Camera
+
+    h, w = shape[:2]
+    if spec:
+        return Camera.from_spec(spec, (w, h))
+    cam = meta.get("camera")
+    if cam is not None:
+        if cam.size != (w, h):
+            return Camera(cam.lens.with_size(w, h), cam.pose)
+        return cam
+    if w == 2 * h:
+        return Camera.from_spec("equirect", (w, h))
+    raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
+                    "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
+
+
+def default_size(spec: str, src_h: int) -> tuple[int, int]:
+    from lenslab.calibfiles import is_camera_file
+    from lenslab.lenses.registry import make_lens, parse_spec
+
+    if is_camera_file(spec):  # a calibrated camera: the size it was calibrated at
+        lens = make_lens(spec)
+        return lens.width, lens.height
+    name, _ = parse_spec(spec)
+    if name == "equirect":
+        return 2 * src_h, src_h
+    if name == "cubemap":
+        face = max(1, src_h // 2)
+        return 3 * face, 2 * face
+    from lenslab.lenses.registry import lens_class
+
+    aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
+    if aspect:
+        return max(1, round(src_h * aspect)), src_h
+    return src_h, src_h
+
+
+def output_camera(args, src, size: tuple[int, int]):
+    """The output camera: its lens at ``size``, its pose in the world frame (the source's pose, if its
+    file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise."""
+    import numpy as np
+
+    from lenslab.lenses import Camera, Pose, make_lens
+
+    lens = make_lens(args.to, size)
+    eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
+    if args.look_at:
+        target = np.add(eye, parse_vector(args.look_at, "--look-at"))
+        return Camera(lens, Pose.look_at(eye, target))
+    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
+
+
+def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):
+    """Hook for --autoscale: the output camera scaled to fit the source (provided by lenslab.fit)."""
+    from lenslab.errors import WarpError
+
+    try:
+        from lenslab.fit.autoscale import autoscale_camera as fit_autoscale
+    except ImportError:
+        raise WarpError("--autoscale is not available in this installation (lenslab.fit.autoscale is missing); "
+                        "give the output lens's parameters explicitly") from None
+    return fit_autoscale(src, dst, mode, samples,
+                         report=None if quiet else (lambda line: print(f"lenslab warp: {line}", file=sys.stderr)),
+                         verbose=verbose)

@@ -1,0 +1,91 @@
+"""One file warped as ``lenslab warp`` does it, here or on a cluster worker: an image (read, warp through
+the plan cache, tone-map or display-transform, write) or a clip (:mod:`lenslab.cli.warp_video`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
+    import numpy as np
+
+    from lenslab.cli.policy import check_output
+    from lenslab.errors import FormatError
+    from lenslab.io import read, write
+    from lenslab.cli.warp_video import is_video, warp_video
+    from lenslab.io.detect import format_for_path
+    from lenslab.io.registry import hdr_formats
+
+    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
+
+    if is_video(src_path):  # every frame with one map, to a video
+        return warp_video(src_path, dst_path, args, cache)
+    fmt = format_for_path(dst_path, None)
+    check_output(dst_path, [src_path], args.overwrite)
+    image, meta = read(src_path)
+    has_alpha = image.shape[2] in (2, 4)
+    if args.stmap:
+        from lenslab.stmap import warp_with_st_map
+
+        dst = None
+        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
+                                         progress=progress)
+    else:
+        src = source_camera(args.source, meta, image.shape)
+        size = args.size or default_size(args.to, image.shape[0])
+        dst = output_camera(args, src, size)
+        if args.autoscale:
+            dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
+        out, coverage = cache.warp(image, src, dst, progress=progress)
+    if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
+        colour, alpha = out[..., :-1], out[..., -1]
+    else:
+        colour, alpha = out, coverage
+    keep_alpha = not args.no_alpha and fmt in ("exr", "png")
+    exposure = args.exposure
+    shown: dict = {}
+    if getattr(args, "display", None):  # an OpenColorIO display transform instead of the tone curve
+        from lenslab.cli.display import apply_display
+        from lenslab.io.registry import get
+
+        if exposure == "auto":
+            raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
+        rgba = np.concatenate([colour * np.float32(2.0 ** float(exposure)), alpha[..., None]], axis=-1)
+        mapped, shown = apply_display(rgba, get(fmt), {**vars(args), "bits": None})
+        colour, alpha = mapped[..., :-1], mapped[..., -1]
+    elif fmt not in hdr_formats() and (not meta["display_encoded"] or exposure == "auto"):
+        from lenslab.tone import tonemap
+
+        rgba = np.concatenate([colour, alpha[..., None]], axis=-1)
+        mapped = tonemap(rgba, curve=args.tone, exposure=exposure)
+        colour, alpha = mapped[..., :-1], mapped[..., -1]
+    elif exposure == "auto":
+        raise FormatError("--exposure auto applies when writing display formats (png, jpg, ppm, pgm)")
+    elif float(exposure) != 0.0:
+        colour = colour * np.float32(2.0 ** float(exposure))
+    opts: dict = {}
+    if keep_alpha:
+        if colour.shape[2] == 1 and fmt == "png":
+            colour = np.repeat(colour, 3, axis=2)
+        result = np.concatenate([colour, alpha[..., None]], axis=-1)
+        if fmt == "exr" and colour.shape[2] == 1:
+            opts["channels"] = ["Y", "A"]
+    else:
+        result = colour
+    if fmt == "exr":
+        opts["camera"] = dst
+        opts["pixel_type"] = args.pixel_type
+    opts.update(shown)
+    write(dst_path, result, format=fmt, overwrite=args.overwrite, **opts)
+
+
+def plan_cache(args):
+    """The plans (maps) of this command's warps, one per geometry, made once and reused."""
+    from lenslab.warp import WarpPlan
+    from lenslab.warp.batch import PlanCache
+
+    factory = WarpPlan
+    if args.compat == "v360":
+        from lenslab.warp.compat_v360 import V360Plan as factory
+    return PlanCache(factory=factory, filter=args.filter, samples=args.samples, antialias=args.antialias,
+                     seed=args.seed, allow_parallax=args.allow_parallax, exact_map=args.exact_map)
