@@ -38,7 +38,7 @@ def limit_threads() -> None:
 
 def worker_plans(options: dict):
     """This worker's :class:`~lenslab.warp.batch.PlanCache` for these warp options (made on first use)."""
-    from lenslab.cli.warp import plan_cache
+    from lenslab.cli.warp_file import plan_cache
 
     key = ("plans",) + tuple(sorted((k, repr(v)) for k, v in options.items()))
     if key not in _PLANS:
@@ -69,7 +69,7 @@ def warp_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, 
     """Warp one file as ``lenslab warp`` does (``options``: the command's options)."""
     from pathlib import Path
 
-    from lenslab.cli.warp import warp_one
+    from lenslab.cli.warp_file import warp_one
 
     limit_threads()
     args = argparse.Namespace(**options)
