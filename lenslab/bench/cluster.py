@@ -66,11 +66,9 @@ def warp_options(inputs: Path, output: Path) -> dict:
 
 
 def _local(task, frames, out: Path, options: dict, threads: int) -> float:
-    import cv2
-    import numba
+    from lenslab.cluster.tasks import limit_threads
 
-    numba.set_num_threads(threads)
-    cv2.setNumThreads(threads)
+    limit_threads(threads)
     t0 = time.perf_counter()
     for src in frames:
         _, _, error, _ = task(str(src), str(out / (src.stem + ".exr")), options)

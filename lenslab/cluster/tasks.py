@@ -24,16 +24,19 @@ def worker_threads() -> int | None:
         return None
 
 
-def limit_threads() -> None:
-    """OpenCV and numba use the worker's thread allowance."""
-    n = worker_threads()
+def limit_threads(n: int | None = None) -> None:
+    """OpenCV, numba and the EXR codec use ``n`` threads (default: the worker's thread allowance)."""
+    n = worker_threads() if n is None else n
     if n is None:
         return
     import cv2
     import numba
 
+    import lenslab.io.exr
+
     cv2.setNumThreads(n)
     numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+    lenslab.io.exr.THREADS = 0 if n == 1 else n  # 0: the codec works in the calling thread, no pool
 
 
 def worker_plans(options: dict):
