@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import importlib
 
+import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it adds itself to lenslab.lens_sources)
+
 __version__ = "0.1.0"
 
 _LAZY = {

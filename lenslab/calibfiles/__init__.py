@@ -14,6 +14,7 @@ import importlib
 from pathlib import Path
 
 from lenslab.errors import LenslabError, LensError
+from lenslab.lens_sources import add_source
 
 
 class CameraFileError(LenslabError, ValueError):
@@ -123,3 +124,6 @@ def write_lens(path, lens, fmt: str | None = None, overwrite: bool = False) -> P
     with atomic_write_path(path, overwrite=overwrite) as tmp:
         mod.write(tmp, lens)
     return path
+
+
+add_source(is_camera_file, read_lens)  # make_lens and Camera.from_spec take FILE and FILE#ID

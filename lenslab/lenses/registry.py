@@ -78,12 +78,11 @@ def make_lens(spec: str | dict, size: tuple[int, int] | None = None, **overrides
     (``cal.yaml``, ``cameras.txt#2``...) reads its lens, scaled to ``size`` when that differs.
     """
     _load_models()
-    from lenslab.calibfiles import is_camera_file
+    from lenslab.lens_sources import reader_for
 
-    if is_camera_file(spec):  # a calibration file (OpenCV, Kalibr, COLMAP, OCamCalib, TOML): FILE or FILE#ID
-        from lenslab.calibfiles import read_lens
-
-        return read_lens(spec, size)
+    read = reader_for(spec)  # a calibration file (OpenCV, Kalibr, COLMAP, OCamCalib, TOML): FILE or FILE#ID
+    if read is not None:
+        return read(spec, size)
     if isinstance(spec, dict):
         values = dict(spec)
         name = str(values.pop("model", "")).lower()
