@@ -13,7 +13,9 @@
    ``tracer render --scene cornell`` against a Python process in which Mitsuba 3 ``scalar_rgb`` renders its
    own Cornell box (``mi.cornell_box()``) at the same size, spp and depth (Mitsuba's max_depth is the
    tracer's plus one) and writes it as EXR; ``--runs`` runs each, interleaved; medians of wall and CPU time
-   (user + system of the child process), as ratios tracer / Mitsuba (aim: at most 0.6x).
+   (user + system of the child process), as ratios tracer / Mitsuba (aim: at most 0.6x). Each renderer keeps
+   its own defaults otherwise: the tracer starts Russian roulette at bounce 3 and averages samples in the pixel
+   (a box filter); Mitsuba starts it at 5 and splats through a Gaussian filter.
 
 Aims (printed with met/MISSED and written with ``--json FILE``, benchmark name "tracer"): primary rays at
 least 0.9x raw embree's throughput on the same rays; the Cornell box within 0.6x Mitsuba's time.
