@@ -36,10 +36,13 @@ AIM_ALL_THREADS = 1.0  # ahead of ffmpeg with every thread
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--frames", type=int, default=8, help="number of frames (default 8)")
-    parser.add_argument("--size", default="2048x1024", help="frame size WxH (default 2048x1024)")
-    parser.add_argument("--out-size", type=int, default=1024, help="fisheye side in pixels (default 1024)")
-    parser.add_argument("--repeat", type=int, default=3, help="runs of each command; medians count (default 3)")
+    from lenslab.cli.policy import image_size, positive_int
+
+    parser.add_argument("--frames", type=positive_int, default=8, help="number of frames (default 8)")
+    parser.add_argument("--size", type=image_size, default=(2048, 1024), metavar="WxH",
+                        help="frame size (default 2048x1024)")
+    parser.add_argument("--out-size", type=positive_int, default=1024, help="fisheye side in pixels (default 1024)")
+    parser.add_argument("--repeat", type=positive_int, default=3, help="runs of each command; medians count (default 3)")
 
 
 def _ffmpeg_cmd(inputs: Path, out: Path, side: int, one: bool) -> list[str]:
@@ -76,11 +79,7 @@ def run(args) -> int:
     if not shutil.which("ffmpeg"):
         print("lenslab bench batch: ffmpeg is not on PATH; it is the baseline of this benchmark", file=sys.stderr)
         return 1
-    try:
-        width, height = (int(v) for v in args.size.lower().split("x"))
-    except ValueError:
-        print(f"lenslab bench batch: --size must be WxH, got {args.size!r}", file=sys.stderr)
-        return 2
+    width, height = args.size
     side = args.out_size
     with tempfile.TemporaryDirectory(prefix="lenslab-bench-batch-") as tmp:
         inputs = Path(tmp) / "in"
@@ -97,7 +96,7 @@ def run(args) -> int:
         for one, key, aim in ((True, "one_thread", AIM_ONE_THREAD), (False, "all_threads", AIM_ALL_THREADS)):
             env = env_one if one else env_all
             runs: dict[str, list[tuple[float, float]]] = {"ffmpeg": [], "lenslab": []}
-            for _ in range(max(1, args.repeat)):  # interleaved, so both see the same load
+            for _ in range(args.repeat):  # interleaved, so both see the same load
                 runs["ffmpeg"].append(_timed(_ffmpeg_cmd(inputs, out_f, side, one), env, one))
                 runs["lenslab"].append(_timed(_lenslab_cmd(inputs, out_l, side), env, one))
             med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in runs.items()}
