@@ -92,6 +92,16 @@ def _on_cluster(client, task, frames, out: Path, options: dict) -> tuple[float, 
     return wall, sum(s for _, s in workers.values())
 
 
+def warm_up(client, task, frame: Path, out: Path, options: dict) -> None:
+    """One frame on every worker, so that each has loaded its kernels and made its map before timing."""
+    from lenslab.cluster.run import submit
+
+    futures = [submit(client, task, str(frame), str(out / f"warm-{i}.exr"), options, name="warm-up", workers=[w])
+               for i, w in enumerate(sorted(client.nthreads()))]
+    for future in futures:
+        future.result()
+
+
 def _fresh(folder: Path) -> Path:
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
@@ -113,7 +123,7 @@ def batches(args, tmp: Path) -> None:
     cores = os.cpu_count() or 1
     default = _local(warp_task, frames, _fresh(tmp / "out"), options, cores)
     with local_cluster(workers=2) as client:
-        _on_cluster(client, warp_task, frames[:2], _fresh(tmp / "out"), options)  # workers load the kernels
+        warm_up(client, warp_task, frames[0], _fresh(tmp / "out"), options)
         wall, busy = _on_cluster(client, warp_task, frames, _fresh(tmp / "out"), options)
         map_build, scatter = map_costs(client, options, frames[0])
         convert = {"to": "exr", "tone": "hable", "exposure": 0.0, "overwrite": True, "quality": 95, "bits": None,
