@@ -24,6 +24,9 @@ from tracer.materials import MIRROR
 from tracer.sampling import F32, dot, power_heuristic, take, uniform_triangle
 
 INTEGRATORS = ("path", "direct")
+#: next-event estimation to area lights at Lambertian points in one compiled pass (tracer.kernels);
+#: False runs the NumPy steps, which give the same image
+FUSED = True
 
 
 def _light_choice(scene) -> tuple[float, float]:
@@ -158,7 +161,14 @@ def _next_event(scene, p, n, wo, mat, beta, rng, p_area, p_env, mis, eps, thread
     contrib = np.zeros((m, 3), dtype=F32)
     # one light strategy per point: area lights or the environment
     u = rng.random((m, 4), dtype=F32)
-    if scene.has_area_lights:
+    if scene.has_area_lights and p_area >= 1 and table.lambertian_only and FUSED:
+        from tracer.kernels import area_light_samples  # the same numbers, in one compiled pass
+
+        src, wig, reach, val = area_light_samples(scene, p, n, mat, u, p_area, mis, eps)
+        if len(src):
+            vis = np.flatnonzero(~scene.accel.occluded(take(origin, src), wig, reach, threads=threads))
+            contrib[src[vis]] = take(val, vis)
+    elif scene.has_area_lights:
         a = np.flatnonzero(u[:, 3] < p_area) if p_area < 1 else None
         ua, pa, na = (u, p, n) if a is None else (take(u, a), take(p, a), take(n, a))
         k = scene.light_triangles[scene.light_dist.sample_discrete(ua[:, 0])]
