@@ -6,6 +6,7 @@ and the layouts of the cube maps, EAC and dual fisheye."""
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -78,6 +79,29 @@ def test_pannini_against_sharpless(d, fov, vcomp):
         y *= (1 + (1 - vcomp) * (S(phi) - 1)) / S(phi)
         want = to_pixel(x / x_f, y / x_f, size)
         assert np.abs(pixel(f"pannini:d={d},fov={fov},vcomp={vcomp}", size, direction(lon, lat)) - want).max() < 1e-9
+
+
+def test_pannini_at_a_whole_turn_stays_finite_and_exact():
+    # Classic Pannini (d = 1): x = 2 sin phi / (1 + cos phi) = 2 tan(phi / 2), the stereographic cylinder.
+    # A field of view a hair under 360 degrees puts the edge where 1 + cos phi rounds to 0 in float64.
+    fov, size = 360.0 - 1e-6, (800, 400)
+    F = math.radians(fov) / 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no division by zero, no overflow
+        lens = make_lens(f"pannini:d=1,fov={fov}", size)
+        x_f = 2 * math.tan(F / 2)
+        # 1e-12: tan and cos of the same float64 F / 2 each carry ~1 ulp; the rest is exact
+        assert lens.x_f == pytest.approx(x_f, rel=1e-12)
+        for lon in (0.0, 90.0, 170.0, 179.9):
+            want = to_pixel(2 * math.tan(math.radians(lon) / 2) / x_f, 0.0, size)
+            assert np.abs(pixel(f"pannini:d=1,fov={fov}", size, direction(lon, 0.0)) - want).max() < 1e-9
+        xy = np.c_[np.linspace(0.0, 800.0, 81), np.full(81, 200.0)]
+        d, ok = lens.pixel_to_dir(xy)
+    assert ok.all() and np.isfinite(d).all()
+    x = (xy[:, 0] / 400.0 - 1.0) * x_f  # u = 2 x / width - 1 (pixel edges at u = -1, 1)
+    want = 2 * np.arctan(x / 2)  # the longitude whose 2 tan(phi / 2) is x
+    # 1e-12 rad: atan2 of the closed-form inverse, ~1 ulp of pi in its cos(phi) near -1
+    assert np.abs(np.arctan2(d[:, 0], d[:, 2]) - want).max() < 1e-12
 
 
 def test_pannini_with_d_0_is_the_perspective_view():

@@ -36,8 +36,12 @@ from lenslab.lenses.registry import register
 
 
 def pannini_x(phi, d: float):
-    """Sharpless's ``x = S sin phi`` with ``S = (d + 1) / (d + cos phi)`` (float64)."""
-    return (d + 1.0) * np.sin(phi) / (d + np.cos(phi))
+    """Sharpless's ``x = S sin phi`` with ``S = (d + 1) / (d + cos phi)`` (float64).
+
+    ``d + cos phi`` is taken as ``(d - 1) + 2 cos^2(phi / 2)``: the same value without the cancellation
+    that rounds it to 0 near ``phi = pi`` for ``d = 1``, where x tends to ``2 tan(phi / 2)``.
+    """
+    return (d + 1.0) * np.sin(phi) / ((d - 1.0) + 2.0 * np.cos(phi / 2.0) ** 2)
 
 
 def max_longitude(d: float) -> float:
@@ -86,10 +90,11 @@ class Pannini(Lens):
         x = uv[..., 0] * self.x_f
         y = uv[..., 1] * self.x_f
         k = x * x / ((d + 1.0) ** 2)
-        disc = k * k * d * d - (k + 1.0) * (k * d * d - 1.0)
+        disc = 1.0 + k * (1.0 - d * d)  # k^2 d^2 - (k + 1)(k d^2 - 1)
         ok = disc >= 0
-        clon = (-k * d + np.sqrt(np.maximum(disc, 0.0))) / (k + 1.0)
-        S = (d + 1.0) / (d + clon)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        clon = (root - k * d) / (k + 1.0)
+        S = (d + 1.0) * (k + 1.0) / (d + root)  # d + cos phi = (d + root) / (k + 1), never 0
         phi = np.arctan2(x, S * clon)
         ok &= np.abs(phi) <= self.F * (1.0 + 1e-12) + 1e-15
         tan_t = y / self._vscale(S)
