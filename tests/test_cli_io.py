@@ -126,3 +126,21 @@ def test_command_line_entry_point(mixed):
     res = subprocess.run([sys.executable, "-m", "lenslab", "info", str(mixed)], capture_output=True, text=True,
                          timeout=120)
     assert res.returncode == 1 and "is a directory" in res.stderr
+
+
+def test_clamped_halves_are_reported_in_the_commands_words(tmp_path, capsys):
+    # A value beyond half's range: convert and warp write half EXR by default, clamp it to half's largest
+    # finite value, (2 - 2**-10) * 2**15 = 65504 (IEEE 754 binary16), and name the option that keeps it.
+    pano = np.full((8, 16, 3), 1e6, np.float32)
+    lio.write(tmp_path / "sun.pfm", pano)
+    for argv in (["convert", str(tmp_path / "sun.pfm"), "--to", "exr", "-o", str(tmp_path / "c.exr")],
+                 ["warp", str(tmp_path / "sun.pfm"), "-o", str(tmp_path / "w.exr"), "--to", "equirect",
+                  "--size", "16x8", "--quiet"]):
+        assert main(argv) == 0
+        err = capsys.readouterr().err
+        assert "write with --pixel-type float to keep them" in err and "pixel_type" not in err
+    assert lio.read(tmp_path / "c.exr")[0].max() == (2 - 2**-10) * 2**15
+    assert main(["convert", str(tmp_path / "sun.pfm"), "--to", "exr", "-o", str(tmp_path / "f.exr"),
+                 "--pixel-type", "float"]) == 0
+    assert "--pixel-type" not in capsys.readouterr().err
+    assert lio.read(tmp_path / "f.exr")[0].max() == 1e6

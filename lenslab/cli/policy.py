@@ -112,8 +112,9 @@ _NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
 
 
 def user_notes(caught) -> list[str]:
-    """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out)."""
-    notes = (str(w.message) for w in caught
+    """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out),
+    in the commands' words where a warning carries them (``command_line``)."""
+    notes = (getattr(w.message, "command_line", None) or str(w.message) for w in caught
              if not (issubclass(w.category, RuntimeWarning) and re.search(_NUMPY_NOTES, str(w.message))))
     return list(dict.fromkeys(notes))
 

@@ -46,7 +46,13 @@ THREADS = os.cpu_count() or 1
 
 
 class HalfOverflowWarning(UserWarning):
-    """Values beyond the range of half floats were clamped to +-65504 when writing an EXR."""
+    """Values beyond the range of half floats were clamped to +-65504 when writing an EXR.
+
+    ``command_line`` is the same note in the words of lenslab's commands, which show that one."""
+
+    def __init__(self, message: str, command_line: str | None = None):
+        super().__init__(message)
+        self.command_line = command_line or message
 
 
 def _plain(value):
@@ -321,8 +327,9 @@ def to_half(image: np.ndarray) -> np.ndarray:
         n = int(np.count_nonzero(big))
     if n:
         image = np.where(big, np.copysign(np.float32(HALF_MAX), image), image)
-        warnings.warn(f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}; write with "
-                      "pixel_type='float' to keep them", HalfOverflowWarning, stacklevel=4)
+        clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
+        warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
+                                          f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
     return image.astype(np.float16)
 
 
