@@ -31,8 +31,15 @@ def _compile():
         nbins = cdf.shape[0] - 1
         g = 0
         for i in range(m):
-            j = np.searchsorted(cdf, np.float64(u[i, 0]), side="right") - 1
-            j = min(max(j, 0), nbins - 1)
+            x = np.float64(u[i, 0])
+            lo, hi = 0, nbins + 1  # np.searchsorted(cdf, x, side="right"), by bisection
+            while lo < hi:
+                mid = (lo + hi) >> 1
+                if cdf[mid] <= x:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            j = min(max(lo - 1, 0), nbins - 1)
             k = light_tris[j]
             su = np.sqrt(u[i, 1])
             b1 = one - su
