@@ -7,16 +7,16 @@ from pathlib import Path
 
 
 def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
+    """Warp ``src_path`` to ``dst_path`` with the command's options ``args`` and the maps of ``cache``."""
     import numpy as np
 
     from lenslab.cli.policy import check_output
+    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.cli.warp_video import is_video, warp_video
     from lenslab.errors import FormatError
     from lenslab.io import read, write
-    from lenslab.cli.warp_video import is_video, warp_video
     from lenslab.io.detect import format_for_path
     from lenslab.io.registry import hdr_formats
-
-    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
 
     if is_video(src_path):  # every frame with one map, to a video
         return warp_video(src_path, dst_path, args, cache)
