@@ -132,13 +132,14 @@ def throughput(args) -> None:
     print(_line(f"embree run, {threads} threads (baseline)", *baseN, baseN, n, "rays"))
     oursN = _best(lambda: accel.intersect(o32, d32, threads=threads), args.repeat)
     print(_line(f"tracer intersect, {threads} threads", *oursN, baseN, n, "rays"))
-    for key, label, base, ours in (("primary_1_thread", "1 thread", base1, ours1),
-                                   ("primary_float64_1_thread", "float64 rays in, 1 thread", base1, ours64),
-                                   ("primary_all_threads", f"{threads} threads", baseN, oursN)):
+    # the aim is for the same rays; the float64 line also converts the camera's rays, so it has no aim
+    for key, label, base, ours, aim in (("primary_1_thread", "1 thread", base1, ours1, AIM_PRIMARY),
+                                        ("primary_float64_1_thread", "float64 rays in, 1 thread", base1, ours64, None),
+                                        ("primary_all_threads", f"{threads} threads", baseN, oursN, AIM_PRIMARY)):
         ok = figure(f"tracer.{key}", f"primary rays, {label}: tracer / raw embree throughput", base[0] / ours[0], "x",
-                    aim=AIM_PRIMARY, better="higher")
-        print(f"  {label:<34s} tracer / raw embree throughput {base[0] / ours[0]:5.2f}x (aim at least {AIM_PRIMARY}x) "
-              f"{mark(ok)}")
+                    aim=aim, better="higher")
+        print(f"  {label:<34s} tracer / raw embree throughput {base[0] / ours[0]:5.2f}x"
+              + (f" (aim at least {aim}x) {mark(ok)}" if aim else " (conversion included, no aim)"))
 
     size = args.size
     pcam = scene.camera(size=(size, size))
