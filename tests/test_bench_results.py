@@ -23,10 +23,11 @@ def test_json_and_table_mark_missed_aims(tmp_path):
     results.figure("warp.cached", "cached map vs cv2.remap", 1.31, "x", aim=1.2)
     results.figure("cluster.speedup", "two workers vs one job", 1.8, "x", aim=1.7, better="higher")
     results.figure("io.pfm_read", "PFM read vs numpy.fromfile", 0.58, "x")
+    results.figure("lenses.eac.p2d", "eac pixel -> dir", 2.7, "x", aim=3.0, detail=True)
     path = tmp_path / "warp.json"
     results.write(str(path), "warp", run, argv=["warp"])
     rec = json.loads(path.read_text())
-    assert [f["met"] for f in rec["figures"]] == [False, True, None]
+    assert [f["met"] for f in rec["figures"]] == [False, True, None, True]
     readme = tmp_path / "README.md"
     readme.write_text("intro\n<!-- speed-table:start -->\nold\n<!-- speed-table:end -->\nafter\n")
     done = subprocess.run([sys.executable, str(REPO / "tools" / "speed_table.py"), str(path), "--readme", str(readme)],
@@ -37,3 +38,4 @@ def test_json_and_table_mark_missed_aims(tmp_path):
     assert "| `lenslab bench warp` | cached map vs cv2.remap | 1.31x | <= 1.2x | **missed** |" in body
     assert "| `lenslab bench warp` | two workers vs one job | 1.8x | >= 1.7x | met |" in body
     assert "| `lenslab bench warp` | PFM read vs numpy.fromfile | 0.58x | - | - |" in body
+    assert "eac pixel -> dir" not in body  # detail rows stay in the JSON only

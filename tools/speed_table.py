@@ -46,6 +46,8 @@ def table(records: list[dict]) -> str:
     for rec in records:
         name = f"`lenslab bench {rec['benchmark']}`" if rec.get("benchmark") != "tracer" else "`tracer bench`"
         for fig in rec.get("figures", []):
+            if fig.get("detail"):
+                continue
             label = fig["label"] + (f" ({fig['note']})" if fig.get("note") else "")
             lines.append(f"| {name} | {label} | {fmt(fig['value'], fig.get('unit', ''))} | {aim_text(fig)} "
                          f"| {met_text(fig)} |")

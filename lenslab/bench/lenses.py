@@ -56,6 +56,9 @@ DEFAULT_SPECS = (
     "devernay-fov:fx=400,fy=400,cx=511.5,cy=511.5,omega=0.9,width=1024,height=1024",
 )
 
+#: every closed-form side within this ratio of the NumPy equirect baseline
+AIM = 3.0
+
 #: (model name, direction) pairs solved numerically
 SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("seedfisheye", "d2p"),
           ("opencv", "p2d"), ("kannala-brandt", "p2d"), ("omnidir", "p2d"), ("ocam", "d2p")}
@@ -70,6 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from lenslab.bench.results import figure, mark as met_word
     from lenslab.bench.timing import best_time, ratio_line
     from lenslab.lenses import make_lens
 
@@ -110,6 +114,9 @@ def run(args: argparse.Namespace) -> int:
     base_i = best_time(equirect_inverse, repeat=repeat)
     print(ratio_line("baseline forward (pixel -> dir)", base_f, base_f, f"{count / base_f / 1e6:7.1f} Mdir/s"))
     print(ratio_line("baseline inverse (dir -> pixel)", base_i, base_i, f"{count / base_i / 1e6:7.1f} Mdir/s"))
+    worst: dict[str, tuple[float, str]] = {}
+    within: dict[str, int] = {}
+    total: dict[str, int] = {}
     for spec in specs:
         lens = make_lens(spec, (n, n))
         t_f, b_f = paired(lambda: lens.pixel_to_dir(xy), equirect_forward)
@@ -121,5 +128,21 @@ def run(args: argparse.Namespace) -> int:
             its = getattr(lens, "solver_iterations", {}).get(key) if mark else None
             if its:  # calibrated models state the largest iteration count their solve needed
                 mark = f"  (solve, <= {its} iterations)"
-            print(ratio_line(f"{spec[:34]} {label}", t, base, f"{count / t / 1e6:7.1f} Mdir/s{mark}"), flush=True)
+            solved = bool(mark)
+            short = spec if len(spec) <= 40 else spec[:37] + "..."
+            ok = figure(f"lenses.{spec}.{key}", f"{short} {label}", t / base, "x", aim=None if solved else AIM,
+                        note=mark.strip(" ()"), detail=not solved)
+            print(ratio_line(f"{spec[:34]} {label}", t, base,
+                             f"{count / t / 1e6:7.1f} Mdir/s{mark} {met_word(ok)}".rstrip()), flush=True)
+            if not solved:
+                within[key] = within.get(key, 0) + (t / base <= AIM)
+                total[key] = total.get(key, 0) + 1
+                if t / base > worst.get(key, (0.0, ""))[0]:
+                    worst[key] = (t / base, lens.name)
+    for key, words in (("p2d", "pixel -> dir"), ("d2p", "dir -> pixel")):
+        if key in worst:
+            ratio, name = worst[key]
+            ok = figure(f"lenses.worst.{key}", f"{words}, slowest closed-form model vs NumPy equirect", ratio,
+                        "x", aim=AIM, note=f"{name}; {within[key]} of {total[key]} specs within {AIM:g}x")
+            print(f"slowest closed-form {words}: {name} {ratio:.2f}x {met_word(ok)}")
     return 0

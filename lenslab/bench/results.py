@@ -33,11 +33,14 @@ def met(value: float, aim: float | None, better: str = "lower") -> bool | None:
 
 
 def figure(key: str, label: str, value: float, unit: str = "x", aim: float | None = None,
-           better: str = "lower", note: str = "") -> bool | None:
-    """Record one figure of the running benchmark; returns whether it meets its aim (None: no aim)."""
+           better: str = "lower", note: str = "", detail: bool = False) -> bool | None:
+    """Record one figure of the running benchmark; returns whether it meets its aim (None: no aim).
+
+    ``detail=True`` keeps a figure in the JSON but out of the README's table (per-model rows that a
+    summary row already covers)."""
     ok = met(float(value), aim, better)
     _FIGURES.append({"key": key, "label": label, "value": float(value), "unit": unit, "aim": aim,
-                     "better": better, "met": ok, "note": note})
+                     "better": better, "met": ok, "note": note, "detail": bool(detail)})
     return ok
 
 
