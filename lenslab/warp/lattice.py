@@ -259,7 +259,10 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
                 _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
 
 
-@numba.njit(cache=True, nogil=True)
+# not cached: numba keys a kernel that takes a function by that function object, so every process wrote
+# one more cache entry that no later process could use, and writing the cache's index could fail
+# ("ReferenceError: underlying object has vanished") once an earlier entry's function was gone
+@numba.njit(nogil=True)
 def project_kernel(fn, params, d, xy, valid):
     """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
     ``fn`` (see :class:`~lenslab.lenses.protocol.PixelKernel`): zero and non-finite directions invalid."""
