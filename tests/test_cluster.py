@@ -128,6 +128,29 @@ def test_a_worker_killed_mid_batch_has_its_files_done_elsewhere(tmp_path, schedu
         assert image.shape == (256, 256, 4)
 
 
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.parametrize("command", [["convert", "--to", "pfm"], ["warp", "--to", "fisheye:fov=180"]])
+def test_an_unreachable_scheduler_fails_the_start_and_makes_no_folder(tmp_path, command, capsys, monkeypatch):
+    from lenslab.cluster import connect
+
+    monkeypatch.setattr(connect, "CONNECT_TIMEOUT", "1s")  # nothing listens: no need to wait 10 s
+    _frames(tmp_path / "in", 2)
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    out = tmp_path / "out"
+    status = lenslab([command[0], str(tmp_path / "in"), "-o", str(out), *command[1:], "--scheduler", address])
+    err = capsys.readouterr().err
+    assert status == 1  # a failed start (exit 1), not a usage error: the address may be right and the scheduler down
+    assert err.count("\n") == 1 and address in err and "Traceback" not in err, err
+    assert not out.exists()
+
+
 def test_tiled_render_on_two_workers_equals_the_local_render_bit_for_bit(tmp_path, scheduler):
     from tracer.cli import main as tracer
 

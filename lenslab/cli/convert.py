@@ -319,6 +319,9 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--compression {args.compression}: choose one of {', '.join(COMPRESSIONS)} "
                              "(zip is the most widely readable)")
     pairs = plan_outputs(files, args.to, args.output, roots)
+    from lenslab.cluster.command import batch_on_cluster, connect
+
+    client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
         from lenslab.cli.policy import make_output_dir
 
@@ -334,13 +337,8 @@ def run(args: argparse.Namespace) -> int:
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     if skipped and not args.quiet:
         print(f"lenslab convert: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
-    from lenslab.cluster import scheduler_address
-
-    where = scheduler_address(args)
-    if where is not None:
-        from lenslab.cluster.command import batch_on_cluster
-
-        status = batch_on_cluster("lenslab convert", where, "convert_task", pairs, options, args.quiet, "converted")
+    if client is not None:
+        status = batch_on_cluster("lenslab convert", client, "convert_task", pairs, options, args.quiet, "converted")
         return 1 if status or missing else 0
     progress = not args.quiet and sys.stderr.isatty()
     results = convert_many(pairs, options, jobs=args.jobs, progress=progress)

@@ -201,6 +201,9 @@ def run(args: argparse.Namespace) -> int:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, args.format)
+    from lenslab.cluster.command import batch_on_cluster, connect
+
+    client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "":
         make_output_dir(args.output)
     from lenslab.cluster.run import skip_existing
@@ -208,14 +211,10 @@ def run(args: argparse.Namespace) -> int:
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     if skipped and not args.quiet:
         print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
-    from lenslab.cluster import scheduler_address
-
-    where = scheduler_address(args)
-    if where is not None:
-        from lenslab.cluster.command import batch_on_cluster
+    if client is not None:
         from lenslab.cluster.tasks import plain_options
 
-        status = batch_on_cluster("lenslab warp", where, "warp_task", pairs,
+        status = batch_on_cluster("lenslab warp", client, "warp_task", pairs,
                                   plain_options(args, paths=("source", "to", "stmap")), args.quiet, "warped")
         return 1 if status or missing else 0
     cache = plan_cache(args)

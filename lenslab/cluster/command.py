@@ -6,12 +6,26 @@ import os
 import sys
 
 
-def batch_on_cluster(command: str, where: dict, task: str, pairs: list[tuple], options: dict,
+def connect(args):
+    """The client to the scheduler the options name (``--scheduler``, ``--scheduler-file``,
+    ``DASK_SCHEDULER_ADDRESS``), connected now, or None: run on this machine.
+
+    A batch calls this before it makes any folder: a scheduler that cannot be reached is an
+    :class:`OSError` naming its address, and the batch has made nothing. :func:`batch_on_cluster`
+    closes the client."""
+    from lenslab.cluster.connect import open_client, scheduler_address
+
+    where = scheduler_address(args)
+    return None if where is None else open_client(where)
+
+
+def batch_on_cluster(command: str, client, task: str, pairs: list[tuple], options: dict,
                      quiet: bool = False, verb: str = "processed") -> int:
-    """Run ``lenslab.cluster.tasks.<task>(input, output, options)`` for every pair on the cluster at
-    ``where``; print each note and failure, a summary and what each worker did. Returns 1 if any failed."""
+    """Run ``lenslab.cluster.tasks.<task>(input, output, options)`` for every pair on the cluster of
+    ``client`` (from :func:`connect`, closed here); print each note and failure, a summary and what each
+    worker did. Returns 1 if any failed."""
     from lenslab.cluster import tasks
-    from lenslab.cluster.connect import client_for
+    from lenslab.cluster.connect import close_client
     from lenslab.cluster.run import run_batch, worker_summary
 
     from lenslab.cli.policy import check_output
@@ -31,10 +45,12 @@ def batch_on_cluster(command: str, where: dict, task: str, pairs: list[tuple], o
     rerunnable = {**options, "overwrite": True}
     # workers have their own working folder: they get absolute paths, the messages keep the user's
     jobs = [(os.path.abspath(src), os.path.abspath(dst), rerunnable) for src, dst in ready]
-    with client_for(where) as client:
+    try:
         done = run_batch(client, fn, jobs, [dst for _, dst in ready], name=command.split()[-1],
                          progress=not quiet, workers=workers)
         address = client.scheduler.address
+    finally:
+        close_client(client)
     by_pair = {(str(src), str(dst)): (err and err.replace(os.path.abspath(src), str(src)), notes)
                for (src, dst), (_, _, err, notes) in zip(ready, done)}
     results = [(str(src), str(dst), *by_pair.get((str(src), str(dst)), (refused.get((str(src), str(dst))), [])))
@@ -54,4 +70,4 @@ def batch_on_cluster(command: str, where: dict, task: str, pairs: list[tuple], o
     return 1 if failed else 0
 
 
-__all__ = ["batch_on_cluster"]
+__all__ = ["connect", "batch_on_cluster"]

@@ -29,26 +29,35 @@ def scheduler_address(args) -> dict | None:
     return {"address": address} if address else None
 
 
-@contextlib.contextmanager
-def client_for(where: dict) -> Iterator:
-    """A :class:`distributed.Client` connected to ``where`` (see :func:`scheduler_address`), closed after.
-
-    A scheduler that cannot be reached is an :class:`OSError` that names it.
-    """
+def open_client(where: dict):
+    """A :class:`distributed.Client` connected to ``where`` (see :func:`scheduler_address`); the caller
+    closes it (:func:`close_client`). A scheduler that cannot be reached within ``CONNECT_TIMEOUT`` is an
+    :class:`OSError` that names it."""
     try:
         from distributed import Client
     except ImportError:  # pragma: no cover - dask is in the cluster extra
         raise RuntimeError("--scheduler needs Dask: pip install 'lenslab[cluster]'") from None
     target = where.get("address") or where.get("scheduler_file")
     try:
-        client = Client(timeout=CONNECT_TIMEOUT, set_as_default=False, **where)
+        return Client(timeout=CONNECT_TIMEOUT, set_as_default=False, **where)
     except (OSError, TimeoutError) as exc:
-        raise OSError(f"cannot reach the Dask scheduler at {target}: {exc}") from None
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise OSError(f"cannot reach the Dask scheduler at {target}: {reason}") from None
+
+
+def close_client(client) -> None:
+    with contextlib.suppress(Exception):
+        client.close(timeout=5)
+
+
+@contextlib.contextmanager
+def client_for(where: dict) -> Iterator:
+    """A :class:`distributed.Client` connected to ``where`` (see :func:`open_client`), closed after."""
+    client = open_client(where)
     try:
         yield client
     finally:
-        with contextlib.suppress(Exception):
-            client.close(timeout=5)
+        close_client(client)
 
 
 @contextlib.contextmanager
@@ -66,4 +75,4 @@ def local_cluster(workers: int = 2, threads: int = 1) -> Iterator:
         yield client
 
 
-__all__ = ["scheduler_address", "client_for", "local_cluster", "ENV"]
+__all__ = ["scheduler_address", "open_client", "close_client", "client_for", "local_cluster", "ENV"]
