@@ -128,6 +128,43 @@ def test_a_worker_killed_mid_batch_has_its_files_done_elsewhere(tmp_path, schedu
         assert image.shape == (256, 256, 4)
 
 
+def test_tonemap_of_many_files_on_the_cluster_gives_the_local_bytes_and_each_file_alone(tmp_path, scheduler):
+    frames = _frames(tmp_path / "in", 6)
+    for i, name in enumerate(("a.png", "b.png")):  # the one-input command, run per file, is the reference
+        assert lenslab(["tonemap", str(frames[i]), "-o", str(tmp_path / name), "--exposure", "auto", "-q"]) == 0
+    cmd = ["tonemap", str(tmp_path / "in" / "*.exr"), "--exposure", "auto", "--curve", "aces", "-q"]
+    local, remote = tmp_path / "local", tmp_path / "cluster"
+    assert lenslab(cmd + ["-o", str(local)]) == 0
+    assert lenslab(cmd + ["-o", str(remote), "--scheduler", scheduler]) == 0
+    assert sorted(p.name for p in remote.iterdir()) == [f"frame{i:03d}.png" for i in range(6)]
+    _same_bytes(local, remote)
+    _no_temporaries(remote)
+    one = tmp_path / "one"
+    assert lenslab(["tonemap", str(frames[0]), str(frames[1]), "-o", str(one), "--exposure", "auto", "-q"]) == 0
+    assert (one / "frame000.png").read_bytes() == (tmp_path / "a.png").read_bytes()
+    assert (one / "frame001.png").read_bytes() == (tmp_path / "b.png").read_bytes()
+
+
+def test_tonemap_with_a_corrupt_input_on_the_cluster_does_the_others_and_exits_1(tmp_path, scheduler, capsys):
+    import cv2
+
+    frames = _frames(tmp_path / "in", 4)
+    (tmp_path / "in" / "frame002.exr").write_bytes(frames[0].read_bytes()[:200])  # header kept, pixels cut
+    out = tmp_path / "out"
+    status = lenslab(["tonemap", str(tmp_path / "in"), "-o", str(out), "--curve", "clamp", "--no-dither",
+                      "--scheduler", scheduler])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "FAILED" in err and "frame002.exr" in err and "tone-mapped 3 of 4" in err
+    assert sorted(p.name for p in out.iterdir()) == [f"frame{i:03d}.png" for i in (0, 1, 3)]
+    for i in (0, 1, 3):  # OpenCV reads each file whole: clamp to 1, sRGB-encode, round to 8 bits
+        got = cv2.imread(str(out / f"frame{i:03d}.png"), cv2.IMREAD_UNCHANGED)[..., ::-1]
+        linear = np.clip(read(frames[i])[0].astype(np.float64), 0.0, 1.0)
+        srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)  # IEC 61966-2-1
+        # the codec's encoding may round the last half step the other way: one code value
+        assert np.abs(got.astype(int) - np.round(srgb * 255).astype(int)).max() <= 1
+
+
 def _free_port() -> int:
     import socket
 
@@ -136,7 +173,8 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.mark.parametrize("command", [["convert", "--to", "pfm"], ["warp", "--to", "fisheye:fov=180"]])
+@pytest.mark.parametrize("command", [["convert", "--to", "pfm"], ["warp", "--to", "fisheye:fov=180"],
+                                     ["tonemap"]])
 def test_an_unreachable_scheduler_fails_the_start_and_makes_no_folder(tmp_path, command, capsys, monkeypatch):
     from lenslab.cluster import connect
 

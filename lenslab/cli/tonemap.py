@@ -10,6 +10,8 @@ Examples:
   lenslab tonemap pano.exr -o pano.jpg
   lenslab tonemap pano.exr -o pano.png --curve aces --exposure auto --luminance
   lenslab tonemap pano.exr -o pano.jpg --curve hable --param preset=gdc --param white=8
+  lenslab tonemap 'renders/*.exr' -o previews/ --format jpg --exposure auto
+  lenslab tonemap shots/ -o previews/ --scheduler tcp://host:8786   (one task per file on a Dask cluster)
   lenslab curves --list        (every curve with its parameters)
 """
 
@@ -20,8 +22,16 @@ import sys
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("input", help="HDR image to read (EXR selectors like file.exr:left work)")
-    parser.add_argument("-o", "--output", required=True, help="image to write (format from the extension)")
+    parser.add_argument("inputs", nargs="+", metavar="INPUT",
+                        help="HDR images to read: files (EXR selectors like file.exr:left work), folders or glob "
+                             "patterns ('renders/*.exr', quoted)")
+    parser.add_argument("-o", "--output", required=True,
+                        help="image to write (format from the extension) for one input; for several, a folder "
+                             "(created if missing) that gets one image per input in --format")
+    from lenslab.cli.convert import FORMATS
+
+    parser.add_argument("--format", choices=FORMATS, default="png",
+                        help="format of the images written into an -o folder (default png)")
     parser.add_argument("--curve", default="hable",
                         help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
@@ -43,6 +53,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true",
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
+    from lenslab.cli.options import add_scheduler_options
+
+    add_scheduler_options(parser)
 
 
 def parse_params(items: list[str]) -> dict:
@@ -104,6 +117,11 @@ def run(args: argparse.Namespace) -> int:
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
     curve.resolve(params)  # fail before reading a large file
+    from lenslab.cli.tonemap_batch import is_batch, run_many
+
+    if is_batch(args):
+        return run_many(args, curve.name, params)
+    args.input = args.inputs[0]
     check_output(args.output, [args.input], args.overwrite)
     image, meta = io.read(args.input)
     out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,

@@ -1,6 +1,6 @@
 """Batch work on a Dask cluster: one task per file, the scheduler of the scientific Python world.
 
-``lenslab warp``, ``convert`` and ``validate`` take ``--scheduler tcp://host:8786`` or
+``lenslab warp``, ``convert``, ``tonemap`` and ``validate`` take ``--scheduler tcp://host:8786`` or
 ``--scheduler-file FILE`` (or ``DASK_SCHEDULER_ADDRESS`` in the environment) and then send each file
 to the workers of that cluster (``dask scheduler`` and ``dask worker`` on any machines sharing the file
 system, or SLURM through dask-jobqueue). Without them, the batch runs on this machine as before.

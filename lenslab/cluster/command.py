@@ -55,19 +55,27 @@ def batch_on_cluster(command: str, client, task: str, pairs: list[tuple], option
                for (src, dst), (_, _, err, notes) in zip(ready, done)}
     results = [(str(src), str(dst), *by_pair.get((str(src), str(dst)), (refused.get((str(src), str(dst))), [])))
                for src, dst in pairs]
-    for src, _, _, notes in results:
-        for note in notes:
-            print(f"{command}: note: {src}: {note}", file=sys.stderr)
-    failed = [(src, err) for src, _, err, _ in results if err]
-    for src, err in failed:
-        print(f"{command}: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+    failed = report_results(command, results, None if quiet else
+                            f"{verb} {{done}} of {{total}} file(s) on the cluster at {address}")
     if not quiet:
-        done = len(results) - len(failed)
-        print(f"{verb} {done} of {len(results)} file(s) on the cluster at {address}"
-              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
         for line in worker_summary(workers):
             print(line, file=sys.stderr)
     return 1 if failed else 0
 
 
-__all__ = ["connect", "batch_on_cluster"]
+def report_results(command: str, results: list[tuple], summary: str | None) -> list:
+    """Print each ``(input, output, error, notes)`` result's notes and failure, then ``summary`` (None:
+    none) with ``{done}`` and ``{total}`` filled in and the failures counted. Returns the failed ones."""
+    for src, _, _, notes in results:
+        for note in notes:  # repaired values, clamped halves: reported, never hidden
+            print(f"{command}: note: {src}: {note}", file=sys.stderr)
+    failed = [(src, err) for src, _, err, _ in results if err]
+    for src, err in failed:
+        print(f"{command}: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+    if summary is not None:
+        print(summary.format(done=len(results) - len(failed), total=len(results))
+              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+    return failed
+
+
+__all__ = ["connect", "batch_on_cluster", "report_results"]

@@ -103,6 +103,14 @@ def convert_task(src: str, dst: str, options: dict) -> tuple[str, str, str | Non
     return _guarded(src, dst, lambda: convert_one(src, dst, options))
 
 
+def tonemap_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, list[str]]:
+    """Tone-map one file as ``lenslab tonemap`` does."""
+    from lenslab.cli.tonemap_batch import tonemap_one
+
+    limit_threads()
+    return _guarded(src, dst, lambda: tonemap_one(src, dst, options))
+
+
 def plain_options(args: argparse.Namespace, paths: tuple[str, ...] = ()) -> dict:
     """A command's options as a dict a task can carry (the command's own module objects left out); the
     options named in ``paths`` that name an existing file become absolute (workers have their own
@@ -115,4 +123,4 @@ def plain_options(args: argparse.Namespace, paths: tuple[str, ...] = ()) -> dict
     return options
 
 
-__all__ = ["warp_task", "convert_task", "worker_plans", "plain_options", "limit_threads"]
+__all__ = ["warp_task", "convert_task", "tonemap_task", "worker_plans", "plain_options", "limit_threads"]
