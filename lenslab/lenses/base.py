@@ -115,6 +115,18 @@ class Lens:
         (the default): the engine then calls the vectorised :meth:`dir_to_pixel`."""
         return None
 
+    def source_view_count(self) -> int:
+        """How many readings :meth:`source_views` gives per direction (default 1: one pixel per ray)."""
+        return 1
+
+    def source_views(self, dirs) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """As a source, where to read each direction: ``[(xy, valid, weight), ...]``, one entry per view
+        (:meth:`source_view_count` of them; float64 positions ``(..., 2)``, bool, float64 weights that
+        sum to 1 where any view is valid and are 0 where that view is not). A lens that sees a
+        direction twice (overlapping lenses) blends them. Default: :meth:`dir_to_pixel`, weight 1."""
+        xy, ok = self.dir_to_pixel(dirs)
+        return [(xy, ok, ok.astype(np.float64))]
+
     def dir_to_pixel_jacobian(self, dirs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(xy, jac, valid)``: pixel positions, their derivative ``(..., 2, 3)`` with respect to the
         unit direction (in its tangent plane) and validity, for footprints. Default: central finite

@@ -24,10 +24,11 @@ class DualFisheye(Lens):
     ``v_h = (1 - 2y/H) H / (W/2)``. ``front`` says which half holds the front lens (v360's
     ``dfisheye`` puts it on the right).
 
-    As a source, a direction is read from the lens whose axis is nearer (the front one for ``dz >= 0``):
-    with ``fov >= 180`` every direction is seen, from a point no more than 90 degrees off that lens's
-    axis. :meth:`blend_views` gives both readings of a direction in the overlap with weights that fall
-    smoothly to 0 at each circle's rim and sum to 1, for blending the seam. As an output each half is
+    :meth:`dir_to_pixel` reads a direction from the lens whose axis is nearer (the front one for
+    ``dz >= 0``): with ``fov >= 180`` every direction is seen, from a point no more than 90 degrees off
+    that lens's axis. As a warp source (:meth:`source_views`) the overlap is blended:
+    :meth:`blend_views` gives both readings of a direction with weights that fall smoothly to 0 at each
+    circle's rim and sum to 1, so the seam leaves no step. As an output each half is
     one fisheye, overlap included.
     """
 
@@ -136,3 +137,14 @@ class DualFisheye(Lens):
                 np.divide(w, total, out=w, where=total > 0)
                 ok &= w > 0
         return views
+
+    def source_view_count(self) -> int:
+        """Two readings per direction where the circles overlap (``fov > 180``), else one."""
+        return 2 if self._lens.F > np.pi / 2 else 1
+
+    def source_views(self, dirs):
+        """As a source, the overlap is blended: :meth:`blend_views` (one view, the nearer lens's
+        :meth:`dir_to_pixel`, without an overlap)."""
+        if self.source_view_count() == 1:
+            return super().source_views(dirs)
+        return self.blend_views(dirs)

@@ -26,6 +26,7 @@ from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
+from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
 
@@ -61,6 +62,7 @@ class WarpPlan:
         self._bands: list | None = None
         self.border = border_of(src_camera.lens)
         self.parts = None
+        self.views = False
         if has_camera_pieces(dst_camera):
             # one plan per tile: each tile's map is smooth (and interpolated) on its own
             opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
@@ -86,6 +88,8 @@ class WarpPlan:
                 return
         self.parallax = check_eyes(src_camera, dst_camera, allow_parallax)
         self.mapper = Mapper(src_camera, dst_camera, exact=exact_map)
+        # a source that sees some directions twice blends its views (lenslab.warp.views)
+        self.views = has_views(src_camera.lens)
 
     # -- geometry ------------------------------------------------------------------------------
     @property
@@ -109,6 +113,8 @@ class WarpPlan:
                              (r1 - r0, self.dst.width, self.samples, 1))], axis=-1)
 
     def _band(self, r0: int, r1: int):
+        if self.views and not self.antialias:
+            return view_band(self.mapper, r0, r1, self._offsets(r0, r1))
         if self.antialias:
             return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
         return self.mapper.map_band(r0, r1, self._offsets(r0, r1))
@@ -187,7 +193,9 @@ class WarpPlan:
 
         def draw(band):
             sl = slice(band.r0, band.r1)
-            if self.antialias:
+            if isinstance(band, ViewBand):
+                sample_views(src, band, self.border, self.filter, out[sl], alpha[sl])
+            elif self.antialias:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
