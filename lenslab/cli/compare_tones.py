@@ -69,7 +69,8 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab import io, tone
     from lenslab.cli.policy import check_output
-    from lenslab.cli.tonemap import tonemap_reporting, write_tone_mapped
+    from lenslab.cli.tonemap import tonemap_reporting
+    from lenslab.cli.tonemap_file import write_tone_mapped
     from lenslab.errors import ToneError
 
     names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]

@@ -94,25 +94,10 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
     return out, ev
 
 
-def write_tone_mapped(path, image, dither=True, bits=None, overwrite=True, camera=None) -> None:
-    """Write display-linear values: LDR formats encode to sRGB and quantise; float formats keep them."""
-    from lenslab import io
-    from lenslab.io.detect import format_for_path
-
-    options = {"overwrite": overwrite}
-    fmt = format_for_path(path, None)
-    if fmt not in io.HDR_FORMATS:
-        options["dither"] = dither
-        if bits:
-            options["bits"] = bits
-    if camera is not None and fmt == "exr":
-        options["camera"] = camera
-    io.write(path, image, **options)
-
-
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
     from lenslab.cli.policy import check_output
+    from lenslab.cli.tonemap_file import write_tone_mapped
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)

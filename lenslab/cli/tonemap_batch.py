@@ -21,25 +21,6 @@ def is_batch(args: argparse.Namespace) -> bool:
             or out.is_dir() or out.suffix == "" or scheduler_address(args) is not None)
 
 
-def tonemap_one(src: str, dst: str, options: dict) -> str:
-    """Read, tone-map and write one file as ``lenslab tonemap`` does; repairs are warnings (the batch's
-    notes). Returns the output path; raises on failure."""
-    from lenslab import io, tone
-    from lenslab.cli.policy import check_output
-    from lenslab.cli.tonemap import write_tone_mapped
-
-    check_output(dst, [io.split_selector(src)[0]], options["overwrite"])
-    image, meta = io.read(src)
-    ev = options["exposure"]
-    if ev == "auto":
-        ev = tone.auto_exposure(image, primaries=options["primaries"])
-    out = tone.tonemap(image, options["curve"], ev, options["mode"], primaries=options["primaries"],
-                       **options["params"])
-    write_tone_mapped(dst, out, dither=options["dither"], bits=options["bits"], overwrite=options["overwrite"],
-                      camera=meta.get("camera"))
-    return dst
-
-
 def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     """Tone-map every input into the folder ``-o`` (or the one file ``-o`` names); exit code 1 if any failed."""
     from lenslab.cli.convert import expand_inputs, plan_outputs
@@ -81,4 +62,4 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     return 1 if failed or missing else 0
 
 
-__all__ = ["is_batch", "tonemap_one", "run_many"]
+__all__ = ["is_batch", "run_many"]

@@ -105,7 +105,7 @@ def convert_task(src: str, dst: str, options: dict) -> tuple[str, str, str | Non
 
 def tonemap_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, list[str]]:
     """Tone-map one file as ``lenslab tonemap`` does."""
-    from lenslab.cli.tonemap_batch import tonemap_one
+    from lenslab.cli.tonemap_file import tonemap_one
 
     limit_threads()
     return _guarded(src, dst, lambda: tonemap_one(src, dst, options))
