@@ -31,6 +31,9 @@ from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 BAND_POINTS = 1 << 18  # output samples per band
 
 
+#: strata per pixel (4 x 4) when ``antialias`` meets a source that blends several views (dual fisheye)
+VIEW_AA_SAMPLES = 16
+
 class WarpPlan:
     """Everything about a warp except the pixels: reusable for many images of one geometry.
 
@@ -90,6 +93,11 @@ class WarpPlan:
         self.mapper = Mapper(src_camera, dst_camera, exact=exact_map)
         # a source that sees some directions twice blends its views (lenslab.warp.views)
         self.views = has_views(src_camera.lens)
+        if self.views and self.antialias:
+            # the footprint prefilter reads one place per direction: a many-view source is antialiased by
+            # supersampling its blended views instead, at least VIEW_AA_SAMPLES strata per pixel
+            self.antialias = False
+            self.samples = max(self.samples, VIEW_AA_SAMPLES)
 
     # -- geometry ------------------------------------------------------------------------------
     @property
@@ -113,7 +121,7 @@ class WarpPlan:
                              (r1 - r0, self.dst.width, self.samples, 1))], axis=-1)
 
     def _band(self, r0: int, r1: int):
-        if self.views and not self.antialias:
+        if self.views:
             return view_band(self.mapper, r0, r1, self._offsets(r0, r1))
         if self.antialias:
             return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
