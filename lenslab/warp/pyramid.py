@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numba
 import numpy as np
 
@@ -37,6 +36,8 @@ def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
     or below 2 pixels. The extra levels take a third of the source's memory.
     """
+    import cv2  # here: a warp that needs no pyramid starts without OpenCV
+
     levels = []
     cur = src
     while cur.shape[0] >= 2 and cur.shape[1] >= 2 and cur.shape[0] % 2 == 0 and cur.shape[1] % 2 == 0:
