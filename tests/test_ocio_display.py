@@ -103,3 +103,24 @@ def test_warp_writes_the_display_codes(tmp_path):
     want = np.clip(_reference(warped, *SDR), 0, 1).astype(np.float64) * 255
     got = codes[..., 2::-1].astype(np.float64)
     assert np.abs(got - want)[inside].max() <= 0.5 + 255 * 1e-5  # rounding to the nearest 8-bit code
+
+
+def test_tonemap_writes_the_display_codes(tmp_path):
+    img = _scene()
+    lio.write(tmp_path / "s.exr", img, pixel_type="float")
+    assert main(["tonemap", str(tmp_path / "s.exr"), "--bits", "16", "--display", "srgb", "--view", "ACES 2.0 - SDR",
+                 "--exposure", "1", "-o", str(tmp_path / "s.png"), "-q"]) == 0
+    codes = cv2.imread(str(tmp_path / "s.png"), cv2.IMREAD_UNCHANGED)[..., ::-1].astype(np.float64)
+    want = np.clip(_reference(img * 2.0, *SDR), 0, 1).astype(np.float64) * 65535  # --exposure 1: twice the light
+    assert np.abs(codes - want).max() <= 0.5 + 65535 * 1e-5  # rounding to the nearest code, plus 1e-5 of OCIO
+    # several inputs into a folder go through the same transform
+    lio.write(tmp_path / "t.exr", img, pixel_type="float")
+    assert main(["tonemap", str(tmp_path / "s.exr"), str(tmp_path / "t.exr"), "--bits", "16", "--display", "srgb",
+                 "--view", "ACES 2.0 - SDR", "--exposure", "1", "-o", str(tmp_path / "out"), "-q"]) == 0
+    batch = cv2.imread(str(tmp_path / "out" / "t.png"), cv2.IMREAD_UNCHANGED)[..., ::-1].astype(np.float64)
+    assert np.abs(batch - want).max() <= 0.5 + 65535 * 1e-5
+    # bad names are one usage error; --view without --display too; PQ needs 16 bits
+    assert main(["tonemap", str(tmp_path / "s.exr"), "--display", "no such display", "-o", str(tmp_path / "x.png")]) == 2
+    assert main(["tonemap", str(tmp_path / "s.exr"), "--view", "ACES 2.0 - SDR", "-o", str(tmp_path / "x.png")]) == 2
+    assert main(["tonemap", str(tmp_path / "s.exr"), "--display", "rec.2100-pq", "-o", str(tmp_path / "x.jpg")]) == 1
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.jpg").exists()

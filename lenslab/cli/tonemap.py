@@ -53,8 +53,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true",
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
+    from lenslab.cli.display import add_display_arguments
     from lenslab.cli.options import add_scheduler_options
 
+    add_display_arguments(parser)
     add_scheduler_options(parser)
 
 
@@ -97,18 +99,30 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
     from lenslab.cli.policy import check_output
+    from lenslab.cli.options import parse_exposure
     from lenslab.cli.tonemap_file import write_tone_mapped
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
     curve.resolve(params)  # fail before reading a large file
+    from lenslab.cli.display import display_options
     from lenslab.cli.tonemap_batch import is_batch, run_many
+
+    display = display_options(args)  # bad display names: one usage error before any file is read
 
     if is_batch(args):
         return run_many(args, curve.name, params)
     args.input = args.inputs[0]
     check_output(args.output, [args.input], args.overwrite)
     image, meta = io.read(args.input)
+    if display["display"]:
+        from lenslab.cli.tonemap_file import write_display
+
+        write_display(args.output, image, {**display, "exposure": parse_exposure(args.exposure),
+                                           "bits": args.bits, "dither": args.dither, "overwrite": args.overwrite})
+        if not args.quiet:
+            print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}", file=sys.stderr)
+        return 0
     out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,
                                 args.input, args.quiet)
     write_tone_mapped(args.output, out, dither=args.dither, bits=args.bits, overwrite=args.overwrite,

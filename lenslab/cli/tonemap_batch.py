@@ -25,6 +25,7 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     """Tone-map every input into the folder ``-o`` (or the one file ``-o`` names); exit code 1 if any failed."""
     from lenslab.cli.convert import expand_inputs, plan_outputs
     from lenslab.cli.options import parse_exposure
+    from lenslab.cli.display import display_options
     from lenslab.cli.policy import make_output_dir
     from lenslab.cluster.command import batch_on_cluster, connect, report_results
     from lenslab.cluster.run import skip_existing
@@ -48,7 +49,8 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     if skipped and not args.quiet:
         print(f"lenslab tonemap: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
     options = {"curve": curve, "params": params, "exposure": exposure, "mode": args.mode,
-               "primaries": args.primaries, "dither": args.dither, "bits": args.bits, "overwrite": args.overwrite}
+               "primaries": args.primaries, "dither": args.dither, "bits": args.bits, "overwrite": args.overwrite,
+               **display_options(args)}
     if client is not None:
         status = batch_on_cluster("lenslab tonemap", client, "tonemap_task", pairs, options, args.quiet, "tone-mapped")
         return 1 if status or missing else 0

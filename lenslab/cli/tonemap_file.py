@@ -28,6 +28,9 @@ def tonemap_one(src: str, dst: str, options: dict) -> str:
 
     check_output(dst, [io.split_selector(src)[0]], options["overwrite"])
     image, meta = io.read(src)
+    if options.get("display"):
+        write_display(dst, image, options)
+        return dst
     ev = options["exposure"]
     if ev == "auto":
         ev = tone.auto_exposure(image, primaries=options["primaries"])
@@ -36,3 +39,25 @@ def tonemap_one(src: str, dst: str, options: dict) -> str:
     write_tone_mapped(dst, out, dither=options["dither"], bits=options["bits"], overwrite=options["overwrite"],
                       camera=meta.get("camera"))
     return dst
+
+
+def write_display(dst: str, image, options: dict) -> None:
+    """Write ``image`` through the OpenColorIO display transform of ``options`` (``display``, ``view``,
+    ``colorspace``, ``ocio``) instead of a tone curve, after ``exposure`` stops (a number)."""
+    import numpy as np
+
+    from lenslab import io
+    from lenslab.cli.display import apply_display
+    from lenslab.errors import FormatError
+    from lenslab.io import registry
+
+    ev = options["exposure"]
+    if ev == "auto":
+        raise FormatError("--exposure auto goes with a tone curve; give a number of stops with --display")
+    fmt = registry.get(registry.format_for_path(dst, None))
+    shown, extra = apply_display(image * np.float32(2.0 ** float(ev)), fmt, options)
+    if fmt.hdr and "raw" not in extra:
+        raise FormatError(f"{dst}: a display transform writes display images (png, tif, jpg, ppm); "
+                          f"{fmt.name} holds scene-linear values")
+    # the display's code values are stored as they come (rounded to the nearest code, as convert does)
+    io.write(dst, shown, overwrite=options["overwrite"], **extra)
