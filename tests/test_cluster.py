@@ -225,14 +225,16 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
 
     from distributed import Client
 
-    frames = _frames(tmp_path / "in", 12, size=(512, 256))
+    # enough work that the batch cannot end before the signal: 40 frames, 512x512 outputs of 16 samples each
+    frames = _frames(tmp_path / "in", 40, size=(512, 256))
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "lenslab", "warp", str(tmp_path / "in"), "-o", str(out), "--to", "fisheye:fov=180",
-           "--size", "256x256", "--samples", "9", "-q", "--scheduler", scheduler]
+           "--size", "512x512", "--samples", "16", "-q", "--scheduler", scheduler]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
     while proc.poll() is None and time.monotonic() < deadline and not (out.is_dir() and any(out.iterdir())):
         time.sleep(0.02)
+    assert proc.poll() is None, "the batch ended before it could be interrupted"
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
@@ -244,4 +246,4 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
     assert len(written) < len(frames)  # the rest was cancelled
     for path in written:  # whatever was written is whole
         image, _ = read(path)
-        assert image.shape == (256, 256, 4)
+        assert image.shape == (512, 512, 4)
