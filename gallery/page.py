@@ -164,24 +164,6 @@ class Page:
             raise GalleryError(f"{self.out_dir / rel} is not an image a browser can show (PNG or JPG expected)")
         return Img(rel, im.shape[1], im.shape[0])
 
-    def copy_image(self, name: str, src: Path) -> "Img":
-        """Copy an existing PNG/JPG (a report's plot) under ``img/``."""
-        import shutil
-
-        import cv2
-
-        from lenslab.io.atomic import atomic_write_path
-
-        self.img_dir.mkdir(parents=True, exist_ok=True)
-        ext = src.suffix.lower().lstrip(".") or "png"
-        fname = self._name(name, ext)
-        with atomic_write_path(self.img_dir / fname, overwrite=True) as tmp:
-            shutil.copyfile(src, tmp)
-        im = cv2.imread(str(self.img_dir / fname), cv2.IMREAD_UNCHANGED)
-        if im is None:
-            raise GalleryError(f"{src} is not an image a browser can show (PNG or JPG expected)")
-        return Img(f"{IMG_DIR}/{fname}", im.shape[1], im.shape[0])
-
 
 class Img:
     """An image written for the page: its relative URL and pixel size."""

@@ -124,36 +124,81 @@ def test_cubemap_faces_match_ffmpeg_layout():
     assert np.allclose(d6, expect, atol=1e-15)
 
 
-# -- numeric inverses ----------------------------------------------------------------------------
+# -- numeric inverses, through the calls production makes ---------------------------------------
+W = 1000  # a square image: u = 2x/W - 1, v = 1 - 2y/W; the diagonal reaches the corner at r = sqrt(2)
+
+
+def diagonal_pixels(r: np.ndarray) -> np.ndarray:
+    """Pixels at normalised radius ``r`` on the upper-right diagonal (u = v = r / sqrt 2)."""
+    c = r / np.sqrt(2.0)
+    return np.stack([(c + 1.0) * W / 2, (1.0 - c) * W / 2], axis=-1)
+
+
+def perspective_ray(r_u: np.ndarray) -> np.ndarray:
+    """The ray of undistorted radius ``r_u`` on that diagonal through a 90-degree perspective base
+    (d ~ (u tan 45, v tan 45, 1), docs/conventions.md)."""
+    c = r_u / np.sqrt(2.0)
+    return np.stack([c, c, np.ones_like(c)], axis=-1)
+
+
 @settings(max_examples=60, deadline=None)
 @given(k1=st.floats(-0.5, 1.0), k2=st.floats(-0.3, 0.5))
-def test_division_inverse_converges_to_1e10(k1, k2):
-    lens = make_lens(f"distortion:k1={k1},k2={k2}", (1000, 1000))
-    hi = min(lens.r_fold, lens.r_corner)
+def test_division_model_dir_to_pixel_solves_to_1e10(k1, k2):
+    # dir -> pixel solves r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) for r_d: the formula is written out here
+    lens = make_lens(f"distortion:k1={k1},k2={k2},fov=90", (W, W))
+    hi = min(lens.r_fold, lens.r_corner / (1.0 + 1e-9))
     r_d = np.linspace(0, hi, 2001)[:-1]  # up to (not at) the fold or the corner
-    r_u, _ = lens.radius_map(r_d)
-    solved, valid, converged = lens.invert_radius(r_u)
-    assert converged.all() and valid.all()
-    back, _ = lens.radius_map(solved)
-    # 1e-10, relative once r_u > 1 (next to a pole r_u runs to 1e16 and only its leading digits exist)
-    assert (np.abs(back - r_u) <= 1e-10 * np.maximum(1.0, r_u)).all()
-    # where the map is well conditioned (slope >= 1e-3) the radius itself is recovered to 1e-10
-    _, slope = lens.radius_map(r_d)
-    good = slope >= 1e-3
-    assert np.abs(solved - r_d)[good].max() <= 1e-10
+    den = 1.0 + k1 * r_d**2 + k2 * r_d**4
+    r_u = r_d / den
+    ok = (den > 0) & (r_u < 1e6)  # beyond a pole the ray would look backwards
+    xy, valid = lens.dir_to_pixel(perspective_ray(r_u[ok]))
+    assert valid.all()
+    # where the map is well conditioned (dr_u/dr_d >= 1e-3) the radius is recovered to 1e-10
+    slope = (1.0 - k1 * r_d**2 - 3 * k2 * r_d**4) / den**2
+    good = slope[ok] >= 1e-3
+    err = np.abs(xy - diagonal_pixels(r_d[ok])).max(axis=-1) / (W / 2)  # in units of r
+    assert err[good].max() <= 1e-10
 
 
-def test_division_inverse_reports_failures():
-    lens = make_lens("pincushion:k1=0.3,k2=0.5", (1000, 1000))
-    r_max, _ = lens.radius_map(np.array([lens.r_fold]))
-    _, valid, converged = lens.invert_radius(np.array([0.2, r_max[0], 2 * r_max[0], -1.0, np.nan]))
+def test_division_model_refuses_rays_past_the_fold():
+    lens = make_lens("pincushion:k1=0.3,k2=0.5,fov=90", (W, W))
+    r_fold = lens.r_fold
+    r_u_max = r_fold / (1 + 0.3 * r_fold**2 + 0.5 * r_fold**4)  # the largest r_u the lens shows
+    rays = perspective_ray(np.array([0.2, r_u_max * 1.001, 2 * r_u_max]))
+    rays = np.vstack([rays, [0.0, 0.0, -1.0], [np.nan, 0.0, 1.0]])
+    xy, valid = lens.dir_to_pixel(rays)
     assert list(valid) == [True, False, False, False, False]
-    # a solve cut short is reported, never returned as a result
-    target = np.linspace(0.01, 0.5, 50)  # below the largest r_u (0.575, at the fold)
-    x, conv = invert_increasing(lens.radius_map, target, 0.0, lens.r_fold, np.zeros(50), max_iter=2)
+    assert np.all(xy[~valid] == 0.0)
+    u, v = xy[0, 0] / (W / 2) - 1, 1 - xy[0, 1] / (W / 2)
+    r = np.hypot(u, v)  # the valid one: r_u = 0.2 on the diagonal, solved for r_d
+    assert abs(r / (1 + 0.3 * r**2 + 0.5 * r**4) - 0.2) <= 1e-12 and abs(u - v) <= 1e-12
+
+
+@settings(max_examples=40, deadline=None)
+@given(k1=st.floats(-0.4, 0.6), k2=st.floats(-0.2, 0.3))
+def test_brown_pixel_to_dir_solves_to_1e10(k1, k2):
+    # pixel -> dir solves r_d = r_u (1 + k1 r_u^2 + k2 r_u^4) for r_u: the formula is written out here
+    lens = make_lens(f"brown:k1={k1},k2={k2},fov=90", (W, W))
+    r_u = np.linspace(0, min(lens.ru_fold, 3.0), 2001)[:-1]
+    r_d = r_u * (1 + k1 * r_u**2 + k2 * r_u**4)
+    inside = r_d <= np.sqrt(2.0) * (1 - 1e-9)  # pixels inside the image
+    d, valid = lens.pixel_to_dir(diagonal_pixels(r_d[inside]))
+    assert valid.all()
+    r_u_back = np.hypot(d[:, 0], d[:, 1]) / d[:, 2]  # tan 45 = 1: the undistorted radius of the ray
+    slope = 1 + 3 * k1 * r_u**2 + 5 * k2 * r_u**4
+    good = slope[inside] >= 1e-3
+    assert np.abs(r_u_back - r_u[inside])[good].max() <= 1e-10 * max(1.0, r_u.max())
+
+
+def test_bisection_guards_newton():
+    """The bracketed Newton of lenslab.lenses.solve (used by the radial models): cut short it reports
+    failure, never a result; run out it reaches 1e-10."""
+    f = lambda x: (x * (1 + 0.3 * x * x), 1 + 0.9 * x * x)
+    target = np.linspace(0.01, 0.5, 50)
+    x, conv = invert_increasing(f, target, 0.0, 1.0, np.zeros(50), max_iter=2)
     assert not conv.all()
-    x, conv = invert_increasing(lens.radius_map, target, 0.0, lens.r_fold, np.zeros(50))
-    assert conv.all() and np.abs(lens.radius_map(x)[0] - target).max() <= 1e-10
+    x, conv = invert_increasing(f, target, 0.0, 1.0, np.zeros(50))
+    assert conv.all() and np.abs(x * (1 + 0.3 * x * x) - target).max() <= 1e-10
 
 
 def test_solver_survives_flat_and_wrong_slopes():
@@ -165,35 +210,3 @@ def test_solver_survives_flat_and_wrong_slopes():
     assert np.allclose(x, 0.3 + np.cbrt(target), atol=1e-12)
 
 
-@pytest.mark.parametrize("spec", ["pincushion:k1=0.3,k2=0.05", "barrel:k1=-1.0", "distortion:k1=0.2,k2=-0.6",
-                                  "brown:k1=0.5,k2=-0.32", "seedfisheye:fov=170"])
-def test_compiled_solver_matches_the_vectorised_one(spec):
-    """The models solve with a compiled per-element loop; it must agree with invert_increasing."""
-    from lenslab.lenses.solve import (BROWN, DIVISION, DIVISION_RECIPROCAL, SEED_PSI, invert_increasing,
-                                      solve_radial)
-
-    lens = make_lens(spec, (100, 100))
-    rng = np.random.default_rng(7)
-    if lens.name == "seedfisheye":
-        f, kind, p, hi = lens.psi, SEED_PSI, (lens.F, 0.0), lens.r_max
-    elif lens.name == "brown":
-        f, kind, p, hi = lens.radius_map, BROWN, (lens.k1, lens.k2), lens.ru_fold
-    else:
-        f, kind, p, hi = lens.radius_map, DIVISION, (lens.k1, lens.k2), min(lens.r_fold, lens.r_corner)
-    x_true = rng.random(3000) * hi
-    target, _ = f(x_true)
-    x0 = rng.random(3000) * hi
-    a, ca = invert_increasing(f, target, 0.0, hi, x0)
-    b, cb = solve_radial(kind, p[0], p[1], target, hi, x0)
-    assert ca.all() and cb.all()
-    if kind == SEED_PSI:
-        # tan, sin, cos and atan2 come from different libraries (NumPy's and LLVM's libm), which
-        # may differ in the last bit; the roots then agree to the solver's tolerance
-        assert np.abs(a - b).max() < 1e-12
-    else:
-        assert np.array_equal(a, b)  # the same algorithm, the same float operations
-    if lens.name in ("barrel", "distortion") and lens.pole:
-        far = target > 1
-        a, _ = invert_increasing(lens._reciprocal_radius_map, -1 / target[far], 0.0, hi, x0[far])
-        b, _ = solve_radial(DIVISION_RECIPROCAL, p[0], p[1], -1 / target[far], hi, x0[far])
-        assert np.array_equal(a, b)

@@ -7,7 +7,7 @@ import numpy as np
 from lenslab.lenses.base import FLOAT, Param
 from lenslab.lenses.distortion import smallest_positive_root
 from lenslab.lenses.registry import register
-from lenslab.lenses.solve import BROWN, inverse_table, kernel_settings, solve_radial
+from lenslab.lenses.solve import BROWN, inverse_table, kernel_settings
 from lenslab.lenses.wrapped import Wrapped
 
 
@@ -48,21 +48,9 @@ class Brown(Wrapped):
         s = r_u * r_u
         return r_u * (1.0 + s * (self.k1 + self.k2 * s)), 1.0 + s * (3.0 * self.k1 + 5.0 * self.k2 * s)
 
-    def invert_radius(self, r_d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Solve ``r_d = g(r_u)`` for ``r_u``: ``(r_u, valid, converged)`` as flat float64/bool arrays."""
-        r_d = np.asarray(r_d, dtype=FLOAT).ravel()
-        inside = (r_d >= 0) & (r_d < self.rd_fold)
-        sel = np.flatnonzero(inside)
-        x, conv = solve_radial(BROWN, self.k1, self.k2, r_d[sel], self.ru_hi, r_d[sel])
-        r_u = np.zeros(r_d.shape, dtype=FLOAT)
-        r_u[sel] = x
-        converged = np.zeros(r_d.shape, dtype=bool)
-        converged[sel] = conv
-        return r_u, inside & converged, converged
-
     def bend(self, uv):
         """Undistorted ``(u, v) r_u / r_d`` (limit 1 at the centre): the compiled solve of
-        ``r_d = g(r_u)`` fused with the range test (same steps as :meth:`invert_radius`)."""
+        ``r_d = g(r_u)`` fused with the range test (a safeguarded Newton from a table of the inverse)."""
         from lenslab.lenses.solve_kernels import brown_bend
 
         if getattr(self, "_table", None) is None:

@@ -6,7 +6,7 @@ import numpy as np
 
 from lenslab.lenses.base import FLOAT, Param
 from lenslab.lenses.registry import register
-from lenslab.lenses.solve import DIVISION, DIVISION_RECIPROCAL, inverse_table, kernel_settings, solve_radial
+from lenslab.lenses.solve import DIVISION, DIVISION_RECIPROCAL, inverse_table, kernel_settings
 from lenslab.lenses.wrapped import Wrapped
 
 
@@ -40,7 +40,7 @@ class Distortion(Wrapped):
 
     The inverse (direction -> pixel) has no closed form: ``r_u = f(r_d)`` is solved for ``r_d`` by
     Newton's method inside the bracket ``[0, r_fold]`` with bisection whenever a step leaves it or
-    fails to halve the previous one, starting from a table of the inverse (``invert_radius``: from the
+    fails to halve the previous one, starting from a table of the inverse (from the
     exact ``k2 = 0`` root ``2 r_u / (1 + sqrt(1 - 4 k1 r_u^2))``), until the step is below 1e-13 or
     the residual is at rounding level; directions whose solve does not converge are reported invalid. When the bound is a pole of ``r_u`` (the denominator's root), radii ``r_u > 1``
     are solved as ``-1/r_u = -(1 + k1 r_d^2 + k2 r_d^4) / r_d``, which stays straight next to the pole.
@@ -95,42 +95,6 @@ class Distortion(Wrapped):
         out = uv / den[..., None]
         return out, s < self.s_fold
 
-    def invert_radius(self, r_u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Solve ``r_u = f(r_d)`` for ``r_d``: returns ``(r_d, valid, converged)`` (flat float64 arrays).
-
-        ``valid`` is False where ``r_u`` lies at or beyond the fold, beyond the image corner, or where
-        the solve did not converge; ``converged`` says which solves met the tolerance.
-        """
-        r_u = np.asarray(r_u, dtype=FLOAT).ravel()
-        hi = min(self.r_fold, self.r_corner)
-        with np.errstate(all="ignore"):
-            folds = hi == self.r_fold
-            f_hi = np.inf if (folds and self.pole) else float(self.radius_map(np.array([hi]))[0][0])
-            inside = (r_u < f_hi) if folds else (r_u <= f_hi)
-            inside &= r_u >= 0
-            sel = np.flatnonzero(inside)
-            t = r_u[sel]
-            disc = np.maximum(1.0 - 4.0 * self.k1 * t * t, 0.0)
-            x0 = 2.0 * t / (1.0 + np.sqrt(disc))
-            if self.pole and folds:
-                # next to the pole r_u ~ c / (r_pole - r_d) is too steep for Newton (its steps shrink to
-                # nothing far from the root); for r_u > 1 solve -1/r_u = -(1 + k1 s + k2 s^2)/r_d
-                # instead, which is straight there and keeps its relative precision
-                x = np.empty(t.shape, dtype=FLOAT)
-                conv = np.empty(t.shape, dtype=bool)
-                far = t > 1.0
-                x[~far], conv[~far] = solve_radial(DIVISION, self.k1, self.k2, t[~far], hi, x0[~far])
-                x[far], conv[far] = solve_radial(DIVISION_RECIPROCAL, self.k1, self.k2, -1.0 / t[far], hi,
-                                                 x0[far])
-            else:
-                x, conv = solve_radial(DIVISION, self.k1, self.k2, t, hi, x0)
-        r_d = np.zeros(r_u.shape, dtype=FLOAT)
-        r_d[sel] = x
-        converged = np.zeros(r_u.shape, dtype=bool)
-        converged[sel] = conv
-        valid = inside & converged
-        return r_d, valid, converged
-
     def _kernel_args(self):
         """Bracket, range and starting-guess table of the compiled inverse (built once)."""
         if getattr(self, "_kargs", None) is None:
@@ -143,7 +107,7 @@ class Distortion(Wrapped):
 
     def unbend(self, uv):
         """Image ``(u, v)`` of undistorted points: the compiled solve of ``r_u = f(r_d)``, fused with the
-        range test and rescaling (same steps as :meth:`invert_radius`)."""
+        range test and rescaling (a safeguarded Newton from a table of the inverse)."""
         from lenslab.lenses.solve_kernels import division_unbend
 
         hi, f_hi, strict, pole, table, step = self._kernel_args()

@@ -107,26 +107,6 @@ def invert_increasing(
 DIVISION, DIVISION_RECIPROCAL, BROWN, SEED_PSI = 0, 1, 2, 3
 
 
-def solve_radial(kind: int, p0: float, p1: float, target: np.ndarray, hi: float,
-                 x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`invert_increasing` for one of the built-in radial maps, compiled (one pass, no temporaries).
-
-    ``kind`` is :data:`DIVISION` (``x / (1 + p0 x^2 + p1 x^4)``), :data:`DIVISION_RECIPROCAL`
-    (``-(1 + p0 x^2 + p1 x^4) / x``), :data:`BROWN` (``x (1 + p0 x^2 + p1 x^4)``) or :data:`SEED_PSI`
-    (the seed fisheye's ``atan2(x sin t, cos t)``, ``t = tan(p0 x)``); the bracket is ``[0, hi]``.
-    Same algorithm and tests as :func:`invert_increasing`, element by element.
-    """
-    from lenslab.lenses.solve_kernels import solve_radial_kernel
-
-    target = np.ascontiguousarray(target, dtype=FLOAT).ravel()
-    x0 = np.ascontiguousarray(x0, dtype=FLOAT).ravel()
-    out = np.empty(target.shape, dtype=FLOAT)
-    conv = np.empty(target.shape, dtype=np.bool_)
-    solve_radial_kernel(int(kind), float(p0), float(p1), target, float(hi), x0, TOL, RESIDUAL_TOL,
-                        RESIDUAL_ULPS * EPS, MAX_ITER, out, conv)
-    return out, conv
-
-
 def inverse_table(f: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], hi: float, n: int = 1024,
                   sqrt_map: bool = False, cap: float = np.inf) -> tuple[np.ndarray, float]:
     """Starting guesses for the compiled solvers: the inverse of an increasing ``f`` on ``[0, hi]``,

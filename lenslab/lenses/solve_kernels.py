@@ -22,7 +22,7 @@ JIT = dict(cache=True, error_model="numpy")
 
 @numba.njit(inline="always", **JIT)
 def _radial(kind, x, p0, p1):
-    """Value and derivative of radial map ``kind`` at ``x`` (see lenslab.lenses.solve.solve_radial)."""
+    """Value and derivative of radial map ``kind`` at ``x`` (the models' compiled inverses)."""
     s = x * x
     if kind == 0 or kind == 1:  # division model
         den = 1.0 + s * (p0 + p1 * s)
@@ -91,11 +91,6 @@ def _guess(t, table, step, sqrt_map):
     w = q - j
     return table[j] + w * (table[j + 1] - table[j])
 
-
-@numba.njit(**JIT)
-def solve_radial_kernel(kind, p0, p1, target, hi, x0, tol, res_tol, rel_ulps, max_iter, out, conv):
-    for i in range(target.shape[0]):
-        out[i], conv[i] = _solve(kind, p0, p1, target[i], hi, x0[i], tol, res_tol, rel_ulps, max_iter)
 
 
 @numba.njit(**JIT)
