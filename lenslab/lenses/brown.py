@@ -33,7 +33,9 @@ class Brown(Wrapped):
     def _check(self) -> None:
         s_fold = smallest_positive_root(5.0 * self.k2, 3.0 * self.k1)
         self.ru_fold = float(np.sqrt(s_fold))  # undistorted radius of the fold (inf: none)
-        self.rd_fold = float(self.radius_map(np.array([self.ru_fold]))[0][0]) if np.isfinite(s_fold) else np.inf
+        with np.errstate(over="ignore", invalid="ignore"):  # a fold at an astronomic radius (k1 ~ 1e-300)
+            rd_fold = float(self.radius_map(np.array([self.ru_fold]))[0][0]) if np.isfinite(s_fold) else np.inf
+        self.rd_fold = rd_fold if np.isfinite(rd_fold) else np.inf
         # bracket for the solve: the fold, or far enough that every image radius is inside
         r_corner = float(np.hypot(1.0, self.aspect))
         hi = self.ru_fold
