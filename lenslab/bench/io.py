@@ -207,15 +207,14 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
     options = {"to": "jpg", "tone": "hable", "exposure": 0.0, "overwrite": False, "quality": 95, "bits": None,
                "pixel_type": "half", "compression": "zip", "data_window": False}
     cores = os.cpu_count() or 1
-    runs = [("lenslab convert --jobs 1", 1, "process")]
+    runs = [("lenslab convert --jobs 1", 1)]
     if cores > 1:
-        runs += [(f"lenslab convert --jobs {cores} (processes)", cores, "process"),
-                 ("  same with a thread pool", cores, "thread")]
-    for label, jobs, pool in runs:
+        runs += [(f"lenslab convert (default: {cores} files at once)", cores)]
+    for label, jobs in runs:
         def go():
             o = new_dir()
             pairs = [(f, o / (Path(f).stem + ".jpg")) for f in files]
-            res = convert_many(pairs, options, jobs=jobs, progress=False, pool=pool)
+            res = convert_many(pairs, options, jobs=jobs, progress=False)
             bad = [r for r in res if r[2]]
             if bad:
                 raise RuntimeError(f"convert failed: {bad[0]}")

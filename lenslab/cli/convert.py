@@ -14,7 +14,7 @@ reason and the others go on; the exit code is 1 if any failed.
 
 examples:
   lenslab convert renders/ --to jpg -o previews/ --tone hable --exposure 1
-  lenslab convert 'scans/*.ppm' --to exr --jobs 0
+  lenslab convert 'scans/*.ppm' --to exr --jobs 1
   lenslab convert pano.exr:left --to png -o left.png
   lenslab convert hdris/ --recursive --to hdr -o hdr-copies/
   lenslab convert pano.exr --to png --display Rec.2100-PQ --view 'HDR 1000 nits (Rec.2020)' -o pq.png
@@ -30,7 +30,7 @@ import os
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import int_in, non_negative_int
+from lenslab.cli.policy import int_in
 
 from lenslab.io.registry import hdr_formats, input_extensions, writable
 
@@ -55,8 +55,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "as they are, clipped to 1)")
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
-    parser.add_argument("--jobs", "-j", type=non_negative_int, default=1, metavar="N",
-                        help="files converted in parallel by worker processes (default 1; 0 = one per CPU core)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--quality", type=int_in(0, 100), default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
@@ -86,9 +84,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="EXR input: keep the stored data window instead of placing it in the display window")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     from lenslab.cli.display import add_display_arguments
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.cli.options import add_jobs_option, add_scheduler_options
 
     add_display_arguments(parser)
+    add_jobs_option(parser, "files converted")
     add_scheduler_options(parser)
 
 
@@ -190,92 +189,22 @@ def convert_one(src: str, dst: str, options: dict) -> str:
     return dst
 
 
-def _worker(job: tuple[str, str, dict]) -> tuple[str, str, str | None, list[str]]:
-    """Convert one file; returns (input, output, error or None, warnings raised on the way)."""
-    import warnings
-
-    src, dst, options = job
-    from lenslab.cli.policy import user_notes
-    from lenslab.errors import LenslabError
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            convert_one(src, dst, options)
-            error = None
-        except (LenslabError, OSError) as exc:
-            error = str(exc)
-        except Exception as exc:  # an unexpected failure on one file must not stop the others
-            error = f"{type(exc).__name__}: {exc}"
-    return src, dst, error, user_notes(caught)
-
-
-def _init_worker() -> None:
-    """No codec threads in worker processes: the processes already fill the cores."""
-    import cv2
-
-    import lenslab.io.exr
-
-    cv2.setNumThreads(1)
-    lenslab.io.exr.THREADS = 0  # decode in the calling thread: no codec thread pool in a forked child
-
-
-_PRELOAD = ["lenslab.cli.convert", "lenslab.io", "lenslab.io.exr", "lenslab.io.ldr", "lenslab.io.pnm",
-            "lenslab.io.pfm", "lenslab.io.encode", "lenslab.tone", "numpy", "cv2", "OpenEXR"]
-
-
-def _process_context():
-    """Worker processes forked from a clean server that has imported lenslab and the codecs once.
-
-    A plain fork of this process is unsafe (OpenCV's and OpenEXR's thread pools do not survive it and
-    a child can hang on their locks); a fresh interpreter per worker costs seconds of imports. The
-    fork server imports once, before any codec has started a thread, and every worker forks from it.
-    """
-    import multiprocessing as mp
-
-    if "forkserver" not in mp.get_all_start_methods():
-        return mp.get_context("spawn")
-    ctx = mp.get_context("forkserver")
-    ctx.set_forkserver_preload(_PRELOAD)
-    return ctx
-
-
-def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 1, progress: bool = True,
-                 pool: str = "process") -> list[tuple[str, str, str | None, list[str]]]:
-    """Convert every (input, output) pair; returns (input, output, error or None, warnings) in input order."""
+def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 0, progress: bool = True
+                 ) -> list[tuple[str, str, str | None, list[str]]]:
+    """Convert every (input, output) pair, ``jobs`` files at once (0: one per core) on threads of this
+    process (:mod:`lenslab.cluster.threads`); returns (input, output, error or None, warnings) in input order."""
     from tqdm import tqdm
 
-    if jobs <= 0:
-        jobs = os.cpu_count() or 1
-    jobs = min(jobs, max(1, len(pairs)))
-    work = [(src, str(dst), options) for src, dst in pairs]
-    bar = tqdm(total=len(work), unit="img", disable=not progress, file=sys.stderr, leave=False)
-    results: dict[int, tuple] = {}
-    try:
-        if jobs == 1:
-            for i, job in enumerate(work):
-                results[i] = _worker(job)
-                bar.update()
-        else:
-            import concurrent.futures as cf
+    from lenslab.cluster.tasks import guarded
+    from lenslab.cluster.threads import default_jobs, run_threads
 
-            if pool == "process":
-                ctx = _process_context()
-                executor = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker)
-            else:
-                executor = cf.ThreadPoolExecutor(jobs)
-            with executor:
-                futures = {executor.submit(_worker, job): i for i, job in enumerate(work)}
-                for fut in cf.as_completed(futures):
-                    i = futures[fut]
-                    try:
-                        results[i] = fut.result()
-                    except Exception as exc:  # a worker died (out of memory, a crash in a codec)
-                        results[i] = (work[i][0], work[i][1], f"the worker process failed ({exc!r})", [])
-                    bar.update()
+    bar = tqdm(total=len(pairs), unit="img", disable=not progress, file=sys.stderr, leave=False)
+    try:
+        return run_threads(lambda pair: guarded(pair[0], str(pair[1]), lambda: convert_one(pair[0], str(pair[1]),
+                                                                                             options)),
+                           pairs, jobs or default_jobs(len(pairs)), lambda _: bar.update())
     finally:
         bar.close()
-    return [results[i] for i in range(len(work))]
 
 
 def run(args: argparse.Namespace) -> int:

@@ -15,6 +15,15 @@ def parse_exposure(text: str) -> float | str:
         raise ToneError(f"--exposure must be a number of stops or 'auto', not {text!r}") from None
 
 
+def add_jobs_option(parser, what: str = "files") -> None:
+    """``--jobs N`` of a batch on this machine: ``what`` done at once on threads of the process."""
+    from lenslab.cli.policy import non_negative_int
+
+    parser.add_argument("--jobs", "-j", type=non_negative_int, default=0, metavar="N",
+                        help=f"{what} done at once on this machine (default 0: one per CPU core; 1: one after "
+                             "the other, each on every core). Each file in flight holds its image in memory")
+
+
 def add_scheduler_options(parser, skip_existing: bool = True) -> None:
     """``--scheduler``, ``--scheduler-file`` (and ``--skip-existing``) of every batch command: one task
     per file on a Dask cluster (:mod:`lenslab.cluster`)."""

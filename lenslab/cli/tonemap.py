@@ -54,9 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
     from lenslab.cli.display import add_display_arguments
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.cli.options import add_jobs_option, add_scheduler_options
 
     add_display_arguments(parser)
+    add_jobs_option(parser, "files tone-mapped (with several inputs)")
     add_scheduler_options(parser)
 
 

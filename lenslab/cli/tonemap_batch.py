@@ -56,10 +56,12 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
         return 1 if status or missing else 0
     from tqdm import tqdm
 
-    results = []
-    for src, dst in tqdm(pairs, unit="img", file=sys.stderr, leave=False,
-                         disable=args.quiet or not sys.stderr.isatty()):
-        results.append(tonemap_task(src, str(dst), options))
+    from lenslab.cluster.threads import default_jobs, run_threads
+
+    with tqdm(total=len(pairs), unit="img", file=sys.stderr, leave=False,
+              disable=args.quiet or not sys.stderr.isatty()) as bar:
+        results = run_threads(lambda pair: tonemap_task(pair[0], str(pair[1]), options), pairs,
+                              args.jobs or default_jobs(len(pairs)), lambda _: bar.update())
     failed = report_results("lenslab tonemap", results, None if args.quiet else "tone-mapped {done} of {total} file(s)")
     return 1 if failed or missing else 0
 

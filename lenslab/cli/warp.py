@@ -102,12 +102,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
     parser.add_argument("--verbose", "-v", action="store_true",
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.cli.options import add_jobs_option, add_scheduler_options
     from lenslab.cli.display import add_display_arguments
     from lenslab.cli.warp_video import add_video_arguments
 
     add_display_arguments(parser)
     add_video_arguments(parser)
+    add_jobs_option(parser, "files warped")
     add_scheduler_options(parser)
 
 
@@ -166,13 +167,12 @@ def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[s
 
 
 def run(args: argparse.Namespace) -> int:
-    import warnings
-
     from tqdm import tqdm
 
     from lenslab.cli.convert import expand_inputs
     from lenslab.cli.warp_file import plan_cache, warp_one
     from lenslab.cli.policy import make_output_dir, user_notes
+    from lenslab.cluster.threads import default_jobs, recorded_warnings, run_threads
     from lenslab.errors import LenslabError, WarpError
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
@@ -221,12 +221,13 @@ def run(args: argparse.Namespace) -> int:
     show = not args.quiet and sys.stderr.isatty()
     failed = []
     bar = tqdm(total=len(pairs), unit="img", disable=not show or len(pairs) == 1, file=sys.stderr, leave=False)
-    for src_path, dst_path in pairs:
+
+    def one(pair):
+        src_path, dst_path = pair
         rows = None
         if show and len(pairs) == 1:
             rows = tqdm(unit="row", file=sys.stderr, leave=False, desc=os.path.basename(src_path))
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+        with recorded_warnings() as caught:
             try:
                 warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
                 error = None
@@ -237,12 +238,20 @@ def run(args: argparse.Namespace) -> int:
             finally:
                 if rows is not None:
                     rows.close()
-        for note in user_notes(caught):
+        return src_path, error, user_notes(caught)
+
+    def done(result):
+        src_path, error, notes = result
+        for note in notes:
             print(f"lenslab warp: note: {src_path}: {note}", file=sys.stderr)
         if error:
             failed.append(src_path)
             print(f"lenslab warp: FAILED: {error if src_path in error else f'{src_path}: {error}'}", file=sys.stderr)
         bar.update()
+
+    # the first file alone, on every core: it makes the map the others reuse (a batch has one geometry)
+    done(one(pairs[0]))
+    run_threads(one, pairs[1:], args.jobs or default_jobs(len(pairs) - 1), done)
     bar.close()
     if not args.quiet:
         done = len(pairs) - len(failed)

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import warnings
 
 _PLANS: dict[tuple, object] = {}  # per worker process: warp options -> PlanCache
 
@@ -51,13 +50,14 @@ def worker_plans(options: dict):
     return _PLANS[key]
 
 
-def _guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
+def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
     """Run ``work()``; a failure becomes this file's one-line error, warnings become its notes."""
     from lenslab.cli.policy import user_notes
     from lenslab.errors import LenslabError
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    from lenslab.cluster.threads import recorded_warnings
+
+    with recorded_warnings() as caught:
         try:
             work()
             error = None
@@ -82,7 +82,7 @@ def warp_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, 
             args.st = worker_st_map(args.stmap)
         warp_one(src, Path(dst), args, worker_plans(options))
 
-    return _guarded(src, dst, work)
+    return guarded(src, dst, work)
 
 
 def worker_st_map(path: str):
@@ -100,7 +100,7 @@ def convert_task(src: str, dst: str, options: dict) -> tuple[str, str, str | Non
     from lenslab.cli.convert import convert_one
 
     limit_threads()
-    return _guarded(src, dst, lambda: convert_one(src, dst, options))
+    return guarded(src, dst, lambda: convert_one(src, dst, options))
 
 
 def tonemap_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, list[str]]:
@@ -108,7 +108,7 @@ def tonemap_task(src: str, dst: str, options: dict) -> tuple[str, str, str | Non
     from lenslab.cli.tonemap_file import tonemap_one
 
     limit_threads()
-    return _guarded(src, dst, lambda: tonemap_one(src, dst, options))
+    return guarded(src, dst, lambda: tonemap_one(src, dst, options))
 
 
 def plain_options(args: argparse.Namespace, paths: tuple[str, ...] = ()) -> dict:
