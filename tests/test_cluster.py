@@ -247,3 +247,32 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
     for path in written:  # whatever was written is whole
         image, _ = read(path)
         assert image.shape == (512, 512, 4)
+
+
+def _trim_threshold() -> str | None:
+    import os
+
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+def test_workers_start_without_the_trim_threshold_and_the_readme_recipe_does_the_same(scheduler, tmp_path):
+    """lenslab's local workers, and workers started with the README's config file, keep the C library's
+    own trimming (Dask's nanny would set MALLOC_TRIM_THRESHOLD_=65536 in each worker's environment)."""
+    import re
+
+    import dask
+    from distributed import Client
+    from distributed.nanny import _get_env_variables
+
+    with Client(scheduler, set_as_default=False) as client:
+        assert set(client.run(_trim_threshold).values()) == {None}
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    recipe = re.search(r"```yaml\n(distributed:\n.*?)```", text, re.S).group(1)
+    (tmp_path / "lenslab.yaml").write_text(recipe)
+    # Dask's defaults with the file on top, as `dask worker` reads its config folder
+    config = dask.config.merge(dask.config.config, dask.config.collect(paths=[str(tmp_path)], env={}))
+    with dask.config.set(config):
+        env = _get_env_variables("distributed.nanny.pre-spawn-environ")  # what the nanny gives a worker
+    assert "MALLOC_TRIM_THRESHOLD_" not in env and env["OMP_NUM_THREADS"] == "1"
+    # without the file: Dask's default, for contrast
+    assert _get_env_variables("distributed.nanny.pre-spawn-environ")["MALLOC_TRIM_THRESHOLD_"] == "65536"

@@ -3,8 +3,9 @@
 Warp: 32 frames of 2048x1024 EXR (``--quick``: 16 of 1024x512) into a 1024x1024 equisolid fisheye,
 
   one job        the frames one after the other in this process, one thread (the baseline)
-  local default  the same on every core (lenslab warp without a scheduler: the warp's own threads)
-  2 workers      one task per frame on a LocalCluster of two single-threaded worker processes
+  local default  lenslab warp without a scheduler: one frame per core at once, on threads of this process
+  2 workers      one task per frame on a LocalCluster of two single-threaded worker processes (started
+                 with lenslab's worker settings, :data:`lenslab.cluster.connect.WORKER_CONFIG`)
 
 with the speed-up and efficiency of the two workers against one job (aim: 1.7x), and the overhead of a
 task: the workers' busy time taken from their wall time, per task (aim: under 20 ms). The warp's map
@@ -21,6 +22,7 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -36,6 +38,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="16 frames of 1024x512, and the panorama at 4 spp (a few minutes)")
     parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
     parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
+    parser.add_argument("--repeat", type=int, default=3,
+                        help="runs of each warp batch, interleaved; the medians count (default 3)")
 
 
 def make_frames(folder: Path, n: int, width: int, height: int) -> list[Path]:
@@ -75,6 +79,18 @@ def _local(task, frames, out: Path, options: dict, threads: int) -> float:
         if error:
             raise RuntimeError(error)
     return time.perf_counter() - t0
+
+
+def _threads(task, frames, out: Path, options: dict, jobs: int) -> float:
+    """The local default: ``jobs`` frames at once on threads (:mod:`lenslab.cluster.threads`)."""
+    from lenslab.cluster.threads import run_threads
+
+    t0 = time.perf_counter()
+    results = run_threads(lambda src: task(str(src), str(out / (src.stem + ".exr")), options), frames, jobs)
+    seconds = time.perf_counter() - t0
+    if any(r[2] for r in results):
+        raise RuntimeError(next(r[2] for r in results if r[2]))
+    return seconds
 
 
 def _on_cluster(client, task, frames, out: Path, options: dict) -> tuple[float, float]:
@@ -119,26 +135,32 @@ def batches(args, tmp: Path) -> None:
     options = warp_options(tmp / "in", tmp / "out")
     options["overwrite"] = True
     _local(warp_task, frames[:1], _fresh(tmp / "out"), options, 1)  # compile or load the kernels first
-    one = _local(warp_task, frames, _fresh(tmp / "out"), options, 1)
     cores = os.cpu_count() or 1
-    default = _local(warp_task, frames, _fresh(tmp / "out"), options, cores)
+    runs: dict[str, list] = {"one": [], "default": [], "cluster": []}
     with local_cluster(workers=2) as client:
         warm_up(client, warp_task, frames[0], _fresh(tmp / "out"), options)
-        wall, busy = _on_cluster(client, warp_task, frames, _fresh(tmp / "out"), options)
+        for _ in range(max(1, args.repeat)):  # interleaved, so that every configuration sees the same load
+            runs["one"].append(_local(warp_task, frames, _fresh(tmp / "out"), options, 1))
+            runs["default"].append(_threads(warp_task, frames, _fresh(tmp / "out"), options, cores))
+            runs["cluster"].append(_on_cluster(client, warp_task, frames, _fresh(tmp / "out"), options))
+        one, default = statistics.median(runs["one"]), statistics.median(runs["default"])
+        wall, busy = sorted(runs["cluster"])[len(runs["cluster"]) // 2]
         map_build, scatter = map_costs(client, options, frames[0])
         convert = {"to": "exr", "tone": "hable", "exposure": 0.0, "overwrite": True, "quality": 95, "bits": None,
                    "pixel_type": "half", "compression": "zip", "data_window": False}
         c_wall, _ = _on_cluster(client, convert_task, frames, _fresh(tmp / "out"), convert)
         noop = noop_overhead(client)
-    print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024 (load {os.getloadavg()[0]:.2f})")
+    print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024, medians of {max(1, args.repeat)} runs "
+          f"(load {os.getloadavg()[0]:.2f})")
     print(f"  one job, one thread        {one:8.2f} s   baseline")
-    print(f"  local, {cores} threads          {default:8.2f} s   {one / default:5.2f}x")
+    print(f"  local, {cores} frames at once    {default:8.2f} s   {one / default:5.2f}x")
     speedup = one / wall
     ok = figure("cluster.warp_two_workers_speedup", f"warp {n} frames: two Dask workers vs one job", speedup, "x",
                 aim=AIM_SPEEDUP, better="higher")
     print(f"  two Dask workers           {wall:8.2f} s   {speedup:5.2f}x (aim {AIM_SPEEDUP}x) {mark(ok)}; "
           f"efficiency {speedup / 2:.0%}")
-    figure("cluster.warp_local_threads_speedup", f"warp {n} frames: local on every core vs one job", one / default, "x")
+    figure("cluster.warp_local_threads_speedup", f"warp {n} frames: local default ({cores} frames at once) vs one job",
+           one / default, "x")
     figure("cluster.warp_two_workers_efficiency", "warp: two workers' efficiency against one job", speedup / 2, "",
            better="higher")
     overhead = max(0.0, (2 * wall - busy) / n) * 1e3
