@@ -176,6 +176,12 @@ def test_cli_end_to_end(tmp_path, capsys):
     data = json.loads((out / "results.json").read_text())
     assert data["tune"]["target"] == pytest.approx(0.05) and data["tune"]["choice"] is not None
     assert "chosen:" in capsys.readouterr().out
+    # the analytic environment is computed, not traced: a scheduler given anyway is not contacted, and said so
+    code = main(["validate", "--scene", "analytic", "--to", "fisheye:fov=180", "--size", "16x16", "--pano-sizes",
+                 "64x32", "--filters", "bilinear", "--reference-spp", "4", "--direct-spp", "1", "--no-flip",
+                 "--repeat", "1", "-q", "-o", str(tmp_path / "r2"), "--scheduler", "tcp://127.0.0.1:1"])
+    assert code == 0 and (tmp_path / "r2" / "results.json").exists()
+    assert "is computed, not traced; the cluster is not used" in capsys.readouterr().err
     # a bad setting is a clear error, not a traceback
     code = main(["validate", "--scene", "analytic", "--filters", "gaussian", "-q", "-o", str(out)])
     assert code == 2  # a bad value: a usage error

@@ -12,6 +12,7 @@ Only the scene's name or path, the camera and the tile's rows travel; the pixels
 from __future__ import annotations
 
 import os
+import sys
 import time
 
 import numpy as np
@@ -160,7 +161,11 @@ def attach_cluster(source, args) -> None:
     from lenslab.cluster.connect import client_for
 
     where = scheduler_address(args)
-    if where is None or not hasattr(source, "scene_name"):
+    if where is None:
+        return
+    if not hasattr(source, "scene_name"):  # a closed-form source: nothing to trace, nothing to send
+        print(f"lenslab validate: note: --scene {args.scene} is computed, not traced; the cluster is not used",
+              file=sys.stderr)
         return
     connection = client_for(where)
     source.client = connection.__enter__()
