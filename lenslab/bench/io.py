@@ -116,12 +116,20 @@ def _formats(d: Path, img, raw: Path, rep: int, w: int, h: int) -> None:
     fw_all, fr_all = min(r[2] for r in rows), min(r[4] for r in rows)
     print(ratio_line("floor write  numpy.tofile", fw_all, fw_all))
     print(ratio_line("floor read   numpy.fromfile", fr_all, fr_all))
+    from lenslab.bench.results import figure
+
     print("\nwrite, as a ratio to numpy.tofile timed alternately with it (LDR rows include sRGB encoding)")
     for label, tw, fw, _, _, size in rows:
         print(ratio_line(f"  {label}", tw, fw, f"{size / 2**20:7.1f} MiB"))
+        figure(f"io.write_{_slug(label)}", f"write {label} vs numpy.tofile", tw / fw, "x", detail=True)
     print("\nread, as a ratio to numpy.fromfile timed alternately with it (LDR rows include sRGB decoding)")
     for label, _, _, tr, fr, _ in rows:
         print(ratio_line(f"  {label}", tr, fr))
+        figure(f"io.read_{_slug(label)}", f"read {label} vs numpy.fromfile", tr / fr, "x", detail=True)
+
+
+def _slug(label: str) -> str:
+    return "_".join("".join(c if c.isalnum() else " " for c in label).split())
 
 
 #: aims for lenslab's time over the reference library's on the same file (lower is better)
@@ -176,6 +184,7 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
     import numpy as np
 
     import lenslab.io as lio
+    from lenslab.bench.results import figure
     from lenslab.bench.timing import best_time
     from lenslab.cli.convert import convert_many
 
@@ -220,3 +229,5 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
                 raise RuntimeError(f"convert failed: {bad[0]}")
         t = best_time(go, rep)
         print(f"  {label:<40s} {n / t:8.2f} img/s   {t_plain / t:5.2f}x baseline")
+        figure(f"io.convert_jobs{jobs}_vs_script", f"{label}: EXR -> JPG speed vs a plain OpenEXR + OpenCV script",
+               t_plain / t, "x", better="higher", note=f"{n / t:.2f} img/s")
