@@ -1,10 +1,13 @@
 """Side-by-side strip of one HDR image under several tone curves, each panel labelled with its curve.
 
 Every panel gets the same exposure (stops, or 'auto' chosen once from the image) and mode.
-Panels wider than --panel-width are shrunk with area averaging (in linear light).
+Panels wider than --panel-width are shrunk with area averaging (in linear light). --display adds a
+last panel: the OpenColorIO display transform of the same exposed image, its code values shown as
+they are, beside the curves (SDR displays; PQ and HLG need an HDR file: lenslab tonemap --display).
 
   lenslab compare-tones pano.exr -o strip.jpg --curves clamp,reinhard,hable
   lenslab compare-tones pano.exr -o strip.png --curves hable,aces,agx,pbr-neutral --exposure auto --vertical
+  lenslab compare-tones pano.exr -o strip.png --curves hable,agx --display sRGB --view 'ACES 2.0 - SDR'
 """
 
 from __future__ import annotations
@@ -36,6 +39,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="dither when quantising (default on)")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
+    from lenslab.cli.display import add_display_arguments
+
+    add_display_arguments(parser, "a panel more: an OpenColorIO display transform of the same exposed image")
 
 
 def label_panel(panel, text: str):
@@ -76,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
     names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]
     if not names:
         raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
+    display = display_panel_options(args)
     check_output(args.output, [args.input], args.overwrite)
     image, _ = io.read(args.input)
     if image.ndim == 3 and image.shape[2] in (2, 4):
@@ -97,7 +104,23 @@ def run(args: argparse.Namespace) -> int:
             out = cv2.resize(out, size, interpolation=cv2.INTER_AREA)
             if out.ndim == 2:
                 out = out[..., None]
-        panels.append(label_panel(np.ascontiguousarray(out), name))
+        panels.append(np.ascontiguousarray(out))
+    labels = list(names)
+    if display["display"]:  # the strip in code values: the curves' panels sRGB-encoded, the display's as it is
+        from lenslab.io.ocio import display_transform, processor
+        from lenslab.srgb import encode
+
+        panels = [encode(p) for p in panels]
+        shown = display_transform(image * np.float32(2.0 ** float(ev)), display["display"], display["view"],
+                                  display["colorspace"], display["ocio"])
+        h, w = shown.shape[:2]
+        if args.panel_width and w > args.panel_width:
+            shown = cv2.resize(shown, (args.panel_width, max(1, round(h * args.panel_width / w))),
+                               interpolation=cv2.INTER_AREA)
+        panels.append(np.ascontiguousarray(np.clip(shown.reshape(panels[0].shape), 0, 1), np.float32))
+        _, (d, v, _) = processor(display["display"], display["view"], display["colorspace"], display["ocio"])
+        labels.append(v)
+    panels = [label_panel(p, text) for p, text in zip(panels, labels)]
     gap_shape = list(panels[0].shape)
     if args.vertical:
         gap_shape[0] = 4
@@ -108,7 +131,30 @@ def run(args: argparse.Namespace) -> int:
     for i, p in enumerate(panels):
         parts.extend([gap, p] if i else [p])
     strip = np.concatenate(parts, axis=0 if args.vertical else 1)
-    write_tone_mapped(args.output, strip, dither=args.dither, overwrite=args.overwrite)
+    if display["display"]:
+        io.write(args.output, strip, overwrite=args.overwrite, raw=True, dither=args.dither)
+    else:
+        write_tone_mapped(args.output, strip, dither=args.dither, overwrite=args.overwrite)
     if not args.quiet:
-        print(f"{args.output}: {strip.shape[1]} x {strip.shape[0]}, curves {', '.join(names)}", file=sys.stderr)
+        print(f"{args.output}: {strip.shape[1]} x {strip.shape[0]}, panels {', '.join(labels)}", file=sys.stderr)
     return 0
+
+
+def display_panel_options(args: argparse.Namespace) -> dict:
+    """The ``--display`` options, checked: an SDR display, an output that holds code values, exposure in stops."""
+    from lenslab.cli.display import display_options
+    from lenslab.cli.policy import UsageError
+    from lenslab.io.detect import format_for_path
+    from lenslab.io.ocio import is_hdr_display
+    from lenslab.io.registry import get
+
+    display = display_options(args)
+    if display["display"] is None:
+        return display
+    if is_hdr_display(display["display"]):
+        raise UsageError(f"--display {display['display']}: the strip is an SDR image; write an HDR display with "
+                         "lenslab tonemap --display")
+    if "raw" not in get(format_for_path(args.output, None)).write_options:
+        raise UsageError(f"{args.output}: a strip with a display panel holds display code values: write png, jpg, "
+                         "ppm or tif")
+    return display

@@ -6,8 +6,9 @@ from __future__ import annotations
 import argparse
 
 
-def add_display_arguments(parser: argparse.ArgumentParser) -> None:
-    g = parser.add_argument_group("OpenColorIO display transform (instead of --tone)")
+def add_display_arguments(parser: argparse.ArgumentParser, title: str = "OpenColorIO display transform (instead of "
+                                                                         "--tone)") -> None:
+    g = parser.add_argument_group(title)
     g.add_argument("--display", metavar="NAME",
                    help="display of the OpenColorIO config, e.g. sRGB, 'Display P3', Rec.2100-PQ (HDR: written "
                         "as 16-bit PNG/TIFF); any unique part of the name works")
