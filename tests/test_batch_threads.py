@@ -89,3 +89,27 @@ def test_one_thread_records_like_catch_warnings():
         warnings.warn("once")
         warnings.warn("once")
     assert [str(w.message) for w in caught] == ["once", "once"]
+
+
+def test_the_default_runs_as_many_files_at_once_as_the_memory_holds(monkeypatch):
+    """The first file's growth of the peak memory bounds the files at once: with room for one file and
+    a half, the others run one at a time; with room for many, on every thread."""
+    from lenslab.cluster import threads as th
+
+    assert th._peak_rss() > 10 << 20  # the kernel's ru_maxrss, in bytes: this process holds NumPy at least
+    assert th.available_memory() > 0  # /proc/meminfo on Linux
+    per_file = 48 << 20
+    peaks = iter([1 << 30, (1 << 30) + per_file])  # before and after the first file
+    monkeypatch.setattr(th, "_peak_rss", lambda: next(peaks))
+    monkeypatch.setattr(th, "available_memory", lambda: int(1.5 * per_file / 0.7))
+
+    def work(i):
+        return i, threading.current_thread().name
+
+    out = run_threads(work, range(6), 3, first_alone=True, fit_memory=True)
+    assert [r[0] for r in out] == list(range(6))
+    assert {name for _, name in out} == {threading.current_thread().name}  # one at a time, here
+    assert th.memory_bound(3, per_file, 100 * per_file) == 3
+    assert th.memory_bound(3, per_file, None) == 3  # unknown memory: no bound
+    assert th.memory_bound(8, 10 * per_file, 20 * per_file) == 1  # 70% of 20 holds one file of 10
+    assert th.memory_bound(8, 10 * per_file, 60 * per_file) == 4

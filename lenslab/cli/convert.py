@@ -202,7 +202,8 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 0, pr
     try:
         return run_threads(lambda pair: guarded(pair[0], str(pair[1]), lambda: convert_one(pair[0], str(pair[1]),
                                                                                              options)),
-                           pairs, jobs or default_jobs(len(pairs)), lambda _: bar.update())
+                           pairs, jobs or default_jobs(len(pairs)), lambda _: bar.update(), first_alone=True,
+                           fit_memory=not jobs)
     finally:
         bar.close()
 

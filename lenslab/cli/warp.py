@@ -250,8 +250,8 @@ def run(args: argparse.Namespace) -> int:
         bar.update()
 
     # the first file alone, on every core: it makes the map the others reuse (a batch has one geometry)
-    done(one(pairs[0]))
-    run_threads(one, pairs[1:], args.jobs or default_jobs(len(pairs) - 1), done)
+    run_threads(one, pairs, args.jobs or default_jobs(len(pairs) - 1), done, first_alone=True,
+                fit_memory=not args.jobs)
     bar.close()
     if not args.quiet:
         done = len(pairs) - len(failed)

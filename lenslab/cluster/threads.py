@@ -46,7 +46,43 @@ def default_jobs(files: int) -> int:
                       files))
 
 
-def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable | None = None) -> list:
+def available_memory() -> int | None:
+    """Bytes this process may still take: the system's MemAvailable, or less under a cgroup limit."""
+    found = []
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    found.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        with open("/sys/fs/cgroup/memory.max") as f:
+            limit = f.read().strip()
+        with open("/sys/fs/cgroup/memory.current") as f:
+            used = int(f.read().strip())
+        if limit != "max":
+            found.append(max(0, int(limit) - used))
+    except (OSError, ValueError):
+        pass
+    return min(found) if found else None
+
+
+def _peak_rss() -> int:
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux reports KiB
+
+
+def memory_bound(threads: int, per_job: int, available: int | None) -> int:
+    """``threads`` capped so that that many jobs of ``per_job`` bytes each use at most 70% of ``available``."""
+    if not available or per_job <= 0:
+        return threads
+    return max(1, min(threads, int(0.7 * available) // per_job))
+
+
+def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable | None = None,
+                first_alone: bool = False, fit_memory: bool = False) -> list:
     """``[work(job) for job in jobs]`` with ``threads`` jobs at once; ``on_done(result)`` is called in this
     thread as each finishes (in the order they finish). Results come back in the jobs' order.
 
@@ -54,10 +90,23 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     one), and the EXR codec in the calling thread. On Ctrl-C the jobs not started are dropped and the
     running ones finish their file (each output is written to a temporary name and renamed), then the
     interrupt goes on.
+
+    ``first_alone``: the first job runs by itself first, on every core (a warp's first file makes the
+    map the others share); with ``fit_memory`` the growth of this process's peak memory during it
+    bounds how many of the others run at once (:func:`memory_bound`), so that big files do not exhaust
+    the memory (the commands' default; an explicit ``--jobs N`` is taken as it is).
     """
     import concurrent.futures as cf
 
     jobs = list(jobs)
+    if first_alone and jobs:
+        rss0 = _peak_rss()
+        first = work(jobs[0])
+        if on_done is not None:
+            on_done(first)
+        if fit_memory:
+            threads = memory_bound(threads, _peak_rss() - rss0, available_memory())
+        return [first] + run_threads(work, jobs[1:], threads, on_done)
     threads = max(1, min(int(threads), len(jobs)))
     if threads == 1:
         out = []
@@ -108,4 +157,4 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     return [results[i] for i in range(len(jobs))]
 
 
-__all__ = ["recorded_warnings", "run_threads", "default_jobs"]
+__all__ = ["recorded_warnings", "run_threads", "default_jobs", "memory_bound", "available_memory"]
