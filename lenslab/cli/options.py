@@ -20,8 +20,8 @@ def add_jobs_option(parser, what: str = "files") -> None:
     from lenslab.cli.policy import non_negative_int
 
     parser.add_argument("--jobs", "-j", type=non_negative_int, default=0, metavar="N",
-                        help=f"{what} done at once on this machine (default 0: one per CPU core; 1: one after "
-                             "the other, each on every core). Each file in flight holds its image in memory")
+                        help=f"{what} done at once on this machine (default 0: one per CPU core, as many as the "
+                             "memory holds judging by the first file; 1: one after the other, each on every core)")
 
 
 def add_scheduler_options(parser, skip_existing: bool = True) -> None:
