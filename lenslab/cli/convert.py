@@ -168,27 +168,6 @@ def plan_outputs(files: list[str], to: str, output: str | None,
     return pairs
 
 
-def convert_one(src: str, dst: str, options: dict) -> str:
-    """Read, tone-map if needed, write. Returns the output path; raises on failure."""
-    from lenslab.cli.policy import check_output
-    from lenslab.io import read, split_selector, write
-
-    src_file, _ = split_selector(src)
-    check_output(dst, [src_file], options["overwrite"])
-    from lenslab.cli.warp_video import is_video
-
-    if is_video(src_file):  # a clip: one file per frame
-        from lenslab.cli.convert_video import frames_to_files
-
-        return frames_to_files(str(src_file), dst, options)
-    image, meta = read(src, data_window=options["data_window"])
-    from lenslab.cli.render import render
-
-    image, write_opts = render(image, meta, options)
-    write(dst, image, format=options["to"], overwrite=options["overwrite"], **write_opts)
-    return dst
-
-
 def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 0, progress: bool = True
                  ) -> list[tuple[str, str, str | None, list[str]]]:
     """Convert every (input, output) pair, ``jobs`` files at once (0: one per core) on threads of this
@@ -197,6 +176,8 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 0, pr
 
     from lenslab.cluster.tasks import guarded
     from lenslab.cluster.threads import default_jobs, run_threads
+
+    from lenslab.cli.convert_file import convert_one
 
     bar = tqdm(total=len(pairs), unit="img", disable=not progress, file=sys.stderr, leave=False)
     try:

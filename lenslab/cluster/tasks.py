@@ -97,7 +97,7 @@ def worker_st_map(path: str):
 
 def convert_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, list[str]]:
     """Convert one file as ``lenslab convert`` does."""
-    from lenslab.cli.convert import convert_one
+    from lenslab.cli.convert_file import convert_one
 
     limit_threads()
     return guarded(src, dst, lambda: convert_one(src, dst, options))
