@@ -203,3 +203,56 @@ def test_drago_headroom_keeps_a_sun_from_crushing_the_scene():
     ours = tone.drago(img)
     plain = np.nan_to_num(cv2.createTonemapDrago(1.0, 1.0, 0.85).process(img.copy()))
     assert np.median(ours) > 2 * np.median(plain)
+
+
+@pytest.mark.parametrize("name", ["clamp", "hable", "agx"])
+def test_luminance_mode_gives_a_pixel_the_same_bits_beside_a_bad_value_and_on_any_thread_count(name):
+    # a block holding a NaN takes the repairing pass, a clean block the vectorised one (lenslab.tone.luminance):
+    # a clean pixel's value must not depend on which its block took, nor on how the rows are split
+    rng = np.random.default_rng(3)
+    img = (0.18 * np.exp2(rng.normal(0.0, 3.0, (300, 200, 3)))).astype(np.float32)  # 60000 px: 3 blocks
+    img[::37, ::11, 1] *= 40  # saturated bright pixels: the blend toward grey
+    dirty = img.copy()
+    for r in (0, 120, 299):
+        dirty[r, 5, 0] = np.nan
+    clean_out = tone.tonemap(img, name, mode="luminance", threads=1)
+    dirty_out, warns = recorded(lambda: tone.tonemap(dirty, name, mode="luminance", threads=2))
+    assert len(warns) == 1 and warns[0].nan == 3
+    keep = np.ones(img.shape[:2], bool)
+    keep[[0, 120, 299], 5] = False
+    np.testing.assert_array_equal(dirty_out[keep], clean_out[keep])
+    # and the values are the definition's: Ld = curve(L), RGB scaled by Ld / L, blended toward grey where
+    # the brightest channel passes 1 (float64 here; float32 steps in the code: 1e-5 covers their rounding)
+    w = tone.luminance_weights().astype(np.float64)
+    x = img.astype(np.float64)
+    lum = x @ w
+    ld = tone.tonemap(lum.astype(np.float32)[..., None], name)[..., 0].astype(np.float64)
+    c = x * (ld / lum)[..., None]
+    peak = c.max(axis=-1)
+    t = np.clip((1 - ld) / np.maximum(peak - ld, 1e-37), 0, 1)[..., None]
+    ref = np.where(peak[..., None] > 1, np.clip(ld[..., None] + (c - ld[..., None]) * t, 0, 1), c)
+    np.testing.assert_allclose(clean_out, ref, rtol=1e-5, atol=1e-5)
+
+
+@pytest.mark.parametrize("name", [n for n in tone.CURVES if tone.get_curve(n).kind != "local"])
+def test_luminance_mode_numpy_and_compiled_passes_give_the_same_bits(name, monkeypatch):
+    # a one-image command runs NumPy's ufuncs, a process with numba loaded the compiled passes
+    # (lenslab.tone.sweep.compiled_ready): the same float32 steps in the same order, so the same bits,
+    # on bright saturated pixels, black, -0.0, NaN, +inf, negatives and the top of float32
+    import lenslab.tone.sweep as sweep
+
+    rng = np.random.default_rng(0)
+    img = (0.18 * np.exp2(rng.normal(0.0, 3.0, (300, 200, 3)))).astype(np.float32)
+    img[::37, ::11, 1] *= 40
+    img[5, 5] = -0.0
+    img[6, 6] = 0.0
+    img[7, 7, 0] = np.nan
+    img[8, 8, 2] = np.inf
+    img[9, 9, 1] = -3.0
+    img[10, 10] = [3e38, 1.0, 1.0]
+    runs = {}
+    for compiled in (True, False):
+        monkeypatch.setattr(sweep, "COMPILED_PASSES", compiled)
+        runs[compiled], warns = recorded(lambda: tone.tonemap(img, name, mode="luminance", threads=2))
+        assert (warns[0].nan, warns[0].posinf, warns[0].negative) == (1, 1, 1)
+    np.testing.assert_array_equal(runs[True].view(np.uint32), runs[False].view(np.uint32))

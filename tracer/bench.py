@@ -17,8 +17,20 @@
    its own defaults otherwise: the tracer starts Russian roulette at bounce 3 and averages samples in the pixel
    (a box filter); Mitsuba starts it at 5 and splats through a Gaussian filter.
 
+5. ``--validate``: the warp against the direct trace, noise-free (``lenslab validate --noise-free``'s
+   pipeline: the Cornell box lit by a point light, fixed sub-pixel sample positions, so the difference is
+   the resampling error alone): a 4096x2048 panorama traced from the view's eye, warped into a 512x512
+   180-degree equisolid fisheye with single-tap bilinear and with ``--antialias``, against the fisheye traced
+   directly at 64 samples per pixel. Figures: each setting's relative L1 over the covered pixels, and the
+   antialias warp's time over the single-tap warp's (best of ``--repeat``, at least 2 so that the first
+   call's loading stays out, at most 5; same process, same panorama).
+   ``--quick`` uses a 1024x512 panorama and a 128x128 fisheye at 16 samples (a smoke run; its figures have
+   no aims).
+
 Aims (printed with met/MISSED and written with ``--json FILE``, benchmark name "tracer"): primary rays at
-least 0.9x raw embree's throughput on the same rays; the Cornell box within 0.6x Mitsuba's time.
+least 0.9x raw embree's throughput on the same rays; the Cornell box within 0.6x Mitsuba's time;
+``--antialias`` at or under 0.3% relative L1 against the direct trace at no more than 2x the single-tap
+warp's time.
 """
 
 from __future__ import annotations
@@ -34,6 +46,8 @@ import time
 
 AIM_PRIMARY = 0.9  # tracer throughput / raw embree throughput, same rays
 AIM_MITSUBA = 0.6  # tracer time / Mitsuba 3 scalar_rgb time, whole process
+AIM_VALIDATE_L1 = 0.3  # percent relative L1 of the --antialias warp against the direct trace
+AIM_VALIDATE_COST = 2.0  # --antialias warp time / single-tap bilinear warp time
 
 # Mitsuba 3 renders its own Cornell box: argv = size, spp, max_depth (Mitsuba's count), output EXR
 MITSUBA_SCRIPT = """
@@ -61,6 +75,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "scalar_rgb rendering its own Cornell box (needs 'import mitsuba'; skipped with a note without it)")
     p.add_argument("--runs", type=int, default=5, help="whole-process runs of each renderer for --vs-mitsuba (default 5)")
     p.add_argument("--mitsuba-only", action="store_true", help="only the --vs-mitsuba figures")
+    p.add_argument("--validate", action="store_true",
+                   help="also measure the warp against the direct trace: a 4096x2048 panorama of the Cornell box "
+                        "(noise-free) into a 512x512 180-degree fisheye, single-tap and --antialias: error and cost")
+    p.add_argument("--validate-only", action="store_true", help="only the --validate figures")
+    p.add_argument("--quick", action="store_true",
+                   help="with --validate: a 1024x512 panorama into 128x128 at 16 spp, a smoke run without aims")
     p.add_argument("--json", metavar="FILE", help="also write every figure, its aim and whether it is met, as JSON")
     p.add_argument("--overwrite", action="store_true", help="replace an existing --json FILE")
 
@@ -89,10 +109,13 @@ def run(args) -> int:
 
         check_output(args.json, (), args.overwrite)
     record = results.start()
-    if not args.mitsuba_only:
+    only = args.mitsuba_only or args.validate_only
+    if not only:
         throughput(args)
     if args.vs_mitsuba or args.mitsuba_only:
         vs_mitsuba(args)
+    if args.validate or args.validate_only:
+        validation(args)
     if args.json:
         results.write(args.json, "tracer", record, argv=sys.argv[1:], overwrite=args.overwrite)
         print(f"figures written to {args.json}")
@@ -223,3 +246,41 @@ def vs_mitsuba(args, spp: int = 64) -> None:
                     ratio, "x", aim=AIM_MITSUBA)
         print(f"  tracer / Mitsuba {what:<4s} {ratio:5.2f}x (aim at most {AIM_MITSUBA}x) {mark(ok)}")
     print(f"  (load at the end {os.getloadavg()[0]:.2f})")
+
+
+def validation(args) -> None:
+    """The ``--validate`` figures: error of single-tap and --antialias warps against the direct trace, and
+    the antialias warp's cost over single-tap's."""
+    from lenslab.bench.results import figure, mark
+    from lenslab.lenses import Camera
+    from lenslab.validate.run import WarpSetting, validate
+
+    from tracer.validate.source import make_source
+
+    quick = bool(args.quick)
+    pano, side, ref_spp = ((1024, 512), 128, 16) if quick else ((4096, 2048), 512, 64)
+    source = make_source("cornell", None, args.max_depth, noise_free=True)
+    view = source.scene.views["default"]
+    target = Camera.from_spec("fisheye:fov=180,mapping=equisolid", (side, side), eye=tuple(view.eye),
+                              look_at=tuple(view.look_at))
+    settings = [WarpSetting.parse("bilinear"), WarpSetting.parse("antialias")]
+    val = validate(source, target, [pano], settings, spp=1, reference_spp=ref_spp, seed=None, direct_spp=(),
+                   repeat=max(2, min(args.repeat, 5)), with_flip=False, progress=False, keep_images=False)
+    rows = {r["setting"]: r for r in val.rows if r["kind"] == "warp"}
+    tap, aa = rows["bilinear"], rows["antialias"]
+    print(f"validation: Cornell box (noise-free) {pano[0]}x{pano[1]} panorama -> {side}x{side} "
+          f"fisheye:fov=180,mapping=equisolid, relative L1 against the direct trace at {ref_spp} spp"
+          + (" (--quick: no aims)" if quick else ""))
+    tag = "_quick" if quick else ""
+    aim_l1, aim_cost = (None, None) if quick else (AIM_VALIDATE_L1, AIM_VALIDATE_COST)
+    figure(f"validate.single_tap_l1{tag}", "single-tap bilinear warp vs direct trace, relative L1",
+           100.0 * tap["l1"], "%")
+    print(f"  single-tap bilinear   {100 * tap['l1']:7.3f}%   warp {tap['warp_seconds'] * 1e3:8.1f} ms")
+    ok = figure(f"validate.antialias_l1{tag}", "--antialias warp vs direct trace, relative L1", 100.0 * aa["l1"],
+                "%", aim=aim_l1)
+    cost = aa["warp_seconds"] / tap["warp_seconds"]
+    ok_cost = figure(f"validate.antialias_cost{tag}", "--antialias warp time / single-tap warp time", cost, "x",
+                     aim=aim_cost)
+    print(f"  --antialias           {100 * aa['l1']:7.3f}%   warp {aa['warp_seconds'] * 1e3:8.1f} ms = {cost:5.2f}x "
+          "single-tap" + ("" if quick else f"   aims <= {AIM_VALIDATE_L1:g}% {mark(ok)}, <= {AIM_VALIDATE_COST:g}x "
+                                           f"{mark(ok_cost)}"))

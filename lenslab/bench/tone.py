@@ -6,7 +6,11 @@ The test image is a lognormal HDR field (median 0.18, a few stops of spread) wit
 names the luminance mode and agx); each row prints its figure, the aim and whether it is met, and
 --json writes them (keys ``tone.<curve>.<mode>``). Each figure's baseline is
 re-measured alternately with it (best of N each), so a change in the machine's load between rows
-does not skew the ratios. The OpenCV local operators (drago, mantiuk) are timed once each and are
+does not skew the ratios. The luminance mode runs two ways with the same bits
+(:func:`lenslab.tone.sweep.compiled_ready`): the compiled passes of a process that has numba loaded (a
+batch, a warp with --tone; keys ``tone.<curve>.luminance``, with the aim) and the NumPy passes of a
+command that tone-maps one image and does not load numba (keys ``tone.<curve>.luminance_numpy``, no
+aim: there the start-up dominates; ``lenslab bench startup`` measures it). The OpenCV local operators (drago, mantiuk) are timed once each and are
 much slower by nature.
 """
 
@@ -58,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.bench.results import figure, mark
     from lenslab.bench.timing import best_time, ratio_line
-    from lenslab.tone import CURVES, get_curve, tonemap
+    from lenslab.tone import CURVES, get_curve, sweep, tonemap
 
     width, height = (1024, 512) if args.quick else (4096, 2048)
     img = test_image(width, height)
@@ -74,6 +78,11 @@ def run(args: argparse.Namespace) -> int:
         return np.clip(img, 0, 1)
 
     tonemap(img[:8, :8], "hable", exposure="auto", mode="luminance")  # first-call imports stay out of the figures
+    import lenslab.tone.luminance  # noqa: F401  (numba and the compiled passes, loaded as a batch has them)
+
+    sweep.COMPILED_PASSES = True
+    tonemap(img[:8, :8], "hable", mode="luminance")
+    sweep.COMPILED_PASSES = None
     base = best_time(clip, repeat=repeat)
     print(f"tone curves on a {width} x {height} float32 RGB image ({mpix:.1f} MP), {used} thread(s); "
           "baseline numpy.clip(img, 0, 1), one thread")
@@ -83,16 +92,23 @@ def run(args: argparse.Namespace) -> int:
         kind = CURVES[name].kind
         if kind == "local" and args.no_local:
             continue
-        for mode in (("per-channel",) if kind == "local" else ("per-channel", "luminance")):
+        for mode in (("per-channel",) if kind == "local" else ("per-channel", "luminance", "luminance-numpy")):
             label = name if kind == "local" else f"{name} [{mode}]"
             key = f"tone.{name}" if kind == "local" else f"tone.{name}.{mode.replace('-', '_')}"
-            rows.append((key, label, lambda name=name, mode=mode: tonemap(img, name, mode=mode, threads=threads),
-                         kind == "local"))
+            passes = {"luminance": True, "luminance-numpy": False}.get(mode)
+
+            def fn(name=name, mode=mode, passes=passes):
+                sweep.COMPILED_PASSES = passes
+                try:
+                    return tonemap(img, name, mode=mode.replace("-numpy", ""), threads=threads)
+                finally:
+                    sweep.COMPILED_PASSES = None
+            rows.append((key, label, fn, kind == "local", mode != "luminance-numpy"))
     rows.append(("tone.hable.per_channel_auto_exposure", "hable [per-channel] exposure=auto",
-                 lambda: tonemap(img, "hable", exposure="auto", threads=threads), False))
-    for key, label, fn, local in rows:
+                 lambda: tonemap(img, "hable", exposure="auto", threads=threads), False, True))
+    for key, label, fn, local, aimed in rows:
         t, b = paired_best(fn, clip, 1 if local else repeat)
-        ok = figure(key, f"tone {label} vs numpy.clip", t / b, "x", aim=None if local else AIM_RATIO,
+        ok = figure(key, f"tone {label} vs numpy.clip", t / b, "x", aim=AIM_RATIO if aimed and not local else None,
                     note=f"{width}x{height} float32 RGB, {used} thread(s), {mpix / t:.1f} MP/s")
         print(ratio_line(label, t, b, f"{mpix / t:8.1f} MP/s  {mark(ok)}"))
     return 0

@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 
-from lenslab.tone.kernels import F32, FMAX, TINY, clip
+from lenslab.tone.kernels import F32, TINY, clip
 
 BLOCK = 1 << 16  # values per block: the block and two scratch buffers stay inside a core's L2 cache
 THREAD_MIN = 1 << 19  # values a thread must have to be worth starting (8 blocks)
@@ -135,17 +135,42 @@ def sweep_rgb(px: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> None:
             dst[:, c] = pout[c]
 
 
+COMPILED_PASSES: bool | None = None  # None: as compiled_ready() says; True or False forces (benchmarks, tests)
+
+
+def compiled_ready() -> bool:
+    """Whether the luminance mode takes its compiled passes: once numba is loaded in this process (a
+    warp, a batch of files, a Python session that warped). Loading numba and its cached kernels takes
+    about 0.5 s, more than the NumPy passes spend on any one image of a few hundred megapixels, so a
+    command that tone-maps one image does not pay it. Both give the same bits. ``COMPILED_PASSES``
+    overrides the choice."""
+    import sys
+
+    return "numba" in sys.modules if COMPILED_PASSES is None else bool(COMPILED_PASSES)
+
+
 def sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: Counts) -> None:
     """Curve on luminance, RGB scaled by curve(L)/L; over-range pixels blended toward grey.
 
-    One planar copy of each block (contiguous rows keep every ufunc on its fast path); the scaling is
-    one multiply per channel, and the blend toward grey touches only the pixels that need it."""
+    The steps, in float32 and in this order (:mod:`lenslab.tone.luminance` gives them in full):
+    ``L = (w0 r + w1 g) + w2 b``; ``Ld = curve(L)``; ``c *= Ld / (L + TINY)`` for each channel;
+    ``t = clip((1 - Ld) / max(peak - Ld, TINY), 0, 1)`` with ``peak`` the largest scaled channel;
+    ``c = clip(Ld + (c - Ld) t, 0, 1)``; a pixel with a +inf channel is white. Two executions of them
+    give the same bits: compiled passes over the interleaved pixels (:func:`compiled_ready`), or
+    NumPy's ufuncs over a planar copy of each block."""
+    if compiled_ready():
+        _luminance_compiled(px, out, kernel, weights, counts)
+    else:
+        _luminance_numpy(px, out, kernel, weights, counts)
+
+
+def _luminance_numpy(px, out, kernel, weights, counts: Counts) -> None:
     n = px.shape[0]
     step = BLOCK // 3
     size = min(step, n)
-    w = np.asarray(weights, dtype=F32).reshape(1, 3)
+    w = [F32(v) for v in np.asarray(weights, dtype=F32).reshape(3)]
     pl = np.empty((3, size), F32)
-    lum, mapped, ratio, peak = (np.empty(size, F32) for _ in range(4))
+    lum, mapped, peak, tmp = (np.empty(size, F32) for _ in range(4))
     scratch = [np.empty(size, F32) for _ in range(2)]
     for s in range(0, n, step):
         e = min(s + step, n)
@@ -153,61 +178,59 @@ def sweep_luminance(px: np.ndarray, out: np.ndarray, kernel, weights, counts: Co
         src, dst = px[s:e], out[s:e]
         p = pl[:, :m]
         p[...] = src.T
-        L, Ld, r, pk = lum[:m], mapped[:m], ratio[:m], peak[:m]
+        L, Ld, pk, u = lum[:m], mapped[:m], peak[:m], tmp[:m]
         inf_cols = None
         if not is_clean(p):
             inf_cols = repair(p, counts).any(axis=0)
-        np.matmul(w, p, out=L[None])
+        np.multiply(p[0], w[0], out=L)
+        np.multiply(p[1], w[1], out=u)
+        L += u
+        np.multiply(p[2], w[2], out=u)
+        L += u
         kernel(L, Ld, [t[:m] for t in scratch])
-        L += TINY                              # exact above 1e-30; curve(0) = 0: black gets ratio 0
-        np.divide(Ld, L, out=r)
+        np.add(L, TINY, out=u)
+        np.divide(Ld, u, out=u)                  # k = Ld / (L + TINY)
+        p *= u
         np.fmax(p[0], p[1], out=pk)
         np.fmax(pk, p[2], out=pk)
-        pk *= r                                 # the brightest channel after scaling
-        over = np.flatnonzero(pk > 1) if pk.max() > 1 else None
-        if over is not None and over.size * 8 >= m:
-            # blend toward grey (Ld, Ld, Ld) until the peak fits: out = Ld + (p r - Ld) t with
-            # t = (1 - Ld) / (peak - Ld) clipped to [0, 1] (1 where the peak is within range), as
-            # p (r t) + Ld (1 - t): one multiply-add per channel
-            t, ofs = scratch[0][:m], scratch[1][:m]
-            pk -= Ld
-            clip(pk, TINY, FMAX, out=pk)
-            np.subtract(F32(1), Ld, out=t)
-            t /= pk
-            clip(t, F32(0), F32(1), out=t)
-            r *= t
-            np.multiply(Ld, t, out=ofs)
-            np.subtract(Ld, ofs, out=ofs)
-            p *= r
-            p += ofs
-            if inf_cols is not None:
-                p[:, inf_cols] = 1
-            for c in range(3):                   # the clip to [0, 1] is the copy back
-                clip(p[c], F32(0), F32(1), out=dst[:, c])
-        elif over is not None:  # a few pixels: the same blend on those alone
-            p *= r
-            _blend_to_grey(p[:, over], Ld[over], pk[over], p, over)
-            if inf_cols is not None:
-                p[:, inf_cols] = 1
-            for c in range(3):
-                dst[:, c] = p[c]
+        pk -= Ld
+        np.fmax(pk, TINY, out=pk)
+        np.subtract(F32(1), Ld, out=u)
+        u /= pk
+        clip(u, F32(0), F32(1), out=u)           # t
+        p -= Ld
+        p *= u
+        p += Ld
+        if inf_cols is not None:
+            p[:, inf_cols] = 1
+        for c in range(3):                       # the clip to [0, 1] is the copy back
+            clip(p[c], F32(0), F32(1), out=dst[:, c])
+
+
+def _luminance_compiled(px, out, kernel, weights, counts: Counts) -> None:
+    from lenslab.tone.luminance import scale_clean, scale_pixels, weigh_clean, weigh_pixels
+
+    n = px.shape[0]
+    step = BLOCK // 3
+    size = min(step, n)
+    w0, w1, w2 = (F32(v) for v in np.asarray(weights, dtype=F32).reshape(3))
+    lum, mapped = np.empty(size, F32), np.empty(size, F32)
+    scratch = [np.empty(size, F32) for _ in range(2)]
+    for s in range(0, n, step):
+        e = min(s + step, n)
+        m = e - s
+        L, Ld = lum[:m], mapped[:m]
+        block = px[s:e]
+        flat = block.reshape(-1)
+        clean = weigh_clean(flat, flat.view(np.uint32), w0, w1, w2, L) < FIRST_NOT_CLEAN
+        if not clean:
+            nan, posinf, neg, lowest = weigh_pixels(block, w0, w1, w2, L)
+            counts.nan += nan
+            counts.posinf += posinf
+            counts.negative += neg
+            counts.lowest = min(counts.lowest, float(lowest))
+        kernel(L, Ld, [t[:m] for t in scratch])
+        if clean:
+            scale_clean(flat, L, Ld, out[s:e].reshape(-1))
         else:
-            for c in range(3):                   # the scaling is the copy back
-                np.multiply(p[c], r, out=dst[:, c])
-            if inf_cols is not None:
-                dst[inf_cols] = 1
-
-
-def _blend_to_grey(c: np.ndarray, ld: np.ndarray, peak: np.ndarray, whole, where) -> None:
-    """c (3, k) <- ld + (c - ld) t, t = clip((1 - ld) / (peak - ld), 0, 1), clipped to [0, 1]; then
-    written back into ``whole[:, where]`` when ``c`` is a gathered copy. ``peak`` is overwritten."""
-    peak -= ld
-    clip(peak, TINY, FMAX, out=peak)
-    np.divide(F32(1) - ld, peak, out=peak)
-    clip(peak, F32(0), F32(1), out=peak)
-    c -= ld
-    c *= peak
-    c += ld
-    clip(c, F32(0), F32(1), out=c)
-    if whole is not None:
-        whole[:, where] = c
+            scale_pixels(block, L, Ld, out[s:e])
