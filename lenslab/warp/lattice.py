@@ -228,35 +228,54 @@ def cubic(rc, q, tx):
 @numba.njit(cache=True, nogil=True)
 def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
     """:func:`lattice_eval` for offsets shared by every pixel: along a row of samples ty is fixed, so
-    each cell's bicubic collapses to a cubic in tx (``rc``), made once per cell and row."""
+    each cell's bicubic collapses to a cubic in tx (``rc``), made once per cell and row. A row is walked
+    cell by cell: the samples of an interpolating cell (state 1) are one loop of two cubics over
+    contiguous rows of ``xs`` and ``ys``, with nothing else in it, which the compiler vectorises."""
     h, w, n = xs.shape
     ncy, ncx = state.shape
     rc = np.empty((5, 4))
     for r in range(h):
         for k in range(n):
+            ox = offs[0, 0, k, 0]
             py = (r0 + r + offs[0, 0, k, 1]) * inv
             cb = min(max(int(np.floor(py)), 0), ncy - 1)
             ty = py - cb
             cr = cb - cb0
-            cur = -1
-            st = 0
-            for c in range(w):
-                px = (c + offs[0, 0, k, 0]) * inv
-                ca = min(max(int(np.floor(px)), 0), ncx - 1)
-                if ca != cur:
-                    cur = ca
-                    st = state[cb, ca]
-                    row_cubics(coef, cr, ca, st, ty, rc)
-                tx = px - ca
-                x = y = dx = dy = dz = 0.0
+            xr = xs[r, :, k]
+            yr = ys[r, :, k]
+            vr = valid[r, :, k]
+            nr = need[r, :, k]
+            c = 0
+            while c < w:
+                ca = min(max(int(np.floor((c + ox) * inv)), 0), ncx - 1)
+                c1 = w  # the samples up to c1 share cell ca: floor((c + ox) inv) < ca + 1 (the last cell: all)
+                if ca < ncx - 1:
+                    c1 = min(w, max(c + 1, int(np.ceil((ca + 1) / inv - ox))))
+                    while c1 > c + 1 and (c1 - 1 + ox) * inv >= ca + 1:
+                        c1 -= 1
+                    while c1 < w and (c1 + ox) * inv < ca + 1:
+                        c1 += 1
+                st = state[cb, ca]
+                row_cubics(coef, cr, ca, st, ty, rc)
                 if st == 1:
-                    x = cubic(rc, 0, tx)
-                    y = cubic(rc, 1, tx)
-                elif st == 2:
-                    dx = cubic(rc, 2, tx)
-                    dy = cubic(rc, 3, tx)
-                    dz = cubic(rc, 4, tx)
-                _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
+                    a0, a1, a2, a3 = rc[0, 0], rc[0, 1], rc[0, 2], rc[0, 3]
+                    b0, b1, b2, b3 = rc[1, 0], rc[1, 1], rc[1, 2], rc[1, 3]
+                    for cc in range(c, c1):
+                        tx = (cc + ox) * inv - ca
+                        xr[cc] = (((a3 * tx + a2) * tx + a1) * tx + a0) - 0.5
+                        yr[cc] = (((b3 * tx + b2) * tx + b1) * tx + b0) - 0.5
+                        vr[cc] = True
+                        nr[cc] = NEED_DONE
+                else:
+                    for cc in range(c, c1):
+                        tx = (cc + ox) * inv - ca
+                        dx = dy = dz = 0.0
+                        if st == 2:
+                            dx = cubic(rc, 2, tx)
+                            dy = cubic(rc, 3, tx)
+                            dz = cubic(rc, 4, tx)
+                        _store_cell(st, r, cc, k, 0.0, 0.0, dx, dy, dz, xs, ys, valid, need, dirs)
+                c = c1
 
 
 # not cached: numba keys a kernel that takes a function by that function object, so every process wrote
