@@ -110,7 +110,7 @@ def test_convert_globs_jobs_and_tone(mixed, tmp_path):
 
 def test_convert_output_file_needs_one_input(mixed, tmp_path, capsys):
     rc = main(["convert", str(mixed / "a.exr"), str(mixed / "b.pfm"), "--to", "jpg", "-o", str(tmp_path / "x.jpg")])
-    assert rc == 1 and "names a file" in capsys.readouterr().err and not (tmp_path / "x.jpg").exists()
+    assert rc == 2 and "names a file" in capsys.readouterr().err and not (tmp_path / "x.jpg").exists()
 
 
 def test_convert_reports_missing_inputs(tmp_path, capsys):

@@ -143,8 +143,8 @@ def test_stmap_command_refuses_bad_requests(tmp_path):
     assert exit_code(["stmap", "--from", "fisheye", "--to", "perspective", "--size", "16", "-o", str(out), "-q"]) == 2
     src = tmp_path / "in.exr"
     write(src, np.zeros((16, 16, 3), np.float32))
-    assert exit_code(["warp", str(src), "--stmap", str(out), "--to", "equirect", "-o", str(tmp_path / "o.exr"), "-q"]) == 1
-    assert exit_code(["warp", str(src), "-o", str(tmp_path / "o.exr"), "-q"]) == 1  # neither --to nor --stmap
+    assert exit_code(["warp", str(src), "--stmap", str(out), "--to", "equirect", "-o", str(tmp_path / "o.exr"), "-q"]) == 2  # --stmap with --to: a usage error
+    assert exit_code(["warp", str(src), "-o", str(tmp_path / "o.exr"), "-q"]) == 2  # neither --to nor --stmap: a usage error
 
 
 def test_antialias_through_an_st_map_approaches_supersampling(tmp_path):

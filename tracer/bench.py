@@ -104,6 +104,10 @@ def _line(label: str, wall: float, cpu: float, base: tuple[float, float], n: int
 def run(args) -> int:
     from lenslab.bench import results
 
+    if args.quick and not (args.validate or args.validate_only):
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError("--quick shortens the --validate figures only; add --validate or --validate-only")
     if args.json:  # refused before the benchmark runs, not after
         from lenslab.cli.policy import check_output
 

@@ -6,6 +6,12 @@ one warm-up run that is not counted (a warm machine: Python's bytecode and numba
 filled, so the child processes may write them even where this shell forbids it). The aim is 0.4 s
 for each. The baseline, measured in the same run, is ``python -c "import numpy"``: the floor any
 command of lenslab starts from.
+
+First compile (skip with ``--no-first-compile``): what a new machine spends compiling kernels before its
+first warps (``lenslab demo`` warps into every lens first): a fresh process with an empty numba cache
+(``NUMBA_CACHE_DIR`` set to a new folder) warps a 512 x 256 panorama into every lens of ``lenslab bench
+lenses`` at 128 x 128 with ``--antialias`` (the demo's setting), twice each; the first calls' time
+beyond the second calls' is the compiling. The aim is 3 s.
 """
 
 from __future__ import annotations
@@ -13,6 +19,27 @@ from __future__ import annotations
 import argparse
 
 AIM_SECONDS = 0.4
+AIM_FIRST_COMPILE = 3.0  # seconds of compiling before the first warps into every lens, new machine
+
+# run with an empty NUMBA_CACHE_DIR: warp into each lens twice; print the first calls' excess per lens
+FIRST_COMPILE_SCRIPT = """
+import json, sys, time
+import numpy as np
+from lenslab.bench.lenses import DEFAULT_SPECS
+from lenslab.lenses import Camera
+from lenslab.warp import warp
+pano = (0.18 * np.exp2(np.random.default_rng(0).normal(0.0, 2.0, (256, 512, 3)))).astype(np.float32)
+src = Camera.from_spec("equirect", (512, 256))
+excess = {}
+for spec in DEFAULT_SPECS:
+    cam = Camera.from_spec(spec, (128, 128))
+    t0 = time.perf_counter()
+    warp(pano, src, cam, antialias=True, allow_parallax=True)
+    t1 = time.perf_counter()
+    warp(pano, src, cam, antialias=True, allow_parallax=True)
+    excess[spec] = max(0.0, (t1 - t0) - (time.perf_counter() - t1))
+print(json.dumps(excess))
+"""
 
 COMMANDS = {
     "convert": ["convert", "{src}", "--to", "png", "-o", "{dir}/out.png", "--overwrite"],
@@ -26,6 +53,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=7, help="runs per command; the median is reported (default 7)")
     parser.add_argument("--commands", default=",".join(COMMANDS),
                         help=f"comma-separated commands to time (default {','.join(COMMANDS)})")
+    parser.add_argument("--no-first-compile", dest="first_compile", action="store_false",
+                        help="leave out the first-compile figure (a fresh process compiling every warp kernel, "
+                             "about 10 s)")
 
 
 def wall_times(argv: list[str], repeat: int, env: dict) -> list[float]:
@@ -79,4 +109,31 @@ def run(args: argparse.Namespace) -> int:
             ok = figure(f"startup.{name}", f"lenslab {name} of a 256x128 image, whole process", t, "s",
                         aim=AIM_SECONDS, better="lower", note=f"baseline python -c 'import numpy' {base:.3f} s")
             print(f"{'lenslab ' + name:<34s} {t:7.3f} s  {t / base:5.1f}x baseline  {mark(ok)}", flush=True)
+    if args.first_compile:
+        first_compile(env)
     return 0
+
+
+def first_compile(env: dict) -> None:
+    """The first-compile figure (see the module docstring)."""
+    import json
+    import subprocess
+    import sys
+    import tempfile
+
+    from lenslab.bench.results import figure, mark
+
+    with tempfile.TemporaryDirectory(prefix="lenslab-numba-cache-") as cache:
+        done = subprocess.run([sys.executable, "-c", FIRST_COMPILE_SCRIPT], env={**env, "NUMBA_CACHE_DIR": cache},
+                              capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"the first-compile run failed ({done.returncode}): {done.stderr.strip()[-300:]}")
+    excess = json.loads(done.stdout.strip().splitlines()[-1])
+    total = sum(excess.values())
+    ok = figure("startup.first_compile", "first warps into every lens on a new machine (empty kernel cache): "
+                "compiling", total, "s", aim=AIM_FIRST_COMPILE, better="lower",
+                note=f"{len(excess)} lenses, 128x128 with --antialias from a 512x256 panorama")
+    print(f"{'first compile, every lens':<34s} {total:7.3f} s  (aim {AIM_FIRST_COMPILE:g} s)  {mark(ok)}", flush=True)
+    worst = sorted(excess.items(), key=lambda kv: -kv[1])[:3]
+    print("  the lenses whose first warp compiled most: "
+          + ", ".join(f"{spec.split(',')[0]} {sec:.2f} s" for spec, sec in worst), flush=True)

@@ -41,7 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
     from lenslab.cli.display import add_display_arguments
 
-    add_display_arguments(parser, "a panel more: an OpenColorIO display transform of the same exposed image")
+    add_display_arguments(parser, "a panel more: an OpenColorIO display transform of the same exposed image",
+                          hdr=False)
 
 
 def label_panel(panel, text: str):
@@ -97,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     panels = []
     for i, name in enumerate(names):
         out, _ = tonemap_reporting(image, name, ev, args.mode, {}, args.primaries, args.input,
-                                   quiet=True, report=i == 0)  # the input's repairs, once
+                                   quiet=True, report=i == 0, prog="lenslab compare-tones")  # the input's repairs, once
         h, w = out.shape[:2]
         if args.panel_width and w > args.panel_width:
             size = (args.panel_width, max(1, round(h * args.panel_width / w)))

@@ -87,7 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.cli.options import add_jobs_option, add_scheduler_options
 
     add_display_arguments(parser)
-    add_jobs_option(parser, "files converted")
+    add_jobs_option(parser, "files to convert")
     add_scheduler_options(parser)
 
 
@@ -136,7 +136,7 @@ def plan_outputs(files: list[str], to: str, output: str | None,
 
     With ``roots`` (from :func:`expand_inputs`), a file found under a folder goes to the same
     sub-folder of ``-o``: the input tree is mirrored."""
-    from lenslab.cli.policy import check_output_dir
+    from lenslab.cli.policy import UsageError, check_output_dir
     from lenslab.errors import FormatError
     from lenslab.io import split_selector
 
@@ -147,7 +147,7 @@ def plan_outputs(files: list[str], to: str, output: str | None,
         out = Path(output)
         as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
         if not as_file and not out.is_dir() and out.suffix.lower() in INPUT_EXTENSIONS:
-            raise FormatError(f"-o {out} names a file but there are {len(files)} inputs; give a directory")
+            raise UsageError(f"-o {out} names a file but there are {len(files)} inputs; give a folder")
         if not as_file:
             check_output_dir(out)  # created by run() once everything is checked
     pairs, targets = [], {}
@@ -261,6 +261,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"lenslab convert: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
     done = len(results) - len(failed)
     if not args.quiet:
-        print(f"converted {done} of {len(results)} file(s) to {args.to.upper()}"
-              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+        print(f"converted {done} of {len(results) + skipped} file(s) to {args.to.upper()}"
+              + (f"; {len(failed)} failed" if failed else "")
+              + (f"; {skipped} already there, left alone" if skipped else ""), file=sys.stderr)
     return 1 if failed or missing else 0

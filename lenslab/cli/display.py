@@ -6,12 +6,15 @@ from __future__ import annotations
 import argparse
 
 
-def add_display_arguments(parser: argparse.ArgumentParser, title: str = "OpenColorIO display transform (instead of "
-                                                                         "--tone)") -> None:
-    g = parser.add_argument_group(title)
+def add_display_arguments(parser: argparse.ArgumentParser, title: str | None = None, instead_of: str = "--tone",
+                          hdr: bool = True) -> None:
+    """The group of display options; ``instead_of`` names the command's tone-curve option, ``hdr`` says
+    whether the command writes HDR displays (16-bit PNG/TIFF)."""
+    g = parser.add_argument_group(title or f"OpenColorIO display transform (instead of {instead_of})")
     g.add_argument("--display", metavar="NAME",
-                   help="display of the OpenColorIO config, e.g. sRGB, 'Display P3', Rec.2100-PQ (HDR: written "
-                        "as 16-bit PNG/TIFF); any unique part of the name works")
+                   help="display of the OpenColorIO config, e.g. sRGB, 'Display P3'"
+                        + (", Rec.2100-PQ (HDR: written as 16-bit PNG/TIFF)" if hdr else " (SDR displays)")
+                        + "; any unique part of the name works")
     g.add_argument("--view", metavar="NAME",
                    help="view of that display (default: the display's first), e.g. 'ACES 2.0 - SDR', "
                         "Un-tone-mapped")

@@ -21,7 +21,7 @@ import sys
 # name -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
     "info": ("info", "print format, size, channels, statistics and lens model of image files"),
-    "convert": ("convert", "convert images between PPM/PGM, PFM, JPG, PNG and EXR (batch, with tone mapping)"),
+    "convert": ("convert", "convert images between EXR, HDR, PFM, TIFF, PNG, JPG and PPM/PGM, and video frames (batch, with tone mapping)"),
     "lenses": ("lenses", "list every lens model with its parameters, ranges and defaults"),
     "warp": ("warp", "reproject images from one lens into another (HDR in, HDR out)"),
     "stmap": ("stmap", "write a lens-to-lens warp as an ST map (Nuke's STMap convention) for compositors"),

@@ -16,11 +16,11 @@ def parse_exposure(text: str) -> float | str:
 
 
 def add_jobs_option(parser, what: str = "files") -> None:
-    """``--jobs N`` of a batch on this machine: ``what`` done at once on threads of the process."""
+    """``--jobs N`` of a batch on this machine: how many ``what`` at once on threads of the process."""
     from lenslab.cli.policy import non_negative_int
 
     parser.add_argument("--jobs", "-j", type=non_negative_int, default=0, metavar="N",
-                        help=f"{what} done at once on this machine (default 0: one per CPU core, as many as the "
+                        help=f"how many {what} at once on this machine (default 0: one per CPU core, as many as the "
                              "memory holds judging by the first file; 1: one after the other, each on every core)")
 
 

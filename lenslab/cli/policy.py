@@ -78,7 +78,7 @@ def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = 
             raise OutputError(f"{out}: is an input of this command; it is never written over, even with "
                               "--overwrite: choose another output name")
     if out.is_dir():
-        raise OutputError(f"{out}: is a folder; give a file name to write to")
+        raise UsageError(f"{out}: is a folder; give a file name to write to")
     if out.exists() and not overwrite:
         raise OutputError(f"{out}: already exists; give --overwrite to replace it")
     if not out.parent.is_dir() and str(out.parent) not in ("", "."):
@@ -91,7 +91,7 @@ def check_output_dir(path: str | os.PathLike) -> Path:
     made); create nothing. Call :func:`make_output_dir` once everything else has been checked."""
     out = Path(path)
     if out.exists() and not out.is_dir():
-        raise OutputError(f"{out}: exists and is not a folder; give a folder for several outputs")
+        raise UsageError(f"{out}: exists and is not a folder; give a folder for several outputs")
     parent = out.absolute().parent
     while not parent.exists():
         parent = parent.parent
@@ -138,19 +138,22 @@ def run_command(prog: str, func: Callable[[], int | None]) -> int:
             print(f"{prog}: error: {exc}", file=sys.stderr)
             return EXIT_USAGE
         except (LensError, ToneError) as exc:  # a lens spec or a tone curve given on the command line
-            print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
+            print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return EXIT_USAGE
         except (LenslabError, OSError, ValueError) as exc:
             if isinstance(exc, OSError) and exc.errno == 32:  # EPIPE raised by a writer as a plain OSError
                 return _closed_pipe()
-            print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
+            print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return EXIT_FAILED
         except MemoryError:
             print(f"{prog}: error: out of memory; try a smaller --size", file=sys.stderr)
             return EXIT_FAILED
 
 
-def _one_line(exc: BaseException) -> str:
+def one_line(exc: BaseException) -> str:
+    """The error's message on one line; an operating-system error as ``path: reason`` (no errno)."""
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror and type(exc) is not OutputError:
+        return f"{exc.filename}: {exc.strerror[:1].lower()}{exc.strerror[1:]}"
     text = str(exc).strip() or type(exc).__name__
     return " ".join(text.split("\n")[0].split()) if "\n" in text else text
 

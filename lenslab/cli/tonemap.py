@@ -56,8 +56,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.cli.display import add_display_arguments
     from lenslab.cli.options import add_jobs_option, add_scheduler_options
 
-    add_display_arguments(parser)
-    add_jobs_option(parser, "files tone-mapped (with several inputs)")
+    add_display_arguments(parser, instead_of="--curve")
+    add_jobs_option(parser, "files to tone-map (with several inputs)")
     add_scheduler_options(parser)
 
 
@@ -74,7 +74,8 @@ def parse_params(items: list[str]) -> dict:
     return params
 
 
-def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, quiet=False, report=True):
+def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, quiet=False, report=True,
+                      prog="lenslab tonemap"):
     """tonemap() with its repair warnings turned into one stderr line each; returns (image, ev)."""
     import warnings
 
@@ -91,10 +92,21 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
     for w in caught:
         if isinstance(w.message, tone.ToneWarning):
             if report:
-                print(f"{label}: {w.message}", file=sys.stderr)
+                print(f"{prog}: note: {label}: {w.message}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return out, ev
+
+
+def _output_format(path: str) -> str:
+    from lenslab.cli.policy import UsageError
+    from lenslab.errors import FormatError
+    from lenslab.io.detect import format_for_path
+
+    try:
+        return format_for_path(path)
+    except FormatError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -115,6 +127,7 @@ def run(args: argparse.Namespace) -> int:
         return run_many(args, curve.name, params)
     args.input = args.inputs[0]
     check_output(args.output, [args.input], args.overwrite)
+    _output_format(args.output)  # an unknown extension: one usage error before the image is read
     image, meta = io.read(args.input)
     if display["display"]:
         from lenslab.cli.tonemap_file import write_display

@@ -63,7 +63,8 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
         results = run_threads(lambda pair: tonemap_task(pair[0], str(pair[1]), options), pairs,
                               args.jobs or default_jobs(len(pairs)), lambda _: bar.update(), first_alone=True,
                               fit_memory=not args.jobs)
-    failed = report_results("lenslab tonemap", results, None if args.quiet else "tone-mapped {done} of {total} file(s)")
+    failed = report_results("lenslab tonemap", results, None if args.quiet else "tone-mapped {done} of " + str(len(pairs) + skipped) + " file(s)"
+                            + (f"; {skipped} already there, left alone" if skipped else ""))
     return 1 if failed or missing else 0
 
 

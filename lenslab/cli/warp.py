@@ -108,7 +108,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     add_display_arguments(parser)
     add_video_arguments(parser)
-    add_jobs_option(parser, "files warped")
+    add_jobs_option(parser, "files to warp")
     add_scheduler_options(parser)
 
 
@@ -143,12 +143,15 @@ def check_once(args) -> None:
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
-    from lenslab.cli.policy import check_output_dir
+    from lenslab.cli.policy import UsageError, check_output_dir
     from lenslab.errors import FormatError
+    from lenslab.io.registry import input_extensions
     from lenslab.io import split_selector
 
     out = Path(output)
     as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
+    if not as_file and not out.is_dir() and out.suffix.lower() in input_extensions():
+        raise UsageError(f"-o {out} names a file but there are {len(files)} inputs; give a folder")
     if not as_file:
         check_output_dir(out)  # created by run() once everything is checked
     ext = "." + (fmt or "exr")
@@ -171,14 +174,14 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.cli.convert import expand_inputs
     from lenslab.cli.warp_file import plan_cache, warp_one
-    from lenslab.cli.policy import make_output_dir, user_notes
+    from lenslab.cli.policy import UsageError, make_output_dir, one_line, user_notes
     from lenslab.cluster.threads import default_jobs, recorded_warnings, run_threads
-    from lenslab.errors import LenslabError, WarpError
+    from lenslab.errors import LenslabError
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
-        raise WarpError("give either --look-at or --yaw/--pitch/--roll, not both")
+        raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
     if not args.to and not args.stmap:
-        raise WarpError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
+        raise UsageError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
     if args.stmap:
         taken = [flag for flag, on in (("--to", args.to), ("--from", args.source), ("--size", args.size),
                                         ("--compat", args.compat),
@@ -186,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
                                         ("--eye", args.eye), ("--yaw/--pitch/--roll", args.yaw or args.pitch or args.roll))
                  if on]
         if taken:
-            raise WarpError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
+            raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
         from lenslab.stmap import read_st_map
 
         args.st = read_st_map(args.stmap)
@@ -232,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
                 warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
                 error = None
             except (LenslabError, OSError) as exc:
-                error = str(exc)
+                error = one_line(exc)
             except Exception as exc:  # one bad file must not stop the batch
                 error = f"{type(exc).__name__}: {exc}"
             finally:
@@ -255,6 +258,7 @@ def run(args: argparse.Namespace) -> int:
     bar.close()
     if not args.quiet:
         done = len(pairs) - len(failed)
-        print(f"warped {done} of {len(pairs)} file(s) with {cache.built} map(s)"
-              + (f"; {len(failed)} failed" if failed else ""), file=sys.stderr)
+        print(f"warped {done} of {len(pairs) + skipped} file(s) with {cache.built} map(s)"
+              + (f"; {len(failed)} failed" if failed else "")
+              + (f"; {skipped} already there, left alone" if skipped else ""), file=sys.stderr)
     return 1 if failed or missing else 0

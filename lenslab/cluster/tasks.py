@@ -52,7 +52,7 @@ def worker_plans(options: dict):
 
 def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
     """Run ``work()``; a failure becomes this file's one-line error, warnings become its notes."""
-    from lenslab.cli.policy import user_notes
+    from lenslab.cli.policy import one_line, user_notes
     from lenslab.errors import LenslabError
 
     from lenslab.cluster.threads import recorded_warnings
@@ -62,7 +62,7 @@ def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
             work()
             error = None
         except (LenslabError, OSError) as exc:
-            error = str(exc)
+            error = one_line(exc)
         except Exception as exc:  # one bad file must not stop the batch
             error = f"{type(exc).__name__}: {exc}"
     return src, dst, error, user_notes(caught)

@@ -180,6 +180,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     import OpenEXR
 
     part_sel, layer_sel = _split_selector(selector)
+    from lenslab.io.exr_chunks import check_chunks
+
+    check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
     try:
         head = OpenEXR.File(str(path), header_only=True)
         parts = head.parts
