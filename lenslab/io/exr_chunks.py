@@ -35,28 +35,38 @@ def _cstring(f, limit: int = 256) -> bytes:
 
 
 def check_chunks(path) -> None:
-    """Raise :class:`FormatError` (one line) when a single-part scanline EXR's offset table or a chunk it
-    points to lies beyond the end of the file; any other layout passes unchecked."""
+    """Raise :class:`FormatError` (one line) when a single-part scanline EXR's header, offset table or a
+    chunk it points to is cut short by the end of the file; any other layout passes unchecked."""
+    try:
+        _check(path)
+    except (EOFError, ValueError, struct.error):
+        raise FormatError(f"{path}: the header ends early or is damaged ({os.path.getsize(path)} bytes); the file "
+                          "is truncated or damaged") from None
+
+
+def _check(path) -> None:
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-        magic, version = struct.unpack("<ii", f.read(8))
+        head = f.read(8)
+        if len(head) < 8:
+            raise EOFError
+        magic, version = struct.unpack("<ii", head)
         if magic != MAGIC or version & (TILED | NON_IMAGE | MULTIPART):
             return
         compression, window = None, None
-        try:
-            while True:
-                name = _cstring(f)
-                if not name:
-                    break
-                kind = _cstring(f)
-                (n,) = struct.unpack("<i", f.read(4))
-                value = f.read(n)
-                if name == b"compression" and kind == b"compression" and n == 1:
-                    compression = value[0]
-                elif name == b"dataWindow" and kind == b"box2i" and n == 16:
-                    window = struct.unpack("<iiii", value)
-        except (EOFError, ValueError, struct.error):
-            raise FormatError(f"{path}: the header ends early ({size} bytes); the file is truncated or damaged") from None
+        while True:
+            name = _cstring(f)
+            if not name:
+                break
+            kind = _cstring(f)
+            (n,) = struct.unpack("<i", f.read(4))
+            if n < 0 or f.tell() + n > size:
+                raise EOFError
+            value = f.read(n)
+            if name == b"compression" and kind == b"compression" and n == 1:
+                compression = value[0]
+            elif name == b"dataWindow" and kind == b"box2i" and n == 16:
+                window = struct.unpack("<iiii", value)
         if compression is None or window is None or compression >= len(LINES_PER_CHUNK):
             return
         lines = LINES_PER_CHUNK[compression]
