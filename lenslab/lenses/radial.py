@@ -81,9 +81,11 @@ class Radial:
             return rd.copy(), np.isfinite(rd) & (rd >= 0)
         hi_r = min(self.r_max, R_LIMIT)
         top = float(self.forward(np.array(hi_r)))
-        valid = np.isfinite(rd) & (rd >= 0) & (rd <= top)
+        # the top of the branch (the fold, where f' = 0) itself: a radius computed there in another order
+        # of rounding may come out a few ulps above f(r_max); it is the fold, not beyond it
+        valid = np.isfinite(rd) & (rd >= 0) & (rd <= top * (1.0 + 8.0 * np.finfo(np.float64).eps))
         out = np.zeros(rd.shape, dtype=np.float64)
-        t = rd[valid]
+        t = np.minimum(rd[valid], top)
         if t.size:
             def f(x):
                 return self.forward(x), np.polynomial.polynomial.polyval(x, self._df)
