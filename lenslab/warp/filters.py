@@ -240,8 +240,15 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
 
 
 def all_finite(a: np.ndarray) -> bool:
-    """True when every value of ``a`` is finite (no temporary arrays)."""
-    return bool(_all_finite(np.ascontiguousarray(a).reshape(-1)))
+    """True when every value of ``a`` is finite (no temporary arrays; a large array in pieces on the
+    engine's threads)."""
+    from lenslab.warp.dispatch import run_bands
+
+    flat = np.ascontiguousarray(a).reshape(-1)
+    step = max(1 << 22, -(-flat.size // 8))
+    if flat.size <= step:
+        return bool(_all_finite(flat))
+    return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], _all_finite))
 
 
 @numba.njit(cache=True, nogil=True)

@@ -181,14 +181,17 @@ class Mapper:
         xn = (np.arange(ncx + 3, dtype=np.float64) - 1.0) * s
         yn = (np.arange(ncy + 3, dtype=np.float64) - 1.0) * s
         pts = np.stack(np.meshgrid(xn, yn, indexing="xy"), axis=-1)
-        # the exact map at the nodes and at the four check points of every cell, one set per thread
+        # the exact map at the nodes and at the four check points of every cell, in chunks shared by the threads
         checks = [np.stack(np.meshgrid((np.arange(ncx) + tx) * s, (np.arange(ncy) + ty) * s, indexing="xy"), axis=-1)
                   for tx, ty in CHECK_POINTS]
-        exact = run_bands([(pts, True)] + [(g, False) for g in checks],
-                          lambda job: _chunked(self.src, self.dst, *job))
+        exact = _exact_grids(self.src, self.dst, [(pts, True)] + [(g, False) for g in checks])
         xy, v, vd, dirs = exact[0]
         nx, ny, have = ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
-        win = np.lib.stride_tricks.sliding_window_view
+        def win4(m, reduce):
+            """``reduce`` (np.logical_and or np.logical_or) over each 4x4 window of ``m``, as two passes of
+            three element-wise operations (the same as reducing the windows themselves, much faster)."""
+            rows = reduce(reduce(m[:, :-3], m[:, 1:-2]), reduce(m[:, 2:-1], m[:, 3:]))
+            return reduce(reduce(rows[:-3], rows[1:-2]), reduce(rows[2:-1], rows[3:]))
 
         def corners(m):
             return m[1:-2, 1:-2] & m[2:-1, 1:-2] & m[1:-2, 2:-1] & m[2:-1, 2:-1]
@@ -196,8 +199,8 @@ class Mapper:
         # a cell interpolates when its 4 corners are valid and its 16 stencil nodes have values
         # (invalid nodes just outside the valid region get extrapolated ghost values; the checks
         # below decide whether the result is good enough)
-        ok = win(have, (4, 4)).all(axis=(-1, -2)) & corners(v)
-        dead = ~win(vd, (4, 4)).any(axis=(-1, -2))  # no output ray anywhere near
+        ok = win4(have, np.logical_and) & corners(v)
+        dead = ~win4(vd, np.logical_or)  # no output ray anywhere near
         nodes = [nx, ny]
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it)
@@ -212,7 +215,7 @@ class Mapper:
             # there) and project it exactly; only where the output rays exist
             gd = [ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
             nodes += [g[0] for g in gd]
-            ok_dir = (win(gd[0][2], (4, 4)).all(axis=(-1, -2)) & corners(vd))[cand]
+            ok_dir = (win4(gd[0][2], np.logical_and) & corners(vd))[cand]
             for (tx, ty), (exy, ev, _) in zip(CHECK_POINTS, exact[1:]):
                 d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
                 pxy, pv = project(self.src.lens, d)
@@ -300,14 +303,19 @@ class Mapper:
 EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
 
 
-def _chunked(src: Camera, dst: Camera, points: np.ndarray, with_dirs: bool):
-    """:func:`exact_map_parts` over a grid of points, ``EXACT_CHUNK`` rows of points at a time."""
-    shape = points.shape[:-1]
-    flat = points.reshape(-1, 2)
-    parts = [exact_map_parts(src, dst, flat[i:i + EXACT_CHUNK], with_dirs)
-             for i in range(0, len(flat), EXACT_CHUNK)]
-    return tuple(np.concatenate([p[k] for p in parts]).reshape(shape + parts[0][k].shape[1:])
-                 for k in range(len(parts[0])))
+def _exact_grids(src: Camera, dst: Camera, grids: list[tuple[np.ndarray, bool]]) -> list[tuple]:
+    """:func:`exact_map_parts` over each grid of points (with its ``with_dirs``), ``EXACT_CHUNK`` points
+    at a time, the chunks of every grid shared by the engine's threads (so that they finish together)."""
+    jobs = [(g, i, with_dirs) for g, (points, with_dirs) in enumerate(grids)
+            for i in range(0, points.shape[0] * points.shape[1], EXACT_CHUNK)]
+    flats = [points.reshape(-1, 2) for points, _ in grids]
+    parts = run_bands(jobs, lambda job: exact_map_parts(src, dst, flats[job[0]][job[1]:job[1] + EXACT_CHUNK], job[2]))
+    out = []
+    for g, (points, _) in enumerate(grids):
+        mine = [p for (k, _, _), p in zip(jobs, parts) if k == g]
+        out.append(tuple(np.concatenate([p[k] for p in mine]).reshape(points.shape[:-1] + mine[0][k].shape[1:])
+                         for k in range(len(mine[0]))))
+    return out
 
 
 def sample_pattern(samples: int) -> np.ndarray:
