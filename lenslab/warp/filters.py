@@ -29,6 +29,7 @@ from lenslab.warp.dispatch import kernel
 from lenslab.warp.seam import fold_index, fold_piece, piece_at
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
+U1, U2 = np.uint64(1), np.uint64(2)  # channel offsets added to unsigned flat indices
 #: filter name -> compiled kernel id (also its support radius in source pixels, but 1 for nearest)
 _KIND = {"nearest": 0, "bilinear": 1, "bicubic": 2, "lanczos": 3}
 
@@ -55,15 +56,20 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
 
 @numba.njit(inline="always", cache=True)
 def _corner_offsets(i0, j0, sw, sh, nc, wrap, top, bottom):
-    """Flat offsets of the 2x2 taps at (i0..i0+1, j0..j0+1), folded by the border rules if needed."""
+    """Flat offsets of the 2x2 taps at (i0..i0+1, j0..j0+1), folded by the border rules if needed.
+
+    Unsigned (uint64): an index of a signed type costs a test for a negative index at every read (numba
+    wraps those around, as Python does), which took as long as the reads themselves; add channel numbers
+    as uint64 too (``p + U[ch]``: uint64 plus int64 would be a float)."""
     if i0 >= 0 and j0 >= 0 and i0 + 1 < sw and j0 + 1 < sh:
         p00 = (j0 * sw + i0) * nc
-        return p00, p00 + nc, p00 + sw * nc, p00 + sw * nc + nc
+        return (np.uint64(p00), np.uint64(p00 + nc), np.uint64(p00 + sw * nc), np.uint64(p00 + sw * nc + nc))
     ia, ja = fold_index(i0, j0, sw, sh, wrap, top, bottom)
     ib, jb = fold_index(i0 + 1, j0, sw, sh, wrap, top, bottom)
     ic, jc = fold_index(i0, j0 + 1, sw, sh, wrap, top, bottom)
     id_, jd = fold_index(i0 + 1, j0 + 1, sw, sh, wrap, top, bottom)
-    return (ja * sw + ia) * nc, (jb * sw + ib) * nc, (jc * sw + ic) * nc, (jd * sw + id_) * nc
+    return (np.uint64((ja * sw + ia) * nc), np.uint64((jb * sw + ib) * nc), np.uint64((jc * sw + ic) * nc),
+            np.uint64((jd * sw + id_) * nc))
 
 
 # fastmath: these loops only multiply and add finite weights; a non-finite source value that reaches
@@ -97,12 +103,15 @@ def _bilinear(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
                 w11 = tx * ty
                 if nc == 3:
                     a0 += w00 * flat[p00] + w10 * flat[p10] + w01 * flat[p01] + w11 * flat[p11]
-                    a1 += w00 * flat[p00 + 1] + w10 * flat[p10 + 1] + w01 * flat[p01 + 1] + w11 * flat[p11 + 1]
-                    a2 += w00 * flat[p00 + 2] + w10 * flat[p10 + 2] + w01 * flat[p01 + 2] + w11 * flat[p11 + 2]
+                    a1 += (w00 * flat[p00 + U1] + w10 * flat[p10 + U1] + w01 * flat[p01 + U1]
+                           + w11 * flat[p11 + U1])
+                    a2 += (w00 * flat[p00 + U2] + w10 * flat[p10 + U2] + w01 * flat[p01 + U2]
+                           + w11 * flat[p11 + U2])
                 else:
                     for ch in range(nc):
-                        acc[ch] += (w00 * flat[p00 + ch] + w10 * flat[p10 + ch] + w01 * flat[p01 + ch]
-                                    + w11 * flat[p11 + ch])
+                        kc = np.uint64(ch)
+                        acc[ch] += (w00 * flat[p00 + kc] + w10 * flat[p10 + kc] + w01 * flat[p01 + kc]
+                                    + w11 * flat[p11 + kc])
             if nc == 3:
                 out[r, c, 0] = a0 * inv
                 out[r, c, 1] = a1 * inv
@@ -122,10 +131,11 @@ def lerp_at(flat, sw, sh, nc, x, y, wrap, top, bottom, out, r, c):
     ty = y - fy0
     p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
     for ch in range(nc):
-        a = flat[p00 + ch]
-        b = flat[p01 + ch]
-        upper = a + tx * (flat[p10 + ch] - a)
-        lower = b + tx * (flat[p11 + ch] - b)
+        kc = np.uint64(ch)
+        a = flat[p00 + kc]
+        b = flat[p01 + kc]
+        upper = a + tx * (flat[p10 + kc] - a)
+        lower = b + tx * (flat[p11 + kc] - b)
         out[r, c, ch] = upper + ty * (lower - upper)
 
 
@@ -146,18 +156,44 @@ def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
 
 @kernel.options(fastmath=True, error_model="numpy")
 def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
-    """:func:`_bilinear1` for three channels (the channel loop unrolled by the compiler)."""
+    """:func:`_bilinear1` for three channels, row by row through 1-D views, the channels written out."""
     h, w = xs.shape
     for r in range(h):
+        xr = xs[r]
+        yr = ys[r]
+        vr = valid[r]
+        orow = out[r]
+        arow = alpha[r]
         for c in range(w):
-            if not valid[r, c]:
-                out[r, c, 0] = 0.0
-                out[r, c, 1] = 0.0
-                out[r, c, 2] = 0.0
-                alpha[r, c] = 0.0
+            if not vr[c]:
+                orow[c, 0] = 0.0
+                orow[c, 1] = 0.0
+                orow[c, 2] = 0.0
+                arow[c] = 0.0
                 continue
-            lerp_at(flat, sw, sh, 3, xs[r, c], ys[r, c], wrap, top, bottom, out, r, c)
-            alpha[r, c] = 1.0
+            x = xr[c]
+            y = yr[c]
+            fx0 = np.floor(x)
+            fy0 = np.floor(y)
+            tx = x - fx0
+            ty = y - fy0
+            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, 3, wrap, top, bottom)
+            a = flat[p00]
+            b = flat[p01]
+            upper = a + tx * (flat[p10] - a)
+            lower = b + tx * (flat[p11] - b)
+            orow[c, 0] = upper + ty * (lower - upper)
+            a = flat[p00 + U1]
+            b = flat[p01 + U1]
+            upper = a + tx * (flat[p10 + U1] - a)
+            lower = b + tx * (flat[p11 + U1] - b)
+            orow[c, 1] = upper + ty * (lower - upper)
+            a = flat[p00 + U2]
+            b = flat[p01 + U2]
+            upper = a + tx * (flat[p10 + U2] - a)
+            lower = b + tx * (flat[p11 + U2] - b)
+            orow[c, 2] = upper + ty * (lower - upper)
+            arow[c] = 1.0
 
 
 @numba.njit(inline="always", cache=True)

@@ -15,6 +15,7 @@ from lenslab.warp.seam import Border, fold_index
 MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from
 AXIS_TOL = 0.125  # texels^2: a footprint whose x-y covariance (times 12) is below this is one box
 DENSITY = 0.75  # cells per texel along each side of the footprint (measured best accuracy per cost)
+U1, U2 = np.uint64(1), np.uint64(2)  # channel offsets: texel offsets are unsigned (no negative-index test per read)
 WINDOW = 16  # texels: the side of the window of weights a footprint is gathered through (fits MAX_TAPS + 5)
 
 
@@ -185,17 +186,17 @@ def _footprint(level0, rest, shapes, offsets, xs, ys, valid, foot, wrap, top, bo
                         for i in range(ni):
                             ww = kx[i] * wj
                             if inside:
-                                p = base + ((j0 + j) * lw + i0 + i) * nc
+                                p = np.uint64(base + ((j0 + j) * lw + i0 + i) * nc)
                             else:
                                 ii, jj = fold_index(i0 + i, j0 + j, lw, lh, wrap, top, bottom)
-                                p = base + (jj * lw + ii) * nc
+                                p = np.uint64(base + (jj * lw + ii) * nc)
                             if nc == 3:
                                 a0 += ww * buf[p]
-                                a1 += ww * buf[p + 1]
-                                a2 += ww * buf[p + 2]
+                                a1 += ww * buf[p + U1]
+                                a2 += ww * buf[p + U2]
                             else:
                                 for ch in range(nc):
-                                    acc[ch] += ww * buf[p + ch]
+                                    acc[ch] += ww * buf[p + np.uint64(ch)]
                     continue
                 ex = 0.5 * scale * (abs(ax) * (1.0 - 1.0 / na) + abs(bx) * (1.0 - 1.0 / nb)) + 1.0 + 0.5 * bw
                 ey = 0.5 * scale * (abs(ay) * (1.0 - 1.0 / na) + abs(by) * (1.0 - 1.0 / nb)) + 1.0 + 0.5 * bh
@@ -226,7 +227,7 @@ def _footprint(level0, rest, shapes, offsets, xs, ys, valid, foot, wrap, top, bo
                     for j in range(nj):
                         wj = ky[j] * norm
                         for i in range(ni):
-                            wgt[j0 - wy0 + j, i0 - wx0 + i] += kx[i] * wj
+                            wgt[np.uint64(j0 - wy0 + j), np.uint64(i0 - wx0 + i)] += kx[i] * wj
                 inside = wx0 >= 0 and wy0 >= 0 and wx0 + nwx <= lw and wy0 + nwy <= lh
                 for j in range(nwy):
                     for i in range(nwx):
@@ -234,17 +235,17 @@ def _footprint(level0, rest, shapes, offsets, xs, ys, valid, foot, wrap, top, bo
                         if ww == 0.0:
                             continue
                         if inside:
-                            p = base + ((wy0 + j) * lw + wx0 + i) * nc
+                            p = np.uint64(base + ((wy0 + j) * lw + wx0 + i) * nc)
                         else:
                             ii, jj = fold_index(wx0 + i, wy0 + j, lw, lh, wrap, top, bottom)
-                            p = base + (jj * lw + ii) * nc
+                            p = np.uint64(base + (jj * lw + ii) * nc)
                         if nc == 3:
                             a0 += ww * buf[p]
-                            a1 += ww * buf[p + 1]
-                            a2 += ww * buf[p + 2]
+                            a1 += ww * buf[p + U1]
+                            a2 += ww * buf[p + U2]
                         else:
                             for ch in range(nc):
-                                acc[ch] += ww * buf[p + ch]
+                                acc[ch] += ww * buf[p + np.uint64(ch)]
             if nc == 3:
                 acc[0] = a0
                 acc[1] = a1
