@@ -184,3 +184,25 @@ def test_lattice_error_everywhere_within_the_stated_bound(spec, pitch):
     dx *= np.cos(np.radians(90.0 - 180.0 * xy[..., 1] / 1024))  # judged on the sphere, as the checks are
     dy = band.ys - (xy[..., 1] - 0.5)
     assert np.abs(dx[v]).max() <= 0.005 and np.abs(dy[v]).max() <= 0.005
+
+
+@pytest.mark.parametrize("channels", [1, 3, 4])
+@pytest.mark.parametrize("spec", ["fisheye:fov=200", "equirect", "perspective:fov=120"])
+def test_a_cached_single_tap_plan_gives_the_one_shot_bits(channels, spec):
+    # a cached one-sample bilinear plan keeps its map as taps (lenslab.warp.taps): offsets and weights made
+    # once, the pixels whose taps cross the seam, the poles or the border through the folding sampler
+    from lenslab.warp.taps import TapBand
+
+    img, src = pano(256, 128)
+    img = np.concatenate([img] * 2, axis=-1)[..., :channels]
+    dst = Camera.from_spec(spec, (96, 80), pitch=60, yaw=175)  # across the seam and near a pole
+    ref = warp(img, src, dst)
+    plan = WarpPlan(src, dst, cache=True, band_points=2000)
+    for _ in range(2):
+        got = plan.run(img)
+        np.testing.assert_array_equal(got[0], ref[0])
+        np.testing.assert_array_equal(got[1], ref[1])
+    assert all(isinstance(b, TapBand) for b in plan._bands)
+    assert sum(len(b.fold_idx) for b in plan._bands) > 0  # some pixels did cross an edge
+    assert plan.map_bytes >= 96 * 80 * 12
+    assert all(b.xs.shape[2] == 1 for b in plan.bands())  # the maps themselves, computed again

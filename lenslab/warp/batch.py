@@ -24,8 +24,9 @@ def geometry_key(src: Camera, dst: Camera) -> str:
 
 
 def map_bytes_estimate(dst: Camera, samples: int, antialias: bool) -> int:
-    """Bytes the cached maps of a plan will take (9 per sample, 25 with the footprint)."""
-    per = 9 + (16 if antialias else 0)
+    """Bytes the cached maps of a plan will take (9 per sample, 25 with the footprint, 12 for the taps of
+    a one-sample map: :mod:`lenslab.warp.taps`)."""
+    per = 25 if antialias else (12 if samples == 1 else 9)
     return dst.width * dst.height * samples * per
 
 

@@ -8,7 +8,8 @@ the map lattice (five float64 per 8 x 8 output pixels). Measured by ``lenslab be
 thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 180-degree view (0.75 GiB + 0.25 GiB alpha)
 allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's mip pyramid (a third of
 the source) and 16 bytes of footprint per output pixel of a band. A plan made with ``cache=True`` keeps every band's map (for many
-images of the same geometry, see :mod:`lenslab.warp.batch`).
+images of the same geometry, see :mod:`lenslab.warp.batch`); a one-sample bilinear map is kept as taps,
+a source offset and two weights per pixel (:mod:`lenslab.warp.taps`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
+from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
 from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
@@ -127,12 +129,21 @@ class WarpPlan:
             return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
         return self.mapper.map_band(r0, r1, self._offsets(r0, r1))
 
+    def _kept_band(self, r0: int, r1: int):
+        """A band's map as a cached plan keeps it: as taps where it can (:mod:`lenslab.warp.taps`)."""
+        band = self._band(r0, r1)
+        if (not self.views and not self.antialias and isinstance(band, MapBand)
+                and eligible(self.filter, self.samples, self.border, self.src.width * self.src.height)):
+            return taps_of(band, self.src.width, self.src.height)
+        return band
+
     def bands(self):
-        """The map of every band, computed now (and kept when the plan caches)."""
-        if self._bands is not None:
+        """The map of every band, computed now (and kept when the plan caches; a plan that has kept its
+        bands as taps computes the maps again)."""
+        if self._bands is not None and not any(isinstance(b, TapBand) for b in self._bands):
             yield from self._bands
             return
-        kept = [] if self.cache else None
+        kept = [] if self.cache and self._bands is None else None
         for r0, r1 in self.band_rows():
             band = self._band(r0, r1)
             if kept is not None:
@@ -201,7 +212,9 @@ class WarpPlan:
 
         def draw(band):
             sl = slice(band.r0, band.r1)
-            if isinstance(band, ViewBand):
+            if isinstance(band, TapBand):
+                sample_taps(src, band, self.border, out[sl], alpha[sl])
+            elif isinstance(band, ViewBand):
                 sample_views(src, band, self.border, self.filter, out[sl], alpha[sl])
             elif self.antialias:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
@@ -218,7 +231,7 @@ class WarpPlan:
             return
         # one band per thread, map and pixels; a band's map is dropped once drawn unless the plan caches
         if self.cache:
-            self._bands = run_bands(self.band_rows(), lambda rows: draw(self._band(*rows)), done)
+            self._bands = run_bands(self.band_rows(), lambda rows: draw(self._kept_band(*rows)), done)
         else:
             run_bands(self.band_rows(), lambda rows: _Rows(draw(self._band(*rows))), done)
 
