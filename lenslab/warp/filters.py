@@ -154,6 +154,27 @@ def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
             alpha[r, c] = 1.0
 
 
+@numba.njit(inline="always", cache=True)
+def lerp3(flat, p00, p10, p01, p11, tx, ty, orow, c):
+    """``orow[c, 0:3]`` = the three channels bilinearly from the taps at unsigned flat offsets
+    ``p00, p10, p01, p11`` (top-left, top-right, bottom-left, bottom-right), in float32 lerps."""
+    a = flat[p00]
+    b = flat[p01]
+    upper = a + tx * (flat[p10] - a)
+    lower = b + tx * (flat[p11] - b)
+    orow[c, 0] = upper + ty * (lower - upper)
+    a = flat[p00 + U1]
+    b = flat[p01 + U1]
+    upper = a + tx * (flat[p10 + U1] - a)
+    lower = b + tx * (flat[p11 + U1] - b)
+    orow[c, 1] = upper + ty * (lower - upper)
+    a = flat[p00 + U2]
+    b = flat[p01 + U2]
+    upper = a + tx * (flat[p10 + U2] - a)
+    lower = b + tx * (flat[p11 + U2] - b)
+    orow[c, 2] = upper + ty * (lower - upper)
+
+
 @kernel.options(fastmath=True, error_model="numpy")
 def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
     """:func:`_bilinear1` for three channels, row by row through 1-D views, the channels written out."""
@@ -178,21 +199,7 @@ def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alph
             tx = x - fx0
             ty = y - fy0
             p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, 3, wrap, top, bottom)
-            a = flat[p00]
-            b = flat[p01]
-            upper = a + tx * (flat[p10] - a)
-            lower = b + tx * (flat[p11] - b)
-            orow[c, 0] = upper + ty * (lower - upper)
-            a = flat[p00 + U1]
-            b = flat[p01 + U1]
-            upper = a + tx * (flat[p10 + U1] - a)
-            lower = b + tx * (flat[p11 + U1] - b)
-            orow[c, 1] = upper + ty * (lower - upper)
-            a = flat[p00 + U2]
-            b = flat[p01 + U2]
-            upper = a + tx * (flat[p10 + U2] - a)
-            lower = b + tx * (flat[p11 + U2] - b)
-            orow[c, 2] = upper + ty * (lower - upper)
+            lerp3(flat, p00, p10, p01, p11, tx, ty, orow, c)
             arow[c] = 1.0
 
 

@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from lenslab.warp.dispatch import kernel
-from lenslab.warp.filters import U1, U2, lerp_at
+from lenslab.warp.filters import lerp3, lerp_at
 
 INVALID = np.uint32(0xFFFFFFFF)  # no source: colour and alpha 0
 FOLDED = np.uint32(0xFFFFFFFE)  # taps across an edge: the folding sampler
@@ -114,23 +114,7 @@ def _from_taps(flat, sw, nc, off, tx, ty, out, alpha):
             fx = txr[c]
             fy = tyr[c]
             if nc == 3:  # written out: the compiler keeps the three channels in registers
-                p10 = p00 + step
-                p11 = p01 + step
-                a = flat[p00]
-                b = flat[p01]
-                upper = a + fx * (flat[p10] - a)
-                lower = b + fx * (flat[p11] - b)
-                orow[c, 0] = upper + fy * (lower - upper)
-                a = flat[p00 + U1]
-                b = flat[p01 + U1]
-                upper = a + fx * (flat[p10 + U1] - a)
-                lower = b + fx * (flat[p11 + U1] - b)
-                orow[c, 1] = upper + fy * (lower - upper)
-                a = flat[p00 + U2]
-                b = flat[p01 + U2]
-                upper = a + fx * (flat[p10 + U2] - a)
-                lower = b + fx * (flat[p11 + U2] - b)
-                orow[c, 2] = upper + fy * (lower - upper)
+                lerp3(flat, p00, p00 + step, p01, p01 + step, fx, fy, orow, c)
                 arow[c] = 1.0
                 continue
             for ch in range(nc):
