@@ -203,23 +203,32 @@ class Mapper:
         dead = ~win4(vd, np.logical_or)  # no output ray anywhere near
         nodes = [nx, ny]
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
-        # error is odd about it)
-        for (tx, ty), (exy, ev, evd) in zip(CHECK_POINTS, exact[1:]):
+        # error is odd about it), the four on the engine's threads
+        def check(job):
+            (tx, ty), (exy, ev, _) = job
             ix, iy = lattice_grid(nx, ny, tx, ty, self.wrap)
-            ok &= ev & self._close(ix, iy, exy)
+            return ev & self._close(ix, iy, exy)
+
+        for passed, (_, _, evd) in zip(run_bands(list(zip(CHECK_POINTS, exact[1:])), check), exact[1:]):
+            ok &= passed
             dead &= ~evd
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
         cand = state == 0
         if self.sphere and cand.any():
             # second chance for the cells left near a pole: interpolate the ray direction (smooth
             # there) and project it exactly; only where the output rays exist
-            gd = [ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0) for k in range(3)]
+            gd = run_bands(range(3), lambda k: ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0))
             nodes += [g[0] for g in gd]
             ok_dir = (win4(gd[0][2], np.logical_and) & corners(vd))[cand]
-            for (tx, ty), (exy, ev, _) in zip(CHECK_POINTS, exact[1:]):
+
+            def check_dir(job):
+                (tx, ty), (exy, ev, _) = job
                 d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
                 pxy, pv = project(self.src.lens, d)
-                ok_dir &= ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
+                return ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
+
+            for passed in run_bands(list(zip(CHECK_POINTS, exact[1:])), check_dir):
+                ok_dir &= passed
             state.reshape(-1)[np.flatnonzero(cand)[ok_dir]] = 2
         return np.stack(nodes), state
 
@@ -306,16 +315,22 @@ EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lat
 def _exact_grids(src: Camera, dst: Camera, grids: list[tuple[np.ndarray, bool]]) -> list[tuple]:
     """:func:`exact_map_parts` over each grid of points (with its ``with_dirs``), ``EXACT_CHUNK`` points
     at a time, the chunks of every grid shared by the engine's threads (so that they finish together)."""
-    jobs = [(g, i, with_dirs) for g, (points, with_dirs) in enumerate(grids)
-            for i in range(0, points.shape[0] * points.shape[1], EXACT_CHUNK)]
     flats = [points.reshape(-1, 2) for points, _ in grids]
-    parts = run_bands(jobs, lambda job: exact_map_parts(src, dst, flats[job[0]][job[1]:job[1] + EXACT_CHUNK], job[2]))
-    out = []
-    for g, (points, _) in enumerate(grids):
-        mine = [p for (k, _, _), p in zip(jobs, parts) if k == g]
-        out.append(tuple(np.concatenate([p[k] for p in mine]).reshape(points.shape[:-1] + mine[0][k].shape[1:])
-                         for k in range(len(mine[0]))))
-    return out
+    # each chunk writes its rows of its grid's arrays: (x, y) float64, validity, the output ray's validity
+    # and, with_dirs, the direction float64
+    out = [(np.empty((len(f), 2)), np.empty(len(f), bool), np.empty(len(f), bool))
+           + ((np.empty((len(f), 3)),) if with_dirs else ()) for f, (_, with_dirs) in zip(flats, grids)]
+    jobs = [(g, i, with_dirs) for g, (flat, (_, with_dirs)) in enumerate(zip(flats, grids))
+            for i in range(0, len(flat), EXACT_CHUNK)]
+
+    def one(job):
+        g, i, with_dirs = job
+        for dest, part in zip(out[g], exact_map_parts(src, dst, flats[g][i:i + EXACT_CHUNK], with_dirs)):
+            dest[i:i + EXACT_CHUNK] = part
+
+    run_bands(jobs, one)
+    return [tuple(a.reshape(points.shape[:-1] + a.shape[1:]) for a in arrays)
+            for arrays, (points, _) in zip(out, grids)]
 
 
 def sample_pattern(samples: int) -> np.ndarray:
