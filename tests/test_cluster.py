@@ -238,8 +238,14 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
-    with Client(scheduler, set_as_default=False) as client:  # the tasks under way at Ctrl-C end by themselves
-        while any(client.processing().values()) and time.monotonic() < deadline:
+    # the tasks under way at Ctrl-C end by themselves: a cancelled task leaves the scheduler's books at once,
+    # while its thread on the worker still finishes its file (temporary name, then rename), so ask the workers
+    with Client(scheduler, set_as_default=False) as client:
+        def busy() -> bool:
+            running = client.run(lambda dask_worker: len(dask_worker.state.executing))
+            return any(running.values()) or any(client.processing().values())
+
+        while busy() and time.monotonic() < deadline:
             time.sleep(0.05)
     _no_temporaries(out)
     written = list(out.iterdir())
