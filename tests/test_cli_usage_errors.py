@@ -66,3 +66,32 @@ def test_skip_existing_counts_the_outputs_left_alone(three, tmp_path, capsys):
     capsys.readouterr()
     assert main(["convert", *three, "--to", "png", "-o", str(out), "--skip-existing"]) == 0
     assert "converted 0 of 3 file(s) to PNG; 3 already there, left alone" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("look, pitch", [("0,1,0", "90"), ("0,-2,0", "-90")])
+def test_looking_straight_up_or_down_is_the_pitch_pose(tmp_path, look, pitch):
+    # the help's own example, --look-at 0,1,0: "up" gives no direction there, so the view is --pitch's
+    from lenslab.io import read
+
+    pano = tmp_path / "pano.exr"
+    write(pano, np.random.default_rng(0).uniform(0, 1, (32, 64, 3)).astype(np.float32))
+    common = [str(pano), "--to", "perspective:fov=90", "--size", "16x16", "-q"]
+    assert main(["warp", *common, "-o", str(tmp_path / "look.exr"), "--look-at", look]) == 0
+    assert main(["warp", *common, "-o", str(tmp_path / "pitch.exr"), "--pitch", pitch]) == 0
+    looked = read(tmp_path / "look.exr")[0]
+    np.testing.assert_array_equal(looked, read(tmp_path / "pitch.exr")[0])
+    assert main(["warp", *common, "-o", str(tmp_path / "level.exr")]) == 0
+    assert not np.array_equal(looked, read(tmp_path / "level.exr")[0])  # a view that differs from the level one
+
+
+def test_compare_tones_refuses_an_unknown_extension_before_reading(tmp_path, capsys):
+    rc = main(["compare-tones", str(tmp_path / "not-there.exr"), "-o", str(tmp_path / "strip.xyz")])
+    assert rc == 2 and "cannot tell the output format" in capsys.readouterr().err
+
+
+def test_tonemap_of_one_file_skips_an_existing_output(three, tmp_path, capsys):
+    out = tmp_path / "one.png"
+    assert main(["tonemap", three[0], "-o", str(out)]) == 0
+    before = out.read_bytes()
+    assert main(["tonemap", three[1], "-o", str(out), "--skip-existing"]) == 0
+    assert "left alone (--skip-existing)" in capsys.readouterr().err and out.read_bytes() == before

@@ -30,6 +30,8 @@ def test_a_truncated_file_fails_in_one_line_and_the_library_stays_quiet(whole, t
         io.read(cut)
     text = str(err.value)
     assert "\n" not in text and str(cut) in text and ("truncated" in text or "damaged" in text)
+    if keep == -1:  # one byte short: the last chunk, named with the byte counts
+        assert f"chunk 5 of 5 ends at byte {len(data)} but the file has {n} bytes" in text
     assert capfd.readouterr().err == ""  # nothing from OpenEXR's core on stderr
 
 
@@ -45,3 +47,26 @@ def test_whole_files_pass_with_every_compression(tmp_path, compression, capfd):
     key = "RGB" if "RGB" in ref else None
     expect = ref[key].pixels if key else np.stack([ref[c].pixels for c in "RGB"], axis=-1)
     np.testing.assert_array_equal(got[..., :3], expect.astype(np.float32))
+
+
+def test_a_damaged_file_leaves_info_json_clean(whole, tmp_path):
+    # the chunk table is whole but a chunk's data is not: OpenEXR itself finds it and prints its own warning on
+    # standard output, which `lenslab info --json` must keep out of its report (a subprocess: the library writes
+    # to the file descriptor, below Python's sys.stdout)
+    import json
+    import subprocess
+    import sys
+
+    path, _ = whole
+    data = bytearray(path.read_bytes())
+    mid = len(data) // 2
+    data[mid:mid + 64] = bytes(64)
+    bad = tmp_path / "garbled.exr"
+    bad.write_bytes(bytes(data))
+    run = subprocess.run([sys.executable, "-m", "lenslab", "info", "--json", str(path), str(bad)],
+                         capture_output=True, text=True)
+    assert run.returncode == 1
+    report = json.loads(run.stdout)  # nothing but the JSON on standard output
+    assert report[0]["file"] == str(path) and "error" not in report[0]
+    assert report[1]["file"] == str(bad) and "the file is damaged" in report[1]["error"]
+    assert "index out of range" not in run.stderr

@@ -197,15 +197,18 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.cli.policy import UsageError
 
         raise UsageError("give one or more files, or --formats")
+    from lenslab.cli.policy import library_output_to_stderr, one_line
+
     results, failed = [], 0
     for path in args.files:
         try:
-            d = describe(path, raw=args.raw, data_window=args.data_window)
+            with library_output_to_stderr():  # what a codec prints of a damaged file stays out of the report
+                d = describe(path, raw=args.raw, data_window=args.data_window)
         except (LenslabError, OSError) as exc:
             failed += 1
-            print(f"lenslab info: error: {exc}", file=sys.stderr)
+            print(f"lenslab info: error: {one_line(exc)}", file=sys.stderr)
             if args.json:
-                results.append({"file": path, "error": str(exc)})
+                results.append({"file": path, "error": one_line(exc)})
             continue
         if args.json:
             results.append(d)

@@ -158,6 +158,26 @@ def one_line(exc: BaseException) -> str:
     return " ".join(text.split("\n")[0].split()) if "\n" in text else text
 
 
+@contextlib.contextmanager
+def library_output_to_stderr():
+    """Send what C libraries print on standard output (OpenEXR's warnings about a damaged file) to
+    standard error for the duration, so a report written on standard output stays clean. Process-wide:
+    for commands that read one file at a time."""
+    sys.stdout.flush()
+    try:
+        saved = os.dup(1)
+    except OSError:  # no standard output to protect
+        yield
+        return
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
 def _closed_pipe() -> int:
     """The reader went away: point stdout at /dev/null so the interpreter's final flush stays quiet."""
     with contextlib.suppress(OSError, ValueError):

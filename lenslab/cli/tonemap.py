@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -126,6 +127,10 @@ def run(args: argparse.Namespace) -> int:
     if is_batch(args):
         return run_many(args, curve.name, params)
     args.input = args.inputs[0]
+    if getattr(args, "skip_existing", False) and Path(args.output).is_file():
+        if not args.quiet:
+            print(f"lenslab tonemap: {args.output} already there, left alone (--skip-existing)", file=sys.stderr)
+        return 0
     check_output(args.output, [args.input], args.overwrite)
     _output_format(args.output)  # an unknown extension: one usage error before the image is read
     image, meta = io.read(args.input)

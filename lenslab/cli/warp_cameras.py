@@ -68,8 +68,12 @@ def output_camera(args, src, size: tuple[int, int]):
     lens = make_lens(args.to, size)
     eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
     if args.look_at:
-        target = np.add(eye, parse_vector(args.look_at, "--look-at"))
-        return Camera(lens, Pose.look_at(eye, target))
+        d = np.asarray(parse_vector(args.look_at, "--look-at"), dtype=np.float64)
+        if np.hypot(d[0], d[2]) <= 1e-12 * np.linalg.norm(d) and d[1] != 0:
+            # straight up or down, where "up" gives no direction: the pose --pitch 90 (or -90) gives,
+            # the top of the image towards -z (up) or +z (down)
+            return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
+        return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
     return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
 
 

@@ -219,9 +219,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     try:
         full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
         chans = full.parts[index].channels
-    except Exception as exc:
-        raise FormatError(f"{path}: OpenEXR cannot read the pixels ({exc}); the file is truncated or "
-                          "damaged") from None
+    except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
+        said = f" ({exc})" if isinstance(exc, (RuntimeError, OSError)) and str(exc) else ""
+        raise FormatError(f"{path}: OpenEXR cannot read the pixels{said}; the file is damaged") from None
 
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])

@@ -31,7 +31,7 @@ def _cstring(f, limit: int = 256) -> bytes:
         if c == b"\0":
             return bytes(out)
         out += c
-    raise ValueError("attribute name too long")
+    raise EOFError  # no name or type is this long: not a header
 
 
 def check_chunks(path) -> None:
@@ -39,7 +39,7 @@ def check_chunks(path) -> None:
     chunk it points to is cut short by the end of the file; any other layout passes unchecked."""
     try:
         _check(path)
-    except (EOFError, ValueError, struct.error):
+    except (EOFError, struct.error):  # (FormatError, a ValueError, says more and passes through)
         raise FormatError(f"{path}: the header ends early or is damaged ({os.path.getsize(path)} bytes); the file "
                           "is truncated or damaged") from None
 

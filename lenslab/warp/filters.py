@@ -275,8 +275,9 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
                             continue
                         ww /= sx * sy
                         ii, jj = _fold(i0 - rad + 1 + ti, j0 - rad + 1 + tj, sw, sh, wrap, top, bottom, piece, table)
+                        ui, uj = np.uint64(ii), np.uint64(jj)  # folded: never negative (no wraparound test)
                         for ch_ in range(nc):
-                            acc[ch_] += ww * src[jj, ii, ch_]
+                            acc[ch_] += ww * src[uj, ui, ch_]
             for ch_ in range(nc):
                 out[r, c, ch_] = acc[ch_] * inv
             alpha[r, c] = hits * inv
