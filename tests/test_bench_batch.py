@@ -61,6 +61,6 @@ def test_bench_batch_writes_its_aims(tmp_path):
     assert main(["bench", "batch", "--frames", "1", "--size", "128x64", "--out-size", "32", "--repeat", "1",
                  "--json", str(out)]) == 0
     figures = {f["key"]: f for f in json.loads(out.read_text())["figures"]}
-    assert figures["batch.one_thread_wall"]["aim"] == 0.7  # issue 19: at most 0.7x v360 with one thread each
+    assert figures["batch.one_thread_wall"]["aim"] == 0.7  # the aim: at most 0.7x v360 with one thread each
     assert figures["batch.all_threads_wall"]["aim"] == 1.0  # and ahead of it with every thread
     assert all(f["value"] > 0 for f in figures.values())

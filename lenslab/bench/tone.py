@@ -2,8 +2,7 @@
 --quick), as a ratio against numpy.clip(image, 0, 1) on the same array in the same run.
 
 The test image is a lognormal HDR field (median 0.18, a few stops of spread) with a small sun near
-30000. Every per-pixel curve aims to stay within 4x of the numpy.clip floor, in both modes (issue 19
-names the luminance mode and agx); each row prints its figure, the aim and whether it is met, and
+30000. Every per-pixel curve aims to stay within 4x of the numpy.clip floor, in both modes; each row prints its figure, the aim and whether it is met, and
 --json writes them (keys ``tone.<curve>.<mode>``). Each figure's baseline is
 re-measured alternately with it (best of N each), so a change in the machine's load between rows
 does not skew the ratios. The luminance mode runs two ways with the same bits

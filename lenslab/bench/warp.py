@@ -1,4 +1,4 @@
-"""Warp benchmark: issue 19's aims, each printed with its figure and met/missed and recorded for --json.
+"""Warp benchmark: the warp's speed, memory and accuracy aims, each printed with its figure and met/missed and recorded for --json.
 
 Speed, one thread: a 4096x2048 float RGB equirect (a real panorama, enlarged) into a 1024x1024 180 deg
 fisheye. The baseline is cv2.remap (bilinear, float32 maps computed beforehand) on the same data in the

@@ -26,6 +26,15 @@ TARGETS = {
 }
 
 
+def plain(doc: str) -> str:
+    """A module docstring as ``--help`` text: reStructuredText's literals and roles as plain words."""
+    import re
+
+    text = re.sub(r":[a-z]+:`~?([^`]+)`", lambda m: m.group(1).rsplit(".", 1)[-1] if "~" in m.group(0)
+                  else m.group(1), doc)
+    return re.sub(r"``([^`]+)``", r"\1", text).strip()
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest="target", metavar="TARGET", required=True)
     for name, help_text in TARGETS.items():
@@ -35,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
             if exc.name != f"lenslab.bench.{name}":
                 raise
             continue
-        p = sub.add_parser(name, help=help_text, description=(module.__doc__ or help_text).strip())
+        p = sub.add_parser(name, help=help_text, description=plain(module.__doc__ or help_text))
         module.add_arguments(p)
         p.add_argument("--json", metavar="FILE", default=None,
                        help="also write every figure, its aim and whether it is met, as JSON to FILE "
