@@ -95,3 +95,11 @@ def test_tonemap_of_one_file_skips_an_existing_output(three, tmp_path, capsys):
     before = out.read_bytes()
     assert main(["tonemap", three[1], "-o", str(out), "--skip-existing"]) == 0
     assert "left alone (--skip-existing)" in capsys.readouterr().err and out.read_bytes() == before
+
+
+@pytest.mark.parametrize("command", [["tonemap"], ["convert", "--to", "png"], ["warp", "--to", "fisheye"]])
+def test_a_missing_input_makes_no_output_folder(tmp_path, capsys, command):
+    out = tmp_path / "new-folder"
+    rc = main([command[0], str(tmp_path / "nosuch.exr"), "-o", f"{out}/", *command[1:]])
+    assert rc == 1 and "nosuch.exr: no such file or directory" in capsys.readouterr().err
+    assert not out.exists()

@@ -106,6 +106,8 @@ def expand_inputs(patterns: list[str], recursive: bool = False,
     pattern matches any depth. ``roots`` (if given) receives, for every file found in a directory or
     by a pattern, the folder it was found under, so that outputs can mirror the tree.
     """
+    from lenslab.io import split_selector
+
     files: list[str] = []
     missing: list[tuple[str, str]] = []
     roots = {} if roots is None else roots
@@ -123,8 +125,10 @@ def expand_inputs(patterns: list[str], recursive: bool = False,
             if not found:
                 missing.append((pat, "the pattern matches no file"))
             files.extend(found)
+        elif not split_selector(pat)[0].exists():  # (file.exr:part names a part of file.exr)
+            missing.append((pat, "no such file or directory"))
         else:
-            files.append(pat)  # a file, or a missing one: reported when read
+            files.append(pat)
     seen: set[str] = set()
     unique = [f for f in files if not (f in seen or seen.add(f))]
     return unique, missing
