@@ -103,3 +103,10 @@ def test_a_missing_input_makes_no_output_folder(tmp_path, capsys, command):
     rc = main([command[0], str(tmp_path / "nosuch.exr"), "-o", f"{out}/", *command[1:]])
     assert rc == 1 and "nosuch.exr: no such file or directory" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("command", [["tonemap"], ["convert", "--to", "png"], ["warp", "--to", "fisheye"]])
+def test_skip_existing_with_overwrite_is_a_usage_error(three, tmp_path, capsys, command):
+    out = tmp_path / "out"
+    rc = main([command[0], *three, "-o", str(out), *command[1:], "--skip-existing", "--overwrite"])
+    assert rc == 2 and "give one" in capsys.readouterr().err and not out.exists()

@@ -195,6 +195,9 @@ def convert_many(pairs: list[tuple[str, Path]], options: dict, jobs: int = 0, pr
 
 def run(args: argparse.Namespace) -> int:
     from lenslab.cli.display import display_options
+    from lenslab.cli.options import check_skip_or_overwrite
+
+    check_skip_or_overwrite(args)
 
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)

@@ -24,6 +24,14 @@ def add_jobs_option(parser, what: str = "files") -> None:
                              "memory holds judging by the first file; 1: one after the other, each on every core)")
 
 
+def check_skip_or_overwrite(args) -> None:
+    """``--skip-existing`` and ``--overwrite`` say opposite things of an existing output: a usage error."""
+    if getattr(args, "skip_existing", False) and getattr(args, "overwrite", False):
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError("--skip-existing leaves existing outputs alone and --overwrite replaces them: give one")
+
+
 def add_scheduler_options(parser, skip_existing: bool = True) -> None:
     """``--scheduler``, ``--scheduler-file`` (and ``--skip-existing``) of every batch command: one task
     per file on a Dask cluster (:mod:`lenslab.cluster`)."""

@@ -113,7 +113,9 @@ def _output_format(path: str) -> str:
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
     from lenslab.cli.policy import check_output
-    from lenslab.cli.options import parse_exposure
+    from lenslab.cli.options import check_skip_or_overwrite, parse_exposure
+
+    check_skip_or_overwrite(args)
     from lenslab.cli.tonemap_file import write_tone_mapped
 
     curve = tone.get_curve(args.curve)

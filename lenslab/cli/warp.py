@@ -172,6 +172,10 @@ def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[s
 def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
+    from lenslab.cli.options import check_skip_or_overwrite
+
+    check_skip_or_overwrite(args)
+
     from lenslab.cli.convert import expand_inputs
     from lenslab.cli.warp_file import plan_cache, warp_one
     from lenslab.cli.policy import UsageError, make_output_dir, one_line, user_notes
