@@ -110,3 +110,12 @@ def test_skip_existing_with_overwrite_is_a_usage_error(three, tmp_path, capsys, 
     out = tmp_path / "out"
     rc = main([command[0], *three, "-o", str(out), *command[1:], "--skip-existing", "--overwrite"])
     assert rc == 2 and "give one" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_folder_in_the_place_of_one_batch_output_fails_that_file_in_plain_words(three, tmp_path, capsys):
+    out = tmp_path / "pngs"
+    (out / "in0.png").mkdir(parents=True)
+    rc = main(["convert", *three, "--to", "png", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 1 and f"FAILED: {three[0]}: {out / 'in0.png'}: is a folder" in err and "UsageError" not in err
+    assert (out / "in1.png").is_file() and (out / "in2.png").is_file()

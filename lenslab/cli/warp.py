@@ -238,7 +238,7 @@ def run(args: argparse.Namespace) -> int:
             try:
                 warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
                 error = None
-            except (LenslabError, OSError) as exc:
+            except (LenslabError, OSError, UsageError) as exc:
                 error = one_line(exc)
             except Exception as exc:  # one bad file must not stop the batch
                 error = f"{type(exc).__name__}: {exc}"

@@ -52,7 +52,7 @@ def worker_plans(options: dict):
 
 def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
     """Run ``work()``; a failure becomes this file's one-line error, warnings become its notes."""
-    from lenslab.cli.policy import one_line, user_notes
+    from lenslab.cli.policy import UsageError, one_line, user_notes
     from lenslab.errors import LenslabError
 
     from lenslab.cluster.threads import recorded_warnings
@@ -61,7 +61,7 @@ def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
         try:
             work()
             error = None
-        except (LenslabError, OSError) as exc:
+        except (LenslabError, OSError, UsageError) as exc:  # (an output that is a folder: a usage error)
             error = one_line(exc)
         except Exception as exc:  # one bad file must not stop the batch
             error = f"{type(exc).__name__}: {exc}"

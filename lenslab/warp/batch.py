@@ -23,10 +23,10 @@ def geometry_key(src: Camera, dst: Camera) -> str:
     return json.dumps([src.to_dict(), dst.to_dict()], sort_keys=True, default=str)
 
 
-def map_bytes_estimate(dst: Camera, samples: int, antialias: bool) -> int:
+def map_bytes_estimate(dst: Camera, samples: int, antialias: bool, filter: str = "bilinear") -> int:
     """Bytes the cached maps of a plan will take (9 per sample, 25 with the footprint, 12 for the taps of
-    a one-sample map: :mod:`lenslab.warp.taps`)."""
-    per = 25 if antialias else (12 if samples == 1 else 9)
+    a one-sample bilinear map: :mod:`lenslab.warp.taps`)."""
+    per = 25 if antialias else (12 if samples == 1 and filter == "bilinear" else 9)
     return dst.width * dst.height * samples * per
 
 
@@ -46,8 +46,8 @@ class PlanCache:
         if key in self._plans:
             self._plans.move_to_end(key)
             return self._plans[key]
-        cache = map_bytes_estimate(dst, self.options.get("samples", 1), self.options.get("antialias", False)) \
-            <= self.max_map_bytes // self.keep
+        cache = map_bytes_estimate(dst, self.options.get("samples", 1), self.options.get("antialias", False),
+                                   self.options.get("filter", "bilinear")) <= self.max_map_bytes // self.keep
         plan = self.factory(src, dst, cache=cache, **self.options)
         self.built += 1
         self._plans[key] = plan
