@@ -17,7 +17,7 @@ from lenslab.lenses import Camera, make_lens
 PX = 1e-9
 
 
-def same(a, b):
+def assert_same(a, b):
     """Same model, size and parameters (numbers to PX)."""
     assert a.name == b.name and (a.width, a.height) == (b.width, b.height)
     va, vb = a.param_values(), b.param_values()
@@ -57,7 +57,7 @@ def test_files_written_by_cv2_filestorage(tmp_path, suffix, coeffs, extra, spec)
              distortion_coefficients=np.array(coeffs).reshape(-1, 1), **extra)
     got = read_lens(str(path))
     want = make_lens(spec + ",fx=900,fy=880,cx=641.3,cy=478.9,width=1280,height=960", (1280, 960))
-    same(got, want)
+    assert_same(got, want)
     # and written back: cv2.FileStorage reads lenslab's file to the same matrices
     out = tmp_path / ("back" + suffix)
     write_lens(out, got)
@@ -67,7 +67,7 @@ def test_files_written_by_cv2_filestorage(tmp_path, suffix, coeffs, extra, spec)
     np.testing.assert_array_equal(d, np.array(coeffs)[:d.size])
     assert fs.getNode("image_width").real() == 1280 and fs.getNode("image_height").real() == 960
     fs.release()
-    same(read_lens(str(out)), want)
+    assert_same(read_lens(str(out)), want)
 
 
 KALIBR = """\
@@ -127,10 +127,10 @@ def test_kalibr_camchain_by_hand(tmp_path, cam):
     spec = KALIBR_WANT[cam]
     w, h = (int(spec.split("width=")[1].split(",")[0]), int(spec.split("height=")[1]))
     got = read_lens(f"{path}#{cam}")
-    same(got, make_lens(spec, (w, h)))
+    assert_same(got, make_lens(spec, (w, h)))
     out = tmp_path / "one.yaml"
     write_lens(out, got, "kalibr")
-    same(read_lens(str(out)), got)
+    assert_same(read_lens(str(out)), got)
 
 
 def test_kalibr_needs_a_pick_when_it_holds_several(tmp_path):
@@ -178,10 +178,10 @@ def test_colmap_cameras_txt_by_hand(tmp_path, cid):
     path.write_text(COLMAP)
     got = read_lens(f"{path}#{cid}")
     want = COLMAP_WANT[cid]
-    same(got, make_lens(want, (int(want.split("width=")[1].split(",")[0]), int(want.split("height=")[1]))))
+    assert_same(got, make_lens(want, (int(want.split("width=")[1].split(",")[0]), int(want.split("height=")[1]))))
     out = tmp_path / "out.txt"
     write_lens(out, got)
-    same(read_lens(str(out)), got)
+    assert_same(read_lens(str(out)), got)
 
 
 def test_colmap_principal_point_at_the_image_centre_looks_down_the_axis(tmp_path):
@@ -226,7 +226,7 @@ def test_ocamcalib_calib_results_by_hand(tmp_path):
     assert got.invpol_c.size == 13
     out = tmp_path / "calib_results_out.txt"
     write_lens(out, got)
-    same(read_lens(str(out)), got)
+    assert_same(read_lens(str(out)), got)
 
 
 BAD = [
@@ -308,4 +308,4 @@ def test_a_camera_file_works_wherever_a_lens_spec_does(tmp_path):
     lens = make_lens(f"{path}#7", (2560, 2048))  # another size: scaled about the corner
     assert lens.fx == 800 and lens.cx + 0.5 == (640.2 + 0.5) * 2
     cam = Camera.from_spec(f"{path}#7", (1280, 1024), yaw=30)
-    same(cam.lens, make_lens(COLMAP_WANT["7"], (1280, 1024)))
+    assert_same(cam.lens, make_lens(COLMAP_WANT["7"], (1280, 1024)))

@@ -127,7 +127,7 @@ def fragile(src_spec: str, src_size, dst_spec: str, dst_size) -> np.ndarray:
     return out
 
 
-def compare(ours, alpha, theirs, skip):
+def assert_matches_ffmpeg(ours, alpha, theirs, skip):
     keep = (alpha > 0.999) & ~skip
     assert keep.sum() >= 300, keep.sum()  # the comparison really covers the projection
     diff = np.abs(ours - theirs)[keep]
@@ -150,7 +150,7 @@ def test_as_output_matches_ffmpeg(tmp_path, spec, opts, size):
     codes = source_codes(128, 64)
     theirs = run_ffmpeg(tmp_path, codes, f"input=e:{v360_output(opts)}", size)
     ours, alpha = run_lenslab(tmp_path, codes, "equirect", spec, size)
-    compare(ours, alpha, theirs, fragile("equirect", (128, 64), spec, size))
+    assert_matches_ffmpeg(ours, alpha, theirs, fragile("equirect", (128, 64), spec, size))
 
 
 @pytest.mark.slow
@@ -159,14 +159,14 @@ def test_as_source_matches_ffmpeg(tmp_path, spec, opts, size):
     codes = source_codes(*size)
     theirs = run_ffmpeg(tmp_path, codes, f"{v360_input(opts)}:output=e", (128, 64))
     ours, alpha = run_lenslab(tmp_path, codes, spec, "equirect", (128, 64))
-    compare(ours, alpha, theirs, fragile(spec, size, "equirect", (128, 64)))
+    assert_matches_ffmpeg(ours, alpha, theirs, fragile(spec, size, "equirect", (128, 64)))
 
 
 def test_little_planet_is_v360_stereographic_looking_down(tmp_path):
     codes = source_codes(128, 64)
     theirs = run_ffmpeg(tmp_path, codes, "input=e:output=sg:h_fov=270:v_fov=270:pitch=-90", (64, 64))
     ours, alpha = run_lenslab(tmp_path, codes, "equirect", "little-planet:fov=270", (64, 64))
-    compare(ours, alpha, theirs, fragile("equirect", (128, 64), "little-planet:fov=270", (64, 64)))
+    assert_matches_ffmpeg(ours, alpha, theirs, fragile("equirect", (128, 64), "little-planet:fov=270", (64, 64)))
 
 
 def test_compat_refuses_projections_v360_lacks(tmp_path):
@@ -189,4 +189,4 @@ def test_rotations_match_ffmpeg(tmp_path, v360_opt, flags):
     assert main(["warp", str(src), "--from", "equirect", "--to", "perspective:fov=90", "--size", "64x64",
                  "--compat", "v360", *flags, "--pixel-type", "float", "-o", str(out), "-q"]) == 0
     ours = read(out)[0]
-    compare(ours[..., :3].astype(np.float64) * 255, ours[..., 3], theirs, np.zeros((64, 64), dtype=bool))
+    assert_matches_ffmpeg(ours[..., :3].astype(np.float64) * 255, ours[..., 3], theirs, np.zeros((64, 64), dtype=bool))

@@ -85,9 +85,9 @@ def run(args: argparse.Namespace) -> int:
         raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
     display = display_panel_options(args)
     check_output(args.output, [args.input], args.overwrite)
-    from lenslab.cli.tonemap import _output_format
+    from lenslab.cli.policy import output_format
 
-    _output_format(args.output)  # an unknown extension: one usage error before the image is read
+    output_format(args.output)  # an unknown extension: one usage error before the image is read
     image, _ = io.read(args.input)
     if image.ndim == 3 and image.shape[2] in (2, 4):
         image = image[..., :-1]

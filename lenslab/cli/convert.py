@@ -140,7 +140,7 @@ def plan_outputs(files: list[str], to: str, output: str | None,
 
     With ``roots`` (from :func:`expand_inputs`), a file found under a folder goes to the same
     sub-folder of ``-o``: the input tree is mirrored."""
-    from lenslab.cli.policy import UsageError, check_output_dir
+    from lenslab.cli.policy import check_output_dir
     from lenslab.errors import FormatError
     from lenslab.io import split_selector
 
@@ -150,10 +150,8 @@ def plan_outputs(files: list[str], to: str, output: str | None,
     if output is not None:
         out = Path(output)
         as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
-        if not as_file and not out.is_dir() and out.suffix.lower() in INPUT_EXTENSIONS:
-            raise UsageError(f"-o {out} names a file but there are {len(files)} inputs; give a folder")
         if not as_file:
-            check_output_dir(out)  # created by run() once everything is checked
+            check_output_dir(out, len(files))  # created by run() once everything is checked
     pairs, targets = [], {}
     for f in files:
         src, selector = split_selector(f)

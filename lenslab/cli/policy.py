@@ -86,10 +86,17 @@ def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = 
     return out
 
 
-def check_output_dir(path: str | os.PathLike) -> Path:
+def check_output_dir(path: str | os.PathLike, inputs: int | None = None) -> Path:
     """Check that ``path`` can be an output folder (an existing folder, or a new one whose parent can be
-    made); create nothing. Call :func:`make_output_dir` once everything else has been checked."""
+    made); create nothing. Call :func:`make_output_dir` once everything else has been checked. With
+    ``inputs`` (how many files go there), a new name with an image extension is taken for a file name
+    given by mistake: a usage error."""
     out = Path(path)
+    if inputs is not None and not out.is_dir():
+        from lenslab.io.registry import input_extensions
+
+        if out.suffix.lower() in input_extensions():
+            raise UsageError(f"-o {out} names a file but there are {inputs} inputs; give a folder")
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: exists and is not a folder; give a folder for several outputs")
     parent = out.absolute().parent
@@ -98,6 +105,18 @@ def check_output_dir(path: str | os.PathLike) -> Path:
     if not parent.is_dir() or not os.access(parent, os.W_OK):
         raise OutputError(f"{out}: cannot be created in {parent}")
     return out
+
+
+def output_format(path: str | os.PathLike) -> str:
+    """The output format an output name asks for; an unknown extension is a usage error (checked before
+    any input is read)."""
+    from lenslab.errors import FormatError
+    from lenslab.io.detect import format_for_path
+
+    try:
+        return format_for_path(path)
+    except FormatError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def make_output_dir(path: str | os.PathLike) -> Path:

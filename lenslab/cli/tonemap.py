@@ -99,20 +99,9 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
     return out, ev
 
 
-def _output_format(path: str) -> str:
-    from lenslab.cli.policy import UsageError
-    from lenslab.errors import FormatError
-    from lenslab.io.detect import format_for_path
-
-    try:
-        return format_for_path(path)
-    except FormatError as exc:
-        raise UsageError(str(exc)) from None
-
-
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
-    from lenslab.cli.policy import check_output
+    from lenslab.cli.policy import check_output, output_format
     from lenslab.cli.options import check_skip_or_overwrite, parse_exposure
 
     check_skip_or_overwrite(args)
@@ -134,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"lenslab tonemap: {args.output} already there, left alone (--skip-existing)", file=sys.stderr)
         return 0
     check_output(args.output, [args.input], args.overwrite)
-    _output_format(args.output)  # an unknown extension: one usage error before the image is read
+    output_format(args.output)  # an unknown extension: one usage error before the image is read
     image, meta = io.read(args.input)
     if display["display"]:
         from lenslab.cli.tonemap_file import write_display

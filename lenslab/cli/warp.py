@@ -143,17 +143,14 @@ def check_once(args) -> None:
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
-    from lenslab.cli.policy import UsageError, check_output_dir
+    from lenslab.cli.policy import check_output_dir
     from lenslab.errors import FormatError
-    from lenslab.io.registry import input_extensions
     from lenslab.io import split_selector
 
     out = Path(output)
     as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
-    if not as_file and not out.is_dir() and out.suffix.lower() in input_extensions():
-        raise UsageError(f"-o {out} names a file but there are {len(files)} inputs; give a folder")
     if not as_file:
-        check_output_dir(out)  # created by run() once everything is checked
+        check_output_dir(out, len(files))  # created by run() once everything is checked
     ext = "." + (fmt or "exr")
     pairs, seen = [], {}
     for f in files:

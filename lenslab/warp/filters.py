@@ -130,13 +130,20 @@ def lerp_at(flat, sw, sh, nc, x, y, wrap, top, bottom, out, r, c):
     tx = x - fx0
     ty = y - fy0
     p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
+    lerp_n(flat, p00, p10, p01, p11, tx, ty, nc, out[r], c)
+
+
+@numba.njit(inline="always", cache=True)
+def lerp_n(flat, p00, p10, p01, p11, tx, ty, nc, orow, c):
+    """``orow[c, 0:nc]`` = the ``nc`` channels bilinearly from the taps at unsigned flat offsets ``p00, p10,
+    p01, p11`` (top-left, top-right, bottom-left, bottom-right), in float32 lerps (:func:`lerp3` for three)."""
     for ch in range(nc):
         kc = np.uint64(ch)
         a = flat[p00 + kc]
         b = flat[p01 + kc]
         upper = a + tx * (flat[p10 + kc] - a)
         lower = b + tx * (flat[p11 + kc] - b)
-        out[r, c, ch] = upper + ty * (lower - upper)
+        orow[c, ch] = upper + ty * (lower - upper)
 
 
 @kernel.options(fastmath=True, error_model="numpy")

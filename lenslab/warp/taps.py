@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from lenslab.warp.dispatch import kernel
-from lenslab.warp.filters import lerp3, lerp_at
+from lenslab.warp.filters import lerp3, lerp_at, lerp_n
 
 INVALID = np.uint32(0xFFFFFFFF)  # no source: colour and alpha 0
 FOLDED = np.uint32(0xFFFFFFFE)  # taps across an edge: the folding sampler
@@ -115,15 +115,8 @@ def _from_taps(flat, sw, nc, off, tx, ty, out, alpha):
             fy = tyr[c]
             if nc == 3:  # written out: the compiler keeps the three channels in registers
                 lerp3(flat, p00, p00 + step, p01, p01 + step, fx, fy, orow, c)
-                arow[c] = 1.0
-                continue
-            for ch in range(nc):
-                k = np.uint64(ch)
-                a = flat[p00 + k]
-                b = flat[p01 + k]
-                upper = a + fx * (flat[p00 + step + k] - a)
-                lower = b + fx * (flat[p01 + step + k] - b)
-                orow[c, ch] = upper + fy * (lower - upper)
+            else:
+                lerp_n(flat, p00, p00 + step, p01, p01 + step, fx, fy, nc, orow, c)
             arow[c] = 1.0
 
 
