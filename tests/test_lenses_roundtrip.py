@@ -52,6 +52,10 @@ CASES = [
      (W, W)),
     ("double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024", (W, W)),
     ("eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024", (W, W)),
+    ("division:fx=700,fy=690,cx=511.5,cy=511.5,k=0.25,width=1024,height=1024", (W, W)),
+    ("division:fx=700,fy=700,cx=511.5,cy=511.5,k=-0.2,width=1024,height=1024", (W, W)),
+    ("fisheye624:fx=240,fy=240,cx=511.5,cy=511.5,k0=0.41,k1=-0.39,k2=-0.12,k3=1.56,k4=-1.55,k5=0.43,p0=0.0006,"
+     "p1=-0.0002,s0=-0.0005,s1=0.00003,s2=0.0003,s3=-0.00005,width=1024,height=1024", (W, W)),
     ("ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024", (W, W)),
     ("devernay-fov:fx=400,fy=400,cx=511.5,cy=383.5,omega=0.9,width=1024,height=768", (W, 6144)),
     ("fisheye:dfov=180", (W, 5461)),  # a full-frame fisheye on a 3:2 sensor
