@@ -11,6 +11,12 @@ Examples:
   lenslab camera convert camchain.yaml -o fisheye.yaml           (Kalibr -> OpenCV, read by cv2.FileStorage)
   lenslab camera convert calib.yaml -o cameras.txt               (OpenCV -> COLMAP)
   lenslab camera convert calib_results.txt -o cam.toml --size 1920x1080
+  lenslab camera convert ds.yaml -o kb.yaml --model kannala-brandt    (double sphere -> Kannala-Brandt, fitted)
+
+With --model the camera is re-expressed in another model: fitted (nlopt) over the field both cameras
+share, starting from the source's image size, principal point and central focal length; the command
+prints the RMS and maximum error in pixels and where the maximum lies, and writes OUT only when the
+RMS is below --aim (else it says why, with a residual map, and exits with status 1).
 """
 
 from __future__ import annotations
@@ -36,6 +42,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     conv.add_argument("--format", choices=FORMAT_CHOICES, help="write this format whatever the name says")
     conv.add_argument("--size", metavar="WxH", help="scale the intrinsics to this image size first")
     conv.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
+    conv.add_argument("--model", metavar="MODEL", help="re-express the camera in this model (a spec: values given "
+                      "stay fixed), fitted over the field both share, e.g. kannala-brandt or eucm")
+    conv.add_argument("--free", metavar="NAMES", help="with --model: comma-separated parameters to fit (default: "
+                      "the model's intrinsics and plain coefficients)")
+    conv.add_argument("--aim", type=float, default=0.05, metavar="PX",
+                      help="with --model: largest RMS error (px) over the shared field for OUT to be written "
+                      "(default 0.05)")
+    conv.add_argument("--residual-map", metavar="FILE", help="with --model: write the error (px) at every pixel "
+                      "of the source as a float image (EXR, PFM, TIFF); not shared: NaN")
 
 
 def load(spec: str, size_text: str | None):
@@ -97,6 +112,8 @@ def run(args: argparse.Namespace) -> int:
 
     src, _ = split_pick(args.camera)
     out = check_output(args.output, [src] if src.exists() else [], args.overwrite)
+    if args.model:
+        lens = _convert_model(args, lens, [src] if src.exists() else [])
     try:
         write_lens(out, lens, args.format, overwrite=args.overwrite)
     except LensError as exc:
@@ -104,3 +121,25 @@ def run(args: argparse.Namespace) -> int:
         raise LensError(msg if msg.startswith(str(out)) else f"{out}: {msg}") from None
     print(f"{out}: {lens.name} {lens.width}x{lens.height}")
     return 0
+
+
+def _convert_model(args, lens, inputs):
+    from lenslab import io
+    from lenslab.cli.policy import check_output
+    from lenslab.errors import FitError
+    from lenslab.fit.convert import convert_lens
+
+    if not args.aim > 0:
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError(f"--aim {args.aim:g}: give a positive number of pixels")
+    resmap = check_output(args.residual_map, inputs + [args.output], args.overwrite) if args.residual_map else None
+    conv = convert_lens(lens, args.model, free=args.free, aim=args.aim)
+    print("\n".join(conv.report()))
+    if resmap is not None:
+        io.write(resmap, conv.image((lens.width, lens.height)), overwrite=args.overwrite)
+        print(f"{resmap}: residual map (px)")
+    if not conv.met:
+        raise FitError(f"{args.output}: not written: the {args.model} fit misses the aim (RMS {conv.rms:.3g} px, "
+                       f"aim {args.aim:g} px)")
+    return conv.lens

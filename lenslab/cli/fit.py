@@ -55,7 +55,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        description="Fit MODEL's parameters to reproduce the lens SPEC over the whole image.")
     p.add_argument("--from", dest="source", required=True, metavar="SPEC", help="the lens to reproduce")
     p.add_argument("--model", required=True, metavar="MODEL", help="the model to fit (a spec; given values stay fixed)")
-    p.add_argument("--size", type=_size, metavar="WxH", help="image size (default 1024x1024; 1024x512 for equirect)")
+    p.add_argument("--size", type=_size, metavar="WxH", help="image size (default: a calibrated camera's own, "
+                   "else 1024x1024; 1024x512 for equirect)")
     p.add_argument("--space", choices=("direction", "pixel"), default="direction",
                    help="residual minimised: direction (angle between the rays, in pixels through the fitted "
                    "lens's local scale; forward maps only) or pixel (where the fitted lens puts the source's "
@@ -120,11 +121,18 @@ def _run_lens(args, FitError) -> int:
     from lenslab.lenses import make_lens, parse_spec
     from lenslab.lenses.registry import lens_class
 
+    from lenslab.calibfiles import is_camera_file
+
     size = args.size
-    if size is None:
-        name, _ = parse_spec(args.source)
+    if size is None and is_camera_file(args.source):  # a calibration file: its own image size
+        source = make_lens(args.source)
+    elif size is None:
+        name, values = parse_spec(args.source)
         size = getattr(lens_class(name), "default_size", None) or ((1024, 512) if name == "equirect" else (1024, 1024))
-    source = make_lens(args.source, size)
+        if values.get("width") and values.get("height"):  # a calibrated spec: its calibration image
+            size = (int(float(values["width"])), int(float(values["height"])))
+    if size is not None:
+        source = make_lens(args.source, size)
     result = fit_lens(source, args.model, free=args.free, bounds=args.bounds, space=args.space,
                       global_start=_global(args.global_start), tolerance=args.tolerance)
     print("\n".join(result.report()))

@@ -302,12 +302,16 @@ def fit_lens(
     tolerance: float = DEFAULT_TOLERANCE,
     grid: int = FIT_GRID,
     report_grid: int = REPORT_GRID,
+    start: dict | None = None,
+    first_space: str = "direction",
 ) -> LensFit:
     """Fit the model spec ``model`` to the ``source`` lens over its whole image.
 
     ``global_start``: ``None`` (local search from the start values), ``"direct-l"`` or ``"mlsl"`` (global
     search first), or ``"auto"`` (local first; a DIRECT-L global start as well when that is not within
-    ``tolerance``). Never raises for a poor fit: the result says how good it is (``ok``, ``reason()``).
+    ``tolerance``). ``start`` overrides start values (fitted) or values (fixed) the spec does not give;
+    ``first_space="pixel"`` fits in pixel space from the start (no direction-space stage). Never raises
+    for a poor fit: the result says how good it is (``ok``, ``reason()``).
     """
     import time
 
@@ -320,9 +324,10 @@ def fit_lens(
         source = make_lens(source, size)
     elif size is not None and tuple(size) != (source.width, source.height):
         source = source.with_size(*size)
-    ps = build_space(model, (source.width, source.height), free=free, bounds=bounds, start_from=source)
-    problem = _Problem(source, grid, "direction")
-    polish = _Problem(source, grid, "pixel") if space == "pixel" else None
+    ps = build_space(model, (source.width, source.height), free=free, bounds=bounds, start_from=source,
+                     start_values=start)
+    problem = _Problem(source, grid, first_space)
+    polish = _Problem(source, grid, "pixel") if space == "pixel" and first_space != "pixel" else None
     starts = [ps.start] + ([ps.defaults] if not np.array_equal(ps.defaults, ps.start) else [])
     best: tuple[float, Any, OptimizeResult | None] = (float("inf"), None, None)
     tried: list[tuple[str, float]] = []

@@ -26,6 +26,12 @@ from lenslab.lenses.base import Lens, Param
 # float parameters whose default switches a feature off or sets a frame rather than a shape: they
 # are fitted only when named in ``free``
 NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "dfov", "pad", "lon_min", "lon_max", "lat_min", "lat_max", "cx", "cy"})
+#: terms a model carries beyond its plain form (tangential, thin prism, rational): fitted only when named
+EXTRA_TERMS = {
+    "kannala-brandt": ("p1", "p2", "s1", "s2", "s3", "s4"),
+    "opencv-fisheye": ("p1", "p2", "s1", "s2", "s3", "s4"),
+    "opencv": ("k4", "k5", "k6", "s1", "s2", "s3", "s4"),
+}
 
 
 def parse_bounds(text: str | None) -> dict[str, tuple[float, float]]:
@@ -118,10 +124,13 @@ def build_space(
     free: Sequence[str] | str | None = None,
     bounds: Mapping[str, tuple[float, float]] | str | None = None,
     start_from: Lens | None = None,
+    start_values: Mapping[str, float] | None = None,
 ) -> ParamSpace:
     """The fit's parameter space for the model spec ``model`` at image size ``size``.
 
-    ``start_from``: a lens whose parameters of the same name (like ``fov``) give starting values.
+    ``start_from``: a lens whose parameters of the same name (like ``fov``) give starting values; a
+    calibrated model's intrinsics the spec does not give follow it instead (its principal point and
+    central scale: :func:`lenslab.fit.convert.source_start`). ``start_values`` override both.
     """
     name, given = parse_spec(model)
     if name not in REGISTRY:
@@ -136,7 +145,8 @@ def build_space(
     converted = {k: params[k].convert(name, v) for k, v in given.items()}
     numeric = [p for p in params.values() if p.kind is float]
     if free_names is None:
-        free_names = tuple(p.name for p in numeric if p.name not in given and p.name not in NOT_FITTED_BY_DEFAULT)
+        free_names = tuple(p.name for p in numeric if p.name not in given and p.name not in NOT_FITTED_BY_DEFAULT
+                           and p.name not in EXTRA_TERMS.get(name, ()))
     for n in free_names:
         if n not in params:
             raise FitError(f"{name}: cannot fit {n!r}: no such parameter; valid: {', '.join(params)}")
@@ -146,10 +156,17 @@ def build_space(
         if n not in free_names:
             raise FitError(f"{name}: bounds given for {n}, which is not fitted; fitted: {', '.join(free_names) or 'none'}")
     source_values = start_from.param_values() if start_from is not None else {}
+    follow = {}
+    if start_from is not None:
+        from lenslab.fit.convert import source_start
+
+        follow = source_start(cls, start_from, converted)
+    follow.update({k: float(v) for k, v in (start_values or {}).items() if k not in converted})
+    source_values = {**source_values, **follow}
     start, lower, upper, defaults = [], [], [], []
     for n in free_names:
         p = params[n]
-        d = float(converted.get(n, p.default))
+        d = float(converted.get(n, follow.get(n, p.default)))
         if n in converted:
             s = float(converted[n])
         else:
@@ -169,6 +186,7 @@ def build_space(
         lower.append(lo)
         upper.append(hi)
     fixed = {k: v for k, v in converted.items() if k not in free_names}
+    fixed.update({k: v for k, v in follow.items() if k not in free_names and k in params})
     choices = {p.name: p.choices for p in params.values()
                if p.choices is not None and p.name not in given and len(p.choices) > 1}
     return ParamSpace(cls, (int(size[0]), int(size[1])), fixed, tuple(free_names),
