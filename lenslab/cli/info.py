@@ -80,6 +80,10 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
                 "luminance_chroma", "primaries_converted_to_rec709"):
         if key in meta:
             out[key] = meta[key]
+    if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
+        from lenslab.lenses.exif_lens import metadata_report
+
+        out["lens_metadata"] = metadata_report(file)
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
     out["attributes"] = attrs
     out["structure"] = probe(file, fmt.name)
@@ -162,6 +166,11 @@ def _text(d: dict) -> str:
         lines.append(f"  {s['channel']:<8s} {num(s['min'])} {num(s['mean'])} {num(s['max'])} "
                      f"{s['nan']:8d} {s['inf']:8d} {s['negative']:9d}")
     lines.append(f"  lens: {d['lens']}" if d["lens"] else "  lens: none stored")
+    found = d.get("lens_metadata")
+    if found:
+        lines.append(f"  lens in metadata: {found['found']}")
+        lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
+                     else f"    lensfun:auto: {found['problem']}")
     lines += _structure_lines(d)
     if set(d.get("structure") or {}) <= {"file_bytes"}:  # no structure probe: the reader's attributes
         for k, v in d["attributes"].items():

@@ -65,13 +65,17 @@ def run_lensfun(args: argparse.Namespace) -> int:
     own = args.lensfun_db or args.lensfun_db_only  # your files for this search only
     with (lensfun_db.using_database(args.lensfun_db, bundled=not args.lensfun_db_only) if own
           else contextlib.nullcontext()):
-        lenses, cameras = lensfun_db.find_lenses(args.lensfun), lensfun_db.find_cameras(args.lensfun)
+        from lenslab.lenses.lensfun_match import search
+
+        lenses, cameras = search(args.lensfun)
         if not lenses and not cameras:
             raise LensError(f"lensfun: no lens or camera matches {args.lensfun!r}")
         for i, lens in enumerate(lenses):
             print(("\n" if i else "") + "\n".join(lensfun_db.describe_lens(lens)))
         if cameras:
-            print(("\n" if lenses else "") + "Cameras (camera=NAME sets the crop factor):")
+            print(("\n" if lenses else "") + ("Cameras named so that these lenses fit (camera=NAME sets the crop "
+                                               "factor and the mount):" if lenses else
+                                               "Cameras (camera=NAME sets the crop factor and the mount):"))
             for cam in cameras:
                 print("  " + lensfun_db.describe_camera(cam))
     return 0

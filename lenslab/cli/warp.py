@@ -134,7 +134,9 @@ def check_once(args) -> None:
 
     if args.to:
         make_lens(args.to, args.size or default_size(args.to, 256))
-    if args.source:
+    from lenslab.lenses.exif_lens import is_auto
+
+    if args.source and not is_auto(args.source):  # auto: read from each input's metadata
         make_lens(args.source, (512, 256))
     get_curve(args.tone)
     from lenslab.cli.display import display_options

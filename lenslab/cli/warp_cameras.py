@@ -25,6 +25,14 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
     h, w = shape[:2]
     if spec:
+        from lenslab.lenses.exif_lens import auto_spec, is_auto
+
+        if is_auto(spec) and not (spec.strip().lower() == "auto" and meta.get("camera") is not None):
+            spec = auto_spec(spec, meta.get("path", ""))  # the lens the photo's metadata names
+            print(f"lenslab: source lens from the file's metadata: {spec}", file=sys.stderr)
+        elif is_auto(spec):  # auto: the camera the file records
+            spec = None
+    if spec:
         return Camera.from_spec(spec, (w, h))
     cam = meta.get("camera")
     if cam is not None:

@@ -163,7 +163,13 @@ def find_lenses(query: str, camera=None) -> list:
 def pick_lens(query: str, camera=None):
     found = find_lenses(query, camera)
     if not found:
-        where = f" for {camera.maker} {camera.model}" if camera is not None else ""
+        from lenslab.lenses.exif_lens import camera_name
+
+        if camera is not None and find_lenses(query):  # the lens is there, for other mounts or sensors
+            from lenslab.lenses.lensfun_match import no_fit_message
+
+            raise LensError(no_fit_message(find_lenses(query)[0], camera))
+        where = f" for the {camera_name(camera.maker, camera.model)}" if camera is not None else ""
         raise LensError(f"lensfun: no lens matches {query!r}{where}; try 'lenslab lenses --lensfun \"WORDS\"'")
     if len(found) > 1 and found[0].model.lower() != query.strip().lower() and found[0].score == found[1].score:
         names = "; ".join(f"{l.maker} {l.model}" for l in found[:8])

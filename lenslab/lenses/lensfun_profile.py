@@ -185,6 +185,9 @@ class LensfunLens(Lens):
     def _check(self) -> None:
         if not self.lens.strip():
             raise LensError("lensfun: give lens=NAME (see lenslab lenses --lensfun \"WORDS\")")
+        if self.lens.strip().lower() == "auto":
+            raise LensError("lensfun:auto reads the lens from a photo's metadata: give it as the --from of a "
+                            "command that reads one (warp), or give lens=NAME")
         from lenslab.lenses import lensfun_db as ldb
 
         self.profile = p = resolve(self.lens.strip(), self.camera.strip(), self.crop, self.focal,
