@@ -89,7 +89,7 @@ def test_lensfun_auto_warps_bit_for_bit_as_the_explicit_spec(tmp_path, name, wri
 
 
 def test_values_given_with_auto_win_over_the_files(tmp_path, capsys):
-    from lenslab.lenses.exif_lens import auto_spec
+    from lenslab.lenses.lensfun_match import auto_spec
 
     write_jpeg(tmp_path / "p.jpg")
     assert auto_spec("lensfun:auto,aperture=11", tmp_path / "p.jpg") == EXPLICIT.replace("aperture=5.6", "aperture=11")

@@ -130,7 +130,7 @@ def build_space(
 
     ``start_from``: a lens whose parameters of the same name (like ``fov``) give starting values; a
     calibrated model's intrinsics the spec does not give follow it instead (its principal point and
-    central scale: :func:`lenslab.fit.convert.source_start`). ``start_values`` override both.
+    central scale: :func:`lenslab.fit.start.source_start`). ``start_values`` override both.
     """
     name, given = parse_spec(model)
     if name not in REGISTRY:
@@ -158,7 +158,7 @@ def build_space(
     source_values = start_from.param_values() if start_from is not None else {}
     follow = {}
     if start_from is not None:
-        from lenslab.fit.convert import source_start
+        from lenslab.fit.start import source_start
 
         follow = source_start(cls, start_from, converted)
     follow.update({k: float(v) for k, v in (start_values or {}).items() if k not in converted})

@@ -5,8 +5,8 @@ f-number and focus distance of a file: EXIF through exifread (JPEG, TIFF and DNG
 eXIf chunk, WebP, HEIC), XMP packets (``aux:Lens``, ``exifEX:LensModel``...) where EXIF lacks a field,
 and OpenEXR's standard attributes (``cameraMake``, ``lensModel``, ``nominalFocalLength``, ``aperture``,
 ``focus``) for EXR. Only headers are read: at most :data:`XMP_SCAN` bytes of the file for XMP.
-:func:`auto_spec` turns them into the explicit ``lensfun:`` spec (matched by
-:mod:`lenslab.lenses.lensfun_match`), so ``lensfun:auto`` is exactly that spec.
+:func:`lenslab.lenses.lensfun_match.auto_spec` turns them into the explicit ``lensfun:`` spec, so
+``lensfun:auto`` is exactly that spec.
 """
 
 from __future__ import annotations
@@ -187,34 +187,6 @@ def photo_lens(path) -> PhotoLens:
     return info
 
 
-def auto_spec(spec: str, path) -> str:
-    """The explicit ``lensfun:`` spec for ``lensfun:auto[,key=value...]`` (or ``auto``) and the photo at
-    ``path``: values the spec gives win over the file's."""
-    from lenslab.lenses.lensfun_match import match_photo
-    from lenslab.lenses.registry import parse_spec
-
-    rest = re.sub(r"^\s*(lensfun:)?auto\s*,?", "", spec, count=1)
-    given = dict(parse_spec("lensfun:" + rest)[1]) if rest.strip() else {}
-    return match_photo(photo_lens(path), given)
-
-
 def is_auto(spec) -> bool:
     """``lensfun:auto`` or ``auto`` (with or without more values after a comma)."""
     return isinstance(spec, str) and re.fullmatch(r"\s*(lensfun:)?auto\s*(,.*)?", spec, re.S | re.I) is not None
-
-
-def metadata_report(path) -> dict | None:
-    """What ``lenslab info`` shows: the lens the file names and the profile lensfun:auto would use (or
-    why none), or None when the file names no lens."""
-    try:
-        info = photo_lens(path)
-    except (LensError, OSError):
-        return None
-    if not (info.lens_model or info.camera_model):
-        return None
-    out = {"found": info.describe(), "profile": None, "problem": None}
-    try:
-        out["profile"] = auto_spec("lensfun:auto", path)
-    except LensError as exc:
-        out["problem"] = str(exc)
-    return out

@@ -6,6 +6,12 @@ as lensfun does; lenslab's own float64 models (:mod:`lenslab.lenses.lensfun_prof
 The two facts lensfunpy does not expose, a profile's sensor aspect ratio and its real focal lengths,
 are read from the same XML files and interpolated as lensfun's ``lens.cpp`` does.
 
+lensfun fits a lens to a camera when one of the lens's mounts is the camera's mount or one the camera's
+mount takes (its ``compat`` list: a Canon EF-S body takes Canon EF lenses), and when the camera's crop
+factor is at least 0.96 of the one the lens was calibrated at (lensfun's ``lens.cpp``: a profile
+measured on a smaller sensor does not reach a larger sensor's corners). :func:`fits` says which of the
+two fails; :func:`no_fit_message` turns that into the one-line error users read.
+
 By default the bundled database (lensfun 0.3.4, as shipped in the lensfunpy wheel) is loaded. Your
 own XML files come in through ``LENSLAB_LENSFUN_DB`` (directories or files, separated by ``os.pathsep``)
 or ``lenslab lenses --lensfun-db DIR``; ``LENSLAB_LENSFUN_BUNDLED=0`` leaves the bundled ones out.
@@ -20,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from lenslab.errors import LensError
+from lenslab.lenses.exif_lens import camera_name
 
 ENV_DB = "LENSLAB_LENSFUN_DB"
 ENV_BUNDLED = "LENSLAB_LENSFUN_BUNDLED"
@@ -163,11 +170,7 @@ def find_lenses(query: str, camera=None) -> list:
 def pick_lens(query: str, camera=None):
     found = find_lenses(query, camera)
     if not found:
-        from lenslab.lenses.exif_lens import camera_name
-
         if camera is not None and find_lenses(query):  # the lens is there, for other mounts or sensors
-            from lenslab.lenses.lensfun_match import no_fit_message
-
             raise LensError(no_fit_message(find_lenses(query)[0], camera))
         where = f" for the {camera_name(camera.maker, camera.model)}" if camera is not None else ""
         raise LensError(f"lensfun: no lens matches {query!r}{where}; try 'lenslab lenses --lensfun \"WORDS\"'")
@@ -182,6 +185,61 @@ def pick_camera(query: str):
     if not found:
         raise LensError(f"lensfun: no camera matches {query!r}; try 'lenslab lenses --lensfun \"WORDS\"' or give crop=")
     return found[0]
+
+
+# -- which lens fits which camera --------------------------------------------------------------------
+#: lensfun's tolerance on crop factors (a lens fits a camera whose crop is at least this share of its own)
+CROP_TOLERANCE = 0.96
+
+
+def mounts_taken(camera) -> set[str]:
+    """The mounts whose lenses a camera takes: its own and its mount's compatible ones."""
+    out = {camera.mount}
+    for m in database().mounts:
+        if m.name == camera.mount:
+            out |= set(m.compat or [])
+    return out
+
+
+def fits(lens, camera) -> tuple[bool, bool]:
+    """(mount fits, crop fits) of a lensfun lens on a lensfun camera."""
+    mount_ok = bool(set(lens.mounts or []) & mounts_taken(camera)) or not lens.mounts
+    crop_ok = float(camera.crop_factor) >= CROP_TOLERANCE * float(lens.crop_factor)
+    return mount_ok, crop_ok
+
+
+def lens_label(lens) -> str:
+    return camera_name(lens.maker, lens.model) or lens.model
+
+
+def no_fit_message(lens, camera) -> str:
+    """Why ``lens`` does not fit ``camera``, and what to give instead."""
+    mount_ok, crop_ok = fits(lens, camera)
+    cam = camera_name(camera.maker, camera.model)
+    crop = float(camera.crop_factor)
+    reasons = []
+    if not mount_ok:
+        reasons.append(f"the lens has mounts {', '.join(lens.mounts)}; the {cam} is {camera.mount}")
+    if not crop_ok:
+        reasons.append(f"the profile was measured at crop {float(lens.crop_factor):.4g}, larger than the {cam}'s "
+                       f"{crop:.4g} (it does not reach this sensor's corners)")
+    what = "; ".join(reasons) or f"lensfun does not pair it with the {cam}"
+    other = example_camera(lens)
+    hint = f'camera="{camera_name(other.maker, other.model)}"' if other is not None else "camera=..."
+    return (f"lensfun: {lens_label(lens)} does not fit the {cam}: {what} with crop {crop:.4g}: give {hint} "
+            f"(a camera it fits), or leave camera out and give crop={crop:.4g} to use the profile on this "
+            f"sensor anyway (it was measured at crop {float(lens.crop_factor):.4g})")
+
+
+def example_camera(lens):
+    """A camera of the database the lens fits (its first mount first), or None."""
+    best = None
+    for cam in database().cameras:
+        mount_ok, crop_ok = fits(lens, cam)
+        if mount_ok and crop_ok and (best is None or abs(cam.crop_factor - lens.crop_factor)
+                                     < abs(best.crop_factor - lens.crop_factor)):
+            best = cam
+    return best
 
 
 # -- facts lensfunpy does not expose ---------------------------------------------------------------

@@ -1,71 +1,18 @@
-"""Matching a photo's camera and lens to the lensfun database, mount- and crop-aware, saying what failed.
+"""A photo's camera and lens matched to the lensfun database: ``lensfun:auto``, ``info``'s profile line,
+and ``lenslab lenses --lensfun`` search (lenses first, then only cameras they fit).
 
-lensfun fits a lens to a camera when one of the lens's mounts is the camera's mount or one the camera's
-mount takes (its ``compat`` list: a Canon EF-S body takes Canon EF lenses), and when the camera's crop
-factor is at least 0.96 of the one the lens was calibrated at (lensfun's ``lens.cpp``: a profile
-measured on a smaller sensor does not reach a larger sensor's corners). :func:`fits` says which of the
-two fails; :func:`no_fit_message` turns that into the one-line error users read.
+Whether a lens fits a camera, and the message when not, are :func:`lenslab.lenses.lensfun_db.fits`
+and :func:`lenslab.lenses.lensfun_db.no_fit_message`.
 """
 
 from __future__ import annotations
 
+import re
+
 from lenslab.errors import LensError
 from lenslab.lenses import lensfun_db as ldb
-from lenslab.lenses.exif_lens import PhotoLens, camera_name
-
-#: lensfun's tolerance on crop factors (a lens fits a camera whose crop is at least this share of its own)
-CROP_TOLERANCE = 0.96
-
-
-def mounts_taken(camera) -> set[str]:
-    """The mounts whose lenses a camera takes: its own and its mount's compatible ones."""
-    out = {camera.mount}
-    for m in ldb.database().mounts:
-        if m.name == camera.mount:
-            out |= set(m.compat or [])
-    return out
-
-
-def fits(lens, camera) -> tuple[bool, bool]:
-    """(mount fits, crop fits) of a lensfun lens on a lensfun camera."""
-    mount_ok = bool(set(lens.mounts or []) & mounts_taken(camera)) or not lens.mounts
-    crop_ok = float(camera.crop_factor) >= CROP_TOLERANCE * float(lens.crop_factor)
-    return mount_ok, crop_ok
-
-
-def lens_label(lens) -> str:
-    return camera_name(lens.maker, lens.model) or lens.model
-
-
-def no_fit_message(lens, camera) -> str:
-    """Why ``lens`` does not fit ``camera``, and what to give instead."""
-    mount_ok, crop_ok = fits(lens, camera)
-    cam = camera_name(camera.maker, camera.model)
-    crop = float(camera.crop_factor)
-    reasons = []
-    if not mount_ok:
-        reasons.append(f"the lens has mounts {', '.join(lens.mounts)}; the {cam} is {camera.mount}")
-    if not crop_ok:
-        reasons.append(f"the profile was measured at crop {float(lens.crop_factor):.4g}, larger than the {cam}'s "
-                       f"{crop:.4g} (it does not reach this sensor's corners)")
-    what = "; ".join(reasons) or f"lensfun does not pair it with the {cam}"
-    other = example_camera(lens)
-    hint = f'camera="{camera_name(other.maker, other.model)}"' if other is not None else "camera=..."
-    return (f"lensfun: {lens_label(lens)} does not fit the {cam}: {what} with crop {crop:.4g}: give {hint} "
-            f"(a camera it fits), or leave camera out and give crop={crop:.4g} to use the profile on this "
-            f"sensor anyway (it was measured at crop {float(lens.crop_factor):.4g})")
-
-
-def example_camera(lens):
-    """A camera of the database the lens fits (its first mount first), or None."""
-    best = None
-    for cam in ldb.database().cameras:
-        mount_ok, crop_ok = fits(lens, cam)
-        if mount_ok and crop_ok and (best is None or abs(cam.crop_factor - lens.crop_factor)
-                                     < abs(best.crop_factor - lens.crop_factor)):
-            best = cam
-    return best
-
+from lenslab.lenses.exif_lens import PhotoLens, photo_lens
+from lenslab.lenses.lensfun_db import fits, no_fit_message
 
 def find_camera(maker: str | None, model: str | None):
     """The lensfun camera of an EXIF maker and model (lensfun knows EXIF's maker spellings), or None."""
@@ -149,3 +96,30 @@ def search(query: str) -> tuple[list, list]:
     if not lenses:
         return [], named or ldb.find_cameras(query)
     return lenses, [c for c in named if any(all(fits(l, c)) for l in lenses)]
+
+
+def auto_spec(spec: str, path) -> str:
+    """The explicit ``lensfun:`` spec for ``lensfun:auto[,key=value...]`` (or ``auto``) and the photo at
+    ``path``: values the spec gives win over the file's."""
+    from lenslab.lenses.registry import parse_spec
+
+    rest = re.sub(r"^\s*(lensfun:)?auto\s*,?", "", spec, count=1)
+    given = dict(parse_spec("lensfun:" + rest)[1]) if rest.strip() else {}
+    return match_photo(photo_lens(path), given)
+
+
+def metadata_report(path) -> dict | None:
+    """What ``lenslab info`` shows: the lens the file names and the profile lensfun:auto would use (or
+    why none), or None when the file names no lens."""
+    try:
+        info = photo_lens(path)
+    except (LensError, OSError):
+        return None
+    if not (info.lens_model or info.camera_model):
+        return None
+    out = {"found": info.describe(), "profile": None, "problem": None}
+    try:
+        out["profile"] = auto_spec("lensfun:auto", path)
+    except LensError as exc:
+        out["problem"] = str(exc)
+    return out
