@@ -129,3 +129,25 @@ def test_a_colmap_camera_converted_agrees_with_pycolmap(tmp_path, capsys):
     got = b.img_from_cam(rays[front])
     err = np.hypot(*(got - xy[front]).T)
     assert np.sqrt(np.mean(err ** 2)) < AIM
+
+
+@pytest.mark.slow
+def test_fit_lens_starts_from_the_source_at_the_calibration_size(capsys):
+    """``fit lens`` with the model at the source's calibration size: the principal point and focal length
+    start from the source (never the 1000 x 1000 defaults' 499.5), and the fit reaches the aim; the
+    fitted numbers checked by cv2.fisheye against the paper's double sphere."""
+    cv2 = pytest.importorskip("cv2")
+    code = main(["fit", "lens", "--from", TUM_VI, "--model", "kannala-brandt:width=512,height=512"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    spec = re.search(r"fitted:\s+kannala-brandt:(\S+)", out).group(1)
+    v = {k: float(x) for k, x in (item.split("=") for item in spec.split(","))}
+    assert (v["cx"], v["cy"]) == (pytest.approx(CX, abs=1e-9), pytest.approx(CY, abs=1e-9))
+    K = np.array([[v["fx"], 0, v["cx"]], [0, v["fy"], v["cy"]], [0, 0, 1.0]])
+    D = np.array([v["k1"], v["k2"], v["k3"], v["k4"]])
+    u, w = np.meshgrid(np.arange(0.0, 512.0, 4.0), np.arange(0.0, 512.0, 4.0))
+    rays, ok = double_sphere_rays(u.ravel(), w.ravel())
+    front = ok & (rays[:, 2] > 1e-3)
+    got, _ = cv2.fisheye.projectPoints(rays[front][None], np.zeros(3), np.zeros(3), K, D)
+    err = np.hypot(got[0][:, 0] - u.ravel()[front], got[0][:, 1] - w.ravel()[front])
+    assert np.sqrt(np.mean(err ** 2)) < AIM
