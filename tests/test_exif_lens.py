@@ -140,3 +140,18 @@ def test_lensfun_search_lists_lenses_then_only_cameras_that_fit_them(capsys):
     assert main(["lenses", "--lensfun", "eos 600d"]) == 0
     out = capsys.readouterr().out
     assert "Canon EOS 600D" in out and out.count("mount ") == 1
+
+
+def test_exr_standard_attributes_name_the_lens(tmp_path, capsys):
+    """OpenEXR's standard camera and lens attributes, written by the OpenEXR bindings."""
+    OpenEXR = pytest.importorskip("OpenEXR")
+    from lenslab.lenses.lensfun_match import auto_spec
+
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage, "cameraMake": CAMERA_MAKE,
+              "cameraModel": CAMERA_MODEL, "lensModel": LENS, "nominalFocalLength": 8.0, "aperture": 5.6,
+              "focus": 3.0}
+    path = tmp_path / "shot.exr"
+    OpenEXR.File(header, {"RGB": np.full((24, 36, 3), 0.5, np.float32)}).write(str(path))
+    assert auto_spec("lensfun:auto", path) == EXPLICIT + ",distance=3"
+    assert main(["info", str(path)]) == 0
+    assert f"lensfun:auto uses {EXPLICIT},distance=3" in capsys.readouterr().out

@@ -190,3 +190,4 @@ def photo_lens(path) -> PhotoLens:
 def is_auto(spec) -> bool:
     """``lensfun:auto`` or ``auto`` (with or without more values after a comma)."""
     return isinstance(spec, str) and re.fullmatch(r"\s*(lensfun:)?auto\s*(,.*)?", spec, re.S | re.I) is not None
+
