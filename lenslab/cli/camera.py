@@ -33,8 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           description="Print the camera model of a calibration file or spec.")
     show.add_argument("camera", metavar="CAMERA", help="calibration file (FILE or FILE#ID) or lens spec")
     show.add_argument("--size", metavar="WxH", help="show the camera scaled to this image size")
-    conv = sub.add_parser("convert", help="write a camera in another calibration format",
-                          description="Convert a camera between OpenCV, Kalibr, COLMAP, OCamCalib and lenslab files.")
+    conv = sub.add_parser("convert", help="write a camera in another calibration format, or another model",
+                          description="Convert a camera between OpenCV, Kalibr, COLMAP, OCamCalib and lenslab files; "
+                          "with --model, re-express it in another camera model, fitted over the field both share "
+                          "(the command prints the RMS and maximum error in pixels and where the maximum lies).")
     conv.add_argument("camera", metavar="CAMERA", help="calibration file (FILE or FILE#ID) or lens spec")
     conv.add_argument("-o", "--output", required=True, metavar="OUT",
                       help="file to write; the format follows its name: .yaml/.json OpenCV (Kalibr for "
@@ -110,6 +112,10 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.calibfiles import split_pick, write_lens
     from lenslab.cli.policy import check_output
 
+    if not args.model and (args.free or args.residual_map or args.aim != 0.05):
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError("--free, --aim and --residual-map go with --model MODEL")
     src, _ = split_pick(args.camera)
     out = check_output(args.output, [src] if src.exists() else [], args.overwrite)
     if args.model:
