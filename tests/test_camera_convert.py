@@ -151,3 +151,23 @@ def test_fit_lens_starts_from_the_source_at_the_calibration_size(capsys):
     got, _ = cv2.fisheye.projectPoints(rays[front][None], np.zeros(3), np.zeros(3), K, D)
     err = np.hypot(got[0][:, 0] - u.ravel()[front], got[0][:, 1] - w.ravel()[front])
     assert np.sqrt(np.mean(err ** 2)) < AIM
+
+
+def test_an_equisolid_fisheye_becomes_kannala_brandt_with_its_taylor_series(tmp_path, capsys):
+    """r = 2 f sin(theta/2) = f (theta - theta^3/24 + theta^5/1920 - theta^7/322560 + ...): converted to
+    Kannala-Brandt, k1..k3 are the series' -1/24, 1/1920, -1/322560 (k4 takes up the rest of the series
+    over the field, so k3 is held to 5 percent), and f is the fisheye's own."""
+    out = tmp_path / "kb.toml"
+    code = main(["camera", "convert", "fisheye:fov=190,mapping=equisolid", "--size", "640x480", "-o", str(out),
+                 "--model", "kannala-brandt"])
+    text = capsys.readouterr().out
+    assert code == 0, text
+    from lenslab.calibfiles import read_lens
+
+    kb = read_lens(str(out))
+    # the fisheye's focal length: r = 1 (half the width, 320 px) at theta = 95 deg
+    f = 320.0 / (2 * np.sin(np.radians(95.0) / 2))
+    assert kb.fx == pytest.approx(f, rel=1e-6) and kb.fy == pytest.approx(f, rel=1e-6)
+    assert kb.k1 == pytest.approx(-1 / 24, rel=1e-5)
+    assert kb.k2 == pytest.approx(1 / 1920, rel=1e-3)
+    assert kb.k3 == pytest.approx(-1 / 322560, rel=0.05)

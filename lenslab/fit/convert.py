@@ -105,10 +105,10 @@ class Conversion:
 
     def where(self, x: float, y: float) -> str:
         """Where a pixel lies in the source's field: its angle from the axis and its direction."""
-        d, ok = self.fit.source.pixel_to_dir(np.array([x, y]))
-        if not ok:
+        d, ok = self.fit.source.pixel_to_dir(np.array([[x, y]]))
+        if not ok[0]:
             return "outside the source's field"
-        angle = float(np.degrees(np.arccos(np.clip(d[2], -1.0, 1.0))))
+        angle = float(np.degrees(np.arccos(np.clip(d[0, 2], -1.0, 1.0))))
         w, h = self.fit.source.width, self.fit.source.height
         edge = min(x, y, w - x, h - y)
         place = "in a corner" if edge < 0.05 * min(w, h) and min(abs(x - w / 2), abs(y - h / 2)) > 0.3 * min(w, h) \

@@ -18,9 +18,9 @@ CENTRAL_STEP = 0.25  # px either side of the principal point for the central sca
 
 def principal_point(lens: Lens) -> tuple[float, float]:
     """The lenslab pixel that sees the optical axis (the image centre where the lens does not see it)."""
-    xy, ok = lens.dir_to_pixel(np.array([0.0, 0.0, 1.0]))
-    if ok:
-        return float(xy[0]), float(xy[1])
+    xy, ok = lens.dir_to_pixel(np.array([[0.0, 0.0, 1.0]]))
+    if ok[0]:
+        return float(xy[0, 0]), float(xy[0, 1])
     return lens.width / 2.0, lens.height / 2.0
 
 
