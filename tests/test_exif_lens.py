@@ -155,3 +155,20 @@ def test_exr_standard_attributes_name_the_lens(tmp_path, capsys):
     assert auto_spec("lensfun:auto", path) == EXPLICIT + ",distance=3"
     assert main(["info", str(path)]) == 0
     assert f"lensfun:auto uses {EXPLICIT},distance=3" in capsys.readouterr().out
+
+
+def test_a_photo_without_a_lens_or_with_garbage_exif_says_so_in_one_line(tmp_path, capsys):
+    from lenslab.lenses.exif_lens import photo_lens
+
+    bare = tmp_path / "bare.jpg"
+    Image.fromarray(pixels()).save(bare, quality=90)
+    junk = tmp_path / "junk.jpg"  # an APP1 Exif segment whose IFD points past the file's end
+    data = bare.read_bytes()
+    junk.write_bytes(data[:2] + b"\xff\xe1\x00\x16Exif\x00\x00II*\x00\xff\xff\xff\x7f\x00\x00\x00\x00" + data[2:])
+    assert photo_lens(junk).lens_model is None
+    for path in (bare, junk):
+        code = main(["warp", str(path), "-o", str(tmp_path / "o.exr"), "--from", "lensfun:auto",
+                     "--to", "perspective:fov=90", "--size", "32x24", "-q", "--overwrite"])
+        err = capsys.readouterr().err
+        assert code == 1 and err.count("\n") == 1  # the junk one: the JPEG reader's own one line
+        assert path == junk or "records no lens model" in err

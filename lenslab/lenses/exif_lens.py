@@ -96,13 +96,20 @@ def _text(value) -> str | None:
 
 
 def _exif(path: Path, info: PhotoLens) -> None:
+    import logging
+
     import exifread
 
-    with open(path, "rb") as f:
-        try:
+    log = logging.getLogger("exifread")
+    level = log.level
+    log.setLevel(logging.CRITICAL + 1)  # a damaged header is "nothing recorded", not warnings on stderr
+    try:
+        with open(path, "rb") as f:
             tags = exifread.process_file(f, details=False)
-        except Exception:  # exifread raises its own errors for damaged headers: nothing recorded
-            tags = {}
+    except Exception:  # exifread raises its own errors for damaged headers: nothing recorded
+        tags = {}
+    finally:
+        log.setLevel(level)
     if not tags:
         return
     got = {
