@@ -77,6 +77,10 @@ CASES = [
     ("half-equirect", (W, W)),
     ("little-planet", (W, W)),
     ("octahedron", (W, W)),
+    # two eyes of one projection; a direction is found in the left (top) eye, so right-eye pixels
+    # come back in the left eye (checked on the direction, as shared pixels are)
+    ("stereo:sbs,base=fisheye,fov=190", (W, W // 2)),
+    ("stereo:tb,base=equirect", (W, W)),
     # real lenses from the lensfun database (lenslab[lensfun]); TCA and vignetting leave the green geometry alone
     ("lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10", (W, 5461)),
     ("lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120", (W, 5461)),
@@ -183,6 +187,10 @@ def shared_pixels(lens, xy):
     """Pixels whose direction may have another pixel too (see TOLERANCES): equirect poles and seam,
     cube-face and tile edges (within 1e-6 px)."""
     x, y = xy[:, 0], xy[:, 1]
+    if lens.name == "stereo":  # the second eye repeats the first; within an eye, the base's shared pixels
+        (w, h), second = lens.eye_size, (x >= lens.eye_size[0]) if lens.layout == "sbs" else (y >= lens.eye_size[1])
+        local = xy - np.where(second[:, None], [[w, 0]] if lens.layout == "sbs" else [[0, h]], 0.0)
+        return second | shared_pixels(lens.base_lens, local)
 
     def near(f, scale):  # on any face or tile edge, outer edges included
         return np.abs(f - np.round(f)) * scale < 1e-6
