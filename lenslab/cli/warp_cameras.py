@@ -74,7 +74,7 @@ def output_camera(args, src, size: tuple[int, int]):
             # the top of the image towards -z (up) or +z (down)
             return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
         return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
-    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
+    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye, getattr(args, "rotation_order", "ypr")))
 
 
 def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):
