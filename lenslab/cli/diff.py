@@ -55,9 +55,8 @@ def count(text: str) -> int:
     return v
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("first", metavar="A", help="the reference image")
-    parser.add_argument("second", metavar="B", help="the image to compare with it")
+def add_threshold_arguments(parser: argparse.ArgumentParser) -> None:
+    """idiff's thresholds, for ``lenslab diff`` and ``lenslab validate --reference``."""
     g = parser.add_argument_group("thresholds (idiff's options and defaults)")
     g.add_argument("--fail", type=non_negative, default=1e-6, metavar="E",
                    help="a pixel fails when a channel differs by more than E (default 1e-6)")
@@ -73,6 +72,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--warn-relative", type=non_negative, default=0.0, metavar="R", help="as --fail-relative")
     g.add_argument("--warn-percent", type=percent, default=0.0, metavar="P", help="as --fail-percent")
     g.add_argument("--hard-warn", type=non_negative, default=math.inf, metavar="E", help="as --hard-fail")
+
+
+def thresholds_from(args: argparse.Namespace):
+    from lenslab.metrics.diff import Thresholds
+
+    return Thresholds(fail=args.fail, warn=args.warn, fail_relative=args.fail_relative,
+                      warn_relative=args.warn_relative, fail_percent=args.fail_percent,
+                      warn_percent=args.warn_percent, hard_fail=args.hard_fail, hard_warn=args.hard_warn,
+                      allow_failures=args.allow_failures)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("first", metavar="A", help="the reference image")
+    parser.add_argument("second", metavar="B", help="the image to compare with it")
+    add_threshold_arguments(parser)
     parser.add_argument("--no-mask", action="store_true",
                         help="compare every pixel and channel, alpha included (default: only pixels fully "
                              "covered in both images, colour channels)")
@@ -91,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.cli.policy import OutputError, check_output, one_line, output_format
     from lenslab.errors import LenslabError
     from lenslab.io import read, write
-    from lenslab.metrics.diff import DiffError, Thresholds, diff_images, error_image
+    from lenslab.metrics.diff import DiffError, diff_images, error_image
     from lenslab.metrics.diff_text import diff_text
 
     prog = "lenslab diff"
@@ -112,10 +126,7 @@ def run(args: argparse.Namespace) -> int:
             images.append(read(path)[0])
         except (LenslabError, OSError, ValueError) as exc:
             return file_error(exc)
-    t = Thresholds(fail=args.fail, warn=args.warn, fail_relative=args.fail_relative,
-                   warn_relative=args.warn_relative, fail_percent=args.fail_percent,
-                   warn_percent=args.warn_percent, hard_fail=args.hard_fail, hard_warn=args.hard_warn,
-                   allow_failures=args.allow_failures)
+    t = thresholds_from(args)
     try:
         report = diff_images(images[0], images[1], mask_alpha=not args.no_mask, thresholds=t, flip=args.flip)
     except DiffError as exc:
