@@ -230,3 +230,26 @@ def test_properties(a, s):
             assert scaled.psnr == pytest.approx(ab.psnr, abs=1e-4)
         for x, y in zip(scaled.per_channel, ab.per_channel):
             assert x.max_rel == pytest.approx(y.max_rel, rel=1e-4, abs=1e-6)
+
+
+def test_per_channel_figures_match_openimageio_pixel_stats():
+    """Per channel, mean, RMS and max absolute error are ``computePixelStats`` of OpenImageIO's
+    ``absdiff`` image (``avg``, ``sqrt(sum2 / count)``, ``max``), and the relative error's mean and max
+    those of ``absdiff / ((abs(A) + abs(B)) / 2)`` computed by OpenImageIO's own image arithmetic (float32
+    there: 1e-6 relative)."""
+    a, b = pair(11, (18, 22, 3), scale=3.0, noise=0.3)
+    a[0, 0] = b[0, 0] = 0.0  # both zero: relative error 0, as in the report
+    r = diff_images(a, b, mask_alpha=False, flip="off")
+    A, B = oiio.ImageBuf(a), oiio.ImageBuf(b)
+    ad = oiio.ImageBufAlgo.absdiff(A, B)
+    st = oiio.ImageBufAlgo.computePixelStats(ad)
+    n = a.shape[0] * a.shape[1]
+    mean_ab = oiio.ImageBufAlgo.mul(oiio.ImageBufAlgo.add(oiio.ImageBufAlgo.abs(A), oiio.ImageBufAlgo.abs(B)), 0.5)
+    rel = oiio.ImageBufAlgo.div(ad, mean_ab)  # OpenImageIO's div gives 0 where the divisor is 0
+    rst = oiio.ImageBufAlgo.computePixelStats(rel)
+    for k, c in enumerate(r.per_channel):
+        assert c.mean_abs == pytest.approx(st.avg[k], rel=1e-6)
+        assert c.rms_abs == pytest.approx(math.sqrt(st.sum2[k] / n), rel=1e-6)
+        assert c.max_abs == pytest.approx(st.max[k], rel=1e-7)
+        assert c.mean_rel == pytest.approx(rst.avg[k], rel=1e-6)
+        assert c.max_rel == pytest.approx(rst.max[k], rel=1e-6)
