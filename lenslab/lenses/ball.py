@@ -10,7 +10,7 @@ from lenslab.lenses.registry import register
 
 @register
 class Ball(Lens):
-    r"""Mirror ball: the front (+z) at the centre, the back pole all round the rim.
+    r"""Mirror ball: the whole sphere in a circle, the front (+z) at the centre, the back pole at the rim.
 
     With ``(s, t) = (2x/W - 1, 1 - 2y/H)`` (each axis spans its own side: on a square frame the ball is
     a circle) and ``r = sqrt(s^2 + t^2) <= 1``, the angle from the axis is ``a = 2 asin(r)``:

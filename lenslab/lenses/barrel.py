@@ -23,9 +23,11 @@ def _unit(v):
 
 @register
 class Barrel(Lens):
-    r"""Facebook's barrel (5:2 frames): an equirect band of the latitudes -45..45 degrees on the left four
-    fifths, the top cap (the up face of a cube) in the top half and the bottom cap (the down face) in
-    the bottom half of the last fifth. Each part fills 99% of its rectangle about its centre.
+    r"""Facebook's barrel: a band of latitudes within 45 degrees and the two caps as cube faces (5:2).
+
+    The equirect band of the latitudes -45..45 degrees fills the left four fifths, the top cap (the up
+    face of a cube) the top half and the bottom cap (the down face) the bottom half of the last fifth.
+    Each part fills 99% of its rectangle about its centre.
 
     Band (``W_b = 4W/5``): ``phi = (2x/W_b - 1) pi / 0.99``, ``theta = (1 - 2y/H) (pi/4) / 0.99``.
     Caps (``w = W/5``, ``h = H/2``, ``s = (2 (x - 4w)/w - 1) / 0.99``, ``t = (2 y'/h - 1) / 0.99`` with ``y'``
@@ -91,9 +93,11 @@ def _v360(d):
 
 @register
 class BarrelSplit(Lens):
-    r"""Facebook's split barrel (3:2 frames): the latitudes -45..45 degrees as two equirect halves on the
-    left two thirds (the front half, longitudes -90..90, on top; the back half, 90..270, below), and the
-    two caps cut into front and back halves, stacked in the right third (top cap front half, bottom cap
+    r"""Facebook's split barrel: the band as front and back halves, the caps cut in halves (3:2).
+
+    The latitudes -45..45 degrees are two equirect halves on the left two thirds (the front half,
+    longitudes -90..90, on top; the back half, 90..270, below), and the two caps are cut into front and
+    back halves, stacked in the right third (top cap front half, bottom cap
     front half, top cap back half, bottom cap back half; each ``W/3 x H/4``, each half a cube face
     stretched to the quarter's full height).
 

@@ -20,8 +20,9 @@ def _sin_z(r, h):
 
 @register
 class Globe(Lens):
-    r"""The sphere of directions drawn as a globe seen from outside, from a point in front of it: forward
-    (``+z``) at the centre, up at the top, as ffmpeg v360's ``perspective`` output draws it.
+    r"""Globe: the sphere of directions seen from outside, forward at the centre (v360's perspective).
+
+    Drawn as ffmpeg v360's ``perspective`` output draws it: forward (``+z``) at the centre, up at the top.
 
     With ``(s, t) = (2x/W - 1, 1 - 2y/H)`` (each axis over its own side), ``r = sqrt(s^2 + t^2)`` and
     ``h = 1 + distance``, the angle ``z`` from forward has ``sin z = (h - sqrt(1 - r^2)) / (h/r + r/h)``;

@@ -16,8 +16,10 @@ LAYOUTS = ("sbs", "tb")
 
 @register
 class Stereo(Lens):
-    r"""Two eyes of one base projection in one frame: ``sbs`` (left eye in the left half, right eye in
-    the right half) or ``tb`` (left eye on top), as VR180 and 3D 360 video store them.
+    r"""Stereo frame: two eyes of one base projection, side by side (sbs) or top and bottom (tb).
+
+    ``sbs`` puts the left eye in the left half and the right eye in the right half, ``tb`` the left eye
+    on top, as VR180 and 3D 360 video store them.
 
     Each half is the base lens at the half's size (``W/2 x H`` or ``W x H/2``; the split side must be
     even): ``stereo:sbs,base=half-equirect`` is a VR180 frame, ``stereo:tb,base=equirect`` a

@@ -10,7 +10,9 @@ from lenslab.lenses.registry import register
 
 @register
 class Tetrahedron(Lens):
-    r"""Tetrahedral map, as v360's ``tetrahedron`` draws it. In v360's frame ``v = (d_x, -d_y, d_z)`` (``y``
+    r"""Tetrahedral map: the sphere projected onto a tetrahedron, unfolded onto a square.
+
+    As v360's ``tetrahedron`` draws it: in v360's frame ``v = (d_x, -d_y, d_z)`` (``y``
     down) the tetrahedron has its corners along ``(1, 1, -1)``, ``(-1, -1, -1)``, ``(1, -1, 1)`` and
     ``(-1, 1, 1)``; a direction is scaled onto its surface, ``p = v / max_k (v . n_k)``. With
     ``(x, y, z) = (p_x, p_y, -p_z)``, the row is ``y/H = (1 - y)/2`` and the column ``x/W = (x + 1)/4`` where

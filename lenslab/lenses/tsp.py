@@ -29,8 +29,9 @@ def cube_face(v):
 
 @register
 class TruncatedSquarePyramid(Lens):
-    r"""Truncated square pyramid: the front cube face fills the left half of the frame; the right half
-    holds the back face (a small square, ``W/8 x H/4``, in the middle of the right half's middle band)
+    r"""Truncated square pyramid: the front cube face full size, the back face small, sides as trapezoids.
+
+    The front face fills the left half of the frame; the right half holds the back face (a small square, ``W/8 x H/4``, in the middle of the right half's middle band)
     and the four side faces as trapezoids between it and the right half's edges (right face on its
     left, left face on its right, top and bottom faces above and below). Directions go to their cube
     face (``s, t`` in [-1, 1], ``s`` right and ``t`` down across it, as v360's cube faces), then onto
