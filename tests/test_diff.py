@@ -253,3 +253,27 @@ def test_per_channel_figures_match_openimageio_pixel_stats():
         assert c.max_abs == pytest.approx(st.max[k], rel=1e-7)
         assert c.mean_rel == pytest.approx(rst.avg[k], rel=1e-6)
         assert c.max_rel == pytest.approx(rst.max[k], rel=1e-6)
+
+
+def test_chunks_do_not_change_the_figures(monkeypatch):
+    """The image is measured in chunks of pixels; chunk edges change no figure (a tie for the max keeps
+    its first pixel, masked and non-finite pixels are counted once)."""
+    import lenslab.metrics.diff as diffmod
+
+    a, b = pair(12, (13, 17, 4))
+    a[..., 3], b[..., 3] = 1.0, 1.0
+    a[2:4, :, 3] = 0.0
+    b[5, 6, 1] = np.inf
+    b[7, 3, 0] = a[7, 3, 0] + 5.0  # the largest error, tied with another pixel in a later chunk
+    b[11, 15, 0] = a[11, 15, 0] + 5.0
+    whole = diff_images(a, b, flip="off", thresholds=Thresholds(fail=0.3, warn=0.1)).to_dict()
+    monkeypatch.setattr(diffmod, "CHUNK", 7)
+    chunked = diff_images(a, b, flip="off", thresholds=Thresholds(fail=0.3, warn=0.1)).to_dict()
+    assert whole["per_channel"][0]["max_at"] == [3, 7]
+    for key in ("pixels", "masked_out", "nonfinite", "nwarn", "nfail", "max_at", "max_error", "verdict"):
+        assert chunked[key] == whole[key], key
+    for key in ("mean_error", "rms_error", "psnr"):
+        assert chunked[key] == pytest.approx(whole[key], rel=1e-12), key
+    for x, y in zip(chunked["per_channel"], whole["per_channel"]):
+        assert x["max_at"] == y["max_at"] and x["max_rel"] == y["max_rel"]
+        assert x["mean_abs"] == pytest.approx(y["mean_abs"], rel=1e-12)

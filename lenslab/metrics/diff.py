@@ -152,7 +152,7 @@ def prepare(a, b, mask_alpha: bool = True):
         na, nb = [n for n in na if n != "A"], [n for n in nb if n != "A"]
     if na != nb:
         raise DiffError(f"the images have different channels: {','.join(na)} and {','.join(nb)}")
-    return a.astype(np.float64), b.astype(np.float64), na, mask
+    return a, b, na, mask
 
 
 def relative_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -181,68 +181,112 @@ def verdict(nfail: int, nwarn: int, pixels: int, max_error: float, t: Thresholds
     return PASS
 
 
+#: pixels per chunk: the float64 work arrays of one chunk stay near 50 MB whatever the image size
+CHUNK = 1 << 20
+
+
+class _Sums:
+    """Running per-channel sums, maxima (with the flat index of their first pixel) and counts."""
+
+    def __init__(self, c: int):
+        self.n = 0
+        self.d, self.d2, self.r, self.r2 = (np.zeros(c) for _ in range(4))
+        self.dmax, self.rmax = np.full(c, -1.0), np.full(c, -1.0)
+        self.dat = np.zeros(c, dtype=np.int64)
+        self.peak = 1.0  # PSNR's peak is never below 1
+        self.nwarn = self.nfail = 0
+
+    def add(self, av, bv, where, t: Thresholds):
+        """Add the compared pixels ``av``, ``bv`` (float64 ``(m, c)``), ``where`` their flat indices."""
+        d = np.abs(av - bv)
+        aa, bb = np.abs(av), np.abs(bv)
+        self.peak = max(self.peak, float(aa.max(initial=0.0)), float(bb.max(initial=0.0)))
+        den = aa + bb
+        den *= 0.5
+        rel = np.divide(d, den, out=np.zeros_like(d), where=den > 0)
+        self.n += d.shape[0]
+        self.d += d.sum(axis=0)
+        self.d2 += np.einsum("ij,ij->j", d, d)
+        self.r += rel.sum(axis=0)
+        self.r2 += np.einsum("ij,ij->j", rel, rel)
+        np.maximum(self.rmax, rel.max(axis=0), out=self.rmax)
+        i = np.argmax(d, axis=0)
+        top = d[i, np.arange(d.shape[1])]
+        better = top > self.dmax  # strictly: the first pixel keeps a tie, as OpenImageIO's scan does
+        self.dmax = np.where(better, top, self.dmax)
+        self.dat = np.where(better, where[i], self.dat)
+        self.nfail += int(_over(d, rel, t.fail, t.fail_relative).sum())
+        self.nwarn += int(_over(d, rel, t.warn, t.warn_relative).sum())
+
+
 def diff_images(a, b, *, mask_alpha: bool = True, thresholds: Thresholds | None = None,
                 flip: str = "auto") -> DiffReport:
-    """Compare ``b`` with ``a`` (see the module docstring); ``flip`` is one of :data:`FLIP_MODES`."""
+    """Compare ``b`` with ``a`` (see the module docstring); ``flip`` is one of :data:`FLIP_MODES`.
+
+    Works through the image in chunks of :data:`CHUNK` pixels (float64 sums), so memory stays bounded."""
     t = thresholds or Thresholds()
     if flip not in FLIP_MODES:
         raise DiffError(f"unknown FLIP mode {flip!r}; choose one of {', '.join(FLIP_MODES)}")
     a, b, names, mask = prepare(a, b, mask_alpha)
     h, w, c = a.shape
-    same = (a == b) | (np.isnan(a) & np.isnan(b))
-    finite = np.isfinite(a) & np.isfinite(b)
-    bad = mask & ~np.all(finite | same, axis=-1)  # a value that is not finite in one image only
-    keep = mask & ~bad
-    n = int(keep.sum())
-    av, bv = np.where(finite, a, 0.0)[keep], np.where(finite, b, 0.0)[keep]  # (n, c)
-    d = np.abs(av - bv)
-    rel = relative_error(av, bv)
+    fa, fb, fm = a.reshape(-1, c), b.reshape(-1, c), mask.reshape(-1)
+    sums, bad_count, any_big = _Sums(c), 0, False
+    keep = np.zeros(h * w, dtype=bool)
+    for s0 in range(0, h * w, CHUNK):
+        ca = fa[s0:s0 + CHUNK].astype(np.float64)
+        cb = fb[s0:s0 + CHUNK].astype(np.float64)
+        m = fm[s0:s0 + CHUNK].copy()
+        finite = np.isfinite(ca) & np.isfinite(cb)
+        if not finite.all():  # a value that is not finite in one image only fails; the same one does not
+            same = (ca == cb) | (np.isnan(ca) & np.isnan(cb))
+            bad = m & ~np.all(finite | same, axis=-1)
+            bad_count += int(bad.sum())
+            m &= ~bad
+            ca, cb = np.where(finite, ca, 0.0), np.where(finite, cb, 0.0)
+        keep[s0:s0 + CHUNK] = m
+        any_big = any_big or bool((ca > 1.0).any() or (cb > 1.0).any())
+        idx = np.flatnonzero(m)
+        if idx.size:
+            if idx.size == m.size:
+                sums.add(ca, cb, idx + s0, t)
+            else:
+                sums.add(ca[idx], cb[idx], idx + s0, t)
+    n = sums.n
     per = []
     for k, name in enumerate(names):
         if n:
-            i = int(np.argmax(d[:, k]))
-            at = _pixel_of(keep, i)
-            per.append(ChannelStats(name, float(d[:, k].mean()), float(np.sqrt((d[:, k] ** 2).mean())),
-                                    float(d[i, k]), at, float(rel[:, k].mean()),
-                                    float(np.sqrt((rel[:, k] ** 2).mean())), float(rel[:, k].max())))
+            y, x = divmod(int(sums.dat[k]), w)
+            per.append(ChannelStats(name, float(sums.d[k] / n), float(np.sqrt(sums.d2[k] / n)), float(sums.dmax[k]),
+                                    (x, y), float(sums.r[k] / n), float(np.sqrt(sums.r2[k] / n)), float(sums.rmax[k])))
         else:
             per.append(ChannelStats(name, math.nan, math.nan, math.nan, None, math.nan, math.nan, math.nan))
     if n:
-        mean_error, rms = float(d.mean()), float(np.sqrt((d ** 2).mean()))
-        flat = int(np.argmax(d))
-        i, k = divmod(flat, c)
-        max_error = float(d[i, k])
-        x, y = _pixel_of(keep, i)
+        mean_error, rms = float(sums.d.sum() / (n * c)), float(np.sqrt(sums.d2.sum() / (n * c)))
+        # the overall maximum: the largest channel maximum, the first pixel (then channel) on a tie
+        k = min(range(c), key=lambda j: (-sums.dmax[j], sums.dat[j], j))
+        max_error = float(sums.dmax[k])
+        y, x = divmod(int(sums.dat[k]), w)
         max_at = (x, y, names[k])
-        values = ([float(v) for v in av[i]], [float(v) for v in bv[i]])
-        peak = float(max(np.abs(av).max(), np.abs(bv).max(), 1.0))
-        psnr = math.inf if rms == 0 else 20.0 * math.log10(peak / rms)
+        values = ([float(v) for v in a[y, x]], [float(v) for v in b[y, x]])
+        psnr = math.inf if rms == 0 else 20.0 * math.log10(sums.peak / rms)
     else:
         mean_error = rms = max_error = psnr = math.nan
         max_at = values = None
-    nfail = int(_over(d, rel, t.fail, t.fail_relative).sum()) + int(bad.sum())
-    nwarn = int(_over(d, rel, t.warn, t.warn_relative).sum()) + int(bad.sum())
-    compared = n + int(bad.sum())
-    if int(bad.sum()):
+    nfail, nwarn = sums.nfail + bad_count, sums.nwarn + bad_count
+    compared = n + bad_count
+    if bad_count:
         max_error = math.inf
     report = DiffReport(
         width=w, height=h, channels=names, pixels=compared, masked_out=int((~mask).sum()),
-        nonfinite=int(bad.sum()), mean_error=mean_error, rms_error=rms, psnr=psnr, max_error=max_error,
+        nonfinite=bad_count, mean_error=mean_error, rms_error=rms, psnr=psnr, max_error=max_error,
         max_at=max_at, per_channel=per, nwarn=nwarn, nfail=nfail,
         warn_share=nwarn / compared if compared else math.nan, fail_share=nfail / compared if compared else math.nan,
         flip=None, flip_mode="off", thresholds=t, values_at_max=values)
     if flip != "off" and n:
-        mode = flip if flip != "auto" else ("hdr" if max(np.nanmax(np.where(finite, a, 0)),
-                                                         np.nanmax(np.where(finite, b, 0))) > 1.0 else "ldr")
-        report.flip, report.flip_mode = flip_error(a, b, keep, mode), mode
+        mode = flip if flip != "auto" else ("hdr" if any_big else "ldr")
+        report.flip, report.flip_mode = flip_error(a, b, keep.reshape(h, w), mode), mode
     report.verdict = verdict(nfail, nwarn, max(compared, 1), max_error, t)
     return report
-
-
-def _pixel_of(mask: np.ndarray, i: int) -> tuple[int, int]:
-    """(x, y) of the ``i``-th True pixel of ``mask`` in row order."""
-    ys, xs = np.nonzero(mask)
-    return int(xs[i]), int(ys[i])
 
 
 def flip_error(a: np.ndarray, b: np.ndarray, mask: np.ndarray, mode: str) -> float:
@@ -273,6 +317,7 @@ def error_image(a, b, *, mask_alpha: bool = True, signed: bool = False, scale: f
     compared and 0 elsewhere (colour 0 there: premultiplied). Unmasked: the error of every channel, in
     the images' own channels (alpha's error in A), as ``idiff -o`` writes it."""
     a, b, names, mask = prepare(a, b, mask_alpha)
+    a, b = a.astype(np.float64), b.astype(np.float64)
     with np.errstate(invalid="ignore"):
         e = (a - b) if signed else np.abs(a - b)
     e = np.where(mask[..., None] & np.isfinite(e), e * scale, 0.0)
