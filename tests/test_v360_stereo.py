@@ -103,3 +103,21 @@ def test_stereo_spec_and_errors():
         make_lens("stereo:tb,base=equirect,fov=90", (128, 128))
     with pytest.raises(LensError, match="layout"):
         make_lens("stereo:lr,base=equirect", (128, 128))
+
+
+def test_st_map_pairs_the_eyes():
+    """An ST map between stereo frames reads each output eye from its own source eye: the top eye's s
+    stays in the left half of a side-by-side source, the bottom eye's in the right half, each the mono
+    map of its eye moved by the eye's offset."""
+    from lenslab.lenses import Camera
+    from lenslab.stmap import st_map
+
+    src = Camera.from_spec("stereo:sbs,base=equirect", (256, 64))
+    dst = Camera.from_spec("stereo:tb,base=perspective,fov=100", (40, 80))
+    st = st_map(src, dst)
+    mono = st_map(Camera.from_spec("equirect", (128, 64)), Camera.from_spec("perspective:fov=100", (40, 40)))
+    assert st[..., 3].all()
+    np.testing.assert_allclose(st[:40, :, 0], mono[..., 0] * 0.5, atol=1e-7)
+    np.testing.assert_allclose(st[40:, :, 0], mono[..., 0] * 0.5 + 0.5, atol=1e-7)
+    np.testing.assert_allclose(st[:40, :, 1], mono[..., 1], atol=1e-7)
+    np.testing.assert_allclose(st[40:, :, 1], mono[..., 1], atol=1e-7)
