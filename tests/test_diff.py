@@ -193,6 +193,9 @@ def test_cli_file_rules(tmp_path, capsys):
         main(["diff", str(fa), str(fb), "--warn-percent", "120"])
     assert exc.value.code == 2
     assert main(["diff", str(fa), str(fa), "-q"]) == 0
+    (tmp_path / "other").mkdir()
+    write(tmp_path / "other" / "a.exr", a, pixel_type="float")
+    assert main(["diff", str(fa), str(tmp_path / "other"), "-q"]) == 0  # a folder: the file of A's name in it
     assert not any(p.name.startswith(".") or p.suffix == ".tmp" for p in tmp_path.iterdir())  # no leftovers
     assert os.listdir(tmp_path)
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 
 from lenslab.cli.policy import positive_float
@@ -85,7 +86,7 @@ def thresholds_from(args: argparse.Namespace):
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("first", metavar="A", help="the reference image")
-    parser.add_argument("second", metavar="B", help="the image to compare with it")
+    parser.add_argument("second", metavar="B", help="the image to compare with it (a folder: the file of A's name in it)")
     add_threshold_arguments(parser)
     parser.add_argument("--no-mask", action="store_true",
                         help="compare every pixel and channel, alpha included (default: only pixels fully "
@@ -114,6 +115,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
         return EXIT_FILE
 
+    if os.path.isdir(args.second):  # as idiff: a folder holds the file of the first image's name
+        args.second = os.path.join(args.second, os.path.basename(args.first))
     fmt = output_format(args.output) if args.output else None  # an unknown extension: a usage error, first
     if args.output:
         try:
