@@ -32,23 +32,28 @@ JUMP_SLACK = 1.0
 
 def st_map(src, dst, progress: Callable[[int], None] | None = None, band_rows: int = 64) -> np.ndarray:
     """The ST map (float32 ``H x W x 4``: s, t, 0, A) of the warp from camera ``src`` into camera ``dst``,
-    exact (the lens models evaluated in float64 at every output pixel centre)."""
+    exact (the lens models evaluated in float64 at every output pixel centre). Stereo frames pair their
+    eyes as the warp does (:mod:`lenslab.warp.eyes`): each output eye reads its own source eye."""
+    from lenslab.warp.eyes import eye_pairs
     from lenslab.warp.maps import exact_map
 
     w, h = dst.size
     sw, sh = src.size
     out = np.zeros((h, w, 4), dtype=np.float32)
-    xs = np.arange(w, dtype=np.float64) + 0.5
-    for r0 in range(0, h, band_rows):
-        r1 = min(h, r0 + band_rows)
-        pts = np.stack(np.meshgrid(xs, np.arange(r0, r1, dtype=np.float64) + 0.5), axis=-1)
-        xy, ok = exact_map(src, dst, pts)
-        band = out[r0:r1]
-        band[..., 0] = np.where(ok, xy[..., 0] / sw, 0.0)
-        band[..., 1] = np.where(ok, 1.0 - xy[..., 1] / sh, 0.0)
-        band[..., 3] = ok
-        if progress is not None:
-            progress(r1 - r0)
+    for x0, y0, crop, s_cam, d_cam in eye_pairs(src, dst) or [(0, 0, None, src, dst)]:
+        ox, oy = (crop[0], crop[1]) if crop else (0, 0)
+        ew, eh = d_cam.size
+        xs = np.arange(ew, dtype=np.float64) + 0.5
+        for r0 in range(0, eh, band_rows):
+            r1 = min(eh, r0 + band_rows)
+            pts = np.stack(np.meshgrid(xs, np.arange(r0, r1, dtype=np.float64) + 0.5), axis=-1)
+            xy, ok = exact_map(s_cam, d_cam, pts)
+            band = out[y0 + r0:y0 + r1, x0:x0 + ew]
+            band[..., 0] = np.where(ok, (xy[..., 0] + ox) / sw, 0.0)
+            band[..., 1] = np.where(ok, 1.0 - (xy[..., 1] + oy) / sh, 0.0)
+            band[..., 3] = ok
+            if progress is not None:
+                progress(r1 - r0 if ew == w else (r1 - r0) * ew / w)
     return out
 
 

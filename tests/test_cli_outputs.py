@@ -56,6 +56,7 @@ def _existing(d: Path) -> dict[str, tuple[list[str], Path]]:
         "lenslab curves": (["-o", str(d / "existing.png")], d / "existing.png"),
         "lenslab compare-tones": ([str(d / "pano.pfm"), "-o", str(d / "existing.jpg")], d / "existing.jpg"),
         "lenslab camera convert": ([str(d / "cam.toml"), "-o", str(d / "existing.toml")], d / "existing.toml"),
+        "lenslab diff": ([str(d / "pano.exr"), str(d / "pano.pfm"), "-o", str(d / "existing.exr")], d / "existing.exr"),
         "lenslab demo": (["-o", str(d / "demo"), "--quiet"], d / "demo" / "notes.txt"),
         "lenslab validate": (["--scene", "analytic", "-o", str(d / "report"), "-q"], d / "report" / "results.json"),
         "tracer render": (["--scene", "cornell", "--size", "8x8", "--spp", "1", "-o", str(d / "existing.exr"), "-q"],
@@ -81,6 +82,7 @@ def _own_input(d: Path, link: bool) -> dict[str, tuple[list[str], Path]]:
         "lenslab compare-tones": ([str(pfm), "-o", str(via_pfm), "--overwrite"], pfm),
         "lenslab camera convert": ([str(d / "cam.toml"), "-o", str(d / ("link-to-cam.toml" if link else "cam.toml")),
                                     "--overwrite"], d / "cam.toml"),
+        "lenslab diff": ([str(exr), str(pfm), "-o", str(via_exr), "--overwrite"], exr),
         "tracer render": (["--scene", "sky", "--env", str(exr), "--size", "8x8", "--spp", "1", "-o", str(via_exr),
                            "--overwrite", "-q"], exr),
     }
@@ -98,6 +100,12 @@ NO_INPUT_TO_WRITE_OVER = {
     "lenslab curves": "it reads nothing",
     "lenslab validate": "it renders its own inputs",
     "lenslab bench": "it measures its own data",
+}
+
+
+#: commands whose refusal has another exit code than 1 (reason given)
+REFUSAL_CODE = {
+    "lenslab diff": (4, "idiff's exit codes: 1 is WARNING, 4 a file that cannot be read or written"),
 }
 
 
@@ -119,7 +127,7 @@ def test_an_existing_output_is_refused(work, name):
     args, protected = _existing(work)[name]
     before = protected.read_bytes()
     code, _, err = run(_commands()[name], args)
-    assert code == 1, (name, err)
+    assert code == REFUSAL_CODE.get(name, (1,))[0], (name, err)
     assert "already exists" in err or "not empty" in err, err
     assert len(err.strip().splitlines()) <= 2 and "Traceback" not in err  # the error, and a batch's summary
     assert protected.read_bytes() == before == KEEP
@@ -137,7 +145,7 @@ def test_an_input_is_never_written_over(work, name, link):
             os.symlink(work / source, work / target)
     before = protected.read_bytes()
     code, _, err = run(_commands()[name], args)
-    assert code == 1, (name, err)
+    assert code == REFUSAL_CODE.get(name, (1,))[0], (name, err)
     assert "input" in err, err
     assert "Traceback" not in err
     assert protected.read_bytes() == before

@@ -30,6 +30,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "compare-tones": ("compare_tones", "side-by-side strip of one image under several tone curves"),
     "fit": ("fit", "fit lens models and tone curves with nlopt"),
     "camera": ("camera", "show calibrated cameras and convert them between OpenCV, Kalibr, COLMAP and OCamCalib files"),
+    "diff": ("diff", "compare two images: mean, RMS, max and relative error, PSNR, FLIP; idiff's thresholds and exit codes"),
     "bench": ("bench", "benchmarks, reported as ratios against a baseline measured in the same run"),
 }
 

@@ -62,6 +62,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pose.add_argument("--yaw", type=float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=float, default=0.0, help="turn up")
     pose.add_argument("--roll", type=float, default=0.0, help="turn about the viewing axis")
+    pose.add_argument("--rotation-order", choices=("ypr", "yrp", "pyr", "pry", "ryp", "rpy"), default="ypr",
+                      metavar="ORDER", help="the order of the turns, last applied first: ypr (default) turns roll, "
+                                            "then pitch, then yaw; ffmpeg v360's rorder")
+    pose.add_argument("--flip", metavar="h,v,d", default=None,
+                      help="mirror the output's rays: h left-right, v up-down, d front-back (v360's h_flip, "
+                           "v_flip, d_flip)")
+    pose.add_argument("--source-flip", metavar="h,v", default=None,
+                      help="the source was stored mirrored left-right (h) and/or top-bottom (v) within each "
+                           "face, half or eye (v360's ih_flip, iv_flip)")
     pose.add_argument("--look-at", metavar="X,Y,Z",
                       help="look along this direction instead of --yaw/--pitch/--roll, e.g. 0,1,0 straight up")
     pose.add_argument("--eye", metavar="X,Y,Z", default=None,
@@ -183,11 +192,20 @@ def run(args: argparse.Namespace) -> int:
 
     if args.look_at and (args.yaw or args.pitch or args.roll):
         raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
+    from lenslab.warp.mirror import parse_flips
+
+    try:  # bad letters are a usage error, before any file is read
+        parse_flips(args.flip)
+        parse_flips(args.source_flip, "hv", "--source-flip")
+    except LenslabError as exc:
+        raise UsageError(str(exc)) from None
     if not args.to and not args.stmap:
         raise UsageError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
     if args.stmap:
         taken = [flag for flag, on in (("--to", args.to), ("--from", args.source), ("--size", args.size),
-                                        ("--compat", args.compat),
+                                        ("--compat", args.compat), ("--flip", args.flip),
+                                        ("--source-flip", args.source_flip),
+                                        ("--rotation-order", args.rotation_order != "ypr"),
                                         ("--autoscale", args.autoscale), ("--look-at", args.look_at),
                                         ("--eye", args.eye), ("--yaw/--pitch/--roll", args.yaw or args.pitch or args.roll))
                  if on]

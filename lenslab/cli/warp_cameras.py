@@ -53,7 +53,12 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if is_camera_file(spec):  # a calibrated camera: the size it was calibrated at
         lens = make_lens(spec)
         return lens.width, lens.height
-    name, _ = parse_spec(spec)
+    name, values = parse_spec(spec)
+    if name == "stereo":  # two eyes of the base's default frame, side by side or one above the other
+        base = values.pop("base", "equirect")
+        layout = values.pop("layout", "sbs")
+        w, h = default_size(base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1), src_h)
+        return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     if name == "equirect":
         return 2 * src_h, src_h
     if name == "cubemap":
@@ -83,7 +88,7 @@ def output_camera(args, src, size: tuple[int, int]):
             # the top of the image towards -z (up) or +z (down)
             return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
         return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
-    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye))
+    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye, getattr(args, "rotation_order", "ypr")))
 
 
 def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):

@@ -32,6 +32,11 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
                                          progress=progress)
     else:
         src = source_camera(args.source, meta, image.shape)
+        if getattr(args, "flip", None) or getattr(args, "source_flip", None):
+            from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
+
+            image = mirror_frames(image, src.lens, parse_flips(args.source_flip, "hv", "--source-flip"))
+            src = mirror_source_pose(src, parse_flips(args.flip))
         size = args.size or default_size(args.to, image.shape[0])
         dst = output_camera(args, src, size)
         if args.autoscale:

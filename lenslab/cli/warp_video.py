@@ -69,6 +69,10 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     info = probe_video(src_path)
     total = max(0, (info.frames if stop is None else min(stop, info.frames or stop)) - start)
     src = source_camera(args.source, {"path": src_path}, (info.height, info.width))
+    from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
+
+    source_flips = parse_flips(getattr(args, "source_flip", None), "hv", "--source-flip")
+    src = mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
     size = args.size or default_size(args.to, info.height)
     dst = output_camera(args, src, size)
     if args.autoscale:
@@ -92,7 +96,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
                           desc=Path(src_path).name) as bar:
             for _, frame in read_frames(src_path, start, stop):
-                out, _ = cache.warp(frame, src, dst)  # outside the source's view: black
+                out, _ = cache.warp(mirror_frames(frame, src.lens, source_flips), src, dst)  # outside: black
                 if float(args.exposure) != 0.0:
                     out = out * np.float32(2.0 ** float(args.exposure))
                 if display:

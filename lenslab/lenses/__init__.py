@@ -10,7 +10,8 @@ from __future__ import annotations
 MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled",
                  "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "octahedron", "presets",
                  "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam", "devernay_fov",
-                 "chroma", "lensfun_profile", "division", "fisheye624")
+                 "chroma", "lensfun_profile", "division", "fisheye624", "stereo", "ball", "tetrahedron", "barrel",
+                 "tsp", "globe")
 
 from lenslab.lenses.base import Lens, Param  # noqa: E402
 from lenslab.lenses.camera import Camera, rotation_between, sample_offsets  # noqa: E402

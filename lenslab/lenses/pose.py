@@ -37,14 +37,22 @@ def rotate_rows(v: np.ndarray, r: np.ndarray) -> np.ndarray:
     return out.reshape(v.shape)
 
 
-def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:
+ORDERS = ("ypr", "yrp", "pyr", "pry", "ryp", "rpy")
+
+
+def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0, order: str = "ypr") -> np.ndarray:
     """Rotation camera -> world from yaw, pitch, roll in degrees.
 
     Yaw turns right about +y (forward +z toward +x), pitch turns up about +x (forward toward +y),
-    roll turns about +z (right +x toward up +y); applied roll, then pitch, then yaw:
-    ``R = Ry(yaw) @ Rx(-pitch) @ Rz(roll)``.
+    roll turns about +z (right +x toward up +y); by default applied roll, then pitch, then yaw:
+    ``R = Ry(yaw) @ Rx(-pitch) @ Rz(roll)``. ``order`` names the product's factors left to right (the
+    last is applied first), as ffmpeg v360's ``rorder`` does: ``rpy`` is ``Rz(roll) @ Rx(-pitch) @ Ry(yaw)``.
     """
-    return _ry(np.radians(yaw)) @ _rx(-np.radians(pitch)) @ _rz(np.radians(roll))
+    order = str(order).lower()
+    if order not in ORDERS:
+        raise LensError(f"rotation order {order!r}: give y, p and r once each, e.g. ypr or rpy")
+    m = {"y": _ry(np.radians(yaw)), "p": _rx(-np.radians(pitch)), "r": _rz(np.radians(roll))}
+    return m[order[0]] @ m[order[1]] @ m[order[2]]
 
 
 def matrix_to_ypr(r: np.ndarray) -> tuple[float, float, float]:
@@ -88,8 +96,8 @@ class Pose:
             raise LensError("pose: the rotation matrix is not orthonormal")
 
     @classmethod
-    def from_ypr(cls, yaw=0.0, pitch=0.0, roll=0.0, eye=(0.0, 0.0, 0.0)) -> "Pose":
-        return cls(ypr_matrix(yaw, pitch, roll), np.asarray(eye, dtype=np.float64))
+    def from_ypr(cls, yaw=0.0, pitch=0.0, roll=0.0, eye=(0.0, 0.0, 0.0), order: str = "ypr") -> "Pose":
+        return cls(ypr_matrix(yaw, pitch, roll, order), np.asarray(eye, dtype=np.float64))
 
     @classmethod
     def look_at(cls, eye, at, up=(0.0, 1.0, 0.0)) -> "Pose":

@@ -75,7 +75,9 @@ class Piece:
     footprint across one. ``across`` (left, right, top, bottom; None for an edge with nothing beyond, or
     for no topology at all) tells a filter tap that leaves the piece which neighbour to read.
     ``lens``/``pose`` describe a piece that is a camera of its own (a tile: its lens in the piece's
-    pixel frame and its pose relative to the whole camera); None otherwise.
+    pixel frame and its pose relative to the whole camera); None otherwise. ``eye`` numbers the eye
+    of a stereo frame a piece shows (0 left or top, 1 right or bottom; None for no eye): the engine
+    warps each output eye from the same eye of a stereo source.
     """
 
     x0: float
@@ -85,6 +87,7 @@ class Piece:
     across: tuple[Across | None, Across | None, Across | None, Across | None] | None = None
     lens: Any = None
     pose: Any = None
+    eye: int | None = None
 
     @property
     def rect(self) -> tuple[float, float, float, float]:

@@ -68,7 +68,8 @@ class V360Plan(WarpPlan):
         if options.get("samples", 1) != 1 or options.get("antialias", False):
             raise WarpError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
         self.read = v360_read(src_camera.lens)
-        v360_read(dst_camera.lens)  # the output must be a v360 projection too
+        if not getattr(dst_camera.lens, "v360_output", False):  # v360's output-only projections
+            v360_read(dst_camera.lens)  # the output must be a v360 projection too
         super().__init__(src_camera, dst_camera, **options)
         if self.channels is not None:
             raise WarpError("--compat v360: ffmpeg's v360 has no per-channel optics (chromatic aberration); "

@@ -25,6 +25,7 @@ from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
 from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
+from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
 from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
@@ -68,17 +69,24 @@ class WarpPlan:
         self.border = border_of(src_camera.lens)
         self.parts = None
         self.views = False
+        self.channels = None
+        opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
+                    allow_parallax=allow_parallax, exact_map=exact_map, cache=cache, band_points=band_points)
+        eyes = eye_pairs(src_camera, dst_camera)
+        if eyes is not None:
+            # stereo frames (lenslab.warp.eyes): one plan per output eye, each reading its source eye
+            self.parts = [(x0, y0, type(self)(s_cam, d_cam, **opts), crop) for x0, y0, crop, s_cam, d_cam in eyes]
+            self.parallax = max(p.parallax for _, _, p, _ in self.parts)
+            self.mapper = None
+            return
         if has_camera_pieces(dst_camera):
             # one plan per tile: each tile's map is smooth (and interpolated) on its own
-            opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
-                        allow_parallax=allow_parallax, exact_map=exact_map, cache=cache, band_points=band_points)
-            self.parts = [(x0, y0, WarpPlan(src_camera, cam, **opts)) for x0, y0, cam in tile_cameras(dst_camera)
-                          if cam is not None]
-            self.parallax = max([p.parallax for _, _, p in self.parts], default=0.0)
+            self.parts = [(x0, y0, WarpPlan(src_camera, cam, **opts), None)
+                          for x0, y0, cam in tile_cameras(dst_camera) if cam is not None]
+            self.parallax = max([p.parallax for _, _, p, _ in self.parts], default=0.0)
             self.mapper = None
             return
         # per-channel lenses and falloffs (lenslab.warp.optics); the channel plans leave them to this one
-        self.channels = None
         self.src_falloff = self.dst_falloff = None
         if optics:
             self.src_falloff, self.dst_falloff = falloff_image(src_camera.lens), falloff_image(dst_camera.lens)
@@ -155,7 +163,7 @@ class WarpPlan:
     @property
     def map_bytes(self) -> int:
         if self.parts is not None:
-            return sum(p.map_bytes for _, _, p in self.parts)
+            return sum(p.map_bytes for _, _, p, _ in self.parts)
         if self.channels is not None:
             return sum(p.map_bytes for p in self.channels)
         return 0 if self._bands is None else sum(b.nbytes for b in self._bands)
@@ -195,8 +203,8 @@ class WarpPlan:
                progress: Callable[[int], None] | None = None) -> None:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
         if self.parts is not None:
-            for x0, y0, part in self.parts:
-                _render_region(part, src, out, alpha, x0, y0, progress)
+            for x0, y0, part, crop in self.parts:
+                _render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
             return
         if self.src_falloff is not None:
             src = divide_by_falloff(src, self.src_falloff)

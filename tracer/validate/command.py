@@ -22,6 +22,8 @@ Examples:
   lenslab validate --noise-free --to swirl:amount=6 --size 256x256 --pano-sizes 1024x512,2048x1024 -o r/
   lenslab validate --noise-free --tune 0.5% -o r/          # cheapest setting within 0.5% relative L1
   lenslab validate --noise-free --amortised -o r/          # K views: one panorama + K warps vs K renders
+  lenslab validate --reference photo.exr --reference-camera fisheye:fov=180 --source pano.exr -o r/
+                                                          # your own reference: lenslab diff's report per setting
 """
 
 from __future__ import annotations
@@ -114,6 +116,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "against K direct renders at equal error, K = 1, 4, 16")
     parser.add_argument("--amortised-size", type=image_size, default=(256, 256), metavar="WxH",
                         help="view size for --amortised (default 256x256)")
+    own = parser.add_argument_group("against your own reference (lenslab diff's report per warp setting)")
+    own.add_argument("--reference", metavar="FILE",
+                     help="your render or photograph of the view: warps are measured against it instead of a "
+                          "direct render (writes DIR/reference.json and DIR/reference.md)")
+    own.add_argument("--reference-camera", metavar="SPEC",
+                     help="the lens of --reference (default: the camera its file records, else --to); posed "
+                          "by --yaw/--pitch/--roll and --eye")
+    own.add_argument("--source", metavar="FILE",
+                     help="the image to warp into it (default: a panorama of --scene at the largest "
+                          "--pano-sizes, rendered from the reference's eye)")
+    own.add_argument("--from", dest="source_spec", metavar="SPEC",
+                     help="the lens of --source (default: its recorded camera, else equirect for 2:1)")
+    own.add_argument("--allow-parallax", action="store_true",
+                     help="measure even when the reference's eye differs from the source's")
+    from lenslab.cli.diff import add_threshold_arguments
+
+    add_threshold_arguments(parser)
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
     parser.add_argument("--overwrite", action="store_true", help="replace the report of an earlier run in DIR")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -130,6 +149,12 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.cli.policy import UsageError, check_output, check_output_dir
 
+    if args.reference:  # the user's own render or photograph (tracer.validate.reference)
+        from tracer.validate.reference import run_reference
+
+        return run_reference(args)
+    if args.reference_camera or args.source or args.source_spec:
+        raise UsageError("--reference-camera, --source and --from go with --reference FILE")
     size = args.size
     pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]
     if not pano_sizes:

@@ -1,0 +1,157 @@
+"""Compare two images: mean, RMS and max error (absolute and relative, per channel), PSNR, FLIP and the
+share of pixels over a threshold, with OpenImageIO idiff's thresholds and exit codes.
+
+Values are compared as lenslab reads them: linear light (8- and 16-bit files are decoded from sRGB),
+premultiplied by alpha. Where either image has alpha, only pixels fully covered in both are compared
+(their colour channels); --no-mask compares every pixel and channel, alpha included, as idiff does.
+Mean, RMS and max error, PSNR and the pixel counts over --warn/--fail are those of OpenImageIO's
+ImageBufAlgo.compare (idiff, oiiotool --diff); relative error is |a - b| / ((|a| + |b|) / 2).
+FLIP is NVIDIA's perceptual difference: HDR-FLIP when either image goes above 1, else LDR-FLIP.
+
+exit codes (idiff's): 0 PASS, 1 WARNING (over --warn), 2 FAILURE (over --fail; also a usage error),
+3 the images differ in size or channels, 4 an input cannot be read or the error map cannot be written.
+
+examples:
+  lenslab diff render.exr warped.exr
+  lenslab diff ref.exr test.exr --fail 0.01 --fail-percent 0.5 --warn 0.001 -o error.exr
+  lenslab diff a.png b.png --json > report.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+
+from lenslab.cli.policy import positive_float
+
+EXIT_DIFFERENT_SIZE, EXIT_FILE = 3, 4
+
+
+def non_negative(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
+    if not v >= 0:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
+    return v
+
+
+def percent(text: str) -> float:
+    v = non_negative(text)
+    if v > 100:
+        raise argparse.ArgumentTypeError(f"expected a percentage in 0..100, got {text!r}")
+    return v
+
+
+def count(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
+    return v
+
+
+def add_threshold_arguments(parser: argparse.ArgumentParser) -> None:
+    """idiff's thresholds, for ``lenslab diff`` and ``lenslab validate --reference``."""
+    g = parser.add_argument_group("thresholds (idiff's options and defaults)")
+    g.add_argument("--fail", type=non_negative, default=1e-6, metavar="E",
+                   help="a pixel fails when a channel differs by more than E (default 1e-6)")
+    g.add_argument("--fail-relative", type=non_negative, default=0.0, metavar="R",
+                   help="... and, when given, by more than R relative to the mean of the two values")
+    g.add_argument("--fail-percent", type=percent, default=0.0, metavar="P",
+                   help="FAILURE only when more than P %% of the pixels fail (default 0)")
+    g.add_argument("--hard-fail", type=non_negative, default=math.inf, metavar="E",
+                   help="FAILURE when any one channel differs by more than E, whatever the share")
+    g.add_argument("--allow-failures", type=count, default=0, metavar="N",
+                   help="PASS when at most N pixels fail, by any amount")
+    g.add_argument("--warn", type=non_negative, default=1e-6, metavar="E", help="as --fail, for WARNING")
+    g.add_argument("--warn-relative", type=non_negative, default=0.0, metavar="R", help="as --fail-relative")
+    g.add_argument("--warn-percent", type=percent, default=0.0, metavar="P", help="as --fail-percent")
+    g.add_argument("--hard-warn", type=non_negative, default=math.inf, metavar="E", help="as --hard-fail")
+
+
+def thresholds_from(args: argparse.Namespace):
+    from lenslab.metrics.diff import Thresholds
+
+    return Thresholds(fail=args.fail, warn=args.warn, fail_relative=args.fail_relative,
+                      warn_relative=args.warn_relative, fail_percent=args.fail_percent,
+                      warn_percent=args.warn_percent, hard_fail=args.hard_fail, hard_warn=args.hard_warn,
+                      allow_failures=args.allow_failures)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("first", metavar="A", help="the reference image")
+    parser.add_argument("second", metavar="B", help="the image to compare with it (a folder: the file of A's name in it)")
+    add_threshold_arguments(parser)
+    parser.add_argument("--no-mask", action="store_true",
+                        help="compare every pixel and channel, alpha included (default: only pixels fully "
+                             "covered in both images, colour channels)")
+    parser.add_argument("--flip", choices=("auto", "hdr", "ldr", "off"), default="auto",
+                        help="FLIP: HDR above 1, else LDR (auto), or as chosen; off skips it (faster)")
+    parser.add_argument("-o", "--output", metavar="FILE",
+                        help="write the error map |A - B| per channel (alpha: 1 where compared)")
+    parser.add_argument("--signed", action="store_true", help="the error map holds A - B instead of |A - B|")
+    parser.add_argument("--scale", type=positive_float, default=1.0, help="multiply the error map by this")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing error map")
+    parser.add_argument("--json", action="store_true", help="print the report as JSON (stdout)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="print only PASS, WARNING or FAILURE")
+
+
+def run(args: argparse.Namespace) -> int:
+    from lenslab.cli.policy import OutputError, check_output, one_line, output_format
+    from lenslab.errors import LenslabError
+    from lenslab.io import read, write
+    from lenslab.metrics.diff import DiffError, diff_images, error_image
+    from lenslab.metrics.diff_text import diff_text
+
+    prog = "lenslab diff"
+
+    def file_error(exc) -> int:
+        print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
+        return EXIT_FILE
+
+    if os.path.isdir(args.second):  # as idiff: a folder holds the file of the first image's name
+        args.second = os.path.join(args.second, os.path.basename(args.first))
+    fmt = output_format(args.output) if args.output else None  # an unknown extension: a usage error, first
+    if args.output:
+        try:
+            check_output(args.output, [args.first, args.second], args.overwrite)
+        except OutputError as exc:
+            return file_error(exc)
+    images = []
+    for path in (args.first, args.second):
+        try:
+            images.append(read(path)[0])
+        except (LenslabError, OSError, ValueError) as exc:
+            return file_error(exc)
+    t = thresholds_from(args)
+    try:
+        report = diff_images(images[0], images[1], mask_alpha=not args.no_mask, thresholds=t, flip=args.flip)
+    except DiffError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_DIFFERENT_SIZE
+    if args.output:
+        emap = error_image(images[0], images[1], mask_alpha=not args.no_mask, signed=args.signed, scale=args.scale)
+        try:
+            # errors are small numbers: EXR keeps them in 32-bit float, not half
+            write(args.output, emap, overwrite=args.overwrite, **({"pixel_type": "float"} if fmt == "exr" else {}))
+        except (LenslabError, OSError) as exc:
+            return file_error(exc)
+    if args.json:
+        import json
+
+        out = report.to_dict()
+        out["files"] = [args.first, args.second]
+        if args.output:
+            out["error_map"] = args.output
+        print(json.dumps(out, indent=2))
+    elif args.quiet:
+        print(report.verdict_name)
+    else:
+        print(diff_text(report, args.first, args.second))
+    return report.verdict
