@@ -85,8 +85,26 @@ def _comparison(page: Page, view: LensView) -> str:
     return f'<div class="comparison"><h3>{esc(view.name)}</h3>{body}</div>'
 
 
+#: the card's background (style.css ``--card``, #1f2226), linear: where a lens sees nothing, its tile shows
+#: the card, so each picture has the shape of its lens (a fisheye's disc, a Hammer ellipse), not a black box
+CARD_LINEAR = (0.01370, 0.01600, 0.01938)
+
+
+def on_card(page: Page, image):
+    """Tone-mapped premultiplied colour over the card's background, by the image's alpha (display-linear)."""
+    import numpy as np
+
+    from gallery.display import split_alpha
+
+    shown = page.tone(image)
+    _, alpha = split_alpha(image)
+    if alpha is None:
+        return shown
+    return shown + (1.0 - np.clip(alpha, 0.0, 1.0))[..., None] * np.asarray(CARD_LINEAR, np.float32)
+
+
 def _tile(page: Page, view: LensView) -> str:
-    img: Img = page.save_image(f"view-{slug(view.name)}", fit_within(page.tone(page.read(view.warped)), SIDE))
+    img: Img = page.save_image(f"view-{slug(view.name)}", fit_within(on_card(page, page.read(view.warped)), SIDE))
     details = [f"<code>{esc(view.spec)}</code>"]
     if view.pose:
         details.append(esc(_pose(view)))
@@ -103,9 +121,11 @@ def lens_views(page: Page, views: list[LensView]) -> str:
     share of the pixel that the lens actually covers becomes its alpha, so the corners outside a fisheye's
     circle are transparent rather than smeared.
 
-    The tiled view is four cameras sharing the panorama's eye, each with its own pose, as in the 2x2
-    multi-view; the little planet is a stereographic fisheye looking straight
-    down with a very wide field of view."""
+    Each picture has the shape of what its lens sees: where a lens has no ray (outside a fisheye's
+    circle, around a Hammer ellipse) the card shows through. The tiled view is four cameras sharing the
+    panorama's eye, each with its own pose, as in the 2x2 multi-view; the little planet is a
+    stereographic fisheye looking straight down, its field across the diagonal so the planet fills
+    the frame."""
     tiles = "".join(_tile(page, v) for v in views)
     return section("lenses", "Every lens, warped from one panorama", lens_views, f'<div class="figures grid">{tiles}</div>',
                    cls="wide")

@@ -115,10 +115,10 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     --------
     >>> import numpy as np
     >>> from lenslab.tone import tonemap
-    >>> tonemap(np.array([0.0, 1.0, 4.0], np.float32), "reinhard")   # x / (1 + x)
-    array([0. , 0.5, 0.8], dtype=float32)
-    >>> tonemap(np.array([0.25], np.float32), "clamp", exposure=1)    # 0.25 * 2**1
-    array([0.5], dtype=float32)
+    >>> tonemap(np.array([0.0, 1.0, 4.0], np.float32), "reinhard").tolist()   # x / (1 + x)
+    [0.0, 0.5, 0.800000011920929]
+    >>> tonemap(np.array([0.25], np.float32), "clamp", exposure=1).tolist()    # 0.25 * 2**1
+    [0.5]
     """
     spec = get_curve(curve)
     resolved = spec.resolve(params)
