@@ -44,7 +44,7 @@ def test_every_page_the_nav_names_exists_and_strict_reports_unlisted_pages_only_
 def test_optional_and_unknown_pages_join_the_nav_only_when_present(tmp_path):
     docs = tmp_path / "docs"
     (docs / "guide").mkdir(parents=True)
-    for page in ("index.md", "cameras.md", "lenses.md", "stereo.md", "guide/extra.md"):
+    for page in ("index.md", "cameras.md", "lenses.md", "stereo.md", "other.md", "guide/extra.md"):
         (docs / page).write_text("# page\n")
     nav = [{"Home": "index.md"}, {"User guide": []}, {"Reference": [{"Conventions": "conventions.md"}]},
            {"About this site": "site.md"}]
@@ -52,7 +52,8 @@ def test_optional_and_unknown_pages_join_the_nav_only_when_present(tmp_path):
     assert {"Camera files and calibration": "cameras.md"} in out[1]["User guide"]
     assert {"Lens models": "lenses.md"} in out[2]["Reference"]
     assert "robustness.md" not in nav_files(out) and "design.md" not in nav_files(out)  # absent: left out
-    assert {"More": ["guide/extra.md", "stereo.md"]} in out and out[-1] == {"About this site": "site.md"}
+    assert {"Stereo 360": "stereo.md"} in out[1]["User guide"]
+    assert {"More": ["guide/extra.md", "other.md"]} in out and out[-1] == {"About this site": "site.md"}
 
 
 def test_speed_page_gets_the_table_of_bench_results():

@@ -23,6 +23,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: optional pages: file -> (nav section, title); each joins its section when the file exists
 OPTIONAL = {
     "cameras.md": ("User guide", "Camera files and calibration"),
+    "stereo.md": ("User guide", "Stereo 360"),
     "lenses.md": ("Reference", "Lens models"),
     "robustness.md": ("Reference", "Robustness: hostile files"),
     "design.md": ("Reference", "Design"),
