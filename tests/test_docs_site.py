@@ -68,6 +68,8 @@ def test_links_out_of_docs_become_repository_paths():
     assert mkdocs_hooks._outside_links(text, "guide.md") == (
         "see the engine (`lenslab/warp/engine.py`), [v360](v360.md) and [web](https://x.org/a.md)")
     assert mkdocs_hooks._outside_links("[up](../index.md)", "guide/tone.md") == "[up](../index.md)"
+    assert mkdocs_hooks._outside_links("![a](../../gallery/images/tones.jpg)", "guide/tone.md") == (
+        "![a](../images/tones.jpg)")
 
 
 def test_the_readme_test_command_is_the_one_ci_runs_and_ci_builds_the_site():

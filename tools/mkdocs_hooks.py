@@ -7,7 +7,8 @@
   ``tools/speed_table.py`` that prints it), between ``<!-- speed-table:start -->`` and ``<!-- speed-table:end -->``.
 - The README's pictures (``gallery/images/*.jpg``) are served as ``images/*.jpg`` without a copy in ``docs/``.
 - A link from a page to a file of the repository outside ``docs/`` (``../lenslab/warp/engine.py``)
-  becomes that file's path in code type: the site is read without the source tree beside it.
+  becomes that file's path in code type: the site is read without the source tree beside it. A
+  picture from ``../gallery/images/`` is shown from the site's copy.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ OPTIONAL = {
 }
 GENERATED = ("examples/",)  # written by the build itself (mkdocs-gallery)
 LINK = re.compile(r"(?<!!)\[([^\]]+)\]\(([^)\s]+)\)")
+IMAGE = re.compile(r"!\[([^\]]*)\]\(([^)\s]+)\)")
 
 
 def _named(nav) -> set[str]:
@@ -106,7 +108,14 @@ def _outside_links(markdown: str, page_path: str) -> str:
         repo_path = path[3:]
         return text if text.strip("`") == repo_path else f"{text} (`{repo_path}`)"
 
-    return LINK.sub(fix, markdown)
+    def picture(m: re.Match) -> str:  # the README's pictures, served as images/NAME (see on_files)
+        target = posixpath.normpath(posixpath.join(here, m.group(2)))
+        if not target.startswith("../gallery/images/"):
+            return m.group(0)
+        served = posixpath.relpath(f"images/{posixpath.basename(target)}", here or ".")
+        return f"![{m.group(1)}]({served})"
+
+    return IMAGE.sub(picture, LINK.sub(fix, markdown))
 
 
 def _fill_speed(markdown: str) -> str:
