@@ -44,6 +44,8 @@ src_xy, seen = fisheye.world_to_pixel(rays)
 diff = np.hypot(src_xy[..., 0] - (map_x + 0.5), src_xy[..., 1] - (map_y + 0.5))[seen]
 print(f"lenslab vs cv2.fisheye.initUndistortRectifyMap over {seen.mean():.1%} of the output: "
       f"largest difference {diff.max():.1e} px, mean {diff.mean():.1e} px (OpenCV's map is float32)")
+# float32 holds a 640-pixel position to 3e-5 px; the build of this page fails if the two maps part
+assert seen.mean() > 0.99 and diff.max() < 1e-3
 
 # %%
 
