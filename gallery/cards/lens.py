@@ -85,22 +85,11 @@ def _comparison(page: Page, view: LensView) -> str:
     return f'<div class="comparison"><h3>{esc(view.name)}</h3>{body}</div>'
 
 
-#: the card's background (style.css ``--card``, #1f2226), linear: where a lens sees nothing, its tile shows
-#: the card, so each picture has the shape of its lens (a fisheye's disc, a Hammer ellipse), not a black box
-CARD_LINEAR = (0.01370, 0.01600, 0.01938)
-
-
 def on_card(page: Page, image):
     """Tone-mapped premultiplied colour over the card's background, by the image's alpha (display-linear)."""
-    import numpy as np
+    from gallery.display import over_card, split_alpha
 
-    from gallery.display import split_alpha
-
-    shown = page.tone(image)
-    _, alpha = split_alpha(image)
-    if alpha is None:
-        return shown
-    return shown + (1.0 - np.clip(alpha, 0.0, 1.0))[..., None] * np.asarray(CARD_LINEAR, np.float32)
+    return over_card(page.tone(image), split_alpha(image)[1])
 
 
 def _tile(page: Page, view: LensView) -> str:
