@@ -82,3 +82,14 @@ def test_the_readme_test_command_is_the_one_ci_runs_and_ci_builds_the_site():
     assert len(readme.splitlines()) <= 160  # a front page; the site holds the rest
     done = subprocess.run(["bash", "-n", str(REPO / ".ci" / "run")], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
+
+
+def test_the_quick_start_installs_every_system_tool_the_tests_look_for():
+    from tests.conftest import SYSTEM_TOOLS
+
+    readme = (REPO / "README.md").read_text()
+    line = re.search(r"^sudo apt-get install ([^#\n]+)", readme, re.M).group(1).split()
+    ci = re.search(r"apt-get install -y -qq ([^>\n]+)", (REPO / ".ci" / "run").read_text()).group(1).split()
+    assert set(line) == set(ci)
+    for name, commands in SYSTEM_TOOLS.items():  # each tool the header reports comes from a package named
+        assert any(c in line or c.replace("c++", "g++") in line for c in commands), name
