@@ -55,9 +55,6 @@ EYE = (0.278, 0.30, 0.06)
 WARP = {"filter": "bilinear", "samples": 1, "antialias": True}
 COMPARED = ("fisheye, equisolid", "2x2 multi-view")
 SAMPLE_CURVE_VIEW = "fisheye, equisolid"  # the view the tone curves are compared on
-# Models not given a view of their own: the panorama is the equirect; pincushion and barrel are the
-# two signs of the general division model.
-NOT_A_VIEW = {"equirect": "the panorama itself", "distortion": "shown as pincushion and barrel"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -109,56 +106,6 @@ def slug(text: str) -> str:
     import re
 
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
-
-
-def lens_views(view: int) -> list[dict]:
-    """The views the panorama is warped into: name, lens, size, pose and a note for the page."""
-    from lenslab.lenses import REGISTRY
-
-    half = max(1, view // 2)
-    views = [
-        dict(name="perspective", spec="perspective:fov=90"),
-        dict(name="fisheye, equidistant", spec="fisheye:fov=180,mapping=equidistant"),
-        dict(name="fisheye, equisolid", spec="fisheye:fov=180,mapping=equisolid"),
-        dict(name="fisheye, stereographic", spec="fisheye:fov=180,mapping=stereographic"),
-        dict(name="fisheye, orthographic", spec="fisheye:fov=180,mapping=orthographic"),
-        dict(name="tan-warped fisheye", spec="seedfisheye:fov=180",
-             note="its angle folds back past 180 degrees at 80% of the radius; beyond the fold pixels are invalid"),
-        dict(name="swirl", spec="swirl:amount=6"),
-        dict(name="pincushion", spec="pincushion:k1=0.3"),
-        dict(name="barrel", spec="barrel:k1=-0.3"),
-        dict(name="Brown distortion", spec="brown:k1=-0.05"),
-        dict(name="cube map", spec="cubemap:layout=3x2", size=(3 * half, 2 * half)),
-        dict(name="2x2 multi-view", spec="tiled:2x2", size=(2 * half, 2 * half), tiles=[
-            {"lens": "perspective:fov=80", "yaw": 0.0},
-            {"lens": "perspective:fov=80", "yaw": -50.0, "pitch": -25.0},
-            {"lens": "perspective:fov=80", "yaw": 50.0, "pitch": -25.0},
-            {"lens": "perspective:fov=80", "pitch": 70.0},
-        ], note="four cameras sharing the panorama's eye: ahead, down-left, down-right, up at the light"),
-        dict(name="little planet", spec="fisheye:fov=240,mapping=stereographic", pose={"pitch": -90.0},
-             note="stereographic fisheye looking straight down"),
-    ]
-    names = {v["spec"].partition(":")[0] for v in views}
-    for model in REGISTRY:  # any model added later still gets a view, with its defaults
-        if model not in names and model not in NOT_A_VIEW and _has_defaults(model):
-            views.append(dict(name=f"{model} (its defaults)", spec=model))
-    for v in views:
-        v.setdefault("size", (view, view))
-        v.setdefault("pose", {})
-        v.setdefault("note", "")
-    return [v for v in views if v["spec"].partition(":")[0] in REGISTRY]
-
-
-def _has_defaults(model: str) -> bool:
-    """Whether the model makes a lens from its defaults alone (a lensfun profile needs a lens name)."""
-    from lenslab.errors import LensError
-    from lenslab.lenses import make_lens
-
-    try:
-        make_lens(model, (64, 64))
-    except LensError:
-        return False
-    return True
 
 
 def make_camera(v: dict, eye):
@@ -228,6 +175,8 @@ def run(args: argparse.Namespace) -> int:
 
     from gallery import build_gallery
     from gallery.items import Display, FileList, Panorama, RunInfo
+
+    from gallery.views import lens_views
 
     views = lens_views(view)
     compared = [v for v in views if v["name"] in COMPARED]
@@ -329,7 +278,7 @@ def warp_views(run_: Run, views: list[dict], pcam, pano_image, ev: float):
         run_.write(f"views/{s}.jpg", tonemap(img, curve="hable", exposure=ev), f"{v['name']}: tone-mapped")
         warped[v["name"]] = (img, alpha, cam)
         records[v["name"]] = LensView(
-            name=v["name"], spec=v["spec"] if "tiles" in v else cam.lens.spec(), size=tuple(cam.size),
+            name=v["name"], spec=v["spec"], size=tuple(cam.size),
             warped=rel, warp_seconds=seconds, pose={k: float(x) for k, x in v["pose"].items()},
             settings=dict(WARP), note=v["note"])
         run_.done()

@@ -41,6 +41,18 @@ def tone(image: np.ndarray, curve: str = "hable", exposure: float = 0.0) -> np.n
     return np.clip(np.asarray(tonemap(rgb, curve=curve, exposure=exposure), dtype=np.float32), 0.0, 1.0)
 
 
+#: the page's card colour (style.css ``--card``, #1f2226), linear: where a lens sees nothing its picture
+#: shows the card, so each picture has the shape of its lens (a fisheye's disc, an ellipse), not a black box
+CARD_LINEAR = (0.01370, 0.01600, 0.01938)
+
+
+def over_card(shown: np.ndarray, alpha: np.ndarray | None) -> np.ndarray:
+    """Display-linear premultiplied colour over the card's colour, by ``alpha`` (None: fully covered)."""
+    if alpha is None:
+        return shown
+    return shown + (1.0 - np.clip(alpha, 0.0, 1.0))[..., None] * np.asarray(CARD_LINEAR, np.float32)
+
+
 def fit_within(image: np.ndarray, max_side: int) -> np.ndarray:
     """Shrink (area-averaged, aspect kept) so that neither side exceeds ``max_side``; never enlarge."""
     import cv2

@@ -22,10 +22,10 @@ from gallery.errors import GalleryError
 
 MAX_BYTES = 60_000
 #: the lens views shown in the README montage, in order (file names of the page's view images)
-FEATURED = ("fisheye-equisolid", "fisheye-stereographic", "the-original-renderer-s-fisheye", "little-planet",
+FEATURED = ("fisheye-equisolid", "fisheye-stereographic", "tan-warped-fisheye", "little-planet",
             "swirl", "pincushion", "2x2-multi-view", "cube-map")
 GAP = 4  # pixels between montage tiles
-BACKGROUND = 0.08  # display-encoded grey behind and between tiles
+BACKGROUND = (0x1F / 255, 0x22 / 255, 0x26 / 255)  # display-encoded: the page's card colour, behind the lenses' tiles
 
 
 def _load(path: Path) -> np.ndarray:

@@ -1,15 +1,34 @@
 """lenslab: lenses and tone curves for HDR images, and the tools to prove them right.
 
-Heavy modules load lazily, so ``import lenslab`` and ``lenslab --help`` stay instant.
+The front door: :func:`read` and :func:`write` image files, :class:`Camera` and :func:`make_lens`
+name lenses, :func:`warp` reprojects an image from one camera into another, :func:`tonemap` takes HDR
+values to a display. Heavy modules load lazily, on first use, so ``import lenslab`` and
+``lenslab --help`` stay instant; ``dir(lenslab)`` lists these names all the same.
+
+Examples
+--------
+>>> import lenslab
+>>> sorted(set(lenslab.__all__) - {"__version__"})
+['Camera', 'make_lens', 'read', 'tonemap', 'warp', 'write']
+>>> {"read", "write", "warp", "Camera", "make_lens", "tonemap"} <= set(dir(lenslab))
+True
 """
 
 from __future__ import annotations
 
 import importlib
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it adds itself to lenslab.lens_sources)
 
 __version__ = "0.1.0"
+
+if TYPE_CHECKING:  # what type checkers and editors see; at run time these load on first use
+    from lenslab.io import read, write
+    from lenslab.lenses import Camera, make_lens
+    from lenslab.tone import tonemap
+    from lenslab.warp import warp
 
 _LAZY = {
     "read": ("lenslab.io", "read"),
@@ -21,7 +40,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> Any:
     if name in _LAZY:
         module, attr = _LAZY[name]
         return getattr(importlib.import_module(module), attr)
@@ -29,3 +48,10 @@ def __getattr__(name: str):
 
 
 __all__ = ["__version__", *_LAZY]
+
+
+def __dir__() -> list[str]:
+    """The public API (loaded lazily or not), the subpackages already imported and the dunders."""
+    here = {n for n, v in globals().items()
+            if n.startswith("__") or (isinstance(v, ModuleType) and v.__name__.startswith("lenslab."))}
+    return sorted(here | set(__all__))

@@ -90,9 +90,9 @@ def test_every_lens_model_is_shown(demo):
     views = [r for r in records if isinstance(r, LensView)]
     models = {v.spec.partition(":")[0] for v in views}
     # every model that makes a lens from its defaults (a lensfun profile needs a lens named in its spec)
-    from gallery.demo import _has_defaults
+    from gallery.views import has_defaults
 
-    assert models >= {m for m in REGISTRY if _has_defaults(m)} - {"equirect", "distortion"}
+    assert models >= {m for m in REGISTRY if has_defaults(m)} - {"equirect", "distortion"}
     mappings = {v.spec for v in views if v.spec.startswith("fisheye:")}
     for m in ("equidistant", "equisolid", "stereographic", "orthographic"):
         assert any(f"mapping={m}" in s for s in mappings), m

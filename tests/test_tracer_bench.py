@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
 
 from tracer.cli import main
 
@@ -33,5 +34,8 @@ def test_validate_records_the_warps_error_against_the_direct_trace(tmp_path, cap
                             "validate.antialias_cost_quick"}
     tap, aa = figures["validate.single_tap_l1_quick"]["value"], figures["validate.antialias_l1_quick"]["value"]
     assert aa < 0.3 and aa < 0.6 * tap, (aa, tap)
-    assert figures["validate.antialias_cost_quick"]["value"] > 1.0  # more work than one tap, whatever the machine
+    # a ratio of two times: its size depends on the machine and its load, so only that it was measured
+    # is checked here (`tracer bench` reports it; no test depends on timing)
+    cost = figures["validate.antialias_cost_quick"]
+    assert cost["unit"] == "x" and math.isfinite(cost["value"]) and cost["value"] > 0
     assert all(f["aim"] is None for f in figures.values())  # a smoke run has no aims

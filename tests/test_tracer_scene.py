@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import itertools
+import types
+
 import numpy as np
 import pytest
 
@@ -175,13 +178,22 @@ def test_variance_tracking_matches_the_spread_of_independent_renders():
     assert np.mean([r.variance for r in runs]) > 0.8 * spread
 
 
-def test_time_budget_and_target_error_stop_early():
+@pytest.fixture
+def ticking_clock(monkeypatch):
+    """The renderer's clock advances 10 ms each time it is read, whatever the machine's speed or load:
+    a time budget then ends after a fixed number of readings (a state), never after a real duration."""
+    ticks = itertools.count()
+    monkeypatch.setattr("tracer.rendering.time", types.SimpleNamespace(perf_counter=lambda: 0.01 * next(ticks)))
+
+
+def test_time_budget_and_target_error_stop_early(ticking_clock):
     s = tracer.load_scene("plane")
     cam = s.camera(size=(8, 8))
     res = tracer.render(s, cam, spp=4096, seed=0, target_error=0.05)
     assert res.stopped_by == "error" and res.spp < 4096 and res.relative_error <= 0.05
     res = tracer.render(s, cam, spp=1 << 20, seed=0, time_budget=0.2)
-    assert res.stopped_by == "time" and res.spp < 1 << 20
+    # 0.2 s of a clock read once per pass (plus once at the start and once at the end): 19 passes at most
+    assert res.stopped_by == "time" and 2 <= res.spp < 1 << 20 and res.seconds <= 0.22
 
 
 def test_cli_render_writes_exr_with_camera(tmp_path):
@@ -211,7 +223,7 @@ def test_cli_errors_are_reported(tmp_path, capsys):
     assert not (tmp_path / "x.exr").exists()
 
 
-def test_cli_camera_file_and_time_budget(tmp_path):
+def test_cli_camera_file_and_time_budget(tmp_path, ticking_clock):
     import OpenEXR
 
     from lenslab.lenses import Camera

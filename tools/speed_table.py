@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Rebuild the README's speed table from benchmark JSON files (``lenslab bench TARGET --json FILE``).
+"""Build the speed table from benchmark JSON files (``lenslab bench TARGET --json FILE``).
 
-    python tools/speed_table.py bench-results/*.json            # print the table
-    python tools/speed_table.py bench-results/*.json --readme README.md   # replace it in the README
+    python tools/speed_table.py bench-results/*.json                     # print the table
+    python tools/speed_table.py bench-results/*.json --readme PAGE.md    # replace it in a page
 
-The table sits in the README between ``<!-- speed-table:start -->`` and ``<!-- speed-table:end -->``;
-each row is one figure: the benchmark, what was measured, the figure, the aim, and whether it is met, so a
-missed aim is marked, never hidden. The run's load average is given under the table.
+The documentation site's speed page (``docs/speed.md``) gets this table from ``bench-results/`` at
+every build (``tools/mkdocs_hooks.py``); ``--readme`` replaces it in any page between
+``<!-- speed-table:start -->`` and ``<!-- speed-table:end -->``. Each row is one figure: the
+benchmark, what was measured, the figure, the aim, and whether it is met, so a missed aim is marked,
+never hidden. The run's load average is given under the table.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ import time
 from pathlib import Path
 
 from gallery.page import Page, esc, fmt_seconds, section
-from gallery.display import fit_within
+from gallery.display import fit_within, over_card
 from gallery.errors import GalleryError
 
 SUFFIXES = (".exr", ".pfm", ".hdr")
@@ -17,7 +17,7 @@ PANO_WIDTH = 512  # width of the panorama thumbnails
 #: (label, lens spec, pose) of the views made from each panorama.
 VIEWS = (
     ("sky dome", "fisheye:fov=180,mapping=equisolid", {"pitch": 90.0}),
-    ("little planet", "fisheye:fov=280,mapping=stereographic", {"pitch": -90.0}),
+    ("little planet", "fisheye:dfov=300,mapping=stereographic", {"pitch": -90.0}),  # fills its square
 )
 
 
@@ -30,7 +30,7 @@ def panorama_files(folder: Path) -> list[Path]:
 def hdri(page: Page, folder: Path) -> str:
     """Your own HDR panoramas, each warped into two lenses: an equisolid fisheye looking straight up (the
     sky dome, as a light probe would record it) and a little planet (a stereographic fisheye looking
-    straight down with a 280 degree field of view). The warps run on the linear HDR values with
+    straight down, 300 degrees across its diagonal, so the planet fills its square). The warps run on the linear HDR values with
     anti-aliasing, so a small bright sun stays one small bright sun instead of a flickering pixel.
 
     Each panorama is tone-mapped with automatic exposure (from its log-average luminance, leaving out
@@ -69,9 +69,9 @@ def hdri(page: Page, folder: Path) -> str:
         for label, spec, pose in VIEWS:
             dst = Camera.from_spec(spec, (SIDE, SIDE), **pose)
             t0 = time.perf_counter()
-            out, _alpha = warp(rgb, src, dst, antialias=True)
+            out, alpha = warp(rgb, src, dst, antialias=True)
             seconds = time.perf_counter() - t0
-            img = page.save_image(f"hdri-{path.stem}-{label}", page.tone(out, exposure=exposure))
+            img = page.save_image(f"hdri-{path.stem}-{label}", over_card(page.tone(out, exposure=exposure), alpha))
             figs.append(img.figure(f"{esc(label)}, {esc(fmt_seconds(seconds))}", alt=f"{path.stem} {label}"))
         rows.append(f'<div class="figures hdri">{"".join(figs)}</div>')
     notes = []

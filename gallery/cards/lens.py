@@ -85,8 +85,15 @@ def _comparison(page: Page, view: LensView) -> str:
     return f'<div class="comparison"><h3>{esc(view.name)}</h3>{body}</div>'
 
 
+def on_card(page: Page, image):
+    """Tone-mapped premultiplied colour over the card's background, by the image's alpha (display-linear)."""
+    from gallery.display import over_card, split_alpha
+
+    return over_card(page.tone(image), split_alpha(image)[1])
+
+
 def _tile(page: Page, view: LensView) -> str:
-    img: Img = page.save_image(f"view-{slug(view.name)}", fit_within(page.tone(page.read(view.warped)), SIDE))
+    img: Img = page.save_image(f"view-{slug(view.name)}", fit_within(on_card(page, page.read(view.warped)), SIDE))
     details = [f"<code>{esc(view.spec)}</code>"]
     if view.pose:
         details.append(esc(_pose(view)))
@@ -103,9 +110,11 @@ def lens_views(page: Page, views: list[LensView]) -> str:
     share of the pixel that the lens actually covers becomes its alpha, so the corners outside a fisheye's
     circle are transparent rather than smeared.
 
-    The tiled view is four cameras sharing the panorama's eye, each with its own pose, as in the 2x2
-    multi-view; the little planet is a stereographic fisheye looking straight
-    down with a very wide field of view."""
+    Each picture has the shape of what its lens sees: where a lens has no ray (outside a fisheye's
+    circle, around a Hammer ellipse) the card shows through. The tiled view is four cameras sharing the
+    panorama's eye, each with its own pose, as in the 2x2 multi-view; the little planet is a
+    stereographic fisheye looking straight down, its field across the diagonal so the planet fills
+    the frame."""
     tiles = "".join(_tile(page, v) for v in views)
     return section("lenses", "Every lens, warped from one panorama", lens_views, f'<div class="figures grid">{tiles}</div>',
                    cls="wide")

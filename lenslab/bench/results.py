@@ -7,9 +7,9 @@ Every ``lenslab bench TARGET`` takes ``--json FILE``; a benchmark adds its figur
     figure("warp.one_shot_bilinear", "one-shot bilinear vs cv2.remap", ratio, "x", aim=2.0, better="lower")
 
 The JSON holds the benchmark's name, the machine's load average at the start and the end of the run, and
-one row per figure: ``key`` (stable, dotted), ``label`` (what the README table shows), ``value``,
+one row per figure: ``key`` (stable, dotted), ``label`` (what the speed table shows), ``value``,
 ``unit``, ``aim`` (or null), ``better`` (``lower``/``higher``), ``met`` (or null without an aim) and an
-optional ``note``. ``tools/speed_table.py`` builds the README's speed table from these files.
+optional ``note``. ``tools/speed_table.py`` builds the speed table (docs/speed.md) from these files.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ def figure(key: str, label: str, value: float, unit: str = "x", aim: float | Non
            better: str = "lower", note: str = "", detail: bool = False) -> bool | None:
     """Record one figure of the running benchmark; returns whether it meets its aim (None: no aim).
 
-    ``detail=True`` keeps a figure in the JSON but out of the README's table (per-model rows that a
+    ``detail=True`` keeps a figure in the JSON but out of the speed table (per-model rows that a
     summary row already covers)."""
     ok = met(float(value), aim, better)
     _FIGURES.append({"key": key, "label": label, "value": float(value), "unit": unit, "aim": aim,

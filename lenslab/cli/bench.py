@@ -48,7 +48,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         module.add_arguments(p)
         p.add_argument("--json", metavar="FILE", default=None,
                        help="also write every figure, its aim and whether it is met, as JSON to FILE "
-                            "(tools/speed_table.py builds the README's speed table from such files)")
+                            "(tools/speed_table.py builds the speed table of docs/speed.md from such files)")
         p.add_argument("--overwrite", action="store_true", help="replace an existing --json FILE")
         p.set_defaults(_bench=module, _bench_name=name)
 

@@ -35,7 +35,7 @@ def check_skip_or_overwrite(args) -> None:
 def add_scheduler_options(parser, skip_existing: bool = True) -> None:
     """``--scheduler``, ``--scheduler-file`` (and ``--skip-existing``) of every batch command: one task
     per file on a Dask cluster (:mod:`lenslab.cluster`)."""
-    group = parser.add_argument_group("running on a Dask cluster (see README: 'Beyond one machine')")
+    group = parser.add_argument_group("running on a Dask cluster (see docs/guide/batches.md)")
     group.add_argument("--scheduler", metavar="ADDRESS", default=None,
                        help="run the work on the Dask cluster whose scheduler is at ADDRESS (e.g. "
                             "tcp://host:8786), one task per file (per tile for a render); default: "

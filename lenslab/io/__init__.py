@@ -33,11 +33,18 @@ from __future__ import annotations
 import os
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 
 from lenslab.errors import FormatError
 from lenslab.io.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike
+
+    from lenslab.lenses import Camera
 
 #: the EXR attribute holding a lenslab camera (TOML)
 CAMERA_ATTRIBUTE = "lenslab.camera"
@@ -90,8 +97,48 @@ def _camera(path, text):
 
 
 def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = False,
-         rec709: bool = True) -> tuple["np.ndarray", dict]:
-    """Read an image file -> (float32 H x W x C array, meta). See the module docstring."""
+         rec709: bool = True) -> tuple[np.ndarray, dict[str, Any]]:
+    """Read an image file into linear float32.
+
+    The format comes from the file's magic bytes, never its name.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file. EXR selectors pick a layer or part: ``"f.exr:left"``, ``"f.exr:2"``, ``"f.exr:2:left"``.
+    raw : bool
+        LDR formats: code values scaled to [0, 1] instead of decoding sRGB to linear light.
+    data_window : bool
+        EXR: keep the stored data window instead of placing it in the display window.
+    rec709 : bool
+        EXR: convert the file's own primaries to Rec.709 (False keeps them).
+
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 ``H x W x C`` in linear light (``C`` is 1, 3 or 4; a fourth channel is alpha, with the
+        colour premultiplied by it).
+    meta : dict
+        ``format``, ``bit_depth``, ``sample_type``, ``channels``, ``display_encoded``, ``attributes``
+        (what the file carried; a PFM's scale is reported there, never applied), ``size`` (W, H),
+        ``path`` and ``camera`` (a :class:`lenslab.lenses.Camera` when the file stores one, else None).
+
+    Raises
+    ------
+    lenslab.errors.FormatError
+        The file is not an image lenslab reads, is damaged, or is larger than
+        :data:`lenslab.io.limits.MAX_PIXELS` (refused before any allocation).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import numpy as np, lenslab
+    >>> tmp = pathlib.Path(tempfile.mkdtemp())
+    >>> path = lenslab.write(tmp / "grey.pfm", np.full((2, 3, 3), 0.5, np.float32))
+    >>> image, meta = lenslab.read(path)
+    >>> image.shape, image.dtype, meta["format"], meta["size"]
+    ((2, 3, 3), dtype('float32'), 'pfm', [3, 2])
+    """
     file, selector = split_selector(path)
     fmt = get(sniff(file))
     if selector is not None and not fmt.selectors:
@@ -120,6 +167,21 @@ def _as_image(array) -> "np.ndarray":
     return a.astype(np.float32, copy=False)
 
 
+def with_alpha(image: np.ndarray, alpha: ArrayLike) -> np.ndarray:
+    """``image`` (``H x W x C``, grey or RGB) with ``alpha`` (``H x W``) stacked as its last channel, float32."""
+    import numpy as np
+
+    a = np.asarray(alpha, dtype=np.float32)
+    if a.ndim == 3 and a.shape[2] == 1:
+        a = a[..., 0]
+    if a.shape != image.shape[:2]:
+        raise FormatError(f"alpha of shape {a.shape} does not match the image's {image.shape[0]} x {image.shape[1]}; "
+                          "give an H x W array")
+    if image.shape[2] not in (1, 3):
+        raise FormatError(f"the image already has {image.shape[2]} channels; give alpha only with grey or RGB")
+    return np.concatenate([image, a[..., None]], axis=2)
+
+
 def fit_channels(a: "np.ndarray", fmt) -> "np.ndarray":
     """Fit an H x W x C image to what ``fmt`` (a :class:`lenslab.io.plugin.Format`) holds.
 
@@ -136,9 +198,54 @@ def fit_channels(a: "np.ndarray", fmt) -> "np.ndarray":
     raise FormatError(f"{fmt.title} holds {holds} channel(s); this image has {c}{hint}")
 
 
-def write(path: str | os.PathLike, array, format: str | None = None, *, overwrite: bool = True,
-          camera=None, **options) -> Path:
-    """Write an image; returns the path written. See the module docstring for the options."""
+def write(path: str | os.PathLike, array: ArrayLike, format: str | None = None, *, alpha: ArrayLike | None = None,
+          overwrite: bool = True, camera: Camera | None = None, **options: Any) -> Path:
+    """Write an image, whole or not at all (a temporary name, then a rename).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write; its extension names the format unless ``format`` does.
+    array : array_like
+        ``H x W x C`` (or ``H x W``) linear values, ``C`` in 1, 2, 3, 4; a last channel beyond grey or RGB
+        is alpha, with the colour premultiplied by it.
+    format : str, optional
+        A format name of ``lenslab info --formats`` (``exr``, ``hdr``, ``tiff``, ``pfm``, ``ppm``, ``jpg``,
+        ``png``...), when the extension does not say it.
+    alpha : array_like, optional
+        ``H x W`` coverage to store as the last channel (the ``alpha`` that :func:`lenslab.warp.warp`
+        returns beside its premultiplied colour). Formats without alpha (PPM, PFM, JPG, HDR) drop it.
+    overwrite : bool
+        False refuses to replace an existing file.
+    camera : lenslab.lenses.Camera, optional
+        Stored in an EXR's header (the ``lenslab.camera`` attribute), so that the file can be warped
+        again without naming its lens. Other formats refuse it.
+    **options
+        Format options: LDR ``raw``, ``dither``, ``bits``, ``ascii``, ``quality``, ``subsampling``,
+        ``compression``; PFM ``byte_order``, ``scale``; EXR ``pixel_type``, ``compression``,
+        ``channels``, ``attributes`` (the module's description lists them with their defaults).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    lenslab.errors.FormatError
+        An array the format cannot hold, an unknown option, or an alpha of another size.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import numpy as np, lenslab
+    >>> tmp = pathlib.Path(tempfile.mkdtemp())
+    >>> colour = np.ones((4, 4, 3), np.float32) * 0.25
+    >>> coverage = np.full((4, 4), 0.5, np.float32)
+    >>> path = lenslab.write(tmp / "view.exr", colour, alpha=coverage)
+    >>> lenslab.read(path)[0].shape
+    (4, 4, 4)
+    """
     target = Path(path)
     fmt = get(format_for_path(target, format))
     named = "channels" in options and "channels" in fmt.write_options
@@ -147,6 +254,8 @@ def write(path: str | os.PathLike, array, format: str | None = None, *, overwrit
     image = np.asarray(array, np.float32) if named else _as_image(array)
     if image.ndim == 2:
         image = image[..., None]
+    if alpha is not None:
+        image = with_alpha(image, alpha)
     if not named:
         image = fit_channels(image, fmt)
     if fmt.name == "ppm" and image.shape[2] == 1 and target.suffix.lower() != ".ppm":

@@ -17,6 +17,7 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import LensError
 from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
@@ -214,8 +215,23 @@ class Lens:
         ok &= y <= self.height
         return ok
 
-    def pixel_to_dir(self, xy) -> tuple[np.ndarray, np.ndarray]:
-        """Unit directions (float64, ``(..., 3)``) and validity for continuous pixel coordinates."""
+    def pixel_to_dir(self, xy: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """Unit ray directions for continuous pixel coordinates.
+
+        Parameters
+        ----------
+        xy : array_like
+            ``(..., 2)`` pixel coordinates: x right, y down, origin at the image's top-left corner,
+            pixel centres at ``+0.5``.
+
+        Returns
+        -------
+        dirs : numpy.ndarray
+            float64 ``(..., 3)`` unit directions in camera space (``+x`` right, ``+y`` up, ``+z``
+            forward); 0 where invalid, never NaN or inf.
+        valid : numpy.ndarray
+            bool ``(...)``: whether the lens has a ray there (e.g. inside a fisheye's circle).
+        """
         xy = as_points(xy, 2, "pixel coordinates")
         with np.errstate(all="ignore"):
             d, valid = self.uv_to_dir(self.pixel_to_uv(xy))
@@ -223,11 +239,21 @@ class Lens:
             valid = np.logical_and(valid, np.isfinite(np.einsum("...i,...i->...", xy, xy)))
         return clean(d, valid, inplace=True)
 
-    def dir_to_pixel(self, dirs) -> tuple[np.ndarray, np.ndarray]:
-        """Continuous pixel coordinates (float64, ``(..., 2)``) and validity for directions.
+    def dir_to_pixel(self, dirs: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """Continuous pixel coordinates where the lens sees directions.
 
-        Directions need not be unit length. ``valid`` is False where the model cannot see the
-        direction or where it falls outside the image.
+        Parameters
+        ----------
+        dirs : array_like
+            ``(..., 3)`` directions in camera space; they need not be unit length.
+
+        Returns
+        -------
+        xy : numpy.ndarray
+            float64 ``(..., 2)`` pixel coordinates; 0 where invalid, never NaN or inf.
+        valid : numpy.ndarray
+            bool ``(...)``: False where the model cannot see the direction or where it falls outside
+            the image.
         """
         d = as_points(dirs, 3, "directions")
         with np.errstate(all="ignore"):

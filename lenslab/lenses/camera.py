@@ -7,9 +7,10 @@ rays come from :meth:`Camera.rays`, and the warp's output directions from :meth:
 from __future__ import annotations
 
 import tomllib
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import LensError
 from lenslab.lenses.base import FLOAT, Lens, as_points, normalize
@@ -49,17 +50,58 @@ def sample_offsets(samples: int, shape: tuple[int, ...], rng: np.random.Generato
 
 
 class Camera:
-    """A lens (with its image size), a pose and an eye point."""
+    """A lens (with its image size), a pose and an eye point: what a warp reads from and renders into.
 
-    def __init__(self, lens: Lens, pose: Pose | None = None):
+    Parameters
+    ----------
+    lens : lenslab.lenses.Lens
+        The lens model with its image size (:func:`lenslab.make_lens`).
+    pose : lenslab.lenses.Pose, optional
+        Rotation camera -> world and the eye point; default: the identity at the origin (looking along
+        world ``+z``, ``+y`` up).
+
+    Examples
+    --------
+    >>> import lenslab
+    >>> cam = lenslab.Camera.from_spec("perspective:fov=90", (640, 480), yaw=90)
+    >>> cam.size
+    (640, 480)
+    >>> origins, dirs, valid = cam.pixel_to_world([[320.0, 240.0]])   # the image centre
+    >>> dirs.round(6).tolist()    # yaw 90 turns forward (+z) to the right (+x)
+    [[1.0, 0.0, 0.0]]
+    """
+
+    def __init__(self, lens: Lens, pose: Pose | None = None) -> None:
         if not isinstance(lens, Lens):
             raise LensError(f"a camera needs a Lens, got {type(lens).__name__}")
         self.lens = lens
         self.pose = pose or Pose()
 
     @classmethod
-    def from_spec(cls, spec: str, size: tuple[int, int], yaw=0.0, pitch=0.0, roll=0.0, eye=(0.0, 0.0, 0.0),
-                  look_at=None, up=(0.0, 1.0, 0.0)) -> "Camera":
+    def from_spec(cls, spec: str, size: tuple[int, int], yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0,
+                  eye: Sequence[float] = (0.0, 0.0, 0.0), look_at: Sequence[float] | None = None,
+                  up: Sequence[float] = (0.0, 1.0, 0.0)) -> "Camera":
+        """A camera from a lens spec (or camera file), an image size and a pose.
+
+        Parameters
+        ----------
+        spec : str
+            A lens spec or camera file, as :func:`lenslab.make_lens` takes.
+        size : tuple of int
+            ``(width, height)`` in pixels.
+        yaw, pitch, roll : float
+            Degrees: yaw turns right, pitch up, roll counter-clockwise, applied roll, then pitch, then
+            yaw (the conventions page gives the matrices).
+        eye : sequence of float
+            The eye point in world coordinates.
+        look_at, up : sequence of float, optional
+            Instead of yaw, pitch and roll: the camera looks from ``eye`` at ``look_at``, ``+y`` leaning
+            toward ``up``.
+
+        Returns
+        -------
+        Camera
+        """
         lens = make_lens(spec, size)
         pose = Pose.look_at(eye, look_at, up) if look_at is not None else Pose.from_ypr(yaw, pitch, roll, eye)
         return cls(lens, pose)
@@ -76,7 +118,7 @@ class Camera:
     def size(self) -> tuple[int, int]:
         return self.lens.width, self.lens.height
 
-    def pixel_to_world(self, xy) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def pixel_to_world(self, xy: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """World ray origins, unit world directions (float64) and validity for pixel coordinates."""
         d, valid = self.lens.pixel_to_dir(xy)
         dw = rotate_rows(d, self.pose.rotation)
@@ -88,7 +130,7 @@ class Camera:
             origins[...] = self.pose.eye
         return origins, dw, valid
 
-    def world_to_pixel(self, dirs) -> tuple[np.ndarray, np.ndarray]:
+    def world_to_pixel(self, dirs: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Pixel coordinates and validity of world directions seen from the eye."""
         d = rotate_rows(as_points(dirs, 3, "directions"), self.pose.rotation.T)  # world -> camera (R^T d)
         return self.lens.dir_to_pixel(d)
@@ -115,7 +157,8 @@ class Camera:
         grid[..., 1] = ys[:, None, None] + off[..., 1]
         return grid
 
-    def rays(self, samples: int = 1, seed: int | None = 0, rows: slice | None = None):
+    def rays(self, samples: int = 1, seed: int | None = 0,
+             rows: slice | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Primary rays for stratified sub-pixel samples.
 
         Returns ``(origins, directions, valid)`` with shapes ``(h, W, samples, 3)``, ``(h, W, samples, 3)``

@@ -7,9 +7,12 @@ list the valid ones.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from lenslab.errors import LensError
+
+if TYPE_CHECKING:
+    from lenslab.lenses.base import Lens
 
 REGISTRY: dict[str, type] = {}
 
@@ -71,11 +74,41 @@ def lens_class(name: str) -> type:
         raise LensError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}") from None
 
 
-def make_lens(spec: str | dict, size: tuple[int, int] | None = None, **overrides: Any):
-    """Build a lens from a spec string (or a dict from :meth:`Lens.to_dict`) and an image size.
+def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, **overrides: Any) -> "Lens":
+    """Build a lens from a spec and an image size.
 
-    ``size`` is ``(width, height)``; a dict may carry its own ``size``. A spec naming a camera file
-    (``cal.yaml``, ``cameras.txt#2``...) reads its lens, scaled to ``size`` when that differs.
+    Parameters
+    ----------
+    spec : str or dict
+        ``model:key=value,...`` (``lenslab lenses`` lists every model and parameter), a dict from
+        ``Lens.to_dict()``, or a camera file (``cal.yaml``, ``cameras.txt#2``...) whose lens is read,
+        scaled to ``size`` when that differs from its calibration size.
+    size : tuple of int, optional
+        ``(width, height)`` in pixels; a dict may carry its own ``size``, a camera file its own.
+    **overrides
+        Parameters that replace the spec's.
+
+    Returns
+    -------
+    lenslab.lenses.Lens
+        The lens: ``pixel_to_dir`` and ``dir_to_pixel`` map continuous pixel coordinates to unit
+        ray directions and back.
+
+    Raises
+    ------
+    lenslab.errors.LensError
+        An unknown model or parameter (the message lists the valid ones), a value out of range, or no
+        size.
+
+    Examples
+    --------
+    >>> from lenslab import make_lens
+    >>> lens = make_lens("fisheye:fov=180,mapping=equisolid", (512, 512))
+    >>> lens.spec()
+    'fisheye:fov=180,mapping=equisolid'
+    >>> dirs, valid = lens.pixel_to_dir([[256.0, 256.0], [512.0, 256.0]])  # the centre; the rim
+    >>> dirs.round(6).tolist(), valid.tolist()
+    ([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], [True, True])
     """
     _load_models()
     from lenslab.lens_sources import reader_for

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.tone.kernels import rational_kernel
 from lenslab.tone.mapping import values
@@ -33,7 +34,7 @@ def _build_aces(p, scale):
 
 
 @register("aces", "scalar", build=_build_aces)
-def aces(x) -> np.ndarray:
+def aces(x: ArrayLike) -> np.ndarray:
     """ACES filmic fit (Narkowicz): y = clamp(x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), 0, 1).
 
     Krzysztof Narkowicz, "ACES Filmic Tone Mapping Curve", 2016: a fit of the ACES RRT+ODT luminance

@@ -13,6 +13,7 @@ fit alone.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.tone.kernels import BIG, F32, FMAX, TINY, clip
 from lenslab.tone.mapping import triples
@@ -80,7 +81,7 @@ def _build_aces_hill_grey(p, scale):
 
 
 @register("aces-hill", "rgb", build=_build_aces_hill, build_grey=_build_aces_hill_grey)
-def aces_hill(rgb) -> np.ndarray:
+def aces_hill(rgb: ArrayLike) -> np.ndarray:
     """ACES RRT+ODT fit by Stephen Hill: y = clamp(M_out fit(M_in rgb), 0, 1),
     fit(v) = (v (v + 0.0245786) - 0.000090537) / (v (0.983729 v + 0.4329510) + 0.238081).
 

@@ -12,6 +12,7 @@ default look. The matrices are the identity on grey to 4 digits.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.tone.kernels import F32, clip, power_offset
 from lenslab.tone.mapping import triples
@@ -102,7 +103,7 @@ def _build_agx_grey(p, scale):
 
 
 @register("agx", "rgb", build=_build_agx, build_grey=_build_agx_grey)
-def agx(rgb) -> np.ndarray:
+def agx(rgb: ArrayLike) -> np.ndarray:
     """AgX: inset matrix, log2 encoding over [-12.47393, 4.026069] EV, the 6th-order sigmoid fit
     15.5t^6 - 40.14t^5 + 31.96t^4 - 6.868t^3 + 0.4298t^2 + 0.1191t - 0.00232, outset matrix, then
     display-linear by the 2.2 power.

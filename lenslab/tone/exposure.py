@@ -12,6 +12,7 @@ import functools
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import ToneError
 
@@ -49,7 +50,7 @@ def _weights_by_name(name: str) -> tuple[float, float, float]:
     return tuple(float(v) for v in colour.RGB_COLOURSPACES[name].matrix_RGB_to_XYZ[1])
 
 
-def luminance_weights(primaries="sRGB") -> np.ndarray:
+def luminance_weights(primaries: str = "sRGB") -> np.ndarray:
     """Luminance weights (Y row of RGB -> XYZ) from colour-science, float32 (3,).
 
     ``primaries``: a colour-science colourspace name (``"sRGB"``: Rec.709, 0.2126 0.7152 0.0722),
@@ -116,7 +117,7 @@ def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None) 
     return float(2.0 ** np.mean(logs))
 
 
-def auto_exposure(image, key: float = MIDDLE_GREY, trim: float = 1.0, primaries="sRGB") -> float:
+def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0, primaries: str = "sRGB") -> float:
     """Exposure in stops that brings the image's log-average luminance to ``key`` (middle grey).
 
     The average is taken over positive pixels (black borders, e.g. outside a fisheye circle, are

@@ -16,6 +16,7 @@ renderers that write ``pow(c, 1/2.2)`` do.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab import srgb
 from lenslab.params import Param
@@ -112,13 +113,13 @@ def _build_gamma(p, scale):
 
 
 @register("clamp", "scalar", build=_build_clamp)
-def clamp(x) -> np.ndarray:
+def clamp(x: ArrayLike) -> np.ndarray:
     """Clip to white: y = min(x, 1). What a plain conversion to 8 bits does: every value above 1 is lost."""
     return values("clamp", x, {})
 
 
 @register("gamma", "scalar", (Param("gamma", 2.2, "display gamma", 0.1, 10.0),), build=_build_gamma)
-def gamma(x, gamma: float = 2.2) -> np.ndarray:
+def gamma(x: ArrayLike, gamma: float = 2.2) -> np.ndarray:
     """Plain display gamma: code value v = min(x, 1)^(1/gamma) instead of the sRGB curve.
 
     Returned display-linear as y = sRGB_EOTF(v) (IEC 61966-2-1 as colour-science defines it,

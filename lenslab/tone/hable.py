@@ -14,6 +14,7 @@ A=0.22 B=0.30 E=0.01 (``preset="gdc"``).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import ToneError
 from lenslab.params import Param
@@ -74,7 +75,7 @@ _HABLE_P = (
 
 
 @register("hable", "scalar", _HABLE_P, build=_build_hable, check=_hable_check)
-def hable(x, **params) -> np.ndarray:
+def hable(x: ArrayLike, **params: float) -> np.ndarray:
     """Hable / Uncharted 2 filmic: y = min(f(bias x) / f(W), 1), f(x) = (x(Ax+CB)+DE) / (x(Ax+B)+DF) - E/F.
 
     Defaults: bias 2.0, W = 11.2, A=0.15 B=0.50 C=0.10 D=0.20 E=0.02 F=0.30 (John

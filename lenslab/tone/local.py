@@ -18,6 +18,7 @@ OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import ToneError
 from lenslab.params import Param
@@ -101,7 +102,7 @@ _MANTIUK_P = (Param("scale", 0.7, "contrast scale factor (lower: stronger compre
 
 
 @register("drago", "local", _DRAGO_P, build=lambda image, p, w: _apply("drago", image, p, w))
-def drago(rgb, saturation: float = 1.0, bias: float = 0.85, headroom: float = 12.0) -> np.ndarray:
+def drago(rgb: ArrayLike, saturation: float = 1.0, bias: float = 0.85, headroom: float = 12.0) -> np.ndarray:
     """Drago adaptive logarithmic mapping (OpenCV ``createTonemapDrago``):
     Ld = log(L + 1) / log(2 + 8 (L / Lmax)^(log(bias) / log(0.5))), L relative to the log-average.
 
@@ -112,7 +113,7 @@ def drago(rgb, saturation: float = 1.0, bias: float = 0.85, headroom: float = 12
 
 
 @register("mantiuk", "local", _MANTIUK_P, build=lambda image, p, w: _apply("mantiuk", image, p, w))
-def mantiuk(rgb, scale: float = 0.7, saturation: float = 1.0, headroom: float = 12.0) -> np.ndarray:
+def mantiuk(rgb: ArrayLike, scale: float = 0.7, saturation: float = 1.0, headroom: float = 12.0) -> np.ndarray:
     """Mantiuk contrast-domain mapping (OpenCV ``createTonemapMantiuk``): contrasts of the log
     luminance pyramid are scaled (``scale``) and the image is rebuilt by conjugate gradients.
 

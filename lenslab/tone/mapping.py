@@ -18,6 +18,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import ToneError
 from lenslab.tone.exposure import (
@@ -66,17 +67,58 @@ def as_float32(image) -> np.ndarray:
     return np.ascontiguousarray(x)
 
 
-def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
-            *, primaries="sRGB", threads: int | None = None, **params) -> np.ndarray:
+def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
+            *, primaries: str = "sRGB", threads: int | None = None, **params: float) -> np.ndarray:
     """Tone-map scene-linear ``image`` to display-linear float32 in [0, 1] (same shape).
 
-    ``image``: H x W x C (C = 1, 3; 2 or 4 with alpha last, colour premultiplied as in OpenEXR:
-    the curve acts on the unpremultiplied colour and alpha passes through clipped to [0, 1]), or any
-    array of single-channel values. ``curve``: a name in :data:`CURVES`. ``exposure``: stops, or
-    ``"auto"``. ``mode``: ``"per-channel"`` or ``"luminance"``. ``primaries``: for the luminance
-    weights (see :func:`luminance_weights`). ``threads``: how many threads share a large image (None:
-    every core this process may use; the result does not depend on it). ``params``: the curve's
-    parameters. Bad values are repaired and reported with a :class:`ToneWarning`.
+    The order of work is fixed: bad values are repaired, then the exposure, then the curve (see the
+    module's description). ``lenslab.write`` sRGB-encodes the result for LDR files.
+
+    Parameters
+    ----------
+    image : array_like
+        ``H x W x C`` (``C`` = 1, 3; 2 or 4 with alpha last, colour premultiplied as in OpenEXR: the
+        curve acts on the unpremultiplied colour and alpha passes through clipped to [0, 1]), or any
+        array of single-channel values.
+    curve : str
+        A name in :data:`lenslab.tone.CURVES` (``lenslab curves`` draws them all).
+    exposure : float or "auto"
+        Stops, ``x * 2**exposure``; ``"auto"`` brings the log-average luminance to middle grey (0.18).
+    mode : str
+        ``"per-channel"``, or ``"luminance"`` (the curve on luminance, keeping the hue).
+    primaries : str
+        The RGB primaries, for the luminance weights (:func:`lenslab.tone.luminance_weights`).
+    threads : int, optional
+        Threads that share a large image (None: every core this process may use); the result does not
+        depend on it.
+    **params
+        The curve's own parameters (``lenslab curves`` and :data:`lenslab.tone.CURVES` list them).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``image``.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        An unknown curve, mode or parameter (the message lists the valid ones), or a parameter out of
+        range.
+
+    Warns
+    -----
+    ToneWarning
+        NaN, infinite or negative values were repaired (NaN and negatives to 0, +inf to white); the
+        warning carries their counts.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.tone import tonemap
+    >>> tonemap(np.array([0.0, 1.0, 4.0], np.float32), "reinhard").tolist()   # x / (1 + x)
+    [0.0, 0.5, 0.800000011920929]
+    >>> tonemap(np.array([0.25], np.float32), "clamp", exposure=1).tolist()    # 0.25 * 2**1
+    [0.5]
     """
     spec = get_curve(curve)
     resolved = spec.resolve(params)

@@ -11,6 +11,7 @@ scales the colour, then desaturates toward white by g = 1 - 1 / (0.15 (peak - ne
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.tone.kernels import BIG, F32, clip
 from lenslab.tone.mapping import triples
@@ -92,7 +93,7 @@ def _build_pbr_neutral_grey(p, scale):
 
 
 @register("pbr-neutral", "rgb", build=_build_pbr_neutral, build_grey=_build_pbr_neutral_grey)
-def pbr_neutral(rgb) -> np.ndarray:
+def pbr_neutral(rgb: ArrayLike) -> np.ndarray:
     """Khronos PBR Neutral: linear (after a toe offset) up to 0.76, then a shoulder on the peak
     channel, newPeak = 1 - 0.24^2 / (peak - 0.52), with desaturation 0.15 toward white.
 

@@ -12,7 +12,7 @@ image covering the same range, which depends on the image.
 from __future__ import annotations
 
 import math
-from typing import Iterable
+from typing import TYPE_CHECKING, Iterable
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from lenslab.tone.exposure import MIDDLE_GREY
 from lenslab.tone.mapping import tonemap
 from lenslab.tone.registry import CURVES, get_curve
 from lenslab.tone.reinhard import reinhard2002
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["plot_curves", "curve_samples"]
 
@@ -40,11 +43,36 @@ def curve_samples(name: str, stops=(-10.0, 8.0), exposure: float = 0.0, n: int =
     return x, y
 
 
-def plot_curves(names: Iterable[str] | str | None = None, stops=(-10.0, 8.0), exposure: float = 0.0):
-    """Every tone curve in ``names`` (default: all of :data:`lenslab.CURVES`; a comma-separated
-    string works too) against scene-linear input from ``2**stops[0]`` to ``2**stops[1]``, after
-    ``exposure`` stops. Returns a ``matplotlib.figure.Figure``; save it with ``fig.savefig(path)``.
-    Unknown names and an empty or reversed range raise :class:`lenslab.errors.ToneError`."""
+def plot_curves(names: Iterable[str] | str | None = None, stops: tuple[float, float] = (-10.0, 8.0),
+                exposure: float = 0.0) -> "Figure":
+    """Draw tone curves against scene-linear input, on one chart (what ``lenslab curves`` writes).
+
+    Parameters
+    ----------
+    names : iterable of str, or str, optional
+        Curves of :data:`lenslab.tone.CURVES` (a comma-separated string works too); default: all.
+    stops : tuple of float
+        The input range, from ``2**stops[0]`` to ``2**stops[1]``.
+    exposure : float
+        Stops applied before each curve.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Drawn on the non-interactive Agg canvas; save it with ``fig.savefig(path)``.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        An unknown curve name, or an empty or reversed range.
+
+    Examples
+    --------
+    >>> from lenslab.tone.plot import plot_curves
+    >>> fig = plot_curves("reinhard,hable", stops=(-4, 4))
+    >>> [line.get_label() for line in fig.axes[0].get_lines()][:2]
+    ['reinhard', 'hable']
+    """
     import matplotlib
     from matplotlib.figure import Figure
     from matplotlib.ticker import FuncFormatter

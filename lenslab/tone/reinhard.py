@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.params import Param
 from lenslab.tone.exposure import MIDDLE_GREY, log_average, luminance_sample
@@ -43,7 +44,7 @@ def _build_reinhard_ext(p, scale):
 
 
 @register("reinhard", "scalar", build=_build_reinhard)
-def reinhard(x) -> np.ndarray:
+def reinhard(x: ArrayLike) -> np.ndarray:
     """Reinhard: y = x / (1 + x). Reinhard et al., "Photographic Tone Reproduction for Digital
     Images", SIGGRAPH 2002, eq. 3. Never reaches 1."""
     return values("reinhard", x, {})
@@ -52,7 +53,7 @@ def reinhard(x) -> np.ndarray:
 @register("reinhard-extended", "scalar",
           (Param("white", 4.0, "input that maps to white (Lw)", 0.0, 1e6, lo_open=True),),
           build=_build_reinhard_ext)
-def reinhard_extended(x, white: float = 4.0) -> np.ndarray:
+def reinhard_extended(x: ArrayLike, white: float = 4.0) -> np.ndarray:
     """Reinhard with a white point: y = min(x (1 + x / Lw^2) / (1 + x), 1); y(Lw) = 1.
 
     Reinhard et al. 2002, eq. 4 (Lw = ``white``).
@@ -73,7 +74,7 @@ def _build_reinhard2002(p, scale):
            Param("delta", 1e-4, "delta in the log-average (keeps black pixels finite)", 0.0, 1.0,
                  lo_open=True)),
           build=_build_reinhard2002)
-def reinhard2002(x, key: float = MIDDLE_GREY, white: float = math.inf, delta: float = 1e-4,
+def reinhard2002(x: ArrayLike, key: float = MIDDLE_GREY, white: float = math.inf, delta: float = 1e-4,
                  log_avg: float | None = None) -> np.ndarray:
     """Reinhard et al. 2002 global operator: L = (a / Lavg) x, Lavg = exp(mean(log(delta + Lw))),
     then y = L (1 + L / Lwhite^2) / (1 + L) (y = L / (1 + L) with white = inf).

@@ -15,7 +15,7 @@ a source offset and two weights per pixel (:mod:`lenslab.warp.taps`).
 from __future__ import annotations
 
 import warnings
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -29,6 +29,9 @@ from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
 from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
@@ -326,35 +329,75 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
     return out, alpha
 
 
-def warp(image, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
+def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
          antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
          exact_map: bool = False, band_points: int = BAND_POINTS,
-         progress: Callable[[int], None] | None = None):
+         progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Reproject ``image`` seen by ``src_camera`` into the view of ``dst_camera``.
 
-    Returns ``(image, alpha)``: float32 arrays ``H x W x C`` (``H x W`` for a 2-D input) and ``H x W``
-    of the destination camera's size. Each output pixel takes ``samples`` stratified sub-pixel samples
-    (strata centres, or jittered per row with ``seed``); a sample is *valid* when its output ray exists
-    (e.g. inside a circular image's circle) and the source lens sees that direction inside its image.
+    Each output pixel takes ``samples`` stratified sub-pixel samples; a sample is *valid* when its
+    output ray exists (e.g. inside a circular image's circle) and the source lens sees that direction
+    inside its image. A source wraps at its seams, continues across its poles and reads across its
+    pieces' edges as its lens says (:mod:`lenslab.warp.seam`). Values are never clamped (HDR in, HDR
+    out), the work is float32 in, float32 out (weights and maps in float64) and NaN is never produced.
 
-    - ``alpha`` is the coverage: the fraction of the pixel's samples that are valid; exactly 0 where
-      none is.
-    - The colour is *premultiplied* by alpha (the OpenEXR convention): the sum of the valid samples
-      divided by the number of samples. Divide by alpha where alpha > 0 to get straight colour.
-    - Values are never clamped (HDR in, HDR out), the work is float32 in, float32 out (weights and
-      maps in float64) and NaN is never produced.
+    Parameters
+    ----------
+    image : array_like
+        ``H x W x C`` or ``H x W`` values of the source camera's size, any number of channels.
+    src_camera, dst_camera : lenslab.lenses.Camera
+        The camera that saw ``image`` and the one to see it through. Their eyes must be one point (a
+        panorama holds one eye).
+    filter : str
+        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:mod:`lenslab.warp.filters`).
+    samples : int
+        Sub-pixel samples per output pixel (strata centres, or jittered per row with ``seed``).
+    antialias : bool
+        Prefilter by each pixel's footprint on the source (:mod:`lenslab.warp.antialias`), for outputs
+        that shrink the source; combines with ``samples``.
+    seed : int, optional
+        Jitter the sub-pixel samples, deterministically per row.
+    allow_parallax : bool
+        Eyes that differ: warn (:class:`~lenslab.warp.maps.ParallaxWarning`) and take every ray from the
+        source's eye, instead of raising.
+    exact_map : bool
+        Evaluate the lens models at every sample instead of interpolating a checked lattice
+        (:mod:`lenslab.warp.maps`).
+    band_points : int
+        Samples mapped at a time (bounds the working memory).
+    progress : callable, optional
+        Called with the number of output rows done.
 
-    ``filter`` is ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (see :mod:`lenslab.warp.filters`).
-    ``antialias=True`` prefilters by each pixel's footprint on the source (see
-    :mod:`lenslab.warp.antialias`), for outputs that shrink the source; it combines with ``samples``.
-    A source wraps at its seams, continues across its poles and reads across its pieces' edges as its
-    lens says (:mod:`lenslab.warp.seam`).
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 ``h x w x C`` (``h x w`` for a 2-D input) of the destination camera's size, the colour
+        *premultiplied* by ``alpha`` (the OpenEXR convention): the sum of the valid samples divided by
+        the number of samples. Divide by alpha where alpha > 0 for straight colour.
+    alpha : numpy.ndarray
+        float32 ``h x w`` coverage: the fraction of each pixel's samples that are valid, exactly 0 where
+        none is. ``lenslab.write(path, image, alpha=alpha)`` stores both as RGBA.
 
-    The output camera's eye must be the source's (a panorama holds one eye point): otherwise a
-    :class:`~lenslab.errors.WarpError` explains the parallax, or with ``allow_parallax=True`` a
-    :class:`~lenslab.warp.maps.ParallaxWarning` is issued and every ray is taken from the source's eye.
-    ``exact_map=True`` evaluates the lens models at every sample instead of interpolating a checked
-    lattice (see :mod:`lenslab.warp.maps`). ``progress`` is called with the number of rows done.
+    Raises
+    ------
+    lenslab.errors.WarpError
+        An image of the wrong size or with NaN or infinite values, an unknown filter, or eyes that
+        differ without ``allow_parallax``.
+
+    Examples
+    --------
+    A uniform panorama of radiance 2 seen through a 180-degree fisheye: 2 inside the image circle,
+    transparent outside it.
+
+    >>> import numpy as np, lenslab
+    >>> pano = np.full((64, 128, 3), 2.0, np.float32)
+    >>> src = lenslab.Camera.from_spec("equirect", (128, 64))
+    >>> dst = lenslab.Camera.from_spec("fisheye:fov=180", (32, 32))
+    >>> image, alpha = lenslab.warp(pano, src, dst)
+    >>> image.shape, alpha.shape, image.dtype
+    ((32, 32, 3), (32, 32), dtype('float32'))
+    >>> float(image[16, 16, 0]), float(alpha[16, 16]), float(alpha[0, 0])
+    (2.0, 1.0, 0.0)
     """
     plan = WarpPlan(src_camera, dst_camera, filter=filter, samples=samples, antialias=antialias, seed=seed,
                     allow_parallax=allow_parallax, exact_map=exact_map, band_points=band_points)

@@ -8,9 +8,10 @@ pixel's footprint (the map's differences between neighbouring pixels, as for a l
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import WarpError
 from lenslab.warp import antialias as aa
@@ -18,27 +19,58 @@ from lenslab.warp.dispatch import run_bands
 from lenslab.warp.filters import FILTERS, sample
 from lenslab.warp.seam import Border, border_of
 
+if TYPE_CHECKING:
+    from lenslab.lenses import Camera, Lens
+
 BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 
 
-def warp_with_map(image, src_xy, valid=None, filter: str = "bilinear", antialias: bool = False, source=None,
-                  progress: Callable[[int], None] | None = None):
-    """Warp ``image`` (H x W or H x W x C) by an inverse map: ``(image, alpha)`` float32 of the map's size.
+def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None = None, filter: str = "bilinear",
+                  antialias: bool = False, source: Lens | Camera | None = None,
+                  progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
 
-    - ``src_xy``: ``(h, w, 2)`` source positions in lenslab's continuous pixel coordinates (x right,
-      y down, origin at the image's top-left corner, pixel centres at +0.5), one per output pixel
-      centre; any float dtype (computed in float64, stored as float32 index coordinates).
-    - ``valid``: ``(h, w)`` bool, where the map has a source position; default: where ``src_xy`` is
-      finite. Positions outside the source image read its edge (or beyond its seams, see ``source``).
-    - ``filter``: ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos``.
-    - ``antialias``: average the source over each pixel's footprint (from the map's differences
-      between neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
-    - ``source``: a :class:`~lenslab.lenses.base.Lens` or :class:`~lenslab.lenses.Camera` whose seams
-      and pieces say how taps beyond the source's edges continue (a panorama's wrap and poles, a cube
-      map's neighbouring faces); default: taps clamp to the edge pixel.
+    Parameters
+    ----------
+    image : array_like
+        ``H x W`` or ``H x W x C`` source values.
+    src_xy : array_like
+        ``(h, w, 2)`` source positions in lenslab's continuous pixel coordinates (x right, y down,
+        origin at the image's top-left corner, pixel centres at +0.5), one per output pixel centre;
+        any float dtype (computed in float64, stored as float32 index coordinates).
+    valid : array_like, optional
+        ``(h, w)`` bool, where the map has a source position; default: where ``src_xy`` is finite.
+        Positions outside the source image read its edge (or beyond its seams, see ``source``).
+    filter : str
+        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos``.
+    antialias : bool
+        Average the source over each pixel's footprint (from the map's differences between
+        neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
+    source : lenslab.lenses.Lens or lenslab.lenses.Camera, optional
+        The source's lens, whose seams and pieces say how taps beyond its edges continue (a panorama's
+        wrap and poles, a cube map's neighbouring faces); default: taps clamp to the edge pixel.
+    progress : callable, optional
+        Called with the number of output rows done.
 
-    Alpha is 1 where valid and 0 elsewhere; colour is 0 where invalid. NaN is never produced from a
-    finite source.
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 ``h x w x C`` (``h x w`` for a 2-D input), 0 where invalid; never NaN from a finite
+        source.
+    alpha : numpy.ndarray
+        float32 ``h x w``: 1 where valid, 0 elsewhere.
+
+    Examples
+    --------
+    A map that reads each output pixel one pixel to the right of where it sits:
+
+    >>> import numpy as np
+    >>> from lenslab.warp import warp_with_map
+    >>> src = np.arange(12, dtype=np.float32).reshape(3, 4)
+    >>> y, x = np.mgrid[0:3, 0:3] + 0.5
+    >>> out, alpha = warp_with_map(src, np.stack([x + 1, y], axis=-1))
+    >>> out.tolist()
+    [[1.0, 2.0, 3.0], [5.0, 6.0, 7.0], [9.0, 10.0, 11.0]]
     """
     if filter not in FILTERS:
         raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
