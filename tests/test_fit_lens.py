@@ -22,7 +22,7 @@ SELF_FITS = [
     ("fisheye:fov=180,mapping=equisolid", "fisheye:fov=200,mapping=equisolid", "fov"),
     ("fisheye:fov=150,mapping=stereographic", "fisheye:fov=130,mapping=stereographic", "fov"),
     ("fisheye:fov=120,mapping=orthographic", "fisheye:fov=100,mapping=orthographic", "fov"),
-    ("seedfisheye:fov=100", "seedfisheye:fov=80", "fov"),
+    ("tan-fisheye:fov=100", "tan-fisheye:fov=80", "fov"),
     ("swirl:amount=2,fov=80", "swirl:amount=1.5,fov=70", "amount,fov"),
     ("swirl:amount=3,base=fisheye,fov=190,mapping=equisolid",
      "swirl:amount=2.5,base=fisheye,fov=170,mapping=equisolid", "amount,fov"),

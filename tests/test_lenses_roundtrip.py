@@ -28,7 +28,7 @@ CASES = [
     ("fisheye:fov=360,mapping=equisolid", (W, W)),
     ("fisheye:fov=270,mapping=stereographic", (W, W)),
     ("fisheye:fov=180,mapping=orthographic", (W, 6000)),
-    ("seedfisheye:fov=120", (W, W)),
+    ("tan-fisheye:fov=120", (W, W)),
     ("seedfisheye:fov=170", (W, W)),
     ("cubemap:layout=3x2", (W, 5462)),
     ("cubemap:layout=6x1,order=fbrlud", (W, 1366)),

@@ -82,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
 
     lens = load(args.camera, args.size)
     if args.action == "show":
-        from lenslab.lenses.base import format_number
+        from lenslab.lenses.core.base import format_number
 
         print(f"{args.camera}: {lens.name}, {lens.width}x{lens.height}")
         for k, v in lens.param_values().items():

@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _default_text(value) -> str:
-    from lenslab.lenses.base import format_number
+    from lenslab.lenses.core.base import format_number
 
     if isinstance(value, float):
         return format_number(value)
@@ -47,7 +47,7 @@ def _describe(cls) -> dict:
         for p in cls.params
     ]
     out = {"name": cls.name, "summary": doc.splitlines()[0] if doc else cls.summary, "params": params}
-    from lenslab.lenses.wrapped import Wrapped
+    from lenslab.lenses.core.wrapped import Wrapped
 
     if issubclass(cls, Wrapped):
         out["note"] = "takes the parameters of its base model too (e.g. fov for perspective)"
@@ -56,7 +56,7 @@ def _describe(cls) -> dict:
 
 def run_lensfun(args: argparse.Namespace) -> int:
     from lenslab.errors import LensError
-    from lenslab.lenses import lensfun_db
+    from lenslab.lenses.lensfun import database as lensfun_db
 
     import contextlib
 

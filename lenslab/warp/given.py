@@ -33,7 +33,7 @@ def warp_with_map(image, src_xy, valid=None, filter: str = "bilinear", antialias
     - ``filter``: ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos``.
     - ``antialias``: average the source over each pixel's footprint (from the map's differences
       between neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
-    - ``source``: a :class:`~lenslab.lenses.base.Lens` or :class:`~lenslab.lenses.Camera` whose seams
+    - ``source``: a :class:`~lenslab.lenses.core.base.Lens` or :class:`~lenslab.lenses.Camera` whose seams
       and pieces say how taps beyond the source's edges continue (a panorama's wrap and poles, a cube
       map's neighbouring faces); default: taps clamp to the edge pixel.
 
