@@ -11,7 +11,7 @@ An unknown name raises the registry's error type with every valid name, as colou
 
 >>> from lenslab.registry import Registry
 >>> colours = Registry("colour", KeyError)
->>> colours.add("red", 0xFF0000, aliases=("scarlet",))
+>>> _ = colours.add("red", 0xFF0000, aliases=("scarlet",))
 >>> colours["Scarlet"] == colours["red"]
 True
 >>> colours.canonical("scarlet")

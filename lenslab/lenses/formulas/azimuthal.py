@@ -18,9 +18,9 @@ compiled twins are in :mod:`lenslab.lenses.formulas.azimuthal_kernels`.
 
 >>> import numpy as np
 >>> d, ok = plane_to_dir(EQUISOLID, np.array([np.sqrt(2.0)]), np.array([0.0]))
->>> np.round(d, 12).tolist(), ok.tolist()   # s = sqrt(2) is 90 degrees from the axis
+>>> (np.round(d, 12) + 0.0).tolist(), ok.tolist()   # s = sqrt(2) is 90 degrees from the axis
 ([[1.0, 0.0, 0.0]], [True])
->>> float(radius_of_angle(STEREOGRAPHIC, np.pi / 2))
+>>> round(float(radius_of_angle(STEREOGRAPHIC, np.pi / 2)), 12)
 2.0
 """
 

@@ -19,7 +19,7 @@ Professional Paper 1395 (1987), sections 7 (Mercator) and 10 (cylindrical equal-
 >>> lens = make_lens("mercator", (512, 512))   # square: latitudes up to atan(sinh(pi)) = 85.05 degrees
 >>> xy, ok = lens.dir_to_pixel([[0.0, np.sin(np.radians(45)), np.cos(np.radians(45))]])
 >>> round(float(xy[0, 1]), 6)   # y = H/2 (1 - atanh(sin 45 deg) / pi)
-184.259549
+184.179219
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ the Earth* (1993), p. 130 (Hammer's 1892 projection, after Aitoff).
 >>> lens = make_lens("hammer", (400, 200))
 >>> xy, ok = lens.dir_to_pixel([[1.0, 0.0, 0.0]])   # longitude 90 on the equator
 >>> round(float(xy[0, 0]), 9)   # x = W/2 (1 + sqrt(2) sin(pi/4) / sqrt(1 + cos(pi/4)) / sqrt(2))
-317.157287525
+308.239220029
 """
 
 from __future__ import annotations
