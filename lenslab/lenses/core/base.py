@@ -21,7 +21,7 @@ import numpy as np
 from lenslab.errors import LensError
 from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
 from lenslab.lenses.core.protocol import (  # noqa: F401  (the records the hooks return)
-    Across, Piece, PixelKernel, Seams, finite_difference_jacobian)
+    Across, Piece, PixelKernel, Seams)
 
 FLOAT = np.float64
 
@@ -105,11 +105,6 @@ class Lens:
         what lies across its edges for cube-like layouts. Default: one piece, the whole image."""
         return (Piece(0.0, 0.0, float(self.width), float(self.height)),)
 
-    def valid_pixels(self, xy) -> np.ndarray:
-        """Which continuous pixel positions (``(..., 2)``) carry a ray. Default: where
-        :meth:`pixel_to_dir` is valid."""
-        return self.pixel_to_dir(xy)[1]
-
     def pixel_kernel(self) -> PixelKernel | None:
         """A compiled ``dir -> pixel`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`), or None
         (the default): the engine then calls the vectorised :meth:`dir_to_pixel`."""
@@ -126,12 +121,6 @@ class Lens:
         direction twice (overlapping lenses) blends them. Default: :meth:`dir_to_pixel`, weight 1."""
         xy, ok = self.dir_to_pixel(dirs)
         return [(xy, ok, ok.astype(np.float64))]
-
-    def dir_to_pixel_jacobian(self, dirs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(xy, jac, valid)``: pixel positions, their derivative ``(..., 2, 3)`` with respect to the
-        unit direction (in its tangent plane) and validity, for footprints. Default: central finite
-        differences of :meth:`dir_to_pixel`."""
-        return finite_difference_jacobian(self, as_points(dirs, 3, "directions"))
 
     def column_scale(self, y) -> np.ndarray | float:
         """Length on the sphere of one pixel step in x relative to one step in y, at rows ``y``: how

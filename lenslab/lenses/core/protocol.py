@@ -8,10 +8,8 @@ knows better. The engine asks these hooks and never reads a model's name:
   (a full-turn panorama wraps in x; a row beyond a pole continues on the opposite meridian);
 - :meth:`~lenslab.lenses.core.base.Lens.pieces` -> tuple of :class:`Piece`: the rectangles of a piecewise
   image (cube faces, tiles, dual-fisheye halves) and, for cube-like layouts, what lies across each edge;
-- :meth:`~lenslab.lenses.core.base.Lens.valid_pixels`: which pixel positions carry a ray;
 - :meth:`~lenslab.lenses.core.base.Lens.pixel_kernel` -> :class:`PixelKernel` or None: a compiled
   ``dir -> pixel``;
-- :meth:`~lenslab.lenses.core.base.Lens.dir_to_pixel_jacobian`: d pixel / d direction, for footprints;
 - :meth:`~lenslab.lenses.core.base.Lens.column_scale`: the length on the sphere of one column, per row;
 - :meth:`~lenslab.lenses.core.base.Lens.channel_lenses` and :meth:`~lenslab.lenses.core.base.Lens.falloff`:
   chromatic aberration (one lens per R, G, B) and vignetting.
@@ -103,27 +101,6 @@ class PixelKernel:
 
     fn: Callable
     params: np.ndarray
-
-
-def finite_difference_jacobian(lens, dirs: np.ndarray, eps: float = 1e-6):
-    """Central differences of ``lens.dir_to_pixel`` at unit directions ``dirs`` (float64 ``(..., 3)``):
-    ``(xy (..., 2), jac (..., 2, 3), valid (...))``, the derivative in two tangent directions turned
-    back into a 3 x 2 -> 2 x 3 matrix acting on direction changes (zero where any point is invalid)."""
-    d = np.asarray(dirs, dtype=np.float64)
-    xy, valid = lens.dir_to_pixel(d)
-    # an orthonormal tangent basis (t1, t2) per direction
-    helper = np.where(np.abs(d[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
-    t1 = np.cross(d, helper)
-    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), 1e-300)
-    t2 = np.cross(d, t1)
-    jac = np.zeros(d.shape[:-1] + (2, 3), dtype=np.float64)
-    for t in (t1, t2):
-        hi, vh = lens.dir_to_pixel(d + eps * t)
-        lo, vl = lens.dir_to_pixel(d - eps * t)
-        valid = valid & vh & vl
-        jac += ((hi - lo) / (2.0 * eps))[..., :, None] * t[..., None, :]
-    np.copyto(jac, 0.0, where=~valid[..., None, None])
-    return xy, jac, valid
 
 
 #: a source's falloff is never divided by less than this (a vignetted corner near 0 would blow up noise)

@@ -176,21 +176,15 @@ class Optics(Lens):
     def eye_offsets(self):
         return self.base_lens.eye_offsets
 
-    # the rest of the protocol is the base's too: its seams, pieces, validity, compiled map, footprints
+    # the rest of the protocol is the base's too: its seams, pieces, compiled map, column scale
     def seams(self):
         return self.base_lens.seams()
 
     def pieces(self):
         return self.base_lens.pieces()
 
-    def valid_pixels(self, xy):
-        return self.base_lens.valid_pixels(xy)
-
     def pixel_kernel(self):
         return self.base_lens.pixel_kernel()
-
-    def dir_to_pixel_jacobian(self, dirs):
-        return self.base_lens.dir_to_pixel_jacobian(dirs)
 
     def column_scale(self, y):
         return self.base_lens.column_scale(y)
