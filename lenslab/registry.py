@@ -74,6 +74,15 @@ class Registry(Mapping, Generic[T]):
         self._entries: dict[str, Entry[T]] = {}
         self._aliases: dict[str, str] = {}
 
+    @classmethod
+    def from_mapping(cls, kind: str, mapping: Mapping, error: type[Exception] = KeyError,
+                     summary: Callable[[Any], str] | None = None) -> "Registry":
+        """A registry of the items of ``mapping`` (in its order), each summary from ``summary(value)``."""
+        table = cls(kind, error)
+        for name, value in mapping.items():
+            table.add(name, value, summary=summary(value) if summary else "")
+        return table
+
     # -- filling ------------------------------------------------------------------------------
     def add(self, name: str, value: T, *, aliases=(), summary: str = "", capabilities: dict | None = None,
             references=(), examples=()) -> T:

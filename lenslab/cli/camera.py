@@ -18,7 +18,9 @@ from __future__ import annotations
 import argparse
 import math
 
-FORMAT_CHOICES = ("opencv", "kalibr", "colmap", "ocam", "toml")
+from lenslab.calibfiles import FORMATS as CALIBRATION_FORMATS  # light: the plugins load on use
+
+FORMAT_CHOICES = tuple(CALIBRATION_FORMATS)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
