@@ -97,6 +97,13 @@ class Registry(Mapping, Generic[T]):
             self._aliases[self._key(alias)] = key
         return value
 
+    def discard(self, name: str) -> None:
+        """Remove a member and its aliases (a plugin unloaded at run time); unknown names are ignored."""
+        key = self._aliases.get(self._key(name), self._key(name))
+        entry = self._entries.pop(key, None)
+        for alias in entry.aliases if entry else ():
+            self._aliases.pop(alias, None)
+
     def ensure_loaded(self) -> None:
         """Run the loader once (a lookup during loading sees what is registered so far)."""
         if self._loading:
