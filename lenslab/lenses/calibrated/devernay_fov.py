@@ -22,6 +22,10 @@ class DevernayFOV(Calibrated):
     """
 
     name = "devernay-fov"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('devernay-fov:fx=400,fy=400,cx=511.5,cy=383.5,omega=0.9,width=1024,height=768', (8192, 6144)),
+    )
     summary = "FOV model of Devernay and Faugeras (COLMAP FOV): fx, fy, cx, cy, omega"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

@@ -34,6 +34,10 @@ class DoubleSphere(Calibrated):
     """
 
     name = "double-sphere"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024', (8192, 8192)),
+    )
     summary = "double sphere model (Usenko et al. 2018; Basalt, Kalibr ds): fx, fy, cx, cy, xi, alpha"
     params = (
         intrinsics_params(250.0, 250.0, 499.5, 499.5)

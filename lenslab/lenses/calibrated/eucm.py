@@ -27,6 +27,10 @@ class EUCM(Calibrated):
     """
 
     name = "eucm"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024', (8192, 8192)),
+    )
     summary = "enhanced unified camera model (Khomutenko et al. 2016; Basalt, Kalibr eucm): alpha, beta"
     params = (
         intrinsics_params(250.0, 250.0, 499.5, 499.5)

@@ -34,6 +34,10 @@ class KannalaBrandt(Calibrated):
     """
 
     name = "kannala-brandt"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('kannala-brandt:fx=350,fy=350,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,width=1024,height=1024', (8192, 8192)),
+    )
     summary = "Kannala-Brandt fisheye (cv2.fisheye, Kalibr equidistant): fx, fy, cx, cy, k1..k4"
     params = (
         intrinsics_params(318.3098861837907, 318.3098861837907, 499.5, 499.5)
@@ -61,4 +65,8 @@ class OpenCVFisheye(KannalaBrandt):
     """``opencv-fisheye``: another name for ``kannala-brandt`` (OpenCV's ``cv2.fisheye`` model)."""
 
     name = "opencv-fisheye"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('opencv-fisheye:fx=300,fy=300,cx=511.5,cy=383.5,k1=0.02,width=1024,height=768', (8192, 6144)),
+    )
     summary = "alias of kannala-brandt (OpenCV's cv2.fisheye model)"

@@ -49,6 +49,10 @@ class OCam(Calibrated):
     """
 
     name = "ocam"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024', (8192, 8192)),
+    )
     summary = "Scaramuzza's omnidirectional model (OCamCalib calib_results.txt): pol, invpol, xc, yc, c, d, e"
     params = (
         Param("pol", "-250 0 0.002", "cam2world polynomial a0 a1 a2 ... (spaces or ';' between)"),

@@ -29,6 +29,10 @@ class Omnidir(Calibrated):
     """
 
     name = "omnidir"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('omnidir:fx=1000,fy=1000,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,width=1024,height=1024', (8192, 8192)),
+    )
     summary = "Mei's unified omnidirectional model (cv2.omnidir, Kalibr omni): xi, k1, k2, p1, p2, skew s"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

@@ -14,7 +14,7 @@ No NaN or inf ever leaves a model: where ``valid`` is False the returned values 
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -60,6 +60,18 @@ def clean(values: np.ndarray, valid: np.ndarray, inplace: bool = False) -> tuple
     return values, valid
 
 
+class ReferencePoint(NamedTuple):
+    """One pixel and its ray, from a source outside lenslab: ``spec`` at ``size`` (width, height) sees
+    ``direction`` (unit, camera space) at continuous pixel ``pixel``; ``source`` says where the numbers
+    come from (the paper's equation, ``cv2.projectPoints``, lensfunpy, ...)."""
+
+    spec: str
+    size: tuple[int, int]
+    pixel: tuple[float, float]
+    direction: tuple[float, float, float]
+    source: str
+
+
 class Lens:
     """A lens model bound to an image size ``width x height``.
 
@@ -70,6 +82,16 @@ class Lens:
     name: ClassVar[str] = ""
     summary: ClassVar[str] = ""
     params: ClassVar[tuple[Param, ...]] = ()
+    #: other names the spec parser accepts (a former name, a common one)
+    aliases: ClassVar[tuple[str, ...]] = ()
+    #: where the model's formula comes from (a paper, a library), shown in the docs
+    references: ClassVar[tuple[str, ...]] = ()
+    #: ``(spec, (width, height))`` pairs every conformance test runs the model with (each model its own:
+    #: a subclass does not inherit them); at least one per model
+    examples: ClassVar[tuple[tuple[str, tuple[int, int]], ...]] = ()
+    #: values pinned from outside lenslab (the paper's formula in float64, OpenCV, lensfun, pycolmap,
+    #: ffmpeg): :class:`ReferencePoint` records the conformance suite checks both ways (each model its own)
+    reference_points: ClassVar[tuple["ReferencePoint", ...]] = ()
 
     def __init__(self, width: int, height: int, **values: Any):
         self.width, self.height = check_size(width, height)

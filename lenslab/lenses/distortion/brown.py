@@ -24,6 +24,11 @@ class Brown(Wrapped):
     """
 
     name = "brown"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('brown:k1=-0.05', (8192, 4608)),
+        ('brown:k1=0.1,k2=0.05,base=fisheye,fov=150', (8192, 8192)),
+    )
     summary = "radial distortion, Brown polynomial r_d = r_u (1 + k1 r_u^2 + k2 r_u^4)"
     own_params = (
         Param("k1", -0.05, "r^2 coefficient (< 0 barrel, > 0 pincushion)"),

@@ -131,6 +131,10 @@ class Optics(Lens):
     """
 
     name = "optics"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('optics:tca=1.001/0.999,vignetting=cos4,base=fisheye,fov=180', (8192, 8192)),
+    )
     summary = "chromatic aberration (TCA) and vignetting on any base lens"
     params = (
         Param("base", "perspective", "lens model the effects are put on (its parameters pass through)"),

@@ -47,6 +47,10 @@ class Distortion(Wrapped):
     """
 
     name = "distortion"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('distortion:k1=0.1,k2=0.02', (8192, 4608)),
+    )
     summary = "radial distortion, division model (k1 > 0 pincushion, k1 < 0 barrel)"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient of the division model (> 0 pincushion, < 0 barrel)"),
@@ -127,6 +131,10 @@ class Pincushion(Distortion):
     """
 
     name = "pincushion"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('pincushion:k1=0.3,k2=0.05,fov=90', (8192, 4608)),
+    )
     summary = "pincushion distortion: division model with k1 > 0"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient (> 0 for pincushion)", 0.0, None, lo_open=True),
@@ -142,6 +150,10 @@ class Barrel(Distortion):
     """
 
     name = "barrel"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('barrel:k1=-0.3,fov=100', (8192, 4608)),
+    )
     summary = "barrel distortion: division model with k1 < 0"
     own_params = (
         Param("k1", -0.3, "r^2 coefficient (< 0 for barrel)", None, 0.0, hi_open=True),

@@ -42,6 +42,11 @@ class Swirl(Wrapped):
     """
 
     name = "swirl"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('swirl:amount=6', (8192, 4608)),
+        ('swirl:amount=-3,base=fisheye,fov=180,mapping=equisolid', (8192, 8192)),
+    )
     summary = "whirlpool twist of the image plane in front of a base model (perspective by default)"
     own_params = (
         Param("amount", 6.0, "twist, radians per unit radius (u = 1 at the right edge); negative turns clockwise"),

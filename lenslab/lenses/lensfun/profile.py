@@ -155,6 +155,12 @@ class LensfunLens(Lens):
     """
 
     name = "lensfun"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10', (8192, 5461)),
+        ('lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120', (8192, 5461)),
+        ('lensfun:lens=Canon PowerShot G12 & compatibles (Standard),focal=10', (8192, 6144)),
+    )
     summary = "a real lens from the lensfun database (distortion, TCA, vignetting)"
     params = (
         Param("lens", "", "lens name or words of it, as lensfun searches (see lenslab lenses --lensfun)"),

@@ -108,6 +108,11 @@ class Tiled(Lens):
     """
 
     name = "tiled"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('tiled:2x2', (8192, 4096)),
+        ('tiled:3x1', (8190, 2000)),
+    )
     summary = "grid of full cameras (lens, pose, eye per tile), e.g. tiled:2x2,tiles=cams.toml"
     positional = "grid"
     params = (

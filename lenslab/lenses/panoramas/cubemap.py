@@ -57,6 +57,13 @@ class Cubemap(Lens):
     """
 
     name = "cubemap"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('cubemap:layout=3x2', (8192, 5462)),
+        ('cubemap:layout=6x1,order=fbrlud', (8192, 1366)),
+        ('cubemap:layout=1x6', (1366, 8192)),
+        ('cubemap:layout=4x3', (8192, 6144)),
+    )
     summary = "cube map, six 90-degree faces in ffmpeg v360's 3x2 or 6x1 layout"
     params = (
         Param("layout", "3x2", "face grid: 3x2 (3 columns, 2 rows), 6x1, 1x6 or the 4x3 cross",

@@ -33,6 +33,11 @@ class DualFisheye(Lens):
     """
 
     name = "dual-fisheye"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('dual-fisheye:fov=190', (8192, 4096)),
+        ('dual-fisheye:fov=180,mapping=equisolid,front=right', (8192, 4096)),
+    )
     summary = "two fisheyes back to back, side by side (front and back lens)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span-halves"

@@ -51,6 +51,11 @@ class EquiAngularCubemap(Lens):
     """
 
     name = "eac"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('eac', (8192, 5462)),
+        ('eac:pad=2', (8192, 5462)),
+    )
     summary = "equi-angular cube map (YouTube's 360 format), v360's 3x2 layout"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "centre"

@@ -23,6 +23,10 @@ class Octahedron(Lens):
     """
 
     name = "octahedron"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('octahedron', (8192, 8192)),
+    )
     summary = "octahedral map: the whole sphere on a square, front in the centre diamond"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

@@ -20,6 +20,10 @@ class HalfEquirect(Equirect):
     """
 
     name = "half-equirect"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('half-equirect', (8192, 8192)),
+    )
     summary = "half equirectangular (VR180): the front hemisphere, longitude and latitude linear"
     params = ()
     lon_min, lon_max, lat_min, lat_max = -90.0, 90.0, -90.0, 90.0
@@ -42,6 +46,10 @@ class LittlePlanet(Lens):
     """
 
     name = "little-planet"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('little-planet', (8192, 8192)),
+    )
     summary = "little planet: a stereographic fisheye looking straight down, forward at the top"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"  # v360 sg with pitch=-90

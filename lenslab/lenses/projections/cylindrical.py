@@ -126,6 +126,11 @@ class Cylindrical(_Cylinder):
     """
 
     name = "cylindrical"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('cylindrical', (8192, 4096)),
+        ('cylindrical:fov=180,vfov=120', (8192, 4096)),
+    )
     summary = "central cylinder: longitude across, tan(latitude) up (straight verticals)"
 
     def v_to_lat(self, y):
@@ -149,6 +154,11 @@ class CylindricalEqualArea(_Cylinder):
     """
 
     name = "cylindrical-equal-area"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('cylindrical-equal-area', (8192, 2608)),
+        ('cylindrical-equal-area:vfov=180', (8192, 4096)),
+    )
     summary = "Lambert's equal-area cylinder: longitude across, sin(latitude) up"
     frame_aspect = np.pi  # the poles on the top and bottom edges
     vfov_180 = True
@@ -176,6 +186,11 @@ class Mercator(_Cylinder):
     """
 
     name = "mercator"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('mercator', (8192, 8192)),
+        ('mercator:fov=200,vfov=150', (8192, 4096)),
+    )
     summary = "Mercator: conformal, longitude across, atanh(sin latitude) up"
     frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps
 

@@ -27,6 +27,11 @@ class Equirect(Lens):
     """
 
     name = "equirect"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('equirect', (8192, 4096)),
+        ('equirect:lon_min=-90,lon_max=120,lat_min=-30,lat_max=60', (8192, 3000)),
+    )
     summary = "latitude/longitude panorama (full sphere, or a longitude/latitude range)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

@@ -54,6 +54,17 @@ class Fisheye(Lens):
     """
 
     name = "fisheye"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('fisheye:fov=180,mapping=equidistant', (8192, 8192)),
+        ('fisheye:fov=360,mapping=equidistant', (8192, 8192)),
+        ('fisheye:fov=180,mapping=equisolid', (8192, 8192)),
+        ('fisheye:fov=360,mapping=equisolid', (8192, 8192)),
+        ('fisheye:fov=270,mapping=stereographic', (8192, 8192)),
+        ('fisheye:fov=180,mapping=orthographic', (8192, 6000)),
+        ('fisheye:dfov=180', (8192, 5461)),
+        ('fisheye:vfov=150,mapping=equisolid,cx=0.05,cy=-0.02', (8192, 5461)),
+    )
     summary = "fisheye lens: equidistant, equisolid, stereographic or orthographic mapping"
     params = (
         Param("fov", 180.0, "field of view across the image width (the image circle), degrees; "

@@ -58,6 +58,12 @@ class Pannini(Lens):
     """
 
     name = "pannini"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('pannini', (8192, 4608)),
+        ('pannini:d=2,fov=239.9,vcomp=0.5', (8192, 4608)),
+        ('pannini:d=0.5,fov=230', (8192, 4096)),
+    )
     summary = "Pannini: wide views with straight verticals (distance d, vertical compression)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

@@ -23,6 +23,12 @@ class Perspective(Lens):
     """
 
     name = "perspective"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('perspective:fov=90', (8192, 4608)),
+        ('perspective:fov=120,vfov=60', (8192, 4096)),
+        ('perspective:dfov=100', (8192, 5461)),
+    )
     summary = "pinhole camera (rectilinear)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

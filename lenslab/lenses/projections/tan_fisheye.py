@@ -35,6 +35,11 @@ class TanFisheye(Lens):
     """
 
     name = "tan-fisheye"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('tan-fisheye:fov=120', (8192, 8192)),
+        ('seedfisheye:fov=170', (8192, 8192)),
+    )
     aliases = ("seedfisheye",)
     summary = "tan-fold fisheye: angle from tan(r F), steep towards the rim (folds back above fov 144.7)"
     params = (

@@ -41,6 +41,10 @@ class Hammer(Lens):
     """
 
     name = "hammer"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('hammer', (8192, 4096)),
+    )
     summary = "Hammer-Aitoff: the whole sphere in a 2:1 ellipse, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "shift"  # half a pixel off its other projections
@@ -96,6 +100,10 @@ class Sinusoidal(Lens):
     """
 
     name = "sinusoidal"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ('sinusoidal', (8192, 4096)),
+    )
     summary = "sinusoidal: the whole sphere between two sine curves, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"
