@@ -49,9 +49,11 @@ REGISTRY: Registry[type] = Registry("lens model", LensError, load=load_models)
 def register(cls):
     """Class decorator: add a :class:`~lenslab.lenses.core.base.Lens` subclass under ``cls.name``, with
     its ``aliases``, ``summary``, ``references`` and ``examples`` (class attributes)."""
+    points = cls.__dict__.get("reference_points", ())
+    references = getattr(cls, "references", ()) or tuple(dict.fromkeys(p.source for p in points))
     REGISTRY.add(cls.name, cls, aliases=cls.__dict__.get("aliases", ()), summary=getattr(cls, "summary", ""),
-                 references=getattr(cls, "references", ()), examples=cls.__dict__.get("examples", ()),
-                 capabilities={"reference_points": cls.__dict__.get("reference_points", ())})
+                 references=references, examples=cls.__dict__.get("examples", ()),
+                 capabilities={"reference_points": points})
     return cls
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from lenslab.lenses.core.base import Param
+from lenslab.lenses.core.base import Param, ReferencePoint
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, intrinsics_params
 from lenslab.lenses.formulas.kinds import FOV
 from lenslab.lenses.registry import register
@@ -25,6 +25,13 @@ class DevernayFOV(Calibrated):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('devernay-fov:fx=400,fy=400,cx=511.5,cy=383.5,omega=0.9,width=1024,height=768', (8192, 6144)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('devernay-fov:fx=400,fy=400,cx=511.5,cy=383.5,omega=0.9,width=1024,height=768',
+                       (1024, 768), (635.1770719384133, 281.35244005132233),
+                       (0.2794478596995734, 0.23287321641631117, 0.9314928656652447),
+                       'pycolmap 4.2.1 FOV camera img_from_cam'),
     )
     summary = "FOV model of Devernay and Faugeras (COLMAP FOV): fx, fy, cx, cy, omega"
     params = (

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Param
+from lenslab.lenses.core.base import Param, ReferencePoint
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, intrinsics_params
 from lenslab.lenses.formulas.kinds import DOUBLE_SPHERE
 from lenslab.lenses.registry import register
@@ -37,6 +37,13 @@ class DoubleSphere(Calibrated):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('double-sphere:fx=200,fy=200,cx=511.5,cy=511.5,xi=-0.2,alpha=0.6,width=1024,height=1024',
+                       (1024, 1024), (852.4920147767718, 426.87699630580704),
+                       (0.9630868246861536, 0.2407717061715384, 0.1203858530857692),
+                       'Usenko, Demmel and Cremers, The Double Sphere Camera Model (3DV 2018), eq. 40-41'),
     )
     summary = "double sphere model (Usenko et al. 2018; Basalt, Kalibr ds): fx, fy, cx, cy, xi, alpha"
     params = (

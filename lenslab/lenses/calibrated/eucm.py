@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from lenslab.lenses.core.base import Param
+from lenslab.lenses.core.base import Param, ReferencePoint
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, intrinsics_params
 from lenslab.lenses.formulas.kinds import EUCM as EUCM_KIND
 from lenslab.lenses.calibrated.double_sphere import alpha_w
@@ -30,6 +30,13 @@ class EUCM(Calibrated):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('eucm:fx=200,fy=200,cx=511.5,cy=511.5,alpha=0.6,beta=1.1,width=1024,height=1024',
+                       (1024, 1024), (796.5055574357381, 440.8736106410655),
+                       (0.9630868246861536, 0.2407717061715384, 0.1203858530857692),
+                       'Khomutenko, Garcia and Martinet, An Enhanced Unified Camera Model (RA-L 2016), eq. 4'),
     )
     summary = "enhanced unified camera model (Khomutenko et al. 2016; Basalt, Kalibr eucm): alpha, beta"
     params = (

@@ -7,6 +7,7 @@ import numpy as np
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
 from lenslab.lenses.formulas.kinds import EQUIDISTANT
 from lenslab.lenses.calibrated.polydistort import PolyDistortion
+from lenslab.lenses.core.base import ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -36,7 +37,15 @@ class KannalaBrandt(Calibrated):
     name = "kannala-brandt"
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
-        ('kannala-brandt:fx=350,fy=350,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,width=1024,height=1024', (8192, 8192)),
+        ('kannala-brandt:fx=350,fy=350,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,width=1024,'
+         'height=1024', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('kannala-brandt:fx=350,fy=350,cx=511.5,cy=511.5,k1=0.05,k2=-0.01,k3=0.003,k4=-0.0005,'
+                       'width=1024,height=1024', (1024, 1024), (814.1266612775889, 360.93666936120553),
+                       (0.7171371656006362, 0.3585685828003181, 0.5976143046671969),
+                       'cv2.fisheye.projectPoints (OpenCV 5.0.0)'),
     )
     summary = "Kannala-Brandt fisheye (cv2.fisheye, Kalibr equidistant): fx, fy, cx, cy, k1..k4"
     params = (
@@ -68,5 +77,12 @@ class OpenCVFisheye(KannalaBrandt):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('opencv-fisheye:fx=300,fy=300,cx=511.5,cy=383.5,k1=0.02,width=1024,height=768', (8192, 6144)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('opencv-fisheye:fx=300,fy=300,cx=511.5,cy=511.5,k1=0.02,width=1024,height=1024',
+                       (1024, 1024), (765.9391612912143, 385.03041935439285),
+                       (0.7171371656006362, 0.3585685828003181, 0.5976143046671969),
+                       'cv2.fisheye.projectPoints (OpenCV 5.0.0)'),
     )
     summary = "alias of kannala-brandt (OpenCV's cv2.fisheye model)"

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Param, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint, as_points, clean
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, unit_rows
 from lenslab.lenses.calibrated.polydistort import first_positive_root
 from lenslab.lenses.registry import register
@@ -52,6 +52,12 @@ class OCam(Calibrated):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('ocam:pol=-250 0 0.002,xc=511.5,yc=511.5,width=1024,height=1024', (1024, 1024), (700.5, 300.5),
+                       (0.6344623771489801, 0.7118768847056196, 0.3011458002434823),
+                       "Scaramuzza's OCamCalib cam2world (ocam_functions.c), c=1 d=e=0"),
     )
     summary = "Scaramuzza's omnidirectional model (OCamCalib calib_results.txt): pol, invpol, xc, yc, c, d, e"
     params = (

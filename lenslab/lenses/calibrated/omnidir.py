@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Param
+from lenslab.lenses.core.base import Param, ReferencePoint
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
 from lenslab.lenses.formulas.kinds import UNIFIED
 from lenslab.lenses.calibrated.polydistort import PolyDistortion
@@ -31,7 +31,15 @@ class Omnidir(Calibrated):
     name = "omnidir"
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
-        ('omnidir:fx=1000,fy=1000,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,width=1024,height=1024', (8192, 8192)),
+        ('omnidir:fx=1000,fy=1000,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,width=1024,'
+         'height=1024', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('omnidir:fx=400,fy=400,cx=511.5,cy=511.5,xi=1.6,k1=-0.05,k2=0.01,p1=0.001,p2=-0.002,'
+                       'width=1024,height=1024', (1024, 1024), (692.2531983161336, 615.2401240828586),
+                       (0.8427009716003844, -0.48154341234307685, 0.24077170617153842),
+                       'cv2.omnidir.projectPoints (OpenCV 5.0.0)'),
     )
     summary = "Mei's unified omnidirectional model (cv2.omnidir, Kalibr omni): xi, k1, k2, p1, p2, skew s"
     params = (

@@ -5,6 +5,7 @@ from __future__ import annotations
 from lenslab.lenses.calibrated.intrinsics import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
 from lenslab.lenses.formulas.kinds import RECTILINEAR as PINHOLE
 from lenslab.lenses.calibrated.polydistort import PolyDistortion
+from lenslab.lenses.core.base import ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -30,8 +31,17 @@ class OpenCV(Calibrated):
     name = "opencv"
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
-        ('opencv:fx=600,fy=600,cx=511.5,cy=383.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0015,k3=-0.01,k4=0.02,k5=0.001,k6=0.0005,s1=0.001,s2=-0.0002,s3=0.0007,s4=0.0001,width=1024,height=768', (8192, 6144)),
+        ('opencv:fx=600,fy=600,cx=511.5,cy=383.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0015,k3=-0.01,k4=0.02,'
+         'k5=0.001,k6=0.0005,s1=0.001,s2=-0.0002,s3=0.0007,s4=0.0001,width=1024,height=768', (8192, 6144)),
         ('opencv:fx=500,fy=500,cx=511.5,cy=383.5,width=1024,height=768', (8192, 6144)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('opencv:fx=600,fy=600,cx=511.5,cy=383.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0015,k3=-0.01,'
+                       'k4=0.02,k5=0.001,k6=0.0005,s1=0.001,s2=-0.0002,s3=0.0007,s4=0.0001,width=1024,'
+                       'height=768', (1024, 768), (657.7682372609759, 489.0717457077667),
+                       (0.23892015112877915, -0.17202250881272096, 0.9556806045151166),
+                       'cv2.projectPoints (OpenCV 5.0.0)'),
     )
     summary = "OpenCV camera (cv2.projectPoints): fx, fy, cx, cy, k1..k6, p1, p2, s1..s4"
     params = (

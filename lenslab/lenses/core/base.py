@@ -63,13 +63,15 @@ def clean(values: np.ndarray, valid: np.ndarray, inplace: bool = False) -> tuple
 class ReferencePoint(NamedTuple):
     """One pixel and its ray, from a source outside lenslab: ``spec`` at ``size`` (width, height) sees
     ``direction`` (unit, camera space) at continuous pixel ``pixel``; ``source`` says where the numbers
-    come from (the paper's equation, ``cv2.projectPoints``, lensfunpy, ...)."""
+    come from (the paper's equation, ``cv2.projectPoints``, lensfunpy, ...); ``tolerance`` (px) is the
+    source's own precision (float64 formulas: 1e-6 px, the project's accuracy)."""
 
     spec: str
     size: tuple[int, int]
     pixel: tuple[float, float]
     direction: tuple[float, float, float]
     source: str
+    tolerance: float = 1e-6
 
 
 class Lens:

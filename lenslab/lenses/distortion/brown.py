@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param
+from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
 from lenslab.lenses.distortion.division import smallest_positive_root
 from lenslab.lenses.registry import register
 from lenslab.lenses.formulas.solve import BROWN, inverse_table, kernel_settings
@@ -28,6 +28,13 @@ class Brown(Wrapped):
     examples = (
         ('brown:k1=-0.05', (8192, 4608)),
         ('brown:k1=0.1,k2=0.05,base=fisheye,fov=150', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('brown:k1=-0.05', (640, 480), (431.09000000000003, 303.48),
+                       (0.3246172270321178, -0.18549555830406733, 0.9274777915203366),
+                       'Brown polynomial r_d = r_u (1 + k1 r_u^2 + k2 r_u^4) (docs/conventions.md), of a '
+                       'fov-90 pinhole'),
     )
     summary = "radial distortion, Brown polynomial r_d = r_u (1 + k1 r_u^2 + k2 r_u^4)"
     own_params = (

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import Lens, Param, as_points, clean, normalize
+from lenslab.lenses.core.base import Lens, Param, ReferencePoint, as_points, clean, normalize
 from lenslab.lenses.formulas.radial import Radial, scale_points
 from lenslab.lenses.registry import make_lens, register
 from lenslab.lenses.core.wrapped import Wrapped, has_uv_maps
@@ -134,6 +134,12 @@ class Optics(Lens):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('optics:tca=1.001/0.999,vignetting=cos4,base=fisheye,fov=180', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('optics:tca=1.001/0.999,vignetting=cos4,base=fisheye,fov=180', (512, 512), (400.25, 130.5),
+                       (0.6955870310124869, 0.6051727722153699, 0.38720097889390415),
+                       'its base lens (green): equidistant a = r fov/2'),
     )
     summary = "chromatic aberration (TCA) and vignetting on any base lens"
     params = (

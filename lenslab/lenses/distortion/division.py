@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param
+from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
 from lenslab.lenses.registry import register
 from lenslab.lenses.formulas.solve import DIVISION, DIVISION_RECIPROCAL, inverse_table, kernel_settings
 from lenslab.lenses.core.wrapped import Wrapped
@@ -50,6 +50,12 @@ class Distortion(Wrapped):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('distortion:k1=0.1,k2=0.02', (8192, 4608)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('distortion:k1=0.1,k2=0.02', (640, 480), (420.5, 180.25),
+                       (0.29146158568730685, 0.17328188800812525, 0.9407568928033322),
+                       'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
     )
     summary = "radial distortion, division model (k1 > 0 pincushion, k1 < 0 barrel)"
     own_params = (
@@ -135,6 +141,12 @@ class Pincushion(Distortion):
     examples = (
         ('pincushion:k1=0.3,k2=0.05,fov=90', (8192, 4608)),
     )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('pincushion:k1=0.3,k2=0.05,fov=90', (640, 480), (420.5, 180.25),
+                       (0.2846824051537886, 0.1692514796809838, 0.9435623269406487),
+                       'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
+    )
     summary = "pincushion distortion: division model with k1 > 0"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient (> 0 for pincushion)", 0.0, None, lo_open=True),
@@ -153,6 +165,12 @@ class Barrel(Distortion):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('barrel:k1=-0.3,fov=100', (8192, 4608)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('barrel:k1=-0.3,fov=100', (640, 480), (420.5, 180.25),
+                       (0.3550781789999239, 0.2111036934850294, 0.9106891442172114),
+                       'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
     )
     summary = "barrel distortion: division model with k1 < 0"
     own_params = (

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param
+from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
 from lenslab.lenses.registry import register
 from lenslab.lenses.core.wrapped import Wrapped
 
@@ -46,6 +46,12 @@ class Swirl(Wrapped):
     examples = (
         ('swirl:amount=6', (8192, 4608)),
         ('swirl:amount=-3,base=fisheye,fov=180,mapping=equisolid', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('swirl:amount=6', (640, 480), (420.5, 180.25),
+                       (-0.3143367837607204, 0.1377262460019085, 0.9392677294239314),
+                       "swirl alpha' = alpha + rho amount (docs/conventions.md), then d ~ (u', v', 1) at fov 90"),
     )
     summary = "whirlpool twist of the image plane in front of a base model (perspective by default)"
     own_params = (

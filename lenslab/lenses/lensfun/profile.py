@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import Lens, Param, as_points, clean, normalize
+from lenslab.lenses.core.base import Lens, Param, ReferencePoint, as_points, clean, normalize
 from lenslab.lenses.distortion.chroma import ChannelLens, pa_falloff, tca_radials
 from lenslab.lenses.formulas import azimuthal, kinds
 from lenslab.lenses.formulas.radial import R_LIMIT, Radial, scale_points
@@ -160,6 +160,14 @@ class LensfunLens(Lens):
         ('lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10', (8192, 5461)),
         ('lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120', (8192, 5461)),
         ('lensfun:lens=Canon PowerShot G12 & compatibles (Standard),focal=10', (8192, 6144)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('lensfun:lens=Canon EF 70-300mm f/4.5-5.6 DO IS USM,focal=120,effects=distortion',
+                       (1200, 800), (900.052001953125, 200.79742431640625),
+                       (0.07489284874873649, 0.0497208762907585, 0.9959512516519962),
+                       'lensfunpy 1.18.0 (lensfun 0.3.4) Modifier.apply_geometry_distortion, one point, to a '
+                       'rectilinear target (float32 positions: 1e-4 px)', tolerance=1e-4),
     )
     summary = "a real lens from the lensfun database (distortion, TCA, vignetting)"
     params = (

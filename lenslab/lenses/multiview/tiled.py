@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, as_points, check_size, clean, normalize
+from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, ReferencePoint, as_points, check_size, clean, normalize
 from lenslab.lenses.core.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens, register
 
@@ -112,6 +112,12 @@ class Tiled(Lens):
     examples = (
         ('tiled:2x2', (8192, 4096)),
         ('tiled:3x1', (8190, 2000)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('tiled:2x2', (800, 600), (250.5, 100.25),
+                       (0.23799235705918526, 0.2344578171028608, 0.9425439883532094),
+                       'tile 0 (top left) is a fov-90 pinhole facing forward'),
     )
     summary = "grid of full cameras (lens, pose, eye per tile), e.g. tiled:2x2,tiles=cams.toml"
     positional = "grid"

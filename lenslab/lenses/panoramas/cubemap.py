@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, as_points, clean
 from lenslab.lenses.core.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
@@ -63,6 +63,15 @@ class Cubemap(Lens):
         ('cubemap:layout=6x1,order=fbrlud', (8192, 1366)),
         ('cubemap:layout=1x6', (1366, 8192)),
         ('cubemap:layout=4x3', (8192, 6144)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('cubemap', (600, 400), (330.5, 260.25),
+                       (0.27268783271418423, 0.35538824099635485, 0.8940584679153583),
+                       'ffmpeg v360 c3x2 (rludfb): the front face is a 90-degree pinhole'),
+        ReferencePoint('cubemap', (600, 400), (130.5, 60.25),
+                       (0.8940584679153584, 0.35538824099635496, -0.2726878327141843),
+                       'ffmpeg v360 c3x2 (rludfb): the right face looks along +x'),
     )
     summary = "cube map, six 90-degree faces in ffmpeg v360's 3x2 or 6x1 layout"
     params = (

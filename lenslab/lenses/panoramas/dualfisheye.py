@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece
+from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, ReferencePoint
 from lenslab.lenses.projections.fisheye import FOV_LIMITS, Fisheye
 from lenslab.lenses.registry import register
 
@@ -37,6 +37,12 @@ class DualFisheye(Lens):
     examples = (
         ('dual-fisheye:fov=190', (8192, 4096)),
         ('dual-fisheye:fov=180,mapping=equisolid,front=right', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('dual-fisheye:fov=190', (800, 400), (150.5, 220.25),
+                       (-0.3970564797309939, -0.1624321962535885, 0.9033061128564706),
+                       'two equidistant fisheyes back to back (ffmpeg v360 dfisheye): the front lens, a = r fov/2'),
     )
     summary = "two fisheyes back to back, side by side (front and back lens)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, as_points, clean
 from lenslab.lenses.core.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
@@ -55,6 +55,13 @@ class EquiAngularCubemap(Lens):
     examples = (
         ('eac', (8192, 5462)),
         ('eac:pad=2', (8192, 5462)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('eac', (600, 400), (330.5, 60.25),
+                       (0.2263950980334737, 0.2991740509072396, 0.9269520736533071),
+                       'equi-angular cube map (YouTube; ffmpeg v360 eac): position s holds cube coordinate '
+                       'tan(pi/4 s)'),
     )
     summary = "equi-angular cube map (YouTube's 360 format), v360's 3x2 layout"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Piece
+from lenslab.lenses.core.base import FLOAT, Lens, Piece, ReferencePoint
 from lenslab.lenses.core.protocol import BOTTOM, LEFT, RIGHT, TOP, Across
 from lenslab.lenses.registry import register
 
@@ -26,6 +26,15 @@ class Octahedron(Lens):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('octahedron', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('octahedron', (512, 512), (310.85714285714283, 292.57142857142856),
+                       (0.30942637387763805, -0.2062842492517587, 0.9282791216329142),
+                       'octahedral map (ffmpeg v360 octahedron), front half, float64'),
+        ReferencePoint('octahedron', (512, 512), (448.0, 85.33333333333334),
+                       (0.5656854249492381, 0.4242640687119285, -0.7071067811865476),
+                       'octahedral map (ffmpeg v360 octahedron), back half folded into a corner'),
     )
     summary = "octahedral map: the whole sphere on a square, front in the centre diamond"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
 from lenslab.lenses.projections.equirect import Equirect
 from lenslab.lenses.projections.fisheye import Fisheye
 from lenslab.lenses.registry import register
@@ -23,6 +23,12 @@ class HalfEquirect(Equirect):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('half-equirect', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('half-equirect', (512, 512), (400.25, 100.5),
+                       (0.44760486816173956, 0.8158144108067338, 0.36619220242650385),
+                       'ffmpeg v360 hequirect: longitude and latitude -90..90, float64'),
     )
     summary = "half equirectangular (VR180): the front hemisphere, longitude and latitude linear"
     params = ()
@@ -49,6 +55,12 @@ class LittlePlanet(Lens):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('little-planet', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('little-planet', (512, 512), (300.5, 150.25),
+                       (0.38666135368867766, 0.07862794502678755, 0.9188637787096103),
+                       'stereographic r = 2 f tan(theta/2) looking down (-y), forward (+z) at the top'),
     )
     summary = "little planet: a stereographic fisheye looking straight down, forward at the top"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

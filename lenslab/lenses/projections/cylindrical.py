@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, Seams
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, Seams
 from lenslab.lenses.registry import register
 
 #: slack on the longitude test of the inverse: a direction on the left or right edge comes back a few
@@ -131,6 +131,12 @@ class Cylindrical(_Cylinder):
         ('cylindrical', (8192, 4096)),
         ('cylindrical:fov=180,vfov=120', (8192, 4096)),
     )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('cylindrical', (1024, 512), (700.5, 153.85),
+                       (0.7756761933274652, 0.5310858436764139, 0.34099013145767837),
+                       'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
+    )
     summary = "central cylinder: longitude across, tan(latitude) up (straight verticals)"
 
     def v_to_lat(self, y):
@@ -158,6 +164,12 @@ class CylindricalEqualArea(_Cylinder):
     examples = (
         ('cylindrical-equal-area', (8192, 2608)),
         ('cylindrical-equal-area:vfov=180', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('cylindrical-equal-area', (1024, 300), (700.5, 90.25),
+                       (0.8517062217670701, 0.3666214083046682, 0.37441321394411864),
+                       'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
     )
     summary = "Lambert's equal-area cylinder: longitude across, sin(latitude) up"
     frame_aspect = np.pi  # the poles on the top and bottom edges
@@ -190,6 +202,12 @@ class Mercator(_Cylinder):
     examples = (
         ('mercator', (8192, 8192)),
         ('mercator:fov=200,vfov=150', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('mercator', (512, 512), (350.25, 153.85),
+                       (0.4833023300590044, 0.8492814434215842, 0.21246149679244883),
+                       'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
     )
     summary = "Mercator: conformal, longitude across, atanh(sin latitude) up"
     frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps

@@ -6,7 +6,7 @@ import numba
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, Seams, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, Seams, as_points, clean
 from lenslab.lenses.registry import register
 
 
@@ -31,6 +31,12 @@ class Equirect(Lens):
     examples = (
         ('equirect', (8192, 4096)),
         ('equirect:lon_min=-90,lon_max=120,lat_min=-30,lat_max=60', (8192, 3000)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('equirect', (800, 400), (620.25, 130.5),
+                       (0.8438986849711829, 0.5191462344390729, -0.13535950935061536),
+                       'latitude/longitude definition (v360 equirect), float64'),
     )
     summary = "latitude/longitude panorama (full sphere, or a longitude/latitude range)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import Lens, Param
+from lenslab.lenses.core.base import Lens, Param, ReferencePoint
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
 
@@ -64,6 +64,15 @@ class Fisheye(Lens):
         ('fisheye:fov=180,mapping=orthographic', (8192, 6000)),
         ('fisheye:dfov=180', (8192, 5461)),
         ('fisheye:vfov=150,mapping=equisolid,cx=0.05,cy=-0.02', (8192, 5461)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('fisheye:fov=180,mapping=equisolid', (512, 512), (400.25, 130.5),
+                       (0.6766798510869233, 0.5887231979993682, 0.4421644210815432),
+                       'equisolid r = 2 f sin(theta/2) (Kannala and Brandt 2006, table 1), float64'),
+        ReferencePoint('fisheye:fov=200,mapping=stereographic', (512, 512), (400.25, 130.5),
+                       (0.7493526741090939, 0.6519498135229899, 0.11589655065138435),
+                       'stereographic r = 2 f tan(theta/2) (Kannala and Brandt 2006, table 1), float64'),
     )
     summary = "fisheye lens: equidistant, equisolid, stereographic or orthographic mapping"
     params = (

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -63,6 +63,12 @@ class Pannini(Lens):
         ('pannini', (8192, 4608)),
         ('pannini:d=2,fov=239.9,vcomp=0.5', (8192, 4608)),
         ('pannini:d=0.5,fov=230', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('pannini:fov=150,d=1', (800, 600), (533.1072281941099, 243.71978799409655),
+                       (0.4698689469495153, 0.19866933079506122, 0.8600893382050473),
+                       'Sharpless, Postle and German 2010, eqs. of the Pannini projection, float64'),
     )
     summary = "Pannini: wide views with straight verticals (distance d, vertical compression)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Lens, Param
+from lenslab.lenses.core.base import Lens, Param, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -28,6 +28,12 @@ class Perspective(Lens):
         ('perspective:fov=90', (8192, 4608)),
         ('perspective:fov=120,vfov=60', (8192, 4096)),
         ('perspective:dfov=100', (8192, 5461)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('perspective:fov=90', (640, 480), (500.5, 100.25),
+                       (0.4591963959448755, 0.3555274035085671, 0.8140877933648765),
+                       'pinhole model d ~ (u tan(fov/2), v tan(fov/2), 1), float64'),
     )
     summary = "pinhole camera (rectilinear)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)

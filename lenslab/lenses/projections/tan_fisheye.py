@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param
+from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
 from lenslab.lenses.registry import register
 from lenslab.lenses.formulas.solve import inverse_table, kernel_settings
 
@@ -39,6 +39,12 @@ class TanFisheye(Lens):
     examples = (
         ('tan-fisheye:fov=120', (8192, 8192)),
         ('seedfisheye:fov=170', (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('tan-fisheye:fov=120', (512, 512), (300.5, 200.25),
+                       (0.05364183431096745, 0.06720297219857159, 0.9962962983668227),
+                       'the tan-fold formula rad = r F, t = tan(rad), d ~ (sin(t) u, sin(t) v, cos(t)), float64'),
     )
     aliases = ("seedfisheye",)
     summary = "tan-fold fisheye: angle from tan(r F), steep towards the rim (folds back above fov 144.7)"
@@ -96,7 +102,8 @@ class TanFisheye(Lens):
         out = np.empty((flat.shape[0], 2), dtype=FLOAT)
         valid = np.empty(flat.shape[0], dtype=np.bool_)
         psi_max = self.max_angle if self.folds else self.max_angle * (1.0 + 1e-12)
-        tan_fisheye_dir_to_uv(flat, self.F, self.r_max, psi_max, self.folds, table, step, *kernel_settings(), out, valid)
+        tan_fisheye_dir_to_uv(flat, self.F, self.r_max, psi_max, self.folds, table, step, *kernel_settings(), out,
+                              valid)
         return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens
+from lenslab.lenses.core.base import FLOAT, Lens, ReferencePoint
 from lenslab.lenses.registry import register
 
 RIM_SLACK = 1e-12  # a direction on the outline comes back a few ulps outside it and must still count
@@ -44,6 +44,12 @@ class Hammer(Lens):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('hammer', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('hammer', (800, 400), (556.79883678343, 258.7039480925533),
+                       (0.858464846970514, -0.3894183423086505, 0.3337535935229384),
+                       'Hammer projection (Snyder, Flattening the Earth, p. 130), float64'),
     )
     summary = "Hammer-Aitoff: the whole sphere in a 2:1 ellipse, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
@@ -103,6 +109,12 @@ class Sinusoidal(Lens):
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('sinusoidal', (8192, 4096)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways)
+    reference_points = (
+        ReferencePoint('sinusoidal', (800, 400), (540.7277536813059, 250.9295817894065),
+                       (0.858464846970514, -0.3894183423086505, 0.3337535935229384),
+                       'sinusoidal projection (Snyder 1987, section 30), float64'),
     )
     summary = "sinusoidal: the whole sphere between two sine curves, equal-area"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
