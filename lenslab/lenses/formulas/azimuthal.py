@@ -139,8 +139,9 @@ def dir_to_plane(kind: int, d):
         else:
             raise ValueError(f"not an azimuthal projection code: {kind}")
     xy = np.empty(d.shape[:-1] + (2,), dtype=np.float64)
-    np.multiply(dx, k, out=xy[..., 0])
-    np.multiply(dy, k, out=xy[..., 1])
+    with np.errstate(invalid="ignore"):  # 0 * inf at the stereographic back pole, replaced below
+        np.multiply(dx, k, out=xy[..., 0])
+        np.multiply(dy, k, out=xy[..., 1])
     pole = (rho == 0) & (dz < 0)
     if np.any(pole):
         xy[pole] = np.stack([s[pole], np.zeros(int(pole.sum()))], -1)

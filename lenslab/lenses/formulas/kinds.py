@@ -32,6 +32,11 @@ EUCM = 10
 #: Devernay and Faugeras's FOV model: rectilinear, then ``r_d = atan(2 r_u tan(omega/2)) / omega``
 FOV = 11
 
+#: Lambert's cylindrical equal-area: ``x = longitude``, ``y = sin(latitude)``
+EQUAL_AREA_CYLINDRICAL = 12
+#: Mercator: ``x = longitude``, ``y = atanh(sin(latitude))``
+MERCATOR = 13
+
 #: the azimuthal codes by their usual names (fisheye mappings; lensfun calls equidistant "fisheye")
 AZIMUTHAL = {"equidistant": EQUIDISTANT, "equisolid": EQUISOLID, "stereographic": STEREOGRAPHIC,
              "orthographic": ORTHOGRAPHIC, "thoby": THOBY}

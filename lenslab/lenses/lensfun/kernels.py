@@ -2,7 +2,8 @@
 in one pass per direction, no temporary arrays. Imported on first use (numba stays out of start-up).
 
 The inverses of :func:`lenslab.lenses.lensfun.profile.plane_to_dir` (per lensfun type; the fisheye
-mappings are :func:`lenslab.lenses.formulas.azimuthal_kernels.dir_to_plane`) and the forward map of
+mappings are :func:`lenslab.lenses.formulas.azimuthal_kernels.dir_to_plane`, the cylinders
+:func:`lenslab.lenses.formulas.lonlat_kernels.dir_to_lon_height`) and the forward map of
 :class:`lenslab.lenses.formulas.radial.Radial` (round trips and lensfun itself check them in the tests).
 """
 
@@ -13,6 +14,7 @@ import math
 import numba
 
 from lenslab.lenses.formulas import azimuthal_kernels as az
+from lenslab.lenses.formulas import lonlat_kernels as ll
 from lenslab.lenses.formulas.kinds import CYLINDRICAL, EQUIRECTANGULAR, RECTILINEAR
 
 
@@ -37,15 +39,12 @@ def dir_to_pixel(d, kind, f, coeffs, r_lim, cx, cy, norm, out, valid):
                 continue
             x = f * dx / dz
             y = f * dy / dz
-        elif kind == EQUIRECTANGULAR:
-            x = f * math.atan2(dx, dz)
-            y = f * math.asin(min(1.0, max(-1.0, dy)))
-        elif kind == CYLINDRICAL:
-            h = math.hypot(dx, dz)
-            if not h > 0.0:
+        elif kind == EQUIRECTANGULAR or kind == CYLINDRICAL:
+            x, y, seen = ll.dir_to_lon_height(kind, dx, dy, dz)
+            if not seen:
                 continue
-            x = f * math.atan2(dx, dz)
-            y = f * dy / h
+            x *= f
+            y *= f
         else:  # the fisheye mappings (lenslab.lenses.formulas.kinds codes)
             x, y, seen = az.dir_to_plane(kind, dx, dy, dz)
             if not seen:

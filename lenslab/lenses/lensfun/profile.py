@@ -17,7 +17,7 @@ import numpy as np
 from lenslab.errors import LensError
 from lenslab.lenses.core.base import Lens, Param, ReferencePoint, as_points, clean, normalize
 from lenslab.lenses.distortion.chroma import ChannelLens, pa_falloff, tca_radials
-from lenslab.lenses.formulas import azimuthal, kinds
+from lenslab.lenses.formulas import azimuthal, kinds, lonlat
 from lenslab.lenses.formulas.radial import R_LIMIT, Radial, scale_points
 from lenslab.lenses.registry import register
 
@@ -113,14 +113,10 @@ def plane_to_dir(kind: str, x: np.ndarray, y: np.ndarray, f: float) -> tuple[np.
     """Undistorted plane point -> unit direction (float64) and validity, for lensfun's ``type``."""
     if kind == "rectilinear":
         return normalize(np.stack([x, y, np.full_like(x, f)], -1)), np.ones(x.shape, bool)
-    if kind in ("equirectangular", "panoramic"):
+    if kind in ("equirectangular", "panoramic"):  # longitude across; latitude, or tan(latitude), up
         lon = x / f
-        if kind == "equirectangular":
-            lat = y / f
-            d = np.stack([np.cos(lat) * np.sin(lon), np.sin(lat), np.cos(lat) * np.cos(lon)], -1)
-            return d, (np.abs(lat) <= np.pi / 2) & (np.abs(lon) <= np.pi)
-        d = normalize(np.stack([np.sin(lon), y / f, np.cos(lon)], -1))
-        return d, np.abs(lon) <= np.pi
+        s, c, ok = lonlat.height_to_lat(kinds.LENSFUN[kind], y / f)
+        return lonlat.lonlat_to_dir(lon, s, c), ok & (np.abs(lon) <= np.pi)
     if kind not in kinds.LENSFUN:
         raise LensError(f"lensfun: projection {kind} is not supported")
     return azimuthal.plane_to_dir(kinds.LENSFUN[kind], x / f, y / f)

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, Seams
+from lenslab.lenses.formulas import lonlat
 from lenslab.lenses.registry import register
 
 #: slack on the longitude test of the inverse: a direction on the left or right edge comes back a few
@@ -88,33 +89,30 @@ class _Cylinder(Lens):
         """``h'(theta)`` at latitude with sine ``s`` and cosine ``c``."""
         raise NotImplementedError
 
+    #: the latitude spacing (:mod:`lenslab.lenses.formulas.lonlat`'s code)
+    kind: int = -1
+
     def uv_to_dir(self, uv):
         phi = uv[..., 0] * self.F
         sin_t, cos_t, ok = self.v_to_lat(uv[..., 1] * self.Fv)
-        d = np.empty(uv.shape[:-1] + (3,), dtype=FLOAT)
-        np.multiply(np.sin(phi), cos_t, out=d[..., 0])
-        d[..., 1] = sin_t
-        np.multiply(np.cos(phi), cos_t, out=d[..., 2])
-        return d, ok & (np.abs(phi) <= np.pi)
+        return lonlat.lonlat_to_dir(phi, sin_t, cos_t), ok & (np.abs(phi) <= np.pi)
 
     def dir_to_uv(self, d):
-        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
-        c = np.hypot(dx, dz)  # cos(latitude) of a unit direction
-        phi = np.arctan2(dx, dz)
+        phi, s, c = lonlat.dir_to_lonlat(d)
         uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
         np.divide(phi, self.F, out=uv[..., 0])
-        v, ok = self.lat_to_v(dy, c)
+        v, ok = self.lat_to_v(s, c)
         np.divide(v, self.Fv, out=uv[..., 1])
         ok &= np.abs(phi) <= self.F * (1.0 + LON_SLACK)
         return uv, ok
 
     def v_to_lat(self, y):
         """(sin, cos) of the latitude at ``y = v F`` and whether it exists."""
-        raise NotImplementedError
+        return lonlat.height_to_lat(self.kind, y, LON_SLACK)
 
     def lat_to_v(self, s, c):
         """``v F`` for latitude with sine ``s`` and cosine ``c >= 0``, and whether it is finite."""
-        raise NotImplementedError
+        return lonlat.lat_to_height(self.kind, s, c)
 
 
 @register
@@ -139,13 +137,7 @@ class Cylindrical(_Cylinder):
     )
     summary = "central cylinder: longitude across, tan(latitude) up (straight verticals)"
 
-    def v_to_lat(self, y):
-        c = 1.0 / np.sqrt(1.0 + y * y)
-        return y * c, c, np.isfinite(y)
-
-    def lat_to_v(self, s, c):
-        ok = c > 0
-        return np.divide(s, c, out=np.zeros(np.shape(s)), where=ok), ok
+    kind = lonlat.CYLINDRICAL
 
     def slope(self, s, c):  # d tan / d theta = 1 / cos^2
         return 1.0 / (c * c)
@@ -175,13 +167,7 @@ class CylindricalEqualArea(_Cylinder):
     frame_aspect = np.pi  # the poles on the top and bottom edges
     vfov_180 = True
 
-    def v_to_lat(self, y):
-        ok = np.abs(y) <= 1.0 + LON_SLACK
-        s = np.clip(y, -1.0, 1.0)
-        return s, np.sqrt(np.maximum(1.0 - s * s, 0.0)), ok
-
-    def lat_to_v(self, s, c):
-        return np.array(s, dtype=FLOAT, copy=True), np.ones(np.shape(s), dtype=bool)
+    kind = lonlat.EQUAL_AREA_CYLINDRICAL
 
     def slope(self, s, c):  # d sin / d theta = cos
         return c
@@ -212,13 +198,7 @@ class Mercator(_Cylinder):
     summary = "Mercator: conformal, longitude across, atanh(sin latitude) up"
     frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps
 
-    def v_to_lat(self, y):
-        return np.tanh(y), 1.0 / np.cosh(y), np.isfinite(y)
-
-    def lat_to_v(self, s, c):
-        ok = c > 0
-        # atanh(s) = asinh(s / c): accurate near the poles, where 1 - s loses digits
-        return np.arcsinh(np.divide(s, c, out=np.zeros(np.shape(s)), where=ok)), ok
+    kind = lonlat.MERCATOR
 
     def slope(self, s, c):  # d atanh(sin) / d theta = 1 / cos
         return 1.0 / c

@@ -7,6 +7,9 @@ import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, Seams, as_points, clean
+from lenslab.lenses.formulas import lonlat
+from lenslab.lenses.formulas.kinds import EQUIRECTANGULAR
+from lenslab.lenses.formulas.lonlat_kernels import dir_to_lon_height
 from lenslab.lenses.registry import register
 
 
@@ -115,13 +118,7 @@ class Equirect(Lens):
             theta = y / self.height
             theta *= lat1 - lat0
             np.subtract(lat1, theta, out=theta)
-        d = np.empty(xy.shape[:-1] + (3,), dtype=FLOAT)
-        ct = np.cos(theta)
-        np.sin(phi, out=d[..., 0])
-        d[..., 0] *= ct
-        np.sin(theta, out=d[..., 1])
-        np.cos(phi, out=d[..., 2])
-        d[..., 2] *= ct
+        d = lonlat.lonlat_to_dir(phi, np.sin(theta), np.cos(theta))
         # exact poles at the edges, whatever cos(pi/2) rounds to
         if self.lat_max == 90.0:
             top = y == 0
@@ -142,9 +139,8 @@ class Equirect(Lens):
         # atan2 needs no unit vectors: only zero and non-finite directions are flagged
         n2 = np.einsum("...i,...i->...", d, d)
         ok = (n2 > 0) & np.isfinite(n2)
-        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
-        phi = np.arctan2(dx, dz)
-        theta = np.arctan2(dy, np.hypot(dx, dz))
+        phi, sin_t, cos_t = lonlat.dir_to_lonlat(d)
+        theta, _ = lonlat.lat_to_height(lonlat.EQUIRECTANGULAR, sin_t, cos_t)
         xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
         x, y = xy[..., 0], xy[..., 1]
         if self.full_sphere:
@@ -176,8 +172,7 @@ def equirect_pixel(dx, dy, dz, p):
     """:meth:`Equirect.dir_to_pixel` for one unit direction, the same operations in the same order
     (``p``: W, H, lon_min, lon_max, lat_min, lat_max in radians, full sphere, wraps, edge slack)."""
     w, h = p[0], p[1]
-    phi = np.arctan2(dx, dz)
-    theta = np.arctan2(dy, np.hypot(dx, dz))
+    phi, theta, _ = dir_to_lon_height(EQUIRECTANGULAR, dx, dy, dz)
     if p[6] != 0.0:
         x = phi / np.pi
         x += 1.0
