@@ -78,3 +78,32 @@ def test_cylinder_twins_agree(kind):
         assert ok2 == bool(ok[i]) and p == pytest.approx(phi[i], rel=4e-16, abs=1e-300)  # libm atan2s: 1 ulp apart
         if ok2:
             assert h == pytest.approx(y[i], rel=1e-15, abs=1e-15)
+
+
+CALIBRATED = [
+    (kinds.RECTILINEAR, (0.0, 0.0, 0.0)),
+    (kinds.FOV, (0.9, 2.0 * math.tan(0.45), 0.0)),
+    (kinds.EQUIDISTANT, (0.0, 0.0, 0.0)),
+    (kinds.UNIFIED, (1.6, 1.0 / 1.6, 0.0)),
+    (kinds.DOUBLE_SPHERE, (-0.2, 0.6, 0.5)),
+    (kinds.EUCM, (0.6, 1.1, 0.4)),
+]
+
+
+@pytest.mark.parametrize("kind,q", CALIBRATED)
+def test_calibrated_projection_twins_agree(kind, q):
+    from lenslab.lenses.formulas import calibrated, calibrated_kernels
+
+    qa = np.array(q)
+    d = random_directions(500, seed=1)
+    mx, my, ok = calibrated.project(kind, d[:, 0], d[:, 1], d[:, 2], qa)
+    X, Y, Z, ok_back = calibrated.unproject(kind, mx, my, qa)
+    for i in range(d.shape[0]):
+        a, b, seen = calibrated_kernels.project_one(kind, d[i, 0], d[i, 1], d[i, 2], qa)
+        assert seen == bool(ok[i]), (kind, d[i])
+        if seen:
+            assert abs(a - mx[i]) <= 1e-12 * max(1.0, abs(a)) and abs(b - my[i]) <= 1e-12 * max(1.0, abs(b))
+            e, f, g, ok2 = calibrated_kernels.unproject_one(kind, a, b, qa)
+            assert ok2 == bool(ok_back[i]) and np.allclose([e, f, g], [X[i], Y[i], Z[i]], rtol=0, atol=1e-12)
+            if ok2:  # and the inverse is the inverse
+                assert np.allclose([e, f, g], d[i], rtol=0, atol=1e-9)

@@ -21,8 +21,8 @@ import math
 import numba
 import numpy as np
 
-from lenslab.lenses.formulas import azimuthal_kernels as az
-from lenslab.lenses.formulas.kinds import (DOUBLE_SPHERE, EQUIDISTANT, EUCM, FOV, RECTILINEAR, UNIFIED)
+from lenslab.lenses.formulas import calibrated_kernels as cp
+from lenslab.lenses.formulas.kinds import DOUBLE_SPHERE, EQUIDISTANT, EUCM, FOV, RECTILINEAR, UNIFIED  # noqa: F401
 from lenslab.lenses.formulas.solve import OCAM, RATIONAL
 from lenslab.lenses.formulas.solve_kernels import rational_radial, solve_one, table_guess
 
@@ -160,17 +160,6 @@ def distort_kernel(x, y, a, b, p1, p2, s, tangential, fold, out_x, out_y, valid)
 
 
 @numba.njit(inline="always", **JIT)
-def _fov_factor(ru, omega, t2):
-    """``r_d / r_u`` of the FOV model, ``atan(r_u t2) / (omega r_u)`` with ``t2 = 2 tan(omega/2)`` (its
-    limits at ``r_u = 0`` and ``omega = 0``)."""
-    if omega == 0.0:
-        return 1.0
-    if ru > 0.0:
-        return math.atan(ru * t2) / (omega * ru)
-    return t2 / omega
-
-
-@numba.njit(inline="always", **JIT)
 def _store(i, u, v, width, height, slack, out, valid):
     """Pixel ``i`` if inside the image (within ``slack`` px of it counts, moved onto the edge)."""
     if u >= -slack and u <= width + slack and v >= -slack and v <= height + slack:
@@ -198,45 +187,9 @@ def project_kernel(d, kind, q, a, b, p1, p2, s, distort, tangential, fold, fx, f
         ok, X, Y, Z = _cv_ray(d, i, out, valid)
         if not ok:
             continue
-        if kind == PINHOLE or kind == FOV:
-            if not Z > 0.0:
-                continue
-            mx = X / Z
-            my = Y / Z
-            if kind == FOV:  # Devernay-Faugeras: r_d = atan(2 r_u tan(omega/2)) / omega; q = (omega, 2 tan(omega/2))
-                ru = math.sqrt(mx * mx + my * my)
-                k = _fov_factor(ru, q[0], q[1])
-                mx *= k
-                my *= k
-        elif kind == EQUIDISTANT:  # the back pole (a whole circle of the plane) is not seen
-            mx, my, seen = az.dir_to_plane(EQUIDISTANT, X, Y, Z)
-            if not seen:
-                continue
-        elif kind == UNIFIED:
-            den = Z + q[0]
-            if not (Z > -q[1] and den > 0.0):
-                continue
-            mx = X / den
-            my = Y / den
-        elif kind == DOUBLE_SPHERE:
-            xi = q[0]
-            al = q[1]
-            d1 = math.sqrt(X * X + Y * Y + Z * Z)
-            zz = xi * d1 + Z
-            d2 = math.sqrt(X * X + Y * Y + zz * zz)
-            den = al * d2 + (1.0 - al) * zz
-            if not (Z > -q[2] * d1 and den > 0.0):
-                continue
-            mx = X / den
-            my = Y / den
-        else:  # EUCM
-            al = q[0]
-            dd = math.sqrt(q[1] * (X * X + Y * Y) + Z * Z)
-            den = al * dd + (1.0 - al) * Z
-            if not (Z > -q[2] * dd and den > 0.0):
-                continue
-            mx = X / den
-            my = Y / den
+        mx, my, seen = cp.project_one(kind, X, Y, Z, q)
+        if not seen:
+            continue
         if distort:
             if not mx * mx + my * my < fold2:
                 continue
@@ -269,56 +222,8 @@ def unproject_kernel(xy, kind, q, a, b, p1, p2, s, distort, tangential, fold, hi
             if not ok:
                 continue
             worst = max(worst, its)
-        r2 = mx * mx + my * my
-        if kind == PINHOLE:
-            X, Y, Z = mx, my, 1.0
-        elif kind == FOV:  # r_u = tan(r_d omega) / (2 tan(omega/2)), valid for r_d omega < pi/2
-            rd = math.sqrt(r2)
-            if not rd * q[0] < 0.5 * math.pi:
-                continue
-            if q[0] == 0.0:
-                k = 1.0
-            elif rd > 0.0:
-                k = math.tan(rd * q[0]) / (rd * q[1])
-            else:
-                k = q[0] / q[1]
-            X, Y, Z = mx * k, my * k, 1.0
-        elif kind == EQUIDISTANT:
-            if not r2 < math.pi * math.pi:  # the rim circle is the back pole: kept out, as ever
-                continue
-            X, Y, Z, _ = az.plane_to_dir(EQUIDISTANT, mx, my)
-        elif kind == UNIFIED:
-            xi = q[0]
-            disc = 1.0 + (1.0 - xi * xi) * r2
-            if xi > 1.0 and not disc > 0.0:
-                continue
-            k = (xi + math.sqrt(max(disc, 0.0))) / (r2 + 1.0)
-            X, Y, Z = k * mx, k * my, k - xi
-        elif kind == DOUBLE_SPHERE:
-            xi = q[0]
-            al = q[1]
-            qq = 1.0 - (2.0 * al - 1.0) * r2
-            if al > 0.5 and qq < 0.0:
-                continue
-            mz = (1.0 - al * al * r2) / (al * math.sqrt(max(qq, 0.0)) + 1.0 - al)
-            k = (mz * xi + math.sqrt(max(mz * mz + (1.0 - xi * xi) * r2, 0.0))) / (mz * mz + r2)
-            X, Y, Z = k * mx, k * my, k * mz - xi
-            if not Z > -q[2]:  # the paper's region z > -w2 |x| (unit ray)
-                continue
-        else:  # EUCM
-            al = q[0]
-            be = q[1]
-            qq = 1.0 - (2.0 * al - 1.0) * be * r2
-            if al > 0.5 and qq < 0.0:
-                continue
-            X, Y, Z = mx, my, (1.0 - be * al * al * r2) / (al * math.sqrt(max(qq, 0.0)) + 1.0 - al)
-        n = math.sqrt(X * X + Y * Y + Z * Z)
-        if not (n > 0.0 and n < math.inf):
-            continue
-        X /= n
-        Y /= n
-        Z /= n
-        if kind == EUCM and not Z > -q[2] * math.sqrt(q[1] * (X * X + Y * Y) + Z * Z):
+        X, Y, Z, seen = cp.unproject_one(kind, mx, my, q)
+        if not seen:
             continue
         out[i, 0] = X
         out[i, 1] = -Y  # OpenCV's y down -> lenslab's y up
