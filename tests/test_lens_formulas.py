@@ -107,3 +107,14 @@ def test_calibrated_projection_twins_agree(kind, q):
             assert ok2 == bool(ok_back[i]) and np.allclose([e, f, g], [X[i], Y[i], Z[i]], rtol=0, atol=1e-12)
             if ok2:  # and the inverse is the inverse
                 assert np.allclose([e, f, g], d[i], rtol=0, atol=1e-9)
+
+
+def test_lensfun_fisheye_kernel_does_not_put_the_back_pole_at_the_centre():
+    # the back pole is the whole rim circle of an equidistant fisheye (s = pi), not one pixel; the lensfun
+    # kernel once mapped it to the lens centre as a valid pixel, the calibrated kernel never did
+    from lenslab.lenses.lensfun.kernels import dir_to_pixel
+
+    d = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]])
+    out, valid = np.empty((2, 2)), np.empty(2, dtype=bool)
+    dir_to_pixel(d, kinds.EQUIDISTANT, 1.0, np.ones(1), np.inf, 100.0, 50.0, 0.01, out, valid)
+    assert valid.tolist() == [False, True] and out[1].tolist() == [100.0, 50.0]

@@ -47,6 +47,13 @@ def _describe(cls) -> dict:
         for p in cls.params
     ]
     out = {"name": cls.name, "summary": doc.splitlines()[0] if doc else cls.summary, "params": params}
+    from lenslab.lenses import REGISTRY
+
+    entry = REGISTRY.entry(cls.name)
+    if entry.aliases:
+        out["aliases"] = list(entry.aliases)
+    if entry.references:
+        out["references"] = list(entry.references)
     from lenslab.lenses.core.wrapped import Wrapped
 
     if issubclass(cls, Wrapped):
@@ -97,6 +104,8 @@ def run(args: argparse.Namespace) -> int:
         if i:
             print()
         print(f"{info['name']}: {info['summary']}")
+        if info.get("aliases"):
+            print(f"  (also read as {', '.join(info['aliases'])})")
         if args.models:
             body = (inspect.getdoc(cls) or "").splitlines()[1:]
             for line in body:
