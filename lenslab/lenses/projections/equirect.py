@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, Seams, as_points, clean
 from lenslab.lenses.formulas import lonlat
-from lenslab.lenses.formulas.kinds import EQUIRECTANGULAR
-from lenslab.lenses.formulas.lonlat_kernels import dir_to_lon_height
 from lenslab.lenses.registry import register
 
 
@@ -73,7 +70,10 @@ class Equirect(Lens):
         return Seams(float(self.width), self.lat_max == 90.0, self.lat_min == -90.0)
 
     def pixel_kernel(self) -> PixelKernel:
-        """The compiled inverse: :func:`equirect_pixel` with (W, H, lon/lat range in radians, flags)."""
+        """The compiled inverse: :func:`~lenslab.lenses.projections.equirect_kernels.equirect_pixel` with
+        (W, H, lon/lat range in radians, flags); numba is imported here, on first use."""
+        from lenslab.lenses.projections.equirect_kernels import equirect_pixel
+
         params = np.array([self.width, self.height, np.radians(self.lon_min), np.radians(self.lon_max),
                            np.radians(self.lat_min), np.radians(self.lat_max), float(self.full_sphere),
                            float(self.wraps), self.edge_slack], dtype=FLOAT)
@@ -165,28 +165,3 @@ class Equirect(Lens):
             valid = ok & self.snap_to_image(xy)  # within edge_slack of the range counts, moved onto the edge
         np.copyto(xy, 0.0, where=~valid[..., None])  # atan2 of finite values: finite everywhere else
         return xy, valid
-
-
-@numba.njit(cache=True, nogil=True)
-def equirect_pixel(dx, dy, dz, p):
-    """:meth:`Equirect.dir_to_pixel` for one unit direction, the same operations in the same order
-    (``p``: W, H, lon_min, lon_max, lat_min, lat_max in radians, full sphere, wraps, edge slack)."""
-    w, h = p[0], p[1]
-    phi, theta, _ = dir_to_lon_height(EQUIRECTANGULAR, dx, dy, dz)
-    if p[6] != 0.0:
-        x = phi / np.pi
-        x += 1.0
-        x *= 0.5 * w
-        y = theta / (np.pi / 2)
-        y = 1.0 - y
-        y *= 0.5 * h
-        return x, y, True
-    lon0, lon1, lat0, lat1 = p[2], p[3], p[4], p[5]
-    if p[7] == 0.0 and phi < lon0:
-        phi += 2 * np.pi
-    x = (phi - lon0) / (lon1 - lon0) * w
-    y = (lat1 - theta) / (lat1 - lat0) * h
-    e = p[8]
-    if not (x >= -e and x <= w + e and y >= -e and y <= h + e):
-        return 0.0, 0.0, False
-    return min(max(x, 0.0), w), min(max(y, 0.0), h), True
