@@ -78,3 +78,17 @@ def test_every_model_stays_finite_at_its_extremes(name):
             assert not values[~valid].any(), spec  # zero where invalid
         assert not ok[-5:-1].any() and not ok2[-5:-2].any(), spec  # NaN, inf and zero are never rays
         assert np.allclose(np.linalg.norm(d[ok], axis=-1), 1.0, atol=1e-12), spec
+
+
+def test_finding_the_models_and_building_one_leaves_numba_unimported():
+    # the compiled twins live in *_kernels modules, which discovery skips and the models import on first
+    # use: listing the models ('lenslab lenses') and building cameras stay quick
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom lenslab.lenses import REGISTRY, make_lens\n"
+            "[make_lens(spec, size) for e in REGISTRY.entries() for spec, size in e.examples[:1]"
+            " if not spec.startswith('lensfun')]\n"
+            "print(sorted(m for m in ('numba', 'cv2', 'scipy') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
