@@ -53,7 +53,7 @@ def register(cls):
     references = getattr(cls, "references", ()) or tuple(dict.fromkeys(p.source for p in points))
     REGISTRY.add(cls.name, cls, aliases=cls.__dict__.get("aliases", ()), summary=getattr(cls, "summary", ""),
                  references=references, examples=cls.__dict__.get("examples", ()),
-                 capabilities={"reference_points": points})
+                 capabilities={"reference_points": points, "fit_examples": cls.__dict__.get("fit_examples", ())})
     return cls
 
 

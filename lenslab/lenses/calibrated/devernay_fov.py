@@ -33,6 +33,11 @@ class DevernayFOV(Calibrated):
                        (0.2794478596995734, 0.23287321641631117, 0.9314928656652447),
                        'pycolmap 4.2.1 FOV camera img_from_cam'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('devernay-fov:fx=150,fy=150,cx=127.5,cy=95.5,omega=0.8,width=256,height=192',
+         'devernay-fov:fx=140,fy=140,cx=127.5,cy=95.5,omega=0.6,width=256,height=192', 'fx,fy,omega'),
+    )
     summary = "FOV model of Devernay and Faugeras (COLMAP FOV): fx, fy, cx, cy, omega"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

@@ -45,6 +45,11 @@ class DoubleSphere(Calibrated):
                        (0.9630868246861536, 0.2407717061715384, 0.1203858530857692),
                        'Usenko, Demmel and Cremers, The Double Sphere Camera Model (3DV 2018), eq. 40-41'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('double-sphere:fx=60,fy=60,cx=127.5,cy=95.5,xi=-0.2,alpha=0.6,width=256,height=192',
+         'double-sphere:fx=55,fy=55,cx=127.5,cy=95.5,xi=-0.1,alpha=0.55,width=256,height=192', 'fx,fy,xi,alpha'),
+    )
     summary = "double sphere model (Usenko et al. 2018; Basalt, Kalibr ds): fx, fy, cx, cy, xi, alpha"
     params = (
         intrinsics_params(250.0, 250.0, 499.5, 499.5)

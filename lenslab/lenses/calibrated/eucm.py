@@ -38,6 +38,11 @@ class EUCM(Calibrated):
                        (0.9630868246861536, 0.2407717061715384, 0.1203858530857692),
                        'Khomutenko, Garcia and Martinet, An Enhanced Unified Camera Model (RA-L 2016), eq. 4'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('eucm:fx=60,fy=60,cx=127.5,cy=95.5,alpha=0.6,beta=1.1,width=256,height=192',
+         'eucm:fx=55,fy=55,cx=127.5,cy=95.5,alpha=0.55,beta=1.0,width=256,height=192', 'fx,fy,alpha,beta'),
+    )
     summary = "enhanced unified camera model (Khomutenko et al. 2016; Basalt, Kalibr eucm): alpha, beta"
     params = (
         intrinsics_params(250.0, 250.0, 499.5, 499.5)

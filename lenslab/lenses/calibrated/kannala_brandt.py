@@ -47,6 +47,11 @@ class KannalaBrandt(Calibrated):
                        (0.7171371656006362, 0.3585685828003181, 0.5976143046671969),
                        'cv2.fisheye.projectPoints (OpenCV 5.0.0)'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('kannala-brandt:fx=80,fy=80,cx=127.5,cy=95.5,k1=0.03,k2=-0.005,width=256,height=192',
+         'kannala-brandt:fx=70,fy=70,cx=127.5,cy=95.5,k1=0,k2=0,width=256,height=192', 'fx,fy,k1,k2'),
+    )
     summary = "Kannala-Brandt fisheye (cv2.fisheye, Kalibr equidistant): fx, fy, cx, cy, k1..k4"
     params = (
         intrinsics_params(318.3098861837907, 318.3098861837907, 499.5, 499.5)
@@ -84,5 +89,10 @@ class OpenCVFisheye(KannalaBrandt):
                        (1024, 1024), (765.9391612912143, 385.03041935439285),
                        (0.7171371656006362, 0.3585685828003181, 0.5976143046671969),
                        'cv2.fisheye.projectPoints (OpenCV 5.0.0)'),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('opencv-fisheye:fx=80,fy=80,cx=127.5,cy=95.5,k1=0.03,width=256,height=192',
+         'opencv-fisheye:fx=75,fy=75,cx=127.5,cy=95.5,k1=0,width=256,height=192', 'fx,fy,k1'),
     )
     summary = "alias of kannala-brandt (OpenCV's cv2.fisheye model)"

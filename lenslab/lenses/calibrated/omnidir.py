@@ -41,6 +41,11 @@ class Omnidir(Calibrated):
                        (0.8427009716003844, -0.48154341234307685, 0.24077170617153842),
                        'cv2.omnidir.projectPoints (OpenCV 5.0.0)'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('omnidir:fx=120,fy=120,cx=127.5,cy=95.5,xi=0.8,k1=-0.02,width=256,height=192',
+         'omnidir:fx=115,fy=115,cx=127.5,cy=95.5,xi=0.7,k1=0,width=256,height=192', 'fx,fy,xi,k1'),
+    )
     summary = "Mei's unified omnidirectional model (cv2.omnidir, Kalibr omni): xi, k1, k2, p1, p2, skew s"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

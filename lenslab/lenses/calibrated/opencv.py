@@ -43,6 +43,11 @@ class OpenCV(Calibrated):
                        (0.23892015112877915, -0.17202250881272096, 0.9556806045151166),
                        'cv2.projectPoints (OpenCV 5.0.0)'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('opencv:fx=200,fy=201,cx=127.5,cy=95.5,k1=-0.05,k2=0.005,width=256,height=192',
+         'opencv:fx=190,fy=190,cx=127.5,cy=95.5,k1=-0.02,k2=0,width=256,height=192', 'fx,fy,k1,k2'),
+    )
     summary = "OpenCV camera (cv2.projectPoints): fx, fy, cx, cy, k1..k6, p1, p2, s1..s4"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

@@ -94,6 +94,9 @@ class Lens:
     #: values pinned from outside lenslab (the paper's formula in float64, OpenCV, lensfun, pycolmap,
     #: ffmpeg): :class:`ReferencePoint` records the conformance suite checks both ways (each model its own)
     reference_points: ClassVar[tuple["ReferencePoint", ...]] = ()
+    #: ``(true spec, perturbed start spec, fitted parameters)`` that ``lenslab fit`` recovers exactly on a
+    #: 256 x 192 image (each model with float parameters its own; the fit tests run them all)
+    fit_examples: ClassVar[tuple[tuple[str, str, str], ...]] = ()
 
     def __init__(self, width: int, height: int, **values: Any):
         self.width, self.height = check_size(width, height)

@@ -57,6 +57,10 @@ class Distortion(Wrapped):
                        (0.29146158568730685, 0.17328188800812525, 0.9407568928033322),
                        'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('distortion:k1=-0.12,k2=0.02,fov=75', 'distortion:k1=-0.05,k2=0,fov=65', 'k1,k2,fov'),
+    )
     summary = "radial distortion, division model (k1 > 0 pincushion, k1 < 0 barrel)"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient of the division model (> 0 pincushion, < 0 barrel)"),
@@ -147,6 +151,10 @@ class Pincushion(Distortion):
                        (0.2846824051537886, 0.1692514796809838, 0.9435623269406487),
                        'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('pincushion:k1=0.2,k2=0.01,fov=60', 'pincushion:k1=0.1,k2=0,fov=70', 'k1,k2,fov'),
+    )
     summary = "pincushion distortion: division model with k1 > 0"
     own_params = (
         Param("k1", 0.3, "r^2 coefficient (> 0 for pincushion)", 0.0, None, lo_open=True),
@@ -171,6 +179,10 @@ class Barrel(Distortion):
         ReferencePoint('barrel:k1=-0.3,fov=100', (640, 480), (420.5, 180.25),
                        (0.3550781789999239, 0.2111036934850294, 0.9106891442172114),
                        'division model r_u = r_d / (1 + k1 r_d^2 + k2 r_d^4) (docs/conventions.md), then a pinhole'),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('barrel:k1=-0.2,k2=0.01,fov=80', 'barrel:k1=-0.1,k2=0,fov=70', 'k1,k2,fov'),
     )
     summary = "barrel distortion: division model with k1 < 0"
     own_params = (

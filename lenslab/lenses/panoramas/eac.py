@@ -63,6 +63,10 @@ class EquiAngularCubemap(Lens):
                        'equi-angular cube map (YouTube; ffmpeg v360 eac): position s holds cube coordinate '
                        'tan(pi/4 s)'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('eac:pad=2', 'eac:pad=1', 'pad'),
+    )
     summary = "equi-angular cube map (YouTube's 360 format), v360's 3x2 layout"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "centre"

@@ -135,6 +135,10 @@ class Cylindrical(_Cylinder):
                        (0.7756761933274652, 0.5310858436764139, 0.34099013145767837),
                        'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('cylindrical:fov=200', 'cylindrical:fov=180', 'fov'),
+    )
     summary = "central cylinder: longitude across, tan(latitude) up (straight verticals)"
 
     kind = lonlat.CYLINDRICAL
@@ -162,6 +166,10 @@ class CylindricalEqualArea(_Cylinder):
         ReferencePoint('cylindrical-equal-area', (1024, 300), (700.5, 90.25),
                        (0.8517062217670701, 0.3666214083046682, 0.37441321394411864),
                        'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('cylindrical-equal-area:fov=300', 'cylindrical-equal-area:fov=280', 'fov'),
     )
     summary = "Lambert's equal-area cylinder: longitude across, sin(latitude) up"
     frame_aspect = np.pi  # the poles on the top and bottom edges
@@ -194,6 +202,10 @@ class Mercator(_Cylinder):
         ReferencePoint('mercator', (512, 512), (350.25, 153.85),
                        (0.4833023300590044, 0.8492814434215842, 0.21246149679244883),
                        'J. P. Snyder, Map Projections - A Working Manual (1987), float64'),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('mercator:fov=250', 'mercator:fov=230', 'fov'),
     )
     summary = "Mercator: conformal, longitude across, atanh(sin latitude) up"
     frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps

@@ -38,6 +38,11 @@ class Equirect(Lens):
                        (0.8438986849711829, 0.5191462344390729, -0.13535950935061536),
                        'latitude/longitude definition (v360 equirect), float64'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('equirect:lon_min=-60,lon_max=60,lat_min=-30,lat_max=40',
+         'equirect:lon_min=-50,lon_max=70,lat_min=-35,lat_max=30', 'lon_min,lon_max,lat_min,lat_max'),
+    )
     summary = "latitude/longitude panorama (full sphere, or a longitude/latitude range)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

@@ -46,6 +46,10 @@ class TanFisheye(Lens):
                        (0.05364183431096745, 0.06720297219857159, 0.9962962983668227),
                        'the tan-fold formula rad = r F, t = tan(rad), d ~ (sin(t) u, sin(t) v, cos(t)), float64'),
     )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ('tan-fisheye:fov=100', 'tan-fisheye:fov=80', 'fov'),
+    )
     aliases = ("seedfisheye",)
     summary = "tan-fold fisheye: angle from tan(r F), steep towards the rim (folds back above fov 144.7)"
     params = (
