@@ -118,3 +118,14 @@ def test_lensfun_fisheye_kernel_does_not_put_the_back_pole_at_the_centre():
     out, valid = np.empty((2, 2)), np.empty(2, dtype=bool)
     dir_to_pixel(d, kinds.EQUIDISTANT, 1.0, np.ones(1), np.inf, 100.0, 50.0, 0.01, out, valid)
     assert valid.tolist() == [False, True] and out[1].tolist() == [100.0, 50.0]
+
+
+def test_radial_polynomial_twin_agrees():
+    from lenslab.lenses.formulas.radial import Radial
+    from lenslab.lenses.formulas.radial_kernels import poly_scale
+
+    # lensfun's ptlens a=0.01, b=-0.02, c=0.005 as P(r) = (1 - a - b - c) + c r + b r^2 + a r^3
+    radial = Radial((1.005, 0.005, -0.02, 0.01))
+    r = np.linspace(0.0, 1.5, 31)
+    assert [poly_scale(radial.coeffs, x) for x in r] == pytest.approx(radial.scale(r).tolist(), rel=1e-15)
+    assert poly_scale(radial.coeffs, 1.0) == pytest.approx(1.0, abs=1e-15)  # lensfun's P(1) = 1 for ptlens

@@ -16,6 +16,7 @@ import numba
 from lenslab.lenses.formulas import azimuthal_kernels as az
 from lenslab.lenses.formulas import lonlat_kernels as ll
 from lenslab.lenses.formulas.kinds import CYLINDRICAL, EQUIRECTANGULAR, RECTILINEAR
+from lenslab.lenses.formulas.radial_kernels import poly_scale
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -56,9 +57,7 @@ def dir_to_pixel(d, kind, f, coeffs, r_lim, cx, cy, norm, out, valid):
         r = math.hypot(qx, qy)
         if not r <= r_lim:
             continue
-        p = 0.0
-        for j in range(coeffs.shape[0] - 1, -1, -1):  # Horner: P(r)
-            p = p * r + coeffs[j]
+        p = poly_scale(coeffs, r)
         out[i, 0] = qx * p / norm + cx
         out[i, 1] = qy * p / norm + cy
         valid[i] = True
