@@ -68,7 +68,8 @@ class Registry(Mapping, Generic[T]):
         self.kind = kind
         self.error = error
         self._load = load
-        self._loading = load is None
+        self._loaded = load is None
+        self._loading = False
         self._lock = threading.RLock()
         self._key = key
         self._entries: dict[str, Entry[T]] = {}
@@ -105,14 +106,19 @@ class Registry(Mapping, Generic[T]):
             self._aliases.pop(alias, None)
 
     def ensure_loaded(self) -> None:
-        """Run the loader once (a lookup during loading sees what is registered so far)."""
-        if self._loading:
+        """Run the loader once. Other threads wait until it has finished; the loading thread itself (a
+        module that looks a name up while it registers) sees what is registered so far."""
+        if self._loaded:
             return
-        with self._lock:
-            if self._loading:
+        with self._lock:  # re-entrant: the loading thread may come back here
+            if self._loaded or self._loading:
                 return
             self._loading = True
-            self._load()
+            try:
+                self._load()
+                self._loaded = True
+            finally:
+                self._loading = False
 
     # -- lookup -------------------------------------------------------------------------------
     def canonical(self, name: str) -> str:

@@ -57,3 +57,26 @@ def test_every_kind_of_thing_has_one():
     with pytest.raises(FormatError, match="valid: exr, hdr"):
         formats().lookup("webp")
     assert CALIBRATION.canonical("ocamcalib") == "ocam" and COMMANDS["warp"][0] == "warp"
+
+
+def test_threads_wait_for_the_loader():
+    import threading
+
+    started, release = threading.Event(), threading.Event()
+
+    def load():
+        started.set()
+        release.wait(timeout=60)
+        table.add("slow", 1)
+
+    table = Registry("widget", load=load)
+    loader = threading.Thread(target=lambda: "slow" in table)
+    loader.start()
+    assert started.wait(timeout=60)
+    seen = []
+    other = threading.Thread(target=lambda: seen.append("slow" in table))
+    other.start()
+    release.set()  # the other thread asked while the loader ran: it must see the whole registry
+    loader.join(60)
+    other.join(60)
+    assert seen == [True]
