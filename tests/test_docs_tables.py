@@ -60,6 +60,7 @@ def test_old_module_paths_are_the_new_modules():
     from lenslab.lenses.calibrated.intrinsics import Calibrated as same
 
     assert old is new and Calibrated is same
+    assert new.__spec__.name == "lenslab.lenses.projections.fisheye"  # its own name, not the old one
 
 
 def test_a_model_module_dropped_into_a_sub_package_is_found(tmp_path, monkeypatch):

@@ -66,11 +66,17 @@ class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
             return None
         return importlib.util.spec_from_loader(fullname, self)
 
+    def __init__(self):
+        self._specs = {}
+
     def create_module(self, spec):
-        return importlib.import_module(self.PREFIX + MOVED[spec.name[len(self.PREFIX):]])
+        module = importlib.import_module(self.PREFIX + MOVED[spec.name[len(self.PREFIX):]])
+        self._specs[spec.name] = module.__spec__  # the import system overwrites it with the old name's
+        return module
 
     def exec_module(self, module):
-        """Nothing to run: the module was imported under its new name."""
+        """Nothing to run (the module was imported under its new name): give it back its own spec."""
+        module.__spec__ = self._specs.pop(module.__spec__.name, module.__spec__)
 
 
 def install() -> None:
