@@ -6,8 +6,8 @@ and transverse chromatic aberration ``P = v + c r + b r^2`` (linear: ``P = k``).
 holds the coefficients of ``P`` in rising powers of ``r``, maps ``r_u -> r_d`` and back, and knows the
 radius where the map stops rising (beyond it a model has no inverse: those points are flagged).
 
->>> Radial((1.0, 0.0, 0.1)).forward(np.array([0.5, 1.0]))
-array([0.5125, 1.1   ])
+>>> Radial((1.0, 0.0, 0.1)).forward(np.array([0.5, 1.0])).tolist()   # r (1 + 0.1 r^2)
+[0.5125, 1.1]
 >>> round(float(Radial((1.0, 0.0, 0.1)).inverse(np.array([1.1]))[0][0]), 12)
 1.0
 """
