@@ -17,10 +17,8 @@ import pytest
 from lenslab.errors import FitError, LensError
 from lenslab.fit.autoscale import autoscale, autoscale_camera, has_field
 from lenslab.lenses import REGISTRY, Camera, make_lens
-from lenslab.lenses.registry import _load_models
 from lenslab.warp import warp
 
-_load_models()
 SIZE = (32, 32)  # output; small: every model runs four searches
 SOURCES = {
     "full panorama": ("equirect", (96, 48)),

@@ -59,7 +59,7 @@ def write_tiff(path):
 
 
 def test_metadata_is_read_from_jpeg_png_and_tiff(tmp_path):
-    from lenslab.lenses.exif_lens import photo_lens
+    from lenslab.lenses.lensfun.exif import photo_lens
 
     for name, write in (("a.jpg", write_jpeg), ("a.png", write_png), ("a.tif", write_tiff)):
         write(tmp_path / name)
@@ -89,7 +89,7 @@ def test_lensfun_auto_warps_bit_for_bit_as_the_explicit_spec(tmp_path, name, wri
 
 
 def test_values_given_with_auto_win_over_the_files(tmp_path, capsys):
-    from lenslab.lenses.lensfun_match import auto_spec
+    from lenslab.lenses.lensfun.match import auto_spec
 
     write_jpeg(tmp_path / "p.jpg")
     assert auto_spec("lensfun:auto,aperture=11", tmp_path / "p.jpg") == EXPLICIT.replace("aperture=5.6", "aperture=11")
@@ -145,7 +145,7 @@ def test_lensfun_search_lists_lenses_then_only_cameras_that_fit_them(capsys):
 def test_exr_standard_attributes_name_the_lens(tmp_path, capsys):
     """OpenEXR's standard camera and lens attributes, written by the OpenEXR bindings."""
     OpenEXR = pytest.importorskip("OpenEXR")
-    from lenslab.lenses.lensfun_match import auto_spec
+    from lenslab.lenses.lensfun.match import auto_spec
 
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage, "cameraMake": CAMERA_MAKE,
               "cameraModel": CAMERA_MODEL, "lensModel": LENS, "nominalFocalLength": 8.0, "aperture": 5.6,
@@ -158,7 +158,7 @@ def test_exr_standard_attributes_name_the_lens(tmp_path, capsys):
 
 
 def test_a_photo_without_a_lens_or_with_garbage_exif_says_so_in_one_line(tmp_path, capsys):
-    from lenslab.lenses.exif_lens import photo_lens
+    from lenslab.lenses.lensfun.exif import photo_lens
 
     bare = tmp_path / "bare.jpg"
     Image.fromarray(pixels()).save(bare, quality=90)

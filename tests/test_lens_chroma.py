@@ -60,7 +60,7 @@ def test_white_dot_moves_by_the_optics_tca():
 
 def test_white_dot_moves_by_a_real_lens_tca():
     lf = pytest.importorskip("lensfunpy")
-    from lenslab.lenses import lensfun_db
+    from lenslab.lenses.lensfun import database as lensfun_db
 
     name, size = "Canon EF 70-300mm f/4.5-5.6 DO IS USM", (600, 400)
     lens = make_lens(f"lensfun:lens={name},focal=120,effects=tca", size)
@@ -138,7 +138,7 @@ def test_tracer_traces_a_ray_per_channel_and_the_falloff():
 @example(1.0, 0.0, -0.03125, 1.5)  # the fold: r fixed only to ~1e-8 there
 def test_radial_inverse_solves_lensfun_polynomials(v, c, b, frac):
     """r P(r) at the solved radius gives back r_d (float64 transcription of lensfun's poly3 TCA)."""
-    from lenslab.lenses.radial import Radial
+    from lenslab.lenses.formulas.radial import Radial
 
     rad = Radial((v, c, b))
     r_top = min(rad.r_max, 8.0)
@@ -215,7 +215,8 @@ def test_white_dot_warped_through_a_real_lens_moves_by_its_tca():
     """A soft white dot on black, warped by the engine into a lens with the profile's TCA: the red and
     blue centroids sit where lensfun's poly3 terms (lensfunpy's interpolation at 120 mm) put them."""
     pytest.importorskip("lensfunpy")
-    from lenslab.lenses import Pose, lensfun_db
+    from lenslab.lenses import Pose
+    from lenslab.lenses.lensfun import database as lensfun_db
     from lenslab.warp import warp
 
     name = "Canon EF 70-300mm f/4.5-5.6 DO IS USM"

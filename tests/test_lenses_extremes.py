@@ -17,12 +17,12 @@ from tests.test_lenses_roundtrip import CASES, PX_TOL, angle, excluded, sample_p
 FOVS = (1e-3, 1.0, 179.9, 180.0, 270.0, 360.0)
 FOV_MODELS = (
     "perspective", "fisheye:mapping=equidistant", "fisheye:mapping=equisolid",
-    "fisheye:mapping=stereographic", "fisheye:mapping=orthographic", "seedfisheye",
+    "fisheye:mapping=stereographic", "fisheye:mapping=orthographic", "tan-fisheye",
     "swirl:amount=6", "pincushion:k1=0.3", "brown:k1=-0.05",
 )
 #: the fovs each model allows (the others must be refused with a LensError)
 ALLOWED = {
-    "perspective": lambda f: f < 180, "seedfisheye": lambda f: f <= 180,
+    "perspective": lambda f: f < 180, "tan-fisheye": lambda f: f <= 180,
     "fisheye:mapping=equidistant": lambda f: f <= 360, "fisheye:mapping=equisolid": lambda f: f <= 360,
     "fisheye:mapping=stereographic": lambda f: f < 360, "fisheye:mapping=orthographic": lambda f: f <= 180,
     "swirl:amount=6": lambda f: f < 180, "pincushion:k1=0.3": lambda f: f < 180, "brown:k1=-0.05": lambda f: f < 180,
@@ -194,7 +194,7 @@ def seed_reference(u, v, fov):
 
 @pytest.mark.parametrize("fov", [115.0, 120.0, 144.6, 144.8, 150.0, 170.0, 179.0, 180.0])
 def test_seed_fisheye_reproduces_and_masks_the_fold(fov):
-    lens = make_lens(f"seedfisheye:fov={fov}", (2048, 2048))
+    lens = make_lens(f"tan-fisheye:fov={fov}", (2048, 2048))
     xy = sample_pixels((2048, 2048), n=20000)
     d, ok = lens.pixel_to_dir(xy)
     assert np.isfinite(d).all()
@@ -222,8 +222,8 @@ def test_seed_fisheye_reproduces_and_masks_the_fold(fov):
 def test_seed_fisheye_fold_threshold():
     """Folds exactly when tan(F) > pi: fov 2 atan(pi) = 144.7 degrees."""
     threshold = 2 * np.degrees(np.arctan(np.pi))
-    assert not make_lens(f"seedfisheye:fov={threshold - 1e-6}", (64, 64)).folds
-    assert make_lens(f"seedfisheye:fov={threshold + 1e-6}", (64, 64)).folds
+    assert not make_lens(f"tan-fisheye:fov={threshold - 1e-6}", (64, 64)).folds
+    assert make_lens(f"tan-fisheye:fov={threshold + 1e-6}", (64, 64)).folds
 
 
 # -- garbage in, no NaN out ----------------------------------------------------------------------

@@ -16,7 +16,7 @@ from lenslab.lenses import make_lens
 
 W = 2000
 
-#: the conventions' a = g(r), F = fov/2, transcribed independently of lenslab/lenses/fisheye.py
+#: the conventions' a = g(r), F = fov/2, transcribed independently of lenslab/lenses/projections/fisheye.py
 FORMULAS = {
     "equidistant": lambda r, F: r * F,
     "equisolid": lambda r, F: 2 * math.asin(r * math.sin(F / 2)),

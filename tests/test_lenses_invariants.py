@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lenslab.lenses import make_lens
-from lenslab.lenses.solve import invert_increasing
+from lenslab.lenses.formulas.solve import invert_increasing
 from tests.test_lenses_roundtrip import CASES
 
 
@@ -191,7 +191,7 @@ def test_brown_pixel_to_dir_solves_to_1e10(k1, k2):
 
 
 def test_bisection_guards_newton():
-    """The bracketed Newton of lenslab.lenses.solve (used by the radial models): cut short it reports
+    """The bracketed Newton of lenslab.lenses.formulas.solve (used by the radial models): cut short it reports
     failure, never a result; run out it reaches 1e-10."""
     f = lambda x: (x * (1 + 0.3 * x * x), 1 + 0.9 * x * x)
     target = np.linspace(0.01, 0.5, 50)

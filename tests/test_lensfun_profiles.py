@@ -17,7 +17,7 @@ import pytest
 lf = pytest.importorskip("lensfunpy")
 
 from lenslab.lenses import make_lens  # noqa: E402
-from lenslab.lenses import lensfun_db  # noqa: E402
+from lenslab.lenses.lensfun import database as lensfun_db  # noqa: E402
 
 POS_TOL = 0.01  # px: lensfun computes in float32 (~1e-4 px at these sizes); the project's lensfun bound
 VIG_TOL = 1e-5  # relative: float32 illumination with lensfun's running r^2 update across a row

@@ -16,7 +16,7 @@ from lenslab.params import OPEN_END_MARGIN, SEARCH_FACTOR, Param
 
 def test_lenses_and_curves_share_the_one_type():
     from lenslab.lenses import REGISTRY
-    from lenslab.lenses.base import Param as LensParam
+    from lenslab.lenses.core.base import Param as LensParam
 
     assert LensParam is Param
     assert all(isinstance(p, Param) for cls in REGISTRY.values() for p in cls.params)

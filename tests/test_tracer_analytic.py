@@ -188,7 +188,7 @@ def test_scene_far_from_the_world_origin_renders_the_same():
 
     centre = np.array([1e4, -2e4, 2e4])
     mat = Material("furnace", kd=0.5, emission=1.0)
-    scene = merge_meshes([builtin._sphere(tuple(centre), 1.0, 16, inward=True) + (mat,)],
+    scene = merge_meshes([builtin.sphere_mesh(tuple(centre), 1.0, 16, inward=True) + (mat,)],
                          views={"default": View(eye=tuple(centre), look_at=tuple(centre + [0, 0, 1]),
                                                 lens="perspective:fov=90")})
     res = tracer.render(scene, scene.camera(size=(8, 8)), spp=64, seed=3, max_depth=60)
@@ -203,7 +203,7 @@ def test_direct_and_path_agree_at_depth_one_with_glossy_surfaces_and_an_hdr_sky(
     glossy = Material("g", kind="glossy", kd=(0.3, 0.2, 0.1), ks=(0.5, 0.5, 0.5), exponent=30.0)
     ground = Material("ground", kd=0.5)
     parts = [builtin.quad([(-3, 0, -3), (3, 0, -3), (3, 0, 3), (-3, 0, 3)], facing=(0, 1, 0)) + (ground,),
-             builtin._sphere((0.0, 0.5, 0.0), 0.5, 24) + (glossy,)]
+             builtin.sphere_mesh((0.0, 0.5, 0.0), 0.5, 24) + (glossy,)]
     scene = merge_meshes(parts, environment=EquirectEnvironment(_synthetic_env(), yaw=40.0),
                          views={"default": View(eye=(0, 0.9, -1.6), look_at=(0, 0.4, 0), lens="perspective:fov=50")})
     cam = scene.camera(size=(16, 16))

@@ -19,7 +19,7 @@ fisheye equidistant    0.003/0.09  0.000/0.06  0.002/0.18  0.007/0.27  0.003/0.2
 fisheye equisolid      0.003/0.08  0.000/0.06  0.002/0.18  0.008/0.24  0.002/0.24  0.026/0.73
 fisheye stereographic  0.002/0.07  0.000/0.06  0.002/0.19  0.007/0.24  0.003/0.27  0.025/0.71
 fisheye orthographic   0.002/0.08  0.000/0.07  0.002/0.17  0.016/0.33  0.003/0.30  0.028/0.65
-seedfisheye fov=140    0.004/0.16  0.001/0.11  0.006/0.32  0.035/0.40  0.016/0.47  0.088/1.35
+tan-fisheye fov=140    0.004/0.16  0.001/0.11  0.006/0.32  0.035/0.40  0.016/0.47  0.088/1.35
 swirl amount=6         0.030/0.27  0.003/0.15  0.011/0.42  0.128/0.66  0.030/0.58  0.155/1.73
 pincushion             0.000/0.08  0.000/0.08  0.000/0.10  0.008/0.34  0.005/0.32  0.006/0.41
 barrel                 0.000/0.06  0.000/0.06  0.001/0.14  0.008/0.30  0.003/0.28  0.010/0.49
@@ -52,7 +52,7 @@ import pytest
 
 from lenslab import metrics
 from lenslab.lenses import REGISTRY, Camera, Pose
-from lenslab.lenses.pose import ypr_matrix
+from lenslab.lenses.core.pose import ypr_matrix
 from lenslab.validate.run import WarpSetting, call_warp, check, edges_for, panorama_camera
 from tracer.validate.source import make_source
 from lenslab.warp import warp
@@ -72,7 +72,7 @@ INTERIOR_TIGHT = 0.004
 
 SPECS = {
     "fisheye": [f"fisheye:fov=180,mapping={m}" for m in ("equidistant", "equisolid", "stereographic", "orthographic")],
-    "seedfisheye": ["seedfisheye:fov=140"],
+    "tan-fisheye": ["tan-fisheye:fov=140"],
     "swirl": ["swirl:amount=6"],
     "pincushion": ["pincushion:k1=0.3,k2=0.05,fov=90"],
     "barrel": ["barrel:k1=-0.3,fov=90"],

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from lenslab.errors import WarpError
 from lenslab.lenses import REGISTRY, Camera, make_lens
-from lenslab.lenses.pose import Pose
+from lenslab.lenses.core.pose import Pose
 from lenslab.warp import ParallaxWarning, WarpPlan, exact_map, warp, warp_tiles
 from lenslab.warp.maps import Mapper, sample_pattern
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from lenslab.lenses import Camera, Lens
-from lenslab.lenses.perspective import Perspective
+from lenslab.lenses.projections.perspective import Perspective
 from lenslab.warp import WarpPlan, warp
 
 FOVS = (50.0, 56.0, 62.0)  # horizontal field of view of the R, G, B channel lenses, degrees

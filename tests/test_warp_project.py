@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lenslab.lenses.equirect import Equirect
+from lenslab.lenses.projections.equirect import Equirect
 from lenslab.warp import maps
 from lenslab.warp.lattice import project_kernel
 

@@ -10,7 +10,7 @@ import numpy as np
 
 import lenslab.warp
 from lenslab.lenses import REGISTRY, Camera, Lens
-from lenslab.lenses.protocol import Piece, Seams
+from lenslab.lenses.core.protocol import Piece, Seams
 from lenslab.warp import warp
 
 

@@ -106,7 +106,7 @@ def cornell(light: str = "area") -> Scene:
     return merge_meshes(parts, point_lights=points, views={"default": default, "published": published}, name=name)
 
 
-def _sphere(center, radius, resolution=48, inward=False):
+def sphere_mesh(center, radius, resolution=48, inward=False):
     import pyvista as pv
 
     v, t = polydata_triangles(pv.Sphere(radius=radius, center=center, theta_resolution=resolution,
@@ -118,7 +118,7 @@ def _sphere(center, radius, resolution=48, inward=False):
     return v, t
 
 
-def _box(center, size):
+def box_mesh(center, size):
     import pyvista as pv
 
     c, s = np.asarray(center, float), np.asarray(size, float)
@@ -136,9 +136,9 @@ def sky(env: str | None = None, radiance=(0.8, 0.9, 1.1), yaw: float = 0.0) -> S
     box = Material("box", kd=(0.2, 0.35, 0.7))
     parts = [
         quad([(-10, 0, -10), (10, 0, -10), (10, 0, 10), (-10, 0, 10)]) + (ground,),
-        _sphere((-0.6, 0.5, 0.0), 0.5) + (mirror,),
-        _sphere((0.6, 0.4, -0.3), 0.4) + (glossy,),
-        _box((0.0, 0.2, 0.9), (0.6, 0.4, 0.6)) + (box,),
+        sphere_mesh((-0.6, 0.5, 0.0), 0.5) + (mirror,),
+        sphere_mesh((0.6, 0.4, -0.3), 0.4) + (glossy,),
+        box_mesh((0.0, 0.2, 0.9), (0.6, 0.4, 0.6)) + (box,),
     ]
     environment = EquirectEnvironment.from_file(env, yaw=yaw) if env else ConstantEnvironment(radiance)
     view = View(eye=(0.0, 1.2, -3.2), look_at=(0.0, 0.4, 0.0), lens="perspective:fov=60")
@@ -149,7 +149,7 @@ def furnace(emission: float = 1.0, albedo: float = 0.5, resolution: int = 16) ->
     """A closed sphere of radius 1 around the origin, emitting and reflecting on its inner face."""
     mat = Material("furnace", kd=albedo, emission=emission)
     view = View(eye=(0.0, 0.0, 0.0), look_at=(0.0, 0.0, 1.0), lens="perspective:fov=90")
-    return merge_meshes([_sphere((0, 0, 0), 1.0, resolution, inward=True) + (mat,)],
+    return merge_meshes([sphere_mesh((0, 0, 0), 1.0, resolution, inward=True) + (mat,)],
                         views={"default": view}, name="furnace")
 
 

@@ -1,7 +1,7 @@
 """Environment light: a constant colour, or an HDR equirectangular panorama sampled by importance.
 
-The panorama's pixel <-> direction maps are lenslab's own :class:`~lenslab.lenses.equirect.Equirect`
-lens (through a :class:`~lenslab.lenses.camera.Camera` carrying the environment's rotation), so the
+The panorama's pixel <-> direction maps are lenslab's own :class:`~lenslab.lenses.projections.equirect.Equirect`
+lens (through a :class:`~lenslab.lenses.core.camera.Camera` carrying the environment's rotation), so the
 tracer and the warp engine read a panorama the same way. Radiance is piecewise constant per pixel.
 
 Importance sampling draws a pixel from a 2-D piecewise-constant distribution (a marginal over rows, a

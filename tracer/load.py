@@ -238,12 +238,12 @@ def _shape(spec: dict, where: str):
 
     kind = spec.get("shape")
     if kind == "sphere":
-        return builtin._sphere(spec.get("center", (0, 0, 0)), float(spec.get("radius", 1.0)),
+        return builtin.sphere_mesh(spec.get("center", (0, 0, 0)), float(spec.get("radius", 1.0)),
                                int(spec.get("resolution", 48)), bool(spec.get("inward", False)))
     if kind == "quad":
         return builtin.quad(spec["points"], spec.get("facing"))
     if kind == "box":
-        return builtin._box(spec.get("center", (0, 0, 0)), spec.get("size", (1, 1, 1)))
+        return builtin.box_mesh(spec.get("center", (0, 0, 0)), spec.get("size", (1, 1, 1)))
     raise SceneError(f"{where}: unknown shape {kind!r}; use sphere, quad or box, or give file = ...")
 
 

@@ -25,7 +25,7 @@ DEFAULT_SPECS = (
     "fisheye:fov=180,mapping=equisolid",
     "fisheye:fov=180,mapping=stereographic",
     "fisheye:fov=180,mapping=orthographic",
-    "seedfisheye:fov=120",
+    "tan-fisheye:fov=120",
     "cubemap:layout=3x2",
     "cubemap:layout=6x1",
     "swirl:amount=6",
@@ -60,7 +60,7 @@ DEFAULT_SPECS = (
 AIM = 3.0
 
 #: (model name, direction) pairs solved numerically
-SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("seedfisheye", "d2p"),
+SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("brown", "p2d"), ("tan-fisheye", "d2p"),
           ("opencv", "p2d"), ("kannala-brandt", "p2d"), ("omnidir", "p2d"), ("ocam", "d2p")}
 
 

@@ -15,22 +15,27 @@ from pathlib import Path
 
 from lenslab.errors import LenslabError, LensError
 from lenslab.lens_sources import add_source
+from lenslab.registry import Registry
 
 
 class CameraFileError(LenslabError, ValueError):
     """A camera file is missing, unreadable, or lacks or misuses a key (the message names the file and
     the key). A failed input, not a usage error: commands exit with status 1."""
 
-#: format name -> plugin module (in lenslab.calibfiles); the order is the order of sniffing
-FORMATS = {"opencv": "opencv", "kalibr": "kalibr", "colmap": "colmap", "ocam": "ocamcalib", "toml": "toml"}
+#: format name -> plugin module (in lenslab.calibfiles); the order is the order of sniffing (an OpenCV
+#: FileStorage file is tested before a Kalibr camchain, which is YAML too)
+FORMATS: Registry[str] = Registry("calibration format", LensError)
+FORMATS.add("opencv", "opencv", summary="OpenCV FileStorage YAML/JSON (cv2.FileStorage)",
+            references=("OpenCV calibration sample (fisheye_model: 1)",))
+FORMATS.add("kalibr", "kalibr", summary="Kalibr camchain YAML", aliases=("camchain",))
+FORMATS.add("colmap", "colmap", summary="COLMAP cameras.txt (FILE#ID picks a camera)")
+FORMATS.add("ocam", "ocamcalib", summary="OCamCalib calib_results.txt", aliases=("ocamcalib",))
+FORMATS.add("toml", "toml", summary="lenslab camera TOML")
 SUFFIXES = (".yaml", ".yml", ".json", ".xml", ".txt", ".toml")
 
 
 def plugin(name: str):
-    try:
-        return importlib.import_module(f"lenslab.calibfiles.{FORMATS[name]}")
-    except KeyError:
-        raise LensError(f"unknown calibration format {name!r}; valid: {', '.join(FORMATS)}") from None
+    return importlib.import_module(f"lenslab.calibfiles.{FORMATS.lookup(name)}")
 
 
 def split_pick(spec: str) -> tuple[Path, str | None]:

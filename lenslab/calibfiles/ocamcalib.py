@@ -35,7 +35,7 @@ def _data_lines(path: Path, text: str) -> list[list[float]]:
 
 def read(path: Path, text: str):
     from lenslab.lenses import make_lens
-    from lenslab.lenses.ocam import format_coefficients
+    from lenslab.lenses.calibrated.ocam import format_coefficients
 
     rows = _data_lines(path, text)
     if len(rows) < 5:

@@ -1,4 +1,4 @@
-"""lenslab's own camera TOML (see :mod:`lenslab.lenses.cameraio`): every model, pose included."""
+"""lenslab's own camera TOML (see :mod:`lenslab.lenses.core.cameraio`): every model, pose included."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ def sniff(path: Path, text: str) -> bool:
 
 
 def read(path: Path, text: str):
-    from lenslab.lenses.cameraio import load_cameras
+    from lenslab.lenses.core.cameraio import load_cameras
 
     try:
         return [(str(i), cam.lens) for i, cam in enumerate(load_cameras(path))]

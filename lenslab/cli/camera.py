@@ -24,7 +24,9 @@ from __future__ import annotations
 import argparse
 import math
 
-FORMAT_CHOICES = ("opencv", "kalibr", "colmap", "ocam", "toml")
+from lenslab.calibfiles import FORMATS as CALIBRATION_FORMATS  # light: the plugins load on use
+
+FORMAT_CHOICES = tuple(CALIBRATION_FORMATS)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -99,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
 
     lens = load(args.camera, args.size)
     if args.action == "show":
-        from lenslab.lenses.base import format_number
+        from lenslab.lenses.core.base import format_number
 
         print(f"{args.camera}: {lens.name}, {lens.width}x{lens.height}")
         for k, v in lens.param_values().items():

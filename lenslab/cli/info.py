@@ -81,7 +81,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         if key in meta:
             out[key] = meta[key]
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
-        from lenslab.lenses.lensfun_match import metadata_report
+        from lenslab.lenses.lensfun.match import metadata_report
 
         out["lens_metadata"] = metadata_report(file)
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}

@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _default_text(value) -> str:
-    from lenslab.lenses.base import format_number
+    from lenslab.lenses.core.base import format_number
 
     if isinstance(value, float):
         return format_number(value)
@@ -47,7 +47,14 @@ def _describe(cls) -> dict:
         for p in cls.params
     ]
     out = {"name": cls.name, "summary": doc.splitlines()[0] if doc else cls.summary, "params": params}
-    from lenslab.lenses.wrapped import Wrapped
+    from lenslab.lenses import REGISTRY
+
+    entry = REGISTRY.entry(cls.name)
+    if entry.aliases:
+        out["aliases"] = list(entry.aliases)
+    if entry.references:
+        out["references"] = list(entry.references)
+    from lenslab.lenses.core.wrapped import Wrapped
 
     if issubclass(cls, Wrapped):
         out["note"] = "takes the parameters of its base model too (e.g. fov for perspective)"
@@ -56,7 +63,7 @@ def _describe(cls) -> dict:
 
 def run_lensfun(args: argparse.Namespace) -> int:
     from lenslab.errors import LensError
-    from lenslab.lenses import lensfun_db
+    from lenslab.lenses.lensfun import database as lensfun_db
 
     import contextlib
 
@@ -65,7 +72,7 @@ def run_lensfun(args: argparse.Namespace) -> int:
     own = args.lensfun_db or args.lensfun_db_only  # your files for this search only
     with (lensfun_db.using_database(args.lensfun_db, bundled=not args.lensfun_db_only) if own
           else contextlib.nullcontext()):
-        from lenslab.lenses.lensfun_match import search
+        from lenslab.lenses.lensfun.match import search
 
         lenses, cameras = search(args.lensfun)
         if not lenses and not cameras:
@@ -101,6 +108,8 @@ def run(args: argparse.Namespace) -> int:
         if i:
             print()
         print(f"{info['name']}: {info['summary']}")
+        if info.get("aliases"):
+            print(f"  (also read as {', '.join(info['aliases'])})")
         if args.models:
             body = (inspect.getdoc(cls) or "").splitlines()[1:]
             for line in body:

@@ -18,8 +18,10 @@ import argparse
 import importlib
 import sys
 
+from lenslab.registry import Registry
+
 # name -> (module, one-line help)
-COMMANDS: dict[str, tuple[str, str]] = {
+COMMANDS: Registry[tuple[str, str]] = Registry.from_mapping("command", {
     "info": ("info", "print format, size, channels, statistics and lens model of image files"),
     "convert": ("convert", "convert images between EXR, HDR, PFM, TIFF, PNG, JPG and PPM/PGM, and video frames (batch, with tone mapping)"),
     "lenses": ("lenses", "list every lens model with its parameters, ranges and defaults"),
@@ -32,7 +34,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "camera": ("camera", "show calibrated cameras and convert them between OpenCV, Kalibr, COLMAP and OCamCalib files"),
     "diff": ("diff", "compare two images: mean, RMS, max and relative error, PSNR, FLIP; idiff's thresholds and exit codes"),
     "bench": ("bench", "benchmarks, reported as ratios against a baseline measured in the same run"),
-}
+}, summary=lambda entry: entry[1])
 
 ENTRY_POINTS = "lenslab.commands"
 

@@ -127,14 +127,14 @@ def make_output_dir(path: str | os.PathLike) -> Path:
 
 # NumPy's arithmetic notes (NaN or inf met in a cast, a division, a log) are the commands' business to
 # handle and report in the user's terms; they never reach the terminal as library warnings.
-_NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
+NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
 
 
 def user_notes(caught) -> list[str]:
     """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out),
     in the commands' words where a warning carries them (``command_line``)."""
     notes = (getattr(w.message, "command_line", None) or str(w.message) for w in caught
-             if not (issubclass(w.category, RuntimeWarning) and re.search(_NUMPY_NOTES, str(w.message))))
+             if not (issubclass(w.category, RuntimeWarning) and re.search(NUMPY_NOTES, str(w.message))))
     return list(dict.fromkeys(notes))
 
 
@@ -143,7 +143,7 @@ def run_command(prog: str, func: Callable[[], int | None]) -> int:
     from lenslab.errors import LenslabError, LensError, ToneError
 
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
+        warnings.filterwarnings("ignore", message=NUMPY_NOTES, category=RuntimeWarning)
         try:
             code = int(func() or 0)
             sys.stdout.flush()

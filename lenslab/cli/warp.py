@@ -143,7 +143,7 @@ def check_once(args) -> None:
 
     if args.to:
         make_lens(args.to, args.size or default_size(args.to, 256))
-    from lenslab.lenses.exif_lens import is_auto
+    from lenslab.lenses.lensfun.exif import is_auto
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata
         make_lens(args.source, (512, 256))

@@ -25,8 +25,8 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
     h, w = shape[:2]
     if spec:
-        from lenslab.lenses.exif_lens import is_auto
-        from lenslab.lenses.lensfun_match import auto_spec
+        from lenslab.lenses.lensfun.exif import is_auto
+        from lenslab.lenses.lensfun.match import auto_spec
 
         if is_auto(spec) and not (spec.strip().lower() == "auto" and meta.get("camera") is not None):
             spec = auto_spec(spec, meta.get("path", ""))  # the lens the photo's metadata names

@@ -118,7 +118,7 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     import numba
 
     import lenslab.io.exr
-    from lenslab.cli.policy import _NUMPY_NOTES
+    from lenslab.cli.policy import NUMPY_NOTES
 
     cores = default_jobs(1 << 30)
     inner = max(1, cores // threads)
@@ -130,7 +130,7 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     results: dict[int, object] = {}
     with warnings.catch_warnings():
         warnings.simplefilter("always")  # each file's repeated warnings are its own notes
-        warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
+        warnings.filterwarnings("ignore", message=NUMPY_NOTES, category=RuntimeWarning)
         shown = warnings.showwarning
 
         def route(message, category, filename, lineno, file=None, line=None):

@@ -46,7 +46,7 @@ import numpy as np
 from lenslab.errors import FitError, LensError
 from lenslab.fit.coverage import Criterion
 from lenslab.lenses import Camera
-from lenslab.lenses.base import Lens
+from lenslab.lenses.core.base import Lens
 
 MODES = ("fill", "cover")
 RTOL = 1e-7  # relative width of the final bracket on the scale

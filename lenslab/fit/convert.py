@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.errors import FitError
-from lenslab.lenses.base import Lens
+from lenslab.lenses.core.base import Lens
 from lenslab.fit.start import source_start
 
 #: the aim of a conversion: RMS residual over the shared field, px

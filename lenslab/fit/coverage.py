@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses import Camera, rotation_between, sample_offsets
-from lenslab.lenses.base import Lens
+from lenslab.lenses.core.base import Lens
 
 SPARSE = 8  # the sparse pre-check tests every SPARSE-th pixel (plus the border ring)
 

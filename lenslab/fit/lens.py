@@ -28,7 +28,7 @@ from lenslab.errors import FitError
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
 from lenslab.lenses import make_lens
-from lenslab.lenses.base import Lens
+from lenslab.lenses.core.base import Lens
 
 FIT_GRID = 33  # samples along the longer side during the fit (plus the edge pixel centres)
 REPORT_GRID = 257  # samples along the longer side for the final residual report

@@ -21,7 +21,7 @@ import numpy as np
 
 from lenslab.errors import FitError, LensError
 from lenslab.lenses import REGISTRY, parse_spec
-from lenslab.lenses.base import Lens, Param
+from lenslab.lenses.core.base import Lens, Param
 
 # float parameters whose default switches a feature off or sets a frame rather than a shape: they
 # are fitted only when named in ``free``

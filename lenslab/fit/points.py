@@ -29,7 +29,7 @@ from lenslab.fit.lens import project
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
 from lenslab.lenses import Camera, Pose
-from lenslab.lenses.base import Lens, normalize
+from lenslab.lenses.core.base import Lens, normalize
 
 LOSSES = {
     "linear": lambda s: s,

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import FitError, LensError
-from lenslab.lenses.base import Lens
+from lenslab.lenses.core.base import Lens
 
 CENTRAL_STEP = 0.25  # px either side of the principal point for the central scale
 

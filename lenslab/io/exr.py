@@ -55,12 +55,12 @@ class HalfOverflowWarning(UserWarning):
         self.command_line = command_line or message
 
 
-def _plain(value):
+def plain_value(value):
     """Header attribute -> plain Python (lists, numbers, strings) for meta and JSON."""
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, (tuple, list)):
-        return [_plain(v) for v in value]
+        return [plain_value(v) for v in value]
     if isinstance(value, (str, int, float, bool)) or value is None:
         return value
     if isinstance(value, (np.integer, np.floating)):
@@ -192,7 +192,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = _find_part(path, parts, part_sel, layer_sel)
     hpart = parts[index]
-    storage = _plain(hpart.type())
+    storage = plain_value(hpart.type())
     if "deep" in str(storage).lower():
         raise FormatError(f"{path}: part {index} ({hpart.name()!r}) is a deep image (several samples per "
                           "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
@@ -211,7 +211,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     # plain RGB(A) of one sample type: the library interleaves while decoding (no copy afterwards)
     whole = "RGBA" if sorted(names) == ["A", "B", "G", "R"] else "RGB" if sorted(names) == ["B", "G", "R"] else None
     try:
-        types = {_plain(c.type()) for c in header.get("channels", [])}
+        types = {plain_value(c.type()) for c in header.get("channels", [])}
     except (IndexError, ValueError, RuntimeError, TypeError):  # some headers do not say until the pixels are read
         types = set()
     if whole and (len(types) != 1 or set(sampling.values()) != {(1, 1)}):
@@ -294,9 +294,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             placed[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
         image = placed
 
-    pixel_types = types if whole is not None else {_plain(c.type()) for n, c in chans.items() if n in short.values()}
+    pixel_types = types if whole is not None else {plain_value(c.type()) for n, c in chans.items() if n in short.values()}
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
-    attributes = {k: _plain(v) for k, v in header.items() if k != "channels"}
+    attributes = {k: plain_value(v) for k, v in header.items() if k != "channels"}
     meta = {
         "format": "exr",
         "bit_depth": bits,

@@ -24,7 +24,7 @@ _EXR_TYPES = {"float16": "half", "float32": "float", "uint32": "uint"}
 def _exr(path: Path) -> dict:
     import OpenEXR
 
-    from lenslab.io.exr import _plain
+    from lenslab.io.exr import plain_value
 
     try:
         head = OpenEXR.File(str(path), header_only=True)
@@ -57,7 +57,7 @@ def _exr(path: Path) -> dict:
             "line_order": str(h.get("lineOrder", "")).split(".")[-1].lower(),
             "channels": chans,
             "layers": layers,
-            "attributes": {k: _plain(v) for k, v in h.items()
+            "attributes": {k: plain_value(v) for k, v in h.items()
                            if k not in ("channels", "compression", "dataWindow", "displayWindow", "lineOrder",
                                         "name", "type")},
         })
@@ -78,11 +78,11 @@ def _tiff(path: Path) -> dict:
 
 
 def _hdr(path: Path) -> dict:
-    from lenslab.io.rgbe import _parse_header
+    from lenslab.io.rgbe import parse_header
 
     with open(path, "rb") as f:
         data = f.read(1 << 16)
-    attrs, res, _ = _parse_header(path, data)
+    attrs, res, _ = parse_header(path, data)
     s1, a1, n1, s2, a2, n2 = res
     return {"header": attrs, "resolution": f"{s1.decode()}{a1.decode()} {n1} {s2.decode()}{a2.decode()} {n2}"}
 

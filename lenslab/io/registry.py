@@ -15,24 +15,32 @@ from pathlib import Path
 
 from lenslab.errors import FormatError
 from lenslab.io.plugin import Format
+from lenslab.registry import Registry
 
 #: bytes read from the start of a file for detection
 HEAD_BYTES = 32
 
 
 @functools.lru_cache(maxsize=1)
-def formats() -> dict[str, Format]:
-    """Every format by name, in plugin-module order."""
+def formats() -> Registry[Format]:
+    """Every format by name, in plugin-module order (a :class:`lenslab.registry.Registry`: the extensions
+    that name one format only, such as ``jpeg`` or ``tif``, are its aliases; its record's fields are its
+    capabilities)."""
     import lenslab.io.formats as package
 
-    found: dict[str, Format] = {}
+    found: list[Format] = []
     for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
         module = importlib.import_module(f"{package.__name__}.{info.name}")
-        for fmt in getattr(module, "FORMATS", ()):
-            if fmt.name in found:
-                raise RuntimeError(f"two plugins declare the format {fmt.name!r}")
-            found[fmt.name] = fmt
-    return found
+        found.extend(getattr(module, "FORMATS", ()))
+    names = [f.name for f in found]
+    stems = [e.lstrip(".") for f in found for e in f.extensions]
+    table: Registry[Format] = Registry("format", FormatError)
+    for fmt in found:
+        aliases = tuple(dict.fromkeys(e.lstrip(".") for e in fmt.extensions
+                                      if e.lstrip(".") not in names and stems.count(e.lstrip(".")) == 1))
+        caps = {k: v for k, v in fmt.describe().items() if k not in ("name", "title", "note")}
+        table.add(fmt.name, fmt, aliases=aliases, summary=fmt.title, capabilities=caps)
+    return table
 
 
 def readable() -> tuple[str, ...]:

@@ -36,7 +36,7 @@ _MAX_HEADER = 1 << 16
 _RES = re.compile(rb"^([+-])([XY]) +(\d+) +([+-])([XY]) +(\d+)$")
 
 
-def _parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
+def parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
     """(attributes, (sign1, axis1, n1, sign2, axis2, n2), offset of the pixel data)."""
     end = data.find(b"\n\n", 0, _MAX_HEADER)
     if end < 0:
@@ -165,7 +165,7 @@ def read_hdr(path: Path) -> tuple[np.ndarray, dict]:
     data = Path(path).read_bytes()
     if not data.startswith(b"#?"):
         raise FormatError(f"{path}: not a Radiance file (it does not start with '#?')")
-    attrs, (s1, a1, n1, s2, a2, n2), pos = _parse_header(path, data)
+    attrs, (s1, a1, n1, s2, a2, n2), pos = parse_header(path, data)
     check_size(path, n2, n1, 3)
     raw = np.zeros((n1, n2, 4), np.uint8)
     done = _kernel("decode", _decode_kernel)(np.frombuffer(data, np.uint8), pos, n1, n2, raw)

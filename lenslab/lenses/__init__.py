@@ -1,26 +1,27 @@
 """Lens models: pixel <-> ray direction, both ways, one small class per model.
 
 ``make_lens("fisheye:fov=180,mapping=equisolid", (1024, 1024))`` builds one from a spec;
-``REGISTRY`` maps every model name to its class; :class:`Camera` adds a pose and an eye point.
+``REGISTRY`` maps every model name (and alias) to its class; :class:`Camera` adds a pose and an eye point.
+
+The package is in two levels: :mod:`lenslab.lenses.formulas` holds the pure formulas on bare arrays,
+and the model sub-packages hold thin classes that bind them to parameters and an image size:
+:mod:`~lenslab.lenses.projections`, :mod:`~lenslab.lenses.panoramas` (360 formats),
+:mod:`~lenslab.lenses.multiview`, :mod:`~lenslab.lenses.distortion`, :mod:`~lenslab.lenses.calibrated`
+and :mod:`~lenslab.lenses.lensfun`. :mod:`lenslab.lenses.core` is what they all build on. Models are
+discovered: a new one is a module in one of the model sub-packages, and nothing else names it.
 """
 
 from __future__ import annotations
 
-# Modules whose classes register themselves; add a model by adding its module here.
-MODEL_MODULES = ("equirect", "perspective", "fisheye", "seedfisheye", "cubemap", "swirl", "distortion", "brown", "tiled",
-                 "eac", "dualfisheye", "cylindrical", "pannini", "worldmaps", "octahedron", "presets",
-                 "opencv", "kannala_brandt", "omnidir", "double_sphere", "eucm", "ocam", "devernay_fov",
-                 "chroma", "lensfun_profile", "division", "fisheye624", "stereo", "ball", "tetrahedron", "barrel",
-                 "tsp", "globe")
+from lenslab.lenses.core import moved
 
-from lenslab.lenses.base import Lens, Param  # noqa: E402
-from lenslab.lenses.camera import Camera, rotation_between, sample_offsets  # noqa: E402
-from lenslab.lenses.pose import Pose, look_at_matrix, ypr_matrix  # noqa: E402
-from lenslab.lenses.registry import REGISTRY, make_lens, parse_spec, register, _load_models  # noqa: E402
+moved.install()  # the module paths of the flat layout (lenslab.lenses.fisheye, ...) keep working
 
-_load_models()
-
-from lenslab.lenses.cameraio import load_camera, load_cameras, save_camera, save_cameras  # noqa: E402
+from lenslab.lenses.core.base import Lens, Param  # noqa: E402
+from lenslab.lenses.core.camera import Camera, rotation_between, sample_offsets  # noqa: E402
+from lenslab.lenses.core.pose import Pose, look_at_matrix, ypr_matrix  # noqa: E402
+from lenslab.lenses.registry import REGISTRY, make_lens, parse_spec, register  # noqa: E402
+from lenslab.lenses.core.cameraio import load_camera, load_cameras, save_camera, save_cameras  # noqa: E402
 
 __all__ = [
     "Lens", "Param", "Camera", "Pose", "REGISTRY", "make_lens", "parse_spec", "register",

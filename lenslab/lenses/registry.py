@@ -1,4 +1,9 @@
-"""The one registry from model name to lens class, and the spec syntax every command uses.
+"""The registry of lens models (a :class:`lenslab.registry.Registry`), and the spec syntax every command uses.
+
+Models are found like format plugins: every module in the model sub-packages of :mod:`lenslab.lenses`
+(``projections``, ``panoramas``, ``multiview``, ``distortion``, ``calibrated``, ``lensfun``, or a new
+one) is imported on first use, and each class it decorates with :func:`register` joins the registry
+under its ``name`` and ``aliases``. A new model is one module dropped into one of those packages.
 
 A spec is ``name`` or ``name:key=value,key=value``, for example ``fisheye:fov=180,mapping=equisolid``,
 ``swirl:amount=6`` or ``pincushion:k1=0.3,k2=0.05,fov=90``. Unknown names or parameters are errors that
@@ -12,16 +17,46 @@ from typing import TYPE_CHECKING, Any
 from lenslab.errors import LensError
 
 if TYPE_CHECKING:
-    from lenslab.lenses.base import Lens
+    from lenslab.lenses.core.base import Lens
 
-REGISTRY: dict[str, type] = {}
+from lenslab.registry import Registry
+
+#: sub-packages of lenslab.lenses that hold machinery, not models (never scanned for models)
+MACHINERY = ("core", "formulas")
+
+
+def load_models() -> None:
+    """Import every model module so that their :func:`register` decorators run: each module of each
+    sub-package of :mod:`lenslab.lenses` except :data:`MACHINERY` (and any model module left at the
+    top level). Compiled twins (modules named ``kernels`` or ``*_kernels``) are skipped: the models
+    import them on first use, so that numba stays out of start-up."""
+    import importlib
+    import pkgutil
+
+    import lenslab.lenses as package
+
+    def scan(pkg) -> None:
+        for info in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda m: m.name):
+            if info.name in MACHINERY or info.name == "registry" or info.name.endswith("kernels"):
+                continue
+            module = importlib.import_module(f"{pkg.__name__}.{info.name}")
+            if info.ispkg:
+                scan(module)
+
+    scan(package)
+
+
+REGISTRY: Registry[type] = Registry("lens model", LensError, load=load_models)
 
 
 def register(cls):
-    """Class decorator: add a :class:`~lenslab.lenses.base.Lens` subclass under ``cls.name``."""
-    if not cls.name or cls.name in REGISTRY:
-        raise RuntimeError(f"lens name {cls.name!r} missing or registered twice")
-    REGISTRY[cls.name] = cls
+    """Class decorator: add a :class:`~lenslab.lenses.core.base.Lens` subclass under ``cls.name``, with
+    its ``aliases``, ``summary``, ``references`` and ``examples`` (class attributes)."""
+    points = cls.__dict__.get("reference_points", ())
+    references = getattr(cls, "references", ()) or tuple(dict.fromkeys(p.source for p in points))
+    REGISTRY.add(cls.name, cls, aliases=cls.__dict__.get("aliases", ()), summary=getattr(cls, "summary", ""),
+                 references=references, examples=cls.__dict__.get("examples", ()),
+                 capabilities={"reference_points": points, "fit_examples": cls.__dict__.get("fit_examples", ())})
     return cls
 
 
@@ -34,7 +69,6 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
     values: dict[str, str] = {}
     if rest.strip():
         # a model may take its first value without a key, e.g. ``tiled:2x2`` for ``tiled:grid=2x2``
-        _load_models()
         positional = getattr(REGISTRY.get(name), "positional", None)
         for i, item in enumerate(split_items(rest, spec)):
             if i == 0 and positional and "=" not in item and item.strip():
@@ -67,11 +101,10 @@ def split_items(rest: str, spec: str) -> list[str]:
 
 
 def lens_class(name: str) -> type:
-    _load_models()
-    try:
-        return REGISTRY[name]
-    except KeyError:
-        raise LensError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}") from None
+    """The class of a model by name or alias; LensError listing the valid models."""
+    if name not in REGISTRY:
+        raise LensError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
+    return REGISTRY[name]
 
 
 def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, **overrides: Any) -> "Lens":
@@ -110,7 +143,6 @@ def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, *
     >>> dirs.round(6).tolist(), valid.tolist()
     ([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], [True, True])
     """
-    _load_models()
     from lenslab.lens_sources import reader_for
 
     read = reader_for(spec)  # a calibration file (OpenCV, Kalibr, COLMAP, OCamCalib, TOML): FILE or FILE#ID
@@ -130,20 +162,3 @@ def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, *
         if size is None:
             raise LensError(f"lens {name}: an image size (width, height) is needed")
     return cls.from_values(size[0], size[1], values) if hasattr(cls, "from_values") else cls(size[0], size[1], **values)
-
-
-_LOADED = False
-
-
-def _load_models() -> None:
-    """Import the model modules so that their ``@register`` decorators run."""
-    global _LOADED
-    if _LOADED:
-        return
-    _LOADED = True
-    import importlib
-
-    from lenslab.lenses import MODEL_MODULES
-
-    for mod in MODEL_MODULES:
-        importlib.import_module(f"lenslab.lenses.{mod}")

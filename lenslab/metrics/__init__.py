@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.metrics.edges import dilate, edge_mask_from_aovs, edge_mask_from_image
-from lenslab.metrics.measures import (FULL_COVERAGE, _as_image, _display, error_map, flip,  # noqa: F401
+from lenslab.metrics.measures import (FULL_COVERAGE, as_image, to_display, error_map, flip,  # noqa: F401
                                       pixel_relative_error, psnr_log, relative_l1, rmse, share_off, valid_mask)
 from lenslab.metrics.noise import noise_floor, noise_floor_split
 
@@ -63,7 +63,7 @@ def compare(ref, test, ref_alpha=None, test_alpha=None, mask=None, edges=None, r
     Returns a flat dict of floats: ``l1``, ``psnr_log``, ``off5``, ``rmse``, ``flip``, ``pixels``, and
     the same with ``_edge`` / ``_interior`` suffixes, plus ``noise_l1*`` and ``excess_l1*``.
     """
-    r = _as_image(ref, "reference")
+    r = as_image(ref, "reference")
     if mask is None:
         mask = valid_mask(ref_alpha, test_alpha, shape=r.shape[:2])
     mask = np.asarray(mask, dtype=bool)

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from lenslab.metrics.measures import _as_image
+from lenslab.metrics.measures import as_image
 
 
 # -- edges ---------------------------------------------------------------------------------------
@@ -92,7 +92,7 @@ def edge_mask_from_image(image, radius: int = 2, threshold: float = 0.25, denois
     """
     import cv2
 
-    img = _as_image(image, "image").astype(np.float64, copy=False)
+    img = as_image(image, "image").astype(np.float64, copy=False)
     if img.shape[-1] >= 3:
         lum = img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
     else:

@@ -11,7 +11,7 @@ FULL_COVERAGE = 0.999  # alpha at or above this counts as fully covered (alpha i
 
 
 # -- masks ---------------------------------------------------------------------------------------
-def _as_image(a, what: str) -> np.ndarray:
+def as_image(a, what: str) -> np.ndarray:
     arr = np.asarray(a)
     if arr.ndim == 2:
         arr = arr[..., None]
@@ -52,9 +52,9 @@ def valid_mask(ref_alpha=None, test_alpha=None, shape=None, threshold: float = F
     return mask
 
 
-def _prep(ref, test, mask):
-    r = _as_image(ref, "reference").astype(np.float64, copy=False)
-    t = _as_image(test, "test").astype(np.float64, copy=False)
+def paired_images(ref, test, mask):
+    r = as_image(ref, "reference").astype(np.float64, copy=False)
+    t = as_image(test, "test").astype(np.float64, copy=False)
     if r.shape != t.shape:
         raise ValueError(f"reference {r.shape} and test {t.shape} differ in shape; warp to the same size")
     m = np.ones(r.shape[:2], dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
@@ -70,7 +70,7 @@ def relative_l1(ref, test, mask=None) -> float:
 
     Returns NaN when the mask is empty, 0 when both images are 0 there, inf when only the reference is.
     """
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
     num = float(np.abs(t[m] - r[m]).sum())
@@ -82,7 +82,7 @@ def relative_l1(ref, test, mask=None) -> float:
 
 def rmse(ref, test, mask=None) -> float:
     """Root mean squared difference over masked pixels and channels (linear radiance units)."""
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
     return float(np.sqrt(np.mean((t[m] - r[m]) ** 2)))
@@ -90,7 +90,7 @@ def rmse(ref, test, mask=None) -> float:
 
 def psnr_log(ref, test, mask=None, floor: float = 1e-3) -> float:
     """PSNR (dB) of log radiance; see the module docstring. inf for identical images."""
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
     rv, tv = np.maximum(r[m], 0.0), np.maximum(t[m], 0.0)
@@ -110,8 +110,8 @@ def pixel_relative_error(ref, test, floor_fraction: float = 0.01) -> np.ndarray:
 
     ``floor`` is ``floor_fraction`` times the mean of ``sum_c |r|`` over the image (finite pixels).
     """
-    r = _as_image(ref, "reference").astype(np.float64, copy=False)
-    t = _as_image(test, "test").astype(np.float64, copy=False)
+    r = as_image(ref, "reference").astype(np.float64, copy=False)
+    t = as_image(test, "test").astype(np.float64, copy=False)
     num = np.abs(t - r).sum(axis=-1)
     den = np.abs(r).sum(axis=-1)
     finite = np.isfinite(den)
@@ -123,7 +123,7 @@ def pixel_relative_error(ref, test, floor_fraction: float = 0.01) -> np.ndarray:
 
 def share_off(ref, test, mask=None, tolerance: float = 0.05, floor_fraction: float = 0.01) -> float:
     """Fraction of masked pixels whose relative error exceeds ``tolerance`` (5% by default)."""
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
     e = pixel_relative_error(r, t, floor_fraction)
@@ -132,19 +132,19 @@ def share_off(ref, test, mask=None, tolerance: float = 0.05, floor_fraction: flo
 
 def error_map(ref, test, mask=None, floor_fraction: float = 0.01) -> np.ndarray:
     """Per-pixel relative error for display (float32 ``H x W``); NaN outside the mask."""
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     e = pixel_relative_error(r, t, floor_fraction)
     return np.where(m, e, np.nan).astype(np.float32)
 
 
-def _display(image: np.ndarray, curve: str, exposure: float) -> np.ndarray:
+def to_display(image: np.ndarray, curve: str, exposure: float) -> np.ndarray:
     """Tone-map (lenslab.tone) then sRGB-encode (colour-science) to 3-channel float32 in [0, 1]."""
     import warnings
 
     from lenslab.io.encode import encode_srgb
     from lenslab.tone import tonemap
 
-    img = _as_image(image, "image").astype(np.float32, copy=False)
+    img = as_image(image, "image").astype(np.float32, copy=False)
     if img.shape[-1] == 1:
         img = np.repeat(img, 3, axis=-1)
     elif img.shape[-1] == 4:
@@ -167,10 +167,10 @@ def flip(ref, test, mask=None, curve: str = "hable", exposure: float = 0.0, retu
     """
     import flip_evaluator
 
-    r, t, m = _prep(ref, test, mask)
+    r, t, m = paired_images(ref, test, mask)
     params = {} if ppd is None else {"ppd": float(ppd)}
-    rd = np.where(m[..., None], _display(r, curve, exposure), 0.0).astype(np.float32)
-    td = np.where(m[..., None], _display(t, curve, exposure), 0.0).astype(np.float32)
+    rd = np.where(m[..., None], to_display(r, curve, exposure), 0.0).astype(np.float32)
+    td = np.where(m[..., None], to_display(t, curve, exposure), 0.0).astype(np.float32)
     fmap, _, _ = flip_evaluator.evaluate(rd, td, "LDR", inputsRGB=True, applyMagma=False,
                                          computeMeanError=False, parameters=params)
     fmap = np.asarray(fmap, dtype=np.float32).reshape(r.shape[:2])

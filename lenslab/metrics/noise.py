@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from lenslab.metrics.measures import _as_image, _prep
+from lenslab.metrics.measures import as_image, paired_images
 
 
 def noise_floor(ref, ref_stderr, mask=None) -> dict[str, float]:
@@ -21,8 +21,8 @@ def noise_floor(ref, ref_stderr, mask=None) -> dict[str, float]:
     sum |r|``), ``rmse`` (``sqrt(mean sigma^2)``) and ``relative_stderr`` (``sqrt(sum sigma^2) / sum |r|``,
     the standard error of the image mean, relative).
     """
-    r = _as_image(ref, "reference").astype(np.float64, copy=False)
-    s = _as_image(ref_stderr, "reference standard error").astype(np.float64, copy=False)
+    r = as_image(ref, "reference").astype(np.float64, copy=False)
+    s = as_image(ref_stderr, "reference standard error").astype(np.float64, copy=False)
     s = np.broadcast_to(s, r.shape)
     m = np.ones(r.shape[:2], dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
     m = m & np.all(np.isfinite(r), axis=-1) & np.all(np.isfinite(s), axis=-1)
@@ -48,7 +48,7 @@ def noise_floor_split(half_a, half_b, mask=None) -> float:
     without assuming normality. (Monte Carlo noise at a few samples per pixel is heavy-tailed: there
     the normal formula of :func:`noise_floor` overestimates the L1, by about 2x at 16 spp.)
     """
-    a, b, m = _prep(half_a, half_b, mask)
+    a, b, m = paired_images(half_a, half_b, mask)
     if not m.any():
         return float("nan")
     den = float(np.abs(0.5 * (a[m] + b[m])).sum())

@@ -13,6 +13,9 @@ OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally.
 >>> y = drago(np.repeat(ramp, 4, axis=0))[0, :, 0]
 >>> bool(np.all(np.diff(y) > 0)), float(y[-1])              # OpenCV stretches the result to [0, 1]
 (True, 1.0)
+>>> y = mantiuk(np.repeat(ramp, 4, axis=0))
+>>> bool(y.min() >= 0.0), float(y.max())                      # likewise stretched to [0, 1]
+(True, 1.0)
 """
 
 from __future__ import annotations

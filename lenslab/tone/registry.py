@@ -1,7 +1,8 @@
 """The curve registry: every tone curve by name, with its declared parameters.
 
-A curve module registers itself with :func:`register`; the command line (``--curve``, ``lenslab curves
---list``), the chart, the fits and the tests all read :data:`CURVES`. An unknown name or a bad
+A curve module registers itself with :func:`register`; :data:`CURVES` (a :class:`lenslab.registry.Registry`)
+finds every such module of :mod:`lenslab.tone` on first use, so a new curve is one module. The command
+line (``--curve``, ``lenslab curves --list``), the chart, the fits, the docs and the tests all read it. An unknown name or a bad
 parameter raises :class:`lenslab.errors.ToneError` listing what is valid.
 """
 
@@ -12,6 +13,7 @@ from typing import Callable
 
 from lenslab.errors import ToneError
 from lenslab.params import Param
+from lenslab.registry import Registry
 
 KINDS = ("scalar", "rgb", "image", "local")
 
@@ -64,11 +66,33 @@ class Curve:
         return self.check(out) if self.check else out
 
 
-CURVES: dict[str, Curve] = {}
+def curve_key(name: str) -> str:
+    """Curve names are case-insensitive, and ``_`` and ``-`` are interchangeable."""
+    return str(name).strip().lower().replace("_", "-")
+
+
+def load_curves() -> None:
+    """Import :mod:`lenslab.tone` (its curve modules, in the order users see them listed), then any other
+    module of the package that registers a curve."""
+    import importlib
+    import pkgutil
+    from pathlib import Path
+
+    import lenslab.tone as package
+
+    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
+        source = Path(package.__path__[0], info.name + ".py")
+        if source.is_file() and "from lenslab.tone.registry import register" in source.read_text(encoding="utf-8"):
+            importlib.import_module(f"lenslab.tone.{info.name}")
+
+
+#: every tone curve, by name
+CURVES: Registry[Curve] = Registry("tone curve", ToneError, load=load_curves, key=curve_key)
 
 
 def register(name: str, kind: str, params: tuple[Param, ...] = (), build: Callable | None = None,
-             build_grey: Callable | None = None, check: Callable[[dict], dict] | None = None):
+             build_grey: Callable | None = None, check: Callable[[dict], dict] | None = None,
+             references: tuple[str, ...] = (), examples: tuple[str, ...] = ()):
     """Decorator: register the curve function it wraps as ``name`` (its docstring's first paragraph
     is the summary ``lenslab curves --list`` prints)."""
     if kind not in KINDS:  # pragma: no cover - a programming error in a curve module
@@ -77,7 +101,9 @@ def register(name: str, kind: str, params: tuple[Param, ...] = (), build: Callab
     def deco(fn):
         first_paragraph = (fn.__doc__ or "").strip().split("\n\n")[0]
         summary = " ".join(line.strip() for line in first_paragraph.splitlines())
-        CURVES[name] = Curve(name, fn, tuple(params), kind, summary, build, build_grey, check)
+        CURVES.add(name, Curve(name, fn, tuple(params), kind, summary, build, build_grey, check),
+                   summary=summary, capabilities={"kind": kind}, references=tuple(references),
+                   examples=tuple(examples))
         return fn
     return deco
 
@@ -89,10 +115,9 @@ def curve_names() -> list[str]:
 
 def get_curve(name: str) -> Curve:
     """The curve called ``name`` (case-insensitive; ``_`` and ``-`` are interchangeable)."""
-    key = str(name).strip().lower().replace("_", "-")
-    if key not in CURVES:
+    if name not in CURVES:
         raise ToneError(f"unknown tone curve {name!r}; valid curves: {', '.join(CURVES)}")
-    return CURVES[key]
+    return CURVES[name]
 
 
 def describe_curves() -> str:

@@ -9,6 +9,8 @@ Lavg = exp(mean(log(delta + Lw))) lands on the key a: L = (a / Lavg) Lw.
 [0.0, 0.5, 0.75]
 >>> round(float(reinhard_extended([2.0], white=4.0)[0]), 6)      # 2 (1 + 2/16) / 3
 0.75
+>>> round(float(reinhard2002(np.full(4, 2.0, np.float32))[0]), 4)  # a uniform image lands on the key: a / (1 + a)
+0.1525
 """
 
 from __future__ import annotations

@@ -127,7 +127,7 @@ def _best_worst(val):
 
 
 def _display(image):
-    from lenslab.metrics import _display as disp
+    from lenslab.metrics import to_display as disp
 
     return disp(image, "hable", 0.0)
 

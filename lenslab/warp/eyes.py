@@ -1,6 +1,6 @@
 """Stereo frames in a warp: each output eye from the same eye of the source.
 
-A lens whose :meth:`~lenslab.lenses.base.Lens.pieces` carry ``eye`` numbers holds two eyes in one
+A lens whose :meth:`~lenslab.lenses.core.base.Lens.pieces` carry ``eye`` numbers holds two eyes in one
 frame (``stereo:sbs,...``). The engine never asks which model that is; it pairs the eyes:
 
 - stereo -> stereo: output eye ``k`` from source eye ``k``, each read from its own half only;

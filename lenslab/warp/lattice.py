@@ -284,7 +284,7 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
 @numba.njit(nogil=True)
 def project_kernel(fn, params, d, xy, valid):
     """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
-    ``fn`` (see :class:`~lenslab.lenses.protocol.PixelKernel`): zero and non-finite directions invalid."""
+    ``fn`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`): zero and non-finite directions invalid."""
     for i in range(d.shape[0]):
         n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
         ok = False

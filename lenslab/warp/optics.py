@@ -1,11 +1,11 @@
 """Per-channel optics and vignetting in a warp, as the lenses state them.
 
-A lens with :meth:`~lenslab.lenses.base.Lens.channel_lenses` (chromatic aberration) is one lens per R,
+A lens with :meth:`~lenslab.lenses.core.base.Lens.channel_lenses` (chromatic aberration) is one lens per R,
 G, B: the warp runs once per channel, channel ``c`` mapped from the source's channel lens ``c`` (or the
 source lens) into the destination's channel lens ``c`` (or the destination lens); channels beyond
 three and alpha follow G; an image with fewer than three channels is warped by the G lenses alone.
 
-A lens with :meth:`~lenslab.lenses.base.Lens.falloff` (vignetting): as a destination the output is
+A lens with :meth:`~lenslab.lenses.core.base.Lens.falloff` (vignetting): as a destination the output is
 multiplied by the falloff at each output pixel's centre; as a source the image is divided by its
 falloff at each source pixel's centre (never by less than ``MIN_FALLOFF``) before it is sampled, so
 every sample reads the light as it was before the lens dimmed it. Both are smooth across a pixel, so
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.lenses import Camera
-from lenslab.lenses.protocol import MIN_FALLOFF
+from lenslab.lenses.core.protocol import MIN_FALLOFF
 
 FALLOFF_ROWS = 256  # rows of pixel centres per call of a lens's falloff (bounds the float64 working set)
 

@@ -1,7 +1,7 @@
 """Borders of a source image: what a filter tap outside the image, or outside its piece, reads.
 
-The source lens says how its image continues (:meth:`~lenslab.lenses.base.Lens.seams` and
-:meth:`~lenslab.lenses.base.Lens.pieces`); a tap beyond an edge is folded back in, so every filter
+The source lens says how its image continues (:meth:`~lenslab.lenses.core.base.Lens.seams` and
+:meth:`~lenslab.lenses.core.base.Lens.pieces`); a tap beyond an edge is folded back in, so every filter
 sees a continuous neighbourhood:
 
 - an image with a period in x (a full-turn panorama) wraps horizontally: column ``-1`` is ``W-1``;

@@ -1,7 +1,7 @@
 """Sources that see a direction more than once: every sample blends the source lens's weighted views.
 
-A lens whose :meth:`~lenslab.lenses.base.Lens.source_view_count` is above 1 (two fisheyes whose
-circles overlap) answers :meth:`~lenslab.lenses.base.Lens.source_views` with several ``(xy, valid,
+A lens whose :meth:`~lenslab.lenses.core.base.Lens.source_view_count` is above 1 (two fisheyes whose
+circles overlap) answers :meth:`~lenslab.lenses.core.base.Lens.source_views` with several ``(xy, valid,
 weight)`` readings per direction. Each output sample is then the weighted sum of its views' filtered
 values, ``sum_k w_k v_k`` (the weights sum to 1 where any view sees the ray), and a pixel's colour
 and alpha the mean over its samples, as for a one-view source. The maps are computed exactly, sample

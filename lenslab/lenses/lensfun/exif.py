@@ -1,0 +1,200 @@
+"""The camera and lens a photo names in its metadata, for ``lensfun:auto`` and ``--from auto``.
+
+:func:`photo_lens` reads the camera maker and model, the lens maker and model, focal length,
+f-number and focus distance of a file: EXIF through exifread (JPEG, TIFF and DNG-derived TIFF, PNG's
+eXIf chunk, WebP, HEIC), XMP packets (``aux:Lens``, ``exifEX:LensModel``...) where EXIF lacks a field,
+and OpenEXR's standard attributes (``cameraMake``, ``lensModel``, ``nominalFocalLength``, ``aperture``,
+``focus``) for EXR. Only headers are read: at most :data:`XMP_SCAN` bytes of the file for XMP.
+:func:`lenslab.lenses.lensfun.match.auto_spec` turns them into the explicit ``lensfun:`` spec, so
+``lensfun:auto`` is exactly that spec.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from lenslab.errors import LensError
+
+#: bytes of a file searched for an XMP packet (JPEG puts it in the first 64 KiB; TIFF near the start)
+XMP_SCAN = 4 << 20
+EXR_MAGIC = b"\x76\x2f\x31\x01"
+
+
+@dataclass
+class PhotoLens:
+    """What a file says about its camera and lens (None: not recorded)."""
+
+    path: str
+    camera_maker: str | None = None
+    camera_model: str | None = None
+    lens_maker: str | None = None
+    lens_model: str | None = None
+    focal: float | None = None  # mm
+    aperture: float | None = None  # f-number
+    distance: float | None = None  # m
+    focal35: float | None = None  # 35 mm equivalent focal length, mm
+    sources: list[str] = field(default_factory=list)  # where the values came from
+
+    @property
+    def camera(self) -> str | None:
+        """Maker and model once: EXIF's model often repeats the maker ("Canon", "Canon EOS 600D")."""
+        return camera_name(self.camera_maker, self.camera_model)
+
+    @property
+    def crop(self) -> float | None:
+        """The sensor's crop factor from the 35 mm equivalent focal length, where both are recorded."""
+        if self.focal and self.focal35:
+            return self.focal35 / self.focal
+        return None
+
+    def describe(self) -> str:
+        parts = [self.camera or "camera not recorded", self.lens_model or "lens not recorded"]
+        if self.focal:
+            parts.append(f"{self.focal:g} mm")
+        if self.aperture:
+            parts.append(f"f/{self.aperture:g}")
+        if self.distance:
+            parts.append(f"focused at {self.distance:g} m")
+        return ", ".join(parts) + (f" ({', '.join(self.sources)})" if self.sources else "")
+
+
+def camera_name(maker: str | None, model: str | None) -> str | None:
+    maker, model = (maker or "").strip(), (model or "").strip()
+    if not model:
+        return maker or None
+    first = maker.split()[0].lower() if maker else ""
+    if not maker or model.lower().startswith(first):
+        return model
+    return f"{maker} {model}"
+
+
+def _number(value) -> float | None:
+    """A float from an EXIF rational/number/text ("24/1", Ratio, [Ratio]); None when not a positive number."""
+    while isinstance(value, (list, tuple)):  # exifread: a list of values (each may be a tuple)
+        value = value[0] if value else None
+    if value is None:
+        return None
+    try:
+        if isinstance(value, str):
+            a, slash, b = value.strip().partition("/")
+            v = float(a) / float(b) if slash else float(a)
+        else:
+            v = float(value)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+    return v if v > 0 and v == v and v != float("inf") else None
+
+
+def _text(value) -> str | None:
+    if value is None:
+        return None
+    text = str(value.values if hasattr(value, "values") and isinstance(value.values, str) else value)
+    text = text.replace("\x00", "").strip()
+    return text or None
+
+
+def _exif(path: Path, info: PhotoLens) -> None:
+    import logging
+
+    import exifread
+
+    log = logging.getLogger("exifread")
+    level = log.level
+    log.setLevel(logging.CRITICAL + 1)  # a damaged header is "nothing recorded", not warnings on stderr
+    try:
+        with open(path, "rb") as f:
+            tags = exifread.process_file(f, details=False)
+    except Exception:  # exifread raises its own errors for damaged headers: nothing recorded
+        tags = {}
+    finally:
+        log.setLevel(level)
+    if not tags:
+        return
+    got = {
+        "camera_maker": _text(tags.get("Image Make")),
+        "camera_model": _text(tags.get("Image Model")),
+        "lens_maker": _text(tags.get("EXIF LensMake")),
+        "lens_model": _text(tags.get("EXIF LensModel")),
+        "focal": _number(getattr(tags.get("EXIF FocalLength"), "values", None)),
+        "aperture": _number(getattr(tags.get("EXIF FNumber"), "values", None)),
+        "distance": _number(getattr(tags.get("EXIF SubjectDistance"), "values", None)),
+        "focal35": _number(getattr(tags.get("EXIF FocalLengthIn35mmFilm"), "values", None)),
+    }
+    _fill(info, got, "EXIF")
+
+
+#: XMP property -> PhotoLens field (attribute or element form)
+XMP_KEYS = {
+    "tiff:Make": "camera_maker", "tiff:Model": "camera_model", "exifEX:LensMake": "lens_maker",
+    "exifEX:LensModel": "lens_model", "aux:Lens": "lens_model", "exif:FocalLength": "focal",
+    "exif:FNumber": "aperture", "exif:SubjectDistance": "distance", "exif:FocalLengthIn35mmFilm": "focal35",
+}
+
+
+def _xmp(path: Path, info: PhotoLens) -> None:
+    with open(path, "rb") as f:
+        data = f.read(XMP_SCAN)
+    start = data.find(b"<x:xmpmeta")
+    if start < 0:
+        return
+    end = data.find(b"</x:xmpmeta>", start)
+    packet = data[start:end if end > 0 else len(data)].decode("utf-8", "replace")
+    got = {}
+    for key, name in XMP_KEYS.items():
+        k = re.escape(key)
+        m = (re.search(rf'{k}\s*=\s*"([^"]*)"', packet)
+             or re.search(rf"<{k}>\s*(?:<rdf:Alt>\s*<rdf:li[^>]*>)?([^<]*)<", packet))
+        if m and name not in got:
+            value = m.group(1).strip()
+            got[name] = _number(value) if name in ("focal", "aperture", "distance", "focal35") else (value or None)
+    _fill(info, got, "XMP")
+
+
+def _exr(path: Path, info: PhotoLens) -> None:
+    import OpenEXR
+
+    try:
+        header = OpenEXR.File(str(path), header_only=True).parts[0].header
+    except Exception:
+        raise LensError(f"{path}: OpenEXR cannot read the header; the file is damaged") from None
+    got = {
+        "camera_maker": _text(header.get("cameraMake")), "camera_model": _text(header.get("cameraModel")),
+        "lens_maker": _text(header.get("lensMake")), "lens_model": _text(header.get("lensModel")),
+        "focal": _number(header.get("nominalFocalLength")), "aperture": _number(header.get("aperture")),
+        "distance": _number(header.get("focus")),
+    }
+    _fill(info, got, "EXR attributes")
+
+
+def _fill(info: PhotoLens, got: dict, source: str) -> None:
+    used = False
+    for name, value in got.items():
+        if value is not None and getattr(info, name) is None:
+            setattr(info, name, value)
+            used = True
+    if used:
+        info.sources.append(source)
+
+
+def photo_lens(path) -> PhotoLens:
+    """The camera and lens ``path``'s metadata records (fields not recorded stay None)."""
+    path = Path(path)
+    if not path.is_file():
+        raise LensError(f"{path}: no such file to read the lens from")
+    info = PhotoLens(str(path))
+    with open(path, "rb") as f:
+        magic = f.read(4)
+    if magic == EXR_MAGIC:
+        _exr(path, info)
+    else:
+        _exif(path, info)
+    _xmp(path, info)
+    return info
+
+
+def is_auto(spec) -> bool:
+    """``lensfun:auto`` or ``auto`` (with or without more values after a comma)."""
+    return isinstance(spec, str) and re.fullmatch(r"\s*(lensfun:)?auto\s*(,.*)?", spec, re.S | re.I) is not None
+
