@@ -7,6 +7,10 @@ OSError), so ``except ValueError`` keeps working.
 
 from __future__ import annotations
 
+#: NumPy's arithmetic notes (NaN or inf met in a cast, a division, a log) are the commands' business to
+#: handle and report in the user's terms; they never reach the terminal as library warnings.
+NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
+
 
 class LenslabError(Exception):
     """Base of every lenslab error (mixed into a built-in type below)."""
@@ -34,3 +38,12 @@ class FitError(LenslabError, ValueError):
     def __init__(self, message: str, best=None):
         super().__init__(message)
         self.best = best
+
+
+class UsageError(LenslabError):
+    """A bad option, spec or value given on the command line: exit code 2, one line, before any work."""
+
+
+class OutputError(LenslabError, OSError):
+    """An output that may not be written: it exists (no ``--overwrite``), it is one of the inputs, or it
+    is not a regular file (a FIFO or a device is never replaced)."""

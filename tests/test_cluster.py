@@ -175,14 +175,12 @@ def _free_port() -> int:
 
 @pytest.mark.parametrize("command", [["convert", "--to", "pfm"], ["warp", "--to", "fisheye:fov=180"],
                                      ["tonemap"]])
-def test_an_unreachable_scheduler_fails_the_start_and_makes_no_folder(tmp_path, command, capsys, monkeypatch):
-    from lenslab.cluster import connect
-
-    monkeypatch.setattr(connect, "CONNECT_TIMEOUT", "1s")  # nothing listens: no need to wait 10 s
+def test_an_unreachable_scheduler_fails_the_start_and_makes_no_folder(tmp_path, command, capsys):
     _frames(tmp_path / "in", 2)
     address = f"tcp://127.0.0.1:{_free_port()}"
     out = tmp_path / "out"
-    status = lenslab([command[0], str(tmp_path / "in"), "-o", str(out), *command[1:], "--scheduler", address])
+    status = lenslab([command[0], str(tmp_path / "in"), "-o", str(out), *command[1:], "--scheduler", address,
+                      "--scheduler-timeout", "2"])  # nothing listens: no need to wait 15 s
     err = capsys.readouterr().err
     assert status == 1  # a failed start (exit 1), not a usage error: the address may be right and the scheduler down
     assert err.count("\n") == 1 and address in err and "Traceback" not in err, err

@@ -126,7 +126,7 @@ def render_on_cluster(args, camera):
     None when no scheduler is given (the render then runs here)."""
     import sys
 
-    from lenslab.cli.policy import UsageError
+    from lenslab.errors import UsageError
     from lenslab.cluster import scheduler_address
     from lenslab.cluster.connect import client_for
 

@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  spec: {lens.spec()}")
         return 0
     from lenslab.calibfiles import split_pick, write_lens
-    from lenslab.cli.policy import check_output
+    from lenslab.jobs.policy import check_output
 
     src, _ = split_pick(args.camera)
     out = check_output(args.output, [src] if src.exists() else [], args.overwrite)

@@ -45,8 +45,9 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print(tone.describe_curves())
         return 0
-    from lenslab.cli.policy import UsageError, check_output
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output
+    from lenslab.atomic import atomic_write_path
 
     kind = str(args.output).rsplit(".", 1)[-1].lower()
     if kind not in CHART_FORMATS:

@@ -194,10 +194,10 @@ def run(args: argparse.Namespace) -> int:
             print(formats_text())
         return 0
     if not args.files:
-        from lenslab.cli.policy import UsageError
+        from lenslab.errors import UsageError
 
         raise UsageError("give one or more files, or --formats")
-    from lenslab.cli.policy import library_output_to_stderr, one_line
+    from lenslab.jobs.funnel import library_output_to_stderr, one_line
 
     results, failed = [], 0
     for path in args.files:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from lenslab.cli.policy import image_size
+from lenslab.jobs.arguments import image_size
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -43,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from lenslab.cli.policy import UsageError, check_output
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output
     from lenslab.lenses import Camera, Pose, make_lens
     from lenslab.stmap import st_map, write_st_map
 

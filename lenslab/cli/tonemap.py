@@ -55,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
     from lenslab.cli.display import add_display_arguments
-    from lenslab.cli.options import add_jobs_option, add_scheduler_options
+    from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options
 
     add_display_arguments(parser, instead_of="--curve")
     add_jobs_option(parser, "files to tone-map (with several inputs)")
@@ -101,11 +101,11 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
 
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
-    from lenslab.cli.policy import check_output, output_format
-    from lenslab.cli.options import check_skip_or_overwrite, parse_exposure
+    from lenslab.jobs.policy import check_output, output_format
+    from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
 
     check_skip_or_overwrite(args)
-    from lenslab.cli.tonemap_file import write_tone_mapped
+    from lenslab.jobs.tonemap import write_tone_mapped
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
@@ -122,14 +122,18 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"lenslab tonemap: {args.output} already there, left alone (--skip-existing)", file=sys.stderr)
         return 0
+    exposure = parse_exposure(args.exposure)  # a bad value: one usage error before the image is read
     check_output(args.output, [args.input], args.overwrite)
     output_format(args.output)  # an unknown extension: one usage error before the image is read
-    image, meta = io.read(args.input)
-    if display["display"]:
-        from lenslab.cli.tonemap_file import write_display
+    from lenslab.jobs.funnel import working_on
 
-        write_display(args.output, image, {**display, "exposure": parse_exposure(args.exposure),
-                                           "bits": args.bits, "dither": args.dither, "overwrite": args.overwrite})
+    with working_on(args.input):
+        image, meta = io.read(args.input)
+    if display["display"]:
+        from lenslab.jobs.tonemap import TonemapJob
+
+        job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
+        job.write(args.output, image, meta)
         if not args.quiet:
             print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}", file=sys.stderr)
         return 0

@@ -14,7 +14,7 @@ scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes be
 :data:`lenslab.io.limits.MAX_PIXELS` are refused before any allocation.
 
 ``write(path, image, format=None, **options)``: the format from ``format=`` or the extension; the
-file is written to a temporary name and renamed (see :mod:`lenslab.io.atomic`). Options:
+file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Options:
 
 - all: ``overwrite=True``; ``camera=`` (EXR stores it as the ``lenslab.camera`` TOML attribute)
 - LDR (ppm/pgm/jpg/png): ``raw=False`` (True: values are code values / maxval, no sRGB encoding),
@@ -36,7 +36,7 @@ from pathlib import Path
 
 
 from lenslab.errors import FormatError
-from lenslab.io.atomic import atomic_write_path
+from lenslab.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
 
 #: the EXR attribute holding a lenslab camera (TOML)

@@ -30,7 +30,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import image_size, non_negative_int, positive_int
+from lenslab.jobs.arguments import image_size, non_negative_int, positive_int
 
 # the files a report holds (lenslab.validate.report): an earlier run's are replaced only with --overwrite
 REPORT_FILES = ("results.json", "report.md")
@@ -117,7 +117,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
     parser.add_argument("--overwrite", action="store_true", help="replace the report of an earlier run in DIR")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.jobs.arguments import add_scheduler_options
 
     add_scheduler_options(parser, skip_existing=False)  # every trace as tiles on the cluster's workers
 
@@ -128,7 +128,8 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.validate.run import ValidationError, WarpSetting, parse_size, validate
     from tracer.validate.source import make_source
 
-    from lenslab.cli.policy import UsageError, check_output, check_output_dir
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output, check_output_dir
 
     size = args.size
     pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]

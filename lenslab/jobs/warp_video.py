@@ -51,10 +51,10 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     import numpy as np
     from tqdm import tqdm
 
-    from lenslab.cli.policy import check_output
-    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.jobs.policy import check_output
+    from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
     from lenslab.errors import FormatError
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
 
     if Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:

@@ -1,0 +1,186 @@
+"""Atomic output: every file is written to a temporary name in the target's directory, then renamed.
+
+A reader never sees a half-written file, and a failure (an exception, a full disk, Ctrl-C, SIGTERM)
+leaves nothing behind but what was there before. A temporary is named for the process that owns it
+(``.STEM.tmp-PID-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is found
+by :func:`sweep` once that process is gone. Only regular files are ever replaced: a FIFO or a device
+node in an output's place is refused.
+
+A cluster task writes inside :func:`staged`: its temporaries are named for the command's process and
+left for the command to rename (:func:`commit`), so no output appears once the command has ended.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import secrets
+import stat
+import threading
+from pathlib import Path
+from typing import Iterator
+
+
+TEMPORARY_TAG = ".tmp-"  # temporaries are named .STEM.tmp-PID-RANDOM.SUFFIX beside their target
+_TEMPORARY = re.compile(r"^\..+" + re.escape(TEMPORARY_TAG) + r"(\d+)-[0-9a-f]{8}(\.[^./]*)?$")
+_STAGING = threading.local()  # .owner (a pid) and .written (a list) while the thread writes in staged()
+#: set when the command is stopping (Ctrl-C, SIGTERM): a write that finishes then is not renamed
+STOPPING = threading.Event()
+
+
+class Stopped(KeyboardInterrupt):
+    """A write finished after the command was told to stop: its temporary was removed, nothing renamed."""
+
+
+def refuse_special(path: str | os.PathLike) -> None:
+    """Raise :class:`OSError` if ``path`` exists and is neither a regular file nor a folder (a FIFO, a
+    device, a socket): outputs replace files, never such nodes."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        from lenslab.errors import OutputError
+
+        raise OutputError(f"{path}: exists and is not a regular file (a FIFO, device or socket); it is never "
+                          "replaced, even with --overwrite: choose another output name")
+
+
+def owner_alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this machine (a process of another user counts as running)."""
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def sweep(folders) -> list[Path]:
+    """Remove the temporaries in ``folders`` whose owner process no longer runs (killed before it could
+    rename or remove them); returns what was removed. Temporaries of running processes stay."""
+    removed = []
+    for folder in {Path(f) for f in folders}:
+        try:
+            names = [e.name for e in os.scandir(folder) if e.name.startswith(".") and TEMPORARY_TAG in e.name]
+        except OSError:
+            continue
+        for name in names:
+            m = _TEMPORARY.match(name)
+            if m and not owner_alive(int(m.group(1))):
+                with contextlib.suppress(OSError):
+                    (folder / name).unlink()
+                    removed.append(folder / name)
+    return removed
+
+
+@contextlib.contextmanager
+def staged(owner: int) -> Iterator[list]:
+    """Inside (this thread only), :func:`atomic_write_path` leaves each finished temporary in place, named
+    for process ``owner``, and records ``(temporary, target, overwrite)`` in the yielded list; the owner
+    renames them with :func:`commit` or removes them with :func:`discard`."""
+    saved = getattr(_STAGING, "owner", None), getattr(_STAGING, "written", None)
+    _STAGING.owner, _STAGING.written = owner, []
+    try:
+        yield _STAGING.written
+    except BaseException:
+        discard(_STAGING.written)
+        raise
+    finally:
+        _STAGING.owner, _STAGING.written = saved
+
+
+def commit(written: list) -> None:
+    """Rename staged temporaries to their targets (see :func:`staged`); a target that appeared meanwhile
+    is kept unless the write was to overwrite it. What cannot be renamed is removed, and the first error
+    raised after all were tried."""
+    error = None
+    for tmp, target, overwrite in written:
+        try:
+            _rename(Path(tmp), Path(target), overwrite)
+        except OSError as exc:
+            error = error or exc
+        finally:
+            with contextlib.suppress(OSError):
+                Path(tmp).unlink()
+    if error is not None:
+        raise error
+
+
+def discard(written: list) -> None:
+    """Remove staged temporaries (the command stopped, or the task failed)."""
+    for tmp, _, _ in written:
+        with contextlib.suppress(OSError):
+            Path(tmp).unlink()
+    written.clear()
+
+
+def _rename(tmp: Path, target: Path, overwrite: bool) -> None:
+    refuse_special(target)
+    if overwrite:
+        os.replace(tmp, target)
+        return
+    try:
+        os.link(tmp, target)  # fails if the target appeared meanwhile: never clobber
+    except FileExistsError:
+        raise FileExistsError(f"{target}: already exists; pass overwrite=True (--overwrite) to replace it") from None
+    except OSError:  # file systems without hard links
+        if target.exists():
+            raise FileExistsError(
+                f"{target}: already exists; pass overwrite=True (--overwrite) to replace it") from None
+        os.replace(tmp, target)
+
+
+def temporaries(path: str | os.PathLike) -> list[Path]:
+    """Temporary files of ``path`` left by writers that were killed before they could rename or remove
+    them (a lost cluster worker, a power cut); a batch removes them once no writer of ``path`` runs."""
+    import glob
+
+    target = Path(path)
+    if not target.parent.is_dir():
+        return []
+    pattern = f".{glob.escape(target.stem)}{TEMPORARY_TAG}*{glob.escape(target.suffix)}"
+    return sorted(target.parent.glob(pattern))
+
+
+@contextlib.contextmanager
+def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; on success rename it to ``path``, on failure remove it.
+
+    The temporary name keeps the target's extension (some encoders choose the format by it).
+    With ``overwrite=False`` an existing target raises :class:`FileExistsError` before anything is
+    written, and again at the rename if another process created it in the meantime.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise IsADirectoryError(f"{target}: is a directory; give a file name to write to")
+    refuse_special(target)
+    if not overwrite and target.exists():
+        raise FileExistsError(f"{target}: already exists; pass overwrite=True (--overwrite) to replace it")
+    parent = target.parent
+    if not parent.is_dir():
+        raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
+    owner = getattr(_STAGING, "owner", None)
+    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{owner or os.getpid()}-{secrets.token_hex(4)}{target.suffix}"
+    try:
+        yield tmp
+        if not tmp.exists():
+            raise FileNotFoundError(f"{target}: nothing was written")
+        if STOPPING.is_set():
+            raise Stopped(f"{target}: not written: the command was stopped")
+        if owner is not None:  # the owner renames it (commit) or removes it (discard)
+            _STAGING.written.append((tmp, target, overwrite))
+            return
+        try:
+            _rename(tmp, target, overwrite)
+        finally:
+            if tmp.exists():
+                tmp.unlink()
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
