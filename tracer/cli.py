@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import ArgumentParser, image_size, non_negative_int, positive_float, positive_int
+from lenslab.jobs.arguments import ArgumentParser, finite_float, image_size, non_negative_int, positive_float, positive_int
 from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
@@ -40,9 +40,9 @@ def _exposure(text: str):
     if text.strip().lower() == "auto":
         return "auto"
     try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"exposure is a number of stops or 'auto', got {text!r}") from None
+        return finite_float(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(f"exposure is a number of stops or 'auto', got {text[:40]!r}") from None
 
 
 def add_render_arguments(p: argparse.ArgumentParser) -> None:
@@ -66,10 +66,10 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's; a new eye keeps the view's direction)")
     p.add_argument("--look-at", type=_triple, metavar="X,Y,Z", help="point the camera looks at")
     p.add_argument("--up", type=_triple, metavar="X,Y,Z", help="up direction for --look-at (default 0,1,0)")
-    p.add_argument("--yaw", type=float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
+    p.add_argument("--yaw", type=finite_float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
                         "target); with --pitch and --roll a full orientation")
-    p.add_argument("--pitch", type=float, help="camera tilt up, degrees")
-    p.add_argument("--roll", type=float, help="camera roll about its axis, degrees")
+    p.add_argument("--pitch", type=finite_float, help="camera tilt up, degrees")
+    p.add_argument("--roll", type=finite_float, help="camera roll about its axis, degrees")
     p.add_argument("--integrator", choices=("path", "direct"), default="path",
                    help="path: path tracing with MIS and Russian roulette (default); direct: direct lighting only")
     p.add_argument("--max-depth", type=non_negative_int, default=8, help="maximum bounces (default 8; 1 = direct light)")

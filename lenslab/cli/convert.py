@@ -104,8 +104,8 @@ def run(args: argparse.Namespace) -> int:
     display = display_options(args)  # bad display names: one usage error before any folder is made
     if args.to not in VIDEO:
         fmt = get(args.to)
-        if args.bits and not {"bits", "sample_type"} & set(fmt.write_options):
-            raise UsageError(f"--bits applies to formats with integer samples of several depths, not {args.to}")
+        if args.bits and (args.bits not in fmt.bit_depths or not {"bits", "sample_type"} & set(fmt.write_options)):
+            raise UsageError(f"--bits {args.bits}: {fmt.title} is not written with {args.bits}-bit integer samples")
         if not fmt.hdr or args.bits:
             from lenslab.tone import get_curve
 

@@ -153,7 +153,7 @@ def add_scheduler_options(parser, skip_existing: bool = True) -> None:
                             "$DASK_SCHEDULER_ADDRESS, else this machine. The workers must see the same files")
     group.add_argument("--scheduler-file", metavar="FILE", default=None,
                        help="the same, with the address read from the file 'dask scheduler --scheduler-file' wrote")
-    group.add_argument("--scheduler-timeout", type=positive_float, default=15.0, metavar="SECONDS",
+    group.add_argument("--scheduler-timeout", type=float_in(0, 3600), default=15.0, metavar="SECONDS",
                        help="give up on a scheduler that does not answer within this time (default 15)")
     if skip_existing:
         group.add_argument("--skip-existing", action="store_true",
