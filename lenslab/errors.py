@@ -47,3 +47,25 @@ class UsageError(LenslabError):
 class OutputError(LenslabError, OSError):
     """An output that may not be written: it exists (no ``--overwrite``), it is one of the inputs, or it
     is not a regular file (a FIFO or a device is never replaced)."""
+
+
+class ImageShapeError(FormatError, WarpError, FitError):
+    """An array that is not an image: not H x W or H x W x C, empty, not numbers, or a channel count the
+    operation does not take. One type for every stage (reading, writing, warping, fitting, measuring);
+    it is each stage's own error type too, so callers that catch those keep working."""
+
+
+def check_image_shape(array, what: str = "the image", channels=(1, 2, 3, 4)):
+    """``array`` as a NumPy array if it is an image: H x W or H x W x C of numbers, H and W at least 1,
+    C in ``channels`` (None: any). Raises :class:`ImageShapeError` naming ``what``. The array is returned
+    as it is (no copy, no added axis)."""
+    import numpy as np
+
+    a = np.asarray(array)
+    if a.ndim not in (2, 3) or a.shape[0] < 1 or a.shape[1] < 1 or (a.ndim == 3 and a.shape[2] < 1):
+        raise ImageShapeError(f"{what} must be an H x W or H x W x C image, got an array of shape {a.shape}")
+    if a.dtype.kind not in "fiub":
+        raise ImageShapeError(f"{what} must hold numbers, got an array of {a.dtype}")
+    if channels is not None and a.ndim == 3 and a.shape[2] not in channels:
+        raise ImageShapeError(f"{what} has {a.shape[2]} channels; give {', '.join(map(str, channels))}")
+    return a

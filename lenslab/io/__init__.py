@@ -107,16 +107,11 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
 def _as_image(array) -> "np.ndarray":
     import numpy as np
 
-    a = np.asarray(array)
-    if a.dtype.kind not in "fiub":
-        raise FormatError(f"cannot write an array of dtype {a.dtype}; give a float32 image H x W x C")
+    from lenslab.errors import check_image_shape
+
+    a = check_image_shape(array, "an image to write", channels=None)
     if a.ndim == 2:
         a = a[..., None]
-    if a.ndim != 3 or a.shape[0] == 0 or a.shape[1] == 0:
-        raise FormatError(f"cannot write an array of shape {a.shape}; give an image H x W x C")
-    if a.shape[2] not in (1, 2, 3, 4):
-        raise FormatError(f"cannot write {a.shape[2]} channels as an image; give 1, 3 or 4 (EXR: any, with "
-                          "channels=[names])")
     return a.astype(np.float32, copy=False)
 
 

@@ -133,16 +133,10 @@ def check_image(image, what: str = "image"):
     A 2-D array is taken as one channel. Raises :class:`~lenslab.errors.FormatError` naming ``what``."""
     import numpy as np
 
-    from lenslab.errors import FormatError
+    from lenslab.errors import check_image_shape
 
-    a = np.asarray(image)
-    if a.ndim == 2:
-        a = a[..., None]
-    if a.ndim != 3 or a.shape[0] < 1 or a.shape[1] < 1 or a.shape[2] not in (1, 2, 3, 4):
-        raise FormatError(f"{what}: expected an H x W x C image with 1 to 4 channels, got shape {tuple(a.shape)}")
-    if not np.issubdtype(a.dtype, np.floating):
-        raise FormatError(f"{what}: expected float samples, got {a.dtype}")
-    return a.astype(np.float32, copy=False)
+    a = check_image_shape(image, str(what))
+    return (a[..., None] if a.ndim == 2 else a).astype(np.float32, copy=False)
 
 
 __all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image"]
