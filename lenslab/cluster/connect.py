@@ -88,6 +88,7 @@ def open_client(where: dict, timeout: float | None = None):
         raise RuntimeError("--scheduler needs Dask: pip install 'lenslab[cluster]'") from None
     target = where.get("address") or where.get("scheduler_file")
     seconds = float(timeout or CONNECT_TIMEOUT)
+    quiet_dask_logs()
     made: dict = {}
 
     def connect():  # in a thread: a scheduler that accepts the connection and never answers cannot hold us
@@ -108,6 +109,15 @@ def open_client(where: dict, timeout: float | None = None):
         reason = " ".join(str(exc).split("\n")[0].split())[:200] or type(exc).__name__
         raise OSError(f"cannot reach the Dask scheduler at {target}: {reason}")
     return made["client"]
+
+
+def quiet_dask_logs() -> None:
+    """Dask's own log lines (a reconnect's tracebacks, a lost connection) stay off the terminal: the
+    command says what happened in one line of its own."""
+    import logging
+
+    for name in ["distributed"] + [n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 
 
 def close_client(client) -> None:
