@@ -48,7 +48,6 @@ def is_video(path) -> bool:
 
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
-    import numpy as np
     from tqdm import tqdm
 
     from lenslab.jobs.policy import check_output
@@ -77,12 +76,17 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     if display:  # code values of an OpenColorIO display, tagged as that display
         from dataclasses import replace
 
-        from lenslab.io.ocio import display_transform, processor
+        from lenslab.io.ocio import processor
         from lenslab.io.video import display_tags
 
         name = processor(display, args.view, args.colorspace, args.ocio)[1][0]
         primaries, transfer, matrix = display_tags(name)
         info = replace(info, primaries=primaries, transfer=transfer, matrix=matrix)
+    from lenslab.io.registry import formats
+    from lenslab.jobs.stages import Look, develop
+
+    clip = next(f for f in formats().values() if Path(dst_path).suffix.lower() in f.extensions)
+    look = Look(exposure=args.exposure, display=display, view=args.view, colorspace=args.colorspace, ocio=args.ocio)
     show = not args.quiet and sys.stderr.isatty()
     whole = start == 0 and stop is None
     written = 0
@@ -93,10 +97,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                           desc=Path(src_path).name) as bar:
             for _, frame in read_frames(src_path, start, stop):
                 out, _ = cache.warp(frame, src, dst)  # outside the source's view: black
-                if float(args.exposure) != 0.0:
-                    out = out * np.float32(2.0 ** float(args.exposure))
-                if display:
-                    out = display_transform(out, display, args.view, args.colorspace, args.ocio)
+                out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out, encoded=bool(display))
                 written += 1
                 bar.update()
