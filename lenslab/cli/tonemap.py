@@ -118,6 +118,9 @@ def run(args: argparse.Namespace) -> int:
     if is_batch(args):
         return run_many(args, curve.name, params)
     args.input = args.inputs[0]
+    from lenslab.jobs.plan import sweep_outputs
+
+    sweep_outputs([(args.input, args.output)])  # temporaries of killed runs
     if getattr(args, "skip_existing", False) and Path(args.output).is_file():
         if not args.quiet:
             print(f"lenslab tonemap: {args.output} already there, left alone (--skip-existing)", file=sys.stderr)
