@@ -30,8 +30,7 @@ def test_overwrite_never_replaces_a_fifo(tmp_path, pano, command, capsys):
     status = main([command[0], str(pano), "-o", str(fifo), *command[1:], "--overwrite"])
     err = capsys.readouterr().err
     assert status == 1, err
-    failed = [line for line in err.splitlines() if str(fifo) in line]
-    assert len(failed) == 1 and "not a regular file" in failed[0] and "Traceback" not in err, err
+    assert err.count("\n") == 1 and str(fifo) in err and "not a regular file" in err, err
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)  # still the FIFO, never opened for writing
 
 
@@ -91,3 +90,15 @@ def test_a_closed_pipe_ends_quietly(pano):
     proc = subprocess.run(f"{sys.executable} -m lenslab info {pano} {pano} {pano} | head -c 1", shell=True,
                           capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr == ""
+
+
+@pytest.mark.parametrize("command", [["convert", "--to", "exr"], ["warp", "--to", "fisheye"], ["tonemap"]])
+def test_one_damaged_input_is_one_line_naming_it(tmp_path, command, capsys):
+    bad = tmp_path / "bad.exr"
+    bad.write_bytes(b"v/1\x01" + b"\x00" * 64)  # OpenEXR's magic number, then nothing an EXR holds
+    out = tmp_path / ("out.png" if command[0] == "tonemap" else "out.exr")
+    status = main([command[0], str(bad), "-o", str(out), *command[1:]])
+    err = capsys.readouterr().err
+    assert status == 1, err
+    assert err.count("\n") == 1 and str(bad) in err and "Traceback" not in err, err
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if ".tmp-" in p.name]

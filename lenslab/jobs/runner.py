@@ -219,7 +219,8 @@ def run_batch(command: str, job: Job, pairs: list[tuple], args, summary, skipped
                           "rest") from None
     else:
         results = run_local(job, pairs, getattr(args, "jobs", 0), progress)
-    failed = report_results(command, results, None if quiet else summary(where), total=len(results) + skipped,
+    alone = len(results) == 1 and not skipped and results[0][2]  # one input that failed: its one line says all
+    failed = report_results(command, results, None if quiet or alone else summary(where), total=len(results) + skipped,
                             tail=f"; {skipped} already there, left alone" if skipped else "")
     if not quiet:
         for line in worker_summary(workers):
