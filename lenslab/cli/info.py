@@ -216,6 +216,6 @@ def run(args: argparse.Namespace) -> int:
             print(_video_text(d) if "video" in d else _text(d))
     if args.json:
         print(json.dumps(_json_safe(results), indent=2, allow_nan=False, default=str))
-    if failed:
+    if failed and len(args.files) > 1:  # (one file: its one error line says all)
         print(f"lenslab info: {failed} of {len(args.files)} files could not be read", file=sys.stderr)
     return 1 if failed else 0
