@@ -25,8 +25,6 @@ examples:
 from __future__ import annotations
 
 import argparse
-import glob
-import os
 import sys
 from pathlib import Path
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Callable, Iterable, Iterator
+from typing import Callable, Iterator
 
 
 def on_worker(fn: Callable, *args):
