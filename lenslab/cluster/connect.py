@@ -126,9 +126,10 @@ def close_client(client) -> None:
 
 
 @contextlib.contextmanager
-def client_for(where: dict) -> Iterator:
-    """A :class:`distributed.Client` connected to ``where`` (see :func:`open_client`), closed after."""
-    client = open_client(where)
+def client_for(where: dict, timeout: float | None = None) -> Iterator:
+    """A :class:`distributed.Client` connected to ``where`` within ``timeout`` seconds (see
+    :func:`open_client`), closed after."""
+    client = open_client(where, timeout)
     try:
         yield client
     finally:
