@@ -2,7 +2,7 @@
 
 A reader never sees a half-written file, and a failure (an exception, a full disk, Ctrl-C, SIGTERM)
 leaves nothing behind but what was there before. A temporary is named for the process that owns it
-(``.STEM.tmp-PID-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is found
+(``.STEM.tmp-PID-HOST-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is found
 by :func:`sweep` once that process is gone. Only regular files are ever replaced: a FIFO or a device
 node in an output's place is refused.
 
@@ -22,9 +22,26 @@ from pathlib import Path
 from typing import Iterator
 
 
-TEMPORARY_TAG = ".tmp-"  # temporaries are named .STEM.tmp-PID-RANDOM.SUFFIX beside their target
-_TEMPORARY = re.compile(r"^\..+" + re.escape(TEMPORARY_TAG) + r"(\d+)-[0-9a-f]{8}(\.[^./]*)?$")
-_STAGING = threading.local()  # .owner (a pid) and .written (a list) while the thread writes in staged()
+TEMPORARY_TAG = ".tmp-"  # temporaries are named .STEM.tmp-PID-HOST-RANDOM.SUFFIX beside their target
+_TEMPORARY = re.compile(r"^\..+" + re.escape(TEMPORARY_TAG) + r"(\d+)-(?:([0-9a-f]{6})-)?[0-9a-f]{8}(\.[^./]*)?$")
+_STAGING = threading.local()  # .owner and .written (a list) while the thread writes in staged()
+
+
+def _host_tag() -> str:
+    """Six hex digits naming this machine: a temporary's process number means something only on its host
+    (workers on other machines share the folders)."""
+    import hashlib
+    import socket
+
+    return hashlib.sha1(socket.gethostname().encode()).hexdigest()[:6]
+
+
+HOST = _host_tag()
+
+
+def owner() -> str:
+    """This process as a temporary's owner: ``PID-HOST``."""
+    return f"{os.getpid()}-{HOST}"
 #: set when the command is stopping (Ctrl-C, SIGTERM): a write that finishes then is not renamed
 STOPPING = threading.Event()
 
@@ -61,8 +78,9 @@ def owner_alive(pid: int) -> bool:
 
 
 def sweep(folders) -> list[Path]:
-    """Remove the temporaries in ``folders`` whose owner process no longer runs (killed before it could
-    rename or remove them); returns what was removed. Temporaries of running processes stay."""
+    """Remove the temporaries in ``folders`` whose owner process no longer runs on this machine (killed
+    before it could rename or remove them); returns what was removed. Temporaries of running processes,
+    and of processes of other machines, stay."""
     removed = []
     for folder in {Path(f) for f in folders}:
         try:
@@ -71,7 +89,7 @@ def sweep(folders) -> list[Path]:
             continue
         for name in names:
             m = _TEMPORARY.match(name)
-            if m and not owner_alive(int(m.group(1))):
+            if m and m.group(2) in (None, HOST) and not owner_alive(int(m.group(1))):
                 with contextlib.suppress(OSError):
                     (folder / name).unlink()
                     removed.append(folder / name)
@@ -79,9 +97,9 @@ def sweep(folders) -> list[Path]:
 
 
 @contextlib.contextmanager
-def staged(owner: int) -> Iterator[list]:
+def staged(owner: str) -> Iterator[list]:
     """Inside (this thread only), :func:`atomic_write_path` leaves each finished temporary in place, named
-    for process ``owner``, and records ``(temporary, target, overwrite)`` in the yielded list; the owner
+    for process ``owner`` (``PID-HOST``, :func:`owner`), and records ``(temporary, target, overwrite)`` in the yielded list; the owner
     renames them with :func:`commit` or removes them with :func:`discard`."""
     saved = getattr(_STAGING, "owner", None), getattr(_STAGING, "written", None)
     _STAGING.owner, _STAGING.written = owner, []
@@ -164,15 +182,15 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
     parent = target.parent
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
-    owner = getattr(_STAGING, "owner", None)
-    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{owner or os.getpid()}-{secrets.token_hex(4)}{target.suffix}"
+    staging = getattr(_STAGING, "owner", None)
+    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{staging or owner()}-{secrets.token_hex(4)}{target.suffix}"
     try:
         yield tmp
         if not tmp.exists():
             raise FileNotFoundError(f"{target}: nothing was written")
         if STOPPING.is_set():
             raise Stopped(f"{target}: not written: the command was stopped")
-        if owner is not None:  # the owner renames it (commit) or removes it (discard)
+        if staging is not None:  # the owner renames it (commit) or removes it (discard)
             _STAGING.written.append((tmp, target, overwrite))
             return
         try:

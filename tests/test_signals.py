@@ -108,16 +108,21 @@ def test_a_batch_killed_outright_is_resumed_without_its_temporaries(tmp_path):
 
 
 def test_a_temporary_of_a_running_process_is_left_alone(tmp_path):
-    from lenslab.atomic import sweep
+    from lenslab.atomic import HOST, sweep
 
     out = tmp_path / "out"
     out.mkdir()
-    alive = out / f".frame000.tmp-{os.getpid()}-0123abcd.exr"  # this process runs
+    alive = out / f".frame000.tmp-{os.getpid()}-{HOST}-0123abcd.exr"  # this process runs
     alive.write_bytes(b"being written")
-    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
-    dead = out / f".frame001.tmp-{int(ended.stdout)}-0123abcd.exr"  # that one has ended (and was reaped)
+    ended = int(subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                               text=True).stdout)  # that process has ended (and was reaped)
+    dead = out / f".frame001.tmp-{ended}-{HOST}-0123abcd.exr"
     dead.write_bytes(b"left by a killed writer")
+    older = out / f".frame002.tmp-{ended}-89abcdef.exr"  # named before names carried the machine
+    older.write_bytes(b"left by a killed writer")
+    elsewhere = out / f".frame003.tmp-{ended}-{'0' if HOST[0] != '0' else '1'}{HOST[1:]}-0123abcd.exr"
+    elsewhere.write_bytes(b"being written by a worker on another machine")  # its pid means nothing here
     other = out / ".notes.tmp-1-xyz.txt"  # not a lenslab temporary: the name does not match
     other.write_bytes(b"")
-    assert sweep([out]) == [dead]
-    assert alive.exists() and other.exists() and not dead.exists()
+    assert sorted(sweep([out])) == sorted([dead, older])
+    assert alive.exists() and elsewhere.exists() and other.exists()

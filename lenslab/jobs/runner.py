@@ -30,7 +30,7 @@ def execute(job: Job, src: str, dst: str, progress=None) -> tuple[str, str, str 
     return src, dst, error, user_notes(caught)
 
 
-def execute_staged(job: Job, src: str, dst: str, owner: int, stop: str) -> tuple:
+def execute_staged(job: Job, src: str, dst: str, owner: str, stop: str) -> tuple:
     """What runs on a cluster worker: :func:`execute` with the outputs left as temporaries named for the
     process ``owner`` (the command), listed in the result's fifth item for it to rename. When the batch's
     stop event ``stop`` is set (or the scheduler cannot say), the temporaries are removed instead."""
@@ -105,7 +105,7 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
     A lost scheduler is a :class:`~lenslab.cluster.run.SchedulerLost` that counts what was done."""
     import secrets
 
-    from lenslab.atomic import commit, discard, temporaries
+    from lenslab.atomic import commit, discard, owner, temporaries
     from lenslab.cluster.connect import close_client
     from lenslab.cluster.run import SchedulerLost, gather_as_completed, submit_many
     from lenslab.jobs.funnel import one_line
@@ -121,7 +121,7 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
             refused[(str(src), str(dst))] = str(exc)
     stop = f"lenslab-stop-{secrets.token_hex(8)}"
     remote = job.for_workers()  # workers have their own working folder: absolute paths
-    tasks = [(remote, os.path.abspath(src), os.path.abspath(dst), os.getpid(), stop) for src, dst in ready]
+    tasks = [(remote, os.path.abspath(src), os.path.abspath(dst), owner(), stop) for src, dst in ready]
     done: dict[int, tuple] = {}
     try:
         futures = submit_many(client, execute_staged, tasks, name=job.command)
