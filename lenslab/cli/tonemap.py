@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -105,7 +106,6 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
 
     check_skip_or_overwrite(args)
-    from lenslab.jobs.tonemap import write_tone_mapped
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
@@ -132,20 +132,24 @@ def run(args: argparse.Namespace) -> int:
 
     with working_on(args.input):
         image, meta = io.read(args.input)
-    if display["display"]:
-        from lenslab.jobs.tonemap import TonemapJob
+    from lenslab.jobs.tonemap import TonemapJob
 
-        job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
-        job.write(args.output, image, meta)
+    if exposure == "auto" and not display["display"]:
+        exposure = tone.auto_exposure(image, primaries=args.primaries)
         if not args.quiet:
-            print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}", file=sys.stderr)
-        return 0
-    out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,
-                                args.input, args.quiet)
-    write_tone_mapped(args.output, out, dither=args.dither, bits=args.bits, overwrite=args.overwrite,
-                      camera=meta.get("camera"))
+            print(f"{args.input}: auto exposure {exposure:+.2f} stops", file=sys.stderr)
+    job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", tone.ToneWarning)
+        job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
+    for w in caught:
+        if isinstance(w.message, tone.ToneWarning):  # repairs: one line each
+            print(f"lenslab tonemap: note: {args.input}: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if not args.quiet:
-        h, w = out.shape[:2]
-        print(f"{args.output}: {w} x {h}, curve {curve.name} ({args.mode}), exposure {float(ev):+.2f} stops",
+        h, w_ = image.shape[:2]
+        print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}" if display["display"]
+              else f"{args.output}: {w_} x {h}, curve {curve.name} ({args.mode}), exposure {float(exposure):+.2f} stops",
               file=sys.stderr)
     return 0
