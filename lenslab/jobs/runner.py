@@ -99,8 +99,8 @@ def connect(args):
 def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
                    workers: dict | None = None, close: bool = True) -> list[tuple]:
     """Run ``job`` on every pair on the cluster of ``client`` (closed here unless ``close`` is False), one
-    task per file; the outputs
-    are renamed here as their tasks report. ``workers`` receives per-worker ``[files, seconds]``.
+    task per file; the outputs are renamed here as their tasks report. ``workers`` receives per-worker
+    ``[files, seconds]``.
 
     A lost scheduler is a :class:`~lenslab.cluster.run.SchedulerLost` that counts what was done."""
     import secrets
@@ -162,7 +162,8 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
 
 
 def _set_stop(client, name: str) -> None:
-    """Tell the tasks still running that their outputs are not wanted (best effort: within a second)."""
+    """Tell the tasks still running that their outputs are not wanted (best effort: within two seconds;
+    a task that cannot ask the scheduler discards its outputs too)."""
     import threading
 
     def set_event():
