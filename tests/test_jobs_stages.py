@@ -4,6 +4,8 @@ reads back."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -56,3 +58,43 @@ def test_every_declared_compression_writes_a_file_that_reads_back(tmp_path, name
     # lossy codecs (DWA, B44, PXR24) keep float32 to within their stated error; the lossless ones exactly
     tol = {"dwaa": 0.05, "dwab": 0.05, "b44": 0.01, "b44a": 0.01, "pxr24": 1e-4}.get(compression, 0.0)
     np.testing.assert_allclose(back, image, atol=tol)
+
+
+def test_a_new_batch_command_is_one_job_class(tmp_path):
+    """A job is its options and run(input, output): the runner gives it threads, one-line failures and
+    per-file notes without knowing what it does."""
+    import argparse
+    import warnings
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    from lenslab.atomic import atomic_write_path
+    from lenslab.jobs.job import Job
+    from lenslab.jobs.runner import run_local
+
+    @dataclass(frozen=True)
+    class Upper(Job):
+        command: ClassVar[str] = "upper"
+        suffix: str = "!"
+
+        def run(self, src, dst, progress=None):
+            text = Path(src).read_text()
+            if not text:
+                raise ValueError("nothing to shout")
+            if text.islower():
+                warnings.warn("all lower case", UserWarning)
+            with atomic_write_path(dst, overwrite=self.overwrite) as tmp:
+                tmp.write_text(text.upper() + self.suffix)
+
+    job = Upper.from_options(argparse.Namespace(suffix="?", overwrite=False, unrelated=1))
+    assert job == Upper(suffix="?", overwrite=False)
+    pairs = []
+    for name, text in (("a", "hi"), ("b", ""), ("c", "Yo")):
+        (tmp_path / f"{name}.txt").write_text(text)
+        pairs.append((str(tmp_path / f"{name}.txt"), tmp_path / f"{name}.out"))
+    results = run_local(job, pairs, jobs=2)
+    assert [(r[0], r[2], r[3]) for r in results] == [(pairs[0][0], None, ["all lower case"]),
+                                                     (pairs[1][0], "nothing to shout", []),
+                                                     (pairs[2][0], None, [])]
+    assert (tmp_path / "a.out").read_text() == "HI?" and (tmp_path / "c.out").read_text() == "YO?"
+    assert not (tmp_path / "b.out").exists() and not list(tmp_path.glob(".*tmp-*"))
