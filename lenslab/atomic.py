@@ -2,19 +2,18 @@
 
 A reader never sees a half-written file, and a failure (an exception, a full disk, Ctrl-C, SIGTERM)
 leaves nothing behind but what was there before. A temporary is named for the process that owns it
-(``.STEM.tmp-PID-HOST-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is found
-by :func:`sweep` once that process is gone. Only regular files are ever replaced: a FIFO or a device
-node in an output's place is refused.
+(``.STEM.tmp-PID-HOST-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is
+found by :func:`lenslab.staging.sweep` once that process is gone. Only regular files are ever replaced:
+a FIFO or a device node in an output's place is refused.
 
-A cluster task writes inside :func:`staged`: its temporaries are named for the command's process and
-left for the command to rename (:func:`commit`), so no output appears once the command has ended.
+A cluster task writes inside :func:`lenslab.staging.staged`: its temporaries are named for the command's
+process and left for the command to rename, so no output appears once the command has ended.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import re
 import secrets
 import stat
 import threading
@@ -23,8 +22,8 @@ from typing import Iterator
 
 
 TEMPORARY_TAG = ".tmp-"  # temporaries are named .STEM.tmp-PID-HOST-RANDOM.SUFFIX beside their target
-_TEMPORARY = re.compile(r"^\..+" + re.escape(TEMPORARY_TAG) + r"(\d+)-(?:([0-9a-f]{6})-)?[0-9a-f]{8}(\.[^./]*)?$")
-_STAGING = threading.local()  # .owner and .written (a list) while the thread writes in staged()
+#: set by :func:`lenslab.staging.staged` for the calling thread: ``.owner`` (``PID-HOST``) and ``.written``
+STAGING = threading.local()
 
 
 def _host_tag() -> str:
@@ -42,6 +41,8 @@ HOST = _host_tag()
 def owner() -> str:
     """This process as a temporary's owner: ``PID-HOST``."""
     return f"{os.getpid()}-{HOST}"
+
+
 #: set when the command is stopping (Ctrl-C, SIGTERM): a write that finishes then is not renamed
 STOPPING = threading.Event()
 
@@ -64,80 +65,8 @@ def refuse_special(path: str | os.PathLike) -> None:
                           "replaced, even with --overwrite: choose another output name")
 
 
-def owner_alive(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a process of another user counts as running)."""
-    if pid <= 0:
-        return False
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
-def sweep(folders) -> list[Path]:
-    """Remove the temporaries in ``folders`` whose owner process no longer runs on this machine (killed
-    before it could rename or remove them); returns what was removed. Temporaries of running processes,
-    and of processes of other machines, stay."""
-    removed = []
-    for folder in {Path(f) for f in folders}:
-        try:
-            names = [e.name for e in os.scandir(folder) if e.name.startswith(".") and TEMPORARY_TAG in e.name]
-        except OSError:
-            continue
-        for name in names:
-            m = _TEMPORARY.match(name)
-            if m and m.group(2) in (None, HOST) and not owner_alive(int(m.group(1))):
-                with contextlib.suppress(OSError):
-                    (folder / name).unlink()
-                    removed.append(folder / name)
-    return removed
-
-
-@contextlib.contextmanager
-def staged(owner: str) -> Iterator[list]:
-    """Inside (this thread only), :func:`atomic_write_path` leaves each finished temporary in place, named
-    for process ``owner`` (``PID-HOST``, :func:`owner`), and records ``(temporary, target, overwrite)`` in the yielded list; the owner
-    renames them with :func:`commit` or removes them with :func:`discard`."""
-    saved = getattr(_STAGING, "owner", None), getattr(_STAGING, "written", None)
-    _STAGING.owner, _STAGING.written = owner, []
-    try:
-        yield _STAGING.written
-    except BaseException:
-        discard(_STAGING.written)
-        raise
-    finally:
-        _STAGING.owner, _STAGING.written = saved
-
-
-def commit(written: list) -> None:
-    """Rename staged temporaries to their targets (see :func:`staged`); a target that appeared meanwhile
-    is kept unless the write was to overwrite it. What cannot be renamed is removed, and the first error
-    raised after all were tried."""
-    error = None
-    for tmp, target, overwrite in written:
-        try:
-            _rename(Path(tmp), Path(target), overwrite)
-        except OSError as exc:
-            error = error or exc
-        finally:
-            with contextlib.suppress(OSError):
-                Path(tmp).unlink()
-    if error is not None:
-        raise error
-
-
-def discard(written: list) -> None:
-    """Remove staged temporaries (the command stopped, or the task failed)."""
-    for tmp, _, _ in written:
-        with contextlib.suppress(OSError):
-            Path(tmp).unlink()
-    written.clear()
-
-
-def _rename(tmp: Path, target: Path, overwrite: bool) -> None:
+def rename_temporary(tmp: Path, target: Path, overwrite: bool) -> None:
+    """Rename a finished temporary to its target: only over a regular file, and only with ``overwrite``."""
     refuse_special(target)
     if overwrite:
         os.replace(tmp, target)
@@ -182,7 +111,7 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
     parent = target.parent
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
-    staging = getattr(_STAGING, "owner", None)
+    staging = getattr(STAGING, "owner", None)
     tmp = parent / f".{target.stem}{TEMPORARY_TAG}{staging or owner()}-{secrets.token_hex(4)}{target.suffix}"
     try:
         yield tmp
@@ -191,10 +120,10 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
         if STOPPING.is_set():
             raise Stopped(f"{target}: not written: the command was stopped")
         if staging is not None:  # the owner renames it (commit) or removes it (discard)
-            _STAGING.written.append((tmp, target, overwrite))
+            STAGING.written.append((tmp, target, overwrite))
             return
         try:
-            _rename(tmp, target, overwrite)
+            rename_temporary(tmp, target, overwrite)
         finally:
             if tmp.exists():
                 tmp.unlink()

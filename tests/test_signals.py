@@ -108,7 +108,8 @@ def test_a_batch_killed_outright_is_resumed_without_its_temporaries(tmp_path):
 
 
 def test_a_temporary_of_a_running_process_is_left_alone(tmp_path):
-    from lenslab.atomic import HOST, sweep
+    from lenslab.atomic import HOST
+    from lenslab.staging import sweep
 
     out = tmp_path / "out"
     out.mkdir()

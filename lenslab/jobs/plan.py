@@ -117,7 +117,7 @@ def skip_existing(pairs: list[tuple], skip: bool) -> tuple[list[tuple], int]:
 def sweep_outputs(pairs: list[tuple]) -> int:
     """Remove the temporaries that dead processes left in the output folders of ``pairs`` (a batch start
     and a ``--skip-existing`` resume); returns how many."""
-    from lenslab.atomic import sweep
+    from lenslab.staging import sweep
 
     return len(sweep({Path(dst).parent for _, dst in pairs}))
 

@@ -34,7 +34,7 @@ def execute_staged(job: Job, src: str, dst: str, owner: str, stop: str) -> tuple
     """What runs on a cluster worker: :func:`execute` with the outputs left as temporaries named for the
     process ``owner`` (the command), listed in the result's fifth item for it to rename. When the batch's
     stop event ``stop`` is set (or the scheduler cannot say), the temporaries are removed instead."""
-    from lenslab.atomic import discard, staged
+    from lenslab.staging import discard, staged
     from lenslab.cluster.tasks import limit_threads
 
     limit_threads()
@@ -105,7 +105,8 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
     A lost scheduler is a :class:`~lenslab.cluster.run.SchedulerLost` that counts what was done."""
     import secrets
 
-    from lenslab.atomic import commit, discard, owner, temporaries
+    from lenslab.atomic import owner, temporaries
+    from lenslab.staging import commit, discard
     from lenslab.cluster.connect import close_client
     from lenslab.cluster.run import SchedulerLost, gather_as_completed, submit_many
     from lenslab.jobs.funnel import one_line
