@@ -127,3 +127,26 @@ def test_a_temporary_of_a_running_process_is_left_alone(tmp_path):
     other.write_bytes(b"")
     assert sorted(sweep([out])) == sorted([dead, older])
     assert alive.exists() and elsewhere.exists() and other.exists()
+
+
+def test_a_batch_started_under_nohup_goes_on_after_sighup(tmp_path):
+    frames = _frames(tmp_path / "in", 6)
+    out = tmp_path / "out"
+
+    def ignore_hangup():  # what nohup does before it starts the command
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+
+    proc = subprocess.Popen(_warp(tmp_path, "--jobs", "1", "-q"), stderr=subprocess.PIPE, text=True,
+                            preexec_fn=ignore_hangup)
+    try:
+        _wait_for(lambda: len(_outputs(out)) >= 1, proc)
+        proc.send_signal(signal.SIGSTOP)
+        assert proc.poll() is None
+        proc.send_signal(signal.SIGHUP)
+        proc.send_signal(signal.SIGCONT)
+        _, err = proc.communicate(timeout=HANG_GUARD)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert _outputs(out) == {f.stem + ".exr" for f in frames}

@@ -62,7 +62,8 @@ def working_on(path) -> Iterator[None]:
 @contextlib.contextmanager
 def stop_signals() -> Iterator[None]:
     """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration (Ctrl-C already
-    raises KeyboardInterrupt). Elsewhere than in the main thread, nothing changes."""
+    raises KeyboardInterrupt). A signal the command was started with ignored (``nohup``) stays ignored;
+    elsewhere than in the main thread, nothing changes."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():
@@ -74,6 +75,8 @@ def stop_signals() -> Iterator[None]:
 
     saved = {}
     for sig in (signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(sig) is signal.SIG_IGN:
+            continue  # ignored by whoever started us (nohup): it stays ignored
         with contextlib.suppress(OSError, ValueError):
             saved[sig] = signal.signal(sig, stop)
     try:
