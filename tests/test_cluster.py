@@ -271,11 +271,14 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
     for name in at_exit:  # whatever was written is whole
         image, _ = read(out / name)
         assert image.shape == (512, 512, 4)
-    # what the cancelled tasks left is named for the command, which has ended: the next batch sweeps it
-    resumed = subprocess.run(cmd + ["--skip-existing"], capture_output=True, text=True, timeout=300)
+    # what the cancelled tasks left is named for the command, which has ended: the next batch into that
+    # folder sweeps it (here a resume of the files already done, which has nothing else to do)
+    done = [str(tmp_path / "in" / (Path(name).stem + ".exr")) for name in sorted(at_exit)]
+    resumed = subprocess.run(cmd[:4] + done + cmd[5:] + ["--skip-existing"], capture_output=True, text=True,
+                             timeout=300)
     assert resumed.returncode == 0, resumed.stderr
     _no_temporaries(out)
-    assert len(list(out.iterdir())) == len(frames)
+    assert {p.name for p in out.iterdir()} == at_exit
 
 
 def _trim_threshold() -> str | None:
