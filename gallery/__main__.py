@@ -11,7 +11,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import ArgumentParser, OutputError, UsageError, run_command
+from lenslab.jobs.arguments import ArgumentParser
+from lenslab.errors import OutputError, UsageError
+from lenslab.jobs.funnel import run_command
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -31,18 +33,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="replace the page (index.html, its images and the README montages) when it exists")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--debug", action="store_true", help="on an error, print the full traceback too")
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
-    return run_command("python -m gallery", lambda: run(args))
+    return run_command("python -m gallery", lambda: run(args), debug=args.debug)
 
 
 def run(args) -> int:
     from gallery.browser import check_page
     from gallery.build import build_gallery, load_manifest
-    from lenslab.cli.policy import check_output, check_output_dir
+    from lenslab.jobs.policy import check_output, check_output_dir
 
     stored = load_manifest(args.out)
     report = args.report or stored.get("validate_report")

@@ -99,7 +99,7 @@ def screenshot(index_html: str | os.PathLike, png: str | os.PathLike, size: tupl
     index = Path(index_html).resolve()
     png = Path(png).resolve()
     png.parent.mkdir(parents=True, exist_ok=True)
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     with atomic_write_path(png, overwrite=True) as tmp:
         proc = _run(["--virtual-time-budget=20000", f"--screenshot={tmp}", f"--window-size={size[0]},{size[1]}",

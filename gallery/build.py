@@ -23,7 +23,7 @@ MANIFEST = "gallery.json"
 
 
 def save_manifest(out_dir: Path, items: list, validate_report, hdri_dir, title: str | None = None) -> Path:
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     data = {
         "generator": "lenslab gallery",
@@ -61,7 +61,7 @@ def build_gallery(out_dir, *items, validate_report=None, hdri_dir=None, title: s
     Returns the path of ``index.html``.
     """
     from gallery import cards
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
@@ -128,7 +128,7 @@ def build_gallery(out_dir, *items, validate_report=None, hdri_dir=None, title: s
 
 
 def _write_style(out_dir: Path) -> None:
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     css = resources.files("gallery").joinpath(STYLE).read_text(encoding="utf-8")
     with atomic_write_path(out_dir / STYLE, overwrite=True) as tmp:

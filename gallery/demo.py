@@ -35,7 +35,8 @@ import sys
 import time
 from pathlib import Path
 
-from lenslab.cli.policy import OutputError, positive_int
+from lenslab.errors import OutputError
+from lenslab.jobs.arguments import positive_int
 
 HELP = "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"
 DEFAULT_OUT = "lenslab-demo"

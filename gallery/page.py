@@ -139,7 +139,7 @@ class Page:
         """Save a matplotlib figure as PNG under ``img/`` (and close it)."""
         import matplotlib.pyplot as plt
 
-        from lenslab.io.atomic import atomic_write_path
+        from lenslab.atomic import atomic_write_path
 
         self.img_dir.mkdir(parents=True, exist_ok=True)
         fname = self._name(name, "png")

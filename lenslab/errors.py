@@ -7,6 +7,10 @@ OSError), so ``except ValueError`` keeps working.
 
 from __future__ import annotations
 
+#: NumPy's arithmetic notes (NaN or inf met in a cast, a division, a log) are the commands' business to
+#: handle and report in the user's terms; they never reach the terminal as library warnings.
+NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
+
 
 class LenslabError(Exception):
     """Base of every lenslab error (mixed into a built-in type below)."""
@@ -34,3 +38,34 @@ class FitError(LenslabError, ValueError):
     def __init__(self, message: str, best=None):
         super().__init__(message)
         self.best = best
+
+
+class UsageError(LenslabError):
+    """A bad option, spec or value given on the command line: exit code 2, one line, before any work."""
+
+
+class OutputError(LenslabError, OSError):
+    """An output that may not be written: it exists (no ``--overwrite``), it is one of the inputs, or it
+    is not a regular file (a FIFO or a device is never replaced)."""
+
+
+class ImageShapeError(FormatError, WarpError, FitError):
+    """An array that is not an image: not H x W or H x W x C, empty, not numbers, or a channel count the
+    operation does not take. One type for every stage (reading, writing, warping, fitting, measuring);
+    it is each stage's own error type too, so callers that catch those keep working."""
+
+
+def check_image_shape(array, what: str = "the image", channels=(1, 2, 3, 4)):
+    """``array`` as a NumPy array if it is an image: H x W or H x W x C of numbers, H and W at least 1,
+    C in ``channels`` (None: any). Raises :class:`ImageShapeError` naming ``what``. The array is returned
+    as it is (no copy, no added axis)."""
+    import numpy as np
+
+    a = np.asarray(array)
+    if a.ndim not in (2, 3) or a.shape[0] < 1 or a.shape[1] < 1 or (a.ndim == 3 and a.shape[2] < 1):
+        raise ImageShapeError(f"{what} must be an H x W or H x W x C image, got an array of shape {a.shape}")
+    if a.dtype.kind not in "fiub":
+        raise ImageShapeError(f"{what} must hold numbers, got an array of {a.dtype}")
+    if channels is not None and a.ndim == 3 and a.shape[2] not in channels:
+        raise ImageShapeError(f"{what} has {a.shape[2]} channels; give {', '.join(map(str, channels))}")
+    return a

@@ -91,7 +91,7 @@ def test_numpy_warnings_never_reach_the_user(shared_data, tmp_path):
                                          ("lens", 2), ("format", 1), (FileNotFoundError(2, "No such file"), 1)],
                          ids=["interrupted", "closed pipe", "bad lens spec", "bad file", "missing file"])
 def test_exit_codes_of_the_policy(raised, code, capsys):
-    from lenslab.cli.policy import run_command
+    from lenslab.jobs.funnel import run_command
     from lenslab.errors import FormatError, LensError
 
     exc = {"lens": LensError("fisheye: unknown parameter(s) fvo"), "format": FormatError("x.exr: truncated")}.get(

@@ -105,11 +105,11 @@ def run(args) -> int:
     from lenslab.bench import results
 
     if args.quick and not (args.validate or args.validate_only):
-        from lenslab.cli.policy import UsageError
+        from lenslab.errors import UsageError
 
         raise UsageError("--quick shortens the --validate figures only; add --validate or --validate-only")
     if args.json:  # refused before the benchmark runs, not after
-        from lenslab.cli.policy import check_output
+        from lenslab.jobs.policy import check_output
 
         check_output(args.json, (), args.overwrite)
     record = results.start()

@@ -11,7 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import ArgumentParser, image_size, non_negative_int, positive_float, positive_int, run_command
+from lenslab.jobs.arguments import ArgumentParser, finite_float, image_size, non_negative_int, positive_float, positive_int
+from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
 
@@ -39,9 +40,9 @@ def _exposure(text: str):
     if text.strip().lower() == "auto":
         return "auto"
     try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"exposure is a number of stops or 'auto', got {text!r}") from None
+        return finite_float(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(f"exposure is a number of stops or 'auto', got {text[:40]!r}") from None
 
 
 def add_render_arguments(p: argparse.ArgumentParser) -> None:
@@ -65,10 +66,10 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's; a new eye keeps the view's direction)")
     p.add_argument("--look-at", type=_triple, metavar="X,Y,Z", help="point the camera looks at")
     p.add_argument("--up", type=_triple, metavar="X,Y,Z", help="up direction for --look-at (default 0,1,0)")
-    p.add_argument("--yaw", type=float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
+    p.add_argument("--yaw", type=finite_float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
                         "target); with --pitch and --roll a full orientation")
-    p.add_argument("--pitch", type=float, help="camera tilt up, degrees")
-    p.add_argument("--roll", type=float, help="camera roll about its axis, degrees")
+    p.add_argument("--pitch", type=finite_float, help="camera tilt up, degrees")
+    p.add_argument("--roll", type=finite_float, help="camera roll about its axis, degrees")
     p.add_argument("--integrator", choices=("path", "direct"), default="path",
                    help="path: path tracing with MIS and Russian roulette (default); direct: direct lighting only")
     p.add_argument("--max-depth", type=non_negative_int, default=8, help="maximum bounces (default 8; 1 = direct light)")
@@ -91,7 +92,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threads", type=positive_int, help="worker threads (default: every core)")
     p.add_argument("--overwrite", action="store_true", help="replace existing output files (never an input)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.jobs.arguments import add_scheduler_options
 
     add_scheduler_options(p, skip_existing=False)
     p.add_argument("--tiles", type=positive_int, metavar="N",
@@ -141,7 +142,8 @@ def _camera(args, scene):
 
 
 def run_render(args) -> int:
-    from lenslab.cli.policy import UsageError, check_output
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output
     from tracer.load import load_scene
     from tracer.rendering import render
 
@@ -217,6 +219,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.set_defaults(_run=bench.run)
     s = sub.add_parser("scenes", help="list the built-in scenes")
     s.set_defaults(_run=run_scenes)
+    for q in (parser, p, b, s):
+        q.add_argument("--debug", action="store_true", default=False if q is parser else argparse.SUPPRESS,
+                       help="on an error, print the full traceback too")
     return parser
 
 
@@ -232,7 +237,7 @@ def run_scenes(args) -> int:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
-    return run_command(f"tracer {args.command}", lambda: args._run(args))
+    return run_command(f"tracer {args.command}", lambda: args._run(args), debug=getattr(args, "debug", False))
 
 
 if __name__ == "__main__":

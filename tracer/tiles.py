@@ -126,7 +126,7 @@ def render_on_cluster(args, camera):
     None when no scheduler is given (the render then runs here)."""
     import sys
 
-    from lenslab.cli.policy import UsageError
+    from lenslab.errors import UsageError
     from lenslab.cluster import scheduler_address
     from lenslab.cluster.connect import client_for
 
@@ -141,7 +141,7 @@ def render_on_cluster(args, camera):
     # workers have their own working folder: a scene or panorama file goes by its absolute path
     scene = os.path.abspath(args.scene) if os.path.exists(args.scene) else args.scene
     env = os.path.abspath(args.env) if args.env else None
-    with client_for(where) as client:
+    with client_for(where, getattr(args, "scheduler_timeout", None)) as client:
         result = render_tiled(client, scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator,
                               max_depth=args.max_depth, tiles=args.tiles, env=env, progress=not args.quiet)
         address = client.scheduler.address
@@ -167,7 +167,7 @@ def attach_cluster(source, args) -> None:
         print(f"lenslab validate: note: --scene {args.scene} is computed, not traced; the cluster is not used",
               file=sys.stderr)
         return
-    connection = client_for(where)
+    connection = client_for(where, getattr(args, "scheduler_timeout", None))
     source.client = connection.__enter__()
     weakref.finalize(source, connection.__exit__, None, None, None)
 

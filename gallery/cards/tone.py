@@ -47,7 +47,7 @@ def tone_curves(page: Page, item: ToneSet | None = None) -> str:
     highlights out; curves that approach it slowly keep detail in lights and skies at the cost of
     contrast. drago and mantiuk depend on the whole image, so they are drawn (dashed) as their response
     to a ramp. ``lenslab curves -o curves.png`` draws this chart."""
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
     from lenslab.tone.plot import plot_curves
 
     path, rel = page.new_image_path("tone-curves", "png")

@@ -36,7 +36,7 @@ AIM_ALL_THREADS = 1.0  # ahead of ffmpeg with every thread
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from lenslab.cli.policy import image_size, positive_int
+    from lenslab.jobs.arguments import image_size, positive_int
 
     parser.add_argument("--frames", type=positive_int, default=8, help="number of frames (default 8)")
     parser.add_argument("--size", type=image_size, default=(2048, 1024), metavar="WxH",

@@ -27,7 +27,11 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
+
+from lenslab.jobs.job import Job
 
 AIM_SPEEDUP = 1.7  # two workers against one job, on two cores
 AIM_OVERHEAD_MS = 20.0  # scheduling cost of one task
@@ -60,47 +64,48 @@ def make_frames(folder: Path, n: int, width: int, height: int) -> list[Path]:
     return paths
 
 
-def warp_options(inputs: Path, output: Path) -> dict:
-    from lenslab.cli.main import build_parser
-    from lenslab.cluster.tasks import plain_options
+def warp_job():
+    """The warp of the batch benchmarks, as ``lenslab warp --to fisheye:fov=180,mapping=equisolid --size
+    1024x1024 --overwrite`` makes it."""
+    from lenslab.jobs.warp import WarpJob
 
-    args = build_parser().parse_args(["warp", str(inputs), "-o", str(output), "--to",
-                                      "fisheye:fov=180,mapping=equisolid", "--size", "1024x1024", "-q"])
-    return plain_options(args)
+    return WarpJob(to="fisheye:fov=180,mapping=equisolid", size=(1024, 1024), quiet=True, overwrite=True)
 
 
-def _local(task, frames, out: Path, options: dict, threads: int) -> float:
+def _local(job, frames, out: Path, threads: int) -> float:
     from lenslab.cluster.tasks import limit_threads
+    from lenslab.jobs.runner import execute
 
     limit_threads(threads)
     t0 = time.perf_counter()
     for src in frames:
-        _, _, error, _ = task(str(src), str(out / (src.stem + ".exr")), options)
+        _, _, error, _ = execute(job, str(src), str(out / (src.stem + ".exr")))
         if error:
             raise RuntimeError(error)
     return time.perf_counter() - t0
 
 
-def _threads(task, frames, out: Path, options: dict, jobs: int) -> float:
+def _threads(job, frames, out: Path, jobs: int) -> float:
     """The local default: ``jobs`` frames at once on threads (:mod:`lenslab.cluster.threads`)."""
     from lenslab.cluster.threads import run_threads
+    from lenslab.jobs.runner import execute
 
     t0 = time.perf_counter()
-    results = run_threads(lambda src: task(str(src), str(out / (src.stem + ".exr")), options), frames, jobs)
+    results = run_threads(lambda src: execute(job, str(src), str(out / (src.stem + ".exr"))), frames, jobs)
     seconds = time.perf_counter() - t0
     if any(r[2] for r in results):
         raise RuntimeError(next(r[2] for r in results if r[2]))
     return seconds
 
 
-def _on_cluster(client, task, frames, out: Path, options: dict) -> tuple[float, float]:
+def _on_cluster(client, job, frames, out: Path) -> tuple[float, float]:
     """Wall time of the batch, and the workers' summed busy time."""
-    from lenslab.cluster.run import run_batch
+    from lenslab.jobs.runner import run_on_cluster
 
     workers: dict = {}
-    jobs = [(str(src), str(out / (src.stem + ".exr")), options) for src in frames]
+    pairs = [(str(src), str(out / (src.stem + ".exr"))) for src in frames]
     t0 = time.perf_counter()
-    results = run_batch(client, task, jobs, [j[1] for j in jobs], name="bench", workers=workers)
+    results = run_on_cluster(client, job, pairs, workers=workers, close=False)
     wall = time.perf_counter() - t0
     errors = [r[2] for r in results if r[2]]
     if errors:
@@ -108,11 +113,12 @@ def _on_cluster(client, task, frames, out: Path, options: dict) -> tuple[float, 
     return wall, sum(s for _, s in workers.values())
 
 
-def warm_up(client, task, frame: Path, out: Path, options: dict) -> None:
+def warm_up(client, job, frame: Path, out: Path) -> None:
     """One frame on every worker, so that each has loaded its kernels and made its map before timing."""
     from lenslab.cluster.run import submit
+    from lenslab.jobs.runner import execute
 
-    futures = [submit(client, task, str(frame), str(out / f"warm-{i}.exr"), options, name="warm-up", workers=[w])
+    futures = [submit(client, execute, job, str(frame), str(out / f"warm-{i}.exr"), name="warm-up", workers=[w])
                for i, w in enumerate(sorted(client.nthreads()))]
     for future in futures:
         future.result()
@@ -127,28 +133,26 @@ def _fresh(folder: Path) -> Path:
 def batches(args, tmp: Path) -> None:
     from lenslab.bench.results import figure, mark
     from lenslab.cluster.connect import local_cluster
-    from lenslab.cluster.tasks import convert_task, warp_task
+    from lenslab.jobs.convert import ConvertJob
 
     n = args.frames or (16 if args.quick else 32)
     width, height = (1024, 512) if args.quick else (2048, 1024)
     frames = make_frames(_fresh(tmp / "in"), n, width, height)
-    options = warp_options(tmp / "in", tmp / "out")
-    options["overwrite"] = True
-    _local(warp_task, frames[:1], _fresh(tmp / "out"), options, 1)  # compile or load the kernels first
+    job = warp_job()
+    _local(job, frames[:1], _fresh(tmp / "out"), 1)  # compile or load the kernels first
     cores = os.cpu_count() or 1
     runs: dict[str, list] = {"one": [], "default": [], "cluster": []}
     with local_cluster(workers=2) as client:
-        warm_up(client, warp_task, frames[0], _fresh(tmp / "out"), options)
+        warm_up(client, job, frames[0], _fresh(tmp / "out"))
         for _ in range(max(1, args.repeat)):  # interleaved, so that every configuration sees the same load
-            runs["one"].append(_local(warp_task, frames, _fresh(tmp / "out"), options, 1))
-            runs["default"].append(_threads(warp_task, frames, _fresh(tmp / "out"), options, cores))
-            runs["cluster"].append(_on_cluster(client, warp_task, frames, _fresh(tmp / "out"), options))
+            runs["one"].append(_local(job, frames, _fresh(tmp / "out"), 1))
+            runs["default"].append(_threads(job, frames, _fresh(tmp / "out"), cores))
+            runs["cluster"].append(_on_cluster(client, job, frames, _fresh(tmp / "out")))
         one, default = statistics.median(runs["one"]), statistics.median(runs["default"])
         wall, busy = sorted(runs["cluster"])[len(runs["cluster"]) // 2]
-        map_build, scatter = map_costs(client, options, frames[0])
-        convert = {"to": "exr", "tone": "hable", "exposure": 0.0, "overwrite": True, "quality": 95, "bits": None,
-                   "pixel_type": "half", "compression": "zip", "data_window": False}
-        c_wall, _ = _on_cluster(client, convert_task, frames, _fresh(tmp / "out"), convert)
+        map_build, scatter = map_costs(client, job, frames[0])
+        convert = ConvertJob(to="exr", overwrite=True, pixel_type="half", compression="zip")
+        c_wall, _ = _on_cluster(client, convert, frames, _fresh(tmp / "out"))
         noop = noop_overhead(client)
     print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024, medians of {max(1, args.repeat)} runs "
           f"(load {os.getloadavg()[0]:.2f})")
@@ -186,49 +190,57 @@ def batches(args, tmp: Path) -> None:
            c_one / c_wall, "x", aim=AIM_SPEEDUP, better="higher")
 
 
-def _empty(src: str, dst: str, options: dict) -> tuple:
-    """A task that does nothing, for the overhead of the path every file takes."""
-    return src, dst, None, []
+@dataclass(frozen=True)
+class EmptyJob(Job):
+    """A job that does nothing, for the overhead of the path every file takes."""
+
+    command: ClassVar[str] = "empty"
+
+    def run(self, src: str, dst: str, progress=None) -> None:
+        return None
 
 
 def noop_overhead(client, n: int = 200) -> float:
-    """Milliseconds of a worker's time per task, for ``n`` empty tasks through :func:`run_batch`."""
-    from lenslab.cluster.run import run_batch
+    """Milliseconds of a worker's time per task, for ``n`` empty tasks through the runner's cluster path."""
+    from lenslab.jobs.runner import run_on_cluster
 
     workers = max(1, sum(client.nthreads().values()))
-    t0 = time.perf_counter()
-    run_batch(client, _empty, [(str(i), str(i), {}) for i in range(n)], [], name="empty")
+    with tempfile.TemporaryDirectory() as folder:
+        t0 = time.perf_counter()
+        run_on_cluster(client, EmptyJob(), [(str(i), os.path.join(folder, str(i))) for i in range(n)], close=False)
     return (time.perf_counter() - t0) * workers / n * 1e3
 
 
-def convert_jobs(frames, tmp: Path, options: dict, jobs: int) -> float:
-    from lenslab.cli.convert import convert_many
+def convert_jobs(frames, tmp: Path, job, jobs: int) -> float:
+    from lenslab.jobs.runner import run_local
 
     out = _fresh(tmp / "out")
     pairs = [(str(src), out / (src.stem + ".exr")) for src in frames]
     t0 = time.perf_counter()
-    results = convert_many(pairs, options, jobs=jobs, progress=False)
+    results = run_local(job, pairs, jobs=jobs)
     seconds = time.perf_counter() - t0
     if any(r[2] for r in results):
         raise RuntimeError(next(r[2] for r in results if r[2]))
     return seconds
 
 
-def map_costs(client, options: dict, frame: Path) -> tuple[float, float]:
+def map_costs(client, job, frame: Path) -> tuple[float, float]:
     """Seconds to make the warp's map on a worker (the first frame's extra time over a later one) and to
     scatter an array of the map's size to both workers."""
     import numpy as np
 
     from lenslab.cluster.run import submit
-    from lenslab.cluster.tasks import warp_task
+    from dataclasses import replace
+
+    from lenslab.jobs.runner import execute
     from lenslab.warp.batch import map_bytes_estimate
 
     t = []
-    opts = {**options, "overwrite": True, "yaw": 0.5}  # a geometry no worker has seen yet
+    moved = replace(job, overwrite=True, yaw=0.5)  # a geometry no worker has seen yet
     worker = sorted(client.nthreads())[0]
     for i in range(2):  # on one worker, the first frame makes the map, the second reuses it
         out = str(frame.with_name(f"map-{i}.exr"))
-        t.append(submit(client, warp_task, str(frame), out, opts, name="map", workers=[worker]).result()[2])
+        t.append(submit(client, execute, moved, str(frame), out, name="map", workers=[worker]).result()[2])
     build = max(0.0, t[0] - t[1])
     from lenslab.lenses import Camera
 

@@ -186,7 +186,8 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
     import lenslab.io as lio
     from lenslab.bench.results import figure
     from lenslab.bench.timing import best_time
-    from lenslab.cli.convert import convert_many
+    from lenslab.jobs.convert import ConvertJob
+    from lenslab.jobs.runner import run_local
 
     n = max(2, args.images)
     src = d / "exrs"
@@ -213,8 +214,7 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
 
     t_plain = best_time(plain, rep)
     print(f"  {'plain OpenEXR + NumPy + OpenCV script':<40s} {n / t_plain:8.2f} img/s   1.00x baseline")
-    options = {"to": "jpg", "tone": "hable", "exposure": 0.0, "overwrite": False, "quality": 95, "bits": None,
-               "pixel_type": "half", "compression": "zip", "data_window": False}
+    job = ConvertJob(to="jpg", tone="hable", quality=95)
     cores = os.cpu_count() or 1
     runs = [("lenslab convert --jobs 1", 1)]
     if cores > 1:
@@ -223,7 +223,7 @@ def _convert(d: Path, args, cw: int, ch: int, rep: int) -> None:
         def go():
             o = new_dir()
             pairs = [(f, o / (Path(f).stem + ".jpg")) for f in files]
-            res = convert_many(pairs, options, jobs=jobs, progress=False)
+            res = run_local(job, pairs, jobs=jobs)
             bad = [r for r in res if r[2]]
             if bad:
                 raise RuntimeError(f"convert failed: {bad[0]}")

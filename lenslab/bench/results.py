@@ -58,7 +58,7 @@ def start() -> dict[str, Any]:
 def write(path: str, benchmark: str, run: dict[str, Any], argv: list[str] | None = None,
           overwrite: bool = True) -> None:
     """Write the figures recorded since :func:`start` as JSON (temporary name, then rename)."""
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     record = {
         "benchmark": benchmark,

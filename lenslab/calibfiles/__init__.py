@@ -121,7 +121,7 @@ def default_format(path: Path, lens) -> str:
 
 def write_lens(path, lens, fmt: str | None = None, overwrite: bool = False) -> Path:
     """Write ``lens`` as a calibration file (atomically); the format from ``fmt`` or the file name."""
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     path = Path(path)
     fmt = fmt or default_format(path, lens)

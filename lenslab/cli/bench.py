@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.bench import results
 
     if getattr(args, "json", None):  # refused before the benchmark runs, not after
-        from lenslab.cli.policy import check_output
+        from lenslab.jobs.policy import check_output
 
         check_output(args.json, (), args.overwrite)
     record = results.start()

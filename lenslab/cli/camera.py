@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  spec: {lens.spec()}")
         return 0
     from lenslab.calibfiles import split_pick, write_lens
-    from lenslab.cli.policy import check_output
+    from lenslab.jobs.policy import check_output
 
     if not args.model and (args.free or args.residual_map or args.aim != 0.05):
         from lenslab.cli.policy import UsageError

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from lenslab.cli.policy import non_negative_int
+from lenslab.jobs.arguments import non_negative_int
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -75,9 +75,9 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from lenslab import io, tone
-    from lenslab.cli.policy import check_output
+    from lenslab.jobs.policy import check_output
     from lenslab.cli.tonemap import tonemap_reporting
-    from lenslab.cli.tonemap_file import write_tone_mapped
+    from lenslab.jobs.tonemap import write_tone_mapped
     from lenslab.errors import ToneError
 
     names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]
@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
         raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
     display = display_panel_options(args)
     check_output(args.output, [args.input], args.overwrite)
-    from lenslab.cli.policy import output_format
+    from lenslab.jobs.policy import output_format
 
     output_format(args.output)  # an unknown extension: one usage error before the image is read
     image, _ = io.read(args.input)
@@ -147,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
 def display_panel_options(args: argparse.Namespace) -> dict:
     """The ``--display`` options, checked: an SDR display, an output that holds code values, exposure in stops."""
     from lenslab.cli.display import display_options
-    from lenslab.cli.policy import UsageError
+    from lenslab.errors import UsageError
     from lenslab.io.detect import format_for_path
     from lenslab.io.ocio import is_hdr_display
     from lenslab.io.registry import get

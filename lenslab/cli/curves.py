@@ -25,9 +25,11 @@ CHART_FORMATS = ("png", "svg", "pdf")
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="curves.png", help="chart to write (PNG, SVG or PDF; default curves.png)")
     parser.add_argument("--curves", default="", help="comma-separated subset of curves (default: every curve)")
-    parser.add_argument("--stops", type=float, nargs=2, default=(-10.0, 8.0), metavar=("LOW", "HIGH"),
+    from lenslab.jobs.arguments import finite_float
+
+    parser.add_argument("--stops", type=finite_float, nargs=2, default=(-10.0, 8.0), metavar=("LOW", "HIGH"),
                         help="input range in stops from 1.0 (default -10 8)")
-    parser.add_argument("--exposure", type=float, default=0.0, help="exposure in stops applied before the curves")
+    parser.add_argument("--exposure", type=finite_float, default=0.0, help="exposure in stops applied before the curves")
     parser.add_argument("--list", action="store_true", help="print every curve with its parameters and exit")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing chart")
 
@@ -45,8 +47,9 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print(tone.describe_curves())
         return 0
-    from lenslab.cli.policy import UsageError, check_output
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output
+    from lenslab.atomic import atomic_write_path
 
     kind = str(args.output).rsplit(".", 1)[-1].lower()
     if kind not in CHART_FORMATS:

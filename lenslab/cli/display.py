@@ -32,11 +32,11 @@ def display_options(args: argparse.Namespace) -> dict:
     if opts["display"] is None:
         for k in ("view", "colorspace", "ocio"):
             if opts[k] is not None:
-                from lenslab.cli.policy import UsageError
+                from lenslab.errors import UsageError
 
                 raise UsageError(f"--{k} goes with --display NAME")
         return opts
-    from lenslab.cli.policy import UsageError
+    from lenslab.errors import UsageError
     from lenslab.io.ocio import OCIOError, processor
 
     try:  # unknown names: one usage error now, before any file is read
@@ -44,37 +44,3 @@ def display_options(args: argparse.Namespace) -> dict:
     except OCIOError as exc:
         raise UsageError(str(exc)) from None
     return opts
-
-
-def apply_display(image, fmt, options: dict) -> tuple:
-    """(display-encoded image, write options it needs) for format record ``fmt``.
-
-    HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
-    8-bit format is refused. The code values are stored as they are (``raw``), not sRGB-encoded again.
-    """
-    from lenslab.errors import FormatError
-    from lenslab.io.ocio import display_transform, is_hdr_display
-
-    display = options["display"]
-    hdr = is_hdr_display(display)
-    bits = options.get("bits")
-    extra: dict = {}
-    accepts = fmt.write_options
-    if "sample_type" in accepts:  # TIFF: integers of the asked depth, 16 by default
-        extra["sample_type"] = f"uint{bits or 16}"
-        bits = bits or 16
-    elif "bits" in accepts:
-        depths = [b for b in fmt.bit_depths if b >= 16]
-        if hdr and not depths:
-            raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG or "
-                              "TIFF")
-        if hdr and bits == 8:
-            raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
-        if (hdr or bits == 16) and depths:
-            extra["bits"] = 16
-    if hdr and bits == 8:
-        raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
-    if "raw" in accepts:
-        extra["raw"] = True
-    out = display_transform(image, display, options.get("view"), options.get("colorspace"), options.get("ocio"))
-    return out, extra

@@ -203,10 +203,10 @@ def run(args: argparse.Namespace) -> int:
             print(formats_text())
         return 0
     if not args.files:
-        from lenslab.cli.policy import UsageError
+        from lenslab.errors import UsageError
 
         raise UsageError("give one or more files, or --formats")
-    from lenslab.cli.policy import library_output_to_stderr, one_line
+    from lenslab.jobs.funnel import library_output_to_stderr, one_line
 
     results, failed = [], 0
     for path in args.files:
@@ -225,6 +225,6 @@ def run(args: argparse.Namespace) -> int:
             print(_video_text(d) if "video" in d else _text(d))
     if args.json:
         print(json.dumps(_json_safe(results), indent=2, allow_nan=False, default=str))
-    if failed:
+    if failed and len(args.files) > 1:  # (one file: its one error line says all)
         print(f"lenslab info: {failed} of {len(args.files)} files could not be read", file=sys.stderr)
     return 1 if failed else 0

@@ -91,7 +91,7 @@ def run_lensfun(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     if args.lensfun is not None or args.lensfun_db or args.lensfun_db_only:
         if args.lensfun is None:
-            from lenslab.cli.policy import UsageError
+            from lenslab.errors import UsageError
 
             raise UsageError("--lensfun-db and --lensfun-db-only go with --lensfun QUERY")
         return run_lensfun(args)

@@ -48,7 +48,7 @@ def plugin_commands() -> dict:
 
 def build_parser() -> argparse.ArgumentParser:
     from lenslab import __version__
-    from lenslab.cli.policy import ArgumentParser
+    from lenslab.jobs.arguments import ArgumentParser
 
     parser = ArgumentParser(
         prog="lenslab",
@@ -60,6 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Run 'lenslab COMMAND --help' for the options of one command.",
     )
     parser.add_argument("--version", action="version", version=f"lenslab {__version__}")
+    add_debug_option(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module_name, help_text) in COMMANDS.items():
         try:
@@ -71,25 +72,32 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=help_text, description=(module.__doc__ or help_text).strip(),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(p)
+        add_debug_option(p, argparse.SUPPRESS)
         p.set_defaults(_module=module)
     for name, ep in sorted(plugin_commands().items()):
         module = ep.load()  # a light module: its heavy imports happen in run()
         p = sub.add_parser(name, help=getattr(module, "HELP", None), description=(module.__doc__ or "").strip(),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(p)
+        add_debug_option(p, argparse.SUPPRESS)
         p.set_defaults(_module=module)
     return parser
 
 
+def add_debug_option(parser, default=False) -> None:
+    parser.add_argument("--debug", action="store_true", default=default,
+                        help="on an error, print the full traceback too (for a bug report)")
+
+
 def main(argv: list[str] | None = None) -> int:
-    from lenslab.cli.policy import EXIT_USAGE, run_command
+    from lenslab.jobs.funnel import EXIT_USAGE, run_command
 
     parser = build_parser()
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
     if getattr(args, "_module", None) is None:
         parser.print_help()
         return EXIT_USAGE
-    return run_command(f"lenslab {args.command}", lambda: args._module.run(args))
+    return run_command(f"lenslab {args.command}", lambda: args._module.run(args), debug=getattr(args, "debug", False))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from lenslab.cli.policy import image_size
+from lenslab.jobs.arguments import finite_float, image_size
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -31,9 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output (and map) size in pixels")
     parser.add_argument("--source-size", metavar="WxH", type=image_size,
                         help="size of the source footage (default: --size)")
-    parser.add_argument("--yaw", type=float, default=0.0, help="turn the output camera right, degrees")
-    parser.add_argument("--pitch", type=float, default=0.0, help="turn the output camera up, degrees")
-    parser.add_argument("--roll", type=float, default=0.0, help="turn the output camera about its axis, degrees")
+    parser.add_argument("--yaw", type=finite_float, default=0.0, help="turn the output camera right, degrees")
+    parser.add_argument("--pitch", type=finite_float, default=0.0, help="turn the output camera up, degrees")
+    parser.add_argument("--roll", type=finite_float, default=0.0, help="turn the output camera about its axis, degrees")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing map")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
 
@@ -43,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from lenslab.cli.policy import UsageError, check_output
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output
     from lenslab.lenses import Camera, Pose, make_lens
     from lenslab.stmap import st_map, write_st_map
 

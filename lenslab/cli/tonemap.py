@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -55,7 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")
     from lenslab.cli.display import add_display_arguments
-    from lenslab.cli.options import add_jobs_option, add_scheduler_options
+    from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options
 
     add_display_arguments(parser, instead_of="--curve")
     add_jobs_option(parser, "files to tone-map (with several inputs)")
@@ -101,11 +102,10 @@ def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, qu
 
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
-    from lenslab.cli.policy import check_output, output_format
-    from lenslab.cli.options import check_skip_or_overwrite, parse_exposure
+    from lenslab.jobs.policy import check_output, output_format
+    from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
 
     check_skip_or_overwrite(args)
-    from lenslab.cli.tonemap_file import write_tone_mapped
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
@@ -118,27 +118,38 @@ def run(args: argparse.Namespace) -> int:
     if is_batch(args):
         return run_many(args, curve.name, params)
     args.input = args.inputs[0]
+    from lenslab.jobs.plan import sweep_outputs
+
+    sweep_outputs([(args.input, args.output)])  # temporaries of killed runs
     if getattr(args, "skip_existing", False) and Path(args.output).is_file():
         if not args.quiet:
             print(f"lenslab tonemap: {args.output} already there, left alone (--skip-existing)", file=sys.stderr)
         return 0
+    exposure = parse_exposure(args.exposure)  # a bad value: one usage error before the image is read
     check_output(args.output, [args.input], args.overwrite)
     output_format(args.output)  # an unknown extension: one usage error before the image is read
-    image, meta = io.read(args.input)
-    if display["display"]:
-        from lenslab.cli.tonemap_file import write_display
+    from lenslab.jobs.funnel import working_on
 
-        write_display(args.output, image, {**display, "exposure": parse_exposure(args.exposure),
-                                           "bits": args.bits, "dither": args.dither, "overwrite": args.overwrite})
+    with working_on(args.input):
+        image, meta = io.read(args.input)
+    from lenslab.jobs.tonemap import TonemapJob
+
+    if exposure == "auto" and not display["display"]:
+        exposure = tone.auto_exposure(image, primaries=args.primaries)
         if not args.quiet:
-            print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}", file=sys.stderr)
-        return 0
-    out, ev = tonemap_reporting(image, curve.name, args.exposure, args.mode, params, args.primaries,
-                                args.input, args.quiet)
-    write_tone_mapped(args.output, out, dither=args.dither, bits=args.bits, overwrite=args.overwrite,
-                      camera=meta.get("camera"))
+            print(f"{args.input}: auto exposure {exposure:+.2f} stops", file=sys.stderr)
+    job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", tone.ToneWarning)
+        job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
+    for w in caught:
+        if isinstance(w.message, tone.ToneWarning):  # repairs: one line each
+            print(f"lenslab tonemap: note: {args.input}: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if not args.quiet:
-        h, w = out.shape[:2]
-        print(f"{args.output}: {w} x {h}, curve {curve.name} ({args.mode}), exposure {float(ev):+.2f} stops",
+        h, w_ = image.shape[:2]
+        print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}" if display["display"]
+              else f"{args.output}: {w_} x {h}, curve {curve.name} ({args.mode}), exposure {float(exposure):+.2f} stops",
               file=sys.stderr)
     return 0

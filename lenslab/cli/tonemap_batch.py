@@ -23,13 +23,13 @@ def is_batch(args: argparse.Namespace) -> bool:
 
 def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     """Tone-map every input into the folder ``-o`` (or the one file ``-o`` names); exit code 1 if any failed."""
-    from lenslab.cli.convert import expand_inputs, plan_outputs
-    from lenslab.cli.options import parse_exposure
     from lenslab.cli.display import display_options
-    from lenslab.cli.policy import make_output_dir
-    from lenslab.cluster.command import batch_on_cluster, connect, report_results
-    from lenslab.cluster.run import skip_existing
-    from lenslab.cluster.tasks import tonemap_task
+    from lenslab.io.registry import get
+    from lenslab.jobs.arguments import parse_exposure
+    from lenslab.jobs.plan import expand_inputs, plan_outputs, skip_existing, sweep_outputs
+    from lenslab.jobs.policy import make_output_dir
+    from lenslab.jobs.runner import connect, run_batch
+    from lenslab.jobs.tonemap import TonemapJob
 
     exposure = parse_exposure(args.exposure)
     roots: dict[str, str] = {}
@@ -39,33 +39,20 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     if not files:
         print("lenslab tonemap: error: nothing to tone-map", file=sys.stderr)
         return 1
-    pairs = plan_outputs(files, args.format, args.output, roots)
-    client = connect(args)  # an unreachable scheduler: one error, before any folder is made
+    pairs = plan_outputs(files, args.output, get(args.format).extensions[0], roots, verb="tone-map")
+    job = TonemapJob.from_options(args, curve=curve, params=params, exposure=exposure, **display_options(args))
+    args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "" or Path(args.output).is_dir():
         make_output_dir(args.output)
         for folder in sorted({Path(dst).parent for _, dst in pairs}):
             folder.mkdir(parents=True, exist_ok=True)  # the sub-folders a pattern's matches mirror
+    sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     if skipped and not args.quiet:
         print(f"lenslab tonemap: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
-    options = {"curve": curve, "params": params, "exposure": exposure, "mode": args.mode,
-               "primaries": args.primaries, "dither": args.dither, "bits": args.bits, "overwrite": args.overwrite,
-               **display_options(args)}
-    if client is not None:
-        status = batch_on_cluster("lenslab tonemap", client, "tonemap_task", pairs, options, args.quiet, "tone-mapped")
-        return 1 if status or missing else 0
-    from tqdm import tqdm
-
-    from lenslab.cluster.threads import default_jobs, run_threads
-
-    with tqdm(total=len(pairs), unit="img", file=sys.stderr, leave=False,
-              disable=args.quiet or not sys.stderr.isatty()) as bar:
-        results = run_threads(lambda pair: tonemap_task(pair[0], str(pair[1]), options), pairs,
-                              args.jobs or default_jobs(len(pairs)), lambda _: bar.update(), first_alone=True,
-                              fit_memory=not args.jobs)
-    failed = report_results("lenslab tonemap", results, None if args.quiet else "tone-mapped {done} of " + str(len(pairs) + skipped) + " file(s)"
-                            + (f"; {skipped} already there, left alone" if skipped else ""))
-    return 1 if failed or missing else 0
+    status = run_batch("lenslab tonemap", job, pairs, args, lambda where: f"tone-mapped {{done}} of {{total}} file(s){where}",
+                       skipped)
+    return 1 if status or missing else 0
 
 
 __all__ = ["is_batch", "run_many"]

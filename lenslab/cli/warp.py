@@ -30,16 +30,18 @@ examples:
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import image_size, positive_int
+from lenslab.jobs.arguments import finite_float, finite_vector, image_size, int_in
 
 from lenslab.io.registry import writable
 
 #: every format lenslab writes, from the format plugins (lenslab.io.formats)
 OUTPUT_FORMATS = writable()
+#: samples per output pixel: beyond this a warp takes hours and gains nothing a footprint filter
+#: (--antialias) does not give at once
+MAX_SAMPLES = 4096
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,9 +61,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's height squared (2:1 for equirect)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
-    pose.add_argument("--yaw", type=float, default=0.0, help="turn right about the up axis")
-    pose.add_argument("--pitch", type=float, default=0.0, help="turn up")
-    pose.add_argument("--roll", type=float, default=0.0, help="turn about the viewing axis")
+    pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
+    pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
+    pose.add_argument("--roll", type=finite_float, default=0.0, help="turn about the viewing axis")
     pose.add_argument("--rotation-order", choices=("ypr", "yrp", "pyr", "pry", "ryp", "rpy"), default="ypr",
                       metavar="ORDER", help="the order of the turns, last applied first: ypr (default) turns roll, "
                                             "then pitch, then yaw; ffmpeg v360's rorder")
@@ -71,15 +73,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pose.add_argument("--source-flip", metavar="h,v", default=None,
                       help="the source was stored mirrored left-right (h) and/or top-bottom (v) within each "
                            "face, half or eye (v360's ih_flip, iv_flip)")
-    pose.add_argument("--look-at", metavar="X,Y,Z",
+    pose.add_argument("--look-at", metavar="X,Y,Z", type=finite_vector,
                       help="look along this direction instead of --yaw/--pitch/--roll, e.g. 0,1,0 straight up")
-    pose.add_argument("--eye", metavar="X,Y,Z", default=None,
+    pose.add_argument("--eye", metavar="X,Y,Z", default=None, type=finite_vector,
                       help="output eye point (default: the source's); another point needs --allow-parallax")
     quality = parser.add_argument_group("sampling")
     quality.add_argument("--filter", choices=("nearest", "bilinear", "bicubic", "lanczos"), default="bilinear",
                          help="reconstruction filter (default bilinear; bicubic = Catmull-Rom, lanczos = Lanczos-3)")
-    quality.add_argument("--samples", type=positive_int, default=1, metavar="N",
-                         help="stratified samples per output pixel (e.g. 4, 16; default 1)")
+    quality.add_argument("--samples", type=int_in(1, MAX_SAMPLES), default=1, metavar="N",
+                         help=f"stratified samples per output pixel (e.g. 4, 16; default 1, at most {MAX_SAMPLES})")
     quality.add_argument("--seed", type=int, default=None,
                          help="jitter the samples within their strata with this seed (default: strata centres)")
     quality.add_argument("--antialias", action="store_true",
@@ -111,9 +113,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
     parser.add_argument("--verbose", "-v", action="store_true",
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
-    from lenslab.cli.options import add_jobs_option, add_scheduler_options
+    from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options
     from lenslab.cli.display import add_display_arguments
-    from lenslab.cli.warp_video import add_video_arguments
+    from lenslab.jobs.warp_video import add_video_arguments
 
     add_display_arguments(parser)
     add_video_arguments(parser)
@@ -136,8 +138,8 @@ def parse_size(text: str) -> tuple[int, int]:
 
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
-    the tone curve for display outputs."""
-    from lenslab.cli.warp_cameras import default_size
+    the tone curve for display outputs, the display."""
+    from lenslab.jobs.warp_cameras import default_size
     from lenslab.lenses.registry import make_lens
     from lenslab.tone import get_curve
 
@@ -153,43 +155,23 @@ def check_once(args) -> None:
     display_options(args)  # unknown display, view or colour space: one usage error now
 
 
-def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
-    from lenslab.cli.policy import check_output_dir
-    from lenslab.errors import FormatError
-    from lenslab.io import split_selector
+def output_extension(fmt: str | None):
+    """The extension of each output in an -o folder: ``--format``'s (default EXR); a clip stays a clip."""
+    from lenslab.io.registry import get
+    from lenslab.jobs.warp_video import is_video
 
-    out = Path(output)
-    as_file = len(files) == 1 and not out.is_dir() and out.suffix != ""
-    if not as_file:
-        check_output_dir(out, len(files))  # created by run() once everything is checked
-    ext = "." + (fmt or "exr")
-    pairs, seen = [], {}
-    for f in files:
-        src, selector = split_selector(f)
-        from lenslab.cli.warp_video import is_video
-
-        own = src.suffix.lower() if fmt is None and is_video(src) else ext  # a clip stays a clip
-        dst = out if as_file else out / (src.stem + (f"_{selector.replace(':', '_')}" if selector else "") + own)
-        if dst in seen:
-            raise FormatError(f"{f} and {seen[dst]} would both be written to {dst}; warp them separately")
-        seen[dst] = f
-        pairs.append((f, dst))
-    return pairs
+    ext = get(fmt or "exr").extensions[0]
+    return lambda src: src.suffix.lower() if fmt is None and is_video(src) else ext
 
 
 def run(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
-
-    from lenslab.cli.options import check_skip_or_overwrite
+    from lenslab.errors import UsageError
+    from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
+    from lenslab.jobs.plan import expand_inputs, plan_outputs, skip_existing, sweep_outputs
+    from lenslab.jobs.runner import connect, run_batch
+    from lenslab.jobs.warp import WarpJob, plans_for, st_map
 
     check_skip_or_overwrite(args)
-
-    from lenslab.cli.convert import expand_inputs
-    from lenslab.cli.warp_file import plan_cache, warp_one
-    from lenslab.cli.policy import UsageError, make_output_dir, one_line, user_notes
-    from lenslab.cluster.threads import default_jobs, recorded_warnings, run_threads
-    from lenslab.errors import LenslabError
-
     if args.look_at and (args.yaw or args.pitch or args.roll):
         raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
     from lenslab.warp.mirror import parse_flips
@@ -199,6 +181,8 @@ def run(args: argparse.Namespace) -> int:
         parse_flips(args.source_flip, "hv", "--source-flip")
     except LenslabError as exc:
         raise UsageError(str(exc)) from None
+    if args.look_at and not any(args.look_at):
+        raise UsageError("--look-at 0,0,0 is no direction; give X,Y,Z with a length, e.g. 0,0,1")
     if not args.to and not args.stmap:
         raise UsageError("say where to warp to: --to SPEC (the output lens) or --stmap MAP")
     if args.stmap:
@@ -211,11 +195,7 @@ def run(args: argparse.Namespace) -> int:
                  if on]
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
-        from lenslab.stmap import read_st_map
-
-        args.st = read_st_map(args.stmap)
-    from lenslab.cli.options import parse_exposure
-
+        st_map(args.stmap)  # read now: a bad map is one error before any file
     args.exposure = parse_exposure(args.exposure)
     check_once(args)
     files, missing = expand_inputs(args.inputs)
@@ -224,62 +204,21 @@ def run(args: argparse.Namespace) -> int:
     if not files:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
-    pairs = plan_outputs(files, args.output, args.format)
-    from lenslab.cluster.command import batch_on_cluster, connect
-
-    client = connect(args)  # an unreachable scheduler: one error, before any folder is made
+    pairs = plan_outputs(files, args.output, output_extension(args.format), fmt=args.format, verb="warp")
+    job = WarpJob.from_options(args)
+    args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "":
-        make_output_dir(args.output)
-    from lenslab.cluster.run import skip_existing
+        from lenslab.jobs.policy import make_output_dir
 
+        make_output_dir(args.output)
+    sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     if skipped and not args.quiet:
         print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
-    if client is not None:
-        from lenslab.cluster.tasks import plain_options
 
-        status = batch_on_cluster("lenslab warp", client, "warp_task", pairs,
-                                  plain_options(args, paths=("source", "to", "stmap")), args.quiet, "warped")
-        return 1 if status or missing else 0
-    cache = plan_cache(args)
-    show = not args.quiet and sys.stderr.isatty()
-    failed = []
-    bar = tqdm(total=len(pairs), unit="img", disable=not show or len(pairs) == 1, file=sys.stderr, leave=False)
+    def summary(where: str) -> str:
+        maps = "" if where else f" with {plans_for(job).built} map(s)"
+        return f"warped {{done}} of {{total}} file(s){maps}{where}"
 
-    def one(pair):
-        src_path, dst_path = pair
-        rows = None
-        if show and len(pairs) == 1:
-            rows = tqdm(unit="row", file=sys.stderr, leave=False, desc=os.path.basename(src_path))
-        with recorded_warnings() as caught:
-            try:
-                warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
-                error = None
-            except (LenslabError, OSError, UsageError) as exc:
-                error = one_line(exc)
-            except Exception as exc:  # one bad file must not stop the batch
-                error = f"{type(exc).__name__}: {exc}"
-            finally:
-                if rows is not None:
-                    rows.close()
-        return src_path, error, user_notes(caught)
-
-    def done(result):
-        src_path, error, notes = result
-        for note in notes:
-            print(f"lenslab warp: note: {src_path}: {note}", file=sys.stderr)
-        if error:
-            failed.append(src_path)
-            print(f"lenslab warp: FAILED: {error if src_path in error else f'{src_path}: {error}'}", file=sys.stderr)
-        bar.update()
-
-    # the first file alone, on every core: it makes the map the others reuse (a batch has one geometry)
-    run_threads(one, pairs, args.jobs or default_jobs(len(pairs) - 1), done, first_alone=True,
-                fit_memory=not args.jobs)
-    bar.close()
-    if not args.quiet:
-        done = len(pairs) - len(failed)
-        print(f"warped {done} of {len(pairs) + skipped} file(s) with {cache.built} map(s)"
-              + (f"; {len(failed)} failed" if failed else "")
-              + (f"; {skipped} already there, left alone" if skipped else ""), file=sys.stderr)
-    return 1 if failed or missing else 0
+    status = run_batch("lenslab warp", job, pairs, args, summary, skipped)
+    return 1 if status or missing else 0

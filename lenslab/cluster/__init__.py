@@ -6,11 +6,13 @@ to the workers of that cluster (``dask scheduler`` and ``dask worker`` on any ma
 system, or SLURM through dask-jobqueue). Without them, the batch runs on this machine as before.
 
 - :mod:`lenslab.cluster.connect`: where the scheduler is, and the client to it;
-- :mod:`lenslab.cluster.run`: submit, follow with a progress bar, cancel on Ctrl-C, sweep temporaries;
-- :mod:`lenslab.cluster.tasks`: what runs on a worker (a warp's map made once per worker and reused).
+- :mod:`lenslab.cluster.run`: submit, follow with a progress bar, cancel on Ctrl-C, a lost scheduler;
+- :mod:`lenslab.cluster.tasks`: a worker's share of the machine's threads;
+- :mod:`lenslab.cluster.threads`: the same batch on threads of this process.
 
-Outputs are written by the workers to a temporary name and renamed (:mod:`lenslab.io.atomic`), so an
-output is complete or absent; a worker killed mid-task has its files done again by another worker.
+What a task does is a job (:mod:`lenslab.jobs`): the workers write each output to a temporary and the
+command renames it (:mod:`lenslab.jobs.runner`), so an output is complete or absent, and none appears
+once the command has ended; a worker killed mid-task has its files done again by another worker.
 """
 
 from __future__ import annotations

@@ -87,9 +87,9 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     thread as each finishes (in the order they finish). Results come back in the jobs' order.
 
     Each thread runs its job's compiled kernels on ``cores // threads`` threads of its own (at least
-    one), and the EXR codec in the calling thread. On Ctrl-C the jobs not started are dropped and the
-    running ones finish their file (each output is written to a temporary name and renamed), then the
-    interrupt goes on.
+    one), and the EXR codec in the calling thread. On Ctrl-C or SIGTERM the jobs not started are dropped
+    and the running ones end their file without renaming it (its temporary is removed,
+    :data:`lenslab.atomic.STOPPING`), then the interrupt goes on.
 
     ``first_alone``: the first job runs by itself first, on every core (a warp's first file makes the
     map the others share); with ``fit_memory`` the growth of this process's peak memory during it
@@ -118,7 +118,8 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     import numba
 
     import lenslab.io.exr
-    from lenslab.cli.policy import NUMPY_NOTES
+    from lenslab.atomic import STOPPING
+    from lenslab.errors import NUMPY_NOTES as _NUMPY_NOTES
 
     cores = default_jobs(1 << 30)
     inner = max(1, cores // threads)
@@ -150,8 +151,12 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
                 results[futures[fut]] = fut.result()
                 if on_done is not None:
                     on_done(results[futures[fut]])
+        except BaseException:  # Ctrl-C, SIGTERM: the files under way are not renamed (their temporaries go)
+            STOPPING.set()
+            raise
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
+            STOPPING.clear()
             _HOOKED.clear()
             lenslab.io.exr.THREADS = codec_threads
     return [results[i] for i in range(len(jobs))]

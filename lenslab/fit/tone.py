@@ -61,11 +61,11 @@ def ciede2000(a_linear: np.ndarray, b_linear: np.ndarray) -> np.ndarray:
 
 def _rgb(image: np.ndarray) -> np.ndarray:
     """(H, W, 3) float64 view of an image with 1..4 channels (grey repeated, alpha dropped)."""
-    a = np.asarray(image, dtype=np.float64)
+    from lenslab.errors import check_image_shape
+
+    a = np.asarray(check_image_shape(image), dtype=np.float64)
     if a.ndim == 2:
         a = a[..., None]
-    if a.ndim != 3 or a.shape[-1] not in (1, 2, 3, 4):
-        raise FitError(f"an image must be H x W or H x W x C with C in 1..4, got shape {a.shape}")
     c = a.shape[-1]
     a = a[..., :3] if c >= 3 else a[..., :1]
     return np.repeat(a, 3, axis=-1) if a.shape[-1] == 1 else a

@@ -14,7 +14,7 @@ scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes be
 :data:`lenslab.io.limits.MAX_PIXELS` are refused before any allocation.
 
 ``write(path, image, format=None, **options)``: the format from ``format=`` or the extension; the
-file is written to a temporary name and renamed (see :mod:`lenslab.io.atomic`). Options:
+file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Options:
 
 - all: ``overwrite=True``; ``camera=`` (EXR stores it as the ``lenslab.camera`` TOML attribute)
 - LDR (ppm/pgm/jpg/png): ``raw=False`` (True: values are code values / maxval, no sRGB encoding),
@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 
 from lenslab.errors import FormatError
-from lenslab.io.atomic import atomic_write_path
+from lenslab.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
 
 if TYPE_CHECKING:
@@ -154,16 +154,11 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
 def _as_image(array) -> "np.ndarray":
     import numpy as np
 
-    a = np.asarray(array)
-    if a.dtype.kind not in "fiub":
-        raise FormatError(f"cannot write an array of dtype {a.dtype}; give a float32 image H x W x C")
+    from lenslab.errors import check_image_shape
+
+    a = check_image_shape(array, "an image to write", channels=None)
     if a.ndim == 2:
         a = a[..., None]
-    if a.ndim != 3 or a.shape[0] == 0 or a.shape[1] == 0:
-        raise FormatError(f"cannot write an array of shape {a.shape}; give an image H x W x C")
-    if a.shape[2] not in (1, 2, 3, 4):
-        raise FormatError(f"cannot write {a.shape[2]} channels as an image; give 1, 3 or 4 (EXR: any, with "
-                          "channels=[names])")
     return a.astype(np.float32, copy=False)
 
 

@@ -48,6 +48,8 @@ class Format:
     selectors: bool = False
     #: can store a lenslab camera
     camera: bool = False
+    #: the names the ``compression`` write option takes (checked once, before a batch starts)
+    compressions: tuple[str, ...] = ()
     #: one line for ``lenslab info --formats`` and the docs
     note: str = ""
     #: "image", or "video" (many frames: ``read`` gives the first, :mod:`lenslab.io.video` the rest)
@@ -67,4 +69,5 @@ class Format:
                 "alpha": self.alpha, "channels": list(self.channels), "bit_depths": list(self.bit_depths),
                 "sample_types": list(self.sample_types), "read": self.readable, "write": self.writable,
                 "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
+                "compressions": list(self.compressions),
                 "note": self.note, "kind": self.kind}

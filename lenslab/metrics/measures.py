@@ -12,12 +12,10 @@ FULL_COVERAGE = 0.999  # alpha at or above this counts as fully covered (alpha i
 
 # -- masks ---------------------------------------------------------------------------------------
 def as_image(a, what: str) -> np.ndarray:
-    arr = np.asarray(a)
-    if arr.ndim == 2:
-        arr = arr[..., None]
-    if arr.ndim != 3:
-        raise ValueError(f"{what} must be an H x W or H x W x C image, got shape {arr.shape}")
-    return arr
+    from lenslab.errors import check_image_shape
+
+    arr = check_image_shape(a, what, channels=None)
+    return arr[..., None] if arr.ndim == 2 else arr
 
 
 def _alpha2d(alpha, shape) -> np.ndarray:

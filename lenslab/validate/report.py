@@ -6,7 +6,7 @@
 - ``error_maps.png``: the per-pixel relative error of the best and the worst setting;
 - ``side_by_side.png``: reference | warped (best setting) | difference, tone-mapped alike.
 
-Every file goes through :func:`lenslab.io.atomic.atomic_write_path`.
+Every file goes through :func:`lenslab.atomic.atomic_write_path`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from lenslab.io.atomic import atomic_write_path
+from lenslab.atomic import atomic_write_path
 
 
 def _json_default(o):

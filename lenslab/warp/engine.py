@@ -173,9 +173,9 @@ class WarpPlan:
 
     # -- pixels --------------------------------------------------------------------------------
     def check_image(self, image) -> np.ndarray:
-        arr = np.asarray(image)
-        if arr.ndim not in (2, 3) or arr.size == 0:
-            raise WarpError(f"the image must be an H x W or H x W x C array, got shape {arr.shape}")
+        from lenslab.errors import check_image_shape
+
+        arr = check_image_shape(image, channels=None)
         h, w = arr.shape[:2]
         if (w, h) != self.src.size:
             raise WarpError(

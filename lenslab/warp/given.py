@@ -74,9 +74,9 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     """
     if filter not in FILTERS:
         raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
-    img = np.asarray(image)
-    if img.ndim not in (2, 3) or img.size == 0 or not np.issubdtype(img.dtype, np.number):
-        raise WarpError(f"the image must be an H x W or H x W x C array of numbers, got shape {img.shape}")
+    from lenslab.errors import check_image_shape
+
+    img = check_image_shape(image, channels=None)
     src = np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32)
     xy = np.asarray(src_xy)
     if xy.ndim != 3 or xy.shape[2] != 2:

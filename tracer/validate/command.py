@@ -32,7 +32,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.cli.policy import image_size, non_negative_int, positive_int
+from lenslab.jobs.arguments import finite_float, finite_vector, image_size, non_negative_int, positive_int
 
 # the files a report holds (lenslab.validate.report): an earlier run's are replaced only with --overwrite
 REPORT_FILES = ("results.json", "report.md")
@@ -43,9 +43,12 @@ HELP = "check warps against direct ray-traced renders and measure the speed/accu
 def _percent(text: str) -> float:
     t = text.strip()
     try:
-        return float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
+        x = float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an error like 0.005 or 0.5%") from None
+        x = float("nan")
+    if not 0.0 < x < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not an error like 0.005 or 0.5%")
+    return x
 
 
 def _int_list(text: str) -> list[int]:
@@ -61,13 +64,7 @@ def _int_list(text: str) -> list[int]:
 
 
 def _vec3(text: str) -> tuple[float, float, float]:
-    try:
-        vals = tuple(float(v) for v in text.split(","))
-    except ValueError:
-        vals = ()
-    if len(vals) != 3:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a point X,Y,Z")
-    return vals
+    return finite_vector(text)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -78,9 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="target lens spec (default fisheye:fov=180,mapping=equisolid)")
     parser.add_argument("--size", type=image_size, default=(512, 512), metavar="WxH",
                         help="target image size (default 512x512)")
-    parser.add_argument("--yaw", type=float, default=None, help="target yaw in degrees (default: the scene's view)")
-    parser.add_argument("--pitch", type=float, default=0.0, help="target pitch in degrees")
-    parser.add_argument("--roll", type=float, default=0.0, help="target roll in degrees")
+    parser.add_argument("--yaw", type=finite_float, default=None, help="target yaw in degrees (default: the scene's view)")
+    parser.add_argument("--pitch", type=finite_float, default=0.0, help="target pitch in degrees")
+    parser.add_argument("--roll", type=finite_float, default=0.0, help="target roll in degrees")
     parser.add_argument("--eye", type=_vec3, default=None, metavar="X,Y,Z",
                         help="target (and panorama) eye point (default: the scene's default view)")
     parser.add_argument("--look-at", type=_vec3, default=None, metavar="X,Y,Z",
@@ -136,7 +133,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")
     parser.add_argument("--overwrite", action="store_true", help="replace the report of an earlier run in DIR")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    from lenslab.cli.options import add_scheduler_options
+    from lenslab.jobs.arguments import add_scheduler_options
 
     add_scheduler_options(parser, skip_existing=False)  # every trace as tiles on the cluster's workers
 
@@ -147,7 +144,8 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.validate.run import ValidationError, WarpSetting, parse_size, validate
     from tracer.validate.source import make_source
 
-    from lenslab.cli.policy import UsageError, check_output, check_output_dir
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output, check_output_dir
 
     if args.reference:  # the user's own render or photograph (tracer.validate.reference)
         from tracer.validate.reference import run_reference

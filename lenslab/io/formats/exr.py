@@ -27,4 +27,6 @@ FORMATS = (Format(
                    "attributes": "header attributes {name: value}",
                    "threads": "codec threads (default: one per core)"},
     selectors=True, camera=True,
+    compressions=("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
+                  "htj2k32"),
     note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709"),)

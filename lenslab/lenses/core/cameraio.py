@@ -94,7 +94,7 @@ def save_cameras(path: str | Path, cameras: Iterable[Camera], overwrite: bool = 
 
 
 def _write(path: str | Path, text: str, overwrite: bool) -> Path:
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     with atomic_write_path(path, overwrite=overwrite) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")

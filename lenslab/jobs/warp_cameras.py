@@ -7,13 +7,15 @@ import sys
 
 
 def parse_vector(text: str, what: str) -> tuple[float, float, float]:
+    import math
+
     from lenslab.errors import WarpError
 
     try:
-        v = tuple(float(p) for p in str(text).split(","))
+        v = tuple(float(p) for p in (text if isinstance(text, (tuple, list)) else str(text).split(",")))
     except ValueError:
         v = ()
-    if len(v) != 3:
+    if len(v) != 3 or not all(math.isfinite(c) for c in v):
         raise WarpError(f"{what} {text!r} must be three numbers X,Y,Z, e.g. 0,0,1")
     return v
 

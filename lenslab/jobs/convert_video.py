@@ -13,28 +13,28 @@ def frame_path(dst, index: int) -> Path:
     return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
 
 
-def frames_to_files(src: str, dst: str, options: dict) -> str:
-    """Write every frame of ``src`` (or ``options["frames"]``'s range) next to ``dst``; returns the first path."""
+def frames_to_files(src: str, dst: str, job) -> str:
+    """Write every frame of ``src`` (or the range of the :class:`~lenslab.jobs.convert.ConvertJob` ``job``'s
+    ``frames``) next to ``dst``; returns the first path."""
     from tqdm import tqdm
 
-    from lenslab.cli.render import render
     from lenslab.errors import FormatError
     from lenslab.io import write
     from lenslab.io.video import probe_video, read_frames
 
     info = probe_video(src)
-    start, stop = options.get("frames") or (0, None)
+    start, stop = job.frames or (0, None)
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
     meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
     first = None
     total = max(0, (min(stop, info.frames) if stop is not None and info.frames else (stop or info.frames)) - start)
-    show = sys.stderr.isatty() and not options.get("quiet")
+    show = sys.stderr.isatty() and not job.quiet
     with tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
               desc=Path(src).name) as bar:
         for i, frame in read_frames(src, start, stop):
-            image, opts = render(frame, meta, options)
+            image, opts = job.develop(frame, meta)
             path = frame_path(dst, i)
-            write(path, image, format=options["to"], overwrite=options["overwrite"], **opts)
+            write(path, image, format=job.to, overwrite=job.overwrite, **opts)
             first = first or str(path)
             bar.update()
     if first is None:
@@ -56,13 +56,19 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
 
     from tqdm import tqdm
 
-    from lenslab.cli.policy import check_output
+    from lenslab.jobs.policy import check_output
     from lenslab.errors import FormatError
     from lenslab.io import read
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VideoInfo, VideoWriter
 
+    from lenslab.io.registry import formats
+    from lenslab.jobs.stages import Look, develop
+
     check_output(dst, [Path(f) for f in files], options["overwrite"])
+    clip = next(f for f in formats().values() if Path(dst).suffix.lower() in f.extensions)  # the container's record
+    look = Look(tone=options["tone"], exposure=options["exposure"],
+                **{k: options.get(k) for k in ("display", "view", "colorspace", "ocio")})
     primaries, transfer, matrix = TRANSFERS[options.get("transfer") or "bt709"]
     hdr = transfer != 1
     show = sys.stderr.isatty() and not options.get("quiet")
@@ -71,10 +77,8 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
         try:
             for f in tqdm(files, unit="frame", disable=not show, file=sys.stderr, leave=False):
                 image, meta = read(f)
-                if not hdr and not meta["display_encoded"]:
-                    from lenslab.tone import tonemap
-
-                    image = tonemap(image, curve=options["tone"], exposure=options["exposure"])
+                if not hdr:  # SDR: the look of any display output (the tone curve, or --display)
+                    image, _ = develop(image, meta, clip, look)
                 if image.shape[2] == 1:
                     image = image.repeat(3, axis=2)
                 if writer is None:

@@ -48,13 +48,12 @@ def is_video(path) -> bool:
 
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
-    import numpy as np
     from tqdm import tqdm
 
-    from lenslab.cli.policy import check_output
-    from lenslab.cli.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.jobs.policy import check_output
+    from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
     from lenslab.errors import FormatError
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
 
     if Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:
@@ -81,12 +80,17 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     if display:  # code values of an OpenColorIO display, tagged as that display
         from dataclasses import replace
 
-        from lenslab.io.ocio import display_transform, processor
+        from lenslab.io.ocio import processor
         from lenslab.io.video import display_tags
 
         name = processor(display, args.view, args.colorspace, args.ocio)[1][0]
         primaries, transfer, matrix = display_tags(name)
         info = replace(info, primaries=primaries, transfer=transfer, matrix=matrix)
+    from lenslab.io.registry import formats
+    from lenslab.jobs.stages import Look, develop
+
+    clip = next(f for f in formats().values() if Path(dst_path).suffix.lower() in f.extensions)
+    look = Look(exposure=args.exposure, display=display, view=args.view, colorspace=args.colorspace, ocio=args.ocio)
     show = not args.quiet and sys.stderr.isatty()
     whole = start == 0 and stop is None
     written = 0
@@ -96,11 +100,8 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
                           desc=Path(src_path).name) as bar:
             for _, frame in read_frames(src_path, start, stop):
-                out, _ = cache.warp(mirror_frames(frame, src.lens, source_flips), src, dst)  # outside: black
-                if float(args.exposure) != 0.0:
-                    out = out * np.float32(2.0 ** float(args.exposure))
-                if display:
-                    out = display_transform(out, display, args.view, args.colorspace, args.ocio)
+                out, _ = cache.warp(mirror_frames(frame, src.lens, source_flips), src, dst)  # outside the source's view: black
+                out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out, encoded=bool(display))
                 written += 1
                 bar.update()

@@ -1,0 +1,161 @@
+"""Command-line argument types and option groups every command shares (``lenslab``, ``tracer``,
+``python -m gallery``): one-line argparse errors, checked numbers, sizes, ``--jobs`` and the cluster options.
+
+A bad value is refused here, once, before any work (exit code 2), so that a batch never reports the
+same usage mistake for each of its files. Standard library only, so ``--help`` stays instant.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+
+from lenslab.errors import UsageError
+
+EXIT_USAGE = 2
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``PROG: error: MESSAGE (see PROG --help)``, exit code 2.
+
+    A bad value is reported by its option's ``type=`` function (an ``argparse.ArgumentTypeError``
+    whose message says what is expected); argparse's usage dump is left for ``--help``.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # No option starts with a digit: "-100x100" or "-3e-5" after an option is its (bad or negative)
+        # value, for the option's type to judge, not an unknown option.
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
+    def error(self, message: str):  # noqa: D401 - argparse's hook
+        print(f"{self.prog}: error: {message} (see '{self.prog} --help')", file=sys.stderr)
+        raise SystemExit(EXIT_USAGE)
+
+
+def finite_float(text: str) -> float:
+    """argparse ``type=``: any finite number (angles such as ``--yaw``); NaN and inf are refused."""
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{str(text)[:40]!r} is not a number") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"{str(text)[:40]!r}: must be a finite number")
+    return x
+
+
+def float_in(low: float, high: float):
+    """argparse ``type=`` factory: a finite number above ``low`` and at most ``high`` (e.g. ``--rate``)."""
+
+    def parse(text: str) -> float:
+        x = finite_float(text)
+        if not (low < x <= high):
+            raise argparse.ArgumentTypeError(f"{str(text)[:40]!r}: must be above {low:g} and at most {high:g}")
+        return x
+
+    return parse
+
+
+def finite_vector(text: str) -> tuple[float, float, float]:
+    """argparse ``type=``: ``X,Y,Z`` of three finite numbers (``--look-at``, ``--eye``)."""
+    parts = str(text).split(",")
+    try:
+        v = tuple(float(p) for p in parts)
+    except ValueError:
+        v = ()
+    if len(v) != 3 or not all(math.isfinite(c) for c in v):
+        raise argparse.ArgumentTypeError(f"{str(text)[:40]!r}: give X,Y,Z as three finite numbers, e.g. 0,1,0")
+    return v
+
+
+def positive_float(text: str) -> float:
+    """argparse ``type=``: a finite number above 0 (``--time-budget``, ``--target-error``)."""
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (x > 0 and x != float("inf")):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a finite number above 0")
+    return x
+
+
+def int_in(low: int, high: int | None = None):
+    """argparse ``type=`` factory: a whole number from ``low`` (to ``high``), e.g. ``--quality``."""
+
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if n < low or (high is not None and n > high):
+            raise argparse.ArgumentTypeError(f"{text!r}: must be from {low} to {high}" if high is not None
+                                             else f"{text!r}: must be at least {low}")
+        return n
+
+    return parse
+
+
+positive_int = int_in(1)  # --jobs, --spp, --samples
+non_negative_int = int_in(0)  # --max-depth, or a count where 0 means "no limit"
+
+
+def image_size(text: str) -> tuple[int, int]:
+    """argparse ``type=``: ``WxH`` with both sides at least 1, e.g. ``1024x512``."""
+    parts = str(text).lower().replace("*", "x").split("x")
+    try:
+        w, h = (int(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, e.g. 1024x512") from None
+    if w < 1 or h < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: width and height must be at least 1 pixel")
+    if w * h > 1 << 28:
+        raise argparse.ArgumentTypeError(f"{text!r}: more than 268 million pixels; give a smaller size")
+    return w, h
+
+
+def parse_exposure(text: str) -> float | str:
+    """``--exposure``: a number of stops, or ``"auto"``; anything else is a ToneError that says so."""
+    if str(text).strip().lower() == "auto":
+        return "auto"
+    try:
+        ev = float(text)
+    except ValueError:
+        ev = math.nan
+    if not math.isfinite(ev):
+        from lenslab.errors import ToneError
+
+        raise ToneError(f"--exposure must be a number of stops or 'auto', not {str(text)[:40]!r}") from None
+    return ev
+
+
+def add_jobs_option(parser, what: str = "files") -> None:
+    """``--jobs N`` of a batch on this machine: how many ``what`` at once on threads of the process."""
+    parser.add_argument("--jobs", "-j", type=non_negative_int, default=0, metavar="N",
+                        help=f"how many {what} at once on this machine (default 0: one per CPU core, as many as the "
+                             "memory holds judging by the first file; 1: one after the other, each on every core)")
+
+
+def check_skip_or_overwrite(args) -> None:
+    """``--skip-existing`` and ``--overwrite`` say opposite things of an existing output: a usage error."""
+    if getattr(args, "skip_existing", False) and getattr(args, "overwrite", False):
+        raise UsageError("--skip-existing leaves existing outputs alone and --overwrite replaces them: give one")
+
+
+def add_scheduler_options(parser, skip_existing: bool = True) -> None:
+    """``--scheduler``, ``--scheduler-file`` (and ``--skip-existing``) of every batch command: one task
+    per file on a Dask cluster (:mod:`lenslab.cluster`)."""
+    group = parser.add_argument_group("running on a Dask cluster (see docs/guide/batches.md)")
+    group.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="run the work on the Dask cluster whose scheduler is at ADDRESS (e.g. "
+                            "tcp://host:8786), one task per file (per tile for a render); default: "
+                            "$DASK_SCHEDULER_ADDRESS, else this machine. The workers must see the same files")
+    group.add_argument("--scheduler-file", metavar="FILE", default=None,
+                       help="the same, with the address read from the file 'dask scheduler --scheduler-file' wrote")
+    group.add_argument("--scheduler-timeout", type=float_in(0, 3600), default=15.0, metavar="SECONDS",
+                       help="give up on a scheduler that does not answer within this time (default 15)")
+    if skip_existing:
+        group.add_argument("--skip-existing", action="store_true",
+                           help="leave outputs that already exist alone and do the others (resumes an "
+                                "interrupted batch)")

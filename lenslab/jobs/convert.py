@@ -1,0 +1,76 @@
+"""The convert job: one file of ``lenslab convert`` read, developed for the target format, written; a clip
+becomes one file per frame (:mod:`lenslab.jobs.convert_video`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from lenslab.jobs.job import Job
+
+
+@dataclass(frozen=True)
+class ConvertJob(Job):
+    """What ``lenslab convert`` does to each file: the target format ``to``, the look for display
+    outputs (tone curve or display transform, exposure) and the format's write options."""
+
+    command: ClassVar[str] = "convert"
+    verb: ClassVar[str] = "converted"
+    paths: ClassVar[tuple[str, ...]] = ("ocio",)
+
+    to: str = "exr"
+    tone: str = "hable"
+    exposure: float | str = 0.0
+    quality: int | None = 95
+    bits: int | None = None
+    pixel_type: str | None = None
+    compression: str | None = None
+    data_window: bool = False
+    frames: tuple | None = None
+    display: str | None = None
+    view: str | None = None
+    colorspace: str | None = None
+    ocio: str | None = None
+    quiet: bool = False
+
+    @property
+    def look(self):
+        from lenslab.jobs.stages import Look
+
+        return Look(tone=self.tone, exposure=self.exposure, display=self.display, view=self.view,
+                    colorspace=self.colorspace, ocio=self.ocio, bits=self.bits)
+
+    @property
+    def encoding(self) -> dict:
+        """The encode stage's options (``--pixel-type`` is the float type of EXR and TIFF alike)."""
+        return {"quality": self.quality, "bits": self.bits, "pixel_type": self.pixel_type,
+                "sample_type": self.pixel_type, "compression": self.compression}
+
+    def develop(self, image, meta: dict):
+        """(image as the target format stores it, write options)."""
+        from lenslab.io.registry import get
+        from lenslab.jobs.stages import develop, encode_options
+
+        fmt = get(self.to)
+        image, shown = develop(image, meta, fmt, self.look)
+        return image, {**encode_options(fmt, meta, self.encoding, channels=image.shape[-1]), **shown}
+
+    def run(self, src: str, dst: str, progress=None) -> None:
+        from lenslab.io import read, split_selector, write
+        from lenslab.jobs.policy import check_output
+        from lenslab.jobs.stages import check_image
+        from lenslab.jobs.warp_video import is_video
+
+        src_file, _ = split_selector(src)
+        check_output(dst, [src_file], self.overwrite)
+        if is_video(src_file):  # a clip: one file per frame
+            from lenslab.jobs.convert_video import frames_to_files
+
+            frames_to_files(str(src_file), dst, self)
+            return
+        image, meta = read(src, data_window=self.data_window)
+        image, write_opts = self.develop(check_image(image, src), meta)
+        write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
+
+
+__all__ = ["ConvertJob"]

@@ -1,0 +1,171 @@
+"""The one error funnel of every command (``lenslab``, ``tracer``, ``python -m gallery``): whatever goes
+wrong becomes one line on standard error that names the file and the cause, and an exit code.
+
+Exit codes (:func:`run_command`): 0 all done; 1 an input failed; 2 a usage error (a bad option, spec or
+value: one line, no usage dump); 130, 143, 129 interrupted by Ctrl-C, SIGTERM (``kill``, ``timeout``,
+SLURM) or SIGHUP (the terminal went away): all three end the command the same way, temporaries removed.
+A closed pipe (``lenslab info F | head -1``) ends the command quietly with 0. The traceback is printed
+only under ``--debug``.
+
+Standard library only: every command's parser module imports this, and ``--help`` stays instant.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import signal
+import sys
+import warnings
+from typing import Callable, Iterator
+
+from lenslab.errors import NUMPY_NOTES, LensError, LenslabError, OutputError, ToneError, UsageError
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+#: the signals that end a command as Ctrl-C does, and their names in the one-line note
+STOP_SIGNALS = {signal.SIGINT: "Ctrl-C", signal.SIGTERM: "SIGTERM", signal.SIGHUP: "SIGHUP"}
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised in the main thread like Ctrl-C so every clean-up path (temporaries,
+    cancelled cluster tasks) runs the same way; the exit code is 128 + the signal's number."""
+
+    def __init__(self, signum: int):
+        super().__init__(STOP_SIGNALS.get(signum, f"signal {signum}"))
+        self.signum = signum
+
+
+_NUMPY_NOTES = NUMPY_NOTES
+
+
+def user_notes(caught) -> list[str]:
+    """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out),
+    in the commands' words where a warning carries them (``command_line``)."""
+    notes = (getattr(w.message, "command_line", None) or str(w.message) for w in caught
+             if not (issubclass(w.category, RuntimeWarning) and re.search(_NUMPY_NOTES, str(w.message))))
+    return list(dict.fromkeys(notes))
+
+
+@contextlib.contextmanager
+def working_on(path) -> Iterator[None]:
+    """Mark the exceptions raised inside as this file's: the funnel's line then names it."""
+    try:
+        yield
+    except BaseException as exc:
+        if getattr(exc, "lenslab_file", None) is None:
+            with contextlib.suppress(AttributeError, TypeError):
+                exc.lenslab_file = str(path)
+        raise
+
+
+@contextlib.contextmanager
+def stop_signals() -> Iterator[None]:
+    """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration (Ctrl-C already
+    raises KeyboardInterrupt). A signal the command was started with ignored (``nohup``) stays ignored;
+    elsewhere than in the main thread, nothing changes."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        raise Interrupted(signum)
+
+    saved = {}
+    for sig in (signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(sig) is signal.SIG_IGN:
+            continue  # ignored by whoever started us (nohup): it stays ignored
+        with contextlib.suppress(OSError, ValueError):
+            saved[sig] = signal.signal(sig, stop)
+    try:
+        yield
+    finally:
+        for sig, handler in saved.items():
+            signal.signal(sig, handler)
+
+
+def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) -> int:
+    """Run ``func`` under the exit-code policy; print one line for an error (and the traceback with
+    ``debug``). Returns the exit code."""
+    with warnings.catch_warnings(), stop_signals():
+        warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
+        try:
+            code = int(func() or 0)
+            sys.stdout.flush()
+            return code
+        except KeyboardInterrupt as exc:
+            signum = getattr(exc, "signum", signal.SIGINT)
+            print(f"{prog}: interrupted ({STOP_SIGNALS.get(signum, signum)}); unfinished outputs removed",
+                  file=sys.stderr)
+            return 128 + int(signum)
+        except BrokenPipeError:
+            return _closed_pipe()
+        except SystemExit:
+            raise
+        except BaseException as exc:  # noqa: BLE001 - the funnel: every error is one line
+            if isinstance(exc, OSError) and exc.errno == 32:  # EPIPE raised by a writer as a plain OSError
+                return _closed_pipe()
+            if not isinstance(exc, Exception) and type(exc).__name__ != "CancelledError":
+                raise  # GeneratorExit and the like are the interpreter's business
+            if debug:
+                import traceback
+
+                traceback.print_exc()
+            print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
+            return exit_code(exc)
+
+
+def exit_code(exc: BaseException) -> int:
+    """2 for a usage mistake (a bad option, lens spec or tone curve given on the command line), else 1."""
+    if isinstance(exc, UsageError):
+        return EXIT_USAGE
+    if isinstance(exc, (LensError, ToneError)) and getattr(exc, "lenslab_file", None) is None:
+        return EXIT_USAGE  # a lens spec or a tone curve given on the command line
+    return EXIT_FAILED
+
+
+def one_line(exc: BaseException, limit: int = 400) -> str:
+    """The error's message on one line, naming its file: an operating-system error as ``path: reason``
+    (no errno), an unexpected one with its type; cut to ``limit`` characters."""
+    file = getattr(exc, "lenslab_file", None)
+    if isinstance(exc, MemoryError):
+        text = "out of memory: the machine could not give what this input needs"
+    elif isinstance(exc, OSError) and exc.filename is not None and exc.strerror and type(exc) is not OutputError:
+        text = f"{exc.filename}: {exc.strerror[:1].lower()}{exc.strerror[1:]}"
+    else:
+        text = " ".join((str(exc).strip() or type(exc).__name__).split("\n")[0].split())
+        if not isinstance(exc, (LenslabError, OSError, ValueError)) or isinstance(exc, (RecursionError,)):
+            text = f"{type(exc).__name__}: {text}" if text != type(exc).__name__ else text
+    if file and file not in text:
+        text = f"{file}: {text}"
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+@contextlib.contextmanager
+def library_output_to_stderr():
+    """Send what C libraries print on standard output (OpenEXR's warnings about a damaged file) to
+    standard error for the duration, so a report written on standard output stays clean. Process-wide:
+    for commands that read one file at a time."""
+    sys.stdout.flush()
+    try:
+        saved = os.dup(1)
+    except OSError:  # no standard output to protect
+        yield
+        return
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
+def _closed_pipe() -> int:
+    """The reader went away: point stdout at /dev/null so the interpreter's final flush stays quiet."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    return EXIT_OK

@@ -1,0 +1,91 @@
+"""The one output policy of every command (``lenslab``, ``tracer``, ``python -m gallery``).
+
+- an existing file is replaced only with ``--overwrite``, and only when it is a regular file (never a
+  folder, a FIFO or a device node, with or without ``--overwrite``);
+- an input is never written over, with or without ``--overwrite`` (the same path, or the same file
+  reached through a link: compared by device and inode);
+- every file is written to a temporary name and renamed (:func:`lenslab.atomic.atomic_write_path`);
+- a batch checks what does not depend on one file before it touches anything, and creates no output
+  folder when it cannot start (:func:`check_output_dir` only says what it would create).
+
+Standard library only: every command's parser module imports this, and ``--help`` stays instant.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable
+
+from lenslab.atomic import refuse_special
+from lenslab.errors import OutputError, UsageError
+
+
+def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
+    """Whether ``a`` and ``b`` name the same existing file (same device and inode, links followed)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = (), overwrite: bool = False) -> Path:
+    """Refuse to write ``path`` when it is one of ``inputs`` (always) or exists (unless ``overwrite``).
+
+    Raises :class:`OutputError`; returns ``path`` as a :class:`~pathlib.Path`. Nothing is written.
+    """
+    out = Path(path)
+    for src in inputs:
+        src = str(src)
+        if ":" in src and not os.path.exists(src):  # an EXR part or layer selector: file.exr:left
+            src = src.rpartition(":")[0]
+        if same_file(out, src) or (Path(src).absolute() == out.absolute()):
+            raise OutputError(f"{out}: is an input of this command; it is never written over, even with "
+                              "--overwrite: choose another output name")
+    if out.is_dir():
+        raise UsageError(f"{out}: is a folder; give a file name to write to")
+    if os.path.lexists(out) and not overwrite:
+        raise OutputError(f"{out}: already exists; give --overwrite to replace it")
+    refuse_special(out)
+    if not out.parent.is_dir() and str(out.parent) not in ("", "."):
+        raise OutputError(f"{out}: the folder {out.parent} does not exist")
+    return out
+
+
+def check_output_dir(path: str | os.PathLike, inputs: int | None = None) -> Path:
+    """Check that ``path`` can be an output folder (an existing folder, or a new one whose parent can be
+    made); create nothing. Call :func:`make_output_dir` once everything else has been checked. With
+    ``inputs`` (how many files go there), a new name with an image extension is taken for a file name
+    given by mistake: a usage error."""
+    out = Path(path)
+    if inputs is not None and not out.is_dir():
+        from lenslab.io.registry import input_extensions
+
+        if out.suffix.lower() in input_extensions():
+            raise UsageError(f"-o {out} names a file but there are {inputs} inputs; give a folder")
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"{out}: exists and is not a folder; give a folder for several outputs")
+    parent = out.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise OutputError(f"{out}: cannot be created in {parent}")
+    return out
+
+
+def output_format(path: str | os.PathLike) -> str:
+    """The output format an output name asks for; an unknown extension is a usage error (checked before
+    any input is read)."""
+    from lenslab.errors import FormatError
+    from lenslab.io.detect import format_for_path
+
+    try:
+        return format_for_path(path)
+    except FormatError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def make_output_dir(path: str | os.PathLike) -> Path:
+    out = check_output_dir(path)
+    out.mkdir(parents=True, exist_ok=True)
+    return out

@@ -1,0 +1,142 @@
+"""The stages every job shares, each written once: the look (exposure, then a tone curve or an OpenColorIO
+display transform), the encode stage (the write options a format declares, filled from the job's options
+and what the input held), and the image-shape check.
+
+The encode stage asks the target format's record (:class:`lenslab.io.plugin.Format`) what it can hold:
+alpha, bit depths, a camera header, its write options. It never tests a format's name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Look:
+    """How scene-linear values become what a display file stores.
+
+    ``exposure``: stops (a number) or ``"auto"``; ``tone``, ``mode``, ``params``, ``primaries``: the tone
+    curve (:func:`lenslab.tone.tonemap`); ``display``, ``view``, ``colorspace``, ``ocio``: an OpenColorIO
+    display transform instead of the curve; ``bits``: the integer depth asked of the output (``--bits``);
+    ``always``: apply the curve whatever the output (``lenslab tonemap``: float outputs keep
+    display-linear values), else only for display outputs of scene-linear input."""
+
+    tone: str = "hable"
+    exposure: float | str = 0.0
+    mode: str = "per-channel"
+    params: dict = field(default_factory=dict)
+    primaries: str = "sRGB"
+    display: str | None = None
+    view: str | None = None
+    colorspace: str | None = None
+    ocio: str | None = None
+    bits: int | None = None
+    always: bool = False
+
+    def display_options(self) -> dict:
+        return {"display": self.display, "view": self.view, "colorspace": self.colorspace, "ocio": self.ocio,
+                "bits": self.bits}
+
+
+def has_alpha(image) -> bool:
+    """Whether the last channel of ``image`` (H x W x C) is alpha: C is 2 or 4."""
+    return image.ndim == 3 and image.shape[2] in (2, 4)
+
+
+def expose(image, stops: float):
+    """``image`` with its colour (not its alpha) times ``2**stops``."""
+    import numpy as np
+
+    if float(stops) == 0.0:
+        return image
+    gain = np.float32(2.0 ** float(stops))
+    if not has_alpha(image):
+        return image * gain
+    out = image.copy()
+    out[..., :-1] *= gain
+    return out
+
+
+def develop(image, meta: dict, fmt, look: Look) -> tuple:
+    """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
+    else the tone curve where the output holds display values, else the exposure alone. Alpha (the last
+    channel of 2 or 4) passes through. Raises :class:`~lenslab.errors.FormatError` for a look the output
+    cannot hold."""
+    from lenslab.errors import FormatError
+
+    exposure = look.exposure
+    integers = bool(look.bits) and "sample_type" in fmt.write_options  # TIFF with --bits: display-encoded
+    if look.display:
+        from lenslab.jobs.display import apply_display
+
+        if exposure == "auto":
+            raise FormatError("--exposure auto goes with a tone curve; give a number of stops with --display")
+        shown, extra = apply_display(expose(image, exposure), fmt, look.display_options())
+        if fmt.hdr and not {"raw", "sample_type"} & set(extra):
+            raise FormatError(f"a display transform writes display images (png, tif, jpg, ppm); {fmt.title} "
+                              "holds scene-linear values")
+        return shown, extra
+    if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
+        from lenslab.tone import tonemap
+
+        return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
+                       **dict(look.params)), {}
+    if exposure == "auto":
+        from lenslab.io.registry import formats
+
+        shown = ", ".join(f.name for f in formats().values() if f.writable and not f.hdr and f.kind == "image")
+        raise FormatError(f"--exposure auto applies when writing display formats ({shown})")
+    return expose(image, exposure), {}
+
+
+def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | None = None) -> dict:
+    """The write options of format record ``fmt``, from the job's ``options`` and what the input held
+    (``meta``): only what the format declares it accepts.
+
+    ``options``: ``quality``, ``bits``, ``dither``, ``pixel_type`` (EXR-style float type; None: the input's when it
+    is of the same format, else half), ``sample_type`` (TIFF-style), ``compression`` (None: the
+    format's default). ``camera``: stored where the format can hold one (default: the input's)."""
+    opts: dict = {}
+    accepts = fmt.write_options
+    bits = options.get("bits")
+    if "quality" in accepts and options.get("quality") is not None:
+        opts["quality"] = options["quality"]
+    if "bits" in accepts and bits:
+        opts["bits"] = bits
+    if "sample_type" in accepts:
+        opts["sample_type"] = f"uint{bits}" if bits else (options.get("sample_type") or "float")
+    if "pixel_type" in accepts:
+        pixel_type = options.get("pixel_type")
+        if pixel_type is None:
+            kept = meta.get("sample_type") if meta.get("format") == fmt.name else "half"
+            pixel_type = kept if kept in ("half", "float") else "float"
+        opts["pixel_type"] = pixel_type
+    if "dither" in accepts and options.get("dither") is not None and (not fmt.hdr or bits):
+        opts["dither"] = options["dither"]  # (quantising to integers only)
+    if "compression" in accepts and options.get("compression") is not None:
+        opts["compression"] = options["compression"]
+    if channels == 2 and "channels" in accepts:  # grey and alpha, named as the format names them
+        opts["channels"] = ["Y", "A"]
+    camera = meta.get("camera") if camera is None else camera
+    if fmt.camera and camera is not None:
+        opts["camera"] = camera
+    return opts
+
+
+def keeps_alpha(fmt, wanted: bool = True) -> bool:
+    """Whether an output of format ``fmt`` carries alpha: the format holds it and the job wants it."""
+    return bool(wanted and fmt.alpha)
+
+
+def check_image(image, what: str = "image"):
+    """An image as every stage takes it: a float32 H x W x C array, C in {1, 2, 3, 4}, H and W at least 1.
+    A 2-D array is taken as one channel. Raises :class:`~lenslab.errors.FormatError` naming ``what``."""
+    import numpy as np
+
+    from lenslab.errors import check_image_shape
+
+    a = check_image_shape(image, str(what))
+    return (a[..., None] if a.ndim == 2 else a).astype(np.float32, copy=False)
+
+
+__all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image"]

@@ -1,0 +1,75 @@
+"""The tone-map job: one file read, tone-mapped (or display-transformed) and written, as ``lenslab tonemap``
+does it for each input, here or on a cluster worker."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from lenslab.jobs.job import Job
+
+
+@dataclass(frozen=True)
+class TonemapJob(Job):
+    """What ``lenslab tonemap`` does to each file: exposure, the curve (``curve``, ``params``, ``mode``,
+    ``primaries``) or a display transform, then the output's integer depth and dither."""
+
+    command: ClassVar[str] = "tonemap"
+    verb: ClassVar[str] = "tone-mapped"
+    paths: ClassVar[tuple[str, ...]] = ("ocio",)
+
+    curve: str = "hable"
+    params: dict = field(default_factory=dict)
+    exposure: float | str = 0.0
+    mode: str = "per-channel"
+    primaries: str = "sRGB"
+    dither: bool = True
+    bits: int | None = None
+    display: str | None = None
+    view: str | None = None
+    colorspace: str | None = None
+    ocio: str | None = None
+
+    @property
+    def look(self):
+        from lenslab.jobs.stages import Look
+
+        return Look(tone=self.curve, exposure=self.exposure, mode=self.mode, params=dict(self.params),
+                    primaries=self.primaries, display=self.display, view=self.view, colorspace=self.colorspace,
+                    ocio=self.ocio, bits=self.bits, always=True)
+
+    def run(self, src: str, dst: str, progress=None) -> None:
+        from lenslab import io
+        from lenslab.jobs.policy import check_output
+        from lenslab.jobs.stages import check_image
+
+        check_output(dst, [io.split_selector(src)[0]], self.overwrite)
+        image, meta = io.read(src)
+        self.write(dst, check_image(image, src), meta)
+
+    def write(self, dst: str, image, meta: dict) -> None:
+        """Develop ``image`` (scene-linear, read with ``meta``) and write it to ``dst``."""
+        from lenslab import io
+        from lenslab.io.registry import format_for_path, get
+        from lenslab.jobs.stages import develop, encode_options
+
+        fmt = get(format_for_path(dst, None))
+        out, shown = develop(image, meta, fmt, self.look)
+        dither = None if self.display else self.dither  # display code values are rounded, never dithered
+        opts = encode_options(fmt, {"camera": meta.get("camera")}, {"bits": self.bits, "dither": dither},
+                              channels=out.shape[-1])
+        io.write(dst, out, overwrite=self.overwrite, **{**opts, **shown})
+
+
+def write_tone_mapped(path, image, dither=True, bits=None, overwrite=True, camera=None) -> None:
+    """Write display-linear values: display formats encode to sRGB and quantise; float formats keep them."""
+    from lenslab import io
+    from lenslab.io.registry import format_for_path, get
+    from lenslab.jobs.stages import encode_options
+
+    fmt = get(format_for_path(path, None))
+    opts = encode_options(fmt, {}, {"bits": bits, "dither": dither}, camera=camera, channels=image.shape[-1])
+    io.write(path, image, overwrite=overwrite, **opts)
+
+
+__all__ = ["TonemapJob", "write_tone_mapped"]

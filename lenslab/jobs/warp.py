@@ -1,0 +1,156 @@
+"""The warp job: one file warped as ``lenslab warp`` does it, here or on a cluster worker: an image (read,
+warp through the plan cache, develop for the output format, write) or a clip (:mod:`lenslab.jobs.warp_video`).
+
+The maps of a batch are made once per process and geometry (:func:`plans_for`): a local batch shares them
+between its threads, a cluster worker keeps them for every later frame it gets (building a map on the
+worker costs less than shipping it, see ``lenslab bench cluster``).
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import ClassVar
+
+from lenslab.jobs.job import Job
+
+_CACHE: dict[tuple, object] = {}  # per process: the plans of one batch's geometry, the ST maps read
+
+
+@dataclass(frozen=True)
+class WarpJob(Job):
+    """What ``lenslab warp`` does to each file: the output lens (``to``, ``size``, pose) or an ST map
+    (``stmap``), the source lens (``source``; None: the file's own or a 2:1 panorama), sampling, and how
+    the output is written (format, look, alpha)."""
+
+    command: ClassVar[str] = "warp"
+    verb: ClassVar[str] = "warped"
+    paths: ClassVar[tuple[str, ...]] = ("source", "to", "stmap")
+
+    to: str | None = None
+    stmap: str | None = None
+    source: str | None = None
+    size: tuple[int, int] | None = None
+    yaw: float = 0.0
+    pitch: float = 0.0
+    roll: float = 0.0
+    look_at: tuple | str | None = None
+    eye: tuple | str | None = None
+    filter: str = "bilinear"
+    samples: int = 1
+    seed: int | None = None
+    antialias: bool = False
+    exact_map: bool = False
+    format: str | None = None
+    tone: str = "hable"
+    exposure: float | str = 0.0
+    pixel_type: str = "half"
+    no_alpha: bool = False
+    allow_parallax: bool = False
+    autoscale: str | None = None
+    compat: str | None = None
+    rotation_order: str = "ypr"
+    flip: str | None = None
+    source_flip: str | None = None
+    quiet: bool = False
+    verbose: bool = False
+    display: str | None = None
+    view: str | None = None
+    colorspace: str | None = None
+    ocio: str | None = None
+    frames: tuple | None = None
+    codec: str | None = None
+    #: one batch's maps are its own (a process keeps the maps of one batch at a time)
+    batch: str = field(default_factory=lambda: secrets.token_hex(8), compare=False)
+
+    @property
+    def st(self):
+        """The ST map of ``stmap``, read once per process."""
+        return st_map(self.stmap)
+
+    def run(self, src: str, dst: str, progress=None) -> None:
+        warp_one(src, Path(dst), self, plans_for(self), progress=progress)
+
+
+def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) -> None:
+    """Warp ``src_path`` to ``dst_path`` as ``job`` says, with the maps of ``cache``."""
+    from lenslab.io import read, write
+    from lenslab.io.registry import format_for_path, get
+    from lenslab.jobs.policy import check_output
+    from lenslab.jobs.stages import Look, check_image, develop, encode_options, has_alpha, keeps_alpha
+    from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
+    from lenslab.jobs.warp_video import is_video, warp_video
+
+    if is_video(src_path):  # every frame with one map, to a video
+        return warp_video(src_path, dst_path, job, cache)
+    fmt = get(format_for_path(dst_path, None))
+    check_output(dst_path, [src_path], job.overwrite)
+    image, meta = read(src_path)
+    image = check_image(image, src_path)
+    if job.stmap:
+        from lenslab.stmap import warp_with_st_map
+
+        dst = None
+        out, coverage = warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias, progress=progress)
+    else:
+        src = source_camera(job.source, meta, image.shape)
+        if job.flip or job.source_flip:
+            from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
+
+            image = mirror_frames(image, src.lens, parse_flips(job.source_flip, "hv", "--source-flip"))
+            src = mirror_source_pose(src, parse_flips(job.flip))
+        size = job.size or default_size(job.to, image.shape[0])
+        dst = output_camera(job, src, size)
+        if job.autoscale:
+            dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
+        out, coverage = cache.warp(image, src, dst, progress=progress)
+    import numpy as np
+
+    # premultiplied source alpha is warped like colour (coverage x source alpha); else alpha is the coverage
+    rgba = out if has_alpha(image) else np.concatenate([out, coverage[..., None]], axis=-1)
+    look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
+                colorspace=job.colorspace, ocio=job.ocio)
+    result, shown = develop(rgba, meta, fmt, look)
+    if not keeps_alpha(fmt, not job.no_alpha):
+        result = result[..., :-1]
+    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=dst,
+                          channels=result.shape[2])
+    write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})
+
+
+def plans_for(job: WarpJob):
+    """This process's :class:`~lenslab.warp.batch.PlanCache` for the sampling of ``job`` (made on first
+    use; one batch's maps at a time)."""
+    key = ("plans", job.batch, job.compat, job.filter, job.samples, job.antialias, job.seed, job.allow_parallax, job.exact_map)
+    if key not in _CACHE:
+        for old in [k for k in _CACHE if k[0] == "plans"]:
+            del _CACHE[old]
+        _CACHE[key] = plan_cache(job)
+    return _CACHE[key]
+
+
+def plan_cache(job):
+    """The plans (maps) of this job's warps, one per geometry, made once and reused."""
+    from lenslab.warp import WarpPlan
+    from lenslab.warp.batch import PlanCache
+
+    factory = WarpPlan
+    if job.compat == "v360":
+        from lenslab.warp.compat_v360 import V360Plan as factory
+    return PlanCache(factory=factory, filter=job.filter, samples=job.samples, antialias=job.antialias,
+                     seed=job.seed, allow_parallax=job.allow_parallax, exact_map=job.exact_map)
+
+
+def st_map(path: str):
+    """The ST map at ``path``, read once per process."""
+    key = ("stmap", os.path.abspath(path))
+    if key not in _CACHE:
+        from lenslab.stmap import read_st_map
+
+        _CACHE[key] = read_st_map(path)
+    return _CACHE[key]
+
+
+__all__ = ["WarpJob", "warp_one", "plans_for", "plan_cache", "st_map"]
