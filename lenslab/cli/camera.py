@@ -115,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.policy import check_output
 
     if not args.model and (args.free or args.residual_map or args.aim != 0.05):
-        from lenslab.cli.policy import UsageError
+        from lenslab.errors import UsageError
 
         raise UsageError("--free, --aim and --residual-map go with --model MODEL")
     src, _ = split_pick(args.camera)
@@ -133,12 +133,12 @@ def run(args: argparse.Namespace) -> int:
 
 def _convert_model(args, lens, inputs):
     from lenslab import io
-    from lenslab.cli.policy import check_output
+    from lenslab.jobs.policy import check_output
     from lenslab.errors import FitError
     from lenslab.fit.convert import convert_lens
 
     if not args.aim > 0:
-        from lenslab.cli.policy import UsageError
+        from lenslab.errors import UsageError
 
         raise UsageError(f"--aim {args.aim:g}: give a positive number of pixels")
     resmap = check_output(args.residual_map, inputs + [args.output], args.overwrite) if args.residual_map else None

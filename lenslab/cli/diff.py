@@ -24,7 +24,7 @@ import math
 import os
 import sys
 
-from lenslab.cli.policy import positive_float
+from lenslab.jobs.arguments import positive_float
 
 EXIT_DIFFERENT_SIZE, EXIT_FILE = 3, 4
 
@@ -103,7 +103,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from lenslab.cli.policy import OutputError, check_output, one_line, output_format
+    from lenslab.errors import OutputError
+    from lenslab.jobs.funnel import one_line
+    from lenslab.jobs.policy import check_output, output_format
     from lenslab.errors import LenslabError
     from lenslab.io import read, write
     from lenslab.metrics.diff import DiffError, diff_images, error_image

@@ -26,7 +26,7 @@ def reference_camera(args, image, meta):
 def source_image(args, ref_cam, settings_count: int):
     """The source to warp: --source (with --from or its recorded camera), else a panorama of --scene
     rendered at the reference camera's eye (the largest of --pano-sizes)."""
-    from lenslab.cli.warp_cameras import source_camera
+    from lenslab.jobs.warp_cameras import source_camera
     from lenslab.io import read
     from lenslab.validate.run import panorama_camera, parse_size
 
@@ -46,7 +46,8 @@ def run_reference(args) -> int:
     import json
 
     from lenslab.cli.diff import thresholds_from
-    from lenslab.cli.policy import UsageError, check_output, check_output_dir
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import check_output, check_output_dir
     from lenslab.io import read
     from lenslab.metrics.diff_text import diff_text
     from lenslab.validate.reference import against_reference, best
@@ -72,7 +73,7 @@ def run_reference(args) -> int:
             "reference_pose": ref_cam.pose.to_dict(), "source": src_name, "source_camera": src_cam.lens.spec(),
             "best": top["label"],
             "settings": [{"label": r["label"], "seconds": r["seconds"], **r["report"].to_dict()} for r in rows]}
-    from lenslab.io.atomic import atomic_write_path
+    from lenslab.atomic import atomic_write_path
 
     for name, text in (("reference.json", json.dumps(data, indent=2)),
                        ("reference.md", "\n\n".join(f"## {r['label']}\n\n```\n{diff_text(r['report'], args.reference, r['label'])}\n```"
