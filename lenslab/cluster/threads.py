@@ -119,7 +119,7 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
 
     import lenslab.io.exr
     from lenslab.atomic import STOPPING
-    from lenslab.errors import NUMPY_NOTES as _NUMPY_NOTES
+    from lenslab.errors import NUMPY_NOTES
 
     cores = default_jobs(1 << 30)
     inner = max(1, cores // threads)

@@ -127,7 +127,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help="the lens of --source (default: its recorded camera, else equirect for 2:1)")
     own.add_argument("--allow-parallax", action="store_true",
                      help="measure even when the reference's eye differs from the source's")
-    from lenslab.cli.diff import add_threshold_arguments
+    from lenslab.jobs.diff_arguments import add_threshold_arguments
 
     add_threshold_arguments(parser)
     parser.add_argument("-o", "--output", required=True, metavar="DIR", help="report directory (created)")

@@ -45,7 +45,7 @@ def source_image(args, ref_cam, settings_count: int):
 def run_reference(args) -> int:
     import json
 
-    from lenslab.cli.diff import thresholds_from
+    from lenslab.jobs.diff_arguments import thresholds_from
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output, check_output_dir
     from lenslab.io import read
