@@ -67,7 +67,7 @@ def hand_views(view: int) -> list[dict]:
         dict(name="fisheye, equisolid", spec="fisheye:fov=180,mapping=equisolid"),
         dict(name="fisheye, stereographic", spec="fisheye:fov=180,mapping=stereographic"),
         dict(name="fisheye, orthographic", spec="fisheye:fov=180,mapping=orthographic"),
-        dict(name="tan-warped fisheye", spec="seedfisheye:fov=180",
+        dict(name="tan-warped fisheye", spec="tan-fisheye:fov=180",
              note="its angle folds back past 180 degrees at 80% of the radius; beyond the fold pixels are invalid"),
         dict(name="swirl", spec="swirl:amount=6"),
         dict(name="pincushion", spec="pincushion:k1=0.3"),

@@ -33,6 +33,9 @@ TOLERANCES = {
     "orthographic rim": (3e-8, "an orthographic fisheye at fov 180 has da/dr = 1/sqrt(1 - r^2), infinite at the "
                                "rim: a rounding of 1e-16 in r there moves the angle by sqrt(2e-16) = 1.5e-8 rad "
                                "(the pixel error stays tiny); used for directions of pixels with r > 1 - 1e-6"),
+    "ball rim": (6e-8, "the ball's angle 2 asin(r) (and the globe's) has an infinite slope at the rim, twice the "
+                       "orthographic fisheye's: a rounding of 1e-16 in r moves it by 2 sqrt(2e-16) = 3e-8 rad, "
+                       "plus the rounding of the radius itself; used within 1e-6 of the rim"),
     "equal-area pole": (3e-8, "Lambert's cylinder spaces latitude by its sine, so d(theta)/dv is infinite at a "
                               "pole: a rounding of 1e-16 in v there moves the latitude by sqrt(2e-16) = 1.5e-8 "
                               "rad; used for directions within 1e-12 of a pole"),
@@ -117,13 +120,47 @@ def direction_tolerance(lens, xy):
     if lens.name == "cylindrical-equal-area":
         d, _ = lens.pixel_to_dir(xy)
         tol[np.abs(d[:, 1]) > 1 - 1e-12] = TOLERANCES["equal-area pole"][0]
+    if lens.name in ("ball", "globe"):  # angles go as asin(r) or sqrt(1 - r^2): da/dr is infinite at the rim
+        s = 2 * xy[:, 0] / lens.width - 1
+        t = 1 - 2 * xy[:, 1] / lens.height
+        tol[np.hypot(s, t) > 1 - 1e-6] = TOLERANCES["ball rim"][0]
     return tol
+
+
+def barrel_shared(lens, xy):
+    """Facebook's barrels: the 1% margins round each part repeat directions shown elsewhere, a cap's
+    corners (beyond 45 degrees from its pole) are read from the band, and the parts' edges are shared."""
+    d, _ = lens.pixel_to_dir(xy)
+    lat = np.degrees(np.arcsin(np.clip(np.abs(d[:, 1]), 0, 1)))
+    out = np.zeros(xy.shape[0], dtype=bool)
+    for p in lens.pieces():  # on a part's edge
+        inside = (xy[:, 0] >= p.x0) & (xy[:, 0] <= p.x0 + p.width) & (xy[:, 1] >= p.y0) & (xy[:, 1] <= p.y0 + p.height)
+        edge = np.minimum.reduce([np.abs(xy[:, 0] - p.x0), np.abs(xy[:, 0] - p.x0 - p.width),
+                                  np.abs(xy[:, 1] - p.y0), np.abs(xy[:, 1] - p.y0 - p.height)]) < 1e-6
+        band = p.width > lens.width / 2
+        if lens.name == "fb-barrel":
+            s = 2 * (xy[:, 0] - p.x0) / p.width - 1
+            t = 2 * (xy[:, 1] - p.y0) / p.height - 1
+            margin = (np.abs(s) > 0.99) | (np.abs(t) >= 0.99)
+        else:
+            margin = np.zeros(xy.shape[0], dtype=bool)
+        wrong_part = (lat >= 45 - 1e-9) if band else (lat <= 45 + 1e-9)
+        out |= inside & (edge | margin | wrong_part)
+    return out
 
 
 def shared_pixels(lens, xy):
     """Pixels whose direction may have another pixel too (see TOLERANCES): equirect poles and seam,
     cube-face and tile edges (within 1e-6 px)."""
     x, y = xy[:, 0], xy[:, 1]
+    if lens.name in ("tetrahedron", "tsp"):  # the top and bottom edges fold onto themselves
+        return (y < 1e-6) | (y > lens.height - 1e-6) | (x < 1e-6) | (x > lens.width - 1e-6)
+    if lens.name in ("fb-barrel", "fb-barrelsplit"):
+        return barrel_shared(lens, xy)
+    if lens.name == "stereo":  # the second eye repeats the first; within an eye, the base's shared pixels
+        (w, h), second = lens.eye_size, (x >= lens.eye_size[0]) if lens.layout == "sbs" else (y >= lens.eye_size[1])
+        local = xy - np.where(second[:, None], [[w, 0]] if lens.layout == "sbs" else [[0, h]], 0.0)
+        return second | shared_pixels(lens.base_lens, local)
 
     def near(f, scale):  # on any face or tile edge, outer edges included
         return np.abs(f - np.round(f)) * scale < 1e-6

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint, as_points, clean
 from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, intrinsics_params
 from lenslab.lenses.registry import register
 
@@ -22,6 +22,28 @@ class Division(Calibrated):
     """
 
     name = "division"
+    #: specs and image sizes the conformance tests run on (round trips, extremes): barrel and pincushion
+    examples = (
+        ("division:fx=700,fy=690,cx=511.5,cy=511.5,k=0.25,width=1024,height=1024", (8192, 8192)),
+        ("division:fx=700,fy=700,cx=511.5,cy=511.5,k=-0.2,width=1024,height=1024", (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways): pycolmap 4.2.1's
+    #: ``Camera.img_from_cam`` for COLMAP's DIVISION with the same numbers (COLMAP's cx, cy = these + 0.5)
+    reference_points = (
+        ReferencePoint("division:fx=700,fy=690,cx=511.5,cy=511.5,k=0.25,width=1024,height=1024", (1024, 1024),
+                       (729.308305925152, 369.1973989634715),
+                       (0.2822162605150792, 0.18814417367671948, 0.9407208683835974),
+                       "pycolmap 4.2.1 Camera.img_from_cam, DIVISION [700, 690, 512, 512, 0.25], ray (0.3, -0.2, 1)"),
+        ReferencePoint("division:fx=700,fy=700,cx=511.5,cy=511.5,k=-0.2,width=1024,height=1024", (1024, 1024),
+                       (343.0360364364293, 748.5495489889989),
+                       (-0.22965760608731267, -0.3215206485222377, 0.9186304243492507),
+                       "pycolmap 4.2.1 Camera.img_from_cam, DIVISION [700, 700, 512, 512, -0.2], ray (-0.25, 0.35, 1)"),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ("division:fx=150,fy=151,cx=127.5,cy=95.5,k=0.12,width=256,height=192",
+         "division:fx=140,fy=140,cx=127.5,cy=95.5,k=0.05,width=256,height=192", "fx,fy,k"),
+    )
     summary = "Fitzgibbon division model with pinhole intrinsics (COLMAP DIVISION): fx, fy, cx, cy, k"
     params = (
         intrinsics_params(500.0, 500.0, 499.5, 499.5)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, as_points, clean
+from lenslab.lenses.core.base import FLOAT, ReferencePoint, as_points, clean
 from lenslab.lenses.calibrated import SIZE_PARAMS, Calibrated, coefficient_params, intrinsics_params
 from lenslab.lenses.calibrated.kannala_brandt import equidistant_unproject
 from lenslab.lenses.calibrated.polydistort import PolyDistortion
@@ -15,6 +15,9 @@ from lenslab.lenses.registry import register
 #: residual of the tangential solve on the normalised plane (1e-14 of the focal length)
 TOL = 1e-14
 MAX_ITER = 50
+#: a calibration with Project Aria-like numbers (the examples and the pycolmap reference point)
+EXAMPLE = ("fisheye624:fx=240,fy=240,cx=511.5,cy=511.5,k0=0.41,k1=-0.39,k2=-0.12,k3=1.56,k4=-1.55,k5=0.43,"
+           "p0=0.0006,p1=-0.0002,s0=-0.0005,s1=0.00003,s2=0.0003,s3=-0.00005,width=1024,height=1024")
 
 
 @register
@@ -34,6 +37,24 @@ class Fisheye624(Calibrated):
     """
 
     name = "fisheye624"
+    #: a spec and image size the conformance tests run on (round trips, extremes): Project Aria-like numbers
+    examples = (
+        (EXAMPLE, (8192, 8192)),
+    )
+    #: pinned from outside lenslab (the conformance suite checks both ways): pycolmap 4.2.1's
+    #: ``Camera.img_from_cam`` for COLMAP's RAD_TAN_THIN_PRISM_FISHEYE with the same numbers
+    #: (COLMAP's cx, cy = these + 0.5)
+    reference_points = (
+        ReferencePoint(EXAMPLE, (1024, 1024),
+                       (787.0147979904295, 340.1618772625286),
+                       (0.7155417527999327, 0.4472135954999579, 0.5366563145999494),
+                       "pycolmap 4.2.1 Camera.img_from_cam, RAD_TAN_THIN_PRISM_FISHEYE, ray (0.8, -0.5, 0.6)"),
+    )
+    #: (true spec, perturbed start, fitted parameters) a fit recovers exactly, on a 256 x 192 image
+    fit_examples = (
+        ("fisheye624:fx=80,fy=80,cx=127.5,cy=95.5,k0=0.03,k1=-0.005,width=256,height=192",
+         "fisheye624:fx=70,fy=70,cx=127.5,cy=95.5,k0=0,k1=0,width=256,height=192", "fx,fy,k0,k1"),
+    )
     summary = ("Fisheye624 (Project Aria; COLMAP RAD_TAN_THIN_PRISM_FISHEYE): fx, fy, cx, cy, k0..k5, p0, p1, "
                "s0..s3")
     params = (

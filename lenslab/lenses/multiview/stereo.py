@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import Lens, Param, Piece, as_points, clean
+from lenslab.lenses.core.base import Lens, Param, Piece, ReferencePoint, as_points, clean
 from lenslab.lenses.core.pose import Pose
 from lenslab.lenses.registry import lens_class, register
 
@@ -34,6 +34,22 @@ class Stereo(Lens):
     """
 
     name = "stereo"
+    #: specs and image sizes the conformance tests run on (round trips, extremes)
+    examples = (
+        ("stereo:sbs,base=fisheye,fov=190", (8192, 4096)),
+        ("stereo:tb,base=equirect", (8192, 8192)),
+    )
+    #: the base models' pinned points (fisheye: Kannala and Brandt's equisolid formula; equirect: the
+    #: latitude/longitude definition) in the left eye: the left half (sbs) or top half (tb) at the base's
+    #: size. A direction maps to the left eye, so the right eye's copy holds one way only (its own test).
+    reference_points = (
+        ReferencePoint("stereo:sbs,base=fisheye,fov=180,mapping=equisolid", (1024, 512), (400.25, 130.5),
+                       (0.6766798510869233, 0.5887231979993682, 0.4421644210815432),
+                       "equisolid r = 2 f sin(theta/2) (Kannala and Brandt 2006, table 1), float64, left eye"),
+        ReferencePoint("stereo:tb,base=equirect", (800, 800), (620.25, 130.5),
+                       (0.8438986849711829, 0.5191462344390729, -0.13535950935061536),
+                       "latitude/longitude definition (v360 equirect), float64, top (left) eye"),
+    )
     summary = "two eyes of one projection, side by side (sbs) or top and bottom (tb): VR180, 3D 360"
     positional = "layout"
     params = (

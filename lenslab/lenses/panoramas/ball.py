@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens
+from lenslab.lenses.core.base import FLOAT, Lens, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -20,6 +20,15 @@ class Ball(Lens):
     """
 
     name = "ball"
+    #: a spec and image size the conformance tests run on (round trips, extremes)
+    examples = (("ball", (8192, 8192)),)
+    #: pinned from outside lenslab (the conformance suite checks both ways): v360's ``xyz_to_ball`` in
+    #: float64, in its frame (y down), its frame coordinates taken as lenslab's continuous pixel
+    reference_points = (
+        ReferencePoint("ball", (800, 600), (703.4784055646675, 163.43471749589963),
+                       (0.7071067811865475, 0.42426406871192845, -0.565685424949238),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_ball, float64"),
+    )
     summary = "mirror ball: the whole sphere in a circle, front at the centre, back pole at the rim"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Piece, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Lens, Piece, ReferencePoint, as_points, clean
 from lenslab.lenses.registry import register
 
 #: the share of each part the picture fills (a 1% margin round it): v360's (and Facebook's) 0.99
@@ -18,7 +18,9 @@ def _band_dir(phi, theta):
 
 
 def _unit(v):
-    return v / np.sqrt(np.einsum("...i,...i->...", v, v))[..., None]
+    """``v`` over its length; NaN for a zero or non-finite vector (the callers mark those invalid)."""
+    with np.errstate(all="ignore"):
+        return v / np.sqrt(np.einsum("...i,...i->...", v, v))[..., None]
 
 
 @register
@@ -37,6 +39,21 @@ class Barrel(Lens):
     """
 
     name = "fb-barrel"
+    #: a spec and image size the conformance tests run on (round trips, extremes)
+    examples = (("fb-barrel", (8192, 8192 * 2 // 5)),)
+    #: pinned from outside lenslab (the conformance suite checks both ways): v360's ``xyz_to_barrel`` in
+    #: float64 (its frame coordinates taken as lenslab's continuous pixel): the band and both caps
+    reference_points = (
+        ReferencePoint("fb-barrel", (1000, 400), (737.5568874104284, 118.41529695841217),
+                       (0.42399915200254396, 0.3179993640019079, -0.8479983040050879),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrel (band), float64"),
+        ReferencePoint("fb-barrel", (1000, 400), (933.0, 122.0),
+                       (0.309426373877638, 0.928279121632914, 0.20628424925175867),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrel (top cap), float64"),
+        ReferencePoint("fb-barrel", (1000, 400), (878.0, 267.0),
+                       (-0.20628424925175867, -0.928279121632914, 0.309426373877638),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrel (bottom cap), float64"),
+    )
     summary = "Facebook's barrel: an equirect band of +-45 degrees and the two caps as cube faces (5:2)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "shift"
@@ -108,6 +125,24 @@ class BarrelSplit(Lens):
     """
 
     name = "fb-barrelsplit"
+    #: a spec and image size the conformance tests run on (round trips, extremes)
+    examples = (("fb-barrelsplit", (8192, 8192 * 2 // 3)),)
+    #: pinned from outside lenslab (the conformance suite checks both ways): v360's ``xyz_to_barrelsplit``
+    #: in float64 with no pad (its frame coordinates taken as lenslab's continuous pixel)
+    reference_points = (
+        ReferencePoint("fb-barrelsplit", (960, 640), (414.4535152962773, 94.07296723912096),
+                       (0.42399915200254396, 0.3179993640019079, 0.8479983040050879),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrelsplit (front half), float64"),
+        ReferencePoint("fb-barrelsplit", (960, 640), (446.3561877047978, 526.5368038607405),
+                       (-0.5661385170722979, -0.22645540682891915, -0.792593923901217),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrelsplit (back half), float64"),
+        ReferencePoint("fb-barrelsplit", (960, 640), (853.3333333333333, 35.55555555555557),
+                       (0.309426373877638, 0.928279121632914, 0.20628424925175867),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrelsplit (top cap, front), float64"),
+        ReferencePoint("fb-barrelsplit", (960, 640), (835.5555555555555, 586.6666666666667),
+                       (-0.20628424925175867, -0.928279121632914, -0.309426373877638),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_barrelsplit (bottom cap, back), float64"),
+    )
     summary = "Facebook's split barrel: two equirect halves of +-45 degrees and the caps in four halves (3:2)"
     v360_read = "shift"
     frame_aspect = 1.5

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens
+from lenslab.lenses.core.base import FLOAT, Lens, ReferencePoint
 from lenslab.lenses.registry import register
 
 @register
@@ -23,6 +23,18 @@ class Tetrahedron(Lens):
     """
 
     name = "tetrahedron"
+    #: a spec and image size the conformance tests run on (round trips, extremes)
+    examples = (("tetrahedron", (8192, 8192)),)
+    #: pinned from outside lenslab (the conformance suite checks both ways): v360's ``xyz_to_tetrahedron``
+    #: in float64 (frame fractions times the size), a point on each half of the frame
+    reference_points = (
+        ReferencePoint("tetrahedron", (800, 800), (529.4117647058823, 188.23529411764704),
+                       (0.3391400513665329, -0.5087100770497993, 0.79132678652191),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_tetrahedron, float64"),
+        ReferencePoint("tetrahedron", (800, 800), (107.69230769230771, 461.5384615384615),
+                       (-0.7442084075352507, 0.24806946917841693, -0.6201736729460423),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_tetrahedron, float64"),
+    )
     summary = "tetrahedral map: the sphere on a tetrahedron, unfolded onto a square"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "shift"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Lens, as_points, clean
+from lenslab.lenses.core.base import Lens, ReferencePoint, as_points, clean
 from lenslab.lenses.registry import register
 
 #: lenslab's frame (+y up) -> the frame v360's cube-face formulas use (+y down)
@@ -40,6 +40,21 @@ class TruncatedSquarePyramid(Lens):
     """
 
     name = "tsp"
+    #: a spec and image size the conformance tests run on (round trips, extremes)
+    examples = (("tsp", (8192, 4096)),)
+    #: pinned from outside lenslab (the conformance suite checks both ways): v360's ``xyz_to_cube`` and
+    #: ``xyz_to_tspyramid`` in float64 (frame fractions times the size): a side, the top and the back face
+    reference_points = (
+        ReferencePoint("tsp", (1024, 512), (586.6666666666666, 195.55555555555557),
+                       (0.928279121632914, 0.309426373877638, 0.20628424925175867),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_tspyramid (right face), float64"),
+        ReferencePoint("tsp", (1024, 512), (743.5, 60.0),
+                       (0.1162476387438193, 0.9299811099505544, 0.34874291623145787),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_tspyramid (up face), float64"),
+        ReferencePoint("tsp", (1024, 512), (782.2222222222222, 277.3333333333333),
+                       (-0.20628424925175867, -0.309426373877638, -0.928279121632914),
+                       "ffmpeg libavfilter/vf_v360.c xyz_to_tspyramid (back face), float64"),
+    )
     summary = "truncated square pyramid: the front face full size, the back small, the sides trapezoids"
     v360_read = "shift"
     frame_aspect = 2.0
@@ -84,7 +99,8 @@ class TruncatedSquarePyramid(Lens):
                            [0.375 - 0.375 * w, w, 1 - 0.375 * w, 0.25 * w + 0.75 * u * w - 0.375 * u + 0.375,
                             0.375 * u - 0.75 * u * w + w], 0.25 * w + 0.375)
             xy = np.stack([uf * self.width, vf * self.height], axis=-1)
-            ok = np.isfinite(xy).all(axis=-1) & self.snap_to_image(xy)
+            # an infinite component is no ray, though its face ratios come out finite
+            ok = np.isfinite(d).all(axis=-1) & np.isfinite(xy).all(axis=-1) & self.snap_to_image(xy)
         return clean(xy, ok, inplace=True)
 
 
