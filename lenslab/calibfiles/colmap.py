@@ -6,10 +6,12 @@ principal point is OpenCV's plus 0.5: ``cx = cx_colmap - 0.5`` on reading, ``+ 0
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from lenslab.calibfiles import CameraFileError
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
+from lenslab.lenses.base import MAX_SIDE
 
 #: COLMAP model -> (lenslab model, parameter names in COLMAP's order; f means fx = fy)
 MODELS = {
@@ -46,9 +48,9 @@ def read(path: Path, text: str):
         where = f"{path}: line {n}"
         if len(parts) < 4:
             raise CameraFileError(f"{where}: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...")
-        cid, model = parts[0], parts[1]
+        cid, model = parts[0][:24], parts[1]
         if model not in MODELS:
-            raise CameraFileError(f"{where}: unknown camera model {model!r}; valid: {', '.join(MODELS)}")
+            raise CameraFileError(f"{where}: unknown camera model {clip(model)}; valid: {', '.join(MODELS)}")
         name, keys = MODELS[model]
         keys = keys.split()
         try:
@@ -56,6 +58,8 @@ def read(path: Path, text: str):
             nums = [float(p) for p in parts[4:]]
         except ValueError:
             raise CameraFileError(f"{where}: WIDTH, HEIGHT and the parameters must be numbers") from None
+        if not all(math.isfinite(v) for v in nums) or not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+            raise CameraFileError(f"{where}: WIDTH and HEIGHT must be in 1..{MAX_SIDE} and the parameters finite")
         if len(nums) != len(keys):
             raise CameraFileError(f"{where}: {model} takes {len(keys)} parameters ({', '.join(keys)}), got {len(nums)}")
         values = dict(zip(keys, nums))

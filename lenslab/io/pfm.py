@@ -161,3 +161,15 @@ def _writev_all(fd: int, buffers: list, batch: int = 1024) -> None:
                 pending.pop(0)
             if pending and n:
                 pending[0] = pending[0][n:]
+
+
+def declare_pfm(path, **_):
+    """:class:`lenslab.io.budget.Declared` of a PFM: every float of the declared image must be present."""
+    from lenslab.io.budget import Declared
+
+    with open(path, "rb") as f:
+        head = f.read(_MAX_HEADER)
+        channels, width, height, _, offset = _parse_header(path, head)
+        size = os.fstat(f.fileno()).st_size
+    return Declared(width, height, channels, min_bytes=width * height * channels * 4, held=size - offset,
+                    what="32-bit samples")
