@@ -99,6 +99,9 @@ def _headers(f, size) -> list[dict]:
     if magic != MAGIC:
         raise FormatError(f"{f.name}: not an OpenEXR file")
     multi = bool(version & MULTIPART)
+    if version & 0xFF != 2 or version & ~0x1EFF or (multi and version & TILED):
+        raise FormatError(f"{f.name}: OpenEXR version field {version:#x} is not version 2 with valid flags; the "
+                          "file is damaged")
     parts = []
     while True:
         part = {"tiled": bool(version & TILED) and not multi}

@@ -118,8 +118,9 @@ def load_yaml(text: str, path, error=InputError, tags: dict | None = None):
     """A YAML document as Python data (see the module docstring)."""
     import yaml
 
-    loader = _yaml_loader(tags)(text)
+    loader = None
     try:
+        loader = _yaml_loader(tags)(text)
         node = loader.get_single_node()
         if node is None:
             return None
@@ -138,7 +139,8 @@ def load_yaml(text: str, path, error=InputError, tags: dict | None = None):
     except RecursionError:
         raise _too_deep(path, "YAML", MAX_DEPTH, error) from None
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
 
 
 def load_xml(text: str, path, error=InputError):

@@ -87,8 +87,11 @@ def probe_video(path) -> VideoInfo:
             raise FormatError(f"{path}: the file holds no video stream")
         s = c.streams.video[0]
         cc = s.codec_context
-        frames = int(s.frames) or int(round(float(s.duration * s.time_base * s.average_rate))) if s.duration else 0
-        return VideoInfo(cc.width, cc.height, Fraction(s.average_rate or s.guessed_rate or 25), frames, cc.name,
+        rate = s.average_rate or s.guessed_rate
+        if not rate or not s.time_base:
+            raise FormatError(f"{path}: the video stream declares no frame rate; the file is damaged")
+        frames = int(s.frames) or (int(round(float(s.duration * s.time_base * rate))) if s.duration else 0)
+        return VideoInfo(cc.width, cc.height, Fraction(rate), frames, cc.name,
                          cc.pix_fmt or "", int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace),
                          int(cc.color_range), bool(c.streams.audio))
 
