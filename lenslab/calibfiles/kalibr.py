@@ -81,17 +81,16 @@ def _lens_of(path: Path, cid: str, cam) -> object:
 
 
 def _numbers(path, cid, key, value, n):
-    if not isinstance(value, list) or len(value) != n:
-        got = f"got {len(value)}" if isinstance(value, list) else f"got {clip(value)}"
-        raise CameraFileError(f"{path}: {cid}: key {key!r} needs a list of {n} numbers, {got}")
+    if not isinstance(value, list):
+        raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of numbers, got {clip(value)}")
+    if len(value) != n:
+        raise CameraFileError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(value)}")
     try:
         out = [float(v) for v in value if not isinstance(v, (bool, dict, list))]
     except (TypeError, ValueError, OverflowError):
         out = []
     if len(out) != n or not all(math.isfinite(v) for v in out):
         raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of {n} finite numbers")
-    if len(out) != n:
-        raise CameraFileError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(out)}")
     return out
 
 
