@@ -321,19 +321,26 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     return image, meta
 
 
-def to_half(image: np.ndarray) -> np.ndarray:
-    """float32 -> float16 with finite values beyond half's range clamped (warned with their count)."""
-    big = np.abs(image) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
+def to_half(image: np.ndarray, rows: int = 256) -> np.ndarray:
+    """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
+    block of rows at a time, so the only full-size allocation is the result."""
+    out = np.empty(image.shape, np.float16)
     n = 0
-    if big.any():
-        big &= np.isfinite(image)
-        n = int(np.count_nonzero(big))
+    for y in range(0, image.shape[0], rows):
+        block = image[y:y + rows]
+        big = np.abs(block) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
+        if big.any():
+            big &= np.isfinite(block)
+            count = int(np.count_nonzero(big))
+            if count:
+                n += count
+                block = np.where(big, np.copysign(np.float32(HALF_MAX), block), block)
+        out[y:y + rows] = block
     if n:
-        image = np.where(big, np.copysign(np.float32(HALF_MAX), image), image)
         clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
         warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
                                           f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
-    return image.astype(np.float16)
+    return out
 
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
@@ -363,8 +370,10 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         header[k] = v
     if camera is not None:
         header[CAMERA_ATTRIBUTE] = camera.to_toml()
-    # the bindings need each channel contiguous (they write strided arrays wrongly)
-    chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
+    if "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
+        chans = {"".join(channels): np.ascontiguousarray(data)}
+    else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
+        chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
     try:
         OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
