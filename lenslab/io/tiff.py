@@ -76,7 +76,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         data, c = data[..., :4], 4
     kind = data.dtype.kind
     if kind == "f":
-        image = data.astype(np.float32)
+        image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
     elif data.dtype in (np.uint8, np.uint16):
         from lenslab.io.encode import decode_codes
