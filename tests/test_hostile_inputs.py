@@ -41,3 +41,19 @@ def test_hostile_file_is_refused_in_one_line(corpus, tmp_path, name):
     assert list(out.iterdir()) == []  # no output, no temporary, no empty folder
     assert set(p.name for p in corpus.iterdir()) == before
     assert [p for p in tmp_path.iterdir() if p.name != "out"] == []
+
+
+def test_ply_header_declaring_4e9_vertices_is_refused_before_vtk(tmp_path):
+    """VTK allocates what a PLY header declares (and crashes); the header's counts are checked against the
+    file's 180 bytes first."""
+    scene = tmp_path / "bomb.ply"
+    scene.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                      b"property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                      b"end_header\n" + bytes(16))
+    done = run([sys.executable, "-c", "import sys; from tracer.cli import main; sys.exit(main())", "render",
+                "--scene", str(scene), "-o", str(tmp_path / "r.exr")], cwd=tmp_path)
+    assert done.returncode in (1, 2), done.stderr[-500:]
+    assert "Traceback" not in done.stderr
+    named = [line for line in done.stderr.splitlines() if str(scene) in line]
+    assert len(named) == 1 and "declares" in named[0], done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bomb.ply"]

@@ -135,12 +135,12 @@ def read_pnm(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 def encode_pnm(image: np.ndarray, bits: int = 8, ascii: bool = False, raw: bool = False,
                dither: bool = False) -> bytes:
     """Encode a float image (C = 1 or 3) as P5/P6 (or P2/P3 with ``ascii=True``), 8 or 16 bits."""
-    from lenslab.io.encode import encode_quantise, quantise
+    from lenslab.io.encode import encode_codes
 
     if bits not in (8, 16):
         raise FormatError(f"PPM/PGM can be written with bits=8 or bits=16, not {bits!r}")
     h, w, c = image.shape
-    codes = quantise(image, bits, dither=dither) if raw else encode_quantise(image, bits, dither=dither)
+    codes = encode_codes(image, bits, raw, dither)  # (counts the NaN and infinities it replaces)
     maxval = (1 << bits) - 1
     magic = {(1, False): b"P5", (3, False): b"P6", (1, True): b"P2", (3, True): b"P3"}[(c, bool(ascii))]
     header = b"%s\n%d %d\n%d\n" % (magic, w, h, maxval)
