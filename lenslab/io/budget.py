@@ -25,13 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lenslab.errors import FormatError
-
-
-def _env_int(name: str, default: int) -> int:
-    try:
-        return max(1, int(os.environ.get(name, default)))
-    except ValueError:
-        return default
+from lenslab.io.limits import _env_int
 
 
 #: a decoded float image up to this size is admitted whatever its file's size

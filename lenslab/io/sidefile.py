@@ -15,13 +15,7 @@ import stat
 from pathlib import Path
 
 from lenslab.errors import InputError
-
-
-def _env_int(name: str, default: int) -> int:
-    try:
-        return max(1, int(os.environ.get(name, default)))
-    except ValueError:
-        return default
+from lenslab.io.limits import _env_int
 
 
 #: the largest side file read, in bytes
