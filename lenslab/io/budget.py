@@ -9,12 +9,12 @@ one line naming the file and before any pixel memory exists:
 
 - a size beyond :data:`lenslab.io.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
-- a decoded float image larger than :data:`MAX_RATIO` times the file's bytes, once it passes
-  :data:`BASE_BYTES` (no real photograph or render compresses further; a flat colour can, and
-  ``LENSLAB_MAX_RATIO`` lets such a file through).
+- a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
+  :data:`BASE_BYTES` (128 MiB). 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float
+  image, which lenslab's own EXR and PNG writers reach on a flat colour; ``LENSLAB_MAX_RATIO`` changes it.
 
-A format without a ``declare`` hook still gets the pixel cap from its reader, and the ratio rule
-from ``lenslab.io.read`` once the image is decoded is too late: every plugin should declare.
+A format without a ``declare`` hook gets only the pixel cap its reader applies: every plugin should
+declare.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from lenslab.io.limits import _env_int
 #: a decoded float image up to this size is admitted whatever its file's size
 BASE_BYTES = _env_int("LENSLAB_BASE_BYTES", 128 << 20)
 #: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
-MAX_RATIO = _env_int("LENSLAB_MAX_RATIO", 1024)
+MAX_RATIO = _env_int("LENSLAB_MAX_RATIO", 4096)
 
 
 #: images up to this size decoded are left to their reader to find truncated (it says where)
