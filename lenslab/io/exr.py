@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 HALF_MAX = 65504.0
@@ -113,7 +113,7 @@ def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]
     if layer is not None:
         sel = {n[len(layer) + 1:]: n for n in names if n.startswith(layer + ".") and "." not in n[len(layer) + 1:]}
         if not sel:
-            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {', '.join(names)}")
+            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {clip(', '.join(names), 80)}")
         return sel
     base = {n: n for n in names if "." not in n}
     if base:
@@ -194,7 +194,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     hpart = parts[index]
     storage = _plain(hpart.type())
     if "deep" in str(storage).lower():
-        raise FormatError(f"{path}: part {index} ({hpart.name()!r}) is a deep image (several samples per "
+        raise FormatError(f"{path}: part {index} ({clip(hpart.name())}) is a deep image (several samples per "
                           "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
     for p in parts:
         (dx0, dy0), (dx1, dy1) = (tuple(int(v) for v in a) for a in p.header["dataWindow"])
@@ -226,15 +226,15 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])
         if ch is None or ch.pixels is None:
-            raise FormatError(f"{path}: channel {short[name]!r} has no pixel data; the file is damaged")
+            raise FormatError(f"{path}: channel {clip(short[name])} has no pixel data; the file is damaged")
         pix = ch.pixels
         if pix.dtype == object:
-            raise FormatError(f"{path}: channel {short[name]!r} holds deep samples; lenslab reads flat images")
+            raise FormatError(f"{path}: channel {clip(short[name])} holds deep samples; lenslab reads flat images")
         xs, ys = sampling.get(short[name], (1, 1))
         if (xs, ys) != (1, 1):
             return upsample(pix, xs, ys, w, h, x0, y0)
         if pix.shape != (h, w):
-            raise FormatError(f"{path}: channel {short[name]!r} is {pix.shape[1]} x {pix.shape[0]}, not the data "
+            raise FormatError(f"{path}: channel {clip(short[name])} is {pix.shape[1]} x {pix.shape[0]}, not the data "
                               f"window's {w} x {h}; the file is damaged")
         return pix  # half, float or uint: converted to float32 once, when copied into the image
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 _MAX_HEADER = 256
@@ -53,9 +53,9 @@ def _parse_header(path: Path, head: bytes) -> tuple[int, int, int, float, int]:
         scale = float(tokens[2])
     except ValueError:
         raise FormatError(f"{path}: the PFM header has a malformed width, height or scale "
-                          f"({b' '.join(tokens)!r})") from None
+                          f"({clip(b' '.join(tokens))})") from None
     if not math.isfinite(scale) or scale == 0.0:
-        raise FormatError(f"{path}: the PFM scale must be a non-zero number, got {tokens[2]!r}")
+        raise FormatError(f"{path}: the PFM scale must be a non-zero number, got {clip(tokens[2])}")
     check_size(path, width, height)
     return channels, width, height, scale, pos
 

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 _MAX_HEADER = 1 << 16
@@ -67,12 +67,12 @@ def _parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
             else:
                 attrs[key.lower()] = value
         except ValueError:
-            raise FormatError(f"{path}: the header line {text!r} is not a valid number") from None
+            raise FormatError(f"{path}: the header line {clip(text)} is not a valid number") from None
     if attrs["format"] == "32-bit_rle_xyze":
         raise FormatError(f"{path}: a Radiance XYZE file (CIE XYZ, not RGB); lenslab reads RGBE only: convert it "
                           "with Radiance's 'ra_xyze -r' first")
     if attrs["format"] != "32-bit_rle_rgbe":
-        raise FormatError(f"{path}: unknown Radiance FORMAT {attrs['format']!r}; expected 32-bit_rle_rgbe")
+        raise FormatError(f"{path}: unknown Radiance FORMAT {clip(attrs['format'])}; expected 32-bit_rle_rgbe")
     for name, values in (("EXPOSURE", [attrs["exposure"]]), ("COLORCORR", attrs["colorcorr"])):
         if not all(math.isfinite(v) and _MIN_FACTOR <= v <= 1 / _MIN_FACTOR for v in values):
             raise FormatError(f"{path}: {name} must be a finite positive factor in {_MIN_FACTOR:g}..{1 / _MIN_FACTOR:g}, "
