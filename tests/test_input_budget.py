@@ -94,3 +94,26 @@ def test_a_view_that_sees_nothing_of_its_source_says_so():
     with pytest.warns(EmptyViewWarning, match="0% coverage"):
         _, alpha = warp(np.ones((32, 32, 3), np.float32), src, behind)
     assert not alpha.any()
+
+
+@pytest.mark.parametrize("data", [
+    b"Pf\n" + b"7" * 200 + b" 1\n-1\n" + bytes(64),  # found by the PFM fuzz target: the whole token was quoted
+    b"#?RADIANCE\nEXPOSURE=" + b"x" * 5000 + b"\n\n-Y 1 +X 1\n" + bytes(4),
+])
+def test_messages_quote_a_few_dozen_characters_of_a_file(tmp_path, data):
+    path = tmp_path / "f.img"
+    path.write_bytes(data)
+    with pytest.raises(lio.FormatError) as info:
+        lio.read(path)
+    assert len(str(info.value)) < len(str(path)) + 200 and "\n" not in str(info.value)
+
+
+def test_kalibr_values_are_cut_in_messages(tmp_path):
+    from lenslab.calibfiles import CameraFileError, read_lens
+
+    path = tmp_path / "camchain.yaml"
+    path.write_text("cam0:\n  camera_model: " + "z" * 10000 + "\n  intrinsics: [1, 1, 1, 1]\n  distortion_model: none\n"
+                    "  distortion_coeffs: []\n  resolution: [64, 64]\n")
+    with pytest.raises(CameraFileError) as info:
+        read_lens(str(path))
+    assert "camera_model" in str(info.value) and len(str(info.value)) < len(str(path)) + 200
