@@ -107,8 +107,10 @@ def main() -> int:
             done = subprocess.run([sys.executable, __file__, t, f"-max_total_time={seconds}", "-rss_limit_mb=2048",
                                    "-timeout=20", f"-artifact_prefix={found}/"], capture_output=True, text=True)
             new = sorted(set(found.iterdir()) - before)
-            last = [line for line in done.stderr.splitlines() if line.startswith("#")][-1:] or ["?"]
-            print(f"{t:16s} exit {done.returncode}  {last[0][:90]}  findings: {len(new)}")
+            lines = done.stderr.splitlines()
+            cov = [line.split("cov:")[1].split()[0] for line in lines if "cov:" in line][-1:] or ["?"]
+            runs = [line for line in lines if line.startswith("Done ")][-1:] or ["stopped by a finding"]
+            print(f"{t:16s} exit {done.returncode}  coverage {cov[0]:>5s}  {runs[0]}  findings: {len(new)}")
             if new:
                 failed.append(t)
                 print("   " + "\n   ".join(str(p) for p in new))
