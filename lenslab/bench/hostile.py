@@ -143,6 +143,7 @@ def cases(folder) -> list[Case]:
         Case("toml_size_512", "size.toml", warp[:2] + ("--to", "{file}") + warp[2:], "size"),
         Case("ocam_inf_size", "inf.txt", warp[:2] + ("--to", "{file}") + warp[2:], "size"),
         Case("colmap_100000_as_to", "cameras.txt", ("warp", src, "-o", "{out}/w.exr", "--to", "{file}"), "limit"),
+        Case("image_dev_zero", "/dev/zero", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "regular file"),
         Case("tiles_dev_zero", "/dev/zero", ("warp", src, "-o", "{out}/w.exr", "--size", "64x64", "--to",
                                              "tiled:2x2,tiles=/dev/zero"), "system path"),
     ]
