@@ -69,3 +69,23 @@ def check_image_shape(array, what: str = "the image", channels=(1, 2, 3, 4)):
     if channels is not None and a.ndim == 3 and a.shape[2] not in channels:
         raise ImageShapeError(f"{what} has {a.shape[2]} channels; give {', '.join(map(str, channels))}")
     return a
+
+
+class InputError(LenslabError, ValueError):
+    """An input file cannot be read safely: not a regular file, larger than its limit, nested too deep,
+    or declaring more than its bytes can hold. A failed input (exit status 1), never a crash."""
+
+
+def clip(value, limit: int = 40) -> str:
+    """A value from a file, as text cut to ``limit`` characters, for error messages (a hostile file
+    must not make a message long, nor expand an alias bomb while describing it)."""
+    if isinstance(value, (dict, list, tuple, set)):
+        return f"a {type(value).__name__} of {len(value)} item(s)"
+    if isinstance(value, (str, bytes)):
+        text = repr(value[:limit + 1])
+    else:
+        try:
+            text = repr(value)
+        except Exception:  # noqa: BLE001 - a value that cannot even describe itself
+            text = f"<{type(value).__name__}>"
+    return text if len(text) <= limit else text[:limit - 3] + "..."

@@ -104,13 +104,13 @@ def _camera(args, scene):
     from lenslab.lenses import Camera, make_lens
 
     if args.camera_file:
-        import tomllib
         from pathlib import Path
 
+        from lenslab.io.safeload import load_toml
+        from lenslab.io.sidefile import read_side_text
+
         path = Path(args.camera_file)
-        if not path.is_file():
-            raise FileNotFoundError(f"{path}: no such camera file")
-        doc = tomllib.loads(path.read_text())
+        doc = load_toml(read_side_text(path, "camera file", 4 << 20), path, ValueError)
         if "lens" not in doc:
             tables = {k: v for k, v in doc.items() if isinstance(v, dict) and "lens" in v}
             if not tables:

@@ -41,7 +41,6 @@ that frames it. A TOML scene names meshes, materials, lights, an environment and
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -100,7 +99,11 @@ def _floats(tokens, n, where):
 
 def _statements(path: Path):
     """``(where, keyword, arguments)`` for each non-empty line of an OBJ or MTL file, comments removed."""
-    for lineno, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+    from lenslab.io.sidefile import read_side_bytes
+
+    text = read_side_bytes(path, "mesh file" if path.suffix.lower() == ".obj" else "material file").decode(
+        "utf-8", "replace")
+    for lineno, line in enumerate(text.splitlines(), 1):
         tokens = line.split("#", 1)[0].split()
         if tokens:
             yield f"{path}:{lineno}", tokens[0], tokens[1:]
@@ -209,6 +212,9 @@ def load_mesh(path: Path, material: Material | None = None, ambient_as_emission:
     else:
         import pyvista as pv
 
+        from tracer.meshcheck import check_mesh_file
+
+        check_mesh_file(path)
         try:
             mesh = pv.read(str(path))
         except Exception as exc:  # pyvista raises assorted types for unreadable files
@@ -251,10 +257,10 @@ def load_toml(path: Path, **_ignored) -> Scene:
     """A scene described by a TOML file (see the module docstring)."""
     from tracer.envlight import ConstantEnvironment, EquirectEnvironment
 
-    try:
-        doc = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    from lenslab.io.safeload import load_toml
+    from lenslab.io.sidefile import read_side_text
+
+    doc = load_toml(read_side_text(path, "scene file", 16 << 20), path, SceneError)
     head = doc.get("scene", {})
     materials = {name: _material(name, spec) for name, spec in doc.get("materials", {}).items()}
     parts, dropped = [], 0

@@ -69,13 +69,20 @@ def sniff(path: Path, text: str) -> str:
                     "COLMAP cameras.txt, OCamCalib calib_results.txt or lenslab TOML)")
 
 
+#: the largest camera file read (a real one holds a few kilobytes)
+MAX_CAMERA_FILE = 4 << 20
+
+
 def read_text(path: Path) -> str:
-    if not path.is_file():
-        raise CameraFileError(f"{path}: no such camera file")
+    from lenslab.errors import InputError
+    from lenslab.io.sidefile import read_side_text
+
     try:
-        return path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise CameraFileError(f"{path}: not a text file; a camera file is YAML, JSON, TOML or text") from None
+        return read_side_text(path, "camera file", MAX_CAMERA_FILE)
+    except FileNotFoundError:
+        raise CameraFileError(f"{path}: no such camera file") from None
+    except InputError as exc:
+        raise CameraFileError(str(exc)) from None
 
 
 def read_lenses(spec: str) -> tuple[str, list[tuple[str, object]]]:

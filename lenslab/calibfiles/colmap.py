@@ -6,11 +6,13 @@ pixel-centre conversion).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from lenslab.calibfiles import CameraFileError
 from lenslab.calibfiles.colmap_models import MODELS, colmap_model, lens_values  # noqa: F401
 from lenslab.errors import LensError
+from lenslab.lenses.core.base import MAX_SIDE
 
 
 def sniff(path: Path, text: str) -> bool:
@@ -32,12 +34,14 @@ def read(path: Path, text: str):
         where = f"{path}: line {n}"
         if len(parts) < 4:
             raise CameraFileError(f"{where}: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...")
-        cid, model = parts[0], parts[1]
+        cid, model = parts[0][:24], parts[1]
         try:
             w, h = int(parts[2]), int(parts[3])
             nums = [float(p) for p in parts[4:]]
         except ValueError:
             raise CameraFileError(f"{where}: WIDTH, HEIGHT and the parameters must be numbers") from None
+        if not all(math.isfinite(v) for v in nums) or not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+            raise CameraFileError(f"{where}: WIDTH and HEIGHT must be in 1..{MAX_SIDE} and the parameters finite")
         try:
             values = lens_values(model, w, h, nums)
         except ValueError as exc:

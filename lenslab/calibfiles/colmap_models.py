@@ -9,7 +9,7 @@ intrinsics: its two numbers are the image's width and height, and its pixel is l
 
 from __future__ import annotations
 
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
 
 #: COLMAP model -> (lenslab model, parameter names in COLMAP's order; f means fx = fy)
 MODELS = {
@@ -39,7 +39,7 @@ ALIASES = {"opencv-fisheye": "kannala-brandt"}
 def lens_values(model: str, width: int, height: int, nums: list[float]) -> dict:
     """The lenslab spec (a dict for ``make_lens``) of one COLMAP camera; ValueError names what is wrong."""
     if model not in MODELS:
-        raise ValueError(f"unknown camera model {model!r}; valid: {', '.join(MODELS)}")
+        raise ValueError(f"unknown camera model {clip(model)}; valid: {', '.join(MODELS)}")
     name, keys = MODELS[model]
     keys = keys.split()
     if len(nums) != len(keys):

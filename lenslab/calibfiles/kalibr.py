@@ -9,10 +9,12 @@ centres at integers, as OpenCV does: numbers verbatim.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from lenslab.calibfiles import CameraFileError
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
+from lenslab.lenses.core.base import MAX_SIDE
 
 INTRINSICS = {
     "pinhole": "fx fy cx cy", "omni": "xi fx fy cx cy",
@@ -27,12 +29,9 @@ def sniff(path: Path, text: str) -> bool:
 
 
 def _load(path: Path, text: str) -> dict:
-    import yaml
+    from lenslab.io.safeload import load_yaml
 
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise CameraFileError(f"{path}: not valid YAML: {str(exc).splitlines()[0]}") from None
+    data = load_yaml(text, path, CameraFileError)
     if not isinstance(data, dict):
         raise CameraFileError(f"{path}: a Kalibr camchain holds cam0, cam1, ... tables")
     return data
@@ -41,6 +40,7 @@ def _load(path: Path, text: str) -> dict:
 def _lens_of(path: Path, cid: str, cam) -> object:
     from lenslab.lenses import make_lens
 
+    cid = clip(cid, 24).strip("'")
     if not isinstance(cam, dict):
         raise CameraFileError(f"{path}: {cid} must be a table")
     for key in REQUIRED:
@@ -48,12 +48,13 @@ def _lens_of(path: Path, cid: str, cam) -> object:
             if key in ("distortion_model", "distortion_coeffs") and cam.get("camera_model") in ("ds", "eucm"):
                 continue
             raise CameraFileError(f"{path}: {cid}: missing key {key!r}")
-    model = str(cam["camera_model"])
-    dist = str(cam.get("distortion_model", "none"))
-    if model not in INTRINSICS:
-        raise CameraFileError(f"{path}: {cid}: unknown camera_model {model!r}; valid: {', '.join(INTRINSICS)}")
-    if dist not in DISTORTIONS:
-        raise CameraFileError(f"{path}: {cid}: unknown distortion_model {dist!r}; valid: {', '.join(DISTORTIONS)}")
+    model = cam["camera_model"]
+    dist = cam.get("distortion_model", "none")
+    if not isinstance(model, str) or model not in INTRINSICS:
+        raise CameraFileError(f"{path}: {cid}: unknown camera_model {clip(model)}; valid: {', '.join(INTRINSICS)}")
+    if not isinstance(dist, str) or dist not in DISTORTIONS:
+        raise CameraFileError(f"{path}: {cid}: unknown distortion_model {clip(dist)}; valid: "
+                              f"{', '.join(DISTORTIONS)}")
     names = INTRINSICS[model].split()
     dnames = DISTORTIONS[dist].split()
     intr = _numbers(path, cid, "intrinsics", cam["intrinsics"], len(names))
@@ -70,6 +71,8 @@ def _lens_of(path: Path, cid: str, cam) -> object:
         if dist != "none":
             raise CameraFileError(f"{path}: {cid}: camera_model {model!r} takes distortion_model 'none', got {dist!r}")
         name = {"ds": "double-sphere", "eucm": "eucm"}[model]
+    if not all(v == int(v) and 1 <= v <= MAX_SIDE for v in res):
+        raise CameraFileError(f"{path}: {cid}: key 'resolution' must be two whole numbers of pixels in 1..{MAX_SIDE}")
     w, h = int(res[0]), int(res[1])
     try:
         return make_lens({"model": name, **values, "width": w, "height": h}, (w, h))
@@ -78,12 +81,16 @@ def _lens_of(path: Path, cid: str, cam) -> object:
 
 
 def _numbers(path, cid, key, value, n):
+    if not isinstance(value, list):
+        raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of numbers, got {clip(value)}")
+    if len(value) != n:
+        raise CameraFileError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(value)}")
     try:
-        out = [float(v) for v in value]
-    except (TypeError, ValueError):
-        raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of numbers") from None
-    if len(out) != n:
-        raise CameraFileError(f"{path}: {cid}: key {key!r} needs {n} numbers, got {len(out)}")
+        out = [float(v) for v in value if not isinstance(v, (bool, dict, list))]
+    except (TypeError, ValueError, OverflowError):
+        out = []
+    if len(out) != n or not all(math.isfinite(v) for v in out):
+        raise CameraFileError(f"{path}: {cid}: key {key!r} must be a list of {n} finite numbers")
     return out
 
 

@@ -7,10 +7,12 @@ pixel centres at integers), ``c d e`` (affine) and ``height width``.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from lenslab.calibfiles import CameraFileError
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
+from lenslab.lenses.core.base import MAX_SIDE
 
 LABELS = ("the polynomial line", "the inverse polynomial line", "the centre line (xc yc)",
           "the affine line (c d e)", "the size line (height width)")
@@ -27,9 +29,15 @@ def _data_lines(path: Path, text: str) -> list[list[float]]:
         if not s or s.startswith("#"):
             continue
         try:
-            rows.append([float(p) for p in s.split()])
+            row = [float(p) for p in s.split()]
         except ValueError:
-            raise CameraFileError(f"{path}: {LABELS[min(len(rows), 4)]} must hold numbers, got {s[:40]!r}") from None
+            row = []
+        if not row or not all(math.isfinite(v) for v in row) or len(row) > 64:
+            raise CameraFileError(f"{path}: {LABELS[min(len(rows), 4)]} must hold at most 64 finite numbers, got "
+                                  f"{clip(s)}")
+        rows.append(row)
+        if len(rows) == 5:
+            break
     return rows
 
 
@@ -42,11 +50,13 @@ def read(path: Path, text: str):
         raise CameraFileError(f"{path}: missing {LABELS[len(rows)]}")
     pol, inv, centre, affine, size = rows[:5]
     for label, row in ((LABELS[0], pol), (LABELS[1], inv)):
-        if not row or int(row[0]) != len(row) - 1:
+        if not row or row[0] != len(row) - 1:
             raise CameraFileError(f"{path}: {label} must start with its count of coefficients")
     for label, row, n in ((LABELS[2], centre, 2), (LABELS[3], affine, 3), (LABELS[4], size, 2)):
         if len(row) != n:
             raise CameraFileError(f"{path}: {label} needs {n} numbers, got {len(row)}")
+    if not all(v == int(v) and 1 <= v <= MAX_SIDE for v in size):
+        raise CameraFileError(f"{path}: {LABELS[4]} must hold two whole numbers of pixels in 1..{MAX_SIDE}")
     h, w = int(size[0]), int(size[1])
     values = {"pol": format_coefficients(pol[1:]), "invpol": format_coefficients(inv[1:]),
               "xc": centre[0], "yc": centre[1], "c": affine[0], "d": affine[1], "e": affine[2],

@@ -1,4 +1,5 @@
-"""OpenCV FileStorage (YAML, JSON or XML) as ``cv2.FileStorage`` writes it.
+"""OpenCV FileStorage (YAML, JSON or XML) as ``cv2.FileStorage`` writes it, read by lenslab's bounded
+parsers (:mod:`lenslab.io.safeload`; ``cv2.FileStorage`` itself crashes on hostile files).
 
 Keys: ``camera_matrix`` (3x3), ``distortion_coefficients`` (4, 5, 8, 12 or 14 numbers: OpenCV's
 ``k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]``), ``image_width``, ``image_height``; a fisheye
@@ -9,12 +10,14 @@ Keys: ``camera_matrix`` (3x3), ``distortion_coefficients`` (4, 5, 8, 12 or 14 nu
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
 from lenslab.calibfiles import CameraFileError
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
+from lenslab.lenses.core.base import MAX_SIDE
 
 OPENCV_KEYS = "k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4".split()
 
@@ -24,59 +27,146 @@ def sniff(path: Path, text: str) -> bool:
     return head.startswith("%YAML") or head.startswith("<?xml") or ("camera_matrix" in text and "cam0" not in text)
 
 
-def _fs(path: Path):
-    import cv2
-
-    try:
-        fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-    except cv2.error as exc:
-        raise CameraFileError(f"{path}: cv2.FileStorage cannot read it: {str(exc).strip().splitlines()[-1]}") from None
-    if not fs.isOpened():
-        raise CameraFileError(f"{path}: cv2.FileStorage cannot read it")
-    return fs
+#: element types of an OpenCV matrix (its ``dt``)
+_DT = {"u": "uint8", "c": "int8", "w": "uint16", "s": "int16", "i": "int32", "f": "float32", "d": "float64",
+       "h": "float16"}
+#: the largest matrix a camera file needs (the longest distortion vector has 14 numbers)
+_MAX_ELEMENTS = 64
 
 
-def _number(path, fs, key, required=True):
-    node = fs.getNode(key)
-    if node.empty():
+def _matrix(path, key, node):
+    """An OpenCV matrix node (``rows``, ``cols``, ``dt``, ``data``) -> a float64 rows x cols array."""
+    if not isinstance(node, dict):
+        raise CameraFileError(f"{path}: key {key!r} must be a matrix (rows, cols, dt, data)")
+    rows, cols, dt, data = (node.get(k) for k in ("rows", "cols", "dt", "data"))
+    if not all(isinstance(v, int) and not isinstance(v, bool) for v in (rows, cols)):
+        raise CameraFileError(f"{path}: key {key!r}: rows and cols must be integers, got {clip(rows)} and "
+                              f"{clip(cols)}")
+    if not (1 <= rows <= _MAX_ELEMENTS and 1 <= cols <= _MAX_ELEMENTS and rows * cols <= _MAX_ELEMENTS):
+        raise CameraFileError(f"{path}: key {key!r} declares a {rows} x {cols} matrix; a camera file holds "
+                              f"at most {_MAX_ELEMENTS} numbers in one")
+    if not isinstance(dt, str) or dt.strip() not in _DT:
+        raise CameraFileError(f"{path}: key {key!r}: dt {clip(dt)} is not a one-channel OpenCV type "
+                              f"({', '.join(_DT)})")
+    numbers = _floats(path, key, data.split() if isinstance(data, str) else data)
+    if len(numbers) != rows * cols:
+        raise CameraFileError(f"{path}: key {key!r} declares {rows} x {cols} = {rows * cols} numbers, its data "
+                              f"holds {len(numbers)}")
+    return np.array(numbers, float).reshape(rows, cols)
+
+
+def _floats(path, key, values) -> list[float]:
+    if not isinstance(values, (list, tuple)) or len(values) > _MAX_ELEMENTS:
+        raise CameraFileError(f"{path}: key {key!r} must be a list of at most {_MAX_ELEMENTS} numbers")
+    out = []
+    for v in values:
+        try:
+            if isinstance(v, (bool, dict, list)):
+                raise TypeError
+            f = float(v)
+        except (TypeError, ValueError, OverflowError):
+            raise CameraFileError(f"{path}: key {key!r} holds {clip(v)}, not a number") from None
+        if not math.isfinite(f):
+            raise CameraFileError(f"{path}: key {key!r} holds {clip(v)}; every number must be finite")
+        out.append(f)
+    return out
+
+
+def _opencv_matrix_tag(loader, node):
+    return loader.construct_mapping(node, deep=True)
+
+
+def _from_xml(path, root) -> dict:
+    out = {}
+    for el in root:
+        if len(el):  # a matrix: rows, cols, dt, data children
+            sub = {c.tag: (c.text or "").strip() for c in el}
+            for k in ("rows", "cols"):
+                try:
+                    sub[k] = int(sub.get(k, ""))
+                except ValueError:
+                    sub[k] = None
+            out[el.tag] = sub
+        else:
+            out[el.tag] = (el.text or "").strip()
+    return out
+
+
+def load_storage(path: Path, text: str) -> dict:
+    """The top-level keys of an OpenCV FileStorage file (YAML, JSON or XML), parsed by lenslab's bounded
+    parsers (never by ``cv2.FileStorage``, which crashes on hostile nesting and sizes)."""
+    from lenslab.io.safeload import load_json, load_xml, load_yaml
+
+    head = text.lstrip()
+    if head.startswith("<"):
+        root = load_xml(text, path, CameraFileError)
+        data = _from_xml(path, root)
+    elif head.startswith("{"):
+        data = load_json(text, path, CameraFileError)
+    else:
+        if head.startswith("%YAML"):  # OpenCV writes '%YAML:1.0', which is not YAML 1.1's directive syntax
+            head = head.partition("\n")[2]
+        data = load_yaml(head, path, CameraFileError, tags={"tag:yaml.org,2002:opencv-matrix": _opencv_matrix_tag})
+    if not isinstance(data, dict):
+        raise CameraFileError(f"{path}: an OpenCV camera file is a map of keys (camera_matrix, ...)")
+    return data
+
+
+def _number(path, data, key, required=True):
+    if key not in data:
         if required:
             raise CameraFileError(f"{path}: missing key {key!r}")
         return None
-    if node.isString():
-        text = node.string().strip().lower()
-        return text
-    if node.isMap() or node.isSeq():
-        m = node.mat()
-        if m is None or m.size != 1:
+    value = data[key]
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            return value.strip().lower()[:40]
+    if isinstance(value, dict):
+        m = _matrix(path, key, value)
+        if m.size != 1:
             raise CameraFileError(f"{path}: key {key!r} must be one number")
         return float(m.ravel()[0])
-    return float(node.real())
+    return _floats(path, key, [value])[0]
+
+
+def _side(path, data, key) -> int:
+    v = _number(path, data, key)
+    if isinstance(v, str) or v != int(v) or not 1 <= v <= MAX_SIDE:
+        raise CameraFileError(f"{path}: key {key!r} must be a whole number of pixels in 1..{MAX_SIDE}, got {clip(v)}")
+    return int(v)
+
+
+def _distortion(path, data) -> np.ndarray:
+    if "distortion_coefficients" not in data:
+        raise CameraFileError(f"{path}: missing key 'distortion_coefficients'")
+    value = data["distortion_coefficients"]
+    if isinstance(value, dict):
+        return _matrix(path, "distortion_coefficients", value).ravel()
+    return np.array(_floats(path, "distortion_coefficients", value), float)
 
 
 def read(path: Path, text: str):
     from lenslab.lenses import make_lens
 
-    fs = _fs(path)
-    try:
-        K = fs.getNode("camera_matrix").mat()
-        if K is None:
-            raise CameraFileError(f"{path}: missing key 'camera_matrix'")
-        if K.shape != (3, 3):
-            raise CameraFileError(f"{path}: key 'camera_matrix' must be a 3x3 matrix, got shape {K.shape}")
-        D = fs.getNode("distortion_coefficients").mat()
-        if D is None:
-            raise CameraFileError(f"{path}: missing key 'distortion_coefficients'")
-        D = D.ravel().astype(float)
-        w = _number(path, fs, "image_width")
-        h = _number(path, fs, "image_height")
-        xi = _number(path, fs, "xi", required=False)
-        fisheye = _number(path, fs, "fisheye_model", required=False)
-        model = _number(path, fs, "distortion_model", required=False)
-    finally:
-        fs.release()
+    data = load_storage(path, text)
+    if "camera_matrix" not in data:
+        raise CameraFileError(f"{path}: missing key 'camera_matrix'")
+    K = _matrix(path, "camera_matrix", data["camera_matrix"])
+    if K.shape != (3, 3):
+        raise CameraFileError(f"{path}: key 'camera_matrix' must be a 3x3 matrix, got shape {K.shape}")
+    D = _distortion(path, data)
+    w = _side(path, data, "image_width")
+    h = _side(path, data, "image_height")
+    xi = _number(path, data, "xi", required=False)
+    fisheye = _number(path, data, "fisheye_model", required=False)
+    model = _number(path, data, "distortion_model", required=False)
+    if isinstance(xi, str):
+        raise CameraFileError(f"{path}: key 'xi' must be a number, got {clip(xi)}")
     if isinstance(model, str) and model not in ("equidistant", "radtan", "plumb_bob", "rational_polynomial"):
-        raise CameraFileError(f"{path}: unknown distortion_model {model!r}; valid: equidistant, radtan, plumb_bob, "
-                        "rational_polynomial")
+        raise CameraFileError(f"{path}: unknown distortion_model {clip(model)}; valid: equidistant, radtan, "
+                              "plumb_bob, rational_polynomial")
     values = {"fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], "width": int(w), "height": int(h)}
     if xi is not None:
         if D.size != 4:

@@ -76,10 +76,14 @@ def read_points(path: str | Path, source: Camera | None = None) -> PointSet:
 
     Blank lines and lines starting with ``#`` are skipped.
     """
+    import io
+
+    from lenslab.io.sidefile import read_side_text
+
     path = Path(path)
-    with open(path, newline="", encoding="utf-8") as fh:
-        rows = [(i + 1, [c.strip() for c in r]) for i, r in enumerate(csv.reader(fh))
-                if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
+    text = read_side_text(path, "points file", 64 << 20)  # a regular file of bounded size
+    rows = [(i + 1, [c.strip() for c in r]) for i, r in enumerate(csv.reader(io.StringIO(text, newline="")))
+            if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
     if not rows:
         raise FitError(f"{path}: no points; give one CSV row per point (x,y,dx,dy,dz)")
     header = None

@@ -144,6 +144,9 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     if selector is not None and not fmt.selectors:
         raise FormatError(f"{file}: a ':{selector}' selector only applies to EXR files (this is {fmt.title})")
     given = {"raw": raw, "data_window": data_window, "rec709": rec709}
+    from lenslab.io.budget import admit
+
+    admit(file, fmt, **({"data_window": data_window} if "data_window" in fmt.read_options else {}))
     image, meta = fmt.read(file, selector, **{k: given[k] for k in fmt.read_options if k in given})
     meta["path"] = str(file)
     meta["size"] = [int(image.shape[1]), int(image.shape[0])]

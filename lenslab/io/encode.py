@@ -133,9 +133,40 @@ def decode_codes(codes: np.ndarray, maxval: int, raw: bool = False) -> np.ndarra
     return image
 
 
+class NonFiniteWarning(UserWarning):
+    """A writer replaced NaN or infinite samples (the format cannot hold them); the message counts them."""
+
+
+def count_non_finite(image: np.ndarray, rows: int = 256) -> tuple[int, int, int]:
+    """(NaN, +inf, -inf) sample counts of an array, a block of rows at a time (no full-size mask)."""
+    nan = pos = neg = 0
+    a = image.reshape(image.shape[0], -1) if image.ndim > 1 else image.reshape(1, -1)
+    for y in range(0, a.shape[0], rows):
+        block = a[y:y + rows]
+        if np.isfinite(block.sum(dtype=np.float64)):  # the common case: one pass, no mask
+            continue
+        nan += int(np.count_nonzero(np.isnan(block)))
+        pos += int(np.count_nonzero(block == np.inf))
+        neg += int(np.count_nonzero(block == -np.inf))
+    return nan, pos, neg
+
+
+def note_non_finite(image: np.ndarray, title: str, becomes: str) -> None:
+    """Warn (:class:`NonFiniteWarning`) with the counts of NaN and infinite samples ``title`` replaces."""
+    import warnings
+
+    nan, pos, neg = count_non_finite(image)
+    if nan or pos or neg:
+        parts = [f"{n} {what}" for n, what in ((nan, "NaN"), (pos, "+inf"), (neg, "-inf")) if n]
+        warnings.warn(NonFiniteWarning(f"{title} cannot hold NaN or infinity: {', '.join(parts)} sample(s) written "
+                                       f"as {becomes}"), stacklevel=3)
+
+
 def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool = False) -> np.ndarray:
     """Float32 H x W x C -> uint8/uint16 samples: colour sRGB-encoded (``raw``: value * maxval), alpha
-    (the last channel of 2 or 4) always value * maxval; rounded to nearest."""
+    (the last channel of 2 or 4) always value * maxval; rounded to nearest. NaN and infinite samples
+    (NaN and -inf as 0, +inf as maxval) are counted in a :class:`NonFiniteWarning`."""
+    note_non_finite(image, f"{bits}-bit integer samples", "0 (NaN, -inf) and the largest code (+inf)")
     if raw:
         return quantise(image, bits, dither=dither)
     if image.shape[-1] not in (2, 4):

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 HALF_MAX = 65504.0
@@ -113,7 +113,7 @@ def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]
     if layer is not None:
         sel = {n[len(layer) + 1:]: n for n in names if n.startswith(layer + ".") and "." not in n[len(layer) + 1:]}
         if not sel:
-            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {', '.join(names)}")
+            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {clip(', '.join(names), 80)}")
         return sel
     base = {n: n for n in names if "." not in n}
     if base:
@@ -194,7 +194,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     hpart = parts[index]
     storage = plain_value(hpart.type())
     if "deep" in str(storage).lower():
-        raise FormatError(f"{path}: part {index} ({hpart.name()!r}) is a deep image (several samples per "
+        raise FormatError(f"{path}: part {index} ({clip(hpart.name())}) is a deep image (several samples per "
                           "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
     for p in parts:
         (dx0, dy0), (dx1, dy1) = (tuple(int(v) for v in a) for a in p.header["dataWindow"])
@@ -226,15 +226,15 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])
         if ch is None or ch.pixels is None:
-            raise FormatError(f"{path}: channel {short[name]!r} has no pixel data; the file is damaged")
+            raise FormatError(f"{path}: channel {clip(short[name])} has no pixel data; the file is damaged")
         pix = ch.pixels
         if pix.dtype == object:
-            raise FormatError(f"{path}: channel {short[name]!r} holds deep samples; lenslab reads flat images")
+            raise FormatError(f"{path}: channel {clip(short[name])} holds deep samples; lenslab reads flat images")
         xs, ys = sampling.get(short[name], (1, 1))
         if (xs, ys) != (1, 1):
             return upsample(pix, xs, ys, w, h, x0, y0)
         if pix.shape != (h, w):
-            raise FormatError(f"{path}: channel {short[name]!r} is {pix.shape[1]} x {pix.shape[0]}, not the data "
+            raise FormatError(f"{path}: channel {clip(short[name])} is {pix.shape[1]} x {pix.shape[0]}, not the data "
                               f"window's {w} x {h}; the file is damaged")
         return pix  # half, float or uint: converted to float32 once, when copied into the image
 
@@ -321,19 +321,26 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     return image, meta
 
 
-def to_half(image: np.ndarray) -> np.ndarray:
-    """float32 -> float16 with finite values beyond half's range clamped (warned with their count)."""
-    big = np.abs(image) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
+def to_half(image: np.ndarray, rows: int = 256) -> np.ndarray:
+    """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
+    block of rows at a time, so the only full-size allocation is the result."""
+    out = np.empty(image.shape, np.float16)
     n = 0
-    if big.any():
-        big &= np.isfinite(image)
-        n = int(np.count_nonzero(big))
+    for y in range(0, image.shape[0], rows):
+        block = image[y:y + rows]
+        big = np.abs(block) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
+        if big.any():
+            big &= np.isfinite(block)
+            count = int(np.count_nonzero(big))
+            if count:
+                n += count
+                block = np.where(big, np.copysign(np.float32(HALF_MAX), block), block)
+        out[y:y + rows] = block
     if n:
-        image = np.where(big, np.copysign(np.float32(HALF_MAX), image), image)
         clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
         warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
                                           f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
-    return image.astype(np.float16)
+    return out
 
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
@@ -363,8 +370,10 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         header[k] = v
     if camera is not None:
         header[CAMERA_ATTRIBUTE] = camera.to_toml()
-    # the bindings need each channel contiguous (they write strided arrays wrongly)
-    chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
+    if "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
+        chans = {"".join(channels): np.ascontiguousarray(data)}
+    else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
+        chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
     try:
         OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:

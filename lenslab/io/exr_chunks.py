@@ -88,3 +88,109 @@ def _check(path) -> None:
                 raise FormatError(f"{path}: chunk {i + 1} of {chunks} " + (
                     "was never written" if off == 0 else f"ends at byte {end} but the file has {size} bytes")
                     + "; the file is truncated or damaged")
+
+
+def _headers(f, size) -> list[dict]:
+    """The attributes of interest of every part's header (one for a single-part file)."""
+    magic_version = f.read(8)
+    if len(magic_version) < 8:
+        raise EOFError
+    magic, version = struct.unpack("<ii", magic_version)
+    if magic != MAGIC:
+        raise FormatError(f"{f.name}: not an OpenEXR file")
+    multi = bool(version & MULTIPART)
+    if version & 0xFF != 2 or version & ~0x1EFF or (multi and version & TILED):
+        raise FormatError(f"{f.name}: OpenEXR version field {version:#x} is not version 2 with valid flags; the "
+                          "file is damaged")
+    parts = []
+    while True:
+        part = {"tiled": bool(version & TILED) and not multi}
+        first = True
+        while True:
+            name = _cstring(f)
+            if not name:
+                break
+            first = False
+            kind = _cstring(f)
+            (n,) = struct.unpack("<i", f.read(4))
+            if n < 0 or f.tell() + n > size:
+                raise EOFError
+            value = f.read(n)
+            if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
+                part[name.decode()] = struct.unpack("<iiii", value)
+            elif kind == b"chlist":
+                part["channels"] = _channel_count(f.name, value)
+            elif kind == b"compression" and n == 1:
+                part["compression"] = value[0]
+            elif kind == b"tiledesc" and n == 9:
+                part["tiles"] = struct.unpack("<IIB", value)
+            elif name == b"type" and kind == b"string":
+                part["tiled"] = value.startswith(b"tiled")
+                part["deep"] = value.startswith(b"deep")
+        if first and multi:
+            break  # the empty header that ends a multi-part file's headers
+        parts.append(part)
+        if not multi:
+            break
+    return parts
+
+
+def _channel_count(path, value: bytes) -> int:
+    """Channels of a ``chlist`` value (each a UTF-8 name, a NUL and 16 bytes; a NUL ends the list)."""
+    pos, count = 0, 0
+    while pos < len(value) and value[pos] != 0:
+        end = value.find(b"\0", pos)
+        if end < 0 or end + 17 > len(value):
+            raise FormatError(f"{path}: the channel list is damaged")
+        try:
+            value[pos:end].decode("utf-8")
+        except UnicodeDecodeError:
+            raise FormatError(f"{path}: channel {count + 1}'s name is not UTF-8 text; the file is damaged") from None
+        pos, count = end + 17, count + 1
+    return count
+
+
+def _chunks(part) -> int:
+    x0, y0, x1, y1 = part["dataWindow"]
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    if part.get("tiled") and "tiles" in part:
+        tx, ty, _ = part["tiles"]
+        return -(-w // max(tx, 1)) * -(-h // max(ty, 1))
+    comp = part.get("compression", 0)
+    return -(-h // (LINES_PER_CHUNK[comp] if comp < len(LINES_PER_CHUNK) else 1))
+
+
+def declare_exr(path, data_window: bool = False, **_):
+    """:class:`lenslab.io.budget.Declared` of an EXR: the largest part's display window (its data window
+    with ``data_window=True``), and the offset tables and chunk leaders every chunk of it needs."""
+    from lenslab.io.budget import Declared
+
+    size = os.path.getsize(path)
+    try:
+        with open(path, "rb") as f:
+            parts = _headers(f, size)
+            header_end = f.tell()
+    except (EOFError, struct.error):
+        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is truncated or "
+                          "damaged") from None
+    best, table, hint = None, 0, ""
+    for part in parts:
+        if "dataWindow" not in part or "displayWindow" not in part:
+            raise FormatError(f"{path}: the OpenEXR header of a part lacks its data or display window; the file is damaged")
+        for name in ("dataWindow", "displayWindow"):
+            x0, y0, x1, y1 = part[name]
+            if x1 < x0 or y1 < y0:
+                raise FormatError(f"{path}: the {name} ({x0}, {y0}) - ({x1}, {y1}) is empty or inverted; the file "
+                                  "is damaged")
+        x0, y0, x1, y1 = part["dataWindow" if data_window else "displayWindow"]
+        d = Declared(x1 - x0 + 1, y1 - y0 + 1, min(part.get("channels", 4) or 1, 4))
+        if best is None or d.float_bytes > best.float_bytes:
+            best = d
+            x0, y0, x1, y1 = part["dataWindow"]
+            if not data_window and (x1 - x0 + 1) * (y1 - y0 + 1) < d.width * d.height:
+                hint = f"; its data window alone is {x1 - x0 + 1} x {y1 - y0 + 1} (read it with --data-window)"
+        if not part.get("deep"):
+            leader = (20 if part.get("tiled") else 8) + (4 if len(parts) > 1 else 0)
+            table += _chunks(part) * (8 + leader)
+    return Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
+                    what="chunk tables and chunk leaders", hint=hint)

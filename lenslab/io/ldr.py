@@ -52,7 +52,9 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         raise FormatError(f"{path}: the JPG has no end-of-image marker; it is truncated")
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
+    attributes = _gain_map_note(data) if fmt == "jpg" else {}
     codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    del data  # the file's bytes are not kept while the floats are made
     if codes is None:
         raise FormatError(f"{path}: OpenCV cannot decode this {fmt.upper()}; the file is damaged")
     if codes.ndim == 2:
@@ -78,7 +80,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         "sample_type": "uint",
         "channels": names,
         "display_encoded": not raw,
-        "attributes": _gain_map_note(data) if fmt == "jpg" else {},
+        "attributes": attributes,
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 _MAX_HEADER = 256
@@ -53,9 +53,9 @@ def _parse_header(path: Path, head: bytes) -> tuple[int, int, int, float, int]:
         scale = float(tokens[2])
     except ValueError:
         raise FormatError(f"{path}: the PFM header has a malformed width, height or scale "
-                          f"({b' '.join(tokens)!r})") from None
+                          f"({clip(b' '.join(tokens))})") from None
     if not math.isfinite(scale) or scale == 0.0:
-        raise FormatError(f"{path}: the PFM scale must be a non-zero number, got {tokens[2]!r}")
+        raise FormatError(f"{path}: the PFM scale must be a non-zero number, got {clip(tokens[2])}")
     check_size(path, width, height)
     return channels, width, height, scale, pos
 
@@ -161,3 +161,15 @@ def _writev_all(fd: int, buffers: list, batch: int = 1024) -> None:
                 pending.pop(0)
             if pending and n:
                 pending[0] = pending[0][n:]
+
+
+def declare_pfm(path, **_):
+    """:class:`lenslab.io.budget.Declared` of a PFM: every float of the declared image must be present."""
+    from lenslab.io.budget import Declared
+
+    with open(path, "rb") as f:
+        head = f.read(_MAX_HEADER)
+        channels, width, height, _, offset = _parse_header(path, head)
+        size = os.fstat(f.fileno()).st_size
+    return Declared(width, height, channels, min_bytes=width * height * channels * 4, held=size - offset,
+                    what="32-bit samples")

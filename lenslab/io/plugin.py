@@ -54,6 +54,9 @@ class Format:
     note: str = ""
     #: "image", or "video" (many frames: ``read`` gives the first, :mod:`lenslab.io.video` the rest)
     kind: str = "image"
+    #: ``declare(path, **read_options) -> lenslab.io.budget.Declared``: what the header declares and the
+    #: fewest bytes it needs, read before any pixel is decoded (:func:`lenslab.io.budget.admit`)
+    declare: Callable | None = None
 
     @property
     def readable(self) -> bool:

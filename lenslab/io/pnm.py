@@ -135,12 +135,12 @@ def read_pnm(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 def encode_pnm(image: np.ndarray, bits: int = 8, ascii: bool = False, raw: bool = False,
                dither: bool = False) -> bytes:
     """Encode a float image (C = 1 or 3) as P5/P6 (or P2/P3 with ``ascii=True``), 8 or 16 bits."""
-    from lenslab.io.encode import encode_quantise, quantise
+    from lenslab.io.encode import encode_codes
 
     if bits not in (8, 16):
         raise FormatError(f"PPM/PGM can be written with bits=8 or bits=16, not {bits!r}")
     h, w, c = image.shape
-    codes = quantise(image, bits, dither=dither) if raw else encode_quantise(image, bits, dither=dither)
+    codes = encode_codes(image, bits, raw, dither)  # (counts the NaN and infinities it replaces)
     maxval = (1 << bits) - 1
     magic = {(1, False): b"P5", (3, False): b"P6", (1, True): b"P2", (3, True): b"P3"}[(c, bool(ascii))]
     header = b"%s\n%d %d\n%d\n" % (magic, w, h, maxval)
@@ -150,3 +150,26 @@ def encode_pnm(image: np.ndarray, bits: int = 8, ascii: bool = False, raw: bool 
     if bits == 16:
         codes = codes.astype(">u2")
     return header + codes.tobytes()
+
+
+def declare_pnm(path, **_):
+    """:class:`lenslab.io.budget.Declared` of a PNM: binary samples are counted exactly; a plain (text)
+    file needs one byte per PBM pixel and two (a digit and a separator) per other sample."""
+    import os
+
+    from lenslab.io.budget import Declared
+
+    with open(path, "rb") as f:
+        data = f.read(4096)
+    if data[:2] not in _KIND:
+        raise FormatError(f"{path}: not a PNM file (magic {data[:2]!r}; expected P1..P6)")
+    fmt, channels, binary = _KIND[data[:2]]
+    fields, pos = _header(path, data, 2 if fmt == "pbm" else 3)
+    width, height = fields[0], fields[1]
+    maxval = 1 if fmt == "pbm" else fields[2]
+    if fmt == "pbm":
+        need = -(-width // 8) * height if binary else width * height
+    else:
+        need = width * height * channels * ((1 if maxval < 256 else 2) if binary else 2)
+    return Declared(width, height, channels, min_bytes=need, held=os.path.getsize(path) - pos - 1,
+                    what="samples")

@@ -90,6 +90,10 @@ def sniff(path: str | os.PathLike) -> str:
     p = Path(path)
     if p.is_dir():
         raise IsADirectoryError(f"{p}: is a directory, not an image file")
+    import stat
+
+    if p.exists() and not stat.S_ISREG(p.stat().st_mode):  # a FIFO would block, a device never end
+        raise FormatError(f"{p}: not a regular file (a device, FIFO or socket); give an image file")
     with open(p, "rb") as f:
         head = f.read(HEAD_BYTES)
     name = sniff_bytes(head)

@@ -24,15 +24,19 @@ component, mantissas truncated. Negative values and NaN become 0; grey is writte
 
 from __future__ import annotations
 
+import math
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.io.limits import check_size
 
 _MAX_HEADER = 1 << 16
+#: the smallest EXPOSURE or COLORCORR factor accepted (its inverse must stay a finite float32)
+_MIN_FACTOR = 1e-30
 _RES = re.compile(rb"^([+-])([XY]) +(\d+) +([+-])([XY]) +(\d+)$")
 
 
@@ -63,14 +67,16 @@ def parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
             else:
                 attrs[key.lower()] = value
         except ValueError:
-            raise FormatError(f"{path}: the header line {text!r} is not a valid number") from None
+            raise FormatError(f"{path}: the header line {clip(text)} is not a valid number") from None
     if attrs["format"] == "32-bit_rle_xyze":
         raise FormatError(f"{path}: a Radiance XYZE file (CIE XYZ, not RGB); lenslab reads RGBE only: convert it "
                           "with Radiance's 'ra_xyze -r' first")
     if attrs["format"] != "32-bit_rle_rgbe":
-        raise FormatError(f"{path}: unknown Radiance FORMAT {attrs['format']!r}; expected 32-bit_rle_rgbe")
-    if attrs["exposure"] <= 0 or min(attrs["colorcorr"]) <= 0:
-        raise FormatError(f"{path}: EXPOSURE and COLORCORR must be positive")
+        raise FormatError(f"{path}: unknown Radiance FORMAT {clip(attrs['format'])}; expected 32-bit_rle_rgbe")
+    for name, values in (("EXPOSURE", [attrs["exposure"]]), ("COLORCORR", attrs["colorcorr"])):
+        if not all(math.isfinite(v) and _MIN_FACTOR <= v <= 1 / _MIN_FACTOR for v in values):
+            raise FormatError(f"{path}: {name} must be a finite positive factor in {_MIN_FACTOR:g}..{1 / _MIN_FACTOR:g}, "
+                              f"got {' '.join(f'{v:g}' for v in values)[:40]}; the file is damaged")
     nl = data.find(b"\n", end + 2, end + 2 + 256)
     if nl < 0:
         raise FormatError(f"{path}: the resolution line after the header is missing; the file is truncated")
@@ -82,15 +88,17 @@ def parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
 
 
 def _decode_kernel():
+    import math
+
     import numba
 
     @numba.njit(cache=True, nogil=True)
-    def decode(data, pos, rows, width, out):
-        """RGBE bytes from ``pos`` -> ``out`` (rows x width x 4 uint8). Returns the scanlines decoded
-        completely (fewer than ``rows``: the data ended early or is corrupt)."""
+    def decode(data, pos, rows, width, row, out):
+        """RGBE bytes from ``pos`` -> ``out`` (rows x width x 3 float32), one scanline at a time through
+        ``row`` (width x 4 uint8), with Radiance's ``(m + 0.5) * 2**(E - 136)``. Returns the scanlines
+        decoded completely (fewer than ``rows``: the data ended early or is corrupt)."""
         n = data.size
         for y in range(rows):
-            row = out[y]
             if (8 <= width <= 0x7FFF and pos + 4 <= n and data[pos] == 2 and data[pos + 1] == 2
                     and data[pos + 2] < 128):
                 if (data[pos + 2] << 8 | data[pos + 3]) != width:
@@ -118,28 +126,38 @@ def _decode_kernel():
                                 row[x + k, c] = data[pos + k]
                             pos += count
                         x += count
-                continue
-            x = 0  # flat pixels, with old-style runs
-            shift = 0
-            while x < width:
-                if pos + 4 > n:
-                    return y
-                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
-                    count = data[pos + 3] << shift
-                    pos += 4
-                    if x == 0 or x + count > width:
+            else:
+                x = 0  # flat pixels, with old-style runs
+                shift = 0
+                while x < width:
+                    if pos + 4 > n:
                         return y
-                    for k in range(count):
+                    if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
+                        if shift > 16:
+                            return y
+                        count = data[pos + 3] << shift
+                        pos += 4
+                        if x == 0 or x + count > width:
+                            return y
+                        for k in range(count):
+                            for c in range(4):
+                                row[x + k, c] = row[x - 1, c]
+                        x += count
+                        shift += 8
+                    else:
                         for c in range(4):
-                            row[x + k, c] = row[x - 1, c]
-                    x += count
-                    shift += 8
+                            row[x, c] = data[pos + c]
+                        pos += 4
+                        x += 1
+                        shift = 0
+            for x in range(width):
+                e = row[x, 3]
+                if e == 0:
+                    out[y, x, 0] = out[y, x, 1] = out[y, x, 2] = 0.0
                 else:
-                    for c in range(4):
-                        row[x, c] = data[pos + c]
-                    pos += 4
-                    x += 1
-                    shift = 0
+                    f = math.ldexp(1.0, e - 136)
+                    for c in range(3):
+                        out[y, x, c] = (row[x, c] + 0.5) * f
         return rows
 
     return decode
@@ -154,25 +172,38 @@ def _kernel(name: str, build):
     return _KERNELS[name]
 
 
-def rgbe_to_float(rgbe: np.ndarray) -> np.ndarray:
-    """``... x 4`` uint8 RGBE -> ``... x 3`` float32 with Radiance's ``(m + 0.5) * 2**(E - 136)``."""
-    e = rgbe[..., 3]
-    scale = np.where(e > 0, np.ldexp(np.float32(1.0), e.astype(np.int32) - 136), 0).astype(np.float32)
-    return (rgbe[..., :3].astype(np.float32) + np.float32(0.5)) * scale[..., None]
+def _read_head(path: Path):
+    """(attributes, resolution, pixel offset, file bytes or None) of a Radiance file, from its header."""
+    with open(path, "rb") as f:
+        data = f.read(_MAX_HEADER + 512)
+    if not data.startswith(b"#?"):
+        raise FormatError(f"{path}: not a Radiance file (it does not start with '#?')")
+    return parse_header(path, data)
+
+
+def declare_hdr(path, **_):
+    """:class:`lenslab.io.budget.Declared` of a Radiance file: every scanline holds at least one 4-byte
+    pixel and, when wider than one pixel, one 4-byte old-style run (the most compact encoding)."""
+    from lenslab.io.budget import Declared
+
+    _, (s1, a1, n1, s2, a2, n2), pos = _read_head(path)
+    w, h = (n1, n2) if a1 == b"X" else (n2, n1)
+    per_line = 4 if n2 == 1 else 8 if n2 <= 256 else 12
+    return Declared(w, h, 3, min_bytes=n1 * per_line, held=os.path.getsize(path) - pos,
+                    what="scanline data (4 bytes a pixel, old-style runs at best)")
 
 
 def read_hdr(path: Path) -> tuple[np.ndarray, dict]:
-    data = Path(path).read_bytes()
-    if not data.startswith(b"#?"):
-        raise FormatError(f"{path}: not a Radiance file (it does not start with '#?')")
-    attrs, (s1, a1, n1, s2, a2, n2), pos = parse_header(path, data)
+    attrs, (s1, a1, n1, s2, a2, n2), pos = _read_head(path)
     check_size(path, n2, n1, 3)
-    raw = np.zeros((n1, n2, 4), np.uint8)
-    done = _kernel("decode", _decode_kernel)(np.frombuffer(data, np.uint8), pos, n1, n2, raw)
+    data = Path(path).read_bytes()
+    image = np.empty((n1, n2, 3), np.float32)  # decoded in place: no RGBE copy of the whole image
+    done = _kernel("decode", _decode_kernel)(np.frombuffer(data, np.uint8), pos, n1, n2,
+                                             np.zeros((n2, 4), np.uint8), image)
+    del data
     if done < n1:
         raise FormatError(f"{path}: the pixel data ends or breaks at scanline {done} of {n1}; the file is "
                           "truncated or damaged")
-    image = rgbe_to_float(raw)
     attrs["orientation"] = f"{s1.decode()}{a1.decode()} {s2.decode()}{a2.decode()}"
     if a1 == b"X":  # scanlines are columns
         image = image.transpose(1, 0, 2)
@@ -181,12 +212,13 @@ def read_hdr(path: Path) -> tuple[np.ndarray, dict]:
         image = image[::-1]
     if s2 == b"-":  # -X: right to left
         image = image[:, ::-1]
+    image = np.ascontiguousarray(image)  # a copy only for the rare orientations
     divide = np.float32(attrs["exposure"]) * np.asarray(attrs["colorcorr"], np.float32)
     if np.any(divide != 1):
-        image = image / divide
+        image /= divide
     meta = {"format": "hdr", "bit_depth": 32, "sample_type": "rgbe", "channels": ["R", "G", "B"],
             "display_encoded": False, "attributes": attrs}
-    return np.ascontiguousarray(image, dtype=np.float32), meta
+    return image, meta
 
 
 def _encode_kernel():
@@ -273,6 +305,9 @@ def _setcolr_kernel():
 
 def encode_hdr(image: np.ndarray, rle: bool = True) -> bytes:
     """A float32 H x W x (1 or 3) image -> the bytes of a Radiance RGBE file."""
+    from lenslab.io.encode import note_non_finite
+
+    note_non_finite(image, "Radiance HDR", "0 (NaN, -inf) and the largest float (+inf)")
     h, w, c = image.shape
     rgbe = np.empty((h, w, 4), np.uint8)
     _kernel("setcolr", _setcolr_kernel)(np.ascontiguousarray(image, np.float32), rgbe)

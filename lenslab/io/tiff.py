@@ -26,7 +26,19 @@ SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "u
 COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}
 
 
+def _name(value) -> str:
+    """A tifffile enum's name (an unknown code comes back as a plain int)."""
+    return getattr(value, "name", None) or f"code {int(value)}"
+
+
 def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
+    try:
+        return _read_tiff(path, raw)
+    except (TypeError, AttributeError, KeyError, IndexError, OverflowError) as exc:  # tags of the wrong type
+        raise FormatError(f"{path}: the TIFF's tags are damaged ({type(exc).__name__}: {str(exc)[:60]})") from None
+
+
+def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     import tifffile
 
     try:
@@ -37,7 +49,7 @@ def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         if not tif.pages:
             raise FormatError(f"{path}: the TIFF holds no image")
         page = tif.pages.first
-        photometric = page.photometric.name
+        photometric = _name(page.photometric)
         if photometric not in ("MINISBLACK", "RGB"):
             raise FormatError(f"{path}: TIFF with {photometric} photometric interpretation is not supported; "
                               "lenslab reads grey and RGB")
@@ -47,7 +59,7 @@ def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         except Exception as exc:  # a codec failure inside tifffile/imagecodecs: damaged data
             raise FormatError(f"{path}: the TIFF's pixel data cannot be decoded ({exc})") from None
         axes = page.axes
-        attrs = {"pages": len(tif.pages), "compression": page.compression.name.lower(),
+        attrs = {"pages": len(tif.pages), "compression": _name(page.compression).lower(),
                  "photometric": photometric.lower(), "planar": "separate" if int(page.planarconfig) == 2 else "contig",
                  "extrasamples": [int(v) for v in page.extrasamples]}
         if page.description:
@@ -64,7 +76,7 @@ def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         data, c = data[..., :4], 4
     kind = data.dtype.kind
     if kind == "f":
-        image = data.astype(np.float32)
+        image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
     elif data.dtype in (np.uint8, np.uint16):
         from lenslab.io.encode import decode_codes

@@ -87,8 +87,11 @@ def probe_video(path) -> VideoInfo:
             raise FormatError(f"{path}: the file holds no video stream")
         s = c.streams.video[0]
         cc = s.codec_context
-        frames = int(s.frames) or int(round(float(s.duration * s.time_base * s.average_rate))) if s.duration else 0
-        return VideoInfo(cc.width, cc.height, Fraction(s.average_rate or s.guessed_rate or 25), frames, cc.name,
+        rate = s.average_rate or s.guessed_rate
+        if not rate or not s.time_base:
+            raise FormatError(f"{path}: the video stream declares no frame rate; the file is damaged")
+        frames = int(s.frames) or (int(round(float(s.duration * s.time_base * rate))) if s.duration else 0)
+        return VideoInfo(cc.width, cc.height, Fraction(rate), frames, cc.name,
                          cc.pix_fmt or "", int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace),
                          int(cc.color_range), bool(c.streams.audio))
 
@@ -255,3 +258,54 @@ class VideoWriter:
             self.close()
         else:
             self.container.close()
+
+
+#: top-level boxes of an ISO media file walked before FFmpeg sees it
+MAX_BOXES = 1 << 16
+
+
+def check_boxes(path) -> None:
+    """Walk an MP4/MOV file's top-level boxes (ISO 14496-12: 32-bit size and type, size 1: a 64-bit size
+    follows, size 0: to the end of the file): a size that cannot advance or runs past the end, or a
+    runaway count of boxes, is refused before the demuxer loops on it."""
+    import os
+    import struct
+
+    size = os.path.getsize(path)
+    with open(path, "rb") as f:
+        pos, boxes = 0, 0
+        while pos + 8 <= size:
+            f.seek(pos)
+            n, kind = struct.unpack(">I4s", f.read(8))
+            if n == 1:
+                if pos + 16 > size:
+                    break
+                n = struct.unpack(">Q", f.read(8))[0]
+            elif n == 0:
+                break
+            if n < 8 or pos + n > size:
+                raise FormatError(f"{path}: the box {kind[:4]!r} at byte {pos} has size {n}, which "
+                                  f"{'cannot advance' if n < 8 else 'runs past the end of the file'}; the file is "
+                                  "truncated or damaged")
+            pos += n
+            boxes += 1
+            if boxes > MAX_BOXES:
+                raise FormatError(f"{path}: more than {MAX_BOXES} top-level boxes; the file is damaged or hostile")
+
+
+def declare_video(path):
+    """:class:`lenslab.io.budget.Declared` of one decoded frame; the frame rate must be finite and positive."""
+    import math
+
+    from lenslab.io.budget import Declared
+
+    with open(path, "rb") as f:
+        head = f.read(8)
+    if head[4:8] == b"ftyp":
+        check_boxes(path)
+    info = probe_video(path)
+    rate = float(info.rate) if info.rate else float("nan")
+    if not (math.isfinite(rate) and 0 < rate <= 1000):
+        raise FormatError(f"{path}: the video's frame rate {str(info.rate)[:20]} is not a positive rate up to 1000 "
+                          "fps; the file is damaged")
+    return Declared(int(info.width), int(info.height), 3)

@@ -198,6 +198,10 @@ class WarpPlan:
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
             self.render(src, out, alpha, None)
+        if not alpha.any():
+            warnings.warn(EmptyViewWarning(
+                f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
+                "lenses, the pose and the source's field of view"), stacklevel=2)
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
@@ -254,6 +258,10 @@ class _Rows:
 
     def __init__(self, band):
         self.r0, self.r1 = band.r0, band.r1
+
+
+class EmptyViewWarning(UserWarning):
+    """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
 def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:
@@ -404,4 +412,4 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     return plan.run(image, progress=progress)
 
 
-__all__ = ["WarpPlan", "warp", "warp_tiles", "tile_cameras", "MapBand"]
+__all__ = ["WarpPlan", "warp", "warp_tiles", "tile_cameras", "MapBand", "EmptyViewWarning"]

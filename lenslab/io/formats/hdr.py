@@ -17,9 +17,15 @@ def _write(tmp, image, rle=True):
     tmp.write_bytes(encode_hdr(image, rle=rle))
 
 
+
+def _declare(path, **options):
+    from lenslab.io.rgbe import declare_hdr
+
+    return declare_hdr(path, **options)
+
 FORMATS = (Format(
     name="hdr", title="Radiance HDR", extensions=(".hdr", ".pic", ".rgbe"),
     magic=lambda head: head.startswith((b"#?RADIANCE", b"#?RGBE")) or (head.startswith(b"#?") and b"\n" in head),
-    hdr=True, alpha=False, channels=(1, 3), bit_depths=(32,), sample_types=("rgbe",), read=_read, write=_write,
+    hdr=True, alpha=False, channels=(1, 3), bit_depths=(32,), sample_types=("rgbe",), read=_read, declare=_declare, write=_write,
     write_options={"rle": "True (default): run-length encoded scanlines; False: flat"},
     note="EXPOSURE and COLORCORR divided out; XYZE refused"),)

@@ -21,8 +21,14 @@ def _write(tmp, image, **options):
     write_pfm(tmp, image, **options)
 
 
+
+def _declare(path, **options):
+    from lenslab.io.pfm import declare_pfm
+
+    return declare_pfm(path, **options)
+
 FORMATS = (Format(
     name="pfm", title="PFM", extensions=(".pfm",), magic=_magic, hdr=True, alpha=False, channels=(1, 3),
-    bit_depths=(32,), sample_types=("float",), read=_read, write=_write,
+    bit_depths=(32,), sample_types=("float",), read=_read, declare=_declare, write=_write,
     write_options={"byte_order": "little (default) or big", "scale": "the header's scale (never applied)"},
     note="the scale is reported, not applied"),)

@@ -34,14 +34,20 @@ def _write(tmp, image, **options):
 _OPTIONS = {"bits": "8 (default) or 16", "ascii": "True: P3/P2 text instead of binary",
             "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither before rounding"}
 
+
+def _declare(path, **options):
+    from lenslab.io.pnm import declare_pnm
+
+    return declare_pnm(path, **options)
+
 FORMATS = (
     Format(name="ppm", title="PPM", extensions=(".ppm", ".pnm"), magic=_magic(b"36"), hdr=False, alpha=False,
-           channels=(1, 3), bit_depths=(8, 16), sample_types=("uint",), read=_read, write=_write,
+           channels=(1, 3), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare, write=_write,
            read_options=("raw",), write_options=_OPTIONS, note="grey images written as .pnm become PGM"),
     Format(name="pgm", title="PGM", extensions=(".pgm",), magic=_magic(b"25"), hdr=False, alpha=False,
-           channels=(1,), bit_depths=(8, 16), sample_types=("uint",), read=_read, write=_write,
+           channels=(1,), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare, write=_write,
            read_options=("raw",), write_options=_OPTIONS),
     Format(name="pbm", title="PBM", extensions=(".pbm",), magic=_magic(b"14"), hdr=False, alpha=False,
-           channels=(1,), bit_depths=(1,), sample_types=("uint",), read=_read, read_options=("raw",),
+           channels=(1,), bit_depths=(1,), sample_types=("uint",), read=_read, declare=_declare, read_options=("raw",),
            note="read only"),
 )

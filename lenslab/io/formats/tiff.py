@@ -17,11 +17,17 @@ def _write(tmp, image, **options):
     write_tiff(tmp, image, **options)
 
 
+
+def _declare(path, **options):
+    from lenslab.io.tiff_layout import declare_tiff
+
+    return declare_tiff(path, **options)
+
 FORMATS = (Format(
     name="tiff", title="TIFF", extensions=(".tif", ".tiff"),
     magic=lambda head: head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(8, 16, 32), sample_types=("uint", "half", "float"),
-    read=_read, write=_write, read_options=("raw",),
+    read=_read, declare=_declare, write=_write, read_options=("raw",),
     write_options={"sample_type": "float (default), half, uint16 or uint8 (integers sRGB-encoded)",
                    "compression": "zlib (default), lzw, zstd or none",
                    "predictor": "True (default): horizontal or floating-point predictor",

@@ -26,8 +26,14 @@ def _read(path, selector=None):
     raise FormatError(f"{path}: the video holds no frame")
 
 
+
+def _declare(path, **_):
+    from lenslab.io.video import declare_video
+
+    return declare_video(path)
+
 FORMATS = (Format(
     name="video", title="video (MP4, MOV, MKV)", extensions=VIDEO_EXTENSIONS, magic=_magic,
-    hdr=False, alpha=False, channels=(3,), bit_depths=(8, 10), sample_types=("uint",), read=_read,
+    hdr=False, alpha=False, channels=(3,), bit_depths=(8, 10), sample_types=("uint",), read=_read, declare=_declare,
     note="H.264, H.265 10-bit, ProRes, FFV1; SDR, PQ and HLG decoded to linear; warp and convert take whole clips",
     kind="video"),)

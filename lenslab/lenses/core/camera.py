@@ -12,7 +12,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
 from lenslab.lenses.core.base import FLOAT, Lens, as_points, normalize
 from lenslab.lenses.core.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens
@@ -177,6 +177,13 @@ class Camera:
             lens_d = d["lens"]
         except (KeyError, TypeError):
             raise LensError("camera description has no [lens] table") from None
+        if not isinstance(lens_d, dict):
+            size = d.get("size")
+            if not (isinstance(size, (list, tuple)) and len(size) == 2
+                    and all(isinstance(v, int) and not isinstance(v, bool) for v in size)):
+                raise LensError(f"camera description: size must be [width, height] in pixels, got {clip(size)}")
+            if not isinstance(lens_d, str):
+                raise LensError(f"camera description: lens must be a spec or a table, got {clip(lens_d)}")
         lens = make_lens(lens_d) if isinstance(lens_d, dict) else make_lens(lens_d, tuple(d["size"]))
         return cls(lens, Pose.from_dict({k: v for k, v in d.items() if k not in ("lens", "size")}))
 
@@ -187,10 +194,9 @@ class Camera:
 
     @classmethod
     def from_toml(cls, text: str) -> "Camera":
-        try:
-            return cls.from_dict(tomllib.loads(text))
-        except tomllib.TOMLDecodeError as exc:
-            raise LensError(f"camera TOML is not valid: {exc}") from None
+        from lenslab.io.safeload import load_toml
+
+        return cls.from_dict(load_toml(text, "camera TOML", LensError))
 
     def __repr__(self) -> str:
         yaw, pitch, roll = self.pose.ypr

@@ -18,7 +18,6 @@ This is the same TOML that ``Camera.to_toml`` writes and image headers store.
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Iterable
 
@@ -27,12 +26,11 @@ from lenslab.lenses.core.camera import Camera
 
 
 def _read(path: str | Path) -> dict:
+    from lenslab.io.safeload import load_toml
+    from lenslab.io.sidefile import read_side_text
+
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise LensError(f"{path}: not valid TOML: {exc}") from None
+    return load_toml(read_side_text(path, "camera file", 4 << 20), path, LensError)
 
 
 def load_cameras(path: str | Path) -> list[Camera]:

@@ -256,14 +256,12 @@ def xml_facts(maker: str, model: str, crop: float) -> XmlFacts:
 
 @functools.lru_cache(maxsize=4)
 def _xml_facts(_db: str, _bundled: str) -> dict:
-    import xml.etree.ElementTree as ET
+    from lenslab.io.safeload import load_xml
+    from lenslab.io.sidefile import read_side_bytes
 
     out = {}
-    for path in xml_files():
-        try:
-            root = ET.parse(path).getroot()
-        except ET.ParseError as exc:
-            raise LensError(f"lensfun database {path}: {exc}") from None
+    for path in xml_files():  # no DTD or entity, bounded depth and size
+        root = load_xml(read_side_bytes(path, "lensfun database", 64 << 20), f"lensfun database {path}", LensError)
         for lens in root.iter("lens"):
             maker = next((m.text for m in lens.findall("maker") if not m.get("lang")), "") or ""
             model = next((m.text for m in lens.findall("model") if not m.get("lang")), "") or ""

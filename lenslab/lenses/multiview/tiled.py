@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -33,11 +32,11 @@ def parse_grid(grid: str) -> tuple[int, int]:
 
 def read_tiles_file(path: str | Path) -> list[dict[str, Any]]:
     """The ``[[tiles]]`` tables of a TOML file (one per tile, in tile order; ``{}`` for an empty tile)."""
+    from lenslab.io.safeload import load_toml
+    from lenslab.io.sidefile import read_side_text
+
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise LensError(f"tiled: {path} is not valid TOML: {exc}") from None
+    data = load_toml(read_side_text(path, "tiles file", 4 << 20), path, LensError)
     tiles = data.get("tiles", data.get("tile"))
     if not isinstance(tiles, list):
         raise LensError(

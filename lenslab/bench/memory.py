@@ -1,0 +1,106 @@
+"""Memory: the peak resident memory of whole commands, each in its own process (``getrusage`` of the
+child: peak RSS), on hostile files and on large valid ones.
+
+Aims:
+
+- no input under 1 MB makes any command allocate more than 200 MB: every file of the hostile corpus
+  (``lenslab.bench.hostile``: headers declaring 20000 x 20000 pixels in a few hundred bytes, page loops,
+  alias bombs, deep nesting...) goes through the command that must refuse it; the figure is its peak
+  beyond the baseline, the peak of ``lenslab info --formats`` (the interpreter and the modules every
+  command loads), measured in the same run;
+- reading, converting and warping a valid SIDE x SIDE image (8192 by default) as Radiance ``.hdr``
+  (run-length encoded), float TIFF, EXR and 16-bit PNG peak at most 1.5 times the decoded float image
+  (SIDE * SIDE * 3 * 4 bytes) plus 200 MB. Read: ``lenslab.io.read``; convert: to EXR; warp: into a
+  1024 x 1024 fisheye, the source taken as a 90-degree perspective view. The test images are a smooth gradient with noise (files of realistic
+  size), written by a child process before they are measured.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+AIM_HOSTILE_MB = 200.0
+AIM_FACTOR, AIM_EXTRA_MB = 1.5, 200.0
+FORMATS = {"hdr": ("big.hdr", {}), "tiff": ("big.tif", {}), "exr": ("big.exr", {"pixel_type": "half"}),
+           "png16": ("big.png", {"bits": 16})}
+
+MAKE = """
+import sys, numpy as np, lenslab.io as lio
+side, path, opts = int(sys.argv[1]), sys.argv[2], eval(sys.argv[3])
+y = np.linspace(0.0, 4.0, side, dtype=np.float32)[:, None, None]
+x = np.linspace(0.0, 1.0, side, dtype=np.float32)[None, :, None]
+img = y * (0.5 + x) * np.array([1.0, 0.8, 0.6], np.float32)
+img += np.random.default_rng(0).random(img.shape, dtype=np.float32) * 0.01
+lio.write(path, img, **opts)
+"""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--side", type=int, default=8192, help="side of the large valid images (default 8192)")
+    parser.add_argument("--no-valid", dest="valid", action="store_false",
+                        help="measure the hostile corpus only (no large images)")
+
+
+def peak_mb(argv: list[str], cwd=None) -> tuple[float, int]:
+    """(peak RSS in MB, exit status) of a child process."""
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=cwd)
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    return usage.ru_maxrss / 1024 * 1.048576, proc.returncode  # KiB -> MB
+
+
+def run(args) -> int:
+    from lenslab.bench.hostile import cases
+    from lenslab.bench.results import figure, mark
+
+    lenslab = [sys.executable, "-m", "lenslab"]
+    with tempfile.TemporaryDirectory(prefix="lenslab-bench-memory-") as d:
+        d = Path(d)
+        base, _ = peak_mb(lenslab + ["info", "--formats"])
+        print(f"baseline: lenslab info --formats peaks at {base:.0f} MB")
+        worst, worst_name = 0.0, ""
+        corpus = d / "corpus"
+        for case in cases(corpus):
+            out = d / f"out-{case.name}"
+            out.mkdir()
+            file = case.file if case.file.startswith("/") else str(corpus / case.file)
+            argv = [a.format(file=file, src=str(corpus / "src.exr"), out=str(out)) for a in case.argv]
+            mb, status = peak_mb(lenslab + argv)
+            extra = max(mb - base, 0.0)
+            print(f"  {case.name:30s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB")
+            if extra > worst:
+                worst, worst_name = extra, case.name
+        ok = figure("memory.hostile_worst", "hostile inputs under 1 MB: worst peak beyond the baseline", worst,
+                    "MB", aim=AIM_HOSTILE_MB, note=f"worst: {worst_name}")
+        print(f"hostile corpus: worst {worst:.0f} MB beyond the baseline ({worst_name})  aim <= "
+              f"{AIM_HOSTILE_MB:.0f} MB  {mark(ok)}")
+        if not args.valid:
+            return 0
+        side = args.side
+        image_mb = side * side * 12 / 1e6
+        aim = AIM_FACTOR * image_mb + AIM_EXTRA_MB
+        print(f"valid {side} x {side} images: decoded float {image_mb:.0f} MB, aim peak <= {aim:.0f} MB")
+        for key, (name, opts) in FORMATS.items():
+            path = d / name
+            subprocess.run([sys.executable, "-c", MAKE, str(side), str(path), repr(opts)], check=True)
+            steps = {"read": [sys.executable, "-c", f"import lenslab.io as l; l.read({str(path)!r})"],
+                     "convert": lenslab + ["convert", str(path), "--to", "exr", "-o", str(d / f"c-{key}.exr"),
+                                           "--overwrite"],
+                     "warp": lenslab + ["warp", str(path), "-o", str(d / f"w-{key}.exr"), "--to",
+                                        "fisheye:fov=180", "--from", "perspective:fov=90", "--size", "1024x1024",
+                                        "--overwrite"]}
+            for step, argv in steps.items():
+                mb, status = peak_mb(argv)
+                ratio = (mb - AIM_EXTRA_MB) / image_mb
+                ok = figure(f"memory.{step}_{key}", f"{step} a valid {side}x{side} {key}: peak", mb, "MB",
+                            aim=aim, note=f"file {path.stat().st_size / 1e6:.1f} MB; exit {status}; "
+                            f"(peak - 200 MB) / image = {ratio:.2f}")
+                print(f"  {step:8s} {key:6s} file {path.stat().st_size / 1e6:7.1f} MB  exit {status}  peak "
+                      f"{mb:6.0f} MB  ({ratio:.2f} x image + 200 MB)  {mark(ok)}")
+            path.unlink()
+    return 0

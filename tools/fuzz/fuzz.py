@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Coverage-guided fuzzing (atheris, libFuzzer) of every image reader and calibration-file parser.
+
+    python tools/fuzz/fuzz.py --all --seconds 120          # every target for 2 minutes each, one summary
+    python tools/fuzz/fuzz.py image:tiff -max_total_time=600   # one target; libFuzzer's own flags after it
+    python tools/fuzz/fuzz.py --list                        # the targets
+
+The targets come from the registries: ``image:NAME`` for each readable format of
+``lenslab.io.registry`` (through ``lenslab.io.read``, budget included) and ``camera:NAME`` for each
+format of ``lenslab.calibfiles``. Each starts from a seed corpus of valid files written by lenslab
+(kept in ``tools/fuzz/corpus/TARGET``, made on first use, not committed). An input passes when it
+reads, or fails with a lenslab error or OSError whose message is one line; any other exception, a
+multi-line message, a crash, an allocation beyond 2 GB (``-rss_limit_mb``) or a hang beyond 20 s
+(``-timeout``) is a finding, saved by libFuzzer as ``crash-*``/``oom-*``/``timeout-*`` in
+``tools/fuzz/findings/TARGET``.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+
+
+def targets() -> list[str]:
+    sys.path.insert(0, str(REPO))
+    from lenslab import calibfiles
+    from lenslab.io.registry import formats
+
+    return [f"image:{n}" for n, f in formats().items() if f.readable] + [f"camera:{n}" for n in calibfiles.FORMATS]
+
+
+def seed(target: str, folder: Path) -> None:
+    """Write a few valid files of ``target`` into ``folder``."""
+    sys.path.insert(0, str(REPO))
+    sys.path.insert(0, str(REPO / "tests"))
+    from test_hostile_mutations import camera_seeds, image_seeds
+
+    folder.mkdir(parents=True, exist_ok=True)
+    kind, name = target.split(":")
+    with tempfile.TemporaryDirectory() as d:
+        if kind == "image":
+            data = image_seeds(Path(d))[name]
+        else:
+            data = camera_seeds(Path(d))[name][1]
+    (folder / "seed").write_bytes(data)
+
+
+def suffix(target: str) -> str:
+    kind, name = target.split(":")
+    if kind == "image":
+        from lenslab.io.registry import formats
+
+        return formats()[name].extensions[0]
+    return {"opencv": ".yaml", "kalibr": ".yaml", "colmap": ".txt", "ocam": ".txt", "toml": ".toml"}.get(name, ".txt")
+
+
+def fuzz(target: str, argv: list[str]) -> None:
+    import atheris
+
+    sys.path.insert(0, str(REPO))
+    with atheris.instrument_imports(include=["lenslab"]):
+        import warnings
+
+        from lenslab.errors import LenslabError
+        from lenslab.io import read
+        from lenslab.calibfiles import read_lenses
+    warnings.simplefilter("ignore")
+    kind = target.split(":")[0]
+    tmp = Path(tempfile.mkdtemp(prefix="lenslab-fuzz-")) / f"input{suffix(target)}"
+
+    def one(data: bytes) -> None:
+        tmp.write_bytes(data)
+        try:
+            read(tmp) if kind == "image" else read_lenses(str(tmp))
+        except (LenslabError, OSError) as exc:
+            if "\n" in str(exc) or len(str(exc)) > 600:
+                raise AssertionError(f"a message of {len(str(exc))} characters over several lines") from exc
+
+    atheris.Setup([sys.argv[0], *argv], one)
+    atheris.Fuzz()
+
+
+def main() -> int:
+    args = sys.argv[1:]
+    if not args or args[0] in ("-h", "--help"):
+        print(__doc__)
+        return 0
+    if args[0] == "--list":
+        print("\n".join(targets()))
+        return 0
+    if args[0] == "--seed":  # (in its own process: the fuzzing process must import lenslab instrumented)
+        seed(args[1], Path(args[2]))
+        return 0
+    if args[0] == "--all":
+        seconds = int(args[args.index("--seconds") + 1]) if "--seconds" in args else 60
+        failed = []
+        for t in targets():
+            found = HERE / "findings" / t.replace(":", "-")
+            found.mkdir(parents=True, exist_ok=True)
+            before = set(found.iterdir())
+            done = subprocess.run([sys.executable, __file__, t, f"-max_total_time={seconds}", "-rss_limit_mb=2048",
+                                   "-timeout=20", f"-artifact_prefix={found}/"], capture_output=True, text=True)
+            new = sorted(set(found.iterdir()) - before)
+            lines = done.stderr.splitlines()
+            cov = [line.split("cov:")[1].split()[0] for line in lines if "cov:" in line][-1:] or ["?"]
+            runs = [line for line in lines if line.startswith("Done ")][-1:] or ["stopped by a finding"]
+            print(f"{t:16s} exit {done.returncode}  coverage {cov[0]:>5s}  {runs[0]}  findings: {len(new)}")
+            if new:
+                failed.append(t)
+                print("   " + "\n   ".join(str(p) for p in new))
+                print("   " + "\n   ".join(done.stderr.strip().splitlines()[-12:]))
+        return 1 if failed else 0
+    target, rest = args[0], args[1:]
+    corpus = HERE / "corpus" / target.replace(":", "-")
+    if not corpus.is_dir() or not any(corpus.iterdir()):
+        subprocess.run([sys.executable, __file__, "--seed", target, str(corpus)], check=True)
+    fuzz(target, rest + [str(corpus)])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
