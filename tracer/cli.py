@@ -106,8 +106,8 @@ def _camera(args, scene):
     if args.camera_file:
         from pathlib import Path
 
-        from lenslab.io.safeload import load_toml
-        from lenslab.io.sidefile import read_side_text
+        from lenslab.inputs.safeload import load_toml
+        from lenslab.inputs.sidefile import read_side_text
 
         path = Path(args.camera_file)
         doc = load_toml(read_side_text(path, "camera file", 4 << 20), path, ValueError)

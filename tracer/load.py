@@ -99,7 +99,7 @@ def _floats(tokens, n, where):
 
 def _statements(path: Path):
     """``(where, keyword, arguments)`` for each non-empty line of an OBJ or MTL file, comments removed."""
-    from lenslab.io.sidefile import read_side_bytes
+    from lenslab.inputs.sidefile import read_side_bytes
 
     text = read_side_bytes(path, "mesh file" if path.suffix.lower() == ".obj" else "material file").decode(
         "utf-8", "replace")
@@ -257,8 +257,8 @@ def load_toml(path: Path, **_ignored) -> Scene:
     """A scene described by a TOML file (see the module docstring)."""
     from tracer.envlight import ConstantEnvironment, EquirectEnvironment
 
-    from lenslab.io.safeload import load_toml
-    from lenslab.io.sidefile import read_side_text
+    from lenslab.inputs.safeload import load_toml
+    from lenslab.inputs.sidefile import read_side_text
 
     doc = load_toml(read_side_text(path, "scene file", 16 << 20), path, SceneError)
     head = doc.get("scene", {})

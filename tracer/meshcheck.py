@@ -16,7 +16,7 @@ _PLY_SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort"
 
 
 def check_mesh_file(path: Path) -> None:
-    from lenslab.io.sidefile import check_side_file
+    from lenslab.inputs.sidefile import check_side_file
 
     check_side_file(path, "mesh file", MAX_MESH_FILE)
     size = os.path.getsize(path)

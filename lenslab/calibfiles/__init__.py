@@ -75,7 +75,7 @@ MAX_CAMERA_FILE = 4 << 20
 
 def read_text(path: Path) -> str:
     from lenslab.errors import InputError
-    from lenslab.io.sidefile import read_side_text
+    from lenslab.inputs.sidefile import read_side_text
 
     try:
         return read_side_text(path, "camera file", MAX_CAMERA_FILE)

@@ -29,7 +29,7 @@ def sniff(path: Path, text: str) -> bool:
 
 
 def _load(path: Path, text: str) -> dict:
-    from lenslab.io.safeload import load_yaml
+    from lenslab.inputs.safeload import load_yaml
 
     data = load_yaml(text, path, CameraFileError)
     if not isinstance(data, dict):

@@ -1,5 +1,5 @@
 """OpenCV FileStorage (YAML, JSON or XML) as ``cv2.FileStorage`` writes it, read by lenslab's bounded
-parsers (:mod:`lenslab.io.safeload`; ``cv2.FileStorage`` itself crashes on hostile files).
+parsers (:mod:`lenslab.inputs.safeload`; ``cv2.FileStorage`` itself crashes on hostile files).
 
 Keys: ``camera_matrix`` (3x3), ``distortion_coefficients`` (4, 5, 8, 12 or 14 numbers: OpenCV's
 ``k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]``), ``image_width``, ``image_height``; a fisheye
@@ -95,7 +95,7 @@ def _from_xml(path, root) -> dict:
 def load_storage(path: Path, text: str) -> dict:
     """The top-level keys of an OpenCV FileStorage file (YAML, JSON or XML), parsed by lenslab's bounded
     parsers (never by ``cv2.FileStorage``, which crashes on hostile nesting and sizes)."""
-    from lenslab.io.safeload import load_json, load_xml, load_yaml
+    from lenslab.inputs.safeload import load_json, load_xml, load_yaml
 
     head = text.lstrip()
     if head.startswith("<"):

@@ -78,7 +78,7 @@ def read_points(path: str | Path, source: Camera | None = None) -> PointSet:
     """
     import io
 
-    from lenslab.io.sidefile import read_side_text
+    from lenslab.inputs.sidefile import read_side_text
 
     path = Path(path)
     text = read_side_text(path, "points file", 64 << 20)  # a regular file of bounded size

@@ -11,7 +11,7 @@ EXR selectors: ``"file.exr:left"`` (a layer), ``"file.exr:2"`` or ``"file.exr:rg
 ``"file.exr:2:left"`` (both). Read options: ``data_window=True`` keeps an EXR's stored data window
 instead of placing it in the display window; ``rec709=False`` keeps an EXR's own primaries. PFM's
 scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes beyond
-:data:`lenslab.io.limits.MAX_PIXELS` are refused before any allocation.
+:data:`lenslab.inputs.limits.MAX_PIXELS` are refused before any allocation.
 
 ``write(path, image, format=None, **options)``: the format from ``format=`` or the extension; the
 file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Options:
@@ -127,7 +127,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     ------
     lenslab.errors.FormatError
         The file is not an image lenslab reads, is damaged, or is larger than
-        :data:`lenslab.io.limits.MAX_PIXELS` (refused before any allocation).
+        :data:`lenslab.inputs.limits.MAX_PIXELS` (refused before any allocation).
 
     Examples
     --------

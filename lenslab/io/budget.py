@@ -7,7 +7,7 @@ EXR windows and chunk tables, Radiance scanline minimums, raw sample counts) and
 declaring it must hold (each format's best possible compression). :func:`admit` then refuses, with
 one line naming the file and before any pixel memory exists:
 
-- a size beyond :data:`lenslab.io.limits.MAX_PIXELS` (the same cap as ``--size``);
+- a size beyond :data:`lenslab.inputs.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
 - a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
   :data:`BASE_BYTES` (128 MiB). 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float
@@ -25,13 +25,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lenslab.errors import FormatError
-from lenslab.io.limits import _env_int
+from lenslab.inputs.limits import env_int
 
 
 #: a decoded float image up to this size is admitted whatever its file's size
-BASE_BYTES = _env_int("LENSLAB_BASE_BYTES", 128 << 20)
+BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 128 << 20)
 #: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
-MAX_RATIO = _env_int("LENSLAB_MAX_RATIO", 4096)
+MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
 
 
 #: images up to this size decoded are left to their reader to find truncated (it says where)
@@ -76,7 +76,7 @@ def regular_size(path: Path) -> int:
 
 def check(path, declared: Declared, file_bytes: int) -> None:
     """Refuse ``declared`` for a file of ``file_bytes`` bytes (see the module docstring)."""
-    from lenslab.io.limits import check_size
+    from lenslab.inputs.limits import check_size
 
     w, h = declared.width, declared.height
     check_size(path, w, h, declared.channels)

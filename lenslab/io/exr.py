@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, clip
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 HALF_MAX = 65504.0
 REC709 = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)

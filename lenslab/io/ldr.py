@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 
 def _png_size(data: bytes) -> tuple[int, int] | None:

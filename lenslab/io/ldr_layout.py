@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 
 from lenslab.errors import FormatError
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 _HEAD = 1 << 20
 #: Deflate's best ratio (258-byte matches coded in 2 bits: 1032:1), with the zlib framing

@@ -44,7 +44,7 @@ def load_config(source: str | None = None):
     """An OpenColorIO config from a file or an ``ocio://`` name (default: ``ocio://default``)."""
     ocio = _ocio()
     if source and not str(source).startswith("ocio://"):  # a file: regular and bounded, never a device
-        from lenslab.io.sidefile import check_side_file
+        from lenslab.inputs.sidefile import check_side_file
 
         check_side_file(source, "OCIO config", 16 << 20)
     try:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, clip
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 _MAX_HEADER = 256
 

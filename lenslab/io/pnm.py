@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 _WS = b" \t\r\n\x0b\x0c"
 _KIND = {b"P1": ("pbm", 1, False), b"P2": ("pgm", 1, False), b"P3": ("ppm", 3, False),

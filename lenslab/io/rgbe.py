@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, clip
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 _MAX_HEADER = 1 << 16
 #: the smallest EXPOSURE or COLORCORR factor accepted (its inverse must stay a finite float32)

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError
-from lenslab.io.limits import check_size
+from lenslab.inputs.limits import check_size
 
 SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "uint8": np.uint8}
 COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}

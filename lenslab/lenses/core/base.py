@@ -359,7 +359,7 @@ def check_size(width, height) -> tuple[int, int]:
         raise LensError(f"image size must be two integers, got {width!r} x {height!r}") from None
     if w != width or h != height or not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
         raise LensError(f"image size {width} x {height} is invalid: each side must be an integer in 1..{MAX_SIDE}")
-    from lenslab.io.limits import MAX_PIXELS
+    from lenslab.inputs.limits import MAX_PIXELS
 
     if w * h > MAX_PIXELS:  # every size (--size, a camera file's resolution, a tile) meets the same cap
         raise LensError(f"image size {w} x {h} is {w * h} pixels, beyond the limit of {MAX_PIXELS} "

@@ -194,7 +194,7 @@ class Camera:
 
     @classmethod
     def from_toml(cls, text: str) -> "Camera":
-        from lenslab.io.safeload import load_toml
+        from lenslab.inputs.safeload import load_toml
 
         return cls.from_dict(load_toml(text, "camera TOML", LensError))
 

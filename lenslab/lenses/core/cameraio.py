@@ -26,8 +26,8 @@ from lenslab.lenses.core.camera import Camera
 
 
 def _read(path: str | Path) -> dict:
-    from lenslab.io.safeload import load_toml
-    from lenslab.io.sidefile import read_side_text
+    from lenslab.inputs.safeload import load_toml
+    from lenslab.inputs.sidefile import read_side_text
 
     path = Path(path)
     return load_toml(read_side_text(path, "camera file", 4 << 20), path, LensError)

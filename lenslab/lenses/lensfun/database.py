@@ -256,8 +256,8 @@ def xml_facts(maker: str, model: str, crop: float) -> XmlFacts:
 
 @functools.lru_cache(maxsize=4)
 def _xml_facts(_db: str, _bundled: str) -> dict:
-    from lenslab.io.safeload import load_xml
-    from lenslab.io.sidefile import read_side_bytes
+    from lenslab.inputs.safeload import load_xml
+    from lenslab.inputs.sidefile import read_side_bytes
 
     out = {}
     for path in xml_files():  # no DTD or entity, bounded depth and size

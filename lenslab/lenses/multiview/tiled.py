@@ -32,8 +32,8 @@ def parse_grid(grid: str) -> tuple[int, int]:
 
 def read_tiles_file(path: str | Path) -> list[dict[str, Any]]:
     """The ``[[tiles]]`` tables of a TOML file (one per tile, in tile order; ``{}`` for an empty tile)."""
-    from lenslab.io.safeload import load_toml
-    from lenslab.io.sidefile import read_side_text
+    from lenslab.inputs.safeload import load_toml
+    from lenslab.inputs.sidefile import read_side_text
 
     path = Path(path)
     data = load_toml(read_side_text(path, "tiles file", 4 << 20), path, LensError)

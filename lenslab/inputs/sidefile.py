@@ -15,11 +15,11 @@ import stat
 from pathlib import Path
 
 from lenslab.errors import InputError
-from lenslab.io.limits import _env_int
+from lenslab.inputs.limits import env_int
 
 
 #: the largest side file read, in bytes
-MAX_SIDE_FILE = _env_int("LENSLAB_MAX_SIDE_FILE", 64 << 20)
+MAX_SIDE_FILE = env_int("LENSLAB_MAX_SIDE_FILE", 64 << 20)
 _PSEUDO = ("/proc", "/sys", "/dev")
 
 

@@ -13,7 +13,7 @@ import os
 from lenslab.errors import FormatError
 
 
-def _env_int(name: str, default: int) -> int:
+def env_int(name: str, default: int) -> int:
     try:
         return max(1, int(os.environ.get(name, default)))
     except ValueError:
@@ -21,7 +21,7 @@ def _env_int(name: str, default: int) -> int:
 
 
 #: largest image accepted, in pixels
-MAX_PIXELS = _env_int("LENSLAB_MAX_PIXELS", 1 << 29)
+MAX_PIXELS = env_int("LENSLAB_MAX_PIXELS", 1 << 29)
 #: largest width or height accepted
 MAX_SIDE = 1 << 20
 
