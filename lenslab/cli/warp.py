@@ -230,10 +230,12 @@ def run(args: argparse.Namespace) -> int:
         src_path, dst_path = pair
         rows = None
         if show and len(pairs) == 1:
-            rows = tqdm(unit="row", file=sys.stderr, leave=False, desc=os.path.basename(src_path))
+            from lenslab.cli.progress import RowBar
+
+            rows = RowBar(os.path.basename(src_path))
         with recorded_warnings() as caught:
             try:
-                warp_one(src_path, dst_path, args, cache, progress=rows.update if rows is not None else None)
+                warp_one(src_path, dst_path, args, cache, progress=rows)
                 error = None
             except (LenslabError, OSError, UsageError) as exc:
                 error = one_line(exc)

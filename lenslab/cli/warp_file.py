@@ -28,6 +28,8 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         from lenslab.stmap import warp_with_st_map
 
         dst = None
+        if hasattr(progress, "start"):
+            progress.start(args.st.shape[0])
         out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
                                          progress=progress)
     else:
@@ -36,6 +38,8 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         dst = output_camera(args, src, size)
         if args.autoscale:
             dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
+        if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.cli.progress)
+            progress.start(dst.height)
         out, coverage = cache.warp(image, src, dst, progress=progress)
     if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
         colour, alpha = out[..., :-1], out[..., -1]
