@@ -188,3 +188,15 @@ def test_kernels_refuse_mismatched_arrays():
     with pytest.raises(TypeError):  # a strided output is refused, never written through a copy
         K.bilinear1(src.reshape(-1), 4, 4, 3, np.zeros(2, np.float32), np.zeros(2, np.float32), np.ones(2, bool),
                     False, False, False, np.empty((2, 6), np.float32)[:, ::2], np.empty(2, np.float32))
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, None])
+def test_all_finite_agrees_with_numpy(bad):
+    rng = np.random.default_rng(8)
+    a = rng.normal(0, 1e30, 100_003).astype(np.float32)
+    a[:5] = (-0.0, 1e-45, 3.4e38, -3.4e38, 0.0)  # signed zero, the smallest subnormal, the largest finite
+    for pos in (0, 50_000, 100_002):
+        b = a.copy()
+        if bad is not None:
+            b[pos] = bad
+        assert K.all_finite(b) == bool(np.isfinite(b).all())

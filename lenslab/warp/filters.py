@@ -134,23 +134,18 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
 
 
 def all_finite(a: np.ndarray) -> bool:
-    """True when every value of ``a`` is finite (no temporary arrays; a large array in pieces on the
-    engine's threads)."""
+    """True when every value of ``a`` is finite (no temporary arrays for float32; a large array in pieces on
+    the engine's threads, compiled ahead of time)."""
     from lenslab.warp.dispatch import run_bands
 
+    if a.dtype != np.float32:
+        return bool(np.isfinite(a).all())
     flat = np.ascontiguousarray(a).reshape(-1)
+    check = native.kernels().all_finite
     step = max(1 << 22, -(-flat.size // 8))
     if flat.size <= step:
-        return bool(_all_finite(flat))
-    return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], _all_finite))
-
-
-@numba.njit(cache=True, nogil=True)
-def _all_finite(flat):
-    for i in range(flat.size):
-        if not np.isfinite(flat[i]):
-            return False
-    return True
+        return bool(check(flat))
+    return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], check))
 
 
 def finite_source(src: np.ndarray) -> tuple[np.ndarray, int]:

@@ -4,6 +4,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "sampler.h"
@@ -92,6 +93,14 @@ NB_MODULE(_kernels, m) {
                   {max_taps, density, axis_tol}, out.data(), alpha.data());
     }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"), nb::arg("density"), nb::arg("axis_tol"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("all_finite", [](In<float> a) {
+        const float* p = a.data();
+        const size_t n = a.size();
+        bool ok = true;
+        for (size_t i = 0; i < n; ++i) ok &= std::isfinite(p[i]);  // branch-free: vectorised
+        return ok;
+    }, nb::arg("a"), nb::call_guard<nb::gil_scoped_release>());
 
     m.def("edges", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<int64_t> idx, In<float> exs, In<float> eys,
                       In<bool> evalid, int64_t ns, bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
