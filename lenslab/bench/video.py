@@ -51,7 +51,7 @@ def _ffmpeg_cmd(clip: Path, out: Path, side: int) -> list[str]:
 
 def _lenslab_cmd(clip: Path, out: Path, side: int) -> list[str]:
     return [sys.executable, "-m", "lenslab", "warp", str(clip), "-o", str(out), "--to", "fisheye:fov=180",
-            "--size", f"{side}x{side}", "--overwrite", "-q"]
+            "--from", "equirect", "--size", f"{side}x{side}", "--overwrite", "-q"]
 
 
 def run(args: argparse.Namespace) -> int:
