@@ -7,6 +7,7 @@ because machines are shared and noisy.
   lenslab bench tone     megapixels per second per curve against numpy.clip
   lenslab bench warp     equirect -> fisheye warps against cv2.remap with precomputed maps
   lenslab bench batch    8 EXR frames into a fisheye, whole process, against ffmpeg's v360
+  lenslab bench video    H.264 clips (1024x512 to 3840x1920) into a fisheye, whole process, against ffmpeg's v360
   lenslab bench cluster  32 frames and a traced panorama on two Dask workers against one local job
   lenslab bench memory   peak memory of commands on hostile files and on large valid images
 """
@@ -23,6 +24,7 @@ TARGETS = {
     "tone": "tone curve throughput per curve",
     "warp": "warp throughput and peak memory",
     "batch": "8 EXR frames into a fisheye, whole process, against ffmpeg's v360",
+    "video": "H.264 clips into an H.264 fisheye, whole process, against ffmpeg's v360",
     "cluster": "a batch of frames and a traced panorama on Dask workers against one local job",
     "memory": "peak memory of commands on hostile files and on large valid images",
 }

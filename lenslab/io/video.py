@@ -2,7 +2,8 @@
 
 Decoding: each frame is converted by FFmpeg's swscale to 16-bit RGB with the stream's own matrix
 (BT.709, BT.601 or BT.2020) and range, then to linear light with colour-science's transfer
-functions chosen by the stream's transfer tag:
+functions chosen by the stream's transfer tag (but for HLG tabulated once for the 65536 code values, so
+a frame is one lookup; decoding runs on a thread ahead of the caller):
 
 - BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
 - sRGB (IEC 61966-2-1): the sRGB EOTF
@@ -22,6 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -105,21 +107,25 @@ def _matrix_2020_to_709() -> np.ndarray:
 
 def to_linear(codes: np.ndarray, info: VideoInfo) -> np.ndarray:
     """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
+    lin = _eotf(codes.astype(np.float64), info.curve)
+    if info.primaries == _BT2020:
+        lin = lin @ _matrix_2020_to_709().T
+    return lin.astype(np.float32)
+
+
+def _eotf(v: np.ndarray, curve: str) -> np.ndarray:
+    """Code values (float64, ..., 3) -> display light (float64) by the stream's transfer function."""
     import colour
 
-    v = codes.astype(np.float64)
-    curve = info.curve
     if curve == "pq":
         lin = colour.models.eotf_ST2084(v) / REFERENCE_WHITE
     elif curve == "hlg":
-        lin = colour.models.eotf_HLG_BT2100(v, L_B=0, L_W=1000) / REFERENCE_WHITE
+        lin = colour.models.eotf_BT2100_HLG(v, L_B=0, L_W=1000) / REFERENCE_WHITE
     elif curve == "srgb":
         lin = colour.cctf_decoding(v, "sRGB")
     else:
         lin = colour.models.eotf_BT1886(v, L_B=0, L_W=1)
-    if info.primaries == _BT2020:
-        lin = lin @ _matrix_2020_to_709().T
-    return lin.astype(np.float32)
+    return lin
 
 
 def from_linear(image: np.ndarray, info: VideoInfo) -> np.ndarray:
@@ -134,7 +140,7 @@ def from_linear(image: np.ndarray, info: VideoInfo) -> np.ndarray:
     if curve == "pq":
         v = colour.models.eotf_inverse_ST2084(lin * REFERENCE_WHITE)
     elif curve == "hlg":
-        v = colour.models.eotf_inverse_HLG_BT2100(lin * REFERENCE_WHITE, L_B=0, L_W=1000)
+        v = colour.models.eotf_inverse_BT2100_HLG(lin * REFERENCE_WHITE, L_B=0, L_W=1000)
     elif curve == "srgb":
         v = colour.cctf_encoding(np.minimum(lin, 1.0), "sRGB")
     else:
@@ -162,24 +168,108 @@ def _range(info: VideoInfo) -> str:
     return "JPEG" if info.range == 2 else "MPEG"
 
 
-def frame_codes(frame, info: VideoInfo) -> np.ndarray:
-    """A decoded PyAV frame -> float64 code values in [0, 1], H x W x 3, converted with the stream's matrix."""
+def frame_codes16(frame, info: VideoInfo) -> np.ndarray:
+    """A decoded PyAV frame -> 16-bit code values (uint16 H x W x 3), converted with the stream's matrix."""
     rgb = frame.reformat(format="rgb48le", src_colorspace=_SWS.get(info.matrix, "itu709"),
                          src_color_range=_range(info), dst_color_range="JPEG")
-    return rgb.to_ndarray().astype(np.float64) / 65535.0
+    return rgb.to_ndarray()
 
 
-def read_frames(path, start: int = 0, stop: int | None = None):
-    """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``."""
+def frame_codes(frame, info: VideoInfo) -> np.ndarray:
+    """A decoded PyAV frame -> float64 code values in [0, 1], H x W x 3, converted with the stream's matrix."""
+    return frame_codes16(frame, info).astype(np.float64) / 65535.0
+
+
+@lru_cache(maxsize=8)
+def _decode_table(curve: str, wide: bool) -> np.ndarray:
+    """:func:`to_linear` of every 16-bit code value (65536 x 1 float32, or float64 for BT.2020, whose matrix
+    comes after): a decoded frame is then one lookup, the same values as the transfer function's."""
+    lin = _eotf(np.arange(65536, dtype=np.float64) / 65535.0, curve)
+    return lin.astype(np.float64 if wide else np.float32)
+
+
+def codes16_to_linear(codes: np.ndarray, info: VideoInfo) -> np.ndarray:
+    """16-bit code values (uint16 H x W x 3) -> linear Rec.709 float32: :func:`to_linear` by table lookup.
+
+    HLG's EOTF scales each pixel by a power of its luminance (the OOTF), so it mixes the channels and
+    is computed pixel by pixel; the other curves act on each value alone."""
+    if info.curve == "hlg":
+        return to_linear(codes.astype(np.float64) / 65535.0, info)
+    wide = info.primaries == _BT2020
+    lin = _decode_table(info.curve, wide)[codes]
+    if wide:
+        return (lin @ _matrix_2020_to_709().T).astype(np.float32)
+    return lin
+
+
+def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3):
+    """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
+
+    Decoding and the conversion to linear light run on a thread of their own, ``prefetch`` frames ahead
+    of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
     info = probe_video(path)
-    with _open(path) as c:
-        stream = c.streams.video[0]
-        stream.thread_type = "AUTO"
-        for i, frame in enumerate(c.decode(stream)):
-            if stop is not None and i >= stop:
-                break
-            if i >= start:
-                yield i, to_linear(frame_codes(frame, info), info)
+    if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
+        _decode_table(info.curve, info.primaries == _BT2020)
+
+    def frames():
+        with _open(path) as c:
+            stream = c.streams.video[0]
+            stream.thread_type = "AUTO"
+            for i, frame in enumerate(c.decode(stream)):
+                if stop is not None and i >= stop:
+                    break
+                if i >= start:
+                    yield i, codes16_to_linear(frame_codes16(frame, info), info)
+
+    yield from ahead(frames(), prefetch)
+
+
+def ahead(items, depth: int):
+    """The items of the iterator ``items``, produced on a thread up to ``depth`` ahead of the consumer; an
+    error there is raised here, in order; closing this generator early stops the thread."""
+    import queue
+    import threading
+
+    q: queue.Queue = queue.Queue(maxsize=max(1, depth))
+    stop = threading.Event()
+    end = object()
+
+    def produce():
+        try:
+            for item in items:
+                while not stop.is_set():
+                    try:
+                        q.put((item, None), timeout=0.1)
+                        break
+                    except queue.Full:
+                        continue
+                if stop.is_set():
+                    return
+            q.put((end, None))
+        except BaseException as exc:  # handed to the consumer
+            q.put((end, exc))
+        finally:
+            close = getattr(items, "close", None)
+            if close is not None:
+                close()
+
+    worker = threading.Thread(target=produce, daemon=True, name="lenslab-decode")
+    worker.start()
+    try:
+        while True:
+            item, exc = q.get()
+            if exc is not None:
+                raise exc
+            if item is end:
+                return
+            yield item
+    finally:
+        stop.set()
+        while worker.is_alive():  # unblock a producer waiting on a full queue
+            try:
+                q.get_nowait()
+            except queue.Empty:
+                worker.join(0.05)
 
 
 class VideoWriter:
@@ -211,6 +301,7 @@ class VideoWriter:
         if encoder == "libx265":
             cc.options = {"x265-params": "log-level=error"}
         self.count = 0
+        self._thread = self._queue = self._error = None
         self.audio_from = audio_from
         self.audio: dict = {}
         if audio_from is not None:  # streams are added before the first packet writes the header
@@ -219,7 +310,44 @@ class VideoWriter:
 
     def write(self, image: np.ndarray, encoded: bool = False) -> None:
         """Encode one frame: linear Rec.709 light, or (``encoded``) code values in [0, 1] already in the
-        stream's primaries and transfer (a display transform's output)."""
+        stream's primaries and transfer (a display transform's output).
+
+        The frame is copied and encoded on a thread of its own, at most two frames behind the caller, so
+        the next frame's warp overlaps this one's encoding; an error there is raised by the next
+        :meth:`write` or by :meth:`close`."""
+        import queue
+        import threading
+
+        self._check()
+        if self._thread is None:
+            self._queue = queue.Queue(maxsize=2)
+            self._thread = threading.Thread(target=self._encode_loop, daemon=True, name="lenslab-encode")
+            self._thread.start()
+        self._queue.put((np.array(image[..., :3], dtype=np.float32, copy=True), encoded))
+
+    def _encode_loop(self) -> None:
+        while True:
+            item = self._queue.get()
+            if item is None:
+                return
+            if self._error is None:
+                try:
+                    self._encode(*item)
+                except BaseException as exc:  # raised in the caller's thread
+                    self._error = exc
+
+    def _check(self) -> None:
+        if self._error is not None:
+            error, self._error = self._error, None
+            raise error
+
+    def _stop(self) -> None:
+        if self._thread is not None:
+            self._queue.put(None)
+            self._thread.join()
+            self._thread = None
+
+    def _encode(self, image: np.ndarray, encoded: bool) -> None:
         av = _av()
         values = np.clip(image[..., :3], 0.0, 1.0) if encoded else from_linear(image[..., :3], self.info)
         codes = np.round(values * 65535.0).astype(np.uint16)
@@ -234,6 +362,8 @@ class VideoWriter:
             self.container.mux(packet)
 
     def close(self) -> None:
+        self._stop()
+        self._check()
         for packet in self.stream.encode():
             self.container.mux(packet)
         if self.audio_from is not None:
@@ -257,6 +387,7 @@ class VideoWriter:
         if kind is None:
             self.close()
         else:
+            self._stop()
             self.container.close()
 
 

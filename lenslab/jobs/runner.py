@@ -67,10 +67,11 @@ def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = Fals
     bar = tqdm(total=len(pairs), unit="img", disable=not progress or one, file=sys.stderr, leave=False)
 
     def work(pair):
-        rows = tqdm(unit="row", file=sys.stderr, leave=False, desc=os.path.basename(str(pair[0]))) \
-            if progress and one else None
+        from lenslab.jobs.progress import RowBar
+
+        rows = RowBar(os.path.basename(str(pair[0]))) if progress and one else None
         try:
-            return execute(job, pair[0], str(pair[1]), progress=rows.update if rows is not None else None)
+            return execute(job, pair[0], str(pair[1]), progress=rows)
         finally:
             if rows is not None:
                 rows.close()

@@ -93,6 +93,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         from lenslab.stmap import warp_with_st_map
 
         dst = None
+        if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
+            progress.start(job.st.shape[0])
         out, coverage = warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias, progress=progress)
     else:
         src = source_camera(job.source, meta, image.shape)
@@ -105,6 +107,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         dst = output_camera(job, src, size)
         if job.autoscale:
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
+        if hasattr(progress, "start"):
+            progress.start(dst.height)
         out, coverage = cache.warp(image, src, dst, progress=progress)
     import numpy as np
 

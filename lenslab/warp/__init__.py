@@ -10,7 +10,8 @@ kept as float32 index coordinates) and :mod:`~lenslab.warp.lattice` (its interpo
 (seams, poles and piece edges), :mod:`~lenslab.warp.antialias` and :mod:`~lenslab.warp.pyramid` (footprint
 prefilter), :mod:`~lenslab.warp.optics` (per-channel lenses, falloff), :mod:`~lenslab.warp.given` (warping
 by a map from elsewhere), :mod:`~lenslab.warp.batch` (one cached map for many images),
-:mod:`~lenslab.warp.engine` (the banded loop).
+:mod:`~lenslab.warp.engine` (the banded loop), :mod:`~lenslab.warp.native` (the samplers compiled ahead of time,
+C++ in ``src/native``) and :mod:`~lenslab.warp.reference` (their NumPy references, for the tests).
 """
 
 from __future__ import annotations

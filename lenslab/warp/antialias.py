@@ -37,10 +37,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
+from lenslab.warp import native
 from lenslab.warp.dispatch import kernel
+from lenslab.warp.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
 
@@ -108,7 +109,7 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)
     neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, a0, mapper.wrap,
-                       float(pieces[0]), float(pieces[1]), foot, edge)
+                      float(pieces[0]), float(pieces[1]), foot, edge)
     top = r0 - a0
     valid = band.valid[top:top + h]
     # pixels on the image's border have no neighbour outside it: the validity of the point half a
@@ -182,52 +183,13 @@ def _inside_piece(allo, offsets, r0, h, w, pieces):
     return ends.reshape(h, w, 5 * n, 2)
 
 
-@numba.njit(cache=True, nogil=True)
-def neighbour_secants(xs, ys, vs, top, row0, wrap, piece_w, piece_h, foot, edge):
+def neighbour_secants(xs, ys, vs, top: int, row0: int, wrap: float, piece_w: float, piece_h: float, foot,
+                      edge) -> None:
     """Footprint sides of the pixels of rows ``top:top + h`` of a map of pixel centres (``xs`` etc.
-    (rows, W); the band's first row is image row ``row0 + top``) from their neighbours."""
-    h, w = foot.shape[0], foot.shape[1]
-    nrows = xs.shape[0]
-    for r in range(h):
-        rr = r + top
-        prow = -1.0 if piece_h <= 0.0 else np.floor((row0 + rr + 0.5) / piece_h)
-        for c in range(w):
-            pcol = -1.0 if piece_w <= 0.0 else np.floor((c + 0.5) / piece_w)
-            v0 = vs[rr, c]
-            on_edge = False
-            for axis in range(2):
-                # the neighbours before and after along this axis, if inside the image and the piece
-                if axis == 0:
-                    lo_ok = c > 0 and (piece_w <= 0.0 or np.floor((c - 0.5) / piece_w) == pcol)
-                    hi_ok = c + 1 < w and (piece_w <= 0.0 or np.floor((c + 1.5) / piece_w) == pcol)
-                    rl, cl, rh, ch = rr, c - 1, rr, c + 1
-                else:
-                    lo_ok = rr > 0 and (piece_h <= 0.0 or np.floor((row0 + rr - 0.5) / piece_h) == prow)
-                    hi_ok = rr + 1 < nrows and (piece_h <= 0.0 or np.floor((row0 + rr + 1.5) / piece_h) == prow)
-                    rl, cl, rh, ch = rr - 1, c, rr + 1, c
-                vl = lo_ok and vs[rl, cl]
-                vh = hi_ok and vs[rh, ch]
-                if (lo_ok and vs[rl, cl] != v0) or (hi_ok and vs[rh, ch] != v0):
-                    on_edge = True
-                half = 1.0
-                if vl and vh:
-                    dx = xs[rh, ch] - xs[rl, cl]
-                    dy = ys[rh, ch] - ys[rl, cl]
-                    half = 0.5
-                elif vh and v0:
-                    dx = xs[rh, ch] - xs[rr, c]
-                    dy = ys[rh, ch] - ys[rr, c]
-                elif vl and v0:
-                    dx = xs[rr, c] - xs[rl, cl]
-                    dy = ys[rr, c] - ys[rl, cl]
-                else:
-                    dx = 0.0
-                    dy = 0.0
-                if wrap > 0.0:  # unwrapped before halving: a difference across the seam is near +-wrap
-                    dx -= wrap * np.floor(dx / wrap + 0.5)
-                foot[r, c, 0, 2 * axis] = half * dx
-                foot[r, c, 0, 2 * axis + 1] = half * dy
-            edge[r, c, 0] = on_edge
+    (rows, W); the band's first row is image row ``row0 + top``) from their neighbours, into ``foot`` (h, W,
+    1, 4) and ``edge`` (h, W, 1) (compiled ahead of time; reference :func:`lenslab.warp.reference.neighbour_secants`)."""
+    native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), int(row0), float(wrap),
+                                       float(piece_w), float(piece_h), foot, edge)
 
 
 @kernel

@@ -16,8 +16,9 @@ Why not ``cv2.remap``: with float maps cv2 rounds the fractional position to 1/3
 (``INTER_BITS = 5``), an error of up to 1/64 pixel times the local gradient; in HDR images with
 sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
 and it cannot fold taps across the poles. These samplers use the exact position, fold every tap
-through :mod:`lenslab.warp.seam` and run compiled (numba), one band of rows per thread. Bilinear weights are float32
-(exact at pixel centres; 2^-24 relative elsewhere), the others float64.
+through :mod:`lenslab.warp.seam` and run compiled, one band of rows per thread: bilinear in C++ (ahead of
+time, :mod:`lenslab.warp.native`; NumPy reference :mod:`lenslab.warp.reference`), the others with numba.
+Bilinear lerps are float32 (exact at pixel centres; 2^-24 relative elsewhere), the other weights float64.
 """
 
 from __future__ import annotations
@@ -25,11 +26,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from lenslab.warp import native
 from lenslab.warp.dispatch import kernel
+from lenslab.warp.native import c32, cbool
 from lenslab.warp.seam import fold_index, fold_piece, piece_at
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
-U1, U2 = np.uint64(1), np.uint64(2)  # channel offsets added to unsigned flat indices
 #: filter name -> compiled kernel id (also its support radius in source pixels, but 1 for nearest)
 _KIND = {"nearest": 0, "bilinear": 1, "bicubic": 2, "lanczos": 3}
 
@@ -42,172 +44,13 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     separable sampler, whose taps leaving a sample's piece read the neighbouring piece."""
     kind = _KIND[filter]
     wrap, top, bottom = border.flags
-    if kind == 1 and not border.has_pieces:
+    if kind == 1 and not border.has_pieces:  # compiled ahead of time (lenslab.warp.native)
         sh, sw, nc = src.shape
-        if xs.shape[2] == 1:  # one sample per pixel: 2-D maps (views, no copy)
-            one = _bilinear1_rgb if nc == 3 else _bilinear1
-            one(src.reshape(-1), sw, sh, nc, xs[..., 0], ys[..., 0], valid[..., 0], wrap, top, bottom, out, alpha)
-        else:
-            _bilinear(src.reshape(-1), sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha)
+        one = native.kernels().bilinear1 if xs.shape[2] == 1 else native.kernels().bilinear_n
+        one(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
     else:
         cw, ch = border.cell
         _separable(src, xs, ys, valid, wrap, top, bottom, border.pieces, border.grid, cw, ch, kind, out, alpha)
-
-
-@numba.njit(inline="always", cache=True)
-def _corner_offsets(i0, j0, sw, sh, nc, wrap, top, bottom):
-    """Flat offsets of the 2x2 taps at (i0..i0+1, j0..j0+1), folded by the border rules if needed.
-
-    Unsigned (uint64): an index of a signed type costs a test for a negative index at every read (numba
-    wraps those around, as Python does), which took as long as the reads themselves; add channel numbers
-    as uint64 too (``p + U[ch]``: uint64 plus int64 would be a float)."""
-    if i0 >= 0 and j0 >= 0 and i0 + 1 < sw and j0 + 1 < sh:
-        p00 = (j0 * sw + i0) * nc
-        return (np.uint64(p00), np.uint64(p00 + nc), np.uint64(p00 + sw * nc), np.uint64(p00 + sw * nc + nc))
-    ia, ja = fold_index(i0, j0, sw, sh, wrap, top, bottom)
-    ib, jb = fold_index(i0 + 1, j0, sw, sh, wrap, top, bottom)
-    ic, jc = fold_index(i0, j0 + 1, sw, sh, wrap, top, bottom)
-    id_, jd = fold_index(i0 + 1, j0 + 1, sw, sh, wrap, top, bottom)
-    return (np.uint64((ja * sw + ia) * nc), np.uint64((jb * sw + ib) * nc), np.uint64((jc * sw + ic) * nc),
-            np.uint64((jd * sw + id_) * nc))
-
-
-# fastmath: these loops only multiply and add finite weights; a non-finite source value that reaches
-# the output is caught afterwards and the warp redone from a repaired source (see engine.WarpPlan.run)
-@kernel.options(fastmath=True, error_model="numpy")
-def _bilinear(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
-    h, w, n = xs.shape
-    inv = np.float32(1.0 / n)
-    for r in range(h):
-        acc = np.zeros(nc, dtype=np.float32)
-        for c in range(w):
-            a0 = np.float32(0.0)
-            a1 = np.float32(0.0)
-            a2 = np.float32(0.0)
-            acc[:] = 0.0
-            hits = 0
-            for k in range(n):
-                if not valid[r, c, k]:
-                    continue
-                hits += 1
-                x = xs[r, c, k]
-                y = ys[r, c, k]
-                fx0 = np.floor(x)
-                fy0 = np.floor(y)
-                tx = x - fx0
-                ty = y - fy0
-                p00, p10, p01, p11 = _corner_offsets(int(fx0), int(fy0), sw, sh, nc, wrap, top, bottom)
-                w00 = (1 - tx) * (1 - ty)
-                w10 = tx * (1 - ty)
-                w01 = (1 - tx) * ty
-                w11 = tx * ty
-                if nc == 3:
-                    a0 += w00 * flat[p00] + w10 * flat[p10] + w01 * flat[p01] + w11 * flat[p11]
-                    a1 += (w00 * flat[p00 + U1] + w10 * flat[p10 + U1] + w01 * flat[p01 + U1]
-                           + w11 * flat[p11 + U1])
-                    a2 += (w00 * flat[p00 + U2] + w10 * flat[p10 + U2] + w01 * flat[p01 + U2]
-                           + w11 * flat[p11 + U2])
-                else:
-                    for ch in range(nc):
-                        kc = np.uint64(ch)
-                        acc[ch] += (w00 * flat[p00 + kc] + w10 * flat[p10 + kc] + w01 * flat[p01 + kc]
-                                    + w11 * flat[p11 + kc])
-            if nc == 3:
-                out[r, c, 0] = a0 * inv
-                out[r, c, 1] = a1 * inv
-                out[r, c, 2] = a2 * inv
-            else:
-                for ch in range(nc):
-                    out[r, c, ch] = acc[ch] * inv
-            alpha[r, c] = hits * inv
-
-
-@numba.njit(inline="always", cache=True)
-def lerp_at(flat, sw, sh, nc, x, y, wrap, top, bottom, out, r, c):
-    """``out[r, c]`` = the source bilinearly at float32 index coordinates ``(x, y)`` (lerps in float32)."""
-    fx0 = np.floor(x)
-    fy0 = np.floor(y)
-    tx = x - fx0
-    ty = y - fy0
-    p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, nc, wrap, top, bottom)
-    lerp_n(flat, p00, p10, p01, p11, tx, ty, nc, out[r], c)
-
-
-@numba.njit(inline="always", cache=True)
-def lerp_n(flat, p00, p10, p01, p11, tx, ty, nc, orow, c):
-    """``orow[c, 0:nc]`` = the ``nc`` channels bilinearly from the taps at unsigned flat offsets ``p00, p10,
-    p01, p11`` (top-left, top-right, bottom-left, bottom-right), in float32 lerps (:func:`lerp3` for three)."""
-    for ch in range(nc):
-        kc = np.uint64(ch)
-        a = flat[p00 + kc]
-        b = flat[p01 + kc]
-        upper = a + tx * (flat[p10 + kc] - a)
-        lower = b + tx * (flat[p11 + kc] - b)
-        orow[c, ch] = upper + ty * (lower - upper)
-
-
-@kernel.options(fastmath=True, error_model="numpy")
-def _bilinear1(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
-    """One sample per pixel (the common case, and the cached-map batch path): no accumulation, lerps."""
-    h, w = xs.shape
-    for r in range(h):
-        for c in range(w):
-            if not valid[r, c]:
-                for ch in range(nc):
-                    out[r, c, ch] = 0.0
-                alpha[r, c] = 0.0
-                continue
-            lerp_at(flat, sw, sh, nc, xs[r, c], ys[r, c], wrap, top, bottom, out, r, c)
-            alpha[r, c] = 1.0
-
-
-@numba.njit(inline="always", cache=True)
-def lerp3(flat, p00, p10, p01, p11, tx, ty, orow, c):
-    """``orow[c, 0:3]`` = the three channels bilinearly from the taps at unsigned flat offsets
-    ``p00, p10, p01, p11`` (top-left, top-right, bottom-left, bottom-right), in float32 lerps."""
-    a = flat[p00]
-    b = flat[p01]
-    upper = a + tx * (flat[p10] - a)
-    lower = b + tx * (flat[p11] - b)
-    orow[c, 0] = upper + ty * (lower - upper)
-    a = flat[p00 + U1]
-    b = flat[p01 + U1]
-    upper = a + tx * (flat[p10 + U1] - a)
-    lower = b + tx * (flat[p11 + U1] - b)
-    orow[c, 1] = upper + ty * (lower - upper)
-    a = flat[p00 + U2]
-    b = flat[p01 + U2]
-    upper = a + tx * (flat[p10 + U2] - a)
-    lower = b + tx * (flat[p11 + U2] - b)
-    orow[c, 2] = upper + ty * (lower - upper)
-
-
-@kernel.options(fastmath=True, error_model="numpy")
-def _bilinear1_rgb(flat, sw, sh, nc, xs, ys, valid, wrap, top, bottom, out, alpha):
-    """:func:`_bilinear1` for three channels, row by row through 1-D views, the channels written out."""
-    h, w = xs.shape
-    for r in range(h):
-        xr = xs[r]
-        yr = ys[r]
-        vr = valid[r]
-        orow = out[r]
-        arow = alpha[r]
-        for c in range(w):
-            if not vr[c]:
-                orow[c, 0] = 0.0
-                orow[c, 1] = 0.0
-                orow[c, 2] = 0.0
-                arow[c] = 0.0
-                continue
-            x = xr[c]
-            y = yr[c]
-            fx0 = np.floor(x)
-            fy0 = np.floor(y)
-            tx = x - fx0
-            ty = y - fy0
-            p00, p10, p01, p11 = _corner_offsets(np.int32(fx0), np.int32(fy0), sw, sh, 3, wrap, top, bottom)
-            lerp3(flat, p00, p10, p01, p11, tx, ty, orow, c)
-            arow[c] = 1.0
 
 
 @numba.njit(inline="always", cache=True)
@@ -291,23 +134,18 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
 
 
 def all_finite(a: np.ndarray) -> bool:
-    """True when every value of ``a`` is finite (no temporary arrays; a large array in pieces on the
-    engine's threads)."""
+    """True when every value of ``a`` is finite (no temporary arrays for float32; a large array in pieces on
+    the engine's threads, compiled ahead of time)."""
     from lenslab.warp.dispatch import run_bands
 
+    if a.dtype != np.float32:
+        return bool(np.isfinite(a).all())
     flat = np.ascontiguousarray(a).reshape(-1)
+    check = native.kernels().all_finite
     step = max(1 << 22, -(-flat.size // 8))
     if flat.size <= step:
-        return bool(_all_finite(flat))
-    return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], _all_finite))
-
-
-@numba.njit(cache=True, nogil=True)
-def _all_finite(flat):
-    for i in range(flat.size):
-        if not np.isfinite(flat[i]):
-            return False
-    return True
+        return bool(check(flat))
+    return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], check))
 
 
 def finite_source(src: np.ndarray) -> tuple[np.ndarray, int]:

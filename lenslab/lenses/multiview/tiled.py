@@ -231,7 +231,8 @@ class Tiled(Lens):
         d = normalize(as_points(dirs, 3, "directions"))
         flat = d.reshape(-1, 3)
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)
-        seen_any = np.any(flat != 0, axis=-1)  # zero vectors (and so non-finite input) are never seen
+        # zero vectors (and so non-finite input) are never seen; three column tests beat np.any's reduction
+        seen_any = (flat[:, 0] != 0) | (flat[:, 1] != 0) | (flat[:, 2] != 0)
         free = seen_any.copy()  # directions no tile has claimed yet
         tw, th = self.tile_size
         tiles = [(k, t) for k, t in enumerate(self.tile_list) if t is not None]

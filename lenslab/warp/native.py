@@ -1,0 +1,38 @@
+"""The compiled kernels (C++17 through nanobind, ``lenslab._kernels``, built by ``pip install -e .``).
+
+The single-tap bilinear sampler, the cached taps and the footprint prefilter run here: ahead-of-time
+compiled, they cost nothing on a command's first call (numba compiled the footprint filter alone for
+2.4 s on a new machine) and release the GIL, so the engine runs one band of rows per thread. Each has a
+NumPy reference in :mod:`lenslab.warp.reference` that the tests hold it to. ``docs/design.md`` gives the
+measured figures behind the choice.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.errors import WarpError
+
+_kernels = None
+
+
+def kernels():
+    """The extension module; a one-line error when this copy of lenslab was installed without it."""
+    global _kernels
+    if _kernels is None:
+        try:
+            from lenslab import _kernels as k
+        except ImportError as exc:  # a source tree used without installing it
+            raise WarpError("lenslab's compiled kernels are not built: install lenslab with `pip install -e .` "
+                            f"(needs a C++17 compiler and CMake) ({exc})") from None
+        _kernels = k
+    return _kernels
+
+
+def c32(a: np.ndarray) -> np.ndarray:
+    """``a`` as a C-contiguous float32 array (no copy when it already is one)."""
+    return np.ascontiguousarray(a, dtype=np.float32)
+
+
+def cbool(a: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.bool_)

@@ -1,0 +1,132 @@
+// Single-tap bilinear sampling: from a map band (one or several samples per pixel) and from cached taps.
+#include "kernels.h"
+#include "sampler.h"
+
+namespace lenslab {
+
+namespace {
+
+// NC > 0: that many channels, known to the compiler (kept in registers); NC == 0: nc at run time
+template <int NC>
+void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const uint32_t* __restrict__ off,
+                 const float* __restrict__ tx, const float* __restrict__ ty, int64_t n, float* __restrict__ out,
+                 float* __restrict__ alpha) {
+    const int64_t nc = NC > 0 ? NC : nc_;
+    const uint64_t row = uint64_t(sw * nc), step = uint64_t(nc);
+    for (int64_t q = 0; q < n; ++q) {
+        uint32_t o = off[q];
+        float* dst = out + q * nc;
+        if (o >= TAP_FOLDED) {  // no source, or the folding sampler's
+            if (o == TAP_INVALID) {
+                for (int64_t ch = 0; ch < nc; ++ch) dst[ch] = 0.0f;
+                alpha[q] = 0.0f;
+            }
+            continue;
+        }
+        uint64_t p00 = uint64_t(o) * step, p01 = p00 + row;
+        lerp(flat, p00, p00 + step, p01, p01 + step, tx[q], ty[q], nc, dst);
+        alpha[q] = 1.0f;
+    }
+}
+
+template <int NC>
+void bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t nc_, const float* __restrict__ xs,
+                 const float* __restrict__ ys, const bool* __restrict__ valid, int64_t n, Border b,
+                 float* __restrict__ out, float* __restrict__ alpha) {
+    const int64_t nc = NC > 0 ? NC : nc_;
+    uint64_t p[4];
+    for (int64_t q = 0; q < n; ++q) {
+        float* o = out + q * nc;
+        if (!valid[q]) {
+            for (int64_t ch = 0; ch < nc; ++ch) o[ch] = 0.0f;
+            alpha[q] = 0.0f;
+            continue;
+        }
+        float x = xs[q], y = ys[q];
+        float fx0 = ffloor(x), fy0 = ffloor(y);
+        corners(int32_t(fx0), int32_t(fy0), sw, sh, nc, b, p);
+        lerp(flat, p[0], p[1], p[2], p[3], x - fx0, y - fy0, nc, o);
+        alpha[q] = 1.0f;
+    }
+}
+
+}  // namespace
+
+void bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+               const bool* valid, int64_t n, Border b, float* out, float* alpha) {
+    switch (nc) {
+        case 1: return bilinear1_t<1>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
+        case 3: return bilinear1_t<3>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
+        case 4: return bilinear1_t<4>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
+        default: return bilinear1_t<0>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
+    }
+}
+
+void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+                const bool* valid, int64_t npix, int64_t ns, Border b, float* out, float* alpha) {
+    const float inv = float(1.0 / double(ns));
+    uint64_t p[4];
+    float acc[64];
+    for (int64_t q = 0; q < npix; ++q) {
+        for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0f;
+        int64_t hits = 0;
+        for (int64_t k = q * ns; k < (q + 1) * ns; ++k) {
+            if (!valid[k]) continue;
+            ++hits;
+            float x = xs[k], y = ys[k];
+            float fx0 = ffloor(x), fy0 = ffloor(y);
+            float tx = x - fx0, ty = y - fy0;
+            corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
+            float w00 = (1.0f - tx) * (1.0f - ty), w10 = tx * (1.0f - ty);
+            float w01 = (1.0f - tx) * ty, w11 = tx * ty;
+            for (int64_t ch = 0; ch < nc; ++ch)
+                acc[ch] += w00 * flat[p[0] + ch] + w10 * flat[p[1] + ch] + w01 * flat[p[2] + ch]
+                           + w11 * flat[p[3] + ch];
+        }
+        for (int64_t ch = 0; ch < nc; ++ch) out[q * nc + ch] = acc[ch] * inv;
+        alpha[q] = float(double(hits) * double(inv));
+    }
+}
+
+void taps_of(int64_t sw, int64_t sh, const float* xs, const float* ys, const bool* valid, int64_t n,
+             uint32_t* off, float* tx, float* ty) {
+    for (int64_t q = 0; q < n; ++q) {
+        tx[q] = 0.0f;
+        ty[q] = 0.0f;
+        if (!valid[q]) { off[q] = TAP_INVALID; continue; }
+        float fx0 = ffloor(xs[q]), fy0 = ffloor(ys[q]);
+        int64_t i0 = int32_t(fx0), j0 = int32_t(fy0);
+        if (i0 >= 0 && j0 >= 0 && i0 + 1 < sw && j0 + 1 < sh) {
+            off[q] = uint32_t(j0 * sw + i0);
+            tx[q] = xs[q] - fx0;
+            ty[q] = ys[q] - fy0;
+        } else {
+            off[q] = TAP_FOLDED;
+        }
+    }
+}
+
+
+void from_taps(const float* flat, int64_t sw, int64_t nc, const uint32_t* off, const float* tx, const float* ty,
+               int64_t n, float* out, float* alpha) {
+    switch (nc) {
+        case 1: return from_taps_t<1>(flat, sw, nc, off, tx, ty, n, out, alpha);
+        case 3: return from_taps_t<3>(flat, sw, nc, off, tx, ty, n, out, alpha);
+        case 4: return from_taps_t<4>(flat, sw, nc, off, tx, ty, n, out, alpha);
+        default: return from_taps_t<0>(flat, sw, nc, off, tx, ty, n, out, alpha);
+    }
+}
+
+void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* xs,
+            const float* ys, int64_t m, Border b, float* out, float* alpha) {
+    uint64_t p[4];
+    for (int64_t e = 0; e < m; ++e) {
+        int64_t q = idx[e];
+        float fx0 = ffloor(xs[e]), fy0 = ffloor(ys[e]);
+        corners(int32_t(fx0), int32_t(fy0), sw, sh, nc, b, p);
+        lerp(flat, p[0], p[1], p[2], p[3], xs[e] - fx0, ys[e] - fy0, nc, out + q * nc);
+        alpha[q] = 1.0f;
+    }
+}
+
+}  // namespace lenslab

@@ -1,0 +1,40 @@
+#pragma once
+#include <cstdint>
+#include "kernels.h"
+
+namespace lenslab {
+
+constexpr uint32_t TAP_INVALID = 0xFFFFFFFFu;  // no source: colour and alpha 0
+constexpr uint32_t TAP_FOLDED = 0xFFFFFFFEu;   // taps across an edge: the folding sampler
+
+// n pixels, one sample each: out (n, nc), alpha (n,)
+void bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+               const bool* valid, int64_t n, Border b, float* out, float* alpha);
+// npix pixels of ns samples each (xs (npix, ns)); nc <= 64
+void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+                const bool* valid, int64_t npix, int64_t ns, Border b, float* out, float* alpha);
+void taps_of(int64_t sw, int64_t sh, const float* xs, const float* ys, const bool* valid, int64_t n,
+             uint32_t* off, float* tx, float* ty);
+void from_taps(const float* flat, int64_t sw, int64_t nc, const uint32_t* off, const float* tx, const float* ty,
+               int64_t n, float* out, float* alpha);
+void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* xs,
+            const float* ys, int64_t m, Border b, float* out, float* alpha);
+
+struct FootprintParams { double max_taps, density, axis_tol; };
+
+// The footprint prefilter (lenslab.warp.pyramid): npix pixels of ns samples; foot (npix, ns, 4);
+// shapes (nlev, 2) (height, width); offsets (nlev,) into rest for levels >= 1.
+void footprint(const float* level0, const float* rest, const int64_t* shapes, const int64_t* offsets, int64_t nlev,
+               int64_t nc, const float* xs, const float* ys, const bool* valid, const float* foot, int64_t npix,
+               int64_t ns, Border b, FootprintParams fp, float* out, float* alpha);
+// Adds the split edge samples: m samples of kk sub-samples each, on the source (sh, sw, nc).
+void edges(const float* src, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* exs,
+           const float* eys, const bool* evalid, int64_t m, int64_t kk, int64_t ns, int64_t width, Border b,
+           float* out, float* alpha);
+
+// Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w; the band's first row is image
+// row row0 + top): foot (h, w, 4) = a, b; edge (h, w): a neighbour's validity differs.
+void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t nrows, int64_t w, int64_t top,
+                       int64_t h, int64_t row0, double wrap, double piece_w, double piece_h, float* foot, bool* edge);
+
+}  // namespace lenslab
