@@ -1,4 +1,4 @@
-"""The compiled warp kernels (lenslab._kernels, C++) against their NumPy references
+"""The compiled warp kernels (lenslab.cxx_kernels, C++) against their NumPy references
 (lenslab.warp.reference) and against cv2.remap.
 
 Bounds: the kernels run the references' float32 lerps and float64 weights in the same order, but the
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from lenslab import _kernels as K
+from lenslab import cxx_kernels as K
 from lenslab.warp import reference as ref
 from lenslab.warp.pyramid import AXIS_TOL, DENSITY, MAX_TAPS, pyramid
 from lenslab.warp.seam import Border

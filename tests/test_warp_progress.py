@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from lenslab import io as lio
-from lenslab.cli import progress
+from lenslab.jobs import progress
 
 
 def test_the_first_frame_of_the_bar_shows_the_total_rows(tmp_path):

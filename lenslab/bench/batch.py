@@ -58,7 +58,7 @@ def _lenslab_cmd(inputs: Path, out: Path, side: int) -> list[str]:
             "--size", f"{side}x{side}", "--filter", "bilinear", "--overwrite", "-q"]
 
 
-def _timed(cmd: list[str], env: dict, one: bool) -> tuple[float, float]:
+def timed_run(cmd: list[str], env: dict, one: bool) -> tuple[float, float]:
     """Wall seconds and CPU seconds (children's user + system) of one whole process."""
     if one and shutil.which("taskset"):
         cmd = ["taskset", "-c", str(min(os.sched_getaffinity(0))), *cmd]
@@ -90,15 +90,15 @@ def run(args) -> int:
         env_all = dict(os.environ)
         env_one = {**env_all, "NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENCV_FOR_THREADS_NUM": "1"}
         # the kernels are compiled (or loaded from numba's cache) once before the clock starts
-        _timed(_lenslab_cmd(inputs, out_l, side), env_all, False)
+        timed_run(_lenslab_cmd(inputs, out_l, side), env_all, False)
         print(f"batch: {args.frames} frames {width}x{height} EXR -> {side}x{side} 180-degree fisheye, whole process, "
               f"{args.repeat} runs each, medians (load {os.getloadavg()[0]:.2f})")
         for one, key, aim in ((True, "one_thread", AIM_ONE_THREAD), (False, "all_threads", AIM_ALL_THREADS)):
             env = env_one if one else env_all
             runs: dict[str, list[tuple[float, float]]] = {"ffmpeg": [], "lenslab": []}
             for _ in range(args.repeat):  # interleaved, so both see the same load
-                runs["ffmpeg"].append(_timed(_ffmpeg_cmd(inputs, out_f, side, one), env, one))
-                runs["lenslab"].append(_timed(_lenslab_cmd(inputs, out_l, side), env, one))
+                runs["ffmpeg"].append(timed_run(_ffmpeg_cmd(inputs, out_f, side, one), env, one))
+                runs["lenslab"].append(timed_run(_lenslab_cmd(inputs, out_l, side), env, one))
             med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in runs.items()}
             wall, cpu = med["lenslab"][0] / med["ffmpeg"][0], med["lenslab"][1] / med["ffmpeg"][1]
             label = "one thread each" if one else f"all threads ({len(os.sched_getaffinity(0))} cores)"

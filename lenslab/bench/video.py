@@ -28,7 +28,7 @@ SIZES = ((1024, 512), (1920, 1080), (3840, 1920))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from lenslab.cli.policy import positive_int
+    from lenslab.jobs.arguments import positive_int
 
     parser.add_argument("--frames", type=positive_int, default=48, help="frames per clip (default 48)")
     parser.add_argument("--repeat", type=positive_int, default=3, help="runs of each command; medians count (default 3)")
@@ -55,7 +55,7 @@ def _lenslab_cmd(clip: Path, out: Path, side: int) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from lenslab.bench.batch import _timed
+    from lenslab.bench.batch import timed_run
     from lenslab.bench.results import figure, mark
 
     if not shutil.which("ffmpeg"):
@@ -75,11 +75,11 @@ def run(args: argparse.Namespace) -> int:
             make_clip(clip, width, height, args.frames)
             side = height
             out_f, out_l = Path(tmp) / "ffmpeg.mp4", Path(tmp) / "lenslab.mp4"
-            _timed(_lenslab_cmd(clip, out_l, side), env, False)  # kernels compiled or loaded: not counted
+            timed_run(_lenslab_cmd(clip, out_l, side), env, False)  # kernels compiled or loaded: not counted
             runs: dict[str, list[tuple[float, float]]] = {"ffmpeg": [], "lenslab": []}
             for _ in range(args.repeat):  # interleaved, so both see the same load
-                runs["ffmpeg"].append(_timed(_ffmpeg_cmd(clip, out_f, side), env, False))
-                runs["lenslab"].append(_timed(_lenslab_cmd(clip, out_l, side), env, False))
+                runs["ffmpeg"].append(timed_run(_ffmpeg_cmd(clip, out_f, side), env, False))
+                runs["lenslab"].append(timed_run(_lenslab_cmd(clip, out_l, side), env, False))
             med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in runs.items()}
             wall, cpu = med["lenslab"][0] / med["ffmpeg"][0], med["lenslab"][1] / med["ffmpeg"][1]
             ok = figure(f"video.{width}x{height}_wall", f"H.264 {width}x{height} clip, {args.frames} frames -> "

@@ -1,4 +1,4 @@
-"""The compiled kernels (C++17 through nanobind, ``lenslab._kernels``, built by ``pip install -e .``).
+"""The compiled kernels (C++17 through nanobind, ``lenslab.cxx_kernels``, built by ``pip install -e .``).
 
 The single-tap bilinear sampler, the cached taps and the footprint prefilter run here: ahead-of-time
 compiled, they cost nothing on a command's first call (numba compiled the footprint filter alone for
@@ -21,7 +21,7 @@ def kernels():
     global _kernels
     if _kernels is None:
         try:
-            from lenslab import _kernels as k
+            from lenslab import cxx_kernels as k
         except ImportError as exc:  # a source tree used without installing it
             raise WarpError("lenslab's compiled kernels are not built: install lenslab with `pip install -e .` "
                             f"(needs a C++17 compiler and CMake) ({exc})") from None

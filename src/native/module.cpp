@@ -1,4 +1,4 @@
-// Python bindings of the compiled kernels (lenslab._kernels). Every function releases the GIL: the engine
+// Python bindings of the compiled kernels (lenslab.cxx_kernels). Every function releases the GIL: the engine
 // runs one band of rows per thread. Arrays are C-contiguous and of the stated dtypes (checked by nanobind);
 // inputs of another layout or dtype are converted, outputs never are (written in place, or refused).
 #include <nanobind/nanobind.h>
@@ -24,7 +24,7 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
-NB_MODULE(_kernels, m) {
+NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
