@@ -16,7 +16,8 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     from lenslab.errors import FormatError
     from lenslab.io import read, write
     from lenslab.io.detect import format_for_path
-    from lenslab.io.registry import hdr_formats
+    from lenslab.io.alpha import with_alpha
+    from lenslab.io.registry import get, hdr_formats
 
     if is_video(src_path):  # every frame with one map, to a video
         return warp_video(src_path, dst_path, args, cache)
@@ -41,17 +42,17 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         colour, alpha = out[..., :-1], out[..., -1]
     else:
         colour, alpha = out, coverage
-    keep_alpha = not args.no_alpha and fmt in ("exr", "png")
+    out_format = get(fmt)
+    keep_alpha = not args.no_alpha and out_format.alpha  # the format's record says whether it holds alpha
     exposure = args.exposure
     shown: dict = {}
     if getattr(args, "display", None):  # an OpenColorIO display transform instead of the tone curve
         from lenslab.cli.display import apply_display
-        from lenslab.io.registry import get
 
         if exposure == "auto":
             raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
         rgba = np.concatenate([colour * np.float32(2.0 ** float(exposure)), alpha[..., None]], axis=-1)
-        mapped, shown = apply_display(rgba, get(fmt), {**vars(args), "bits": None})
+        mapped, shown = apply_display(rgba, out_format, {**vars(args), "bits": None})
         colour, alpha = mapped[..., :-1], mapped[..., -1]
     elif fmt not in hdr_formats() and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
@@ -65,10 +66,8 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
         colour = colour * np.float32(2.0 ** float(exposure))
     opts: dict = {}
     if keep_alpha:
-        if colour.shape[2] == 1 and fmt == "png":
-            colour = np.repeat(colour, 3, axis=2)
-        result = np.concatenate([colour, alpha[..., None]], axis=-1)
-        if fmt == "exr" and colour.shape[2] == 1:
+        result = with_alpha(colour, alpha, out_format.channels)
+        if result.shape[2] == 2 and "channels" in out_format.write_options:
             opts["channels"] = ["Y", "A"]
     else:
         result = colour

@@ -20,6 +20,7 @@ from typing import Callable
 import numpy as np
 
 from lenslab.errors import WarpError
+from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera, Pose
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
@@ -187,6 +188,7 @@ class WarpPlan:
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
             self.render(src, out, alpha, None)
+        settle(out, alpha)
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
@@ -198,14 +200,14 @@ class WarpPlan:
             for x0, y0, part in self.parts:
                 _render_region(part, src, out, alpha, x0, y0, progress)
             return
-        if self.src_falloff is not None:
+        if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
         if self.channels is not None:
             render_channels(self.channels, src, out, alpha, progress)
         else:
             self._render_bands(src, out, alpha, progress)
         if self.dst_falloff is not None:
-            out *= self.dst_falloff[..., None]
+            out[..., colour_channels(out.shape[2])] *= self.dst_falloff[..., None]
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
@@ -315,6 +317,7 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
     if not all_finite(out):
         raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
                         "repairs and reports them)")
+    settle(out, alpha)
     return out, alpha
 
 
@@ -330,7 +333,9 @@ def warp(image, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear"
     (e.g. inside a circular image's circle) and the source lens sees that direction inside its image.
 
     - ``alpha`` is the coverage: the fraction of the pixel's samples that are valid; exactly 0 where
-      none is.
+      none is. An image of 2 or 4 channels carries its own alpha last (premultiplied); it is warped
+      like colour (so it includes the coverage). Every alpha ends in [0, 1]
+      (:func:`lenslab.io.alpha.settle`); vignetting and its removal change colour, never alpha.
     - The colour is *premultiplied* by alpha (the OpenEXR convention): the sum of the valid samples
       divided by the number of samples. Divide by alpha where alpha > 0 to get straight colour.
     - Values are never clamped (HDR in, HDR out), the work is float32 in, float32 out (weights and
