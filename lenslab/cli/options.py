@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 
 def parse_exposure(text: str) -> float | str:
     """``--exposure``: a number of stops, or ``"auto"``; anything else is a ToneError that says so."""
@@ -46,3 +48,15 @@ def add_scheduler_options(parser, skip_existing: bool = True) -> None:
         group.add_argument("--skip-existing", action="store_true",
                            help="leave outputs that already exist alone and do the others (resumes an "
                                 "interrupted batch)")
+
+
+class Once(argparse.Action):
+    """An option that may be given once: a second ``--from`` would silently replace the first, so it is a
+    usage error (argparse's: one line, exit 2)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in seen:
+            parser.error(f"{option_string} given twice; give it once")
+        seen.add(self.dest)
+        setattr(namespace, self.dest, values)

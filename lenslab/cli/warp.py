@@ -34,6 +34,7 @@ import os
 import sys
 from pathlib import Path
 
+from lenslab.cli.options import Once
 from lenslab.cli.policy import image_size, positive_int
 
 from lenslab.io.registry import writable
@@ -46,14 +47,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
                         help="output file (one input), or directory (created if missing)")
-    parser.add_argument("--to", metavar="SPEC",
+    parser.add_argument("--to", metavar="SPEC", action=Once,
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
                              "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'); or give --stmap")
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
                              "the map's size; --filter, --samples and --antialias apply; see 'lenslab stmap')")
-    parser.add_argument("--from", dest="source", metavar="SPEC",
+    parser.add_argument("--from", dest="source", metavar="SPEC", action=Once,
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
@@ -81,8 +82,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     out = parser.add_argument_group("output")
     out.add_argument("--format", choices=OUTPUT_FORMATS, default=None,
                      help="output format when -o is a directory (default exr), else from the file name")
-    out.add_argument("--tone", default="hable", metavar="CURVE",
-                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable)")
+    out.add_argument("--tone", default=None, metavar="CURVE",
+                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
+                          "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
+                          "(a display transform maps scene light itself)")
     out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
     out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
     out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")
@@ -136,10 +139,33 @@ def check_once(args) -> None:
         make_lens(args.to, args.size or default_size(args.to, 256))
     if args.source:
         make_lens(args.source, (512, 256))
-    get_curve(args.tone)
+    get_curve(args.tone or "hable")
     from lenslab.cli.display import display_options
 
     display_options(args)  # unknown display, view or colour space: one usage error now
+
+
+def check_options_apply(args, pairs) -> None:
+    """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
+    from lenslab.cli.policy import UsageError
+    from lenslab.cli.warp_video import is_video
+    from lenslab.io.registry import format_for_path, get
+
+    tone_given, args.tone = args.tone is not None, args.tone or "hable"
+    videos = [is_video(src) for src, _ in pairs]
+    if getattr(args, "frames", None) is not None and not all(videos):
+        still = next(src for (src, _), v in zip(pairs, videos) if not v)
+        raise UsageError(f"--frames picks frames of a video; {still} is a still image")
+    if not tone_given:
+        return
+    if getattr(args, "display", None):
+        raise UsageError("--tone and --display both map scene light to the display: give one (--display "
+                         "with --view 'ACES 2.0 - SDR' tone-maps as it transforms)")
+    for (src, dst), video in zip(pairs, videos):
+        fmt = None if video else get(format_for_path(dst, None))
+        if video or fmt.hdr:
+            what = "a video keeps linear light through its transfer" if video else f"{fmt.title} holds linear light"
+            raise UsageError(f"--tone applies to display formats (PNG, JPG, PPM); {dst}: {what}")
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
@@ -205,6 +231,7 @@ def run(args: argparse.Namespace) -> int:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, args.format)
+    check_options_apply(args, pairs)
     from lenslab.cluster.command import batch_on_cluster, connect
 
     client = connect(args)  # an unreachable scheduler: one error, before any folder is made
