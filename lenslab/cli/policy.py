@@ -147,6 +147,7 @@ def run_command(prog: str, func: Callable[[], int | None]) -> int:
         try:
             code = int(func() or 0)
             sys.stdout.flush()
+            _print_repairs(prog)
             return code
         except KeyboardInterrupt:
             print(f"{prog}: interrupted", file=sys.stderr)
@@ -167,6 +168,17 @@ def run_command(prog: str, func: Callable[[], int | None]) -> int:
         except MemoryError:
             print(f"{prog}: error: out of memory; try a smaller --size", file=sys.stderr)
             return EXIT_FAILED
+
+
+def _print_repairs(prog: str) -> None:
+    """The command's one line on slight negatives repaired by tone mapping (lenslab.tone.repairs), if any."""
+    if "lenslab.tone.repairs" not in sys.modules:  # nothing was tone-mapped
+        return
+    from lenslab.tone.repairs import take_summary
+
+    line = take_summary()
+    if line:
+        print(f"{prog}: note: {line}", file=sys.stderr)
 
 
 def one_line(exc: BaseException) -> str:
