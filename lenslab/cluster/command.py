@@ -66,9 +66,12 @@ def batch_on_cluster(command: str, client, task: str, pairs: list[tuple], option
 def report_results(command: str, results: list[tuple], summary: str | None) -> list:
     """Print each ``(input, output, error, notes)`` result's notes and failure, then ``summary`` (None:
     none) with ``{done}`` and ``{total}`` filled in and the failures counted. Returns the failed ones."""
+    from lenslab.tone.repairs import absorb_note
+
     for src, _, _, notes in results:
         for note in notes:  # repaired values, clamped halves: reported, never hidden
-            print(f"{command}: note: {src}: {note}", file=sys.stderr)
+            if not absorb_note(note):  # a worker's slight negatives: in the command's one summary line
+                print(f"{command}: note: {src}: {note}", file=sys.stderr)
     failed = [(src, err) for src, _, err, _ in results if err]
     for src, err in failed:
         print(f"{command}: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)

@@ -10,6 +10,7 @@ fight over its cores.
 from __future__ import annotations
 
 import argparse
+import sys
 import os
 
 _PLANS: dict[tuple, object] = {}  # per worker process: warp options -> PlanCache
@@ -65,7 +66,12 @@ def guarded(src: str, dst: str, work) -> tuple[str, str, str | None, list[str]]:
             error = one_line(exc)
         except Exception as exc:  # one bad file must not stop the batch
             error = f"{type(exc).__name__}: {exc}"
-    return src, dst, error, user_notes(caught)
+    notes = user_notes(caught)
+    if "lenslab.tone.repairs" in sys.modules:  # slight negatives: the command sums them in one line
+        from lenslab.tone.repairs import take_note
+
+        notes += [n for n in (take_note(),) if n]
+    return src, dst, error, notes
 
 
 def warp_task(src: str, dst: str, options: dict) -> tuple[str, str, str | None, list[str]]:

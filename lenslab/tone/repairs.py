@@ -48,3 +48,25 @@ def take_summary() -> str | None:
         return None
     return (f"tone mapping set {values} slightly negative value{'s' if values != 1 else ''} (down to "
             f"{lowest:.2g}, a lossy codec's or filter's undershoot) to 0 in {images} image{'s' if images != 1 else ''}")
+
+
+#: how a cluster task hands its tally to the command that reports it (a note the command parses back)
+_NOTE = "slight negatives repaired:"
+
+
+def take_note() -> str | None:
+    """This process's tally as a note for another process (a cluster worker's task), and the tally reset."""
+    values, images, lowest = take()
+    return f"{_NOTE}{values}:{images}:{lowest!r}" if values else None
+
+
+def absorb_note(note: str) -> bool:
+    """Add a worker's :func:`take_note` to this process's tally; False for any other note."""
+    if not note.startswith(_NOTE):
+        return False
+    values, images, lowest = note[len(_NOTE):].split(":")
+    with _lock:
+        _tally["values"] += int(values)
+        _tally["images"] += int(images)
+        _tally["lowest"] = min(_tally["lowest"], float(lowest))
+    return True
