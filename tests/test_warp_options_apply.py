@@ -46,3 +46,16 @@ def test_tone_on_a_display_output_is_applied(tmp_path, pano):
         assert r.returncode == 0, r.stderr
         outs[curve] = lio.read(tmp_path / f"{curve}.png", raw=True)[0]
     assert np.abs(outs["aces"] - outs["clamp"]).max() > 0.1  # the curve made a difference
+
+
+@pytest.mark.parametrize("argv,says", [
+    (["convert", "{p}", "--to", "exr", "-o", "{d}/c.exr", "--tone", "aces"], "--tone applies to display formats"),
+    (["convert", "{p}", "--to", "png", "-o", "{d}/c.png", "--tone", "aces", "--display", "sRGB"],
+     "--tone and --display"),
+    (["convert", "{p}", "--to", "png", "-o", "{d}/c.png", "--frames", "0:2"], "--frames picks frames of a video"),
+    (["tonemap", "{p}", "-o", "{d}/t.png", "--curve", "aces", "--display", "sRGB"], "--curve and --display"),
+])
+def test_convert_and_tonemap_refuse_the_same(tmp_path, pano, argv, says):
+    args = [a.format(p=pano, d=tmp_path) for a in argv]
+    r = subprocess.run([sys.executable, "-m", "lenslab", *args], capture_output=True, text=True)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and says in r.stderr

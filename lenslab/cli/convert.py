@@ -42,6 +42,23 @@ INPUT_EXTENSIONS = input_extensions()
 VIDEO = ("mp4", "mov", "mkv")
 
 
+def check_convert_options(args, files, display) -> None:
+    """--tone and --frames where they cannot apply: usage errors (see lenslab.cli.options)."""
+    from lenslab.cli.options import check_frames_apply, check_tone_applies
+    from lenslab.cli.warp_video import is_video
+    from lenslab.io.registry import get
+
+    given, args.tone = args.tone is not None, args.tone or "hable"
+    if args.frames is not None:
+        check_frames_apply(args.frames, [f for f in files if not is_video(f)])
+    if args.to in VIDEO:
+        linear = [(args.output, f"a {args.transfer.upper()} clip keeps linear light")] if args.transfer != "bt709" else []
+    else:
+        holds = get(args.to).hdr and not (args.to == "tiff" and args.bits)
+        linear = [(args.to.upper(), "it holds linear light")] if holds else []
+    check_tone_applies("--tone", given, display, linear)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
     parser.add_argument("--to", required=True, choices=FORMATS + VIDEO, metavar="FORMAT",
@@ -50,9 +67,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
                              "default: next to each input")
-    parser.add_argument("--tone", default="hable", metavar="CURVE",
+    parser.add_argument("--tone", default=None, metavar="CURVE",
                         help="tone curve for HDR -> display formats (default: hable; clamp keeps the values "
-                             "as they are, clipped to 1)")
+                             "as they are, clipped to 1); refused for outputs that keep linear light and with "
+                             "--display")
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
@@ -203,6 +221,7 @@ def run(args: argparse.Namespace) -> int:
 
     exposure = parse_exposure(args.exposure)
     display = display_options(args)  # bad display names: one usage error before any folder is made
+    check_convert_options(args, files, display["display"])
     if args.bits and args.to in ("jpg", "exr", "pfm", "hdr"):
         from lenslab.errors import FormatError
         raise FormatError(f"--bits applies to png, ppm, pgm and tiff, not {args.to}")

@@ -60,3 +60,26 @@ class Once(argparse.Action):
             parser.error(f"{option_string} given twice; give it once")
         seen.add(self.dest)
         setattr(namespace, self.dest, values)
+
+
+def check_tone_applies(flag: str, given: bool, display: str | None, outputs) -> None:
+    """A tone curve named on the command line (``given``) must have something to do: refused with
+    ``--display`` (an OpenColorIO view maps scene light itself) and for outputs that keep linear light.
+    ``outputs``: ``(name, why)`` for each output that keeps linear light (why it does)."""
+    if not given:
+        return
+    from lenslab.cli.policy import UsageError
+
+    if display:
+        raise UsageError(f"{flag} and --display both map scene light to the display: give one (--display "
+                         "with --view 'ACES 2.0 - SDR' tone-maps as it transforms)")
+    for name, why in outputs:
+        raise UsageError(f"{flag} applies to display formats (PNG, JPG, PPM); {name}: {why}")
+
+
+def check_frames_apply(frames, stills) -> None:
+    """``--frames`` picks frames of videos: a usage error when an input (of ``stills``) is a still image."""
+    for still in stills:
+        from lenslab.cli.policy import UsageError
+
+        raise UsageError(f"--frames picks frames of a video; {still} is a still image")

@@ -147,25 +147,18 @@ def check_once(args) -> None:
 
 def check_options_apply(args, pairs) -> None:
     """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
-    from lenslab.cli.policy import UsageError
+    from lenslab.cli.options import check_frames_apply, check_tone_applies
     from lenslab.cli.warp_video import is_video
     from lenslab.io.registry import format_for_path, get
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
     videos = [is_video(src) for src, _ in pairs]
-    if getattr(args, "frames", None) is not None and not all(videos):
-        still = next(src for (src, _), v in zip(pairs, videos) if not v)
-        raise UsageError(f"--frames picks frames of a video; {still} is a still image")
-    if not tone_given:
-        return
-    if getattr(args, "display", None):
-        raise UsageError("--tone and --display both map scene light to the display: give one (--display "
-                         "with --view 'ACES 2.0 - SDR' tone-maps as it transforms)")
-    for (src, dst), video in zip(pairs, videos):
-        fmt = None if video else get(format_for_path(dst, None))
-        if video or fmt.hdr:
-            what = "a video keeps linear light through its transfer" if video else f"{fmt.title} holds linear light"
-            raise UsageError(f"--tone applies to display formats (PNG, JPG, PPM); {dst}: {what}")
+    if getattr(args, "frames", None) is not None:
+        check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
+    linear = [(dst, "a video keeps linear light through its transfer") if v
+              else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
+              for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
+    check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
 
 
 def plan_outputs(files: list[str], output: str, fmt: str | None) -> list[tuple[str, Path]]:
