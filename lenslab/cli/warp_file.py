@@ -16,7 +16,7 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     from lenslab.errors import FormatError
     from lenslab.io import read, write
     from lenslab.io.detect import format_for_path
-    from lenslab.io.alpha import with_alpha
+    from lenslab.io.alpha import split_alpha, with_alpha
     from lenslab.io.registry import get, hdr_formats
 
     if is_video(src_path):  # every frame with one map, to a video
@@ -24,24 +24,19 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
     fmt = format_for_path(dst_path, None)
     check_output(dst_path, [src_path], args.overwrite)
     image, meta = read(src_path)
-    has_alpha = image.shape[2] in (2, 4)
     if args.stmap:
         from lenslab.stmap import warp_with_st_map
 
         dst = None
-        out, coverage = warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
-                                         progress=progress)
+        colour, alpha = split_alpha(*warp_with_st_map(image, args.st, args.filter, args.samples, args.antialias,
+                                                      progress=progress))
     else:
         src = source_camera(args.source, meta, image.shape)
         size = args.size or default_size(args.to, image.shape[0])
         dst = output_camera(args, src, size)
         if args.autoscale:
             dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
-        out, coverage = cache.warp(image, src, dst, progress=progress)
-    if has_alpha:  # premultiplied source alpha, warped like colour: coverage x source alpha
-        colour, alpha = out[..., :-1], out[..., -1]
-    else:
-        colour, alpha = out, coverage
+        colour, alpha = cache.warp_frame(image, src, dst, progress=progress)  # as every video frame is
     out_format = get(fmt)
     keep_alpha = not args.no_alpha and out_format.alpha  # the format's record says whether it holds alpha
     exposure = args.exposure

@@ -92,7 +92,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
                           desc=Path(src_path).name) as bar:
             for _, frame in read_frames(src_path, start, stop):
-                out, _ = cache.warp(frame, src, dst)  # outside the source's view: black
+                out, _ = cache.warp_frame(frame, src, dst)  # as a still image is; outside the view: black
                 if float(args.exposure) != 0.0:
                     out = out * np.float32(2.0 ** float(args.exposure))
                 if display:

@@ -83,6 +83,14 @@ def premultiply(image: np.ndarray) -> np.ndarray:
     return image
 
 
+def split_alpha(out: np.ndarray, coverage: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A warp's ``(image, coverage)`` -> ``(premultiplied colour, alpha)``: an image that carries alpha
+    gives its own (warped like colour, so it includes the coverage), any other the coverage."""
+    if has_alpha(out):
+        return out[..., :-1], out[..., -1]
+    return out, coverage
+
+
 def with_alpha(colour: np.ndarray, alpha: np.ndarray, channels: tuple[int, ...]) -> np.ndarray:
     """``colour`` (H x W x C, premultiplied) with ``alpha`` (H x W) appended, fitted to a format that holds
     ``channels`` channel counts: grey + alpha becomes RGB + alpha where the format holds no 2-channel
