@@ -28,7 +28,7 @@ from lenslab.tone.exposure import (
     luminance_weights,
     parse_exposure,
 )
-from lenslab.tone.repairs import SLIGHT, add as tally_slight
+from lenslab.tone.repairs import SLIGHT, add as tally_slight, slight
 from lenslab.tone.kernels import F32
 from lenslab.tone.registry import get_curve
 from lenslab.tone.sweep import Counts, repair, run_split, sweep_luminance, sweep_rgb, sweep_values
@@ -44,12 +44,12 @@ class ToneWarning(UserWarning):
 
 
 
-def warn_repairs(counts: Counts, total: int) -> None:
-    """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (no lower than
-    :data:`lenslab.tone.repairs.SLIGHT`) go to the command's one-line tally instead."""
+def warn_repairs(counts: Counts, total: int, image=None) -> None:
+    """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (a codec's undershoot,
+    :func:`lenslab.tone.repairs.slight`, judged on ``image``) go to the command's one-line tally instead."""
     if not counts.any():
         return
-    if not counts.nan and not counts.posinf and counts.lowest >= -SLIGHT:
+    if not counts.nan and not counts.posinf and slight(image if image is not None else (), counts.lowest):
         tally_slight(counts.negative, counts.lowest)
         return
     parts = []
@@ -117,7 +117,7 @@ def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str 
         clean *= F32(scale)
         out = spec.build(clean, resolved, weights)
         out[inf_mask.any(axis=-1) if rgb else inf_mask] = 1
-        warn_repairs(counts, x.size)
+        warn_repairs(counts, x.size, x)
         return out
 
     if spec.kind == "image":
@@ -129,7 +129,7 @@ def tonemap(image, curve: str = "hable", exposure: float | str = 0.0, mode: str 
     out = np.empty_like(x)
     with np.errstate(divide="ignore", over="ignore"):
         _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads)
-    warn_repairs(counts, x.size)
+    warn_repairs(counts, x.size, x)
     return out
 
 

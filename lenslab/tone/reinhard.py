@@ -91,5 +91,5 @@ def reinhard2002(x, key: float = MIDDLE_GREY, white: float = math.inf, delta: fl
     counts = Counts()
     with np.errstate(divide="ignore", over="ignore"):
         sweep_values(arr.reshape(-1), out.reshape(-1), _build_reinhard2002(p, scale), counts)
-    warn_repairs(counts, arr.size)
+    warn_repairs(counts, arr.size, arr)
     return out
