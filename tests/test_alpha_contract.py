@@ -23,6 +23,8 @@ from tests.test_lenses_roundtrip import CASES
 W = 96
 #: one case per registered lens name (the round-trip table covers them all), made small
 ONE_PER_LENS = list({spec.partition(":")[0]: (spec, size) for spec, size in reversed(CASES)}.values())
+# and every lensfun profile and optics case of that table (their TCA and vignetting are effects of their own)
+ONE_PER_LENS += [c for c in CASES if c[0].startswith(("lensfun", "optics")) and c not in ONE_PER_LENS]
 EFFECTS = [("bilinear", False), ("nearest", False), ("bicubic", False), ("lanczos", False), ("bilinear", True)]
 
 
@@ -176,3 +178,23 @@ def test_cli_writes_alpha_to_every_format_that_holds_it(tmp_path):
         assert (img.shape[2] == 4) == fmt.alpha, name
         if fmt.alpha:
             assert img[0, 0, 3] == 0 and img[12, 12, 3] == 1  # outside and inside the image circle
+
+
+@pytest.mark.shared_data
+def test_removing_a_real_lens_vignetting_keeps_alpha_at_most_one(shared_data, tmp_path):
+    # the round trip of a user's report: a real panorama into a vignetting fisheye profile, then that
+    # fisheye (its camera stored in the EXR) back to a panorama
+    import lenslab.io as lio
+
+    pytest.importorskip("lensfunpy")
+    lens = "lensfun:lens=Samyang 8mm f/2.8 UMC Fish-eye,crop=1.534,aperture=2.8"
+    run = lambda *a: subprocess.run([sys.executable, "-m", "lenslab", "warp", *map(str, a), "-q"],  # noqa: E731
+                                    capture_output=True, text=True)
+    r = run(shared_data / "hdri" / "forest.exr", "-o", tmp_path / "s.exr", "--to", lens, "--size", "450x300")
+    assert r.returncode == 0, r.stderr
+    r = run(tmp_path / "s.exr", "-o", tmp_path / "b.exr", "--to", "equirect", "--size", "256x128")
+    assert r.returncode == 0, r.stderr
+    back, _ = lio.read(tmp_path / "b.exr")
+    assert back[..., 3].min() >= 0 and back[..., 3].max() <= 1  # was up to 6.23
+    fish, _ = lio.read(tmp_path / "s.exr")
+    assert fish[..., 3].max() <= 1
