@@ -4,7 +4,8 @@ Each output pixel looks along its ray(s) of the output camera (--to, --size, --y
 --look-at) and reads the source image where the source camera (--from) sees that direction. Values
 are never clamped; the output's alpha is the coverage (the fraction of the pixel's samples that land
 on the source), written as the A channel of every format that holds alpha (EXR, PNG, TIFF), with the
-colour as that format keeps it: premultiplied in EXR and float TIFF, straight in PNG and 8/16-bit TIFF. EXR output records the output camera in its header, so it can be warped again.
+colour as that format keeps it: premultiplied in EXR and float TIFF, straight in PNG and 8/16-bit TIFF.
+EXR output records the output camera in its header, so it can be warped again.
 
 The source camera comes from --from, else from the file's own header (EXR written by lenslab), else
 a full equirect panorama is assumed when the image is twice as wide as it is tall.

@@ -2,8 +2,8 @@
 
 OpenCV works in BGR order; images here are RGB. PNG alpha is straight (the PNG specification): the
 colour is unpremultiplied before it is encoded and premultiplied after it is decoded, so memory holds
-premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as they are. JPG EXIF orientation is not applied (pixels are
-returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
+premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
+they are. JPG EXIF orientation is not applied (pixels are returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
 standard-dynamic-range image.
 """
 

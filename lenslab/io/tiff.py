@@ -4,7 +4,8 @@ Reading: the first image of the file (``meta["attributes"]["pages"]`` counts the
 Float samples (32-bit, 16-bit half, 64-bit) are linear light; 8- and 16-bit unsigned integer samples
 are sRGB-encoded like PNG's and decoded to linear (``raw=True`` gives code / maxval), with alpha
 (an extra sample) kept linear. Alpha tagged associated (ExtraSamples 1) is read as it is; tagged
-unassociated (2) or unspecified (0), its colour is straight and is premultiplied after decoding. Photometric interpretations other than grey (min-is-black) and RGB
+unassociated (2) or unspecified (0), its colour is straight and is premultiplied after decoding.
+Photometric interpretations other than grey (min-is-black) and RGB
 (palette, YCbCr, CMYK, min-is-white) are refused with a FormatError.
 
 Writing: ``sample_type="float"`` (default, 32-bit), ``"half"``, ``"uint16"`` or ``"uint8"`` (the
