@@ -204,3 +204,27 @@ def test_removing_a_real_lens_vignetting_keeps_alpha_at_most_one(shared_data, tm
     assert back[..., 3].min() >= 0 and back[..., 3].max() <= 1  # was up to 6.23
     fish, _ = lio.read(tmp_path / "s.exr")
     assert fish[..., 3].max() <= 1
+
+
+def test_display_transform_keeps_straight_colour_in_png_and_over_black_without_alpha(tmp_path):
+    # a premultiplied pixel of straight colour 0.18 at alpha 0.5 through OpenColorIO's sRGB display
+    # (Un-tone-mapped view: the sRGB curve): PNG holds the straight colour's code with the alpha, JPG the
+    # colour over black; read back by OpenImageIO as stored (no premultiplication of its own)
+    oiio = pytest.importorskip("OpenImageIO")
+    import lenslab.io as lio
+    from lenslab.cli.main import main
+
+    img = np.zeros((8, 8, 4), np.float32)
+    img[..., :3], img[..., 3] = 0.18 * 0.5, 0.5
+    lio.write(tmp_path / "a.exr", img)
+    enc = lambda x: 1.055 * x ** (1 / 2.4) - 0.055  # noqa: E731  (sRGB, IEC 61966-2-1, above the toe)
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    for name, want in (("a.png", [enc(0.18)] * 3 + [128 / 255]), ("a.jpg", [enc(0.09)] * 3)):
+        assert main(["tonemap", str(tmp_path / "a.exr"), "-o", str(tmp_path / name), "--display", "sRGB",
+                     "--view", "Un-tone-mapped", "-q"]) == 0
+        inp = oiio.ImageInput.open(str(tmp_path / name), config)
+        got = np.asarray(inp.read_image("float"))[4, 4]
+        inp.close()
+        # one 8-bit code: rounding (half a code) and OpenColorIO's float32 evaluation of the curve
+        np.testing.assert_allclose(got, want, atol=1 / 255)

@@ -7,8 +7,6 @@ from __future__ import annotations
 def render(image, meta: dict, options: dict):
     """(image as the output format stores it, write options): tone curve or display transform for
     display outputs, exposure, and the format's options."""
-    import numpy as np
-
     from lenslab.errors import FormatError
     from lenslab.io.registry import get
 
@@ -22,7 +20,9 @@ def render(image, meta: dict, options: dict):
 
         if exposure == "auto":
             raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
-        image, shown = apply_display(image * np.float32(2.0 ** exposure), fmt, options)
+        from lenslab.io.alpha import expose
+
+        image, shown = apply_display(expose(image, exposure), fmt, options)
     elif (not fmt.hdr or integers) and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
 
@@ -30,7 +30,9 @@ def render(image, meta: dict, options: dict):
     elif exposure == "auto":
         raise FormatError("--exposure auto applies when writing display formats (jpg, png, ppm, pgm)")
     elif exposure != 0.0:
-        image = image * np.float32(2.0 ** exposure)
+        from lenslab.io.alpha import expose
+
+        image = expose(image, exposure)  # light, not coverage
     return image, {**write_options(fmt, meta, options), **shown}
 
 

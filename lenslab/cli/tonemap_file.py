@@ -44,18 +44,17 @@ def tonemap_one(src: str, dst: str, options: dict) -> str:
 def write_display(dst: str, image, options: dict) -> None:
     """Write ``image`` through the OpenColorIO display transform of ``options`` (``display``, ``view``,
     ``colorspace``, ``ocio``) instead of a tone curve, after ``exposure`` stops (a number)."""
-    import numpy as np
-
     from lenslab import io
     from lenslab.cli.display import apply_display
     from lenslab.errors import FormatError
     from lenslab.io import registry
+    from lenslab.io.alpha import expose
 
     ev = options["exposure"]
     if ev == "auto":
         raise FormatError("--exposure auto goes with a tone curve; give a number of stops with --display")
     fmt = registry.get(registry.format_for_path(dst, None))
-    shown, extra = apply_display(image * np.float32(2.0 ** float(ev)), fmt, options)
+    shown, extra = apply_display(expose(image, float(ev)), fmt, options)
     if fmt.hdr and "raw" not in extra:
         raise FormatError(f"{dst}: a display transform writes display images (png, tif, jpg, ppm); "
                           f"{fmt.name} holds scene-linear values")

@@ -46,9 +46,10 @@ def warp_one(src_path: str, dst_path: Path, args, cache, progress=None) -> None:
 
         if exposure == "auto":
             raise FormatError("--exposure auto goes with --tone; give a number of stops with --display")
-        rgba = np.concatenate([colour * np.float32(2.0 ** float(exposure)), alpha[..., None]], axis=-1)
+        lit = colour * np.float32(2.0 ** float(exposure))
+        rgba = np.concatenate([lit, alpha[..., None]], axis=-1) if keep_alpha else lit  # else: over black
         mapped, shown = apply_display(rgba, out_format, {**vars(args), "bits": None})
-        colour, alpha = mapped[..., :-1], mapped[..., -1]
+        colour = mapped[..., :-1] if keep_alpha else mapped
     elif fmt not in hdr_formats() and (not meta["display_encoded"] or exposure == "auto"):
         from lenslab.tone import tonemap
 

@@ -87,6 +87,15 @@ def premultiply(image: np.ndarray) -> np.ndarray:
     return image
 
 
+def expose(image: np.ndarray, stops: float) -> np.ndarray:
+    """``image`` (H x W x C float32) with its colour times ``2**stops`` and alpha kept (exposure is light,
+    not coverage); a new array."""
+    out = np.array(image, dtype=F32, copy=True)
+    if float(stops) != 0.0:
+        out[..., colour_channels(out.shape[-1]) if out.ndim == 3 else slice(None)] *= F32(2.0 ** float(stops))
+    return out
+
+
 def split_alpha(out: np.ndarray, coverage: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """A warp's ``(image, coverage)`` -> ``(premultiplied colour, alpha)``: an image that carries alpha
     gives its own (warped like colour, so it includes the coverage), any other the coverage."""

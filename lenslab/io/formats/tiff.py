@@ -27,4 +27,5 @@ FORMATS = (Format(
                    "predictor": "True (default): horizontal or floating-point predictor",
                    "raw": "True: integer codes = value * maxval, no sRGB encoding",
                    "dither": "True: TPDF dither before rounding to integers"},
-    note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file"),)
+    note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file",
+    straight_alpha=("uint",)),)
