@@ -24,6 +24,17 @@ def write_quad_obj(path, x=QUAD_X, half=0.05, z=1.0):
     return path
 
 
+def write_quad_ply(path, x=QUAD_X, half=0.05, z=1.0):
+    """The same square as an ASCII PLY (PLY carries no material: the tracer shows it lit by its sky, Mitsuba
+    is given an emitter for it)."""
+    x0, x1, y0, y1 = x - half, x + half, -half, half
+    verts = [(x0, y0, z), (x0, y1, z), (x1, y1, z), (x1, y0, z)]
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                    + "".join(f"{a} {b} {c}\n" for a, b, c in verts) + "3 0 1 2\n3 0 2 3\n")
+    return path
+
+
 def column_centroid(img):
     lum = np.asarray(img, np.float64)[..., :3].sum(-1)
     cols = lum.sum(0)
@@ -40,7 +51,7 @@ def tracer_render(scene, out, *extra):
     return lio.read(out)[0]
 
 
-def mitsuba_render(obj):
+def mitsuba_render(obj, kind="obj"):
     mi = pytest.importorskip("mitsuba")
     mi.set_variant("scalar_rgb")
     try:
@@ -52,7 +63,7 @@ def mitsuba_render(obj):
         "sensor": {"type": "perspective", "fov": FOV, "fov_axis": "x", "to_world": to_world,
                    "film": {"type": "hdrfilm", "width": W, "height": H, "rfilter": {"type": "box"}},
                    "sampler": {"type": "independent", "sample_count": 16}},
-        "quad": {"type": "obj", "filename": str(obj),
+        "quad": {"type": kind, "filename": str(obj),
                  "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}}},
     })
     return np.asarray(mi.render(scene))
@@ -86,3 +97,15 @@ def test_mirroring_keeps_faces_facing_the_same_way():
     a, b, c = mv[mt[0]]
     n = np.cross(b - a, c - a)
     assert n[2] < 0 and np.allclose(mv[:, 0], -v[:, 0])  # still faces the camera at the origin
+
+
+def test_right_handed_ply_lands_where_mitsuba_puts_it(tmp_path):
+    # a bare PLY: the tracer lights it with its uniform sky, so the square is bright on a bright sky;
+    # the column is found in the difference from the same render without the square
+    ply = write_quad_ply(tmp_path / "q.ply")
+    ref = column_centroid(mitsuba_render(ply, "ply"))
+    got = tracer_render(ply, tmp_path / "t.exr")
+    assert abs(ref - W / 2 * (1 - QUAD_X / np.tan(np.radians(FOV) / 2))) < 0.5
+    # the square hides the sky behind it: its pixels are the ones below the sky's radiance
+    hidden = (got[..., :3].mean(-1) < 0.5).astype(np.float64)
+    assert abs(column_centroid(hidden[..., None].repeat(3, -1)) - ref) < 0.5
