@@ -112,12 +112,10 @@ def _undistort(xd, yd, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, tabl
     """Undistort one point of the normalised plane: ``(ok, x, y, iterations)`` (1-D + 2-D)."""
     fold2 = fold * fold
     rd = math.sqrt(xd * xd + yd * yd)
-    lim = f_hi
-    if tangential:
-        # the tangential and prism terms move a point by at most this much inside the bracket, so a
-        # distorted radius up to f_hi + shift can still come from a valid point near the fold
-        h2 = hi * hi
-        lim = f_hi + (3.0 * (abs(p1) + abs(p2)) + abs(s[0]) + abs(s[2])) * h2 + (abs(s[1]) + abs(s[3])) * h2 * h2
+    h2 = hi * hi  # tangential and prism terms move a point by at most this inside the bracket: a distorted
+    # radius up to f_hi plus that can come from a valid point near the fold
+    lim = f_hi + ((3.0 * (abs(p1) + abs(p2)) + abs(s[0]) + abs(s[2])) * h2 + (abs(s[1]) + abs(s[3])) * h2 * h2
+                  if tangential else 0.0)
     if not ((rd < lim) if strict else (rd <= lim)):  # also False for NaN
         return False, 0.0, 0.0, 0
     # the radial solve starts the 2-D one; beyond the radial map's reach it starts at the fold's edge
