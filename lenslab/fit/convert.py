@@ -160,9 +160,9 @@ def convert_lens(source: Lens, model: str, *, free=None, bounds=None, aim: float
 def shared_residuals(fit) -> tuple[np.ndarray, np.ndarray, float]:
     """The report's pixel centres, the pixel residual there (NaN outside the shared field: where the
     target does not put the source's ray inside its image) and the share of the field shared."""
-    from lenslab.fit.lens import REPORT_GRID, _Problem
+    from lenslab.fit.lens import REPORT_GRID, FitProblem
 
-    problem = _Problem(fit.source, REPORT_GRID, "pixel")
+    problem = FitProblem(fit.source, REPORT_GRID, "pixel")
     if fit.lens is None:
         return problem.xy, np.full(len(problem.xy), np.nan), 0.0
     r, ok = problem.pixel_residual(fit.lens)

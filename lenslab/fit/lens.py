@@ -126,7 +126,7 @@ class Residuals:
         return float(self.xy[i, 0]), float(self.xy[i, 1])
 
 
-class _Problem:
+class FitProblem:
     """Source samples prepared once; residuals of any candidate lens against them."""
 
     def __init__(self, source: Lens, n: int, space: str):
@@ -326,8 +326,8 @@ def fit_lens(
         source = source.with_size(*size)
     ps = build_space(model, (source.width, source.height), free=free, bounds=bounds, start_from=source,
                      start_values=start)
-    problem = _Problem(source, grid, first_space)
-    polish = _Problem(source, grid, "pixel") if space == "pixel" and first_space != "pixel" else None
+    problem = FitProblem(source, grid, first_space)
+    polish = FitProblem(source, grid, "pixel") if space == "pixel" and first_space != "pixel" else None
     starts = [ps.start] + ([ps.defaults] if not np.array_equal(ps.defaults, ps.start) else [])
     best: tuple[float, Any, OptimizeResult | None] = (float("inf"), None, None)
     tried: list[tuple[str, float]] = []
@@ -352,7 +352,7 @@ def fit_lens(
     if res is None:
         return LensFit(source, None, ps.names, None, None, space, tolerance, tried, time.perf_counter() - t_start)
     lens = ps.try_make(res.x, combo)
-    report = _Problem(source, report_grid, space).report(lens)
+    report = FitProblem(source, report_grid, space).report(lens)
     return LensFit(source, lens, ps.names, report, res, space, tolerance, tried, time.perf_counter() - t_start,
                    (ps.lower, ps.upper))
 
