@@ -200,6 +200,9 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
         sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
         if progress is not None:
             progress(r1 - r0)
+    from lenslab.io.alpha import settle
+
+    settle(out, alpha)
     if image.ndim == 2:
         out = out[..., 0]
     return out, alpha

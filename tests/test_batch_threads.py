@@ -27,7 +27,7 @@ def frames(tmp_path):
     for i in range(N):
         image = (rng.random((32, 64, 3)) * 3).astype(np.float32)
         if i % 2:
-            image[16 - i // 2:16 - i // 2 + i, 30:34, 0] = -(i + 1) * 1e-5
+            image[16 - i // 2:16 - i // 2 + i, 30:34, 0] = -(i + 1) * 0.2  # real negatives (beyond 2^-5 of their block): a note per file
         lio.write(d / f"f{i:02d}.pfm", image)
     return d
 

@@ -64,12 +64,31 @@ def test_a_closed_pipe_ends_quietly(folder):
 
 def test_repairs_say_how_many_and_how_large_once_per_file(tmp_path, capsys):
     img = np.full((8, 8, 3), 0.5, np.float32)
-    img[0, :, 0] = -3e-5  # eight slightly negative values, as a filter's ringing leaves
+    img[0, :, 0] = -3e-2  # eight negative values: real negative light, not a codec's undershoot
     write(tmp_path / "in.pfm", img)
     code, err = _run(capsys, "tonemap", str(tmp_path / "in.pfm"), "-o", str(tmp_path / "out.png"), "-q")
     assert code == 0
     assert err.count("repaired") == 1
-    assert "8 slightly negative values, down to -3e-05, set to 0 (of 192 values)" in err
+    assert "8 negative values, down to -0.03, set to 0 (of 192 values)" in err
+
+
+def test_slight_negatives_of_a_batch_are_one_summary_line(tmp_path, capsys):
+    # DWAB-sized undershoots (-4e-4, within one half-float step at white, 2^-10) in every file of a batch:
+    # one line for the command, no note per file and no Python warning
+    import warnings
+
+    for i in range(3):
+        img = np.full((8, 8, 3), 0.5, np.float32)
+        img[i, :4, 1] = -4e-4
+        write(tmp_path / f"in{i}.pfm", img)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a Python warning would fail here
+        code, err = _run(capsys, "tonemap", *(str(tmp_path / f"in{i}.pfm") for i in range(3)),
+                         "-o", str(tmp_path / "out"), "--format", "png", "-q")
+    assert code == 0, err
+    lines = [ln for ln in err.splitlines() if "negative" in ln]
+    assert lines == ["lenslab tonemap: note: tone mapping set 12 slightly negative values (down to -0.0004, a "
+                     "lossy codec's or filter's undershoot) to 0 in 3 images"]
 
 
 @pytest.mark.shared_data

@@ -138,8 +138,13 @@ def test_png_round_trip(tmp_path, bits):
     img = asym(c=4)
     back, meta = lio.read(lio.write(tmp_path / "a.png", img, bits=bits))
     q = 1 << bits
-    # colour goes through sRGB (exact code round trip); alpha is linear coverage, quantised directly
-    np.testing.assert_array_equal(back[..., :3], decode_srgb(encode_quantise(img[..., :3], bits), q - 1))
+    # PNG colour is straight: the file holds sRGB(colour / alpha) (exact code round trip), alpha is linear
+    # coverage quantised directly, and reading premultiplies by the stored alpha
+    a = img[..., 3:]  # divided in float32, as the image is: a float64 quotient may round to the next code
+    straight = np.divide(img[..., :3], a, out=np.zeros(img[..., :3].shape, np.float32), where=a > 0)
+    # (the stored alpha, within half a code of the image's as asserted below, is what colour is multiplied by)
+    expected = decode_srgb(encode_quantise(straight, bits), q - 1) * back[..., 3:]
+    np.testing.assert_allclose(back[..., :3], expected, rtol=1e-6, atol=1e-9)  # one float32 product
     np.testing.assert_allclose(back[..., 3], img[..., 3], atol=0.5 / (q - 1) + 1e-7)
     assert meta["bit_depth"] == bits and meta["channels"] == ["R", "G", "B", "A"]
 

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -49,6 +50,10 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scene", default="cornell",
                    help="built-in scene name (cornell, cornell-point, sky, furnace, plane, arealight) or a scene "
                         "file (.obj with .mtl, .ply, .stl, .toml); default cornell")
+    p.add_argument("--handedness", choices=("right", "left"), default="right",
+                   help="the frame of a mesh file (.obj, .ply, .stl): 'right' (default; Blender, Maya, Mitsuba "
+                        "and most exporters) is mirrored x -> -x on import so the scene renders as those tools "
+                        "show it; 'left' keeps a file already in lenslab's left-handed frame")
     p.add_argument("--env", metavar="EXR", help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
     p.add_argument("--camera", metavar="SPEC",
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
@@ -154,6 +159,11 @@ def run_render(args) -> int:
     if args.variance_out and same_path(args.variance_out, args.output):
         raise UsageError("--variance-out must name another file than -o")
     kwargs = {"env": args.env} if args.env else {}
+    if Path(args.scene).suffix.lower() in (".obj", ".ply", ".stl", ".vtk", ".vtp"):
+        kwargs["handedness"] = args.handedness
+    elif args.handedness != "right":
+        raise UsageError("--handedness applies to a mesh file (.obj, .ply, .stl); a TOML scene says it per "
+                         "[[mesh]] (handedness = \"left\") and built-in scenes have their own frame")
     if args.env and args.scene != "sky":
         raise ValueError("--env lights the built-in 'sky' scene; a TOML scene names its own [environment]")
     from lenslab.tone import get_curve
@@ -168,6 +178,8 @@ def run_render(args) -> int:
     camera = _camera(args, scene)
     from tracer.tiles import render_on_cluster
 
+    if args.handedness != "right" and (args.scheduler or args.scheduler_file or os.environ.get("DASK_SCHEDULER_ADDRESS")):
+        raise UsageError("--handedness left renders on this machine only; workers load mesh files right-handed")
     result = render_on_cluster(args, camera)  # None without --scheduler (or DASK_SCHEDULER_ADDRESS)
     if result is None:
         result = render(scene, camera, spp=args.spp, seed=args.seed, integrator=args.integrator,

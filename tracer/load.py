@@ -5,6 +5,14 @@ OBJ: ``v`` and ``f`` (polygons are fan-triangulated; negative indices count back
 zero ``Kd``, makes a perfect mirror of reflectance ``Ks``), ``Ke`` emission, and ``Ka`` as emission
 when the scene asks for it (``ambient_as_emission``, as some course files light their scenes).
 
+Handedness: lenslab's (and pbrt's) world and camera frames are left-handed (+x right, +y up, +z
+forward). Mesh files (OBJ, PLY, STL, VTK) come from right-handed tools (Blender, Maya, Mitsuba 3, most
+exporters), so by default they are mirrored on import, ``x -> -x`` with each triangle's winding
+reversed: the scene then renders as the tool shows it, a point ``(x, y, z)`` of the tool standing at
+``(-x, y, z)`` in lenslab (give ``--eye``/``--look-at`` there). ``handedness="left"`` (``tracer render
+--handedness left``, or ``handedness = "left"`` on a TOML ``[[mesh]]``) keeps a left-handed asset as it
+is. TOML scene coordinates (shapes, lights, cameras, translations) are lenslab's own.
+
 A bare mesh file without emitters is lit by a uniform white sky (radiance 1) and seen from a camera
 that frames it. A TOML scene names meshes, materials, lights, an environment and cameras::
 
@@ -16,6 +24,7 @@ that frames it. A TOML scene names meshes, materials, lights, an environment and
 
     [[mesh]]
     file = "bunny.ply"                    # relative to this file; OBJ keeps its MTL unless material is set
+    handedness = "right"                  # the file's frame: "right" (default, mirrored x -> -x) or "left"
     material = "white"
     scale = 1.0
     translate = [0.0, 0.0, 0.0]
@@ -201,9 +210,34 @@ def read_obj(path: Path, ambient_as_emission: bool = False, material: Material |
     return parts, dropped
 
 
+#: the frames a mesh file's coordinates may be in: "right" (Blender, Maya, Mitsuba 3, most exporters:
+#: mirrored on import) or "left" (lenslab's and pbrt's own frame: kept as they are)
+HANDEDNESS = ("right", "left")
+
+
+def mirror_to_left_handed(vertices: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A right-handed tool's mesh in lenslab's left-handed frame: ``x -> -x``, and each triangle's winding
+    reversed so that its front face (and normal) is the mirror image of the tool's."""
+    v = np.array(vertices, dtype=np.float64, copy=True)
+    v[:, 0] = -v[:, 0]
+    return v, np.ascontiguousarray(np.asarray(triangles)[:, [0, 2, 1]])
+
+
+def check_handedness(handedness: str) -> str:
+    key = str(handedness).strip().lower()
+    if key not in HANDEDNESS:
+        raise SceneError(f"handedness must be one of {', '.join(HANDEDNESS)}, not {handedness!r}")
+    return key
+
+
 def load_mesh(path: Path, material: Material | None = None, ambient_as_emission: bool = False, scale=1.0,
-              translate=(0.0, 0.0, 0.0)):
-    """Mesh parts of one file: OBJ through :func:`read_obj`, other formats through pyvista."""
+              translate=(0.0, 0.0, 0.0), handedness: str = "right"):
+    """Mesh parts of one file: OBJ through :func:`read_obj`, other formats through pyvista.
+
+    ``handedness="right"`` (the default): the file comes from a right-handed tool and is mirrored
+    (:func:`mirror_to_left_handed`) so that it renders as that tool shows it; ``"left"`` keeps it.
+    ``scale`` and ``translate`` apply afterwards, in lenslab's frame."""
+    handedness = check_handedness(handedness)
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such mesh file")
@@ -221,6 +255,8 @@ def load_mesh(path: Path, material: Material | None = None, ambient_as_emission:
             raise SceneError(f"{path}: cannot read the mesh ({exc})") from None
         v, t = polydata_triangles(mesh)
         parts, dropped = [(v, t, material or Material())], 0
+    if handedness == "right":
+        parts = [(*mirror_to_left_handed(v, t), m) for v, t, m in parts]
     out = [(v * scale + np.asarray(translate, dtype=np.float64), t, m) for v, t, m in parts]
     return out, dropped
 
@@ -273,7 +309,8 @@ def load_toml(path: Path, **_ignored) -> Scene:
         if "file" in mesh:
             got, d = load_mesh(path.parent / mesh["file"], material=mat,
                                ambient_as_emission=bool(head.get("ambient_as_emission", False)),
-                               scale=float(mesh.get("scale", 1.0)), translate=mesh.get("translate", (0, 0, 0)))
+                               scale=float(mesh.get("scale", 1.0)), translate=mesh.get("translate", (0, 0, 0)),
+                               handedness=mesh.get("handedness", "right"))
             parts += got
             dropped += d
         else:

@@ -4,7 +4,10 @@ parsers (:mod:`lenslab.inputs.safeload`; ``cv2.FileStorage`` itself crashes on h
 Keys: ``camera_matrix`` (3x3), ``distortion_coefficients`` (4, 5, 8, 12 or 14 numbers: OpenCV's
 ``k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]``), ``image_width``, ``image_height``; a fisheye
 (Kannala-Brandt) says ``fisheye_model: 1`` as OpenCV's calibration sample writes it, or
-``distortion_model: equidistant`` (Kalibr's word), and has ``k1..k4``; ``xi`` makes it ``cv2.omnidir``
+``distortion_model`` or ``model`` set to ``equidistant`` (Kalibr's word), ``fisheye`` or ``kannala_brandt``,
+and has ``k1..k4``; ``radtan``, ``plumb_bob``, ``rational_polynomial`` or ``pinhole`` say pinhole. Four
+coefficients with no such key are read as the pinhole ``k1 k2 p1 p2`` with an
+:class:`AmbiguousCalibrationWarning` that says how to choose the fisheye; ``xi`` makes it ``cv2.omnidir``
 (``k1 k2 p1 p2``, skew in ``camera_matrix[0][1]``). Pixel centres at integers: numbers verbatim.
 """
 
@@ -147,6 +150,40 @@ def _distortion(path, data) -> np.ndarray:
     return np.array(_floats(path, "distortion_coefficients", value), float)
 
 
+#: the keys that say which model a file holds, and their words (OpenCV's sample, Kalibr, ROS, others)
+MODEL_KEYS = ("fisheye_model", "distortion_model", "model")
+FISHEYE_WORDS = ("equidistant", "fisheye", "kannala_brandt", "kannala-brandt", "kb4", "opencv_fisheye")
+PINHOLE_WORDS = ("radtan", "plumb_bob", "rational_polynomial", "pinhole", "opencv", "brown", "brown_conrady")
+
+
+class AmbiguousCalibrationWarning(UserWarning):
+    """A calibration file could be read two ways; the message says which was taken and how to choose."""
+
+
+def model_kind(path: Path, said: dict) -> str | None:
+    """"fisheye", "pinhole", or None when no key says; a CameraFileError for a word no reader knows or
+    keys that disagree."""
+    kinds = {}
+    for key, value in said.items():
+        if value is None:
+            continue
+        if key == "fisheye_model" and not isinstance(value, str):
+            kinds[key] = "fisheye" if value == 1 else "pinhole"
+            continue
+        word = str(value).strip().lower()
+        if word in FISHEYE_WORDS:
+            kinds[key] = "fisheye"
+        elif word in PINHOLE_WORDS:
+            kinds[key] = "pinhole"
+        else:
+            raise CameraFileError(f"{path}: unknown {key} {clip(value)}; valid: {', '.join(FISHEYE_WORDS[:3])} (a fisheye), "
+                                  f"{', '.join(PINHOLE_WORDS[:4])} (a pinhole)")
+    if len(set(kinds.values())) > 1:
+        raise CameraFileError(f"{path}: the keys disagree on the model: "
+                              + ", ".join(f"{k} says {v}" for k, v in kinds.items()))
+    return next(iter(kinds.values()), None)
+
+
 def read(path: Path, text: str):
     from lenslab.lenses import make_lens
 
@@ -160,13 +197,10 @@ def read(path: Path, text: str):
     w = _side(path, data, "image_width")
     h = _side(path, data, "image_height")
     xi = _number(path, data, "xi", required=False)
-    fisheye = _number(path, data, "fisheye_model", required=False)
-    model = _number(path, data, "distortion_model", required=False)
     if isinstance(xi, str):
         raise CameraFileError(f"{path}: key 'xi' must be a number, got {clip(xi)}")
-    if isinstance(model, str) and model not in ("equidistant", "radtan", "plumb_bob", "rational_polynomial"):
-        raise CameraFileError(f"{path}: unknown distortion_model {clip(model)}; valid: equidistant, radtan, "
-                              "plumb_bob, rational_polynomial")
+    said = {key: _number(path, data, key, required=False) for key in MODEL_KEYS}
+    kind = model_kind(path, said)
     values = {"fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], "width": int(w), "height": int(h)}
     if xi is not None:
         if D.size != 4:
@@ -174,7 +208,7 @@ def read(path: Path, text: str):
                             f"(k1 k2 p1 p2), got {D.size}")
         values.update(xi=xi, s=K[0, 1], **dict(zip("k1 k2 p1 p2".split(), D)))
         name = "omnidir"
-    elif fisheye == 1 or model == "equidistant":
+    elif kind == "fisheye":
         if D.size != 4:
             raise CameraFileError(f"{path}: key 'distortion_coefficients' of a fisheye camera needs 4 numbers "
                             f"(k1 k2 k3 k4), got {D.size}")
@@ -187,6 +221,14 @@ def read(path: Path, text: str):
             raise CameraFileError(f"{path}: key 'distortion_coefficients': the tilt terms tauX, tauY are not supported")
         values.update(zip(OPENCV_KEYS, D[:12]))
         name = "opencv"
+        if kind is None and D.size == 4:
+            import warnings
+
+            warnings.warn(AmbiguousCalibrationWarning(
+                f"{path}: 4 distortion coefficients and no fisheye_model or distortion_model key: read as "
+                "OpenCV's pinhole model (k1 k2 p1 p2); if the camera is a fisheye (Kannala-Brandt, "
+                "cv2.fisheye: k1 k2 k3 k4), add 'distortion_model: equidistant' (or 'fisheye_model: 1') to the "
+                "file; 'distortion_model: plumb_bob' says pinhole and silences this note"), stacklevel=2)
     if name != "omnidir" and K[0, 1] != 0:
         raise CameraFileError(f"{path}: key 'camera_matrix' has a skew, which only the omnidir model (with xi) takes")
     try:

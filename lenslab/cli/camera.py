@@ -99,11 +99,19 @@ def field_of_view(lens) -> tuple[float, float]:
 def run(args: argparse.Namespace) -> int:
     from lenslab.errors import LensError
 
-    lens = load(args.camera, args.size)
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lens = load(args.camera, args.size)
+    import sys
+
+    for note in dict.fromkeys(str(w.message) for w in caught):  # which reading was taken, and how to choose
+        print(f"lenslab camera: note: {note}", file=sys.stderr)
     if args.action == "show":
         from lenslab.lenses.core.base import format_number
 
-        print(f"{args.camera}: {lens.name}, {lens.width}x{lens.height}")
+        print(f"{args.camera}: {lens.name} ({lens.summary}), {lens.width}x{lens.height}")
         for k, v in lens.param_values().items():
             print(f"  {k:8s} {format_number(v) if isinstance(v, float) else v}")
         hfov, vfov = field_of_view(lens)

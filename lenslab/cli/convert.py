@@ -38,6 +38,24 @@ FORMATS = writable()
 VIDEO = tuple(dict.fromkeys(e.lstrip(".") for f in formats().values() if f.kind == "video" for e in f.extensions))
 
 
+def check_convert_options(args, files, display) -> None:
+    """--tone and --frames where they cannot apply: usage errors (see lenslab.jobs.arguments)."""
+    from lenslab.io.registry import get
+    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
+    from lenslab.jobs.warp_video import is_video
+
+    given, args.tone = args.tone is not None, args.tone or "hable"
+    if args.frames is not None:
+        check_frames_apply(args.frames, [f for f in files if not is_video(f)])
+    if args.to in VIDEO:
+        linear = [(args.output, f"a {args.transfer.upper()} clip keeps linear light")] if args.transfer != "bt709" else []
+    else:
+        fmt = get(args.to)  # integer samples asked of a float format (TIFF --bits) hold display codes
+        holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
+        linear = [(fmt.title, "it holds linear light")] if holds else []
+    check_tone_applies("--tone", given, display, linear)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
     parser.add_argument("--to", required=True, choices=FORMATS + VIDEO, metavar="FORMAT",
@@ -46,9 +64,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
                              "default: next to each input")
-    parser.add_argument("--tone", default="hable", metavar="CURVE",
+    parser.add_argument("--tone", default=None, metavar="CURVE",
                         help="tone curve for HDR -> display formats (default: hable; clamp keeps the values "
-                             "as they are, clipped to 1)")
+                             "as they are, clipped to 1); refused for outputs that keep linear light and with "
+                             "--display")
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
@@ -107,10 +126,11 @@ def run(args: argparse.Namespace) -> int:
         if not fmt.hdr or args.bits:
             from lenslab.tone import get_curve
 
-            get_curve(args.tone)  # an unknown curve: one usage error, before any folder is made
+            get_curve(args.tone or "hable")  # an unknown curve: one usage error, before any folder is made
         check_compression(fmt, args.compression)
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
+    check_convert_options(args, files, display["display"])
     for pat, reason in missing:
         print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
     if not files:

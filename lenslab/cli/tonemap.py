@@ -34,7 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("--format", choices=FORMATS, default="png",
                         help="format of the images written into an -o folder (default png)")
-    parser.add_argument("--curve", default="hable",
+    parser.add_argument("--curve", default=None,
                         help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
                         help="exposure in stops applied before the curve, or 'auto' (default 0)")
@@ -106,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
 
     check_skip_or_overwrite(args)
+    curve_given, args.curve = args.curve is not None, args.curve or "hable"
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
@@ -114,6 +115,9 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.cli.tonemap_batch import is_batch, run_many
 
     display = display_options(args)  # bad display names: one usage error before any file is read
+    from lenslab.jobs.arguments import check_tone_applies
+
+    check_tone_applies("--curve", curve_given, display["display"], [])
 
     if is_batch(args):
         return run_many(args, curve.name, params)

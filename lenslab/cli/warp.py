@@ -3,8 +3,9 @@
 Each output pixel looks along its ray(s) of the output camera (--to, --size, --yaw/--pitch/--roll or
 --look-at) and reads the source image where the source camera (--from) sees that direction. Values
 are never clamped; the output's alpha is the coverage (the fraction of the pixel's samples that land
-on the source), written as the A channel of EXR and PNG, with the colour premultiplied by it (the
-OpenEXR convention). EXR output records the output camera in its header, so it can be warped again.
+on the source), written as the A channel of every format that holds alpha (EXR, PNG, TIFF), with the
+colour as that format keeps it: premultiplied in EXR and float TIFF, straight in PNG and 8/16-bit TIFF.
+EXR output records the output camera in its header, so it can be warped again.
 
 The source camera comes from --from, else from the file's own header (EXR written by lenslab), else
 a full equirect panorama is assumed when the image is twice as wide as it is tall.
@@ -33,7 +34,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import finite_float, finite_vector, image_size, int_in
+from lenslab.jobs.arguments import Once, finite_float, finite_vector, image_size, int_in
 
 from lenslab.io.registry import writable
 
@@ -48,14 +49,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
                         help="output file (one input), or directory (created if missing)")
-    parser.add_argument("--to", metavar="SPEC",
+    parser.add_argument("--to", metavar="SPEC", action=Once,
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
                              "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'); or give --stmap")
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
                              "the map's size; --filter, --samples and --antialias apply; see 'lenslab stmap')")
-    parser.add_argument("--from", dest="source", metavar="SPEC",
+    parser.add_argument("--from", dest="source", metavar="SPEC", action=Once,
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
@@ -92,8 +93,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     out = parser.add_argument_group("output")
     out.add_argument("--format", choices=OUTPUT_FORMATS, default=None,
                      help="output format when -o is a directory (default exr), else from the file name")
-    out.add_argument("--tone", default="hable", metavar="CURVE",
-                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable)")
+    out.add_argument("--tone", default=None, metavar="CURVE",
+                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
+                          "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
+                          "(a display transform maps scene light itself)")
     out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
     out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
     out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")
@@ -149,10 +152,26 @@ def check_once(args) -> None:
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata
         make_lens(args.source, (512, 256))
-    get_curve(args.tone)
+    get_curve(args.tone or "hable")
     from lenslab.cli.display import display_options
 
     display_options(args)  # unknown display, view or colour space: one usage error now
+
+
+def check_options_apply(args, pairs) -> None:
+    """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
+    from lenslab.io.registry import format_for_path, get
+    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
+    from lenslab.jobs.warp_video import is_video
+
+    tone_given, args.tone = args.tone is not None, args.tone or "hable"
+    videos = [is_video(src) for src, _ in pairs]
+    if getattr(args, "frames", None) is not None:
+        check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
+    linear = [(dst, "a video keeps linear light through its transfer") if v
+              else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
+              for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
+    check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
 
 
 def output_extension(fmt: str | None):
@@ -205,6 +224,7 @@ def run(args: argparse.Namespace) -> int:
         print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, output_extension(args.format), fmt=args.format, verb="warp")
+    check_options_apply(args, pairs)
     job = WarpJob.from_options(args)
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "":

@@ -25,7 +25,10 @@ file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Opt
 - EXR: ``pixel_type="half"|"float"``, ``compression="zip"`` (see ``lenslab.io.exr.COMPRESSIONS``),
   ``channels=[names]``, ``attributes={name: value}``
 
-Formats without alpha (PPM, PFM, JPG) drop the alpha channel; PGM and ``Pf`` hold one channel.
+Images with alpha (2 or 4 channels, alpha last) hold premultiplied colour in memory; PNG and 8/16-bit
+TIFF store straight colour and are converted when written and read, EXR and float TIFF store it as it
+is (:mod:`lenslab.io.alpha`). Formats without alpha (PPM, PFM, JPG) drop the alpha channel (the image
+over black); PGM and ``Pf`` hold one channel.
 """
 
 from __future__ import annotations

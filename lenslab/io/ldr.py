@@ -1,7 +1,9 @@
 """JPG and PNG through OpenCV (``cv2.imdecode``/``cv2.imencode``), sRGB-encoded 8-bit (PNG also 16-bit).
 
-OpenCV works in BGR order; images here are RGB. JPG EXIF orientation is not applied (pixels are
-returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
+OpenCV works in BGR order; images here are RGB. PNG alpha is straight (the PNG specification): the
+colour is unpremultiplied before it is encoded and premultiplied after it is decoded, so memory holds
+premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
+they are. JPG EXIF orientation is not applied (pixels are returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
 standard-dynamic-range image.
 """
 
@@ -13,6 +15,7 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
+from lenslab.io.alpha import premultiply, unpremultiply
 
 
 def _png_size(data: bytes) -> tuple[int, int] | None:
@@ -73,6 +76,8 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     from lenslab.io.encode import decode_codes
 
     image = decode_codes(codes, maxval, raw)
+    if not raw:  # PNG colour is straight (its specification); memory holds premultiplied colour
+        premultiply(image)
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,
@@ -113,7 +118,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
             raise FormatError(f"JPG quality must be 0..100, not {quality}")
     elif bits not in (8, 16):
         raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
-    codes = encode_codes(image, bits, raw, dither)
+    codes = encode_codes(image if raw else unpremultiply(image), bits, raw, dither)
     if c == 3:
         codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
     elif c == 4:

@@ -57,6 +57,13 @@ class Format:
     #: ``declare(path, **read_options) -> lenslab.io.budget.Declared``: what the header declares and the
     #: fewest bytes it needs, read before any pixel is decoded (:func:`lenslab.io.budget.admit`)
     declare: Callable | None = None
+    #: sample types whose files hold straight (unassociated) colour with alpha; the others hold it
+    #: premultiplied (memory's convention; the plugin converts at the boundary, :mod:`lenslab.io.alpha`)
+    straight_alpha: tuple[str, ...] = ()
+
+    def holds_straight(self, sample_type: str = "uint") -> bool:
+        """Whether a file of this format, written with ``sample_type`` samples, holds straight colour."""
+        return self.alpha and sample_type in self.straight_alpha
 
     @property
     def readable(self) -> bool:
@@ -73,4 +80,4 @@ class Format:
                 "sample_types": list(self.sample_types), "read": self.readable, "write": self.writable,
                 "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
                 "compressions": list(self.compressions),
-                "note": self.note, "kind": self.kind}
+                "note": self.note, "kind": self.kind, "straight_alpha": list(self.straight_alpha)}

@@ -3,12 +3,15 @@
 Reading: the first image of the file (``meta["attributes"]["pages"]`` counts them), chunky or planar.
 Float samples (32-bit, 16-bit half, 64-bit) are linear light; 8- and 16-bit unsigned integer samples
 are sRGB-encoded like PNG's and decoded to linear (``raw=True`` gives code / maxval), with alpha
-(an extra sample) kept linear. Photometric interpretations other than grey (min-is-black) and RGB
+(an extra sample) kept linear. Alpha tagged associated (ExtraSamples 1) is read as it is; tagged
+unassociated (2) or unspecified (0), its colour is straight and is premultiplied after decoding.
+Photometric interpretations other than grey (min-is-black) and RGB
 (palette, YCbCr, CMYK, min-is-white) are refused with a FormatError.
 
 Writing: ``sample_type="float"`` (default, 32-bit), ``"half"``, ``"uint16"`` or ``"uint8"`` (the
 integer types sRGB-encoded unless ``raw=True``); alpha is written as an extra sample, marked
-associated (premultiplied, as EXR's) for float and unassociated for integers (as PNG's);
+associated (premultiplied colour, as EXR's) for float and unassociated for integers (straight
+colour, as PNG's: unpremultiplied before encoding);
 ``compression="zlib"`` (Adobe Deflate, default), ``"lzw"``, ``"zstd"`` or ``"none"``, with the
 horizontal (integer) or floating-point predictor unless ``predictor=False``.
 """
@@ -21,7 +24,10 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
+from lenslab.io.alpha import premultiply, unpremultiply
 
+#: TIFF ExtraSamples: 1 associated alpha (premultiplied colour), 2 unassociated (straight colour)
+ASSOCIATED = 1
 SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "uint8": np.uint8}
 COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}
 
@@ -86,6 +92,8 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     else:
         raise FormatError(f"{path}: TIFF with {data.dtype} samples is not supported; lenslab reads float "
                           "(16, 32, 64-bit) and unsigned 8- and 16-bit samples")
+    if c in (2, 4) and not raw and attrs["extrasamples"][:1] != [ASSOCIATED]:
+        premultiply(image)  # unassociated (or unspecified) alpha: straight colour in the file
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {"format": "tiff", "bit_depth": bits, "sample_type": sample, "channels": names,
             "display_encoded": encoded, "attributes": attrs}
@@ -109,7 +117,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     else:
         from lenslab.io.encode import encode_codes
 
-        data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither)
+        data = encode_codes(image if raw else unpremultiply(image), np.dtype(dtype).itemsize * 8, raw, dither)
     options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
                "software": "lenslab", "metadata": None}
     if alpha:

@@ -6,7 +6,10 @@ functions chosen by the stream's transfer tag (but for HLG tabulated once for th
 a frame is one lookup; decoding runs on a thread ahead of the caller):
 
 - BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
-- sRGB (IEC 61966-2-1): the sRGB EOTF
+- sRGB (IEC 61966-2-1): the sRGB EOTF; also an RGB-coded stream (FFV1 or x264rgb: matrix ``gbr`` or an RGB
+  pixel format) with no transfer tag, which holds what its image frames held. Such a stream is read at its
+  own depth without swscale's matrix and written back as RGB (FFV1 planar RGB, 10-bit), so a clip and its
+  PNG frames warp alike
 - PQ (SMPTE ST 2084): absolute luminance in cd/m^2 divided by 203 (BT.2408 HDR reference white = 1.0)
 - HLG (ARIB STD-B67): BT.2100's HLG EOTF for a 1000 cd/m^2 display, divided by 203 likewise
 
@@ -39,6 +42,11 @@ REFERENCE_WHITE = 203.0
 _TRC = {1: "bt1886", 6: "bt1886", 14: "bt1886", 15: "bt1886", 2: "bt1886", 13: "srgb", 16: "pq", 18: "hlg"}
 _SWS = {1: "itu709", 5: "itu601", 6: "smpte170m", 9: "bt2020", 10: "bt2020"}
 _BT2020 = 9
+_RGB_MATRIX = 0  # AVCOL_SPC_RGB: the planes are G, B, R
+_RGB_PIXELS = ("gbr", "bgr", "rgb", "argb", "abgr", "0rgb", "0bgr")  # FFmpeg's RGB pixel formats
+_UNSPECIFIED = (0, 2)  # AVCOL_TRC_RESERVED0, AVCOL_TRC_UNSPECIFIED
+#: the planar RGB pixel format of each codec's YUV format, for RGB-coded streams (same bits)
+_RGB_FORMATS = {"yuv444p10le": "gbrp10le", "yuv444p": "gbrp"}
 
 
 @dataclass
@@ -59,7 +67,16 @@ class VideoInfo:
     extra: dict = field(default_factory=dict)
 
     @property
+    def rgb(self) -> bool:
+        """Whether the stream codes R, G, B themselves (matrix tag 0, FFV1 or x264rgb ``gbr``), not Y'CbCr."""
+        return self.matrix == _RGB_MATRIX or self.pixel_format.startswith(_RGB_PIXELS)
+
+    @property
     def curve(self) -> str:
+        # an RGB-coded stream without a transfer tag holds what image files hold, sRGB-encoded colour
+        # (ffmpeg -i frame%d.png -c:v ffv1 leaves the tag unspecified): decoded as its PNG frames are
+        if self.rgb and self.transfer in _UNSPECIFIED:
+            return "srgb"
         return _TRC.get(self.transfer, "bt1886")
 
     @property
@@ -177,6 +194,14 @@ def frame_codes16(frame, info: VideoInfo) -> np.ndarray:
 
 def frame_codes(frame, info: VideoInfo) -> np.ndarray:
     """A decoded PyAV frame -> float64 code values in [0, 1], H x W x 3, converted with the stream's matrix."""
+    if info.rgb:  # RGB-coded: no matrix; the codes exactly, at the stream's own depth (swscale's
+        # conversions of 8-bit bgr0 to 16-bit RGB are off by up to 0.7 % of the code)
+        bits = max(c.bits for c in frame.format.components)
+        if frame.format.name.startswith("gbrp") and bits > 8:
+            return frame.to_ndarray().astype(np.float64) / float((1 << bits) - 1)
+        if bits <= 8:
+            return frame.to_ndarray(format="rgb24").astype(np.float64) / 255.0
+        return frame.to_ndarray(format="rgb48le").astype(np.float64) / 65535.0
     return frame_codes16(frame, info).astype(np.float64) / 65535.0
 
 
@@ -218,7 +243,9 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
             for i, frame in enumerate(c.decode(stream)):
                 if stop is not None and i >= stop:
                     break
-                if i >= start:
+                if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
+                    yield i, to_linear(frame_codes(frame, info), info)
+                elif i >= start:
                     yield i, codes16_to_linear(frame_codes16(frame, info), info)
 
     yield from ahead(frames(), prefetch)
@@ -288,6 +315,15 @@ class VideoWriter:
         if codec not in CODECS:
             raise FormatError(f"unknown video codec {codec!r}; choose one of {', '.join(CODECS)}")
         encoder, pix_fmt, bits = CODECS[codec]
+        if info.rgb:  # an RGB clip stays RGB where the codec holds it (FFV1), else becomes BT.709 Y'CbCr
+            from dataclasses import replace
+
+            if pix_fmt in _RGB_FORMATS:
+                pix_fmt = _RGB_FORMATS[pix_fmt]
+                info = replace(info, matrix=_RGB_MATRIX, range=2)
+            else:
+                # keep the curve it was decoded with, now tagged (sRGB = 13) as Y'CbCr has no default of its own
+                info = replace(info, matrix=1, pixel_format="", transfer=13 if info.curve == "srgb" else info.transfer)
         if info.hdr and bits < 10:
             raise FormatError(f"{info.curve.upper()} video needs 10 bits; {codec} writes 8: use h265, prores or ffv1")
         self.info, self.pix_fmt = info, pix_fmt
@@ -352,8 +388,11 @@ class VideoWriter:
         values = np.clip(image[..., :3], 0.0, 1.0) if encoded else from_linear(image[..., :3], self.info)
         codes = np.round(values * 65535.0).astype(np.uint16)
         frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(codes), format="rgb48le")
-        frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
-                               src_color_range="JPEG", dst_color_range=_range(self.info))
+        if self.info.rgb:
+            frame = frame.reformat(format=self.pix_fmt)
+        else:
+            frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
+                                   src_color_range="JPEG", dst_color_range=_range(self.info))
         # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
         frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
         frame.pts = self.count  # in the encoder's time base, 1 / rate

@@ -159,3 +159,34 @@ def add_scheduler_options(parser, skip_existing: bool = True) -> None:
         group.add_argument("--skip-existing", action="store_true",
                            help="leave outputs that already exist alone and do the others (resumes an "
                                 "interrupted batch)")
+
+
+class Once(argparse.Action):
+    """An option that may be given once: a second ``--from`` would silently replace the first, so it is a
+    usage error (argparse's: one line, exit 2)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in seen:
+            parser.error(f"{option_string} given twice; give it once")
+        seen.add(self.dest)
+        setattr(namespace, self.dest, values)
+
+
+def check_tone_applies(flag: str, given: bool, display: str | None, outputs) -> None:
+    """A tone curve named on the command line (``given``) must have something to do: refused with
+    ``--display`` (an OpenColorIO view maps scene light itself) and for outputs that keep linear light.
+    ``outputs``: ``(name, why)`` for each output that keeps linear light (why it does)."""
+    if not given:
+        return
+    if display:
+        raise UsageError(f"{flag} and --display both map scene light to the display: give one (--display "
+                         "with --view 'ACES 2.0 - SDR' tone-maps as it transforms)")
+    for name, why in outputs:
+        raise UsageError(f"{flag} applies to display formats (PNG, JPG, PPM); {name}: {why}")
+
+
+def check_frames_apply(frames, stills) -> None:
+    """``--frames`` picks frames of videos: a usage error when an input (of ``stills``) is a still image."""
+    for still in stills:
+        raise UsageError(f"--frames picks frames of a video; {still} is a still image")

@@ -9,6 +9,9 @@ def apply_display(image, fmt, options: dict) -> tuple:
 
     HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
     8-bit format is refused. The code values are stored as they are (``raw``), not sRGB-encoded again.
+    With alpha (premultiplied ``image``) the transform acts on the straight colour and the codes are kept
+    as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
+    over black.
     """
     from lenslab.errors import FormatError
     from lenslab.io.ocio import display_transform, is_hdr_display
@@ -34,5 +37,15 @@ def apply_display(image, fmt, options: dict) -> tuple:
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
     if "raw" in accepts:
         extra["raw"] = True
-    out = display_transform(image, display, options.get("view"), options.get("colorspace"), options.get("ocio"))
-    return out, extra
+    transform = lambda x: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
+                                            options.get("ocio"))
+    from lenslab.io.alpha import has_alpha, premultiply, unpremultiply
+
+    if not has_alpha(image) or not fmt.alpha:  # no alpha kept: the colour over black
+        colour = image[..., :-1] if has_alpha(image) else image
+        return transform(colour), extra
+    # the display's code values of the straight colour; premultiplied by alpha where the file keeps
+    # premultiplied colour (EXR, float TIFF), straight where it keeps straight colour (PNG, integer TIFF)
+    out = transform(unpremultiply(image))
+    sample = "uint" if "bits" in accepts or str(extra.get("sample_type", "")).startswith("uint") else "float"
+    return (out if fmt.holds_straight(sample) else premultiply(out)), extra

@@ -94,6 +94,7 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
         try:
             code = int(func() or 0)
             sys.stdout.flush()
+            _print_repairs(prog)
             return code
         except KeyboardInterrupt as exc:
             signum = getattr(exc, "signum", signal.SIGINT)
@@ -115,6 +116,17 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
                 traceback.print_exc()
             print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return exit_code(exc)
+
+
+def _print_repairs(prog: str) -> None:
+    """The command's one line on slight negatives repaired by tone mapping (lenslab.tone.repairs), if any."""
+    if "lenslab.tone.repairs" not in sys.modules:  # nothing was tone-mapped
+        return
+    from lenslab.tone.repairs import take_summary
+
+    line = take_summary()
+    if line:
+        print(f"{prog}: note: {line}", file=sys.stderr)
 
 
 def exit_code(exc: BaseException) -> int:

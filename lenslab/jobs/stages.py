@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from lenslab.io.alpha import expose, has_alpha  # noqa: F401  (the look's exposure: colour, never alpha)
+
 
 @dataclass(frozen=True)
 class Look:
@@ -36,25 +38,6 @@ class Look:
     def display_options(self) -> dict:
         return {"display": self.display, "view": self.view, "colorspace": self.colorspace, "ocio": self.ocio,
                 "bits": self.bits}
-
-
-def has_alpha(image) -> bool:
-    """Whether the last channel of ``image`` (H x W x C) is alpha: C is 2 or 4."""
-    return image.ndim == 3 and image.shape[2] in (2, 4)
-
-
-def expose(image, stops: float):
-    """``image`` with its colour (not its alpha) times ``2**stops``."""
-    import numpy as np
-
-    if float(stops) == 0.0:
-        return image
-    gain = np.float32(2.0 ** float(stops))
-    if not has_alpha(image):
-        return image * gain
-    out = image.copy()
-    out[..., :-1] *= gain
-    return out
 
 
 def develop(image, meta: dict, fmt, look: Look) -> tuple:
@@ -124,7 +107,9 @@ def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | 
 
 
 def keeps_alpha(fmt, wanted: bool = True) -> bool:
-    """Whether an output of format ``fmt`` carries alpha: the format holds it and the job wants it."""
+    """Whether an output of format ``fmt`` carries alpha: its record says it holds alpha (whatever the
+    format) and the job wants it. The record's ``straight_alpha`` says whether the file keeps straight or
+    premultiplied colour; its plugin converts at the boundary (:mod:`lenslab.io.alpha`)."""
     return bool(wanted and fmt.alpha)
 
 

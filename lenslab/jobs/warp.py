@@ -79,7 +79,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.io import read, write
     from lenslab.io.registry import format_for_path, get
     from lenslab.jobs.policy import check_output
-    from lenslab.jobs.stages import Look, check_image, develop, encode_options, has_alpha, keeps_alpha
+    from lenslab.io.alpha import split_alpha, with_alpha
+    from lenslab.jobs.stages import Look, check_image, develop, encode_options, keeps_alpha
     from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
     from lenslab.jobs.warp_video import is_video, warp_video
 
@@ -95,7 +96,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         dst = None
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
-        out, coverage = warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias, progress=progress)
+        colour, alpha = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
+                                                      progress=progress))
     else:
         src = source_camera(job.source, meta, image.shape)
         if job.flip or job.source_flip:
@@ -109,16 +111,13 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
         if hasattr(progress, "start"):
             progress.start(dst.height)
-        out, coverage = cache.warp(image, src, dst, progress=progress)
-    import numpy as np
-
-    # premultiplied source alpha is warped like colour (coverage x source alpha); else alpha is the coverage
-    rgba = out if has_alpha(image) else np.concatenate([out, coverage[..., None]], axis=-1)
+        colour, alpha = cache.warp_frame(image, src, dst, progress=progress)  # as every video frame is
+    # premultiplied colour and its alpha (the source's own, warped like colour, or the coverage); an output
+    # that keeps no alpha gets the colour over black
+    keep = keeps_alpha(fmt, not job.no_alpha)
     look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
-    result, shown = develop(rgba, meta, fmt, look)
-    if not keeps_alpha(fmt, not job.no_alpha):
-        result = result[..., :-1]
+    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look)
     opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=dst,
                           channels=result.shape[2])
     write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})

@@ -100,7 +100,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
                           desc=Path(src_path).name) as bar:
             for _, frame in read_frames(src_path, start, stop):
-                out, _ = cache.warp(mirror_frames(frame, src.lens, source_flips), src, dst)  # outside the source's view: black
+                out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
                 out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out, encoded=bool(display))
                 written += 1

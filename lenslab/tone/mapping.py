@@ -4,7 +4,9 @@
 float32 (not yet sRGB-encoded: ``lenslab.io.write`` encodes). The order of work is fixed:
 
 1. bad values are repaired and counted: NaN -> 0, +inf -> white, negatives (and -inf) -> 0; when there
-   were any, a :class:`ToneWarning` carrying the counts is issued (never silently);
+   were any, a :class:`ToneWarning` carrying the counts is issued (never silently), except for slight
+   negatives alone (a lossy codec's undershoot, :mod:`lenslab.tone.repairs`), which are tallied for
+   one line at the end of a command;
 2. exposure in stops, ``x * 2**EV``; ``exposure="auto"`` picks EV so that the log-average luminance,
    with the darkest and brightest percent of the pixels left out, lands on middle grey (0.18);
 3. the curve, either on each channel (``mode="per-channel"``) or on luminance (``mode="luminance"``:
@@ -27,6 +29,7 @@ from lenslab.tone.exposure import (
     luminance_weights,
     parse_exposure,
 )
+from lenslab.tone.repairs import SLIGHT, add as tally_slight, slight
 from lenslab.tone.kernels import F32
 from lenslab.tone.registry import get_curve
 from lenslab.tone.sweep import Counts, repair, run_split, sweep_luminance, sweep_rgb, sweep_values
@@ -42,8 +45,13 @@ class ToneWarning(UserWarning):
 
 
 
-def warn_repairs(counts: Counts, total: int) -> None:
+def warn_repairs(counts: Counts, total: int, image=None) -> None:
+    """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (a codec's undershoot,
+    :func:`lenslab.tone.repairs.slight`, judged on ``image``) go to the command's one-line tally instead."""
     if not counts.any():
+        return
+    if not counts.nan and not counts.posinf and slight(image if image is not None else (), counts.lowest):
+        tally_slight(counts.negative, counts.lowest)
         return
     parts = []
     if counts.nan:
@@ -51,9 +59,8 @@ def warn_repairs(counts: Counts, total: int) -> None:
     if counts.posinf:
         parts.append(f"{counts.posinf} +inf set to white")
     if counts.negative:
-        # "slightly": above -1e-4 of white, under half an 8-bit code value once sRGB-encoded (a filter's
-        # ringing or a codec's rounding), as against real negative light
-        how = "slightly negative" if counts.lowest >= -1e-4 else "negative"
+        # "slightly": no lower than repairs.SLIGHT (a codec's or filter's undershoot), as against real negative light
+        how = "slightly negative" if counts.lowest >= -SLIGHT else "negative"
         parts.append(f"{counts.negative} {how} value{'s' if counts.negative != 1 else ''}, down to "
                      f"{counts.lowest:.2g}, set to 0")
     msg = f"tone mapping repaired {', '.join(parts)} (of {total} values)"
@@ -152,7 +159,7 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         clean *= F32(scale)
         out = spec.build(clean, resolved, weights)
         out[inf_mask.any(axis=-1) if rgb else inf_mask] = 1
-        warn_repairs(counts, x.size)
+        warn_repairs(counts, x.size, x)
         return out
 
     if spec.kind == "image":
@@ -164,7 +171,7 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     out = np.empty_like(x)
     with np.errstate(divide="ignore", over="ignore"):
         _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads)
-    warn_repairs(counts, x.size)
+    warn_repairs(counts, x.size, x)
     return out
 
 

@@ -94,5 +94,5 @@ def reinhard2002(x: ArrayLike, key: float = MIDDLE_GREY, white: float = math.inf
     counts = Counts()
     with np.errstate(divide="ignore", over="ignore"):
         sweep_values(arr.reshape(-1), out.reshape(-1), _build_reinhard2002(p, scale), counts)
-    warn_repairs(counts, arr.size)
+    warn_repairs(counts, arr.size, arr)
     return out

@@ -59,5 +59,13 @@ class PlanCache:
         """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp`."""
         return self.plan(src, dst).run(image, progress=progress)
 
+    def warp_frame(self, image, src: Camera, dst: Camera, progress=None):
+        """The step a still image and every frame of a clip share, between decoding to linear light (the
+        format's reader) and encoding (its writer): warp, alpha settled, split into ``(premultiplied
+        colour, alpha)`` (the image's own alpha, or the coverage)."""
+        from lenslab.io.alpha import split_alpha
+
+        return split_alpha(*self.warp(image, src, dst, progress=progress))
+
 
 __all__ = ["PlanCache", "geometry_key", "MAX_MAP_BYTES"]

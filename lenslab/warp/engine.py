@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from lenslab.errors import WarpError
+from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera, Pose
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
@@ -198,6 +199,7 @@ class WarpPlan:
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
             self.render(src, out, alpha, None)
+        settle(out, alpha)
         if not alpha.any():
             warnings.warn(EmptyViewWarning(
                 f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
@@ -213,14 +215,14 @@ class WarpPlan:
             for x0, y0, part, crop in self.parts:
                 _render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
             return
-        if self.src_falloff is not None:
+        if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
         if self.channels is not None:
             render_channels(self.channels, src, out, alpha, progress)
         else:
             self._render_bands(src, out, alpha, progress)
         if self.dst_falloff is not None:
-            out *= self.dst_falloff[..., None]
+            out[..., colour_channels(out.shape[2])] *= self.dst_falloff[..., None]
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
@@ -334,6 +336,7 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
     if not all_finite(out):
         raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
                         "repairs and reports them)")
+    settle(out, alpha)
     return out, alpha
 
 
@@ -384,7 +387,10 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         the number of samples. Divide by alpha where alpha > 0 for straight colour.
     alpha : numpy.ndarray
         float32 ``h x w`` coverage: the fraction of each pixel's samples that are valid, exactly 0 where
-        none is. ``lenslab.write(path, image, alpha=alpha)`` stores both as RGBA.
+        none is. An image of 2 or 4 channels carries its own alpha last (premultiplied); it is warped
+        like colour (so it includes the coverage). Every alpha ends in [0, 1]
+        (:func:`lenslab.io.alpha.settle`); vignetting and its removal change colour, never alpha.
+        ``lenslab.write(path, image, alpha=alpha)`` stores both as RGBA.
 
     Raises
     ------

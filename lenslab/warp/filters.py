@@ -12,6 +12,10 @@ Filters (separable, weights computed in float64 from the exact fractional positi
   quadratics, overshoots a little at sharp edges (never clamped: HDR stays HDR);
 - ``lanczos``: Lanczos-3 windowed sinc, 6x6 taps, weights normalised to sum to 1.
 
+A finite source gives a finite output: where the overshoot of bicubic or lanczos next to a value
+near float32's largest would pass it, the output holds the largest float32 (as +-inf in a source
+is read, see :func:`finite_source`).
+
 Why not ``cv2.remap``: with float maps cv2 rounds the fractional position to 1/32 pixel
 (``INTER_BITS = 5``), an error of up to 1/64 pixel times the local gradient; in HDR images with
 sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
@@ -32,6 +36,8 @@ from lenslab.warp.native import c32, cbool
 from lenslab.warp.seam import fold_index, fold_piece, piece_at
 
 FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
+#: the largest float32: where a filter's overshoot would pass it, the output holds it instead of inf
+F32_MAX = float(np.finfo(np.float32).max)
 #: filter name -> compiled kernel id (also its support radius in source pixels, but 1 for nearest)
 _KIND = {"nearest": 0, "bilinear": 1, "bicubic": 2, "lanczos": 3}
 
@@ -129,7 +135,13 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
                         for ch_ in range(nc):
                             acc[ch_] += ww * src[uj, ui, ch_]
             for ch_ in range(nc):
-                out[r, c, ch_] = acc[ch_] * inv
+                v = acc[ch_] * inv
+                # negative lobes overshoot: a finite source stays finite (its extremes are float32's)
+                if v > F32_MAX:
+                    v = F32_MAX
+                elif v < -F32_MAX:
+                    v = -F32_MAX
+                out[r, c, ch_] = v
             alpha[r, c] = hits * inv
 
 

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from lenslab.errors import WarpError
+from lenslab.io.alpha import settle
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands
 from lenslab.warp.filters import FILTERS, sample
@@ -111,6 +112,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
 
     done = None if progress is None else (lambda rows_: progress(rows_[1] - rows_[0]))
     run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], draw, done)
+    settle(out, alpha)
     if img.ndim == 2:
         out = out[..., 0]
     return out, alpha

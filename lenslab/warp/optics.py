@@ -9,13 +9,15 @@ A lens with :meth:`~lenslab.lenses.core.base.Lens.falloff` (vignetting): as a de
 multiplied by the falloff at each output pixel's centre; as a source the image is divided by its
 falloff at each source pixel's centre (never by less than ``MIN_FALLOFF``) before it is sampled, so
 every sample reads the light as it was before the lens dimmed it. Both are smooth across a pixel, so
-one value per pixel stands for all its samples.
+one value per pixel stands for all its samples. Falloff dims light, not coverage: a trailing alpha
+channel is never multiplied or divided by it (:mod:`lenslab.io.alpha`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
 from lenslab.lenses.core.protocol import MIN_FALLOFF
 
@@ -48,8 +50,11 @@ def falloff_image(lens) -> np.ndarray | None:
 
 
 def divide_by_falloff(src: np.ndarray, falloff: np.ndarray) -> np.ndarray:
-    """A copy of ``src`` (H x W x C float32) divided by ``falloff`` (H x W), never by less than MIN_FALLOFF."""
-    return src / np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
+    """A copy of ``src`` (H x W x C float32) whose colour is divided by ``falloff`` (H x W), never by less
+    than MIN_FALLOFF; a trailing alpha channel (C = 2 or 4) is coverage, not light, and is kept."""
+    out = src.copy()
+    out[..., colour_channels(src.shape[2])] /= np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
+    return out
 
 
 def channel_groups(nc: int) -> list[list[int]]:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.warp import native
+from lenslab.warp.filters import F32_MAX
 from lenslab.warp.native import c32, cbool
 from lenslab.warp.seam import Border
 
@@ -36,6 +37,7 @@ class Pyramid:
 def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     """Box-filtered levels of ``src``: level 0 is ``src``, each next one halves it (2x2 mean).
 
+    A finite source gives finite levels (a mean of values up to float32's largest is at most that).
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
     or below 2 pixels. The extra levels take a third of the source's memory.
     """
@@ -47,7 +49,10 @@ def pyramid(src: np.ndarray, border: Border) -> Pyramid:
         nxt = cv2.resize(cur, (cur.shape[1] // 2, cur.shape[0] // 2), interpolation=cv2.INTER_AREA)
         if nxt.ndim == 2:
             nxt = nxt[..., None]
-        levels.append(np.ascontiguousarray(nxt, dtype=np.float32))
+        nxt = np.ascontiguousarray(nxt, dtype=np.float32)
+        if np.isinf(nxt).any() and not np.isinf(cur).any():  # OpenCV's float32 sums overflowed
+            np.clip(nxt, -F32_MAX, F32_MAX, out=nxt)  # (an infinite source is left to the engine's repair)
+        levels.append(nxt)
         cur = nxt
     shapes = np.array([src.shape[:2]] + [lv.shape[:2] for lv in levels], dtype=np.int64)
     sizes = [lv.size for lv in levels]

@@ -29,4 +29,4 @@ FORMATS = (Format(
     write=_write, read_options=("raw",),
     write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
                    "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither"},
-    note="alpha is stored linear (coverage), colour sRGB-encoded"),)
+    note="alpha is stored linear (coverage) with straight colour, sRGB-encoded", straight_alpha=("uint",)),)

@@ -34,4 +34,5 @@ FORMATS = (Format(
                    "raw": "True: integer codes = value * maxval, no sRGB encoding",
                    "dither": "True: TPDF dither before rounding to integers"},
     compressions=("zlib", "deflate", "lzw", "zstd", "none"),
-    note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file"),)
+    note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file",
+    straight_alpha=("uint",)),)

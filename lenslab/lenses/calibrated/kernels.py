@@ -54,9 +54,15 @@ def _undistort(xd, yd, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, tabl
     """Undistort one point of the normalised plane: ``(ok, x, y, iterations)`` (1-D + 2-D)."""
     fold2 = fold * fold
     rd = math.sqrt(xd * xd + yd * yd)
-    if not ((rd < f_hi) if strict else (rd <= f_hi)):  # also False for NaN
+    h2 = hi * hi  # tangential and prism terms move a point by at most this inside the bracket: a distorted
+    # radius up to f_hi plus that can come from a valid point near the fold
+    lim = f_hi + ((3.0 * (abs(p1) + abs(p2)) + abs(s[0]) + abs(s[2])) * h2 + (abs(s[1]) + abs(s[3])) * h2 * h2
+                  if tangential else 0.0)
+    if not ((rd < lim) if strict else (rd <= lim)):  # also False for NaN
         return False, 0.0, 0.0, 0
-    r, ok, its = solve_one(RATIONAL, a, b, rd, hi, table_guess(rd, table, tstep, False), tol, res_tol, rel_ulps, max_iter)
+    # the radial solve starts the 2-D one; beyond the radial map's reach it starts at the fold's edge
+    rr = rd if rd < f_hi else f_hi * (1.0 - 1e-9)
+    r, ok, its = solve_one(RATIONAL, a, b, rr, hi, table_guess(rr, table, tstep, False), tol, res_tol, rel_ulps, max_iter)
     if not ok or (strict and not r < fold):
         return False, 0.0, 0.0, its
     x = xd * (r / rd) if rd > 0.0 else xd

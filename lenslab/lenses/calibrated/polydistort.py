@@ -19,7 +19,10 @@ The inverse (compiled: :mod:`lenslab.lenses.calibrated.kernels`): the radius is 
 safeguarded Newton of :func:`lenslab.lenses.formulas.solve.invert_increasing` from a table of the inverse;
 with tangential or prism terms that radial solution starts a 2-D Newton on the whole map, steps halved
 until they stay inside the fold radius, at most :data:`MAX_ITER_2D` iterations, converged when the
-residual is below :data:`TOL_2D`. Points that do not converge are invalid, never returned as if they had.
+residual is below :data:`TOL_2D`. Near the fold those terms carry valid points a little beyond the
+radial map's largest radius (by at most ``3 (|p1| + |p2|) r^2 + (|s1| + |s3|) r^2 + (|s2| + |s4|) r^4``
+at the bracket's radius): such a point starts its 2-D solve at the fold's edge instead of being refused,
+so every pixel the forward map reaches is inverted. Points that do not converge are invalid, never returned as if they had.
 """
 
 from __future__ import annotations

@@ -1,0 +1,113 @@
+"""Alpha: one meaning in memory, each format's own rule in files.
+
+In memory an image with 2 or 4 channels carries alpha last (Y A, R G B A); alpha is *coverage* in
+[0, 1] and the colour is *premultiplied* by it (the OpenEXR convention): a pixel half covered by a
+surface of straight colour ``c`` holds ``(c / 2, 1 / 2)``. :func:`settle` is where that holds after
+every operation (the warp engine calls it on every output, whatever filter, falloff, per-channel
+lens or blend made it); the format plugins call :func:`premultiply` and :func:`unpremultiply` at the
+file boundary for formats that store straight colour (PNG, integer TIFF tagged unassociated), so
+memory always holds premultiplied colour.
+
+Rules of :func:`settle`, per pixel, for alpha ``a``:
+
+- ``a > 1`` (a filter's overshoot): alpha becomes 1 and the colour is divided by ``a``, so the
+  straight colour ``colour / a`` a compositor recovers is kept;
+- ``a < 0`` (a negative lobe outside a matte) or NaN: alpha and colour become 0 (there is nothing
+  covered to have a colour);
+- ``0 <= a <= 1``: untouched (colour with ``a = 0`` stays: premultiplied colour may add light where
+  nothing covers, as a flare or glow layer does).
+
+Operations that change light but not coverage (vignetting and its removal, exposure) act on the
+colour channels only; :func:`colour_channels` says which those are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+F32 = np.float32
+
+
+def has_alpha(image: np.ndarray) -> bool:
+    """Whether an H x W x C image carries alpha (C = 2 or 4: alpha is the last channel)."""
+    return image.ndim == 3 and image.shape[2] in (2, 4)
+
+
+def colour_channels(nc: int) -> slice:
+    """The channels of an image with ``nc`` channels that hold light (all but a trailing alpha)."""
+    return slice(0, nc - 1) if nc in (2, 4) else slice(0, nc)
+
+
+def settle(image: np.ndarray, coverage: np.ndarray | None = None) -> None:
+    """Hold the contract in place: ``image`` (H x W x C float32, colour premultiplied) and ``coverage``
+    (H x W float32, the warp's fraction of valid samples) end with every alpha in [0, 1].
+
+    ``coverage`` is clipped to [0, 1] (NaN to 0); an image with alpha (C = 2 or 4) has its alpha and
+    colour settled by the rules of the module docstring."""
+    # two reductions find the usual case (nothing to do) at a fraction of the cost of fixing; a NaN makes
+    # the test fail and is fixed with the rest
+    if coverage is not None and coverage.size and not (coverage.min() >= 0.0 and coverage.max() <= 1.0):
+        np.nan_to_num(coverage, copy=False, nan=0.0)
+        np.clip(coverage, 0.0, 1.0, out=coverage)
+    if image.ndim != 3 or not has_alpha(image) or not image.size:
+        return
+    a = image[..., -1]
+    if a.min() >= 0.0 and a.max() <= 1.0:
+        return
+    over = a > 1.0
+    under = ~(a >= 0.0)  # negative or NaN
+    if over.any():
+        scale = np.ones_like(a)
+        np.divide(1.0, a, out=scale, where=over)
+        image[..., :-1] *= scale[..., None]
+        a[over] = 1.0
+    if under.any():
+        image[under] = 0.0
+
+
+def unpremultiply(image: np.ndarray) -> np.ndarray:
+    """Premultiplied (memory) -> straight colour (PNG, integer TIFF): a float32 copy, colour divided by
+    alpha where alpha > 0 and 0 where alpha is 0; alpha clipped to [0, 1]. Images without alpha are
+    returned as they are."""
+    if not has_alpha(image):
+        return image
+    out = np.array(image, dtype=F32, copy=True)
+    a = np.clip(np.nan_to_num(out[..., -1:], nan=0.0), 0.0, 1.0)
+    colour = out[..., :-1]
+    np.divide(colour, a, out=colour, where=a > 0)
+    colour[np.broadcast_to(a <= 0, colour.shape)] = 0.0
+    out[..., -1:] = a
+    return out
+
+
+def premultiply(image: np.ndarray) -> np.ndarray:
+    """Straight colour (as PNG and unassociated TIFF store it) -> premultiplied, in place; returned."""
+    if has_alpha(image):
+        image[..., :-1] *= image[..., -1:]
+    return image
+
+
+def expose(image: np.ndarray, stops: float) -> np.ndarray:
+    """``image`` (H x W x C float32) with its colour times ``2**stops`` and alpha kept (exposure is light,
+    not coverage); a new array."""
+    out = np.array(image, dtype=F32, copy=True)
+    if float(stops) != 0.0:
+        out[..., colour_channels(out.shape[-1]) if out.ndim == 3 else slice(None)] *= F32(2.0 ** float(stops))
+    return out
+
+
+def split_alpha(out: np.ndarray, coverage: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A warp's ``(image, coverage)`` -> ``(premultiplied colour, alpha)``: an image that carries alpha
+    gives its own (warped like colour, so it includes the coverage), any other the coverage."""
+    if has_alpha(out):
+        return out[..., :-1], out[..., -1]
+    return out, coverage
+
+
+def with_alpha(colour: np.ndarray, alpha: np.ndarray, channels: tuple[int, ...]) -> np.ndarray:
+    """``colour`` (H x W x C, premultiplied) with ``alpha`` (H x W) appended, fitted to a format that holds
+    ``channels`` channel counts: grey + alpha becomes RGB + alpha where the format holds no 2-channel
+    image (PNG)."""
+    if colour.shape[2] + 1 not in channels and colour.shape[2] == 1:
+        colour = np.repeat(colour, 3, axis=2)
+    return np.concatenate([colour, alpha[..., None].astype(F32, copy=False)], axis=-1)
