@@ -296,7 +296,8 @@ def test_camera_command_converts_kalibr_to_a_yaml_cv2_reads(tmp_path, capsys):
     assert not (tmp_path / "ds.txt").exists()
     assert main(["camera", "show", str(out)]) == 0
     shown = capsys.readouterr().out
-    assert "kannala-brandt, 512x512" in shown and "spec: kannala-brandt:" in shown
+    first = shown.splitlines()[0]  # FILE: MODEL (what it is), WxH
+    assert first.startswith(f"{out}: kannala-brandt (") and first.endswith("), 512x512") and "spec: kannala-brandt:" in shown
     with pytest.raises(SystemExit) as exit_info:
         main(["camera", "convert", str(src)])
     assert exit_info.value.code == 2

@@ -73,7 +73,10 @@ def bilinear_n(src, xs, ys, valid, border):
     for k in range(ns):  # in sample order, as the kernel adds them
         acc += val[:, k]
     inv = np.float32(1.0 / ns)
-    return acc * inv, (v.sum(axis=1) * np.float64(inv)).astype(np.float32)
+    big = np.finfo(np.float32).max  # a sum near the largest float32 may pass it; the mean of finite values may not
+    with np.errstate(over="ignore"):
+        mean = acc * inv
+    return np.where(mean > big, big, np.where(mean < -big, -big, mean)), (v.sum(axis=1) * np.float64(inv)).astype(np.float32)
 
 
 def taps(src, xs, ys, valid):

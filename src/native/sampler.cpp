@@ -1,5 +1,8 @@
 // Single-tap bilinear sampling: from a map band (one or several samples per pixel) and from cached taps.
 #include "kernels.h"
+#include <cfloat>
+#include <cmath>
+
 #include "sampler.h"
 
 namespace lenslab {
@@ -83,7 +86,11 @@ void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const flo
                 acc[ch] += w00 * flat[p[0] + ch] + w10 * flat[p[1] + ch] + w01 * flat[p[2] + ch]
                            + w11 * flat[p[3] + ch];
         }
-        for (int64_t ch = 0; ch < nc; ++ch) out[q * nc + ch] = acc[ch] * inv;
+        // a sum of samples near the largest float32 may pass it: the mean of finite samples is finite
+        for (int64_t ch = 0; ch < nc; ++ch) {
+            float v = acc[ch] * inv;
+            out[q * nc + ch] = v > FLT_MAX ? FLT_MAX : (v < -FLT_MAX ? -FLT_MAX : v);
+        }
         alpha[q] = float(double(hits) * double(inv));
     }
 }
