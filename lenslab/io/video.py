@@ -175,7 +175,17 @@ def read_frames(path, start: int = 0, stop: int | None = None):
     with _open(path) as c:
         stream = c.streams.video[0]
         stream.thread_type = "AUTO"
-        for i, frame in enumerate(c.decode(stream)):
+        frames = c.decode(stream)
+        i = -1
+        while True:
+            try:
+                frame = next(frames)
+            except StopIteration:
+                return
+            except _av().error.FFmpegError as exc:  # damaged frame data
+                raise FormatError(f"{path}: FFmpeg cannot decode frame {i + 2} ({str(exc)[:80]}); the file is "
+                                  "damaged") from None
+            i += 1
             if stop is not None and i >= stop:
                 break
             if i >= start:
