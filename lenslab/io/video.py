@@ -87,6 +87,8 @@ def probe_video(path) -> VideoInfo:
             raise FormatError(f"{path}: the file holds no video stream")
         s = c.streams.video[0]
         cc = s.codec_context
+        if cc is None or not cc.width or not cc.height:
+            raise FormatError(f"{path}: the video stream has no decoder or no frame size; the file is damaged")
         rate = s.average_rate or s.guessed_rate
         if not rate or not s.time_base:
             raise FormatError(f"{path}: the video stream declares no frame rate; the file is damaged")
