@@ -188,7 +188,8 @@ def declare_exr(path, data_window: bool = False, **_):
             best = d
             x0, y0, x1, y1 = part["dataWindow"]
             if not data_window and (x1 - x0 + 1) * (y1 - y0 + 1) < d.width * d.height:
-                hint = f"; its data window alone is {x1 - x0 + 1} x {y1 - y0 + 1} (read it with --data-window)"
+                hint = (f"; its data window alone is {x1 - x0 + 1} x {y1 - y0 + 1} (read it with --data-window, "
+                        "or data_window=True)")
         if not part.get("deep"):
             leader = (20 if part.get("tiled") else 8) + (4 if len(parts) > 1 else 0)
             table += _chunks(part) * (8 + leader)

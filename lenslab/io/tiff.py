@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.alpha import premultiply, unpremultiply
 
@@ -34,13 +34,15 @@ COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw
 
 def _name(value) -> str:
     """A tifffile enum's name (an unknown code comes back as a plain int)."""
-    return getattr(value, "name", None) or f"code {int(value)}"
+    return getattr(value, "name", None) or f"code {clip(value)}"
 
 
 def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     try:
         return _read_tiff(path, raw)
-    except (TypeError, AttributeError, KeyError, IndexError, OverflowError) as exc:  # tags of the wrong type
+    except FormatError:
+        raise
+    except (TypeError, ValueError, AttributeError, KeyError, IndexError, OverflowError) as exc:  # tags of a wrong type
         raise FormatError(f"{path}: the TIFF's tags are damaged ({type(exc).__name__}: {str(exc)[:60]})") from None
 
 

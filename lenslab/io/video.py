@@ -106,6 +106,8 @@ def probe_video(path) -> VideoInfo:
             raise FormatError(f"{path}: the file holds no video stream")
         s = c.streams.video[0]
         cc = s.codec_context
+        if cc is None or not cc.width or not cc.height:
+            raise FormatError(f"{path}: the video stream has no decoder or no frame size; the file is damaged")
         rate = s.average_rate or s.guessed_rate
         if not rate or not s.time_base:
             raise FormatError(f"{path}: the video stream declares no frame rate; the file is damaged")
@@ -240,7 +242,17 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
         with _open(path) as c:
             stream = c.streams.video[0]
             stream.thread_type = "AUTO"
-            for i, frame in enumerate(c.decode(stream)):
+            frames = c.decode(stream)
+            i = -1
+            while True:
+                try:
+                    frame = next(frames)
+                except StopIteration:
+                    return
+                except _av().error.FFmpegError as exc:  # damaged frame data
+                    raise FormatError(f"{path}: FFmpeg cannot decode frame {i + 2} ({str(exc)[:80]}); the file "
+                                      "is damaged") from None
+                i += 1
                 if stop is not None and i >= stop:
                     break
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
