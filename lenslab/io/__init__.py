@@ -35,7 +35,7 @@ import warnings
 from pathlib import Path
 
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, cause
 from lenslab.io.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
 
@@ -85,7 +85,7 @@ def _camera(path, text):
         return Camera.from_toml(str(text))
     except (LensError, KeyError, TypeError, ValueError) as exc:
         warnings.warn(f"{path}: the {CAMERA_ATTRIBUTE} attribute is not a camera this lenslab understands "
-                      f"({exc}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
+                      f"({cause(exc)}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
         return None
 
 
