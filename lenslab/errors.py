@@ -89,3 +89,10 @@ def clip(value, limit: int = 40) -> str:
         except Exception:  # noqa: BLE001 - a value that cannot even describe itself
             text = f"<{type(value).__name__}>"
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def cause(exc: BaseException, limit: int = 80) -> str:
+    """An exception of a library as a few words for a message: its first line, cut to ``limit``."""
+    lines = str(exc).strip().splitlines()
+    text = lines[0].strip() if lines else type(exc).__name__
+    return text if len(text) <= limit else text[:limit - 3] + "..."

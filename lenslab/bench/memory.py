@@ -11,8 +11,9 @@ Aims:
 - reading, converting and warping a valid SIDE x SIDE image (8192 by default) as Radiance ``.hdr``
   (run-length encoded), float TIFF, EXR and 16-bit PNG peak at most 1.5 times the decoded float image
   (SIDE * SIDE * 3 * 4 bytes) plus 200 MB. Read: ``lenslab.io.read``; convert: to EXR; warp: into a
-  1024 x 1024 fisheye, the source taken as a 90-degree perspective view. The test images are a smooth gradient with noise (files of realistic
-  size), written by a child process before they are measured.
+  1024 x 1024 fisheye, the source taken as a 90-degree perspective view. The test images are a
+  smooth gradient with noise (files of realistic size), written by a child process before they are
+  measured.
 """
 
 from __future__ import annotations

@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, cause
 from lenslab.atomic import atomic_write_path
 from lenslab.io.registry import format_for_path, formats, get, hdr_formats, sniff
 
@@ -95,7 +95,7 @@ def _camera(path, text):
         return Camera.from_toml(str(text))
     except (LensError, KeyError, TypeError, ValueError) as exc:
         warnings.warn(f"{path}: the {CAMERA_ATTRIBUTE} attribute is not a camera this lenslab understands "
-                      f"({exc}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
+                      f"({cause(exc)}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
         return None
 
 

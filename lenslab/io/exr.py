@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError, clip
+from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 
 HALF_MAX = 65504.0
@@ -187,7 +187,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         head = OpenEXR.File(str(path), header_only=True)
         parts = head.parts
     except Exception as exc:  # the bindings raise RuntimeError/ValueError with the library's message
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({exc}); the file is damaged") from None
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({cause(exc)}); the file is damaged") from None
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = _find_part(path, parts, part_sel, layer_sel)
@@ -220,7 +220,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
         chans = full.parts[index].channels
     except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        said = f" ({exc})" if isinstance(exc, (RuntimeError, OSError)) and str(exc) else ""
+        said = f" ({cause(exc)})" if isinstance(exc, (RuntimeError, OSError)) and str(exc) else ""
         raise FormatError(f"{path}: OpenEXR cannot read the pixels{said}; the file is damaged") from None
 
     def get(name: str) -> np.ndarray:
@@ -377,4 +377,4 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
     try:
         OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
-        raise FormatError(f"OpenEXR could not write the image ({exc})") from None
+        raise FormatError(f"OpenEXR could not write the image ({cause(exc)})") from None

@@ -171,12 +171,13 @@ def declare_exr(path, data_window: bool = False, **_):
             parts = _headers(f, size)
             header_end = f.tell()
     except (EOFError, struct.error):
-        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is truncated or "
-                          "damaged") from None
+        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
+                          "truncated or damaged") from None
     best, table, hint = None, 0, ""
     for part in parts:
         if "dataWindow" not in part or "displayWindow" not in part:
-            raise FormatError(f"{path}: the OpenEXR header of a part lacks its data or display window; the file is damaged")
+            raise FormatError(f"{path}: the OpenEXR header of a part lacks its data or display window; the file is "
+                              "damaged")
         for name in ("dataWindow", "displayWindow"):
             x0, y0, x1, y1 = part[name]
             if x1 < x0 or y1 < y0:

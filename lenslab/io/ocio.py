@@ -21,7 +21,7 @@ import functools
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, cause
 
 DEFAULT_CONFIG = "ocio://default"
 DEFAULT_COLORSPACE = "lin_rec709"
@@ -50,7 +50,7 @@ def load_config(source: str | None = None):
     try:
         return ocio.Config.CreateFromFile(str(source or DEFAULT_CONFIG))
     except Exception as exc:
-        raise OCIOError(f"cannot load the OpenColorIO config {source or DEFAULT_CONFIG!r} ({exc})") from None
+        raise OCIOError(f"cannot load the OpenColorIO config {source or DEFAULT_CONFIG!r} ({cause(exc)})") from None
 
 
 def _pick(kind: str, name: str, choices: list[str]) -> str:
@@ -92,7 +92,7 @@ def processor(display: str, view: str | None = None, colorspace: str | None = No
     try:
         return cfg.getProcessor(t).getDefaultCPUProcessor(), (d, v, cs)
     except Exception as exc:
-        raise OCIOError(f"OpenColorIO cannot build the transform {cs!r} -> {d!r} / {v!r} ({exc})") from None
+        raise OCIOError(f"OpenColorIO cannot build the transform {cs!r} -> {d!r} / {v!r} ({cause(exc)})") from None
 
 
 def display_transform(image: np.ndarray, display: str, view: str | None = None, colorspace: str | None = None,

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, cause
 
 
 def _window(w) -> list[int]:
@@ -29,7 +29,7 @@ def _exr(path: Path) -> dict:
     try:
         head = OpenEXR.File(str(path), header_only=True)
     except Exception as exc:
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({exc}); the file is damaged") from None
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({cause(exc)}); the file is damaged") from None
     types: dict[tuple[int, str], str] = {}
     try:  # pixel types are only given with the pixels; deep files cannot be read so
         full = OpenEXR.File(str(path), separate_channels=True)
@@ -106,7 +106,7 @@ def video_streams(path: Path) -> dict:
     try:
         container = av.open(str(path))
     except av.error.FFmpegError as exc:
-        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({exc})") from None
+        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({cause(exc)})") from None
     with container:
         streams = []
         for s in container.streams:

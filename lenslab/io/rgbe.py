@@ -75,7 +75,8 @@ def parse_header(path, data: bytes) -> tuple[dict, tuple, int]:
         raise FormatError(f"{path}: unknown Radiance FORMAT {clip(attrs['format'])}; expected 32-bit_rle_rgbe")
     for name, values in (("EXPOSURE", [attrs["exposure"]]), ("COLORCORR", attrs["colorcorr"])):
         if not all(math.isfinite(v) and _MIN_FACTOR <= v <= 1 / _MIN_FACTOR for v in values):
-            raise FormatError(f"{path}: {name} must be a finite positive factor in {_MIN_FACTOR:g}..{1 / _MIN_FACTOR:g}, "
+            raise FormatError(f"{path}: {name} must be a finite positive factor in "
+                              f"{_MIN_FACTOR:g}..{1 / _MIN_FACTOR:g}, "
                               f"got {' '.join(f'{v:g}' for v in values)[:40]}; the file is damaged")
     nl = data.find(b"\n", end + 2, end + 2 + 256)
     if nl < 0:

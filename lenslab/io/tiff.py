@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError, clip
+from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.alpha import premultiply, unpremultiply
 
@@ -43,7 +43,7 @@ def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     except FormatError:
         raise
     except (TypeError, ValueError, AttributeError, KeyError, IndexError, OverflowError) as exc:  # tags of a wrong type
-        raise FormatError(f"{path}: the TIFF's tags are damaged ({type(exc).__name__}: {str(exc)[:60]})") from None
+        raise FormatError(f"{path}: the TIFF's tags are damaged ({type(exc).__name__}: {cause(exc, 60)})") from None
 
 
 def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
@@ -52,7 +52,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     try:
         tif = tifffile.TiffFile(path)
     except (tifffile.TiffFileError, ValueError, OSError) as exc:
-        raise FormatError(f"{path}: not a readable TIFF ({exc})") from None
+        raise FormatError(f"{path}: not a readable TIFF ({cause(exc)})") from None
     with tif:
         if not tif.pages:
             raise FormatError(f"{path}: the TIFF holds no image")
@@ -65,7 +65,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         try:
             data = page.asarray()
         except Exception as exc:  # a codec failure inside tifffile/imagecodecs: damaged data
-            raise FormatError(f"{path}: the TIFF's pixel data cannot be decoded ({exc})") from None
+            raise FormatError(f"{path}: the TIFF's pixel data cannot be decoded ({cause(exc)})") from None
         axes = page.axes
         attrs = {"pages": len(tif.pages), "compression": _name(page.compression).lower(),
                  "photometric": photometric.lower(), "planar": "separate" if int(page.planarconfig) == 2 else "contig",

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lenslab.errors import FormatError
+from lenslab.errors import FormatError, cause
 
 from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 
@@ -97,7 +97,7 @@ def _open(path):
     try:
         return av.open(str(path))
     except av.error.FFmpegError as exc:
-        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({exc})") from None
+        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({cause(exc)})") from None
 
 
 def probe_video(path) -> VideoInfo:
