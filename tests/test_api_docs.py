@@ -5,6 +5,7 @@ hand), ``py.typed``, and ``write(..., alpha=)`` read back by the OpenEXR library
 from __future__ import annotations
 
 import doctest
+import fnmatch
 import inspect
 import re
 import tomllib
@@ -43,8 +44,11 @@ def test_dir_lists_the_lazily_loaded_api():
 def test_the_packages_ship_py_typed():
     for package in ("lenslab", "tracer"):
         assert resources.files(package).joinpath("py.typed").is_file()
-    data = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]
-    assert "py.typed" in data["*"]
+    # the wheel holds every file of its packages but what it excludes: py.typed is neither left out nor
+    # left behind
+    wheel = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["scikit-build"]["wheel"]
+    assert {"lenslab", "tracer"} <= set(wheel["packages"])
+    assert not any(fnmatch.fnmatch(f"{p}/py.typed", pat) for p in ("lenslab", "tracer") for pat in wheel["exclude"])
 
 
 @pytest.mark.parametrize("name", sorted(public_api()))
