@@ -1,94 +1,224 @@
 """Compiled (numba) steps of the integrators, for the cases that dominate a render's time.
 
-``area_light_samples`` is next-event estimation to the area lights at Lambertian points, fused into one
-pass: it does per point what :func:`tracer.integrators._next_event` does with whole-array NumPy steps
-(pick a light triangle by power, a uniform point on it, the geometry terms, the BSDF, the MIS weight),
-in the same float32 operations in the same order, so the image is the same bit for bit. Only the shadow
-rays are left to the caller (embree). The kernel is compiled on first use and cached on disk.
+Each kernel does per point what :mod:`tracer.integrators` does with whole-array NumPy steps, in the same
+float32 operations in the same order, so the image is the same bit for bit (``tracer.integrators.FUSED``
+switches them off; tests compare both ways). Ray casts stay with embree. Kernels are compiled on first
+use, cached on disk, and release the GIL, so the bands of a render run them on several threads at once.
+
+- ``area_light_samples``: next-event estimation to the area lights at Lambertian points (pick a light
+  triangle by power, a uniform point on it, the geometry terms, the BSDF, the MIS weight); the shadow
+  rays are left to the caller.
+- ``shade`` and ``settle``: one whole bounce of the path tracer in Lambertian scenes lit by area lights
+  (:mod:`tracer.wavefront`): the emission the ray reached with its MIS weight, the light sample and its
+  shadow ray, the cosine-weighted continuation and Russian roulette (``shade``); then, once embree has
+  answered the shadow rays, the visible light added and the finished paths written out (``settle``).
+  The cosine and sine of the sampled azimuths come in from NumPy, so that they are NumPy's own values.
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 F32 = np.float32
+zero, one, two, tiny, inv_pi = F32(0), F32(1), F32(2), F32(1e-12), F32(1.0 / np.pi)
+shrink, short = F32(1 - 1e-4), F32(1e-6)
 
 
-def _compile():
-    import numba
+@numba.njit(cache=True, nogil=True, inline="always")
+def _light_sample(u, p0, p1, p2, n0, n1, n2, cdf, light_tris, v0, e1, e2, normals, material_ids, two_sided,
+                 light_area_pdf, p_area, mis):  # pragma: no cover - compiled
+    """A point on an area light seen from ``p``: (ok, light material, direction, distance, weight / pdf,
+    cos_i) in the order of the NumPy steps."""
+    x = np.float64(u[0])
+    nbins = cdf.shape[0] - 1
+    lo, hi = 0, nbins + 1  # np.searchsorted(cdf, x, side="right"), by bisection
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if cdf[mid] <= x:
+            lo = mid + 1
+        else:
+            hi = mid
+    j = min(max(lo - 1, 0), nbins - 1)
+    k = light_tris[j]
+    su = np.sqrt(u[1])
+    b1 = one - su
+    b2 = u[2] * su
+    w0 = v0[k, 0] + b1 * e1[k, 0] + b2 * e2[k, 0] - p0
+    w1 = v0[k, 1] + b1 * e1[k, 1] + b2 * e2[k, 1] - p1
+    w2 = v0[k, 2] + b1 * e1[k, 2] + b2 * e2[k, 2] - p2
+    dist2 = w0 * w0 + w1 * w1 + w2 * w2
+    dist = np.sqrt(dist2)
+    w0 /= dist
+    w1 /= dist
+    w2 /= dist
+    cos_l = -(normals[k, 0] * w0 + normals[k, 1] * w1 + normals[k, 2] * w2)
+    lmat = material_ids[k]
+    cos_i = n0 * w0 + n1 * w1 + n2 * w2
+    if not (cos_i > 0 and (cos_l > 0 or two_sided[lmat])):
+        return False, lmat, w0, w1, w2, dist, zero, zero
+    light_pdf = p_area * light_area_pdf[k] * dist2 / max(abs(cos_l), tiny)
+    bsdf_pdf = max(cos_i, zero) * inv_pi
+    w = one
+    if mis:
+        a2 = light_pdf * light_pdf
+        s = a2 + bsdf_pdf * bsdf_pdf
+        w = a2 / s if s > 0 else zero
+    return True, lmat, w0, w1, w2, dist, w / light_pdf, bsdf_pdf
 
-    one, tiny, inv_pi = F32(1), F32(1e-12), F32(1.0 / np.pi)
-    shrink = F32(1 - 1e-4)
+@numba.njit(cache=True, nogil=True)
+def _area_light_samples(p, n, mat, u, cdf, light_tris, v0, e1, e2, normals, material_ids, two_sided,
+                       light_area_pdf, kd, emission, p_area, mis, eps2):  # pragma: no cover - compiled
+    m = p.shape[0]
+    rows = np.empty(m, np.int64)
+    wi_out = np.empty((m, 3), np.float32)
+    tmax = np.empty(m, np.float32)
+    val = np.empty((m, 3), np.float32)
+    g = 0
+    for i in range(m):
+        ok, lmat, w0, w1, w2, dist, scale, bsdf_pdf = _light_sample(
+            u[i], p[i, 0], p[i, 1], p[i, 2], n[i, 0], n[i, 1], n[i, 2], cdf, light_tris, v0, e1, e2, normals,
+            material_ids, two_sided, light_area_pdf, p_area, mis)
+        if not ok:
+            continue
+        mt = mat[i]
+        for c in range(3):
+            val[g, c] = kd[mt, c] * bsdf_pdf * emission[lmat, c] * scale
+        rows[g] = i
+        wi_out[g, 0] = w0
+        wi_out[g, 1] = w1
+        wi_out[g, 2] = w2
+        tmax[g] = dist * shrink - eps2
+        g += 1
+    return rows[:g], wi_out[:g], tmax[:g], val[:g]
 
-    @numba.njit(cache=True, nogil=True)
-    def area_light_samples(p, n, mat, u, cdf, light_tris, v0, e1, e2, normals, material_ids, two_sided,
-                           light_area_pdf, kd, emission, p_area, mis, eps2):  # pragma: no cover - compiled
-        m = p.shape[0]
-        rows = np.empty(m, np.int64)
-        wi_out = np.empty((m, 3), np.float32)
-        tmax = np.empty(m, np.float32)
-        val = np.empty((m, 3), np.float32)
-        nbins = cdf.shape[0] - 1
-        g = 0
-        for i in range(m):
-            x = np.float64(u[i, 0])
-            lo, hi = 0, nbins + 1  # np.searchsorted(cdf, x, side="right"), by bisection
-            while lo < hi:
-                mid = (lo + hi) >> 1
-                if cdf[mid] <= x:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            j = min(max(lo - 1, 0), nbins - 1)
-            k = light_tris[j]
-            su = np.sqrt(u[i, 1])
-            b1 = one - su
-            b2 = u[i, 2] * su
-            w0 = v0[k, 0] + b1 * e1[k, 0] + b2 * e2[k, 0] - p[i, 0]
-            w1 = v0[k, 1] + b1 * e1[k, 1] + b2 * e2[k, 1] - p[i, 1]
-            w2 = v0[k, 2] + b1 * e1[k, 2] + b2 * e2[k, 2] - p[i, 2]
-            dist2 = w0 * w0 + w1 * w1 + w2 * w2
-            dist = np.sqrt(dist2)
-            w0 /= dist
-            w1 /= dist
-            w2 /= dist
-            cos_l = -(normals[k, 0] * w0 + normals[k, 1] * w1 + normals[k, 2] * w2)
-            lmat = material_ids[k]
-            cos_i = n[i, 0] * w0 + n[i, 1] * w1 + n[i, 2] * w2
-            if not (cos_i > 0 and (cos_l > 0 or two_sided[lmat])):
-                continue
-            light_pdf = p_area * light_area_pdf[k] * dist2 / max(abs(cos_l), tiny)
-            bsdf_pdf = max(cos_i, F32(0)) * inv_pi
-            w = one
-            if mis:
-                a2 = light_pdf * light_pdf
-                s = a2 + bsdf_pdf * bsdf_pdf
-                w = a2 / s if s > 0 else F32(0)
-            scale = w / light_pdf
-            mt = mat[i]
+@numba.njit(cache=True, nogil=True)
+def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, material_ids, emissive, two_sided,
+          light_area_pdf, emission, kd, cdf, light_tris, v0, e1, e2, u_nee, u_bsdf, cphi, sphi, u_rr, p_area,
+          eps, eps2, last, rr):  # pragma: no cover - compiled
+    n_live = prim.shape[0]
+    m = 0
+    for i in range(n_live):
+        if prim[i] >= 0:
+            m += 1
+    idx_h = np.empty(m, np.int64)
+    o_h = np.empty((m, 3), np.float32)
+    d_h = np.empty((m, 3), np.float32)
+    beta_h = np.empty((m, 3), np.float32)
+    L_h = np.empty((m, 3), np.float32)
+    pdf_h = np.empty(m, np.float32)
+    alive = np.empty(m, np.bool_)
+    sh_rows = np.empty(m, np.int64)
+    sh_o = np.empty((m, 3), np.float32)
+    sh_d = np.empty((m, 3), np.float32)
+    sh_t = np.empty(m, np.float32)
+    sh_val = np.empty((m, 3), np.float32)
+    j = 0
+    g = 0
+    for i in range(n_live):
+        k = prim[i]
+        if k < 0:  # a miss: no environment in these scenes, the path ends
             for c in range(3):
-                val[g, c] = kd[mt, c] * bsdf_pdf * emission[lmat, c] * scale
-            rows[g] = i
-            wi_out[g, 0] = w0
-            wi_out[g, 1] = w1
-            wi_out[g, 2] = w2
-            tmax[g] = dist * shrink - eps2
+                out[idx[i], c] = L[i, c]
+            continue
+        ti = t[i]
+        p0 = o[i, 0] + ti * d[i, 0]
+        p1 = o[i, 1] + ti * d[i, 1]
+        p2 = o[i, 2] + ti * d[i, 2]
+        cos_o = normals[k, 0] * -d[i, 0] + normals[k, 1] * -d[i, 1] + normals[k, 2] * -d[i, 2]
+        front = cos_o > 0
+        sign = one if front else -one
+        n0, n1, n2 = normals[k, 0] * sign, normals[k, 1] * sign, normals[k, 2] * sign
+        mt = material_ids[k]
+        l0, l1, l2 = L[i, 0], L[i, 1], L[i, 2]
+        b0, b1, b2 = beta[i, 0], beta[i, 1], beta[i, 2]
+        if emissive[k] and (front or two_sided[mt]):
+            w = one
+            if not specular[i]:
+                light_pdf = p_area * light_area_pdf[k] * (ti * ti) / max(abs(cos_o), tiny)
+                a2 = prev_pdf[i] * prev_pdf[i]
+                s = a2 + light_pdf * light_pdf
+                w = a2 / s if s > 0 else zero
+            l0 += b0 * emission[mt, 0] * w
+            l1 += b1 * emission[mt, 1] * w
+            l2 += b2 * emission[mt, 2] * w
+        if last:
+            out[idx[i], 0], out[idx[i], 1], out[idx[i], 2] = l0, l1, l2
+            continue
+        idx_h[j] = idx[i]
+        L_h[j, 0], L_h[j, 1], L_h[j, 2] = l0, l1, l2
+        q0, q1, q2 = p0 + eps * n0, p1 + eps * n1, p2 + eps * n2  # just above the surface
+        ok, lmat, w0, w1, w2, dist, scale, bsdf_pdf = _light_sample(
+            u_nee[j], p0, p1, p2, n0, n1, n2, cdf, light_tris, v0, e1, e2, normals, material_ids, two_sided,
+            light_area_pdf, p_area, True)
+        if ok:
+            sh_rows[g] = j
+            sh_o[g, 0], sh_o[g, 1], sh_o[g, 2] = q0, q1, q2
+            sh_d[g, 0], sh_d[g, 1], sh_d[g, 2] = w0, w1, w2
+            sh_t[g] = dist * shrink - eps2
+            sh_val[g, 0] = kd[mt, 0] * bsdf_pdf * emission[lmat, 0] * scale * b0
+            sh_val[g, 1] = kd[mt, 1] * bsdf_pdf * emission[lmat, 1] * scale * b1
+            sh_val[g, 2] = kd[mt, 2] * bsdf_pdf * emission[lmat, 2] * scale * b2
             g += 1
-        return rows[:g], wi_out[:g], tmax[:g], val[:g]
+        # cosine-weighted continuation: a uniform point on the unit sphere at the tip of n
+        z = one - two * u_bsdf[j, 1]
+        r = np.sqrt(max(zero, one - z * z))
+        x0, x1, x2 = n0 + r * cphi[j], n1 + r * sphi[j], n2 + z
+        length = np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+        if length < short:
+            x0, x1, x2 = n0, n1, n2
+        else:
+            x0, x1, x2 = x0 / length, x1 / length, x2 / length
+        d_h[j, 0], d_h[j, 1], d_h[j, 2] = x0, x1, x2
+        pdf_h[j] = (n0 * x0 + n1 * x1 + n2 * x2) * inv_pi
+        b0, b1, b2 = b0 * kd[mt, 0], b1 * kd[mt, 1], b2 * kd[mt, 2]  # f cos / pdf = kd
+        bmax = max(max(b0, b1), b2)
+        if rr:
+            q = min(bmax, one)
+            survive = u_rr[j] < q
+            if survive:
+                b0, b1, b2 = b0 / q, b1 / q, b2 / q
+            alive[j] = survive and bmax > 0
+        else:
+            alive[j] = bmax > 0
+        beta_h[j, 0], beta_h[j, 1], beta_h[j, 2] = b0, b1, b2
+        o_h[j, 0], o_h[j, 1], o_h[j, 2] = q0, q1, q2
+        j += 1
+    return (idx_h[:j], o_h[:j], d_h[:j], beta_h[:j], L_h[:j], pdf_h[:j], alive[:j], sh_rows[:g], sh_o[:g],
+            sh_d[:g], sh_t[:g], sh_val[:g])
 
-    return area_light_samples
+@numba.njit(cache=True, nogil=True)
+def _settle(idx, o, d, beta, L, pdf, alive, sh_rows, sh_val, blocked, out):  # pragma: no cover - compiled
+    for g in range(sh_rows.shape[0]):
+        if not blocked[g]:
+            r = sh_rows[g]
+            for c in range(3):
+                L[r, c] += sh_val[g, c]
+    k = 0
+    for j in range(idx.shape[0]):
+        if alive[j]:
+            if k != j:
+                idx[k] = idx[j]
+                pdf[k] = pdf[j]
+                for c in range(3):
+                    o[k, c], d[k, c], beta[k, c], L[k, c] = o[j, c], d[j, c], beta[j, c], L[j, c]
+            k += 1
+        else:
+            for c in range(3):
+                out[idx[j], c] = L[j, c]
+    return k
 
 
-_KERNEL = None
+
+def kernels():
+    """The compiled kernels ``(area_light_samples, shade, settle)`` (compiled or loaded on their first call)."""
+    return _area_light_samples, _shade, _settle
 
 
 def area_light_samples(scene, p, n, mat, u, p_area: float, mis: bool, eps):
     """Rows (int64) of the points whose light sample faces both ways, the unit directions to the sampled
     points, the shadow rays' reach and the unshadowed contributions (float32); see the module's note."""
-    global _KERNEL
-    if _KERNEL is None:
-        _KERNEL = _compile()
     t = scene.table
-    return _KERNEL(p, n, mat, u, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2,
-                   scene.normals, scene.material_ids, t.two_sided, scene.light_area_pdf, t.kd, t.emission,
-                   F32(p_area), bool(mis), F32(2 * eps))
+    return kernels()[0](p, n, mat, u, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2,
+                        scene.normals, scene.material_ids, t.two_sided, scene.light_area_pdf, t.kd, t.emission,
+                        F32(p_area), bool(mis), F32(2 * eps))

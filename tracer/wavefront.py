@@ -1,0 +1,70 @@
+"""The path tracer's bounce loop in compiled passes, for Lambertian scenes lit by area lights.
+
+:func:`trace` gives the same radiance, bit for bit, as :func:`tracer.integrators.trace` with
+``integrator="path"`` (the NumPy steps stay there as the reference, and tests compare the two): it
+draws the same random numbers in the same order and does the same float32 operations per path. Per
+bounce, Python makes four calls: embree's closest hits, one compiled pass that shades every hit
+(:func:`tracer.kernels` ``shade``), embree's shadow rays, and one compiled pass that adds the visible
+light and retires finished paths (``settle``). The state of the live paths stays in a few float32
+arrays, with no NumPy temporaries per step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+F32 = np.float32
+TWO_PI = 2 * np.pi
+
+
+def applies(scene, integrator: str) -> bool:
+    """Whether the compiled bounce loop covers this scene and integrator: path tracing, Lambertian materials,
+    area lights, and neither an environment nor point lights."""
+    return (integrator == "path" and scene.table.lambertian_only and scene.has_area_lights
+            and scene.environment is None and len(scene.point_light_pos) == 0)
+
+
+def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_depth: int, rr_depth: int,
+          threads: int | None, out: np.ndarray) -> np.ndarray:
+    """Radiance along rays from ``o`` (float32, the scene's local frame) along unit ``d`` (float32) into
+    ``out`` (float32 ``(N, 3)``, zeros); see :func:`tracer.integrators.trace`."""
+    from tracer.kernels import kernels
+
+    _, shade, settle = kernels()
+    accel, table = scene.accel, scene.table
+    eps = F32(scene.epsilon)
+    eps2 = F32(2 * eps)
+    p_area = F32(1)  # only area lights: every light sample goes to them
+    geometry = (scene.normals, scene.material_ids, scene.emissive, table.two_sided, scene.light_area_pdf,
+                table.emission, table.kd, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2)
+    n = len(o)
+    idx = np.arange(n)
+    beta = np.ones((n, 3), dtype=F32)
+    L = np.zeros((n, 3), dtype=F32)
+    prev_pdf = np.zeros(n, dtype=F32)
+    specular = np.ones(n, dtype=bool)  # camera rays: emitters seen directly take no MIS weight
+    none2, none1 = np.zeros((0, 4), F32), np.zeros(0, F32)
+    depth = 0
+    while len(idx):
+        prim, t = accel.intersect(o, d, threads=threads)
+        last = depth >= max_depth
+        m = 0 if last else int(np.count_nonzero(prim >= 0))
+        u_nee, u_bsdf, cphi, sphi, u_rr = none2, none2, none1, none1, none1
+        if m:  # the random numbers of the NumPy steps, in their order
+            u_nee = rng.random((m, 4), dtype=F32)
+            u_bsdf = rng.random((m, 3), dtype=F32)
+            phi = TWO_PI * u_bsdf[:, 2]
+            cphi, sphi = np.cos(phi), np.sin(phi)
+            if depth + 1 >= rr_depth:
+                u_rr = rng.random(m, dtype=F32)
+        idx, o, d, beta, L, prev_pdf, alive, sh_rows, sh_o, sh_d, sh_t, sh_val = shade(
+            prim, t, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi, u_rr,
+            p_area, eps, eps2, last, depth + 1 >= rr_depth)
+        if last or not len(idx):
+            break
+        blocked = accel.occluded(sh_o, sh_d, sh_t, threads=threads)
+        k = settle(idx, o, d, beta, L, prev_pdf, alive, sh_rows, sh_val, blocked, out)
+        idx, o, d, beta, L, prev_pdf = idx[:k], o[:k], d[:k], beta[:k], L[:k], prev_pdf[:k]
+        specular = np.zeros(k, dtype=bool)
+        depth += 1
+    return out
