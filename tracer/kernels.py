@@ -94,38 +94,23 @@ def _area_light_samples(p, n, mat, u, cdf, light_tris, v0, e1, e2, normals, mate
 
 @numba.njit(cache=True, nogil=True)
 def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, material_ids, emissive, two_sided,
-          light_area_pdf, emission, kd, cdf, light_tris, v0, e1, e2, u_nee, u_bsdf, cphi, sphi, u_rr, p_area,
-          eps, eps2, last, rr):  # pragma: no cover - compiled
-    n_live = prim.shape[0]
-    m = 0
-    for i in range(n_live):
-        if prim[i] >= 0:
-            m += 1
-    idx_h = np.empty(m, np.int64)
-    o_h = np.empty((m, 3), np.float32)
-    d_h = np.empty((m, 3), np.float32)
-    beta_h = np.empty((m, 3), np.float32)
-    L_h = np.empty((m, 3), np.float32)
-    pdf_h = np.empty(m, np.float32)
-    alive = np.empty(m, np.bool_)
-    sh_rows = np.empty(m, np.int64)
-    sh_o = np.empty((m, 3), np.float32)
-    sh_d = np.empty((m, 3), np.float32)
-    sh_t = np.empty(m, np.float32)
-    sh_val = np.empty((m, 3), np.float32)
+           light_area_pdf, emission, kd, cdf, light_tris, v0, e1, e2, u_nee, u_bsdf, cphi, sphi, u_rr, p_area, eps,
+           eps2, last, rr, alive, sh_rows, sh_o, sh_d, sh_t, sh_val):  # pragma: no cover - compiled
+    """One bounce, in place: path ``i`` of the live paths moves to row ``j <= i`` (the ``j``-th that hit), so
+    the state needs no second copy; the shadow rays go to the ``sh_`` rows. Returns the counts of both."""
     j = 0
     g = 0
-    for i in range(n_live):
+    for i in range(prim.shape[0]):
         k = prim[i]
+        r = idx[i]
         if k < 0:  # a miss: no environment in these scenes, the path ends
             for c in range(3):
-                out[idx[i], c] = L[i, c]
+                out[r, c] = L[i, c]
             continue
         ti = t[i]
-        p0 = o[i, 0] + ti * d[i, 0]
-        p1 = o[i, 1] + ti * d[i, 1]
-        p2 = o[i, 2] + ti * d[i, 2]
-        cos_o = normals[k, 0] * -d[i, 0] + normals[k, 1] * -d[i, 1] + normals[k, 2] * -d[i, 2]
+        dx, dy, dz = d[i, 0], d[i, 1], d[i, 2]
+        p0, p1, p2 = o[i, 0] + ti * dx, o[i, 1] + ti * dy, o[i, 2] + ti * dz
+        cos_o = normals[k, 0] * -dx + normals[k, 1] * -dy + normals[k, 2] * -dz
         front = cos_o > 0
         sign = one if front else -one
         n0, n1, n2 = normals[k, 0] * sign, normals[k, 1] * sign, normals[k, 2] * sign
@@ -143,10 +128,10 @@ def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, materi
             l1 += b1 * emission[mt, 1] * w
             l2 += b2 * emission[mt, 2] * w
         if last:
-            out[idx[i], 0], out[idx[i], 1], out[idx[i], 2] = l0, l1, l2
+            out[r, 0], out[r, 1], out[r, 2] = l0, l1, l2
             continue
-        idx_h[j] = idx[i]
-        L_h[j, 0], L_h[j, 1], L_h[j, 2] = l0, l1, l2
+        idx[j] = r
+        L[j, 0], L[j, 1], L[j, 2] = l0, l1, l2
         q0, q1, q2 = p0 + eps * n0, p1 + eps * n1, p2 + eps * n2  # just above the surface
         ok, lmat, w0, w1, w2, dist, scale, bsdf_pdf = _light_sample(
             u_nee[j], p0, p1, p2, n0, n1, n2, cdf, light_tris, v0, e1, e2, normals, material_ids, two_sided,
@@ -162,15 +147,15 @@ def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, materi
             g += 1
         # cosine-weighted continuation: a uniform point on the unit sphere at the tip of n
         z = one - two * u_bsdf[j, 1]
-        r = np.sqrt(max(zero, one - z * z))
-        x0, x1, x2 = n0 + r * cphi[j], n1 + r * sphi[j], n2 + z
+        rad = np.sqrt(max(zero, one - z * z))
+        x0, x1, x2 = n0 + rad * cphi[j], n1 + rad * sphi[j], n2 + z
         length = np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
         if length < short:
             x0, x1, x2 = n0, n1, n2
         else:
             x0, x1, x2 = x0 / length, x1 / length, x2 / length
-        d_h[j, 0], d_h[j, 1], d_h[j, 2] = x0, x1, x2
-        pdf_h[j] = (n0 * x0 + n1 * x1 + n2 * x2) * inv_pi
+        d[j, 0], d[j, 1], d[j, 2] = x0, x1, x2
+        prev_pdf[j] = (n0 * x0 + n1 * x1 + n2 * x2) * inv_pi
         b0, b1, b2 = b0 * kd[mt, 0], b1 * kd[mt, 1], b2 * kd[mt, 2]  # f cos / pdf = kd
         bmax = max(max(b0, b1), b2)
         if rr:
@@ -181,21 +166,22 @@ def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, materi
             alive[j] = survive and bmax > 0
         else:
             alive[j] = bmax > 0
-        beta_h[j, 0], beta_h[j, 1], beta_h[j, 2] = b0, b1, b2
-        o_h[j, 0], o_h[j, 1], o_h[j, 2] = q0, q1, q2
+        beta[j, 0], beta[j, 1], beta[j, 2] = b0, b1, b2
+        o[j, 0], o[j, 1], o[j, 2] = q0, q1, q2
         j += 1
-    return (idx_h[:j], o_h[:j], d_h[:j], beta_h[:j], L_h[:j], pdf_h[:j], alive[:j], sh_rows[:g], sh_o[:g],
-            sh_d[:g], sh_t[:g], sh_val[:g])
+    return j, g
+
 
 @numba.njit(cache=True, nogil=True)
-def _settle(idx, o, d, beta, L, pdf, alive, sh_rows, sh_val, blocked, out):  # pragma: no cover - compiled
-    for g in range(sh_rows.shape[0]):
-        if not blocked[g]:
-            r = sh_rows[g]
+def _settle(m, idx, o, d, beta, L, pdf, alive, g, sh_rows, sh_val, blocked, out):  # pragma: no cover - compiled
+    """The visible light samples added, finished paths written to ``out``, the rest moved up; their count."""
+    for s in range(g):
+        if not blocked[s]:
+            r = sh_rows[s]
             for c in range(3):
-                L[r, c] += sh_val[g, c]
+                L[r, c] += sh_val[s, c]
     k = 0
-    for j in range(idx.shape[0]):
+    for j in range(m):
         if alive[j]:
             if k != j:
                 idx[k] = idx[j]
@@ -207,7 +193,6 @@ def _settle(idx, o, d, beta, L, pdf, alive, sh_rows, sh_val, blocked, out):  # p
             for c in range(3):
                 out[idx[j], c] = L[j, c]
     return k
-
 
 
 def kernels():

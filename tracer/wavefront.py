@@ -39,14 +39,21 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
                 table.emission, table.kd, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2)
     n = len(o)
     idx = np.arange(n)
+    o = o.copy()  # the state is updated in place, bounce after bounce
+    d = d.copy()
     beta = np.ones((n, 3), dtype=F32)
     L = np.zeros((n, 3), dtype=F32)
     prev_pdf = np.zeros(n, dtype=F32)
     specular = np.ones(n, dtype=bool)  # camera rays: emitters seen directly take no MIS weight
+    # the shadow rays of a bounce (at most one per path) and which paths go on
+    alive = np.empty(n, dtype=bool)
+    sh_rows = np.empty(n, dtype=np.int64)
+    sh_o, sh_d, sh_val = (np.empty((n, 3), dtype=F32) for _ in range(3))
+    sh_t = np.empty(n, dtype=F32)
     none2, none1 = np.zeros((0, 4), F32), np.zeros(0, F32)
     depth = 0
-    while len(idx):
-        prim, t = accel.intersect(o, d, threads=threads)
+    while n:
+        prim, t = accel.intersect(o[:n], d[:n], threads=threads)
         last = depth >= max_depth
         m = 0 if last else int(np.count_nonzero(prim >= 0))
         u_nee, u_bsdf, cphi, sphi, u_rr = none2, none2, none1, none1, none1
@@ -57,14 +64,13 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
             cphi, sphi = np.cos(phi), np.sin(phi)
             if depth + 1 >= rr_depth:
                 u_rr = rng.random(m, dtype=F32)
-        idx, o, d, beta, L, prev_pdf, alive, sh_rows, sh_o, sh_d, sh_t, sh_val = shade(
-            prim, t, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi, u_rr,
-            p_area, eps, eps2, last, depth + 1 >= rr_depth)
-        if last or not len(idx):
+        m, g = shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi,
+                     u_rr, p_area, eps, eps2, last, depth + 1 >= rr_depth, alive, sh_rows, sh_o, sh_d, sh_t, sh_val)
+        if last or not m:
             break
-        blocked = accel.occluded(sh_o, sh_d, sh_t, threads=threads)
-        k = settle(idx, o, d, beta, L, prev_pdf, alive, sh_rows, sh_val, blocked, out)
-        idx, o, d, beta, L, prev_pdf = idx[:k], o[:k], d[:k], beta[:k], L[:k], prev_pdf[:k]
-        specular = np.zeros(k, dtype=bool)
+        blocked = accel.occluded(sh_o[:g], sh_d[:g], sh_t[:g], threads=threads)
+        n = settle(m, idx, o, d, beta, L, prev_pdf, alive, g, sh_rows, sh_val, blocked, out)
+        if depth == 0:
+            specular[:] = False
         depth += 1
     return out
