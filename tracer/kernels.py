@@ -20,9 +20,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from tracer.embree_api import INVALID, RAYHIT_WORDS, externals
+
 F32 = np.float32
+_rtc_intersect, _rtc_occluded, _as_pointer = externals()
 zero, one, two, tiny, inv_pi = F32(0), F32(1), F32(2), F32(1e-12), F32(1.0 / np.pi)
 shrink, short = F32(1 - 1e-4), F32(1e-6)
+far = F32(1e37)  # the reach of an unbounded ray, as embreex gives it
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -173,10 +177,53 @@ def _shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, normals, materi
 
 
 @numba.njit(cache=True, nogil=True)
-def _settle(m, idx, o, d, beta, L, pdf, alive, g, sh_rows, sh_val, blocked, out):  # pragma: no cover - compiled
-    """The visible light samples added, finished paths written to ``out``, the rest moved up; their count."""
+def _ray_buffer():  # pragma: no cover - compiled
+    """One ``RTCRayHit``, 16-byte aligned, as float32 words (see tracer.embree_api)."""
+    buf = np.empty(RAYHIT_WORDS + 4, np.float32)
+    off = ((16 - buf.ctypes.data % 16) % 16) // 4
+    return buf[off:off + RAYHIT_WORDS]
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _set_ray(ray, words, o0, o1, o2, d0, d1, d2, tfar):  # pragma: no cover - compiled
+    ray[0], ray[1], ray[2], ray[3] = o0, o1, o2, zero
+    ray[4], ray[5], ray[6], ray[7] = d0, d1, d2, zero
+    ray[8] = tfar
+    words[9], words[10], words[11] = INVALID, 0, 0
+    words[17], words[18], words[19] = INVALID, INVALID, INVALID
+
+
+@numba.njit(cache=True, nogil=True)
+def _intersect(scene, o, d, n, prim, t):  # pragma: no cover - compiled
+    """Closest hits of rays ``0..n``: triangle (-1 for none) and distance (inf for none), as
+    :meth:`tracer.accel.Accelerator.intersect` gives them."""
+    ray = _ray_buffer()
+    words = ray.view(np.uint32)
+    sp, rp, null = _as_pointer(scene), _as_pointer(ray.ctypes.data), _as_pointer(0)
+    for i in range(n):
+        _set_ray(ray, words, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2], far)
+        _rtc_intersect(sp, rp, null)
+        if words[18] == INVALID:
+            prim[i] = -1
+            t[i] = np.inf
+        else:
+            prim[i] = np.int32(words[17])
+            t[i] = ray[8]
+
+
+@numba.njit(cache=True, nogil=True)
+def _settle(scene, m, idx, o, d, beta, L, pdf, alive, g, sh_rows, sh_o, sh_d, sh_t, sh_val,
+            out):  # pragma: no cover - compiled
+    """The shadow rays cast, the visible light samples added, finished paths written to ``out`` and the rest
+    moved up; their count."""
+    ray = _ray_buffer()
+    words = ray.view(np.uint32)
+    sp, rp, null = _as_pointer(scene), _as_pointer(ray.ctypes.data), _as_pointer(0)
     for s in range(g):
-        if not blocked[s]:
+        _set_ray(ray, words, sh_o[s, 0], sh_o[s, 1], sh_o[s, 2], sh_d[s, 0], sh_d[s, 1], sh_d[s, 2],
+                 min(sh_t[s], far))
+        _rtc_occluded(sp, rp, null)
+        if not ray[8] < 0:  # embree marks a blocked ray with tfar = -inf
             r = sh_rows[s]
             for c in range(3):
                 L[r, c] += sh_val[s, c]
@@ -196,8 +243,9 @@ def _settle(m, idx, o, d, beta, L, pdf, alive, g, sh_rows, sh_val, blocked, out)
 
 
 def kernels():
-    """The compiled kernels ``(area_light_samples, shade, settle)`` (compiled or loaded on their first call)."""
-    return _area_light_samples, _shade, _settle
+    """The compiled kernels ``(area_light_samples, shade, settle, intersect)`` (compiled or loaded on their
+    first call)."""
+    return _area_light_samples, _shade, _settle, _intersect
 
 
 def area_light_samples(scene, p, n, mat, u, p_area: float, mis: bool, eps):

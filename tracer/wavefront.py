@@ -3,18 +3,39 @@
 :func:`trace` gives the same radiance, bit for bit, as :func:`tracer.integrators.trace` with
 ``integrator="path"`` (the NumPy steps stay there as the reference, and tests compare the two): it
 draws the same random numbers in the same order and does the same float32 operations per path. Per
-bounce, Python makes four calls: embree's closest hits, one compiled pass that shades every hit
-(:func:`tracer.kernels` ``shade``), embree's shadow rays, and one compiled pass that adds the visible
-light and retires finished paths (``settle``). The state of the live paths stays in a few float32
-arrays, with no NumPy temporaries per step.
+bounce Python makes three calls into :mod:`tracer.kernels`: the closest hits (embree's C API called per
+ray from the kernel, :mod:`tracer.embree_api`), one pass that shades every hit (emission with its MIS
+weight, a light sample, the continuation, Russian roulette), and one that casts the shadow rays, adds the
+visible light and retires finished paths. The live paths stay in a few float32 arrays updated in place.
+The casts run on the calling thread: a render runs its bands on several threads, and the kernels release
+the GIL.
 """
 
 from __future__ import annotations
+
+import threading
+import weakref
 
 import numpy as np
 
 F32 = np.float32
 TWO_PI = 2 * np.pi
+
+_RTC: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # accelerator -> its scene for the kernels
+_RTC_LOCK = threading.Lock()
+
+
+def scene_rtc(scene):
+    """The embree scene the kernels cast rays into (:class:`tracer.embree_api.RtcScene`): the same triangles
+    as ``scene.accel`` in the same float32 frame, built once per accelerator."""
+    with _RTC_LOCK:
+        accel = scene.accel
+        rtc = _RTC.get(accel)
+        if rtc is None:
+            from tracer.embree_api import RtcScene
+
+            rtc = _RTC[accel] = RtcScene((scene.vertices - scene.shift).astype(F32), scene.triangles)
+        return rtc
 
 
 def applies(scene, integrator: str) -> bool:
@@ -30,14 +51,16 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
     ``out`` (float32 ``(N, 3)``, zeros); see :func:`tracer.integrators.trace`."""
     from tracer.kernels import kernels
 
-    _, shade, settle = kernels()
-    accel, table = scene.accel, scene.table
+    _, shade, settle, intersect = kernels()
+    table = scene.table
     eps = F32(scene.epsilon)
     eps2 = F32(2 * eps)
     p_area = F32(1)  # only area lights: every light sample goes to them
     geometry = (scene.normals, scene.material_ids, scene.emissive, table.two_sided, scene.light_area_pdf,
                 table.emission, table.kd, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2)
     n = len(o)
+    rtc = scene_rtc(scene).handle
+    prim, t = np.empty(n, dtype=np.int32), np.empty(n, dtype=F32)
     idx = np.arange(n)
     o = o.copy()  # the state is updated in place, bounce after bounce
     d = d.copy()
@@ -53,9 +76,10 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
     none2, none1 = np.zeros((0, 4), F32), np.zeros(0, F32)
     depth = 0
     while n:
-        prim, t = accel.intersect(o[:n], d[:n], threads=threads)
+        intersect(rtc, o, d, n, prim, t)  # closest hits, in the kernel: embree's own answers
+        prim_n, t_n = prim[:n], t[:n]
         last = depth >= max_depth
-        m = 0 if last else int(np.count_nonzero(prim >= 0))
+        m = 0 if last else int(np.count_nonzero(prim_n >= 0))
         u_nee, u_bsdf, cphi, sphi, u_rr = none2, none2, none1, none1, none1
         if m:  # the random numbers of the NumPy steps, in their order
             u_nee = rng.random((m, 4), dtype=F32)
@@ -64,12 +88,11 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
             cphi, sphi = np.cos(phi), np.sin(phi)
             if depth + 1 >= rr_depth:
                 u_rr = rng.random(m, dtype=F32)
-        m, g = shade(prim, t, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi,
+        m, g = shade(prim_n, t_n, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi,
                      u_rr, p_area, eps, eps2, last, depth + 1 >= rr_depth, alive, sh_rows, sh_o, sh_d, sh_t, sh_val)
         if last or not m:
             break
-        blocked = accel.occluded(sh_o[:g], sh_d[:g], sh_t[:g], threads=threads)
-        n = settle(m, idx, o, d, beta, L, prev_pdf, alive, g, sh_rows, sh_val, blocked, out)
+        n = settle(rtc, m, idx, o, d, beta, L, prev_pdf, alive, g, sh_rows, sh_o, sh_d, sh_t, sh_val, out)
         if depth == 0:
             specular[:] = False
         depth += 1
