@@ -59,6 +59,15 @@ def library() -> ctypes.CDLL:
     return _LIB
 
 
+def available() -> bool:
+    """Whether embree's library could be found and loaded (else the NumPy steps and embreex do the work)."""
+    try:
+        library()
+    except (ImportError, OSError):
+        return False
+    return True
+
+
 class RtcScene:
     """One triangle mesh as an embree scene; ``handle`` is its ``RTCScene`` pointer for the kernels."""
 

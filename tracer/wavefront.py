@@ -40,9 +40,13 @@ def scene_rtc(scene):
 
 def applies(scene, integrator: str) -> bool:
     """Whether the compiled bounce loop covers this scene and integrator: path tracing, Lambertian materials,
-    area lights, and neither an environment nor point lights."""
-    return (integrator == "path" and scene.table.lambertian_only and scene.has_area_lights
-            and scene.environment is None and len(scene.point_light_pos) == 0)
+    area lights, and neither an environment nor point lights (and embree's library at hand)."""
+    if not (integrator == "path" and scene.table.lambertian_only and scene.has_area_lights
+            and scene.environment is None and len(scene.point_light_pos) == 0):
+        return False
+    from tracer.embree_api import available
+
+    return available()
 
 
 def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_depth: int, rr_depth: int,
