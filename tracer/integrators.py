@@ -24,7 +24,8 @@ from tracer.materials import MIRROR
 from tracer.sampling import F32, dot, power_heuristic, take, uniform_triangle
 
 INTEGRATORS = ("path", "direct")
-#: next-event estimation to area lights at Lambertian points in one compiled pass (tracer.kernels);
+#: compiled passes (tracer.kernels): next-event estimation to area lights at Lambertian points, and the
+#: whole bounce loop of path tracing in Lambertian scenes lit by area lights (tracer.wavefront);
 #: False runs the NumPy steps, which give the same image
 FUSED = True
 
@@ -67,6 +68,11 @@ def trace(scene, origins: np.ndarray, dirs: np.ndarray, rng: np.random.Generator
     L = np.zeros((n_rays, 3), dtype=F32)
     prev_pdf = np.zeros(n_rays, dtype=F32)
     specular = np.ones(n_rays, dtype=bool)  # camera ray or after a delta bounce: no MIS on emitters
+    if FUSED:
+        from tracer import wavefront
+
+        if wavefront.applies(scene, integrator):  # the same numbers, a bounce in two compiled passes
+            return wavefront.trace(scene, o, np.ascontiguousarray(d), rng, max_depth, rr_depth, threads, out)
 
     depth = 0
     while len(idx):
