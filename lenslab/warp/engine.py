@@ -21,7 +21,7 @@ import numpy as np
 
 from lenslab.errors import WarpError
 from lenslab.io.alpha import colour_channels, settle
-from lenslab.lenses import Camera, Pose
+from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
 from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
@@ -30,6 +30,7 @@ from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
 from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
+from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -213,7 +214,7 @@ class WarpPlan:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
-                _render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
+                render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
             return
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
@@ -266,42 +267,6 @@ class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
-def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:
-    """Render ``plan`` into the region of ``out``/``alpha`` at (x0, y0), through contiguous buffers (the
-    compiled samplers are built for contiguous arrays)."""
-    h, w = plan.out_shape
-    part = np.zeros((h, w, out.shape[2]), dtype=np.float32)
-    part_alpha = np.zeros((h, w), dtype=np.float32)
-    plan.render(src, part, part_alpha, progress)
-    out[y0:y0 + h, x0:x0 + w] = part
-    alpha[y0:y0 + h, x0:x0 + w] = part_alpha
-
-
-def has_camera_pieces(camera: Camera) -> bool:
-    """Whether the camera's image is made of pieces that are cameras of their own (tiles)."""
-    pieces = camera.lens.pieces()
-    return len(pieces) > 1 and any(p.lens is not None for p in pieces)
-
-
-def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
-    """``(x0, y0, camera)`` of every piece of a camera whose pieces are cameras of their own (tiles), in
-    order (None for a piece with no camera).
-
-    Each piece camera has the piece's lens, its rotation composed with the whole camera's, and its eye
-    placed in the world.
-    """
-    out = []
-    for piece in camera.lens.pieces():
-        x0, y0 = int(piece.x0), int(piece.y0)
-        if piece.lens is None:
-            out.append((x0, y0, None))
-            continue
-        rot = camera.pose.rotation @ piece.pose.rotation
-        eye = camera.pose.eye + camera.pose.rotation @ piece.pose.eye
-        out.append((x0, y0, Camera(piece.lens, Pose(rot, eye))))
-    return out
-
-
 def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
     """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
 
@@ -330,7 +295,7 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
             alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
         elif arr.shape[2] != channels:
             raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        _render_region(plan, arr, out, alpha, x0, y0, progress)
+        render_region(plan, arr, out, alpha, x0, y0, progress)
     if out is None:
         raise WarpError("no tile has both a camera and a source image: nothing to warp")
     if not all_finite(out):
