@@ -20,11 +20,12 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from lenslab.errors import WarpError
+from lenslab.filters import filter_named
 from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
-from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
+from lenslab.warp.filters import all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
@@ -57,8 +58,7 @@ class WarpPlan:
             if not isinstance(cam, Camera):
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
                                 "build one with Camera.from_spec(spec, (width, height))")
-        if filter not in FILTERS:
-            raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+        filter = filter_named(filter)
         try:
             samples = int(samples)
         except (TypeError, ValueError):
@@ -325,7 +325,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         The camera that saw ``image`` and the one to see it through. Their eyes must be one point (a
         panorama holds one eye).
     filter : str
-        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:mod:`lenslab.warp.filters`).
+        ``nearest``, ``bilinear``, ``bicubic`` (Catmull-Rom) or ``lanczos`` (Lanczos-3), or another name of
+        one (:data:`lenslab.filters.FILTERS`).
     samples : int
         Sub-pixel samples per output pixel (strata centres, or jittered per row with ``seed``).
     antialias : bool
