@@ -187,7 +187,7 @@ def output_extension(fmt: str | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from lenslab.errors import UsageError
+    from lenslab.errors import LenslabError, UsageError
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
     from lenslab.jobs.plan import expand_inputs, plan_outputs, skip_existing, sweep_outputs
     from lenslab.jobs.runner import connect, run_batch

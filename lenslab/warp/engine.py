@@ -370,9 +370,11 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     transparent outside it.
 
     >>> import numpy as np, lenslab
+    >>> from lenslab.lenses.projections.equirect import Equirect
+    >>> from lenslab.lenses.projections.fisheye import Fisheye
     >>> pano = np.full((64, 128, 3), 2.0, np.float32)
-    >>> src = lenslab.Camera.from_spec("equirect", (128, 64))
-    >>> dst = lenslab.Camera.from_spec("fisheye:fov=180", (32, 32))
+    >>> src = lenslab.Camera(Equirect(128, 64))
+    >>> dst = lenslab.Camera(Fisheye(32, 32, fov=180))
     >>> image, alpha = lenslab.warp(pano, src, dst)
     >>> image.shape, alpha.shape, image.dtype
     ((32, 32, 3), (32, 32), dtype('float32'))
