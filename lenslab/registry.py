@@ -1,4 +1,4 @@
-"""The one registry type: lenses, tone curves, file formats, calibration files and commands.
+"""The one registry type: lenses, tone curves, file formats, calibration files, warp filters and commands.
 
 A :class:`Registry` maps canonical names to members, with aliases (old or alternative names that
 resolve to a canonical one), and keeps for each member an :class:`Entry` with what the docs, the

@@ -173,13 +173,13 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     (lenslab's filters, and its footprint prefilter with ``antialias``); ``samples`` > 1 takes that
     many stratified samples per pixel, the map interpolated between pixel centres
     (:func:`map_samples`). Taps outside the source clamp to its edge."""
-    from lenslab.warp.filters import FILTERS, sample
+    from lenslab.filters import filter_named
+    from lenslab.warp.filters import sample
     from lenslab.warp.given import warp_with_map
     from lenslab.warp.maps import sample_pattern
     from lenslab.warp.seam import Border
 
-    if filter not in FILTERS:
-        raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+    filter = filter_named(filter)
     if antialias and samples != 1:
         raise WarpError("with an ST map, give either --antialias or --samples, not both")
     size = (image.shape[1], image.shape[0])

@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Rebuild the docs' tables from the registries, so that the docs list exactly what lenslab has.
 
-    python tools/docs_tables.py           # rewrite docs/lenses.md and the curve list in docs/conventions.md
+    python tools/docs_tables.py           # rewrite docs/lenses.md and the curve and filter lists in docs/conventions.md
     python tools/docs_tables.py --check   # exit 1 (naming the files) when a generated part is out of date
 
 ``docs/lenses.md`` is generated whole from the lens registry (model, other names, family, what it is,
 where its numbers come from). In ``docs/conventions.md`` the list of tone curves sits between
-``<!-- curves:start -->`` and ``<!-- curves:end -->``. The tests run ``--check``'s comparison.
+``<!-- curves:start -->`` and ``<!-- curves:end -->``, the warp filters between ``<!-- filters:start -->`` and
+``<!-- filters:end -->``. The tests run ``--check``'s comparison.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ ROOT = Path(__file__).resolve().parent.parent
 LENSES_MD = ROOT / "docs" / "lenses.md"
 CONVENTIONS_MD = ROOT / "docs" / "conventions.md"
 START, END = "<!-- curves:start -->", "<!-- curves:end -->"
+FILTERS_START, FILTERS_END = "<!-- filters:start -->", "<!-- filters:end -->"
 
 #: the model sub-packages in the words of the docs
 FAMILIES = {"projections": "projection", "panoramas": "360 format", "multiview": "multi-view",
@@ -71,12 +73,30 @@ def curve_list() -> str:
     return "\n".join(lines)
 
 
-def conventions_page(text: str) -> str:
-    head, found, rest = text.partition(START)
-    _, found_end, tail = rest.partition(END)
+def filter_list() -> str:
+    from lenslab.filters import FILTERS
+
+    lines = ["| filter | other names | support radius (taps per axis) | what it is | reference |",
+             "|---|---|---|---|---|"]
+    for entry in FILTERS.entries():
+        f = entry.value
+        aliases = ", ".join(f"`{a}`" for a in entry.aliases) or "-"
+        lines.append(f"| `{entry.name}` | {aliases} | {f.radius:g} px ({f.taps}) | {cell(entry.summary)} | "
+                     f"{cell('; '.join(entry.references))} |")
+    return "\n".join(lines)
+
+
+def between(text: str, start: str, end: str, body: str) -> str:
+    """``text`` with what lies between the markers ``start`` and ``end`` replaced by ``body``."""
+    head, found, rest = text.partition(start)
+    _, found_end, tail = rest.partition(end)
     if not (found and found_end):
-        raise SystemExit(f"{CONVENTIONS_MD}: the markers {START} and {END} are missing")
-    return f"{head}{START}\n{curve_list()}\n{END}{tail}"
+        raise SystemExit(f"{CONVENTIONS_MD}: the markers {start} and {end} are missing")
+    return f"{head}{start}\n{body}\n{end}{tail}"
+
+
+def conventions_page(text: str) -> str:
+    return between(between(text, START, END, curve_list()), FILTERS_START, FILTERS_END, filter_list())
 
 
 def expected() -> dict[Path, str]:

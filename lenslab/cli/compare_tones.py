@@ -75,10 +75,12 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from lenslab import io, tone
-    from lenslab.jobs.policy import check_output
-    from lenslab.cli.tonemap import tonemap_reporting
-    from lenslab.jobs.tonemap import write_tone_mapped
+    from lenslab.cli.tonemap import repairs_reported
     from lenslab.errors import ToneError
+    from lenslab.io.registry import format_for_path, get
+    from lenslab.jobs.policy import check_output
+    from lenslab.jobs.stages import Look, develop
+    from lenslab.jobs.tonemap import write_tone_mapped
 
     names = [tone.get_curve(n).name for n in args.curves.split(",") if n.strip()]
     if not names:
@@ -88,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.policy import output_format
 
     output_format(args.output)  # an unknown extension: one usage error before the image is read
+    fmt = get(format_for_path(args.output, None))
     image, _ = io.read(args.input)
     if image.ndim == 3 and image.shape[2] in (2, 4):
         image = image[..., :-1]
@@ -99,9 +102,10 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"{args.input}: auto exposure {ev:+.2f} stops", file=sys.stderr)
     panels = []
-    for i, name in enumerate(names):
-        out, _ = tonemap_reporting(image, name, ev, args.mode, {}, args.primaries, args.input,
-                                   quiet=True, report=i == 0, prog="lenslab compare-tones")  # the input's repairs, once
+    for i, name in enumerate(names):  # the look stage of every job: exposure, then the curve
+        with repairs_reported("lenslab compare-tones", args.input, report=i == 0):  # the input's repairs, once
+            out, _ = develop(image, {}, fmt, Look(tone=name, exposure=ev, mode=args.mode, primaries=args.primaries,
+                                                  always=True))
         h, w = out.shape[:2]
         if args.panel_width and w > args.panel_width:
             size = (args.panel_width, max(1, round(h * args.panel_width / w)))
@@ -111,12 +115,11 @@ def run(args: argparse.Namespace) -> int:
         panels.append(np.ascontiguousarray(out))
     labels = list(names)
     if display["display"]:  # the strip in code values: the curves' panels sRGB-encoded, the display's as it is
-        from lenslab.io.ocio import display_transform, processor
+        from lenslab.io.ocio import processor
         from lenslab.srgb import encode
 
         panels = [encode(p) for p in panels]
-        shown = display_transform(image * np.float32(2.0 ** float(ev)), display["display"], display["view"],
-                                  display["colorspace"], display["ocio"])
+        shown, _ = develop(image, {}, fmt, Look(exposure=ev, **display))  # the look stage's display transform
         h, w = shown.shape[:2]
         if args.panel_width and w > args.panel_width:
             shown = cv2.resize(shown, (args.panel_width, max(1, round(h * args.panel_width / w))),

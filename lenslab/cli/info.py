@@ -43,10 +43,8 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
 
     file, _ = split_selector(path)
     fmt = get(sniff(file))
-    if fmt.kind == "video":
-        from lenslab.io.probe import video_streams
-
-        return {"file": str(path), "format": fmt.name, "video": video_streams(file)}
+    if fmt.kind == "video":  # many frames: the streams are what it holds
+        return {"file": str(path), "format": fmt.name, "video": fmt.probe(file)}
     image, meta = read(path, raw=raw, data_window=data_window)
     stats = []
     for i, name in enumerate(meta["channels"]):

@@ -18,6 +18,7 @@ Examples:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 import warnings
 from pathlib import Path
@@ -76,28 +77,21 @@ def parse_params(items: list[str]) -> dict:
     return params
 
 
-def tonemap_reporting(image, curve, exposure, mode, params, primaries, label, quiet=False, report=True,
-                      prog="lenslab tonemap"):
-    """tonemap() with its repair warnings turned into one stderr line each; returns (image, ev)."""
-    import warnings
-
+@contextlib.contextmanager
+def repairs_reported(prog: str, label: str, report: bool = True):
+    """Tone mapping's repairs of bad values (:class:`lenslab.tone.ToneWarning`) inside the block, printed as one
+    stderr line each (dropped when not ``report``: a repair already told); other warnings pass on."""
     from lenslab import tone
 
-    ev = exposure
-    if str(exposure).strip().lower() == "auto":
-        ev = tone.auto_exposure(image, primaries=primaries)
-        if not quiet:
-            print(f"{label}: auto exposure {ev:+.2f} stops", file=sys.stderr)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", tone.ToneWarning)
-        out = tone.tonemap(image, curve, ev, mode, primaries=primaries, **params)
+        yield
     for w in caught:
         if isinstance(w.message, tone.ToneWarning):
             if report:
                 print(f"{prog}: note: {label}: {w.message}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    return out, ev
 
 
 def run(args: argparse.Namespace) -> int:
@@ -143,14 +137,8 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"{args.input}: auto exposure {exposure:+.2f} stops", file=sys.stderr)
     job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", tone.ToneWarning)
+    with repairs_reported("lenslab tonemap", args.input):
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
-    for w in caught:
-        if isinstance(w.message, tone.ToneWarning):  # repairs: one line each
-            print(f"lenslab tonemap: note: {args.input}: {w.message}", file=sys.stderr)
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if not args.quiet:
         h, w_ = image.shape[:2]
         print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}" if display["display"]

@@ -79,8 +79,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pose.add_argument("--eye", metavar="X,Y,Z", default=None, type=finite_vector,
                       help="output eye point (default: the source's); another point needs --allow-parallax")
     quality = parser.add_argument_group("sampling")
-    quality.add_argument("--filter", choices=("nearest", "bilinear", "bicubic", "lanczos"), default="bilinear",
-                         help="reconstruction filter (default bilinear; bicubic = Catmull-Rom, lanczos = Lanczos-3)")
+    from lenslab.filters import FILTERS, cli_filter
+
+    quality.add_argument("--filter", choices=list(FILTERS), type=cli_filter, default="bilinear",
+                         help="reconstruction filter (default bilinear): "
+                              + "; ".join(f"{e.name}, {e.summary}" for e in FILTERS.entries()))
     quality.add_argument("--samples", type=int_in(1, MAX_SAMPLES), default=1, metavar="N",
                          help=f"stratified samples per output pixel (e.g. 4, 16; default 1, at most {MAX_SAMPLES})")
     quality.add_argument("--seed", type=int, default=None,

@@ -3,10 +3,11 @@
 A plugin is one module under :mod:`lenslab.io.formats` holding a module-level ``FORMATS`` tuple of
 records. Each record says what the format is called, the extensions it is written with, how to
 recognise its first bytes, what it holds (linear HDR floats or display-encoded codes, alpha,
-channel counts, bit depths, sample types), which read and write options it takes, and the two
-functions that read and write it. Detection (:mod:`lenslab.io.registry`), ``lenslab.read`` /
-``lenslab.write``, ``lenslab info --formats`` and the command-line format choices all derive from
-these records, so adding a format is adding one module.
+channel counts, bit depths, sample types), which read and write options it takes, the two
+functions that read and write it and the probe that describes a file's structure. Detection
+(:mod:`lenslab.io.registry`), ``lenslab.read`` / ``lenslab.write``, ``lenslab info`` (its probes and
+``--formats``) and the command-line format choices all derive from these records, so adding a format
+is adding one module.
 
 The read and write functions import their codec lazily: the registry loads every plugin at once and
 must stay quick to import (commands start without importing OpenEXR, OpenCV or tifffile).
@@ -60,6 +61,10 @@ class Format:
     #: sample types whose files hold straight (unassociated) colour with alpha; the others hold it
     #: premultiplied (memory's convention; the plugin converts at the boundary, :mod:`lenslab.io.alpha`)
     straight_alpha: tuple[str, ...] = ()
+    #: ``probe(path) -> dict`` (JSON-ready): what the file holds beyond the pixels ``read`` returns (EXR parts
+    #: and channels, TIFF pages, the Radiance header, video streams), for ``lenslab info``; :func:`header_only`
+    #: for formats whose one image and header ``read`` already reports in full
+    probe: Callable | None = None
 
     def holds_straight(self, sample_type: str = "uint") -> bool:
         """Whether a file of this format, written with ``sample_type`` samples, holds straight colour."""
@@ -81,3 +86,10 @@ class Format:
                 "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
                 "compressions": list(self.compressions),
                 "note": self.note, "kind": self.kind, "straight_alpha": list(self.straight_alpha)}
+
+
+def header_only(path) -> dict:
+    """The probe of a format whose file is one image and a header that ``read`` reports in full (its size,
+    channels, depth and attributes): nothing more to describe, so ``lenslab info`` shows the reader's
+    attributes."""
+    return {}

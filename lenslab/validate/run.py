@@ -26,9 +26,9 @@ import numpy as np
 
 from lenslab import metrics
 from lenslab.errors import LenslabError, WarpError
+from lenslab.filters import FILTERS
 from lenslab.lenses import Camera, Pose, make_lens
 
-FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
 
 
 class ValidationError(LenslabError, ValueError):
@@ -80,7 +80,7 @@ class WarpSetting:
             if p in ("antialias", "aa"):
                 antialias = True
             elif p in FILTERS:
-                filt = p
+                filt = FILTERS.canonical(p)
             else:
                 raise ValidationError(
                     f"warp setting {token!r}: unknown filter {p!r}; use one of {', '.join(FILTERS)} or antialias")

@@ -20,16 +20,18 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from lenslab.errors import WarpError
+from lenslab.filters import filter_named
 from lenslab.io.alpha import colour_channels, settle
-from lenslab.lenses import Camera, Pose
+from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands, threads
-from lenslab.warp.filters import FILTERS, all_finite, finite_source, sample
+from lenslab.warp.filters import all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
 from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
+from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -56,8 +58,7 @@ class WarpPlan:
             if not isinstance(cam, Camera):
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
                                 "build one with Camera.from_spec(spec, (width, height))")
-        if filter not in FILTERS:
-            raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+        filter = filter_named(filter)
         try:
             samples = int(samples)
         except (TypeError, ValueError):
@@ -213,7 +214,7 @@ class WarpPlan:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
-                _render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
+                render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
             return
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
@@ -266,42 +267,6 @@ class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
-def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:
-    """Render ``plan`` into the region of ``out``/``alpha`` at (x0, y0), through contiguous buffers (the
-    compiled samplers are built for contiguous arrays)."""
-    h, w = plan.out_shape
-    part = np.zeros((h, w, out.shape[2]), dtype=np.float32)
-    part_alpha = np.zeros((h, w), dtype=np.float32)
-    plan.render(src, part, part_alpha, progress)
-    out[y0:y0 + h, x0:x0 + w] = part
-    alpha[y0:y0 + h, x0:x0 + w] = part_alpha
-
-
-def has_camera_pieces(camera: Camera) -> bool:
-    """Whether the camera's image is made of pieces that are cameras of their own (tiles)."""
-    pieces = camera.lens.pieces()
-    return len(pieces) > 1 and any(p.lens is not None for p in pieces)
-
-
-def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
-    """``(x0, y0, camera)`` of every piece of a camera whose pieces are cameras of their own (tiles), in
-    order (None for a piece with no camera).
-
-    Each piece camera has the piece's lens, its rotation composed with the whole camera's, and its eye
-    placed in the world.
-    """
-    out = []
-    for piece in camera.lens.pieces():
-        x0, y0 = int(piece.x0), int(piece.y0)
-        if piece.lens is None:
-            out.append((x0, y0, None))
-            continue
-        rot = camera.pose.rotation @ piece.pose.rotation
-        eye = camera.pose.eye + camera.pose.rotation @ piece.pose.eye
-        out.append((x0, y0, Camera(piece.lens, Pose(rot, eye))))
-    return out
-
-
 def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
     """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
 
@@ -330,7 +295,7 @@ def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
             alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
         elif arr.shape[2] != channels:
             raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        _render_region(plan, arr, out, alpha, x0, y0, progress)
+        render_region(plan, arr, out, alpha, x0, y0, progress)
     if out is None:
         raise WarpError("no tile has both a camera and a source image: nothing to warp")
     if not all_finite(out):
@@ -360,7 +325,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         The camera that saw ``image`` and the one to see it through. Their eyes must be one point (a
         panorama holds one eye).
     filter : str
-        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:mod:`lenslab.warp.filters`).
+        ``nearest``, ``bilinear``, ``bicubic`` (Catmull-Rom) or ``lanczos`` (Lanczos-3), or another name of
+        one (:data:`lenslab.filters.FILTERS`).
     samples : int
         Sub-pixel samples per output pixel (strata centres, or jittered per row with ``seed``).
     antialias : bool
@@ -404,9 +370,11 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     transparent outside it.
 
     >>> import numpy as np, lenslab
+    >>> from lenslab.lenses.projections.equirect import Equirect
+    >>> from lenslab.lenses.projections.fisheye import Fisheye
     >>> pano = np.full((64, 128, 3), 2.0, np.float32)
-    >>> src = lenslab.Camera.from_spec("equirect", (128, 64))
-    >>> dst = lenslab.Camera.from_spec("fisheye:fov=180", (32, 32))
+    >>> src = lenslab.Camera(Equirect(128, 64))
+    >>> dst = lenslab.Camera(Fisheye(32, 32, fov=180))
     >>> image, alpha = lenslab.warp(pano, src, dst)
     >>> image.shape, alpha.shape, image.dtype
     ((32, 32, 3), (32, 32), dtype('float32'))

@@ -4,7 +4,8 @@ Each sampler takes a band of the map (source index coordinates per output sample
 source pixel ``(i, j)`` at ``(i, j)``) and returns, per output pixel, the *sum of its valid samples
 divided by the number of samples* (colour premultiplied by coverage) and the coverage itself.
 
-Filters (separable, weights computed in float64 from the exact fractional position):
+Filters (separable, weights computed in float64 from the exact fractional position; the registry
+:data:`lenslab.filters.FILTERS` names them, with their support radius and references):
 
 - ``nearest``: the pixel whose centre is nearest (ties go right/down);
 - ``bilinear``: the 2x2 tent, ``w(t) = 1 - |t|``;
@@ -30,16 +31,16 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from lenslab.filters import FILTERS as REGISTRY
 from lenslab.warp import native
 from lenslab.warp.dispatch import kernel
 from lenslab.warp.native import c32, cbool
 from lenslab.warp.seam import fold_index, fold_piece, piece_at
 
-FILTERS = ("nearest", "bilinear", "bicubic", "lanczos")
+#: the filters' canonical names, in the registry's order
+FILTERS = tuple(REGISTRY)
 #: the largest float32: where a filter's overshoot would pass it, the output holds it instead of inf
 F32_MAX = float(np.finfo(np.float32).max)
-#: filter name -> compiled kernel id (also its support radius in source pixels, but 1 for nearest)
-_KIND = {"nearest": 0, "bilinear": 1, "bicubic": 2, "lanczos": 3}
 
 
 def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, border, filter: str,
@@ -48,7 +49,7 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
 
     A source whose pieces have neighbours (``border.has_pieces``, a cube map) is read through the
     separable sampler, whose taps leaving a sample's piece read the neighbouring piece."""
-    kind = _KIND[filter]
+    kind = REGISTRY[filter].code  # the compiled kernel; its support radius too (nearest: 1 tap)
     wrap, top, bottom = border.flags
     if kind == 1 and not border.has_pieces:  # compiled ahead of time (lenslab.warp.native)
         sh, sw, nc = src.shape

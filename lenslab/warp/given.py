@@ -14,10 +14,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from lenslab.errors import WarpError
+from lenslab.filters import filter_named
 from lenslab.io.alpha import settle
 from lenslab.warp import antialias as aa
 from lenslab.warp.dispatch import run_bands
-from lenslab.warp.filters import FILTERS, sample
+from lenslab.warp.filters import sample
 from lenslab.warp.seam import Border, border_of
 
 if TYPE_CHECKING:
@@ -43,7 +44,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         ``(h, w)`` bool, where the map has a source position; default: where ``src_xy`` is finite.
         Positions outside the source image read its edge (or beyond its seams, see ``source``).
     filter : str
-        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos``.
+        ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:data:`lenslab.filters.FILTERS`).
     antialias : bool
         Average the source over each pixel's footprint (from the map's differences between
         neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
@@ -73,8 +74,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     >>> out.tolist()
     [[1.0, 2.0, 3.0], [5.0, 6.0, 7.0], [9.0, 10.0, 11.0]]
     """
-    if filter not in FILTERS:
-        raise WarpError(f"unknown filter {filter!r}; choose one of {', '.join(FILTERS)}")
+    filter = filter_named(filter)
     from lenslab.errors import check_image_shape
 
     img = check_image_shape(image, channels=None)

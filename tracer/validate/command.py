@@ -14,7 +14,7 @@ Two modes:
                          --scene analytic is a noise-free environment with no geometry, whose radiance
                          is a closed-form function of direction (no tracer needed).
 
-Warp settings (--filters): nearest, bilinear, bicubic, lanczos; 'antialias' is bilinear with the
+Warp settings (--filters): a filter (lenslab.filters.FILTERS); 'antialias' is bilinear with the
 footprint prefilter (or FILTER+antialias); append @KxK for sub-samples: bilinear@2x2.
 
 Examples:
@@ -68,6 +68,8 @@ def _vec3(text: str) -> tuple[float, float, float]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.filters import FILTERS
+
     parser.add_argument("--scene", default="cornell",
                         help="tracer scene to render (default cornell; any built-in or scene file of the "
                              "tracer), or 'analytic' for the noise-free analytic environment")
@@ -85,7 +87,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--pano-sizes", default="1024x512,2048x1024,4096x2048", metavar="LIST",
                         help="panorama sizes to render and warp from (default 1024x512,2048x1024,4096x2048)")
     parser.add_argument("--filters", default="bilinear,bilinear@2x2,antialias,lanczos", metavar="LIST",
-                        help="warp settings to compare (default bilinear,bilinear@2x2,antialias,lanczos)")
+                        help="warp settings to compare (default bilinear,bilinear@2x2,antialias,lanczos); filters: "
+                             + ", ".join(FILTERS))
     parser.add_argument("--spp", type=positive_int, default=None,
                         help="samples per pixel of the panoramas (default 1 noise-free, 16 Monte Carlo)")
     ref = parser.add_mutually_exclusive_group()

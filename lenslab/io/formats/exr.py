@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from lenslab.io.plugin import Format
 
+#: OpenEXR's pixel types by the NumPy dtype its bindings give them
+_EXR_TYPES = {"float16": "half", "float32": "float", "uint32": "uint"}
 
 def _read(path, selector=None, data_window=False, rec709=True):
     from lenslab.io.exr import read_exr
@@ -17,16 +19,65 @@ def _write(tmp, image, **options):
     write_exr(tmp, image, **options)
 
 
-
 def _declare(path, **options):
     from lenslab.io.exr_chunks import declare_exr
 
     return declare_exr(path, **options)
 
+
+def _window(w) -> list[int]:
+    (x0, y0), (x1, y1) = w
+    return [int(x0), int(y0), int(x1), int(y1)]
+
+
+def _probe(path) -> dict:
+    """Every part: storage, compression, windows, line order, channels (pixel type, sampling), layers and
+    attributes. Channel types come from OpenEXR's full read only because the bindings give them with the
+    pixels (deep files cannot be read so: their types stay "unknown")."""
+    import OpenEXR
+
+    from lenslab.errors import FormatError, cause
+    from lenslab.io.exr import plain_value
+
+    try:
+        head = OpenEXR.File(str(path), header_only=True)
+    except Exception as exc:
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({cause(exc)}); the file is damaged") from None
+    types: dict[tuple[int, str], str] = {}
+    try:
+        full = OpenEXR.File(str(path), separate_channels=True)
+        for i, part in enumerate(full.parts):
+            for name, ch in part.channels.items():
+                types[(i, name)] = _EXR_TYPES.get(str(ch.pixels.dtype), str(ch.pixels.dtype))
+    except Exception:
+        pass
+    parts = []
+    for i, part in enumerate(head.parts):
+        h = part.header
+        chans = [{"name": c.name, "type": types.get((i, c.name), "unknown"),
+                  "sampling": [int(c.xSampling), int(c.ySampling)], "linear": bool(c.pLinear)}
+                 for c in h.get("channels", [])]
+        parts.append({
+            "index": i,
+            "name": h.get("name"),
+            "storage": str(h.get("type", "scanlineimage")).split(".")[-1],
+            "compression": str(h.get("compression", "")).split(".")[-1].replace("_COMPRESSION", "").lower(),
+            "data_window": _window(h["dataWindow"]),
+            "display_window": _window(h["displayWindow"]),
+            "line_order": str(h.get("lineOrder", "")).split(".")[-1].lower(),
+            "channels": chans,
+            "layers": sorted({c["name"].rsplit(".", 1)[0] for c in chans if "." in c["name"]}),
+            "attributes": {k: plain_value(v) for k, v in h.items()
+                           if k not in ("channels", "compression", "dataWindow", "displayWindow", "lineOrder",
+                                        "name", "type")},
+        })
+    return {"parts": parts}
+
+
 FORMATS = (Format(
     name="exr", title="OpenEXR", extensions=(".exr",), magic=lambda head: head.startswith(b"\x76\x2f\x31\x01"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(16, 32), sample_types=("half", "float", "uint"),
-    read=_read, declare=_declare, write=_write, read_options=("data_window", "rec709"),
+    read=_read, declare=_declare, write=_write, probe=_probe, read_options=("data_window", "rec709"),
     write_options={"pixel_type": "half or float (default half)",
                    "compression": "zip (default), piz, zips, rle, none, pxr24, b44, b44a, dwaa, dwab, zstd, ...",
                    "channels": "channel names, for images that are not Y, RGB or RGBA",

@@ -6,7 +6,7 @@ map is ignored and ``meta["attributes"]["gain_map"]`` says so (``lenslab info`` 
 
 from __future__ import annotations
 
-from lenslab.io.plugin import Format
+from lenslab.io.plugin import Format, header_only
 
 
 def _read(path, selector=None, raw=False):
@@ -21,7 +21,6 @@ def _write(tmp, image, **options):
     tmp.write_bytes(encode_ldr(image, "jpg", **options))
 
 
-
 def _declare(path, **options):
     from lenslab.io.ldr_layout import declare_jpg
 
@@ -30,7 +29,8 @@ def _declare(path, **options):
 FORMATS = (Format(
     name="jpg", title="JPEG", extensions=(".jpg", ".jpeg", ".jpe", ".jfif"),
     magic=lambda head: head.startswith(b"\xff\xd8\xff"), hdr=False, alpha=False, channels=(1, 3),
-    bit_depths=(8,), sample_types=("uint",), read=_read, declare=_declare, write=_write, read_options=("raw",),
+    bit_depths=(8,), sample_types=("uint",), read=_read, declare=_declare,
+    probe=header_only, write=_write, read_options=("raw",),
     write_options={"quality": "0..100 (default 95)", "subsampling": "444, 422 or 420 (default 444 at quality >= 90)",
                    "raw": "True: code values / 255, no sRGB encoding", "dither": "True: TPDF dither",
                    "bits": "8 only"},

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from lenslab.io.plugin import Format
+from lenslab.io.plugin import Format, header_only
 
 
 def _magic(head: bytes) -> bool:
@@ -21,7 +21,6 @@ def _write(tmp, image, **options):
     write_pfm(tmp, image, **options)
 
 
-
 def _declare(path, **options):
     from lenslab.io.pfm import declare_pfm
 
@@ -29,6 +28,6 @@ def _declare(path, **options):
 
 FORMATS = (Format(
     name="pfm", title="PFM", extensions=(".pfm",), magic=_magic, hdr=True, alpha=False, channels=(1, 3),
-    bit_depths=(32,), sample_types=("float",), read=_read, declare=_declare, write=_write,
+    bit_depths=(32,), sample_types=("float",), read=_read, declare=_declare, probe=header_only, write=_write,
     write_options={"byte_order": "little (default) or big", "scale": "the header's scale (never applied)"},
     note="the scale is reported, not applied"),)

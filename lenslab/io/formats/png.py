@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from lenslab.io.plugin import Format
+from lenslab.io.plugin import Format, header_only
 
 
 def _read(path, selector=None, raw=False):
@@ -17,7 +17,6 @@ def _write(tmp, image, **options):
     tmp.write_bytes(encode_ldr(image, "png", **options))
 
 
-
 def _declare(path, **options):
     from lenslab.io.ldr_layout import declare_png
 
@@ -26,6 +25,7 @@ def _declare(path, **options):
 FORMATS = (Format(
     name="png", title="PNG", extensions=(".png",), magic=lambda head: head.startswith(b"\x89PNG\r\n\x1a\n"),
     hdr=False, alpha=True, channels=(1, 3, 4), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
+    probe=header_only,
     write=_write, read_options=("raw",),
     write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
                    "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither"},

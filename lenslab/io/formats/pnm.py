@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from lenslab.io.plugin import Format
+from lenslab.io.plugin import Format, header_only
 
 _WS = b" \t\r\n\x0b\x0c#"
 
@@ -42,12 +42,15 @@ def _declare(path, **options):
 
 FORMATS = (
     Format(name="ppm", title="PPM", extensions=(".ppm", ".pnm"), magic=_magic(b"36"), hdr=False, alpha=False,
-           channels=(1, 3), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare, write=_write,
+           channels=(1, 3), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
+           probe=header_only, write=_write,
            read_options=("raw",), write_options=_OPTIONS, note="grey images written as .pnm become PGM"),
     Format(name="pgm", title="PGM", extensions=(".pgm",), magic=_magic(b"25"), hdr=False, alpha=False,
-           channels=(1,), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare, write=_write,
+           channels=(1,), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
+           probe=header_only, write=_write,
            read_options=("raw",), write_options=_OPTIONS),
     Format(name="pbm", title="PBM", extensions=(".pbm",), magic=_magic(b"14"), hdr=False, alpha=False,
-           channels=(1,), bit_depths=(1,), sample_types=("uint",), read=_read, declare=_declare, read_options=("raw",),
+           channels=(1,), bit_depths=(1,), sample_types=("uint",), read=_read, declare=_declare,
+           probe=header_only, read_options=("raw",),
            note="read only"),
 )

@@ -17,17 +17,28 @@ def _write(tmp, image, **options):
     write_tiff(tmp, image, **options)
 
 
-
 def _declare(path, **options):
     from lenslab.io.tiff_layout import declare_tiff
 
     return declare_tiff(path, **options)
 
+
+def _probe(path) -> dict:
+    """Every page: shape, axes, dtype, compression, photometric, planar configuration, extra samples."""
+    import tifffile
+
+    with tifffile.TiffFile(path) as tif:
+        return {"pages": [{"shape": list(page.shape), "axes": page.axes, "dtype": str(page.dtype),
+                           "compression": page.compression.name.lower(), "photometric": page.photometric.name.lower(),
+                           "planar": "separate" if int(page.planarconfig) == 2 else "contig",
+                           "extrasamples": [int(v) for v in page.extrasamples]} for page in tif.pages]}
+
+
 FORMATS = (Format(
     name="tiff", title="TIFF", extensions=(".tif", ".tiff"),
     magic=lambda head: head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(8, 16, 32), sample_types=("uint", "half", "float"),
-    read=_read, declare=_declare, write=_write, read_options=("raw",),
+    read=_read, declare=_declare, write=_write, probe=_probe, read_options=("raw",),
     write_options={"sample_type": "float (default), half, uint16 or uint8 (integers sRGB-encoded)",
                    "compression": "zlib (default), lzw, zstd or none",
                    "predictor": "True (default): horizontal or floating-point predictor",

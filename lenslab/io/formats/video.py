@@ -26,14 +26,56 @@ def _read(path, selector=None):
     raise FormatError(f"{path}: the video holds no frame")
 
 
-
 def _declare(path, **_):
     from lenslab.io.video import declare_video
 
     return declare_video(path)
 
+
+# FFmpeg's colour enums (libavutil/pixfmt.h) by the names ffprobe prints
+_PRIMARIES = {1: "bt709", 2: "unspecified", 5: "bt470bg", 6: "smpte170m", 9: "bt2020", 12: "smpte432 (P3-D65)"}
+_TRANSFER = {1: "bt709", 2: "unspecified", 6: "smpte170m", 13: "iec61966-2-1 (sRGB)", 14: "bt2020-10",
+             15: "bt2020-12", 16: "smpte2084 (PQ)", 18: "arib-std-b67 (HLG)"}
+_MATRIX = {0: "gbr", 1: "bt709", 2: "unspecified", 5: "bt470bg", 6: "smpte170m", 9: "bt2020nc", 10: "bt2020c"}
+_RANGE = {0: "unspecified", 1: "tv (limited)", 2: "pc (full)"}
+
+
+def _tag(names: dict, value) -> str:
+    return names.get(int(value), str(int(value)))
+
+
+def _probe(path) -> dict:
+    """Container, duration and every stream (PyAV): a video stream's size, pixel format, rate, frame count
+    and colour tags; an audio stream's rate and channels."""
+    import av
+
+    from lenslab.errors import FormatError, cause
+
+    try:
+        container = av.open(str(path))
+    except av.error.FFmpegError as exc:
+        raise FormatError(f"{path}: FFmpeg cannot open it as a video ({cause(exc)})") from None
+    with container:
+        streams = []
+        for s in container.streams:
+            d = {"index": s.index, "kind": s.type, "codec": s.codec_context.name}
+            if s.type == "video":
+                cc = s.codec_context
+                d.update({"width": cc.width, "height": cc.height, "pixel_format": cc.pix_fmt,
+                          "frame_rate": str(s.average_rate), "frames": int(s.frames),
+                          "colour_primaries": _tag(_PRIMARIES, cc.color_primaries),
+                          "transfer": _tag(_TRANSFER, cc.color_trc), "matrix": _tag(_MATRIX, cc.colorspace),
+                          "range": _tag(_RANGE, cc.color_range)})
+            elif s.type == "audio":
+                d.update({"sample_rate": s.codec_context.sample_rate, "channels": s.codec_context.channels})
+            streams.append(d)
+        return {"container": container.format.name,
+                "duration_s": None if container.duration is None else container.duration / 1e6,
+                "streams": streams}
+
+
 FORMATS = (Format(
     name="video", title="video (MP4, MOV, MKV)", extensions=VIDEO_EXTENSIONS, magic=_magic,
-    hdr=False, alpha=False, channels=(3,), bit_depths=(8, 10), sample_types=("uint",), read=_read, declare=_declare,
+    hdr=False, alpha=False, channels=(3,), bit_depths=(8, 10), sample_types=("uint",), read=_read, declare=_declare, probe=_probe,
     note="H.264, H.265 10-bit, ProRes, FFV1; SDR, PQ and HLG decoded to linear; warp and convert take whole clips",
     kind="video"),)

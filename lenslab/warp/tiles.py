@@ -1,0 +1,47 @@
+"""Outputs made of pieces that are cameras of their own (tiles): which cameras they are, and rendering
+one plan into a tile's region of the whole output (:func:`lenslab.warp.warp_tiles`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.lenses import Camera, Pose
+
+
+def render_region(plan, src, out, alpha, x0: int, y0: int, progress) -> None:
+    """Render ``plan`` (a :class:`lenslab.warp.WarpPlan`) into the region of ``out``/``alpha`` at (x0, y0),
+    through contiguous buffers (the compiled samplers are built for contiguous arrays)."""
+    h, w = plan.out_shape
+    part = np.zeros((h, w, out.shape[2]), dtype=np.float32)
+    part_alpha = np.zeros((h, w), dtype=np.float32)
+    plan.render(src, part, part_alpha, progress)
+    out[y0:y0 + h, x0:x0 + w] = part
+    alpha[y0:y0 + h, x0:x0 + w] = part_alpha
+
+
+def has_camera_pieces(camera: Camera) -> bool:
+    """Whether the camera's image is made of pieces that are cameras of their own (tiles)."""
+    pieces = camera.lens.pieces()
+    return len(pieces) > 1 and any(p.lens is not None for p in pieces)
+
+
+def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
+    """``(x0, y0, camera)`` of every piece of a camera whose pieces are cameras of their own (tiles), in
+    order (None for a piece with no camera).
+
+    Each piece camera has the piece's lens, its rotation composed with the whole camera's, and its eye
+    placed in the world.
+    """
+    out = []
+    for piece in camera.lens.pieces():
+        x0, y0 = int(piece.x0), int(piece.y0)
+        if piece.lens is None:
+            out.append((x0, y0, None))
+            continue
+        rot = camera.pose.rotation @ piece.pose.rotation
+        eye = camera.pose.eye + camera.pose.rotation @ piece.pose.eye
+        out.append((x0, y0, Camera(piece.lens, Pose(rot, eye))))
+    return out
+
+
+__all__ = ["has_camera_pieces", "render_region", "tile_cameras"]
