@@ -121,8 +121,8 @@ def write_st_map(path: str | os.PathLike, st: np.ndarray, overwrite: bool = Fals
 
     Raises
     ------
-    lenslab.errors.FormatError
-        A file that exists without ``overwrite``, or a map of the wrong shape.
+    FileExistsError
+        The file exists and ``overwrite`` is False.
 
     Examples
     --------
@@ -281,7 +281,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     st : numpy.ndarray
         The map, ``h x w x 4`` (s, t, 0, A), as :func:`st_map` or :func:`read_st_map` give it.
     filter : str
-        A filter of :data:`lenslab.warp.FILTERS` (``nearest``, ``bilinear``, ``bicubic``, ``lanczos3``...).
+        A filter of :data:`lenslab.warp.FILTERS` (``nearest``, ``bilinear``, ``bicubic``, ``lanczos``).
     samples : int
         Samples per output pixel (stratified), 1 or more.
     antialias : bool
