@@ -10,7 +10,7 @@ kept as float32 index coordinates) and :mod:`~lenslab.warp.lattice` (its interpo
 (seams, poles and piece edges), :mod:`~lenslab.warp.antialias` and :mod:`~lenslab.warp.pyramid` (footprint
 prefilter), :mod:`~lenslab.warp.optics` (per-channel lenses, falloff), :mod:`~lenslab.warp.given` (warping
 by a map from elsewhere), :mod:`~lenslab.warp.batch` (one cached map for many images),
-:mod:`~lenslab.warp.engine` (the banded loop), :mod:`~lenslab.warp.native` (the samplers compiled ahead of time,
+:mod:`~lenslab.warp.engine` (the banded loop), :mod:`~lenslab.warp.tiles` (one source per tile), :mod:`~lenslab.warp.native` (the samplers compiled ahead of time,
 C++ in ``src/native``) and :mod:`~lenslab.warp.reference` (their NumPy references, for the tests).
 """
 
@@ -20,10 +20,11 @@ import sys
 import types
 
 from lenslab.errors import WarpError
-from lenslab.warp.engine import WarpPlan, tile_cameras, warp, warp_tiles
+from lenslab.warp.engine import WarpPlan, tile_cameras, warp
 from lenslab.warp.filters import FILTERS
 from lenslab.warp.given import warp_with_map
 from lenslab.warp.maps import ParallaxWarning, check_eyes, exact_map
+from lenslab.warp.tiles import warp_tiles
 
 __all__ = ["warp", "warp_with_map", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS",
            "check_eyes", "exact_map"]

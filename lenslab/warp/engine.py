@@ -213,7 +213,7 @@ class WarpPlan:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
-                _render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
+                render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
             return
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
@@ -266,7 +266,7 @@ class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
-def _render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:
+def render_region(plan: WarpPlan, src, out, alpha, x0: int, y0: int, progress) -> None:
     """Render ``plan`` into the region of ``out``/``alpha`` at (x0, y0), through contiguous buffers (the
     compiled samplers are built for contiguous arrays)."""
     h, w = plan.out_shape
@@ -284,11 +284,14 @@ def has_camera_pieces(camera: Camera) -> bool:
 
 
 def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
-    """``(x0, y0, camera)`` of every piece of a camera whose pieces are cameras of their own (tiles), in
-    order (None for a piece with no camera).
+    """The tiles of a camera whose pieces are cameras of their own, in order.
 
-    Each piece camera has the piece's lens, its rotation composed with the whole camera's, and its eye
-    placed in the world.
+    Returns
+    -------
+    list of tuple
+        ``(x0, y0, camera)`` per piece: its top-left corner in the frame and its camera (the piece's
+        lens, its rotation composed with the whole camera's, its eye placed in the world), or None for
+        a piece with no camera. :func:`~lenslab.warp.tiles.warp_tiles` shows it in use.
     """
     out = []
     for piece in camera.lens.pieces():
@@ -300,44 +303,6 @@ def tile_cameras(camera: Camera) -> list[tuple[int, int, Camera | None]]:
         eye = camera.pose.eye + camera.pose.rotation @ piece.pose.eye
         out.append((x0, y0, Camera(piece.lens, Pose(rot, eye))))
     return out
-
-
-def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
-    """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
-
-    For multi-view outputs whose tiles stand at different eye points, with one panorama recorded at
-    each tile's eye. ``None`` (or a list shorter than the tiles) leaves a tile empty (alpha 0). Options
-    are those of :func:`warp`. Returns ``(image, alpha)`` like :func:`warp`.
-    """
-    if not has_camera_pieces(dst_camera):
-        raise WarpError(f"warp_tiles needs an output camera made of tiles, got {dst_camera.lens.spec()}; use warp() instead")
-    tiles = tile_cameras(dst_camera)
-    images, src_cameras = list(images), list(src_cameras)
-    if len(images) != len(src_cameras) or len(images) > len(tiles):
-        raise WarpError(f"give one image and one source camera per tile ({len(tiles)} tiles); got "
-                        f"{len(images)} images and {len(src_cameras)} cameras")
-    progress = options.pop("progress", None)
-    out = alpha = None
-    channels = None
-    for (x0, y0, cam), img, src in zip(tiles, images, src_cameras):
-        if img is None or cam is None:
-            continue
-        plan = WarpPlan(src, cam, **options)
-        arr = plan.check_image(img)
-        if channels is None:
-            channels = arr.shape[2]
-            out = np.zeros((dst_camera.height, dst_camera.width, channels), dtype=np.float32)
-            alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
-        elif arr.shape[2] != channels:
-            raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        _render_region(plan, arr, out, alpha, x0, y0, progress)
-    if out is None:
-        raise WarpError("no tile has both a camera and a source image: nothing to warp")
-    if not all_finite(out):
-        raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
-                        "repairs and reports them)")
-    settle(out, alpha)
-    return out, alpha
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
@@ -418,4 +383,4 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     return plan.run(image, progress=progress)
 
 
-__all__ = ["WarpPlan", "warp", "warp_tiles", "tile_cameras", "MapBand", "EmptyViewWarning"]
+__all__ = ["WarpPlan", "warp", "tile_cameras", "MapBand", "EmptyViewWarning"]
