@@ -263,7 +263,8 @@ def fit_points(
     pose : bool
         Also fit the camera's yaw, pitch and roll (the directions are then world directions).
     loss : str
-        The robust loss of the first fit : ``"cauchy"``, ``"huber"``, ``"soft_l1"``, ``"arctan"`` or ``"linear"`` (none).
+        The robust loss of the first fit: ``"cauchy"``, ``"huber"``, ``"soft_l1"``, ``"arctan"`` or
+        ``"linear"`` (none).
     scale : float
         The loss's scale in pixels: residuals well below it count fully.
     outlier : float, optional
