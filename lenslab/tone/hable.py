@@ -90,7 +90,7 @@ def hable(x: ArrayLike, **params: float) -> np.ndarray:
         Scene-linear values (any shape).
     **params
         ``preset`` ("blog" or "gdc") and any of the constants ``A``... ``F``, ``W`` and ``bias``
-        (``lenslab tone --list`` shows their names and ranges).
+        (``lenslab curves --list`` shows their names and ranges).
 
     Returns
     -------

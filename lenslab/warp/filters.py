@@ -67,6 +67,11 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     alpha : numpy.ndarray
         float32 ``h x w``, filled with the share of valid samples.
 
+    Returns
+    -------
+    None
+        ``out`` and ``alpha`` are filled in place (the engine hands each thread its rows).
+
     Examples
     --------
     Halfway between two pixel centres, bilinear gives their mean and Catmull-Rom (bicubic) its own
