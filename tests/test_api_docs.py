@@ -53,7 +53,9 @@ def reference_api():
     named |= {n: getattr(tone, n) for n in ("clamp", "gamma", "reinhard", "reinhard_extended", "reinhard2002",
                                            "hable", "aces", "aces_hill", "agx", "pbr_neutral")}
     named |= {n: getattr(fit, n) for n in ("fit_lens", "fit_points", "fit_tone", "autoscale")}
-    named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip")}
+    named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip",
+                                                    "noise_floor", "noise_floor_split")}
+    named["auto_exposure"] = tone.auto_exposure
     return named
 
 
