@@ -24,8 +24,7 @@ pano = AnalyticSource().render(pano_cam).image  # the noise-free analytic sky: s
 
 vr180 = lenslab.Camera.from_spec("stereo:sbs,base=half-equirect", (1024, 512))
 frame, alpha = lenslab.warp(pano, pano_cam, vr180, filter="bicubic")
-_, ray, _ = vr180.pixel_to_world(np.array([[256.0, 256.0]]))
-ray = ray[0]
+_, ray, _ = vr180.pixel_to_world(np.array([256.0, 256.0]))
 print("VR180 frame", frame.shape, "left-eye centre ray", np.round(ray, 12), "coverage", alpha.min())
 assert np.allclose(ray, (0.0, 0.0, 1.0), atol=1e-12) and alpha.min() == 1.0
 # one panorama, one eye point: the two eyes are the same picture, to the last bit
