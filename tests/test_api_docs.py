@@ -43,15 +43,15 @@ def reference_api():
     from lenslab.io import probe, registry, split_selector
     from lenslab.lenses.core import pose
     from lenslab.metrics import diff
-    from lenslab.warp import filters, tiles
+    from lenslab.warp import filters, maps, tiles
 
     named = {"sniff": registry.sniff, "probe": probe.probe, "split_selector": split_selector,
              "Pose": pose.Pose, "ypr_matrix": pose.ypr_matrix, "look_at_matrix": pose.look_at_matrix,
-             "warp_tiles": tiles.warp_tiles, "sample": filters.sample, "compare": metrics.compare,
+             "warp_tiles": tiles.warp_tiles, "sample": filters.sample, "exact_map": maps.exact_map, "compare": metrics.compare,
              "diff_images": diff.diff_images, "error_image": diff.error_image}
     named |= {n: getattr(stmap, n) for n in ("st_map", "write_st_map", "read_st_map", "warp_with_st_map")}
     named |= {n: getattr(tone, n) for n in ("clamp", "gamma", "reinhard", "reinhard_extended", "reinhard2002",
-                                           "hable", "aces", "aces_hill", "agx", "pbr_neutral")}
+                                           "hable", "aces", "aces_hill", "agx", "pbr_neutral", "drago", "mantiuk")}
     named |= {n: getattr(fit, n) for n in ("fit_lens", "fit_points", "fit_tone", "autoscale")}
     named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip",
                                                     "noise_floor", "noise_floor_split")}
