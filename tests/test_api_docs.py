@@ -54,7 +54,8 @@ def reference_api():
                                            "hable", "aces", "aces_hill", "agx", "pbr_neutral", "drago", "mantiuk")}
     named |= {n: getattr(fit, n) for n in ("fit_lens", "fit_points", "fit_tone", "autoscale")}
     named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip",
-                                                    "noise_floor", "noise_floor_split")}
+                                                    "noise_floor", "noise_floor_split", "edge_mask_from_aovs",
+                                                    "edge_mask_from_image", "dilate")}
     named["auto_exposure"] = tone.auto_exposure
     return named
 
