@@ -52,7 +52,7 @@ def reference_api():
     named |= {n: getattr(stmap, n) for n in ("st_map", "write_st_map", "read_st_map", "warp_with_st_map")}
     named |= {n: getattr(tone, n) for n in ("clamp", "gamma", "reinhard", "reinhard_extended", "reinhard2002",
                                            "hable", "aces", "aces_hill", "agx", "pbr_neutral", "drago", "mantiuk")}
-    named |= {n: getattr(fit, n) for n in ("fit_lens", "fit_points", "fit_tone", "autoscale")}
+    named |= {n: getattr(fit, n) for n in ("fit_lens", "read_points", "fit_points", "fit_tone", "autoscale")}
     named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip",
                                                     "noise_floor", "noise_floor_split", "edge_mask_from_aovs",
                                                     "edge_mask_from_image", "dilate")}

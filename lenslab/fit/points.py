@@ -75,6 +75,34 @@ def read_points(path: str | Path, source: Camera | None = None) -> PointSet:
     - ``src_x, src_y, x, y``: the same feature in a known ``source`` camera and in the unknown one.
 
     Blank lines and lines starting with ``#`` are skipped.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file (a regular file of at most 64 MiB).
+    source : lenslab.lenses.Camera, optional
+        The known camera of ``src_x, src_y`` columns, which gives their directions.
+
+    Returns
+    -------
+    PointSet
+        Pixels ``xy`` (n x 2), unit directions ``dirs`` (n x 3, float64) and each point's line.
+
+    Raises
+    ------
+    lenslab.errors.FitError
+        No points, a cell that is not a number, rows of different lengths, unknown columns, or
+        ``src_x, src_y`` columns without a ``source`` camera.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from lenslab.fit import read_points
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "points.csv"
+    >>> _ = path.write_text("x,y,lon,lat\\n# the centre sees forward\\n32,32,0,0\\n64,32,90,0\\n")
+    >>> points = read_points(path)
+    >>> points.xy.tolist(), (points.dirs.round(12) + 0.0).tolist(), points.labels
+    ([[32.0, 32.0], [64.0, 32.0]], [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], ['line 3', 'line 4'])
     """
     import io
 
