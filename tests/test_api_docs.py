@@ -56,7 +56,8 @@ def reference_api():
     named |= {n: getattr(metrics, n) for n in ("valid_mask", "relative_l1", "rmse", "psnr_log", "share_off", "flip",
                                                     "noise_floor", "noise_floor_split", "edge_mask_from_aovs",
                                                     "edge_mask_from_image", "dilate")}
-    named["auto_exposure"] = tone.auto_exposure
+    named |= {n: getattr(tone, n) for n in ("auto_exposure", "curve_names", "get_curve")}
+    named["error_map"] = metrics.error_map
     return named
 
 

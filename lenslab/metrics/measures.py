@@ -276,8 +276,36 @@ def share_off(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None, to
     return float(np.mean(e[m] > tolerance))
 
 
-def error_map(ref, test, mask=None, floor_fraction: float = 0.01) -> np.ndarray:
-    """Per-pixel relative error for display (float32 ``H x W``); NaN outside the mask."""
+def error_map(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None,
+              floor_fraction: float = 0.01) -> np.ndarray:
+    """Per-pixel relative error for display: ``sum_c |t - r| / max(sum_c |r|, floor)``.
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to show.
+    floor_fraction : float
+        The floor of the denominator, as a fraction of the mean pixel sum (as :func:`share_off`).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``H x W``; NaN outside the mask.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import error_map
+    >>> error_map(np.array([[1.0, 2.0]]), np.array([[1.5, 2.0]]), mask=np.array([[True, False]])).tolist()
+    [[0.5, nan]]
+    """
     r, t, m = paired_images(ref, test, mask)
     e = pixel_relative_error(r, t, floor_fraction)
     return np.where(m, e, np.nan).astype(np.float32)
