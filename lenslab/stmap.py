@@ -18,11 +18,16 @@ pixel whose ``s, t`` is finite and inside ``[0, 1]`` counts.
 
 from __future__ import annotations
 
-from typing import Callable
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
 from lenslab.errors import WarpError
+
+if TYPE_CHECKING:
+    from lenslab.lenses import Camera
 
 #: a link between neighbouring map entries is a jump (a seam, a face edge), never interpolated across,
 #: when it is longer than JUMP_RATIO times the shorter of the links beside it plus JUMP_SLACK source px
@@ -30,10 +35,47 @@ JUMP_RATIO = 4.0
 JUMP_SLACK = 1.0
 
 
-def st_map(src, dst, progress: Callable[[int], None] | None = None, band_rows: int = 64) -> np.ndarray:
-    """The ST map (float32 ``H x W x 4``: s, t, 0, A) of the warp from camera ``src`` into camera ``dst``,
-    exact (the lens models evaluated in float64 at every output pixel centre). Stereo frames pair their
-    eyes as the warp does (:mod:`lenslab.warp.eyes`): each output eye reads its own source eye."""
+def st_map(src: Camera, dst: Camera, progress: Callable[[int], None] | None = None,
+           band_rows: int = 64) -> np.ndarray:
+    """The ST map of the warp from camera ``src`` into camera ``dst``.
+
+    Exact: the lens models are evaluated in float64 at every output pixel centre. Stereo frames pair
+    their eyes as the warp does (:mod:`lenslab.warp.eyes`): each output eye reads its own source eye.
+
+    Parameters
+    ----------
+    src, dst : lenslab.lenses.Camera
+        The camera the source image was taken with and the one to make.
+    progress : callable, optional
+        Called with the number of output rows done, band after band.
+    band_rows : int
+        Output rows worked out at once (bounds the memory of the float64 rays).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``H x W x 4`` of ``dst``'s size: ``s``, ``t``, 0 and ``A`` (1 where the output pixel's
+        ray lands on the source, else 0 with ``s = t = 0``).
+
+    Examples
+    --------
+    From a camera to itself, each pixel reads its own centre: ``s = (k + 1/2) / W`` and
+    ``t = 1 - (l + 1/2) / H`` (t grows upward, as Nuke reads it):
+
+    >>> from lenslab import Camera
+    >>> from lenslab.stmap import st_map
+    >>> cam = Camera.from_spec("equirect", (8, 4))
+    >>> st = st_map(cam, cam)
+    >>> st.shape, st[0, 0].tolist()
+    ((4, 8, 4), [0.0625, 0.875, 0.0, 1.0])
+
+    A fisheye's corners lie outside its image circle: no ray, ``A = 0``:
+
+    >>> fish = Camera.from_spec("fisheye:fov=180", (16, 16))
+    >>> st = st_map(cam, fish)
+    >>> float(st[0, 0, 3]), float(st[8, 8, 3])
+    (0.0, 1.0)
+    """
     from lenslab.warp.eyes import eye_pairs
     from lenslab.warp.maps import exact_map
 
@@ -57,16 +99,73 @@ def st_map(src, dst, progress: Callable[[int], None] | None = None, band_rows: i
     return out
 
 
-def write_st_map(path, st: np.ndarray, overwrite: bool = False, attributes: dict | None = None):
-    """Write an ST map as a float32 RGBA EXR (temporary name, then renamed)."""
+def write_st_map(path: str | os.PathLike, st: np.ndarray, overwrite: bool = False,
+                 attributes: dict[str, Any] | None = None) -> Path:
+    """Write an ST map as a float32 RGBA EXR (temporary name, then renamed).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The EXR file to write.
+    st : numpy.ndarray
+        ``H x W x 4`` (s, t, 0, A), as :func:`st_map` makes it.
+    overwrite : bool
+        False refuses to replace an existing file.
+    attributes : dict, optional
+        Header attributes to store beside the channels (the cameras' specs, say).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    FileExistsError
+        The file exists and ``overwrite`` is False.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from lenslab import Camera
+    >>> from lenslab.stmap import read_st_map, st_map, write_st_map
+    >>> cam = Camera.from_spec("fisheye:fov=180", (16, 16))
+    >>> path = write_st_map(pathlib.Path(tempfile.mkdtemp()) / "map.exr", st_map(cam, cam))
+    >>> read_st_map(path)[8, 8].tolist()  # pixel (8, 8): s = 8.5 / 16, t = 1 - 8.5 / 16
+    [0.53125, 0.46875, 0.0, 1.0]
+    """
     from lenslab.io import write
 
     return write(path, st, format="exr", overwrite=overwrite, pixel_type="float",
                  channels=["R", "G", "B", "A"], attributes=attributes or {})
 
 
-def read_st_map(path) -> np.ndarray:
-    """Read an ST map made by any tool: float32 ``H x W x 4`` (s, t, 0, A), A in {0, 1}."""
+def read_st_map(path: str | os.PathLike) -> np.ndarray:
+    """Read an ST map made by any tool.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A float image (EXR, or any float format lenslab reads) with s and t in its first two channels
+        and, if present, validity in the fourth (``A > 1/2``). Without alpha, every pixel whose ``s, t``
+        is finite and inside [0, 1] counts.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``H x W x 4`` (s, t, 0, A), ``A`` in {0, 1} and ``s = t = 0`` where it is 0.
+
+    Raises
+    ------
+    lenslab.errors.WarpError
+        An image with one channel.
+    lenslab.errors.FormatError
+        A file lenslab cannot read.
+
+    Examples
+    --------
+    See :func:`write_st_map`.
+    """
     from lenslab.io import read
 
     img, meta = read(path, rec709=False)
@@ -168,11 +267,53 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Warp ``image`` (H x W x C) by an ST map: ``(float32 h x w x C, alpha float32 h x w)`` of the map's
-    size. One sample per pixel goes through the engine's :func:`~lenslab.warp.given.warp_with_map`
+    """Warp ``image`` by an ST map (made by lenslab or any other tool).
+
+    One sample per pixel goes through the engine's :func:`~lenslab.warp.given.warp_with_map`
     (lenslab's filters, and its footprint prefilter with ``antialias``); ``samples`` > 1 takes that
     many stratified samples per pixel, the map interpolated between pixel centres
-    (:func:`map_samples`). Taps outside the source clamp to its edge."""
+    (:func:`map_samples`). Taps outside the source clamp to its edge.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        The source, ``H x W x C`` or ``H x W``, linear values.
+    st : numpy.ndarray
+        The map, ``h x w x 4`` (s, t, 0, A), as :func:`st_map` or :func:`read_st_map` give it.
+    filter : str
+        A filter of :data:`lenslab.warp.FILTERS` (``nearest``, ``bilinear``, ``bicubic``, ``lanczos``).
+    samples : int
+        Samples per output pixel (stratified), 1 or more.
+    antialias : bool
+        The footprint prefilter (with ``samples=1`` only).
+    progress : callable, optional
+        Called with the number of output rows done.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 ``h x w x C`` (or ``h x w``), colour premultiplied by the coverage.
+    alpha : numpy.ndarray
+        float32 ``h x w`` coverage, 0 where the map has no ray.
+
+    Raises
+    ------
+    lenslab.errors.WarpError
+        An unknown filter, or ``antialias`` with ``samples`` > 1.
+
+    Examples
+    --------
+    The identity map gives the image back, to the last bit:
+
+    >>> import numpy as np
+    >>> from lenslab import Camera
+    >>> from lenslab.stmap import st_map, warp_with_st_map
+    >>> cam = Camera.from_spec("equirect", (8, 4))
+    >>> image = np.arange(32, dtype=np.float32).reshape(4, 8)
+    >>> out, alpha = warp_with_st_map(image, st_map(cam, cam))
+    >>> bool(np.array_equal(out, image)), float(alpha.min())
+    (True, 1.0)
+    """
     from lenslab.filters import filter_named
     from lenslab.warp.filters import sample
     from lenslab.warp.given import warp_with_map

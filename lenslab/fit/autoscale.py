@@ -150,7 +150,46 @@ class AutoscaleResult:
 
 def autoscale(src: Camera, dst: Camera, mode: str = "fill", samples: int = 1, rtol: float = RTOL) -> AutoscaleResult:
     """Scale ``dst``'s field of view so that the warp from ``src`` fills it (``fill``) or shows all of ``src``
-    (``cover``); see the module docstring. Raises :class:`FitError` when no usable scale does it."""
+    (``cover``); the module's description gives the search and its checks.
+
+    Parameters
+    ----------
+    src : lenslab.lenses.Camera
+        The camera of the source image.
+    dst : lenslab.lenses.Camera
+        The output camera; its lens's field of view (``fov``, or a focal length) is scaled.
+    mode : str
+        ``"fill"``: the widest field with no output pixel left empty; ``"cover"``: the narrowest that
+        shows every source pixel.
+    samples : int
+        Samples per output pixel the criterion checks (as the warp will take them).
+    rtol : float
+        Relative precision of the scale.
+
+    Returns
+    -------
+    AutoscaleResult
+        The ``scale``, the output ``camera`` with the scaled lens, its field before and after, and the
+        evidence (pixels breaking the criterion at the answer and 1% beyond it).
+
+    Raises
+    ------
+    lenslab.errors.FitError
+        An unknown mode, a lens with no field of view to scale, or no usable scale.
+
+    Examples
+    --------
+    A fisheye that shows all of a square 90-degree view must reach its corners, ``atan(sqrt 2)`` off
+    axis: a field of ``2 atan(sqrt 2)`` = 109.4712 degrees.
+
+    >>> import math, lenslab
+    >>> from lenslab.fit import autoscale
+    >>> view = lenslab.Camera.from_spec("perspective:fov=90", (64, 64))
+    >>> fish = lenslab.Camera.from_spec("fisheye:fov=180", (64, 64))
+    >>> result = autoscale(view, fish, mode="cover")
+    >>> round(result.camera.lens.fov, 4), round(math.degrees(2 * math.atan(math.sqrt(2))), 4)
+    (109.4712, 109.4712)
+    """
     t0 = time.perf_counter()
     if mode not in MODES:
         raise FitError(f"unknown autoscale mode {mode!r}; choose one of {', '.join(MODES)}")

@@ -20,170 +20,19 @@ a tolerance. A poor fit is reported as such, never raised.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from lenslab.errors import FitError
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
+from lenslab.fit.problem import (FIT_GRID, REPORT_GRID, FitProblem, Residuals, can_see,  # noqa: F401
+                                  pixel_grid, pixel_offset, project)
 from lenslab.lenses import make_lens
 from lenslab.lenses.core.base import Lens
 
-FIT_GRID = 33  # samples along the longer side during the fit (plus the edge pixel centres)
-REPORT_GRID = 257  # samples along the longer side for the final residual report
 DEFAULT_TOLERANCE = 0.5  # px: a fit whose maximum residual is below half a pixel is as good as exact
-
-
-def pixel_grid(size: tuple[int, int], n: int) -> np.ndarray:
-    """Pixel centres on a grid of about ``n`` samples along the longer side, edges included: (m, 2)."""
-    w, h = size
-    nx = max(2, min(w, int(round(n * w / max(w, h)))))
-    ny = max(2, min(h, int(round(n * h / max(w, h)))))
-    xs = np.unique(np.round(np.linspace(0, w - 1, nx))) + 0.5
-    ys = np.unique(np.round(np.linspace(0, h - 1, ny))) + 0.5
-    gx, gy = np.meshgrid(xs, ys)
-    return np.stack([gx.ravel(), gy.ravel()], axis=-1).astype(np.float64)
-
-
-def pixel_offset(lens: Lens, xy: np.ndarray, d_at: np.ndarray, d_target: np.ndarray) -> np.ndarray:
-    """First-order pixel offset that turns the lens's ray ``d_at`` at ``xy`` into ``d_target``: (m,) px.
-
-    ``J = d dir / d(x, y)`` by one-sided differences of an eighth of a pixel (backward where the forward
-    neighbour is invalid); the offset is the least-squares solution of ``J delta = d_target - d_at``.
-    Infinite where the Jacobian is degenerate.
-    """
-    h = 0.125
-    cols = []
-    for axis in (0, 1):
-        step = np.zeros(2)
-        step[axis] = h
-        dp, vp = lens.pixel_to_dir(xy + step)
-        dm, _ = lens.pixel_to_dir(xy - step)
-        cols.append(np.where(vp[:, None], dp - d_at, d_at - dm) / h)
-    jx, jy = cols
-    a = np.einsum("mi,mi->m", jx, jx)
-    b = np.einsum("mi,mi->m", jx, jy)
-    c = np.einsum("mi,mi->m", jy, jy)
-    det = a * c - b * b
-    delta = d_target - d_at
-    px, py = np.einsum("mi,mi->m", jx, delta), np.einsum("mi,mi->m", jy, delta)
-    with np.errstate(all="ignore"):
-        ox = (c * px - b * py) / det
-        oy = (a * py - b * px) / det
-        r = np.hypot(ox, oy)
-    return np.where(det > 1e-30 * (a * c + 1e-300), r, np.inf)
-
-
-def project(lens: Lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pixel positions of directions, not clipped to the image where the model allows (its uv map).
-
-    A candidate lens that puts a ray half a pixel beyond the border still gets a residual, so the
-    objective stays continuous at the image's edges.
-    """
-    try:
-        with np.errstate(all="ignore"):
-            uv, valid = lens.dir_to_uv(d)
-            xy = lens.uv_to_pixel(uv)
-        valid = np.asarray(valid, dtype=bool) & np.all(np.isfinite(xy), axis=-1)
-        return np.where(valid[..., None], xy, 0.0), valid
-    except NotImplementedError:
-        return lens.dir_to_pixel(d)
-
-
-def can_see(lens: Lens, d: np.ndarray) -> np.ndarray:
-    """Whether the lens model maps the direction anywhere (ignoring the image's borders where it can)."""
-    try:
-        with np.errstate(all="ignore"):
-            _, valid = lens.dir_to_uv(d)
-        return np.asarray(valid, dtype=bool)
-    except NotImplementedError:
-        return lens.dir_to_pixel(d)[1]
-
-
-@dataclass
-class Residuals:
-    """Per-sample residuals of a candidate lens against the source (pixels)."""
-
-    xy: np.ndarray  # (m, 2) sample positions
-    r: np.ndarray  # (m,) residual in px (penalty where not mapped)
-    mapped: np.ndarray  # (m,) the candidate gives a residual there
-    unseen: np.ndarray  # (m,) source rays the candidate's model cannot see at all
-
-    @property
-    def rms(self) -> float:
-        return float(np.sqrt(np.mean(self.r[self.mapped] ** 2))) if self.mapped.any() else float("inf")
-
-    @property
-    def max(self) -> float:
-        return float(self.r[self.mapped].max()) if self.mapped.any() else float("inf")
-
-    @property
-    def max_at(self) -> tuple[float, float]:
-        if not self.mapped.any():
-            return (float("nan"), float("nan"))
-        i = np.flatnonzero(self.mapped)[np.argmax(self.r[self.mapped])]
-        return float(self.xy[i, 0]), float(self.xy[i, 1])
-
-
-class FitProblem:
-    """Source samples prepared once; residuals of any candidate lens against them."""
-
-    def __init__(self, source: Lens, n: int, space: str):
-        self.source, self.space = source, space
-        xy = pixel_grid((source.width, source.height), n)
-        d, valid = source.pixel_to_dir(xy)
-        if not valid.any():
-            raise FitError(f"the source lens {source.spec()} has no valid pixel to fit against")
-        self.xy, self.d = xy[valid], d[valid]
-        self.penalty = float(np.hypot(source.width, source.height))
-
-    def direction_residual(self, lens: Lens) -> tuple[np.ndarray, np.ndarray]:
-        dc, ok = lens.pixel_to_dir(self.xy)
-        r = pixel_offset(lens, self.xy, dc, self.d)
-        # beyond a quarter turn the linearisation says nothing: count at least the full penalty
-        far = np.einsum("mi,mi->m", dc, self.d) < 0
-        r = np.where(far, np.maximum(r, self.penalty), r)
-        return r, ok & np.isfinite(r)
-
-    def pixel_residual(self, lens: Lens) -> tuple[np.ndarray, np.ndarray]:
-        p, ok = project(lens, self.d)
-        r = np.hypot(p[:, 0] - self.xy[:, 0], p[:, 1] - self.xy[:, 1])
-        return r, ok & np.isfinite(r)
-
-    def _none(self) -> Residuals:
-        m = len(self.xy)
-        none = np.zeros(m, dtype=bool)
-        return Residuals(self.xy, np.full(m, self.penalty), none, ~none)
-
-    def residuals(self, lens: Lens | None) -> Residuals:
-        """The fit's residuals, in its space; the image diagonal where the candidate maps nothing."""
-        if lens is None:
-            return self._none()
-        if self.space == "pixel":  # where the inverse fails, the direction-space estimate keeps a slope
-            return self.report(lens)
-        r, ok = self.direction_residual(lens)
-        r = np.where(ok, r, self.penalty)
-        return Residuals(self.xy, r, ok, ~can_see(lens, self.d))
-
-    def report(self, lens: Lens | None) -> Residuals:
-        """Residuals for the report: in pixel space where the lens sees the source's ray, else the
-        direction-space estimate (so rays the lens cannot place still show how far off they are)."""
-        if lens is None:
-            return self._none()
-        rp, okp = self.pixel_residual(lens)
-        seen = can_see(lens, self.d)
-        if okp.all():
-            return Residuals(self.xy, rp, okp, ~seen)
-        rd, okd = self.direction_residual(lens)
-        r = np.where(okp, rp, np.where(okd, rd, self.penalty))
-        return Residuals(self.xy, r, okp | okd, ~seen)
-
-    def objective(self, space: ParamSpace, combo) -> Any:
-        def f(x: np.ndarray) -> float:
-            res = self.residuals(space.try_make(x, combo))
-            return float(np.mean(res.r ** 2))
-        return f
 
 
 @dataclass
@@ -295,23 +144,71 @@ def fit_lens(
     *,
     size: tuple[int, int] | None = None,
     free: Sequence[str] | str | None = None,
-    bounds=None,
+    bounds: Mapping[str, tuple[float, float]] | str | None = None,
     space: str = "direction",
     method: str = "bobyqa",
     global_start: str | None = "auto",
     tolerance: float = DEFAULT_TOLERANCE,
     grid: int = FIT_GRID,
     report_grid: int = REPORT_GRID,
-    start: dict | None = None,
+    start: Mapping[str, float] | None = None,
     first_space: str = "direction",
 ) -> LensFit:
     """Fit the model spec ``model`` to the ``source`` lens over its whole image.
 
-    ``global_start``: ``None`` (local search from the start values), ``"direct-l"`` or ``"mlsl"`` (global
-    search first), or ``"auto"`` (local first; a DIRECT-L global start as well when that is not within
-    ``tolerance``). ``start`` overrides start values (fitted) or values (fixed) the spec does not give;
-    ``first_space="pixel"`` fits in pixel space from the start (no direction-space stage). Never raises
-    for a poor fit: the result says how good it is (``ok``, ``reason()``).
+    Never raises for a poor fit: the result says how good it is (``ok``, ``reason()``).
+
+    Parameters
+    ----------
+    source : Lens or str
+        The lens to reproduce, or its spec (then ``size`` is needed).
+    model : str
+        The model to fit, as a spec; the values it gives are start values (fitted) or fixed values.
+    size : tuple of int, optional
+        (W, H) of the image, when ``source`` is a spec or should be taken at another size.
+    free : str or sequence of str, optional
+        The parameters to fit (``"fov"``, ``"fx,fy,k1"``); by default the model's own choice.
+    bounds : mapping or str, optional
+        Search ranges, ``{"fov": (90, 200)}`` or ``"fov=90:200"``; by default the model's ranges.
+    space : str
+        The residual measured: ``"direction"`` (the rays' difference as a pixel offset) or ``"pixel"``
+        (where the fitted lens puts the source's ray), both in pixels.
+    method : str
+        The nlopt local method: ``"bobyqa"``, ``"sbplx"`` or ``"cobyla"``.
+    global_start : str, optional
+        None (local search from the start values), ``"direct-l"`` or ``"mlsl"`` (global search first),
+        or ``"auto"`` (local first; a DIRECT-L global start as well when that is not within ``tolerance``).
+    tolerance : float
+        The largest residual, in pixels, that counts as a good fit.
+    grid : int
+        Samples along the longer side of the image during the fit (plus the edge pixel centres).
+    report_grid : int
+        Samples along the longer side for the final residual report.
+    start : mapping, optional
+        Start values (fitted) or values (fixed) the spec does not give.
+    first_space : str
+        ``"pixel"`` fits in pixel space from the start (no direction-space stage).
+
+    Returns
+    -------
+    LensFit
+        The fitted ``lens``, its ``rms`` and ``max`` residual in pixels (and ``max_at``), the share of
+        the source's rays it does not see, ``ok`` and ``reason()``.
+
+    Raises
+    ------
+    lenslab.errors.FitError
+        An unknown residual space or parameter name, or a spec without a size.
+
+    Examples
+    --------
+    A 90-degree pinhole, 64 pixels wide, is OpenCV's model with ``fx = 32 / tan(45 deg) = 32``:
+
+    >>> from lenslab.fit import fit_lens
+    >>> fit = fit_lens("perspective:fov=90", "opencv:fx=40,fy=40", size=(64, 48), free="fx,fy",
+    ...                global_start=None, report_grid=33)
+    >>> round(fit.lens.fx, 6), round(fit.lens.fy, 6), fit.ok, fit.max < 1e-6
+    (32.0, 32.0, True, True)
     """
     import time
 

@@ -20,12 +20,12 @@ import csv
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from lenslab.errors import FitError
-from lenslab.fit.lens import project
+from lenslab.fit.problem import project
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
 from lenslab.lenses import Camera, Pose
@@ -75,6 +75,34 @@ def read_points(path: str | Path, source: Camera | None = None) -> PointSet:
     - ``src_x, src_y, x, y``: the same feature in a known ``source`` camera and in the unknown one.
 
     Blank lines and lines starting with ``#`` are skipped.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file (a regular file of at most 64 MiB).
+    source : lenslab.lenses.Camera, optional
+        The known camera of ``src_x, src_y`` columns, which gives their directions.
+
+    Returns
+    -------
+    PointSet
+        Pixels ``xy`` (n x 2), unit directions ``dirs`` (n x 3, float64) and each point's line.
+
+    Raises
+    ------
+    lenslab.errors.FitError
+        No points, a cell that is not a number, rows of different lengths, unknown columns, or
+        ``src_x, src_y`` columns without a ``source`` camera.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from lenslab.fit import read_points
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "points.csv"
+    >>> _ = path.write_text("x,y,lon,lat\\n# the centre sees forward\\n32,32,0,0\\n64,32,90,0\\n")
+    >>> points = read_points(path)
+    >>> points.xy.tolist(), (points.dirs.round(12) + 0.0).tolist(), points.labels
+    ([[32.0, 32.0], [64.0, 32.0]], [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], ['line 3', 'line 4'])
     """
     import io
 
@@ -237,7 +265,7 @@ def fit_points(
     size: tuple[int, int],
     *,
     free: Sequence[str] | str | None = None,
-    bounds=None,
+    bounds: Mapping[str, tuple[float, float]] | str | None = None,
     pose: bool = False,
     loss: str = "cauchy",
     scale: float = 1.0,
@@ -246,9 +274,56 @@ def fit_points(
 ) -> PointsFit:
     """Fit the model spec ``model`` (image ``size``) to measured points, robustly.
 
-    ``pose=True`` also fits the camera's yaw, pitch and roll (the directions are then world directions).
-    ``global_start``: as for :func:`~lenslab.fit.lens.fit_lens` (``"auto"`` adds a DIRECT-L search when the
-    local one leaves more than a tenth of the points beyond the outlier threshold).
+    A robust fit (the ``loss``) finds the inliers, then a least-squares fit on them refines the answer.
+
+    Parameters
+    ----------
+    points : PointSet
+        Pixels and the unit direction each one sees (:func:`read_points` reads them from a CSV).
+    model : str
+        The model to fit, as a spec; the values it gives are start values (fitted) or fixed values.
+    size : tuple of int
+        (W, H) of the camera's image.
+    free : str or sequence of str, optional
+        The parameters to fit; by default the model's own choice.
+    bounds : mapping or str, optional
+        Search ranges, ``{"fov": (90, 200)}`` or ``"fov=90:200"``.
+    pose : bool
+        Also fit the camera's yaw, pitch and roll (the directions are then world directions).
+    loss : str
+        The robust loss of the first fit: ``"cauchy"``, ``"huber"``, ``"soft_l1"``, ``"arctan"`` or
+        ``"linear"`` (none).
+    scale : float
+        The loss's scale in pixels: residuals well below it count fully.
+    outlier : float, optional
+        The residual in pixels beyond which a point is an outlier (default ``3 * scale``).
+    global_start : str, optional
+        As for :func:`~lenslab.fit.lens.fit_lens` (``"auto"`` adds a DIRECT-L search when the local one
+        leaves more than a tenth of the points beyond the outlier threshold).
+
+    Returns
+    -------
+    PointsFit
+        The calibrated ``camera`` (and ``lens``), every point's residual in pixels and which are inliers.
+
+    Raises
+    ------
+    lenslab.errors.FitError
+        An unknown loss, a scale that is not positive, or fewer points than parameters plus one.
+
+    Examples
+    --------
+    Points measured through a 170-degree equisolid fisheye give its field back:
+
+    >>> import numpy as np, lenslab
+    >>> from lenslab.fit import PointSet, fit_points
+    >>> truth = lenslab.make_lens("fisheye:fov=170,mapping=equisolid", (64, 64))
+    >>> xy = np.stack(np.meshgrid(np.arange(4.5, 64, 8), np.arange(4.5, 64, 8)), -1).reshape(-1, 2)
+    >>> dirs, seen = truth.pixel_to_dir(xy)
+    >>> points = PointSet(xy[seen], dirs[seen], [f"point {i}" for i in range(int(seen.sum()))])
+    >>> fit = fit_points(points, "fisheye:fov=120,mapping=equisolid", (64, 64), free="fov")
+    >>> round(fit.lens.fov, 6), bool(fit.inlier.all()), float(fit.residuals.max()) < 1e-6
+    (170.0, True, True)
     """
     t0 = time.perf_counter()
     if loss not in LOSSES:

@@ -68,7 +68,32 @@ HDR_FORMATS = hdr_formats()
 
 
 def split_selector(path: str | os.PathLike) -> tuple[Path, str | None]:
-    """``"a.exr:left"`` -> (Path("a.exr"), "left") when ``a.exr`` exists and ``a.exr:left`` does not."""
+    """Split an EXR selector from a path: ``"a.exr:left"`` -> (Path("a.exr"), "left").
+
+    Only when ``a.exr`` is a file and ``a.exr:left`` does not exist: a file name with a colon in it
+    stays whole.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A path, perhaps followed by ``:layer``, ``:part`` or ``:part:layer``.
+
+    Returns
+    -------
+    tuple of (pathlib.Path, str or None)
+        The file and the selector (None without one).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from lenslab.io import split_selector
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "stereo.exr"
+    >>> _ = path.write_bytes(b"")
+    >>> split_selector(f"{path}:2:left") == (path, "2:left")
+    True
+    >>> split_selector("missing.exr:left")[1] is None  # no file "missing.exr": no selector either
+    True
+    """
     text = os.fspath(path)
     if os.path.exists(text) or ":" not in text:
         return Path(text), None

@@ -86,7 +86,36 @@ def sniff_bytes(head: bytes) -> str | None:
 
 
 def sniff(path: str | os.PathLike) -> str:
-    """Format of the file at ``path`` by its magic bytes; OSError if unreadable, FormatError if unknown."""
+    """The format of a file by its magic bytes, never its name.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    str
+        A format name of ``lenslab info --formats`` (``exr``, ``hdr``, ``tiff``, ``pfm``, ``ppm``...).
+
+    Raises
+    ------
+    lenslab.errors.FormatError
+        Bytes no format recognises, or a path that is not a regular file (a FIFO, device or socket).
+    OSError
+        A file that cannot be read (``IsADirectoryError`` for a directory).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import numpy as np, lenslab
+    >>> from lenslab.io import sniff
+    >>> tmp = pathlib.Path(tempfile.mkdtemp())
+    >>> path = lenslab.write(tmp / "image.pfm", np.zeros((2, 2, 3)))
+    >>> renamed = path.rename(tmp / "image.jpg")  # a wrong name does not fool it
+    >>> sniff(renamed)
+    'pfm'
+    """
     p = Path(path)
     if p.is_dir():
         raise IsADirectoryError(f"{p}: is a directory, not an image file")

@@ -34,6 +34,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.metrics.edges import dilate, edge_mask_from_aovs, edge_mask_from_image
 from lenslab.metrics.measures import (FULL_COVERAGE, as_image, to_display, error_map, flip,  # noqa: F401
@@ -47,21 +48,58 @@ __all__ = [
 
 
 # -- everything at once --------------------------------------------------------------------------
-def compare(ref, test, ref_alpha=None, test_alpha=None, mask=None, edges=None, ref_stderr=None,
-            with_flip: bool = True, tone_curve: str = "hable", exposure: float = 0.0,
-            ref_halves=None) -> dict[str, Any]:
+def compare(ref: ArrayLike, test: ArrayLike, ref_alpha: ArrayLike | None = None,
+            test_alpha: ArrayLike | None = None, mask: ArrayLike | None = None, edges: ArrayLike | None = None,
+            ref_stderr: ArrayLike | None = None, with_flip: bool = True, tone_curve: str = "hable",
+            exposure: float = 0.0, ref_halves: tuple[ArrayLike, ArrayLike] | None = None) -> dict[str, Any]:
     """All metrics of ``test`` against ``ref``: overall, on the edges and away from them.
 
-    ``mask`` defaults to :func:`valid_mask` of the two alphas. ``edges`` is a boolean ``H x W`` mask
-    (see the edge functions); without it only the overall figures are given. ``ref_stderr`` adds the
-    reference's noise floor (overall and per region) and ``excess_l1``, the measured relative L1 minus
-    the noise floor (never negative; a lower bound of the error the test itself adds). With
-    ``ref_halves=(a, b)``, the reference being the mean of two independent half-sample renders, the
-    floor is the empirical :func:`noise_floor_split` instead (the normal formula is then reported as
-    ``noise_l1_normal``).
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    ref_alpha, test_alpha : array_like, optional
+        Their coverage; ``mask`` defaults to :func:`valid_mask` of the two.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare.
+    edges : array_like, optional
+        Boolean ``H x W`` edge mask (:func:`edge_mask_from_aovs`, :func:`edge_mask_from_image`); without
+        it only the overall figures are given.
+    ref_stderr : array_like, optional
+        The reference's per-pixel standard error: adds its noise floor (overall and per region) and
+        ``excess_l1``, the measured relative L1 minus the floor (never negative; a lower bound of the
+        error the test itself adds).
+    with_flip : bool
+        Also compute FLIP (:func:`flip`), the slowest of the measures.
+    tone_curve : str
+        The tone curve FLIP sees both images through.
+    exposure : float
+        Exposure in stops before that curve.
+    ref_halves : tuple of array_like, optional
+        ``(a, b)``, two independent half-sample renders whose mean is the reference: the floor is then
+        the empirical :func:`noise_floor_split` (the normal formula is reported as ``noise_l1_normal``).
 
-    Returns a flat dict of floats: ``l1``, ``psnr_log``, ``off5``, ``rmse``, ``flip``, ``pixels``, and
-    the same with ``_edge`` / ``_interior`` suffixes, plus ``noise_l1*`` and ``excess_l1*``.
+    Returns
+    -------
+    dict
+        A flat dict of floats: ``l1``, ``psnr_log``, ``off5``, ``rmse``, ``flip``, ``pixels``, and the
+        same with ``_edge`` / ``_interior`` suffixes, plus ``noise_l1*`` and ``excess_l1*``.
+
+    Raises
+    ------
+    ValueError
+        Images, alphas or masks of different shapes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import compare
+    >>> ref = np.ones((4, 4, 3))
+    >>> test = ref.copy(); test[0, 0] = 2.0  # one pixel of 16 twice as bright
+    >>> alpha = np.ones((4, 4)); alpha[3, 3] = 0.0  # one pixel the warp did not cover
+    >>> out = compare(ref, test, test_alpha=alpha, with_flip=False)
+    >>> out["pixels"], out["l1"], out["off5"]  # 3 / 45 and 1 / 15
+    (15, 0.06666666666666667, 0.06666666666666667)
     """
     r = as_image(ref, "reference")
     if mask is None:

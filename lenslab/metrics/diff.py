@@ -34,6 +34,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import LenslabError
 from lenslab.metrics.measures import FULL_COVERAGE
@@ -219,11 +220,48 @@ class _Sums:
         self.nwarn += int(_over(d, rel, t.warn, t.warn_relative).sum())
 
 
-def diff_images(a, b, *, mask_alpha: bool = True, thresholds: Thresholds | None = None,
+def diff_images(a: ArrayLike, b: ArrayLike, *, mask_alpha: bool = True, thresholds: Thresholds | None = None,
                 flip: str = "auto") -> DiffReport:
-    """Compare ``b`` with ``a`` (see the module docstring); ``flip`` is one of :data:`FLIP_MODES`.
+    """Compare ``b`` with ``a`` as OpenImageIO's ``idiff`` does (the module's description gives each figure).
 
-    Works through the image in chunks of :data:`CHUNK` pixels (float64 sums), so memory stays bounded."""
+    Works through the image in chunks of :data:`CHUNK` pixels (float64 sums), so memory stays bounded.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Float images ``H x W x C`` (or ``H x W``) of one size, as :func:`lenslab.io.read` gives them.
+    mask_alpha : bool
+        Compare only the pixels fully covered in both (when either has alpha), colour channels only;
+        False compares every pixel and channel, alpha included, as ``idiff`` does.
+    thresholds : Thresholds, optional
+        ``idiff``'s fail and warn thresholds (default: fail and warn above 1e-6).
+    flip : str
+        One of :data:`FLIP_MODES`: ``auto`` (HDR-FLIP when either image holds a value above 1, else
+        LDR-FLIP), ``hdr``, ``ldr`` or ``off``.
+
+    Returns
+    -------
+    DiffReport
+        Mean, RMS and max errors (with the max's pixel and channel), per-channel figures, PSNR, the
+        fail and warn counts, FLIP, and ``verdict`` (:data:`PASS`, :data:`WARNING` or :data:`FAILURE`).
+
+    Raises
+    ------
+    DiffError
+        Images of different sizes or channels, or an unknown FLIP mode.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics.diff import FAILURE, diff_images
+    >>> a = np.zeros((2, 3, 3), np.float32)
+    >>> b = a.copy(); b[1, 2, 0] = 0.5  # one channel of pixel x=2, y=1
+    >>> report = diff_images(a, b, flip="off")
+    >>> report.max_error, report.max_at, report.nfail, report.verdict == FAILURE
+    (0.5, (2, 1, 'R'), 1, True)
+    >>> report.mean_error == 0.5 / 18  # over 6 pixels x 3 channels
+    True
+    """
     t = thresholds or Thresholds()
     if flip not in FLIP_MODES:
         raise DiffError(f"unknown FLIP mode {flip!r}; choose one of {', '.join(FLIP_MODES)}")
@@ -310,12 +348,42 @@ def flip_error(a: np.ndarray, b: np.ndarray, mask: np.ndarray, mode: str) -> flo
     return float(fmap[mask].mean())
 
 
-def error_image(a, b, *, mask_alpha: bool = True, signed: bool = False, scale: float = 1.0) -> np.ndarray:
+def error_image(a: ArrayLike, b: ArrayLike, *, mask_alpha: bool = True, signed: bool = False,
+                scale: float = 1.0) -> np.ndarray:
     """The error map ``|a - b|`` (``a - b`` with ``signed``) times ``scale``, float32.
 
-    Masked by alpha: RGB (a grey image's error in all three) plus an alpha that is 1 where pixels were
-    compared and 0 elsewhere (colour 0 there: premultiplied). Unmasked: the error of every channel, in
-    the images' own channels (alpha's error in A), as ``idiff -o`` writes it."""
+    Parameters
+    ----------
+    a, b : array_like
+        Float images ``H x W x C`` (or ``H x W``) of one size and channels.
+    mask_alpha : bool
+        True: RGB (a grey image's error in all three) plus an alpha that is 1 where pixels were compared
+        and 0 elsewhere (colour 0 there: premultiplied). False: the error of every channel, in the
+        images' own channels (alpha's error in A), as ``idiff -o`` writes it.
+    signed : bool
+        ``a - b`` instead of its magnitude.
+    scale : float
+        A factor on the error, to make small differences visible.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``H x W x 4`` (masked) or ``H x W x C``.
+
+    Raises
+    ------
+    DiffError
+        Images of different sizes or channels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics.diff import error_image
+    >>> a = np.ones((1, 2, 3), np.float32)
+    >>> b = a.copy(); b[0, 1] = 0.75
+    >>> error_image(a, b, signed=True, scale=4.0)[0].tolist()  # (1 - 0.75) x 4, then alpha 1
+    [[0.0, 0.0, 0.0, 1.0], [1.0, 1.0, 1.0, 1.0]]
+    """
     a, b, names, mask = prepare(a, b, mask_alpha)
     a, b = a.astype(np.float64), b.astype(np.float64)
     with np.errstate(invalid="ignore"):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.metrics.measures import as_image
 
@@ -17,8 +18,29 @@ def _disk(radius: int) -> np.ndarray:
     return ((xx * xx + yy * yy) <= radius * radius + 0.5).astype(np.uint8).reshape(k, k)
 
 
-def dilate(mask, radius: int = 2) -> np.ndarray:
-    """Boolean dilation by a disk of ``radius`` pixels (cv2.dilate)."""
+def dilate(mask: ArrayLike, radius: int = 2) -> np.ndarray:
+    """Boolean dilation by a disk of ``radius`` pixels (cv2.dilate).
+
+    Parameters
+    ----------
+    mask : array_like
+        Boolean ``H x W``.
+    radius : int
+        The disk's radius in pixels (0 or less: a copy).
+
+    Returns
+    -------
+    numpy.ndarray
+        bool ``H x W``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import dilate
+    >>> one = np.zeros((5, 5), bool); one[2, 2] = True
+    >>> dilate(one, 1).astype(int).tolist()  # a disk of radius 1: the pixel and its four neighbours
+    [[0, 0, 0, 0, 0], [0, 0, 1, 0, 0], [0, 1, 1, 1, 0], [0, 0, 1, 0, 0], [0, 0, 0, 0, 0]]
+    """
     import cv2
 
     m = np.asarray(mask, dtype=bool)
@@ -40,14 +62,48 @@ def _neighbour_diff(a: np.ndarray, fn) -> np.ndarray:
     return out
 
 
-def edge_mask_from_aovs(depth=None, normal=None, prim_id=None, radius: int = 2,
-                        depth_tolerance: float = 0.02, normal_tolerance_deg: float = 20.0) -> np.ndarray:
+def edge_mask_from_aovs(depth: ArrayLike | None = None, normal: ArrayLike | None = None,
+                        prim_id: ArrayLike | None = None, radius: int = 2, depth_tolerance: float = 0.02,
+                        normal_tolerance_deg: float = 20.0) -> np.ndarray:
     """Pixels within ``radius`` px of a geometric discontinuity, from the renderer's AOVs.
 
-    - ``prim_id`` (``H x W`` ints, -1 = miss): edges where neighbours see different objects/primitives.
-    - ``depth`` (``H x W``, inf or 0 = miss): relative depth jumps above ``depth_tolerance`` (silhouettes).
-    - ``normal`` (``H x W x 3``): normals turning by more than ``normal_tolerance_deg`` (creases).
-    Give at least one. Shadow edges are not geometric: combine with :func:`edge_mask_from_image`.
+    Give at least one AOV. Shadow edges are not geometric: combine with :func:`edge_mask_from_image`.
+
+    Parameters
+    ----------
+    depth : array_like, optional
+        ``H x W`` distances, inf or 0 where the ray missed: relative jumps above ``depth_tolerance``
+        are silhouettes.
+    normal : array_like, optional
+        ``H x W x 3`` normals: turning by more than ``normal_tolerance_deg`` between neighbours is a crease.
+    prim_id : array_like, optional
+        ``H x W`` integers, -1 where the ray missed: neighbours seeing different primitives.
+    radius : int
+        Pixels marked around each discontinuity.
+    depth_tolerance : float
+        The relative depth step that counts as a silhouette.
+    normal_tolerance_deg : float
+        The angle between neighbouring normals that counts as a crease.
+
+    Returns
+    -------
+    numpy.ndarray
+        bool ``H x W``.
+
+    Raises
+    ------
+    ValueError
+        No AOV given.
+
+    Examples
+    --------
+    A near object (depth 1) in front of a far wall (depth 10), split down the middle:
+
+    >>> import numpy as np
+    >>> from lenslab.metrics import edge_mask_from_aovs
+    >>> depth = np.full((4, 6), 10.0); depth[:, :3] = 1.0
+    >>> edge_mask_from_aovs(depth=depth, radius=0)[0].astype(int).tolist()  # both sides of the step
+    [0, 0, 1, 1, 0, 0]
     """
     if depth is None and normal is None and prim_id is None:
         raise ValueError("edge_mask_from_aovs needs depth, normal or prim_id")
@@ -80,8 +136,8 @@ def edge_mask_from_aovs(depth=None, normal=None, prim_id=None, radius: int = 2,
     return dilate(edges, radius)
 
 
-def edge_mask_from_image(image, radius: int = 2, threshold: float = 0.25, denoise: bool = True,
-                         mask=None) -> np.ndarray:
+def edge_mask_from_image(image: ArrayLike, radius: int = 2, threshold: float = 0.25, denoise: bool = True,
+                         mask: ArrayLike | None = None) -> np.ndarray:
     """Pixels within ``radius`` px of a strong edge of the image's log luminance.
 
     The log luminance (Rec.709 weights, floored at 1e-3 of its mean) is denoised with an edge-preserving
@@ -89,6 +145,37 @@ def edge_mask_from_image(image, radius: int = 2, threshold: float = 0.25, denois
     edge is a pixel whose central-difference gradient magnitude exceeds ``threshold`` (in natural-log
     units per pixel: 0.25 is a 28% step between neighbours). Pixels outside ``mask`` (e.g. alpha < 1)
     and their boundary count as edges, since the rim of a lens is a silhouette too.
+
+    Parameters
+    ----------
+    image : array_like
+        Linear ``H x W x C`` or ``H x W``.
+    radius : int
+        Pixels marked around each edge.
+    threshold : float
+        The gradient of the log luminance, per pixel, that makes an edge.
+    denoise : bool
+        Smooth the log luminance first (bilateral filter), for a noisy traced image.
+    mask : array_like, optional
+        Boolean ``H x W`` of the pixels that hold the image (alpha = 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        bool ``H x W``.
+
+    Examples
+    --------
+    A step from 1 to 4 (a log step of 1.39, split over two central differences) is an edge; a smooth
+    ramp of 1% per pixel is not:
+
+    >>> import numpy as np
+    >>> from lenslab.metrics import edge_mask_from_image
+    >>> step = np.ones((4, 8)); step[:, 4:] = 4.0
+    >>> edge_mask_from_image(step, radius=0, denoise=False)[0].astype(int).tolist()
+    [0, 0, 0, 1, 1, 0, 0, 0]
+    >>> bool(edge_mask_from_image(np.geomspace(1.0, 1.07, 8)[None].repeat(4, 0), radius=0).any())
+    False
     """
     import cv2
 

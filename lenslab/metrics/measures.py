@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 FULL_COVERAGE = 0.999  # alpha at or above this counts as fully covered (alpha is a sample fraction)
 
@@ -29,11 +30,36 @@ def _alpha2d(alpha, shape) -> np.ndarray:
     return a
 
 
-def valid_mask(ref_alpha=None, test_alpha=None, shape=None, threshold: float = FULL_COVERAGE) -> np.ndarray:
+def valid_mask(ref_alpha: ArrayLike | None = None, test_alpha: ArrayLike | None = None,
+               shape: tuple[int, int] | None = None, threshold: float = FULL_COVERAGE) -> np.ndarray:
     """Pixels fully covered in both images: ``ref_alpha >= threshold`` and ``test_alpha >= threshold``.
 
-    Either alpha may be None (everything covered); ``shape`` (H, W) is needed when both are None.
-    Pixels with a non-finite alpha are excluded.
+    Parameters
+    ----------
+    ref_alpha, test_alpha : array_like, optional
+        Coverage ``H x W`` (or ``H x W x 1``) of each image; None: everything covered. Pixels with a
+        non-finite alpha are excluded.
+    shape : tuple of int, optional
+        (H, W), needed when both alphas are None.
+    threshold : float
+        The coverage that counts as full (alpha is a sample fraction; 0.999 by default).
+
+    Returns
+    -------
+    numpy.ndarray
+        bool ``H x W``.
+
+    Raises
+    ------
+    ValueError
+        Neither an alpha nor a shape, or an alpha of another shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import valid_mask
+    >>> valid_mask(np.array([[1.0, 0.5]]), np.array([[1.0, 1.0]])).tolist()
+    [[True, False]]
     """
     if shape is None:
         for a in (ref_alpha, test_alpha):
@@ -63,10 +89,33 @@ def paired_images(ref, test, mask):
 
 
 # -- scalar metrics ------------------------------------------------------------------------------
-def relative_l1(ref, test, mask=None) -> float:
+def relative_l1(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None) -> float:
     """Aggregate relative L1 ``sum |t - r| / sum |r|`` over masked pixels and all channels.
 
-    Returns NaN when the mask is empty, 0 when both images are 0 there, inf when only the reference is.
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare (all by default; :func:`valid_mask` gives the fully
+        covered ones). Pixels with a non-finite value in either image never count.
+
+    Returns
+    -------
+    float
+        NaN when the mask is empty, 0 when both images are 0 there, inf when only the reference is.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import relative_l1
+    >>> relative_l1(np.array([[1.0, 3.0]]), np.array([[1.5, 3.0]]))  # 0.5 / 4
+    0.125
     """
     r, t, m = paired_images(ref, test, mask)
     if not m.any():
@@ -78,16 +127,80 @@ def relative_l1(ref, test, mask=None) -> float:
     return num / den
 
 
-def rmse(ref, test, mask=None) -> float:
-    """Root mean squared difference over masked pixels and channels (linear radiance units)."""
+def rmse(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None) -> float:
+    """Root mean squared difference over masked pixels and channels (linear radiance units).
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare (all by default; :func:`valid_mask` gives the fully
+        covered ones). Pixels with a non-finite value in either image never count.
+
+    Returns
+    -------
+    float
+        NaN when the mask is empty.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import rmse
+    >>> rmse(np.zeros((2, 2)), np.array([[0.0, 2.0], [0.0, 0.0]]))  # sqrt(4 / 4)
+    1.0
+    """
     r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
     return float(np.sqrt(np.mean((t[m] - r[m]) ** 2)))
 
 
-def psnr_log(ref, test, mask=None, floor: float = 1e-3) -> float:
-    """PSNR (dB) of log radiance; see the module docstring. inf for identical images."""
+def psnr_log(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None, floor: float = 1e-3) -> float:
+    """PSNR (dB) of log radiance: ``10 log10(peak^2 / mean((log(t+e) - log(r+e))^2))``.
+
+    ``e`` is ``floor`` times the mean reference value and ``peak`` the range of ``log(r+e)`` over the
+    mask (one e-fold for a flat reference): an error in a shadow weighs like the same relative error
+    in a highlight.
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare (all by default; :func:`valid_mask` gives the fully
+        covered ones). Pixels with a non-finite value in either image never count.
+    floor : float
+        The offset ``e`` as a fraction of the mean reference value (keeps black pixels finite).
+
+    Returns
+    -------
+    float
+        Decibels; inf for identical images, NaN when the mask is empty.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    A test image 10% too bright everywhere, on a reference spanning 1 to e (one e-fold), is off by
+    ``log 1.1`` in every pixel (``e`` aside): 20 log10(1 / log 1.1) = 20.4 dB.
+
+    >>> import math, numpy as np
+    >>> from lenslab.metrics import psnr_log
+    >>> ref = np.array([[1.0, math.e]])
+    >>> round(psnr_log(ref, ref * 1.1, floor=0.0), 6) == round(20 * math.log10(1 / math.log(1.1)), 6)
+    True
+    >>> psnr_log(ref, ref)
+    inf
+    """
     r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
@@ -119,8 +232,43 @@ def pixel_relative_error(ref, test, floor_fraction: float = 0.01) -> np.ndarray:
         return num / np.maximum(den, floor)
 
 
-def share_off(ref, test, mask=None, tolerance: float = 0.05, floor_fraction: float = 0.01) -> float:
-    """Fraction of masked pixels whose relative error exceeds ``tolerance`` (5% by default)."""
+def share_off(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None, tolerance: float = 0.05,
+              floor_fraction: float = 0.01) -> float:
+    """Fraction of masked pixels whose relative error exceeds ``tolerance`` (5% by default).
+
+    A pixel's relative error is ``sum_c |t - r| / max(sum_c |r|, floor)``, ``floor`` being
+    ``floor_fraction`` times the mean pixel sum, so that near-black pixels are judged by an absolute
+    error instead of dividing by zero.
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare (all by default; :func:`valid_mask` gives the fully
+        covered ones). Pixels with a non-finite value in either image never count.
+    tolerance : float
+        The relative error a pixel may have.
+    floor_fraction : float
+        The floor of the denominator, as a fraction of the mean pixel sum.
+
+    Returns
+    -------
+    float
+        In [0, 1]; NaN when the mask is empty.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import share_off
+    >>> share_off(np.ones((1, 4)), np.array([[1.0, 1.01, 1.0, 1.1]]))  # one pixel of four is 10% off
+    0.25
+    """
     r, t, m = paired_images(ref, test, mask)
     if not m.any():
         return float("nan")
@@ -128,8 +276,36 @@ def share_off(ref, test, mask=None, tolerance: float = 0.05, floor_fraction: flo
     return float(np.mean(e[m] > tolerance))
 
 
-def error_map(ref, test, mask=None, floor_fraction: float = 0.01) -> np.ndarray:
-    """Per-pixel relative error for display (float32 ``H x W``); NaN outside the mask."""
+def error_map(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None,
+              floor_fraction: float = 0.01) -> np.ndarray:
+    """Per-pixel relative error for display: ``sum_c |t - r| / max(sum_c |r|, floor)``.
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to show.
+    floor_fraction : float
+        The floor of the denominator, as a fraction of the mean pixel sum (as :func:`share_off`).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``H x W``; NaN outside the mask.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import error_map
+    >>> error_map(np.array([[1.0, 2.0]]), np.array([[1.5, 2.0]]), mask=np.array([[True, False]])).tolist()
+    [[0.5, nan]]
+    """
     r, t, m = paired_images(ref, test, mask)
     e = pixel_relative_error(r, t, floor_fraction)
     return np.where(m, e, np.nan).astype(np.float32)
@@ -154,14 +330,51 @@ def to_display(image: np.ndarray, curve: str, exposure: float) -> np.ndarray:
     return np.ascontiguousarray(encode_srgb(disp), dtype=np.float32)
 
 
-def flip(ref, test, mask=None, curve: str = "hable", exposure: float = 0.0, return_map: bool = False,
-         ppd: float | None = None):
+def flip(ref: ArrayLike, test: ArrayLike, mask: ArrayLike | None = None, curve: str = "hable",
+         exposure: float = 0.0, return_map: bool = False,
+         ppd: float | None = None) -> float | tuple[float, np.ndarray]:
     """Mean LDR-FLIP error over the mask of the two images tone-mapped alike (0 = identical, 1 = worst).
 
     Both images go through :func:`lenslab.tone.tonemap` with the same ``curve`` and ``exposure`` and the
-    sRGB encoding, then ``flip_evaluator.evaluate(..., "LDR")``; the per-pixel map is averaged over the
-    mask (FLIP itself sees the whole image, since its filters span neighbouring pixels). With
-    ``return_map=True`` returns ``(mean, map)``, the map float32 ``H x W``.
+    sRGB encoding, then ``flip_evaluator.evaluate(..., "LDR")`` (NVIDIA's FLIP); the per-pixel map is
+    averaged over the mask (FLIP itself sees the whole image, since its filters span neighbouring
+    pixels).
+
+    Parameters
+    ----------
+    ref, test : array_like
+        Linear images of one shape, ``H x W x C`` or ``H x W``.
+    mask : array_like, optional
+        Boolean ``H x W``: the pixels to compare (all by default; :func:`valid_mask` gives the fully
+        covered ones). Pixels with a non-finite value in either image never count.
+    curve : str
+        The tone curve both images go through (a name of :data:`lenslab.tone.CURVES`).
+    exposure : float
+        Exposure in stops before the curve.
+    return_map : bool
+        Also return the per-pixel map.
+    ppd : float, optional
+        FLIP's pixels per degree of the viewer (FLIP's default, 67: a 0.7 m wide 4K screen seen from 0.7 m).
+
+    Returns
+    -------
+    float or tuple of (float, numpy.ndarray)
+        The mean; with ``return_map``, ``(mean, map)``, the map float32 ``H x W``.
+
+    Raises
+    ------
+    ValueError
+        Images of different shapes, or a mask of another size.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.metrics import flip
+    >>> image = np.linspace(0.0, 4.0, 8 * 8 * 3, dtype=np.float32).reshape(8, 8, 3)
+    >>> flip(image, image)
+    0.0
+    >>> 0.0 < flip(image, image * 2.0) < 1.0
+    True
     """
     import flip_evaluator
 

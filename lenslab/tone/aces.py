@@ -39,5 +39,21 @@ def aces(x: ArrayLike) -> np.ndarray:
 
     Krzysztof Narkowicz, "ACES Filmic Tone Mapping Curve", 2016: a fit of the ACES RRT+ODT luminance
     response, per channel.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Examples
+    --------
+    >>> from lenslab.tone import aces
+    >>> [round(v, 6) for v in aces([0.0, 1.0, 100.0]).tolist()]  # 2.54 / 3.16 at 1
+    [0.0, 0.803797, 1.0]
     """
     return values("aces", x, {})

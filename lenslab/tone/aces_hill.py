@@ -88,5 +88,23 @@ def aces_hill(rgb: ArrayLike) -> np.ndarray:
     Stephen Hill, BakingLab ``ACES.hlsl`` (2016). M_in: sRGB -> XYZ -> D65-to-D60 -> AP1 -> RRT
     saturation; M_out: ODT saturation -> XYZ -> D60-to-D65 -> sRGB (:data:`ACES_HILL_INPUT`,
     :data:`ACES_HILL_OUTPUT`). Acts on RGB triples; on grey it is the fit alone.
+
+    Parameters
+    ----------
+    rgb : array_like
+        Scene-linear RGB, ``(..., 3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear RGB in [0, 1], the shape of ``rgb``.
+
+    Examples
+    --------
+    White in, grey out: the fit at 1 is 1.0245 / 1.6547 = 0.6191:
+
+    >>> from lenslab.tone import aces_hill
+    >>> [round(v, 4) for v in aces_hill([1.0, 1.0, 1.0]).tolist()]
+    [0.6191, 0.6191, 0.6191]
     """
     return triples("aces-hill", rgb, {})

@@ -110,5 +110,23 @@ def agx(rgb: ArrayLike) -> np.ndarray:
 
     Troy Sobotka's AgX as in Benjamin Wrensch, "Minimal AgX Implementation" (2024), default look.
     Acts on RGB triples.
+
+    Parameters
+    ----------
+    rgb : array_like
+        Scene-linear RGB, ``(..., 3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear RGB in [0, 1], the shape of ``rgb``.
+
+    Examples
+    --------
+    Middle grey stays grey, a little brighter:
+
+    >>> from lenslab.tone import agx
+    >>> [round(v, 3) for v in agx([0.18, 0.18, 0.18]).tolist()]
+    [0.214, 0.215, 0.215]
     """
     return triples("agx", rgb, {})

@@ -124,6 +124,37 @@ def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0,
     not scene content), with the ``trim`` percent darkest and brightest left out: a small sun of
     30000 does not drag the rest into black. An image with no positive pixel gets 0 (it stays black).
     The result is limited to :data:`EXPOSURE_RANGE`.
+
+    Parameters
+    ----------
+    image : array_like
+        Scene-linear, ``H x W x 3`` (or 4, alpha ignored) or grey.
+    key : float
+        The luminance the log-average should land on (0.18, middle grey).
+    trim : float
+        Percent of the darkest and of the brightest positive pixels left out, in [0, 50).
+    primaries : str
+        The RGB primaries whose luminance weights apply: a colour-science colourspace name
+        (``"sRGB"``, ``"ITU-R BT.2020"``...) or an EXR header's chromaticities.
+
+    Returns
+    -------
+    float
+        Stops, as :func:`lenslab.tone.tonemap`'s ``exposure`` takes them.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        A ``trim`` out of range or a ``key`` that is not positive.
+
+    Examples
+    --------
+    A flat grey of 0.72 is two stops above middle grey (0.72 / 4 = 0.18):
+
+    >>> import numpy as np
+    >>> from lenslab.tone import auto_exposure
+    >>> auto_exposure(np.full((8, 8, 3), 0.72))
+    -2.0
     """
     if not 0 <= trim < 50:
         raise ToneError(f"auto exposure: trim={trim:g} must be a percentage in [0, 50)")

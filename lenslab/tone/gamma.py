@@ -114,7 +114,24 @@ def _build_gamma(p, scale):
 
 @register("clamp", "scalar", build=_build_clamp)
 def clamp(x: ArrayLike) -> np.ndarray:
-    """Clip to white: y = min(x, 1). What a plain conversion to 8 bits does: every value above 1 is lost."""
+    """Clip to white: y = min(x, 1). What a plain conversion to 8 bits does: every value above 1 is lost.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Examples
+    --------
+    >>> from lenslab.tone import clamp
+    >>> clamp([0.5, 2.0]).tolist()
+    [0.5, 1.0]
+    """
     return values("clamp", x, {})
 
 
@@ -125,5 +142,26 @@ def gamma(x: ArrayLike, gamma: float = 2.2) -> np.ndarray:
     Returned display-linear as y = sRGB_EOTF(v) (IEC 61966-2-1 as colour-science defines it,
     evaluated in closed form to float32 rounding), so that the sRGB encoding done when writing yields
     v, as renderers that write ``pow(c, 1/2.2)`` do. Exactly 0 at 0 and exactly 1 from x = 1 up.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+    gamma : float
+        The display gamma, in [0.1, 10].
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Examples
+    --------
+    With ``gamma=2.2`` (the sRGB curve's own exponent is 2.4 past its linear toe) the code value of
+    0.5 is ``0.5 ** (1 / 2.2)`` = 0.72974, which the sRGB decoding takes back to 0.49151:
+
+    >>> from lenslab.tone import gamma
+    >>> [round(v, 5) for v in gamma([0.0, 0.5, 2.0]).tolist()]
+    [0.0, 0.49151, 1.0]
     """
     return values("gamma", x, {"gamma": gamma})

@@ -83,5 +83,31 @@ def hable(x: ArrayLike, **params: float) -> np.ndarray:
     talk "Uncharted 2: HDR Lighting" (A=0.22 B=0.30 E=0.01). Every constant is a parameter.
     Evaluated as f(x) - f(0) = x (A(F-E) x + B(CF-E)) / (F (A x^2 + B x + DF)), equal in exact
     arithmetic and exactly 0 at 0 in floating point.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+    **params
+        ``preset`` ("blog" or "gdc") and any of the constants ``A``... ``F``, ``W`` and ``bias``
+        (``lenslab curves --list`` shows their names and ranges).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        An unknown parameter, one out of range, or a set whose curve is not monotonic.
+
+    Examples
+    --------
+    Black stays exactly black, and ``W / bias`` = 5.6 is white:
+
+    >>> from lenslab.tone import hable
+    >>> hable([0.0, 5.6, 100.0]).tolist()
+    [0.0, 1.0, 1.0]
     """
     return values("hable", x, params)

@@ -111,6 +111,33 @@ def drago(rgb: ArrayLike, saturation: float = 1.0, bias: float = 0.85, headroom:
 
     Drago, Myszkowski, Annen, Chiba, "Adaptive Logarithmic Mapping For Displaying High Contrast
     Scenes", Eurographics 2003. Not a per-pixel curve: it depends on the image's maximum and average.
+
+    Parameters
+    ----------
+    rgb : array_like
+        Scene-linear RGB, ``H x W x 3``.
+    saturation : float
+        OpenCV's colour saturation (1 keeps it).
+    bias : float
+        Drago's bias, in (0, 1]: lower gives more contrast in the highlights.
+    headroom : float
+        Stops kept above the log-average before OpenCV sees the image (its float input is bounded).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear RGB in [0, 1], ``H x W x 3``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.tone import drago
+    >>> image = np.geomspace(0.01, 100.0, 64 * 3, dtype=np.float32).reshape(8, 8, 3)
+    >>> out = drago(image)
+    >>> out.shape, out.dtype, bool(out.min() >= 0.0 and out.max() <= 1.0)
+    ((8, 8, 3), dtype('float32'), True)
+    >>> bool(np.all(np.diff(out.reshape(-1, 3).mean(axis=1)) >= 0))  # brighter in, brighter out
+    True
     """
     return tonemap(rgb, "drago", saturation=saturation, bias=bias, headroom=headroom)
 
@@ -122,5 +149,32 @@ def mantiuk(rgb: ArrayLike, scale: float = 0.7, saturation: float = 1.0, headroo
 
     Mantiuk, Myszkowski, Seidel, "A Perceptual Framework for Contrast Processing of High Dynamic
     Range Images", ACM TAP 2006. A local operator: not a per-pixel curve.
+
+    Parameters
+    ----------
+    rgb : array_like
+        Scene-linear RGB, ``H x W x 3``.
+    scale : float
+        The contrast scale factor (below 1 compresses).
+    saturation : float
+        OpenCV's colour saturation (1 keeps it).
+    headroom : float
+        Stops kept above the log-average before OpenCV sees the image (its float input is bounded).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear RGB in [0, 1], ``H x W x 3``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lenslab.tone import mantiuk
+    >>> image = np.geomspace(0.01, 100.0, 16 * 16 * 3, dtype=np.float32).reshape(16, 16, 3)
+    >>> out = mantiuk(image)
+    >>> out.shape, out.dtype, bool(out.min() >= 0.0 and out.max() <= 1.0)
+    ((16, 16, 3), dtype('float32'), True)
+    >>> bool(out[-1].mean() > out[0].mean())  # the bright end stays brighter than the dark one
+    True
     """
     return tonemap(rgb, "mantiuk", scale=scale, saturation=saturation, headroom=headroom)

@@ -99,5 +99,23 @@ def pbr_neutral(rgb: ArrayLike) -> np.ndarray:
 
     Khronos Group, "PBR Neutral" tone mapper (2024), reference GLSL. Base colours below the shoulder
     come out as they went in (minus the small toe offset). Acts on RGB triples.
+
+    Parameters
+    ----------
+    rgb : array_like
+        Scene-linear RGB, ``(..., 3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear RGB in [0, 1], the shape of ``rgb``.
+
+    Examples
+    --------
+    Below the shoulder only the toe offset 0.04 is taken off; black stays black:
+
+    >>> from lenslab.tone import pbr_neutral
+    >>> [[round(v, 6) for v in rgb] for rgb in pbr_neutral([[0.5, 0.5, 0.5], [0.0, 0.0, 0.0]]).tolist()]
+    [[0.46, 0.46, 0.46], [0.0, 0.0, 0.0]]
     """
     return triples("pbr-neutral", rgb, {})

@@ -109,12 +109,48 @@ def register(name: str, kind: str, params: tuple[Param, ...] = (), build: Callab
 
 
 def curve_names() -> list[str]:
-    """Every registered curve name, in the order they are listed to users."""
+    """Every registered curve name, in the order they are listed to users.
+
+    Returns
+    -------
+    list of str
+        The names :func:`lenslab.tone.tonemap` takes as ``curve``.
+
+    Examples
+    --------
+    >>> from lenslab.tone import curve_names
+    >>> curve_names()[:4]
+    ['clamp', 'gamma', 'reinhard', 'reinhard-extended']
+    """
     return list(CURVES)
 
 
 def get_curve(name: str) -> Curve:
-    """The curve called ``name`` (case-insensitive; ``_`` and ``-`` are interchangeable)."""
+    """The curve called ``name`` (case-insensitive; ``_`` and ``-`` are interchangeable).
+
+    Parameters
+    ----------
+    name : str
+        A curve name of :func:`curve_names`.
+
+    Returns
+    -------
+    Curve
+        Its record: ``name``, ``summary``, declared ``params`` (with ranges and defaults) and
+        ``resolve(values)``, which checks values against them.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        An unknown name; the message lists the valid ones.
+
+    Examples
+    --------
+    >>> from lenslab.tone import get_curve
+    >>> curve = get_curve("Reinhard_Extended")
+    >>> curve.name, [p.name for p in curve.params], curve.resolve({"white": 2.0})
+    ('reinhard-extended', ['white'], {'white': 2.0})
+    """
     if name not in CURVES:
         raise ToneError(f"unknown tone curve {name!r}; valid curves: {', '.join(CURVES)}")
     return CURVES[name]

@@ -47,8 +47,26 @@ def _build_reinhard_ext(p, scale):
 
 @register("reinhard", "scalar", build=_build_reinhard)
 def reinhard(x: ArrayLike) -> np.ndarray:
-    """Reinhard: y = x / (1 + x). Reinhard et al., "Photographic Tone Reproduction for Digital
-    Images", SIGGRAPH 2002, eq. 3. Never reaches 1."""
+    """Reinhard: y = x / (1 + x). Never reaches 1.
+
+    Reinhard et al., "Photographic Tone Reproduction for Digital Images", SIGGRAPH 2002, eq. 3.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1), the shape of ``x``.
+
+    Examples
+    --------
+    >>> from lenslab.tone import reinhard
+    >>> reinhard([0.0, 1.0, 3.0]).tolist()
+    [0.0, 0.5, 0.75]
+    """
     return values("reinhard", x, {})
 
 
@@ -59,6 +77,29 @@ def reinhard_extended(x: ArrayLike, white: float = 4.0) -> np.ndarray:
     """Reinhard with a white point: y = min(x (1 + x / Lw^2) / (1 + x), 1); y(Lw) = 1.
 
     Reinhard et al. 2002, eq. 4 (Lw = ``white``).
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+    white : float
+        The input that maps to white (Lw), > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        ``white`` out of its range.
+
+    Examples
+    --------
+    >>> from lenslab.tone import reinhard_extended
+    >>> reinhard_extended([1.0, 4.0, 8.0], white=4.0).tolist()  # 1 (1 + 1/16) / 2 = 0.53125
+    [0.53125, 1.0, 1.0]
     """
     return values("reinhard-extended", x, {"white": white})
 
@@ -84,6 +125,40 @@ def reinhard2002(x: ArrayLike, key: float = MIDDLE_GREY, white: float = math.inf
     Reinhard, Stark, Shirley, Ferwerda, "Photographic Tone Reproduction for Digital Images",
     SIGGRAPH 2002, eqs. 1-4. The log-average is taken over ``x`` itself (or given as ``log_avg``);
     in :func:`tonemap` it is the image's luminance, so any exposure cancels out.
+
+    Parameters
+    ----------
+    x : array_like
+        Scene-linear values (any shape).
+    key : float
+        The key value ``a`` in (0, 1]: the log-average maps here before the curve.
+    white : float
+        Burn-out white ``Lwhite`` in scaled units (inf: none, the plain ``L / (1 + L)``).
+    delta : float
+        The small ``delta`` of the log-average, keeping black pixels finite.
+    log_avg : float, optional
+        The log-average to use instead of the one of ``x``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 display-linear values in [0, 1], the shape of ``x``.
+
+    Raises
+    ------
+    lenslab.errors.ToneError
+        A parameter out of its range.
+
+    Examples
+    --------
+    The log-average maps to ``a``, then the curve: twice the log-average at ``a = 0.5`` is ``L = 1``,
+    which shows as 0.5; a flat image lands at ``a / (1 + a)`` whatever its exposure:
+
+    >>> from lenslab.tone import reinhard2002
+    >>> reinhard2002([1.0, 2.0, 4.0], key=0.5, log_avg=2.0).tolist()
+    [0.20000000298023224, 0.3333333432674408, 0.5]
+    >>> round(float(reinhard2002([7.0] * 3, key=0.5)[0]), 4), round(float(reinhard2002([0.5] * 3, key=0.5)[0]), 4)
+    (0.3333, 0.3333)
     """
     arr = as_float32(x)
     p = get_curve("reinhard2002").resolve({"key": key, "white": white, "delta": delta})

@@ -267,42 +267,6 @@ class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
-def warp_tiles(images, src_cameras, dst_camera: Camera, **options):
-    """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
-
-    For multi-view outputs whose tiles stand at different eye points, with one panorama recorded at
-    each tile's eye. ``None`` (or a list shorter than the tiles) leaves a tile empty (alpha 0). Options
-    are those of :func:`warp`. Returns ``(image, alpha)`` like :func:`warp`.
-    """
-    if not has_camera_pieces(dst_camera):
-        raise WarpError(f"warp_tiles needs an output camera made of tiles, got {dst_camera.lens.spec()}; use warp() instead")
-    tiles = tile_cameras(dst_camera)
-    images, src_cameras = list(images), list(src_cameras)
-    if len(images) != len(src_cameras) or len(images) > len(tiles):
-        raise WarpError(f"give one image and one source camera per tile ({len(tiles)} tiles); got "
-                        f"{len(images)} images and {len(src_cameras)} cameras")
-    progress = options.pop("progress", None)
-    out = alpha = None
-    channels = None
-    for (x0, y0, cam), img, src in zip(tiles, images, src_cameras):
-        if img is None or cam is None:
-            continue
-        plan = WarpPlan(src, cam, **options)
-        arr = plan.check_image(img)
-        if channels is None:
-            channels = arr.shape[2]
-            out = np.zeros((dst_camera.height, dst_camera.width, channels), dtype=np.float32)
-            alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
-        elif arr.shape[2] != channels:
-            raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        render_region(plan, arr, out, alpha, x0, y0, progress)
-    if out is None:
-        raise WarpError("no tile has both a camera and a source image: nothing to warp")
-    if not all_finite(out):
-        raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
-                        "repairs and reports them)")
-    settle(out, alpha)
-    return out, alpha
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
@@ -386,4 +350,4 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     return plan.run(image, progress=progress)
 
 
-__all__ = ["WarpPlan", "warp", "warp_tiles", "tile_cameras", "MapBand", "EmptyViewWarning"]
+__all__ = ["WarpPlan", "warp", "MapBand", "EmptyViewWarning"]

@@ -89,7 +89,38 @@ def check_eyes(src: Camera, dst: Camera, allow_parallax: bool = False) -> float:
 
 
 def exact_map(src: Camera, dst: Camera, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Exact source pixel positions (float64, ``(..., 2)``) and validity of output positions ``points``."""
+    """Where output positions read the source: the lens models evaluated in float64, no lattice.
+
+    Parameters
+    ----------
+    src, dst : lenslab.lenses.Camera
+        The source and output cameras.
+    points : numpy.ndarray
+        ``(..., 2)`` continuous pixel positions of ``dst`` (pixel centres at ``k + 1/2``).
+
+    Returns
+    -------
+    xy : numpy.ndarray
+        float64 ``(..., 2)`` source pixel positions (0 where invalid).
+    valid : numpy.ndarray
+        bool ``(...)``: the output has a ray there and the source sees it.
+
+    Examples
+    --------
+    The centre of a forward 90-degree view reads an equirect panorama at its centre, and a view
+    turned 90 degrees right reads it a quarter of the width further right:
+
+    >>> import numpy as np, lenslab
+    >>> from lenslab.warp import exact_map
+    >>> pano = lenslab.Camera.from_spec("equirect", (360, 180))
+    >>> view = lenslab.Camera.from_spec("perspective:fov=90", (64, 64))
+    >>> right = lenslab.Camera.from_spec("perspective:fov=90", (64, 64), yaw=90)
+    >>> xy, ok = exact_map(pano, view, np.array([[32.0, 32.0]]))
+    >>> xy.tolist(), ok.tolist()
+    ([[180.0, 90.0]], [True])
+    >>> exact_map(pano, right, np.array([[32.0, 32.0]]))[0].round(9).tolist()
+    [[270.0, 90.0]]
+    """
     xy, valid, _ = exact_map_parts(src, dst, points)
     return xy, valid
 

@@ -75,12 +75,34 @@ class ReferencePoint(NamedTuple):
     tolerance: float = 1e-6
 
 
+def _one_point(method, last: int):
+    """``method`` taking ``(..., last)`` points, also for a single point of shape ``(last,)``: a model's
+    own pixel-level map need only handle arrays of points."""
+    import functools
+
+    @functools.wraps(method)
+    def maps(self, points, *args, **kwargs):
+        arr = np.asarray(points)
+        if arr.ndim == 1 and arr.shape[0] == last:
+            out, ok = method(self, arr[None], *args, **kwargs)
+            return out[0], ok[0]
+        return method(self, points, *args, **kwargs)
+
+    return maps
+
+
 class Lens:
     """A lens model bound to an image size ``width x height``.
 
     Subclasses set ``name`` and ``params`` and implement the two normalised-coordinate maps
     :meth:`uv_to_dir` and :meth:`dir_to_uv` (or override the pixel-level methods directly).
     """
+
+    def __init_subclass__(cls, **kw):
+        super().__init_subclass__(**kw)
+        for method, last in (("pixel_to_dir", 2), ("dir_to_pixel", 3)):
+            if method in cls.__dict__:
+                setattr(cls, method, _one_point(cls.__dict__[method], last))
 
     name: ClassVar[str] = ""
     summary: ClassVar[str] = ""
@@ -341,6 +363,10 @@ class Lens:
 
     def __hash__(self) -> int:
         return hash((self.spec(), self.width, self.height))
+
+
+Lens.pixel_to_dir = _one_point(Lens.pixel_to_dir, 2)  # the generic maps too (through uv_to_dir)
+Lens.dir_to_pixel = _one_point(Lens.dir_to_pixel, 3)
 
 
 def format_number(val: float) -> str:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import LensError
 
@@ -47,6 +48,35 @@ def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0, order: s
     roll turns about +z (right +x toward up +y); by default applied roll, then pitch, then yaw:
     ``R = Ry(yaw) @ Rx(-pitch) @ Rz(roll)``. ``order`` names the product's factors left to right (the
     last is applied first), as ffmpeg v360's ``rorder`` does: ``rpy`` is ``Rz(roll) @ Rx(-pitch) @ Ry(yaw)``.
+
+    Parameters
+    ----------
+    yaw, pitch, roll : float
+        Angles in degrees.
+    order : str
+        The factors of the product, left to right: ``ypr`` (the default), ``yrp``, ``pyr``, ``pry``,
+        ``ryp`` or ``rpy``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 rotation camera -> world, float64; its third column is the camera's forward axis in
+        the world.
+
+    Raises
+    ------
+    lenslab.errors.LensError
+        An order that does not name y, p and r once each.
+
+    Examples
+    --------
+    Yaw 90 turns forward (+z) to the right (+x); pitch 90 turns it up (+y):
+
+    >>> from lenslab.lenses.core.pose import ypr_matrix
+    >>> ypr_matrix(yaw=90)[:, 2].round(12).tolist()
+    [1.0, 0.0, 0.0]
+    >>> ypr_matrix(pitch=90)[:, 2].round(12).tolist()
+    [0.0, 1.0, 0.0]
     """
     order = str(order).lower()
     if order not in ORDERS:
@@ -65,8 +95,35 @@ def matrix_to_ypr(r: np.ndarray) -> tuple[float, float, float]:
     return float(yaw), float(pitch), float(roll)
 
 
-def look_at_matrix(eye, at, up=(0.0, 1.0, 0.0)) -> np.ndarray:
-    """Rotation camera -> world whose +z points from ``eye`` to ``at`` and whose +y leans to ``up``."""
+def look_at_matrix(eye: ArrayLike, at: ArrayLike, up: ArrayLike = (0.0, 1.0, 0.0)) -> np.ndarray:
+    """Rotation camera -> world whose +z points from ``eye`` to ``at`` and whose +y leans to ``up``.
+
+    Parameters
+    ----------
+    eye, at : array_like
+        The camera's position and the point it looks at (world, 3 values each).
+    up : array_like
+        The world direction the camera's +y leans to (need not be perpendicular to the view).
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 rotation camera -> world, float64: columns right (+x), up (+y) and forward (+z).
+
+    Raises
+    ------
+    lenslab.errors.LensError
+        ``eye`` equal to ``at``, or ``up`` parallel to the view.
+
+    Examples
+    --------
+    Looking from the origin along +x with +y up: right is -z (a right-handed frame, +x right, +y up,
+    +z forward):
+
+    >>> from lenslab.lenses.core.pose import look_at_matrix
+    >>> (look_at_matrix((0, 0, 0), (5, 0, 0)).round(12) + 0.0).tolist()  # + 0.0: no -0.0
+    [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]
+    """
     eye, at, up = (np.asarray(v, dtype=np.float64) for v in (eye, at, up))
     f = at - eye
     n = np.linalg.norm(f)
@@ -84,7 +141,29 @@ def look_at_matrix(eye, at, up=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 @dataclass
 class Pose:
-    """Rotation camera -> world (3x3, float64) and eye point (world)."""
+    """Where a camera is and where it looks: a rotation camera -> world and an eye point.
+
+    Parameters
+    ----------
+    rotation : array_like
+        3x3 orthonormal rotation camera -> world (stored as float64).
+    eye : array_like
+        The eye point in the world (3 values).
+
+    Raises
+    ------
+    lenslab.errors.LensError
+        A rotation that is not orthonormal (to 1e-9).
+
+    Examples
+    --------
+    >>> from lenslab.lenses.core.pose import Pose
+    >>> pose = Pose.from_ypr(yaw=30, pitch=-10)
+    >>> [round(v, 9) + 0.0 for v in pose.ypr]
+    [30.0, -10.0, 0.0]
+    >>> Pose.look_at(eye=(0, 0, 0), at=(0, 0, -1)).to_dict()["yaw"]
+    180.0
+    """
 
     rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
     eye: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -96,18 +175,24 @@ class Pose:
             raise LensError("pose: the rotation matrix is not orthonormal")
 
     @classmethod
-    def from_ypr(cls, yaw=0.0, pitch=0.0, roll=0.0, eye=(0.0, 0.0, 0.0), order: str = "ypr") -> "Pose":
+    def from_ypr(cls, yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0,
+                 eye: ArrayLike = (0.0, 0.0, 0.0), order: str = "ypr") -> "Pose":
+        """The pose turned by :func:`ypr_matrix` (degrees), at ``eye``."""
         return cls(ypr_matrix(yaw, pitch, roll, order), np.asarray(eye, dtype=np.float64))
 
     @classmethod
-    def look_at(cls, eye, at, up=(0.0, 1.0, 0.0)) -> "Pose":
+    def look_at(cls, eye: ArrayLike, at: ArrayLike, up: ArrayLike = (0.0, 1.0, 0.0)) -> "Pose":
+        """The pose at ``eye`` looking at ``at`` (:func:`look_at_matrix`)."""
         return cls(look_at_matrix(eye, at, up), np.asarray(eye, dtype=np.float64))
 
     @property
     def ypr(self) -> tuple[float, float, float]:
+        """(yaw, pitch, roll) in degrees, pitch in [-90, 90] (:func:`matrix_to_ypr`)."""
         return matrix_to_ypr(self.rotation)
 
     def to_dict(self) -> dict:
+        """``yaw``, ``pitch``, ``roll`` and ``eye`` (or ``rotation`` when angles would not give it back
+        to 1e-12), as camera files store them."""
         yaw, pitch, roll = self.ypr
         out = {"yaw": yaw, "pitch": pitch, "roll": roll, "eye": [float(v) for v in self.eye]}
         if not np.allclose(ypr_matrix(yaw, pitch, roll), self.rotation, atol=1e-12):
@@ -116,6 +201,8 @@ class Pose:
 
     @classmethod
     def from_dict(cls, d: dict) -> "Pose":
+        """The pose a camera file describes: ``rotation``, ``at``/``look_at`` (with ``up``), or
+        ``yaw``/``pitch``/``roll``; each with an optional ``eye``."""
         eye = d.get("eye", (0.0, 0.0, 0.0))
         if "rotation" in d:
             return cls(np.asarray(d["rotation"], dtype=np.float64), eye)
