@@ -43,11 +43,11 @@ def reference_api():
     from lenslab.io import probe, registry, split_selector
     from lenslab.lenses.core import pose
     from lenslab.metrics import diff
-    from lenslab.warp import filters, maps, tiles
+    from lenslab.warp import filters, maps, multiview
 
     named = {"sniff": registry.sniff, "probe": probe.probe, "split_selector": split_selector,
              "Pose": pose.Pose, "ypr_matrix": pose.ypr_matrix, "look_at_matrix": pose.look_at_matrix,
-             "warp_tiles": tiles.warp_tiles, "sample": filters.sample, "exact_map": maps.exact_map, "compare": metrics.compare,
+             "warp_tiles": multiview.warp_tiles, "sample": filters.sample, "exact_map": maps.exact_map, "compare": metrics.compare,
              "diff_images": diff.diff_images, "error_image": diff.error_image}
     named |= {n: getattr(stmap, n) for n in ("st_map", "write_st_map", "read_st_map", "warp_with_st_map")}
     named |= {n: getattr(tone, n) for n in ("clamp", "gamma", "reinhard", "reinhard_extended", "reinhard2002",

@@ -25,7 +25,8 @@ from lenslab.warp.engine import WarpPlan, warp
 from lenslab.warp.filters import FILTERS
 from lenslab.warp.given import warp_with_map
 from lenslab.warp.maps import ParallaxWarning, check_eyes, exact_map
-from lenslab.warp.tiles import tile_cameras, warp_tiles
+from lenslab.warp.multiview import warp_tiles
+from lenslab.warp.tiles import tile_cameras
 
 __all__ = ["warp", "warp_with_map", "warp_tiles", "tile_cameras", "WarpPlan", "WarpError", "ParallaxWarning", "FILTERS",
            "check_eyes", "exact_map"]

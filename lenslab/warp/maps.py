@@ -112,9 +112,12 @@ def exact_map(src: Camera, dst: Camera, points: np.ndarray) -> tuple[np.ndarray,
 
     >>> import numpy as np, lenslab
     >>> from lenslab.warp import exact_map
-    >>> pano = lenslab.Camera.from_spec("equirect", (360, 180))
-    >>> view = lenslab.Camera.from_spec("perspective:fov=90", (64, 64))
-    >>> right = lenslab.Camera.from_spec("perspective:fov=90", (64, 64), yaw=90)
+    >>> from lenslab.lenses.projections.equirect import Equirect
+    >>> from lenslab.lenses.projections.perspective import Perspective
+    >>> pano = lenslab.Camera(Equirect(360, 180))
+    >>> view = lenslab.Camera(Perspective(64, 64, fov=90))
+    >>> from lenslab.lenses import Pose
+    >>> right = lenslab.Camera(Perspective(64, 64, fov=90), Pose.from_ypr(90, 0, 0))
     >>> xy, ok = exact_map(pano, view, np.array([[32.0, 32.0]]))
     >>> xy.tolist(), ok.tolist()
     ([[180.0, 90.0]], [True])
