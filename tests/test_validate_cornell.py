@@ -51,7 +51,7 @@ import numpy as np
 import pytest
 
 from lenslab import metrics
-from lenslab.lenses import REGISTRY, Camera, Pose
+from lenslab.lenses import REGISTRY, make_lens, Camera, Pose
 from lenslab.lenses.core.pose import ypr_matrix
 from lenslab.validate.run import WarpSetting, call_warp, check, edges_for, panorama_camera
 from tracer.validate.source import make_source
@@ -101,7 +101,14 @@ def _cases():
 
 
 def _size_for(spec: str) -> tuple[int, int]:
-    return (192, 128) if spec.startswith("cubemap") else SIZE
+    """128 px high; a frame made of parts (faces, eyes, a barrel's band and caps) in the shape its model
+    declares (its registry example), as a user lays it out: squeezed into a square, its parts shrink to
+    a few pixels and their edges dominate the measure."""
+    name = REGISTRY.canonical(spec.partition(":")[0])
+    if len(make_lens(spec, SIZE).pieces()) <= 1:
+        return SIZE
+    w, h = REGISTRY.entry(name).examples[0][1]
+    return (2 * round(64 * w / h), SIZE[1])
 
 
 @pytest.fixture(scope="module")
