@@ -13,7 +13,7 @@ the child processes), as ratios lenslab / ffmpeg (lower is better):
 
 ffmpeg 5.1's v360 takes no float frames: ffmpeg converts each EXR frame to 16-bit integers for it and
 back (two swscale passes inside ffmpeg's time, values above 1 clipped), so its output is not HDR; lenslab
-keeps the floats. ``tests/test_bench_batch.py`` checks that both commands make the same fisheye.
+keeps the floats. ``tests/bench/test_bench_batch.py`` checks that both commands make the same fisheye.
 
 ffmpeg must be on PATH (Debian's ffmpeg is enough); without it the benchmark says so and ends with 1.
 """

@@ -1,7 +1,7 @@
 """ffmpeg v360's pixel mapping, for matching footage already converted with it.
 
 Measured on Debian's ffmpeg 5.1 (a source whose 16-bit values encode their own coordinates, read back
-through ``v360=...:interp=line``; ``tests/test_v360_ffmpeg.py`` compares every shared projection both
+through ``v360=...:interp=line``; ``tests/warp/test_v360_ffmpeg.py`` compares every shared projection both
 ways), v360 samples every output projection at its pixel *centres*, as lenslab does, and reads its
 input in one of three ways, each lens saying which with its ``v360_read`` attribute:
 

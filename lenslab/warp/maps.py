@@ -145,7 +145,7 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
 #: has a compiled kernel: that kernel takes a function, so numba compiles it anew in every process (about
 #: 0.15 s, 0.45 s with numba's first start-up), while NumPy projects an equirect's directions as fast
 #: (measured 53-58 ns against 65 ns per direction, 1e5-1e6 directions, one thread); the two agree to a
-#: few ulps (tests/test_warp_project.py)
+#: few ulps (tests/warp/test_warp_project.py)
 COMPILED_PROJECT_MIN = 1 << 20
 
 

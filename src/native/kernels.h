@@ -1,7 +1,7 @@
 // The compiled kernels of lenslab: the samplers of lenslab.warp (single-tap bilinear, cached taps, the
 // footprint prefilter). Each works on one band of output rows and is called with the GIL released, so
 // the engine runs one band per thread. Every kernel has a NumPy reference in lenslab/warp/reference.py
-// that gives the same bits (tests/test_native_kernels.py).
+// that gives the same bits (tests/warp/test_native_kernels.py).
 #pragma once
 
 #include <cmath>

@@ -13,7 +13,7 @@ import numpy as np
 import lenslab.io as lio
 from lenslab.cli.main import main
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 #: the look's own functions: only lenslab/jobs (and the tone and io packages that define them) call them
 LOOK = {"tonemap", "display_transform", "apply_display", "expose"}
 

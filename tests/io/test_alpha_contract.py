@@ -18,7 +18,7 @@ from lenslab.lenses import Camera
 from lenslab.lenses.protocol import MIN_FALLOFF
 from lenslab.warp.optics import falloff_image
 from lenslab.warp import warp
-from tests.test_lenses_roundtrip import CASES
+from tests.lenses.test_lenses_roundtrip import CASES
 
 W = 96
 #: one case per registered lens name (the round-trip table covers them all), made small

@@ -1,6 +1,6 @@
 """v360's mirrors and rotation order against Debian's ffmpeg: ``h_flip``/``v_flip``/``d_flip`` (lenslab
 ``--flip``), ``ih_flip``/``iv_flip`` (``--source-flip``) and ``rorder`` (``--rotation-order``), within the
-tolerance of the other v360 projections (``tests/test_v360_ffmpeg.py`` explains ``TOL`` and ``EDGE``)."""
+tolerance of the other v360 projections (``tests/warp/test_v360_ffmpeg.py`` explains ``TOL`` and ``EDGE``)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 
 from lenslab.cli.main import main
 from lenslab.io import read, write
-from tests.test_v360_ffmpeg import assert_matches_ffmpeg, fragile, run_ffmpeg, source_codes
-from tests.test_v360_stereo import two_eyes
+from tests.warp.test_v360_ffmpeg import assert_matches_ffmpeg, fragile, run_ffmpeg, source_codes
+from tests.warp.test_v360_stereo import two_eyes
 
 
 def run_lenslab(tmp_path, codes, src_spec, dst_spec, size, extra):

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from lenslab.errors import LensError
 from lenslab.lenses import make_lens
-from tests.test_lenses_roundtrip import CASES, PX_TOL, angle, excluded, sample_pixels, shared_pixels
+from tests.lenses.test_lenses_roundtrip import CASES, PX_TOL, angle, excluded, sample_pixels, shared_pixels
 
 FOVS = (1e-3, 1.0, 179.9, 180.0, 270.0, 360.0)
 FOV_MODELS = (

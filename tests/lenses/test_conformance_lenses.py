@@ -7,7 +7,7 @@ A new model (one module with its ``examples`` and ``reference_points``) is teste
   ways: ``pixel -> direction`` and ``direction -> pixel``;
 - at its extremes (corners, edges, centre, just outside the frame, the six axis directions, the seam,
   the poles, zero, NaN and inf) it returns finite numbers, zero where invalid, and never raises.
-(The round trips of every model's examples are in tests/test_lenses_roundtrip.py, from the same registry.)
+(The round trips of every model's examples are in tests/lenses/test_lenses_roundtrip.py, from the same registry.)
 """
 
 from __future__ import annotations

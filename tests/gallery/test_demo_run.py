@@ -21,7 +21,7 @@ from lenslab import metrics
 from lenslab.cli.main import main
 from lenslab.io import read
 from lenslab.lenses import REGISTRY
-from tests.test_gallery_page import assert_page_images_decode
+from tests.gallery.test_gallery_page import assert_page_images_decode
 
 # A tiny run: 64x32 panorama at 1 spp, 32 px views, direct traces at 2 spp (a few seconds).
 TINY = ["--size", "64x32", "--view-size", "32", "--spp", "1", "--direct-spp", "2"]

@@ -12,7 +12,7 @@ from lenslab.cli.main import main as lenslab_main
 from lenslab.errors import LensError
 from lenslab.lenses import (REGISTRY, Camera, Pose, load_camera, load_cameras, make_lens, parse_spec,
                             save_camera, save_cameras)
-from tests.test_lenses_roundtrip import CASES
+from tests.lenses.test_lenses_roundtrip import CASES
 
 
 # -- specs ---------------------------------------------------------------------------------------

@@ -140,7 +140,7 @@ def test_padded_copy_matches_the_folded_taps():
 def v360_equirect_resample(img: np.ndarray, w_out: int, h_out: int) -> np.ndarray:
     """What ffmpeg 5.1's ``v360=e:e:interp=line`` gives for an equirect-to-equirect resize, in float64.
 
-    Measured with a source whose values encode their coordinates (tests/test_v360_ffmpeg.py compares
+    Measured with a source whose values encode their coordinates (tests/warp/test_v360_ffmpeg.py compares
     the real filter): v360 samples the output's pixel centres, ``p = (i + 1/2) W / w_out`` in source
     pixels, and reads the source at index ``p (W - 1) / W`` (its [-1, 1] spans the first to the last
     pixel centre), bilinearly, columns wrapping and rows clamped.

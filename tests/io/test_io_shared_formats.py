@@ -18,7 +18,7 @@ from lenslab.errors import FormatError
 
 pytestmark = pytest.mark.shared_data
 
-HERE = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "formats"
+HERE = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "formats"
 REFUSED = {  # file -> what the refusal must say
     "oiio-testsuite-pnm/bad-4552.pgm": "truncated",
     "oiio-testsuite-pnm/bad-4553.pgm": "digits",

@@ -1,7 +1,7 @@
 """The v360 projections lenslab added for ``--compat v360`` (``ball``, Facebook's ``barrel`` and
 ``barrelsplit``, ``tetrahedron``, ``tsp`` and the ``perspective`` output, lenslab's ``globe``) against
 Debian's ffmpeg v360, as the source and as the output (``perspective``: output only in ffmpeg), with the
-harness and tolerance of ``tests/test_v360_ffmpeg.py`` (``TOL`` and ``EDGE`` are explained there).
+harness and tolerance of ``tests/warp/test_v360_ffmpeg.py`` (``TOL`` and ``EDGE`` are explained there).
 
 These layouts are made of parts (the barrel's band and caps, the split barrel's halves and quarters)
 whose maps jump at their edges; like a cube face's edge there, output pixels whose sample lies within
@@ -15,7 +15,7 @@ import pytest
 
 from lenslab.lenses import Camera
 from lenslab.warp.maps import exact_map
-from tests.test_v360_ffmpeg import EDGE, assert_matches_ffmpeg, fragile, run_ffmpeg, run_lenslab, source_codes
+from tests.warp.test_v360_ffmpeg import EDGE, assert_matches_ffmpeg, fragile, run_ffmpeg, run_lenslab, source_codes
 
 #: (lenslab spec, v360 projection, size, v360 reads it as a source)
 NEW = [

@@ -12,7 +12,7 @@ from lenslab.errors import LensError, ToneError
 from lenslab.lenses import REGISTRY, make_lens
 from lenslab.tone import CURVES, get_curve
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def load_tool():

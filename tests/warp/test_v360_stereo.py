@@ -1,6 +1,6 @@
 """Stereo frames (``stereo:sbs,...``, ``stereo:tb,...``) against Debian's ffmpeg ``v360`` with
 ``in_stereo``/``out_stereo``: each eye through its own half, both ways, within the tolerance of the other
-v360 projections (``tests/test_v360_ffmpeg.py``: ``TOL`` and ``EDGE`` are explained there)."""
+v360 projections (``tests/warp/test_v360_ffmpeg.py``: ``TOL`` and ``EDGE`` are explained there)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from lenslab.errors import LensError
 from lenslab.lenses import make_lens
-from tests.test_v360_ffmpeg import assert_matches_ffmpeg, fragile, run_ffmpeg, run_lenslab, source_codes
+from tests.warp.test_v360_ffmpeg import assert_matches_ffmpeg, fragile, run_ffmpeg, run_lenslab, source_codes
 
 
 def two_eyes(w: int, h: int, layout: str) -> np.ndarray:

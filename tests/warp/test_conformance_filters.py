@@ -104,6 +104,6 @@ def test_the_command_line_offers_the_registry_s_filters():
 def test_the_docs_list_every_filter():
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parent.parent / "docs" / "conventions.md").read_text(encoding="utf-8")
+    text = (Path(__file__).resolve().parents[2] / "docs" / "conventions.md").read_text(encoding="utf-8")
     listed = text.split("<!-- filters:start -->")[1].split("<!-- filters:end -->")[0]
     assert [line.split("`")[1] for line in listed.splitlines() if line.startswith("| `")] == list(FILTERS)

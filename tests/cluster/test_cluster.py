@@ -298,7 +298,7 @@ def test_workers_start_without_the_trim_threshold_and_the_readme_recipe_does_the
 
     with Client(scheduler, set_as_default=False) as client:
         assert set(client.run(_trim_threshold).values()) == {None}
-    text = (Path(__file__).parents[1] / "README.md").read_text()
+    text = (Path(__file__).parents[2] / "README.md").read_text()
     recipe = re.search(r"```yaml\n(distributed:\n.*?)```", text, re.S).group(1)
     (tmp_path / "lenslab.yaml").write_text(recipe)
     # Dask's defaults with the file on top, as `dask worker` reads its config folder

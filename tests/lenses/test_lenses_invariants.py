@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from lenslab.lenses import make_lens
 from lenslab.lenses.formulas.solve import invert_increasing
-from tests.test_lenses_roundtrip import CASES
+from tests.lenses.test_lenses_roundtrip import CASES
 
 
 #: models whose image centre is not the forward direction (face borders, two lenses, looking down, off centre)

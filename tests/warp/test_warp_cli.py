@@ -108,7 +108,7 @@ def test_compat_v360_maps_like_ffmpeg(pano, tmp_path):
             "--pixel-type", "float", "-q"]
     assert main(args) == 0
     # v360 reads index (2i + 1)(W - 1)/W for output pixel i of a 2x reduction (measured from ffmpeg)
-    from tests.test_warp_geometry import v360_equirect_resample
+    from tests.warp.test_warp_geometry import v360_equirect_resample
 
     np.testing.assert_allclose(read(out)[0][..., :3], v360_equirect_resample(img, 32, 16), rtol=0, atol=1e-4)
     assert main(args + ["--samples", "4", "--overwrite"]) == 1  # one sample per pixel, as v360
