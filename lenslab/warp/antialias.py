@@ -8,10 +8,11 @@ prefilter spends the work only where it is needed:
 1. The local Jacobian of the map gives the pixel's footprint on the source, a parallelogram spanned
    by ``a`` and ``b`` (in source pixels, the seam unwrapped). At one sample per pixel they are
    central differences of the map between the neighbouring pixels, ``a = (q(p + (1, 0)) -
-   q(p - (1, 0))) / 2`` (one-sided beside an invalid neighbour, the image's border or a face seam of a
-   cube-map output), so the footprint costs no map evaluations beyond the pixel centres. Combined
+   q(p - (1, 0))) / 2`` (one-sided beside an invalid neighbour, the image's border or the edge of a
+   piece of a piecewise output: a cube map's faces, a barrel's band and caps, of any sizes), so the
+   footprint costs no map evaluations beyond the pixel centres. Combined
    with ``samples``, they are secants across each sub-sample's stratum, ``a = q(p + (h, 0)) -
-   q(p - (h, 0))`` with ``h`` half the stratum's side, their ends kept inside the cube face of the
+   q(p - (h, 0))`` with ``h`` half the stratum's side, their ends kept inside the piece of the
    sample.
 2. A box-filtered pyramid of the source (each level halves the previous by 2x2 averaging; the seam
    and pole structure of a panorama survives the halving; :mod:`lenslab.warp.pyramid`) provides pre-averaged texels.
@@ -79,9 +80,9 @@ def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> Foo
     # centre, then -x, +x, -y, +y; the lattice/exact map handles each shifted set like any samples
     shifts = np.array([[0, 0], [-half, 0], [half, 0], [0, -half], [0, half]], dtype=np.float64)
     allo = (offsets[..., None, :, :] + shifts[:, None, :]).reshape(offsets.shape[:2] + (5 * n, 2))
-    pieces = _pieces(mapper.dst.lens)
-    if pieces is not None:
-        allo = _inside_piece(allo, offsets, r0, h, w, pieces)
+    rects = piece_rects(mapper.dst.lens)
+    if rects is not None:
+        allo = _inside_piece(allo, offsets, r0, h, w, rects)
     band = mapper.map_band(r0, r1, allo)
     xs = band.xs.reshape(h, w, 5, n)
     ys = band.ys.reshape(h, w, 5, n)
@@ -105,11 +106,14 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
     h, w = r1 - r0, mapper.width
     a0, a1 = max(0, r0 - 1), min(mapper.height, r1 + 1)
     band = mapper.map_band(a0, a1, offsets)
-    pieces = _pieces(mapper.dst.lens) or (0.0, 0.0)
+    rects = piece_rects(mapper.dst.lens)
+    piece = None
+    if rects is not None:  # the piece of each pixel centre of the rows mapped
+        piece = piece_numbers(rects, np.arange(w)[None, :] + 0.5, np.arange(a0, a1)[:, None] + 0.5)
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)
-    neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, a0, mapper.wrap,
-                      float(pieces[0]), float(pieces[1]), foot, edge)
+    neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, mapper.wrap, piece, foot,
+                      edge)
     top = r0 - a0
     valid = band.valid[top:top + h]
     # pixels on the image's border have no neighbour outside it: the validity of the point half a
@@ -147,49 +151,55 @@ def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, f
                          (exy[..., 0] - 0.5).astype(np.float32), (exy[..., 1] - 0.5).astype(np.float32), ev)
 
 
-def _pieces(lens):
-    """``(piece width, piece height)`` of an output lens whose pieces (cube faces, the halves of a
-    double image) tile it in a grid of one size, so that its map jumps at their edges; else None."""
+def piece_rects(lens):
+    """``(N, 4)`` float64 rectangles ``(x0, y0, width, height)`` of an output lens made of two or more
+    pieces (cube faces, the halves of a double image, the band and caps of a barrel), so that its map
+    jumps at their edges; else None. The pieces may differ in size and lie anywhere."""
     pieces = lens.pieces()
     if len(pieces) < 2:
         return None
-    fw, fh = pieces[0].width, pieces[0].height
-    if all(p.width == fw and p.height == fh and p.x0 % fw == 0 and p.y0 % fh == 0 for p in pieces):
-        return fw, fh
-    return None
+    return np.array([p.rect for p in pieces], dtype=np.float64)
+
+
+def piece_numbers(rects, px, py) -> np.ndarray:
+    """int32 number of the piece (row of ``rects``) holding each point ``(px, py)`` (continuous pixels);
+    -1 for a point in none. Where pieces overlap, the first one listed holds the point."""
+    px, py = np.broadcast_arrays(np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64))
+    out = np.full(px.shape, -1, dtype=np.int32)
+    for k in range(len(rects) - 1, -1, -1):
+        x0, y0, pw, ph = rects[k]
+        out[(px >= x0) & (px < x0 + pw) & (py >= y0) & (py < y0 + ph)] = k
+    return out
 
 
 #: pixels by which a secant end is kept inside its piece (far below any map error that matters)
 PIECE_INSET = 1e-6
 
 
-def _inside_piece(allo, offsets, r0, h, w, pieces):
+def _inside_piece(allo, offsets, r0, h, w, rects):
     """Per-pixel sample positions (h, W, 5S, 2) with every secant end moved into the piece (cube face)
-    of its sample: a footprint is measured inside the face it belongs to, never across a face seam."""
-    fw, fh = pieces
+    of its sample: a footprint is measured inside the piece it belongs to, never across a seam."""
     n = offsets.shape[2]
     cx = np.arange(w, dtype=np.float64)[None, :, None]
     cy = np.arange(r0, r0 + h, dtype=np.float64)[:, None, None]
     centre = np.broadcast_to(offsets, (h, w, n, 2))
-    px = cx + centre[..., 0]  # (h, W, S) absolute sample positions
-    py = cy + centre[..., 1]
-    x0 = np.floor(px / fw) * fw
-    y0 = np.floor(py / fh) * fh
+    k = piece_numbers(rects, cx + centre[..., 0], cy + centre[..., 1])  # (h, W, S)
+    box = np.where((k >= 0)[..., None], rects[np.maximum(k, 0)], [[-np.inf, -np.inf, np.inf, np.inf]])
+    x0, y0 = box[..., 0][:, :, None], box[..., 1][:, :, None]
+    x1, y1 = x0 + box[..., 2][:, :, None] - PIECE_INSET, y0 + box[..., 3][:, :, None] - PIECE_INSET
     ends = np.broadcast_to(allo, (h, w) + allo.shape[2:]).reshape(h, w, 5, n, 2).copy()
-    ends[..., 0] = np.clip(cx[:, :, None] + ends[..., 0], x0[:, :, None], x0[:, :, None] + fw - PIECE_INSET) \
-        - cx[:, :, None]
-    ends[..., 1] = np.clip(cy[:, :, None] + ends[..., 1], y0[:, :, None], y0[:, :, None] + fh - PIECE_INSET) \
-        - cy[:, :, None]
+    ends[..., 0] = np.clip(cx[:, :, None] + ends[..., 0], x0, x1) - cx[:, :, None]
+    ends[..., 1] = np.clip(cy[:, :, None] + ends[..., 1], y0, y1) - cy[:, :, None]
     return ends.reshape(h, w, 5 * n, 2)
 
 
-def neighbour_secants(xs, ys, vs, top: int, row0: int, wrap: float, piece_w: float, piece_h: float, foot,
-                      edge) -> None:
+def neighbour_secants(xs, ys, vs, top: int, wrap: float, piece, foot, edge) -> None:
     """Footprint sides of the pixels of rows ``top:top + h`` of a map of pixel centres (``xs`` etc.
-    (rows, W); the band's first row is image row ``row0 + top``) from their neighbours, into ``foot`` (h, W,
-    1, 4) and ``edge`` (h, W, 1) (compiled ahead of time; reference :func:`lenslab.warp.reference.neighbour_secants`)."""
-    native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), int(row0), float(wrap),
-                                       float(piece_w), float(piece_h), foot, edge)
+    (rows, W)) from their neighbours, into ``foot`` (h, W, 1, 4) and ``edge`` (h, W, 1); ``piece`` (rows, W)
+    int32 numbers each pixel's piece (None: one piece), and a neighbour in another piece does not count
+    (compiled ahead of time; reference :func:`lenslab.warp.reference.neighbour_secants`)."""
+    piece = np.zeros((0, 0), np.int32) if piece is None else np.ascontiguousarray(piece, dtype=np.int32)
+    native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge)
 
 
 @kernel

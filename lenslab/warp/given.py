@@ -126,7 +126,7 @@ def footprint_of_map(xs, ys, ok, r0: int, r1: int, wrap: float) -> aa.FootprintB
     h, w = r1 - r0, xs.shape[1]
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)
-    aa.neighbour_secants(xs, ys, ok, r0, 0, wrap, 0.0, 0.0, foot, edge)
+    aa.neighbour_secants(xs, ys, ok, r0, wrap, None, foot, edge)
     none = np.zeros(0, dtype=np.int64)
     return aa.FootprintBand(r0, r1, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], foot,
                             np.zeros((h, w, 1), dtype=np.bool_), none, np.zeros((0, 1), np.float32),

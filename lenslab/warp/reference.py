@@ -197,13 +197,13 @@ def edges(src, idx, exs, eys, evalid, ns: int, border, out, alpha) -> None:
 
 
 
-def neighbour_secants(xs, ys, vs, top: int, h: int, row0: int, wrap: float, piece_w: float, piece_h: float):
+def neighbour_secants(xs, ys, vs, top: int, h: int, wrap: float, piece=None):
     """Footprint sides of rows ``top:top + h`` of a one-sample map (``xs, ys`` float32 and ``vs`` bool, (rows,
-    W); its first row is image row ``row0``) from the neighbours' positions: ``(foot (h, W, 4), edge (h, W))``.
+    W)) from the neighbours' positions: ``(foot (h, W, 4), edge (h, W))``.
 
     Along each axis: the central difference halved where both neighbours are valid, else the one-sided
     difference to a valid neighbour (the pixel itself valid), else 0. A neighbour counts only inside the
-    image and inside the pixel's piece (a grid of ``piece_w`` x ``piece_h``; 0: none). x differences, float32
+    image and in the pixel's piece (``piece``: (rows, W) piece numbers; None: one piece). x differences, float32
     differences of float32 positions, are unwrapped by the period ``wrap`` before halving. ``edge``: a
     neighbour that counts has the other validity.
     """
@@ -214,19 +214,17 @@ def neighbour_secants(xs, ys, vs, top: int, h: int, row0: int, wrap: float, piec
     edge = np.zeros((h, w), bool)
     v0 = vs[rr, cc]
 
-    def same_piece(a, b, size):
-        return np.ones(np.shape(a), bool) if size <= 0 else np.floor(a / size) == np.floor(b / size)
+    piece = np.zeros((nrows, w), np.int32) if piece is None else piece
 
     for axis in range(2):
         if axis == 0:
-            lo_ok = (cc > 0) & same_piece(cc - 0.5, cc + 0.5, piece_w)
-            hi_ok = (cc + 1 < w) & same_piece(cc + 1.5, cc + 0.5, piece_w)
             lo, hi = (rr, np.maximum(cc - 1, 0)), (rr, np.minimum(cc + 1, w - 1))
+            lo_ok, hi_ok = cc > 0, cc + 1 < w
         else:
-            y = (row0 + rr).astype(np.float64)
-            lo_ok = (rr > 0) & same_piece(y - 0.5, y + 0.5, piece_h)
-            hi_ok = (rr + 1 < nrows) & same_piece(y + 1.5, y + 0.5, piece_h)
             lo, hi = (np.maximum(rr - 1, 0), cc), (np.minimum(rr + 1, nrows - 1), cc)
+            lo_ok, hi_ok = rr > 0, rr + 1 < nrows
+        lo_ok = lo_ok & (piece[lo] == piece[rr, cc])
+        hi_ok = hi_ok & (piece[hi] == piece[rr, cc])
         vl, vh = lo_ok & vs[lo], hi_ok & vs[hi]
         edge |= (lo_ok & (vs[lo] != v0)) | (hi_ok & (vs[hi] != v0))
         both, up, down = vl & vh, ~(vl & vh) & vh & v0, ~(vl & vh) & ~(vh & v0) & vl & v0

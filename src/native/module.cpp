@@ -94,8 +94,8 @@ NB_MODULE(cxx_kernels, m) {
     }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"), nb::arg("density"), nb::arg("axis_tol"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
 
-    m.def("neighbour_secants", [](In<float> xs, In<float> ys, In<bool> vs, int64_t top, int64_t row0, double wrap,
-                                  double piece_w, double piece_h, Out<float> foot, Out<bool> edge) {
+    m.def("neighbour_secants", [](In<float> xs, In<float> ys, In<bool> vs, int64_t top, double wrap,
+                                  In<int32_t> piece, Out<float> foot, Out<bool> edge) {
         need(xs.ndim() == 2 && ys.ndim() == 2 && vs.ndim() == 2, "maps must be rows x width");
         const int64_t nrows = int64_t(xs.shape(0)), w = int64_t(xs.shape(1));
         need(int64_t(ys.shape(0)) == nrows && int64_t(vs.shape(0)) == nrows && int64_t(ys.shape(1)) == w
@@ -103,10 +103,12 @@ NB_MODULE(cxx_kernels, m) {
         need(w > 0 && edge.size() % size_t(w) == 0, "edge must hold whole rows");
         const int64_t h = int64_t(edge.size()) / w;
         need(foot.size() == size_t(4 * h * w) && top >= 0 && top + h <= nrows, "footprint rows");
-        neighbour_secants(xs.data(), ys.data(), vs.data(), nrows, w, top, h, row0, wrap, piece_w, piece_h,
-                          foot.data(), edge.data());
-    }, nb::arg("xs"), nb::arg("ys"), nb::arg("vs"), nb::arg("top"), nb::arg("row0"), nb::arg("wrap"),
-       nb::arg("piece_w"), nb::arg("piece_h"), nb::arg("foot").noconvert(), nb::arg("edge").noconvert(),
+        need(piece.size() == 0 || (piece.ndim() == 2 && int64_t(piece.shape(0)) == nrows
+                                   && int64_t(piece.shape(1)) == w), "piece numbers must match the map");
+        neighbour_secants(xs.data(), ys.data(), vs.data(), nrows, w, top, h, wrap,
+                          piece.size() == 0 ? nullptr : piece.data(), foot.data(), edge.data());
+    }, nb::arg("xs"), nb::arg("ys"), nb::arg("vs"), nb::arg("top"), nb::arg("wrap"), nb::arg("piece"),
+       nb::arg("foot").noconvert(), nb::arg("edge").noconvert(),
        nb::call_guard<nb::gil_scoped_release>());
 
     m.def("all_finite", [](In<float> a) {

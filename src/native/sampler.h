@@ -32,9 +32,10 @@ void edges(const float* src, int64_t sw, int64_t sh, int64_t nc, const int64_t* 
            const float* eys, const bool* evalid, int64_t m, int64_t kk, int64_t ns, int64_t width, Border b,
            float* out, float* alpha);
 
-// Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w; the band's first row is image
-// row row0 + top): foot (h, w, 4) = a, b; edge (h, w): a neighbour's validity differs.
+// Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w): foot (h, w, 4) = a, b; edge
+// (h, w): a neighbour's validity differs. piece (nrows x w, or null for one piece): each pixel's piece number; a
+// neighbour in another piece does not count.
 void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t nrows, int64_t w, int64_t top,
-                       int64_t h, int64_t row0, double wrap, double piece_w, double piece_h, float* foot, bool* edge);
+                       int64_t h, double wrap, const int32_t* piece, float* foot, bool* edge);
 
 }  // namespace lenslab

@@ -6,14 +6,8 @@
 
 namespace lenslab {
 
-namespace {
-
-inline int64_t piece_of(double v, double size) { return int64_t(std::floor(v / size)); }
-
-}  // namespace
-
 void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t nrows, int64_t w, int64_t top,
-                       int64_t h, int64_t row0, double wrap, double piece_w, double piece_h, float* foot, bool* edge) {
+                       int64_t h, double wrap, const int32_t* piece, float* foot, bool* edge) {
     for (int64_t r = 0; r < h; ++r) {
         const int64_t rr = r + top;
         for (int64_t c = 0; c < w; ++c) {
@@ -23,19 +17,21 @@ void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t
                 bool lo_ok, hi_ok;
                 int64_t lo, hi;  // flat indices of the neighbours before and after along this axis
                 if (axis == 0) {
-                    lo_ok = c > 0 && (piece_w <= 0.0 || piece_of(c - 0.5, piece_w) == piece_of(c + 0.5, piece_w));
-                    hi_ok = c + 1 < w && (piece_w <= 0.0 || piece_of(c + 1.5, piece_w) == piece_of(c + 0.5, piece_w));
+                    lo_ok = c > 0;
+                    hi_ok = c + 1 < w;
                     lo = rr * w + c - 1;
                     hi = rr * w + c + 1;
                 } else {
-                    const double y = double(row0 + rr);
-                    lo_ok = rr > 0 && (piece_h <= 0.0 || piece_of(y - 0.5, piece_h) == piece_of(y + 0.5, piece_h));
-                    hi_ok = rr + 1 < nrows
-                            && (piece_h <= 0.0 || piece_of(y + 1.5, piece_h) == piece_of(y + 0.5, piece_h));
+                    lo_ok = rr > 0;
+                    hi_ok = rr + 1 < nrows;
                     lo = (rr - 1) * w + c;
                     hi = (rr + 1) * w + c;
                 }
                 const int64_t me = rr * w + c;
+                if (piece != nullptr) {  // a neighbour in another piece is beyond a seam: it does not count
+                    lo_ok = lo_ok && piece[lo] == piece[me];
+                    hi_ok = hi_ok && piece[hi] == piece[me];
+                }
                 const bool vl = lo_ok && vs[lo], vh = hi_ok && vs[hi];
                 if ((lo_ok && vs[lo] != v0) || (hi_ok && vs[hi] != v0)) on_edge = true;
                 double half = 1.0, dx = 0.0, dy = 0.0;

@@ -202,18 +202,23 @@ def test_all_finite_agrees_with_numpy(bad):
         assert K.all_finite(b) == bool(np.isfinite(b).all())
 
 
-@pytest.mark.parametrize("pieces", [(0.0, 0.0), (8.0, 6.0)], ids=["whole", "pieces"])
+@pytest.mark.parametrize("pieces", [None, "grid", "uneven"])
 @pytest.mark.parametrize("wrap", [0.0, 64.0])
 def test_neighbour_secants_match_the_numpy_reference(pieces, wrap):
-    rng = np.random.default_rng(int(wrap) + int(pieces[0]))
-    nrows, w, top, h, row0 = 14, 24, 1, 12, 5
+    rng = np.random.default_rng(int(wrap) + len(pieces or ""))
+    nrows, w, top, h = 14, 24, 1, 12
+    rows, cols = np.mgrid[5:5 + nrows, 0:w]
+    piece = {None: None, "grid": (cols // 8) * 10 + rows // 6,  # a grid of 8 x 6 pieces; pieces of two
+             "uneven": np.where(cols < 16, rows // 8, 2 + rows // 4)}[pieces]  # sizes, as a split barrel's
+    piece = None if piece is None else piece.astype(np.int32)
     xs = rng.uniform(-2, 66, (nrows, w)).astype(np.float32)
     ys = rng.uniform(-2, 34, (nrows, w)).astype(np.float32)
     vs = rng.uniform(size=(nrows, w)) > 0.25
     foot = np.full((h, w, 1, 4), np.nan, np.float32)
     edge = np.zeros((h, w, 1), bool)
-    K.neighbour_secants(xs, ys, vs, top, row0, wrap, *pieces, foot, edge)
-    want, want_edge = ref.neighbour_secants(xs, ys, vs, top, h, row0, wrap, *pieces)
+    K.neighbour_secants(xs, ys, vs, top, wrap, np.zeros((0, 0), np.int32) if piece is None else piece, foot,
+                        edge)
+    want, want_edge = ref.neighbour_secants(xs, ys, vs, top, h, wrap, piece)
     np.testing.assert_array_equal(edge[..., 0], want_edge)
     # float64 steps rounded once to float32; a fused multiply-add in the unwrapping may move that by 1 ulp
     np.testing.assert_allclose(foot[:, :, 0], want, rtol=EPS32, atol=EPS32 * 70)
