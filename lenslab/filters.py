@@ -72,9 +72,13 @@ def filter_named(name: str) -> str:
 
 
 def cli_filter(text: str) -> str:
-    """``--filter``'s argument type: another name of a filter becomes its canonical name (argparse then
-    checks it against the choices, ``list(FILTERS)``)."""
-    return FILTERS.canonical(text) if text in FILTERS else text
+    """``--filter``'s argument type: a filter's name or another name of it, as its canonical name; any
+    other word is refused (argparse's one-line usage error), the message listing the filters."""
+    import argparse
+
+    if text not in FILTERS:
+        raise argparse.ArgumentTypeError(f"unknown filter {text[:40]!r}; choose one of {', '.join(FILTERS)}")
+    return FILTERS.canonical(text)
 
 
 __all__ = ["Filter", "FILTERS", "filter_named", "cli_filter"]
