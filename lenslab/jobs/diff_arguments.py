@@ -5,32 +5,26 @@ from __future__ import annotations
 import argparse
 import math
 
+from lenslab.jobs.arguments import finite_float, non_negative_int
+
 
 def non_negative(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
-    if not (0 <= v < math.inf):
-        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
-    return v
+    """argparse ``type=``: a finite number of at least 0 (an error threshold)."""
+    x = finite_float(text)
+    if x < 0:
+        raise argparse.ArgumentTypeError(f"{str(text)[:40]!r}: must be at least 0")
+    return x
 
 
 def percent(text: str) -> float:
-    v = non_negative(text)
-    if v > 100:
-        raise argparse.ArgumentTypeError(f"expected a percentage in 0..100, got {text!r}")
-    return v
+    """argparse ``type=``: a share in percent, 0 to 100."""
+    x = non_negative(text)
+    if x > 100:
+        raise argparse.ArgumentTypeError(f"{str(text)[:40]!r}: must be a percentage from 0 to 100")
+    return x
 
 
-def count(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
-    return v
+count = non_negative_int  # --allow-failures
 
 
 def add_threshold_arguments(parser: argparse.ArgumentParser) -> None:
