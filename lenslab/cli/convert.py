@@ -134,7 +134,8 @@ def run(args: argparse.Namespace) -> int:
     for pat, reason in missing:
         print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
     if not files:
-        print("lenslab convert: error: nothing to convert", file=sys.stderr)
+        if not missing:  # each missing input already has its line
+            print("lenslab convert: error: nothing to convert", file=sys.stderr)
         return 1
     if args.to in VIDEO:  # every input, in order, as one clip
         from lenslab.jobs.convert_video import files_to_video

@@ -48,6 +48,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", "-q", action="store_true", help="print only PASS, WARNING or FAILURE")
 
 
+def camera_note(a, b) -> str | None:
+    """A note when both files record their camera and the two differ (another eye point, pose or lens):
+    the images then show different views, and their difference measures that, not a warp's error."""
+    import numpy as np
+
+    if a is None or b is None:
+        return None
+    said = []
+    if not np.allclose(a.pose.eye, b.pose.eye, atol=1e-6):
+        said.append("eye points " + " and ".join("(" + ", ".join(f"{v:g}" for v in c.pose.eye) + ")" for c in (a, b)))
+    if not np.allclose(a.pose.rotation, b.pose.rotation, atol=1e-9):
+        said.append("poses")
+    if a.lens.spec() != b.lens.spec():
+        said.append("lenses")
+    return f"the two files record different cameras ({'; '.join(said)}): they show different views" if said else None
+
+
 def run(args: argparse.Namespace) -> int:
     from lenslab.errors import OutputError
     from lenslab.jobs.funnel import one_line
@@ -71,12 +88,17 @@ def run(args: argparse.Namespace) -> int:
             check_output(args.output, [args.first, args.second], args.overwrite)
         except OutputError as exc:
             return file_error(exc)
-    images = []
+    images, cameras = [], []
     for path in (args.first, args.second):
         try:
-            images.append(read(path)[0])
+            image, meta = read(path)
         except (LenslabError, OSError, ValueError) as exc:
             return file_error(exc)
+        images.append(image)
+        cameras.append(meta.get("camera"))
+    note = camera_note(*cameras)
+    if note and not args.quiet:
+        print(f"{prog}: note: {note}", file=sys.stderr)
     t = thresholds_from(args)
     try:
         report = diff_images(images[0], images[1], mask_alpha=not args.no_mask, thresholds=t, flip=args.flip)

@@ -33,8 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(created if missing) that gets one image per input in --format")
     from lenslab.cli.convert import FORMATS
 
-    parser.add_argument("--format", choices=FORMATS, default="png",
-                        help="format of the images written into an -o folder (default png)")
+    parser.add_argument("--format", choices=FORMATS, default=None,
+                        help="format of the images written into an -o folder (default png); for one output file "
+                             "its extension says it, and a --format that differs is refused")
     parser.add_argument("--curve", default=None,
                         help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
@@ -96,8 +97,10 @@ def repairs_reported(prog: str, label: str, report: bool = True):
 
 def run(args: argparse.Namespace) -> int:
     from lenslab import io, tone
-    from lenslab.jobs.policy import check_output, output_format
+    from lenslab.errors import UsageError
+    from lenslab.io.registry import get as get_format
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
+    from lenslab.jobs.policy import check_output, output_format
 
     check_skip_or_overwrite(args)
     curve_given, args.curve = args.curve is not None, args.curve or "hable"
@@ -125,7 +128,10 @@ def run(args: argparse.Namespace) -> int:
         return 0
     exposure = parse_exposure(args.exposure)  # a bad value: one usage error before the image is read
     check_output(args.output, [args.input], args.overwrite)
-    output_format(args.output)  # an unknown extension: one usage error before the image is read
+    named = output_format(args.output)  # an unknown extension: one usage error before the image is read
+    if args.format and get_format(args.format).name != named:
+        raise UsageError(f"-o {args.output}: the name says {named} but the output format asked is {args.format}; "
+                         "give a name with the format's extension, or leave --format out")
     from lenslab.jobs.funnel import working_on
 
     with working_on(args.input):

@@ -37,9 +37,10 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     for pat, reason in missing:
         print(f"lenslab tonemap: {pat}: {reason}", file=sys.stderr)
     if not files:
-        print("lenslab tonemap: error: nothing to tone-map", file=sys.stderr)
+        if not missing:  # each missing input already has its line
+            print("lenslab tonemap: error: nothing to tone-map", file=sys.stderr)
         return 1
-    pairs = plan_outputs(files, args.output, get(args.format).extensions[0], roots, verb="tone-map")
+    pairs = plan_outputs(files, args.output, get(args.format or "png").extensions[0], roots, verb="tone-map")
     job = TonemapJob.from_options(args, curve=curve, params=params, exposure=exposure, **display_options(args))
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "" or Path(args.output).is_dir():

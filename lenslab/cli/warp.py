@@ -186,6 +186,30 @@ def output_extension(fmt: str | None):
     return lambda src: src.suffix.lower() if fmt is None and is_video(src) else ext
 
 
+def check_compat(args: argparse.Namespace) -> None:
+    """``--compat v360``'s conditions that depend on no file, once before any work: one sample per pixel,
+    and lenses that v360 has (``--to``, and ``--from`` when it is a lens spec)."""
+    from lenslab.errors import LenslabError, UsageError
+    from lenslab.lenses import make_lens
+    from lenslab.warp.compat_v360 import v360_read
+
+    if args.samples > 1 or args.antialias:
+        raise UsageError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
+    for flag, spec in (("--to", args.to), ("--from", args.source)):
+        if not spec or spec.strip().lower() == "auto" or spec.lower().startswith("lensfun:auto"):
+            continue
+        try:
+            lens = make_lens(spec, (64, 32))
+        except LenslabError:  # a camera file, or a spec the warp itself reports
+            continue
+        if flag == "--to" and getattr(lens, "v360_output", False):  # v360's output-only projections
+            continue
+        try:
+            v360_read(lens)
+        except LenslabError as exc:
+            raise UsageError(str(exc)) from None
+
+
 def run(args: argparse.Namespace) -> int:
     from lenslab.errors import LenslabError, UsageError
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
@@ -220,11 +244,14 @@ def run(args: argparse.Namespace) -> int:
         st_map(args.stmap)  # read now: a bad map is one error before any file
     args.exposure = parse_exposure(args.exposure)
     check_once(args)
+    if args.compat:
+        check_compat(args)
     files, missing = expand_inputs(args.inputs)
     for pat, reason in missing:
         print(f"lenslab warp: {pat}: {reason}", file=sys.stderr)
     if not files:
-        print("lenslab warp: error: nothing to warp", file=sys.stderr)
+        if not missing:
+            print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, output_extension(args.format), fmt=args.format, verb="warp")
     check_options_apply(args, pairs)

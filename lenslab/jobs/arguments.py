@@ -110,8 +110,11 @@ def image_size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, e.g. 1024x512") from None
     if w < 1 or h < 1:
         raise argparse.ArgumentTypeError(f"{text!r}: width and height must be at least 1 pixel")
-    if w * h > 1 << 28:
-        raise argparse.ArgumentTypeError(f"{text!r}: more than 268 million pixels; give a smaller size")
+    from lenslab.inputs.limits import MAX_PIXELS
+
+    if w * h > MAX_PIXELS:  # the cap every image size meets (LENSLAB_MAX_PIXELS)
+        raise argparse.ArgumentTypeError(f"{text!r}: more than {MAX_PIXELS:,} pixels (LENSLAB_MAX_PIXELS); give a "
+                                         "smaller size")
     return w, h
 
 

@@ -280,3 +280,20 @@ def test_chunks_do_not_change_the_figures(monkeypatch):
     for x, y in zip(chunked["per_channel"], whole["per_channel"]):
         assert x["max_at"] == y["max_at"] and x["max_rel"] == y["max_rel"]
         assert x["mean_abs"] == pytest.approx(y["mean_abs"], rel=1e-12)
+
+
+def test_files_of_different_cameras_get_a_note(tmp_path, capsys):
+    # a traced view and a warp from a panorama recorded elsewhere show different views: diff says so
+    from lenslab.lenses import Camera
+
+    image = np.full((8, 8, 3), 0.5, np.float32)
+    here = Camera.from_spec("fisheye:fov=180", (8, 8), eye=(0.278, 0.273, 0.001))
+    there = Camera.from_spec("fisheye:fov=180", (8, 8), eye=(0.278, 0.3, 0.06))
+    write(tmp_path / "a.exr", image, camera=here)
+    write(tmp_path / "b.exr", image, camera=there)
+    write(tmp_path / "c.exr", image, camera=here)
+    assert main(["diff", str(tmp_path / "a.exr"), str(tmp_path / "b.exr"), "--flip", "off"]) == 0
+    err = capsys.readouterr().err
+    assert "record different cameras (eye points (0.278, 0.273, 0.001) and (0.278, 0.3, 0.06))" in err
+    assert main(["diff", str(tmp_path / "a.exr"), str(tmp_path / "c.exr"), "--flip", "off"]) == 0
+    assert "different cameras" not in capsys.readouterr().err
