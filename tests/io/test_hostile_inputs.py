@@ -12,7 +12,15 @@ import pytest
 from lenslab.bench.hostile import cases
 from tests.hostile_run import run
 
-CASES = {c.name: c for c in cases(__import__("tempfile").mkdtemp(prefix="lenslab-corpus-names-"))}
+def _case_names() -> dict:
+    """The corpus's cases by name (written once into a folder removed at once: collection leaves nothing)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="lenslab-corpus-names-") as folder:
+        return {c.name: c for c in cases(folder)}
+
+
+CASES = _case_names()
 
 
 @pytest.fixture(scope="module")

@@ -73,6 +73,10 @@ def fuzz(target: str, argv: list[str]) -> None:
     warnings.simplefilter("ignore")
     kind = target.split(":")[0]
     tmp = Path(tempfile.mkdtemp(prefix="lenslab-fuzz-")) / f"input{suffix(target)}"
+    import atexit
+    import shutil
+
+    atexit.register(shutil.rmtree, tmp.parent, True)  # atheris ends the process: remove the scratch folder then
 
     def one(data: bytes) -> None:
         tmp.write_bytes(data)
