@@ -174,7 +174,7 @@ def test_compat_refuses_projections_v360_lacks(tmp_path):
     src, out = tmp_path / "in.exr", tmp_path / "out.exr"
     write(src, codes.astype(np.float32) / 255, overwrite=True)
     for to in ("swirl", "cubemap:layout=4x3", "fisheye:fov=180,cx=0.1"):
-        assert main(["warp", str(src), "--to", to, "--size", "64x48", "--compat", "v360", "-o", str(out), "-q"]) == 1
+        assert main(["warp", str(src), "--to", to, "--size", "64x48", "--compat", "v360", "-o", str(out), "-q"]) == 2  # a usage error, before any file
         assert not out.exists()
 
 

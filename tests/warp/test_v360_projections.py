@@ -79,7 +79,7 @@ def test_globe_is_refused_as_a_v360_source(tmp_path):
     src = tmp_path / "g.exr"
     write(src, source_codes(32, 32).astype(np.float32) / 255)
     assert main(["warp", str(src), "--from", "globe", "--to", "equirect", "--size", "64x32", "--compat", "v360",
-                 "-o", str(tmp_path / "o.exr"), "-q"]) == 1
+                 "-o", str(tmp_path / "o.exr"), "-q"]) == 2  # a usage error, before any file
     assert not (tmp_path / "o.exr").exists()
 
 

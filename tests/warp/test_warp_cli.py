@@ -111,4 +111,4 @@ def test_compat_v360_maps_like_ffmpeg(pano, tmp_path):
     from tests.warp.test_warp_geometry import v360_equirect_resample
 
     np.testing.assert_allclose(read(out)[0][..., :3], v360_equirect_resample(img, 32, 16), rtol=0, atol=1e-4)
-    assert main(args + ["--samples", "4", "--overwrite"]) == 1  # one sample per pixel, as v360
+    assert main(args + ["--samples", "4", "--overwrite"]) == 2  # one sample per pixel, as v360: a usage error
