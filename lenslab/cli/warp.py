@@ -187,27 +187,24 @@ def output_extension(fmt: str | None):
 
 
 def check_compat(args: argparse.Namespace) -> None:
-    """``--compat v360``'s conditions that depend on no file, once before any work: one sample per pixel,
-    and lenses that v360 has (``--to``, and ``--from`` when it is a lens spec)."""
+    """``--compat v360``'s conditions that depend on no file, once before any work (a usage error): one
+    sample per pixel, and lenses that v360 has (``--to``, and ``--from`` when it is a lens spec)."""
     from lenslab.errors import LenslabError, UsageError
     from lenslab.lenses import make_lens
-    from lenslab.warp.compat_v360 import v360_read
+    from lenslab.warp.compat_v360 import check_v360
 
-    if args.samples > 1 or args.antialias:
-        raise UsageError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
-    for flag, spec in (("--to", args.to), ("--from", args.source)):
+    def lens(spec):
         if not spec or spec.strip().lower() == "auto" or spec.lower().startswith("lensfun:auto"):
-            continue
+            return None
         try:
-            lens = make_lens(spec, (64, 32))
+            return make_lens(spec, (64, 32))
         except LenslabError:  # a camera file, or a spec the warp itself reports
-            continue
-        if flag == "--to" and getattr(lens, "v360_output", False):  # v360's output-only projections
-            continue
-        try:
-            v360_read(lens)
-        except LenslabError as exc:
-            raise UsageError(str(exc)) from None
+            return None
+
+    try:
+        check_v360(lens(args.source), lens(args.to), args.samples, args.antialias)
+    except LenslabError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -260,55 +260,9 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 elif i >= start:
                     yield i, codes16_to_linear(frame_codes16(frame, info), info)
 
+    from lenslab.io.prefetch import ahead
+
     yield from ahead(frames(), prefetch)
-
-
-def ahead(items, depth: int):
-    """The items of the iterator ``items``, produced on a thread up to ``depth`` ahead of the consumer; an
-    error there is raised here, in order; closing this generator early stops the thread."""
-    import queue
-    import threading
-
-    q: queue.Queue = queue.Queue(maxsize=max(1, depth))
-    stop = threading.Event()
-    end = object()
-
-    def produce():
-        try:
-            for item in items:
-                while not stop.is_set():
-                    try:
-                        q.put((item, None), timeout=0.1)
-                        break
-                    except queue.Full:
-                        continue
-                if stop.is_set():
-                    return
-            q.put((end, None))
-        except BaseException as exc:  # handed to the consumer
-            q.put((end, exc))
-        finally:
-            close = getattr(items, "close", None)
-            if close is not None:
-                close()
-
-    worker = threading.Thread(target=produce, daemon=True, name="lenslab-decode")
-    worker.start()
-    try:
-        while True:
-            item, exc = q.get()
-            if exc is not None:
-                raise exc
-            if item is end:
-                return
-            yield item
-    finally:
-        stop.set()
-        while worker.is_alive():  # unblock a producer waiting on a full queue
-            try:
-                q.get_nowait()
-            except queue.Empty:
-                worker.join(0.05)
 
 
 class VideoWriter:
@@ -440,54 +394,3 @@ class VideoWriter:
         else:
             self._stop()
             self.container.close()
-
-
-#: top-level boxes of an ISO media file walked before FFmpeg sees it
-MAX_BOXES = 1 << 16
-
-
-def check_boxes(path) -> None:
-    """Walk an MP4/MOV file's top-level boxes (ISO 14496-12: 32-bit size and type, size 1: a 64-bit size
-    follows, size 0: to the end of the file): a size that cannot advance or runs past the end, or a
-    runaway count of boxes, is refused before the demuxer loops on it."""
-    import os
-    import struct
-
-    size = os.path.getsize(path)
-    with open(path, "rb") as f:
-        pos, boxes = 0, 0
-        while pos + 8 <= size:
-            f.seek(pos)
-            n, kind = struct.unpack(">I4s", f.read(8))
-            if n == 1:
-                if pos + 16 > size:
-                    break
-                n = struct.unpack(">Q", f.read(8))[0]
-            elif n == 0:
-                break
-            if n < 8 or pos + n > size:
-                raise FormatError(f"{path}: the box {kind[:4]!r} at byte {pos} has size {n}, which "
-                                  f"{'cannot advance' if n < 8 else 'runs past the end of the file'}; the file is "
-                                  "truncated or damaged")
-            pos += n
-            boxes += 1
-            if boxes > MAX_BOXES:
-                raise FormatError(f"{path}: more than {MAX_BOXES} top-level boxes; the file is damaged or hostile")
-
-
-def declare_video(path):
-    """:class:`lenslab.io.budget.Declared` of one decoded frame; the frame rate must be finite and positive."""
-    import math
-
-    from lenslab.io.budget import Declared
-
-    with open(path, "rb") as f:
-        head = f.read(8)
-    if head[4:8] == b"ftyp":
-        check_boxes(path)
-    info = probe_video(path)
-    rate = float(info.rate) if info.rate else float("nan")
-    if not (math.isfinite(rate) and 0 < rate <= 1000):
-        raise FormatError(f"{path}: the video's frame rate {str(info.rate)[:20]} is not a positive rate up to 1000 "
-                          "fps; the file is damaged")
-    return Declared(int(info.width), int(info.height), 3)

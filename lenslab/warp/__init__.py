@@ -11,8 +11,8 @@ kept as float32 index coordinates) and :mod:`~lenslab.warp.lattice` (its interpo
 prefilter), :mod:`~lenslab.warp.optics` (per-channel lenses, falloff), :mod:`~lenslab.warp.given` (warping
 by a map from elsewhere), :mod:`~lenslab.warp.batch` (one cached map for many images),
 :mod:`~lenslab.warp.engine` (the banded loop), :mod:`~lenslab.warp.tiles` (outputs made of
-camera tiles), :mod:`~lenslab.warp.native` (the samplers compiled ahead of time,
-C++ in ``src/native``) and :mod:`~lenslab.warp.reference` (their NumPy references, for the tests).
+camera tiles), :mod:`~lenslab.warp.kernels.native` (the samplers compiled ahead of time,
+C++ in ``src/native``) and :mod:`~lenslab.warp.kernels.reference` (their NumPy references, for the tests).
 """
 
 from __future__ import annotations

@@ -40,9 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lenslab.warp import native
-from lenslab.warp.dispatch import kernel
-from lenslab.warp.native import c32, cbool
+from lenslab.warp.kernels import native
+from lenslab.warp.kernels.dispatch import kernel
+from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
 
@@ -197,7 +197,7 @@ def neighbour_secants(xs, ys, vs, top: int, wrap: float, piece, foot, edge) -> N
     """Footprint sides of the pixels of rows ``top:top + h`` of a map of pixel centres (``xs`` etc.
     (rows, W)) from their neighbours, into ``foot`` (h, W, 1, 4) and ``edge`` (h, W, 1); ``piece`` (rows, W)
     int32 numbers each pixel's piece (None: one piece), and a neighbour in another piece does not count
-    (compiled ahead of time; reference :func:`lenslab.warp.reference.neighbour_secants`)."""
+    (compiled ahead of time; reference :func:`lenslab.warp.kernels.reference.neighbour_secants`)."""
     piece = np.zeros((0, 0), np.int32) if piece is None else np.ascontiguousarray(piece, dtype=np.int32)
     native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge)
 

@@ -61,15 +61,23 @@ def to_v360_index(xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, lens, how: 
     xs[valid], ys[valid] = x, y
 
 
+def check_v360(src_lens=None, dst_lens=None, samples: int = 1, antialias: bool = False) -> str | None:
+    """What ``--compat v360`` needs, checked from the lenses and options alone (no file): one sample per
+    pixel, a source that v360 reads and an output that v360 makes. Returns how v360 reads ``src_lens``
+    (None without one); a WarpError says what v360 lacks."""
+    if samples != 1 or antialias:
+        raise WarpError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
+    if dst_lens is not None and not getattr(dst_lens, "v360_output", False):  # v360's output-only projections
+        v360_read(dst_lens)  # the output must be a v360 projection too
+    return None if src_lens is None else v360_read(src_lens)
+
+
 class V360Plan(WarpPlan):
     """A :class:`WarpPlan` with v360's sample positions (see the module docstring)."""
 
     def __init__(self, src_camera: Camera, dst_camera: Camera, **options):
-        if options.get("samples", 1) != 1 or options.get("antialias", False):
-            raise WarpError("--compat v360 reproduces v360's one sample per pixel; drop --samples/--antialias")
-        self.read = v360_read(src_camera.lens)
-        if not getattr(dst_camera.lens, "v360_output", False):  # v360's output-only projections
-            v360_read(dst_camera.lens)  # the output must be a v360 projection too
+        self.read = check_v360(src_camera.lens, dst_camera.lens, options.get("samples", 1),
+                               options.get("antialias", False))
         super().__init__(src_camera, dst_camera, **options)
         if self.channels is not None:
             raise WarpError("--compat v360: ffmpeg's v360 has no per-channel optics (chromatic aberration); "
@@ -87,4 +95,4 @@ def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
     return V360Plan(src_camera, dst_camera, **options)
 
 
-__all__ = ["V360Plan", "v360_plan", "v360_read"]
+__all__ = ["V360Plan", "check_v360", "v360_plan", "v360_read"]

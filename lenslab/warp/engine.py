@@ -24,7 +24,7 @@ from lenslab.filters import filter_named
 from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
-from lenslab.warp.dispatch import run_bands, threads
+from lenslab.warp.kernels.dispatch import run_bands, threads
 from lenslab.warp.filters import all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs

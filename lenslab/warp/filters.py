@@ -22,7 +22,7 @@ Why not ``cv2.remap``: with float maps cv2 rounds the fractional position to 1/3
 sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
 and it cannot fold taps across the poles. These samplers use the exact position, fold every tap
 through :mod:`lenslab.warp.seam` and run compiled, one band of rows per thread: bilinear in C++ (ahead of
-time, :mod:`lenslab.warp.native`; NumPy reference :mod:`lenslab.warp.reference`), the others with numba.
+time, :mod:`lenslab.warp.kernels.native`; NumPy reference :mod:`lenslab.warp.kernels.reference`), the others with numba.
 Bilinear lerps are float32 (exact at pixel centres; 2^-24 relative elsewhere), the other weights float64.
 """
 
@@ -32,9 +32,9 @@ import numba
 import numpy as np
 
 from lenslab.filters import FILTERS as REGISTRY
-from lenslab.warp import native
-from lenslab.warp.dispatch import kernel
-from lenslab.warp.native import c32, cbool
+from lenslab.warp.kernels import native
+from lenslab.warp.kernels.dispatch import kernel
+from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border, fold_index, fold_piece, piece_at
 
 #: the filters' canonical names, in the registry's order
@@ -93,7 +93,7 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     """
     kind = REGISTRY[filter].code  # the compiled kernel; its support radius too (nearest: 1 tap)
     wrap, top, bottom = border.flags
-    if kind == 1 and not border.has_pieces:  # compiled ahead of time (lenslab.warp.native)
+    if kind == 1 and not border.has_pieces:  # compiled ahead of time (lenslab.warp.kernels.native)
         sh, sw, nc = src.shape
         one = native.kernels().bilinear1 if xs.shape[2] == 1 else native.kernels().bilinear_n
         one(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
@@ -191,7 +191,7 @@ def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind,
 def all_finite(a: np.ndarray) -> bool:
     """True when every value of ``a`` is finite (no temporary arrays for float32; a large array in pieces on
     the engine's threads, compiled ahead of time)."""
-    from lenslab.warp.dispatch import run_bands
+    from lenslab.warp.kernels.dispatch import run_bands
 
     if a.dtype != np.float32:
         return bool(np.isfinite(a).all())

@@ -17,7 +17,7 @@ from lenslab.errors import WarpError
 from lenslab.filters import filter_named
 from lenslab.io.alpha import settle
 from lenslab.warp import antialias as aa
-from lenslab.warp.dispatch import run_bands
+from lenslab.warp.kernels.dispatch import run_bands
 from lenslab.warp.filters import sample
 from lenslab.warp.seam import Border, border_of
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from lenslab.warp.dispatch import kernel
+from lenslab.warp.kernels.dispatch import kernel
 
 
 def ghost_nodes(nx, ny, valid, wrap):

@@ -39,7 +39,7 @@ import numpy as np
 
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
-from lenslab.warp.dispatch import run_bands
+from lenslab.warp.kernels.dispatch import run_bands
 from lenslab.warp.lattice import (CR_BASIS, NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval,
                                   lattice_grid, lattice_rows, project_kernel)
 

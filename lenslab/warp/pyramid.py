@@ -1,7 +1,7 @@
 """The footprint prefilter's source side: a box-filtered pyramid of the source and the compiled
 sampler that averages it over each output sample's footprint (see :mod:`lenslab.warp.antialias` for
 the method and the footprints themselves). The sampler is C++ compiled ahead of time
-(:mod:`lenslab.warp.native`, ``src/native/footprint.cpp``); :func:`lenslab.warp.reference.footprint` is
+(:mod:`lenslab.warp.kernels.native`, ``src/native/footprint.cpp``); :func:`lenslab.warp.kernels.reference.footprint` is
 its NumPy reference."""
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lenslab.warp import native
+from lenslab.warp.kernels import native
 from lenslab.warp.filters import F32_MAX
-from lenslab.warp.native import c32, cbool
+from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border
 
 MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from

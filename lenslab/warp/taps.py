@@ -5,7 +5,7 @@ Each image warped through the plan then only reads and blends: no floor, no boun
 arithmetic per pixel, which is what OpenCV's ``remap`` does after converting its maps to fixed point
 (``convertMaps``); the weights here stay the exact float32 fractions, so the pixels are the same bits as
 the single-tap sampler's (:func:`lenslab.warp.filters.sample`); compiled ahead of time
-(:mod:`lenslab.warp.native`). A pixel whose 2x2 taps cross the
+(:mod:`lenslab.warp.kernels.native`). A pixel whose 2x2 taps cross the
 source's edge (the seam, a pole, the border) keeps its position and goes through the folding sampler.
 Taps take 12 bytes a pixel against the map's 9; only one-sample bilinear maps of a source without
 pieces and of fewer than 2^32 - 2 pixels become taps.
@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lenslab.warp import native
-from lenslab.warp.native import c32, cbool
+from lenslab.warp.kernels import native
+from lenslab.warp.kernels.native import c32, cbool
 
 INVALID = np.uint32(0xFFFFFFFF)  # no source: colour and alpha 0
 FOLDED = np.uint32(0xFFFFFFFE)  # taps across an edge: the folding sampler

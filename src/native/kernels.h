@@ -1,6 +1,6 @@
 // The compiled kernels of lenslab: the samplers of lenslab.warp (single-tap bilinear, cached taps, the
 // footprint prefilter). Each works on one band of output rows and is called with the GIL released, so
-// the engine runs one band per thread. Every kernel has a NumPy reference in lenslab/warp/reference.py
+// the engine runs one band per thread. Every kernel has a NumPy reference in lenslab/warp/kernels/reference.py
 // that gives the same bits (tests/warp/test_native_kernels.py).
 #pragma once
 

@@ -102,7 +102,7 @@ def mutated(draw, data: bytes, text: bool = False) -> bytes:
     return bytes(b)
 
 
-def _check(done, paths):
+def assert_read_or_refused(done, paths):
     bad = [line for line in done.stdout.splitlines() if line.startswith(("BAD", "LONG"))]
     assert done.returncode == 0, f"the reader crashed (status {done.returncode}) on " + (
         done.stdout.strip().splitlines() or ["?"])[-1] + "\n" + done.stderr[-800:]
@@ -145,7 +145,7 @@ def test_mutated_images_are_read_or_refused_in_one_line(tmp_path_factory, data):
             p = folder / f"{name}-{i}{ext}"
             p.write_bytes(data.draw(mutated(seed), label=p.name))
             paths.append(p)
-    _check(read_many("image", paths), paths)
+    assert_read_or_refused(read_many("image", paths), paths)
 
 
 @SETTINGS
@@ -159,4 +159,4 @@ def test_mutated_camera_files_are_read_or_refused_in_one_line(tmp_path_factory, 
             p = folder / f"{name}-{i}{suffix}"
             p.write_bytes(data.draw(mutated(seed, text=True), label=p.name))
             paths.append(p)
-    _check(read_many("camera", paths), paths)
+    assert_read_or_refused(read_many("camera", paths), paths)

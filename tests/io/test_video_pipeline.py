@@ -10,7 +10,8 @@ import threading
 import numpy as np
 import pytest
 
-from lenslab.io.video import VideoInfo, ahead, codes16_to_linear, to_linear
+from lenslab.io.prefetch import ahead
+from lenslab.io.video import VideoInfo, codes16_to_linear, to_linear
 
 
 @pytest.mark.parametrize("transfer", [1, 13, 16, 18], ids=["bt1886", "srgb", "pq", "hlg"])

@@ -1,5 +1,5 @@
 """The compiled warp kernels (lenslab.cxx_kernels, C++) against their NumPy references
-(lenslab.warp.reference) and against cv2.remap.
+(lenslab.warp.kernels.reference) and against cv2.remap.
 
 Bounds: the kernels run the references' float32 lerps and float64 weights in the same order, but the
 compiler may fuse a multiply and an add into one rounding (-ffp-contract=fast, on CPUs with FMA). A fused
@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from lenslab import cxx_kernels as K
-from lenslab.warp import reference as ref
+from lenslab.warp.kernels import reference as ref
 from lenslab.warp.pyramid import AXIS_TOL, DENSITY, MAX_TAPS, pyramid
 from lenslab.warp.seam import Border
 

@@ -18,7 +18,7 @@ def test_no_lens_model_name_in_the_engine():
     names = "|".join(map(re.escape, sorted(REGISTRY, key=len, reverse=True)))
     # a model name in quotes (a comparison, a set of names) or any read of a lens's name
     pattern = re.compile(r"""["'](""" + names + r""")["']|\.name\b|getattr\([^)]*["']name["']""", re.IGNORECASE)
-    hits = [f"{p.name}:{i}: {line.strip()}" for p in sorted(Path(lenslab.warp.__file__).parent.glob("*.py"))
+    hits = [f"{p.name}:{i}: {line.strip()}" for p in sorted(Path(lenslab.warp.__file__).parent.rglob("*.py"))
             for i, line in enumerate(p.read_text().splitlines(), 1) if pattern.search(line)]
     assert hits == []
 

@@ -27,7 +27,7 @@ def _read(path, selector=None):
 
 
 def _declare(path, **_):
-    from lenslab.io.video import declare_video
+    from lenslab.io.video_layout import declare_video
 
     return declare_video(path)
 

@@ -3,7 +3,7 @@
 The single-tap bilinear sampler, the cached taps and the footprint prefilter run here: ahead-of-time
 compiled, they cost nothing on a command's first call (numba compiled the footprint filter alone for
 2.4 s on a new machine) and release the GIL, so the engine runs one band of rows per thread. Each has a
-NumPy reference in :mod:`lenslab.warp.reference` that the tests hold it to. ``docs/design.md`` gives the
+NumPy reference in :mod:`lenslab.warp.kernels.reference` that the tests hold it to. ``docs/design.md`` gives the
 measured figures behind the choice.
 """
 

@@ -1,4 +1,4 @@
-"""NumPy references of the compiled warp kernels (:mod:`lenslab.warp.native`), for the tests.
+"""NumPy references of the compiled warp kernels (:mod:`lenslab.warp.kernels.native`), for the tests.
 
 Each function computes what its C++ kernel computes, in the same order and the same precision (float32
 lerps for bilinear, float64 weights for the footprint filter), one readable step at a time; the tests
