@@ -96,11 +96,9 @@ def run(args: argparse.Namespace) -> int:
         image = image[..., :-1]
     if image.ndim == 2:
         image = image[..., None]
-    ev = args.exposure
-    if str(ev).strip().lower() == "auto":
-        ev = tone.auto_exposure(image, primaries=args.primaries)
-        if not args.quiet:
-            print(f"{args.input}: auto exposure {ev:+.2f} stops", file=sys.stderr)
+    from lenslab.jobs.stages import resolved_exposure
+
+    ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet)
     panels = []
     for i, name in enumerate(names):  # the look stage of every job: exposure, then the curve
         with repairs_reported("lenslab compare-tones", args.input, report=i == 0):  # the input's repairs, once

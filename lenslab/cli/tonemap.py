@@ -138,10 +138,10 @@ def run(args: argparse.Namespace) -> int:
         image, meta = io.read(args.input)
     from lenslab.jobs.tonemap import TonemapJob
 
-    if exposure == "auto" and not display["display"]:
-        exposure = tone.auto_exposure(image, primaries=args.primaries)
-        if not args.quiet:
-            print(f"{args.input}: auto exposure {exposure:+.2f} stops", file=sys.stderr)
+    if not display["display"]:
+        from lenslab.jobs.stages import resolved_exposure
+
+        exposure = resolved_exposure(image, exposure, args.primaries, args.input, args.quiet)
     job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
     with repairs_reported("lenslab tonemap", args.input):
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage

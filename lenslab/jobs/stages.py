@@ -72,6 +72,21 @@ def develop(image, meta: dict, fmt, look: Look) -> tuple:
     return expose(image, exposure), {}
 
 
+def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False):
+    """``exposure`` with ``"auto"`` worked out from ``image`` once (:func:`lenslab.tone.auto_exposure`) and
+    said on standard error, so that a command shows the stops it used; a number is returned as it is."""
+    if str(exposure).strip().lower() != "auto":
+        return exposure
+    import sys
+
+    from lenslab.tone import auto_exposure
+
+    ev = auto_exposure(image, primaries=primaries)
+    if not quiet:
+        print(f"{where}: auto exposure {ev:+.2f} stops", file=sys.stderr)
+    return ev
+
+
 def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | None = None) -> dict:
     """The write options of format record ``fmt``, from the job's ``options`` and what the input held
     (``meta``): only what the format declares it accepts.
