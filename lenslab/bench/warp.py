@@ -51,21 +51,22 @@ def _read(path: Path):
 
 def _threads(n: int) -> None:
     import cv2
-    import numba
+
+    from lenslab.warp.kernels.dispatch import set_threads
 
     cv2.setNumThreads(n)
-    numba.set_num_threads(n)
+    set_threads(n)
 
 
 def speed(args) -> None:
     import cv2
-    import numba
     import numpy as np
 
     from lenslab.bench.results import figure, mark
     from lenslab.bench.timing import ratio_line
     from lenslab.lenses import Camera
     from lenslab.warp import WarpPlan, exact_map, warp
+    from lenslab.warp.kernels.dispatch import default_threads
 
     pano = _read(args.data / "forest.exr")
     src_img = np.ascontiguousarray(cv2.resize(pano, (4096, 2048), interpolation=cv2.INTER_CUBIC), np.float32)
@@ -100,7 +101,7 @@ def speed(args) -> None:
     ok = figure("warp.antialias_vs_one_shot", "one-shot --antialias vs one-shot single-tap bilinear, one thread", aa,
                 "x", aim=2.0)
     print(f"  --antialias vs single-tap one-shot: {aa:5.2f}x   aim <= 2x  {mark(ok)}")
-    _threads(numba.config.NUMBA_NUM_THREADS)
+    _threads(default_threads())
     ours = warp(src_img, src, dst)[0]
     theirs = cv2.remap(src_img, mx, my, cv2.INTER_LINEAR)
     m = valid[..., None] & np.ones(3, bool)
@@ -206,8 +207,9 @@ def accuracy(args) -> None:
 
 
 BIG_SCRIPT = """
-import resource, sys, numpy as np, numba
-numba.set_num_threads(int(sys.argv[1]))
+import resource, sys, numpy as np
+from lenslab.warp.kernels.dispatch import set_threads
+set_threads(int(sys.argv[1]))
 from lenslab.lenses import Camera
 from lenslab.warp import warp
 src_img = np.zeros((8192, 16384, 3), dtype=np.float32)

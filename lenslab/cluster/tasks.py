@@ -16,17 +16,17 @@ def worker_threads() -> int | None:
 
 
 def limit_threads(n: int | None = None) -> None:
-    """OpenCV, numba and the EXR codec use ``n`` threads (default: the worker's thread allowance)."""
+    """OpenCV, the warp's bands and the EXR codec use ``n`` threads (default: the worker's thread allowance)."""
     n = worker_threads() if n is None else n
     if n is None:
         return
     import cv2
-    import numba
 
     import lenslab.io.exr
+    from lenslab.warp.kernels.dispatch import set_threads
 
     cv2.setNumThreads(n)
-    numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+    set_threads(n)
     lenslab.io.exr.THREADS = 0 if n == 1 else n  # 0: the codec works in the calling thread, no pool
 
 

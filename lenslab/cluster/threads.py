@@ -115,17 +115,16 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
             if on_done is not None:
                 on_done(out[-1])
         return out
-    import numba
-
     import lenslab.io.exr
     from lenslab.atomic import STOPPING
     from lenslab.errors import NUMPY_NOTES
+    from lenslab.warp.kernels.dispatch import default_threads, set_threads
 
     cores = default_jobs(1 << 30)
     inner = max(1, cores // threads)
 
     def start() -> None:
-        numba.set_num_threads(min(inner, numba.config.NUMBA_NUM_THREADS))  # per thread in numba
+        set_threads(min(inner, default_threads()))  # the warp's bands, per thread
 
     codec_threads = lenslab.io.exr.THREADS
     results: dict[int, object] = {}

@@ -3,7 +3,7 @@
 Memory stays bounded whatever the sizes: the output is produced in bands of rows, each needing only
 its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 working set of the
 lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
-working set per thread (bands run one per thread, ``numba.set_num_threads`` of them at once), plus
+working set per thread (bands run one per thread, :func:`lenslab.warp.kernels.dispatch.threads` of them at once), plus
 the map lattice (five float64 per 8 x 8 output pixels). Measured by ``lenslab bench warp --big``, one
 thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 180-degree view (0.75 GiB + 0.25 GiB alpha)
 allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's mip pyramid (a third of

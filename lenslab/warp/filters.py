@@ -21,21 +21,19 @@ Why not ``cv2.remap``: with float maps cv2 rounds the fractional position to 1/3
 (``INTER_BITS = 5``), an error of up to 1/64 pixel times the local gradient; in HDR images with
 sharp bright sources that reaches percent-level errors per pixel (measured by ``lenslab bench warp``),
 and it cannot fold taps across the poles. These samplers use the exact position, fold every tap
-through :mod:`lenslab.warp.seam` and run compiled, one band of rows per thread: bilinear in C++ (ahead of
-time, :mod:`lenslab.warp.kernels.native`; NumPy reference :mod:`lenslab.warp.kernels.reference`), the others with numba.
+through :mod:`lenslab.warp.seam` and run in C++, compiled ahead of time, one band of rows per thread
+(:mod:`lenslab.warp.kernels.native`; NumPy references in :mod:`lenslab.warp.kernels.reference`).
 Bilinear lerps are float32 (exact at pixel centres; 2^-24 relative elsewhere), the other weights float64.
 """
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from lenslab.filters import FILTERS as REGISTRY
 from lenslab.warp.kernels import native
-from lenslab.warp.kernels.dispatch import kernel
 from lenslab.warp.kernels.native import c32, cbool
-from lenslab.warp.seam import Border, fold_index, fold_piece, piece_at
+from lenslab.warp.seam import Border
 
 #: the filters' canonical names, in the registry's order
 FILTERS = tuple(REGISTRY)
@@ -93,99 +91,15 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     """
     kind = REGISTRY[filter].code  # the compiled kernel; its support radius too (nearest: 1 tap)
     wrap, top, bottom = border.flags
-    if kind == 1 and not border.has_pieces:  # compiled ahead of time (lenslab.warp.kernels.native)
+    k = native.kernels()
+    if kind == 1 and not border.has_pieces:  # float32 lerps
         sh, sw, nc = src.shape
-        one = native.kernels().bilinear1 if xs.shape[2] == 1 else native.kernels().bilinear_n
+        one = k.bilinear1 if xs.shape[2] == 1 else k.bilinear_n
         one(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
-    else:
+    else:  # float64 weights, taps folded into the neighbouring piece where the source has pieces
         cw, ch = border.cell
-        _separable(src, xs, ys, valid, wrap, top, bottom, border.pieces, border.grid, cw, ch, kind, out, alpha)
-
-
-@numba.njit(inline="always", cache=True)
-def _weight(kind, t):
-    a = abs(t)
-    if kind == 1:  # tent
-        return max(0.0, 1.0 - a)
-    if kind == 2:  # Catmull-Rom
-        if a < 1.0:
-            return (1.5 * a - 2.5) * a * a + 1.0
-        if a < 2.0:
-            return ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0
-        return 0.0
-    # Lanczos-3
-    if a == 0.0:
-        return 1.0
-    if a >= 3.0:
-        return 0.0
-    pa = np.pi * a
-    return 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
-
-
-@numba.njit(inline="always", cache=True)
-def _fold(i, j, sw, sh, wrap, top, bottom, piece, table):
-    if piece >= 0:
-        return fold_piece(i, j, piece, table)
-    return fold_index(i, j, sw, sh, wrap, top, bottom)
-
-
-@kernel
-def _separable(src, xs, ys, valid, wrap, top, bottom, table, grid, cw, ch, kind, out, alpha):
-    h, w, n = xs.shape
-    sh, sw, nc = src.shape
-    inv = 1.0 / n
-    rad = max(kind, 1)
-    pieces = table.shape[0] > 0
-    for r in range(h):
-        acc = np.zeros(nc)
-        wx = np.zeros(2 * rad)
-        wy = np.zeros(2 * rad)
-        for c in range(w):
-            acc[:] = 0.0
-            hits = 0
-            for k in range(n):
-                if not valid[r, c, k]:
-                    continue
-                hits += 1
-                x = np.float64(xs[r, c, k])
-                y = np.float64(ys[r, c, k])
-                piece = piece_at(x, y, grid, cw, ch) if pieces else -1
-                if kind == 0:
-                    ii, jj = _fold(int(np.floor(x + 0.5)), int(np.floor(y + 0.5)), sw, sh, wrap, top, bottom,
-                                   piece, table)
-                    for ch_ in range(nc):
-                        acc[ch_] += src[jj, ii, ch_]
-                    continue
-                i0 = int(np.floor(x))
-                j0 = int(np.floor(y))
-                sx = 0.0
-                sy = 0.0
-                for t in range(2 * rad):
-                    wx[t] = _weight(kind, x - (i0 - rad + 1 + t))
-                    wy[t] = _weight(kind, y - (j0 - rad + 1 + t))
-                    sx += wx[t]
-                    sy += wy[t]
-                for tj in range(2 * rad):
-                    if wy[tj] == 0.0:
-                        continue
-                    for ti in range(2 * rad):
-                        ww = wx[ti] * wy[tj]
-                        if ww == 0.0:
-                            continue
-                        ww /= sx * sy
-                        ii, jj = _fold(i0 - rad + 1 + ti, j0 - rad + 1 + tj, sw, sh, wrap, top, bottom, piece, table)
-                        ui, uj = np.uint64(ii), np.uint64(jj)  # folded: never negative (no wraparound test)
-                        for ch_ in range(nc):
-                            acc[ch_] += ww * src[uj, ui, ch_]
-            for ch_ in range(nc):
-                v = acc[ch_] * inv
-                # negative lobes overshoot: a finite source stays finite (its extremes are float32's)
-                if v > F32_MAX:
-                    v = F32_MAX
-                elif v < -F32_MAX:
-                    v = -F32_MAX
-                out[r, c, ch_] = v
-            alpha[r, c] = hits * inv
+        k.separable(src, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, border.pieces, border.grid, cw, ch, kind,
+                    out, alpha)
 
 
 def all_finite(a: np.ndarray) -> bool:

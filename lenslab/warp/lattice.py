@@ -1,12 +1,21 @@
 """The map lattice's arithmetic: ghost nodes beyond the valid region, Catmull-Rom coefficients per cell,
-and the compiled kernels that evaluate a band of the map from them (see :mod:`lenslab.warp.maps`)."""
+and the kernels that evaluate a band of the map from them (see :mod:`lenslab.warp.maps`).
+
+The kernels are C++ (:mod:`lenslab.warp.kernels.native`), compiled when lenslab is installed, so a warp
+neither compiles nor imports numba for its map; their NumPy references are in
+:mod:`lenslab.warp.kernels.lattice_reference`, with the same bits. Only :func:`project_kernel`, which runs a
+lens's own compiled ``dir -> pixel`` function, is numba's: it is compiled (and numba imported) on its first
+call, which a map makes only for a source lens with such a kernel and at least
+:data:`lenslab.warp.maps.COMPILED_PROJECT_MIN` directions to project.
+"""
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
-from lenslab.warp.kernels.dispatch import kernel
+from lenslab.warp.kernels import native
+
+NEED_DONE, NEED_EXACT, NEED_PROJECT = 0, 1, 2  # what a sample still needs after the lattice kernels
 
 
 def ghost_nodes(nx, ny, valid, wrap):
@@ -19,284 +28,83 @@ def ghost_nodes(nx, ny, valid, wrap):
     gx = np.ascontiguousarray(nx, dtype=np.float64).copy()
     gy = np.ascontiguousarray(ny, dtype=np.float64).copy()
     have = np.ascontiguousarray(valid, dtype=np.bool_).copy()
-    _ghost_pass(gx, gy, have, float(wrap))
+    native.kernels().ghost_pass(gx, gy, have, float(wrap))
     return gx, gy, have
 
 
-@numba.njit(cache=True, nogil=True)
-def _ghost_pass(gx, gy, have, wrap):
-    rows, cols = gx.shape
-    for axis in (1, 0):
-        known = have.copy()
-        n = cols if axis == 1 else rows
-        for step in (1, -1):
-            for a in range(rows):
-                for b in range(cols):
-                    if have[a, b]:
-                        continue
-                    k = b if axis == 1 else a
-                    if (step == 1 and k < 3) or (step == -1 and k > n - 4):
-                        continue
-                    a1, b1 = (a, b - step) if axis == 1 else (a - step, b)
-                    a2, b2 = (a, b - 2 * step) if axis == 1 else (a - 2 * step, b)
-                    if not (known[a1, b1] and known[a2, b2]):
-                        continue
-                    a3, b3 = (a, b - 3 * step) if axis == 1 else (a - 3 * step, b)
-                    x1, x2 = gx[a1, b1], gx[a2, b2]
-                    y1, y2 = gy[a1, b1], gy[a2, b2]
-                    if wrap > 0.0:  # unwrap the neighbours relative to the nearest
-                        x2 = x2 - wrap * np.round((x2 - x1) / wrap)
-                    if known[a3, b3]:
-                        x3, y3 = gx[a3, b3], gy[a3, b3]
-                        if wrap > 0.0:
-                            x3 = x3 - wrap * np.round((x3 - x1) / wrap)
-                        gx[a, b] = 3.0 * x1 - 3.0 * x2 + x3
-                        gy[a, b] = 3.0 * y1 - 3.0 * y2 + y3
-                    else:
-                        gx[a, b] = 2.0 * x1 - x2
-                        gy[a, b] = 2.0 * y1 - y2
-                    have[a, b] = True
-
-
-@numba.njit(inline="always", cache=True)
-def _cr_weights(t):
-    t2 = t * t
-    t3 = t2 * t
-    return (
-        0.5 * (-t3 + 2.0 * t2 - t),
-        0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
-        0.5 * (-3.0 * t3 + 4.0 * t2 + t),
-        0.5 * (t3 - t2),
-    )
-
-
-@numba.njit(inline="always", cache=True)
-def _cr_eval(nx, ny, ca, cb, tx, ty, wrap):
-    wx = _cr_weights(tx)
-    wy = _cr_weights(ty)
-    ref = nx[cb + 1, ca + 1]
-    sx = 0.0
-    sy = 0.0
-    for j in range(4):
-        rx = 0.0
-        ry = 0.0
-        for i in range(4):
-            v = nx[cb + j, ca + i]
-            if wrap > 0.0:
-                v -= wrap * np.floor((v - ref) / wrap + 0.5)
-            rx += wx[i] * v
-            ry += wx[i] * ny[cb + j, ca + i]
-        sx += wy[j] * rx
-        sy += wy[j] * ry
-    return sx, sy
-
-
-@numba.njit(cache=True, nogil=True)
-def lattice_grid(nx, ny, tx, ty, wrap):
-    ncy = nx.shape[0] - 3
-    ncx = nx.shape[1] - 3
-    ox = np.empty((ncy, ncx))
-    oy = np.empty((ncy, ncx))
-    for cb in range(ncy):
-        for ca in range(ncx):
-            ox[cb, ca], oy[cb, ca] = _cr_eval(nx, ny, ca, cb, tx, ty, wrap)
+def lattice_grid(nx, ny, tx: float, ty: float, wrap: float) -> tuple[np.ndarray, np.ndarray]:
+    """The Catmull-Rom interpolant of every cell of the node lattice ``nx, ny`` (float64 (rows, cols)) at
+    the cell fraction ``(tx, ty)``: two float64 ``(rows - 3, cols - 3)`` arrays; x unwrapped by ``wrap``."""
+    nx = np.ascontiguousarray(nx, dtype=np.float64)
+    ny = np.ascontiguousarray(ny, dtype=np.float64)
+    ox = np.empty((nx.shape[0] - 3, nx.shape[1] - 3))
+    oy = np.empty_like(ox)
+    native.kernels().lattice_grid(nx, ny, float(tx), float(ty), float(wrap), ox, oy)
     return ox, oy
 
 
-#: Catmull-Rom basis: weight_i(t) = sum_a _CR[i, a] t^a
-CR_BASIS = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
+def cell_coefficients(nodes, state, cb0: int, cb1: int, wrap: float, coef: np.ndarray) -> None:
+    """Fill ``coef[row, ca, q]`` = CR^T P CR (``c[b, a]`` of tx^a ty^b; float64 ``(cb1 - cb0, ncx, K, 4, 4)``)
+    for the cells that interpolate: x and y for state 1, the direction for state 2; the x stencil unwrapped
+    across the seam. ``nodes``: float64 ``(K, ncy + 3, ncx + 3)``; ``state``: int8 ``(ncy, ncx)``."""
+    native.kernels().cell_coefficients(np.ascontiguousarray(nodes, dtype=np.float64),
+                                       np.ascontiguousarray(state, dtype=np.int8), int(cb0), int(cb1), float(wrap),
+                                       coef)
 
 
-@numba.njit(cache=True, nogil=True)
-def cell_coefficients(nodes, state, cb0, cb1, wrap, cr_basis, coef):
-    """Fill ``coef[row, ca, q]`` = CR^T P CR (``c[b, a]`` of tx^a ty^b) for the cells that interpolate:
-    x and y for state 1, the direction for state 2; the x stencil unwrapped across the seam."""
-    ncx = state.shape[1]
-    p = np.empty((4, 4))
-    t = np.empty((4, 4))
-    for cb in range(cb0, cb1):
-        for ca in range(ncx):
-            st = state[cb, ca]
-            if st <= 0:
-                continue
-            q0, q1 = (0, 2) if st == 1 else (2, 5)
-            for q in range(q0, q1):
-                ref = nodes[q, cb + 1, ca + 1]
-                for j in range(4):
-                    for i in range(4):
-                        v = nodes[q, cb + j, ca + i]
-                        if q == 0 and wrap > 0.0:
-                            v -= wrap * np.floor((v - ref) / wrap + 0.5)
-                        p[j, i] = v
-                # t = p @ CR, then c = CR^T @ t
-                for j in range(4):
-                    for a in range(4):
-                        acc = 0.0
-                        for i in range(4):
-                            acc += p[j, i] * cr_basis[i, a]
-                        t[j, a] = acc
-                for b in range(4):
-                    for a in range(4):
-                        acc = 0.0
-                        for j in range(4):
-                            acc += cr_basis[j, b] * t[j, a]
-                        coef[cb - cb0, ca, q, b, a] = acc
-
-
-@numba.njit(inline="always", cache=True)
-def _poly(coef, cr, ca, q, tx, ty):
-    acc = 0.0
-    for b in range(3, -1, -1):
-        acc = acc * ty + (((coef[cr, ca, q, b, 3] * tx + coef[cr, ca, q, b, 2]) * tx
-                           + coef[cr, ca, q, b, 1]) * tx + coef[cr, ca, q, b, 0])
-    return acc
-
-
-NEED_DONE, NEED_EXACT, NEED_PROJECT = 0, 1, 2  # what a sample still needs after the lattice kernels
-
-
-@numba.njit(inline="always", cache=True)
-def _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs):
-    """One sample from its cell: a position (state 1), a direction to project (2), exact (0) or none (-1)."""
-    if st == 1:
-        xs[r, c, k] = x - 0.5
-        ys[r, c, k] = y - 0.5
-        valid[r, c, k] = True
-        need[r, c, k] = NEED_DONE
-        return
-    xs[r, c, k] = 0.0
-    ys[r, c, k] = 0.0
-    valid[r, c, k] = False
-    if st == 2:
-        dirs[r, c, k, 0] = dx
-        dirs[r, c, k, 1] = dy
-        dirs[r, c, k, 2] = dz
-        need[r, c, k] = NEED_PROJECT
-    else:
-        need[r, c, k] = NEED_EXACT if st == 0 else NEED_DONE
-
-
-@kernel
-def lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need, dirs):
+def lattice_eval(coef, state, cb0, step, r0, offs, xs, ys, valid, need, dirs) -> None:
     """The map of a band from the lattice, per-sample offsets ``offs`` (h, W, S, 2): index coordinates,
-    validity, and per sample what it still needs (``NEED_*``; ``dirs`` holds the directions to project)."""
-    h, w, n = xs.shape
-    ho, wo = offs.shape[0], offs.shape[1]
-    ncy, ncx = state.shape
-    inv = 1.0 / step
-    for r in range(h):
-        ro = r % ho
-        for c in range(w):
-            co = c if wo > 1 else 0
-            for k in range(n):
-                px = (c + offs[ro, co, k, 0]) * inv
-                py = (r0 + r + offs[ro, co, k, 1]) * inv
-                ca = min(max(int(np.floor(px)), 0), ncx - 1)
-                cb = min(max(int(np.floor(py)), 0), ncy - 1)
-                st = state[cb, ca]
-                tx = px - ca
-                ty = py - cb
-                cr = cb - cb0
-                x = y = dx = dy = dz = 0.0
-                if st == 1:
-                    x = _poly(coef, cr, ca, 0, tx, ty)
-                    y = _poly(coef, cr, ca, 1, tx, ty)
-                elif st == 2:
-                    dx = _poly(coef, cr, ca, 2, tx, ty)
-                    dy = _poly(coef, cr, ca, 3, tx, ty)
-                    dz = _poly(coef, cr, ca, 4, tx, ty)
-                _store_cell(st, r, c, k, x, y, dx, dy, dz, xs, ys, valid, need, dirs)
+    validity, and per sample what it still needs (``NEED_*``; ``dirs`` holds the directions to project).
+
+    ``xs, ys`` float32, ``valid`` bool, ``need`` int8 ``(h, W, S)`` and ``dirs`` float64 ``(h, W, S, 3)`` are
+    written in place; ``coef`` holds cell rows ``cb0:`` (:func:`cell_coefficients`)."""
+    native.kernels().lattice_eval(coef, state, int(cb0), float(step), int(r0), np.ascontiguousarray(offs, np.float64),
+                                  xs, ys, valid, need, dirs)
 
 
-@numba.njit(inline="always", cache=True)
-def row_cubics(coef, cr, ca, st, ty, rc):
-    """``rc[q]``: the cubic in tx that cell ``ca``'s bicubic becomes along a row at ``ty`` (x, y for
-    state 1, the direction for state 2)."""
-    if st > 0:
-        q0, q1 = (0, 2) if st == 1 else (2, 5)
-        for q in range(q0, q1):
-            for a in range(4):
-                rc[q, a] = ((coef[cr, ca, q, 3, a] * ty + coef[cr, ca, q, 2, a]) * ty
-                            + coef[cr, ca, q, 1, a]) * ty + coef[cr, ca, q, 0, a]
+def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs) -> None:
+    """:func:`lattice_eval` for offsets shared by every pixel (``offs`` (1, 1, S, 2); ``inv`` = 1 / step): along
+    a row of samples ty is fixed, so each cell's bicubic collapses to a cubic in tx, made once per cell and
+    row, and a row is walked cell by cell (the samples of an interpolating cell are one vectorised loop)."""
+    native.kernels().lattice_rows(coef, state, int(cb0), float(inv), int(r0), np.ascontiguousarray(offs, np.float64),
+                                  xs, ys, valid, need, dirs)
 
 
-@numba.njit(inline="always", cache=True)
-def cubic(rc, q, tx):
-    return ((rc[q, 3] * tx + rc[q, 2]) * tx + rc[q, 1]) * tx + rc[q, 0]
+_project = None
 
 
-@numba.njit(cache=True, nogil=True)
-def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
-    """:func:`lattice_eval` for offsets shared by every pixel: along a row of samples ty is fixed, so
-    each cell's bicubic collapses to a cubic in tx (``rc``), made once per cell and row. A row is walked
-    cell by cell: the samples of an interpolating cell (state 1) are one loop of two cubics over
-    contiguous rows of ``xs`` and ``ys``, with nothing else in it, which the compiler vectorises."""
-    h, w, n = xs.shape
-    ncy, ncx = state.shape
-    rc = np.empty((5, 4))
-    for r in range(h):
-        for k in range(n):
-            ox = offs[0, 0, k, 0]
-            py = (r0 + r + offs[0, 0, k, 1]) * inv
-            cb = min(max(int(np.floor(py)), 0), ncy - 1)
-            ty = py - cb
-            cr = cb - cb0
-            xr = xs[r, :, k]
-            yr = ys[r, :, k]
-            vr = valid[r, :, k]
-            nr = need[r, :, k]
-            c = 0
-            while c < w:
-                ca = min(max(int(np.floor((c + ox) * inv)), 0), ncx - 1)
-                c1 = w  # the samples up to c1 share cell ca: floor((c + ox) inv) < ca + 1 (the last cell: all)
-                if ca < ncx - 1:
-                    c1 = min(w, max(c + 1, int(np.ceil((ca + 1) / inv - ox))))
-                    while c1 > c + 1 and (c1 - 1 + ox) * inv >= ca + 1:
-                        c1 -= 1
-                    while c1 < w and (c1 + ox) * inv < ca + 1:
-                        c1 += 1
-                st = state[cb, ca]
-                row_cubics(coef, cr, ca, st, ty, rc)
-                if st == 1:
-                    a0, a1, a2, a3 = rc[0, 0], rc[0, 1], rc[0, 2], rc[0, 3]
-                    b0, b1, b2, b3 = rc[1, 0], rc[1, 1], rc[1, 2], rc[1, 3]
-                    for cc in range(c, c1):
-                        tx = (cc + ox) * inv - ca
-                        xr[cc] = (((a3 * tx + a2) * tx + a1) * tx + a0) - 0.5
-                        yr[cc] = (((b3 * tx + b2) * tx + b1) * tx + b0) - 0.5
-                        vr[cc] = True
-                        nr[cc] = NEED_DONE
-                else:
-                    for cc in range(c, c1):
-                        tx = (cc + ox) * inv - ca
-                        dx = dy = dz = 0.0
-                        if st == 2:
-                            dx = cubic(rc, 2, tx)
-                            dy = cubic(rc, 3, tx)
-                            dz = cubic(rc, 4, tx)
-                        _store_cell(st, r, cc, k, 0.0, 0.0, dx, dy, dz, xs, ys, valid, need, dirs)
-                c = c1
-
-
-# not cached: numba keys a kernel that takes a function by that function object, so every process wrote
-# one more cache entry that no later process could use, and writing the cache's index could fail
-# ("ReferenceError: underlying object has vanished") once an earlier entry's function was gone
-@numba.njit(nogil=True)
-def project_kernel(fn, params, d, xy, valid):
+def project_kernel(fn, params, d, xy, valid) -> None:
     """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
-    ``fn`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`): zero and non-finite directions invalid."""
-    for i in range(d.shape[0]):
-        n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
-        ok = False
-        x = y = 0.0
-        if n2 > 0.0 and np.isfinite(n2):
-            s = np.sqrt(n2)
-            x, y, ok = fn(d[i, 0] / s, d[i, 1] / s, d[i, 2] / s, params)
-        if ok and np.isfinite(x) and np.isfinite(y):
-            xy[i, 0] = x
-            xy[i, 1] = y
-            valid[i] = True
-        else:
-            xy[i, 0] = 0.0
-            xy[i, 1] = 0.0
-            valid[i] = False
+    ``fn`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`): zero and non-finite directions invalid.
+    numba compiles it on the first call (a lens's kernel is a numba function)."""
+    global _project
+    if _project is None:
+        _project = _compile_project()
+    _project(fn, params, d, xy, valid)
+
+
+def _compile_project():
+    import numba
+
+    # not cached: numba keys a kernel that takes a function by that function object, so every process wrote
+    # one more cache entry that no later process could use, and writing the cache's index could fail
+    # ("ReferenceError: underlying object has vanished") once an earlier entry's function was gone
+    @numba.njit(nogil=True)
+    def project_kernel(fn, params, d, xy, valid):
+        for i in range(d.shape[0]):
+            n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
+            ok = False
+            x = y = 0.0
+            if n2 > 0.0 and np.isfinite(n2):
+                s = np.sqrt(n2)
+                x, y, ok = fn(d[i, 0] / s, d[i, 1] / s, d[i, 2] / s, params)
+            if ok and np.isfinite(x) and np.isfinite(y):
+                xy[i, 0] = x
+                xy[i, 1] = y
+                valid[i] = True
+            else:
+                xy[i, 0] = 0.0
+                xy[i, 1] = 0.0
+                valid[i] = False
+
+    return project_kernel

@@ -40,8 +40,8 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.warp.kernels.dispatch import run_bands
-from lenslab.warp.lattice import (CR_BASIS, NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval,
-                                  lattice_grid, lattice_rows, project_kernel)
+from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
+                                  lattice_rows, project_kernel)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -279,7 +279,7 @@ class Mapper:
         tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
         nodes, state = self.lattice
         coef = np.zeros((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))
-        cell_coefficients(nodes, state, cb0, cb1, self.wrap, CR_BASIS, coef)
+        cell_coefficients(nodes, state, cb0, cb1, self.wrap, coef)
         return coef
 
     @property

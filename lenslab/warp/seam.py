@@ -16,17 +16,18 @@ sees a continuous neighbourhood:
 - every other border clamps to the edge pixel: a point that the lens maps inside the image but
   between its edge and the first pixel centre takes the edge value.
 
-:func:`border_of` describes the border of a lens, :func:`fold_index` and :func:`fold_piece` apply it to
-one tap (compiled, used by the samplers), and :func:`pad` makes an explicitly padded copy for code that
-wants plain arrays (``cv2.remap``, the mip pyramid of a small level).
+:func:`border_of` describes the border of a lens, :func:`fold_taps` and :func:`fold_piece` apply it to
+taps (the compiled samplers fold theirs the same way), and :func:`pad` makes an explicitly padded copy for
+code that wants plain arrays (``cv2.remap``, the mip pyramid of a small level).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
+
+from lenslab.warp.kernels import native
 
 
 NO_PIECES = np.zeros((0, 16), dtype=np.int64)
@@ -89,82 +90,31 @@ def piece_table(pieces):
     return table, grid, (int(cw), int(ch))
 
 
-@numba.njit(inline="always", cache=True)
-def piece_at(x, y, grid, cw, ch):
-    """The piece holding index coordinates ``(x, y)`` (pixel centres at whole numbers), or -1."""
-    col = int(np.floor((x + 0.5) / cw))
-    row = int(np.floor((y + 0.5) / ch))
-    if row < 0 or col < 0 or row >= grid.shape[0] or col >= grid.shape[1]:
-        return -1
-    return grid[row, col]
-
-
-@numba.njit(inline="always", cache=True)
-def fold_piece(i, j, p, table):
+def fold_piece(i: int, j: int, p: int, table: np.ndarray) -> tuple[int, int]:
     """Fold tap (column ``i``, row ``j``) of a sample in piece ``p`` into that piece or, beyond one of
     its edges, into the neighbour across it (the deeper of two edges for a corner tap); clamped into
-    the piece where nothing lies across."""
-    x0 = table[p, 0]
-    y0 = table[p, 1]
-    pw = table[p, 2]
-    ph = table[p, 3]
-    li = i - x0
-    lj = j - y0
-    if li >= 0 and lj >= 0 and li < pw and lj < ph:
-        return i, j
-    ex = -1 - li if li < 0 else li - pw
-    ey = -1 - lj if lj < 0 else lj - ph
-    if ex >= ey:
-        edge = 0 if li < 0 else 1
-        k = ex
-        s = min(max(lj, 0), ph - 1)
-    else:
-        edge = 2 if lj < 0 else 3
-        k = ey
-        s = min(max(li, 0), pw - 1)
-    q = table[p, 4 + 3 * edge]
-    if q < 0:
-        return min(max(i, x0), x0 + pw - 1), min(max(j, y0), y0 + ph - 1)
-    e2 = table[p, 5 + 3 * edge]
-    qw = table[q, 2]
-    qh = table[q, 3]
-    n = qh if e2 < 2 else qw
-    if table[p, 6 + 3 * edge]:
-        s = (ph if edge < 2 else pw) - 1 - s
-    s = min(max(s, 0), n - 1)
-    k = min(k, (qw if e2 < 2 else qh) - 1)
-    if e2 == 0:
-        return table[q, 0] + k, table[q, 1] + s
-    if e2 == 1:
-        return table[q, 0] + qw - 1 - k, table[q, 1] + s
-    if e2 == 2:
-        return table[q, 0] + s, table[q, 1] + k
-    return table[q, 0] + s, table[q, 1] + qh - 1 - k
+    the piece where nothing lies across. ``table``: :attr:`Border.pieces`. The samplers fold their taps
+    with the same compiled function (:mod:`lenslab.warp.kernels.native`)."""
+    return native.kernels().fold_piece(int(i), int(j), int(p), np.ascontiguousarray(table, dtype=np.int64))
 
 
-@numba.njit(inline="always", cache=True)
-def fold_index(i, j, w, h, wrap, pole_top, pole_bottom):
-    """Fold tap (column ``i``, row ``j``) into ``0 <= i < w``, ``0 <= j < h`` by the border rules."""
-    if j < 0:
-        if pole_top:
-            j = -1 - j
-            i += w // 2
-        if j < 0:
-            j = 0
-    if j >= h:
-        if pole_bottom:
-            j = 2 * h - 1 - j
-            i += w // 2
-        if j >= h:
-            j = h - 1
-        if j < 0:  # a kernel taller than a tiny image: stay inside
-            j = 0
-    if wrap:
-        i = i % w
-    elif i < 0:
-        i = 0
-    elif i >= w:
-        i = w - 1
+def fold_taps(i, j, w: int, h: int, wrap: bool, pole_top: bool, pole_bottom: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Fold taps (integer arrays: columns ``i``, rows ``j``) into ``0 <= i < w``, ``0 <= j < h`` by the
+    border rules: across a pole onto the opposite meridian, wrapped at the seam, else clamped. The
+    compiled samplers fold each tap the same way (``fold_index`` in ``src/native/kernels.h``)."""
+    i = np.array(i, dtype=np.int64, copy=True)
+    j = np.array(j, dtype=np.int64, copy=True)
+    if pole_top:
+        up = j < 0
+        j[up] = -1 - j[up]
+        i[up] += w // 2
+    j = np.maximum(j, 0)
+    if pole_bottom:
+        down = j >= h
+        j[down] = 2 * h - 1 - j[down]
+        i[down] += w // 2
+    j = np.clip(j, 0, h - 1)
+    i = np.mod(i, w) if wrap else np.clip(i, 0, w - 1)
     return i, j
 
 
@@ -178,15 +128,5 @@ def pad(image: np.ndarray, border: Border, n: int) -> np.ndarray:
     rows = np.arange(-n, h + n)
     cols = np.arange(-n, w + n)
     jj, ii = np.meshgrid(rows, cols, indexing="ij")
-    fi, fj = _fold_grid(ii.astype(np.int64), jj.astype(np.int64), w, h, *border.flags)
+    fi, fj = fold_taps(ii, jj, w, h, *border.flags)
     return np.ascontiguousarray(image[fj, fi])
-
-
-@numba.njit(cache=True)
-def _fold_grid(ii, jj, w, h, wrap, pole_top, pole_bottom):
-    oi = np.empty_like(ii)
-    oj = np.empty_like(jj)
-    for a in range(ii.shape[0]):
-        for b in range(ii.shape[1]):
-            oi[a, b], oj[a, b] = fold_index(ii[a, b], jj[a, b], w, h, wrap, pole_top, pole_bottom)
-    return oi, oj

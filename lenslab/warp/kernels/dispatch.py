@@ -1,32 +1,53 @@
-"""Compiled kernels: one serial build each, run in parallel band by band.
+"""How the warp's kernels run: one band of output rows per thread, on :func:`threads` threads.
 
-Each kernel is compiled once (numba, cached on disk), serially and without the GIL, so the engine
-runs one band per thread (:func:`run_bands`). A parallel build per kernel would double what a first
-run has to compile, and starting numba's worker threads for each small call costs up to a scheduler
-time slice on a busy machine; whole bands per thread keep every core busy with neither cost.
+Every compiled kernel releases the GIL (the C++ ones of :mod:`lenslab.warp.kernels.native`, and the numba
+ones a :class:`Kernel` wraps), so the engine runs whole bands on a pool of Python threads
+(:func:`run_bands`) and keeps every core busy without a parallel build of each kernel.
+
+The thread count is the warp's own: :func:`set_threads` for the calling thread (a batch gives each of its
+worker threads a share of the cores), else the environment's ``LENSLAB_THREADS``, else
+``NUMBA_NUM_THREADS`` (honoured as before the warp's kernels left numba), else the cores this process may
+run on. Asking for it imports nothing: a plain warp never loads numba.
+
+:class:`Kernel` compiles a numba function on its first call, not at import: a module that holds one
+(``lenslab.warp.antialias``'s secants of supersampled footprints) costs nothing until that path runs.
 """
 
 from __future__ import annotations
 
+import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
-import numba
+_local = threading.local()
 
 
 class Kernel:
-    """A function compiled once, serially and releasing the GIL; ``k(*args)`` runs it."""
+    """A function numba compiles on its first call (cached on disk, serially, releasing the GIL);
+    ``k(*args)`` runs it."""
 
     def __init__(self, fn, **options):
-        self.serial = numba.njit(cache=True, nogil=True, **options)(fn)
+        self.fn = fn
+        self.options = options
+        self.compiled = None
         self.__doc__ = fn.__doc__
         self.__name__ = fn.__name__
+
+    @property
+    def serial(self):
+        """The compiled dispatcher (numba is imported here, the first time it is needed)."""
+        if self.compiled is None:
+            import numba
+
+            self.compiled = numba.njit(cache=True, nogil=True, **self.options)(self.fn)
+        return self.compiled
 
     def __call__(self, *args):
         return self.serial(*args)
 
 
 def kernel(fn) -> Kernel:
-    """Decorator: compile ``fn`` (``numba.prange`` loops run as plain loops) as a :class:`Kernel`."""
+    """Decorator: ``fn`` as a :class:`Kernel` (``numba.prange`` loops run as plain loops)."""
     return Kernel(fn)
 
 
@@ -38,9 +59,33 @@ def _kernel_options(**options):
 kernel.options = _kernel_options
 
 
+def default_threads() -> int:
+    """The process's thread count: ``LENSLAB_THREADS``, else ``NUMBA_NUM_THREADS``, else the cores this
+    process may run on (a value that is not a positive whole number is passed over)."""
+    for name in ("LENSLAB_THREADS", "NUMBA_NUM_THREADS"):
+        try:
+            n = int(os.environ.get(name, ""))
+        except ValueError:
+            continue
+        if n >= 1:
+            return n
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
 def threads() -> int:
-    """Threads to run bands on: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
-    return max(1, int(numba.get_num_threads()))
+    """Threads to run bands on: this thread's :func:`set_threads`, else :func:`default_threads`."""
+    n = getattr(_local, "threads", None)
+    return n if n is not None else default_threads()
+
+
+def set_threads(n: int | None) -> None:
+    """Run the warps this thread starts on ``n`` threads (None: back to :func:`default_threads`). Like
+    numba's ``set_num_threads`` it holds for the calling thread only, so each worker of a batch can take its
+    share of the cores. (numba's own count does not matter: its kernels here run serially, one per band.)"""
+    _local.threads = None if n is None else max(1, int(n))
 
 
 def run_bands(jobs, work, on_done=None) -> list:

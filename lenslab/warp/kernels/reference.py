@@ -12,28 +12,10 @@ import math
 import numpy as np
 
 from lenslab.warp.pyramid import AXIS_TOL, DENSITY, MAX_TAPS, Pyramid
+from lenslab.warp.seam import fold_taps as fold_index
 
 INVALID = np.uint32(0xFFFFFFFF)
 FOLDED = np.uint32(0xFFFFFFFE)
-
-
-def fold_index(i, j, w: int, h: int, wrap: bool, top: bool, bottom: bool):
-    """Taps (integer arrays) folded into the image: across a pole onto the opposite meridian, wrapped
-    at the seam, else clamped (:func:`lenslab.warp.seam.fold_index`)."""
-    i = np.array(i, dtype=np.int64, copy=True)
-    j = np.array(j, dtype=np.int64, copy=True)
-    if top:
-        up = j < 0
-        j[up] = -1 - j[up]
-        i[up] += w // 2
-    j = np.maximum(j, 0)
-    if bottom:
-        down = j >= h
-        j[down] = 2 * h - 1 - j[down]
-        i[down] += w // 2
-    j = np.clip(j, 0, h - 1)
-    i = np.mod(i, w) if wrap else np.clip(i, 0, w - 1)
-    return i, j
 
 
 def _taps(src, x, y, border):
