@@ -46,7 +46,9 @@ def plugin_commands() -> dict:
     return {ep.name: ep for ep in entry_points(group=ENTRY_POINTS) if ep.name not in COMMANDS}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line, or with ``command`` (a built-in command's name) only that command's parser:
+    a command starts without importing the other commands' modules or reading the installed plugins."""
     from lenslab import __version__
     from lenslab.jobs.arguments import ArgumentParser
 
@@ -63,6 +65,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_debug_option(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module_name, help_text) in COMMANDS.items():
+        if command is not None and name != command:
+            continue
         try:
             module = importlib.import_module(f"lenslab.cli.{module_name}")
         except ModuleNotFoundError as exc:
@@ -74,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
         module.add_arguments(p)
         add_debug_option(p, argparse.SUPPRESS)
         p.set_defaults(_module=module)
-    for name, ep in sorted(plugin_commands().items()):
+    for name, ep in sorted(plugin_commands().items() if command is None else ()):
         module = ep.load()  # a light module: its heavy imports happen in run()
         p = sub.add_parser(name, help=getattr(module, "HELP", None), description=(module.__doc__ or "").strip(),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -92,7 +96,9 @@ def add_debug_option(parser, default=False) -> None:
 def main(argv: list[str] | None = None) -> int:
     from lenslab.jobs.funnel import EXIT_USAGE, run_command
 
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    first = next((a for a in argv if not a.startswith("-")), None)  # the only options before it take no value
+    parser = build_parser(first if first in COMMANDS else None)
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
     if getattr(args, "_module", None) is None:
         parser.print_help()

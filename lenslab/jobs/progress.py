@@ -1,6 +1,5 @@
 """A progress bar over one image's output rows that has its total from the moment it appears, and says
-what the command is doing when a step takes longer than a second (reading a large file, the first run
-compiling the map's kernels)."""
+what the command is doing when a step takes longer than a second (reading a large file, making the map)."""
 
 from __future__ import annotations
 
@@ -53,7 +52,7 @@ class RowBar:
 
         with self.lock:
             self.bar = tqdm(total=total, unit="row", file=self.stream, leave=False, desc=self.desc)
-            self.step = "making the map (a first run also compiles its kernels)"
+            self.step = "making the map"
         self._arm()
 
     def __call__(self, rows: int) -> None:

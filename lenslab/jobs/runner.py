@@ -63,12 +63,14 @@ def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = Fals
     """Run ``job`` on every pair, ``jobs`` files at once on threads of this process (0: one per core, as
     many as the memory holds judging by the first file). ``progress``: a bar by files, or by rows of the
     image when there is one file."""
-    from tqdm import tqdm
-
     from lenslab.cluster.threads import default_jobs, run_threads
 
     one = len(pairs) == 1
-    bar = tqdm(total=len(pairs), unit="img", disable=not progress or one, file=sys.stderr, leave=False)
+    bar = None
+    if progress and not one:  # one file has its bar of rows; tqdm is imported only for a bar
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(pairs), unit="img", file=sys.stderr, leave=False)
 
     def work(pair):
         from lenslab.jobs.progress import RowBar
@@ -82,10 +84,11 @@ def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = Fals
 
     try:
         # the first file alone, on every core: it makes what the others share (a warp's map)
-        return run_threads(work, pairs, jobs or default_jobs(max(1, len(pairs) - 1)), lambda _: bar.update(),
-                           first_alone=True, fit_memory=not jobs)
+        return run_threads(work, pairs, jobs or default_jobs(max(1, len(pairs) - 1)),
+                           None if bar is None else lambda _: bar.update(), first_alone=True, fit_memory=not jobs)
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
 
 
 def connect(args):

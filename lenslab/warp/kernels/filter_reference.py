@@ -1,0 +1,104 @@
+"""NumPy references of the compiled separable samplers and piece folding (:mod:`lenslab.warp.filters`,
+:func:`lenslab.warp.seam.fold_piece`; ``src/native/separable.cpp``), for the tests.
+
+Vectorised over pixels, every float64 step in the kernel's order (the kernel is built without fused
+multiply-adds), so nearest, tent and Catmull-Rom give the kernel's bits; Lanczos differs only where
+NumPy's sine and the C library's round differently.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.warp.seam import fold_taps
+
+
+def weight(kind: int, t: np.ndarray) -> np.ndarray:
+    """The filter weight at offsets ``t`` (float64): 1 tent, 2 Catmull-Rom, 3 Lanczos-3."""
+    a = np.abs(t)
+    if kind == 1:
+        return np.maximum(0.0, 1.0 - a)
+    if kind == 2:
+        return np.where(a < 1.0, (1.5 * a - 2.5) * a * a + 1.0,
+                        np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
+    pa = np.pi * a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lanczos = 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
+    return np.where(a == 0.0, 1.0, np.where(a >= 3.0, 0.0, lanczos))
+
+
+def piece_at(x, y, grid: np.ndarray, cell: tuple[int, int]) -> np.ndarray:
+    """The piece under index coordinates ``(x, y)`` (pixel centres at whole numbers), -1 outside the grid."""
+    col = np.floor((x + 0.5) / cell[0])
+    row = np.floor((y + 0.5) / cell[1])
+    inside = (col >= 0) & (row >= 0) & (col < grid.shape[1]) & (row < grid.shape[0])
+    return np.where(inside, grid[np.where(inside, row, 0).astype(np.int64), np.where(inside, col, 0).astype(np.int64)],
+                    -1)
+
+
+def fold_piece(i, j, p, table: np.ndarray):
+    """Taps ``(i, j)`` of samples in pieces ``p`` (integer arrays) folded into their piece or across the edge
+    they leave (the deeper of two for a corner) into the neighbour; clamped where nothing lies across."""
+    i, j, p = (np.asarray(a, dtype=np.int64) for a in (i, j, p))
+    x0, y0, pw, ph = (table[p, c] for c in range(4))
+    li, lj = i - x0, j - y0
+    inside = (li >= 0) & (lj >= 0) & (li < pw) & (lj < ph)
+    ex = np.where(li < 0, -1 - li, li - pw)
+    ey = np.where(lj < 0, -1 - lj, lj - ph)
+    across_x = ex >= ey
+    edge = np.where(across_x, np.where(li < 0, 0, 1), np.where(lj < 0, 2, 3))
+    k = np.where(across_x, ex, ey)
+    s = np.where(across_x, np.clip(lj, 0, ph - 1), np.clip(li, 0, pw - 1))
+    q = table[p, 4 + 3 * edge]
+    e2 = np.where(q >= 0, table[p, 5 + 3 * edge], 0)
+    qq = np.maximum(q, 0)
+    qx, qy, qw, qh = (table[qq, c] for c in range(4))
+    s = np.where(table[p, 6 + 3 * edge] != 0, np.where(edge < 2, ph, pw) - 1 - s, s)
+    s = np.clip(s, 0, np.where(e2 < 2, qh, qw) - 1)
+    k = np.minimum(k, np.where(e2 < 2, qw, qh) - 1)
+    fi = np.select([e2 == 0, e2 == 1], [qx + k, qx + qw - 1 - k], qx + s)
+    fj = np.select([e2 < 2, e2 == 2], [qy + s, qy + k], qy + qh - 1 - k)
+    fi = np.where(q < 0, np.clip(i, x0, x0 + pw - 1), fi)
+    fj = np.where(q < 0, np.clip(j, y0, y0 + ph - 1), fj)
+    return np.where(inside, i, fi), np.where(inside, j, fj)
+
+
+def separable(src: np.ndarray, xs, ys, valid, border, kind: int):
+    """The separable sampler: ``(out (n, C) float32, alpha (n,) float32)`` for pixels of ``S`` samples
+    (``xs`` (..., S)); ``border`` a :class:`~lenslab.warp.seam.Border` (its pieces fold the taps)."""
+    ns = xs.shape[-1]
+    x = np.asarray(xs, np.float32).reshape(-1, ns).astype(np.float64)
+    y = np.asarray(ys, np.float32).reshape(-1, ns).astype(np.float64)
+    v = np.asarray(valid, bool).reshape(-1, ns)
+    sh, sw, nc = src.shape
+    rad = max(kind, 1)
+    acc = np.zeros((x.shape[0], nc))
+    for k in range(ns):
+        xk, yk, vk = x[:, k], y[:, k], v[:, k]
+        piece = piece_at(xk, yk, border.grid, border.cell) if border.has_pieces else np.full(len(xk), -1)
+
+        def read(ii, jj):
+            fi, fj = fold_taps(ii, jj, sw, sh, *border.flags)
+            if border.has_pieces:
+                pi, pj = fold_piece(ii, jj, np.maximum(piece, 0), border.pieces)
+                fi, fj = np.where(piece >= 0, pi, fi), np.where(piece >= 0, pj, fj)
+            return src[fj, fi].astype(np.float64)
+
+        if kind == 0:
+            acc = acc + np.where(vk[:, None], read(np.floor(xk + 0.5), np.floor(yk + 0.5)), 0.0)
+            continue
+        i0, j0 = np.floor(xk), np.floor(yk)
+        wx = [weight(kind, xk - (i0 - rad + 1 + t)) for t in range(2 * rad)]
+        wy = [weight(kind, yk - (j0 - rad + 1 + t)) for t in range(2 * rad)]
+        sx = sy = 0.0
+        for t in range(2 * rad):
+            sx = sx + wx[t]
+            sy = sy + wy[t]
+        for tj in range(2 * rad):
+            for ti in range(2 * rad):
+                ww = wx[ti] * wy[tj] / (sx * sy)
+                term = ww[:, None] * read(i0 - rad + 1 + ti, j0 - rad + 1 + tj)
+                acc = acc + np.where((vk & (wx[ti] * wy[tj] != 0.0))[:, None], term, 0.0)
+    big = float(np.finfo(np.float32).max)
+    mean = acc * (1.0 / ns)
+    return np.clip(mean, -big, big).astype(np.float32), (v.sum(axis=1) * (1.0 / ns)).astype(np.float32)
