@@ -62,7 +62,8 @@ inline void store_cell(const LatticeBand& b, int64_t at, int st, double x, doubl
 
 }  // namespace
 
-void ghost_pass(double* gx, double* gy, bool* have, int64_t rows, int64_t cols, double wrap) {
+void ghost_pass(double* __restrict__ gx, double* __restrict__ gy, bool* __restrict__ have, int64_t rows, int64_t cols,
+                double wrap) {
     std::vector<char> known(size_t(rows * cols));
     for (int axis = 1; axis >= 0; --axis) {
         for (int64_t q = 0; q < rows * cols; ++q) known[size_t(q)] = have[q];
@@ -97,14 +98,14 @@ void ghost_pass(double* gx, double* gy, bool* have, int64_t rows, int64_t cols, 
     }
 }
 
-void lattice_grid(const double* nx, const double* ny, int64_t rows, int64_t cols, double tx, double ty, double wrap,
-                  double* ox, double* oy) {
-    double wx[4], wy[4];
-    cr_weights(tx, wx);
-    cr_weights(ty, wy);
+namespace {
+
+template <bool WRAP>
+void grid_t(const double* __restrict__ nx, const double* __restrict__ ny, int64_t rows, int64_t cols, const double* wx,
+            const double* wy, double wrap, double* __restrict__ ox, double* __restrict__ oy) {
     const int64_t ncy = rows - 3, ncx = cols - 3;
     for (int64_t cb = 0; cb < ncy; ++cb) {
-        for (int64_t ca = 0; ca < ncx; ++ca) {
+        for (int64_t ca = 0; ca < ncx; ++ca) {  // vectorised across the cells of a row
             const double ref = nx[(cb + 1) * cols + ca + 1];
             double sx = 0.0, sy = 0.0;
             for (int j = 0; j < 4; ++j) {
@@ -112,7 +113,7 @@ void lattice_grid(const double* nx, const double* ny, int64_t rows, int64_t cols
                 for (int i = 0; i < 4; ++i) {
                     const int64_t q = (cb + j) * cols + ca + i;
                     double v = nx[q];
-                    if (wrap > 0.0) v -= wrap * std::floor((v - ref) / wrap + 0.5);
+                    if (WRAP) v -= wrap * std::floor((v - ref) / wrap + 0.5);
                     rx += wx[i] * v;
                     ry += wx[i] * ny[q];
                 }
@@ -125,8 +126,19 @@ void lattice_grid(const double* nx, const double* ny, int64_t rows, int64_t cols
     }
 }
 
-void cell_coefficients(const double* nodes, int64_t nk, const int8_t* state, int64_t ncy, int64_t ncx, int64_t cb0,
-                       int64_t cb1, double wrap, double* coef) {
+}  // namespace
+
+void lattice_grid(const double* nx, const double* ny, int64_t rows, int64_t cols, double tx, double ty, double wrap,
+                  double* ox, double* oy) {
+    double wx[4], wy[4];
+    cr_weights(tx, wx);
+    cr_weights(ty, wy);
+    if (wrap > 0.0) grid_t<true>(nx, ny, rows, cols, wx, wy, wrap, ox, oy);
+    else grid_t<false>(nx, ny, rows, cols, wx, wy, wrap, ox, oy);
+}
+
+void cell_coefficients(const double* __restrict__ nodes, int64_t nk, const int8_t* __restrict__ state, int64_t ncy,
+                       int64_t ncx, int64_t cb0, int64_t cb1, double wrap, double* __restrict__ coef) {
     const int64_t cols = ncx + 3, plane = (ncy + 3) * cols;
     double p[4][4], t[4][4];
     for (int64_t cb = cb0; cb < cb1; ++cb) {
