@@ -37,7 +37,7 @@ inline int64_t piece_at(double x, double y, const Pieces& pc) {
     return pc.grid[int64_t(fr) * pc.gc + int64_t(fc)];
 }
 
-inline double clamp_big(double v) { return v < -BIG ? -BIG : (v > BIG ? BIG : v); }
+inline double clamp_big(double v) { return !(v >= -BIG) ? -BIG : (v > BIG ? BIG : v); }  // NaN: -BIG
 
 }  // namespace
 

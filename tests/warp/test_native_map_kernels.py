@@ -206,6 +206,18 @@ def test_separable_samplers_match_the_reference(border, name, kind, samples):
         np.testing.assert_array_equal(out.reshape(-1, 3), want)
 
 
+@pytest.mark.parametrize("name", ["nearest", "bicubic", "lanczos"])
+def test_positions_far_outside_or_not_numbers_read_an_edge_pixel(name):
+    """A hostile map (a position of 1e30, or NaN marked valid) reads a pixel of the image, clamped at its edge
+    (NaN: the left or top edge), never memory outside it."""
+    src = np.arange(12, dtype=np.float32).reshape(3, 4, 1)
+    xs = np.array([[[1e30], [-1e30], [np.nan], [1.0]]], np.float32)
+    ys = np.array([[[1.0], [1.0], [1.0], [np.nan]]], np.float32)
+    out, alpha = np.zeros((1, 4, 1), np.float32), np.zeros((1, 4), np.float32)
+    sample(src, xs, ys, np.ones((1, 4, 1), bool), Border(), name, out, alpha)
+    np.testing.assert_array_equal(out[0, :, 0], [7.0, 4.0, 4.0, 1.0])  # row 1's last and first pixels; row 0
+
+
 def lanczos3(t):
     """sinc(t) sinc(t / 3) on |t| < 3 (the normalised sinc, sin(pi t) / (pi t))."""
     return np.where(np.abs(t) < 3.0, np.sinc(t) * np.sinc(t / 3.0), 0.0)
