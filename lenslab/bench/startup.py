@@ -56,8 +56,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--commands", default=",".join(COMMANDS),
                         help=f"comma-separated commands to time (default {','.join(COMMANDS)})")
     parser.add_argument("--no-first-compile", dest="first_compile", action="store_false",
-                        help="leave out the first-compile figure (a fresh process compiling every warp kernel, "
-                             "about 10 s)")
+                        help="leave out the first-compile figure (a fresh process compiling the lenses' numba kernels, "
+                             "several seconds)")
 
 
 def wall_times(argv: list[str], repeat: int, env: dict) -> list[float]:
