@@ -1,0 +1,382 @@
+// The path tracer's bounce loop for Lambertian scenes lit by area lights (tracer.wavefront), bound as
+// lenslab.cxx_kernels.LambertScene. Per bounce Python makes three calls: `intersect` (the closest hits, one
+// rtcIntersect1 per ray), `shade` (emission with its MIS weight, a light sample and its shadow ray, the
+// cosine-weighted continuation, Russian roulette) and `settle` (one rtcOccluded1 per shadow ray, the visible
+// light added, finished paths written out, the rest moved up). Each is the NumPy step of tracer.integrators
+// (the reference, FUSED = False) per path, in the same float32 operations in the same order: this file is
+// built with -ffp-contract=off (no fused multiply-adds), so every path's radiance is the same bit for bit.
+// Embree's entry points come in as addresses from the library that embreex ships (tracer.embree_api): no
+// embree headers or link-time dependency. Every call releases the GIL: a render's bands run on threads.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/pair.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace nb = nanobind;
+
+namespace {
+
+template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
+template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+
+void need(bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(what);
+}
+
+// Python's max and min (as numba compiles them): the first argument unless the second compares greater/less
+inline float pmax(float a, float b) { return b > a ? b : a; }
+inline float pmin(float a, float b) { return b < a ? b : a; }
+
+// float32 constants rounded from the float64 values, as np.float32(...) makes them in the NumPy steps
+constexpr float zero = 0.0f, one = 1.0f, two = 2.0f;
+constexpr float tiny = float(1e-12), inv_pi = float(1.0 / 3.141592653589793);
+constexpr float shrink = float(1.0 - 1e-4), short_ = float(1e-6);
+constexpr float far_ = float(1e37);  // the reach of an unbounded ray, as embreex gives it
+constexpr uint32_t INVALID = 0xFFFFFFFFu;
+
+// RTCRayHit of embree 4 (one instance level) as 32-bit words: org 0-2, tnear 3, dir 4-6, time 7, tfar 8,
+// mask 9, id 10, flags 11, then Ng 12-14, u 15, v 16, primID 17, geomID 18, instID 19 (instPrimID 20)
+struct alignas(16) RayHit {
+    union { float f[24]; uint32_t w[24]; };
+    void set(float o0, float o1, float o2, float d0, float d1, float d2, float tfar) {
+        f[0] = o0; f[1] = o1; f[2] = o2; f[3] = zero;
+        f[4] = d0; f[5] = d1; f[6] = d2; f[7] = zero;
+        f[8] = tfar;
+        w[9] = INVALID; w[10] = 0; w[11] = 0;
+        w[17] = INVALID; w[18] = INVALID; w[19] = INVALID;
+    }
+};
+using Cast = void (*)(void* scene, void* ray, void* args);
+
+template <typename T> std::vector<T> copy(const In<T>& a) { return std::vector<T>(a.data(), a.data() + a.size()); }
+std::vector<uint8_t> copy(const In<bool>& a) { return std::vector<uint8_t>(a.data(), a.data() + a.size()); }
+
+struct LightSample {
+    bool ok;
+    int32_t lmat;
+    float w0, w1, w2, dist, scale, bsdf_pdf;
+};
+
+class LambertScene {
+public:
+    LambertScene(uintptr_t scene, uintptr_t intersect1, uintptr_t occluded1, In<float> normals,
+                 In<int32_t> material_ids, In<bool> emissive, In<bool> two_sided, In<float> light_area_pdf,
+                 In<float> emission, In<float> kd, In<double> cdf, In<int64_t> light_tris, In<float> v0,
+                 In<float> e1, In<float> e2)
+        : scene_(reinterpret_cast<void*>(scene)), intersect1_(reinterpret_cast<Cast>(intersect1)),
+          occluded1_(reinterpret_cast<Cast>(occluded1)), normals_(copy(normals)), material_ids_(copy(material_ids)),
+          emissive_(copy(emissive)), two_sided_(copy(two_sided)), light_area_pdf_(copy(light_area_pdf)),
+          emission_(copy(emission)), kd_(copy(kd)), cdf_(copy(cdf)), light_tris_(copy(light_tris)), v0_(copy(v0)),
+          e1_(copy(e1)), e2_(copy(e2)) {
+        need(scene && intersect1 && occluded1, "embree scene and entry points");
+        ntri_ = int64_t(material_ids_.size());
+        nmat_ = int64_t(two_sided_.size());
+        for (auto* a : {&normals_, &v0_, &e1_, &e2_}) need(int64_t(a->size()) == 3 * ntri_, "triangle arrays differ");
+        need(int64_t(emissive_.size()) == ntri_ && int64_t(light_area_pdf_.size()) == ntri_, "triangle arrays differ");
+        need(int64_t(emission_.size()) == 3 * nmat_ && int64_t(kd_.size()) == 3 * nmat_, "material arrays differ");
+        for (int32_t mt : material_ids_) need(mt >= 0 && mt < nmat_, "material id out of range");
+        need((cdf_.empty() && light_tris_.empty()) || (cdf_.size() >= 2 && light_tris_.size() == cdf_.size() - 1),
+             "light distribution");
+        for (int64_t k : light_tris_) need(k >= 0 && k < ntri_, "light triangle out of range");
+    }
+
+    // closest hits of rays 0..n: triangle (-1 for none) and distance (inf for none)
+    void intersect(const float* o, const float* d, int64_t n, int32_t* prim, float* t) const {
+        RayHit ray;
+        for (int64_t i = 0; i < n; ++i) {
+            ray.set(o[3 * i], o[3 * i + 1], o[3 * i + 2], d[3 * i], d[3 * i + 1], d[3 * i + 2], far_);
+            intersect1_(scene_, &ray, nullptr);
+            if (ray.w[18] == INVALID || ray.w[17] >= uint32_t(ntri_)) {
+                prim[i] = -1;
+                t[i] = std::numeric_limits<float>::infinity();
+            } else {
+                prim[i] = int32_t(ray.w[17]);
+                t[i] = ray.f[8];
+            }
+        }
+    }
+
+    // a point on an area light seen from p (unit normal n), as tracer.kernels._light_sample
+    LightSample light_sample(const float* u, float p0, float p1, float p2, float n0, float n1, float n2,
+                             float p_area, bool mis) const {
+        const double x = double(u[0]);
+        const int64_t nbins = int64_t(cdf_.size()) - 1;
+        int64_t lo = 0, hi = nbins + 1;  // np.searchsorted(cdf, x, side="right")
+        while (lo < hi) {
+            const int64_t mid = (lo + hi) >> 1;
+            if (cdf_[mid] <= x) lo = mid + 1;
+            else hi = mid;
+        }
+        int64_t j = lo - 1 > 0 ? lo - 1 : 0;
+        if (j > nbins - 1) j = nbins - 1;
+        const int64_t k = light_tris_[j];
+        const float* V = &v0_[3 * k];
+        const float* E1 = &e1_[3 * k];
+        const float* E2 = &e2_[3 * k];
+        const float* N = &normals_[3 * k];
+        const float su = std::sqrt(u[1]);
+        const float b1 = one - su;
+        const float b2 = u[2] * su;
+        float w0 = V[0] + b1 * E1[0] + b2 * E2[0] - p0;
+        float w1 = V[1] + b1 * E1[1] + b2 * E2[1] - p1;
+        float w2 = V[2] + b1 * E1[2] + b2 * E2[2] - p2;
+        const float dist2 = w0 * w0 + w1 * w1 + w2 * w2;
+        const float dist = std::sqrt(dist2);
+        w0 /= dist;
+        w1 /= dist;
+        w2 /= dist;
+        const float cos_l = -(N[0] * w0 + N[1] * w1 + N[2] * w2);
+        const int32_t lmat = material_ids_[k];
+        const float cos_i = n0 * w0 + n1 * w1 + n2 * w2;
+        if (!(cos_i > 0 && (cos_l > 0 || two_sided_[lmat]))) return {false, lmat, w0, w1, w2, dist, zero, zero};
+        const float light_pdf = p_area * light_area_pdf_[k] * dist2 / pmax(std::fabs(cos_l), tiny);
+        const float bsdf_pdf = pmax(cos_i, zero) * inv_pi;
+        float w = one;
+        if (mis) {
+            const float a2 = light_pdf * light_pdf;
+            const float s = a2 + bsdf_pdf * bsdf_pdf;
+            w = s > 0 ? a2 / s : zero;
+        }
+        return {true, lmat, w0, w1, w2, dist, w / light_pdf, bsdf_pdf};
+    }
+
+    struct State {  // the live paths (rows 0..n) and the shadow rays of a bounce
+        float *o, *d, *beta, *L, *prev_pdf;
+        int64_t L_rows;
+        const bool* specular;
+        int64_t* idx;
+        float* out;
+        int64_t out_rows;
+        bool* alive;
+        int64_t* sh_rows;
+        float *sh_o, *sh_d, *sh_t, *sh_val;
+    };
+
+    // one bounce in place: path i of the live paths moves to row j <= i (the j-th that hit); returns the
+    // counts of the paths shaded and of the shadow rays
+    std::pair<int64_t, int64_t> shade(const int32_t* prim, const float* t, int64_t n, const State& s,
+                                      const float* u_nee, const float* u_bsdf, const float* cphi,
+                                      const float* sphi, const float* u_rr, float p_area, float eps, float eps2,
+                                      bool last, bool rr) const {
+        need(last || !cdf_.empty(), "a scene without area lights has no light to sample");
+        int64_t j = 0, g = 0;
+        for (int64_t i = 0; i < n; ++i) {
+            const int32_t k = prim[i];
+            const int64_t r = s.idx[i];
+            need(r >= 0 && r < s.out_rows, "path index out of range");
+            if (k < 0) {  // a miss: no environment in these scenes, the path ends
+                for (int c = 0; c < 3; ++c) s.out[3 * r + c] = s.L[3 * i + c];
+                continue;
+            }
+            const float ti = t[i];
+            const float dx = s.d[3 * i], dy = s.d[3 * i + 1], dz = s.d[3 * i + 2];
+            const float p0 = s.o[3 * i] + ti * dx, p1 = s.o[3 * i + 1] + ti * dy, p2 = s.o[3 * i + 2] + ti * dz;
+            const float* N = &normals_[3 * k];
+            const float cos_o = N[0] * -dx + N[1] * -dy + N[2] * -dz;
+            const bool front = cos_o > 0;
+            const float sign = front ? one : -one;
+            const float n0 = N[0] * sign, n1 = N[1] * sign, n2 = N[2] * sign;
+            const int32_t mt = material_ids_[k];
+            float l0 = s.L[3 * i], l1 = s.L[3 * i + 1], l2 = s.L[3 * i + 2];
+            float b0 = s.beta[3 * i], b1 = s.beta[3 * i + 1], b2 = s.beta[3 * i + 2];
+            const float* em = &emission_[3 * mt];
+            if (emissive_[k] && (front || two_sided_[mt])) {
+                float w = one;
+                if (!s.specular[i]) {
+                    const float light_pdf = p_area * light_area_pdf_[k] * (ti * ti) / pmax(std::fabs(cos_o), tiny);
+                    const float a2 = s.prev_pdf[i] * s.prev_pdf[i];
+                    const float sum = a2 + light_pdf * light_pdf;
+                    w = sum > 0 ? a2 / sum : zero;
+                }
+                l0 += b0 * em[0] * w;
+                l1 += b1 * em[1] * w;
+                l2 += b2 * em[2] * w;
+            }
+            if (last) {
+                s.out[3 * r] = l0, s.out[3 * r + 1] = l1, s.out[3 * r + 2] = l2;
+                continue;
+            }
+            s.idx[j] = r;
+            s.L[3 * j] = l0, s.L[3 * j + 1] = l1, s.L[3 * j + 2] = l2;
+            const float q0 = p0 + eps * n0, q1 = p1 + eps * n1, q2 = p2 + eps * n2;  // just above the surface
+            const LightSample ls = light_sample(u_nee + 4 * j, p0, p1, p2, n0, n1, n2, p_area, true);
+            const float* kdm = &kd_[3 * mt];
+            if (ls.ok) {
+                const float* lem = &emission_[3 * ls.lmat];
+                s.sh_rows[g] = j;
+                s.sh_o[3 * g] = q0, s.sh_o[3 * g + 1] = q1, s.sh_o[3 * g + 2] = q2;
+                s.sh_d[3 * g] = ls.w0, s.sh_d[3 * g + 1] = ls.w1, s.sh_d[3 * g + 2] = ls.w2;
+                s.sh_t[g] = ls.dist * shrink - eps2;
+                s.sh_val[3 * g] = kdm[0] * ls.bsdf_pdf * lem[0] * ls.scale * b0;
+                s.sh_val[3 * g + 1] = kdm[1] * ls.bsdf_pdf * lem[1] * ls.scale * b1;
+                s.sh_val[3 * g + 2] = kdm[2] * ls.bsdf_pdf * lem[2] * ls.scale * b2;
+                ++g;
+            }
+            // cosine-weighted continuation: a uniform point on the unit sphere at the tip of n
+            const float z = one - two * u_bsdf[3 * j + 1];
+            const float rad = std::sqrt(pmax(zero, one - z * z));
+            float x0 = n0 + rad * cphi[j], x1 = n1 + rad * sphi[j], x2 = n2 + z;
+            const float length = std::sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+            if (length < short_) {
+                x0 = n0, x1 = n1, x2 = n2;
+            } else {
+                x0 = x0 / length, x1 = x1 / length, x2 = x2 / length;
+            }
+            s.d[3 * j] = x0, s.d[3 * j + 1] = x1, s.d[3 * j + 2] = x2;
+            s.prev_pdf[j] = (n0 * x0 + n1 * x1 + n2 * x2) * inv_pi;
+            b0 = b0 * kdm[0], b1 = b1 * kdm[1], b2 = b2 * kdm[2];  // f cos / pdf = kd
+            const float bmax = pmax(pmax(b0, b1), b2);
+            if (rr) {
+                const float q = pmin(bmax, one);
+                const bool survive = u_rr[j] < q;
+                if (survive) b0 = b0 / q, b1 = b1 / q, b2 = b2 / q;
+                s.alive[j] = survive && bmax > 0;
+            } else {
+                s.alive[j] = bmax > 0;
+            }
+            s.beta[3 * j] = b0, s.beta[3 * j + 1] = b1, s.beta[3 * j + 2] = b2;
+            s.o[3 * j] = q0, s.o[3 * j + 1] = q1, s.o[3 * j + 2] = q2;
+            ++j;
+        }
+        return {j, g};
+    }
+
+    // the shadow rays cast, the visible light samples added, finished paths written out and the rest moved
+    // up; their count
+    int64_t settle(int64_t m, int64_t g, const State& s) const {
+        RayHit ray;
+        for (int64_t e = 0; e < g; ++e) {
+            ray.set(s.sh_o[3 * e], s.sh_o[3 * e + 1], s.sh_o[3 * e + 2], s.sh_d[3 * e], s.sh_d[3 * e + 1],
+                    s.sh_d[3 * e + 2], pmin(s.sh_t[e], far_));
+            occluded1_(scene_, &ray, nullptr);
+            if (!(ray.f[8] < 0)) {  // embree marks a blocked ray with tfar = -inf
+                const int64_t r = s.sh_rows[e];
+                need(r >= 0 && r < s.L_rows, "shadow ray row out of range");
+                for (int c = 0; c < 3; ++c) s.L[3 * r + c] += s.sh_val[3 * e + c];
+            }
+        }
+        int64_t k = 0;
+        for (int64_t j = 0; j < m; ++j) {
+            if (s.alive[j]) {
+                if (k != j) {
+                    s.idx[k] = s.idx[j];
+                    s.prev_pdf[k] = s.prev_pdf[j];
+                    for (int c = 0; c < 3; ++c) {
+                        s.o[3 * k + c] = s.o[3 * j + c], s.d[3 * k + c] = s.d[3 * j + c];
+                        s.beta[3 * k + c] = s.beta[3 * j + c], s.L[3 * k + c] = s.L[3 * j + c];
+                    }
+                }
+                ++k;
+            } else {
+                const int64_t r = s.idx[j];
+                need(r >= 0 && r < s.out_rows, "path index out of range");
+                for (int c = 0; c < 3; ++c) s.out[3 * r + c] = s.L[3 * j + c];
+            }
+        }
+        return k;
+    }
+
+private:
+    void* scene_;
+    Cast intersect1_, occluded1_;
+    std::vector<float> normals_;
+    std::vector<int32_t> material_ids_;
+    std::vector<uint8_t> emissive_, two_sided_;
+    std::vector<float> light_area_pdf_, emission_, kd_;
+    std::vector<double> cdf_;
+    std::vector<int64_t> light_tris_;
+    std::vector<float> v0_, e1_, e2_;
+    int64_t ntri_ = 0, nmat_ = 0;
+};
+
+// rows of an (n, w) array, its width checked
+template <typename A> int64_t rows(const A& a, int64_t w, const char* what) {
+    need(a.size() % size_t(w) == 0, what);
+    return int64_t(a.size() / size_t(w));
+}
+
+}  // namespace
+
+void register_tracer_paths(nb::module_& m) {
+    nb::class_<LambertScene>(m, "LambertScene",
+                             "The tracer's bounce loop in a Lambertian scene lit by area lights (tracer.wavefront).")
+        .def(nb::init<uintptr_t, uintptr_t, uintptr_t, In<float>, In<int32_t>, In<bool>, In<bool>, In<float>,
+                      In<float>, In<float>, In<double>, In<int64_t>, In<float>, In<float>, In<float>>(),
+             nb::arg("scene"), nb::arg("intersect1"), nb::arg("occluded1"), nb::arg("normals"),
+             nb::arg("material_ids"), nb::arg("emissive"), nb::arg("two_sided"), nb::arg("light_area_pdf"),
+             nb::arg("emission"), nb::arg("kd"), nb::arg("cdf"), nb::arg("light_tris"), nb::arg("v0"),
+             nb::arg("e1"), nb::arg("e2"))
+        .def("intersect", [](const LambertScene& sc, In<float> o, In<float> d, int64_t n, Out<int32_t> prim,
+                             Out<float> t) {
+            need(n >= 0 && rows(o, 3, "o is (N, 3)") >= n && rows(d, 3, "d is (N, 3)") >= n
+                 && int64_t(prim.size()) >= n && int64_t(t.size()) >= n, "ray arrays shorter than n");
+            nb::gil_scoped_release unlocked;
+            sc.intersect(o.data(), d.data(), n, prim.data(), t.data());
+        }, nb::arg("o"), nb::arg("d"), nb::arg("n"), nb::arg("prim").noconvert(), nb::arg("t").noconvert(),
+           "Closest hits of rays 0..n: triangle (-1 for none) and distance (inf for none).")
+        .def("shade", [](const LambertScene& sc, In<int32_t> prim, In<float> t, Out<float> o, Out<float> d,
+                         Out<float> beta, Out<float> L, Out<float> prev_pdf, In<bool> specular, Out<int64_t> idx,
+                         Out<float> out, In<float> u_nee, In<float> u_bsdf, In<float> cphi, In<float> sphi,
+                         In<float> u_rr, float p_area, float eps, float eps2, bool last, bool rr, Out<bool> alive,
+                         Out<int64_t> sh_rows, Out<float> sh_o, Out<float> sh_d, Out<float> sh_t,
+                         Out<float> sh_val) {
+            const int64_t n = int64_t(prim.size());
+            need(int64_t(t.size()) == n, "prim and t differ");
+            for (auto cap : {rows(o, 3, "o is (N, 3)"), rows(d, 3, "d is (N, 3)"), rows(beta, 3, "beta is (N, 3)"),
+                             rows(L, 3, "L is (N, 3)"), int64_t(prev_pdf.size()), int64_t(specular.size()),
+                             int64_t(idx.size()), int64_t(alive.size()), int64_t(sh_rows.size()),
+                             rows(sh_o, 3, "sh_o is (N, 3)"), rows(sh_d, 3, "sh_d is (N, 3)"), int64_t(sh_t.size()),
+                             rows(sh_val, 3, "sh_val is (N, 3)")})
+                need(cap >= n, "path arrays shorter than the live paths");
+            int64_t hits = 0;
+            for (size_t i = 0; i < prim.size(); ++i) hits += prim.data()[i] >= 0;
+            if (!last)
+                need(rows(u_nee, 4, "u_nee is (M, 4)") >= hits && rows(u_bsdf, 3, "u_bsdf is (M, 3)") >= hits
+                     && int64_t(cphi.size()) >= hits && int64_t(sphi.size()) >= hits
+                     && (!rr || int64_t(u_rr.size()) >= hits), "fewer random numbers than hits");
+            const LambertScene::State s{o.data(), d.data(), beta.data(), L.data(), prev_pdf.data(), rows(L, 3, "L"),
+                                        specular.data(),
+                                        idx.data(), out.data(), rows(out, 3, "out is (N, 3)"), alive.data(),
+                                        sh_rows.data(), sh_o.data(), sh_d.data(), sh_t.data(), sh_val.data()};
+            nb::gil_scoped_release unlocked;
+            return sc.shade(prim.data(), t.data(), n, s, u_nee.data(), u_bsdf.data(), cphi.data(), sphi.data(),
+                            u_rr.data(), p_area, eps, eps2, last, rr);
+        }, nb::arg("prim"), nb::arg("t"), nb::arg("o").noconvert(), nb::arg("d").noconvert(),
+           nb::arg("beta").noconvert(), nb::arg("L").noconvert(), nb::arg("prev_pdf").noconvert(),
+           nb::arg("specular"), nb::arg("idx").noconvert(), nb::arg("out").noconvert(), nb::arg("u_nee"),
+           nb::arg("u_bsdf"), nb::arg("cphi"), nb::arg("sphi"), nb::arg("u_rr"), nb::arg("p_area"), nb::arg("eps"),
+           nb::arg("eps2"), nb::arg("last"), nb::arg("rr"), nb::arg("alive").noconvert(),
+           nb::arg("sh_rows").noconvert(), nb::arg("sh_o").noconvert(), nb::arg("sh_d").noconvert(),
+           nb::arg("sh_t").noconvert(), nb::arg("sh_val").noconvert(),
+           "One bounce of the live paths in place; (paths shaded, shadow rays).")
+        .def("settle", [](const LambertScene& sc, int64_t m, Out<int64_t> idx, Out<float> o, Out<float> d,
+                          Out<float> beta, Out<float> L, Out<float> prev_pdf, In<bool> alive, int64_t g,
+                          In<int64_t> sh_rows, In<float> sh_o, In<float> sh_d, In<float> sh_t, In<float> sh_val,
+                          Out<float> out) {
+            for (auto cap : {rows(o, 3, "o is (N, 3)"), rows(d, 3, "d is (N, 3)"), rows(beta, 3, "beta is (N, 3)"),
+                             rows(L, 3, "L is (N, 3)"), int64_t(prev_pdf.size()), int64_t(idx.size()),
+                             int64_t(alive.size())})
+                need(m >= 0 && cap >= m, "path arrays shorter than m");
+            for (auto cap : {int64_t(sh_rows.size()), rows(sh_o, 3, "sh_o is (N, 3)"), rows(sh_d, 3, "sh_d is (N, 3)"),
+                             int64_t(sh_t.size()), rows(sh_val, 3, "sh_val is (N, 3)")})
+                need(g >= 0 && cap >= g, "shadow ray arrays shorter than g");
+            const LambertScene::State s{o.data(), d.data(), beta.data(), L.data(), prev_pdf.data(), rows(L, 3, "L"),
+                                        nullptr,
+                                        idx.data(), out.data(), rows(out, 3, "out is (N, 3)"),
+                                        const_cast<bool*>(alive.data()), const_cast<int64_t*>(sh_rows.data()),
+                                        const_cast<float*>(sh_o.data()), const_cast<float*>(sh_d.data()),
+                                        const_cast<float*>(sh_t.data()), const_cast<float*>(sh_val.data())};
+            nb::gil_scoped_release unlocked;
+            return sc.settle(m, g, s);
+        }, nb::arg("m"), nb::arg("idx").noconvert(), nb::arg("o").noconvert(), nb::arg("d").noconvert(),
+           nb::arg("beta").noconvert(), nb::arg("L").noconvert(), nb::arg("prev_pdf").noconvert(), nb::arg("alive"),
+           nb::arg("g"), nb::arg("sh_rows"), nb::arg("sh_o"), nb::arg("sh_d"), nb::arg("sh_t"), nb::arg("sh_val"),
+           nb::arg("out").noconvert(),
+           "Shadow rays cast, visible light added, finished paths written out, the rest moved up; their count.");
+}
