@@ -97,7 +97,8 @@ def _release(lib, scene, device) -> None:
     lib.rtcReleaseDevice(device)
 
 
-def entry_points() -> tuple[int, int]:
-    """The addresses of ``rtcIntersect1`` and ``rtcOccluded1`` in that library."""
+def entry_points(packet: int = 1) -> tuple[int, int]:
+    """The addresses of ``rtcIntersect<packet>`` (1, 4, 8 or 16) and ``rtcOccluded1`` in that library."""
     lib = library()
-    return tuple(ctypes.cast(getattr(lib, name), ctypes.c_void_p).value for name in ("rtcIntersect1", "rtcOccluded1"))
+    return tuple(ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
+                 for name in (f"rtcIntersect{packet}", "rtcOccluded1"))

@@ -33,7 +33,7 @@ def passes(scene):
         accel = scene.accel
         found = _RTC.get(accel)
         if found is None:
-            from lenslab.cxx_kernels import LambertScene
+            from lenslab.cxx_kernels import LAMBERT_PACKET, LambertScene
 
             from tracer.embree_api import RtcScene, entry_points
 
@@ -43,7 +43,7 @@ def passes(scene):
             cdf = scene.light_dist.cdf if lights else np.zeros(0)
             light_tris = scene.light_triangles if lights else np.zeros(0, np.int64)
             found = _RTC[accel] = (LambertScene(
-                rtc.handle, *entry_points(), scene.normals, scene.material_ids, scene.emissive, t.two_sided,
+                rtc.handle, *entry_points(LAMBERT_PACKET), scene.normals, scene.material_ids, scene.emissive, t.two_sided,
                 scene.light_area_pdf, t.emission, t.kd, cdf, light_tris, scene.v0, scene.e1, scene.e2), rtc)  # the passes hold the scene's pointer: keep the scene alive with them
         return found[0]
 
