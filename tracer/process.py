@@ -12,11 +12,14 @@ defaults of the process work against that, each measured on a 256x256 64 spp ren
   ``mallopt``: no mmap below 32 MiB, its largest threshold, and no trimming below 2 GiB; a render's peak is
   bounded by its batch size, so this keeps at most that peak). Skipped where the C library has no ``mallopt`` (macOS, Windows) or the
   user has set ``MALLOC_MMAP_THRESHOLD_`` or ``MALLOC_TRIM_THRESHOLD_``.
+- **Cycle collection** during the imports (a render's own arrays make no cycles): off from the start, as
+  :func:`tracer.cli.run_render` keeps it during the render (it turns it back on when done).
 """
 
 from __future__ import annotations
 
 import ctypes
+import gc
 import os
 
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # glibc's malloc.h
@@ -25,7 +28,9 @@ TRIM_THRESHOLD = 2**31 - 1
 
 
 def prepare_render() -> None:
-    """BLAS on one thread and freed memory kept (see the module's note); call before NumPy is imported."""
+    """BLAS on one thread, freed memory kept, no cycle collection (see the module's note); call before NumPy
+    is imported."""
+    gc.disable()
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     if any(k in os.environ for k in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")):
         return
