@@ -21,7 +21,7 @@ import numpy as np
 F32 = np.float32
 TWO_PI = 2 * np.pi
 
-_RTC: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # accelerator -> its scene for the kernels
+_RTC: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # accelerator -> (its passes, their embree scene)
 _RTC_LOCK = threading.Lock()
 
 
@@ -42,15 +42,16 @@ def passes(scene):
             lights = scene.light_dist is not None  # without area lights the passes only cast rays
             cdf = scene.light_dist.cdf if lights else np.zeros(0)
             light_tris = scene.light_triangles if lights else np.zeros(0, np.int64)
-            found = _RTC[accel] = (LambertScene(
-                rtc.handle, *entry_points(LAMBERT_PACKET), scene.normals, scene.material_ids, scene.emissive, t.two_sided,
-                scene.light_area_pdf, t.emission, t.kd, cdf, light_tris, scene.v0, scene.e1, scene.e2), rtc)  # the passes hold the scene's pointer: keep the scene alive with them
+            lam = LambertScene(rtc.handle, *entry_points(LAMBERT_PACKET), scene.normals, scene.material_ids,
+                               scene.emissive, t.two_sided, scene.light_area_pdf, t.emission, t.kd, cdf, light_tris,
+                               scene.v0, scene.e1, scene.e2)
+            found = _RTC[accel] = (lam, rtc)  # the passes hold the scene's pointer: keep the scene alive with them
         return found[0]
 
 
 def applies(scene, integrator: str) -> bool:
     """Whether the compiled bounce loop covers this scene and integrator: path tracing, Lambertian materials,
-    area lights, and neither an environment nor point lights (and embree's library at hand)."""
+    area lights, and neither an environment nor point lights (and embree's library and the passes at hand)."""
     if not (integrator == "path" and scene.table.lambertian_only and scene.has_area_lights
             and scene.environment is None and len(scene.point_light_pos) == 0):
         return False
