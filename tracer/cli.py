@@ -261,9 +261,9 @@ def run_scenes(args) -> int:
 def main(argv=None) -> int:
     words = sys.argv[1:] if argv is None else list(argv)
     if words[:1] == ["render"] and "numpy" not in sys.modules:
-        # a render runs its bands on its own threads; BLAS's threads (for the camera's 3x3 products) would only
-        # compete with them for the cores: about 10% of a render's CPU time, for the same image
-        os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+        from tracer.process import prepare_render
+
+        prepare_render()  # BLAS on one thread, freed memory kept: see tracer.process
     parser = build_parser()
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
     return run_command(f"tracer {args.command}", lambda: args._run(args), debug=getattr(args, "debug", False))

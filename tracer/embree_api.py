@@ -1,7 +1,8 @@
-"""Embree's C API, for the compiled passes: the library that embreex ships, called per ray from numba.
+"""Embree's C API, for the compiled passes: the library that embreex ships, called per ray from C++.
 
 The compiled bounce loop (:mod:`tracer.wavefront`) casts its rays itself, one ``rtcIntersect1`` or
-``rtcOccluded1`` per ray inside the kernel, instead of a round trip through embreex's arrays per bounce.
+``rtcOccluded1`` per ray inside the pass (``src/native/tracer_paths.cpp``, which takes the entry points'
+addresses from here), instead of a round trip through embreex's arrays per bounce.
 It does so on a scene of its own, built here through the same library with the same settings as
 embreex's (``RTC_SCENE_FLAG_ROBUST``), so that every hit, primitive and distance is the same bit for bit
 as :meth:`tracer.accel.Accelerator.intersect` gives (a test checks it on random rays).
@@ -31,11 +32,10 @@ _LIB = None
 
 
 def library() -> ctypes.CDLL:
-    """embree 4 as embreex ships it, loaded once, its symbols visible to numba's linker."""
+    """embree 4 as embreex ships it, loaded once."""
     global _LIB
     if _LIB is None:
         import embreex
-        import llvmlite.binding as llvm
 
         here = os.path.dirname(embreex.__file__)
         found = sorted(glob.glob(os.path.join(here, "..", "embreex.libs", "libembree4*.so*"))
@@ -43,7 +43,6 @@ def library() -> ctypes.CDLL:
         if not found:
             raise ImportError("embree 4's library was not found beside embreex")
         lib = ctypes.CDLL(found[0])
-        llvm.load_library_permanently(found[0])
         vp = ctypes.c_void_p
         for name, res, args in (("rtcNewDevice", vp, [ctypes.c_char_p]), ("rtcNewScene", vp, [vp]),
                                 ("rtcSetSceneFlags", None, [vp, ctypes.c_int]),
@@ -98,20 +97,8 @@ def _release(lib, scene, device) -> None:
     lib.rtcReleaseDevice(device)
 
 
-def externals():
-    """numba's views of ``rtcIntersect1`` and ``rtcOccluded1`` and a pointer-from-integer cast."""
-    from numba import types
-    from numba.core import cgutils
-    from numba.extending import intrinsic
-
-    library()
-    sig = types.void(types.voidptr, types.voidptr, types.voidptr)
-
-    @intrinsic
-    def as_pointer(typingctx, address):
-        def codegen(context, builder, signature, args):
-            return builder.inttoptr(args[0], cgutils.voidptr_t)
-
-        return types.voidptr(types.uintp), codegen
-
-    return types.ExternalFunction("rtcIntersect1", sig), types.ExternalFunction("rtcOccluded1", sig), as_pointer
+def entry_points(packet: int = 1) -> tuple[int, int]:
+    """The addresses of ``rtcIntersect<packet>`` (1, 4, 8 or 16) and ``rtcOccluded1`` in that library."""
+    lib = library()
+    return tuple(ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
+                 for name in (f"rtcIntersect{packet}", "rtcOccluded1"))

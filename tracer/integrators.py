@@ -60,19 +60,19 @@ def trace(scene, origins: np.ndarray, dirs: np.ndarray, rng: np.random.Generator
 
     # state of the live paths; each path's radiance ``L`` travels with it and is written to ``out``
     # when the path ends (cheaper than scattering into ``out`` at every bounce)
-    idx = np.arange(n_rays)
     o = np.empty((n_rays, 3), dtype=F32)
     np.subtract(origins, scene.shift, out=o, casting="unsafe")  # into the scene's local frame
     d = np.asarray(dirs, dtype=F32)
+    if FUSED:
+        from tracer import wavefront
+
+        if wavefront.applies(scene, integrator):  # the same numbers, a bounce in compiled passes
+            return wavefront.trace(scene, o, np.ascontiguousarray(d), rng, max_depth, rr_depth, threads, out)
+    idx = np.arange(n_rays)
     beta = np.ones((n_rays, 3), dtype=F32)
     L = np.zeros((n_rays, 3), dtype=F32)
     prev_pdf = np.zeros(n_rays, dtype=F32)
     specular = np.ones(n_rays, dtype=bool)  # camera ray or after a delta bounce: no MIS on emitters
-    if FUSED:
-        from tracer import wavefront
-
-        if wavefront.applies(scene, integrator):  # the same numbers, a bounce in two compiled passes
-            return wavefront.trace(scene, o, np.ascontiguousarray(d), rng, max_depth, rr_depth, threads, out)
 
     depth = 0
     while len(idx):

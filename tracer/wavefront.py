@@ -3,12 +3,12 @@
 :func:`trace` gives the same radiance, bit for bit, as :func:`tracer.integrators.trace` with
 ``integrator="path"`` (the NumPy steps stay there as the reference, and tests compare the two): it
 draws the same random numbers in the same order and does the same float32 operations per path. Per
-bounce Python makes three calls into :mod:`tracer.kernels`: the closest hits (embree's C API called per
-ray from the kernel, :mod:`tracer.embree_api`), one pass that shades every hit (emission with its MIS
-weight, a light sample, the continuation, Russian roulette), and one that casts the shadow rays, adds the
-visible light and retires finished paths. The live paths stay in a few float32 arrays updated in place.
-The casts run on the calling thread: a render runs its bands on several threads, and the kernels release
-the GIL.
+bounce Python makes three calls into the C++ passes of ``lenslab.cxx_kernels.LambertScene``
+(``src/native/tracer_paths.cpp``): the closest hits (embree's C API called per ray,
+:mod:`tracer.embree_api`), one pass that shades every hit (emission with its MIS weight, a light sample,
+the continuation, Russian roulette), and one that casts the shadow rays, adds the visible light and
+retires finished paths. The live paths stay in a few float32 arrays updated in place. The passes run on
+the calling thread with the GIL released: a render runs its bands on several threads.
 """
 
 from __future__ import annotations
@@ -21,49 +21,63 @@ import numpy as np
 F32 = np.float32
 TWO_PI = 2 * np.pi
 
-_RTC: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # accelerator -> its scene for the kernels
+_RTC: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # accelerator -> (its passes, their embree scene)
 _RTC_LOCK = threading.Lock()
 
 
-def scene_rtc(scene):
-    """The embree scene the kernels cast rays into (:class:`tracer.embree_api.RtcScene`): the same triangles
-    as ``scene.accel`` in the same float32 frame, built once per accelerator."""
+def passes(scene):
+    """The compiled passes of ``scene`` (``lenslab.cxx_kernels.LambertScene``): its triangles, materials and
+    lights, and an embree scene of its own (:class:`tracer.embree_api.RtcScene`: the same triangles as
+    ``scene.accel`` in the same float32 frame); built once per accelerator."""
     with _RTC_LOCK:
         accel = scene.accel
-        rtc = _RTC.get(accel)
-        if rtc is None:
-            from tracer.embree_api import RtcScene
+        found = _RTC.get(accel)
+        if found is None:
+            from lenslab.cxx_kernels import LAMBERT_PACKET, LambertScene
 
-            rtc = _RTC[accel] = RtcScene((scene.vertices - scene.shift).astype(F32), scene.triangles)
-        return rtc
+            from tracer.embree_api import RtcScene, entry_points
+
+            rtc = RtcScene((scene.vertices - scene.shift).astype(F32), scene.triangles)
+            t = scene.table
+            lights = scene.light_dist is not None  # without area lights the passes only cast rays
+            cdf = scene.light_dist.cdf if lights else np.zeros(0)
+            light_tris = scene.light_triangles if lights else np.zeros(0, np.int64)
+            lam = LambertScene(rtc.handle, *entry_points(LAMBERT_PACKET), scene.normals, scene.material_ids,
+                               scene.emissive, t.two_sided, scene.light_area_pdf, t.emission, t.kd, cdf, light_tris,
+                               scene.v0, scene.e1, scene.e2)
+            found = _RTC[accel] = (lam, rtc)  # the passes hold the scene's pointer: keep the scene alive with them
+        return found[0]
 
 
 def applies(scene, integrator: str) -> bool:
     """Whether the compiled bounce loop covers this scene and integrator: path tracing, Lambertian materials,
-    area lights, and neither an environment nor point lights (and embree's library at hand)."""
+    area lights, and neither an environment nor point lights (and embree's library and the passes at hand)."""
     if not (integrator == "path" and scene.table.lambertian_only and scene.has_area_lights
             and scene.environment is None and len(scene.point_light_pos) == 0):
         return False
     from tracer.embree_api import available
 
-    return available()
+    return available() and native()
+
+
+def native() -> bool:
+    """Whether the compiled passes were built (``pip install -e .``; else the NumPy steps do the work)."""
+    try:
+        from lenslab.cxx_kernels import LambertScene  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_depth: int, rr_depth: int,
           threads: int | None, out: np.ndarray) -> np.ndarray:
     """Radiance along rays from ``o`` (float32, the scene's local frame) along unit ``d`` (float32) into
     ``out`` (float32 ``(N, 3)``, zeros); see :func:`tracer.integrators.trace`."""
-    from tracer.kernels import kernels
-
-    _, shade, settle, intersect = kernels()
-    table = scene.table
+    lam = passes(scene)
     eps = F32(scene.epsilon)
     eps2 = F32(2 * eps)
     p_area = F32(1)  # only area lights: every light sample goes to them
-    geometry = (scene.normals, scene.material_ids, scene.emissive, table.two_sided, scene.light_area_pdf,
-                table.emission, table.kd, scene.light_dist.cdf, scene.light_triangles, scene.v0, scene.e1, scene.e2)
     n = len(o)
-    rtc = scene_rtc(scene).handle
     prim, t = np.empty(n, dtype=np.int32), np.empty(n, dtype=F32)
     idx = np.arange(n)
     o = o.copy()  # the state is updated in place, bounce after bounce
@@ -80,7 +94,7 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
     none2, none1 = np.zeros((0, 4), F32), np.zeros(0, F32)
     depth = 0
     while n:
-        intersect(rtc, o, d, n, prim, t)  # closest hits, in the kernel: embree's own answers
+        lam.intersect(o, d, n, prim, t)  # closest hits, in the kernel: embree's own answers
         prim_n, t_n = prim[:n], t[:n]
         last = depth >= max_depth
         m = 0 if last else int(np.count_nonzero(prim_n >= 0))
@@ -92,11 +106,11 @@ def trace(scene, o: np.ndarray, d: np.ndarray, rng: np.random.Generator, max_dep
             cphi, sphi = np.cos(phi), np.sin(phi)
             if depth + 1 >= rr_depth:
                 u_rr = rng.random(m, dtype=F32)
-        m, g = shade(prim_n, t_n, o, d, beta, L, prev_pdf, specular, idx, out, *geometry, u_nee, u_bsdf, cphi, sphi,
-                     u_rr, p_area, eps, eps2, last, depth + 1 >= rr_depth, alive, sh_rows, sh_o, sh_d, sh_t, sh_val)
+        m, g = lam.shade(prim_n, t_n, o, d, beta, L, prev_pdf, specular, idx, out, u_nee, u_bsdf, cphi, sphi, u_rr,
+                         p_area, eps, eps2, last, depth + 1 >= rr_depth, alive, sh_rows, sh_o, sh_d, sh_t, sh_val)
         if last or not m:
             break
-        n = settle(rtc, m, idx, o, d, beta, L, prev_pdf, alive, g, sh_rows, sh_o, sh_d, sh_t, sh_val, out)
+        n = lam.settle(m, idx, o, d, beta, L, prev_pdf, alive, g, sh_rows, sh_o, sh_d, sh_t, sh_val, out)
         if depth == 0:
             specular[:] = False
         depth += 1

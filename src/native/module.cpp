@@ -26,6 +26,8 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
+void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
+
 NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
@@ -134,4 +136,6 @@ NB_MODULE(cxx_kernels, m) {
               {wrap, top, bottom}, out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("exs"), nb::arg("eys"), nb::arg("evalid"), nb::arg("ns"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
+
+    register_tracer_paths(m);
 }

@@ -80,10 +80,8 @@ def test_image_is_the_same_whatever_the_threads_and_the_rows(monkeypatch):
 
 @pytest.mark.parametrize("name", ["cornell", "sky"])
 def test_kernel_ray_casts_are_embreex_answers_bit_for_bit(name):
-    # the kernels cast rays into their own embree scene: every hit, distance and shadow answer must be the one
-    # embreex gives (tracer.accel), for rays from inside and outside the geometry in every direction
-    from tracer.kernels import kernels
-
+    # the compiled passes cast rays into their own embree scene: every hit, distance and shadow answer must be
+    # the one embreex gives (tracer.accel), for rays from inside and outside the geometry in every direction
     scene = load_scene(name)
     rng = np.random.default_rng(4)
     n = 20000
@@ -92,7 +90,7 @@ def test_kernel_ray_casts_are_embreex_answers_bit_for_bit(name):
     d = rng.normal(size=(n, 3)).astype(np.float32)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
     prim, t = np.empty(n, np.int32), np.empty(n, np.float32)
-    kernels()[3](wavefront.scene_rtc(scene).handle, o, d, n, prim, t)
+    wavefront.passes(scene).intersect(o, d, n, prim, t)
     ref_prim, ref_t = scene.accel.intersect(o, d, threads=1)
     assert 0.2 < np.mean(ref_prim >= 0) < 1  # both hits and misses
     np.testing.assert_array_equal(prim, ref_prim)
@@ -103,6 +101,6 @@ def test_kernel_ray_casts_are_embreex_answers_bit_for_bit(name):
     assert 0.05 < blocked.mean() < 0.95
     L = np.zeros((n, 3), np.float32)
     none3, none = np.zeros((0, 3), np.float32), np.zeros(0, np.float32)
-    kernels()[2](wavefront.scene_rtc(scene).handle, 0, np.zeros(0, np.int64), none3, none3, none3, L, none,
-                 np.zeros(0, bool), n, np.arange(n), o, d, reach, np.ones((n, 3), np.float32), none3)
+    wavefront.passes(scene).settle(0, np.zeros(0, np.int64), none3, none3, none3, L, none, np.zeros(0, bool), n,
+                                   np.arange(n), o, d, reach, np.ones((n, 3), np.float32), none3)
     np.testing.assert_array_equal(L[:, 0] == 0, blocked)
