@@ -276,27 +276,3 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs):
                             dz = cubic(rc, 4, tx)
                         _store_cell(st, r, cc, k, 0.0, 0.0, dx, dy, dz, xs, ys, valid, need, dirs)
                 c = c1
-
-
-# not cached: numba keys a kernel that takes a function by that function object, so every process wrote
-# one more cache entry that no later process could use, and writing the cache's index could fail
-# ("ReferenceError: underlying object has vanished") once an earlier entry's function was gone
-@numba.njit(nogil=True)
-def project_kernel(fn, params, d, xy, valid):
-    """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
-    ``fn`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`): zero and non-finite directions invalid."""
-    for i in range(d.shape[0]):
-        n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
-        ok = False
-        x = y = 0.0
-        if n2 > 0.0 and np.isfinite(n2):
-            s = np.sqrt(n2)
-            x, y, ok = fn(d[i, 0] / s, d[i, 1] / s, d[i, 2] / s, params)
-        if ok and np.isfinite(x) and np.isfinite(y):
-            xy[i, 0] = x
-            xy[i, 1] = y
-            valid[i] = True
-        else:
-            xy[i, 0] = 0.0
-            xy[i, 1] = 0.0
-            valid[i] = False

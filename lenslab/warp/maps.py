@@ -41,7 +41,8 @@ from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.warp.kernels.dispatch import run_bands
 from lenslab.warp.lattice import (CR_BASIS, NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval,
-                                  lattice_grid, lattice_rows, project_kernel)
+                                  lattice_grid, lattice_rows)
+from lenslab.warp.projection import project_kernel
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -155,11 +156,7 @@ def project(lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     kern = lens.pixel_kernel() if np.size(d) >= 3 * COMPILED_PROJECT_MIN else None
     if kern is None:
         return lens.dir_to_pixel(d)
-    flat = np.ascontiguousarray(d, dtype=np.float64).reshape(-1, 3)
-    xy = np.empty((len(flat), 2))
-    valid = np.empty(len(flat), dtype=np.bool_)
-    project_kernel(kern.fn, kern.params, flat, xy, valid)
-    return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+    return project_kernel(kern, d)
 
 
 @dataclass

@@ -12,6 +12,8 @@
 namespace nb = nanobind;
 using namespace lenslab;
 
+void register_lens_kernels(nb::module_& m);  // lens_bindings.cpp: the lens models' kernels
+
 template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 
@@ -26,6 +28,7 @@ void need(bool ok, const char* what) {
 
 NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
+    register_lens_kernels(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

@@ -1,6 +1,5 @@
-"""Projecting directions into a source: the vectorised ``dir_to_pixel`` (small calls, so a short warp
-never compiles a kernel) and the lens's compiled kernel (large calls) give the same pixels, both equal to
-the equirect formula transcribed here in float64."""
+"""Projecting directions into a source: the vectorised ``dir_to_pixel`` (small calls) and the lens's compiled
+kernel (large calls) give the same pixels, both equal to the equirect formula transcribed here in float64."""
 
 from __future__ import annotations
 
@@ -9,7 +8,6 @@ import pytest
 
 from lenslab.lenses.projections.equirect import Equirect
 from lenslab.warp import maps
-from lenslab.warp.lattice import project_kernel
 
 # 1e-9 px: the two paths and the formula differ only in the last bits of atan2 (about 1e-12 px
 # measured at 4096 px wide); 1e-9 px is still a thousand times below anything a float32 map resolves
@@ -50,9 +48,8 @@ def test_small_and_compiled_projection_match_the_formula(dirs, span, monkeypatch
     np.testing.assert_allclose(small, big, rtol=0, atol=TOL)
 
 
-def test_a_small_projection_compiles_nothing(dirs):
-    """The kernel that takes a lens's compiled function is built anew in each process (~0.15 s): a
-    call below the threshold must not add a signature to it."""
-    before = len(project_kernel.signatures)
-    maps.project(Equirect(512, 256), dirs)
-    assert len(project_kernel.signatures) == before
+def test_the_compiled_projection_needs_no_jit():
+    """The lens's kernel is a function of the C++ extension: asking for it and running it compiles nothing."""
+    kern = Equirect(512, 256).pixel_kernel()
+    assert type(kern.fn).__module__ == "nanobind" and type(kern.fn).__name__ == "nb_func"
+    assert not hasattr(kern.fn, "signatures")  # not a numba dispatcher

@@ -1,6 +1,6 @@
 """The projections of the calibrated camera models on bare float64 arrays (NumPy): rays in OpenCV's camera
 frame (``X`` right, ``Y`` down, ``Z`` forward) <-> points of the plane at unit focal length, before
-distortion. The compiled twins the models run are in :mod:`lenslab.lenses.formulas.calibrated_kernels`;
+distortion. The compiled twins the models run are in ``src/native/lens_formulas.h``;
 these are their reference (the tests hold the two to each other, and both to OpenCV and the papers).
 
 ``kind`` (:mod:`lenslab.lenses.formulas.kinds`) and ``q``::
