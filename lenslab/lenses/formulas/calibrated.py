@@ -49,7 +49,7 @@ def project(kind: int, X, Y, Z, q=()):
                 mx, my = mx * k, my * k
         elif kind == EQUIDISTANT:
             xy, _, ok = azimuthal.dir_to_plane(EQUIDISTANT, np.stack([X, Y, Z], -1))
-            ok = ok & ~((X == 0) & (Y == 0) & (Z < 0))  # the back pole is a whole circle of the plane
+            ok = ok & ~((X * X + Y * Y == 0) & (Z < 0))  # the back pole (rho 0 in float64) is a circle of the plane
             mx, my = xy[..., 0], xy[..., 1]
         else:
             if kind == UNIFIED:

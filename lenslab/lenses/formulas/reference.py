@@ -175,7 +175,8 @@ def calibrated_project(d, kind, q, a, b, p1, p2, s, dist, tangential, fold, fx, 
                        slack):
     """Calibrated model: lenslab directions -> pixels (projection, distortion, intrinsics, image test)."""
     X, Y, Z, good = _cv_rays(d)
-    mx, my, ok = calibrated.project(kind, X, Y, Z, q)
+    with np.errstate(all="ignore"):
+        mx, my, ok = calibrated.project(kind, X, Y, Z, q)
     ok &= good
     if dist:
         with np.errstate(all="ignore"):
@@ -248,7 +249,8 @@ def calibrated_unproject(xy, kind, q, a, b, p1, p2, s, dist, tangential, fold, h
         mx, my, ok2 = undistort(mx, my, a, b, p1, p2, s, tangential, fold, hi, f_hi, strict, table, step,
                                 (tol, res_tol, rel_ulps, max_iter), tol_2d, max_iter_2d)
         ok &= ok2
-    X, Y, Z, ok3 = calibrated.unproject(kind, mx, my, q)
+    with np.errstate(all="ignore"):
+        X, Y, Z, ok3 = calibrated.unproject(kind, mx, my, q)
     ok &= ok3
     d = np.stack([X, -Y, Z], -1)
     return np.where(ok[:, None], d, 0.0), ok
@@ -293,7 +295,8 @@ def lensfun_dir_to_pixel(d, kind, f, coeffs, r_lim, cx, cy, norm):
             x, y = phi * f, h * f
         else:
             p, _, ok = azimuthal.dir_to_plane(kind, u)
-            ok = ok & ~((u[:, 0] == 0) & (u[:, 1] == 0) & (u[:, 2] < 0))  # the back pole: a circle, not a pixel
+            back = (u[:, 0] * u[:, 0] + u[:, 1] * u[:, 1] == 0) & (u[:, 2] < 0)  # rho 0 in float64, behind
+            ok = ok & ~back  # the back pole: a circle, not a pixel
             x, y = p[:, 0] * f, p[:, 1] * f
         qx, qy = x, -y
         r = np.hypot(qx, qy)
