@@ -73,6 +73,41 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Equirect directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("perspective_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 6, "perspective: 6 parameters");
+        perspective_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Perspective directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("hammer_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 4, "hammer: 4 parameters");
+        hammer_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Hammer directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.attr("pixel_kernel_ids") = [] {
+        nb::dict ids;
+        ids["equirect_pixels"] = 0;
+        ids["perspective_pixels"] = 1;
+        ids["hammer_pixels"] = 2;
+        return ids;
+    }();
+
+    m.def("tiled_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() >= 1, "tiled: the number of tiles first");
+        const double* q = p.data();
+        size_t at = 1;
+        for (int64_t k = 0; k < int64_t(q[0]); ++k) {  // every tile's record inside p, with a known kernel
+            static const double sizes[] = {9, 6, 4};  // the parameters of kernels 0, 1, 2
+            need(at + 19 <= p.size() && pixel_fn(int64_t(q[at])) != nullptr && q[at + 1] == sizes[int64_t(q[at])],
+                 "tiled: a tile's record");
+            at += 19 + size_t(q[at + 1]);
+        }
+        need(at == p.size(), "tiled: the records do not fill the parameters");
+        tiled_pixels(d.data(), points(d, 3, xy, 2, ok), q, xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Tiled grid: directions (any length) -> the pixel of the first tile that sees each (its PixelKernel).");
+
     m.def("division_unbend", [](Vec uv, double k1, double k2, double hi, double f_hi, bool strict, bool pole, Vec table,
                                 double step, double tol, double res_tol, double rel_ulps, int64_t max_iter,
                                 Out<double> out, Out<bool> ok) {

@@ -112,7 +112,72 @@ inline Undistorted undistort(double xd, double yd, const Distortion& m, double h
     return {ok, x, y, r.its + it2};
 }
 
+// direction i scaled to unit length as Lens.dir_to_pixel does; false for zero and non-finite ones
+inline bool unit_dir(const double* d, int64_t i, double& x, double& y, double& z) {
+    x = d[3 * i];
+    y = d[3 * i + 1];
+    z = d[3 * i + 2];
+    const double n2 = x * x + y * y + z * z;
+    if (!(n2 > 0.0 && finite(n2))) return false;
+    const double s = std::sqrt(n2);
+    x /= s;
+    y /= s;
+    z /= s;
+    return true;
+}
+
+// Lens.uv_to_pixel then Lens.snap_to_image (W, H, H / W, slack), writing pixel i when it is inside
+inline void uv_pixel(int64_t i, double u, double v, double w, double h, double aspect, double slack, double* xy,
+                     bool* ok) {
+    double x = u + 1.0;
+    x *= 0.5 * w;
+    double y = w != h ? 1.0 - v / aspect : 1.0 - v;
+    y *= 0.5 * h;
+    if (x >= -slack && x <= w + slack && y >= -slack && y <= h + slack) {
+        xy[2 * i] = std::min(std::max(x, 0.0), w);
+        xy[2 * i + 1] = std::min(std::max(y, 0.0), h);
+        ok[i] = true;
+    }
+}
+
 }  // namespace
+
+void perspective_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], t = p[2], tv = p[3], aspect = p[4], slack = p[5];
+    for (int64_t i = 0; i < n; ++i) {
+        clear2(i, xy, ok);
+        double x, y, z;
+        if (!unit_dir(d, i, x, y, z) || !(z > 0.0)) continue;
+        const double inv = 1.0 / z;
+        double u = x * inv, v = y * inv;
+        u /= t;
+        v /= tv;
+        uv_pixel(i, u, v, w, h, aspect, slack, xy, ok);
+    }
+}
+
+void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], slack = p[3];
+    for (int64_t i = 0; i < n; ++i) {
+        clear2(i, xy, ok);
+        double dx, dy, dz;
+        if (!unit_dir(d, i, dx, dy, dz)) continue;
+        const double c = std::hypot(dx, dz);
+        const double a = std::fabs(dz) + c;
+        double hh = 0.0;
+        if (a > 0.0) {
+            hh = c / a;
+            hh *= 0.5;
+            hh = std::sqrt(hh);
+        }
+        const double big = a * hh, small = std::fabs(dx) * hh;
+        const bool front = dz >= 0.0;
+        const double cc = front ? big : small;
+        const double cs = std::copysign(front ? small : big, dx);
+        const double z = std::sqrt(cc + 1.0);
+        uv_pixel(i, cs / z, dy / (z * 2.0), w, h, aspect, slack, xy, ok);
+    }
+}
 
 void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     const double w = p[0], h = p[1], lon0 = p[2], lon1 = p[3], lat0 = p[4], lat1 = p[5], e = p[8];
@@ -148,6 +213,59 @@ void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bo
             xy[2 * i] = x;
             xy[2 * i + 1] = y;
             ok[i] = true;
+        }
+    }
+}
+
+PixelFn pixel_fn(int64_t id) {
+    switch (id) {
+        case 0: return equirect_pixels;
+        case 1: return perspective_pixels;
+        case 2: return hammer_pixels;
+        default: return nullptr;
+    }
+}
+
+void tiled_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    constexpr int64_t B = 256;  // directions per block: the block's buffers stay in the L1 cache
+    const int64_t ntiles = int64_t(p[0]);
+    double u[3 * B], buf[3 * B], lxy[2 * B];
+    bool free_[B], lok[B];
+    int64_t idx[B];
+    for (int64_t b0 = 0; b0 < n; b0 += B) {
+        const int64_t m = std::min(B, n - b0);
+        for (int64_t j = 0; j < m; ++j) {
+            clear2(b0 + j, xy, ok);
+            free_[j] = unit_dir(d + 3 * b0, j, u[3 * j], u[3 * j + 1], u[3 * j + 2]);
+        }
+        const double* t = p + 1;
+        for (int64_t k = 0; k < ntiles; ++k) {
+            const PixelFn fn = pixel_fn(int64_t(t[0]));
+            const int64_t np_ = int64_t(t[1]);
+            const double reach = t[2];
+            const double* axis = t + 3;
+            const double* R = t + 6;
+            const double ox = t[15], oy = t[16], limx = t[17], limy = t[18];
+            int64_t c = 0;
+            for (int64_t j = 0; j < m; ++j) {
+                if (!free_[j]) continue;
+                const double* v = u + 3 * j;
+                if (reach > -1.0 && !(axis[0] * v[0] + axis[1] * v[1] + axis[2] * v[2] >= reach)) continue;
+                for (int q = 0; q < 3; ++q) buf[3 * c + q] = v[0] * R[q] + v[1] * R[3 + q] + v[2] * R[6 + q];
+                idx[c++] = j;
+            }
+            if (c && fn) {
+                fn(buf, c, t + 19, lxy, lok);
+                for (int64_t e = 0; e < c; ++e) {
+                    if (!lok[e]) continue;
+                    const int64_t i = b0 + idx[e];
+                    xy[2 * i] = std::min(lxy[2 * e], limx) + ox;  // off the tile's right and bottom edges
+                    xy[2 * i + 1] = std::min(lxy[2 * e + 1], limy) + oy;
+                    ok[i] = true;
+                    free_[idx[e]] = false;
+                }
+            }
+            t += 19 + np_;
         }
     }
 }

@@ -21,6 +21,23 @@ struct Frame { double width, height, slack; };
 // equirect: p = W, H, lon_min, lon_max, lat_min, lat_max (radians), full sphere, wraps, edge slack
 void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 
+// The whole-image models' dir -> pixel (Lens.dir_to_pixel: normalise, dir_to_uv, uv_to_pixel, snap_to_image),
+// the same operations in the same order as their NumPy methods.
+// perspective: p = W, H, t, t_v, H / W, edge slack
+void perspective_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// hammer: p = W, H, H / W, edge slack
+void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
+// a tiled grid: each direction to the first tile that sees it (Tiled.dir_to_pixel). p = the number of tiles, then
+// per tile: its kernel's number in pixel_kernel_ids(), the count of its parameters, the cosine of its reach (-1:
+// no cone test), its axis (3), its turn R (9, row-major: the tile sees d R), its offset (2) and the largest
+// position inside it (2), then its kernel's parameters
+void tiled_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
+using PixelFn = void (*)(const double*, int64_t, const double*, double*, bool*);
+// the whole-image kernels a tile may have, by number (0 equirect, 1 perspective, 2 hammer); nullptr beyond
+PixelFn pixel_fn(int64_t id);
+
 void division_unbend(const double* uv, int64_t n, double k1, double k2, double hi, double f_hi, bool strict, bool pole,
                      const Table& table, const Solver& s, double* out, bool* ok);
 void brown_bend(const double* uv, int64_t n, double k1, double k2, double hi, double rd_fold, const Table& table,

@@ -28,7 +28,7 @@ import lenslab.lenses.core.native as native
 from lenslab.lenses import make_lens
 from lenslab.lenses.formulas import kinds, reference
 from lenslab.lenses.formulas.solve import DIVISION, OCAM, kernel_settings
-from lenslab.warp.projection import project_kernel
+from lenslab.lenses.core.native import project_kernel
 
 NAN, INF = math.nan, math.inf
 #: directions at the extremes (any length: the kernels normalise)
@@ -127,6 +127,37 @@ def test_equirect_pixel_kernel_matches_its_reference_and_the_model(spec, d):
     model, model_ok = lens.dir_to_pixel(d)  # the model's own NumPy dir_to_pixel
     np.testing.assert_array_equal(ok, model_ok)
     np.testing.assert_allclose(xy, model, rtol=0, atol=1e-9)
+
+
+WHOLE = [("perspective:fov=90", (640, 480)), ("perspective:fov=0.01", (64, 64)),  # fov near 0
+         ("perspective:fov=179.99", (512, 512)), ("perspective:fov=120,vfov=60", (800, 400)),
+         ("perspective:dfov=100", (600, 400)), ("hammer", (800, 400)), ("hammer", (512, 512)),
+         ("tiled:2x2", (800, 600)), ("tiled:3x1", (900, 200))]
+
+
+def numpy_steps(lens):
+    """``lens`` with its compiled kernel (and its tiles') switched off: its NumPy dir_to_pixel runs."""
+    lens.pixel_kernel = lambda: None
+    for tile in getattr(lens, "tile_list", ()):
+        if tile is not None:
+            tile.lens.pixel_kernel = lambda: None
+    return lens
+
+
+@pytest.mark.parametrize("spec,size", WHOLE)
+@HYP
+@given(d=DIRS)
+def test_whole_image_kernels_match_the_models_numpy_steps(spec, size, d):
+    """The perspective, Hammer and tiled kernels are the NumPy steps of Lens.dir_to_pixel (normalise,
+    dir_to_uv, uv_to_pixel, snap_to_image; for a grid, the first tile that sees the direction): those steps,
+    run with the kernels switched off, are their reference."""
+    lens = make_lens(spec, size)
+    kern = lens.pixel_kernel()
+    assert kern is not None
+    xy, ok = project_kernel(kern, d)
+    want, want_ok = numpy_steps(lens).dir_to_pixel(d)
+    np.testing.assert_array_equal(ok, want_ok)
+    np.testing.assert_allclose(xy, want, rtol=0, atol=1e-9)
 
 
 D2P = {

@@ -102,7 +102,8 @@ class PixelKernel:
     whether the lens sees the direction inside its image), both written in place; zero and non-finite
     directions are not seen, and ``xy = 0`` wherever ``ok`` is False. ``fn`` releases the GIL. ``params``
     is a float64 1-D array of whatever the function needs (image size, parameters), made once per lens.
-    :func:`lenslab.warp.projection.project_kernel` calls it.
+    :func:`lenslab.lenses.core.native.project_kernel` runs it; :meth:`Lens.dir_to_pixel` runs it for a
+    model that has one, and the warp engine for large sources.
     """
 
     fn: Callable
