@@ -241,3 +241,25 @@ def test_lensfun_profiles_run_the_kernel_as_referenced(name, d, recorder):
 def test_solver_settings_are_the_numpy_solves():
     tol, res_tol, rel_ulps, max_iter = kernel_settings()
     assert tol == 1e-13 and max_iter == 100 and res_tol == 1e-11 and rel_ulps == 8 * np.finfo(float).eps
+
+
+def test_no_lens_needs_numba():
+    """Every lens of the benchmark and a lensfun profile map pixels and directions both ways, and ask for their
+    compiled kernels, in a fresh process that never imports numba: nothing is compiled on a machine's first use."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, numpy as np\n"
+        "from lenslab.bench.lenses import DEFAULT_SPECS\n"
+        "from lenslab.lenses import make_lens\n"
+        "xy = np.random.default_rng(0).uniform(-2, 66, (500, 2))\n"
+        "specs = list(DEFAULT_SPECS) + ['lensfun:lens=\"Sigma 10mm f/2.8 EX DC Fisheye HSM\"']\n"
+        "for s in specs:\n"
+        "    lens = make_lens(s, (64, 64))\n"
+        "    d, ok = lens.pixel_to_dir(xy)\n"
+        "    lens.dir_to_pixel(d)\n"
+        "    lens.pixel_kernel()\n"
+        "print('numba' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"
