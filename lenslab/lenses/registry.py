@@ -28,8 +28,7 @@ MACHINERY = ("core", "formulas")
 def load_models() -> None:
     """Import every model module so that their :func:`register` decorators run: each module of each
     sub-package of :mod:`lenslab.lenses` except :data:`MACHINERY` (and any model module left at the
-    top level). Compiled twins (modules named ``kernels`` or ``*_kernels``) are skipped: the models
-    import them on first use, so that numba stays out of start-up."""
+    top level). Modules named ``kernels`` or ``*_kernels`` hold no models and are skipped."""
     import importlib
     import pkgutil
 

@@ -3,10 +3,8 @@ and the kernels that evaluate a band of the map from them (see :mod:`lenslab.war
 
 The kernels are C++ (:mod:`lenslab.warp.kernels.native`), compiled when lenslab is installed, so a warp
 neither compiles nor imports numba for its map; their NumPy references are in
-:mod:`lenslab.warp.kernels.lattice_reference`, with the same bits. Only :func:`project_kernel`, which runs a
-lens's own compiled ``dir -> pixel`` function, is numba's: it is compiled (and numba imported) on its first
-call, which a map makes only for a source lens with such a kernel and at least
-:data:`lenslab.warp.maps.COMPILED_PROJECT_MIN` directions to project.
+:mod:`lenslab.warp.kernels.lattice_reference`, with the same bits. A lens's own compiled ``dir -> pixel``
+kernel is C++ too (:mod:`lenslab.lenses.core.native`).
 """
 
 from __future__ import annotations
@@ -68,43 +66,3 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs) -> 
     row, and a row is walked cell by cell (the samples of an interpolating cell are one vectorised loop)."""
     native.kernels().lattice_rows(coef, state, int(cb0), float(inv), int(r0), np.ascontiguousarray(offs, np.float64),
                                   xs, ys, valid, need, dirs)
-
-
-_project = None
-
-
-def project_kernel(fn, params, d, xy, valid) -> None:
-    """Pixel positions of directions ``d`` (n, 3; any length) through a lens's compiled ``dir -> pixel``
-    ``fn`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`): zero and non-finite directions invalid.
-    numba compiles it on the first call (a lens's kernel is a numba function)."""
-    global _project
-    if _project is None:
-        _project = _compile_project()
-    _project(fn, params, d, xy, valid)
-
-
-def _compile_project():
-    import numba
-
-    # not cached: numba keys a kernel that takes a function by that function object, so every process wrote
-    # one more cache entry that no later process could use, and writing the cache's index could fail
-    # ("ReferenceError: underlying object has vanished") once an earlier entry's function was gone
-    @numba.njit(nogil=True)
-    def project_kernel(fn, params, d, xy, valid):
-        for i in range(d.shape[0]):
-            n2 = d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1] + d[i, 2] * d[i, 2]
-            ok = False
-            x = y = 0.0
-            if n2 > 0.0 and np.isfinite(n2):
-                s = np.sqrt(n2)
-                x, y, ok = fn(d[i, 0] / s, d[i, 1] / s, d[i, 2] / s, params)
-            if ok and np.isfinite(x) and np.isfinite(y):
-                xy[i, 0] = x
-                xy[i, 1] = y
-                valid[i] = True
-            else:
-                xy[i, 0] = 0.0
-                xy[i, 1] = 0.0
-                valid[i] = False
-
-    return project_kernel

@@ -39,9 +39,10 @@ import numpy as np
 
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
+from lenslab.lenses.core.native import project_kernel
 from lenslab.warp.kernels.dispatch import run_bands
 from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
-                                  lattice_rows, project_kernel)
+                                  lattice_rows)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -142,10 +143,11 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
 
 
 #: directions below which :func:`project` calls the lens's vectorised ``dir_to_pixel`` even where the lens
-#: has a compiled kernel: that kernel takes a function, so numba compiles it anew in every process (about
-#: 0.15 s, 0.45 s with numba's first start-up), while NumPy projects an equirect's directions as fast
-#: (measured 53-58 ns against 65 ns per direction, 1e5-1e6 directions, one thread); the two agree to a
-#: few ulps (tests/warp/test_warp_project.py)
+#: has a compiled kernel. The kernels are C++ (nothing to compile on first use); an equirect's NumPy
+#: ``dir_to_pixel`` is about as fast on small calls (measured 70-125 ns against 65 ns per direction for the
+#: kernel, 1e6 directions, one thread, loaded machine); the two agree to a few ulps
+#: (tests/warp/test_warp_project.py). Models whose ``dir_to_pixel`` is itself the kernel (perspective,
+#: Hammer, tiled grids of those) run it at every size.
 COMPILED_PROJECT_MIN = 1 << 20
 
 
@@ -155,11 +157,7 @@ def project(lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     kern = lens.pixel_kernel() if np.size(d) >= 3 * COMPILED_PROJECT_MIN else None
     if kern is None:
         return lens.dir_to_pixel(d)
-    flat = np.ascontiguousarray(d, dtype=np.float64).reshape(-1, 3)
-    xy = np.empty((len(flat), 2))
-    valid = np.empty(len(flat), dtype=np.bool_)
-    project_kernel(kern.fn, kern.params, flat, xy, valid)
-    return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+    return project_kernel(kern, d)
 
 
 @dataclass

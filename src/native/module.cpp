@@ -13,6 +13,7 @@ namespace nb = nanobind;
 using namespace lenslab;
 
 void bind_map_kernels(nb::module_& m);  // bind_map.cpp: the map lattice and the separable samplers
+void register_lens_kernels(nb::module_& m);  // lens_bindings.cpp: the lens models' kernels
 
 template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
@@ -31,6 +32,7 @@ void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's b
 NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
+    register_lens_kernels(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

@@ -1,5 +1,6 @@
 """The lens kit's formulas (lenslab.lenses.formulas): published values, and each NumPy function against
-its compiled twin, so that the fisheye mappings and the cylinders are written once and agree everywhere."""
+its compiled twin (the C++ kernels, ``lenslab.cxx_kernels``), so that the fisheye mappings and the cylinders
+agree everywhere."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from lenslab.lenses.formulas import azimuthal, azimuthal_kernels, kinds, lonlat, lonlat_kernels
+from lenslab.lenses.core.native import lens_kernels
+from lenslab.lenses.formulas import azimuthal, calibrated, kinds, lonlat
 
 AZIMUTHAL = list(kinds.AZIMUTHAL.values())
 CYLINDERS = [kinds.EQUIRECTANGULAR, kinds.CYLINDRICAL, kinds.EQUAL_AREA_CYLINDRICAL, kinds.MERCATOR]
@@ -50,22 +52,24 @@ def random_directions(n=2000, seed=0):
     return np.concatenate([d, np.eye(3), -np.eye(3)])
 
 
+def plane_points(kind, d):
+    """The compiled kernels' plane point of each direction: the lensfun kernel at unit focal length, no
+    distortion, centre 0 and one unit per pixel, so its pixel is ``(x, -y)``."""
+    out, ok = np.empty((len(d), 2)), np.empty(len(d), dtype=bool)
+    lens_kernels().lensfun_dir_to_pixel(d, kind, 1.0, np.ones(1), np.inf, 0.0, 0.0, 1.0, out, ok)
+    return out * [1.0, -1.0], ok
+
+
 @pytest.mark.parametrize("kind", AZIMUTHAL)
 def test_azimuthal_twins_agree(kind):
     d = random_directions()
     xy, s, seen = azimuthal.dir_to_plane(kind, d)
-    for i, (dx, dy, dz) in enumerate(d):
-        x, y, ok = azimuthal_kernels.dir_to_plane(kind, dx, dy, dz)
-        back = dz < 0 and dx == 0 and dy == 0
-        if back:  # the back pole is a circle: the compiled kernel (a pixel per direction) refuses it
-            assert not ok
-            continue
-        assert ok == bool(seen[i]), (kind, d[i])
-        if ok:
-            assert abs(x - xy[i, 0]) <= 1e-15 * max(1.0, s[i]) * 4 and abs(y - xy[i, 1]) <= 1e-15 * max(1.0, s[i]) * 4
-            e, f, g, ok2 = azimuthal_kernels.plane_to_dir(kind, x, y)
-            ref, ok3 = azimuthal.plane_to_dir(kind, np.array([x]), np.array([y]))
-            assert ok2 == bool(ok3[0]) and np.allclose([e, f, g], ref[0], rtol=0, atol=1e-15)
+    got, ok = plane_points(kind, d)
+    back = (d[:, 2] < 0) & (d[:, 0] == 0) & (d[:, 1] == 0)
+    assert not ok[back].any()  # the back pole is a circle: the compiled kernel (a pixel per direction) refuses it
+    np.testing.assert_array_equal(ok[~back], seen[~back])
+    # the same operations in the same order; libm's atan2 and sqrt may differ by an ulp of s
+    assert np.all(np.abs(got[ok] - xy[ok]) <= 4e-15 * np.maximum(1.0, s[ok])[:, None])
 
 
 @pytest.mark.parametrize("kind", CYLINDERS)
@@ -73,11 +77,10 @@ def test_cylinder_twins_agree(kind):
     d = random_directions()
     phi, s, c = lonlat.dir_to_lonlat(d)
     y, ok = lonlat.lat_to_height(kind, s, c)
-    for i, (dx, dy, dz) in enumerate(d):
-        p, h, ok2 = lonlat_kernels.dir_to_lon_height(kind, dx, dy, dz)
-        assert ok2 == bool(ok[i]) and p == pytest.approx(phi[i], rel=4e-16, abs=1e-300)  # libm atan2s: 1 ulp apart
-        if ok2:
-            assert h == pytest.approx(y[i], rel=1e-15, abs=1e-15)
+    got, ok2 = plane_points(kind, d)
+    np.testing.assert_array_equal(ok2, ok)
+    np.testing.assert_allclose(got[ok, 0], phi[ok], rtol=4e-16, atol=1e-300)  # libm atan2s: 1 ulp apart
+    np.testing.assert_allclose(got[ok, 1], y[ok], rtol=1e-15, atol=1e-15)
 
 
 CALIBRATED = [
@@ -92,40 +95,50 @@ CALIBRATED = [
 
 @pytest.mark.parametrize("kind,q", CALIBRATED)
 def test_calibrated_projection_twins_agree(kind, q):
-    from lenslab.lenses.formulas import calibrated, calibrated_kernels
-
+    """The compiled projection without distortion, ``fx = fy = 1`` and the principal point at (4, 4) of an 8x8
+    image, against the NumPy formulas; and its inverse, the compiled unprojection, against theirs."""
     qa = np.array(q)
     d = random_directions(500, seed=1)
-    mx, my, ok = calibrated.project(kind, d[:, 0], d[:, 1], d[:, 2], qa)
-    X, Y, Z, ok_back = calibrated.unproject(kind, mx, my, qa)
-    for i in range(d.shape[0]):
-        a, b, seen = calibrated_kernels.project_one(kind, d[i, 0], d[i, 1], d[i, 2], qa)
-        assert seen == bool(ok[i]), (kind, d[i])
-        if seen:
-            assert abs(a - mx[i]) <= 1e-12 * max(1.0, abs(a)) and abs(b - my[i]) <= 1e-12 * max(1.0, abs(b))
-            e, f, g, ok2 = calibrated_kernels.unproject_one(kind, a, b, qa)
-            assert ok2 == bool(ok_back[i]) and np.allclose([e, f, g], [X[i], Y[i], Z[i]], rtol=0, atol=1e-12)
-            if ok2:  # and the inverse is the inverse
-                assert np.allclose([e, f, g], d[i], rtol=0, atol=1e-9)
+    cv = d * [1.0, -1.0, 1.0]  # OpenCV's frame: y down
+    mx, my, ok = calibrated.project(kind, cv[:, 0], cv[:, 1], cv[:, 2], qa)
+    ok &= (np.abs(mx) <= 4.0) & (np.abs(my) <= 4.0)
+    k = lens_kernels()
+    z3, z4 = np.zeros(3), np.zeros(4)
+    xy, seen = np.empty((len(d), 2)), np.empty(len(d), dtype=bool)
+    k.calibrated_project(d, kind, qa, z4, z3, 0.0, 0.0, z4, False, False, np.inf, 1.0, 1.0, 0.0, 3.5, 3.5, 8.0, 8.0,
+                         0.0, xy, seen)
+    np.testing.assert_array_equal(seen, ok)
+    # u = mx + 4: one ulp of 4 (8.9e-16) on top of the formulas' last bits
+    np.testing.assert_allclose(xy[ok] - 4.0, np.c_[mx, my][ok], rtol=0, atol=2e-15)
+    X, Y, Z, ok_back = calibrated.unproject(kind, mx[ok], my[ok], qa)
+    back, ok2 = np.empty((ok.sum(), 3)), np.empty(ok.sum(), dtype=bool)
+    k.calibrated_unproject(np.c_[mx, my][ok] + 4.0, kind, qa, z4, z3, 0.0, 0.0, z4, False, False, np.inf, 1.0, 1.0,
+                           False, np.zeros(2), 1.0, 1e-13, 1e-11, 1e-15, 100, 1e-12, 10, 1.0, 1.0, 0.0, 3.5, 3.5,
+                           back, ok2)
+    np.testing.assert_array_equal(ok2, ok_back)
+    np.testing.assert_allclose(back[ok2], np.c_[X, -Y, Z][ok2], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(back[ok2], d[ok][ok2], rtol=0, atol=1e-9)  # and the inverse is the inverse
 
 
 def test_lensfun_fisheye_kernel_does_not_put_the_back_pole_at_the_centre():
     # the back pole is the whole rim circle of an equidistant fisheye (s = pi), not one pixel; the lensfun
     # kernel once mapped it to the lens centre as a valid pixel, the calibrated kernel never did
-    from lenslab.lenses.lensfun.kernels import dir_to_pixel
-
     d = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]])
     out, valid = np.empty((2, 2)), np.empty(2, dtype=bool)
-    dir_to_pixel(d, kinds.EQUIDISTANT, 1.0, np.ones(1), np.inf, 100.0, 50.0, 0.01, out, valid)
+    lens_kernels().lensfun_dir_to_pixel(d, kinds.EQUIDISTANT, 1.0, np.ones(1), np.inf, 100.0, 50.0, 0.01, out, valid)
     assert valid.tolist() == [False, True] and out[1].tolist() == [100.0, 50.0]
 
 
 def test_radial_polynomial_twin_agrees():
     from lenslab.lenses.formulas.radial import Radial
-    from lenslab.lenses.formulas.radial_kernels import poly_scale
 
     # lensfun's ptlens a=0.01, b=-0.02, c=0.005 as P(r) = (1 - a - b - c) + c r + b r^2 + a r^3
     radial = Radial((1.005, 0.005, -0.02, 0.01))
     r = np.linspace(0.0, 1.5, 31)
-    assert [poly_scale(radial.coeffs, x) for x in r] == pytest.approx(radial.scale(r).tolist(), rel=1e-15)
-    assert poly_scale(radial.coeffs, 1.0) == pytest.approx(1.0, abs=1e-15)  # lensfun's P(1) = 1 for ptlens
+    # the lensfun kernel, rectilinear at unit focal length: the direction (r, 0, 1) is the plane point (r, 0),
+    # which it moves to r P(r) (r to an ulp or two: the direction is normalised first)
+    out, ok = np.empty((len(r), 2)), np.empty(len(r), dtype=bool)
+    lens_kernels().lensfun_dir_to_pixel(np.c_[r, 0 * r, 1 + 0 * r], kinds.RECTILINEAR, 1.0, radial.coeffs, np.inf,
+                                        0.0, 0.0, 1.0, out, ok)
+    assert ok.all() and out[:, 0] == pytest.approx((r * radial.scale(r)).tolist(), rel=1e-15, abs=1e-300)
+    assert radial.scale(np.array([1.0]))[0] == pytest.approx(1.0, abs=1e-15)  # lensfun's P(1) = 1 for ptlens

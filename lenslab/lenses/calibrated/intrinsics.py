@@ -13,7 +13,7 @@ A model is a projection to a normalised plane, ``(X, Y, Z) -> (mx, my)``, an opt
 that plane (:class:`~lenslab.lenses.calibrated.polydistort.PolyDistortion`), and the affine intrinsics
 ``u = fx mx + skew my + cx``, ``v = fy my + cy``. Subclasses name their projection for the compiled
 kernels of both directions (:attr:`kernel_kind`, :meth:`kernel_params`;
-:mod:`lenslab.lenses.calibrated.kernels`, where the closed forms are) and give :meth:`make_distortion`
+``src/native/lens_formulas.h``, where the closed forms are) and give :meth:`make_distortion`
 when they distort; a model of another shape (``ocam``) overrides the pixel-level methods.
 
 A lens built for another image size scales the intrinsics about the image's corner (lenslab's frame):
@@ -135,7 +135,7 @@ class Calibrated(Lens):
 
     # -- lenslab's interface ---------------------------------------------------------------------
     def pixel_to_dir(self, xy):
-        from lenslab.lenses.calibrated.kernels import unproject_kernel
+        from lenslab.lenses.core.native import lens_kernels
         from lenslab.lenses.calibrated.polydistort import MAX_ITER_2D, TOL_2D
         from lenslab.lenses.formulas.solve import kernel_settings
 
@@ -151,7 +151,7 @@ class Calibrated(Lens):
             dist = PolyDistortion()
             dist.prepare(1.0)
         table, step = dist.table
-        worst = unproject_kernel(
+        worst = lens_kernels().calibrated_unproject(
             flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), dist.a, dist.b, dist.p1,
             dist.p2, dist.s, self.distortion is not None and not dist.identity, not dist.radial_only, dist.fold,
             dist.hi, dist.f_hi, dist.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D,
@@ -160,7 +160,7 @@ class Calibrated(Lens):
             self.distortion.max_iterations = worst
         return d.reshape(shape + (3,)), ok.reshape(shape)
 
-    #: the compiled projection (calibrated_kernels.PINHOLE...) of the model's dir_to_pixel
+    #: the compiled projection (a code of lenslab.lenses.formulas.kinds) of the model's dir_to_pixel
     kernel_kind: ClassVar[int | None] = None
 
     def kernel_params(self) -> tuple[float, ...]:
@@ -171,14 +171,14 @@ class Calibrated(Lens):
         d = as_points(dirs, 3, "directions")
         shape = d.shape[:-1]
         flat = np.ascontiguousarray(d.reshape(-1, 3), dtype=FLOAT)
-        from lenslab.lenses.calibrated.kernels import project_kernel
+        from lenslab.lenses.core.native import lens_kernels
 
         xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
         ok = np.empty(flat.shape[0], dtype=np.bool_)
         dist = self.distortion
         none = dist is None or dist.identity
         a, b, s = (np.zeros(4), np.zeros(3), np.zeros(4)) if dist is None else (dist.a, dist.b, dist.s)
-        project_kernel(flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), a, b,
+        lens_kernels().calibrated_project(flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), a, b,
                        0.0 if dist is None else dist.p1, 0.0 if dist is None else dist.p2, s,
                        not none, bool(dist is not None and not dist.radial_only),
                        np.inf if dist is None else dist.fold, self.fx, self.fy, self.skew, self.cx, self.cy,

@@ -137,7 +137,7 @@ class OCam(Calibrated):
         return d.reshape(shape + (3,)), ok.reshape(shape)
 
     def dir_to_pixel(self, dirs):
-        from lenslab.lenses.calibrated.kernels import ocam_project_kernel
+        from lenslab.lenses.core.native import lens_kernels
 
         d = as_points(dirs, 3, "directions")
         shape = d.shape[:-1]
@@ -148,7 +148,7 @@ class OCam(Calibrated):
         strict = bool(np.isfinite(self.rho_fold) and self.rho_hi == self.rho_fold)
         xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
         ok = np.empty(flat.shape[0], dtype=np.bool_)
-        self.max_iterations = ocam_project_kernel(
+        self.max_iterations = lens_kernels().ocam_project(
             flat, self.pol_c * self.rho_hi ** (np.arange(self.pol_c.size) - 1.0), self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
             self.c, self.d, self.e, self.xc, self.yc, float(self.width), float(self.height), self.edge_slack, xy, ok)
         return xy.reshape(shape + (2,)), ok.reshape(shape)

@@ -15,7 +15,7 @@ derivative's numerator is a polynomial in ``r^2`` whose first positive root (or 
 the fold radius. Points at or beyond it are invalid both ways, and so are points where the Jacobian of
 the whole map is not positive (the tangential and prism terms can fold it too).
 
-The inverse (compiled: :mod:`lenslab.lenses.calibrated.kernels`): the radius is solved by the
+The inverse (compiled: ``lenslab.cxx_kernels``, ``src/native/lens_kernels.cpp``): the radius is solved by the
 safeguarded Newton of :func:`lenslab.lenses.formulas.solve.invert_increasing` from a table of the inverse;
 with tangential or prism terms that radial solution starts a 2-D Newton on the whole map, steps halved
 until they stay inside the fold radius, at most :data:`MAX_ITER_2D` iterations, converged when the
@@ -115,7 +115,7 @@ class PolyDistortion:
     # -- forward ---------------------------------------------------------------------------------
     def apply(self, x, y):
         """Distorted ``(x_d, y_d)`` and validity (inside the fold, positive Jacobian); compiled."""
-        from lenslab.lenses.calibrated.kernels import distort_kernel
+        from lenslab.lenses.core.native import lens_kernels
 
         x = np.ascontiguousarray(x, dtype=FLOAT)
         y = np.ascontiguousarray(y, dtype=FLOAT)
@@ -124,7 +124,7 @@ class PolyDistortion:
         xd = np.empty_like(x)
         yd = np.empty_like(y)
         valid = np.empty(x.shape, dtype=np.bool_)
-        distort_kernel(x, y, self.a, self.b, self.p1, self.p2, self.s, not self.radial_only, self.fold, xd, yd, valid)
+        lens_kernels().distort_points(x, y, self.a, self.b, self.p1, self.p2, self.s, not self.radial_only, self.fold, xd, yd, valid)
         return xd, yd, valid
 
     # -- inverse ---------------------------------------------------------------------------------

@@ -157,7 +157,9 @@ class Lens:
 
     def pixel_kernel(self) -> PixelKernel | None:
         """A compiled ``dir -> pixel`` (see :class:`~lenslab.lenses.core.protocol.PixelKernel`), or None
-        (the default): the engine then calls the vectorised :meth:`dir_to_pixel`."""
+        (the default): the engine then calls the vectorised :meth:`dir_to_pixel`. A model whose kernel does
+        what :meth:`dir_to_pixel` does (normalise, :meth:`dir_to_uv`, :meth:`uv_to_pixel`, :meth:`snap_to_image`)
+        has it run there too (:func:`lenslab.lenses.core.native.kernel_holds`)."""
         return None
 
     def source_view_count(self) -> int:
@@ -294,6 +296,11 @@ class Lens:
             the image.
         """
         d = as_points(dirs, 3, "directions")
+        kern = self.pixel_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import project_kernel
+
+            return project_kernel(kern, d)
         with np.errstate(all="ignore"):
             n2 = np.einsum("...i,...i->...", d, d)
             nonzero = (n2 > 0) & np.isfinite(n2)
@@ -309,8 +316,8 @@ class Lens:
     def dir_to_pixel_unit(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`dir_to_pixel` for directions already known to be finite unit vectors (float64
         ``(..., 3)``): skips the normalisation, for callers that hold such directions (tiles)."""
-        if type(self).dir_to_pixel is not Lens.dir_to_pixel:  # a model with its own pixel-level inverse
-            return self.dir_to_pixel(d)
+        if type(self).dir_to_pixel is not Lens.dir_to_pixel or self.pixel_kernel() is not None:
+            return self.dir_to_pixel(d)  # a model with its own pixel-level inverse, or a compiled one
         return self._uv_dir_to_pixel(d)
 
     def _uv_dir_to_pixel(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -23,7 +23,6 @@ MOVED = {
     "cameraio": "core.cameraio",
     "wrapped": "core.wrapped",
     "solve": "formulas.solve",
-    "solve_kernels": "formulas.solve_kernels",
     "radial": "formulas.radial",
     "perspective": "projections.perspective",
     "fisheye": "projections.fisheye",
@@ -41,7 +40,6 @@ MOVED = {
     "brown": "distortion.brown",
     "swirl": "distortion.swirl",
     "chroma": "distortion.chroma",
-    "calibrated_kernels": "calibrated.kernels",
     "polydistort": "calibrated.polydistort",
     "opencv": "calibrated.opencv",
     "kannala_brandt": "calibrated.kannala_brandt",
@@ -51,7 +49,6 @@ MOVED = {
     "ocam": "calibrated.ocam",
     "devernay_fov": "calibrated.devernay_fov",
     "lensfun_profile": "lensfun.profile",
-    "lensfun_kernels": "lensfun.kernels",
     "lensfun_db": "lensfun.database",
 }
 

@@ -94,12 +94,16 @@ class Piece:
 
 @dataclass(frozen=True)
 class PixelKernel:
-    """A compiled ``dir -> pixel`` of one lens.
+    """A compiled ``dir -> pixel`` of one lens, ahead-of-time compiled (a function of the C++ extension
+    ``lenslab.cxx_kernels``): nothing is compiled when a warp first asks for it.
 
-    ``fn`` is a ``numba.njit`` function ``fn(dx, dy, dz, params) -> (x, y, ok)``: a finite unit direction
-    (float64) in, the continuous pixel position (float64, pixel centres at +0.5) and whether the lens
-    sees it inside its image out (``x = y = 0`` where not ``ok``); ``params`` is a float64 1-D array of
-    whatever the function needs (image size, parameters), made once per lens.
+    ``fn(d, params, xy, ok)`` projects ``d`` (float64, C-contiguous ``(n, 3)``, any length) into ``xy``
+    (float64 ``(n, 2)``: the continuous pixel position, pixel centres at +0.5) and ``ok`` (bool ``(n,)``:
+    whether the lens sees the direction inside its image), both written in place; zero and non-finite
+    directions are not seen, and ``xy = 0`` wherever ``ok`` is False. ``fn`` releases the GIL. ``params``
+    is a float64 1-D array of whatever the function needs (image size, parameters), made once per lens.
+    :func:`lenslab.lenses.core.native.project_kernel` runs it; :meth:`Lens.dir_to_pixel` runs it for a
+    model that has one, and the warp engine for large sources.
     """
 
     fn: Callable

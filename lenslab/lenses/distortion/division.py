@@ -122,13 +122,13 @@ class Distortion(Wrapped):
     def unbend(self, uv):
         """Image ``(u, v)`` of undistorted points: the compiled solve of ``r_u = f(r_d)``, fused with the
         range test and rescaling (a safeguarded Newton from a table of the inverse)."""
-        from lenslab.lenses.formulas.solve_kernels import division_unbend
+        from lenslab.lenses.core.native import lens_kernels
 
         hi, f_hi, strict, pole, table, step = self._kernel_args()
         flat = np.ascontiguousarray(uv, dtype=FLOAT).reshape(-1, 2)
         out = np.empty(flat.shape, dtype=FLOAT)
         valid = np.empty(flat.shape[0], dtype=np.bool_)
-        division_unbend(flat, self.k1, self.k2, hi, f_hi, strict, pole, table, step, *kernel_settings(),
+        lens_kernels().division_unbend(flat, self.k1, self.k2, hi, f_hi, strict, pole, table, step, *kernel_settings(),
                         out, valid)
         return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
 

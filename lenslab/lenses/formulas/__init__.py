@@ -11,6 +11,8 @@
 - :mod:`~lenslab.lenses.formulas.solve`: the one safeguarded Newton that inverts the maps with no
   closed-form inverse.
 
-Each NumPy function has its compiled (numba) twin in the ``*_kernels`` module beside it, imported on
-first use; the tests hold each pair to each other and to published values. No models live here.
+Each NumPy function has its compiled C++ twin in ``src/native/lens_formulas.h`` (the extension
+``lenslab.cxx_kernels``), fused there into the models' kernels; :mod:`~lenslab.lenses.formulas.reference`
+composes the NumPy functions into each kernel's reference, and the tests hold each pair to each other and
+to published values. No models live here.
 """

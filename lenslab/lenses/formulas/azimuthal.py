@@ -14,7 +14,7 @@ A point ``(x, y)`` of the plane is the direction ``(sin(theta) x/s, sin(theta) y
 ``sin(theta)/s = sqrt(1 - s^2/4)``; stereographic: with ``q = s/2``, ``sin(theta)/s = 1/(1 + q^2)``;
 the inverses through ``rho = hypot(dx, dy)`` and ``dz``, with the complementary form behind the camera).
 The fisheye lens, the lensfun profiles and the calibrated Kannala-Brandt model all use these; the
-compiled twins are in :mod:`lenslab.lenses.formulas.azimuthal_kernels`.
+compiled twins are in ``src/native/lens_formulas.h``.
 
 >>> import numpy as np
 >>> d, ok = plane_to_dir(EQUISOLID, np.array([np.sqrt(2.0)]), np.array([0.0]))

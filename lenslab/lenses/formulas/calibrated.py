@@ -1,6 +1,6 @@
 """The projections of the calibrated camera models on bare float64 arrays (NumPy): rays in OpenCV's camera
 frame (``X`` right, ``Y`` down, ``Z`` forward) <-> points of the plane at unit focal length, before
-distortion. The compiled twins the models run are in :mod:`lenslab.lenses.formulas.calibrated_kernels`;
+distortion. The compiled twins the models run are in ``src/native/lens_formulas.h``;
 these are their reference (the tests hold the two to each other, and both to OpenCV and the papers).
 
 ``kind`` (:mod:`lenslab.lenses.formulas.kinds`) and ``q``::
@@ -49,7 +49,7 @@ def project(kind: int, X, Y, Z, q=()):
                 mx, my = mx * k, my * k
         elif kind == EQUIDISTANT:
             xy, _, ok = azimuthal.dir_to_plane(EQUIDISTANT, np.stack([X, Y, Z], -1))
-            ok = ok & ~((X == 0) & (Y == 0) & (Z < 0))  # the back pole is a whole circle of the plane
+            ok = ok & ~((X * X + Y * Y == 0) & (Z < 0))  # the back pole (rho 0 in float64) is a circle of the plane
             mx, my = xy[..., 0], xy[..., 1]
         else:
             if kind == UNIFIED:

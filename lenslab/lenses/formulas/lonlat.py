@@ -12,7 +12,7 @@ The cylinders differ only in how the image height ``y`` spaces the latitude (cod
     mercator                y = atanh(sin(theta)) = ln tan(pi/4 + theta/2)
 
 Used by the equirect and cylinder models and the lensfun profiles (``equirectangular`` and
-``panoramic``); the compiled twins are in :mod:`lenslab.lenses.formulas.lonlat_kernels`.
+``panoramic``); the compiled twins are in ``src/native/lens_formulas.h``.
 
 >>> import numpy as np
 >>> s, c, ok = height_to_lat(MERCATOR, np.array([np.log(np.tan(np.pi / 4 + np.pi / 12))]))

@@ -103,7 +103,7 @@ def invert_increasing(
 
 
 # -- compiled kernels for the radial maps of the models ------------------------------------------
-#: the radial maps the compiled solver inverts (:func:`lenslab.lenses.formulas.solve_kernels.radial_value`):
+#: the radial maps the compiled solver inverts (``radial_value`` in ``src/native/lens_solve.h``):
 #: the division model's r_u(r_d) and its reciprocal form past a pole, the Brown polynomial, the tan-fold
 #: fisheye's angle, OpenCV's rational radial map and OCamCalib's angle condition
 DIVISION, DIVISION_RECIPROCAL, BROWN, TAN_FISHEYE, RATIONAL, OCAM = range(6)

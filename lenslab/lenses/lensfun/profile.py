@@ -234,7 +234,7 @@ class LensfunLens(Lens):
 
     def dir_to_pixel_unbounded(self, dirs):
         """Pixels of directions, not tested against the image bounds (compiled: one pass)."""
-        from lenslab.lenses.lensfun.kernels import dir_to_pixel
+        from lenslab.lenses.core.native import lens_kernels
 
         d = as_points(dirs, 3, "directions")
         flat = np.ascontiguousarray(d.reshape(-1, 3))
@@ -244,7 +244,7 @@ class LensfunLens(Lens):
             coeffs, r_lim = self.dist.coeffs, min(self.dist.r_max, R_LIMIT)
         else:
             coeffs, r_lim = np.ones(1), np.inf
-        dir_to_pixel(flat, kinds.LENSFUN[self.profile.type], self.f, np.ascontiguousarray(coeffs, dtype=np.float64),
+        lens_kernels().lensfun_dir_to_pixel(flat, kinds.LENSFUN[self.profile.type], self.f, np.ascontiguousarray(coeffs, dtype=np.float64),
                      float(r_lim), float(self.centre[0]), float(self.centre[1]), float(self.norm), out, valid)
         return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
 

@@ -8,7 +8,8 @@ from typing import Any
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, ReferencePoint, as_points, check_size, clean, normalize
+from lenslab.lenses.core.base import (FLOAT, Lens, Param, Piece, PixelKernel, ReferencePoint, as_points, check_size,
+                                     clean, normalize)
 from lenslab.lenses.core.pose import Pose, rotate_rows
 from lenslab.lenses.registry import make_lens, register
 
@@ -227,7 +228,33 @@ class Tiled(Lens):
         valid = valid.reshape(xy.shape[:-1]) & self.in_image(xy)
         return clean(d, valid, inplace=True)
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` of the grid when every tile's lens has one the grid's kernel can call
+        (``tiled_pixels``: the steps of the NumPy :meth:`dir_to_pixel`, block by block); None otherwise."""
+        from lenslab.lenses.core.native import lens_kernels
+
+        k = lens_kernels()
+        tw, th = self.tile_size
+        records = []
+        for j, tile in enumerate(self.tile_list):
+            if tile is None:
+                continue
+            kern = tile.lens.pixel_kernel()
+            code = None if kern is None else k.pixel_kernel_ids.get(getattr(kern.fn, "__name__", ""))
+            if code is None:
+                return None
+            turn = np.eye(3) if tile.turn is None else tile.turn
+            records.append(np.concatenate([
+                [code, kern.params.size, tile.cos_reach], tile.pose.rotation[:, 2], np.asarray(turn).ravel(),
+                [(j % self.cols) * tw, (j // self.cols) * th, tw - BORDER_NUDGE, th - BORDER_NUDGE], kern.params]))
+        return PixelKernel(k.tiled_pixels, np.concatenate([[len(records)]] + records).astype(FLOAT))
+
     def dir_to_pixel(self, dirs):
+        kern = self.pixel_kernel()
+        if kern is not None:
+            from lenslab.lenses.core.native import project_kernel
+
+            return project_kernel(kern, as_points(dirs, 3, "directions"))
         d = normalize(as_points(dirs, 3, "directions"))
         flat = d.reshape(-1, 3)
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)

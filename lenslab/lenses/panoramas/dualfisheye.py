@@ -95,18 +95,29 @@ class DualFisheye(Lens):
         with np.errstate(all="ignore"):
             n = np.sqrt(np.einsum("...i,...i->...", d, d))
             good = (n > 0) & np.isfinite(n)
-            d = d / np.where(good, n, 1.0)[..., None]
-            back = d[..., 2] < 0
-            flip = np.where(back, -1.0, 1.0)  # into the back lens's frame: x and z change sign
-            local = d * np.stack([flip, np.ones_like(flip), flip], axis=-1)
+            local = d / np.where(good, n, 1.0)[..., None]
+            back = local[..., 2] < 0
+            # into the back lens's frame, in place: x and z change sign (a multiply by -1 is exact)
+            flip = np.where(back, -1.0, 1.0)
+            local[..., 0] *= flip
+            local[..., 2] *= flip
             uv, ok = self._lens.dir_to_uv(local)
-            x0 = np.where(back, self.half - self._front_x0, self._front_x0)
+            x0 = flip  # the left edge of each direction's half, in the flip array's place
+            x0 *= 0.5 * self.half - self._front_x0  # back: half - front x0, front: front x0
+            x0 -= 0.5 * self.half
+            np.negative(x0, out=x0)
             xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
-            xy[..., 0] = (uv[..., 0] + 1.0) * 0.5 * self.half + x0
-            xy[..., 1] = (1.0 - uv[..., 1] * (self.half / self.height)) * 0.5 * self.height
+            x, y = xy[..., 0], xy[..., 1]
+            np.add(uv[..., 0], 1.0, out=x)
+            x *= 0.5
+            x *= self.half
+            x += x0
+            np.multiply(uv[..., 1], self.half / self.height, out=y)
+            np.subtract(1.0, y, out=y)
+            y *= 0.5
+            y *= self.height
             # a point on the shared edge belongs to the right half: keep the left lens's points off it
-            left = x0 == 0.0
-            xy[..., 0] = np.where(left, np.minimum(xy[..., 0], self.half * (1.0 - 1e-15)), xy[..., 0])
+            np.copyto(x, np.minimum(x, self.half * (1.0 - 1e-15)), where=x0 == 0.0)
             ok &= good & self.snap_to_image(xy)
         return clean(xy, ok, inplace=True)
 

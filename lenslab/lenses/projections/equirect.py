@@ -75,14 +75,14 @@ class Equirect(Lens):
         return Seams(float(self.width), self.lat_max == 90.0, self.lat_min == -90.0)
 
     def pixel_kernel(self) -> PixelKernel:
-        """The compiled inverse: :func:`~lenslab.lenses.projections.equirect_kernels.equirect_pixel` with
-        (W, H, lon/lat range in radians, flags); numba is imported here, on first use."""
-        from lenslab.lenses.projections.equirect_kernels import equirect_pixel
+        """The compiled inverse: ``equirect_pixels`` of ``lenslab.cxx_kernels`` (C++, no JIT) with
+        (W, H, lon/lat range in radians, flags, edge slack)."""
+        from lenslab.lenses.core.native import lens_kernels
 
         params = np.array([self.width, self.height, np.radians(self.lon_min), np.radians(self.lon_max),
                            np.radians(self.lat_min), np.radians(self.lat_max), float(self.full_sphere),
                            float(self.wraps), self.edge_slack], dtype=FLOAT)
-        return PixelKernel(equirect_pixel, params)
+        return PixelKernel(lens_kernels().equirect_pixels, params)
 
     def column_scale(self, y):
         """cos(latitude) x (radians per column) / (radians per row): columns crowd toward the poles."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -88,6 +88,15 @@ class Perspective(Lens):
         x *= z
         y *= z
         return d, np.ones(uv.shape[:-1], dtype=bool)
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``perspective_pixels``: the NumPy steps of :meth:`dir_to_pixel`)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Perspective):
+            return None
+        return PixelKernel(lens_kernels().perspective_pixels, np.array(
+            [self.width, self.height, self.t, self.tv, self.aspect, self.edge_slack], dtype=np.float64))
 
     def dir_to_uv(self, d):
         z = d[..., 2]

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, Lens, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 RIM_SLACK = 1e-12  # a direction on the outline comes back a few ulps outside it and must still count
@@ -73,23 +73,43 @@ class Hammer(Lens):
         np.multiply(np.cos(phi), c, out=d[..., 2])
         return d, ok
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``hammer_pixels``: the NumPy steps of :meth:`dir_to_pixel`)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Hammer):
+            return None
+        return PixelKernel(lens_kernels().hammer_pixels, np.array([self.width, self.height, self.aspect,
+                                                                    self.edge_slack], dtype=FLOAT))
+
     def dir_to_uv(self, d):
         dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
         c = np.hypot(dx, dz)  # cos(theta)
-        # c cos(phi/2) and c sin(phi/2) from the half-angle formulas (no atan2, exact on the meridians),
-        # each written without the cancellation of c - dz in front (= dx^2 / (c + dz)) or c + dz behind
-        front = dz >= 0
+        # c cos(phi/2) and c sin(phi/2) from the half-angle formulas (no atan2, exact on the meridians), without
+        # the cancellation of c - dz in front or c + dz behind: with a = c + |dz| and h = sqrt(c / (2 a)), the
+        # larger is sqrt(c a / 2) = a h and the smaller sqrt(c (c - |dz|) / 2) = |dx| h (as c - |dz| = dx^2 / a);
+        # c cos(phi/2) is the larger in front, c sin(phi/2) (with the sign of dx) behind
+        a = np.abs(dz)
+        a += c
         with np.errstate(divide="ignore", invalid="ignore"):
-            cc = np.where(front, np.sqrt(np.maximum(0.5 * c * (c + dz), 0.0)),
-                          np.abs(dx) * np.sqrt(c / (2.0 * (c - dz))))
-            cs = np.where(front, dx * np.sqrt(c / (2.0 * (c + dz))),
-                          np.copysign(np.sqrt(np.maximum(0.5 * c * (c - dz), 0.0)), dx))
-        cc = np.where(np.isfinite(cc), cc, 0.0)
-        cs = np.where(np.isfinite(cs), cs, 0.0)
-        z = np.sqrt(1.0 + cc)
+            h = np.divide(c, a)
+            h *= 0.5
+            np.sqrt(h, out=h)
+        np.copyto(h, 0.0, where=~(a > 0))  # the poles (c = a = 0): both are 0
+        big = a * h
+        small = np.abs(dx)
+        small *= h
+        front = dz >= 0
+        cc = np.where(front, big, small)
+        cs = np.where(front, small, big)
+        np.copysign(cs, dx, out=cs)
+        z = cc
+        z += 1.0
+        np.sqrt(z, out=z)  # sqrt(1 + c cos(phi/2))
         uv = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
         np.divide(cs, z, out=uv[..., 0])  # X / (2 sqrt 2) = c sin(phi/2) / z
-        np.divide(dy, 2.0 * z, out=uv[..., 1])  # Y / (2 sqrt 2) = sin(theta) / (2 z)
+        z *= 2.0
+        np.divide(dy, z, out=uv[..., 1])  # Y / (2 sqrt 2) = sin(theta) / (2 z)
         return uv, np.ones(d.shape[:-1], dtype=bool)
 
 

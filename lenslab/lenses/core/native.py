@@ -1,0 +1,52 @@
+"""The lens models' compiled kernels: C++17 in the extension ``lenslab.cxx_kernels`` (``src/native/lens_*``),
+built by ``pip install -e .``, so no lens compiles anything on a machine's first warp.
+
+Direction -> pixel of the equirect, perspective and Hammer models (their
+:class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp engine and :meth:`Lens.dir_to_pixel` run), the
+calibrated models' projections and solved inverses, OCamCalib's solved projection, the lensfun profiles'
+direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
+reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.errors import LensError
+
+_module = None
+
+
+def lens_kernels():
+    """The extension module; a one-line error when this copy of lenslab was installed without it."""
+    global _module
+    if _module is None:
+        try:
+            from lenslab import cxx_kernels
+        except ImportError as exc:  # a source tree used without installing it
+            raise LensError("lenslab's compiled kernels are not built: install lenslab with `pip install -e .` "
+                            f"(needs a C++17 compiler and CMake) ({exc})") from None
+        _module = cxx_kernels
+    return _module
+
+
+def project_kernel(kern, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pixel positions (float64 ``(..., 2)``) and validity (bool ``(...)``) of directions ``d`` (``(..., 3)``,
+    any length) through a lens's :class:`~lenslab.lenses.core.protocol.PixelKernel`: zero and non-finite
+    directions are invalid, and every invalid position is 0. The kernel releases the GIL, so bands of a warp
+    project on several threads."""
+    flat = np.ascontiguousarray(d, dtype=np.float64).reshape(-1, 3)
+    xy = np.empty((len(flat), 2), dtype=np.float64)
+    valid = np.empty(len(flat), dtype=np.bool_)
+    kern.fn(flat, kern.params, xy, valid)
+    return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+
+
+#: the steps of Lens.dir_to_pixel that a model's compiled dir -> pixel stands for
+KERNEL_STEPS = ("dir_to_pixel", "dir_to_uv", "uv_to_pixel", "snap_to_image", "edge_slack")
+
+
+def kernel_holds(lens, model: type) -> bool:
+    """Whether ``model``'s compiled kernel still describes ``lens``: a subclass that changed one of
+    :data:`KERNEL_STEPS` has no kernel (its :meth:`dir_to_pixel` runs its own NumPy steps)."""
+    return all(getattr(type(lens), name) is getattr(model, name) for name in KERNEL_STEPS)

@@ -1,0 +1,62 @@
+// The lens models' array kernels (lens_kernels.cpp): direction -> pixel of the models that have one compiled,
+// and the numerically inverted sides of the distortion and calibrated models. Each loops over n elements with
+// no temporaries; `ok` outputs are false (and the positions 0) where the model does not see an element.
+// NumPy references: lenslab/lenses/formulas/reference.py.
+#pragma once
+
+#include <cstdint>
+
+#include "lens_solve.h"
+
+namespace lenslab::lens {
+
+struct Table { const double* v; int64_t len; double step; };
+
+// OpenCV's distortion of the normalised plane: rational radial factor, tangential p1 p2, thin prism s[4]
+struct Distortion { const double* a; const double* b; double p1, p2; const double* s; bool tangential; double fold; };
+
+struct Intrinsics { double fx, fy, skew, cx, cy; };
+struct Frame { double width, height, slack; };
+
+// equirect: p = W, H, lon_min, lon_max, lat_min, lat_max (radians), full sphere, wraps, edge slack
+void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
+// The whole-image models' dir -> pixel (Lens.dir_to_pixel: normalise, dir_to_uv, uv_to_pixel, snap_to_image),
+// the same operations in the same order as their NumPy methods.
+// perspective: p = W, H, t, t_v, H / W, edge slack
+void perspective_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// hammer: p = W, H, H / W, edge slack
+void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
+// a tiled grid: each direction to the first tile that sees it (Tiled.dir_to_pixel). p = the number of tiles, then
+// per tile: its kernel's number in pixel_kernel_ids(), the count of its parameters, the cosine of its reach (-1:
+// no cone test), its axis (3), its turn R (9, row-major: the tile sees d R), its offset (2) and the largest
+// position inside it (2), then its kernel's parameters
+void tiled_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
+using PixelFn = void (*)(const double*, int64_t, const double*, double*, bool*);
+// the whole-image kernels a tile may have, by number (0 equirect, 1 perspective, 2 hammer); nullptr beyond
+PixelFn pixel_fn(int64_t id);
+
+void division_unbend(const double* uv, int64_t n, double k1, double k2, double hi, double f_hi, bool strict, bool pole,
+                     const Table& table, const Solver& s, double* out, bool* ok);
+void brown_bend(const double* uv, int64_t n, double k1, double k2, double hi, double rd_fold, const Table& table,
+                const Solver& s, double* out, bool* ok);
+void tan_fisheye_dir_to_uv(const double* d, int64_t n, double F, double hi, double psi_max, bool strict,
+                           const Table& table, const Solver& s, double* out, bool* ok);
+
+void distort_points(const double* x, const double* y, int64_t n, const Distortion& dist, double* xd, double* yd,
+                    bool* ok);
+void calibrated_project(const double* d, int64_t n, int64_t kind, const double* q, const Distortion* dist,
+                        const Intrinsics& k, const Frame& frame, double* xy, bool* ok);
+int64_t calibrated_unproject(const double* xy, int64_t n, int64_t kind, const double* q, const Distortion* dist,
+                             double hi, double f_hi, bool strict, const Table& table, const Solver& s, double tol_2d,
+                             int64_t max_iter_2d, const Intrinsics& k, double* d, bool* ok);
+int64_t ocam_project(const double* d, int64_t n, const double* pol_unit, int64_t npol, double hi, double a_hi,
+                     bool strict, const Table& table, const Solver& s, double c, double dd, double e, double xc,
+                     double yc, const Frame& frame, double* xy, bool* ok);
+
+void lensfun_dir_to_pixel(const double* d, int64_t n, int64_t kind, double f, const double* coeffs, int64_t ncoeffs,
+                          double r_lim, double cx, double cy, double norm, double* xy, bool* ok);
+
+}  // namespace lenslab::lens
