@@ -13,21 +13,11 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-
-_module = None
-
+from lenslab.native import extension
 
 def lens_kernels():
-    """The extension module; a one-line error when this copy of lenslab was installed without it."""
-    global _module
-    if _module is None:
-        try:
-            from lenslab import cxx_kernels
-        except ImportError as exc:  # a source tree used without installing it
-            raise LensError("lenslab's compiled kernels are not built: install lenslab with `pip install -e .` "
-                            f"(needs a C++17 compiler and CMake) ({exc})") from None
-        _module = cxx_kernels
-    return _module
+    """The extension module; a one-line :class:`LensError` when this copy of lenslab was installed without it."""
+    return extension(LensError)
 
 
 def project_kernel(kern, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -13,21 +13,11 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import WarpError
-
-_kernels = None
-
+from lenslab.native import extension
 
 def kernels():
-    """The extension module; a one-line error when this copy of lenslab was installed without it."""
-    global _kernels
-    if _kernels is None:
-        try:
-            from lenslab import cxx_kernels as k
-        except ImportError as exc:  # a source tree used without installing it
-            raise WarpError("lenslab's compiled kernels are not built: install lenslab with `pip install -e .` "
-                            f"(needs a C++17 compiler and CMake) ({exc})") from None
-        _kernels = k
-    return _kernels
+    """The extension module; a one-line :class:`WarpError` when this copy of lenslab was installed without it."""
+    return extension(WarpError)
 
 
 def c32(a: np.ndarray) -> np.ndarray:
