@@ -102,7 +102,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
             for _, frame in read_frames(src_path, start, stop):
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
                 out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
-                writer.write(out, encoded=bool(display))
+                writer.write(out, encoded=bool(display), handover=True)  # a new array each frame
                 written += 1
                 bar.update()
         if written == 0:

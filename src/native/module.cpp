@@ -24,7 +24,10 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
+void register_video(nb::module_& m);  // video.cpp: the video colour passes
+
 NB_MODULE(cxx_kernels, m) {
+    register_video(m);
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
