@@ -142,8 +142,11 @@ def frame_codes(frame, info: VideoInfo) -> np.ndarray:
     return frame_codes16(frame, info).astype(np.float64) / 65535.0
 
 
-def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3):
+def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3, window=None):
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
+
+    ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
+    the only pixels converted to linear light (the others are 0): those a warp reads.
 
     Decoding and the conversion to linear light run on a thread of their own, ``prefetch`` frames ahead
     of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
@@ -171,7 +174,7 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
-                    yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
+                    yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info, window and window())
 
     from lenslab.io.prefetch import ahead
 
