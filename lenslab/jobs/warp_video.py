@@ -104,7 +104,8 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
             for _, frame in read_frames(src_path, start, stop, window=window):
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
                 plan[:] = [cache.plan(src, dst)]
-                out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
+                if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
+                    out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out, encoded=bool(display), handover=True)  # a new array each frame
                 written += 1
                 bar.update()
