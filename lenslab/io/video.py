@@ -146,13 +146,17 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
 
     ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
-    the only pixels converted to linear light (the others are 0): those a warp reads.
+    the only pixels converted to linear light: those a warp reads. Such frames are written into a ring of
+    ``prefetch + 3`` buffers (a 4K frame is 88 MB of fresh pages otherwise): each is valid until the caller has
+    taken ``prefetch + 2`` more, and outside the window it holds 0 or an earlier frame's values.
 
     Decoding and the conversion to linear light run on a thread of their own, ``prefetch`` frames ahead
     of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
         _decode_table(info.curve, info.primaries == _BT2020)
+
+    ring: list = []
 
     def frames():
         with _open(path) as c:
@@ -174,7 +178,13 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
-                    yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info, window and window())
+                    codes, box, buf = frame_codes16(frame, info), window and window(), None
+                    if box is not None:  # reused: the caller is done with a frame long before its turn comes
+                        ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
+                        if ring[-1] is None or ring[-1].shape != codes.shape:
+                            ring[-1] = np.zeros(codes.shape, np.float32)
+                        buf = ring[-1]
+                    yield i, codes16_to_linear_compiled(codes, info, box, buf)
 
     from lenslab.io.prefetch import ahead
 
