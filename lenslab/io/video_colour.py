@@ -187,7 +187,7 @@ def _eotf_inverse(lin: np.ndarray, curve: str, bounded: bool = True) -> np.ndarr
 def _encode_table(curve: str) -> tuple[np.ndarray, float]:
     """(:func:`_eotf_inverse` at the knots of :mod:`lenslab.io.video_colour`, float32; the code of 0), cached."""
     x = knots()
-    t = cached(f"inverse-{curve}", len(x) + 1, np.float32,
+    t = cached(f"inverse-{curve}-{LOW}-{HIGH}-{KNOT_SHIFT}", len(x) + 1, np.float32,
                lambda: _eotf_inverse(np.concatenate([[0.0], x.astype(np.float64)]), curve, bounded=False))
     return t[1:], float(t[0])
 
