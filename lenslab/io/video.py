@@ -142,6 +142,36 @@ def frame_codes(frame, info: VideoInfo) -> np.ndarray:
     return frame_codes16(frame, info).astype(np.float64) / 65535.0
 
 
+#: planar Y'CbCr formats a frame can be cropped in: bytes a sample, chroma step across, chroma step down
+_CROPPABLE = {"yuv420p": (1, 2, 2), "yuv422p": (1, 2, 1), "yuv444p": (1, 1, 1), "yuv420p10le": (2, 2, 2),
+              "yuv422p10le": (2, 2, 1), "yuv444p10le": (2, 1, 1)}
+CROP_MARGIN = 8  # samples kept around a window: wider than any filter swscale runs on a same-size conversion
+
+
+def crop_frame(frame, box):
+    """``(part of frame, (row, column) of its corner)``: the planar Y'CbCr ``frame`` cut to ``box`` ``(row0, row1,
+    col0, col1)`` widened by CROP_MARGIN and aligned to the chroma grid, so that swscale converts half a frame
+    where a warp reads half (each pixel from its own samples: the same bits as in the whole frame); the frame
+    itself for other formats or when the crop is the whole frame."""
+    fmt = frame.format.name
+    if fmt not in _CROPPABLE:
+        return frame, (0, 0)
+    size, sx, sy = _CROPPABLE[fmt]
+    r0, c0 = max(0, (box[0] - CROP_MARGIN) // 4 * 4), max(0, (box[2] - CROP_MARGIN) // 4 * 4)
+    r1 = min(frame.height, -(-(box[1] + CROP_MARGIN) // 4) * 4)
+    c1 = min(frame.width, -(-(box[3] + CROP_MARGIN) // 4) * 4)
+    if (r0, r1, c0, c1) == (0, frame.height, 0, frame.width) or r1 <= r0 or c1 <= c0:
+        return frame, (0, 0)
+    part = _av().VideoFrame(c1 - c0, r1 - r0, fmt)
+    dtype = np.uint8 if size == 1 else np.uint16
+    for k, (p, q) in enumerate(zip(frame.planes, part.planes)):
+        fx, fy = (sx, sy) if k else (1, 1)
+        src = np.frombuffer(p, dtype).reshape(p.height, p.line_size // size)
+        np.frombuffer(q, dtype).reshape(q.height, q.line_size // size)[:, :q.width] = \
+            src[r0 // fy:r0 // fy + q.height, c0 // fx:c0 // fx + q.width]
+    return part, (r0, c0)
+
+
 def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3, window=None):
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
 
@@ -178,13 +208,17 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
-                    codes, box, buf = frame_codes16(frame, info), window and window(), None
-                    if box is not None:  # reused: the caller is done with a frame long before its turn comes
-                        ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
-                        if ring[-1] is None or ring[-1].shape != codes.shape:
-                            ring[-1] = np.zeros(codes.shape, np.float32)
-                        buf = ring[-1]
-                    yield i, codes16_to_linear_compiled(codes, info, box, buf)
+                    box = window and window()
+                    if box is None or info.curve == "hlg":
+                        yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
+                        continue
+                    crop, origin = crop_frame(frame, box)
+                    codes = frame_codes16(crop, info)
+                    # reused: the caller is done with a frame long before its turn comes
+                    ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
+                    if ring[-1] is None or ring[-1].shape != (frame.height, frame.width, 3):
+                        ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
+                    yield i, codes16_to_linear_compiled(codes, info, box, ring[-1], origin)
 
     from lenslab.io.prefetch import ahead
 

@@ -69,24 +69,26 @@ def _native():
 
 
 def linear_from_codes(codes: np.ndarray, table: np.ndarray, matrix: np.ndarray | None = None,
-                      window: tuple[int, int, int, int] | None = None, out: np.ndarray | None = None) -> np.ndarray:
+                      window: tuple[int, int, int, int] | None = None, out: np.ndarray | None = None,
+                      origin: tuple[int, int] = (0, 0)) -> np.ndarray:
     """16-bit codes (uint16 H x W x 3) -> ``table[codes]`` as float32 (``table``: 65536 float32), or with
     ``matrix`` (3 x 3) ``table[codes] @ matrix.T`` (``table``: 65536 float64, the sums in float64).
 
     ``window`` ``(row0, row1, col0, col1)``: only those pixels are converted (those a warp reads), the others
-    are 0, and their memory is never touched. ``out``: a float32 array of the codes' shape to write into
-    (reused from frame to frame: outside the window it keeps what it held)."""
+    are 0, and their memory is never touched. ``out``: a float32 frame to write into (reused from frame to
+    frame: outside the window it keeps what it held). ``origin``: the frame row and column of ``codes[0, 0]``
+    when ``codes`` is a crop of the frame ``out`` around the window."""
     codes = np.ascontiguousarray(codes, dtype=np.uint16)
-    h, w = codes.shape[:2]
-    r0, r1, c0, c1 = window or (0, h, 0, w)
     if out is None:
         out = np.empty(codes.shape, np.float32) if window is None else np.zeros(codes.shape, np.float32)
+    h, w = out.shape[:2]
+    r0, r1, c0, c1 = window or (0, h, 0, w)
     e32, e64 = np.empty(0, np.float32), np.empty(0, np.float64)
     if matrix is None:
         t32, t64, m = np.ascontiguousarray(table, np.float32), e64, e64
     else:
         t32, t64, m = e32, np.ascontiguousarray(table, np.float64), np.ascontiguousarray(matrix, np.float64)
-    _native().linear_from_codes(codes, t32, t64, m, out, r0, r1, c0, c1, threads())
+    _native().linear_from_codes(codes, t32, t64, m, out, r0, r1, c0, c1, origin[0], origin[1], threads())
     return out
 
 
@@ -229,14 +231,14 @@ def codes16_to_linear(codes: np.ndarray, info) -> np.ndarray:
 
 
 def codes16_to_linear_compiled(codes: np.ndarray, info, window: tuple[int, int, int, int] | None = None,
-                               out: np.ndarray | None = None) -> np.ndarray:
-    """:func:`codes16_to_linear` (its NumPy reference) in one compiled pass, HLG aside; ``window`` and ``out``:
-    see :func:`linear_from_codes`."""
+                               out: np.ndarray | None = None, origin: tuple[int, int] = (0, 0)) -> np.ndarray:
+    """:func:`codes16_to_linear` (its NumPy reference) in one compiled pass, HLG aside (whose codes must be the
+    whole frame); ``window``, ``out`` and ``origin``: see :func:`linear_from_codes`."""
     if info.curve == "hlg":
         return codes16_to_linear(codes, info)
     wide = info.primaries == _BT2020
     return linear_from_codes(codes, _decode_table(info.curve, wide), _matrix_2020_to_709() if wide else None,
-                             window, out)
+                             window, out, origin)
 
 
 __all__ = ["to_linear", "from_linear", "codes16_to_linear", "codes16_to_linear_compiled", "linear_to_codes16",

@@ -34,14 +34,17 @@ void bands(int64_t rows, int64_t threads, int64_t align, F fn) {
     for (auto& t : pool) t.join();
 }
 
-// 16-bit codes (rows x cols x 3) -> linear float32 by `table` (65536); `m` (9 doubles, row-major) applied after
-// the table when given (BT.2020 -> Rec.709), the products summed in float64 in the order r, g, b. Only the window
-// rows [r0, r1) x columns [c0, c1) is written (the pixels a warp reads); the rest of `out` is left as it is.
-void linear_from_codes(const uint16_t* codes, int64_t rows, int64_t cols, int64_t r0, int64_t r1, int64_t c0,
-                       int64_t c1, const float* t32, const double* t64, const double* m, float* out, int64_t threads) {
+// 16-bit codes -> linear float32 by `table` (65536); `m` (9 doubles, row-major) applied after the table when given
+// (BT.2020 -> Rec.709), the products summed in float64 in the order r, g, b. `out` is a rows x cols x 3 frame;
+// `codes` (crows x ccols x 3) is the part of it from row cr0, column cc0 on (the whole frame, or a crop of it
+// around the window). Only the window rows [r0, r1) x columns [c0, c1) of `out` is written (the pixels a warp
+// reads); the rest is left as it is.
+void linear_from_codes(const uint16_t* codes, int64_t ccols, int64_t cr0, int64_t cc0, int64_t cols, int64_t r0,
+                       int64_t r1, int64_t c0, int64_t c1, const float* t32, const double* t64, const double* m,
+                       float* out, int64_t threads) {
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
         for (int64_t j = r0 + b0; j < r0 + b1; ++j) {
-            const uint16_t* c = codes + (j * cols + c0) * 3;
+            const uint16_t* c = codes + ((j - cr0) * ccols + (c0 - cc0)) * 3;
             float* o = out + (j * cols + c0) * 3;
             int64_t n = c1 - c0;
             if (m == nullptr) {
@@ -106,18 +109,21 @@ void codes_from_linear(const float* lin, int64_t rows, int64_t cols, const doubl
 
 void register_video(nb::module_& m) {
     m.def("linear_from_codes", [](In<uint16_t> codes, In<float> t32, In<double> t64, In<double> matrix,
-                                  Out<float> out, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
-        need(codes.ndim() == 3 && codes.shape(2) == 3, "codes: H x W x 3");
-        need(out.size() == codes.size(), "out: the codes' shape");
-        int64_t h = int64_t(codes.shape(0)), w = int64_t(codes.shape(1));
+                                  Out<float> out, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t cr0,
+                                  int64_t cc0, int64_t threads) {
+        need(codes.ndim() == 3 && codes.shape(2) == 3 && out.ndim() == 3 && out.shape(2) == 3, "H x W x 3 arrays");
+        int64_t h = int64_t(out.shape(0)), w = int64_t(out.shape(1));
+        int64_t ch = int64_t(codes.shape(0)), cw = int64_t(codes.shape(1));
         need(0 <= r0 && r0 <= r1 && r1 <= h && 0 <= c0 && c0 <= c1 && c1 <= w, "the window is outside the frame");
+        need(r0 == r1 || c0 == c1 || (cr0 <= r0 && r1 <= cr0 + ch && cc0 <= c0 && c1 <= cc0 + cw),
+             "the codes do not cover the window");
         bool wide = matrix.size() == 9;
         need(wide ? t64.size() == 65536 : t32.size() == 65536, "a table of 65536 values");
-        linear_from_codes(codes.data(), h, w, r0, r1, c0, c1, t32.data(), t64.data(), wide ? matrix.data() : nullptr,
-                          out.data(), threads);
+        linear_from_codes(codes.data(), cw, cr0, cc0, w, r0, r1, c0, c1, t32.data(), t64.data(),
+                          wide ? matrix.data() : nullptr, out.data(), threads);
     }, nb::arg("codes"), nb::arg("t32"), nb::arg("t64"), nb::arg("matrix"), nb::arg("out").noconvert(),
-       nb::arg("r0"), nb::arg("r1"), nb::arg("c0"), nb::arg("c1"), nb::arg("threads"),
-       nb::call_guard<nb::gil_scoped_release>());
+       nb::arg("r0"), nb::arg("r1"), nb::arg("c0"), nb::arg("c1"), nb::arg("cr0"), nb::arg("cc0"),
+       nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>());
 
     m.def("codes_from_linear", [](In<float> lin, In<double> matrix, In<float> table, uint32_t b0, int shift,
                                   float zero, Out<uint16_t> out, int64_t threads) {
