@@ -209,7 +209,8 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
                     box = window and window()
-                    if box is None or info.curve == "hlg":
+                    if box is None or info.curve == "hlg" or box[1] > frame.height or box[3] > frame.width:
+                        # (a frame of another size than the stream declared: the warp says so)
                         yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
                         continue
                     crop, origin = crop_frame(frame, box)
