@@ -83,4 +83,3 @@ def source_window(bands: list[TapBand], src_width: int, src_height: int) -> tupl
     if r1 <= r0:
         return 0, 0, 0, 0
     return r0, min(r1, src_height), c0, min(c1, src_width)
-
