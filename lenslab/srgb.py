@@ -67,9 +67,9 @@ def cache_dir() -> Path:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "lenslab"
 
 
-def _cached(name: str, length: int, dtype, build) -> np.ndarray:
+def _cached(name: str, length: int, dtype, build, prefix: str = f"srgb-v{_CACHE_VERSION}") -> np.ndarray:
     """The table ``name`` from the cache (checked for its length and type), else ``build()`` and keep it."""
-    path = cache_dir() / f"srgb-v{_CACHE_VERSION}-{name}.npy"
+    path = cache_dir() / f"{prefix}-{name}.npy"
     try:
         table = np.load(path, allow_pickle=False)
         if table.shape == (length,) and table.dtype == dtype:

@@ -4,7 +4,9 @@ against ffmpeg's v360 filter on the same clip.
 The clips are made first by ffmpeg (``testsrc2``, H.264 4:2:0, 24 frames/s) at 1024x512, 1920x1080 and
 3840x1920; each goes into a square fisheye as tall as the source (512, 1080, 1920 px). Both sides decode
 H.264, resample bilinearly (v360's ``line``, lenslab's default) and encode with libx264 at its defaults
-(preset medium, CRF 23), each on every thread it wants. Every command runs as its own process,
+(preset medium, CRF 23, frame threads: ``threads=3 sliced_threads=0`` on two cores), each on every thread it
+wants; the settings each encoder wrote into its output (x264's own options SEI) are printed, so a run shows
+that the comparison is fair (Debian's ffmpeg and PyAV bring their own builds of x264). Every command runs as its own process,
 ``--repeat`` times, interleaved with the other, after one uncounted lenslab run (its kernels compiled or
 loaded from numba's cache); the figures are the median wall times as ratios lenslab / ffmpeg, aim at most
 1x, with CPU time (user + system of the process) beside them.
@@ -54,6 +56,19 @@ def _lenslab_cmd(clip: Path, out: Path, side: int) -> list[str]:
             "--from", "equirect", "--size", f"{side}x{side}", "--overwrite", "-q"]
 
 
+def x264_settings(path: Path) -> str:
+    """The x264 build and the options that set its speed, as the encoder wrote them into ``path``."""
+    import re
+
+    head = path.read_bytes()[:1 << 16].decode("latin-1")
+    core = re.search(r"x264 - core (\d+)", head)
+    keys = ("threads", "sliced_threads", "crf", "subme", "ref", "rc_lookahead", "bframes")
+    found = {k: re.search(rf"\b{k}=([\d.]+)", head) for k in keys}
+    if core is None:
+        return "not x264"
+    return f"x264 core {core.group(1)}: " + " ".join(f"{k}={m.group(1)}" for k, m in found.items() if m)
+
+
 def run(args: argparse.Namespace) -> int:
     from lenslab.bench.batch import timed_run
     from lenslab.bench.results import figure, mark
@@ -80,6 +95,8 @@ def run(args: argparse.Namespace) -> int:
             for _ in range(args.repeat):  # interleaved, so both see the same load
                 runs["ffmpeg"].append(timed_run(_ffmpeg_cmd(clip, out_f, side), env, False))
                 runs["lenslab"].append(timed_run(_lenslab_cmd(clip, out_l, side), env, False))
+            if (width, height) == sizes[0]:
+                print(f"  encoders: ffmpeg {x264_settings(out_f)}\n            lenslab {x264_settings(out_l)}")
             med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in runs.items()}
             wall, cpu = med["lenslab"][0] / med["ffmpeg"][0], med["lenslab"][1] / med["ffmpeg"][1]
             ok = figure(f"video.{width}x{height}_wall", f"H.264 {width}x{height} clip, {args.frames} frames -> "

@@ -3,7 +3,7 @@
 Decoding: each frame is converted by FFmpeg's swscale to 16-bit RGB with the stream's own matrix
 (BT.709, BT.601 or BT.2020) and range, then to linear light with colour-science's transfer
 functions chosen by the stream's transfer tag (but for HLG tabulated once for the 65536 code values, so
-a frame is one lookup; decoding runs on a thread ahead of the caller):
+a frame is one compiled lookup, :mod:`lenslab.io.video_colour`; decoding runs on a thread ahead of the caller):
 
 - BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
 - sRGB (IEC 61966-2-1): the sRGB EOTF; also an RGB-coded stream (FFV1 or x264rgb: matrix ``gbr`` or an RGB
@@ -26,7 +26,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -34,16 +33,18 @@ import numpy as np
 from lenslab.errors import FormatError, cause
 
 from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
+from lenslab.io.video_colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
+from lenslab.io.video_colour import (REFERENCE_WHITE, _BT2020, _decode_table,  # noqa: F401  (re-exported)
+                                     codes16_to_linear, codes16_to_linear_compiled, from_linear,
+                                     linear_to_codes16, to_linear)
 
-#: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
-REFERENCE_WHITE = 203.0
 
 # FFmpeg's enum values (libavutil/pixfmt.h)
 _TRC = {1: "bt1886", 6: "bt1886", 14: "bt1886", 15: "bt1886", 2: "bt1886", 13: "srgb", 16: "pq", 18: "hlg"}
 _SWS = {1: "itu709", 5: "itu601", 6: "smpte170m", 9: "bt2020", 10: "bt2020"}
-_BT2020 = 9
 _RGB_MATRIX = 0  # AVCOL_SPC_RGB: the planes are G, B, R
 _RGB_PIXELS = ("gbr", "bgr", "rgb", "argb", "abgr", "0rgb", "0bgr")  # FFmpeg's RGB pixel formats
+_THREADS = 2  # swscale's threads for a frame's matrix and range (the decoder and encoder have their own)
 _UNSPECIFIED = (0, 2)  # AVCOL_TRC_RESERVED0, AVCOL_TRC_UNSPECIFIED
 #: the planar RGB pixel format of each codec's YUV format, for RGB-coded streams (same bits)
 _RGB_FORMATS = {"yuv444p10le": "gbrp10le", "yuv444p": "gbrp"}
@@ -117,72 +118,6 @@ def probe_video(path) -> VideoInfo:
                          int(cc.color_range), bool(c.streams.audio))
 
 
-def _matrix_2020_to_709() -> np.ndarray:
-    import colour
-
-    cs = colour.RGB_COLOURSPACES
-    return colour.matrix_RGB_to_RGB(cs["ITU-R BT.2020"], cs["ITU-R BT.709"])
-
-
-def to_linear(codes: np.ndarray, info: VideoInfo) -> np.ndarray:
-    """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
-    lin = _eotf(codes.astype(np.float64), info.curve)
-    if info.primaries == _BT2020:
-        lin = lin @ _matrix_2020_to_709().T
-    return lin.astype(np.float32)
-
-
-def _eotf(v: np.ndarray, curve: str) -> np.ndarray:
-    """Code values (float64, ..., 3) -> display light (float64) by the stream's transfer function."""
-    import colour
-
-    if curve == "pq":
-        lin = colour.models.eotf_ST2084(v) / REFERENCE_WHITE
-    elif curve == "hlg":
-        lin = colour.models.eotf_BT2100_HLG(v, L_B=0, L_W=1000) / REFERENCE_WHITE
-    elif curve == "srgb":
-        lin = colour.cctf_decoding(v, "sRGB")
-    else:
-        lin = colour.models.eotf_BT1886(v, L_B=0, L_W=1)
-    return lin
-
-
-def from_linear(image: np.ndarray, info: VideoInfo) -> np.ndarray:
-    """Linear Rec.709 (H x W x 3) -> code values in [0, 1], the inverse of :func:`to_linear`."""
-    import colour
-
-    lin = np.nan_to_num(np.asarray(image, np.float64), nan=0.0, posinf=1e4, neginf=0.0)
-    if info.primaries == _BT2020:
-        lin = lin @ np.linalg.inv(_matrix_2020_to_709()).T
-    lin = np.maximum(lin, 0.0)
-    curve = info.curve
-    if curve == "pq":
-        v = colour.models.eotf_inverse_ST2084(lin * REFERENCE_WHITE)
-    elif curve == "hlg":
-        v = colour.models.eotf_inverse_BT2100_HLG(lin * REFERENCE_WHITE, L_B=0, L_W=1000)
-    elif curve == "srgb":
-        v = colour.cctf_encoding(np.minimum(lin, 1.0), "sRGB")
-    else:
-        v = colour.models.eotf_inverse_BT1886(np.minimum(lin, 1.0), L_B=0, L_W=1)
-    return np.clip(v, 0.0, 1.0)
-
-
-#: OpenColorIO display (as the built-in configs name them, lower case, up to " - display") -> the
-#: (primaries, transfer, matrix) tags its code values carry in a video stream
-DISPLAY_TAGS = {"rec.2100-pq": (9, 16, 9), "rec.2100-hlg": (9, 18, 9), "st2084-p3-d65": (12, 16, 9),
-                "srgb": (1, 13, 1), "rec.1886 rec.709": (1, 1, 1), "gamma 2.2 rec.709": (1, 4, 1),
-                "display p3": (12, 13, 1)}
-
-
-def display_tags(display: str) -> tuple[int, int, int]:
-    """Video tags for the code values of an OpenColorIO display; FormatError for displays without them."""
-    key = display.lower().split(" - display")[0]
-    if key not in DISPLAY_TAGS:
-        raise FormatError(f"{display}: no video colour tags are known for this display; use one of "
-                          f"{', '.join(DISPLAY_TAGS)}")
-    return DISPLAY_TAGS[key]
-
-
 def _range(info: VideoInfo) -> str:
     return "JPEG" if info.range == 2 else "MPEG"
 
@@ -190,7 +125,7 @@ def _range(info: VideoInfo) -> str:
 def frame_codes16(frame, info: VideoInfo) -> np.ndarray:
     """A decoded PyAV frame -> 16-bit code values (uint16 H x W x 3), converted with the stream's matrix."""
     rgb = frame.reformat(format="rgb48le", src_colorspace=_SWS.get(info.matrix, "itu709"),
-                         src_color_range=_range(info), dst_color_range="JPEG")
+                         src_color_range=_range(info), dst_color_range="JPEG", threads=_THREADS)
     return rgb.to_ndarray()
 
 
@@ -207,36 +142,51 @@ def frame_codes(frame, info: VideoInfo) -> np.ndarray:
     return frame_codes16(frame, info).astype(np.float64) / 65535.0
 
 
-@lru_cache(maxsize=8)
-def _decode_table(curve: str, wide: bool) -> np.ndarray:
-    """:func:`to_linear` of every 16-bit code value (65536 x 1 float32, or float64 for BT.2020, whose matrix
-    comes after): a decoded frame is then one lookup, the same values as the transfer function's."""
-    lin = _eotf(np.arange(65536, dtype=np.float64) / 65535.0, curve)
-    return lin.astype(np.float64 if wide else np.float32)
+#: planar Y'CbCr formats a frame can be cropped in: bytes a sample, chroma step across, chroma step down
+_CROPPABLE = {"yuv420p": (1, 2, 2), "yuv422p": (1, 2, 1), "yuv444p": (1, 1, 1), "yuv420p10le": (2, 2, 2),
+              "yuv422p10le": (2, 2, 1), "yuv444p10le": (2, 1, 1)}
+CROP_MARGIN = 8  # samples kept around a window: wider than any filter swscale runs on a same-size conversion
 
 
-def codes16_to_linear(codes: np.ndarray, info: VideoInfo) -> np.ndarray:
-    """16-bit code values (uint16 H x W x 3) -> linear Rec.709 float32: :func:`to_linear` by table lookup.
+def crop_frame(frame, box):
+    """``(part of frame, (row, column) of its corner)``: the planar Y'CbCr ``frame`` cut to ``box`` ``(row0, row1,
+    col0, col1)`` widened by CROP_MARGIN and aligned to the chroma grid, so that swscale converts half a frame
+    where a warp reads half (each pixel from its own samples: the same bits as in the whole frame); the frame
+    itself for other formats or when the crop is the whole frame."""
+    fmt = frame.format.name
+    if fmt not in _CROPPABLE:
+        return frame, (0, 0)
+    size, sx, sy = _CROPPABLE[fmt]
+    r0, c0 = max(0, (box[0] - CROP_MARGIN) // 4 * 4), max(0, (box[2] - CROP_MARGIN) // 4 * 4)
+    r1 = min(frame.height, -(-(box[1] + CROP_MARGIN) // 4) * 4)
+    c1 = min(frame.width, -(-(box[3] + CROP_MARGIN) // 4) * 4)
+    if (r0, r1, c0, c1) == (0, frame.height, 0, frame.width) or r1 <= r0 or c1 <= c0:
+        return frame, (0, 0)
+    part = _av().VideoFrame(c1 - c0, r1 - r0, fmt)
+    dtype = np.uint8 if size == 1 else np.uint16
+    for k, (p, q) in enumerate(zip(frame.planes, part.planes)):
+        fx, fy = (sx, sy) if k else (1, 1)
+        src = np.frombuffer(p, dtype).reshape(p.height, p.line_size // size)
+        np.frombuffer(q, dtype).reshape(q.height, q.line_size // size)[:, :q.width] = \
+            src[r0 // fy:r0 // fy + q.height, c0 // fx:c0 // fx + q.width]
+    return part, (r0, c0)
 
-    HLG's EOTF scales each pixel by a power of its luminance (the OOTF), so it mixes the channels and
-    is computed pixel by pixel; the other curves act on each value alone."""
-    if info.curve == "hlg":
-        return to_linear(codes.astype(np.float64) / 65535.0, info)
-    wide = info.primaries == _BT2020
-    lin = _decode_table(info.curve, wide)[codes]
-    if wide:
-        return (lin @ _matrix_2020_to_709().T).astype(np.float32)
-    return lin
 
-
-def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3):
+def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3, window=None):
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
+
+    ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
+    the only pixels converted to linear light: those a warp reads. Such frames are written into a ring of
+    ``prefetch + 3`` buffers (a 4K frame is 88 MB of fresh pages otherwise): each is valid until the caller has
+    taken ``prefetch + 2`` more, and outside the window it holds 0 or an earlier frame's values.
 
     Decoding and the conversion to linear light run on a thread of their own, ``prefetch`` frames ahead
     of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
         _decode_table(info.curve, info.primaries == _BT2020)
+
+    ring: list = []
 
     def frames():
         with _open(path) as c:
@@ -258,7 +208,18 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
-                    yield i, codes16_to_linear(frame_codes16(frame, info), info)
+                    box = window and window()
+                    if box is None or info.curve == "hlg" or box[1] > frame.height or box[3] > frame.width:
+                        # (a frame of another size than the stream declared: the warp says so)
+                        yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
+                        continue
+                    crop, origin = crop_frame(frame, box)
+                    codes = frame_codes16(crop, info)
+                    # reused: the caller is done with a frame long before its turn comes
+                    ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
+                    if ring[-1] is None or ring[-1].shape != (frame.height, frame.width, 3):
+                        ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
+                    yield i, codes16_to_linear_compiled(codes, info, box, ring[-1], origin)
 
     from lenslab.io.prefetch import ahead
 
@@ -300,6 +261,7 @@ class VideoWriter:
         cc.width, cc.height, cc.pix_fmt = w, h, pix_fmt
         cc.color_primaries, cc.color_trc, cc.colorspace, cc.color_range = (info.primaries, info.transfer,
                                                                            info.matrix, info.range)
+        cc.thread_type = "AUTO"  # frame threads where the encoder has them, as ffmpeg's own default
         if encoder == "libx265":
             cc.options = {"x265-params": "log-level=error"}
         self.count = 0
@@ -310,13 +272,14 @@ class VideoWriter:
             with _open(audio_from) as src:
                 self.audio = {s.index: self.container.add_stream_from_template(s) for s in src.streams.audio}
 
-    def write(self, image: np.ndarray, encoded: bool = False) -> None:
+    def write(self, image: np.ndarray, encoded: bool = False, handover: bool = False) -> None:
         """Encode one frame: linear Rec.709 light, or (``encoded``) code values in [0, 1] already in the
         stream's primaries and transfer (a display transform's output).
 
         The frame is copied and encoded on a thread of its own, at most two frames behind the caller, so
         the next frame's warp overlaps this one's encoding; an error there is raised by the next
-        :meth:`write` or by :meth:`close`."""
+        :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32 H x W x 3) is the writer's from now on,
+        not copied."""
         import queue
         import threading
 
@@ -325,7 +288,7 @@ class VideoWriter:
             self._queue = queue.Queue(maxsize=2)
             self._thread = threading.Thread(target=self._encode_loop, daemon=True, name="lenslab-encode")
             self._thread.start()
-        self._queue.put((np.array(image[..., :3], dtype=np.float32, copy=True), encoded))
+        self._queue.put((image if handover else np.array(image[..., :3], dtype=np.float32, copy=True), encoded))
 
     def _encode_loop(self) -> None:
         while True:
@@ -351,14 +314,13 @@ class VideoWriter:
 
     def _encode(self, image: np.ndarray, encoded: bool) -> None:
         av = _av()
-        values = np.clip(image[..., :3], 0.0, 1.0) if encoded else from_linear(image[..., :3], self.info)
-        codes = np.round(values * 65535.0).astype(np.uint16)
-        frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(codes), format="rgb48le")
+        codes = linear_to_codes16(image, self.info, encoded)
+        frame = av.VideoFrame.from_ndarray(codes, format="rgb48le")
         if self.info.rgb:
             frame = frame.reformat(format=self.pix_fmt)
-        else:
+        else:  # swscale's matrix and range, on threads
             frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
-                                   src_color_range="JPEG", dst_color_range=_range(self.info))
+                                   src_color_range="JPEG", dst_color_range=_range(self.info), threads=_THREADS)
         # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
         frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
         frame.pts = self.count  # in the encoder's time base, 1 / rate

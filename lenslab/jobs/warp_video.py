@@ -99,10 +99,14 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                              audio_from=src_path if whole and info.audio else None)
         with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
                           desc=Path(src_path).name) as bar:
-            for _, frame in read_frames(src_path, start, stop):
+            plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
+            window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
+            for _, frame in read_frames(src_path, start, stop, window=window):
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
-                out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
-                writer.write(out, encoded=bool(display))
+                plan[:] = [cache.plan(src, dst)]
+                if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
+                    out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
+                writer.write(out, encoded=bool(display), handover=True)  # a new array each frame
                 written += 1
                 bar.update()
         if written == 0:

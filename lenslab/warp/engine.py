@@ -30,7 +30,7 @@ from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
-from lenslab.warp.taps import TapBand, eligible, sample_taps, taps_of
+from lenslab.warp.taps import TapBand, eligible, sample_taps, source_window, taps_of
 from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 
 if TYPE_CHECKING:
@@ -164,6 +164,18 @@ class WarpPlan:
             yield band
         if kept is not None:
             self._bands = kept
+
+    def source_window(self) -> tuple[int, int, int, int] | None:
+        """``(row0, row1, col0, col1)`` of the source pixels this plan reads, once its maps are kept as taps
+        (after the first image); None when not known or when it reads across the source's edges. A video
+        decoder converts only these pixels of every later frame."""
+        bands = self._bands
+        if self.parts is not None or self.channels is not None or not bands or \
+                not all(isinstance(b, TapBand) for b in bands):
+            return None
+        if getattr(self, "_window", None) is None:
+            self._window = (source_window(bands, self.src.width, self.src.height),)
+        return self._window[0]
 
     @property
     def map_bytes(self) -> int:

@@ -66,3 +66,20 @@ def sample_taps(src: np.ndarray, band: TapBand, border, out: np.ndarray, alpha: 
     if len(band.fold_idx):
         wrap, top, bottom = border.flags
         k.folded(flat, sw, sh, nc, band.fold_idx, band.fold_x, band.fold_y, wrap, top, bottom, out, alpha)
+
+
+def source_window(bands: list[TapBand], src_width: int, src_height: int) -> tuple[int, int, int, int] | None:
+    """``(row0, row1, col0, col1)``: the source pixels the taps of ``bands`` read (both taps of each pair), or
+    None when a pixel goes through the folding sampler, which reads across the source's edges."""
+    if any(len(b.fold_idx) for b in bands):
+        return None
+    r0, r1, c0, c1 = src_height, 0, src_width, 0
+    for b in bands:
+        off = b.off[b.off < FOLDED]
+        if off.size:
+            rows, cols = np.divmod(off, np.uint32(src_width))
+            r0, r1 = min(r0, int(rows.min())), max(r1, int(rows.max()) + 2)
+            c0, c1 = min(c0, int(cols.min())), max(c1, int(cols.max()) + 2)
+    if r1 <= r0:
+        return 0, 0, 0, 0
+    return r0, min(r1, src_height), c0, min(c1, src_width)

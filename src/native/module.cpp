@@ -28,8 +28,10 @@ void need(bool ok, const char* what) {
 }  // namespace
 
 void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
+void register_video(nb::module_& m);  // video.cpp: the video colour passes
 
 NB_MODULE(cxx_kernels, m) {
+    register_video(m);
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
     register_lens_kernels(m);
