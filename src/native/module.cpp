@@ -24,8 +24,11 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
+void register_tone(nb::module_& m);  // tone.cpp
+
 NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
+    register_tone(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
