@@ -57,16 +57,21 @@ class HalfOverflowWarning(UserWarning):
 
 
 class MultiPartWarning(UserWarning):
-    """A multi-part EXR read without a selector: its first part is read, and the note names the others."""
+    """A multi-part EXR read without a selector: its first part is read, and the note names the others.
+    ``command_line`` is the note without the path (a command's note names the file)."""
+
+    def __init__(self, message: str, command_line: str):
+        super().__init__(message)
+        self.command_line = command_line
 
 
 def _first_part_note(path, parts) -> None:
     names = [p.name() or f"#{i}" for i, p in enumerate(parts)]
     shown = ", ".join(f"{i}: {clip(n)}" for i, n in enumerate(names[:8])) + (
         f" and {len(names) - 8} more" if len(names) > 8 else "")
-    warnings.warn(MultiPartWarning(
-        f"{path}: has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}): pick another as "
-        f"{Path(path).name}:NAME or {Path(path).name}:INDEX"), stacklevel=4)
+    note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}): pick another as "
+            f"{Path(path).name}:NAME or {Path(path).name}:INDEX")
+    warnings.warn(MultiPartWarning(f"{path}: {note}", note), stacklevel=4)
 
 
 def plain_value(value):
