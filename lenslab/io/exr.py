@@ -283,8 +283,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             rgb = yca_to_rgb(_to_float(y), get("RY"), get("BY"), luminance_weights(chroma))
             planes, out_names = [rgb[..., 0], rgb[..., 1], rgb[..., 2]], ["R", "G", "B"]
             converted = True
-        elif "A" in keys:
-            planes, out_names = [y, y, y], ["R", "G", "B"]
+        elif "A" in keys:  # grey and alpha, two channels (as OpenImageIO reads them)
+            planes, out_names = [y, get("A")], ["Y", "A"]
         else:
             planes, out_names = [y], ["Y"]
         ignored = sorted(keys - {"Y", "RY", "BY", "A"})
@@ -377,7 +377,7 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
                           "(zip is the most widely readable)")
     if channels is None:
-        channels = {1: ["Y"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
+        channels = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
         if channels is None:
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:
