@@ -72,12 +72,13 @@ inline float pow22(float y) {
 // w near 16 would be 1e-6 off), the sigmoid's 6th-order polynomial in w (coefficients of w^6 first) and the
 // outset matrix in float64 (the polynomial's large alternating terms cancel), then y^2.2 in float32 on
 // clamp(y, floor, 1), minus floor^2.2 so that y <= 0 gives exactly 0. Power must be 2.2 (checked by the
-// binding). Each step is its own loop over a chunk's planes: GCC vectorises these, and not the steps fused
-// (the clamps' selects stop it).
+// binding). Each step is its own loop over a chunk of values, interleaved as the pixels come (only the two
+// matrices see pixels): GCC vectorises these loops, and not the steps fused into one (the clamps' selects
+// stop it).
 uint32_t agx_pixels(const float* src, float* dst, int64_t n, const double* m_in, const double* m_out,
                     const double* poly, double top, double floor_, double) {
     alignas(64) float a[3 * TONE_CHUNK], ex[3 * TONE_CHUNK], y[3 * TONE_CHUNK];
-    alignas(64) double w[3 * TONE_CHUNK], s[3 * TONE_CHUNK];  // planes of m values each, one after the other
+    alignas(64) double w[3 * TONE_CHUNK], s[3 * TONE_CHUNK];  // m pixels, interleaved as they come
     float mi[9];
     for (int i = 0; i < 9; ++i) mi[i] = float(m_in[i]);
     const float hi = float(top), lo = float(floor_), offset = pow22(lo);
@@ -91,7 +92,7 @@ uint32_t agx_pixels(const float* src, float* dst, int64_t n, const double* m_in,
         for (int64_t i = 0; i < k; ++i) worst = greater(worst, q[i]);
         for (int64_t i = 0; i < m; ++i) {
             const float r = p[3 * i], g = p[3 * i + 1], b = p[3 * i + 2];
-            for (int c = 0; c < 3; ++c) a[c * m + i] = (mi[3 * c] * r + mi[3 * c + 1] * g) + mi[3 * c + 2] * b;
+            for (int c = 0; c < 3; ++c) a[3 * i + c] = (mi[3 * c] * r + mi[3 * c + 1] * g) + mi[3 * c + 2] * b;
         }
         for (int64_t i = 0; i < k; ++i) a[i] = clamp(a[i], 1.0f, hi);
         for (int64_t i = 0; i < k; ++i) {
@@ -113,15 +114,13 @@ uint32_t agx_pixels(const float* src, float* dst, int64_t n, const double* m_in,
             w[i] = t * x + c6;
         }
         for (int64_t i = 0; i < m; ++i) {
-            const double r = w[i], g = w[m + i], b = w[2 * m + i];
-            for (int c = 0; c < 3; ++c) s[c * m + i] = (m_out[3 * c] * r + m_out[3 * c + 1] * g) + m_out[3 * c + 2] * b;
+            const double r = w[3 * i], g = w[3 * i + 1], b = w[3 * i + 2];
+            for (int c = 0; c < 3; ++c) s[3 * i + c] = (m_out[3 * c] * r + m_out[3 * c + 1] * g) + m_out[3 * c + 2] * b;
         }
         for (int64_t i = 0; i < k; ++i) s[i] = clamp(s[i], double(lo), 1.0);
         for (int64_t i = 0; i < k; ++i) y[i] = float(s[i]);
-        for (int64_t i = 0; i < k; ++i) y[i] = pow22(y[i]) - offset;
         float* o = dst + 3 * s0;
-        for (int64_t i = 0; i < m; ++i)
-            for (int c = 0; c < 3; ++c) o[3 * i + c] = y[c * m + i];
+        for (int64_t i = 0; i < k; ++i) o[i] = pow22(y[i]) - offset;
     }
     return worst;
 }
