@@ -85,18 +85,21 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     from lenslab.io.encode import decode_codes
 
     image = decode_codes(codes, maxval, raw or coded is not None)
-    if coded is not None:
-        attributes["note"] = (f"the PNG's cICP chunk says {describe(coded)}: read as its code values / {maxval}, "
-                              "not decoded as sRGB")
-    elif not raw:  # PNG colour is straight (its specification); memory holds premultiplied colour
-        premultiply(image)
+    linear = False
+    if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
+        from lenslab.io.png_cicp import to_linear_light
+
+        image, attributes["note"] = to_linear_light(image, coded)
+        linear = coded[1] in (16, 18)
+    if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
+        premultiply(image)                      # premultiplied colour
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,
         "bit_depth": bits,
         "sample_type": "uint",
         "channels": names,
-        "display_encoded": not raw or coded is not None,
+        "display_encoded": not raw and not linear,
         "attributes": attributes,
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta

@@ -4,6 +4,11 @@ ITU-T H.273 that tell a reader how the samples are encoded, written for HDR disp
 Rec.2100 PQ is colour primaries 9 (BT.2020), transfer 16 (SMPTE ST 2084), matrix 0 (RGB), full range 1;
 Rec.2100 HLG the same with transfer 18 (ARIB STD-B67). The chunk is four bytes and must come before
 ``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
+
+Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
+FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries
+converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are; any other
+transfer is left as code values, with a note.
 """
 
 from __future__ import annotations
@@ -56,6 +61,29 @@ def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
             return tuple(png[pos + 8:pos + 12])
         pos += 12 + length
     return None
+
+
+def to_linear_light(codes, points):
+    """(image, note) for ``codes`` (H x W x C code values in [0, 1], alpha last for C = 2, 4) of a PNG with
+    cICP ``points`` whose transfer is not sRGB: PQ and HLG as linear Rec.709 light, anything else unchanged."""
+    from fractions import Fraction
+
+    import numpy as np
+
+    primaries, transfer, matrix, full = points
+    c = codes.shape[2]
+    if transfer not in (16, 18):
+        return codes, f"the PNG's cICP chunk says {describe(points)}: read as its code values, not decoded"
+    from lenslab.io.video import REFERENCE_WHITE, VideoInfo, to_linear
+
+    colour = c - 1 if c in (2, 4) else c
+    info = VideoInfo(codes.shape[1], codes.shape[0], Fraction(1), 1, "png", "rgb48", primaries=primaries if colour == 3
+                     else 2, transfer=transfer, matrix=matrix, range=full)  # grey: no primaries to convert
+    out = codes.copy()
+    out[..., :colour] = to_linear(codes[..., :colour], info)
+    what = "PQ" if transfer == 16 else "HLG"
+    return np.ascontiguousarray(out, dtype=np.float32), (
+        f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 (the PNG's cICP chunk)")
 
 
 def describe(points) -> str:

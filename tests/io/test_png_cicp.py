@@ -1,11 +1,13 @@
 """HDR display PNGs carry their encoding in a ``cICP`` chunk (PNG Specification, Third Edition, 11.3.2.6):
-checked here by parsing the file's chunks as the specification lays them out, and by OpenImageIO's reader."""
+checked here by parsing the file's chunks as the specification lays them out, and by OpenImageIO's reader;
+read back, a PQ or HLG PNG is linear light by colour-science's EOTFs."""
 
 from __future__ import annotations
 
 import struct
 import zlib
 
+import colour
 import numpy as np
 import pytest
 
@@ -60,11 +62,20 @@ def test_hdr_display_png_has_the_rec2100_cicp_chunk(tmp_path, display, config, t
         theirs = inp.read_image("float")
     finally:
         inp.close()
-    # lenslab reads the codes back as codes (code / 65535, as OpenImageIO does), not decoded as sRGB
+    # lenslab's raw read: the same codes over 65535 as OpenImageIO gives
+    codes, _ = lio.read(tmp_path / "d.png", raw=True)
+    np.testing.assert_allclose(codes, theirs, atol=1e-7)  # float32 rounding of code / 65535
+    # its read: linear Rec.709 light as a PQ/HLG video reads, 1.0 = 203 cd/m2 (BT.2408), by colour-science's
+    # EOTF of OpenImageIO's codes and the BT.2020 -> BT.709 matrix
     ours, meta = lio.read(tmp_path / "d.png")
-    np.testing.assert_allclose(ours, theirs, atol=1e-7)  # the same 16-bit codes over 65535, in float32
-    assert f"transfer {transfer}" in meta["attributes"]["cICP"]
-    assert "not decoded as sRGB" in meta["attributes"]["note"]
+    v = theirs.astype(np.float64)
+    light = (colour.models.eotf_ST2084(v) if transfer == 16 else
+             colour.models.eotf_BT2100_HLG(v, L_B=0, L_W=1000)) / 203.0
+    cs = colour.RGB_COLOURSPACES
+    want = light @ colour.matrix_RGB_to_RGB(cs["ITU-R BT.2020"], cs["ITU-R BT.709"]).T
+    np.testing.assert_allclose(ours, want, rtol=1e-5, atol=1e-6)  # float32 results of float64 formulas
+    assert f"transfer {transfer}" in meta["attributes"]["cICP"] and "linear Rec.709" in meta["attributes"]["note"]
+    assert meta["display_encoded"] is False
 
 
 def test_sdr_png_has_no_cicp_chunk_and_reads_as_srgb(tmp_path):
@@ -74,3 +85,19 @@ def test_sdr_png_has_no_cicp_chunk_and_reads_as_srgb(tmp_path):
     assert "cICP" not in [k for k, _ in chunks(tmp_path / "d.png")]
     _, meta = lio.read(tmp_path / "d.png")
     assert "cICP" not in meta["attributes"]
+
+
+def test_other_transfers_are_left_as_codes_and_srgb_stays_srgb(tmp_path):
+    import cv2
+
+    from lenslab.io.png_cicp import with_cicp
+
+    codes = (np.arange(24, dtype=np.uint16).reshape(2, 4, 3) * 2000)
+    ok, buf = cv2.imencode(".png", codes[..., ::-1])
+    for transfer, want in ((8, codes / 65535.0), (13, colour.models.eotf_sRGB(codes / 65535.0))):
+        path = tmp_path / f"t{transfer}.png"
+        path.write_bytes(with_cicp(buf.tobytes(), (1, transfer, 0, 1)))
+        assert dict(chunks(path))["cICP"] == bytes([1, transfer, 0, 1])
+        img, meta = lio.read(path)
+        np.testing.assert_allclose(img, want, atol=1e-6)  # float32 of the codes, or of the sRGB EOTF
+        assert ("not decoded" in meta["attributes"].get("note", "")) is (transfer == 8)
