@@ -60,10 +60,6 @@ class MultiPartWarning(UserWarning):
     """A multi-part EXR read without a selector: its first part is read, and the note names the others.
     ``command_line`` is the note without the path (a command's note names the file)."""
 
-    def __init__(self, message: str, command_line: str):
-        super().__init__(message)
-        self.command_line = command_line
-
 
 def _first_part_note(path, parts) -> None:
     names = [p.name() or f"#{i}" for i, p in enumerate(parts)]
@@ -71,7 +67,9 @@ def _first_part_note(path, parts) -> None:
         f" and {len(names) - 8} more" if len(names) > 8 else "")
     note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}): pick another as "
             f"{Path(path).name}:NAME or {Path(path).name}:INDEX")
-    warnings.warn(MultiPartWarning(f"{path}: {note}", note), stacklevel=4)
+    warning = MultiPartWarning(f"{path}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=4)
 
 
 def plain_value(value):
