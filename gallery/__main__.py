@@ -27,7 +27,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--title", help="page title (default: the one stored with the page, else 'lenslab gallery')")
     p.add_argument("--check", action="store_true",
                    help="open the page in headless Chromium, check that every image loads and save "
-                        "screenshot.png next to it")
+                        "screenshot.png next to it; an existing page is checked as it is, not rebuilt "
+                        "(unless --overwrite or an option that changes it is given)")
     p.add_argument("--readme-images", type=Path, metavar="DIR",
                    help="also write small JPG montages of the page (each under 60 KB) into DIR, for a README")
     p.add_argument("--overwrite", action="store_true",
@@ -43,7 +44,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run(args) -> int:
-    from gallery.browser import check_page
     from gallery.build import build_gallery, load_manifest
     from lenslab.jobs.policy import check_output, check_output_dir
 
@@ -58,7 +58,11 @@ def run(args) -> int:
             raise OutputError(f"{folder} is an input of the page; it is never written into, even with "
                               "--overwrite: give another output folder")
     check_output_dir(args.out)
-    check_output(Path(args.out) / "index.html", overwrite=args.overwrite)
+    index = Path(args.out) / "index.html"
+    changes = args.overwrite or any(v is not None for v in (args.hdri, args.report, args.title, args.readme_images))
+    if args.check and index.is_file() and not changes:  # a check reads the page; it needs no --overwrite
+        return _check(args, index)
+    check_output(index, overwrite=args.overwrite)
     if args.readme_images is not None:
         from gallery.montage import MONTAGES
 
@@ -73,15 +77,21 @@ def run(args) -> int:
 
         for path in readme_images(args.out, args.readme_images):
             print(f"  {path} ({path.stat().st_size / 1000:.0f} KB)")
-    if args.check:
-        shot = Path(args.out) / "screenshot.png"
-        problems = check_page(index, shot)
-        for p in problems:
-            print(f"  {p}", file=sys.stderr)
-        print(f"checked in Chromium: {'all images loaded' if not problems else f'{len(problems)} problem(s)'}; "
-              f"screenshot {shot}")
-        return 1 if problems else 0
-    return 0
+    return _check(args, index) if args.check else 0
+
+
+def _check(args, index) -> int:
+    """Open the page in headless Chromium; the screenshot replaces an older one only with --overwrite."""
+    from gallery.browser import check_page
+
+    shot = Path(args.out) / "screenshot.png"
+    keep = shot.exists() and not args.overwrite
+    problems = check_page(index, None if keep else shot)
+    for p in problems:
+        print(f"  {p}", file=sys.stderr)
+    saved = f"{shot} exists and is kept (--overwrite replaces it)" if keep else f"screenshot {shot}"
+    print(f"checked in Chromium: {'all images loaded' if not problems else f'{len(problems)} problem(s)'}; {saved}")
+    return 1 if problems else 0
 
 
 if __name__ == "__main__":

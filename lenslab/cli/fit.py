@@ -39,7 +39,7 @@ def _size(text: str) -> tuple[int, int]:
 
 def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--free", metavar="NAMES", help="comma-separated parameters to fit (default: every numeric "
-                   "parameter the model spec does not give)")
+                   "parameter the model spec does not give, but tangential, thin prism and rational terms)")
     p.add_argument("--bounds", metavar="NAME=LO:HI,...", help="ranges of fitted parameters, e.g. k1=-0.5:0.5 "
                    "(default: the model's own range; start +- max(1, |start|) where it has none)")
     p.add_argument("--global", dest="global_start", default="auto", choices=("auto", "none", "direct-l", "mlsl"),

@@ -30,7 +30,7 @@ NOT_FITTED_BY_DEFAULT = frozenset({"vfov", "dfov", "pad", "lon_min", "lon_max", 
 EXTRA_TERMS = {
     "kannala-brandt": ("p1", "p2", "s1", "s2", "s3", "s4"),
     "opencv-fisheye": ("p1", "p2", "s1", "s2", "s3", "s4"),
-    "opencv": ("k4", "k5", "k6", "s1", "s2", "s3", "s4"),
+    "opencv": ("p1", "p2", "k4", "k5", "k6", "s1", "s2", "s3", "s4"),
 }
 
 

@@ -211,14 +211,20 @@ def with_alpha(image: np.ndarray, alpha: ArrayLike) -> np.ndarray:
 def fit_channels(a: "np.ndarray", fmt) -> "np.ndarray":
     """Fit an H x W x C image to what ``fmt`` (a :class:`lenslab.io.plugin.Format`) holds.
 
-    A format without alpha drops it (RGBA -> RGB, grey+alpha -> grey); any other mismatch is a
-    FormatError that says what the format holds.
+    A format without alpha drops it (RGBA -> RGB, grey+alpha -> grey); grey goes into a format whose
+    files hold colour only (RGBE, PPM, video) as equal R, G and B; any other mismatch is a FormatError
+    that says what the format holds.
     """
+    import numpy as np
+
     c = a.shape[2]
     if c in fmt.channels:
         return a
     if not fmt.alpha and c in (2, 4) and c - 1 in fmt.channels:
         return a[..., :c - 1]
+    if c in (1, 2) and 1 not in fmt.channels and 3 in fmt.channels:
+        grey = np.repeat(a[..., :1], 3, axis=2)
+        return np.concatenate([grey, a[..., 1:]], axis=2) if c == 2 and 4 in fmt.channels else grey
     holds = " or ".join(str(n) for n in fmt.channels)
     hint = {"pgm": ": write PPM, or keep one channel"}.get(fmt.name, "")
     raise FormatError(f"{fmt.title} holds {holds} channel(s); this image has {c}{hint}")
@@ -282,10 +288,10 @@ def write(path: str | os.PathLike, array: ArrayLike, format: str | None = None, 
         image = image[..., None]
     if alpha is not None:
         image = with_alpha(image, alpha)
+    if fmt.name == "ppm" and image.shape[2] in (1, 2) and target.suffix.lower() != ".ppm":
+        fmt = get("pgm")  # grey to .pnm: a PGM
     if not named:
         image = fit_channels(image, fmt)
-    if fmt.name == "ppm" and image.shape[2] == 1 and target.suffix.lower() != ".ppm":
-        fmt = get("pgm")  # grey to .pnm: a PGM
     extra = set(options) - set(fmt.write_options)
     if extra:
         raise FormatError(f"unknown option(s) for {fmt.title}: {', '.join(sorted(extra))}; allowed: "

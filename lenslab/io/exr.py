@@ -3,7 +3,8 @@
 Reading
 - Selects a part of a multipart file (``file.exr:2`` or ``file.exr:rgba_left``) and a layer
   (``file.exr:left`` reads ``left.R``, ``left.G``, ... ; ``file.exr:2:left`` both); without a
-  selector: the first part, and its base (undotted) channels.
+  selector: the first part (with a :class:`MultiPartWarning` naming the others, as a command's note), and
+  its base (undotted) channels.
 - Channels become R, G, B (+ A); Y (+ A); luminance-chroma Y, RY, BY (+ A), converted to RGB; a lone
   channel of any name becomes a one-channel image; any other set is stacked in name order.
 - Luminance-chroma: the subsampled chroma is upsampled (linear interpolation between the stored
@@ -53,6 +54,22 @@ class HalfOverflowWarning(UserWarning):
     def __init__(self, message: str, command_line: str | None = None):
         super().__init__(message)
         self.command_line = command_line or message
+
+
+class MultiPartWarning(UserWarning):
+    """A multi-part EXR read without a selector: its first part is read, and the note names the others.
+    ``command_line`` is the note without the path (a command's note names the file)."""
+
+
+def _first_part_note(path, parts) -> None:
+    names = [p.name() or f"#{i}" for i, p in enumerate(parts)]
+    shown = ", ".join(f"{i}: {clip(n)}" for i, n in enumerate(names[:8])) + (
+        f" and {len(names) - 8} more" if len(names) > 8 else "")
+    note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}): pick another as "
+            f"{Path(path).name}:NAME or {Path(path).name}:INDEX")
+    warning = MultiPartWarning(f"{path}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=4)
 
 
 def plain_value(value):
@@ -191,6 +208,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = _find_part(path, parts, part_sel, layer_sel)
+    if not selector and len(parts) > 1:
+        _first_part_note(path, parts)
     hpart = parts[index]
     storage = plain_value(hpart.type())
     if "deep" in str(storage).lower():
@@ -262,8 +281,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             rgb = yca_to_rgb(_to_float(y), get("RY"), get("BY"), luminance_weights(chroma))
             planes, out_names = [rgb[..., 0], rgb[..., 1], rgb[..., 2]], ["R", "G", "B"]
             converted = True
-        elif "A" in keys:
-            planes, out_names = [y, y, y], ["R", "G", "B"]
+        elif "A" in keys:  # grey and alpha, two channels (as OpenImageIO reads them)
+            planes, out_names = [y, get("A")], ["Y", "A"]
         else:
             planes, out_names = [y], ["Y"]
         ignored = sorted(keys - {"Y", "RY", "BY", "A"})
@@ -356,7 +375,7 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
                           "(zip is the most widely readable)")
     if channels is None:
-        channels = {1: ["Y"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
+        channels = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
         if channels is None:
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:

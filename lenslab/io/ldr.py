@@ -56,6 +56,15 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
+    coded = None
+    if fmt == "png":
+        from lenslab.io.png_cicp import SRGB_TRANSFERS, describe, read_cicp
+
+        points = read_cicp(data)
+        if points is not None:
+            attributes["cICP"] = describe(points)
+            if points[1] not in SRGB_TRANSFERS:  # PQ, HLG, linear...: the codes are not sRGB
+                coded = points
     codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
     del data  # the file's bytes are not kept while the floats are made
     if codes is None:
@@ -75,16 +84,22 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         raise FormatError(f"{path}: {fmt.upper()} with {codes.dtype} samples is not supported; use 8 or 16 bits")
     from lenslab.io.encode import decode_codes
 
-    image = decode_codes(codes, maxval, raw)
-    if not raw:  # PNG colour is straight (its specification); memory holds premultiplied colour
-        premultiply(image)
+    image = decode_codes(codes, maxval, raw or coded is not None)
+    linear = False
+    if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
+        from lenslab.io.png_cicp import to_linear_light
+
+        image, attributes["note"] = to_linear_light(image, coded)
+        linear = coded[1] in (16, 18)
+    if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
+        premultiply(image)                      # premultiplied colour
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,
         "bit_depth": bits,
         "sample_type": "uint",
         "channels": names,
-        "display_encoded": not raw,
+        "display_encoded": not raw and not linear,
         "attributes": attributes,
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta
@@ -100,11 +115,12 @@ def _gain_map_note(data: bytes) -> dict:
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
                subsampling: str | None = None, bits: int = 8, dither: bool = False,
-               compression: int = 1) -> bytes:
+               compression: int = 1, cicp=None) -> bytes:
     """Encode a float image (C = 1, 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes.
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
-    6 % larger.
+    6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
+    encoding, :mod:`lenslab.io.png_cicp`).
     """
     import cv2
 
@@ -137,4 +153,13 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
         ok, buf = cv2.imencode(".png", codes, [cv2.IMWRITE_PNG_COMPRESSION, int(compression)])
     if not ok:
         raise FormatError(f"OpenCV could not encode the image as {fmt.upper()}")
+    if cicp is not None:
+        if fmt != "png":
+            raise FormatError("only PNG carries a cICP chunk")
+        from lenslab.io.png_cicp import with_cicp
+
+        try:
+            return with_cicp(buf.tobytes(), cicp)
+        except ValueError as exc:
+            raise FormatError(str(exc)) from None
     return buf.tobytes()

@@ -152,7 +152,32 @@ def one_line(exc: BaseException, limit: int = 400) -> str:
             text = f"{type(exc).__name__}: {text}" if text != type(exc).__name__ else text
     if file and file not in text:
         text = f"{file}: {text}"
-    return text if len(text) <= limit else text[: limit - 3] + "..."
+    return cut(text, limit)
+
+
+_NAME = re.compile(r"[\w.+/'\"-]+(?: [\w.+/'\"-]+)?")  # a valid name as messages list them (one or two words)
+LIST_LIMIT = 2000  # a message that ends in a list of valid names is shown whole up to this length
+
+
+def cut(text: str, limit: int = 400) -> str:
+    """``text`` cut to ``limit`` characters, except that a message ending in a list of names (``valid
+    models: a, b, c``) keeps every name up to :data:`LIST_LIMIT` and beyond it is cut between two names,
+    with ``and N more``."""
+    if len(text) <= limit:
+        return text
+    start = text.rfind(": ", 0, limit)
+    items = text[start + 2:].split(", ") if start >= 0 else []
+    if len(items) < 3 or not all(_NAME.fullmatch(i) for i in items):
+        return text[: limit - 3] + "..."
+    if len(text) <= LIST_LIMIT:
+        return text
+    head, shown = text[: start + 2], []
+    for i, item in enumerate(items):
+        more = f" and {len(items) - i} more"
+        if len(head) + len(", ".join(shown + [item])) + len(more) > LIST_LIMIT:
+            return head + ", ".join(shown) + more
+        shown.append(item)
+    return text  # pragma: no cover - the loop returns once the list passes the limit
 
 
 @contextlib.contextmanager

@@ -64,6 +64,7 @@ def check_output_dir(path: str | os.PathLike, inputs: int | None = None) -> Path
         if out.suffix.lower() in input_extensions():
             raise UsageError(f"-o {out} names a file but there are {inputs} inputs; give a folder")
     if out.exists() and not out.is_dir():
+        refuse_special(out)  # a device or FIFO (/dev/null): that it is not a regular file is the cause
         raise UsageError(f"{out}: exists and is not a folder; give a folder for several outputs")
     parent = out.absolute().parent
     while not parent.exists():

@@ -13,6 +13,12 @@ log2/exp2 pairs whose arguments are kept away from log2(0) and from denormal res
 SIMD loops leave their fast path there and run 10 to 100 times slower: a black border would otherwise
 cost more than the rest of the image); the offset this floor leaves is subtracted, so 0 still maps to
 exactly 0.
+
+Pixel kernels: where NumPy's passes cannot reach the speed a curve needs, its per-channel kernel is
+compiled (``lenslab.cxx_kernels``, :func:`native`): ``k(src, dst) -> int`` on contiguous ``(m, 3)``
+float32 blocks of interleaved pixels in one pass, returning the largest bit pattern it read (at or above
++inf's, the block held bad values and :mod:`lenslab.tone.sweep` runs it again on a repaired copy). The
+NumPy kernel stays as the reference the tests hold it to, and runs where the extension is not built.
 """
 
 from __future__ import annotations
@@ -28,6 +34,27 @@ FMAX = F32(np.finfo(np.float32).max)
 # the clip ufunc itself: np.clip's argument handling costs ~3 us a call, more than clipping a block
 # in cache; where numpy does not expose it, np.clip does the same
 clip = getattr(getattr(getattr(np, "_core", None), "umath", None), "clip", None) or np.clip
+
+
+NATIVE: bool | None = None  # None: the compiled pixel kernels where built; False forces NumPy's (tests)
+
+
+def native():
+    """The compiled kernels (``lenslab.cxx_kernels``), or None where this copy of lenslab was installed
+    without them or :data:`NATIVE` is False."""
+    if NATIVE is False:
+        return None
+    try:
+        from lenslab import cxx_kernels
+    except ImportError:  # a source tree used without `pip install -e .`
+        return None
+    return cxx_kernels
+
+
+def pixel_kernel(fn):
+    """Mark ``fn(src, dst) -> int`` as a kernel on interleaved ``(m, 3)`` pixels (see above)."""
+    fn.pixels = True
+    return fn
 
 
 def rational_kernel(a1, a0, b1, b0, cap):

@@ -7,7 +7,9 @@ therefore clips it at ``2**headroom`` times its log-average luminance (positive 
 brightest percent left out); whatever lies above is white in the result anyway. OpenCV's own gamma
 is left at 1 (the output is display-linear: lenslab's writer applies the sRGB encoding) and its
 output, stretched by OpenCV to [0, 1], is cleaned of the NaN it can leave (and then stretched again).
-OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally.
+OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally. An image of one luminance
+has no contrast for Mantiuk to map (OpenCV's solver fails on it): it maps to mid-grey, colour kept as
+Mantiuk keeps it, so a flat image gives a flat image.
 
 >>> ramp = np.repeat(np.geomspace(0.01, 100.0, 16, dtype=np.float32)[None, :, None], 3, axis=2)
 >>> y = drago(np.repeat(ramp, 4, axis=0))[0, :, 0]
@@ -70,6 +72,11 @@ def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
         return np.zeros(shape, np.float32)  # nothing positive: black stays black
     img = np.minimum(img, np.float32(avg * 2.0 ** params["headroom"]))
 
+    if name == "mantiuk":
+        luma = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)  # what OpenCV's Mantiuk takes the contrast of
+        if float(luma.max()) == float(luma.min()):
+            out = _no_contrast(img, luma, float(params["saturation"]))
+            return (out.mean(axis=-1, dtype=np.float32) if grey else out).reshape(shape)
     if name == "drago":
         op = cv2.createTonemapDrago(gamma=1.0, saturation=float(params["saturation"]), bias=float(params["bias"]))
     elif name == "mantiuk":
@@ -90,6 +97,15 @@ def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     if grey:
         out = out.mean(axis=-1, dtype=np.float32)
     return np.ascontiguousarray(out, dtype=np.float32).reshape(shape)
+
+
+def _no_contrast(img: np.ndarray, luma: np.ndarray, saturation: float) -> np.ndarray:
+    """Mantiuk on an image of one luminance (a flat image): there is no contrast to map (OpenCV's solver
+    fails on it), so the luminance goes to mid-grey 0.5 and colour follows as OpenCV's Mantiuk maps it,
+    ``(c / L)^saturation * 0.5``, clipped to [0, 1]: a flat image gives a flat image."""
+    lum = np.maximum(luma[..., None], np.float32(1e-30))
+    out = np.float32(0.5) * np.power(img / lum, np.float32(saturation), dtype=np.float32)
+    return np.clip(out, 0.0, 1.0).astype(np.float32)
 
 
 _LOCAL_HEADROOM = Param("headroom", 12.0, "stops above the log-average kept before OpenCV's "

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lenslab.tone.kernels import BIG, F32, clip
+from lenslab.tone.kernels import BIG, F32, clip, native, pixel_kernel
 from lenslab.tone.mapping import triples
 from lenslab.tone.registry import register
 
@@ -32,6 +32,21 @@ def _shoulder(peak, out):
 
 
 def _build_pbr_neutral(p, scale):
+    """The compiled pixel kernel (the NumPy kernel's float32 steps in its order: the same bits), or the
+    NumPy kernel where the extension is not built."""
+    compiled = native()
+    if compiled is None:
+        return _build_pbr_neutral_numpy(p, scale)
+    constants = np.array([scale, BIG, 2 * F90, -1 / (4 * F90), KS, _D - KS, -_D * _D, KD], F32)
+
+    @pixel_kernel
+    def k(src, dst):
+        return compiled.pbr_neutral_pixels(src, dst, constants)
+    return k
+
+
+def _build_pbr_neutral_numpy(p, scale):
+    """The NumPy reference kernel, on planar blocks."""
     s = F32(scale)
 
     def k(src, dst, scratch):  # planar (3, n) blocks; branch-free form of the reference shader

@@ -115,7 +115,11 @@ def sweep_values(flat: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> N
 
 def sweep_rgb(px: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> None:
     """RGB curve over (n, 3) float32 pixels into ``out``; a pixel with a +inf channel becomes white.
-    Kernels see planar (3, m) blocks: contiguous rows keep every ufunc on the fast path."""
+    NumPy kernels see planar (3, m) blocks: contiguous rows keep every ufunc on the fast path; compiled
+    pixel kernels (:func:`lenslab.tone.kernels.pixel_kernel`) read the pixels as they are."""
+    if getattr(kernel, "pixels", False):
+        _sweep_pixels(px, out, kernel, counts)
+        return
     n = px.shape[0]
     step = BLOCK // 3
     planes = [np.empty((3, min(step, n)), F32) for _ in range(4)]
@@ -133,6 +137,21 @@ def sweep_rgb(px: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> None:
             pout[:, inf_cols] = 1
         for c in range(3):
             dst[:, c] = pout[c]
+
+
+def _sweep_pixels(px: np.ndarray, out: np.ndarray, kernel, counts: Counts) -> None:
+    """A pixel kernel over contiguous (n, 3) float32 pixels: one pass per block; a block that held bad
+    values is mapped again from a repaired copy."""
+    if np.may_share_memory(px, out):
+        px = px.copy()  # the second pass of a block with bad values reads its input again
+    step = BLOCK // 3
+    for s in range(0, px.shape[0], step):
+        src, dst = px[s:s + step], out[s:s + step]
+        if kernel(src, dst) >= FIRST_NOT_CLEAN:
+            fixed = src.copy()
+            inf_px = repair(fixed, counts).any(axis=1)
+            kernel(fixed, dst)
+            dst[inf_px] = 1
 
 
 COMPILED_PASSES: bool | None = None  # None: as compiled_ready() says; True or False forces (benchmarks, tests)

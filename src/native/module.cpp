@@ -29,12 +29,14 @@ void need(bool ok, const char* what) {
 
 void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
 void register_video(nb::module_& m);  // video.cpp: the video colour passes
+void register_tone(nb::module_& m);  // tone.cpp
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
     register_lens_kernels(m);
+    register_tone(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

@@ -28,5 +28,6 @@ FORMATS = (Format(
     probe=header_only,
     write=_write, read_options=("raw",),
     write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
-                   "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither"},
+                   "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither",
+                   "cicp": "4 H.273 code points for a cICP chunk, e.g. (9, 16, 0, 1): Rec.2100 PQ"},
     note="alpha is stored linear (coverage) with straight colour, sRGB-encoded", straight_alpha=("uint",)),)

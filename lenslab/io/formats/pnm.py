@@ -42,9 +42,9 @@ def _declare(path, **options):
 
 FORMATS = (
     Format(name="ppm", title="PPM", extensions=(".ppm", ".pnm"), magic=_magic(b"36"), hdr=False, alpha=False,
-           channels=(1, 3), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
+           channels=(3,), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
            probe=header_only, write=_write,
-           read_options=("raw",), write_options=_OPTIONS, note="grey images written as .pnm become PGM"),
+           read_options=("raw",), write_options=_OPTIONS, note="grey images written as .pnm become PGM; as .ppm, equal R, G, B"),
     Format(name="pgm", title="PGM", extensions=(".pgm",), magic=_magic(b"25"), hdr=False, alpha=False,
            channels=(1,), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
            probe=header_only, write=_write,

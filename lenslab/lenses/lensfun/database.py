@@ -342,8 +342,8 @@ def describe_lens(lens) -> list[str]:
     if vig:
         aps = sorted({float(e.aperture) for e in vig})
         dists = sorted({float(e.distance) for e in vig})
-        lines.append(f"  vignetting  pa, {len(vig)} entries at {_focals(vig)}, f/{', '.join(f'{a:g}' for a in aps)}, "
-                     f"{', '.join(f'{d:g}' for d in dists)} m")
+        lines.append(f"  vignetting  pa, {len(vig)} entries; focal {_focals(vig)}; "
+                     f"aperture {', '.join(f'f/{a:g}' for a in aps)}; distance {', '.join(f'{d:g}' for d in dists)} m")
     else:
         lines.append("  vignetting  none")
     if facts.real_focal:

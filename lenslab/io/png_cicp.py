@@ -1,0 +1,94 @@
+"""PNG's ``cICP`` chunk (PNG Specification, Third Edition, 11.3.2.6): the coding-independent code points of
+ITU-T H.273 that tell a reader how the samples are encoded, written for HDR displays and read back.
+
+Rec.2100 PQ is colour primaries 9 (BT.2020), transfer 16 (SMPTE ST 2084), matrix 0 (RGB), full range 1;
+Rec.2100 HLG the same with transfer 18 (ARIB STD-B67). The chunk is four bytes and must come before
+``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
+
+Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
+FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries
+converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are; any other
+transfer is left as code values, with a note.
+"""
+
+from __future__ import annotations
+
+import struct
+import zlib
+
+PQ = (9, 16, 0, 1)
+HLG = (9, 18, 0, 1)
+#: H.273 transfer characteristics a reader here names (others are reported by number)
+TRANSFERS = {1: "BT.709", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
+             16: "PQ (SMPTE ST 2084)", 18: "HLG (ARIB STD-B67)"}
+SRGB_TRANSFERS = (1, 13)  # what lenslab's sRGB decoding stands for (BT.709's curve is its usual stand-in)
+
+
+def display_code_points(display: str) -> tuple[int, int, int, int] | None:
+    """The cICP code points of an OpenColorIO display name: Rec.2100 PQ or HLG, else None."""
+    low = display.lower()
+    if "hlg" in low:
+        return HLG
+    if "pq" in low or "st2084" in low or "st-2084" in low:
+        return PQ
+    return None
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+
+def with_cicp(png: bytes, points) -> bytes:
+    """``png`` with a ``cICP`` chunk of ``points`` (4 integers 0..255) right after its ``IHDR``."""
+    points = tuple(int(v) for v in points)
+    if len(points) != 4 or not all(0 <= v <= 255 for v in points):
+        raise ValueError(f"cICP takes 4 code points 0..255, not {points!r}")
+    end = 8 + 8 + 13 + 4  # signature, IHDR length and type, its 13 bytes, its CRC
+    if png[12:16] != b"IHDR":
+        raise ValueError("not a PNG stream that starts with IHDR")
+    return png[:end] + _chunk(b"cICP", bytes(points)) + png[end:]
+
+
+def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
+    """The code points of the first ``cICP`` chunk before the image data, or None."""
+    pos, n = 8, len(png)
+    while pos + 8 <= n:
+        length = int.from_bytes(png[pos:pos + 4], "big")
+        kind = png[pos + 4:pos + 8]
+        if kind in (b"IDAT", b"IEND"):
+            return None
+        if kind == b"cICP" and length == 4 and pos + 12 <= n:
+            return tuple(png[pos + 8:pos + 12])
+        pos += 12 + length
+    return None
+
+
+def to_linear_light(codes, points):
+    """(image, note) for ``codes`` (H x W x C code values in [0, 1], alpha last for C = 2, 4) of a PNG with
+    cICP ``points`` whose transfer is not sRGB: PQ and HLG as linear Rec.709 light, anything else unchanged."""
+    from fractions import Fraction
+
+    import numpy as np
+
+    primaries, transfer, matrix, full = points
+    c = codes.shape[2]
+    if transfer not in (16, 18):
+        return codes, f"the PNG's cICP chunk says {describe(points)}: read as its code values, not decoded"
+    from lenslab.io.video import REFERENCE_WHITE, VideoInfo, to_linear
+
+    colour = c - 1 if c in (2, 4) else c
+    info = VideoInfo(codes.shape[1], codes.shape[0], Fraction(1), 1, "png", "rgb48", primaries=primaries if colour == 3
+                     else 2, transfer=transfer, matrix=matrix, range=full)  # grey: no primaries to convert
+    out = codes.copy()
+    out[..., :colour] = to_linear(codes[..., :colour], info)
+    what = "PQ" if transfer == 16 else "HLG"
+    return np.ascontiguousarray(out, dtype=np.float32), (
+        f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 (the PNG's cICP chunk)")
+
+
+def describe(points) -> str:
+    """``"primaries 9, transfer 16 PQ (SMPTE ST 2084), matrix 0, full range"`` for a note."""
+    p, t, m, full = points
+    name = TRANSFERS.get(t)
+    return (f"primaries {p}, transfer {t}{' ' + name if name else ''}, matrix {m}, "
+            f"{'full' if full else 'narrow'} range")
