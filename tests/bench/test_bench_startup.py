@@ -1,10 +1,11 @@
 """``lenslab bench startup`` records each command's start-up and the first compile of a new machine: a
-fresh process with an empty numba cache warps into every lens; its figure is the time the first calls
+fresh process with an empty kernel cache warps into every lens; its figure is the time the first calls
 took beyond the second ones, with the 3 s aim."""
 
 from __future__ import annotations
 
 import json
+import math
 
 from lenslab.cli.main import main
 
@@ -17,6 +18,7 @@ def test_startup_bench_records_the_commands_and_the_first_compile(tmp_path, caps
     figures = {f["key"]: f for f in json.loads(out.read_text())["figures"]}
     assert set(figures) == {"startup.convert", "startup.first_compile", "startup.first_compile_cpu"}
     assert figures["startup.first_compile"]["aim"] == 3.0 and figures["startup.convert"]["aim"] == 0.4
-    # an empty cache compiles the warp kernels anew: whatever the machine, that takes more than a second
-    # (measured 8.5 s on 2 cores), which shows the fresh cache folder was used and not this checkout's
-    assert figures["startup.first_compile"]["value"] > 1.0
+    # the figure is a duration (its size is the benchmark's to judge, never a test's: the kernels are
+    # compiled when lenslab is installed, so a new machine's first warps compile next to nothing)
+    for key in ("startup.first_compile", "startup.first_compile_cpu"):
+        assert math.isfinite(figures[key]["value"]) and figures[key]["value"] >= 0.0
