@@ -15,11 +15,11 @@ from lenslab.warp.filters import F32_MAX
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border
 
-MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from
-AXIS_TOL = 0.125  # texels^2: a footprint whose x-y covariance (times 12) is below this is one box
-DENSITY = 0.75  # cells per texel along each side of the footprint (measured best accuracy per cost)
-WINDOW = 16  # texels: the side of the window of weights a footprint is gathered through (fits MAX_TAPS + 5;
+MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from (a coarser level
+#               blurs: at 4 the error on forest.exr doubles; measured in docs/design.md)
+WINDOW = 24  # texels: the side of the window of weights a footprint is gathered through (fits 2 MAX_TAPS + 3;
 #              the same constant in src/native/footprint.cpp)
+THIN = 1e-3  # texels: a footprint thinner than this (a line, a point) is given this thickness
 
 
 @dataclass
@@ -67,8 +67,7 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
     wrap, top, bottom = border.flags
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
-                cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, DENSITY, AXIS_TOL,
-                out, alpha)
+                cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
     if len(band.edge_idx):
         sh, sw, nc = pyr.source.shape
         k.edges(pyr.level0, sw, sh, nc, np.ascontiguousarray(band.edge_idx, dtype=np.int64), c32(band.edge_xs),

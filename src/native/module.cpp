@@ -24,6 +24,9 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
+void register_footprint(nb::module_& m);  // src/native/footprint.cpp
+void register_secants(nb::module_& m);  // src/native/secants.cpp
+
 NB_MODULE(cxx_kernels, m) {
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
 
@@ -78,21 +81,8 @@ NB_MODULE(cxx_kernels, m) {
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
 
-    m.def("footprint", [](In<float> level0, In<float> rest, In<int64_t> shapes, In<int64_t> offsets, In<float> xs,
-                          In<float> ys, In<bool> valid, In<float> foot, bool wrap, bool top, bool bottom,
-                          double max_taps, double density, double axis_tol, Out<float> out, Out<float> alpha) {
-        size_t npix = alpha.size();
-        need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
-        size_t ns = xs.size() / npix;
-        need(ys.size() == xs.size() && valid.size() == xs.size() && foot.size() == 4 * xs.size(), "band shapes differ");
-        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && offsets.size() == shapes.shape(0), "pyramid shapes");
-        int64_t nc = int64_t(out.size() / npix);
-        need(out.size() == npix * nc && nc <= 64, "out must hold whole pixels (at most 64 channels)");
-        footprint(level0.data(), rest.data(), shapes.data(), offsets.data(), int64_t(shapes.shape(0)), nc, xs.data(),
-                  ys.data(), valid.data(), foot.data(), int64_t(npix), int64_t(ns), {wrap, top, bottom},
-                  {max_taps, density, axis_tol}, out.data(), alpha.data());
-    }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"), nb::arg("density"), nb::arg("axis_tol"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
-          nb::call_guard<nb::gil_scoped_release>());
+    register_footprint(m);
+    register_secants(m);
 
     m.def("neighbour_secants", [](In<float> xs, In<float> ys, In<bool> vs, int64_t top, double wrap,
                                   In<int32_t> piece, Out<float> foot, Out<bool> edge) {

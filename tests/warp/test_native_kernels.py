@@ -18,7 +18,7 @@ from hypothesis import given, settings, strategies as st
 
 from lenslab import cxx_kernels as K
 from lenslab.warp.kernels import reference as ref
-from lenslab.warp.pyramid import AXIS_TOL, DENSITY, MAX_TAPS, pyramid
+from lenslab.warp.pyramid import MAX_TAPS, pyramid
 from lenslab.warp.seam import Border
 
 EPS32 = float(np.finfo(np.float32).eps)
@@ -138,8 +138,8 @@ def test_footprint_filter_matches_the_numpy_reference(nc, ns):
     foot = _footprints(n * ns, rng, 40.0).reshape(n, ns, 4)
     out = np.empty((n, nc), np.float32)
     alpha = np.empty(n, np.float32)
-    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, valid, foot, *PANO.flags, MAX_TAPS, DENSITY,
-                AXIS_TOL, out, alpha)
+    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, valid, foot, *PANO.flags, MAX_TAPS,
+                out, alpha)
     want, want_alpha = ref.footprint(pyr, x, y, valid, foot, PANO.flags)
     np.testing.assert_array_equal(alpha, want_alpha)
     np.testing.assert_allclose(out, want, rtol=2 * EPS32, atol=2 * EPS32 * src.max())
@@ -156,7 +156,7 @@ def test_footprint_of_a_constant_image_is_that_constant():
     out = np.empty((2000, 3), np.float32)
     alpha = np.empty(2000, np.float32)
     K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, np.ones((2000, 1), bool), foot,
-                *PANO.flags, MAX_TAPS, DENSITY, AXIS_TOL, out, alpha)
+                *PANO.flags, MAX_TAPS, out, alpha)
     np.testing.assert_allclose(out, 0.375, rtol=1e-6)
 
 
