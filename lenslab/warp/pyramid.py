@@ -11,7 +11,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.warp.kernels import native
-from lenslab.warp.filters import F32_MAX
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border
 
@@ -35,30 +34,26 @@ class Pyramid:
 
 
 def pyramid(src: np.ndarray, border: Border) -> Pyramid:
-    """Box-filtered levels of ``src``: level 0 is ``src``, each next one halves it (2x2 mean).
+    """Box-filtered levels of ``src`` (float32 H x W x C): level 0 is ``src``, each next one halves it (2x2
+    mean, summed in float64: a finite source gives finite levels; compiled, without the GIL).
 
-    A finite source gives finite levels (a mean of values up to float32's largest is at most that).
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
-    or below 2 pixels. The extra levels take a third of the source's memory.
+    or below 2 pixels. The extra levels take a third of the source's memory, in one buffer.
     """
-    import cv2  # here: a warp that needs no pyramid starts without OpenCV
-
-    levels = []
-    cur = src
-    while cur.shape[0] >= 2 and cur.shape[1] >= 2 and cur.shape[0] % 2 == 0 and cur.shape[1] % 2 == 0:
-        nxt = cv2.resize(cur, (cur.shape[1] // 2, cur.shape[0] // 2), interpolation=cv2.INTER_AREA)
-        if nxt.ndim == 2:
-            nxt = nxt[..., None]
-        nxt = np.ascontiguousarray(nxt, dtype=np.float32)
-        if np.isinf(nxt).any() and not np.isinf(cur).any():  # OpenCV's float32 sums overflowed
-            np.clip(nxt, -F32_MAX, F32_MAX, out=nxt)  # (an infinite source is left to the engine's repair)
-        levels.append(nxt)
-        cur = nxt
-    shapes = np.array([src.shape[:2]] + [lv.shape[:2] for lv in levels], dtype=np.int64)
-    sizes = [lv.size for lv in levels]
+    shapes = [src.shape[:2]]
+    while shapes[-1][0] >= 2 and shapes[-1][1] >= 2 and shapes[-1][0] % 2 == 0 and shapes[-1][1] % 2 == 0:
+        shapes.append((shapes[-1][0] // 2, shapes[-1][1] // 2))
+    nc = src.shape[2]
+    sizes = [h * w * nc for h, w in shapes[1:]]
     offsets = np.concatenate([[0, 0], np.cumsum(sizes)[:-1]]).astype(np.int64)[:len(shapes)]
-    rest = np.concatenate([lv.reshape(-1) for lv in levels]) if levels else np.zeros(1, np.float32)
-    return Pyramid(src.reshape(-1), rest, shapes, offsets, src.shape[2], src)
+    rest = np.empty(max(1, sum(sizes)), np.float32)
+    k = native.kernels()
+    cur = c32(src)
+    for (h, w), off in zip(shapes[1:], offsets[1:]):
+        nxt = rest[off:off + h * w * nc].reshape(h, w, nc)
+        k.halve(cur, nxt)
+        cur = nxt
+    return Pyramid(src.reshape(-1), rest, np.array(shapes, dtype=np.int64), offsets, nc, src)
 
 
 def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,

@@ -153,7 +153,7 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
             const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
             double* const w = wgt + WINDOW;  // row -1 of the weights is scratch
-            std::fill(wgt, wgt + (nv + 2) * WINDOW, 0.0);
+            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * WINDOW, wgt + j * WINDOW + nu, 0.0);
             // a degenerate footprint (a line or a point) gets a thickness far below a texel
             double tax = ax, tay = ay, tbx = bx, tby = by;
             if (std::fabs(ax * by - ay * bx) < THIN * THIN) {
@@ -233,6 +233,26 @@ void edges(const float* src, int64_t sw, int64_t sh, int64_t nc, const int64_t* 
 
 }  // namespace lenslab
 
+namespace lenslab {
+
+// One pyramid level: out (h/2, w/2, nc) = the mean of each 2x2 block of src (h, w, nc), summed in float64 (a mean
+// of finite float32 values is finite).
+void halve(const float* src, int64_t h, int64_t w, int64_t nc, float* out) {
+    const int64_t oh = h / 2, ow = w / 2, row = w * nc;
+    for (int64_t j = 0; j < oh; ++j) {
+        const float* r0 = src + 2 * j * row;
+        const float* r1 = r0 + row;
+        float* o = out + j * ow * nc;
+        for (int64_t i = 0; i < ow; ++i)
+            for (int64_t ch = 0; ch < nc; ++ch) {
+                const int64_t k = 2 * i * nc + ch;
+                o[i * nc + ch] = float(((double(r0[k]) + double(r0[k + nc])) + (double(r1[k]) + double(r1[k + nc]))) * 0.25);
+            }
+    }
+}
+
+}  // namespace lenslab
+
 // The binding (lenslab.cxx_kernels.footprint), registered by src/native/module.cpp; the GIL is released.
 namespace nb = nanobind;
 
@@ -264,4 +284,11 @@ void register_footprint(nb::module_& m) {
     }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"),
        nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
+
+    m.def("halve", [need](InF src, OutF out) {
+        need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2
+             && out.shape(2) == src.shape(2), "halve: out must be (h/2, w/2, c) of src (h, w, c)");
+        nb::gil_scoped_release release;
+        halve(src.data(), int64_t(src.shape(0)), int64_t(src.shape(1)), int64_t(src.shape(2)), out.data());
+    }, nb::arg("src"), nb::arg("out").noconvert());
 }

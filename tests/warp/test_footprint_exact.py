@@ -131,3 +131,21 @@ def test_secants_refuse_a_map_of_the_wrong_shape():
     xs = np.zeros((2, 3, 4, 1), np.float32)
     with pytest.raises(ValueError):
         K.secants(xs, xs, np.zeros(xs.shape, bool), 0.0, np.zeros((2, 3, 1, 4), np.float32))
+
+
+def test_pyramid_levels_are_2x2_means_and_stay_finite():
+    """Each level is the float64 mean of 2x2 blocks of the one before (written here with NumPy), rounded
+    to float32 once; a source at float32's largest value gives that value, not an overflow to inf."""
+    rng = np.random.default_rng(4)
+    src = rng.uniform(0, 1, (32, 48, 3)).astype(np.float32)
+    src[:4, :4] = np.finfo(np.float32).max
+    pyr = pyramid(src, FLAT)
+    assert [tuple(s) for s in pyr.shapes] == [(32, 48), (16, 24), (8, 12), (4, 6), (2, 3)]  # 3 is odd: stop
+    cur = src
+    for (h, w), off in zip(pyr.shapes[1:], pyr.offsets[1:]):
+        got = pyr.rest[off:off + h * w * 3].reshape(h, w, 3)
+        c = cur.astype(np.float64)
+        want = ((c[0::2, 0::2] + c[0::2, 1::2]) + (c[1::2, 0::2] + c[1::2, 1::2])) * 0.25
+        np.testing.assert_array_equal(got, want.astype(np.float32))
+        cur = got
+    assert np.isfinite(pyr.rest).all() and pyr.rest.max() == np.finfo(np.float32).max
