@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.warp.kernels import native
+from lenslab.warp.kernels.dispatch import run_bands, threads
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border
 
@@ -35,7 +36,7 @@ class Pyramid:
 
 def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     """Box-filtered levels of ``src`` (float32 H x W x C): level 0 is ``src``, each next one halves it (2x2
-    mean, summed in float64: a finite source gives finite levels; compiled, without the GIL).
+    mean, summed in float64: a finite source gives finite levels; compiled, one band of rows per thread).
 
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
     or below 2 pixels. The extra levels take a third of the source's memory, in one buffer.
@@ -51,7 +52,8 @@ def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     cur = c32(src)
     for (h, w), off in zip(shapes[1:], offsets[1:]):
         nxt = rest[off:off + h * w * nc].reshape(h, w, nc)
-        k.halve(cur, nxt)
+        step = -(-h // threads())  # rows of the level per thread (the kernel releases the GIL)
+        run_bands(range(0, h, step), lambda r: k.halve(cur[2 * r:2 * (r + step)], nxt[r:r + step]))
         cur = nxt
     return Pyramid(src.reshape(-1), rest, np.array(shapes, dtype=np.int64), offsets, nc, src)
 

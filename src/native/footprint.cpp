@@ -59,30 +59,39 @@ double slice_weights(double cx, double cy, double ax, double ay, double bx, doub
         while (v < 3 && ys[v] <= y) ++v;
         const double y1 = std::min(ys[v], dfloor(y) + 1.0);
         const double len = y1 - y, mid = 0.5 * (y + y1), g = 0.5 * len;
+        // both Gauss points lie between the same two texel rows: one pass over the texels for the two
+        double xl[2], xr[2], w0[2], w1[2];
+        int64_t j = 0;
         for (int p = 0; p < 2; ++p) {
             const double yy = p == 0 ? mid - g2 * len : mid + g2 * len;
-            double xl = 1e300, xr = -1e300;
+            xl[p] = 1e300;
+            xr[p] = -1e300;
             for (int e = 0; e < 4; ++e) {
                 if (yy < lo[e] || yy > hi[e] || hi[e] == lo[e]) continue;
                 const double x = x0[e] + (yy - lo[e]) * k[e];
-                xl = std::min(xl, x);
-                xr = std::max(xr, x);
+                xl[p] = std::min(xl[p], x);
+                xr[p] = std::max(xr[p], x);
             }
-            if (xr < xl) continue;
-            total += g * (xr - xl);
-            const double fj = dfloor(yy), ty = yy - fj;
-            const int64_t j = int64_t(fj) - wy0;
-            const int64_t i0 = std::max<int64_t>(ifloor(xl - 1.0) + 1 - wx0, 0);
-            const int64_t i1 = std::min<int64_t>(ifloor(xr + 1.0) + 1 - wx0, nwx);
-            const double w0 = g * (1.0 - ty), w1 = g * ty;
-            if (j < -1 || j >= nwy) continue;  // (not for a footprint inside its window)
+            if (xr[p] < xl[p]) xl[p] = xr[p] = x0[0];  // (rounding at a vertex): no width
+            total += g * (xr[p] - xl[p]);
+            const double ty = yy - dfloor(mid);
+            j = int64_t(dfloor(mid)) - wy0;
+            w0[p] = g * (1.0 - ty);
+            w1[p] = g * ty;
+        }
+        if (j >= -1 && j < nwy) {  // (always, for a footprint inside its window)
+            const double lo_x = std::min(xl[0], xl[1]), hi_x = std::max(xr[0], xr[1]);
+            const int64_t i0 = std::max<int64_t>(ifloor(lo_x - 1.0) + 1 - wx0, 0);
+            const int64_t i1 = std::min<int64_t>(ifloor(hi_x + 1.0) + 1 - wx0, nwx);
             double* __restrict__ row0 = wgt + j * stride;
             double* __restrict__ row1 = row0 + stride;
-            const double dl = xl - double(wx0), dr = xr - double(wx0);
+            const double dl0 = xl[0] - double(wx0), dr0 = xr[0] - double(wx0);
+            const double dl1 = xl[1] - double(wx0), dr1 = xr[1] - double(wx0);
             for (int64_t i = i0; i < i1; ++i) {
-                const double wx = tent_c(dr - double(i)) - tent_c(dl - double(i));
-                row0[i] += w0 * wx;
-                row1[i] += w1 * wx;
+                const double wa = tent_c(dr0 - double(i)) - tent_c(dl0 - double(i));
+                const double wb = tent_c(dr1 - double(i)) - tent_c(dl1 - double(i));
+                row0[i] += w0[0] * wa + w0[1] * wb;
+                row1[i] += w1[0] * wa + w1[1] * wb;
             }
         }
         y = y1;

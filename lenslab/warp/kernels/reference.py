@@ -131,21 +131,25 @@ def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
         y1 = min(ys[v], math.floor(y) + 1.0)
         length, mid = y1 - y, 0.5 * (y + y1)
         g = 0.5 * length
+        pts = []
         for yy in (mid - G2 * length, mid + G2 * length):
             ends = [xlo + (yy - lo) * k for lo, hi, xlo, k in edges if lo <= yy <= hi and hi != lo]
-            if not ends:
-                continue
-            xl, xr = min(ends), max(ends)
+            xl, xr = (min(ends), max(ends)) if ends else (edges[0][2], edges[0][2])
+            xl, xr = (xl, xr) if xr >= xl else (edges[0][2], edges[0][2])
             total += g * (xr - xl)
-            fj = math.floor(yy)
-            ty = yy - fj
-            j = int(fj) - wy0
-            if j < -1 or j >= nwy:
-                continue
-            for i in range(max(math.floor(xl - 1.0) + 1 - wx0, 0), min(math.floor(xr + 1.0) + 1 - wx0, nwx)):
-                wx = _tent_c(xr - wx0 - i) - _tent_c(xl - wx0 - i)
-                w[j + 1, i] += g * (1.0 - ty) * wx
-                w[j + 2, i] += g * ty * wx
+            ty = yy - math.floor(mid)
+            pts.append((xl, xr, g * (1.0 - ty), g * ty))
+        j = math.floor(mid) - wy0
+        if not -1 <= j < nwy:
+            y = y1
+            continue
+        (xl0, xr0, a0, b0), (xl1, xr1, a1, b1) = pts
+        lo_x, hi_x = min(xl0, xl1), max(xr0, xr1)
+        for i in range(max(math.floor(lo_x - 1.0) + 1 - wx0, 0), min(math.floor(hi_x + 1.0) + 1 - wx0, nwx)):
+            wa = _tent_c(xr0 - wx0 - i) - _tent_c(xl0 - wx0 - i)
+            wb = _tent_c(xr1 - wx0 - i) - _tent_c(xl1 - wx0 - i)
+            w[j + 1, i] += a0 * wa + a1 * wb
+            w[j + 2, i] += b0 * wa + b1 * wb
         y = y1
     return w[1:-1], total
 
