@@ -18,6 +18,8 @@ namespace lenslab {
 namespace {
 
 constexpr int WINDOW = 24;  // texels: the window of weights a footprint is gathered through (2 max_taps + 4)
+constexpr int LANES = 8;  // texels a slice's weights are computed for at once (one AVX-512 vector of doubles)
+constexpr int STRIDE = WINDOW + LANES;  // a row of the weights, with room for the last lanes
 constexpr double THIN = 1e-3;  // texels: a box narrower than this is read as a line (error ~THIN^2)
 
 // The tent's antiderivative (0 below -1, 1 above 1).
@@ -87,11 +89,16 @@ double slice_weights(double cx, double cy, double ax, double ay, double bx, doub
             double* __restrict__ row1 = row0 + stride;
             const double dl0 = xl[0] - double(wx0), dr0 = xr[0] - double(wx0);
             const double dl1 = xl[1] - double(wx0), dr1 = xr[1] - double(wx0);
-            for (int64_t i = i0; i < i1; ++i) {
-                const double wa = tent_c(dr0 - double(i)) - tent_c(dl0 - double(i));
-                const double wb = tent_c(dr1 - double(i)) - tent_c(dl1 - double(i));
-                row0[i] += w0[0] * wa + w0[1] * wb;
-                row1[i] += w1[0] * wa + w1[1] * wb;
+            // LANES texels at a time (the rows have room): beyond i1 both ends' antiderivatives are 0, so
+            // the extra texels get exactly 0 and the weights are those of the loop up to i1
+            for (int64_t b = i0; b < i1; b += LANES) {
+                for (int64_t l = 0; l < LANES; ++l) {
+                    const double t = double(b + l);
+                    const double wa = tent_c(dr0 - t) - tent_c(dl0 - t);
+                    const double wb = tent_c(dr1 - t) - tent_c(dl1 - t);
+                    row0[b + l] += w0[0] * wa + w0[1] * wb;
+                    row1[b + l] += w1[0] * wa + w1[1] * wb;
+                }
             }
         }
         y = y1;
@@ -134,7 +141,7 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
     const int64_t nc = NC > 0 ? NC : nc_;
     const double inv = 1.0 / double(ns);
     const double h0 = double(shapes[0]);
-    double wgt[(WINDOW + 2) * WINDOW];
+    double wgt[(WINDOW + 2) * STRIDE];
     double acc[NC > 0 ? NC : 64];
     for (int64_t q = 0; q < npix; ++q) {
         for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0;
@@ -161,8 +168,8 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             const float* lbuf = buf + offsets[lev];
             const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
             const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
-            double* const w = wgt + WINDOW;  // row -1 of the weights is scratch
-            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * WINDOW, wgt + j * WINDOW + nu, 0.0);
+            double* const w = wgt + STRIDE;  // row -1 of the weights is scratch
+            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * STRIDE, wgt + j * STRIDE + nu + LANES, 0.0);
             // a degenerate footprint (a line or a point) gets a thickness far below a texel
             double tax = ax, tay = ay, tbx = bx, tby = by;
             if (std::fabs(ax * by - ay * bx) < THIN * THIN) {
@@ -171,17 +178,17 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                 else if (lb > 0.0) { tax = THIN * by / lb; tay = -THIN * bx / lb; }
                 else { tax = THIN; tay = 0.0; tbx = 0.0; tby = THIN; }
             }
-            const double area = cols ? slice_weights(cy, cx, tay, tax, tby, tbx, wy0, wx0, nu, nv, w, WINDOW)
-                                     : slice_weights(cx, cy, tax, tay, tbx, tby, wx0, wy0, nu, nv, w, WINDOW);
+            const double area = cols ? slice_weights(cy, cx, tay, tax, tby, tbx, wy0, wx0, nu, nv, w, STRIDE)
+                                     : slice_weights(cx, cy, tax, tay, tbx, tby, wx0, wy0, nu, nv, w, STRIDE);
             double part[NC > 0 ? NC : 64];
             for (int64_t ch = 0; ch < nc; ++ch) part[ch] = 0.0;
-            if (cols) gather<NC, true>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, WINDOW, part);
-            else gather<NC, false>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, WINDOW, part);
+            if (cols) gather<NC, true>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, STRIDE, part);
+            else gather<NC, false>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, STRIDE, part);
             double sum = area;
             if (nwx == WINDOW || nwy == WINDOW) {  // a footprint beyond the coarsest level: some weights clipped
                 sum = 0.0;
                 for (int64_t j = 0; j < nv; ++j)
-                    for (int64_t i = 0; i < nu; ++i) sum += w[j * WINDOW + i];
+                    for (int64_t i = 0; i < nu; ++i) sum += w[j * STRIDE + i];
             }
             const double norm = 1.0 / sum;
             for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += part[ch] * norm;
