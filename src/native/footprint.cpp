@@ -56,28 +56,33 @@ double slice_weights(double cx, double cy, double ax, double ay, double bx, doub
     std::sort(ys, ys + 4);
     const double g2 = 0.5 / std::sqrt(3.0);
     double total = 0.0, y = ys[0];
-    int v = 1;
+    int v = 1, seen = 0, le = 0, re = 0;
     while (y < ys[3]) {
         while (v < 3 && ys[v] <= y) ++v;
+        if (v != seen) {  // a new pair of vertices: the edges on the left and on the right until the next
+            seen = v;
+            const double ym = 0.5 * (ys[v - 1] + ys[v]);
+            double bl = 1e300, br = -1e300;
+            le = re = 0;
+            for (int e = 0; e < 4; ++e) {
+                if (ym < lo[e] || ym > hi[e] || hi[e] == lo[e]) continue;
+                const double x = x0[e] + (ym - lo[e]) * k[e];
+                if (x < bl) { bl = x; le = e; }
+                if (x > br) { br = x; re = e; }
+            }
+        }
         const double y1 = std::min(ys[v], dfloor(y) + 1.0);
         const double len = y1 - y, mid = 0.5 * (y + y1), g = 0.5 * len;
         // both Gauss points lie between the same two texel rows: one pass over the texels for the two
         double xl[2], xr[2], w0[2], w1[2];
-        int64_t j = 0;
+        const double fm = dfloor(mid);
+        const int64_t j = int64_t(fm) - wy0;
         for (int p = 0; p < 2; ++p) {
             const double yy = p == 0 ? mid - g2 * len : mid + g2 * len;
-            xl[p] = 1e300;
-            xr[p] = -1e300;
-            for (int e = 0; e < 4; ++e) {
-                if (yy < lo[e] || yy > hi[e] || hi[e] == lo[e]) continue;
-                const double x = x0[e] + (yy - lo[e]) * k[e];
-                xl[p] = std::min(xl[p], x);
-                xr[p] = std::max(xr[p], x);
-            }
-            if (xr[p] < xl[p]) xl[p] = xr[p] = x0[0];  // (rounding at a vertex): no width
+            xl[p] = x0[le] + (yy - lo[le]) * k[le];
+            xr[p] = std::max(xl[p], x0[re] + (yy - lo[re]) * k[re]);
             total += g * (xr[p] - xl[p]);
-            const double ty = yy - dfloor(mid);
-            j = int64_t(dfloor(mid)) - wy0;
+            const double ty = yy - fm;
             w0[p] = g * (1.0 - ty);
             w1[p] = g * ty;
         }

@@ -124,18 +124,24 @@ def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
         edges.append((lo, hi, xlo, (xhi - xlo) / (hi - lo) if hi > lo else 0.0))
     ys = sorted(vy)
     w = np.zeros((nwy + 2, nwx))  # rows -1 and nwy: scratch
-    total, y, v = 0.0, ys[0], 1
+    total, y, v, seen, left, right = 0.0, ys[0], 1, 0, edges[0], edges[0]
     while y < ys[3]:
         while v < 3 and ys[v] <= y:
             v += 1
+        if v != seen:  # a new pair of vertices: the edges on the left and on the right until the next
+            seen = v
+            ym = 0.5 * (ys[v - 1] + ys[v])
+            active = [(xlo + (ym - lo) * k, e) for e, (lo, hi, xlo, k) in enumerate(edges)
+                      if lo <= ym <= hi and hi != lo]
+            left = edges[min(active, key=lambda t: t[0])[1]] if active else edges[0]  # the first of equals
+            right = edges[max(active, key=lambda t: t[0])[1]] if active else edges[0]
         y1 = min(ys[v], math.floor(y) + 1.0)
         length, mid = y1 - y, 0.5 * (y + y1)
         g = 0.5 * length
         pts = []
         for yy in (mid - G2 * length, mid + G2 * length):
-            ends = [xlo + (yy - lo) * k for lo, hi, xlo, k in edges if lo <= yy <= hi and hi != lo]
-            xl, xr = (min(ends), max(ends)) if ends else (edges[0][2], edges[0][2])
-            xl, xr = (xl, xr) if xr >= xl else (edges[0][2], edges[0][2])
+            xl = left[2] + (yy - left[0]) * left[3]
+            xr = max(xl, right[2] + (yy - right[0]) * right[3])
             total += g * (xr - xl)
             ty = yy - math.floor(mid)
             pts.append((xl, xr, g * (1.0 - ty), g * ty))
