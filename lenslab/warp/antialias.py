@@ -30,7 +30,8 @@ prefilter spends the work only where it is needed:
 5. A pixel whose validity differs from a neighbour's (or, on the image's border, from the point half
    a pixel outside) straddles the edge of the valid region (a circular image's rim, a source image's
    border): it is split into ``EDGE_SPLIT x EDGE_SPLIT`` sub-samples mapped exactly, which measure its
-   partial coverage.
+   partial coverage. Each valid sub-sample is itself a footprint, the sample's sides divided by
+   ``EDGE_SPLIT``, so a lamp on the rim is averaged over each sub-cell, not read at its centre.
 
 The result approximates the box average of the bilinear reconstruction over the pixel, which is what
 dense supersampling converges to; ``lenslab bench warp`` measures the difference on real panoramas.
@@ -48,7 +49,7 @@ from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
 
 JACOBIAN_POINTS = 5  # map evaluations per sample with samples > 1: the centre and the four secant ends
-EDGE_SPLIT = 8  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
+EDGE_SPLIT = 4  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
 
 
 @dataclass

@@ -6,6 +6,7 @@ its NumPy reference."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,7 +66,18 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
                 cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
-    if len(band.edge_idx):
-        sh, sw, nc = pyr.source.shape
-        k.edges(pyr.level0, sw, sh, nc, np.ascontiguousarray(band.edge_idx, dtype=np.int64), c32(band.edge_xs),
-                c32(band.edge_ys), cbool(band.edge_valid), band.xs.shape[2], wrap, top, bottom, out, alpha)
+    if len(band.edge_idx):  # the samples split on the edge of the valid region: each valid sub-sample is
+        # itself a footprint, its sample's sides divided by the split, so that it averages its own cell
+        m, kk = band.edge_xs.shape
+        ns = band.xs.shape[2]
+        split = math.isqrt(kk)
+        sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(split)
+        sub_out = np.empty((m, pyr.channels), np.float32)
+        sub_alpha = np.empty(m, np.float32)
+        k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.edge_xs), c32(band.edge_ys),
+                    cbool(band.edge_valid), c32(np.broadcast_to(sub[:, None, :], (m, kk, 4))), wrap, top, bottom,
+                    MAX_TAPS, sub_out, sub_alpha)
+        pix = band.edge_idx // ns
+        flat, flat_alpha = out.reshape(-1, pyr.channels), alpha.reshape(-1)
+        np.add.at(flat, pix, sub_out * np.float32(1.0 / ns))
+        np.add.at(flat_alpha, pix, sub_alpha * np.float32(1.0 / ns))

@@ -108,17 +108,4 @@ NB_MODULE(cxx_kernels, m) {
         for (size_t i = 0; i < n; ++i) ok &= std::isfinite(p[i]);  // branch-free: vectorised
         return ok;
     }, nb::arg("a"), nb::call_guard<nb::gil_scoped_release>());
-
-    m.def("edges", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<int64_t> idx, In<float> exs, In<float> eys,
-                      In<bool> evalid, int64_t ns, bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
-        size_t m_ = idx.size();
-        need(m_ == 0 || exs.size() % m_ == 0, "edge shapes differ");
-        size_t kk = m_ ? exs.size() / m_ : 0;
-        need(eys.size() == exs.size() && evalid.size() == exs.size(), "edge shapes differ");
-        const int64_t* p = idx.data();
-        for (size_t e = 0; e < m_; ++e) need(p[e] >= 0 && size_t(p[e] / ns) < alpha.size(), "edge index out of range");
-        edges(src.data(), sw, sh, nc, p, exs.data(), eys.data(), evalid.data(), int64_t(m_), int64_t(kk), ns, 0,
-              {wrap, top, bottom}, out.data(), alpha.data());
-    }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("exs"), nb::arg("eys"), nb::arg("evalid"), nb::arg("ns"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
-          nb::call_guard<nb::gil_scoped_release>());
 }

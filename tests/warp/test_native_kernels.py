@@ -160,26 +160,6 @@ def test_footprint_of_a_constant_image_is_that_constant():
     np.testing.assert_allclose(out, 0.375, rtol=1e-6)
 
 
-@settings(max_examples=30, deadline=None)
-@given(st.integers(1, 5), st.integers(1, 3), st.integers(0, 2**31 - 1))
-def test_split_edge_samples_match_the_numpy_reference(nc, ns, seed):
-    rng = np.random.default_rng(seed)
-    src = _src(12, 24, nc, seed=seed % 97)
-    m, kk = 30, 16
-    npix = 40
-    idx = np.sort(rng.choice(npix * ns, m, replace=False)).astype(np.int64)
-    exs = rng.uniform(-2, 25, (m, kk)).astype(np.float32)
-    eys = rng.uniform(-2, 13, (m, kk)).astype(np.float32)
-    ev = rng.uniform(size=(m, kk)) > 0.3
-    out = rng.uniform(0, 1, (npix, nc)).astype(np.float32)
-    alpha = rng.uniform(0, 1, npix).astype(np.float32)
-    want, want_alpha = out.copy(), alpha.copy()
-    K.edges(src.reshape(-1), 24, 12, nc, idx, exs, eys, ev, ns, *PANO.flags, out, alpha)
-    ref.edges(src, idx, exs, eys, ev, ns, PANO.flags, want, want_alpha)
-    np.testing.assert_allclose(out, want, rtol=2 * EPS32, atol=2 * EPS32)
-    np.testing.assert_allclose(alpha, want_alpha, rtol=2 * EPS32, atol=2 * EPS32)
-
-
 def test_kernels_refuse_mismatched_arrays():
     src = _src(4, 4, 3)
     with pytest.raises(ValueError, match="shapes differ"):

@@ -217,27 +217,6 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
     return out.astype(np.float32), alpha.astype(np.float32)
 
 
-def edges(src, idx, exs, eys, evalid, ns: int, border, out, alpha) -> None:
-    """Adds the split edge samples into ``out`` (n, C) and ``alpha`` (n,): each sample's valid sub-samples,
-    read bilinearly in float64, sum to their share ``1 / (K ns)`` of the pixel."""
-    for e, q in enumerate(np.asarray(idx) // ns):
-        ok = np.asarray(evalid[e], bool)
-        x = np.asarray(exs[e], np.float64)[ok]
-        y = np.asarray(eys[e], np.float64)[ok]
-        fx0, fy0 = np.floor(x), np.floor(y)
-        tx, ty = x - fx0, y - fy0
-        acc = np.zeros(src.shape[2])
-        for di, dj, w in ((0, 0, (1 - tx) * (1 - ty)), (1, 0, tx * (1 - ty)), (0, 1, (1 - tx) * ty), (1, 1, tx * ty)):
-            i, j = fold_index(fx0.astype(np.int64) + di, fy0.astype(np.int64) + dj, src.shape[1], src.shape[0],
-                              *border)
-            acc += (w[:, None] * src[j, i].astype(np.float64)).sum(axis=0)
-        scale = 1.0 / (exs.shape[1] * ns)
-        out[q] = (out[q].astype(np.float64) + acc * scale).astype(np.float32)
-        alpha[q] = np.float32(np.float64(alpha[q]) + ok.sum() * scale)
-
-
-
-
 def neighbour_secants(xs, ys, vs, top: int, h: int, wrap: float, piece=None):
     """Footprint sides of rows ``top:top + h`` of a one-sample map (``xs, ys`` float32 and ``vs`` bool, (rows,
     W)) from the neighbours' positions: ``(foot (h, W, 4), edge (h, W))``.
