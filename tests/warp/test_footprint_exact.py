@@ -149,3 +149,26 @@ def test_pyramid_levels_are_2x2_means_and_stay_finite():
         np.testing.assert_array_equal(got, want.astype(np.float32))
         cur = got
     assert np.isfinite(pyr.rest).all() and pyr.rest.max() == np.finfo(np.float32).max
+
+
+def test_rim_pixels_of_a_constant_panorama_are_that_constant_times_their_coverage():
+    """The pixels split on a fisheye's rim read each valid sub-sample as a footprint: every weight set is
+    normalised, so a constant source gives the constant times the coverage (premultiplied), to float32
+    rounding, and the coverage is the fraction of the 4x4 sub-samples inside the circle r <= 1
+    (pixel centres of the sub-samples at (i + (k + 0.5) / 4), the fisheye's radius half the width)."""
+    from lenslab.lenses import Camera
+    from lenslab.warp import warp
+
+    img = np.full((64, 128, 3), 0.625, np.float32)
+    out, alpha = warp(img, Camera.from_spec("equirect", (128, 64)), Camera.from_spec("fisheye:fov=180", (48, 48)),
+                      antialias=True)
+    rim = (alpha > 0) & (alpha < 1)
+    assert rim.sum() > 100
+    want_out = np.broadcast_to(0.625 * alpha[rim][:, None], out[rim].shape)
+    np.testing.assert_allclose(out[rim], want_out, rtol=4 * EPS32, atol=4 * EPS32)
+    sub = (np.arange(4) + 0.5) / 4
+    yy, xx = np.mgrid[0:48, 0:48]
+    px = (xx[..., None, None] + sub[None, None, None, :]) / 24.0 - 1.0
+    py = (yy[..., None, None] + sub[None, None, :, None]) / 24.0 - 1.0
+    want = (np.hypot(px, py) <= 1.0).mean(axis=(2, 3))
+    np.testing.assert_array_equal(alpha[rim], want[rim].astype(np.float32))
