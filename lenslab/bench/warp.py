@@ -35,6 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also warp a 16384x8192 source into 8192x8192 and report peak memory (slow, ~3 GB)")
     parser.add_argument("--skip-speed", action="store_true", help="accuracy (and --big) only")
     parser.add_argument("--skip-threads", action="store_true", help="leave out the two-thread figures (slow)")
+    parser.add_argument("--skip-accuracy", action="store_true",
+                        help="leave out the accuracy on the real panoramas (slow: a float64 reference for each)")
 
 
 def _read(path: Path):
@@ -101,6 +103,7 @@ def speed(args) -> None:
     ok = figure("warp.antialias_vs_one_shot", "one-shot --antialias vs one-shot single-tap bilinear, one thread", aa,
                 "x", aim=2.0)
     print(f"  --antialias vs single-tap one-shot: {aa:5.2f}x   aim <= 2x  {mark(ok)}")
+    antialias_stages(src_img, src, dst, args.repeat)
     _threads(default_threads())
     ours = warp(src_img, src, dst)[0]
     theirs = cv2.remap(src_img, mx, my, cv2.INTER_LINEAR)
@@ -110,6 +113,45 @@ def speed(args) -> None:
     print(f"cv2.remap's 1/32-pixel weights vs exact bilinear: relative L1 {diff.sum() / np.abs(ours[m]).sum():.2e}; "
           f"per pixel relative difference: 99.9th percentile {np.percentile(rel, 99.9):.2%}, max {rel.max():.1%} "
           f"(largest absolute {diff.max():.3g})")
+
+
+def antialias_stages(src_img, src, dst, repeat: int) -> None:
+    """Where one-shot --antialias spends its time, one thread, in CPU milliseconds (``time.process_time``,
+    less disturbed by other processes than wall time; best of ``repeat``, stages interleaved): the map with
+    the footprints (and the rim's pixels split and mapped exactly), the pyramid, the footprint filter."""
+    import time
+
+    import numpy as np
+
+    from lenslab.bench.results import figure
+    from lenslab.warp import antialias as aa
+    from lenslab.warp.engine import WarpPlan
+
+    plan = WarpPlan(src, dst, antialias=True)
+    out = np.zeros(plan.out_shape + (src_img.shape[2],), np.float32)
+    alpha = np.zeros(plan.out_shape, np.float32)
+    bands = list(plan.bands())
+    pyr = aa.pyramid(src_img, plan.border)
+
+    def cpu(fn):
+        t0 = time.process_time()
+        fn()
+        return time.process_time() - t0
+
+    stages = {
+        "map and footprints": lambda: list(plan.bands()),
+        "pyramid": lambda: aa.pyramid(src_img, plan.border),
+        "footprint filter": lambda: [aa.sample_footprint(pyr, b, plan.border, out[b.r0:b.r1], alpha[b.r0:b.r1])
+                                     for b in bands],
+    }
+    best = {k: float("inf") for k in stages}
+    for _ in range(max(1, repeat)):
+        for k, fn in stages.items():
+            best[k] = min(best[k], cpu(fn))
+    print("  --antialias stages, one thread, CPU time: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in best.items()))
+    for k, v in best.items():
+        figure("warp.antialias_cpu_" + k.split()[0], f"--antialias stage: {k}, one thread, CPU", v * 1e3, "ms",
+               detail=True)
 
 
 def interleaved(cases, repeat: int) -> dict[str, float]:
@@ -253,7 +295,8 @@ def run(args: argparse.Namespace) -> int:
         speed(args)
         if not args.skip_threads:
             thread_scaling(args)
-    accuracy(args)
+    if not args.skip_accuracy:
+        accuracy(args)
     if args.big:
         big(args)
     return 0

@@ -17,18 +17,21 @@ prefilter spends the work only where it is needed:
 2. A box-filtered pyramid of the source (each level halves the previous by 2x2 averaging; the seam
    and pole structure of a panorama survives the halving; :mod:`lenslab.warp.pyramid`) provides pre-averaged texels.
 3. The level ``L`` is the finest at which the footprint spans at most ``MAX_TAPS`` texels along its
-   longer side. A footprint at most 3 texels wide and tall whose x-y covariance is about zero
-   (``AXIS_TOL``) is read as one axis-aligned box with its second moments; any other is split into
-   ``na x nb`` cells, about ``1/DENSITY`` texel each along ``a`` and ``b`` (anisotropic: a long thin
-   footprint near a pole gets many cells along its length, few across).
-4. Each cell is replaced by the axis-aligned box with the same second moments, and the bilinear
-   reconstruction is averaged over that box exactly: separable weights, the tent integrated over the
-   box (:func:`_tent_box_weights`). The cells' weights are summed in one window of texels, which is
-   then read once.
+   longer side (a coarser level blurs: its texels are 2x2 means read bilinearly).
+4. The bilinear reconstruction is averaged over the parallelogram exactly but for one quadrature: the
+   parallelogram is sliced along its shorter extent (rows, or columns for a tall one). Between
+   consecutive breakpoints (its vertices and the texel rows, where the reconstruction bends) the
+   slice's ends move linearly, and each texel's weight is integrated along by 2-point Gauss-Legendre
+   and across exactly (the tent's antiderivative), split between the two texel rows around the slice
+   as bilinear interpolation splits it. The weights sum to the parallelogram's area; one window of
+   texels is then read once (``src/native/footprint.cpp``). The rule is exact for slices whose ends stay
+   between texel columns; where an end crosses one, the tent bends inside a Gauss interval
+   (``tests/warp/test_footprint_exact.py`` bounds that error).
 5. A pixel whose validity differs from a neighbour's (or, on the image's border, from the point half
    a pixel outside) straddles the edge of the valid region (a circular image's rim, a source image's
    border): it is split into ``EDGE_SPLIT x EDGE_SPLIT`` sub-samples mapped exactly, which measure its
-   partial coverage.
+   partial coverage. Each valid sub-sample is itself a footprint, the sample's sides divided by
+   ``EDGE_SPLIT``, so a lamp on the rim is averaged over each sub-cell, not read at its centre.
 
 The result approximates the box average of the bilinear reconstruction over the pixel, which is what
 dense supersampling converges to; ``lenslab bench warp`` measures the difference on real panoramas.
@@ -41,7 +44,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.warp.kernels import native
-from lenslab.warp.kernels.dispatch import kernel
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
@@ -88,7 +90,7 @@ def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> Foo
     ys = band.ys.reshape(h, w, 5, n)
     vs = band.valid.reshape(h, w, 5, n)
     foot = np.empty((h, w, n, 4), dtype=np.float32)
-    _secants(xs, ys, vs, mapper.wrap, foot)
+    secants(xs, ys, vs, mapper.wrap, foot)
     # samples whose five points disagree on validity straddle the edge of the valid region (a
     # circular image's rim, a source image's border): their coverage is partial, so they are split into
     # EDGE_SPLIT x EDGE_SPLIT plain sub-samples that measure it
@@ -202,28 +204,8 @@ def neighbour_secants(xs, ys, vs, top: int, wrap: float, piece, foot, edge) -> N
     native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge)
 
 
-@kernel
-def _secants(xs, ys, vs, wrap, foot):
-    h, w, _, n = xs.shape
-    for r in range(h):
-        for c in range(w):
-            for k in range(n):
-                for axis in range(2):
-                    lo, hi = 1 + 2 * axis, 2 + 2 * axis
-                    # secant across the stratum; one-sided (doubled) where an end is invalid
-                    if vs[r, c, lo, k] and vs[r, c, hi, k]:
-                        dx = xs[r, c, hi, k] - xs[r, c, lo, k]
-                        dy = ys[r, c, hi, k] - ys[r, c, lo, k]
-                    elif vs[r, c, hi, k] and vs[r, c, 0, k]:
-                        dx = 2.0 * (xs[r, c, hi, k] - xs[r, c, 0, k])
-                        dy = 2.0 * (ys[r, c, hi, k] - ys[r, c, 0, k])
-                    elif vs[r, c, lo, k] and vs[r, c, 0, k]:
-                        dx = 2.0 * (xs[r, c, 0, k] - xs[r, c, lo, k])
-                        dy = 2.0 * (ys[r, c, 0, k] - ys[r, c, lo, k])
-                    else:
-                        dx = 0.0
-                        dy = 0.0
-                    if wrap > 0.0:
-                        dx -= wrap * np.floor(dx / wrap + 0.5)
-                    foot[r, c, k, 2 * axis] = dx
-                    foot[r, c, k, 2 * axis + 1] = dy
+def secants(xs, ys, vs, wrap: float, foot) -> None:
+    """Footprint sides of supersampled pixels into ``foot`` (h, W, S, 4) from the map ``xs, ys, vs`` (h, W, 5, S)
+    at each sample and the ends of its two secants: the secant across the sample's stratum, one-sided (doubled)
+    where an end is invalid (compiled ahead of time; reference :func:`lenslab.warp.kernels.reference.secants`)."""
+    native.kernels().secants(c32(xs), c32(ys), cbool(vs), float(wrap), foot)

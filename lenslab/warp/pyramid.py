@@ -6,20 +6,21 @@ its NumPy reference."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from lenslab.warp.kernels import native
-from lenslab.warp.filters import F32_MAX
+from lenslab.warp.kernels.dispatch import run_bands, threads
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.seam import Border
 
-MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from
-AXIS_TOL = 0.125  # texels^2: a footprint whose x-y covariance (times 12) is below this is one box
-DENSITY = 0.75  # cells per texel along each side of the footprint (measured best accuracy per cost)
-WINDOW = 16  # texels: the side of the window of weights a footprint is gathered through (fits MAX_TAPS + 5;
+MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from (a coarser level
+#               blurs: at 4 the error on forest.exr doubles; measured in docs/design.md)
+WINDOW = 24  # texels: the side of the window of weights a footprint is gathered through (fits 2 MAX_TAPS + 3;
 #              the same constant in src/native/footprint.cpp)
+THIN = 1e-3  # texels: a footprint thinner than this (a line, a point) is given this thickness
 
 
 @dataclass
@@ -35,30 +36,27 @@ class Pyramid:
 
 
 def pyramid(src: np.ndarray, border: Border) -> Pyramid:
-    """Box-filtered levels of ``src``: level 0 is ``src``, each next one halves it (2x2 mean).
+    """Box-filtered levels of ``src`` (float32 H x W x C): level 0 is ``src``, each next one halves it (2x2
+    mean, summed in float64: a finite source gives finite levels; compiled, one band of rows per thread).
 
-    A finite source gives finite levels (a mean of values up to float32's largest is at most that).
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
-    or below 2 pixels. The extra levels take a third of the source's memory.
+    or below 2 pixels. The extra levels take a third of the source's memory, in one buffer.
     """
-    import cv2  # here: a warp that needs no pyramid starts without OpenCV
-
-    levels = []
-    cur = src
-    while cur.shape[0] >= 2 and cur.shape[1] >= 2 and cur.shape[0] % 2 == 0 and cur.shape[1] % 2 == 0:
-        nxt = cv2.resize(cur, (cur.shape[1] // 2, cur.shape[0] // 2), interpolation=cv2.INTER_AREA)
-        if nxt.ndim == 2:
-            nxt = nxt[..., None]
-        nxt = np.ascontiguousarray(nxt, dtype=np.float32)
-        if np.isinf(nxt).any() and not np.isinf(cur).any():  # OpenCV's float32 sums overflowed
-            np.clip(nxt, -F32_MAX, F32_MAX, out=nxt)  # (an infinite source is left to the engine's repair)
-        levels.append(nxt)
-        cur = nxt
-    shapes = np.array([src.shape[:2]] + [lv.shape[:2] for lv in levels], dtype=np.int64)
-    sizes = [lv.size for lv in levels]
+    shapes = [src.shape[:2]]
+    while shapes[-1][0] >= 2 and shapes[-1][1] >= 2 and shapes[-1][0] % 2 == 0 and shapes[-1][1] % 2 == 0:
+        shapes.append((shapes[-1][0] // 2, shapes[-1][1] // 2))
+    nc = src.shape[2]
+    sizes = [h * w * nc for h, w in shapes[1:]]
     offsets = np.concatenate([[0, 0], np.cumsum(sizes)[:-1]]).astype(np.int64)[:len(shapes)]
-    rest = np.concatenate([lv.reshape(-1) for lv in levels]) if levels else np.zeros(1, np.float32)
-    return Pyramid(src.reshape(-1), rest, shapes, offsets, src.shape[2], src)
+    rest = np.empty(max(1, sum(sizes)), np.float32)
+    k = native.kernels()
+    cur = c32(src)
+    for (h, w), off in zip(shapes[1:], offsets[1:]):
+        nxt = rest[off:off + h * w * nc].reshape(h, w, nc)
+        step = -(-h // threads())  # rows of the level per thread (the kernel releases the GIL)
+        run_bands(range(0, h, step), lambda r: k.halve(cur[2 * r:2 * (r + step)], nxt[r:r + step]))
+        cur = nxt
+    return Pyramid(src.reshape(-1), rest, np.array(shapes, dtype=np.int64), offsets, nc, src)
 
 
 def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
@@ -67,9 +65,19 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
     wrap, top, bottom = border.flags
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
-                cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, DENSITY, AXIS_TOL,
-                out, alpha)
-    if len(band.edge_idx):
-        sh, sw, nc = pyr.source.shape
-        k.edges(pyr.level0, sw, sh, nc, np.ascontiguousarray(band.edge_idx, dtype=np.int64), c32(band.edge_xs),
-                c32(band.edge_ys), cbool(band.edge_valid), band.xs.shape[2], wrap, top, bottom, out, alpha)
+                cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
+    if len(band.edge_idx):  # the samples split on the edge of the valid region: each valid sub-sample is
+        # itself a footprint, its sample's sides divided by the split, so that it averages its own cell
+        m, kk = band.edge_xs.shape
+        ns = band.xs.shape[2]
+        split = math.isqrt(kk)
+        sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(split)
+        sub_out = np.empty((m, pyr.channels), np.float32)
+        sub_alpha = np.empty(m, np.float32)
+        k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.edge_xs), c32(band.edge_ys),
+                    cbool(band.edge_valid), c32(np.broadcast_to(sub[:, None, :], (m, kk, 4))), wrap, top, bottom,
+                    MAX_TAPS, sub_out, sub_alpha)
+        pix = band.edge_idx // ns
+        flat, flat_alpha = out.reshape(-1, pyr.channels), alpha.reshape(-1)
+        np.add.at(flat, pix, sub_out * np.float32(1.0 / ns))
+        np.add.at(flat_alpha, pix, sub_alpha * np.float32(1.0 / ns))

@@ -1,53 +1,155 @@
-// The footprint prefilter: each output sample averages the bilinear source over its footprint, read from
-// the finest pyramid level at which the footprint spans at most max_taps texels (see
-// lenslab/warp/antialias.py for the method). Weights in float64, in the order of the NumPy reference.
+// The footprint prefilter: each output sample averages the bilinear source over its footprint, a
+// parallelogram read from the finest pyramid level at which it spans at most max_taps texels (see
+// lenslab/warp/antialias.py for the method). The parallelogram is cut into na x nb cells; each cell is read
+// through the product of its exact x and y marginals (the tent convolved with two boxes: separable weights
+// from the tent's second antiderivative). Weights in float64, in the order of the NumPy reference
+// (lenslab.warp.kernels.reference.footprint).
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <vector>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
 
 #include "sampler.h"
 
 namespace lenslab {
 namespace {
 
-constexpr int WINDOW = 16;  // texels: the window of weights a footprint is gathered through
+constexpr int WINDOW = 24;  // texels: the window of weights a footprint is gathered through (2 max_taps + 4)
+constexpr int LANES = 8;  // texels a slice's weights are computed for at once (one AVX-512 vector of doubles)
+constexpr int STRIDE = WINDOW + LANES;  // a row of the weights, with room for the last lanes
+constexpr double THIN = 1e-3;  // texels: a box narrower than this is read as a line (error ~THIN^2)
 
-inline double tent_cdf(double u) {
+// The tent's antiderivative (0 below -1, 1 above 1).
+inline double tent_c(double u) {
     double v = std::min(1.0, std::max(-1.0, u));
     return 0.5 + v - 0.5 * v * std::fabs(v);
 }
 
-// k[:n] = weights of texels i0..i0+n-1 of the tent averaged over a box of `width` centred at x; their sum.
-inline double tent_box_weights(double x, double width, int64_t i0, int64_t n, double* k) {
-    double s = 0.0;
-    if (width < 1e-6) {
-        for (int64_t i = 0; i < n; ++i) {
-            k[i] = std::max(0.0, 1.0 - std::fabs(x - double(i0 + i)));
-            s += k[i];
+inline int64_t ifloor(double v) { return int64_t(dfloor(v)); }
+
+// Texel weights of the bilinear reconstruction averaged over the parallelogram c + s a + r b (s, r in
+// [-1/2, 1/2]), added into wgt: texel (wx0 + i, wy0 + j) at wgt[j * stride + i], for j from -1 to nwy (the
+// rows -1 and nwy are scratch, so that the inner loop has no branch and vectorises). The parallelogram is sliced along its
+// rows: between consecutive breakpoints in y (its vertices and the texel rows, where the reconstruction
+// bends) each texel's weight is integrated over y by 2-point Gauss-Legendre; along x each slice is
+// integrated exactly (the tent's antiderivative). Returns the sum of the weights, the parallelogram's area
+// (exact: the slice's width is linear in y between breakpoints).
+double slice_weights(double cx, double cy, double ax, double ay, double bx, double by, int64_t wx0, int64_t wy0,
+                     int64_t nwx, int64_t nwy, double* wgt, int64_t stride) {
+    const double vx[4] = {cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx,
+                          cx - 0.5 * ax + 0.5 * bx};
+    const double vy[4] = {cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by,
+                          cy - 0.5 * ay + 0.5 * by};
+    double lo[4], hi[4], x0[4], k[4];  // each edge: its y range, x at its low end, dx/dy
+    for (int e = 0; e < 4; ++e) {
+        const int f = (e + 1) & 3;
+        const bool up = vy[e] <= vy[f];
+        lo[e] = up ? vy[e] : vy[f];
+        hi[e] = up ? vy[f] : vy[e];
+        x0[e] = up ? vx[e] : vx[f];
+        k[e] = hi[e] > lo[e] ? ((up ? vx[f] : vx[e]) - x0[e]) / (hi[e] - lo[e]) : 0.0;
+    }
+    // the vertices' y in order (a sorting network: no branch to mispredict)
+    const double a0 = std::min(vy[0], vy[1]), a1 = std::max(vy[0], vy[1]);
+    const double a2 = std::min(vy[2], vy[3]), a3 = std::max(vy[2], vy[3]);
+    const double m1 = std::max(a0, a2), m2 = std::min(a1, a3);
+    const double ys[4] = {std::min(a0, a2), std::min(m1, m2), std::max(m1, m2), std::max(a1, a3)};
+    const double g2 = 0.5 / std::sqrt(3.0);
+    double total = 0.0, y = ys[0];
+    int v = 1, seen = 0, le = 0, re = 0;
+    while (y < ys[3]) {
+        while (v < 3 && ys[v] <= y) ++v;
+        if (v != seen) {  // a new pair of vertices: the edges on the left and on the right until the next
+            seen = v;
+            const double ym = 0.5 * (ys[v - 1] + ys[v]);
+            double bl = 1e300, br = -1e300;
+            le = re = 0;
+            for (int e = 0; e < 4; ++e) {
+                if (ym < lo[e] || ym > hi[e] || hi[e] == lo[e]) continue;
+                const double x = x0[e] + (ym - lo[e]) * k[e];
+                if (x < bl) { bl = x; le = e; }
+                if (x > br) { br = x; re = e; }
+            }
         }
-        return s;
+        const double y1 = std::min(ys[v], dfloor(y) + 1.0);
+        const double len = y1 - y, mid = 0.5 * (y + y1), g = 0.5 * len;
+        // both Gauss points lie between the same two texel rows: one pass over the texels for the two
+        double xl[2], xr[2], w0[2], w1[2];
+        const double fm = dfloor(mid);
+        const int64_t j = int64_t(fm) - wy0;
+        for (int p = 0; p < 2; ++p) {
+            const double yy = p == 0 ? mid - g2 * len : mid + g2 * len;
+            xl[p] = x0[le] + (yy - lo[le]) * k[le];
+            xr[p] = std::max(xl[p], x0[re] + (yy - lo[re]) * k[re]);
+            total += g * (xr[p] - xl[p]);
+            const double ty = yy - fm;
+            w0[p] = g * (1.0 - ty);
+            w1[p] = g * ty;
+        }
+        if (j >= -1 && j < nwy) {  // (always, for a footprint inside its window)
+            const double lo_x = std::min(xl[0], xl[1]), hi_x = std::max(xr[0], xr[1]);
+            const int64_t i0 = std::max<int64_t>(ifloor(lo_x - 1.0) + 1 - wx0, 0);
+            const int64_t i1 = std::min<int64_t>(ifloor(hi_x + 1.0) + 1 - wx0, nwx);
+            double* __restrict__ row0 = wgt + j * stride;
+            double* __restrict__ row1 = row0 + stride;
+            const double dl0 = xl[0] - double(wx0), dr0 = xr[0] - double(wx0);
+            const double dl1 = xl[1] - double(wx0), dr1 = xr[1] - double(wx0);
+            // LANES texels at a time (the rows have room): beyond i1 both ends' antiderivatives are 0, so
+            // the extra texels get exactly 0 and the weights are those of the loop up to i1
+            for (int64_t b = i0; b < i1; b += LANES) {
+                for (int64_t l = 0; l < LANES; ++l) {
+                    const double t = double(b + l);
+                    const double wa = tent_c(dr0 - t) - tent_c(dl0 - t);
+                    const double wb = tent_c(dr1 - t) - tent_c(dl1 - t);
+                    row0[b + l] += w0[0] * wa + w0[1] * wb;
+                    row1[b + l] += w1[0] * wa + w1[1] * wb;
+                }
+            }
+        }
+        y = y1;
     }
-    double hw = 0.5 * width, inv = 1.0 / width;
-    for (int64_t i = 0; i < n; ++i) {
-        double d = x - double(i0 + i);
-        k[i] = (tent_cdf(d + hw) - tent_cdf(d - hw)) * inv;
-        s += k[i];
-    }
-    return s;
+    return total;
 }
 
-inline int64_t ifloor(double v) { return int64_t(dfloor(v)); }
+// acc += the texels of the window (wx0, wy0, nwx, nwy) times their weights: texel (wx0 + i, wy0 + j) at
+// wgt[j * stride + i], or at wgt[i * stride + j] when T (the weights were sliced along columns)
+template <int NC, bool T>
+inline void gather(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc_, Border b, int64_t wx0,
+                   int64_t wy0, int64_t nwx, int64_t nwy, const double* wgt, int64_t stride, double* acc) {
+    const int64_t nc = NC > 0 ? NC : nc_;
+    const bool inside = wx0 >= 0 && wy0 >= 0 && wx0 + nwx <= lw && wy0 + nwy <= lh;
+    const int64_t si = T ? stride : 1, sj = T ? 1 : stride;
+    for (int64_t j = 0; j < nwy; ++j) {
+        const double* wr = wgt + j * sj;
+        if (inside) {
+            const float* t = buf + ((wy0 + j) * lw + wx0) * nc;
+            for (int64_t i = 0; i < nwx; ++i)
+                for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += wr[i * si] * double(t[i * nc + ch]);
+            continue;
+        }
+        for (int64_t i = 0; i < nwx; ++i) {
+            int64_t ii = wx0 + i, jj = wy0 + j;
+            fold_index(ii, jj, lw, lh, b.wrap, b.top, b.bottom);
+            const float* t = buf + (jj * lw + ii) * nc;
+            for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += wr[i * si] * double(t[ch]);
+        }
+    }
+}
 
 // NC > 0: that many channels, known to the compiler; NC == 0: nc (<= 64) at run time
 template <int NC>
 void footprint_t(const float* __restrict__ level0, const float* __restrict__ rest, const int64_t* shapes,
                  const int64_t* offsets, int64_t nlev, int64_t nc_, const float* __restrict__ xs,
                  const float* __restrict__ ys, const bool* __restrict__ valid, const float* __restrict__ foot,
-                 int64_t npix, int64_t ns, Border b, FootprintParams fp, float* __restrict__ out,
+                 int64_t npix, int64_t ns, Border b, double max_taps, float* __restrict__ out,
                  float* __restrict__ alpha) {
     const int64_t nc = NC > 0 ? NC : nc_;
     const double inv = 1.0 / double(ns);
     const double h0 = double(shapes[0]);
-    double kx[WINDOW], ky[WINDOW], wgt[WINDOW * WINDOW];
+    double wgt[(WINDOW + 2) * STRIDE];
     double acc[NC > 0 ? NC : 64];
     for (int64_t q = 0; q < npix; ++q) {
         for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0;
@@ -56,94 +158,48 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             if (!valid[s]) continue;
             ++hits;
             const float* f = foot + 4 * s;
-            double ax = f[0], ay = f[1], bx = f[2], by = f[3];
-            double la = std::sqrt(ax * ax + ay * ay), lb = std::sqrt(bx * bx + by * by);
-            double longest = std::max(la, lb);
+            const double fax = f[0], fay = f[1], fbx = f[2], fby = f[3];
+            const double longest = std::max(std::sqrt(fax * fax + fay * fay), std::sqrt(fbx * fbx + fby * fby));
             int64_t lev = 0;
-            while (lev + 1 < nlev && longest > fp.max_taps * double(int64_t(1) << lev)) ++lev;
-            int64_t lh = shapes[2 * lev], lw = shapes[2 * lev + 1];
-            double scale = double(lh) / h0;
-            double sxx = (ax * ax + bx * bx) * scale * scale;
-            double syy = (ay * ay + by * by) * scale * scale;
-            double sxy = (ax * ay + bx * by) * scale * scale;
-            double cx = (double(xs[s]) + 0.5) * scale - 0.5;
-            double cy = (double(ys[s]) + 0.5) * scale - 0.5;
-            int64_t na, nb, nsl;
-            double bw, bh;
-            if (sxx <= 9.0 && syy <= 9.0 && std::fabs(sxy) <= fp.axis_tol) {
-                na = nb = nsl = 1;
-                bw = std::sqrt(sxx);
-                bh = std::sqrt(syy);
-            } else {
-                na = std::max<int64_t>(1, -ifloor(-(la * scale * fp.density)));
-                nb = std::max<int64_t>(1, -ifloor(-(lb * scale * fp.density)));
-                nsl = na * nb;
-                double ua = ax / double(na), ub = bx / double(nb), va = ay / double(na), vb = by / double(nb);
-                bw = scale * std::sqrt(ua * ua + ub * ub);
-                bh = scale * std::sqrt(va * va + vb * vb);
-            }
-            bw = std::min(3.0, bw);
-            bh = std::min(3.0, bh);
+            while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+            const int64_t lh = shapes[2 * lev], lw = shapes[2 * lev + 1];
+            const double scale = double(lh) / h0;
+            const double ax = fax * scale, ay = fay * scale, bx = fbx * scale, by = fby * scale;
+            const double cx = (double(xs[s]) + 0.5) * scale - 0.5;
+            const double cy = (double(ys[s]) + 0.5) * scale - 0.5;
+            // the window: every texel the reconstruction over the parallelogram touches
+            const double ex = 0.5 * (std::fabs(ax) + std::fabs(bx)) + 1.0, ey = 0.5 * (std::fabs(ay) + std::fabs(by)) + 1.0;
+            const int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
+            const int64_t nwx = std::min<int64_t>(ifloor(cx + ex) + 1 - wx0, WINDOW);
+            const int64_t nwy = std::min<int64_t>(ifloor(cy + ey) + 1 - wy0, WINDOW);
             const float* buf = lev == 0 ? level0 : rest;
-            const int64_t base = offsets[lev];
-            if (nsl == 1) {  // one box: separable weights, read directly
-                int64_t i0 = ifloor(cx - 1.0 - 0.5 * bw) + 1, j0 = ifloor(cy - 1.0 - 0.5 * bh) + 1;
-                int64_t ni = std::min<int64_t>(ifloor(cx + 1.0 + 0.5 * bw) + 1 - i0, WINDOW);
-                int64_t nj = std::min<int64_t>(ifloor(cy + 1.0 + 0.5 * bh) + 1 - j0, WINDOW);
-                double norm = 1.0 / (tent_box_weights(cx, bw, i0, ni, kx) * tent_box_weights(cy, bh, j0, nj, ky));
-                bool inside = i0 >= 0 && j0 >= 0 && i0 + ni <= lw && j0 + nj <= lh;
-                for (int64_t j = 0; j < nj; ++j) {
-                    double wj = ky[j] * norm;
-                    for (int64_t i = 0; i < ni; ++i) {
-                        double ww = kx[i] * wj;
-                        int64_t ii = i0 + i, jj = j0 + j;
-                        if (!inside) fold_index(ii, jj, lw, lh, b.wrap, b.top, b.bottom);
-                        const float* t = buf + base + (jj * lw + ii) * nc;
-                        for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += ww * double(t[ch]);
-                    }
-                }
-                continue;
+            const float* lbuf = buf + offsets[lev];
+            const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
+            const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
+            double* const w = wgt + STRIDE;  // row -1 of the weights is scratch
+            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * STRIDE, wgt + j * STRIDE + nu + LANES, 0.0);
+            // a degenerate footprint (a line or a point) gets a thickness far below a texel
+            double tax = ax, tay = ay, tbx = bx, tby = by;
+            if (std::fabs(ax * by - ay * bx) < THIN * THIN) {
+                const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+                if (la >= lb && la > 0.0) { tbx = -THIN * ay / la; tby = THIN * ax / la; }
+                else if (lb > 0.0) { tax = THIN * by / lb; tay = -THIN * bx / lb; }
+                else { tax = THIN; tay = 0.0; tbx = 0.0; tby = THIN; }
             }
-            double ex = 0.5 * scale * (std::fabs(ax) * (1.0 - 1.0 / double(na)) + std::fabs(bx) * (1.0 - 1.0 / double(nb)))
-                        + 1.0 + 0.5 * bw;
-            double ey = 0.5 * scale * (std::fabs(ay) * (1.0 - 1.0 / double(na)) + std::fabs(by) * (1.0 - 1.0 / double(nb)))
-                        + 1.0 + 0.5 * bh;
-            int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
-            int64_t nwx = std::min<int64_t>(ifloor(cx + ex) - wx0 + 1, WINDOW);
-            int64_t nwy = std::min<int64_t>(ifloor(cy + ey) - wy0 + 1, WINDOW);
-            for (int64_t j = 0; j < nwy; ++j)
-                for (int64_t i = 0; i < nwx; ++i) wgt[j * WINDOW + i] = 0.0;
-            double cell = 1.0 / double(nsl);
-            double rx = 1.0 + 0.5 * bw, ry = 1.0 + 0.5 * bh;
-            for (int64_t c = 0; c < nsl; ++c) {
-                double fa = (double(c % na) + 0.5) / double(na) - 0.5;
-                double fb = (double(c / na) + 0.5) / double(nb) - 0.5;
-                double px = cx + (fa * ax + fb * bx) * scale;
-                double py = cy + (fa * ay + fb * by) * scale;
-                int64_t i0 = std::max(ifloor(px - rx) + 1, wx0), j0 = std::max(ifloor(py - ry) + 1, wy0);
-                int64_t ni = std::min(ifloor(px + rx) + 1, wx0 + nwx) - i0;
-                int64_t nj = std::min(ifloor(py + ry) + 1, wy0 + nwy) - j0;
-                if (ni <= 0 || nj <= 0) continue;
-                double sx = tent_box_weights(px, bw, i0, ni, kx);
-                double sy = tent_box_weights(py, bh, j0, nj, ky);
-                double norm = cell / (sx * sy);
-                for (int64_t j = 0; j < nj; ++j) {
-                    double wj = ky[j] * norm;
-                    double* row = wgt + (j0 - wy0 + j) * WINDOW + (i0 - wx0);
-                    for (int64_t i = 0; i < ni; ++i) row[i] += kx[i] * wj;
-                }
+            const double area = cols ? slice_weights(cy, cx, tay, tax, tby, tbx, wy0, wx0, nu, nv, w, STRIDE)
+                                     : slice_weights(cx, cy, tax, tay, tbx, tby, wx0, wy0, nu, nv, w, STRIDE);
+            double part[NC > 0 ? NC : 64];
+            for (int64_t ch = 0; ch < nc; ++ch) part[ch] = 0.0;
+            if (cols) gather<NC, true>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, STRIDE, part);
+            else gather<NC, false>(lbuf, lw, lh, nc, b, wx0, wy0, nwx, nwy, w, STRIDE, part);
+            double sum = area;
+            if (nwx == WINDOW || nwy == WINDOW) {  // a footprint beyond the coarsest level: some weights clipped
+                sum = 0.0;
+                for (int64_t j = 0; j < nv; ++j)
+                    for (int64_t i = 0; i < nu; ++i) sum += w[j * STRIDE + i];
             }
-            bool inside = wx0 >= 0 && wy0 >= 0 && wx0 + nwx <= lw && wy0 + nwy <= lh;
-            for (int64_t j = 0; j < nwy; ++j) {
-                for (int64_t i = 0; i < nwx; ++i) {
-                    double ww = wgt[j * WINDOW + i];
-                    if (ww == 0.0) continue;
-                    int64_t ii = wx0 + i, jj = wy0 + j;
-                    if (!inside) fold_index(ii, jj, lw, lh, b.wrap, b.top, b.bottom);
-                    const float* t = buf + base + (jj * lw + ii) * nc;
-                    for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += ww * double(t[ch]);
-                }
-            }
+            const double norm = 1.0 / sum;
+            for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += part[ch] * norm;
         }
         for (int64_t ch = 0; ch < nc; ++ch) out[q * nc + ch] = float(acc[ch] * inv);
         alpha[q] = float(double(hits) * inv);
@@ -154,49 +210,73 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
 
 void footprint(const float* level0, const float* rest, const int64_t* shapes, const int64_t* offsets, int64_t nlev,
                int64_t nc, const float* xs, const float* ys, const bool* valid, const float* foot, int64_t npix,
-               int64_t ns, Border b, FootprintParams fp, float* out, float* alpha) {
+               int64_t ns, Border b, double max_taps, float* out, float* alpha) {
     switch (nc) {
-        case 1: return footprint_t<1>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, fp, out, alpha);
-        case 3: return footprint_t<3>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, fp, out, alpha);
-        case 4: return footprint_t<4>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, fp, out, alpha);
-        default: return footprint_t<0>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, fp, out, alpha);
-    }
-}
-
-void edges(const float* src, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* exs,
-           const float* eys, const bool* evalid, int64_t m, int64_t kk, int64_t ns, int64_t width, Border b,
-           float* out, float* alpha) {
-    (void)width;
-    std::vector<double> acc(nc);
-    for (int64_t e = 0; e < m; ++e) {
-        int64_t pix = idx[e] / ns;
-        std::fill(acc.begin(), acc.end(), 0.0);
-        int64_t hits = 0;
-        for (int64_t q = 0; q < kk; ++q) {
-            if (!evalid[e * kk + q]) continue;
-            ++hits;
-            double x = exs[e * kk + q], y = eys[e * kk + q];
-            double fx0 = dfloor(x), fy0 = dfloor(y);
-            int64_t i0 = int64_t(fx0), j0 = int64_t(fy0);
-            double tx = x - fx0, ty = y - fy0;
-            for (int dj = 0; dj < 2; ++dj) {
-                double wy = dj ? ty : 1.0 - ty;
-                if (wy == 0.0) continue;
-                for (int di = 0; di < 2; ++di) {
-                    double wx = di ? tx : 1.0 - tx;
-                    if (wx == 0.0) continue;
-                    int64_t ii = i0 + di, jj = j0 + dj;
-                    fold_index(ii, jj, sw, sh, b.wrap, b.top, b.bottom);
-                    double ww = wx * wy;
-                    const float* t = src + (jj * sw + ii) * nc;
-                    for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += ww * double(t[ch]);
-                }
-            }
-        }
-        double scale = 1.0 / double(kk * ns);
-        for (int64_t ch = 0; ch < nc; ++ch) out[pix * nc + ch] = float(double(out[pix * nc + ch]) + acc[ch] * scale);
-        alpha[pix] = float(double(alpha[pix]) + double(hits) * scale);
+        case 1: return footprint_t<1>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, max_taps, out, alpha);
+        case 3: return footprint_t<3>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, max_taps, out, alpha);
+        case 4: return footprint_t<4>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, max_taps, out, alpha);
+        default: return footprint_t<0>(level0, rest, shapes, offsets, nlev, nc, xs, ys, valid, foot, npix, ns, b, max_taps, out, alpha);
     }
 }
 
 }  // namespace lenslab
+
+namespace lenslab {
+
+// One pyramid level: out (h/2, w/2, nc) = the mean of each 2x2 block of src (h, w, nc), summed in float64 (a mean
+// of finite float32 values is finite).
+void halve(const float* src, int64_t h, int64_t w, int64_t nc, float* out) {
+    const int64_t oh = h / 2, ow = w / 2, row = w * nc;
+    for (int64_t j = 0; j < oh; ++j) {
+        const float* r0 = src + 2 * j * row;
+        const float* r1 = r0 + row;
+        float* o = out + j * ow * nc;
+        for (int64_t i = 0; i < ow; ++i)
+            for (int64_t ch = 0; ch < nc; ++ch) {
+                const int64_t k = 2 * i * nc + ch;
+                o[i * nc + ch] = float(((double(r0[k]) + double(r0[k + nc])) + (double(r1[k]) + double(r1[k + nc]))) * 0.25);
+            }
+    }
+}
+
+}  // namespace lenslab
+
+// The binding (lenslab.cxx_kernels.footprint), registered by src/native/module.cpp; the GIL is released.
+namespace nb = nanobind;
+
+void register_footprint(nb::module_& m) {
+    using namespace lenslab;
+    using InF = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
+    using InI = nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu>;
+    using InB = nb::ndarray<const bool, nb::c_contig, nb::device::cpu>;
+    using OutF = nb::ndarray<float, nb::c_contig, nb::device::cpu>;
+    auto need = [](bool ok, const char* what) {
+        if (!ok) throw std::invalid_argument(what);
+    };
+    m.def("footprint", [need](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
+                              bool wrap, bool top, bool bottom, double max_taps, OutF out, OutF alpha) {
+        size_t npix = alpha.size();
+        need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
+        size_t ns = xs.size() / npix;
+        need(ys.size() == xs.size() && valid.size() == xs.size() && foot.size() == 4 * xs.size(), "band shapes differ");
+        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && offsets.size() == shapes.shape(0), "pyramid shapes");
+        int64_t nc = int64_t(out.size() / npix);
+        need(out.size() == npix * nc && nc <= 64, "out must hold whole pixels (at most 64 channels)");
+        need(max_taps > 0.0 && max_taps <= 8.0, "max_taps must be in (0, 8] (the window holds 2 max_taps + 3)");
+        {
+            nb::gil_scoped_release release;
+            footprint(level0.data(), rest.data(), shapes.data(), offsets.data(), int64_t(shapes.shape(0)), nc,
+                      xs.data(), ys.data(), valid.data(), foot.data(), int64_t(npix), int64_t(ns), {wrap, top, bottom},
+                      max_taps, out.data(), alpha.data());
+        }
+    }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"),
+       nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
+       nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
+
+    m.def("halve", [need](InF src, OutF out) {
+        need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2
+             && out.shape(2) == src.shape(2), "halve: out must be (h/2, w/2, c) of src (h, w, c)");
+        nb::gil_scoped_release release;
+        halve(src.data(), int64_t(src.shape(0)), int64_t(src.shape(1)), int64_t(src.shape(2)), out.data());
+    }, nb::arg("src"), nb::arg("out").noconvert());
+}

@@ -30,6 +30,8 @@ void need(bool ok, const char* what) {
 void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
 void register_video(nb::module_& m);  // video.cpp: the video colour passes
 void register_tone(nb::module_& m);  // tone.cpp
+void register_footprint(nb::module_& m);  // src/native/footprint.cpp
+void register_secants(nb::module_& m);  // src/native/secants.cpp
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
@@ -89,21 +91,8 @@ NB_MODULE(cxx_kernels, m) {
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
 
-    m.def("footprint", [](In<float> level0, In<float> rest, In<int64_t> shapes, In<int64_t> offsets, In<float> xs,
-                          In<float> ys, In<bool> valid, In<float> foot, bool wrap, bool top, bool bottom,
-                          double max_taps, double density, double axis_tol, Out<float> out, Out<float> alpha) {
-        size_t npix = alpha.size();
-        need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
-        size_t ns = xs.size() / npix;
-        need(ys.size() == xs.size() && valid.size() == xs.size() && foot.size() == 4 * xs.size(), "band shapes differ");
-        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && offsets.size() == shapes.shape(0), "pyramid shapes");
-        int64_t nc = int64_t(out.size() / npix);
-        need(out.size() == npix * nc && nc <= 64, "out must hold whole pixels (at most 64 channels)");
-        footprint(level0.data(), rest.data(), shapes.data(), offsets.data(), int64_t(shapes.shape(0)), nc, xs.data(),
-                  ys.data(), valid.data(), foot.data(), int64_t(npix), int64_t(ns), {wrap, top, bottom},
-                  {max_taps, density, axis_tol}, out.data(), alpha.data());
-    }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"), nb::arg("density"), nb::arg("axis_tol"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
-          nb::call_guard<nb::gil_scoped_release>());
+    register_footprint(m);
+    register_secants(m);
 
     m.def("neighbour_secants", [](In<float> xs, In<float> ys, In<bool> vs, int64_t top, double wrap,
                                   In<int32_t> piece, Out<float> foot, Out<bool> edge) {
@@ -129,19 +118,6 @@ NB_MODULE(cxx_kernels, m) {
         for (size_t i = 0; i < n; ++i) ok &= std::isfinite(p[i]);  // branch-free: vectorised
         return ok;
     }, nb::arg("a"), nb::call_guard<nb::gil_scoped_release>());
-
-    m.def("edges", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<int64_t> idx, In<float> exs, In<float> eys,
-                      In<bool> evalid, int64_t ns, bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
-        size_t m_ = idx.size();
-        need(m_ == 0 || exs.size() % m_ == 0, "edge shapes differ");
-        size_t kk = m_ ? exs.size() / m_ : 0;
-        need(eys.size() == exs.size() && evalid.size() == exs.size(), "edge shapes differ");
-        const int64_t* p = idx.data();
-        for (size_t e = 0; e < m_; ++e) need(p[e] >= 0 && size_t(p[e] / ns) < alpha.size(), "edge index out of range");
-        edges(src.data(), sw, sh, nc, p, exs.data(), eys.data(), evalid.data(), int64_t(m_), int64_t(kk), ns, 0,
-              {wrap, top, bottom}, out.data(), alpha.data());
-    }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("exs"), nb::arg("eys"), nb::arg("evalid"), nb::arg("ns"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
-          nb::call_guard<nb::gil_scoped_release>());
 
     register_tracer_paths(m);
 }

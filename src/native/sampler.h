@@ -20,17 +20,11 @@ void from_taps(const float* flat, int64_t sw, int64_t nc, const uint32_t* off, c
 void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* xs,
             const float* ys, int64_t m, Border b, float* out, float* alpha);
 
-struct FootprintParams { double max_taps, density, axis_tol; };
-
 // The footprint prefilter (lenslab.warp.pyramid): npix pixels of ns samples; foot (npix, ns, 4);
 // shapes (nlev, 2) (height, width); offsets (nlev,) into rest for levels >= 1.
 void footprint(const float* level0, const float* rest, const int64_t* shapes, const int64_t* offsets, int64_t nlev,
                int64_t nc, const float* xs, const float* ys, const bool* valid, const float* foot, int64_t npix,
-               int64_t ns, Border b, FootprintParams fp, float* out, float* alpha);
-// Adds the split edge samples: m samples of kk sub-samples each, on the source (sh, sw, nc).
-void edges(const float* src, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* exs,
-           const float* eys, const bool* evalid, int64_t m, int64_t kk, int64_t ns, int64_t width, Border b,
-           float* out, float* alpha);
+               int64_t ns, Border b, double max_taps, float* out, float* alpha);
 
 // Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w): foot (h, w, 4) = a, b; edge
 // (h, w): a neighbour's validity differs. piece (nrows x w, or null for one piece): each pixel's piece number; a

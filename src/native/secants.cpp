@@ -59,3 +59,59 @@ void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t
 }
 
 }  // namespace lenslab
+
+// Footprint sides of supersampled pixels (lenslab.warp.antialias.secants): xs, ys, vs (h, w, 5, n), the map at
+// each sample (index 0) and at the ends of its two secants (1, 2 along x; 3, 4 along y); foot (h, w, n, 4).
+// Each side is the secant across the sample's stratum, one-sided (doubled) where an end is invalid, 0 where
+// both are; x differences are unwrapped by the period `wrap` (> 0).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <stdexcept>
+
+namespace lenslab {
+
+void secants(const float* xs, const float* ys, const bool* vs, int64_t npix, int64_t n, double wrap, float* foot) {
+    for (int64_t p = 0; p < npix; ++p) {
+        const int64_t base = p * 5 * n;
+        for (int64_t k = 0; k < n; ++k) {
+            const int64_t c0 = base + k;
+            for (int axis = 0; axis < 2; ++axis) {
+                const int64_t lo = base + (1 + 2 * axis) * n + k, hi = base + (2 + 2 * axis) * n + k;
+                double dx = 0.0, dy = 0.0;
+                if (vs[lo] && vs[hi]) {
+                    dx = double(xs[hi] - xs[lo]);
+                    dy = double(ys[hi] - ys[lo]);
+                } else if (vs[hi] && vs[c0]) {
+                    dx = 2.0 * double(xs[hi] - xs[c0]);
+                    dy = 2.0 * double(ys[hi] - ys[c0]);
+                } else if (vs[lo] && vs[c0]) {
+                    dx = 2.0 * double(xs[c0] - xs[lo]);
+                    dy = 2.0 * double(ys[c0] - ys[lo]);
+                }
+                if (wrap > 0.0) dx -= wrap * std::floor(dx / wrap + 0.5);
+                foot[(p * n + k) * 4 + 2 * axis] = float(dx);
+                foot[(p * n + k) * 4 + 2 * axis + 1] = float(dy);
+            }
+        }
+    }
+}
+
+}  // namespace lenslab
+
+namespace nb = nanobind;
+
+// The binding (lenslab.cxx_kernels.secants), registered by src/native/module.cpp; the GIL is released.
+void register_secants(nb::module_& m) {
+    using InF = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
+    using InB = nb::ndarray<const bool, nb::c_contig, nb::device::cpu>;
+    using OutF = nb::ndarray<float, nb::c_contig, nb::device::cpu>;
+    m.def("secants", [](InF xs, InF ys, InB vs_, double wrap, OutF foot) {
+        if (xs.ndim() != 4 || xs.shape(2) != 5 || ys.size() != xs.size() || vs_.size() != xs.size())
+            throw std::invalid_argument("secants: xs, ys, vs must be (h, w, 5, n) alike");
+        const int64_t n = int64_t(xs.shape(3)), npix = int64_t(xs.shape(0) * xs.shape(1));
+        if (foot.size() != size_t(npix * n * 4)) throw std::invalid_argument("secants: foot must be (h, w, n, 4)");
+        nb::gil_scoped_release release;
+        lenslab::secants(xs.data(), ys.data(), vs_.data(), npix, n, wrap, foot.data());
+    }, nb::arg("xs"), nb::arg("ys"), nb::arg("vs"), nb::arg("wrap"), nb::arg("foot").noconvert());
+}

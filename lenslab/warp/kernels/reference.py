@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from lenslab.warp.pyramid import AXIS_TOL, DENSITY, MAX_TAPS, Pyramid
+from lenslab.warp.pyramid import MAX_TAPS, THIN, WINDOW, Pyramid
 from lenslab.warp.seam import fold_taps as fold_index
 
 INVALID = np.uint32(0xFFFFFFFF)
@@ -76,17 +76,70 @@ def taps(src, xs, ys, valid):
     return off, tx, ty
 
 
-def _tent_box_weights(x: float, width: float, i0: int, n: int) -> list[float]:
-    """Weights of texels ``i0..i0+n-1``: the tent averaged over a box of ``width`` centred at ``x``."""
-    if width < 1e-6:
-        return [max(0.0, 1.0 - abs(x - (i0 + i))) for i in range(n)]
+def _tent_c(u: float) -> float:
+    """The tent's antiderivative: 0 below -1, 1 above 1."""
+    v = min(1.0, max(-1.0, u))
+    return 0.5 + v - 0.5 * v * abs(v)
 
-    def cdf(u):
-        v = min(1.0, max(-1.0, u))
-        return 0.5 + v - 0.5 * v * abs(v)
 
-    hw = 0.5 * width
-    return [(cdf(x - (i0 + i) + hw) - cdf(x - (i0 + i) - hw)) * (1.0 / width) for i in range(n)]
+G2 = 0.5 / math.sqrt(3.0)  # the 2-point Gauss-Legendre nodes at mid -+ G2 * len
+
+
+def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
+    """``(weights (nwy, nwx) float64, area)``: texel (wx0 + i, wy0 + j)'s weight in the bilinear
+    reconstruction integrated over the parallelogram ``c + s a + r b`` (s, r in [-1/2, 1/2]).
+
+    Between consecutive breakpoints in y (the vertices and the texel rows) the slice's ends move
+    linearly and each texel's weight is a cubic in y: 2-point Gauss-Legendre; across x each slice is
+    integrated exactly by the tent's antiderivative, and split between the two texel rows around it by
+    the linear interpolation of the bilinear reconstruction.
+    """
+    vx = [cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx, cx - 0.5 * ax + 0.5 * bx]
+    vy = [cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by, cy - 0.5 * ay + 0.5 * by]
+    edges = []
+    for e in range(4):
+        f = (e + 1) % 4
+        if vy[e] <= vy[f]:
+            lo, xlo, hi, xhi = vy[e], vx[e], vy[f], vx[f]
+        else:
+            lo, xlo, hi, xhi = vy[f], vx[f], vy[e], vx[e]
+        edges.append((lo, hi, xlo, (xhi - xlo) / (hi - lo) if hi > lo else 0.0))
+    ys = sorted(vy)
+    w = np.zeros((nwy + 2, nwx))  # rows -1 and nwy: scratch
+    total, y, v, seen, left, right = 0.0, ys[0], 1, 0, edges[0], edges[0]
+    while y < ys[3]:
+        while v < 3 and ys[v] <= y:
+            v += 1
+        if v != seen:  # a new pair of vertices: the edges on the left and on the right until the next
+            seen = v
+            ym = 0.5 * (ys[v - 1] + ys[v])
+            active = [(xlo + (ym - lo) * k, e) for e, (lo, hi, xlo, k) in enumerate(edges)
+                      if lo <= ym <= hi and hi != lo]
+            left = edges[min(active, key=lambda t: t[0])[1]] if active else edges[0]  # the first of equals
+            right = edges[max(active, key=lambda t: t[0])[1]] if active else edges[0]
+        y1 = min(ys[v], math.floor(y) + 1.0)
+        length, mid = y1 - y, 0.5 * (y + y1)
+        g = 0.5 * length
+        pts = []
+        for yy in (mid - G2 * length, mid + G2 * length):
+            xl = left[2] + (yy - left[0]) * left[3]
+            xr = max(xl, right[2] + (yy - right[0]) * right[3])
+            total += g * (xr - xl)
+            ty = yy - math.floor(mid)
+            pts.append((xl, xr, g * (1.0 - ty), g * ty))
+        j = math.floor(mid) - wy0
+        if not -1 <= j < nwy:
+            y = y1
+            continue
+        (xl0, xr0, a0, b0), (xl1, xr1, a1, b1) = pts
+        lo_x, hi_x = min(xl0, xl1), max(xr0, xr1)
+        for i in range(max(math.floor(lo_x - 1.0) + 1 - wx0, 0), min(math.floor(hi_x + 1.0) + 1 - wx0, nwx)):
+            wa = _tent_c(xr0 - wx0 - i) - _tent_c(xl0 - wx0 - i)
+            wb = _tent_c(xr1 - wx0 - i) - _tent_c(xl1 - wx0 - i)
+            w[j + 1, i] += a0 * wa + a1 * wb
+            w[j + 2, i] += b0 * wa + b1 * wb
+        y = y1
+    return w[1:-1], total
 
 
 def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
@@ -109,74 +162,41 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
                 continue
             hits += 1
             ax, ay, bx, by = (float(t) for t in f[q, s])
-            la, lb = math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by)
+            longest = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
             lev = 0
-            while lev + 1 < len(levels) and max(la, lb) > MAX_TAPS * (1 << lev):
+            while lev + 1 < len(levels) and longest > MAX_TAPS * (1 << lev):
                 lev += 1
             img = levels[lev]
             lh, lw = img.shape[:2]
             scale = lh / h0
-            sxx = (ax * ax + bx * bx) * scale * scale
-            syy = (ay * ay + by * by) * scale * scale
-            sxy = (ax * ay + bx * by) * scale * scale
+            ax, ay, bx, by = ax * scale, ay * scale, bx * scale, by * scale
             cx = (float(x[q, s]) + 0.5) * scale - 0.5
             cy = (float(y[q, s]) + 0.5) * scale - 0.5
-            if sxx <= 9.0 and syy <= 9.0 and abs(sxy) <= AXIS_TOL:
-                na = nb = 1
-                cells = [(cx, cy)]
-                bw, bh = math.sqrt(sxx), math.sqrt(syy)
+            ex, ey = 0.5 * (abs(ax) + abs(bx)) + 1.0, 0.5 * (abs(ay) + abs(by)) + 1.0
+            wx0, wy0 = math.floor(cx - ex) + 1, math.floor(cy - ey) + 1
+            nwx = min(math.floor(cx + ex) + 1 - wx0, WINDOW)
+            nwy = min(math.floor(cy + ey) + 1 - wy0, WINDOW)
+            if abs(ax * by - ay * bx) < THIN * THIN:  # a line or a point: a thickness far below a texel
+                la, lb = math.hypot(ax, ay), math.hypot(bx, by)
+                if la >= lb and la > 0.0:
+                    bx, by = -THIN * ay / la, THIN * ax / la
+                elif lb > 0.0:
+                    ax, ay = THIN * by / lb, -THIN * bx / lb
+                else:
+                    ax, ay, bx, by = THIN, 0.0, 0.0, THIN
+            if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
+                wt, area = slice_weights(cy, cx, ay, ax, by, bx, wy0, wx0, nwy, nwx)
+                wt = wt.T
             else:
-                na = max(1, math.ceil(la * scale * DENSITY))
-                nb = max(1, math.ceil(lb * scale * DENSITY))
-                bw = scale * math.sqrt((ax / na) ** 2 + (bx / nb) ** 2)
-                bh = scale * math.sqrt((ay / na) ** 2 + (by / nb) ** 2)
-                cells = []
-                for c in range(na * nb):
-                    fa = (c % na + 0.5) / na - 0.5
-                    fb = (c // na + 0.5) / nb - 0.5
-                    cells.append((cx + (fa * ax + fb * bx) * scale, cy + (fa * ay + fb * by) * scale))
-            bw, bh = min(3.0, bw), min(3.0, bh)
-            # every cell: the tent averaged over a bw x bh box, its weights normalised to sum to 1/cells
-            wsum = {}
-            for px, py in cells:
-                i0 = math.floor(px - 1.0 - 0.5 * bw) + 1
-                j0 = math.floor(py - 1.0 - 0.5 * bh) + 1
-                ni = math.floor(px + 1.0 + 0.5 * bw) + 1 - i0
-                nj = math.floor(py + 1.0 + 0.5 * bh) + 1 - j0
-                kx = _tent_box_weights(px, bw, i0, ni)
-                ky = _tent_box_weights(py, bh, j0, nj)
-                norm = (1.0 / len(cells)) / (sum(kx) * sum(ky))
-                for j in range(nj):
-                    for i in range(ni):
-                        wsum[(i0 + i, j0 + j)] = wsum.get((i0 + i, j0 + j), 0.0) + kx[i] * (ky[j] * norm)
-            for (i, j), w in wsum.items():
-                if w != 0.0:
-                    fi, fj = fold_index([i], [j], lw, lh, *border)
-                    acc += w * img[fj[0], fi[0]].astype(np.float64)
+                wt, area = slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy)
+            if nwx == WINDOW or nwy == WINDOW:  # a footprint beyond the coarsest level: weights clipped
+                area = float(wt.sum())
+            jj, ii = np.mgrid[wy0:wy0 + nwy, wx0:wx0 + nwx]
+            fi, fj = fold_index(ii.ravel(), jj.ravel(), lw, lh, *border)
+            acc += (wt.ravel()[:, None] * img[fj, fi].astype(np.float64)).sum(axis=0) * (1.0 / area)
         out[q] = acc / ns
         alpha[q] = hits / ns
     return out.astype(np.float32), alpha.astype(np.float32)
-
-
-def edges(src, idx, exs, eys, evalid, ns: int, border, out, alpha) -> None:
-    """Adds the split edge samples into ``out`` (n, C) and ``alpha`` (n,): each sample's valid sub-samples,
-    read bilinearly in float64, sum to their share ``1 / (K ns)`` of the pixel."""
-    for e, q in enumerate(np.asarray(idx) // ns):
-        ok = np.asarray(evalid[e], bool)
-        x = np.asarray(exs[e], np.float64)[ok]
-        y = np.asarray(eys[e], np.float64)[ok]
-        fx0, fy0 = np.floor(x), np.floor(y)
-        tx, ty = x - fx0, y - fy0
-        acc = np.zeros(src.shape[2])
-        for di, dj, w in ((0, 0, (1 - tx) * (1 - ty)), (1, 0, tx * (1 - ty)), (0, 1, (1 - tx) * ty), (1, 1, tx * ty)):
-            i, j = fold_index(fx0.astype(np.int64) + di, fy0.astype(np.int64) + dj, src.shape[1], src.shape[0],
-                              *border)
-            acc += (w[:, None] * src[j, i].astype(np.float64)).sum(axis=0)
-        scale = 1.0 / (exs.shape[1] * ns)
-        out[q] = (out[q].astype(np.float64) + acc * scale).astype(np.float32)
-        alpha[q] = np.float32(np.float64(alpha[q]) + ok.sum() * scale)
-
-
 
 
 def neighbour_secants(xs, ys, vs, top: int, h: int, wrap: float, piece=None):
@@ -220,3 +240,28 @@ def neighbour_secants(xs, ys, vs, top: int, h: int, wrap: float, piece=None):
                 d = d - wrap * np.floor(d / wrap + 0.5)
             foot[..., 2 * axis + k] = np.where(both, 0.5, 1.0) * d
     return foot.astype(np.float32), edge
+
+
+def secants(xs, ys, vs, wrap: float):
+    """Footprint sides ``(h, W, S, 4)`` float32 of supersampled pixels from the map ``xs, ys`` (float32) and
+    ``vs`` (bool), all (h, W, 5, S): at each sample (index 0) and the ends of its secants along x (1, 2) and y
+    (3, 4). Each side is the end-to-end difference (float32) where both ends are valid, else twice the
+    difference between the sample and its valid end (the sample valid), else 0; x is unwrapped by ``wrap``."""
+    h, w, _, n = xs.shape
+    foot = np.zeros((h, w, n, 4))
+    for axis in range(2):
+        lo, hi = 1 + 2 * axis, 2 + 2 * axis
+        vl, vh, v0 = vs[:, :, lo], vs[:, :, hi], vs[:, :, 0]
+        both = vl & vh
+        up = ~both & vh & v0
+        down = ~both & ~up & vl & v0
+        for k, arr in ((0, xs), (1, ys)):
+            d = np.zeros((h, w, n))
+            d[both] = (arr[:, :, hi] - arr[:, :, lo])[both].astype(np.float64)
+            d[up] = 2.0 * (arr[:, :, hi] - arr[:, :, 0])[up].astype(np.float64)
+            d[down] = 2.0 * (arr[:, :, 0] - arr[:, :, lo])[down].astype(np.float64)
+            if k == 0 and wrap > 0.0:
+                d = d - wrap * np.floor(d / wrap + 0.5)
+            foot[..., 2 * axis + k] = d
+    return foot.astype(np.float32)
+
