@@ -143,12 +143,13 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
 
 
 #: directions below which :func:`project` calls the lens's vectorised ``dir_to_pixel`` even where the lens
-#: has a compiled kernel. The kernels are C++ (nothing to compile on first use); an equirect's NumPy
-#: ``dir_to_pixel`` is about as fast on small calls (measured 70-125 ns against 65 ns per direction for the
-#: kernel, 1e6 directions, one thread, loaded machine); the two agree to a few ulps
-#: (tests/warp/test_warp_project.py). Models whose ``dir_to_pixel`` is itself the kernel (perspective,
-#: Hammer, tiled grids of those) run it at every size.
-COMPILED_PROJECT_MIN = 1 << 20
+#: has a compiled kernel (a few points: the same either way). The kernels are C++ (nothing to compile on first
+#: use); an equirect's runs atan2 and hypot four at a time (glibc's vector maths): 19 ns against NumPy's 65 ns
+#: per direction (6e4 directions, one thread, CPU time on a loaded machine); the two agree to a few ulps
+#: (tests/warp/test_warp_project.py). The lattice's nodes, checks and the samples it leaves (rim, poles) are
+#: projected in calls of thousands. Models whose ``dir_to_pixel`` is itself the kernel (perspective, Hammer,
+#: tiled grids of those) run it at every size.
+COMPILED_PROJECT_MIN = 1 << 12
 
 
 def project(lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -276,7 +277,7 @@ class Mapper:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
         tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
         nodes, state = self.lattice
-        coef = np.zeros((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))
+        coef = np.empty((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))  # only interpolating cells are read
         cell_coefficients(nodes, state, cb0, cb1, self.wrap, coef)
         return coef
 
@@ -331,11 +332,17 @@ class Mapper:
         exactly (``NEED_EXACT``); write their index coordinates and validity at ``at`` of the flat
         arrays ``xs``, ``ys``, ``valid``."""
         if code == NEED_PROJECT:
-            xy, v = project(self.src.lens, dirs.reshape(-1, 3)[flat])
+            xy, v = project(self.src.lens, np.take(dirs.reshape(-1, 3), flat, axis=0))
         else:
             r, c, k = np.unravel_index(flat, shape)
-            o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
-            xy, v = exact_map(self.src, self.dst, np.stack([c + o[:, 0], r0 + r + o[:, 1]], axis=-1))
+            if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel: no gather over pixels
+                o = offsets[0, 0, 0] if offsets.shape[2] == 1 else np.take(offsets[0, 0], k, axis=0)
+            else:
+                o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
+            pts = np.empty((len(flat), 2))
+            np.add(c, o[..., 0], out=pts[:, 0])
+            np.add(r0 + r, o[..., 1], out=pts[:, 1])
+            xy, v = exact_map(self.src, self.dst, pts)
         xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
         ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
         valid[at] = v
