@@ -40,7 +40,7 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.lenses.core.native import project_kernel
-from lenslab.warp.kernels.dispatch import run_bands
+from lenslab.warp.kernels.dispatch import run_bands, scratch
 from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
                                   lattice_rows)
 
@@ -273,13 +273,19 @@ class Mapper:
         dx *= self.src.lens.column_scale(exy[..., 1])  # measured on the sphere
         return (np.abs(dx) <= self.tol) & (np.abs(iy - exy[..., 1]) <= self.tol)
 
-    def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
+    def _coefficients(self, cb0: int, cb1: int, coef: np.ndarray | None = None) -> np.ndarray:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
-        tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
+        tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source; only the cells
+        that interpolate are written (and read), into ``coef`` when given."""
         nodes, state = self.lattice
-        coef = np.empty((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))  # only interpolating cells are read
+        if coef is None:
+            coef = np.empty(self._coefficient_shape(cb0, cb1))
         cell_coefficients(nodes, state, cb0, cb1, self.wrap, coef)
         return coef
+
+    def _coefficient_shape(self, cb0: int, cb1: int) -> tuple[int, ...]:
+        nodes, state = self.lattice
+        return (cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4)
 
     @property
     def lattice_fraction(self) -> float:
@@ -287,16 +293,17 @@ class Mapper:
         return 0.0 if self.lattice is None else float((self.lattice[1] > 0).mean())
 
     # -- bands -----------------------------------------------------------------------------
-    def map_band(self, r0: int, r1: int, offsets: np.ndarray) -> MapBand:
-        """The map of output rows ``r0:r1`` at sub-pixel ``offsets`` ((S, 2) or (h, W, S, 2), in [0, 1])."""
+    def map_band(self, r0: int, r1: int, offsets: np.ndarray, out: tuple | None = None) -> MapBand:
+        """The map of output rows ``r0:r1`` at sub-pixel ``offsets`` ((S, 2) or (h, W, S, 2), in [0, 1]), written
+        into ``out`` = (xs, ys, valid) (float32, float32, bool ``(h, W, S)``) when given."""
         offsets = np.asarray(offsets, dtype=np.float64)
         if offsets.ndim == 2:
             offsets = offsets[None, None]
         h, w = r1 - r0, self.width
         n = offsets.shape[2]
-        xs = np.empty((h, w, n), dtype=np.float32)
-        ys = np.empty((h, w, n), dtype=np.float32)
-        valid = np.empty((h, w, n), dtype=np.bool_)
+        if out is None:
+            out = (np.empty((h, w, n), np.float32), np.empty((h, w, n), np.float32), np.empty((h, w, n), np.bool_))
+        xs, ys, valid = out
         if self.lattice is None:  # every sample exactly
             pts = np.empty((h, w, n, 2), dtype=np.float64)
             pts[..., 0] = np.arange(w, dtype=np.float64)[None, :, None] + offsets[..., 0]
@@ -311,19 +318,20 @@ class Mapper:
         state = self.lattice[1]
         cb0 = max(0, int(np.floor((r0 + offsets[..., 1].min()) / self.step)))
         cb1 = min(state.shape[0], int(np.floor((r1 - 1 + offsets[..., 1].max()) / self.step)) + 1)
-        need = np.empty((h, w, n), dtype=np.int8)
-        dirs = np.empty((h, w, n, 3)) if (state[cb0:cb1] == 2).any() else np.empty((1, 1, 1, 3))
-        if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel (the common case)
-            lattice_rows(self._coefficients(cb0, cb1), state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid,
-                         need, dirs)
-        else:
-            lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets, xs, ys, valid,
-                         need, dirs)
-        for code in (NEED_PROJECT, NEED_EXACT):
-            flat = np.flatnonzero(need == code)
-            if len(flat):
-                self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
-                          valid.reshape(-1), flat)
+        # the band's working arrays are scratch, kept between bands and warps (their pages faulted in once)
+        with scratch((h, w, n), np.int8) as need, \
+                scratch((h, w, n, 3) if (state[cb0:cb1] == 2).any() else (1, 1, 1, 3)) as dirs, \
+                scratch(self._coefficient_shape(cb0, cb1)) as coef:
+            self._coefficients(cb0, cb1, coef)
+            if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel (the common case)
+                lattice_rows(coef, state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid, need, dirs)
+            else:
+                lattice_eval(coef, state, cb0, float(self.step), r0, offsets, xs, ys, valid, need, dirs)
+            for code in (NEED_PROJECT, NEED_EXACT):
+                flat = np.flatnonzero(need == code)
+                if len(flat):
+                    self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
+                              valid.reshape(-1), flat)
         return MapBand(r0, r1, xs, ys, valid)
 
     def fill(self, flat, code, dirs, offsets, r0, shape, xs, ys, valid, at) -> None:

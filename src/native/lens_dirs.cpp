@@ -1,15 +1,23 @@
 // Pixel -> direction of the lens models with a closed form (their DirKernel, lenslab.lenses.core.protocol), and
 // the bindings, registered into lenslab.cxx_kernels by register_lens_dirs(). The same operations in the same order
 // as the models' NumPy steps (Lens.pixel_to_dir: pixel_to_uv, the model's uv_to_dir, the finiteness tests and
-// clean), so a warp's exact map costs a fraction of the NumPy one; NumPy references in
+// clean; equidistant's sine and cosine from glibc's vector maths where it has them, within 4 ulps), so a warp's
+// exact map costs a fraction of the NumPy one; NumPy references in
 // lenslab/lenses/formulas/reference.py (fisheye_dirs), held to them by tests/lenses/test_native_pixel_dirs.py.
 // Built with every multiply and add rounded as written (CMakeLists.txt), as the NumPy code rounds them.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+
+#ifdef LENSLAB_MVEC  // glibc's vector maths (CMakeLists.txt finds it)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4v_sin(__m256d);
+extern "C" __m256d _ZGVdN4v_cos(__m256d);
+#endif
 
 #include "lens_formulas.h"
 
@@ -24,11 +32,11 @@ inline bool finite(double v) { return std::isfinite(v); }
 // max(t, 0) as np.maximum takes it (a NaN stays NaN)
 inline double at_least0(double t) { return t < 0.0 ? 0.0 : t; }
 
-// One pixel of a fisheye (lenslab.lenses.projections.fisheye.Fisheye.uv_to_dir through Lens.pixel_to_dir).
-// p = W, H, H / W, kind, plane scale, s_max^2 (with the rim slack), cx, cy, r_ref, local (0: the image centre
-// and r_ref = 1, no shift)
-template <int64_t KIND>
-inline void fisheye_one(double x, double y, const double* p, double* d, bool* ok) {
+// A fisheye pixel up to its plane point (Lens.pixel_to_uv, Fisheye._to_local, the plane scale). p = W, H, H / W,
+// kind, plane scale, s_max^2 (with the rim slack), cx, cy, r_ref, local (0: the image centre and r_ref = 1)
+struct Plane { double px, py, s2, r2; bool seen; };
+
+inline Plane plane_of(double x, double y, const double* p) {
     const double w = p[0], h = p[1], aspect = p[2], c = p[4], s_max2 = p[5];
     double u = x * 2.0;  // Lens.pixel_to_uv, in its order
     u /= w;
@@ -44,30 +52,15 @@ inline void fisheye_one(double x, double y, const double* p, double* d, bool* ok
         v /= p[8];
     }
     const double px = u * c, py = v * c;  // azimuthal.plane_to_dir
-    const double s2 = px * px + py * py;
-    double k, dz;
-    if constexpr (KIND == EQUIDISTANT) {
-        const double s = std::sqrt(s2);
-        k = s > 0.0 ? std::sin(s) / s : 1.0;
-        dz = std::cos(s);
-    } else if constexpr (KIND == EQUISOLID) {
-        const double q = 0.25 * s2;
-        k = std::sqrt(at_least0(1.0 - q));
-        dz = q * -2.0;
-        dz += 1.0;
-    } else if constexpr (KIND == STEREOGRAPHIC) {
-        const double q2 = 0.25 * s2;
-        k = 1.0 / (1.0 + q2);
-        dz = k * (1.0 - q2);
-    } else {  // ORTHOGRAPHIC
-        k = 1.0;
-        dz = std::sqrt(at_least0(1.0 - s2));
-    }
-    const double dx = px * k, dy = py * k;
     const double r2 = u * u + v * v;
-    bool good = r2 <= s_max2;
-    good = good && finite(x * x + y * y);  // Lens.pixel_to_dir: a non-finite pixel has no ray
-    good = good && finite(dx * dx + dy * dy + dz * dz);  // clean()
+    // Lens.pixel_to_dir: a non-finite pixel has no ray; Fisheye.uv_to_dir: r <= s_max
+    return {px, py, px * px + py * py, r2, r2 <= s_max2 && finite(x * x + y * y)};
+}
+
+// the direction (k px, k py, dz) where the pixel has a ray (clean(): finite), else zeros
+inline void store_dir(const Plane& q, double k, double dz, double* d, bool* ok) {
+    const double dx = q.px * k, dy = q.py * k;
+    const bool good = q.seen && finite(dx * dx + dy * dy + dz * dz);
     *ok = good;
     d[0] = good ? dx : 0.0;
     d[1] = good ? dy : 0.0;
@@ -76,7 +69,52 @@ inline void fisheye_one(double x, double y, const double* p, double* d, bool* ok
 
 template <int64_t KIND>
 void fisheye_loop(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
-    for (int64_t i = 0; i < n; ++i) fisheye_one<KIND>(xy[2 * i], xy[2 * i + 1], p, d + 3 * i, ok + i);
+    for (int64_t i = 0; i < n; ++i) {
+        const Plane q = plane_of(xy[2 * i], xy[2 * i + 1], p);
+        double k, dz;
+        if constexpr (KIND == EQUISOLID) {  // sin(theta)/s = sqrt(1 - s^2/4), cos(theta) = 1 - s^2/2
+            const double qq = 0.25 * q.s2;
+            k = std::sqrt(at_least0(1.0 - qq));
+            dz = qq * -2.0;
+            dz += 1.0;
+        } else if constexpr (KIND == STEREOGRAPHIC) {
+            const double q2 = 0.25 * q.s2;
+            k = 1.0 / (1.0 + q2);
+            dz = k * (1.0 - q2);
+        } else {  // ORTHOGRAPHIC
+            k = 1.0;
+            dz = std::sqrt(at_least0(1.0 - q.s2));
+        }
+        store_dir(q, k, dz, d + 3 * i, ok + i);
+    }
+}
+
+// equidistant: theta = s, sin(theta)/s (1 at s = 0) and cos(theta); with glibc's vector maths four at a time,
+// every element the same way whatever its place in a call (a short block is padded), so a map does not depend
+// on how the warp cut it into bands
+template <>
+void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        Plane q[4];
+        double s[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], cs[4];
+        for (int64_t j = 0; j < m; ++j) {
+            q[j] = plane_of(xy[2 * (i0 + j)], xy[2 * (i0 + j) + 1], p);
+            s[j] = std::sqrt(q[j].s2);
+        }
+#ifdef LENSLAB_MVEC
+        const __m256d sv = _mm256_loadu_pd(s);
+        _mm256_storeu_pd(sn, _ZGVdN4v_sin(sv));
+        _mm256_storeu_pd(cs, _ZGVdN4v_cos(sv));
+#else
+        for (int j = 0; j < 4; ++j) {
+            sn[j] = std::sin(s[j]);
+            cs[j] = std::cos(s[j]);
+        }
+#endif
+        for (int64_t j = 0; j < m; ++j)
+            store_dir(q[j], s[j] > 0.0 ? sn[j] / s[j] : 1.0, cs[j], d + 3 * (i0 + j), ok + i0 + j);
+    }
 }
 
 }  // namespace
