@@ -256,7 +256,8 @@ class Mapper:
 
             def check_dir(job):
                 (tx, ty), (exy, ev, _) = job
-                d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
+                dx, dy = lattice_grid(nodes[2], nodes[3], tx, ty, 0.0)  # two components a call
+                d = np.stack([dx[cand], dy[cand], lattice_grid(nodes[4], nodes[4], tx, ty, 0.0)[0][cand]], axis=-1)
                 pxy, pv = project(self.src.lens, d)
                 return ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
 

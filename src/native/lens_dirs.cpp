@@ -97,10 +97,16 @@ void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, dou
     for (int64_t i0 = 0; i0 < n; i0 += 4) {
         const int64_t m = std::min<int64_t>(4, n - i0);
         Plane q[4];
-        double s[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], cs[4];
+        double s[4] = {0.0, 0.0, 0.0, 0.0}, sn[4] = {0.0, 0.0, 0.0, 0.0}, cs[4] = {0.0, 0.0, 0.0, 0.0};
+        bool any = false;
         for (int64_t j = 0; j < m; ++j) {
             q[j] = plane_of(xy[2 * (i0 + j)], xy[2 * (i0 + j) + 1], p);
             s[j] = std::sqrt(q[j].s2);
+            any = any || q[j].seen;
+        }
+        if (!any) {  // outside the circle: no ray, no trigonometry (each lane's value is its own either way)
+            for (int64_t j = 0; j < m; ++j) store_dir(q[j], 0.0, 0.0, d + 3 * (i0 + j), ok + i0 + j);
+            continue;
         }
 #ifdef LENSLAB_MVEC
         const __m256d sv = _mm256_loadu_pd(s);

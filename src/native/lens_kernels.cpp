@@ -223,6 +223,7 @@ void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bo
             a[8 + j] = dz / sn;
             good[j] = true;
         }
+        if (!(good[0] || good[1] || good[2] || good[3])) continue;  // nothing seen: no trigonometry
         lon_lat4(a);
         for (int64_t j = 0; j < m; ++j) {
             if (!good[j]) continue;
