@@ -32,19 +32,25 @@ inline bool finite(double v) { return std::isfinite(v); }
 // max(t, 0) as np.maximum takes it (a NaN stays NaN)
 inline double at_least0(double t) { return t < 0.0 ? 0.0 : t; }
 
+// Lens.pixel_to_uv of pixel (x, y): p = W, H, H / W first
+inline void uv_of(double x, double y, const double* p, double& u, double& v) {
+    u = x * 2.0;
+    u /= p[0];
+    u -= 1.0;
+    v = y * 2.0;
+    v /= p[1];
+    v = 1.0 - v;
+    if (p[0] != p[1]) v *= p[2];
+}
+
 // A fisheye pixel up to its plane point (Lens.pixel_to_uv, Fisheye._to_local, the plane scale). p = W, H, H / W,
 // kind, plane scale, s_max^2 (with the rim slack), cx, cy, r_ref, local (0: the image centre and r_ref = 1)
 struct Plane { double px, py, s2, r2; bool seen; };
 
 inline Plane plane_of(double x, double y, const double* p) {
-    const double w = p[0], h = p[1], aspect = p[2], c = p[4], s_max2 = p[5];
-    double u = x * 2.0;  // Lens.pixel_to_uv, in its order
-    u /= w;
-    u -= 1.0;
-    double v = y * 2.0;
-    v /= h;
-    v = 1.0 - v;
-    if (w != h) v *= aspect;
+    const double c = p[4], s_max2 = p[5];
+    double u, v;
+    uv_of(x, y, p, u, v);  // Lens.pixel_to_uv, in its order
     if (p[9] != 0.0) {  // Fisheye._to_local
         u -= p[6];
         v -= p[7];
@@ -125,6 +131,29 @@ void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, dou
 
 }  // namespace
 
+// perspective pixels -> unit directions (Perspective.uv_to_dir: every finite pixel has a ray). p = W, H, H / W, t, tv
+void perspective_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double t = p[3], tv = p[4];
+    for (int64_t i = 0; i < n; ++i) {
+        const double x = xy[2 * i], y = xy[2 * i + 1];
+        double u, v;
+        uv_of(x, y, p, u, v);
+        double dx = u * t, dy = v * tv;
+        double dz = dx * dx;  // z = 1 / sqrt(x^2 + y^2 + 1), then x, y scaled by it
+        dz += dy * dy;
+        dz += 1.0;
+        dz = std::sqrt(dz);
+        dz = 1.0 / dz;
+        dx *= dz;
+        dy *= dz;
+        const bool good = finite(x * x + y * y) && finite(dx * dx + dy * dy + dz * dz);
+        ok[i] = good;
+        d[3 * i] = good ? dx : 0.0;
+        d[3 * i + 1] = good ? dy : 0.0;
+        d[3 * i + 2] = good ? dz : 0.0;
+    }
+}
+
 // fisheye pixels -> unit directions (0 and false where the lens has no ray)
 void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
     switch (int64_t(p[3])) {
@@ -150,6 +179,16 @@ void need(bool ok, const char* what) {
 }  // namespace
 
 void register_lens_dirs(nb::module_& m) {
+    m.def("perspective_dirs", [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
+        need(xy.size() % 2 == 0, "pixels must be rows of (x, y)");
+        const size_t n = xy.size() / 2;
+        need(d.size() == 3 * n && ok.size() == n, "outputs must hold one row per pixel");
+        need(p.size() == 5, "perspective_dirs: 5 parameters");
+        lenslab::lens::perspective_dirs(xy.data(), int64_t(n), p.data(), d.data(), ok.data());
+    }, nb::arg("xy"), nb::arg("params"), nb::arg("d").noconvert(), nb::arg("ok").noconvert(),
+       nb::call_guard<nb::gil_scoped_release>(),
+       "Perspective pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+
     m.def("fisheye_dirs", [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
         need(xy.size() % 2 == 0, "pixels must be rows of (x, y)");
         const size_t n = xy.size() / 2;

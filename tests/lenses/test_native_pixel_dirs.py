@@ -1,17 +1,17 @@
-"""The fisheye's compiled pixel -> direction (``fisheye_dirs``, ``src/native/lens_dirs.cpp``, which
-``Lens.pixel_to_dir`` and so the warp's exact map run) against its NumPy reference
-(:func:`lenslab.lenses.formulas.reference.fisheye_dirs`), against the model's own NumPy steps, against OpenCV's
-fisheye model (``cv2.fisheye.undistortPoints``, equidistant) and against the mappings of Kannala and Brandt
-(2006, table 1) transcribed here in float64; on pixels drawn by hypothesis with the extremes mixed in: the rim,
-the centre, far outside, NaN and infinite pixels, fields of view near 0 and at 360 degrees (the rim is then the
-back pole), off-centre and full-frame circles.
+"""The fisheye's and the perspective's compiled pixel -> direction (``fisheye_dirs``, ``perspective_dirs``,
+``src/native/lens_dirs.cpp``, which ``Lens.pixel_to_dir`` and so the warp's exact map run) against the fisheye's
+NumPy reference (:func:`lenslab.lenses.formulas.reference.fisheye_dirs`), against the models' own NumPy steps,
+against OpenCV (``cv2.fisheye.undistortPoints``, equidistant; ``cv2.undistortPoints``, pinhole) and against the
+mappings of Kannala and Brandt (2006, table 1) transcribed here in float64; on pixels drawn by hypothesis with the
+extremes mixed in: the rim, the centre, far outside, NaN and infinite pixels, fields of view near 0 and at 360
+degrees (the rim is then the back pole), off-centre and full-frame circles.
 
-Tolerances: the kernel runs the NumPy steps' operations in the same order without fused multiply-adds, so
-validity is the same bit for bit and the directions differ at most by the last bits of the sine and cosine
-(equidistant), which the kernel takes from glibc's vector maths (4 ulps at most) and NumPy from its own loops:
-4 ulps of a unit vector (1e-15). The outside
-oracles compute the direction another way (an angle, then its sine and cosine; OpenCV's iterative undistortion
-to 1e-12 and its tangent plane): 1e-9 of a unit ray (4e-6 px at 4096 px).
+Tolerances: the kernels run the NumPy steps' operations in the same order without fused multiply-adds, so
+validity is the same bit for bit, the perspective's directions too, and the fisheye's differ at most by the last
+bits of the sine and cosine (equidistant), which the kernel takes from glibc's vector maths (4 ulps at most) and
+NumPy from its own loops: 4 ulps of a unit vector (1e-15). The outside oracles compute the direction another way
+(an angle, then its sine and cosine; OpenCV's iterative undistortion to 1e-12 and its tangent plane): 1e-9 of a
+unit ray (4e-6 px at 4096 px).
 """
 
 from __future__ import annotations
@@ -156,3 +156,42 @@ def test_a_model_that_changes_a_step_has_no_kernel():
     assert lens.dir_kernel() is None
     xy = np.array([[32.0, 32.0]])
     np.testing.assert_array_equal(lens.pixel_to_dir(xy)[0], Fisheye.uv_to_dir(lens, np.array([[0.01, 0.01]]))[0])
+
+
+@st.composite
+def perspectives(draw):
+    kind = draw(st.sampled_from(["fov", "vfov", "dfov"]))
+    angle = draw(st.one_of(st.sampled_from([1e-6, 0.01, 90.0, 179.0, 179.999]), st.floats(1e-6, 179.999)))
+    w, h = draw(st.integers(1, 4096)), draw(st.integers(1, 4096))
+    return make_lens(f"perspective:{kind}={angle!r}", (w, h))
+
+
+@HYP
+@given(st.data())
+def test_perspective_kernel_gives_its_numpy_steps_bits(data):
+    """Only multiplies, adds, a square root and a division, in the NumPy steps' order: the same bits."""
+    lens = data.draw(perspectives())
+    xy = data.draw(pixels(make_lens("fisheye", (lens.width, lens.height))))
+    assert lens.dir_kernel() is not None
+    d, ok = lens.pixel_to_dir(xy)
+    want, want_ok = _numpy_steps(lens, xy)
+    np.testing.assert_array_equal(ok, want_ok)
+    np.testing.assert_array_equal(d, want)
+    assert ok[np.isfinite(xy).all(-1) & (np.abs(xy) < 1e100).all(-1)].all()  # every finite pixel has a ray
+    assert not ok[~np.isfinite(xy).all(-1)].any() and np.all(d[~ok] == 0.0)
+
+
+def test_perspective_matches_opencv_undistort_points():
+    cv2 = pytest.importorskip("cv2")
+    w, h = 1920, 1080
+    lens = make_lens("perspective:fov=100", (w, h))
+    f = (w / 2) / math.tan(math.radians(50))  # the image's half width at 50 degrees
+    rng = np.random.default_rng(5)
+    xy = np.stack([rng.uniform(-200, w + 200, 500), rng.uniform(-200, h + 200, 500)], -1)
+    K = np.array([[f, 0, w / 2 - 0.5], [0, f, h / 2 - 0.5], [0, 0, 1]])  # OpenCV's pixel centres at integers
+    und = cv2.undistortPoints((xy - 0.5).reshape(-1, 1, 2), K, np.zeros(5))
+    want = np.stack([und[:, 0, 0], -und[:, 0, 1], np.ones(len(xy))], -1)  # OpenCV's y points down
+    want /= np.linalg.norm(want, axis=-1, keepdims=True)
+    d, ok = lens.pixel_to_dir(xy)
+    assert ok.all()
+    np.testing.assert_allclose(d, want, rtol=0, atol=ORACLE)
