@@ -178,24 +178,26 @@ void need(bool ok, const char* what) {
 
 }  // namespace
 
-void register_lens_dirs(nb::module_& m) {
-    m.def("perspective_dirs", [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
-        need(xy.size() % 2 == 0, "pixels must be rows of (x, y)");
-        const size_t n = xy.size() / 2;
-        need(d.size() == 3 * n && ok.size() == n, "outputs must hold one row per pixel");
-        need(p.size() == 5, "perspective_dirs: 5 parameters");
-        lenslab::lens::perspective_dirs(xy.data(), int64_t(n), p.data(), d.data(), ok.data());
-    }, nb::arg("xy"), nb::arg("params"), nb::arg("d").noconvert(), nb::arg("ok").noconvert(),
-       nb::call_guard<nb::gil_scoped_release>(),
-       "Perspective pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+using DirFn = void (*)(const double*, int64_t, const double*, double*, bool*);
 
-    m.def("fisheye_dirs", [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
+// binds one DirKernel function: fn(xy, params, d, ok), `nparams` parameters, outputs written in place
+template <DirFn FN, size_t NPARAMS>
+void bind_dirs(nb::module_& m, const char* name, const char* doc) {
+    m.def(name, [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
         need(xy.size() % 2 == 0, "pixels must be rows of (x, y)");
         const size_t n = xy.size() / 2;
         need(d.size() == 3 * n && ok.size() == n, "outputs must hold one row per pixel");
-        need(p.size() == 10, "fisheye_dirs: 10 parameters");
-        lenslab::lens::fisheye_dirs(xy.data(), int64_t(n), p.data(), d.data(), ok.data());
+        need(p.size() == NPARAMS, "wrong number of lens parameters");
+        FN(xy.data(), int64_t(n), p.data(), d.data(), ok.data());
     }, nb::arg("xy"), nb::arg("params"), nb::arg("d").noconvert(), nb::arg("ok").noconvert(),
-       nb::call_guard<nb::gil_scoped_release>(),
-       "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+       nb::call_guard<nb::gil_scoped_release>(), doc);
+}
+
+void register_lens_dirs(nb::module_& m) {
+    bind_dirs<lenslab::lens::perspective_dirs, 5>(
+        m, "perspective_dirs",
+        "Perspective pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::fisheye_dirs, 10>(
+        m, "fisheye_dirs",
+        "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
 }
