@@ -84,8 +84,8 @@ class V360Plan(WarpPlan):
                             "drop --compat v360 or the lens's tca")
         self.border = replace(self.border, pole_top=False, pole_bottom=False)  # v360 clamps rows at the poles
 
-    def _band(self, r0: int, r1: int) -> MapBand:
-        band = self.mapper.map_band(r0, r1, self._offsets(r0, r1))
+    def _band(self, r0: int, r1: int, out: tuple | None = None) -> MapBand:
+        band = self.mapper.map_band(r0, r1, self._offsets(r0, r1), out)
         to_v360_index(band.xs, band.ys, band.valid, self.src.lens, self.read)
         return band
 

@@ -24,7 +24,7 @@ from lenslab.filters import filter_named
 from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
-from lenslab.warp.kernels.dispatch import run_bands, threads
+from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
 from lenslab.warp.filters import all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
@@ -135,12 +135,13 @@ class WarpPlan:
              np.broadcast_to(np.arange(r0, r1, dtype=np.float64)[:, None, None, None],
                              (r1 - r0, self.dst.width, self.samples, 1))], axis=-1)
 
-    def _band(self, r0: int, r1: int):
+    def _band(self, r0: int, r1: int, out: tuple | None = None):
+        """The map of rows ``r0:r1``; a plain map into ``out`` = (xs, ys, valid) when given (Mapper.map_band)."""
         if self.views:
             return view_band(self.mapper, r0, r1, self._offsets(r0, r1))
         if self.antialias:
             return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
-        return self.mapper.map_band(r0, r1, self._offsets(r0, r1))
+        return self.mapper.map_band(r0, r1, self._offsets(r0, r1), out)
 
     def _kept_band(self, r0: int, r1: int):
         """A band's map as a cached plan keeps it: as taps where it can (:mod:`lenslab.warp.taps`)."""
@@ -263,7 +264,16 @@ class WarpPlan:
         if self.cache:
             self._bands = run_bands(self.band_rows(), lambda rows: draw(self._kept_band(*rows)), done)
         else:
-            run_bands(self.band_rows(), lambda rows: _Rows(draw(self._band(*rows))), done)
+            run_bands(self.band_rows(), lambda rows: self._drawn(*rows, draw), done)
+
+    def _drawn(self, r0: int, r1: int, draw) -> "_Rows":
+        """Map and draw rows ``r0:r1`` of a plan that does not cache: a plain map lives in scratch arrays
+        reused from band to band (no fresh pages to fault in for each band's map)."""
+        if self.views or self.antialias:
+            return _Rows(draw(self._band(r0, r1)))
+        shape = (r1 - r0, self.dst.width, self.samples)
+        with scratch(shape, np.float32) as xs, scratch(shape, np.float32) as ys, scratch(shape, np.bool_) as ok:
+            return _Rows(draw(self._band(r0, r1, (xs, ys, ok))))
 
 
 class _Rows:

@@ -40,7 +40,7 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.lenses.core.native import project_kernel
-from lenslab.warp.kernels.dispatch import run_bands
+from lenslab.warp.kernels.dispatch import run_bands, scratch
 from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
                                   lattice_rows)
 
@@ -143,12 +143,13 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
 
 
 #: directions below which :func:`project` calls the lens's vectorised ``dir_to_pixel`` even where the lens
-#: has a compiled kernel. The kernels are C++ (nothing to compile on first use); an equirect's NumPy
-#: ``dir_to_pixel`` is about as fast on small calls (measured 70-125 ns against 65 ns per direction for the
-#: kernel, 1e6 directions, one thread, loaded machine); the two agree to a few ulps
-#: (tests/warp/test_warp_project.py). Models whose ``dir_to_pixel`` is itself the kernel (perspective,
-#: Hammer, tiled grids of those) run it at every size.
-COMPILED_PROJECT_MIN = 1 << 20
+#: has a compiled kernel (a few points: the same either way). The kernels are C++ (nothing to compile on first
+#: use); an equirect's runs atan2 and hypot four at a time (glibc's vector maths): 19 ns against NumPy's 65 ns
+#: per direction (6e4 directions, one thread, CPU time on a loaded machine); the two agree to a few ulps
+#: (tests/warp/test_warp_project.py). The lattice's nodes, checks and the samples it leaves (rim, poles) are
+#: projected in calls of thousands. Models whose ``dir_to_pixel`` is itself the kernel (perspective, Hammer,
+#: tiled grids of those) run it at every size.
+COMPILED_PROJECT_MIN = 1 << 12
 
 
 def project(lens, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -255,7 +256,8 @@ class Mapper:
 
             def check_dir(job):
                 (tx, ty), (exy, ev, _) = job
-                d = np.stack([lattice_grid(n, n, tx, ty, 0.0)[0][cand] for n in nodes[2:]], axis=-1)
+                dx, dy = lattice_grid(nodes[2], nodes[3], tx, ty, 0.0)  # two components a call
+                d = np.stack([dx[cand], dy[cand], lattice_grid(nodes[4], nodes[4], tx, ty, 0.0)[0][cand]], axis=-1)
                 pxy, pv = project(self.src.lens, d)
                 return ev[cand] & pv & self._close(pxy[..., 0], pxy[..., 1], exy[cand])
 
@@ -272,13 +274,19 @@ class Mapper:
         dx *= self.src.lens.column_scale(exy[..., 1])  # measured on the sphere
         return (np.abs(dx) <= self.tol) & (np.abs(iy - exy[..., 1]) <= self.tol)
 
-    def _coefficients(self, cb0: int, cb1: int) -> np.ndarray:
+    def _coefficients(self, cb0: int, cb1: int, coef: np.ndarray | None = None) -> np.ndarray:
         """Bicubic coefficients of cell rows ``cb0:cb1``: ``(rows, ncx, K, 4, 4)``, ``c[.., k, b, a]`` of
-        tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source."""
+        tx^a ty^b, for K = 2 components (x, y) or 5 (x, y and the direction) on a sphere source; only the cells
+        that interpolate are written (and read), into ``coef`` when given."""
         nodes, state = self.lattice
-        coef = np.zeros((cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4))
+        if coef is None:
+            coef = np.empty(self._coefficient_shape(cb0, cb1))
         cell_coefficients(nodes, state, cb0, cb1, self.wrap, coef)
         return coef
+
+    def _coefficient_shape(self, cb0: int, cb1: int) -> tuple[int, ...]:
+        nodes, state = self.lattice
+        return (cb1 - cb0, state.shape[1], nodes.shape[0], 4, 4)
 
     @property
     def lattice_fraction(self) -> float:
@@ -286,16 +294,17 @@ class Mapper:
         return 0.0 if self.lattice is None else float((self.lattice[1] > 0).mean())
 
     # -- bands -----------------------------------------------------------------------------
-    def map_band(self, r0: int, r1: int, offsets: np.ndarray) -> MapBand:
-        """The map of output rows ``r0:r1`` at sub-pixel ``offsets`` ((S, 2) or (h, W, S, 2), in [0, 1])."""
+    def map_band(self, r0: int, r1: int, offsets: np.ndarray, out: tuple | None = None) -> MapBand:
+        """The map of output rows ``r0:r1`` at sub-pixel ``offsets`` ((S, 2) or (h, W, S, 2), in [0, 1]), written
+        into ``out`` = (xs, ys, valid) (float32, float32, bool ``(h, W, S)``) when given."""
         offsets = np.asarray(offsets, dtype=np.float64)
         if offsets.ndim == 2:
             offsets = offsets[None, None]
         h, w = r1 - r0, self.width
         n = offsets.shape[2]
-        xs = np.empty((h, w, n), dtype=np.float32)
-        ys = np.empty((h, w, n), dtype=np.float32)
-        valid = np.empty((h, w, n), dtype=np.bool_)
+        if out is None:
+            out = (np.empty((h, w, n), np.float32), np.empty((h, w, n), np.float32), np.empty((h, w, n), np.bool_))
+        xs, ys, valid = out
         if self.lattice is None:  # every sample exactly
             pts = np.empty((h, w, n, 2), dtype=np.float64)
             pts[..., 0] = np.arange(w, dtype=np.float64)[None, :, None] + offsets[..., 0]
@@ -310,19 +319,20 @@ class Mapper:
         state = self.lattice[1]
         cb0 = max(0, int(np.floor((r0 + offsets[..., 1].min()) / self.step)))
         cb1 = min(state.shape[0], int(np.floor((r1 - 1 + offsets[..., 1].max()) / self.step)) + 1)
-        need = np.empty((h, w, n), dtype=np.int8)
-        dirs = np.empty((h, w, n, 3)) if (state[cb0:cb1] == 2).any() else np.empty((1, 1, 1, 3))
-        if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel (the common case)
-            lattice_rows(self._coefficients(cb0, cb1), state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid,
-                         need, dirs)
-        else:
-            lattice_eval(self._coefficients(cb0, cb1), state, cb0, float(self.step), r0, offsets, xs, ys, valid,
-                         need, dirs)
-        for code in (NEED_PROJECT, NEED_EXACT):
-            flat = np.flatnonzero(need == code)
-            if len(flat):
-                self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
-                          valid.reshape(-1), flat)
+        # the band's working arrays are scratch, kept between bands and warps (their pages faulted in once)
+        with scratch((h, w, n), np.int8) as need, \
+                scratch((h, w, n, 3) if (state[cb0:cb1] == 2).any() else (1, 1, 1, 3)) as dirs, \
+                scratch(self._coefficient_shape(cb0, cb1)) as coef:
+            self._coefficients(cb0, cb1, coef)
+            if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel (the common case)
+                lattice_rows(coef, state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid, need, dirs)
+            else:
+                lattice_eval(coef, state, cb0, float(self.step), r0, offsets, xs, ys, valid, need, dirs)
+            for code in (NEED_PROJECT, NEED_EXACT):
+                flat = np.flatnonzero(need == code)
+                if len(flat):
+                    self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
+                              valid.reshape(-1), flat)
         return MapBand(r0, r1, xs, ys, valid)
 
     def fill(self, flat, code, dirs, offsets, r0, shape, xs, ys, valid, at) -> None:
@@ -331,11 +341,17 @@ class Mapper:
         exactly (``NEED_EXACT``); write their index coordinates and validity at ``at`` of the flat
         arrays ``xs``, ``ys``, ``valid``."""
         if code == NEED_PROJECT:
-            xy, v = project(self.src.lens, dirs.reshape(-1, 3)[flat])
+            xy, v = project(self.src.lens, np.take(dirs.reshape(-1, 3), flat, axis=0))
         else:
             r, c, k = np.unravel_index(flat, shape)
-            o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
-            xy, v = exact_map(self.src, self.dst, np.stack([c + o[:, 0], r0 + r + o[:, 1]], axis=-1))
+            if offsets.shape[:2] == (1, 1):  # the same offsets in every pixel: no gather over pixels
+                o = offsets[0, 0, 0] if offsets.shape[2] == 1 else np.take(offsets[0, 0], k, axis=0)
+            else:
+                o = offsets[r % offsets.shape[0], c % offsets.shape[1], k]
+            pts = np.empty((len(flat), 2))
+            np.add(c, o[..., 0], out=pts[:, 0])
+            np.add(r0 + r, o[..., 1], out=pts[:, 1])
+            xy, v = exact_map(self.src, self.dst, pts)
         xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
         ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
         valid[at] = v

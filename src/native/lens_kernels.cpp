@@ -5,6 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
+#ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec, glibc 2.35 or later; CMakeLists.txt finds it)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+extern "C" __m256d _ZGVdN4vv_hypot(__m256d, __m256d);
+#endif
+
 namespace lenslab::lens {
 
 namespace {
@@ -179,40 +185,72 @@ void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool
     }
 }
 
+// The longitude atan2(dx, dz), cos(latitude) hypot(dx, dz) and latitude atan2(dy, hypot) of `m` <= 4 unit directions
+// (x, y, z in a[0..3], a[4..7], a[8..11]; written over them). With glibc's vector maths (libmvec) four at a time; every
+// element takes the same path whatever its place in a call (a short block is padded), so a map's values do not
+// depend on how the warp cut it into bands.
+inline void lon_lat4(double* a) {
+#ifdef LENSLAB_MVEC
+    const __m256d x = _mm256_loadu_pd(a), y = _mm256_loadu_pd(a + 4), z = _mm256_loadu_pd(a + 8);
+    const __m256d c = _ZGVdN4vv_hypot(x, z);
+    _mm256_storeu_pd(a, _ZGVdN4vv_atan2(x, z));
+    _mm256_storeu_pd(a + 4, _ZGVdN4vv_atan2(y, c));
+#else
+    for (int j = 0; j < 4; ++j) {
+        const double x = a[j], y = a[4 + j], z = a[8 + j];
+        a[j] = std::atan2(x, z);
+        a[4 + j] = std::atan2(y, std::hypot(x, z));
+    }
+#endif
+}
+
 void equirect_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     const double w = p[0], h = p[1], lon0 = p[2], lon1 = p[3], lat0 = p[4], lat1 = p[5], e = p[8];
     const bool full = p[6] != 0.0, wraps = p[7] != 0.0;
-    for (int64_t i = 0; i < n; ++i) {
-        clear2(i, xy, ok);
-        double dx = d[3 * i], dy = d[3 * i + 1], dz = d[3 * i + 2];
-        const double n2 = dx * dx + dy * dy + dz * dz;
-        if (!(n2 > 0.0 && finite(n2))) continue;
-        const double sn = std::sqrt(n2);
-        dx /= sn;
-        dy /= sn;
-        dz /= sn;
-        double phi = std::atan2(dx, dz);
-        const double theta = std::atan2(dy, std::hypot(dx, dz));
-        double x, y;
-        if (full) {
-            x = phi / PI;
-            x += 1.0;
-            x *= 0.5 * w;
-            y = theta / (PI / 2);
-            y = 1.0 - y;
-            y *= 0.5 * h;
-        } else {
-            if (!wraps && phi < lon0) phi += 2 * PI;
-            x = (phi - lon0) / (lon1 - lon0) * w;
-            y = (lat1 - theta) / (lat1 - lat0) * h;
-            if (!(x >= -e && x <= w + e && y >= -e && y <= h + e)) continue;
-            x = std::min(std::max(x, 0.0), w);
-            y = std::min(std::max(y, 0.0), h);
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double a[12] = {0.0};
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const int64_t i = i0 + j;
+            clear2(i, xy, ok);
+            double dx = d[3 * i], dy = d[3 * i + 1], dz = d[3 * i + 2];
+            const double n2 = dx * dx + dy * dy + dz * dz;
+            if (!(n2 > 0.0 && finite(n2))) continue;
+            const double sn = std::sqrt(n2);
+            a[j] = dx / sn;
+            a[4 + j] = dy / sn;
+            a[8 + j] = dz / sn;
+            good[j] = true;
         }
-        if (finite(x) && finite(y)) {
-            xy[2 * i] = x;
-            xy[2 * i + 1] = y;
-            ok[i] = true;
+        if (!(good[0] || good[1] || good[2] || good[3])) continue;  // nothing seen: no trigonometry
+        lon_lat4(a);
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            const int64_t i = i0 + j;
+            double phi = a[j];
+            const double theta = a[4 + j];
+            double x, y;
+            if (full) {
+                x = phi / PI;
+                x += 1.0;
+                x *= 0.5 * w;
+                y = theta / (PI / 2);
+                y = 1.0 - y;
+                y *= 0.5 * h;
+            } else {
+                if (!wraps && phi < lon0) phi += 2 * PI;
+                x = (phi - lon0) / (lon1 - lon0) * w;
+                y = (lat1 - theta) / (lat1 - lat0) * h;
+                if (!(x >= -e && x <= w + e && y >= -e && y <= h + e)) continue;
+                x = std::min(std::max(x, 0.0), w);
+                y = std::min(std::max(y, 0.0), h);
+            }
+            if (finite(x) && finite(y)) {
+                xy[2 * i] = x;
+                xy[2 * i + 1] = y;
+                ok[i] = true;
+            }
         }
     }
 }

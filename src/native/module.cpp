@@ -32,6 +32,7 @@ void register_video(nb::module_& m);  // video.cpp: the video colour passes
 void register_tone(nb::module_& m);  // tone.cpp
 void register_footprint(nb::module_& m);  // src/native/footprint.cpp
 void register_secants(nb::module_& m);  // src/native/secants.cpp
+void register_lens_dirs(nb::module_& m);  // lens_dirs.cpp: pixel -> direction of the closed-form lenses
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
@@ -39,6 +40,7 @@ NB_MODULE(cxx_kernels, m) {
     bind_map_kernels(m);
     register_lens_kernels(m);
     register_tone(m);
+    register_lens_dirs(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

@@ -14,7 +14,7 @@ No NaN or inf ever leaves a model: where ``valid`` is False the returned values 
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, NamedTuple
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 from lenslab.errors import LensError
 from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
 from lenslab.lenses.core.protocol import (  # noqa: F401  (the records the hooks return)
-    Across, Piece, PixelKernel, Seams)
+    Across, DirKernel, Piece, PixelKernel, ReferencePoint, Seams)
 
 FLOAT = np.float64
 
@@ -59,20 +59,6 @@ def clean(values: np.ndarray, valid: np.ndarray, inplace: bool = False) -> tuple
         values = values.copy()
     np.copyto(values, 0.0, where=~valid[..., None])
     return values, valid
-
-
-class ReferencePoint(NamedTuple):
-    """One pixel and its ray, from a source outside lenslab: ``spec`` at ``size`` (width, height) sees
-    ``direction`` (unit, camera space) at continuous pixel ``pixel``; ``source`` says where the numbers
-    come from (the paper's equation, ``cv2.projectPoints``, lensfunpy, ...); ``tolerance`` (px) is the
-    source's own precision (float64 formulas: 1e-6 px, the project's accuracy)."""
-
-    spec: str
-    size: tuple[int, int]
-    pixel: tuple[float, float]
-    direction: tuple[float, float, float]
-    source: str
-    tolerance: float = 1e-6
 
 
 def _one_point(method, last: int):
@@ -160,6 +146,11 @@ class Lens:
         (the default): the engine then calls the vectorised :meth:`dir_to_pixel`. A model whose kernel does
         what :meth:`dir_to_pixel` does (normalise, :meth:`dir_to_uv`, :meth:`uv_to_pixel`, :meth:`snap_to_image`)
         has it run there too (:func:`lenslab.lenses.core.native.kernel_holds`)."""
+        return None
+
+    def dir_kernel(self) -> DirKernel | None:
+        """A compiled ``pixel -> dir`` (:class:`~lenslab.lenses.core.protocol.DirKernel`) that :meth:`pixel_to_dir`
+        runs, or None (the default: the NumPy steps, :meth:`pixel_to_uv` then :meth:`uv_to_dir`)."""
         return None
 
     def source_view_count(self) -> int:
@@ -273,6 +264,15 @@ class Lens:
             bool ``(...)``: whether the lens has a ray there (e.g. inside a fisheye's circle).
         """
         xy = as_points(xy, 2, "pixel coordinates")
+        kern = self.dir_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import unproject_kernel
+
+            return unproject_kernel(kern, xy)
+        return self._uv_pixel_to_dir(xy)
+
+    def _uv_pixel_to_dir(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pixels (float64 ``(..., 2)``) -> directions through :meth:`pixel_to_uv` and :meth:`uv_to_dir`."""
         with np.errstate(all="ignore"):
             d, valid = self.uv_to_dir(self.pixel_to_uv(xy))
         with np.errstate(over="ignore", invalid="ignore"):

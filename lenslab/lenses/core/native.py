@@ -6,6 +6,9 @@ Direction -> pixel of the equirect, perspective and Hammer models (their
 calibrated models' projections and solved inverses, OCamCalib's solved projection, the lensfun profiles'
 direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
 reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
+
+Pixel -> direction of the fisheye and the perspective (their :class:`~lenslab.lenses.core.protocol.DirKernel`, which
+:meth:`Lens.pixel_to_dir` runs, so the warp's exact map does): ``src/native/lens_dirs.cpp``.
 """
 
 from __future__ import annotations
@@ -30,6 +33,27 @@ def project_kernel(kern, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     valid = np.empty(len(flat), dtype=np.bool_)
     kern.fn(flat, kern.params, xy, valid)
     return xy.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+
+
+def unproject_kernel(kern, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit directions (float64 ``(..., 3)``) and validity (bool ``(...)``) of pixel positions ``xy``
+    (``(..., 2)``, any length) through a lens's :class:`~lenslab.lenses.core.protocol.DirKernel`: non-finite
+    pixels have no ray, and every direction without one is 0. The kernel releases the GIL."""
+    flat = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
+    d = np.empty((len(flat), 3), dtype=np.float64)
+    valid = np.empty(len(flat), dtype=np.bool_)
+    kern.fn(flat, kern.params, d, valid)
+    return d.reshape(xy.shape[:-1] + (3,)), valid.reshape(xy.shape[:-1])
+
+
+#: the steps of Lens.pixel_to_dir that a model's compiled pixel -> dir stands for
+DIR_STEPS = ("pixel_to_dir", "_uv_pixel_to_dir", "pixel_to_uv", "uv_to_dir")
+
+
+def dir_kernel_holds(lens, model: type, steps: tuple[str, ...] = ()) -> bool:
+    """Whether ``model``'s compiled ``pixel -> dir`` still describes ``lens``: a subclass that changed one of
+    :data:`DIR_STEPS` (or of the model's own ``steps``) has no kernel."""
+    return all(getattr(type(lens), name) is getattr(model, name) for name in DIR_STEPS + tuple(steps))
 
 
 #: the steps of Lens.dir_to_pixel that a model's compiled dir -> pixel stands for

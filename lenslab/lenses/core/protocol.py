@@ -9,7 +9,8 @@ knows better. The engine asks these hooks and never reads a model's name:
 - :meth:`~lenslab.lenses.core.base.Lens.pieces` -> tuple of :class:`Piece`: the rectangles of a piecewise
   image (cube faces, tiles, dual-fisheye halves) and, for cube-like layouts, what lies across each edge;
 - :meth:`~lenslab.lenses.core.base.Lens.pixel_kernel` -> :class:`PixelKernel` or None: a compiled
-  ``dir -> pixel``;
+  ``dir -> pixel``; :meth:`~lenslab.lenses.core.base.Lens.dir_kernel` -> :class:`DirKernel` or None: a compiled
+  ``pixel -> dir``;
 - :meth:`~lenslab.lenses.core.base.Lens.column_scale`: the length on the sphere of one column, per row;
 - :meth:`~lenslab.lenses.core.base.Lens.channel_lenses` and :meth:`~lenslab.lenses.core.base.Lens.falloff`:
   chromatic aberration (one lens per R, G, B) and vignetting.
@@ -18,7 +19,7 @@ knows better. The engine asks these hooks and never reads a model's name:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -108,6 +109,34 @@ class PixelKernel:
 
     fn: Callable
     params: np.ndarray
+
+
+@dataclass(frozen=True)
+class DirKernel:
+    """A compiled ``pixel -> dir`` of one lens (a function of ``lenslab.cxx_kernels``), the other way from
+    :class:`PixelKernel`: ``fn(xy, params, d, ok)`` maps continuous pixel positions ``xy`` (float64, C-contiguous
+    ``(n, 2)``, pixel centres at +0.5) to unit directions ``d`` (float64 ``(n, 3)``) and ``ok`` (bool ``(n,)``:
+    whether the lens has a ray there), both written in place; non-finite pixels have no ray, and ``d = 0``
+    wherever ``ok`` is False. It releases the GIL. :func:`lenslab.lenses.core.native.unproject_kernel` runs it;
+    :meth:`Lens.pixel_to_dir` runs it for a model that has one (so the warp's exact map does).
+    """
+
+    fn: Callable
+    params: np.ndarray
+
+
+class ReferencePoint(NamedTuple):
+    """One pixel and its ray, from a source outside lenslab: ``spec`` at ``size`` (width, height) sees
+    ``direction`` (unit, camera space) at continuous pixel ``pixel``; ``source`` says where the numbers
+    come from (the paper's equation, ``cv2.projectPoints``, lensfunpy, ...); ``tolerance`` (px) is the
+    source's own precision (float64 formulas: 1e-6 px, the project's accuracy)."""
+
+    spec: str
+    size: tuple[int, int]
+    pixel: tuple[float, float]
+    direction: tuple[float, float, float]
+    source: str
+    tolerance: float = 1e-6
 
 
 #: a source's falloff is never divided by less than this (a vignetted corner near 0 would blow up noise)

@@ -58,6 +58,21 @@ def equirect_pixels(d, p):
     return _store((phi - lon0) / (lon1 - lon0) * w, (lat1 - theta) / (lat1 - lat0) * h, good, w, h, e)
 
 
+def fisheye_dirs(xy, p):
+    """Fisheye pixels -> unit directions and validity; ``p``: W, H, H / W, mapping code, plane scale, the
+    largest squared radius (rim slack included), cx, cy, r_ref, whether (cx, cy, r_ref) move the circle."""
+    w, h, aspect, kind, scale, s_max2, cx, cy, r_ref, local = (float(v) for v in p)
+    xy = np.asarray(xy, dtype=F).reshape(-1, 2)
+    with np.errstate(all="ignore"):
+        u = 2.0 * xy[:, 0] / w - 1.0
+        v = (1.0 - 2.0 * xy[:, 1] / h) * (aspect if w != h else 1.0)
+        if local:
+            u, v = (u - cx) / r_ref, (v - cy) / r_ref
+        d, _ = azimuthal.plane_to_dir(int(kind), u * scale, v * scale)
+        ok = (u * u + v * v <= s_max2) & np.isfinite(xy[:, 0] ** 2 + xy[:, 1] ** 2) & np.isfinite((d * d).sum(-1))
+    return np.where(ok[:, None], d, 0.0), ok
+
+
 def _solve(f, t, hi, x0, settings):
     """``f(x) = t`` on ``[0, hi]`` for the elements of ``t`` (NaN where not converged); ``settings``: the
     kernels' (tol, residual tolerance, residual ulps, max_iter), of which the NumPy solve takes the first and

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import DirKernel, Lens, Param, ReferencePoint
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
 
@@ -154,6 +154,18 @@ class Fisheye(Lens):
         return uv
 
     # -- pixel -> direction ------------------------------------------------------------------
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``fisheye_dirs``: the NumPy steps of :meth:`uv_to_dir` through
+        :meth:`Lens.pixel_to_dir`, in their order)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, Fisheye, ("_to_local",)):
+            return None
+        local = not (self.cx == 0.0 and self.cy == 0.0 and self.r_ref == 1.0)
+        return DirKernel(lens_kernels().fisheye_dirs, np.array(
+            [self.width, self.height, self.aspect, self.kind, self.plane_scale, self._s_max2, self.cx, self.cy,
+             self.r_ref, local], dtype=np.float64))
+
     def uv_to_dir(self, uv):
         uv = self._to_local(uv)
         # the plane at unit focal length is (u, v) scaled by s(F): r = 1 lies at F from the axis

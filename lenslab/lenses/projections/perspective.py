@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import Lens, Param, PixelKernel, ReferencePoint
+from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -74,6 +74,16 @@ class Perspective(Lens):
         if self.vfov > 0:
             return float(np.tan(np.radians(self.vfov) / 2) / self.aspect)
         return self.t
+
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``perspective_dirs``: the NumPy steps of :meth:`uv_to_dir` through
+        :meth:`Lens.pixel_to_dir`, the same bits)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, Perspective):
+            return None
+        return DirKernel(lens_kernels().perspective_dirs,
+                         np.array([self.width, self.height, self.aspect, self.t, self.tv], dtype=np.float64))
 
     def uv_to_dir(self, uv):
         d = np.empty(uv.shape[:-1] + (3,), dtype=np.float64)

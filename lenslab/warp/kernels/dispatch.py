@@ -110,3 +110,42 @@ def run_bands(jobs, work, on_done=None) -> list:
                 on_done(res)
             out.append(res)
         return out
+
+
+#: scratch buffers kept between bands and warps (at most this many), so that a band's working arrays (the map
+#: lattice's coefficients, the directions it leaves to project) reuse pages already faulted in: fresh pages
+#: cost about 1 us each here, 2-3 ms of a 1024x1024 one-shot warp's map
+SCRATCH_KEPT = 8
+_scratch: list = []
+_scratch_lock = threading.Lock()
+
+
+class scratch:
+    """``with scratch(shape, dtype) as a:`` an uninitialised array, from a buffer kept for reuse when one is
+    large enough (given back on leaving the block; a caller must not keep the array)."""
+
+    def __init__(self, shape, dtype=float):
+        import numpy as np
+
+        self.dtype = np.dtype(dtype)
+        self.shape = tuple(int(v) for v in shape)
+        self.nbytes = int(np.prod(self.shape)) * self.dtype.itemsize
+        self.buf = None
+
+    def __enter__(self):
+        import numpy as np
+
+        with _scratch_lock:
+            fits = [i for i, b in enumerate(_scratch) if b.nbytes >= self.nbytes]
+            if fits:  # the smallest that fits (lists of arrays are searched by position: == compares values)
+                self.buf = _scratch.pop(min(fits, key=lambda i: _scratch[i].nbytes))
+        if self.buf is None:
+            self.buf = np.empty(max(self.nbytes, 1), np.uint8)
+        return self.buf[:self.nbytes].view(self.dtype).reshape(self.shape)
+
+    def __exit__(self, *exc):
+        with _scratch_lock:
+            _scratch.append(self.buf)
+            if len(_scratch) > SCRATCH_KEPT:
+                _scratch.pop(min(range(len(_scratch)), key=lambda i: _scratch[i].nbytes))
+        self.buf = None

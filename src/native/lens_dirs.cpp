@@ -1,0 +1,203 @@
+// Pixel -> direction of the lens models with a closed form (their DirKernel, lenslab.lenses.core.protocol), and
+// the bindings, registered into lenslab.cxx_kernels by register_lens_dirs(). The same operations in the same order
+// as the models' NumPy steps (Lens.pixel_to_dir: pixel_to_uv, the model's uv_to_dir, the finiteness tests and
+// clean; equidistant's sine and cosine from glibc's vector maths where it has them, within 4 ulps), so a warp's
+// exact map costs a fraction of the NumPy one; NumPy references in
+// lenslab/lenses/formulas/reference.py (fisheye_dirs), held to them by tests/lenses/test_native_pixel_dirs.py.
+// Built with every multiply and add rounded as written (CMakeLists.txt), as the NumPy code rounds them.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+#ifdef LENSLAB_MVEC  // glibc's vector maths (CMakeLists.txt finds it)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4v_sin(__m256d);
+extern "C" __m256d _ZGVdN4v_cos(__m256d);
+#endif
+
+#include "lens_formulas.h"
+
+namespace nb = nanobind;
+
+namespace lenslab::lens {
+
+namespace {
+
+inline bool finite(double v) { return std::isfinite(v); }
+
+// max(t, 0) as np.maximum takes it (a NaN stays NaN)
+inline double at_least0(double t) { return t < 0.0 ? 0.0 : t; }
+
+// Lens.pixel_to_uv of pixel (x, y): p = W, H, H / W first
+inline void uv_of(double x, double y, const double* p, double& u, double& v) {
+    u = x * 2.0;
+    u /= p[0];
+    u -= 1.0;
+    v = y * 2.0;
+    v /= p[1];
+    v = 1.0 - v;
+    if (p[0] != p[1]) v *= p[2];
+}
+
+// A fisheye pixel up to its plane point (Lens.pixel_to_uv, Fisheye._to_local, the plane scale). p = W, H, H / W,
+// kind, plane scale, s_max^2 (with the rim slack), cx, cy, r_ref, local (0: the image centre and r_ref = 1)
+struct Plane { double px, py, s2, r2; bool seen; };
+
+inline Plane plane_of(double x, double y, const double* p) {
+    const double c = p[4], s_max2 = p[5];
+    double u, v;
+    uv_of(x, y, p, u, v);  // Lens.pixel_to_uv, in its order
+    if (p[9] != 0.0) {  // Fisheye._to_local
+        u -= p[6];
+        v -= p[7];
+        u /= p[8];
+        v /= p[8];
+    }
+    const double px = u * c, py = v * c;  // azimuthal.plane_to_dir
+    const double r2 = u * u + v * v;
+    // Lens.pixel_to_dir: a non-finite pixel has no ray; Fisheye.uv_to_dir: r <= s_max
+    return {px, py, px * px + py * py, r2, r2 <= s_max2 && finite(x * x + y * y)};
+}
+
+// the direction (k px, k py, dz) where the pixel has a ray (clean(): finite), else zeros
+inline void store_dir(const Plane& q, double k, double dz, double* d, bool* ok) {
+    const double dx = q.px * k, dy = q.py * k;
+    const bool good = q.seen && finite(dx * dx + dy * dy + dz * dz);
+    *ok = good;
+    d[0] = good ? dx : 0.0;
+    d[1] = good ? dy : 0.0;
+    d[2] = good ? dz : 0.0;
+}
+
+template <int64_t KIND>
+void fisheye_loop(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    for (int64_t i = 0; i < n; ++i) {
+        const Plane q = plane_of(xy[2 * i], xy[2 * i + 1], p);
+        double k, dz;
+        if constexpr (KIND == EQUISOLID) {  // sin(theta)/s = sqrt(1 - s^2/4), cos(theta) = 1 - s^2/2
+            const double qq = 0.25 * q.s2;
+            k = std::sqrt(at_least0(1.0 - qq));
+            dz = qq * -2.0;
+            dz += 1.0;
+        } else if constexpr (KIND == STEREOGRAPHIC) {
+            const double q2 = 0.25 * q.s2;
+            k = 1.0 / (1.0 + q2);
+            dz = k * (1.0 - q2);
+        } else {  // ORTHOGRAPHIC
+            k = 1.0;
+            dz = std::sqrt(at_least0(1.0 - q.s2));
+        }
+        store_dir(q, k, dz, d + 3 * i, ok + i);
+    }
+}
+
+// equidistant: theta = s, sin(theta)/s (1 at s = 0) and cos(theta); with glibc's vector maths four at a time,
+// every element the same way whatever its place in a call (a short block is padded), so a map does not depend
+// on how the warp cut it into bands
+template <>
+void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        Plane q[4];
+        double s[4] = {0.0, 0.0, 0.0, 0.0}, sn[4] = {0.0, 0.0, 0.0, 0.0}, cs[4] = {0.0, 0.0, 0.0, 0.0};
+        bool any = false;
+        for (int64_t j = 0; j < m; ++j) {
+            q[j] = plane_of(xy[2 * (i0 + j)], xy[2 * (i0 + j) + 1], p);
+            s[j] = std::sqrt(q[j].s2);
+            any = any || q[j].seen;
+        }
+        if (!any) {  // outside the circle: no ray, no trigonometry (each lane's value is its own either way)
+            for (int64_t j = 0; j < m; ++j) store_dir(q[j], 0.0, 0.0, d + 3 * (i0 + j), ok + i0 + j);
+            continue;
+        }
+#ifdef LENSLAB_MVEC
+        const __m256d sv = _mm256_loadu_pd(s);
+        _mm256_storeu_pd(sn, _ZGVdN4v_sin(sv));
+        _mm256_storeu_pd(cs, _ZGVdN4v_cos(sv));
+#else
+        for (int j = 0; j < 4; ++j) {
+            sn[j] = std::sin(s[j]);
+            cs[j] = std::cos(s[j]);
+        }
+#endif
+        for (int64_t j = 0; j < m; ++j)
+            store_dir(q[j], s[j] > 0.0 ? sn[j] / s[j] : 1.0, cs[j], d + 3 * (i0 + j), ok + i0 + j);
+    }
+}
+
+}  // namespace
+
+// perspective pixels -> unit directions (Perspective.uv_to_dir: every finite pixel has a ray). p = W, H, H / W, t, tv
+void perspective_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double t = p[3], tv = p[4];
+    for (int64_t i = 0; i < n; ++i) {
+        const double x = xy[2 * i], y = xy[2 * i + 1];
+        double u, v;
+        uv_of(x, y, p, u, v);
+        double dx = u * t, dy = v * tv;
+        double dz = dx * dx;  // z = 1 / sqrt(x^2 + y^2 + 1), then x, y scaled by it
+        dz += dy * dy;
+        dz += 1.0;
+        dz = std::sqrt(dz);
+        dz = 1.0 / dz;
+        dx *= dz;
+        dy *= dz;
+        const bool good = finite(x * x + y * y) && finite(dx * dx + dy * dy + dz * dz);
+        ok[i] = good;
+        d[3 * i] = good ? dx : 0.0;
+        d[3 * i + 1] = good ? dy : 0.0;
+        d[3 * i + 2] = good ? dz : 0.0;
+    }
+}
+
+// fisheye pixels -> unit directions (0 and false where the lens has no ray)
+void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    switch (int64_t(p[3])) {
+        case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(xy, n, p, d, ok); break;
+        case EQUISOLID: fisheye_loop<EQUISOLID>(xy, n, p, d, ok); break;
+        case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(xy, n, p, d, ok); break;
+        case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(xy, n, p, d, ok); break;
+        default: throw std::invalid_argument("fisheye_dirs: not a fisheye mapping code");
+    }
+}
+
+}  // namespace lenslab::lens
+
+namespace {
+
+template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
+template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+
+void need(bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+using DirFn = void (*)(const double*, int64_t, const double*, double*, bool*);
+
+// binds one DirKernel function: fn(xy, params, d, ok), `nparams` parameters, outputs written in place
+template <DirFn FN, size_t NPARAMS>
+void bind_dirs(nb::module_& m, const char* name, const char* doc) {
+    m.def(name, [](In<double> xy, In<double> p, Out<double> d, Out<bool> ok) {
+        need(xy.size() % 2 == 0, "pixels must be rows of (x, y)");
+        const size_t n = xy.size() / 2;
+        need(d.size() == 3 * n && ok.size() == n, "outputs must hold one row per pixel");
+        need(p.size() == NPARAMS, "wrong number of lens parameters");
+        FN(xy.data(), int64_t(n), p.data(), d.data(), ok.data());
+    }, nb::arg("xy"), nb::arg("params"), nb::arg("d").noconvert(), nb::arg("ok").noconvert(),
+       nb::call_guard<nb::gil_scoped_release>(), doc);
+}
+
+void register_lens_dirs(nb::module_& m) {
+    bind_dirs<lenslab::lens::perspective_dirs, 5>(
+        m, "perspective_dirs",
+        "Perspective pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::fisheye_dirs, 10>(
+        m, "fisheye_dirs",
+        "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+}
