@@ -20,10 +20,28 @@ def _limit():
     resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
 
 
-def run(argv: list[str], cwd=None) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PYTHONFAULTHANDLER="1")
-    return subprocess.run(argv, capture_output=True, text=True, timeout=HANG_GUARD, preexec_fn=_limit, cwd=cwd,
-                          env=env)
+def run(argv: list[str], cwd=None, env=None) -> subprocess.CompletedProcess:
+    """Run ``argv`` under the address-space limit; the result also has ``peak_mb``, the child's peak
+    resident memory (``getrusage`` through ``wait4``) in MB."""
+    import tempfile
+    import threading
+
+    env = dict(os.environ if env is None else env, PYTHONFAULTHANDLER="1")
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        proc = subprocess.Popen(argv, stdout=out, stderr=err, preexec_fn=_limit, cwd=cwd, env=env)
+        guard = threading.Timer(HANG_GUARD, proc.kill)  # a hang guard only
+        guard.start()
+        try:
+            _, status, usage = os.wait4(proc.pid, 0)
+        finally:
+            guard.cancel()
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        done = subprocess.CompletedProcess(argv, proc.returncode, out.read().decode(errors="replace"),
+                                           err.read().decode(errors="replace"))
+    done.peak_mb = usage.ru_maxrss / 1024 * 1.048576  # KiB -> MB
+    return done
 
 
 #: reads each file named on the command line; prints "OK name" / "REFUSED name" / "BAD name: type: message"

@@ -147,4 +147,9 @@ def cases(folder) -> list[Case]:
         Case("tiles_dev_zero", "/dev/zero", ("warp", src, "-o", "{out}/w.exr", "--size", "64x64", "--to",
                                              "tiled:2x2,tiles=/dev/zero"), "system path"),
     ]
+    from lenslab.bench.bombs import write_bombs
+
+    for name in write_bombs(folder):  # valid flat files under 1 MB that decode to hundreds of MB
+        out.append(Case(f"bomb_{name.replace('.', '_').replace('-', '_')}", name,
+                        ("convert", "{file}", "--to", "exr", "-o", "{out}"), "decompression bomb"))
     return out
