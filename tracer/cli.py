@@ -154,8 +154,24 @@ def run_render(args) -> int:
     gc.disable()
     try:
         return _render(args)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP: the note is the command's last line
+        _close_bars()
+        raise
     finally:
         gc.enable()
+
+
+def _close_bars() -> None:
+    """Close the progress bars an interrupt left open (one would redraw itself after the note), and clear
+    the terminal's line of one the interrupt caught while it was being drawn."""
+    if "tqdm" in sys.modules:
+        from tqdm import tqdm
+
+        for bar in list(getattr(tqdm, "_instances", ())):
+            bar.close()
+    if sys.stderr.isatty():  # bars are drawn on a terminal only
+        sys.stderr.write("\r\033[K")
+        sys.stderr.flush()
 
 
 def _render(args) -> int:
@@ -170,6 +186,9 @@ def _render(args) -> int:
             check_output(out, inputs, args.overwrite)
     if args.variance_out and same_path(args.variance_out, args.output):
         raise UsageError("--variance-out must name another file than -o")
+    from lenslab.staging import sweep
+
+    sweep({Path(out).parent for out in (args.output, args.variance_out) if out})  # temporaries of killed runs
     kwargs = {"env": args.env} if args.env else {}
     if Path(args.scene).suffix.lower() in (".obj", ".ply", ".stl", ".vtk", ".vtp"):
         kwargs["handedness"] = args.handedness
