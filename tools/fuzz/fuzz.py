@@ -38,8 +38,7 @@ def targets() -> list[str]:
 def seed(target: str, folder: Path) -> None:
     """Write a few valid files of ``target`` into ``folder``."""
     sys.path.insert(0, str(REPO))
-    sys.path.insert(0, str(REPO / "tests"))
-    from test_hostile_mutations import camera_seeds, image_seeds
+    from tests.io.test_hostile_mutations import camera_seeds, image_seeds
 
     folder.mkdir(parents=True, exist_ok=True)
     kind, name = target.split(":")
@@ -64,12 +63,24 @@ def fuzz(target: str, argv: list[str]) -> None:
     import atheris
 
     sys.path.insert(0, str(REPO))
-    with atheris.instrument_imports(include=["lenslab"]):
-        import warnings
+    import importlib
+    import pkgutil
+    import warnings
 
-        from lenslab.errors import LenslabError
-        from lenslab.io import read
-        from lenslab.calibfiles import read_lenses
+    import lenslab.calibfiles
+    import lenslab.inputs
+    import lenslab.io
+    from lenslab.calibfiles import read_lenses
+    from lenslab.errors import LenslabError
+    from lenslab.io import read
+
+    # the readers import their codecs lazily: import them all first, then instrument every function
+    # loaded (atheris' import hook misses modules an editable install loads through its own finder, and
+    # uninstrumented code gives the fuzzer no coverage to follow)
+    for package in (lenslab.io, lenslab.inputs, lenslab.calibfiles):
+        for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            importlib.import_module(info.name)
+    atheris.instrument_all()
     warnings.simplefilter("ignore")
     kind = target.split(":")[0]
     tmp = Path(tempfile.mkdtemp(prefix="lenslab-fuzz-")) / f"input{suffix(target)}"
@@ -113,8 +124,12 @@ def main() -> int:
             new = sorted(set(found.iterdir()) - before)
             lines = done.stderr.splitlines()
             cov = [line.split("cov:")[1].split()[0] for line in lines if "cov:" in line][-1:] or ["?"]
-            runs = [line for line in lines if line.startswith("Done ")][-1:] or ["stopped by a finding"]
+            runs = [line for line in lines if line.startswith("Done ")][-1:] or [
+                "stopped by a finding" if new else "did not run"]
             print(f"{t:16s} exit {done.returncode}  coverage {cov[0]:>5s}  {runs[0]}  findings: {len(new)}")
+            if done.returncode and not new:  # the fuzzer itself failed (no seed corpus, no atheris...)
+                failed.append(t)
+                print("   " + "\n   ".join(done.stderr.strip().splitlines()[-6:]))
             if new:
                 failed.append(t)
                 print("   " + "\n   ".join(str(p) for p in new))
