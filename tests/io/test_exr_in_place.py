@@ -88,3 +88,16 @@ def test_convert_with_exposure_writes_the_scaled_half_and_leaves_the_input(tmp_p
     inp.close()
     # one stop is an exact doubling in float32; the file holds its IEEE half cast
     np.testing.assert_array_equal(got, (img * np.float32(2.0)).astype(np.float16).astype(np.float64))
+
+
+def test_exposure_in_place_copies_an_array_it_may_not_write():
+    from lenslab.io.alpha import expose
+
+    img = np.arange(24, dtype=np.float32).reshape(2, 4, 3)
+    img.flags.writeable = False  # a reader's view of its buffer
+    out = expose(img, 1.0, in_place=True)
+    assert not np.shares_memory(out, img)
+    np.testing.assert_array_equal(out, np.arange(24, dtype=np.float32).reshape(2, 4, 3) * 2)  # one stop: x 2
+    own = np.ones((2, 2, 4), np.float32) * 0.5
+    assert expose(own, -1.0, in_place=True) is own
+    np.testing.assert_array_equal(own, [[[0.25, 0.25, 0.25, 0.5]] * 2] * 2)  # alpha kept
