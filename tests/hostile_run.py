@@ -23,24 +23,23 @@ def _limit():
 def run(argv: list[str], cwd=None, env=None) -> subprocess.CompletedProcess:
     """Run ``argv`` under the address-space limit; the result also has ``peak_mb``, the child's peak
     resident memory (``getrusage`` through ``wait4``) in MB."""
+    import signal
     import tempfile
-    import threading
+
+    from lenslab.bench.memory import launched, read_peak_mb
 
     env = dict(os.environ if env is None else env, PYTHONFAULTHANDLER="1")
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        proc = subprocess.Popen(argv, stdout=out, stderr=err, preexec_fn=_limit, cwd=cwd, env=env)
-        guard = threading.Timer(HANG_GUARD, proc.kill)  # a hang guard only
-        guard.start()
+    with tempfile.TemporaryDirectory(prefix="lenslab-hostile-run-") as scratch:
+        peak = os.path.join(scratch, "peak")
+        proc = subprocess.Popen(launched(argv, peak), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                preexec_fn=_limit, cwd=cwd, env=env, start_new_session=True)
         try:
-            _, status, usage = os.wait4(proc.pid, 0)
-        finally:
-            guard.cancel()
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        done = subprocess.CompletedProcess(argv, proc.returncode, out.read().decode(errors="replace"),
-                                           err.read().decode(errors="replace"))
-    done.peak_mb = usage.ru_maxrss / 1024 * 1.048576  # KiB -> MB
+            out, err = proc.communicate(timeout=HANG_GUARD)
+        except subprocess.TimeoutExpired:  # a hang: the command and its launcher go
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, err = proc.communicate()
+        done = subprocess.CompletedProcess(argv, proc.returncode, out, err)
+        done.peak_mb = read_peak_mb(peak)
     return done
 
 

@@ -95,6 +95,21 @@ BOMBS = {
 }
 
 
+def write_edge(path) -> Path:
+    """A flat 4096 x 2048 RGBA half EXR (OpenEXR, ZIP): 72 kB that decode to exactly
+    :data:`lenslab.io.budget.BASE_BYTES` of float32, the most a file under 1 MB is allowed."""
+    _exr_rgba(Path(path), 4096, 2048)
+    return Path(path)
+
+
+def _exr_rgba(path: Path, width: int, height: int) -> None:
+    import numpy as np
+    import OpenEXR
+
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    OpenEXR.File(header, {"RGBA": np.zeros((height, width, 4), np.float16)}).write(str(path))
+
+
 def write_bombs(folder) -> dict[str, tuple[int, int]]:
     """Write every bomb into ``folder``; {file name: (width, height)}."""
     folder = Path(folder)
@@ -106,4 +121,4 @@ def write_bombs(folder) -> dict[str, tuple[int, int]]:
     return made
 
 
-__all__ = ["BOMBS", "RAW", "write_bombs"]
+__all__ = ["BOMBS", "RAW", "write_bombs", "write_edge"]
