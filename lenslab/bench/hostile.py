@@ -97,6 +97,7 @@ def cases(folder) -> list[Case]:
         "huge.png": b"\x89PNG\r\n\x1a\n" + struct.pack(">I4sIIBBBBB", 13, b"IHDR", 20000, 20000, 16, 6, 0, 0, 0)
         + b"\0" * 4 + struct.pack(">I4s", 10, b"IDAT") + bytes(14) + struct.pack(">I4s", 0, b"IEND") + bytes(4),
         "huge.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 20000 +X 20000\n" + bytes([1, 1, 1, 1]) * 64,
+        "nopart.exr": b"v/1\x01" + struct.pack("<i", 0x1002) + b"\0" + bytes(64),  # multi-part, no header
         "nan.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=nan\n\n-Y 1 +X 2\n" + bytes(8),
         "tiny.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1e-45\n\n-Y 1 +X 2\n" + bytes(8),
         "nan.pfm": b"PF\n2 1\nnan\n" + bytes(24),
@@ -126,6 +127,8 @@ def cases(folder) -> list[Case]:
         Case("jpeg_sof_30000x17000", "huge.jpg", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
         Case("png_declares_20000", "huge.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
         Case("exr_display_window_20000", window, ("convert", "{file}", "--to", "exr", "-o", "{out}"), "data window"),
+        Case("exr_multipart_without_parts", "nopart.exr", ("convert", "{file}", "--to", "exr", "-o", "{out}"),
+             "no part"),
         Case("hdr_declares_20000", "huge.hdr", ("info", "{file}"), "holds"),
         Case("hdr_exposure_nan", "nan.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),
         Case("hdr_exposure_tiny", "tiny.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),
