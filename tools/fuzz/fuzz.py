@@ -59,6 +59,31 @@ def suffix(target: str) -> str:
     return {"opencv": ".yaml", "kalibr": ".yaml", "colmap": ".txt", "ocam": ".txt", "toml": ".toml"}.get(name, ".txt")
 
 
+#: names a function uses when it builds a numba kernel: numba compiles its inner functions from their
+#: bytecode, which atheris' coverage hooks would make uncompilable
+_NUMBA = {"njit", "jit", "numba", "vectorize", "guvectorize", "cfunc", "stencil"}
+
+
+def _builds_kernels(code) -> bool:
+    return bool(_NUMBA & set(code.co_names)) or any(
+        _builds_kernels(c) for c in code.co_consts if hasattr(c, "co_names"))
+
+
+def instrument(atheris, modules) -> None:
+    """Add coverage hooks to the functions and methods defined in ``modules``, kernel builders left out."""
+    import inspect
+
+    for module in modules:
+        for obj in list(vars(module).values()):
+            if getattr(obj, "__module__", None) != module.__name__:
+                continue
+            funcs = [obj] if inspect.isfunction(obj) else [
+                f for f in vars(obj).values() if inspect.isfunction(f)] if inspect.isclass(obj) else []
+            for func in funcs:
+                if not _builds_kernels(func.__code__):
+                    atheris.instrument_func(func)
+
+
 def fuzz(target: str, argv: list[str]) -> None:
     import atheris
 
@@ -74,13 +99,14 @@ def fuzz(target: str, argv: list[str]) -> None:
     from lenslab.errors import LenslabError
     from lenslab.io import read
 
-    # the readers import their codecs lazily: import them all first, then instrument every function
-    # loaded (atheris' import hook misses modules an editable install loads through its own finder, and
+    # the readers import their codecs lazily: import them all first, then instrument their functions
+    # (atheris' import hook misses modules an editable install loads through its own finder, and
     # uninstrumented code gives the fuzzer no coverage to follow)
-    for package in (lenslab.io, lenslab.inputs, lenslab.calibfiles):
+    modules = [lenslab.io, lenslab.inputs, lenslab.calibfiles]
+    for package in list(modules):
         for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
-            importlib.import_module(info.name)
-    atheris.instrument_all()
+            modules.append(importlib.import_module(info.name))
+    instrument(atheris, modules)
     warnings.simplefilter("ignore")
     kind = target.split(":")[0]
     tmp = Path(tempfile.mkdtemp(prefix="lenslab-fuzz-")) / f"input{suffix(target)}"
