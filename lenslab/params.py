@@ -130,8 +130,9 @@ class Param:
         infinite_ok = (value == math.inf and self.hi == math.inf and not self.hi_open) or \
                       (value == -math.inf and self.lo == -math.inf and not self.lo_open)
         if math.isnan(value) or (math.isinf(value) and not infinite_ok):
+            span = self.describe_range()
             raise error(f"{what} must be a finite number, got {format_value(value)}; "
-                        f"give {self.describe_range()}")
+                        f"give {'a finite number' if span == 'any' else 'a number in ' + span}")
         low = self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo))
         high = self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi))
         if low or high:

@@ -123,8 +123,14 @@ def encode(linear) -> np.ndarray:
     become 0, values above 1 (and +inf) become 1. Linear interpolation in a table of the encoding's
     curved segment (within 1e-7 of colour-science), its straight segment by its slope."""
     base, step, slope = _encode_table()
-    x = np.clip(np.nan_to_num(np.asarray(linear, dtype=np.float64), nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
-    t = np.maximum(x - KNEE_LINEAR, 0.0) * (ENCODE_POINTS / (1.0 - KNEE_LINEAR))
-    i = np.minimum(t.astype(np.intp), ENCODE_POINTS - 1)
-    curved = base[i] + step[i] * (t - i)
-    return np.where(x <= KNEE_LINEAR, x * slope, curved).astype(np.float32)
+    values = np.asarray(linear)
+    out = np.empty(values.shape, np.float32)
+    flat, codes = values.reshape(-1), out.reshape(-1)
+    block = 1 << 18  # float64 scratch of a few MB a block, never of the image's size
+    for s in range(0, flat.size, block):
+        x = np.clip(np.nan_to_num(flat[s:s + block].astype(np.float64), nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+        t = np.maximum(x - KNEE_LINEAR, 0.0) * (ENCODE_POINTS / (1.0 - KNEE_LINEAR))
+        i = np.minimum(t.astype(np.intp), ENCODE_POINTS - 1)
+        curved = base[i] + step[i] * (t - i)
+        codes[s:s + block] = np.where(x <= KNEE_LINEAR, x * slope, curved)
+    return out

@@ -20,10 +20,27 @@ def _limit():
     resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
 
 
-def run(argv: list[str], cwd=None) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PYTHONFAULTHANDLER="1")
-    return subprocess.run(argv, capture_output=True, text=True, timeout=HANG_GUARD, preexec_fn=_limit, cwd=cwd,
-                          env=env)
+def run(argv: list[str], cwd=None, env=None) -> subprocess.CompletedProcess:
+    """Run ``argv`` under the address-space limit; the result also has ``peak_mb``, the child's peak
+    resident memory (``getrusage`` through ``wait4``) in MB."""
+    import signal
+    import tempfile
+
+    from lenslab.bench.memory import launched, read_peak_mb
+
+    env = dict(os.environ if env is None else env, PYTHONFAULTHANDLER="1")
+    with tempfile.TemporaryDirectory(prefix="lenslab-hostile-run-") as scratch:
+        peak = os.path.join(scratch, "peak")
+        proc = subprocess.Popen(launched(argv, peak), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                preexec_fn=_limit, cwd=cwd, env=env, start_new_session=True)
+        try:
+            out, err = proc.communicate(timeout=HANG_GUARD)
+        except subprocess.TimeoutExpired:  # a hang: the command and its launcher go
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, err = proc.communicate()
+        done = subprocess.CompletedProcess(argv, proc.returncode, out, err)
+        done.peak_mb = read_peak_mb(peak)
+    return done
 
 
 #: reads each file named on the command line; prints "OK name" / "REFUSED name" / "BAD name: type: message"

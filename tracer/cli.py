@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
@@ -23,8 +24,8 @@ def _triple(text: str) -> tuple[float, float, float]:
         vals = tuple(float(v) for v in text.replace(" ", "").split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected X,Y,Z numbers, got {text!r}") from None
-    if len(vals) != 3:
-        raise argparse.ArgumentTypeError(f"expected three comma-separated numbers X,Y,Z, got {text!r}")
+    if len(vals) != 3 or not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected three comma-separated finite numbers X,Y,Z, got {text[:40]!r}")
     return vals
 
 
@@ -154,8 +155,24 @@ def run_render(args) -> int:
     gc.disable()
     try:
         return _render(args)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP: the note is the command's last line
+        _close_bars()
+        raise
     finally:
         gc.enable()
+
+
+def _close_bars() -> None:
+    """Close the progress bars an interrupt left open (one would redraw itself after the note), and clear
+    the terminal's line of one the interrupt caught while it was being drawn."""
+    if "tqdm" in sys.modules:
+        from tqdm import tqdm
+
+        for bar in list(getattr(tqdm, "_instances", ())):
+            bar.close()
+    if sys.stderr.isatty():  # bars are drawn on a terminal only
+        sys.stderr.write("\r\033[K")
+        sys.stderr.flush()
 
 
 def _render(args) -> int:
@@ -170,6 +187,9 @@ def _render(args) -> int:
             check_output(out, inputs, args.overwrite)
     if args.variance_out and same_path(args.variance_out, args.output):
         raise UsageError("--variance-out must name another file than -o")
+    from lenslab.staging import sweep
+
+    sweep({Path(out).parent for out in (args.output, args.variance_out) if out})  # temporaries of killed runs
     kwargs = {"env": args.env} if args.env else {}
     if Path(args.scene).suffix.lower() in (".obj", ".ply", ".stl", ".vtk", ".vtp"):
         kwargs["handedness"] = args.handedness

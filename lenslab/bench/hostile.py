@@ -97,6 +97,9 @@ def cases(folder) -> list[Case]:
         "huge.png": b"\x89PNG\r\n\x1a\n" + struct.pack(">I4sIIBBBBB", 13, b"IHDR", 20000, 20000, 16, 6, 0, 0, 0)
         + b"\0" * 4 + struct.pack(">I4s", 10, b"IDAT") + bytes(14) + struct.pack(">I4s", 0, b"IEND") + bytes(4),
         "huge.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 20000 +X 20000\n" + bytes([1, 1, 1, 1]) * 64,
+        "chunk.png": b"\x89PNG\r\n\x1a\n" + struct.pack(">I4sIIBBBBB", 13, b"IHDR", 40, 24, 8, 2, 0, 0, 0)
+        + bytes.fromhex("bc3bed44") + struct.pack(">I4s", 0xF878A2BF, b"IEND") + bytes.fromhex("ae426082"),
+        "nopart.exr": b"v/1\x01" + struct.pack("<i", 0x1002) + b"\0" + bytes(64),  # multi-part, no header
         "nan.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=nan\n\n-Y 1 +X 2\n" + bytes(8),
         "tiny.hdr": b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1e-45\n\n-Y 1 +X 2\n" + bytes(8),
         "nan.pfm": b"PF\n2 1\nnan\n" + bytes(24),
@@ -126,6 +129,9 @@ def cases(folder) -> list[Case]:
         Case("jpeg_sof_30000x17000", "huge.jpg", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
         Case("png_declares_20000", "huge.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
         Case("exr_display_window_20000", window, ("convert", "{file}", "--to", "exr", "-o", "{out}"), "data window"),
+        Case("png_chunk_of_4_gb", "chunk.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "declares"),
+        Case("exr_multipart_without_parts", "nopart.exr", ("convert", "{file}", "--to", "exr", "-o", "{out}"),
+             "no part"),
         Case("hdr_declares_20000", "huge.hdr", ("info", "{file}"), "holds"),
         Case("hdr_exposure_nan", "nan.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),
         Case("hdr_exposure_tiny", "tiny.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),
@@ -147,4 +153,9 @@ def cases(folder) -> list[Case]:
         Case("tiles_dev_zero", "/dev/zero", ("warp", src, "-o", "{out}/w.exr", "--size", "64x64", "--to",
                                              "tiled:2x2,tiles=/dev/zero"), "system path"),
     ]
+    from lenslab.bench.bombs import write_bombs
+
+    for name in write_bombs(folder):  # valid flat files under 1 MB that decode to hundreds of MB
+        out.append(Case(f"bomb_{name.replace('.', '_').replace('-', '_')}", name,
+                        ("convert", "{file}", "--to", "exr", "-o", "{out}"), "decompression bomb"))
     return out

@@ -47,12 +47,66 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="measure the hostile corpus only (no large images)")
 
 
+#: runs ``argv[2:]`` as its child and writes the child's peak RSS (KiB) into the file ``argv[1]``; exits as
+#: the child did. A process's peak RSS (``getrusage``) starts at the RSS of the process that forked it
+#: (Linux counts the memory it shares at the fork, and at ``exec`` the memory it leaves): a command forked
+#: straight from a big process (a benchmark that made its test files, a test runner) would show that
+#: process's size. Forked from this small interpreter (``-S``: a few MB), it shows its own.
+LAUNCHER = """import os, signal, sys
+pid = os.fork()
+if pid == 0:
+    os.execvp(sys.argv[2], sys.argv[2:])
+_, status, usage = os.wait4(pid, 0)
+with open(sys.argv[1], "w") as f:
+    f.write(str(usage.ru_maxrss))
+if os.WIFSIGNALED(status):
+    signal.signal(os.WTERMSIG(status), signal.SIG_DFL)
+    os.kill(os.getpid(), os.WTERMSIG(status))
+sys.exit(os.waitstatus_to_exitcode(status))
+"""
+
+
+def launched(argv: list[str], peak_file) -> list[str]:
+    """``argv`` run through :data:`LAUNCHER`, which writes its peak RSS in KiB into ``peak_file``."""
+    return [sys.executable, "-S", "-c", LAUNCHER, str(peak_file), *argv]
+
+
+def read_peak_mb(peak_file) -> float:
+    """The peak RSS :data:`LAUNCHER` wrote, in MB (nan when the launcher itself was killed)."""
+    try:
+        return int(Path(peak_file).read_text()) / 1024 * 1.048576  # KiB -> MB
+    except (OSError, ValueError):
+        return float("nan")
+
+
+def edge_at_budget(lenslab: list[str], folder: Path, base: float) -> None:
+    """The largest image a file under 1 MB may decode to (:data:`lenslab.io.budget.BASE_BYTES` of float32:
+    a flat 4096 x 2048 RGBA half EXR of 72 kB) is admitted: each command's peak on it beyond the baseline,
+    against the same 200 MB aim."""
+    from lenslab.bench.bombs import write_edge
+    from lenslab.bench.results import figure, mark
+
+    path = write_edge(folder / "edge.exr")
+    steps = {"convert_exr": ["convert", str(path), "--to", "exr", "-o", str(folder / "e.exr"), "--overwrite"],
+             "convert_png": ["convert", str(path), "--to", "png", "-o", str(folder / "e.png"), "--overwrite"],
+             "warp": ["warp", str(path), "-o", str(folder / "w.exr"), "--to", "fisheye:fov=180", "--size",
+                      "1024x1024", "--overwrite"],
+             "tonemap": ["tonemap", str(path), "-o", str(folder / "t.png"), "--overwrite"]}
+    print(f"a {path.stat().st_size / 1e3:.0f} kB flat EXR decoding to the budget's 134 MB for files under 1 MB:")
+    for step, argv in steps.items():
+        mb, status = peak_mb(lenslab + argv)
+        extra = max(mb - base, 0.0)
+        ok = figure(f"memory.edge_{step}", f"{step} a 72 kB file at the small-file budget: peak beyond the "
+                    "baseline", extra, "MB", aim=AIM_HOSTILE_MB, note=f"exit {status}")
+        print(f"  {step:12s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  {mark(ok)}")
+
+
 def peak_mb(argv: list[str], cwd=None) -> tuple[float, int]:
-    """(peak RSS in MB, exit status) of a child process."""
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=cwd)
-    _, status, usage = os.wait4(proc.pid, 0)
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    return usage.ru_maxrss / 1024 * 1.048576, proc.returncode  # KiB -> MB
+    """(peak RSS in MB, exit status) of a command, as its own (see :data:`LAUNCHER`)."""
+    with tempfile.TemporaryDirectory(prefix="lenslab-peak-") as d:
+        peak = Path(d) / "peak"
+        done = subprocess.run(launched(argv, peak), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=cwd)
+        return read_peak_mb(peak), done.returncode
 
 
 def run(args) -> int:
@@ -80,6 +134,7 @@ def run(args) -> int:
                     "MB", aim=AIM_HOSTILE_MB, note=f"worst: {worst_name}")
         print(f"hostile corpus: worst {worst:.0f} MB beyond the baseline ({worst_name})  aim <= "
               f"{AIM_HOSTILE_MB:.0f} MB  {mark(ok)}")
+        edge_at_budget(lenslab, d, base)
         if not args.valid:
             return 0
         side = args.side

@@ -87,10 +87,12 @@ def premultiply(image: np.ndarray) -> np.ndarray:
     return image
 
 
-def expose(image: np.ndarray, stops: float) -> np.ndarray:
+def expose(image: np.ndarray, stops: float, in_place: bool = False) -> np.ndarray:
     """``image`` (H x W x C float32) with its colour times ``2**stops`` and alpha kept (exposure is light,
-    not coverage); a new array."""
-    out = np.array(image, dtype=F32, copy=True)
+    not coverage); a new array, or with ``in_place`` ``image`` itself when it is float32 (the caller gives
+    it up: no copy of the image's size)."""
+    own = in_place and isinstance(image, np.ndarray) and image.dtype == F32 and image.flags.writeable
+    out = image if own else np.array(image, dtype=F32, copy=True)
     if float(stops) != 0.0:
         out[..., colour_channels(out.shape[-1]) if out.ndim == 3 else slice(None)] *= F32(2.0 ** float(stops))
     return out

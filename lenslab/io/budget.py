@@ -9,9 +9,12 @@ one line naming the file and before any pixel memory exists:
 
 - a size beyond :data:`lenslab.inputs.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
+- a decoded float image larger than :data:`BASE_BYTES` (128 MiB) from a file under :data:`SMALL_FILE`
+  (1 MiB): no file under 1 MB makes a command allocate more than about 200 MB, however well it
+  compresses (a flat 8192 x 4096 half EXR of lenslab's own is 213 kB; ``LENSLAB_BASE_BYTES`` admits it);
 - a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
-  :data:`BASE_BYTES` (128 MiB). 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float
-  image, which lenslab's own EXR and PNG writers reach on a flat colour; ``LENSLAB_MAX_RATIO`` changes it.
+  :data:`BASE_BYTES`. 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float image,
+  which lenslab's own EXR and PNG writers reach on a flat colour; ``LENSLAB_MAX_RATIO`` changes it.
 
 A format without a ``declare`` hook gets only the pixel cap its reader applies: every plugin should
 declare.
@@ -32,6 +35,8 @@ from lenslab.inputs.limits import env_int
 BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 128 << 20)
 #: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
 MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
+#: a file smaller than this never decodes to more than BASE_BYTES
+SMALL_FILE = 1 << 20
 
 
 #: images up to this size decoded are left to their reader to find truncated (it says where)
@@ -86,6 +91,11 @@ def check(path, declared: Declared, file_bytes: int) -> None:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels, which need at least "
                           f"{_mb(declared.min_bytes)} of {declared.what}; the file holds {_mb(held)}; it is truncated, "
                           "damaged or hostile")
+    if need > BASE_BYTES and file_bytes < SMALL_FILE:
+        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
+                          f"{_mb(file_bytes)}; a file under 1 MB may decode to at most {_mb(BASE_BYTES)}; refused as "
+                          f"a decompression bomb{declared.hint} (LENSLAB_BASE_BYTES raises the limit for a genuine "
+                          "flat image)")
     if need > BASE_BYTES and need > MAX_RATIO * file_bytes:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
                           f"{_mb(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "
@@ -107,3 +117,11 @@ def admit(path, fmt, **options) -> Declared | None:
     if declared is not None:
         check(path, declared, size)
     return declared
+
+
+def admit_clip(path) -> Declared | None:
+    """:func:`admit` a video clip (its boxes, frame rate and one decoded frame) before its frames are
+    streamed."""
+    from lenslab.io.registry import get
+
+    return admit(path, get("video"))

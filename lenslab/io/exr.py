@@ -340,10 +340,18 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     return image, meta
 
 
-def to_half(image: np.ndarray, rows: int = 256) -> np.ndarray:
+def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.ndarray:
     """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
-    block of rows at a time, so the only full-size allocation is the result."""
-    out = np.empty(image.shape, np.float16)
+    block of rows at a time, so the only full-size allocation is the result. ``in_place``: the result
+    is made in the first half of ``image``'s own memory (no allocation of the image's size; ``image`` is
+    overwritten) when ``image`` is a C-contiguous, writable float32 array."""
+    own = (in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable
+           and image.size > 0)
+    if own:  # element i of the result lies at byte 2i, before element i of the source (byte 4i): blocks
+        # taken from the start never overwrite a value not yet read (NumPy buffers each block's overlap)
+        out = image.reshape(-1).view(np.float16)[:image.size].reshape(image.shape)
+    else:
+        out = np.empty(image.shape, np.float16)
     n = 0
     for y in range(0, image.shape[0], rows):
         block = image[y:y + rows]
@@ -354,7 +362,7 @@ def to_half(image: np.ndarray, rows: int = 256) -> np.ndarray:
             if count:
                 n += count
                 block = np.where(big, np.copysign(np.float32(HALF_MAX), block), block)
-        out[y:y + rows] = block
+        out[y:y + rows] = block.astype(np.float16) if own else block
     if n:
         clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
         warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
@@ -364,7 +372,9 @@ def to_half(image: np.ndarray, rows: int = 256) -> np.ndarray:
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
-              threads: int | None = None) -> None:
+              threads: int | None = None, in_place: bool = False) -> None:
+    """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``in_place``: a half-float file is converted in
+    the image's own memory, which the caller gives up (``image`` is overwritten)."""
     import OpenEXR
 
     h, w, c = image.shape
@@ -380,7 +390,7 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:
         raise FormatError(f"{len(channels)} channel names given for an image with {c} channels")
-    data = to_half(image) if pixel_type == "half" else np.asarray(image, np.float32)
+    data = to_half(image, in_place=in_place) if pixel_type == "half" else np.asarray(image, np.float32)
     enum = "NO_COMPRESSION" if comp == "none" else f"{comp.upper()}_COMPRESSION"
     header = {"compression": getattr(OpenEXR, enum), "type": OpenEXR.scanlineimage}
     for k, v in (attributes or {}).items():

@@ -173,6 +173,8 @@ def declare_exr(path, data_window: bool = False, **_):
     except (EOFError, struct.error):
         raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
                           "truncated or damaged") from None
+    if not parts:
+        raise FormatError(f"{path}: the OpenEXR header declares no part; the file is damaged")
     best, table, hint = None, 0, ""
     for part in parts:
         if "dataWindow" not in part or "displayWindow" not in part:

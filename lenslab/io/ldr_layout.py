@@ -83,8 +83,9 @@ def declare_png(path, **_):
             f.seek(pos)
             hdr = f.read(8)
             length, kind = int.from_bytes(hdr[:4], "big"), hdr[4:8]
-            if length > 0x7FFFFFFF or pos + 12 + length > size:
-                break  # the decoder reports the truncation itself
+            if length > 0x7FFFFFFF or pos + 12 + length > size:  # OpenCV would allocate the declared length
+                raise FormatError(f"{path}: the PNG chunk {kind!r} at byte {pos} declares {length} bytes; the file "
+                                  f"holds {size - pos - 12} after it; it is truncated or damaged")
             if kind == b"IDAT":
                 idat += length
             if kind == b"IEND":

@@ -48,9 +48,51 @@ def load_config(source: str | None = None):
 
         check_side_file(source, "OCIO config", 16 << 20)
     try:
-        return ocio.Config.CreateFromFile(str(source or DEFAULT_CONFIG))
+        config = ocio.Config.CreateFromFile(str(source or DEFAULT_CONFIG))
     except Exception as exc:
         raise OCIOError(f"cannot load the OpenColorIO config {source or DEFAULT_CONFIG!r} ({cause(exc)})") from None
+    if source and not str(source).startswith("ocio://"):
+        check_lut_files(config, source)
+    return config
+
+
+def _file_sources(transform):
+    """The ``src`` of every FileTransform in ``transform`` (GroupTransforms walked)."""
+    ocio = _ocio()
+    if isinstance(transform, ocio.FileTransform):
+        yield transform.getSrc()
+    elif isinstance(transform, ocio.GroupTransform):
+        for inner in transform:
+            yield from _file_sources(inner)
+
+
+def check_lut_files(config, source) -> None:
+    """Every LUT file the config's transforms name (colour spaces, view transforms, looks, named
+    transforms), where it resolves to a file, is a regular file within the side-file limit
+    (:mod:`lenslab.inputs.sidefile`), before OpenColorIO reads any: it would read ``/dev/zero`` without
+    end, wait on a FIFO for ever and load a file of any size. A name that resolves to nothing is left to
+    OpenColorIO, which says so if a transform needs it."""
+    ocio = _ocio()
+    from lenslab.inputs.sidefile import check_side_file
+
+    transforms = []
+    for cs in config.getColorSpaces(ocio.SEARCH_REFERENCE_SPACE_ALL, ocio.COLORSPACE_ALL):
+        transforms += [cs.getTransform(ocio.COLORSPACE_DIR_TO_REFERENCE),
+                       cs.getTransform(ocio.COLORSPACE_DIR_FROM_REFERENCE)]
+    for vt in config.getViewTransforms():
+        transforms += [vt.getTransform(ocio.VIEWTRANSFORM_DIR_TO_REFERENCE),
+                       vt.getTransform(ocio.VIEWTRANSFORM_DIR_FROM_REFERENCE)]
+    for look in config.getLooks():
+        transforms += [look.getTransform(), look.getInverseTransform()]
+    for nt in config.getNamedTransforms(ocio.NAMEDTRANSFORM_ALL):
+        transforms += [nt.getTransform(ocio.TRANSFORM_DIR_FORWARD), nt.getTransform(ocio.TRANSFORM_DIR_INVERSE)]
+    context = config.getCurrentContext()
+    for src in dict.fromkeys(s for t in transforms if t is not None for s in _file_sources(t)):
+        try:
+            path = context.resolveFileLocation(src)
+        except Exception:  # noqa: BLE001 - not found on the search path: OpenColorIO's own error if used
+            continue
+        check_side_file(path, f"LUT file of the OCIO config {source}")
 
 
 def _pick(kind: str, name: str, choices: list[str]) -> str:

@@ -46,13 +46,13 @@ class ConvertJob(Job):
         return {"quality": self.quality, "bits": self.bits, "pixel_type": self.pixel_type,
                 "sample_type": self.pixel_type, "compression": self.compression}
 
-    def develop(self, image, meta: dict):
-        """(image as the target format stores it, write options)."""
+    def develop(self, image, meta: dict, in_place: bool = False):
+        """(image as the target format stores it, write options); ``in_place``: ``image`` may be changed."""
         from lenslab.io.registry import get
         from lenslab.jobs.stages import develop, encode_options
 
         fmt = get(self.to)
-        image, shown = develop(image, meta, fmt, self.look)
+        image, shown = develop(image, meta, fmt, self.look, in_place=in_place)
         return image, {**encode_options(fmt, meta, self.encoding, channels=image.shape[-1]), **shown}
 
     def run(self, src: str, dst: str, progress=None) -> None:
@@ -69,7 +69,12 @@ class ConvertJob(Job):
             frames_to_files(str(src_file), dst, self)
             return
         image, meta = read(src, data_window=self.data_window)
-        image, write_opts = self.develop(check_image(image, src), meta)
+        # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
+        image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
+        from lenslab.io.registry import get
+
+        if "in_place" in get(self.to).write_options:
+            write_opts["in_place"] = True
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 

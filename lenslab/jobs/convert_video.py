@@ -20,8 +20,10 @@ def frames_to_files(src: str, dst: str, job) -> str:
 
     from lenslab.errors import FormatError
     from lenslab.io import write
+    from lenslab.io.budget import admit_clip
     from lenslab.io.video import probe_video, read_frames
 
+    admit_clip(src)
     info = probe_video(src)
     start, stop = job.frames or (0, None)
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR

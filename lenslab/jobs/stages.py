@@ -40,11 +40,12 @@ class Look:
                 "bits": self.bits}
 
 
-def develop(image, meta: dict, fmt, look: Look) -> tuple:
+def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple:
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
     else the tone curve where the output holds display values, else the exposure alone. Alpha (the last
-    channel of 2 or 4) passes through. Raises :class:`~lenslab.errors.FormatError` for a look the output
-    cannot hold."""
+    channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
+    is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
+    hold."""
     from lenslab.errors import FormatError
 
     exposure = look.exposure
@@ -69,7 +70,7 @@ def develop(image, meta: dict, fmt, look: Look) -> tuple:
 
         shown = ", ".join(f.name for f in formats().values() if f.writable and not f.hdr and f.kind == "image")
         raise FormatError(f"--exposure auto applies when writing display formats ({shown})")
-    return expose(image, exposure), {}
+    return expose(image, exposure, in_place=in_place), {}
 
 
 def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False):

@@ -65,6 +65,9 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         raise FormatError("--exposure auto applies to images; give a number of stops for a video")
     check_output(dst_path, [src_path], args.overwrite)
     start, stop = getattr(args, "frames", None) or (0, None)
+    from lenslab.io.budget import admit_clip
+
+    admit_clip(src_path)
     info = probe_video(src_path)
     total = max(0, (info.frames if stop is None else min(stop, info.frames or stop)) - start)
     src = source_camera(args.source, {"path": src_path}, (info.height, info.width))

@@ -1,7 +1,10 @@
 """Hostile inputs: every case of the corpus (lenslab.bench.hostile) is refused by the command in one
 line naming the file, with exit status 1 or 2, no traceback, nothing left in the output folder, under
 an address-space limit far below what the file declares (a 302-byte TIFF declaring 20000 x 20000
-float RGB would take 4.8 GB)."""
+float RGB would take 4.8 GB), and with a peak resident memory at most 200 MB beyond that of
+``lenslab info --formats`` (the interpreter and the modules every command loads): the aim "no input
+under 1 MB makes any command allocate more than 200 MB". The corpus holds a valid flat-colour file of
+every compressed format (lenslab.bench.bombs) that would decode to hundreds of MB."""
 
 from __future__ import annotations
 
@@ -23,6 +26,17 @@ def _case_names() -> dict:
 CASES = _case_names()
 
 
+#: the aim: no input under 1 MB makes a command allocate more than this beyond the baseline
+AIM_MB = 200.0
+
+
+@pytest.fixture(scope="module")
+def baseline_mb() -> float:
+    done = run([sys.executable, "-m", "lenslab", "info", "--formats"])
+    assert done.returncode == 0, done.stderr
+    return done.peak_mb
+
+
 @pytest.fixture(scope="module")
 def corpus(tmp_path_factory):
     folder = tmp_path_factory.mktemp("corpus")
@@ -31,7 +45,7 @@ def corpus(tmp_path_factory):
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_hostile_file_is_refused_in_one_line(corpus, tmp_path, name):
+def test_hostile_file_is_refused_in_one_line(corpus, baseline_mb, tmp_path, name):
     case = CASES[name]
     out = tmp_path / "out"
     out.mkdir()
@@ -41,6 +55,8 @@ def test_hostile_file_is_refused_in_one_line(corpus, tmp_path, name):
     done = run([sys.executable, "-m", "lenslab", *argv], cwd=tmp_path)
     assert done.returncode in (1, 2), (done.returncode, done.stderr[-500:])
     assert "Traceback" not in done.stderr
+    if case.file.startswith("/") or (corpus / case.file).stat().st_size < 1 << 20:
+        assert done.peak_mb - baseline_mb <= AIM_MB, (done.peak_mb, baseline_mb)
     lines = [line for line in done.stderr.splitlines() if line.strip()]
     named = [line for line in lines if file in line]
     assert len(named) == 1, lines

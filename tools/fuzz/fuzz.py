@@ -38,8 +38,7 @@ def targets() -> list[str]:
 def seed(target: str, folder: Path) -> None:
     """Write a few valid files of ``target`` into ``folder``."""
     sys.path.insert(0, str(REPO))
-    sys.path.insert(0, str(REPO / "tests"))
-    from test_hostile_mutations import camera_seeds, image_seeds
+    from tests.io.test_hostile_mutations import camera_seeds, image_seeds
 
     folder.mkdir(parents=True, exist_ok=True)
     kind, name = target.split(":")
@@ -60,16 +59,54 @@ def suffix(target: str) -> str:
     return {"opencv": ".yaml", "kalibr": ".yaml", "colmap": ".txt", "ocam": ".txt", "toml": ".toml"}.get(name, ".txt")
 
 
+#: names a function uses when it builds a numba kernel: numba compiles its inner functions from their
+#: bytecode, which atheris' coverage hooks would make uncompilable
+_NUMBA = {"njit", "jit", "numba", "vectorize", "guvectorize", "cfunc", "stencil"}
+
+
+def _builds_kernels(code) -> bool:
+    return bool(_NUMBA & set(code.co_names)) or any(
+        _builds_kernels(c) for c in code.co_consts if hasattr(c, "co_names"))
+
+
+def instrument(atheris, modules) -> None:
+    """Add coverage hooks to the functions and methods defined in ``modules``, kernel builders left out."""
+    import inspect
+
+    for module in modules:
+        for obj in list(vars(module).values()):
+            if getattr(obj, "__module__", None) != module.__name__:
+                continue
+            funcs = [obj] if inspect.isfunction(obj) else [
+                f for f in vars(obj).values() if inspect.isfunction(f)] if inspect.isclass(obj) else []
+            for func in funcs:
+                if not _builds_kernels(func.__code__):
+                    atheris.instrument_func(func)
+
+
 def fuzz(target: str, argv: list[str]) -> None:
     import atheris
 
     sys.path.insert(0, str(REPO))
-    with atheris.instrument_imports(include=["lenslab"]):
-        import warnings
+    import importlib
+    import pkgutil
+    import warnings
 
-        from lenslab.errors import LenslabError
-        from lenslab.io import read
-        from lenslab.calibfiles import read_lenses
+    import lenslab.calibfiles
+    import lenslab.inputs
+    import lenslab.io
+    from lenslab.calibfiles import read_lenses
+    from lenslab.errors import LenslabError
+    from lenslab.io import read
+
+    # the readers import their codecs lazily: import them all first, then instrument their functions
+    # (atheris' import hook misses modules an editable install loads through its own finder, and
+    # uninstrumented code gives the fuzzer no coverage to follow)
+    modules = [lenslab.io, lenslab.inputs, lenslab.calibfiles]
+    for package in list(modules):
+        for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            modules.append(importlib.import_module(info.name))
+    instrument(atheris, modules)
     warnings.simplefilter("ignore")
     kind = target.split(":")[0]
     tmp = Path(tempfile.mkdtemp(prefix="lenslab-fuzz-")) / f"input{suffix(target)}"
@@ -113,8 +150,12 @@ def main() -> int:
             new = sorted(set(found.iterdir()) - before)
             lines = done.stderr.splitlines()
             cov = [line.split("cov:")[1].split()[0] for line in lines if "cov:" in line][-1:] or ["?"]
-            runs = [line for line in lines if line.startswith("Done ")][-1:] or ["stopped by a finding"]
+            runs = [line for line in lines if line.startswith("Done ")][-1:] or [
+                "stopped by a finding" if new else "did not run"]
             print(f"{t:16s} exit {done.returncode}  coverage {cov[0]:>5s}  {runs[0]}  findings: {len(new)}")
+            if done.returncode and not new:  # the fuzzer itself failed (no seed corpus, no atheris...)
+                failed.append(t)
+                print("   " + "\n   ".join(done.stderr.strip().splitlines()[-6:]))
             if new:
                 failed.append(t)
                 print("   " + "\n   ".join(str(p) for p in new))

@@ -82,7 +82,9 @@ FORMATS = (Format(
                    "compression": "zip (default), piz, zips, rle, none, pxr24, b44, b44a, dwaa, dwab, zstd, ...",
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
                    "attributes": "header attributes {name: value}",
-                   "threads": "codec threads (default: one per core)"},
+                   "threads": "codec threads (default: one per core)",
+                   "in_place": "True: a half-float file is converted in the image's own memory (the array is "
+                               "overwritten; saves a copy of half the image's size)"},
     selectors=True, camera=True,
     compressions=("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                   "htj2k32"),

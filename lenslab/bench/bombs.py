@@ -1,0 +1,124 @@
+"""Decompression bombs: valid files under 1 MB of one flat colour that decode to hundreds of MB, one
+for each way a registered format compresses (PNG and TIFF Deflate, EXR ZIP, PIZ and DWAA, JPEG,
+Radiance run lengths, an H.264 clip), each written by the format's own library (zlib, tifffile,
+OpenEXR, OpenCV, PyAV) or by its specification's rules. Every one must be refused before its pixels
+are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 128 MiB).
+
+The builders hand their libraries all-zero arrays (``np.zeros``: pages the kernel maps only when
+written), so making the corpus costs a few seconds and little memory.
+"""
+
+from __future__ import annotations
+
+import struct
+import zlib
+from pathlib import Path
+
+#: formats whose files hold every sample raw (PFM, PPM, PGM, PBM): a file's bytes bound what it decodes
+#: to (at most 12 float bytes per byte held, 96 for PBM's bits), so no file under 1 MB can be a bomb
+RAW = ("pfm", "ppm", "pgm", "pbm")
+
+
+def _png(path: Path, side: int = 8192) -> None:
+    """8-bit RGB, every row filter 0 of zeros, one zlib stream fed a row at a time (RFC 2083)."""
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    comp, row = zlib.compressobj(9), bytes(1 + side * 3)
+    idat = b"".join([comp.compress(row) for _ in range(side)] + [comp.flush()])
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", side, side, 8, 2, 0, 0, 0))
+                     + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+
+
+def _tiff(path: Path, side: int = 8192) -> None:
+    """8-bit RGB in Deflate tiles, written by tifffile from one tile at a time."""
+    import numpy as np
+    import tifffile
+
+    tiles = (np.zeros((256, 256, 3), np.uint8) for _ in range((side // 256) ** 2))
+    tifffile.imwrite(path, tiles, shape=(side, side, 3), dtype=np.uint8, compression="zlib", tile=(256, 256),
+                     photometric="rgb")
+
+
+def _exr(compression: str):
+    def build(path: Path, side: int = 6144) -> None:
+        """Half RGB, scanlines, written by OpenEXR."""
+        import numpy as np
+        import OpenEXR
+
+        header = {"compression": getattr(OpenEXR, f"{compression}_COMPRESSION"), "type": OpenEXR.scanlineimage}
+        OpenEXR.File(header, {"RGB": np.zeros((side, side, 3), np.float16)}).write(str(path))
+
+    return build
+
+
+def _jpeg(path: Path, side: int = 6144) -> None:
+    """Baseline JPEG of black, 4:2:0, encoded by OpenCV (libjpeg)."""
+    import cv2
+    import numpy as np
+
+    ok, data = cv2.imencode(".jpg", np.zeros((side, side, 3), np.uint8))
+    path.write_bytes(data.tobytes())
+
+
+def _hdr(path: Path, side: int = 3800) -> None:
+    """Radiance run-length scanlines (new style: each of the four components as runs of 127), the
+    most compact encoding writers make: 0.93 MB for 3800 x 3800."""
+    runs = [127] * (side // 127) + ([side % 127] if side % 127 else [])
+    line = bytes([2, 2, side >> 8, side & 255]) + b"".join(bytes([128 + n, 0]) for n in runs) * 4
+    path.write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (side, side) + line * side)
+
+
+def _video(path: Path, side: int = 6144) -> None:
+    """One black H.264 frame (PyAV, libx264)."""
+    import av
+    import numpy as np
+
+    with av.open(str(path), "w") as clip:
+        stream = clip.add_stream("libx264", rate=24)
+        stream.width = stream.height = side
+        stream.pix_fmt = "yuv420p"
+        stream.options = {"preset": "ultrafast"}
+        frame = av.VideoFrame.from_ndarray(np.zeros((side, side, 3), np.uint8), format="rgb24")
+        for packet in [*stream.encode(frame), *stream.encode()]:
+            clip.mux(packet)
+
+
+#: format name -> [(file name, builder, (width, height) it declares)]
+BOMBS = {
+    "png": [("bomb.png", _png, (8192, 8192))],
+    "tiff": [("bomb.tif", _tiff, (8192, 8192))],
+    "exr": [(f"bomb-{c.lower()}.exr", _exr(c), (6144, 6144)) for c in ("ZIP", "PIZ", "DWAA")],
+    "jpg": [("bomb.jpg", _jpeg, (6144, 6144))],
+    "hdr": [("bomb.hdr", _hdr, (3800, 3800))],
+    "video": [("bomb.mp4", _video, (6144, 6144))],
+}
+
+
+def write_edge(path) -> Path:
+    """A flat 4096 x 2048 RGBA half EXR (OpenEXR, ZIP): 72 kB that decode to exactly
+    :data:`lenslab.io.budget.BASE_BYTES` of float32, the most a file under 1 MB is allowed."""
+    _exr_rgba(Path(path), 4096, 2048)
+    return Path(path)
+
+
+def _exr_rgba(path: Path, width: int, height: int) -> None:
+    import numpy as np
+    import OpenEXR
+
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    OpenEXR.File(header, {"RGBA": np.zeros((height, width, 4), np.float16)}).write(str(path))
+
+
+def write_bombs(folder) -> dict[str, tuple[int, int]]:
+    """Write every bomb into ``folder``; {file name: (width, height)}."""
+    folder = Path(folder)
+    made = {}
+    for entries in BOMBS.values():
+        for name, build, size in entries:
+            build(folder / name)
+            made[name] = size
+    return made
+
+
+__all__ = ["BOMBS", "RAW", "write_bombs", "write_edge"]
