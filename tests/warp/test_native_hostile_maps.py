@@ -1,0 +1,164 @@
+"""Hostile map positions and footprints through the compiled samplers (lenslab.cxx_kernels).
+
+A map handed to the warp (``lenslab.warp.given``, a lens that returns 1e30 or NaN near a fold-over) may hold
+positions far outside the source, infinite or NaN and still be marked valid. Every sampler then reads a
+pixel of the source clamped at its edge (NaN: the left or top edge), the same one the separable samplers read
+(tests/warp/test_native_map_kernels.py), in bounded time, never memory outside the source and never a value
+the source does not hold. The expected values are the source array's own pixels, indexed in the test.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from lenslab import cxx_kernels as K
+from lenslab.warp.filters import sample
+from lenslab.warp.kernels import reference as ref
+from lenslab.warp.pyramid import MAX_TAPS, pyramid
+from lenslab.warp.seam import Border
+from lenslab.warp.taps import INVALID, FOLDED
+
+FAR = [1e30, -1e30, np.inf, -np.inf, np.nan, 3e9, -3e9, 1e17]
+SRC = np.arange(3 * 4, dtype=np.float32).reshape(3, 4, 1)  # pixel (row j, column i) holds 4 j + i
+
+
+def _edge_pixel(x, y):
+    """The pixel a position reads when it lies beyond the image: clamped into it, NaN at the left/top edge."""
+    def clamp(v, n):
+        return 0 if np.isnan(v) else int(min(max(np.floor(v), 0), n - 1))
+    return float(SRC[clamp(y, 3), clamp(x, 4), 0])
+
+
+CASES = [(x, 1.0) for x in FAR] + [(2.0, y) for y in FAR]
+
+
+@pytest.mark.parametrize("samples", [1, 2])
+@pytest.mark.parametrize("name", ["bilinear", "nearest", "bicubic", "lanczos"])
+def test_every_filter_reads_the_edge_pixel_for_a_position_far_outside(name, samples):
+    n = len(CASES)
+    xs = np.array([[[x] * samples for x, _ in CASES]], np.float32)
+    ys = np.array([[[y] * samples for _, y in CASES]], np.float32)
+    out, alpha = np.zeros((1, n, 1), np.float32), np.zeros((1, n), np.float32)
+    sample(SRC, xs, ys, np.ones((1, n, samples), bool), Border(), name, out, alpha)
+    np.testing.assert_array_equal(out[0, :, 0], [_edge_pixel(x, y) for x, y in CASES])
+    np.testing.assert_array_equal(alpha, 1.0)
+
+
+def test_cached_taps_fold_a_position_far_outside_onto_the_edge_pixel():
+    x = np.array([x for x, _ in CASES], np.float32)
+    y = np.array([y for _, y in CASES], np.float32)
+    v = np.ones(len(CASES), bool)
+    off, tx, ty = np.empty(len(x), np.uint32), np.empty(len(x), np.float32), np.empty(len(x), np.float32)
+    K.taps_of(4, 3, x, y, v, off, tx, ty)
+    assert np.all(off == FOLDED)  # every one crosses an edge: the folding sampler reads it
+    out, alpha = np.zeros((len(x), 1), np.float32), np.zeros(len(x), np.float32)
+    K.folded(SRC.reshape(-1), 4, 3, 1, np.arange(len(x), dtype=np.int64), x, y, False, False, False, out, alpha)
+    np.testing.assert_array_equal(out[:, 0], [_edge_pixel(a, b) for a, b in CASES])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.floats(width=32), st.floats(width=32)), min_size=1, max_size=20),
+       st.sampled_from([(True, True, True), (False, False, False), (True, False, False)]))
+def test_bilinear_of_any_float32_position_is_a_weighted_mean_of_source_pixels(pts, flags):
+    """Any float32 position (NaN and inf included) gives a value between the source's least and largest
+    pixel, and the kernels agree with their NumPy reference."""
+    x = np.array([p[0] for p in pts], np.float32)
+    y = np.array([p[1] for p in pts], np.float32)
+    v = np.ones(len(pts), bool)
+    out, alpha = np.zeros((len(pts), 1), np.float32), np.zeros(len(pts), np.float32)
+    K.bilinear1(SRC.reshape(-1), 4, 3, 1, x, y, v, *flags, out, alpha)
+    assert np.all((out >= 0.0) & (out <= 11.0))
+    want, _ = ref.bilinear1(SRC, x, y, v, flags)
+    np.testing.assert_allclose(out, want, rtol=0, atol=4 * 11.0 * np.finfo(np.float32).eps)
+    off, tx, ty = np.empty(len(x), np.uint32), np.empty(len(x), np.float32), np.empty(len(x), np.float32)
+    K.taps_of(4, 3, x, y, v, off, tx, ty)
+    woff, wtx, wty = ref.taps(SRC, x, y, v)
+    np.testing.assert_array_equal(off, woff)
+    np.testing.assert_array_equal(tx, wtx)
+    np.testing.assert_array_equal(ty, wty)
+
+
+# a constant panorama: whatever a footprint covers, its mean is the constant
+CONST = np.full((8, 16, 1), 0.25, np.float32)
+
+
+@pytest.mark.timeout(120)  # a guard against the hang this test pins, far above its milliseconds
+@pytest.mark.parametrize("pos", [1e30, -1e30, np.inf, np.nan, 1e17, 3.0])
+@pytest.mark.parametrize("side", [1.0, 1e30, np.inf, np.nan, 1e12])
+def test_footprint_filter_of_hostile_positions_and_sides_reads_the_source(pos, side):
+    """A footprint at 1e30 or NaN, or with sides of 1e30, inf or NaN (a map's neighbours a fold-over apart)
+    gives the constant of a constant source, and returns (it looped over 1e30 texel rows)."""
+    pyr = pyramid(CONST, Border())
+    x = np.array([[pos], [3.0]], np.float32)
+    y = np.array([[2.0], [pos]], np.float32)
+    foot = np.array([[[side, 0.0, 0.0, side]]] * 2, np.float32)
+    out, alpha = np.zeros((2, 1), np.float32), np.zeros(2, np.float32)
+    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, np.ones((2, 1), bool), foot, False, False,
+                False, MAX_TAPS, out, alpha)
+    np.testing.assert_allclose(out[:, 0], 0.25, rtol=1e-6)  # float64 weights normalised, then rounded to float32
+    np.testing.assert_array_equal(alpha, 1.0)
+
+
+def test_footprint_reference_reads_hostile_footprints_as_the_kernel_does():
+    """The NumPy reference clamps positions and sides as the kernel does (same window, same weights)."""
+    pyr = pyramid(np.random.default_rng(3).uniform(0, 1, (8, 16, 2)).astype(np.float32), Border(True, True, True))
+    vals = [1e30, -1e30, np.inf, np.nan, 2.5]
+    x = np.array([[a] for a in vals for _ in vals], np.float32)
+    y = np.full_like(x, 3.0)
+    foot = np.array([[[b, 0.3, -0.2, b]] for _ in vals for b in vals], np.float32)
+    out, alpha = np.zeros((len(x), 2), np.float32), np.zeros(len(x), np.float32)
+    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, np.ones(x.shape, bool), foot, True, True, True,
+                MAX_TAPS, out, alpha)
+    want, want_alpha = ref.footprint(pyr, x, y, np.ones(x.shape, bool), foot, (True, True, True))
+    np.testing.assert_array_equal(alpha, want_alpha)
+    np.testing.assert_allclose(out, want, rtol=0, atol=2 * np.finfo(np.float32).eps)  # fused float64 weights
+
+
+def _image(h=3, w=4, nc=1):
+    return np.zeros(h * w * nc, np.float32)
+
+
+@pytest.mark.parametrize("call", [
+    # a source smaller than the sizes passed with it: the kernel would read past its end
+    lambda: K.folded(_image(), 100, 100, 1, np.zeros(1, np.int64), np.full(1, 50, np.float32),
+                     np.full(1, 50, np.float32), False, False, False, np.zeros((1, 1), np.float32), np.zeros(1, np.float32)),
+    lambda: K.bilinear1(_image(), -1, -12, 1, np.zeros(1, np.float32), np.zeros(1, np.float32), np.ones(1, bool),
+                        False, False, False, np.zeros((1, 1), np.float32), np.zeros(1, np.float32)),
+    lambda: K.bilinear1(_image(), 2 ** 32, 2 ** 32, 1, np.zeros(1, np.float32), np.zeros(1, np.float32),
+                        np.ones(1, bool), False, False, False, np.zeros((1, 1), np.float32), np.zeros(1, np.float32)),
+    # a cached tap beyond the source
+    lambda: K.from_taps(_image(), 4, 1, np.array([11], np.uint32), np.zeros(1, np.float32), np.zeros(1, np.float32),
+                        np.zeros((1, 1), np.float32), np.zeros(1, np.float32)),
+    # a folded pixel's output row beyond out
+    lambda: K.folded(_image(), 4, 3, 1, np.zeros(1, np.int64), np.zeros(1, np.float32), np.zeros(1, np.float32),
+                     False, False, False, np.zeros((1, 0), np.float32), np.zeros(1, np.float32)),
+    # a source too large for 32-bit taps
+    lambda: K.taps_of(2 ** 16, 2 ** 16, np.zeros(1, np.float32), np.zeros(1, np.float32), np.ones(1, bool),
+                      np.zeros(1, np.uint32), np.zeros(1, np.float32), np.zeros(1, np.float32)),
+    # pyramid levels larger than their buffers
+    lambda: K.footprint(_image(), np.zeros(1, np.float32), np.array([[30, 40]], np.int64), np.zeros(1, np.int64),
+                        np.zeros((1, 1), np.float32), np.zeros((1, 1), np.float32), np.ones((1, 1), bool),
+                        np.ones((1, 1, 4), np.float32), False, False, False, MAX_TAPS, np.zeros((1, 1), np.float32),
+                        np.zeros(1, np.float32)),
+    lambda: K.footprint(_image(8, 8), np.zeros(4, np.float32), np.array([[8, 8], [4, 4]], np.int64),
+                        np.array([0, 0], np.int64), np.zeros((1, 1), np.float32), np.zeros((1, 1), np.float32),
+                        np.ones((1, 1), bool), np.full((1, 1, 4), 50.0, np.float32), False, False, False, MAX_TAPS,
+                        np.zeros((1, 1), np.float32), np.zeros(1, np.float32)),
+], ids=["folded-source", "negative-size", "size-overflow", "tap-beyond", "folded-out", "taps-32bit",
+        "level0-small", "rest-small"])
+def test_sizes_that_disagree_with_the_arrays_are_refused_before_any_read(call):
+    with pytest.raises(ValueError):
+        call()
+
+
+def test_cached_taps_of_a_one_row_source_all_fold():
+    """A source one pixel tall has no 2x2 inside it: every tap goes through the folding sampler, and the
+    bounds check of the cached taps lets that band through."""
+    src = np.array([1.0, 2.0, 3.0], np.float32)
+    off = np.array([FOLDED, INVALID], np.uint32)
+    out, alpha = np.full((2, 1), 7.0, np.float32), np.full(2, 7.0, np.float32)
+    K.from_taps(src, 3, 1, off, np.zeros(2, np.float32), np.zeros(2, np.float32), out, alpha)
+    np.testing.assert_array_equal(out[:, 0], [7.0, 0.0])  # folded: left for the folding sampler; invalid: 0
+    np.testing.assert_array_equal(alpha, [7.0, 0.0])
