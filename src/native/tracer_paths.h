@@ -210,6 +210,7 @@ public:
                 for (int c = 0; c < 3; ++c) s.out[3 * r + c] = s.L[3 * i + c];
                 continue;
             }
+            need(k < ntri_, "triangle index out of range");
             const float ti = t[i];
             const float dx = s.d[3 * i], dy = s.d[3 * i + 1], dz = s.d[3 * i + 2];
             const float p0 = s.o[3 * i] + ti * dx, p1 = s.o[3 * i + 1] + ti * dy, p2 = s.o[3 * i + 2] + ti * dz;
