@@ -5,6 +5,7 @@
 #include <nanobind/stl/pair.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "kernels.h"
@@ -56,6 +57,11 @@ LatticeBand band_of(In<double> coef, In<int8_t> state, int64_t cb0, int64_t r0, 
         hi = std::max(hi, o[2 * q + 1]);
     }
     need(o[0] == o[0] && lo == lo && hi == hi && inv > 0.0, "offsets must be numbers, the step positive");
+    // bounded, so that a cell's end column (lattice_rows: ceil(edge / inv - ox)) is an integer in range
+    double far = 0.0;
+    for (size_t q = 0; q < offs.size(); ++q) far = std::max(far, std::fabs(o[q]));
+    need(far <= 2147483648.0 && inv >= 1.0 / 2147483648.0 && inv <= 2147483648.0 && r0 >= 0 && r0 <= (int64_t(1) << 40),
+         "offsets beyond 2^31 pixels, a step beyond 2^31 or a first row beyond 2^40");
     auto cell = [&](double p) {
         p = std::floor(p);
         return !(p >= 0.0) ? int64_t(0) : (p >= double(ncy - 1) ? ncy - 1 : int64_t(p));

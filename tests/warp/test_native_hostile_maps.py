@@ -162,3 +162,22 @@ def test_cached_taps_of_a_one_row_source_all_fold():
     K.from_taps(src, 3, 1, off, np.zeros(2, np.float32), np.zeros(2, np.float32), out, alpha)
     np.testing.assert_array_equal(out[:, 0], [7.0, 0.0])  # folded: left for the folding sampler; invalid: 0
     np.testing.assert_array_equal(alpha, [7.0, 0.0])
+
+
+@pytest.mark.parametrize("offset,inv", [(1e300, 1.0 / 8), (-1e300, 1.0 / 8), (0.5, 1e-300), (0.5, 1e300)],
+                         ids=["offset-far-right", "offset-far-left", "step-1e300", "step-1e-300"])
+def test_lattice_offsets_and_steps_beyond_any_image_are_refused(offset, inv):
+    """The row walk converts ceil(edge / inv - offset) to an integer: an offset of 1e300 or a step of 1e300
+    pixels per cell would convert a value beyond int64 (undefined), so the binding refuses them."""
+    shape = (4, 32, 1)
+    state = np.ones((4, 4), np.int8)
+    coef = np.zeros((4, 4, 2, 4, 4))
+    offs = np.full((1, 1, 1, 2), offset)
+    band = (np.zeros(shape, np.float32), np.zeros(shape, np.float32), np.zeros(shape, bool), np.zeros(shape, np.int8),
+            np.zeros((1, 1, 1, 3)))
+    with pytest.raises(ValueError, match="beyond"):
+        K.lattice_rows(coef, state, 0, inv, 0, offs, *band)
+    with pytest.raises(ValueError, match="beyond"):
+        K.lattice_eval(coef, state, 0, 1.0 / inv, 0, offs, *band)
+    K.lattice_rows(coef, state, 0, 1.0 / 8, 0, np.full((1, 1, 1, 2), 0.5), *band)  # in range: evaluated
+    assert band[2].all()
