@@ -23,13 +23,16 @@ void need(bool ok, const char* what) {
     if (!ok) throw std::invalid_argument(what);
 }
 
-// no state-2 cell (an interpolated direction) in cell rows lo..hi unless the band can hold its directions
+// every cell of cell rows lo..hi has a state of -1 to 2 (any other positive state would be read as a direction),
+// and none is 2 (an interpolated direction) unless the band can hold its directions
 void check_directions(const In<int8_t>& state, int64_t lo, int64_t hi, bool room) {
-    if (room) return;
     const int64_t ncx = int64_t(state.shape(1));
     const int8_t* s = state.data();
-    for (int64_t q = lo * ncx; q < (hi + 1) * ncx; ++q)
-        need(s[q] != 2, "cells that interpolate a direction need five coefficient sets and room for directions");
+    const int8_t top = room ? 2 : 1;
+    bool ok = true;
+    for (int64_t q = lo * ncx; q < (hi + 1) * ncx; ++q) ok &= s[q] >= -1 && s[q] <= top;
+    need(ok, "cell states are -1 to 2, and cells that interpolate a direction need five coefficient sets and room "
+             "for directions");
 }
 
 LatticeBand band_of(In<double> coef, In<int8_t> state, int64_t cb0, int64_t r0, In<double> offs, Out<float> xs,

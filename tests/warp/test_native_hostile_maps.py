@@ -181,3 +181,20 @@ def test_lattice_offsets_and_steps_beyond_any_image_are_refused(offset, inv):
         K.lattice_eval(coef, state, 0, 1.0 / inv, 0, offs, *band)
     K.lattice_rows(coef, state, 0, 1.0 / 8, 0, np.full((1, 1, 1, 2), 0.5), *band)  # in range: evaluated
     assert band[2].all()
+
+
+def test_a_cell_state_beyond_2_is_refused_not_read_as_a_direction():
+    """States are -1 (no source), 0 (exact), 1 (position) and 2 (direction); a 3 would make the kernels read and
+    write a direction's three coefficient sets in a lattice that holds two."""
+    state = np.ones((4, 4), np.int8)
+    state[2, 1] = 3
+    nodes = np.zeros((2, 7, 7))
+    with pytest.raises(ValueError, match="cell states"):
+        K.cell_coefficients(nodes, state, 0, 4, 0.0, np.zeros((4, 4, 2, 4, 4)))
+    shape = (32, 32, 1)
+    band = (np.zeros(shape, np.float32), np.zeros(shape, np.float32), np.zeros(shape, bool), np.zeros(shape, np.int8),
+            np.zeros(shape + (3,)))
+    with pytest.raises(ValueError, match="cell states"):
+        K.lattice_rows(np.zeros((4, 4, 2, 4, 4)), state, 0, 1.0 / 8, 0, np.full((1, 1, 1, 2), 0.5), *band)
+    state[2, 1] = -1  # no source: allowed
+    K.cell_coefficients(nodes, state, 0, 4, 0.0, np.zeros((4, 4, 2, 4, 4)))
