@@ -8,20 +8,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "bind.h"
 #include "kernels.h"
 #include "lattice.h"
 
 namespace nb = nanobind;
 using namespace lenslab;
 
+using namespace lenslab::bind;  // In, Out, need
+
 namespace {
-
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
 
 // every cell of cell rows lo..hi has a state of -1 to 2 (any other positive state would be read as a direction),
 // and none is 2 (an interpolated direction) unless the band can hold its directions

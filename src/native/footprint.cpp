@@ -12,6 +12,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include "bind.h"
 #include "sampler.h"
 
 namespace lenslab {
@@ -253,14 +254,12 @@ namespace nb = nanobind;
 
 void register_footprint(nb::module_& m) {
     using namespace lenslab;
-    using InF = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
-    using InI = nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu>;
-    using InB = nb::ndarray<const bool, nb::c_contig, nb::device::cpu>;
-    using OutF = nb::ndarray<float, nb::c_contig, nb::device::cpu>;
-    auto need = [](bool ok, const char* what) {
-        if (!ok) throw std::invalid_argument(what);
-    };
-    m.def("footprint", [need](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
+    using bind::need;
+    using InF = bind::In<float>;
+    using InI = bind::In<int64_t>;
+    using InB = bind::In<bool>;
+    using OutF = bind::Out<float>;
+    m.def("footprint", [](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
                               bool wrap, bool top, bool bottom, double max_taps, OutF out, OutF alpha) {
         size_t npix = alpha.size();
         need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
@@ -292,7 +291,7 @@ void register_footprint(nb::module_& m) {
        nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
 
-    m.def("halve", [need](InF src, OutF out) {
+    m.def("halve", [](InF src, OutF out) {
         need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2
              && out.shape(2) == src.shape(2), "halve: out must be (h/2, w/2, c) of src (h, w, c)");
         nb::gil_scoped_release release;

@@ -9,20 +9,17 @@
 #include <stdexcept>
 #include <utility>
 
+#include "bind.h"
 #include "lens_kernels.h"
 
 namespace nb = nanobind;
 using namespace lenslab::lens;
 
+using namespace lenslab::bind;  // In, Out, need
+
 namespace {
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 using Vec = In<double>;
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
 
 // n points of `dim` coordinates in `pts`, and outputs of `odim` coordinates and one flag each
 int64_t points(const Vec& pts, size_t dim, const Out<double>& out, size_t odim, const Out<bool>& ok) {

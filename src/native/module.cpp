@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "bind.h"
 #include "sampler.h"
 
 namespace nb = nanobind;
@@ -15,14 +16,9 @@ using namespace lenslab;
 void bind_map_kernels(nb::module_& m);  // bind_map.cpp: the map lattice and the separable samplers
 void register_lens_kernels(nb::module_& m);  // lens_bindings.cpp: the lens models' kernels
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+using namespace lenslab::bind;  // In, Out, need
 
 namespace {
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
 
 // an image of sw x sh pixels of nc channels holds exactly `size` floats (no product overflows)
 bool holds(size_t size, int64_t sw, int64_t sh, int64_t nc) {

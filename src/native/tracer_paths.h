@@ -19,16 +19,15 @@
 #include <utility>
 #include <vector>
 
+#include "bind.h"
+
 namespace lenslab_tracer {
 
 namespace nb = nanobind;
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-inline void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
+using lenslab::bind::In;
+using lenslab::bind::Out;
+using lenslab::bind::need;
 
 // Python's max and min (as numba compiles them): the first argument unless the second compares greater/less
 inline float pmax(float a, float b) { return b > a ? b : a; }
