@@ -198,3 +198,19 @@ def test_a_cell_state_beyond_2_is_refused_not_read_as_a_direction():
         K.lattice_rows(np.zeros((4, 4, 2, 4, 4)), state, 0, 1.0 / 8, 0, np.full((1, 1, 1, 2), 0.5), *band)
     state[2, 1] = -1  # no source: allowed
     K.cell_coefficients(nodes, state, 0, 4, 0.0, np.zeros((4, 4, 2, 4, 4)))
+
+
+@pytest.mark.parametrize("out,alpha", [
+    (np.zeros((1, 2, 1)), np.zeros((1, 2), np.float32)),  # float64
+    (np.zeros((1, 4, 1), np.float32)[:, ::2], np.zeros((1, 2), np.float32)),  # strided
+    (np.zeros((1, 2, 1), np.float32), np.zeros((1, 2), np.int32)),
+], ids=["float64-out", "strided-out", "int-alpha"])
+def test_sample_refuses_outputs_it_cannot_write_in_one_line(out, alpha):
+    """filters.sample writes its outputs in place: another dtype or a strided view is a one-line WarpError
+    naming the array, not the extension's page of signatures."""
+    from lenslab.errors import WarpError
+
+    xs = np.zeros((1, 2, 1), np.float32)
+    with pytest.raises(WarpError) as caught:
+        sample(SRC, xs, xs, np.ones((1, 2, 1), bool), Border(), "bilinear", out, alpha)
+    assert "\n" not in str(caught.value) and ("out" in str(caught.value) or "alpha" in str(caught.value))
