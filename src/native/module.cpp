@@ -71,7 +71,8 @@ NB_MODULE(cxx_kernels, m) {
         size_t n = xs.size();
         need(ys.size() == n && valid.size() == n && off.size() == n && tx.size() == n && ty.size() == n,
              "band shapes differ");
-        need(sw > 0 && sh > 0 && sh < int64_t(TAP_FOLDED) / sw, "taps need a source of fewer than 2^32 - 2 pixels");
+        need(sw > 0 && sh > 0 && sw < int64_t(TAP_FOLDED) && sh < int64_t(TAP_FOLDED)
+             && uint64_t(sw) * uint64_t(sh) < TAP_FOLDED, "taps need a source of fewer than 2^32 - 2 pixels");
         taps_of(sw, sh, xs.data(), ys.data(), valid.data(), int64_t(n), off.data(), tx.data(), ty.data());
     }, nb::arg("sw"), nb::arg("sh"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("off").noconvert(), nb::arg("tx").noconvert(), nb::arg("ty").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
