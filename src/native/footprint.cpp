@@ -185,9 +185,12 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             }
             // the window: every texel the reconstruction over the (thickened) parallelogram touches
             const double ex = 0.5 * (std::fabs(tax) + std::fabs(tbx)) + 1.0, ey = 0.5 * (std::fabs(tay) + std::fabs(tby)) + 1.0;
-            const int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
-            const int64_t nwx = std::min<int64_t>(ifloor(cx + ex) + 1 - wx0, WINDOW);
-            const int64_t nwy = std::min<int64_t>(ifloor(cy + ey) + 1 - wy0, WINDOW);
+            int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
+            int64_t nwx = ifloor(cx + ex) + 1 - wx0, nwy = ifloor(cy + ey) + 1 - wy0;
+            // a footprint beyond the coarsest level: the window is centred on it (its top-left corner may miss a
+            // rotated footprint entirely: no weight at all, and 0 / 0)
+            if (nwx > WINDOW) { wx0 = ifloor(cx) + 1 - WINDOW / 2; nwx = WINDOW; }
+            if (nwy > WINDOW) { wy0 = ifloor(cy) + 1 - WINDOW / 2; nwy = WINDOW; }
             const float* buf = lev == 0 ? level0 : rest;
             const float* lbuf = buf + offsets[lev];
             const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is

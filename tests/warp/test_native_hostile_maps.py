@@ -214,3 +214,58 @@ def test_sample_refuses_outputs_it_cannot_write_in_one_line(out, alpha):
     with pytest.raises(WarpError) as caught:
         sample(SRC, xs, xs, np.ones((1, 2, 1), bool), Border(), "bilinear", out, alpha)
     assert "\n" not in str(caught.value) and ("out" in str(caught.value) or "alpha" in str(caught.value))
+
+
+# -- footprints beyond the coarsest pyramid level ---------------------------------------------------------
+
+
+def _rotated(n, rng, lo, hi):
+    """Parallelograms of sides lo..hi texels at any angle (the window of 24 texels clips them)."""
+    size, theta = rng.uniform(lo, hi, n), rng.uniform(0.0, np.pi, n)
+    aspect = rng.uniform(1.0, 8.0, n)
+    c, s = np.cos(theta), np.sin(theta)
+    return np.stack([c * size, s * size, -s * size / aspect, c * size / aspect], axis=-1).astype(np.float32)
+
+
+def test_a_footprint_larger_than_the_window_reads_its_centre_never_nan():
+    """A 625-row source has no coarser level (625 is odd): a rotated footprint of 100 to 400 texels is clipped to
+    a window of 24 texels. That window lies on the footprint's centre, so a constant source gives the constant
+    (the window at the footprint's top-left corner could miss a rotated footprint altogether: 0 / 0 = NaN)."""
+    rng = np.random.default_rng(5)
+    pyr = pyramid(np.full((25, 1250, 1), 0.5, np.float32), Border(True, False, False))
+    n = 2000
+    x = rng.uniform(0.0, 1249.0, (n, 1)).astype(np.float32)
+    y = rng.uniform(0.0, 24.0, (n, 1)).astype(np.float32)
+    foot = _rotated(n, rng, 100.0, 400.0).reshape(n, 1, 4)
+    out, alpha = np.empty((n, 1), np.float32), np.empty(n, np.float32)
+    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, x, y, np.ones((n, 1), bool), foot, True, False, False,
+                MAX_TAPS, out, alpha)
+    np.testing.assert_allclose(out[:, 0], 0.5, rtol=1e-6)
+
+
+def test_a_clipped_footprint_averages_the_texels_around_its_centre():
+    """A box of 1000 texels centred between columns 30 and 31 of a source that is 0 up to column 30 and 1 from
+    31: the centred window holds 12 texels of each, every one wholly inside the box, so the mean is 1/2 (the
+    window at the box's top-left corner read only zeros)."""
+    src = np.zeros((25, 62, 1), np.float32)
+    src[:, 31:] = 1.0
+    pyr = pyramid(src, Border())
+    out, alpha = np.empty((1, 1), np.float32), np.empty(1, np.float32)
+    K.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, np.array([[30.5]], np.float32),
+                np.array([[12.0]], np.float32), np.ones((1, 1), bool),
+                np.array([[[1000.0, 0.0, 0.0, 1000.0]]], np.float32), False, False, False, MAX_TAPS, out, alpha)
+    np.testing.assert_allclose(out[0, 0], 0.5, rtol=1e-6)
+
+
+def test_a_thumbnail_of_a_panorama_without_coarser_levels_has_no_nan():
+    """lenslab.warp with --antialias: a 1250 x 625 constant panorama into a 16 x 16 fisheye of 360 degrees gives
+    the constant wherever a sample lands (the engine's promise: no NaN)."""
+    from lenslab.lenses import Camera
+    from lenslab.warp import warp
+
+    img = np.full((625, 1250, 3), 0.5, np.float32)
+    out, alpha = warp(img, Camera.from_spec("equirect", (1250, 625)), Camera.from_spec("fisheye:fov=360", (16, 16)),
+                      antialias=True)
+    assert not np.isnan(out).any()
+    inside = alpha > 0
+    np.testing.assert_allclose(out[inside] / alpha[inside][:, None], 0.5, rtol=1e-5)

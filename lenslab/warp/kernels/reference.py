@@ -196,8 +196,11 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
             # the window: every texel the thickened footprint touches
             ex, ey = 0.5 * (abs(ax) + abs(bx)) + 1.0, 0.5 * (abs(ay) + abs(by)) + 1.0
             wx0, wy0 = math.floor(cx - ex) + 1, math.floor(cy - ey) + 1
-            nwx = min(math.floor(cx + ex) + 1 - wx0, WINDOW)
-            nwy = min(math.floor(cy + ey) + 1 - wy0, WINDOW)
+            nwx, nwy = math.floor(cx + ex) + 1 - wx0, math.floor(cy + ey) + 1 - wy0
+            if nwx > WINDOW:  # a footprint beyond the coarsest level: the window centred on it
+                wx0, nwx = math.floor(cx) + 1 - WINDOW // 2, WINDOW
+            if nwy > WINDOW:
+                wy0, nwy = math.floor(cy) + 1 - WINDOW // 2, WINDOW
             if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
                 wt, area = slice_weights(cy, cx, ay, ax, by, bx, wy0, wx0, nwy, nwx)
                 wt = wt.T
