@@ -269,3 +269,21 @@ def test_a_thumbnail_of_a_panorama_without_coarser_levels_has_no_nan():
     assert not np.isnan(out).any()
     inside = alpha > 0
     np.testing.assert_allclose(out[inside] / alpha[inside][:, None], 0.5, rtol=1e-5)
+
+
+@pytest.mark.parametrize("filter_name,antialias", [("bilinear", False), ("nearest", False), ("bicubic", False),
+                                                   ("bilinear", True)])
+def test_an_inverse_map_far_outside_reads_the_edge_pixel(filter_name, antialias):
+    """warp_with_map: a map position of +-1e30 is "outside the source: its edge", as its docstring says, never
+    NaN or a value the source does not hold (+1e30 read the left edge before, through an out-of-range float to
+    integer conversion)."""
+    from lenslab.warp.given import warp_with_map
+
+    src = np.arange(12, dtype=np.float32).reshape(3, 4)
+    xy = np.array([[[1e30, 1.5], [-1e30, 1.5], [2.5, 1e30], [2.5, -1e30]]])
+    out, alpha = warp_with_map(src, xy, filter=filter_name, antialias=antialias)
+    assert np.all(np.isfinite(out)) and np.all(alpha == 1.0)
+    if not antialias:  # one tap: exactly the pixel at the edge (row 1 right, row 1 left, row 2 col 2, row 0 col 2)
+        np.testing.assert_array_equal(out[0], [7.0, 4.0, 10.0, 2.0])
+    else:  # footprints of neighbours 1e30 apart: means of source pixels
+        assert np.all((out >= 0.0) & (out <= 11.0))
