@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from lenslab.errors import WarpError
 from lenslab.filters import FILTERS as REGISTRY
 from lenslab.warp.kernels import native
 from lenslab.warp.kernels.native import c32, cbool
@@ -90,6 +91,10 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     bicubic 1.75 1.0
     """
     kind = REGISTRY[filter].code  # the compiled kernel; its support radius too (nearest: 1 tap)
+    for name, a in (("out", out), ("alpha", alpha)):  # written in place: the kernels take no other layout
+        if not (isinstance(a, np.ndarray) and a.dtype == np.float32 and a.flags.c_contiguous and a.flags.writeable):
+            raise WarpError(f"sample: {name} must be a writable C-contiguous float32 array, not "
+                            f"{getattr(a, 'dtype', type(a).__name__)}{'' if getattr(a, 'flags', None) is None or a.flags.c_contiguous else ' (strided)'}")
     wrap, top, bottom = border.flags
     k = native.kernels()
     if kind == 1 and not border.has_pieces:  # float32 lerps

@@ -5,30 +5,30 @@
 #include <nanobind/stl/pair.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
+#include "bind.h"
 #include "kernels.h"
 #include "lattice.h"
 
 namespace nb = nanobind;
 using namespace lenslab;
 
+using namespace lenslab::bind;  // In, Out, need
+
 namespace {
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
-
-// no state-2 cell (an interpolated direction) in cell rows lo..hi unless the band can hold its directions
+// every cell of cell rows lo..hi has a state of -1 to 2 (any other positive state would be read as a direction),
+// and none is 2 (an interpolated direction) unless the band can hold its directions
 void check_directions(const In<int8_t>& state, int64_t lo, int64_t hi, bool room) {
-    if (room) return;
     const int64_t ncx = int64_t(state.shape(1));
     const int8_t* s = state.data();
-    for (int64_t q = lo * ncx; q < (hi + 1) * ncx; ++q)
-        need(s[q] != 2, "cells that interpolate a direction need five coefficient sets and room for directions");
+    const int8_t top = room ? 2 : 1;
+    bool ok = true;
+    for (int64_t q = lo * ncx; q < (hi + 1) * ncx; ++q) ok &= s[q] >= -1 && s[q] <= top;
+    need(ok, "cell states are -1 to 2, and cells that interpolate a direction need five coefficient sets and room "
+             "for directions");
 }
 
 LatticeBand band_of(In<double> coef, In<int8_t> state, int64_t cb0, int64_t r0, In<double> offs, Out<float> xs,
@@ -56,6 +56,11 @@ LatticeBand band_of(In<double> coef, In<int8_t> state, int64_t cb0, int64_t r0, 
         hi = std::max(hi, o[2 * q + 1]);
     }
     need(o[0] == o[0] && lo == lo && hi == hi && inv > 0.0, "offsets must be numbers, the step positive");
+    // bounded, so that a cell's end column (lattice_rows: ceil(edge / inv - ox)) is an integer in range
+    double far = 0.0;
+    for (size_t q = 0; q < offs.size(); ++q) far = std::max(far, std::fabs(o[q]));
+    need(far <= 2147483648.0 && inv >= 1.0 / 2147483648.0 && inv <= 2147483648.0 && r0 >= 0 && r0 <= (int64_t(1) << 40),
+         "offsets beyond 2^31 pixels, a step beyond 2^31 or a first row beyond 2^40");
     auto cell = [&](double p) {
         p = std::floor(p);
         return !(p >= 0.0) ? int64_t(0) : (p >= double(ncy - 1) ? ncy - 1 : int64_t(p));

@@ -12,6 +12,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include "bind.h"
 #include "sampler.h"
 
 namespace lenslab {
@@ -29,6 +30,9 @@ inline double tent_c(double u) {
 }
 
 inline int64_t ifloor(double v) { return int64_t(dfloor(v)); }
+
+// a footprint side as the filter reads it: NaN a point (0), beyond +-2^40 texels (inf included) +-2^40
+inline double clamp_side(float v) { return v == v ? double(clamp_pos(v)) : 0.0; }
 
 // Texel weights of the bilinear reconstruction averaged over the parallelogram c + s a + r b (s, r in
 // [-1/2, 1/2]), added into wgt: texel (wx0 + i, wy0 + j) at wgt[j * stride + i], for j from -1 to nwy (the
@@ -58,9 +62,13 @@ double slice_weights(double cx, double cy, double ax, double ay, double bx, doub
     const double m1 = std::max(a0, a2), m2 = std::min(a1, a3);
     const double ys[4] = {std::min(a0, a2), std::min(m1, m2), std::max(m1, m2), std::max(a1, a3)};
     const double g2 = 0.5 / std::sqrt(3.0);
-    double total = 0.0, y = ys[0];
+    // only the slices of the window's rows (-1 to nwy - 1) are integrated: a footprint inside its window
+    // starts and ends within them (the same slices, the same bits); one clipped by the window takes its sum
+    // from the weights, not from the area, and costs its window, not its length (2^40 rows at the most)
+    const double y_end = std::min(ys[3], double(wy0 + nwy));
+    double total = 0.0, y = std::max(ys[0], double(wy0 - 1));
     int v = 1, seen = 0, le = 0, re = 0;
-    while (y < ys[3]) {
+    while (y < y_end) {
         while (v < 3 && ys[v] <= y) ++v;
         if (v != seen) {  // a new pair of vertices: the edges on the left and on the right until the next
             seen = v;
@@ -158,26 +166,15 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             if (!valid[s]) continue;
             ++hits;
             const float* f = foot + 4 * s;
-            const double fax = f[0], fay = f[1], fbx = f[2], fby = f[3];
+            const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
             const double longest = std::max(std::sqrt(fax * fax + fay * fay), std::sqrt(fbx * fbx + fby * fby));
             int64_t lev = 0;
             while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
             const int64_t lh = shapes[2 * lev], lw = shapes[2 * lev + 1];
             const double scale = double(lh) / h0;
             const double ax = fax * scale, ay = fay * scale, bx = fbx * scale, by = fby * scale;
-            const double cx = (double(xs[s]) + 0.5) * scale - 0.5;
-            const double cy = (double(ys[s]) + 0.5) * scale - 0.5;
-            // the window: every texel the reconstruction over the parallelogram touches
-            const double ex = 0.5 * (std::fabs(ax) + std::fabs(bx)) + 1.0, ey = 0.5 * (std::fabs(ay) + std::fabs(by)) + 1.0;
-            const int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
-            const int64_t nwx = std::min<int64_t>(ifloor(cx + ex) + 1 - wx0, WINDOW);
-            const int64_t nwy = std::min<int64_t>(ifloor(cy + ey) + 1 - wy0, WINDOW);
-            const float* buf = lev == 0 ? level0 : rest;
-            const float* lbuf = buf + offsets[lev];
-            const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
-            const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
-            double* const w = wgt + STRIDE;  // row -1 of the weights is scratch
-            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * STRIDE, wgt + j * STRIDE + nu + LANES, 0.0);
+            const double cx = (double(clamp_pos(xs[s])) + 0.5) * scale - 0.5;  // NaN: the left or top edge
+            const double cy = (double(clamp_pos(ys[s])) + 0.5) * scale - 0.5;
             // a degenerate footprint (a line or a point) gets a thickness far below a texel
             double tax = ax, tay = ay, tbx = bx, tby = by;
             if (std::fabs(ax * by - ay * bx) < THIN * THIN) {
@@ -186,6 +183,20 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                 else if (lb > 0.0) { tax = THIN * by / lb; tay = -THIN * bx / lb; }
                 else { tax = THIN; tay = 0.0; tbx = 0.0; tby = THIN; }
             }
+            // the window: every texel the reconstruction over the (thickened) parallelogram touches
+            const double ex = 0.5 * (std::fabs(tax) + std::fabs(tbx)) + 1.0, ey = 0.5 * (std::fabs(tay) + std::fabs(tby)) + 1.0;
+            int64_t wx0 = ifloor(cx - ex) + 1, wy0 = ifloor(cy - ey) + 1;
+            int64_t nwx = ifloor(cx + ex) + 1 - wx0, nwy = ifloor(cy + ey) + 1 - wy0;
+            // a footprint beyond the coarsest level: the window is centred on it (its top-left corner may miss a
+            // rotated footprint entirely: no weight at all, and 0 / 0)
+            if (nwx > WINDOW) { wx0 = ifloor(cx) + 1 - WINDOW / 2; nwx = WINDOW; }
+            if (nwy > WINDOW) { wy0 = ifloor(cy) + 1 - WINDOW / 2; nwy = WINDOW; }
+            const float* buf = lev == 0 ? level0 : rest;
+            const float* lbuf = buf + offsets[lev];
+            const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
+            const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
+            double* const w = wgt + STRIDE;  // row -1 of the weights is scratch
+            for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * STRIDE, wgt + j * STRIDE + nu + LANES, 0.0);
             const double area = cols ? slice_weights(cy, cx, tay, tax, tby, tbx, wy0, wx0, nu, nv, w, STRIDE)
                                      : slice_weights(cx, cy, tax, tay, tbx, tby, wx0, wy0, nu, nv, w, STRIDE);
             double part[NC > 0 ? NC : 64];
@@ -246,22 +257,32 @@ namespace nb = nanobind;
 
 void register_footprint(nb::module_& m) {
     using namespace lenslab;
-    using InF = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
-    using InI = nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu>;
-    using InB = nb::ndarray<const bool, nb::c_contig, nb::device::cpu>;
-    using OutF = nb::ndarray<float, nb::c_contig, nb::device::cpu>;
-    auto need = [](bool ok, const char* what) {
-        if (!ok) throw std::invalid_argument(what);
-    };
-    m.def("footprint", [need](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
+    using bind::need;
+    using InF = bind::In<float>;
+    using InI = bind::In<int64_t>;
+    using InB = bind::In<bool>;
+    using OutF = bind::Out<float>;
+    m.def("footprint", [](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
                               bool wrap, bool top, bool bottom, double max_taps, OutF out, OutF alpha) {
         size_t npix = alpha.size();
         need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
         size_t ns = xs.size() / npix;
         need(ys.size() == xs.size() && valid.size() == xs.size() && foot.size() == 4 * xs.size(), "band shapes differ");
-        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && offsets.size() == shapes.shape(0), "pyramid shapes");
+        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && shapes.shape(0) > 0 && offsets.size() == shapes.shape(0),
+             "pyramid shapes");
         int64_t nc = int64_t(out.size() / npix);
-        need(out.size() == npix * nc && nc <= 64, "out must hold whole pixels (at most 64 channels)");
+        need(out.size() == npix * nc && nc > 0 && nc <= 64, "out must hold whole pixels (at most 64 channels)");
+        const int64_t* sp = shapes.data();
+        const int64_t* op = offsets.data();
+        bool fits = op[0] == 0;  // every level lies inside its buffer
+        for (size_t l = 0; l < shapes.shape(0); ++l) {
+            const int64_t h = sp[2 * l], w = sp[2 * l + 1];
+            fits &= h > 0 && w > 0 && h <= (int64_t(1) << 24) && w <= (int64_t(1) << 24) && op[l] >= 0;
+            if (!fits) break;
+            const uint64_t end = uint64_t(op[l]) + uint64_t(h * w) * uint64_t(nc);
+            fits &= end <= (l == 0 ? level0.size() : rest.size());
+        }
+        need(fits, "the pyramid's levels must lie inside level0 and rest");
         need(max_taps > 0.0 && max_taps <= 8.0, "max_taps must be in (0, 8] (the window holds 2 max_taps + 3)");
         {
             nb::gil_scoped_release release;
@@ -273,7 +294,7 @@ void register_footprint(nb::module_& m) {
        nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
 
-    m.def("halve", [need](InF src, OutF out) {
+    m.def("halve", [](InF src, OutF out) {
         need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2
              && out.shape(2) == src.shape(2), "halve: out must be (h/2, w/2, c) of src (h, w, c)");
         nb::gil_scoped_release release;

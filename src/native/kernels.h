@@ -27,10 +27,16 @@ inline void fold_index(int64_t& i, int64_t& j, int64_t w, int64_t h, bool wrap, 
 
 struct Border { bool wrap, top, bottom; };
 
-// floor() for the finite, in-range coordinates of a map (|v| < 2^31), without a libm call on CPUs before
-// SSE4.1; the same value as std::floor but for -0.0 (gives +0.0, which no lerp or weight can tell apart)
+// A map position as the samplers read it: beyond +-2^40 (inf included) at +-2^40, NaN at -2^40, so that a
+// hostile map (1e30, or NaN marked valid) reads an edge pixel and never converts an out-of-range float to an
+// integer (undefined behaviour); the separable samplers clamp the same way (separable.cpp).
+constexpr float FAR_POS = 1099511627776.0f;  // 2^40: exact in float32; every tap beyond folds to the same pixel
+inline float clamp_pos(float v) { return v >= -FAR_POS ? (v > FAR_POS ? FAR_POS : v) : -FAR_POS; }
+
+// floor() for a position clamp_pos has bounded (|v| <= 2^40), without a libm call on CPUs before SSE4.1; the
+// same value as std::floor but for -0.0 (gives +0.0, which no lerp or weight can tell apart)
 inline float ffloor(float v) {
-    float t = float(int32_t(v));
+    float t = float(int64_t(v));
     return t > v ? t - 1.0f : t;
 }
 inline double dfloor(double v) {

@@ -5,23 +5,21 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/tuple.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
+#include "bind.h"
 #include "lens_kernels.h"
 
 namespace nb = nanobind;
 using namespace lenslab::lens;
 
+using namespace lenslab::bind;  // In, Out, need
+
 namespace {
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 using Vec = In<double>;
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
 
 // n points of `dim` coordinates in `pts`, and outputs of `odim` coordinates and one flag each
 int64_t points(const Vec& pts, size_t dim, const Out<double>& out, size_t odim, const Out<bool>& ok) {
@@ -31,8 +29,12 @@ int64_t points(const Vec& pts, size_t dim, const Out<double>& out, size_t odim, 
     return int64_t(n);
 }
 
+// a whole number 0..hi held in a double, else -1 (NaN, a fraction or a value out of range is never converted)
+int64_t whole(double v, int64_t hi) { return v >= 0.0 && v <= double(hi) && v == std::floor(v) ? int64_t(v) : -1; }
+
 Table table_of(const Vec& t, double step) {
     need(t.size() >= 2, "the table of the inverse needs two entries or more");
+    need(step > 0.0 && std::isfinite(step), "the table's step must be a positive number");  // else a negative index
     return {t.data(), int64_t(t.size()), step};
 }
 
@@ -96,11 +98,13 @@ void register_lens_kernels(nb::module_& m) {
     m.def("tiled_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
         need(p.size() >= 1, "tiled: the number of tiles first");
         const double* q = p.data();
+        const int64_t ntiles = whole(q[0], int64_t(p.size()));
+        need(ntiles >= 0, "tiled: the number of tiles must be a whole number");
         size_t at = 1;
-        for (int64_t k = 0; k < int64_t(q[0]); ++k) {  // every tile's record inside p, with a known kernel
+        for (int64_t k = 0; k < ntiles; ++k) {  // every tile's record inside p, with a known kernel
             static const double sizes[] = {9, 6, 4};  // the parameters of kernels 0, 1, 2
-            need(at + 19 <= p.size() && pixel_fn(int64_t(q[at])) != nullptr && q[at + 1] == sizes[int64_t(q[at])],
-                 "tiled: a tile's record");
+            need(at + 19 <= p.size() && whole(q[at], 2) >= 0 && pixel_fn(whole(q[at], 2)) != nullptr
+                 && q[at + 1] == sizes[whole(q[at], 2)], "tiled: a tile's record");
             at += 19 + size_t(q[at + 1]);
         }
         need(at == p.size(), "tiled: the records do not fill the parameters");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "bind.h"
 #include "sampler.h"
 
 namespace nb = nanobind;
@@ -15,13 +16,15 @@ using namespace lenslab;
 void bind_map_kernels(nb::module_& m);  // bind_map.cpp: the map lattice and the separable samplers
 void register_lens_kernels(nb::module_& m);  // lens_bindings.cpp: the lens models' kernels
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+using namespace lenslab::bind;  // In, Out, need
 
 namespace {
 
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
+// an image of sw x sh pixels of nc channels holds exactly `size` floats (no product overflows)
+bool holds(size_t size, int64_t sw, int64_t sh, int64_t nc) {
+    uint64_t px = 0, all = 0;
+    return sw > 0 && sh > 0 && nc > 0 && !__builtin_mul_overflow(uint64_t(sw), uint64_t(sh), &px)
+           && !__builtin_mul_overflow(px, uint64_t(nc), &all) && all == size;
 }
 
 
@@ -45,8 +48,8 @@ NB_MODULE(cxx_kernels, m) {
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
         size_t n = xs.size();
+        need(holds(src.size(), sw, sh, nc), "source size");
         need(ys.size() == n && valid.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
-        need(src.size() == size_t(sw * sh * nc), "source size");
         bilinear1(src.data(), sw, sh, nc, xs.data(), ys.data(), valid.data(), int64_t(n), {wrap, top, bottom},
                   out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
@@ -54,12 +57,12 @@ NB_MODULE(cxx_kernels, m) {
 
     m.def("bilinear_n", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys,
                            In<bool> valid, bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
+        need(holds(src.size(), sw, sh, nc), "source size");
         size_t npix = alpha.size();
         need(npix > 0 && xs.size() % npix == 0, "band shapes differ");
         size_t ns = xs.size() / npix;
         need(ys.size() == xs.size() && valid.size() == xs.size() && out.size() == npix * nc && nc <= 64,
              "band shapes differ (or more than 64 channels)");
-        need(src.size() == size_t(sw * sh * nc), "source size");
         bilinear_n(src.data(), sw, sh, nc, xs.data(), ys.data(), valid.data(), int64_t(npix), int64_t(ns),
                    {wrap, top, bottom}, out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
@@ -70,6 +73,8 @@ NB_MODULE(cxx_kernels, m) {
         size_t n = xs.size();
         need(ys.size() == n && valid.size() == n && off.size() == n && tx.size() == n && ty.size() == n,
              "band shapes differ");
+        need(sw > 0 && sh > 0 && sw < int64_t(TAP_FOLDED) && sh < int64_t(TAP_FOLDED)
+             && uint64_t(sw) * uint64_t(sh) < TAP_FOLDED, "taps need a source of fewer than 2^32 - 2 pixels");
         taps_of(sw, sh, xs.data(), ys.data(), valid.data(), int64_t(n), off.data(), tx.data(), ty.data());
     }, nb::arg("sw"), nb::arg("sh"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("off").noconvert(), nb::arg("tx").noconvert(), nb::arg("ty").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
@@ -77,7 +82,13 @@ NB_MODULE(cxx_kernels, m) {
     m.def("from_taps", [](In<float> src, int64_t sw, int64_t nc, In<uint32_t> off, In<float> tx, In<float> ty,
                           Out<float> out, Out<float> alpha) {
         size_t n = off.size();
+        need(sw > 0 && nc > 0 && src.size() % size_t(sw * nc) == 0, "source size");
         need(tx.size() == n && ty.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
+        const int64_t last = int64_t(src.size() / size_t(nc)) - sw - 1;  // a 2x2's top-left tap is below it
+        const uint32_t* o = off.data();
+        bool inside = true;
+        for (size_t q = 0; q < n; ++q) inside &= o[q] >= TAP_FOLDED || int64_t(o[q]) < last;
+        need(inside, "a tap reads outside the source");
         from_taps(src.data(), sw, nc, off.data(), tx.data(), ty.data(), int64_t(n), out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("nc"), nb::arg("off"), nb::arg("tx"), nb::arg("ty"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
@@ -85,7 +96,8 @@ NB_MODULE(cxx_kernels, m) {
     m.def("folded", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<int64_t> idx, In<float> xs, In<float> ys,
                        bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
         size_t m_ = idx.size();
-        need(xs.size() == m_ && ys.size() == m_, "fold shapes differ");
+        need(holds(src.size(), sw, sh, nc), "source size");
+        need(xs.size() == m_ && ys.size() == m_ && out.size() == alpha.size() * size_t(nc), "fold shapes differ");
         const int64_t* p = idx.data();
         for (size_t e = 0; e < m_; ++e) need(p[e] >= 0 && size_t(p[e]) < alpha.size(), "fold index out of range");
         folded(src.data(), sw, sh, nc, p, xs.data(), ys.data(), int64_t(m_), {wrap, top, bottom}, out.data(),

@@ -63,9 +63,9 @@ void bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t
             alpha[q] = 0.0f;
             continue;
         }
-        float x = xs[q], y = ys[q];
+        float x = clamp_pos(xs[q]), y = clamp_pos(ys[q]);
         float fx0 = ffloor(x), fy0 = ffloor(y);
-        corners(int32_t(fx0), int32_t(fy0), sw, sh, nc, b, p);
+        corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
         lerp(flat, p[0], p[1], p[2], p[3], x - fx0, y - fy0, nc, o);
         alpha[q] = 1.0f;
     }
@@ -102,7 +102,7 @@ void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const flo
             }
             if (!valid[k]) continue;
             ++hits;
-            float x = xs[k], y = ys[k];
+            float x = clamp_pos(xs[k]), y = clamp_pos(ys[k]);
             float fx0 = ffloor(x), fy0 = ffloor(y);
             float tx = x - fx0, ty = y - fy0;
             corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
@@ -127,12 +127,13 @@ void taps_of(int64_t sw, int64_t sh, const float* xs, const float* ys, const boo
         tx[q] = 0.0f;
         ty[q] = 0.0f;
         if (!valid[q]) { off[q] = TAP_INVALID; continue; }
-        float fx0 = ffloor(xs[q]), fy0 = ffloor(ys[q]);
-        int64_t i0 = int32_t(fx0), j0 = int32_t(fy0);
+        const float x = clamp_pos(xs[q]), y = clamp_pos(ys[q]);
+        float fx0 = ffloor(x), fy0 = ffloor(y);
+        int64_t i0 = int64_t(fx0), j0 = int64_t(fy0);
         if (i0 >= 0 && j0 >= 0 && i0 + 1 < sw && j0 + 1 < sh) {
             off[q] = uint32_t(j0 * sw + i0);
-            tx[q] = xs[q] - fx0;
-            ty[q] = ys[q] - fy0;
+            tx[q] = x - fx0;
+            ty[q] = y - fy0;
         } else {
             off[q] = TAP_FOLDED;
         }
@@ -155,9 +156,10 @@ void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t
     uint64_t p[4];
     for (int64_t e = 0; e < m; ++e) {
         int64_t q = idx[e];
-        float fx0 = ffloor(xs[e]), fy0 = ffloor(ys[e]);
-        corners(int32_t(fx0), int32_t(fy0), sw, sh, nc, b, p);
-        lerp(flat, p[0], p[1], p[2], p[3], xs[e] - fx0, ys[e] - fy0, nc, out + q * nc);
+        const float x = clamp_pos(xs[e]), y = clamp_pos(ys[e]);
+        float fx0 = ffloor(x), fy0 = ffloor(y);
+        corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
+        lerp(flat, p[0], p[1], p[2], p[3], x - fx0, y - fy0, nc, out + q * nc);
         alpha[q] = 1.0f;
     }
 }

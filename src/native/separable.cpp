@@ -15,7 +15,6 @@ namespace lenslab {
 namespace {
 
 constexpr double PI = 3.141592653589793;
-constexpr double BIG = 1099511627776.0;  // 2^40: positions beyond fold to the same taps, no overflow
 
 inline double weight(int kind, double t) {
     const double a = std::fabs(t);
@@ -36,8 +35,6 @@ inline int64_t piece_at(double x, double y, const Pieces& pc) {
     if (!(fc >= 0.0 && fr >= 0.0 && fc < double(pc.gc) && fr < double(pc.gr))) return -1;
     return pc.grid[int64_t(fr) * pc.gc + int64_t(fc)];
 }
-
-inline double clamp_big(double v) { return !(v >= -BIG) ? -BIG : (v > BIG ? BIG : v); }  // NaN: -BIG
 
 }  // namespace
 
@@ -94,7 +91,7 @@ void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float
         for (int64_t k = q * ns; k < (q + 1) * ns; ++k) {
             if (!valid[k]) continue;
             ++hits;
-            const double x = clamp_big(double(xs[k])), y = clamp_big(double(ys[k]));
+            const double x = double(clamp_pos(xs[k])), y = double(clamp_pos(ys[k]));  // NaN: -2^40
             const int64_t piece = pc.np > 0 ? piece_at(x, y, pc) : -1;
             if (kind == 0) {
                 int64_t ii = int64_t(std::floor(x + 0.5)), jj = int64_t(std::floor(y + 0.5));

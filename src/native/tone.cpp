@@ -16,10 +16,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "bind.h"
 #include "tone.h"
 
 namespace nb = nanobind;
 using namespace lenslab;
+using lenslab::bind::In;
+using lenslab::bind::Out;
 
 namespace {
 
@@ -73,9 +76,6 @@ uint32_t pbr_pixels(const float* src, float* dst, int64_t n, Pbr k) {
     }
     return worst;
 }
-
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 
 void same_pixels(size_t a, size_t b) {
     if (a != b || a % 3) throw std::invalid_argument("src and dst must hold the same whole RGB pixels");

@@ -19,16 +19,15 @@
 #include <utility>
 #include <vector>
 
+#include "bind.h"
+
 namespace lenslab_tracer {
 
 namespace nb = nanobind;
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-inline void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
+using lenslab::bind::In;
+using lenslab::bind::Out;
+using lenslab::bind::need;
 
 // Python's max and min (as numba compiles them): the first argument unless the second compares greater/less
 inline float pmax(float a, float b) { return b > a ? b : a; }
@@ -210,6 +209,7 @@ public:
                 for (int c = 0; c < 3; ++c) s.out[3 * r + c] = s.L[3 * i + c];
                 continue;
             }
+            need(k < ntri_, "triangle index out of range");
             const float ti = t[i];
             const float dx = s.d[3 * i], dy = s.d[3 * i + 1], dz = s.d[3 * i + 2];
             const float p0 = s.o[3 * i] + ti * dx, p1 = s.o[3 * i + 1] + ti * dy, p2 = s.o[3 * i + 2] + ti * dz;

@@ -16,11 +16,20 @@ from lenslab.warp.seam import fold_taps as fold_index
 
 INVALID = np.uint32(0xFFFFFFFF)
 FOLDED = np.uint32(0xFFFFFFFE)
+FAR = np.float32(2.0**40)  # a position beyond +-2^40 (inf included) is read at +-2^40, NaN at -2^40 (clamp_pos)
+
+
+def clamp_pos(v):
+    """Map positions as the samplers read them (``clamp_pos`` in ``src/native/kernels.h``): an edge pixel for
+    1e30, inf or NaN, and no float converted to an integer out of range."""
+    v = np.asarray(v, dtype=np.float32)
+    return np.where(v >= -FAR, np.minimum(v, FAR), -FAR).astype(np.float32)
 
 
 def _taps(src, x, y, border):
     """The four taps' values (n, C) float32 and the fractions (float32) at index coordinates ``x, y``."""
     sh, sw = src.shape[:2]
+    x, y = clamp_pos(x), clamp_pos(y)
     fx0, fy0 = np.floor(x), np.floor(y)
     i0, j0 = fx0.astype(np.int64), fy0.astype(np.int64)
     vals = []
@@ -66,6 +75,7 @@ def taps(src, xs, ys, valid):
     top-left tap, INVALID without a source, FOLDED where a tap leaves the image (fractions 0 there)."""
     sh, sw = src.shape[:2]
     x, y, v = (np.asarray(a).reshape(-1) for a in (xs, ys, valid))
+    x, y = clamp_pos(x), clamp_pos(y)
     fx0, fy0 = np.floor(x), np.floor(y)
     i0, j0 = fx0.astype(np.int64), fy0.astype(np.int64)
     inside = v & (i0 >= 0) & (j0 >= 0) & (i0 + 1 < sw) & (j0 + 1 < sh)
@@ -106,8 +116,11 @@ def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
         edges.append((lo, hi, xlo, (xhi - xlo) / (hi - lo) if hi > lo else 0.0))
     ys = sorted(vy)
     w = np.zeros((nwy + 2, nwx))  # rows -1 and nwy: scratch
-    total, y, v, seen, left, right = 0.0, ys[0], 1, 0, edges[0], edges[0]
-    while y < ys[3]:
+    # only the window's rows -1 .. nwy - 1 (a footprint inside its window lies within them; a clipped one takes
+    # its sum from the weights)
+    y_end = min(ys[3], float(wy0 + nwy))
+    total, y, v, seen, left, right = 0.0, max(ys[0], float(wy0 - 1)), 1, 0, edges[0], edges[0]
+    while y < y_end:
         while v < 3 and ys[v] <= y:
             v += 1
         if v != seen:  # a new pair of vertices: the edges on the left and on the right until the next
@@ -161,7 +174,7 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
             if not v[q, s]:
                 continue
             hits += 1
-            ax, ay, bx, by = (float(t) for t in f[q, s])
+            ax, ay, bx, by = (0.0 if math.isnan(t) else float(clamp_pos(t)) for t in f[q, s])  # NaN: a point
             longest = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
             lev = 0
             while lev + 1 < len(levels) and longest > MAX_TAPS * (1 << lev):
@@ -170,12 +183,8 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
             lh, lw = img.shape[:2]
             scale = lh / h0
             ax, ay, bx, by = ax * scale, ay * scale, bx * scale, by * scale
-            cx = (float(x[q, s]) + 0.5) * scale - 0.5
-            cy = (float(y[q, s]) + 0.5) * scale - 0.5
-            ex, ey = 0.5 * (abs(ax) + abs(bx)) + 1.0, 0.5 * (abs(ay) + abs(by)) + 1.0
-            wx0, wy0 = math.floor(cx - ex) + 1, math.floor(cy - ey) + 1
-            nwx = min(math.floor(cx + ex) + 1 - wx0, WINDOW)
-            nwy = min(math.floor(cy + ey) + 1 - wy0, WINDOW)
+            cx = (float(clamp_pos(x[q, s])) + 0.5) * scale - 0.5
+            cy = (float(clamp_pos(y[q, s])) + 0.5) * scale - 0.5
             if abs(ax * by - ay * bx) < THIN * THIN:  # a line or a point: a thickness far below a texel
                 la, lb = math.hypot(ax, ay), math.hypot(bx, by)
                 if la >= lb and la > 0.0:
@@ -184,6 +193,14 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
                     ax, ay = THIN * by / lb, -THIN * bx / lb
                 else:
                     ax, ay, bx, by = THIN, 0.0, 0.0, THIN
+            # the window: every texel the thickened footprint touches
+            ex, ey = 0.5 * (abs(ax) + abs(bx)) + 1.0, 0.5 * (abs(ay) + abs(by)) + 1.0
+            wx0, wy0 = math.floor(cx - ex) + 1, math.floor(cy - ey) + 1
+            nwx, nwy = math.floor(cx + ex) + 1 - wx0, math.floor(cy + ey) + 1 - wy0
+            if nwx > WINDOW:  # a footprint beyond the coarsest level: the window centred on it
+                wx0, nwx = math.floor(cx) + 1 - WINDOW // 2, WINDOW
+            if nwy > WINDOW:
+                wy0, nwy = math.floor(cy) + 1 - WINDOW // 2, WINDOW
             if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
                 wt, area = slice_weights(cy, cx, ay, ax, by, bx, wy0, wx0, nwy, nwx)
                 wt = wt.T
