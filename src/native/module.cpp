@@ -29,10 +29,12 @@ void need(bool ok, const char* what) {
 
 void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
 void register_video(nb::module_& m);  // video.cpp: the video colour passes
+void register_video_ycbcr(nb::module_& m);  // video_ycbcr.cpp: Y'CbCr planes <-> linear light
 void register_tone(nb::module_& m);  // tone.cpp
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
+    register_video_ycbcr(m);
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
     register_lens_kernels(m);

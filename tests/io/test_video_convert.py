@@ -1,5 +1,5 @@
 """convert: a clip made here with PyAV to one EXR per frame (checked against PyAV + colour-science's BT.1886
-decoding done here), and EXR frames back to a clip (rate, size, tags and pixels checked the same way)."""
+decoding done here, exact to BT.709), and EXR frames back to a clip (rate, size, tags and pixels checked the same way)."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ av = pytest.importorskip("av")
 
 import lenslab.io as lio  # noqa: E402
 from lenslab.cli.main import main  # noqa: E402
+from tests.io.ycbcr_oracle import decode_codes  # noqa: E402
 
 W, H, N = 64, 32, 3
 
@@ -36,12 +37,11 @@ def _make(path):
 
 
 def _decode(path):
-    """Linear frames decoded here: swscale with BT.709 limited range, then colour-science's BT.1886 EOTF."""
+    """Linear frames decoded here: the planes through colour-science's BT.709 limited-range Y'CbCr decoding
+    (:mod:`tests.io.ycbcr_oracle`; swscale is 0.4 % low at white), then its BT.1886 EOTF."""
+    frames = [colour.models.eotf_BT1886(codes, L_B=0, L_W=1) for codes in decode_codes(path)]
     with av.open(str(path)) as c:
         s = c.streams.video[0]
-        frames = [colour.models.eotf_BT1886(
-            f.reformat(format="rgb48le", src_colorspace="itu709", src_color_range="MPEG",
-                       dst_color_range="JPEG").to_ndarray() / 65535.0, L_B=0, L_W=1) for f in c.decode(s)]
         cc = s.codec_context
         return frames, Fraction(s.average_rate), (int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace))
 

@@ -1,5 +1,5 @@
-"""Frames decoded only in a window (the pixels a warp reads: swscale converts a crop of the Y'CbCr frame around
-it, into a ring of reused buffers) hold in that window the values the whole frame's decoding gives, frame after
+"""Frames decoded only in a window (the pixels a warp reads: the compiled Y'CbCr pass reads only their samples,
+into a ring of reused buffers) hold in that window the values the whole frame's decoding gives, frame after
 frame, and 0 outside it."""
 
 from __future__ import annotations
@@ -47,15 +47,3 @@ def test_windowed_frames_equal_whole_frames_in_the_window(tmp_path, pix_fmt):
         part[r0:r1, c0:c1] = 0
         assert not part.any()
     assert len({w.tobytes() for w in whole}) == N  # the frames differ: a stale buffer would show
-
-
-def test_a_crop_keeps_a_margin_on_the_chroma_grid(tmp_path):
-    from lenslab.io.video import CROP_MARGIN, crop_frame
-
-    frame = av.VideoFrame(64, 32, "yuv420p")
-    part, origin = crop_frame(frame, (13, 20, 21, 30))
-    # rows 13 - 8 = 5 down to 4 and 20 + 8 = 28; columns 21 - 8 = 13 down to 12 and 30 + 8 = 38 up to 40 (multiples of 4)
-    assert origin == (4, 12) and (part.height, part.width) == (28 - 4, 40 - 12)
-    assert origin[0] <= 13 - CROP_MARGIN and origin[0] + part.height >= 20 + CROP_MARGIN
-    assert origin[1] <= 21 - CROP_MARGIN and origin[1] + part.width >= 30 + CROP_MARGIN
-    assert crop_frame(frame, (0, 32, 0, 64))[0] is frame  # the whole frame: no copy
