@@ -6,9 +6,9 @@ and range formulas of ITU-R BT.709, BT.601 and BT.2020 (non-constant luminance) 
 - ``E'y = Kr R' + (1 - Kr - Kb) G' + Kb B'``, ``E'cb = (B' - E'y) / (2 (1 - Kb))``, ``E'cr = (R' - E'y) / (2 (1 - Kr))``.
 
 Decoding takes the decoder's planes as they are (no copy, no swscale): chroma is repeated over its block (as
-swscale's default does), R'G'B' is computed in float64, clamped to [0, 1] and taken through the transfer function's
+swscale's default does), R'G'B' is computed in float32, clamped to [0, 1] and taken through the transfer function's
 65536-entry table (:func:`lenslab.io.video_colour._decode_table`) interpolated linearly, then BT.2020 -> Rec.709
-where the stream is wide. Only the window a warp reads is computed. Encoding takes linear light through the
+where the stream is wide (float32 throughout: within a few float32 steps of the exact values). Only the window a warp reads is computed. Encoding takes linear light through the
 inverse transfer function's table (:func:`lenslab.io.video_colour._encode_table`) to R'G'B' in [0, 1], then to
 codes rounded once at the stream's depth; a chroma sample is the mean of its block's Cb (Cr).
 
@@ -51,12 +51,12 @@ def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
 
 
 def code_range(bits: int, full: bool) -> np.ndarray:
-    """``(y0, ys, c0, cs)``: ``E'y = (Y - y0) ys``, ``E'c = (C - c0) cs`` for codes of ``bits`` bits."""
+    """``(y0, ys, c0, cs)``: ``E'y = (Y - y0) / ys``, ``E'c = (C - c0) / cs`` for codes of ``bits`` bits."""
     if full:
         top = float((1 << bits) - 1)
-        return np.array([0.0, 1.0 / top, float(1 << (bits - 1)), 1.0 / top])
+        return np.array([0.0, top, float(1 << (bits - 1)), top])
     s = float(1 << (bits - 8))
-    return np.array([16.0 * s, 1.0 / (219.0 * s), 128.0 * s, 1.0 / (224.0 * s)])
+    return np.array([16.0 * s, 219.0 * s, 128.0 * s, 224.0 * s])
 
 
 def planes(frame) -> list[np.ndarray]:
@@ -67,8 +67,10 @@ def planes(frame) -> list[np.ndarray]:
 
 
 @lru_cache(maxsize=8)
-def _table64(curve: str, wide: bool) -> np.ndarray:
-    return np.ascontiguousarray(_decode_table(curve, wide), np.float64).reshape(-1)
+def _pairs(curve: str, wide: bool) -> np.ndarray:
+    """The decoding table as 65536 float32 pairs (value at code i, step to code i + 1; the last step 0)."""
+    t = np.asarray(_decode_table(curve, wide), np.float64).reshape(-1)
+    return np.ascontiguousarray(np.stack([t, np.append(np.diff(t), 0.0)], -1), np.float32).reshape(-1)
 
 
 def _decode_args(info, pix_fmt: str):
@@ -76,7 +78,7 @@ def _decode_args(info, pix_fmt: str):
     wide = info.primaries == _BT2020
     prim = np.ascontiguousarray(_matrix_2020_to_709()) if wide else np.empty(0)
     return (hx, vy, code_range(bits, info.range == 2), np.linalg.inv(rgb_to_ycbcr_matrix(info.matrix)),
-            _table64(info.curve, wide), prim)
+            _pairs(info.curve, wide), prim)
 
 
 def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> np.ndarray:
@@ -102,13 +104,15 @@ def ycbcr_to_linear_reference(y, u, v, info, pix_fmt: str, size: tuple[int, int]
     hx, vy, (y0, ys, c0, cs), k, table, prim = _decode_args(info, pix_fmt)
 
     def up(c):
-        return np.repeat(np.repeat(c.astype(np.float64), 1 << vy, 0), 1 << hx, 1)[:h, :w]
+        return np.repeat(np.repeat(c.astype(np.float32), 1 << vy, 0), 1 << hx, 1)[:h, :w]
 
-    e = np.stack([(y[:h, :w] - y0) * ys, (up(u) - c0) * cs, (up(v) - c0) * cs], -1) @ k.T
-    x = np.clip(e, 0.0, 1.0) * 65535.0
-    i = np.minimum(x.astype(np.int64), 65534)
-    lin = table[i] + (x - i) * (table[i + 1] - table[i])
-    return (lin @ prim.T if prim.size else lin).astype(np.float32)
+    f32 = np.float32
+    e = np.stack([(y[:h, :w] - f32(y0)) / f32(ys), (up(u) - f32(c0)) / f32(cs), (up(v) - f32(c0)) / f32(cs)],
+                 -1).astype(f32) @ k.T.astype(f32)
+    x = np.clip(e, 0.0, 1.0).astype(f32) * f32(65535.0)
+    i = x.astype(np.int32)  # at most 65535, whose step is 0
+    lin = table[2 * i] + (x - i.astype(f32)) * table[2 * i + 1]
+    return lin @ prim.T.astype(f32) if prim.size else lin
 
 
 def _encode_args(info, pix_fmt: str, encoded: bool):
@@ -157,7 +161,7 @@ def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.
     def code(x):
         return np.clip(np.round(x), 0, top).astype(np.int64)
 
-    return [code(e[..., 0] / ys + y0), code(c[..., 0] / cs + c0), code(c[..., 1] / cs + c0)]
+    return [code(e[..., 0] * ys + y0), code(c[..., 0] * cs + c0), code(c[..., 1] * cs + c0)]
 
 
 __all__ = ["FORMATS", "MATRICES", "exact", "planes", "ycbcr_to_linear", "ycbcr_to_linear_reference",

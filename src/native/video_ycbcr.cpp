@@ -1,7 +1,7 @@
 // Y'CbCr passes of video frames (lenslab.cxx_kernels, registered by register_video_ycbcr), exact to the matrix and
 // range formulas (ITU-R BT.709 / BT.601 / BT.2020, ITU-T H.273), each without the GIL on `threads` threads:
 // - ycbcr_to_linear: a decoder's planes (8 to 16 bits, 4:2:0 / 4:2:2 / 4:4:4, chroma upsampled by repetition) ->
-//   R'G'B' in float64 -> clamped to [0, 1] -> the transfer function's 65536-entry table, interpolated linearly ->
+//   R'G'B' in float32 -> clamped to [0, 1] -> the transfer function's 65536-entry table, interpolated linearly ->
 //   linear light (float32), a window of the frame only;
 // - linear_to_ycbcr: linear float32 -> the inverse transfer function's table (lenslab.io.video_colour) -> R'G'B'
 //   in [0, 1] -> Y'CbCr -> codes rounded once, chroma the mean of each block's Cb and Cr.
@@ -30,7 +30,7 @@ using Plane = nb::ndarray<nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 
-// How codes stand for values: Y' = (code - y0) * ys, C = (code - c0) * cs
+// How codes stand for values: Y' = (code - y0) / ys, C = (code - c0) / cs (a division: 940 is 1 exactly)
 struct Range {
     double y0, ys, c0, cs;
 };
@@ -44,18 +44,25 @@ template <typename T> struct Planes {
     int hx, vy;  // log2 of the chroma subsampling across and down
 };
 
-// linear interpolation in a 65536-entry table of the code value v in [0, 1]
-inline double lookup(const double* t, double v) {
-    v = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
-    double x = v * 65535.0;
-    int64_t i = std::min<int64_t>(int64_t(x), 65534);
-    double f = x - double(i);
-    return t[i] + f * (t[i + 1] - t[i]);
+// The transfer function at 16-bit code value v in [0, 1] from `t`, 65536 pairs (value at code i, step to code
+// i + 1), interpolated linearly in float32
+inline float lookup(const float* t, float v) {
+    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+    float x = v * 65535.0f;
+    int32_t i = int32_t(x);  // at most 65535, whose step is 0: white is the table's last value exactly
+    return t[2 * i] + (x - float(i)) * t[2 * i + 1];
 }
 
+// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32:
+// E' = k (Y', Cb, Cr), then the table, then `m` (BT.2020 -> Rec.709) when given.
 template <typename T>
-void to_linear(Planes<const T> p, Range r, const double* k, const double* t, const double* m, float* out,
+void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const double* m, float* out,
                int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
+    const float ys = float(r.ys), y0 = float(r.y0), cs = float(r.cs), cz = float(r.c0);
+    const float ky[3] = {float(k[0]), float(k[3]), float(k[6])}, kb[3] = {float(k[1]), float(k[4]), float(k[7])},
+                kr[3] = {float(k[2]), float(k[5]), float(k[8])};
+    float mf[9];
+    for (int q = 0; q < 9; ++q) mf[q] = m ? float(m[q]) : 0.0f;
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
         for (int64_t j = r0 + b0; j < r0 + b1; ++j) {
             const T* yr = p.y + j * p.sy_;
@@ -63,12 +70,15 @@ void to_linear(Planes<const T> p, Range r, const double* k, const double* t, con
             const T* vr = p.v + (j >> p.vy) * p.sv;
             float* o = out + j * cols * 3;
             for (int64_t c = c0; c < c1; ++c) {
-                double yy = (double(yr[c]) - r.y0) * r.ys;
-                double cb = (double(ur[c >> p.hx]) - r.c0) * r.cs, cr = (double(vr[c >> p.hx]) - r.c0) * r.cs;
-                double e[3];
-                for (int q = 0; q < 3; ++q) e[q] = lookup(t, k[3 * q] * yy + k[3 * q + 1] * cb + k[3 * q + 2] * cr);
-                for (int q = 0; q < 3; ++q)
-                    o[3 * c + q] = float(m ? m[3 * q] * e[0] + m[3 * q + 1] * e[1] + m[3 * q + 2] * e[2] : e[q]);
+                float yy = (float(yr[c]) - y0) / ys;
+                float cb = (float(ur[c >> p.hx]) - cz) / cs, cr = (float(vr[c >> p.hx]) - cz) / cs;
+                float e[3];
+                for (int q = 0; q < 3; ++q) e[q] = lookup(t, ky[q] * yy + kb[q] * cb + kr[q] * cr);
+                if (m == nullptr) {
+                    for (int q = 0; q < 3; ++q) o[3 * c + q] = e[q];
+                } else {
+                    for (int q = 0; q < 3; ++q) o[3 * c + q] = mf[3 * q] * e[0] + mf[3 * q + 1] * e[1] + mf[3 * q + 2] * e[2];
+                }
             }
         }
     });
@@ -100,7 +110,7 @@ void from_linear(const float* lin, int64_t rows, int64_t cols, const double* m, 
                     }
                     double w[3];
                     for (int q = 0; q < 3; ++q) w[q] = k[3 * q] * e[0] + k[3 * q + 1] * e[1] + k[3 * q + 2] * e[2];
-                    p.y[j * p.sy_ + c] = code(w[0] / r.ys + r.y0);
+                    p.y[j * p.sy_ + c] = code(w[0] * r.ys + r.y0);
                     acc[size_t(c >> p.hx) * 2] += w[1];
                     acc[size_t(c >> p.hx) * 2 + 1] += w[2];
                 }
@@ -108,8 +118,8 @@ void from_linear(const float* lin, int64_t rows, int64_t cols, const double* m, 
             int64_t n_rows = je - jb;
             for (int64_t cc = 0; cc < ccols; ++cc) {
                 double n = double(n_rows * (std::min(cols, (cc + 1) * bw) - cc * bw));
-                p.u[(jb >> p.vy) * p.su + cc] = code(acc[size_t(cc) * 2] / n / r.cs + r.c0);
-                p.v[(jb >> p.vy) * p.sv + cc] = code(acc[size_t(cc) * 2 + 1] / n / r.cs + r.c0);
+                p.u[(jb >> p.vy) * p.su + cc] = code(acc[size_t(cc) * 2] / n * r.cs + r.c0);
+                p.v[(jb >> p.vy) * p.sv + cc] = code(acc[size_t(cc) * 2 + 1] / n * r.cs + r.c0);
             }
         }
     });
@@ -134,13 +144,13 @@ void check_planes(Plane& y, Plane& u, Plane& v, int64_t h, int64_t w, int hx, in
 
 void register_video_ycbcr(nb::module_& m) {
     m.def("ycbcr_to_linear", [](Plane y, Plane u, Plane v, int hx, int vy, In<double> range, In<double> matrix,
-                                In<double> table, In<double> primaries, Out<float> out, int64_t r0, int64_t r1,
+                                In<float> table, In<double> primaries, Out<float> out, int64_t r0, int64_t r1,
                                 int64_t c0, int64_t c1, int64_t threads) {
         need(out.ndim() == 3 && out.shape(2) == 3, "out: H x W x 3");
         int64_t h = int64_t(out.shape(0)), w = int64_t(out.shape(1));
         check_planes(y, u, v, h, w, hx, vy);
         need(0 <= r0 && r0 <= r1 && r1 <= h && 0 <= c0 && c0 <= c1 && c1 <= w, "the window is outside the frame");
-        need(range.size() == 4 && matrix.size() == 9 && table.size() == 65536, "range 4, matrix 9, table 65536");
+        need(range.size() == 4 && matrix.size() == 9 && table.size() == 2 * 65536, "range 4, matrix 9, table 2 x 65536");
         need(primaries.size() == 0 || primaries.size() == 9, "primaries: 3 x 3 or empty");
         const double* g = range.data();
         Range r{g[0], g[1], g[2], g[3]};
