@@ -50,6 +50,15 @@ def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
                      [0.5, -kg / (2 * (1 - kr)), -kb / (2 * (1 - kr))]])
 
 
+def ycbcr_to_rgb_matrix(matrix: int) -> np.ndarray:
+    """(E'y, E'cb, E'cr) -> R'G'B', 3 x 3 float64: the inverse of :func:`rgb_to_ycbcr_matrix`, its first column 1."""
+    kr, kb = MATRICES[matrix]
+    kg = 1.0 - kr - kb
+    return np.array([[1.0, 0.0, 2 * (1 - kr)],
+                     [1.0, -2 * kb * (1 - kb) / kg, -2 * kr * (1 - kr) / kg],
+                     [1.0, 2 * (1 - kb), 0.0]])
+
+
 def code_range(bits: int, full: bool) -> np.ndarray:
     """``(y0, ys, c0, cs)``: ``E'y = (Y - y0) / ys``, ``E'c = (C - c0) / cs`` for codes of ``bits`` bits."""
     if full:
@@ -77,7 +86,7 @@ def _decode_args(info, pix_fmt: str):
     bits, hx, vy = FORMATS[pix_fmt]
     wide = info.primaries == _BT2020
     prim = np.ascontiguousarray(_matrix_2020_to_709()) if wide else np.empty(0)
-    return (hx, vy, code_range(bits, info.range == 2), np.linalg.inv(rgb_to_ycbcr_matrix(info.matrix)),
+    return (hx, vy, code_range(bits, info.range == 2), ycbcr_to_rgb_matrix(info.matrix),
             _pairs(info.curve, wide), prim)
 
 
@@ -104,12 +113,14 @@ def ycbcr_to_linear_reference(y, u, v, info, pix_fmt: str, size: tuple[int, int]
     hx, vy, (y0, ys, c0, cs), k, table, prim = _decode_args(info, pix_fmt)
 
     def up(c):
-        return np.repeat(np.repeat(c.astype(np.float32), 1 << vy, 0), 1 << hx, 1)[:h, :w]
+        return np.repeat(np.repeat(c, 1 << vy, 0), 1 << hx, 1)[:h, :w]
 
     f32 = np.float32
-    e = np.stack([(y[:h, :w] - f32(y0)) / f32(ys), (up(u) - f32(c0)) / f32(cs), (up(v) - f32(c0)) / f32(cs)],
-                 -1).astype(f32) @ k.T.astype(f32)
-    x = np.clip(e, 0.0, 1.0).astype(f32) * f32(65535.0)
+    n = np.arange(256 if y.dtype == np.uint8 else 65536, dtype=np.float64)
+    ly, lc = ((n - y0) / ys * 65535.0).astype(f32), ((n - c0) / cs * 65535.0).astype(f32)
+    cb, cr = lc[up(u)], lc[up(v)]
+    x = ly[y[:h, :w]][..., None] + (k[:, 1].astype(f32) * cb[..., None] + k[:, 2].astype(f32) * cr[..., None])
+    x = np.clip(x, 0.0, 65535.0).astype(f32)
     i = x.astype(np.int32)  # at most 65535, whose step is 0
     lin = table[2 * i] + (x - i.astype(f32)) * table[2 * i + 1]
     return lin @ prim.T.astype(f32) if prim.size else lin
@@ -165,4 +176,4 @@ def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.
 
 
 __all__ = ["FORMATS", "MATRICES", "exact", "planes", "ycbcr_to_linear", "ycbcr_to_linear_reference",
-           "linear_to_ycbcr", "linear_to_ycbcr_reference", "rgb_to_ycbcr_matrix", "code_range"]
+           "linear_to_ycbcr", "linear_to_ycbcr_reference", "rgb_to_ycbcr_matrix", "ycbcr_to_rgb_matrix", "code_range"]

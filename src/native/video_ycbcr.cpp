@@ -44,36 +44,50 @@ template <typename T> struct Planes {
     int hx, vy;  // log2 of the chroma subsampling across and down
 };
 
-// The transfer function at 16-bit code value v in [0, 1] from `t`, 65536 pairs (value at code i, step to code
-// i + 1), interpolated linearly in float32
-inline float lookup(const float* t, float v) {
-    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
-    float x = v * 65535.0f;
-    int32_t i = int32_t(x);  // at most 65535, whose step is 0: white is the table's last value exactly
+// The transfer function at x = 65535 E' from `t`, 65536 pairs (value at code i, step to code i + 1; the last
+// step 0), E' clamped to [0, 1], interpolated linearly in float32
+inline float lookup(const float* t, float x) {
+    x = x > 0.0f ? (x < 65535.0f ? x : 65535.0f) : 0.0f;
+    int32_t i = int32_t(x);
     return t[2 * i] + (x - float(i)) * t[2 * i + 1];
 }
 
-// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32:
-// E' = k (Y', Cb, Cr), then the table, then `m` (BT.2020 -> Rec.709) when given.
+// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
+// `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
+// LY and LC the codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly), the
+// bracket once per chroma sample; then the transfer function's table, then `m` (BT.2020 -> Rec.709) when given.
 template <typename T>
 void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const double* m, float* out,
                int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
-    const float ys = float(r.ys), y0 = float(r.y0), cs = float(r.cs), cz = float(r.c0);
-    const float ky[3] = {float(k[0]), float(k[3]), float(k[6])}, kb[3] = {float(k[1]), float(k[4]), float(k[7])},
-                kr[3] = {float(k[2]), float(k[5]), float(k[8])};
+    constexpr int64_t N = int64_t(1) << (8 * sizeof(T));
+    std::vector<float> ly(N), lc(N);
+    for (int64_t c = 0; c < N; ++c) {
+        ly[size_t(c)] = float((double(c) - r.y0) / r.ys * 65535.0);
+        lc[size_t(c)] = float((double(c) - r.c0) / r.cs * 65535.0);
+    }
+    const float kb[3] = {float(k[1]), float(k[4]), float(k[7])}, kr[3] = {float(k[2]), float(k[5]), float(k[8])};
     float mf[9];
     for (int q = 0; q < 9; ++q) mf[q] = m ? float(m[q]) : 0.0f;
+    const float* LY = ly.data();
+    const float* LC = lc.data();
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
+        int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1;
+        std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3);
         for (int64_t j = r0 + b0; j < r0 + b1; ++j) {
             const T* yr = p.y + j * p.sy_;
             const T* ur = p.u + (j >> p.vy) * p.su;
             const T* vr = p.v + (j >> p.vy) * p.sv;
+            float* ch = chroma.data() - 3 * k0;
+            for (int64_t cc = k0; cc < k1; ++cc) {
+                float cb = LC[ur[cc]], cr = LC[vr[cc]];
+                for (int q = 0; q < 3; ++q) ch[3 * cc + q] = kb[q] * cb + kr[q] * cr;
+            }
             float* o = out + j * cols * 3;
             for (int64_t c = c0; c < c1; ++c) {
-                float yy = (float(yr[c]) - y0) / ys;
-                float cb = (float(ur[c >> p.hx]) - cz) / cs, cr = (float(vr[c >> p.hx]) - cz) / cs;
+                float yy = LY[yr[c]];
+                const float* g = ch + 3 * (c >> p.hx);
                 float e[3];
-                for (int q = 0; q < 3; ++q) e[q] = lookup(t, ky[q] * yy + kb[q] * cb + kr[q] * cr);
+                for (int q = 0; q < 3; ++q) e[q] = lookup(t, yy + g[q]);
                 if (m == nullptr) {
                     for (int q = 0; q < 3; ++q) o[3 * c + q] = e[q];
                 } else {
