@@ -250,7 +250,8 @@ class VideoWriter:
         The frame is copied and encoded on a thread of its own, at most two frames behind the caller, so
         the next frame's warp overlaps this one's encoding; an error there is raised by the next
         :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32 H x W x 3) is the writer's from now on,
-        not copied."""
+        not copied: the writer has read it by the time three more :meth:`write` calls have returned (at most two frames
+        wait in its queue, one is being encoded), so a caller may then reuse it."""
         import queue
         import threading
 

@@ -48,6 +48,7 @@ def is_video(path) -> bool:
 
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
+    import numpy as np
     from tqdm import tqdm
 
     from lenslab.jobs.policy import check_output
@@ -101,12 +102,16 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                           desc=Path(src_path).name) as bar:
             plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
             window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
-            for _, frame in read_frames(src_path, start, stop, window=window):
-                out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
+            # output frames reused in turn: the encoder holds at most three (two queued, one encoding)
+            ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
+                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(4)]
+            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, window=window)):
+                out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
+                                          into=ring[k % len(ring)])  # as a still image is; outside the view: black
                 plan[:] = [cache.plan(src, dst)]
                 if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
-                writer.write(out, encoded=bool(display), handover=True)  # a new array each frame
+                writer.write(out, encoded=bool(display), handover=True)  # not reused until encoded
                 written += 1
                 bar.update()
         if written == 0:
