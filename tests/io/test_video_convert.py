@@ -13,27 +13,14 @@ av = pytest.importorskip("av")
 
 import lenslab.io as lio  # noqa: E402
 from lenslab.cli.main import main  # noqa: E402
-from tests.io.ycbcr_oracle import decode_codes  # noqa: E402
+from tests.io.ycbcr_oracle import decode_codes, write_ffv1  # noqa: E402
 
 W, H, N = 64, 32, 3
 
 
 def _make(path):
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("ffv1", rate=25)
-        s.width, s.height, s.pix_fmt = W, H, "yuv444p10le"
-        s.codec_context.color_trc = s.codec_context.color_primaries = s.codec_context.colorspace = 1
-        y, x = np.mgrid[0:H, 0:W]
-        for i in range(N):
-            v = np.stack([x / W, y / H, np.full((H, W), (i + 1) / 4)], -1) * 0.9 + 0.05
-            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
-            f = f.reformat(format="yuv444p10le", dst_colorspace="itu709", src_color_range="JPEG",
-                           dst_color_range="MPEG")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+    y, x = np.mgrid[0:H, 0:W]
+    write_ffv1(path, [np.stack([x / W, y / H, np.full((H, W), (i + 1) / 4)], -1) * 0.9 + 0.05 for i in range(N)])
 
 
 def _decode(path):

@@ -10,25 +10,15 @@ import pytest
 av = pytest.importorskip("av")
 
 from lenslab.io.video import read_frames  # noqa: E402
+from tests.io.ycbcr_oracle import write_ffv1  # noqa: E402
 
 W, H, N = 64, 32, 11  # more frames than the ring (prefetch 3 + 3) holds, so buffers are reused
 
 
 def _make(path, pix_fmt):
     y, x = np.mgrid[0:H, 0:W]
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("ffv1", rate=25)
-        s.width, s.height, s.pix_fmt = W, H, pix_fmt
-        s.codec_context.color_trc = s.codec_context.color_primaries = s.codec_context.colorspace = 1
-        for i in range(N):
-            v = np.stack([(x + 5 * i) % W / W, y / H, np.full((H, W), i / N)], -1) * 0.9 + 0.05
-            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
-            f = f.reformat(format=pix_fmt, dst_colorspace="itu709", src_color_range="JPEG", dst_color_range="MPEG")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+    write_ffv1(path, [np.stack([(x + 5 * i) % W / W, y / H, np.full((H, W), i / N)], -1) * 0.9 + 0.05
+                      for i in range(N)], pix_fmt)
 
 
 @pytest.mark.parametrize("pix_fmt", ["yuv420p", "yuv420p10le", "yuv422p10le", "yuv444p10le"])

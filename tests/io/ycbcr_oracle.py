@@ -40,3 +40,24 @@ def decode_codes(path) -> list[np.ndarray]:
         s = c.streams.video[0]
         cc = s.codec_context
         return [exact_codes(f, int(cc.colorspace), int(cc.color_range) == 2) for f in c.decode(s)]
+
+
+def write_ffv1(path, frames, pix_fmt: str = "yuv444p10le") -> None:
+    """An FFV1 clip of ``frames`` (code values in [0, 1], H x W x 3 each) at 25 frames/s, BT.709 tags, converted
+    to limited-range Y'CbCr by swscale (the clip's content only: tests decode it with :func:`decode_codes`)."""
+    import av
+
+    with av.open(str(path), "w") as c:
+        s = c.add_stream("ffv1", rate=25)
+        s.height, s.width = frames[0].shape[:2]
+        s.pix_fmt = pix_fmt
+        cc = s.codec_context
+        cc.color_trc = cc.color_primaries = cc.colorspace = 1
+        for i, v in enumerate(frames):
+            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
+            f = f.reformat(format=pix_fmt, dst_colorspace="itu709", src_color_range="JPEG", dst_color_range="MPEG")
+            f.pts = i
+            for p in s.encode(f):
+                c.mux(p)
+        for p in s.encode():
+            c.mux(p)

@@ -13,7 +13,7 @@ av = pytest.importorskip("av")
 from lenslab.cli.main import main  # noqa: E402
 from lenslab.lenses import Camera  # noqa: E402
 from lenslab.warp import warp  # noqa: E402
-from tests.io.ycbcr_oracle import decode_codes  # noqa: E402
+from tests.io.ycbcr_oracle import decode_codes, write_ffv1  # noqa: E402
 
 W, H, N, SIDE = 64, 32, 11, 24  # more frames than either ring (the decoder's 6, the output's 4)
 TO = "fisheye:fov=180"
@@ -21,22 +21,8 @@ TO = "fisheye:fov=180"
 
 def _make(path):
     y, x = np.mgrid[0:H, 0:W]
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("ffv1", rate=25)
-        s.width, s.height, s.pix_fmt = W, H, "yuv444p10le"
-        cc = s.codec_context
-        cc.color_trc = cc.color_primaries = cc.colorspace = 1
-        for i in range(N):
-            v = np.stack([0.5 + 0.45 * np.sin((x + 3 * i) / 6.0), 0.5 + 0.45 * np.cos(y / 5.0 - i),
-                          np.full((H, W), 0.05 + 0.9 * i / N)], -1)
-            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
-            f = f.reformat(format="yuv444p10le", dst_colorspace="itu709", src_color_range="JPEG",
-                           dst_color_range="MPEG")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+    write_ffv1(path, [np.stack([0.5 + 0.45 * np.sin((x + 3 * i) / 6.0), 0.5 + 0.45 * np.cos(y / 5.0 - i),
+                                np.full((H, W), 0.05 + 0.9 * i / N)], -1) for i in range(N)])
 
 
 @pytest.mark.slow
