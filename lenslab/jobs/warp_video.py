@@ -49,7 +49,6 @@ def is_video(path) -> bool:
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
     import numpy as np
-    from tqdm import tqdm
 
     from lenslab.jobs.policy import check_output
     from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
@@ -98,8 +97,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     with atomic_write_path(dst_path, overwrite=args.overwrite) as tmp:
         writer = VideoWriter(tmp, info, codec=getattr(args, "codec", None), size=tuple(dst.size),
                              audio_from=src_path if whole and info.audio else None)
-        with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
-                          desc=Path(src_path).name) as bar:
+        with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
             window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
             # output frames reused in turn: the encoder holds at most three (two queued, one encoding)
@@ -121,3 +119,15 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
 
         warnings.warn("the audio was left out: it is kept only when the whole clip is warped", UserWarning,
                       stacklevel=2)
+
+
+def _frame_bar(show: bool, total: int, name: str):
+    """A progress bar by frames, or (not shown) a stand-in: tqdm's import is left to runs that show it."""
+    if not show:
+        from contextlib import nullcontext
+        from types import SimpleNamespace
+
+        return nullcontext(SimpleNamespace(update=lambda n=1: None))
+    from tqdm import tqdm
+
+    return tqdm(total=total or None, unit="frame", file=sys.stderr, leave=False, desc=name)
