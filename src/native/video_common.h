@@ -47,6 +47,22 @@ struct Curve {
     }
 };
 
+// Curve's value without branches, for loops the compiler vectorises: the same but beyond the last knot, where it
+// gives the last knot's value up to one rounding (callers clamp codes to [0, 1] there: the knots end at 2^7)
+inline float curve_flat(const Curve& c, float x) {
+    uint32_t b;
+    std::memcpy(&b, &x, 4);
+    bool ok = x > 0.0f && b >= c.b0;  // NaN fails the first
+    uint32_t d = ok ? b - c.b0 : 0u;
+    uint32_t i = d >> c.shift;
+    uint32_t last = uint32_t(c.size - 2);
+    float f = float(d & ((1u << c.shift) - 1u)) * (1.0f / float(1u << c.shift));
+    f = i > last ? 1.0f : f;
+    i = i > last ? last : i;
+    float v = c.table[i] + f * (c.table[i + 1] - c.table[i]);
+    return ok ? v : c.zero;
+}
+
 // NaN -> 0, +inf -> 1e4, -inf -> 0 (as numpy.nan_to_num)
 inline float finite(float a) {
     return a != a ? 0.0f : (a > 3.4e38f ? 1e4f : (a < -3.4e38f ? 0.0f : a));

@@ -71,8 +71,8 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
     const float* LY = ly.data();
     const float* LC = lc.data();
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
-        int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1;
-        std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3);
+        int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1, n = (c1 - c0) * 3;
+        std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3), xs(size_t(std::max<int64_t>(n, 0)));
         for (int64_t j = r0 + b0; j < r0 + b1; ++j) {
             const T* yr = p.y + j * p.sy_;
             const T* ur = p.u + (j >> p.vy) * p.su;
@@ -82,16 +82,20 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
                 float cb = LC[ur[cc]], cr = LC[vr[cc]];
                 for (int q = 0; q < 3; ++q) ch[3 * cc + q] = kb[q] * cb + kr[q] * cr;
             }
-            float* o = out + j * cols * 3;
+            float* x = xs.data() - 3 * c0;
             for (int64_t c = c0; c < c1; ++c) {
                 float yy = LY[yr[c]];
                 const float* g = ch + 3 * (c >> p.hx);
-                float e[3];
-                for (int q = 0; q < 3; ++q) e[q] = lookup(t, yy + g[q]);
-                if (m == nullptr) {
-                    for (int q = 0; q < 3; ++q) o[3 * c + q] = e[q];
-                } else {
-                    for (int q = 0; q < 3; ++q) o[3 * c + q] = mf[3 * q] * e[0] + mf[3 * q + 1] * e[1] + mf[3 * q + 2] * e[2];
+                for (int q = 0; q < 3; ++q) x[3 * c + q] = yy + g[q];
+            }
+            // one plain loop over the row's values, which the compiler turns into vector gathers
+            float* o = out + (j * cols + c0) * 3;
+            const float* xv = xs.data();
+            for (int64_t q = 0; q < n; ++q) o[q] = lookup(t, xv[q]);
+            if (m != nullptr) {
+                for (int64_t c = 0; c < c1 - c0; ++c) {
+                    float e0 = o[3 * c], e1 = o[3 * c + 1], e2 = o[3 * c + 2];
+                    for (int q = 0; q < 3; ++q) o[3 * c + q] = mf[3 * q] * e0 + mf[3 * q + 1] * e1 + mf[3 * q + 2] * e2;
                 }
             }
         }
@@ -105,25 +109,31 @@ void from_linear(const float* lin, int64_t rows, int64_t cols, const double* m, 
     auto code = [top](double x) { return T(std::nearbyint(x > 0.0 ? (x < top ? x : top) : 0.0)); };
     bands(rows, threads, bh, [=](int64_t j0, int64_t j1) {
         std::vector<double> acc(size_t(ccols) * 3);
+        std::vector<float> es(size_t(cols) * 3);
+        float* e = es.data();
+        const int64_t n = cols * 3;
         for (int64_t jb = j0; jb < j1; jb += bh) {
             std::fill(acc.begin(), acc.end(), 0.0);
             int64_t je = std::min(j1, jb + bh);
             for (int64_t j = jb; j < je; ++j) {
+                const float* a = lin + j * cols * 3;
+                for (int64_t q = 0; q < n; ++q) e[q] = lenslab_video::finite(a[q]);
+                if (m != nullptr) {
+                    for (int64_t c = 0; c < cols; ++c) {
+                        float y0 = e[3 * c], y1 = e[3 * c + 1], y2 = e[3 * c + 2];
+                        for (int q = 0; q < 3; ++q)
+                            e[3 * c + q] = float(m[3 * q] * y0 + m[3 * q + 1] * y1 + m[3 * q + 2] * y2);
+                    }
+                }
+                // one plain loop over the row's values, which the compiler turns into vector gathers
+                if (curve.table != nullptr) {
+                    for (int64_t q = 0; q < n; ++q) e[q] = lenslab_video::curve_flat(curve, e[q]);
+                }
+                for (int64_t q = 0; q < n; ++q) e[q] = e[q] > 0.0f ? (e[q] < 1.0f ? e[q] : 1.0f) : 0.0f;
                 for (int64_t c = 0; c < cols; ++c) {
-                    const float* a = lin + (j * cols + c) * 3;
-                    float x[3];
-                    for (int q = 0; q < 3; ++q) x[q] = lenslab_video::finite(a[q]);
-                    if (m != nullptr) {
-                        float y0 = x[0], y1 = x[1], y2 = x[2];
-                        for (int q = 0; q < 3; ++q) x[q] = float(m[3 * q] * y0 + m[3 * q + 1] * y1 + m[3 * q + 2] * y2);
-                    }
-                    double e[3];
-                    for (int q = 0; q < 3; ++q) {
-                        double v = curve.table != nullptr ? curve(x[q]) : x[q];
-                        e[q] = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
-                    }
                     double w[3];
-                    for (int q = 0; q < 3; ++q) w[q] = k[3 * q] * e[0] + k[3 * q + 1] * e[1] + k[3 * q + 2] * e[2];
+                    for (int q = 0; q < 3; ++q)
+                        w[q] = k[3 * q] * e[3 * c] + k[3 * q + 1] * e[3 * c + 1] + k[3 * q + 2] * e[3 * c + 2];
                     p.y[j * p.sy_ + c] = code(w[0] * r.ys + r.y0);
                     acc[size_t(c >> p.hx) * 2] += w[1];
                     acc[size_t(c >> p.hx) * 2 + 1] += w[2];
@@ -131,9 +141,9 @@ void from_linear(const float* lin, int64_t rows, int64_t cols, const double* m, 
             }
             int64_t n_rows = je - jb;
             for (int64_t cc = 0; cc < ccols; ++cc) {
-                double n = double(n_rows * (std::min(cols, (cc + 1) * bw) - cc * bw));
-                p.u[(jb >> p.vy) * p.su + cc] = code(acc[size_t(cc) * 2] / n * r.cs + r.c0);
-                p.v[(jb >> p.vy) * p.sv + cc] = code(acc[size_t(cc) * 2 + 1] / n * r.cs + r.c0);
+                double nb = double(n_rows * (std::min(cols, (cc + 1) * bw) - cc * bw));
+                p.u[(jb >> p.vy) * p.su + cc] = code(acc[size_t(cc) * 2] / nb * r.cs + r.c0);
+                p.v[(jb >> p.vy) * p.sv + cc] = code(acc[size_t(cc) * 2 + 1] / nb * r.cs + r.c0);
             }
         }
     });
