@@ -20,8 +20,9 @@ H, W = 21, 37
 K = {1: colour.WEIGHTS_YCBCR["ITU-R BT.709"], 5: colour.WEIGHTS_YCBCR["ITU-R BT.601"],
      9: colour.WEIGHTS_YCBCR["ITU-R BT.2020"]}
 # (pixel format, primaries, transfer, matrix, range): H.264's 8-bit 4:2:0, 10-bit 4:2:2, full-range BT.601 4:4:4,
-# BT.2020 PQ 10-bit 4:2:0
-CASES = [("yuv420p", 1, 1, 1, 1), ("yuv422p10le", 1, 1, 1, 1), ("yuv444p", 1, 1, 5, 2), ("yuv420p10le", 9, 16, 9, 1)]
+# BT.2020 PQ 10-bit 4:2:0 and full-range 12-bit 4:4:4
+CASES = [("yuv420p", 1, 1, 1, 1), ("yuv422p10le", 1, 1, 1, 1), ("yuv444p", 1, 1, 5, 2), ("yuv420p10le", 9, 16, 9, 1),
+         ("yuv444p12le", 9, 16, 9, 2)]
 M2020 = colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["ITU-R BT.2020"], colour.RGB_COLOURSPACES["ITU-R BT.709"])
 
 
