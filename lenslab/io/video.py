@@ -236,7 +236,7 @@ class VideoWriter:
         if encoder == "libx265":
             cc.options = {"x265-params": "log-level=error"}
         self.count = 0
-        self._thread = self._queue = self._error = None
+        self._thread = self._queue = self._error = self._spare = None
         self.audio_from = audio_from
         self.audio: dict = {}
         if audio_from is not None:  # streams are added before the first packet writes the header
@@ -286,8 +286,8 @@ class VideoWriter:
 
     def _encode(self, image: np.ndarray, encoded: bool) -> None:
         av = _av()
-        if exact(self.info, self.pix_fmt):  # one compiled pass to the encoder's planes
-            frame = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded)
+        if exact(self.info, self.pix_fmt):  # one compiled pass to the encoder's planes, reused frame to frame
+            frame = self._spare = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded, self._spare)
         else:
             frame = self._swscale(av, image, encoded)
         # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)

@@ -139,15 +139,23 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
             rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))
 
 
-def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False):
+def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False, reuse=None):
     """Linear Rec.709 float32 H x W x 3 (``encoded``: code values in [0, 1] in the stream's primaries and transfer)
-    -> a new PyAV frame of ``pix_fmt`` (a format of ``FORMATS``) with the stream's matrix and range, in one compiled
-    pass; NaN and infinities as :func:`lenslab.io.video_colour.from_linear` makes them finite."""
+    -> a PyAV frame of ``pix_fmt`` (a format of ``FORMATS``) with the stream's matrix and range, in one compiled
+    pass; NaN and infinities as :func:`lenslab.io.video_colour.from_linear` makes them finite.
+
+    ``reuse``: an earlier frame to write into when it has this size and format. An encoder that still holds it
+    makes PyAV give it new memory first (``make_writable``); one that is done with it leaves its pages, so a 4K
+    frame's 5.5 MB is not faulted in anew every frame."""
     import av
 
     image = np.ascontiguousarray(image[..., :3], np.float32)
     h, w = image.shape[:2]
-    frame = av.VideoFrame(w, h, pix_fmt)
+    if reuse is not None and (reuse.width, reuse.height, reuse.format.name) == (w, h, pix_fmt):
+        frame = reuse
+        frame.make_writable()
+    else:
+        frame = av.VideoFrame(w, h, pix_fmt)
     bits, hx, vy, prim, curve, b0, zero, k, rng, top = _encode_args(info, pix_fmt, encoded)
     from lenslab.native import extension
 

@@ -41,3 +41,30 @@ def test_every_frame_of_a_long_clip_is_its_own(tmp_path):
         # matrix (at most 1.86), times the gamma-2.4 slope (at most 2.4): 0.0039; plus 1e-5 for the float32
         # decoding and warp. A frame of another time differs by 0.08 or more (the blue ramp's step).
         np.testing.assert_allclose(g, w, atol=0.0039 + 1e-5)
+
+
+def test_reused_encoder_frames_keep_every_frame(tmp_path):
+    """The writer reuses one Y'CbCr frame: x264 (lossless here, qp 0, with its 40-frame lookahead) must have
+    taken each frame's samples before the next overwrites them. Each decoded frame's samples are the NumPy
+    reference encoding's (colour-science's inverse EOTF, the BT.709 matrix), within the one code its table may
+    flip at a half."""
+    from fractions import Fraction
+
+    from lenslab.io.video import VideoInfo, VideoWriter
+    from lenslab.io.video_ycbcr import linear_to_ycbcr_reference
+
+    info = VideoInfo(W, H, Fraction(25), N, "h264", "yuv420p")
+    y, x = np.mgrid[0:H, 0:W]
+    frames = [np.stack([x / W, y / H, np.full((H, W), i / N)], -1).astype(np.float32) for i in range(N)]
+    writer = VideoWriter(tmp_path / "o.mp4", info, codec="h264")
+    writer.stream.codec_context.options = {"qp": "0"}
+    with writer:
+        for f in frames:
+            writer.write(f)
+    with av.open(str(tmp_path / "o.mp4")) as c:
+        got = [[np.asarray(p).reshape(p.height, p.line_size)[:, :p.width] for p in f.planes]
+               for f in c.decode(video=0)]
+    assert len(got) == N
+    for g, f in zip(got, frames):
+        for plane, want in zip(g, linear_to_ycbcr_reference(f, info, "yuv420p")):
+            assert np.abs(plane.astype(np.int64) - want).max() <= 1
