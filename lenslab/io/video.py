@@ -1,9 +1,10 @@
 """Video through PyAV: frames decoded to linear light, and linear frames encoded back, colour tags kept.
 
-Decoding: each frame is converted by FFmpeg's swscale to 16-bit RGB with the stream's own matrix
-(BT.709, BT.601 or BT.2020) and range, then to linear light with colour-science's transfer
-functions chosen by the stream's transfer tag (but for HLG tabulated once for the 65536 code values, so
-a frame is one compiled lookup, :mod:`lenslab.io.video_colour`; decoding runs on a thread ahead of the caller):
+Decoding: each frame's Y'CbCr planes go to linear light in one compiled pass, exact to the stream's matrix
+(BT.709, BT.601 or BT.2020) and range, through a table of colour-science's transfer function chosen by the
+stream's transfer tag (:mod:`lenslab.io.video_ycbcr`; encoding is the same pass backwards). HLG, RGB-coded
+streams and other pixel formats go through FFmpeg's swscale to 16-bit RGB first (:mod:`lenslab.io.video_colour`).
+Decoding runs on a thread ahead of the caller:
 
 - BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
 - sRGB (IEC 61966-2-1): the sRGB EOTF; also an RGB-coded stream (FFV1 or x264rgb: matrix ``gbr`` or an RGB
@@ -34,6 +35,7 @@ from lenslab.errors import FormatError, cause
 
 from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 from lenslab.io.video_colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
+from lenslab.io.video_ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
 from lenslab.io.video_colour import (REFERENCE_WHITE, _BT2020, _decode_table,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
                                      linear_to_codes16, to_linear)
@@ -142,36 +144,6 @@ def frame_codes(frame, info: VideoInfo) -> np.ndarray:
     return frame_codes16(frame, info).astype(np.float64) / 65535.0
 
 
-#: planar Y'CbCr formats a frame can be cropped in: bytes a sample, chroma step across, chroma step down
-_CROPPABLE = {"yuv420p": (1, 2, 2), "yuv422p": (1, 2, 1), "yuv444p": (1, 1, 1), "yuv420p10le": (2, 2, 2),
-              "yuv422p10le": (2, 2, 1), "yuv444p10le": (2, 1, 1)}
-CROP_MARGIN = 8  # samples kept around a window: wider than any filter swscale runs on a same-size conversion
-
-
-def crop_frame(frame, box):
-    """``(part of frame, (row, column) of its corner)``: the planar Y'CbCr ``frame`` cut to ``box`` ``(row0, row1,
-    col0, col1)`` widened by CROP_MARGIN and aligned to the chroma grid, so that swscale converts half a frame
-    where a warp reads half (each pixel from its own samples: the same bits as in the whole frame); the frame
-    itself for other formats or when the crop is the whole frame."""
-    fmt = frame.format.name
-    if fmt not in _CROPPABLE:
-        return frame, (0, 0)
-    size, sx, sy = _CROPPABLE[fmt]
-    r0, c0 = max(0, (box[0] - CROP_MARGIN) // 4 * 4), max(0, (box[2] - CROP_MARGIN) // 4 * 4)
-    r1 = min(frame.height, -(-(box[1] + CROP_MARGIN) // 4) * 4)
-    c1 = min(frame.width, -(-(box[3] + CROP_MARGIN) // 4) * 4)
-    if (r0, r1, c0, c1) == (0, frame.height, 0, frame.width) or r1 <= r0 or c1 <= c0:
-        return frame, (0, 0)
-    part = _av().VideoFrame(c1 - c0, r1 - r0, fmt)
-    dtype = np.uint8 if size == 1 else np.uint16
-    for k, (p, q) in enumerate(zip(frame.planes, part.planes)):
-        fx, fy = (sx, sy) if k else (1, 1)
-        src = np.frombuffer(p, dtype).reshape(p.height, p.line_size // size)
-        np.frombuffer(q, dtype).reshape(q.height, q.line_size // size)[:, :q.width] = \
-            src[r0 // fy:r0 // fy + q.height, c0 // fx:c0 // fx + q.width]
-    return part, (r0, c0)
-
-
 def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3, window=None):
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
 
@@ -209,17 +181,16 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
                     box = window and window()
-                    if box is None or info.curve == "hlg" or box[1] > frame.height or box[3] > frame.width:
-                        # (a frame of another size than the stream declared: the warp says so)
+                    if not exact(info, frame.format.name):  # swscale's path (HLG, other formats and matrices)
                         yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
-                        continue
-                    crop, origin = crop_frame(frame, box)
-                    codes = frame_codes16(crop, info)
-                    # reused: the caller is done with a frame long before its turn comes
-                    ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
-                    if ring[-1] is None or ring[-1].shape != (frame.height, frame.width, 3):
-                        ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
-                    yield i, codes16_to_linear_compiled(codes, info, box, ring[-1], origin)
+                    elif box is None or box[1] > frame.height or box[3] > frame.width:
+                        # (a frame of another size than the stream declared: the warp says so)
+                        yield i, ycbcr_to_linear(frame, info)
+                    else:  # reused: the caller is done with a frame long before its turn comes
+                        ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
+                        if ring[-1] is None or ring[-1].shape != (frame.height, frame.width, 3):
+                            ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
+                        yield i, ycbcr_to_linear(frame, info, box, ring[-1])
 
     from lenslab.io.prefetch import ahead
 
@@ -265,7 +236,7 @@ class VideoWriter:
         if encoder == "libx265":
             cc.options = {"x265-params": "log-level=error"}
         self.count = 0
-        self._thread = self._queue = self._error = None
+        self._thread = self._queue = self._error = self._spare = None
         self.audio_from = audio_from
         self.audio: dict = {}
         if audio_from is not None:  # streams are added before the first packet writes the header
@@ -279,7 +250,8 @@ class VideoWriter:
         The frame is copied and encoded on a thread of its own, at most two frames behind the caller, so
         the next frame's warp overlaps this one's encoding; an error there is raised by the next
         :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32 H x W x 3) is the writer's from now on,
-        not copied."""
+        not copied: the writer has read it by the time three more :meth:`write` calls have returned (at most two frames
+        wait in its queue, one is being encoded), so a caller may then reuse it."""
         import queue
         import threading
 
@@ -314,6 +286,19 @@ class VideoWriter:
 
     def _encode(self, image: np.ndarray, encoded: bool) -> None:
         av = _av()
+        if exact(self.info, self.pix_fmt):  # one compiled pass to the encoder's planes, reused frame to frame
+            frame = self._spare = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded, self._spare)
+        else:
+            frame = self._swscale(av, image, encoded)
+        # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
+        frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
+        frame.pts = self.count  # in the encoder's time base, 1 / rate
+        self.count += 1
+        for packet in self.stream.encode(frame):
+            self.container.mux(packet)
+
+    def _swscale(self, av, image: np.ndarray, encoded: bool):
+        """Linear (or ``encoded``) frame -> 16-bit codes -> swscale's matrix and range: RGB streams, HLG."""
         codes = linear_to_codes16(image, self.info, encoded)
         frame = av.VideoFrame.from_ndarray(codes, format="rgb48le")
         if self.info.rgb:
@@ -321,12 +306,7 @@ class VideoWriter:
         else:  # swscale's matrix and range, on threads
             frame = frame.reformat(format=self.pix_fmt, dst_colorspace=_SWS.get(self.info.matrix, "itu709"),
                                    src_color_range="JPEG", dst_color_range=_range(self.info), threads=_THREADS)
-        # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
-        frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
-        frame.pts = self.count  # in the encoder's time base, 1 / rate
-        self.count += 1
-        for packet in self.stream.encode(frame):
-            self.container.mux(packet)
+        return frame
 
     def close(self) -> None:
         self._stop()

@@ -12,7 +12,8 @@ passes that apply them to whole frames.
   within each knot interval. Against colour-science the codes agree within one 16-bit step
   (``tests/io/test_video_colour.py``). HLG, whose EOTF mixes the channels, stays in NumPy both ways.
 
-swscale does the matrix and range both ways, on its own threads, as before. The tables are built with
+These passes serve the frames that go through swscale's matrix and range (HLG, RGB-coded streams, other pixel
+formats); planar Y'CbCr frames go to and from linear light in one pass each way (:mod:`lenslab.io.video_ycbcr`). The tables are built with
 colour-science the first time a curve is met and kept in lenslab's cache directory (:func:`cached`), so a run
 does not wait for colour-science's import (1.2 to 2.4 s here).
 """

@@ -48,7 +48,7 @@ def is_video(path) -> bool:
 
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
-    from tqdm import tqdm
+    import numpy as np
 
     from lenslab.jobs.policy import check_output
     from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
@@ -100,16 +100,19 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     with atomic_write_path(dst_path, overwrite=args.overwrite) as tmp:
         writer = VideoWriter(tmp, info, codec=getattr(args, "codec", None), size=tuple(dst.size),
                              audio_from=src_path if whole and info.audio else None)
-        with writer, tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
-                          desc=Path(src_path).name) as bar:
+        with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
             window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
-            for _, frame in read_frames(src_path, start, stop, window=window):
-                out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)  # as a still image is; outside the view: black
+            # output frames reused in turn: the encoder holds at most three (two queued, one encoding)
+            ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
+                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(4)]
+            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, window=window)):
+                out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
+                                          into=ring[k % len(ring)])  # as a still image is; outside the view: black
                 plan[:] = [cache.plan(src, dst)]
                 if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
-                writer.write(out, encoded=bool(display), handover=True)  # a new array each frame
+                writer.write(out, encoded=bool(display), handover=True)  # not reused until encoded
                 written += 1
                 bar.update()
         if written == 0:
@@ -119,3 +122,15 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
 
         warnings.warn("the audio was left out: it is kept only when the whole clip is warped", UserWarning,
                       stacklevel=2)
+
+
+def _frame_bar(show: bool, total: int, name: str):
+    """A progress bar by frames, or (not shown) a stand-in: tqdm's import is left to runs that show it."""
+    if not show:
+        from contextlib import nullcontext
+        from types import SimpleNamespace
+
+        return nullcontext(SimpleNamespace(update=lambda n=1: None))
+    from tqdm import tqdm
+
+    return tqdm(total=total or None, unit="frame", file=sys.stderr, leave=False, desc=name)

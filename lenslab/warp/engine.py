@@ -201,12 +201,21 @@ class WarpPlan:
         arr3 = arr[..., None] if arr.ndim == 2 else arr
         return np.ascontiguousarray(arr3, dtype=np.float32)
 
-    def run(self, image, progress: Callable[[int], None] | None = None):
-        """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size."""
+    def run(self, image, progress: Callable[[int], None] | None = None, into=None):
+        """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
+
+        ``into``: ``(image, alpha)`` arrays of those shapes to write into, zeroed first (a clip's frames reuse a
+        few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit."""
         src = self.check_image(image)
         h, w = self.out_shape
-        out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
-        alpha = np.zeros((h, w), dtype=np.float32)
+        if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
+                and into[0].dtype == into[1].dtype == np.float32:
+            out, alpha = into
+            out.fill(0.0)
+            alpha.fill(0.0)
+        else:
+            out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
+            alpha = np.zeros((h, w), dtype=np.float32)
         self.render(src, out, alpha, progress)
         if not all_finite(out):  # NaN or inf in the source reached the output: read them as finite
             src, bad = finite_source(src)

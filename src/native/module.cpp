@@ -32,6 +32,7 @@ bool holds(size_t size, int64_t sw, int64_t sh, int64_t nc) {
 
 void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's bounce loop
 void register_video(nb::module_& m);  // video.cpp: the video colour passes
+void register_video_ycbcr(nb::module_& m);  // video_ycbcr.cpp: Y'CbCr planes <-> linear light
 void register_tone(nb::module_& m);  // tone.cpp
 void register_footprint(nb::module_& m);  // src/native/footprint.cpp
 void register_secants(nb::module_& m);  // src/native/secants.cpp
@@ -39,6 +40,7 @@ void register_lens_dirs(nb::module_& m);  // lens_dirs.cpp: pixel -> direction o
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
+    register_video_ycbcr(m);
     m.doc() = "lenslab's compiled warp kernels (C++17): single-tap bilinear, cached taps, the footprint prefilter";
     bind_map_kernels(m);
     register_lens_kernels(m);

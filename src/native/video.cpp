@@ -4,6 +4,8 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include "video_common.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,26 +15,14 @@
 #include <vector>
 
 namespace nb = nanobind;
+using lenslab_video::bands;
+using lenslab_video::Curve;
+using lenslab_video::need;
 
 namespace {
 
 template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
-
-// fn(r0, r1) over rows [0, rows) in `threads` bands; the first band runs on the calling thread
-template <typename F>
-void bands(int64_t rows, int64_t threads, int64_t align, F fn) {
-    int64_t n = std::max<int64_t>(1, std::min<int64_t>(threads, rows / std::max<int64_t>(align, 8)));
-    int64_t per = ((rows + n - 1) / n + align - 1) / align * align;
-    std::vector<std::thread> pool;
-    for (int64_t r = per; r < rows; r += per) pool.emplace_back(fn, r, std::min(rows, r + per));
-    fn(int64_t(0), std::min(rows, per));
-    for (auto& t : pool) t.join();
-}
 
 // 16-bit codes -> linear float32 by `table` (65536); `m` (9 doubles, row-major) applied after the table when given
 // (BT.2020 -> Rec.709), the products summed in float64 in the order r, g, b. `out` is a rows x cols x 3 frame;
@@ -59,27 +49,6 @@ void linear_from_codes(const uint16_t* codes, int64_t ccols, int64_t cr0, int64_
     });
 }
 
-// The inverse transfer function as a table over float32 bit patterns: knot i at the float whose bits are
-// b0 + (i << shift); between knots (one binade, so linear in the bits) the code is interpolated linearly.
-struct Curve {
-    const float* table;
-    int64_t size;
-    uint32_t b0;
-    int shift;
-    float zero;  // the code of 0, NaN and anything below the first knot
-    float operator()(float x) const {
-        if (!(x > 0.0f)) return zero;  // 0, negative, NaN
-        uint32_t b;
-        std::memcpy(&b, &x, 4);
-        if (b < b0) return zero;
-        uint64_t d = uint64_t(b - b0);
-        uint64_t i = d >> shift;
-        if (int64_t(i) >= size - 1) return table[size - 1];  // beyond the last knot, +inf included
-        float f = float(d & ((uint64_t(1) << shift) - 1)) * (1.0f / float(uint64_t(1) << shift));
-        return table[i] + f * (table[i + 1] - table[i]);
-    }
-};
-
 // Linear float32 (n x 3) -> 16-bit code values: NaN -> 0, +inf -> 1e4, -inf -> 0 (as numpy.nan_to_num), `m`
 // (Rec.709 -> the stream's primaries) when given, then the inverse transfer function (curve.table == nullptr:
 // values already encoded), clamped to [0, 1]; rounded half to even, as numpy.round.
@@ -90,7 +59,7 @@ void codes_from_linear(const float* lin, int64_t rows, int64_t cols, const doubl
             float x[3];
             for (int k = 0; k < 3; ++k) {
                 float a = lin[3 * q + k];
-                x[k] = std::isnan(a) ? 0.0f : (std::isinf(a) ? (a > 0.0f ? 1e4f : 0.0f) : a);
+                x[k] = lenslab_video::finite(a);
             }
             if (m != nullptr) {
                 double a = x[0], b = x[1], d = x[2];

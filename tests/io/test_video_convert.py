@@ -1,5 +1,5 @@
 """convert: a clip made here with PyAV to one EXR per frame (checked against PyAV + colour-science's BT.1886
-decoding done here), and EXR frames back to a clip (rate, size, tags and pixels checked the same way)."""
+decoding done here, exact to BT.709), and EXR frames back to a clip (rate, size, tags and pixels checked the same way)."""
 
 from __future__ import annotations
 
@@ -13,35 +13,22 @@ av = pytest.importorskip("av")
 
 import lenslab.io as lio  # noqa: E402
 from lenslab.cli.main import main  # noqa: E402
+from tests.io.ycbcr_oracle import decode_codes, write_ffv1  # noqa: E402
 
 W, H, N = 64, 32, 3
 
 
 def _make(path):
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("ffv1", rate=25)
-        s.width, s.height, s.pix_fmt = W, H, "yuv444p10le"
-        s.codec_context.color_trc = s.codec_context.color_primaries = s.codec_context.colorspace = 1
-        y, x = np.mgrid[0:H, 0:W]
-        for i in range(N):
-            v = np.stack([x / W, y / H, np.full((H, W), (i + 1) / 4)], -1) * 0.9 + 0.05
-            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
-            f = f.reformat(format="yuv444p10le", dst_colorspace="itu709", src_color_range="JPEG",
-                           dst_color_range="MPEG")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+    y, x = np.mgrid[0:H, 0:W]
+    write_ffv1(path, [np.stack([x / W, y / H, np.full((H, W), (i + 1) / 4)], -1) * 0.9 + 0.05 for i in range(N)])
 
 
 def _decode(path):
-    """Linear frames decoded here: swscale with BT.709 limited range, then colour-science's BT.1886 EOTF."""
+    """Linear frames decoded here: the planes through colour-science's BT.709 limited-range Y'CbCr decoding
+    (:mod:`tests.io.ycbcr_oracle`; swscale is 0.4 % low at white), then its BT.1886 EOTF."""
+    frames = [colour.models.eotf_BT1886(codes, L_B=0, L_W=1) for codes in decode_codes(path)]
     with av.open(str(path)) as c:
         s = c.streams.video[0]
-        frames = [colour.models.eotf_BT1886(
-            f.reformat(format="rgb48le", src_colorspace="itu709", src_color_range="MPEG",
-                       dst_color_range="JPEG").to_ndarray() / 65535.0, L_B=0, L_W=1) for f in c.decode(s)]
         cc = s.codec_context
         return frames, Fraction(s.average_rate), (int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace))
 

@@ -1,5 +1,5 @@
-"""Frames decoded only in a window (the pixels a warp reads: swscale converts a crop of the Y'CbCr frame around
-it, into a ring of reused buffers) hold in that window the values the whole frame's decoding gives, frame after
+"""Frames decoded only in a window (the pixels a warp reads: the compiled Y'CbCr pass reads only their samples,
+into a ring of reused buffers) hold in that window the values the whole frame's decoding gives, frame after
 frame, and 0 outside it."""
 
 from __future__ import annotations
@@ -10,25 +10,15 @@ import pytest
 av = pytest.importorskip("av")
 
 from lenslab.io.video import read_frames  # noqa: E402
+from tests.io.ycbcr_oracle import write_ffv1  # noqa: E402
 
 W, H, N = 64, 32, 11  # more frames than the ring (prefetch 3 + 3) holds, so buffers are reused
 
 
 def _make(path, pix_fmt):
     y, x = np.mgrid[0:H, 0:W]
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("ffv1", rate=25)
-        s.width, s.height, s.pix_fmt = W, H, pix_fmt
-        s.codec_context.color_trc = s.codec_context.color_primaries = s.codec_context.colorspace = 1
-        for i in range(N):
-            v = np.stack([(x + 5 * i) % W / W, y / H, np.full((H, W), i / N)], -1) * 0.9 + 0.05
-            f = av.VideoFrame.from_ndarray(np.round(v * 65535).astype(np.uint16), format="rgb48le")
-            f = f.reformat(format=pix_fmt, dst_colorspace="itu709", src_color_range="JPEG", dst_color_range="MPEG")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+    write_ffv1(path, [np.stack([(x + 5 * i) % W / W, y / H, np.full((H, W), i / N)], -1) * 0.9 + 0.05
+                      for i in range(N)], pix_fmt)
 
 
 @pytest.mark.parametrize("pix_fmt", ["yuv420p", "yuv420p10le", "yuv422p10le", "yuv444p10le"])
@@ -47,15 +37,3 @@ def test_windowed_frames_equal_whole_frames_in_the_window(tmp_path, pix_fmt):
         part[r0:r1, c0:c1] = 0
         assert not part.any()
     assert len({w.tobytes() for w in whole}) == N  # the frames differ: a stale buffer would show
-
-
-def test_a_crop_keeps_a_margin_on_the_chroma_grid(tmp_path):
-    from lenslab.io.video import CROP_MARGIN, crop_frame
-
-    frame = av.VideoFrame(64, 32, "yuv420p")
-    part, origin = crop_frame(frame, (13, 20, 21, 30))
-    # rows 13 - 8 = 5 down to 4 and 20 + 8 = 28; columns 21 - 8 = 13 down to 12 and 30 + 8 = 38 up to 40 (multiples of 4)
-    assert origin == (4, 12) and (part.height, part.width) == (28 - 4, 40 - 12)
-    assert origin[0] <= 13 - CROP_MARGIN and origin[0] + part.height >= 20 + CROP_MARGIN
-    assert origin[1] <= 21 - CROP_MARGIN and origin[1] + part.width >= 30 + CROP_MARGIN
-    assert crop_frame(frame, (0, 32, 0, 64))[0] is frame  # the whole frame: no copy

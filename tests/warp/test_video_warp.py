@@ -14,6 +14,7 @@ av = pytest.importorskip("av")
 from lenslab.cli.main import main  # noqa: E402
 from lenslab.lenses import Camera  # noqa: E402
 from lenslab.warp import warp  # noqa: E402
+from tests.io.ycbcr_oracle import exact_codes  # noqa: E402
 
 W, H, N = 64, 32, 4
 TO = "fisheye:fov=180"
@@ -53,15 +54,15 @@ def _make(path, encoder, pix_fmt, trc, primaries, matrix, rate=Fraction(25), aud
 
 
 def _decode(path):
-    """Frames as linear Rec.709, decoded here: swscale with the stream's matrix, then colour-science's EOTF."""
+    """Frames as linear Rec.709, decoded here: colour-science's Y'CbCr decoding with the stream's matrix and range
+    (:mod:`tests.io.ycbcr_oracle`; swscale is 0.4 % low at white), then its EOTF."""
     with av.open(str(path)) as c:
         s = c.streams.video[0]
         cc = s.codec_context
         tags = (int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace), int(cc.color_range))
         frames = []
         for f in c.decode(s):
-            rgb = f.reformat(format="rgb48le", src_colorspace="bt2020" if tags[2] == 9 else "itu709",
-                             src_color_range="MPEG", dst_color_range="JPEG").to_ndarray() / 65535.0
+            rgb = exact_codes(f, tags[2], tags[3] == 2)
             if tags[1] == 16:  # PQ, 1.0 = 203 cd/m2 (BT.2408), BT.2020 primaries to Rec.709
                 lin = colour.models.eotf_ST2084(rgb) / 203.0
                 m = colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["ITU-R BT.2020"],
@@ -130,8 +131,7 @@ def test_display_transform_to_pq_video(tmp_path):
     with av.open(str(tmp_path / "pq.mkv")) as c:
         cc = c.streams.video[0].codec_context
         assert (int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace)) == (9, 16, 9)  # BT.2020 PQ tags
-        codes = [f.reformat(format="rgb48le", src_colorspace="bt2020", src_color_range="MPEG",
-                            dst_color_range="JPEG").to_ndarray() / 65535.0 for f in c.decode(c.streams.video[0])]
+        codes = [exact_codes(f, 9, False) for f in c.decode(c.streams.video[0])]
     cfg = ocio.Config.CreateFromFile("ocio://default")
     cpu = cfg.getProcessor("Linear Rec.709 (sRGB)", "Rec.2100-PQ - Display", view,
                            ocio.TRANSFORM_DIR_FORWARD).getDefaultCPUProcessor()

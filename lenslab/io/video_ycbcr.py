@@ -1,0 +1,187 @@
+"""Y'CbCr frames <-> linear light in one compiled pass each way (``src/native/video_ycbcr.cpp``), exact to the matrix
+and range formulas of ITU-R BT.709, BT.601 and BT.2020 (non-constant luminance) as ITU-T H.273 states them:
+
+- limited range, n bits: ``Y = round((219 E'y + 16) 2^(n-8))``, ``C = round((224 E'c + 128) 2^(n-8))``;
+- full range: ``Y = round((2^n - 1) E'y)``, ``C = round((2^n - 1) E'c + 2^(n-1))``;
+- ``E'y = Kr R' + (1 - Kr - Kb) G' + Kb B'``, ``E'cb = (B' - E'y) / (2 (1 - Kb))``, ``E'cr = (R' - E'y) / (2 (1 - Kr))``.
+
+Decoding takes the decoder's planes as they are (no copy, no swscale): chroma is repeated over its block (as
+swscale's default does), R'G'B' is computed in float32, clamped to [0, 1] and taken through the transfer function's
+65536-entry table (:func:`lenslab.io.video_colour._decode_table`) interpolated linearly, then BT.2020 -> Rec.709
+where the stream is wide (float32 throughout: within a few float32 steps of the exact values). Only the window a warp reads is computed. Encoding takes linear light through the
+inverse transfer function's table (:func:`lenslab.io.video_colour._encode_table`) to R'G'B' in [0, 1], then to
+codes rounded once at the stream's depth; a chroma sample is the mean of its block's Cb (Cr).
+
+swscale's 16-bit RGB paths, which these replace, are not exact: they decode a 10-bit white (Y' = 940) to
+65283/65535 and encode 1.0 to Y' = 943. :func:`ycbcr_to_linear_reference` and :func:`linear_to_ycbcr_reference`
+are the NumPy references the tests compare the compiled passes with. Formats or matrices outside
+``FORMATS`` / ``MATRICES`` (and HLG, whose EOTF mixes the channels) keep swscale's path.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from lenslab.io.video_colour import (_BT2020, KNOT_SHIFT, LOW, _decode_table, _encode_table,
+                                     _matrix_2020_to_709, threads)
+
+#: planar pixel formats: (bits, log2 chroma subsampling across, down)
+FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
+           "yuv420p10le": (10, 1, 1), "yuv422p10le": (10, 1, 0), "yuv444p10le": (10, 0, 0),
+           "yuv420p12le": (12, 1, 1), "yuv422p12le": (12, 1, 0), "yuv444p12le": (12, 0, 0)}
+#: matrix tag (H.273) -> (Kr, Kb): BT.709 (also unspecified, as swscale's default), BT.601 (BT.470BG, SMPTE 170M),
+#: BT.2020 non-constant luminance
+MATRICES = {1: (0.2126, 0.0722), 2: (0.2126, 0.0722), 5: (0.299, 0.114), 6: (0.299, 0.114), 9: (0.2627, 0.0593)}
+
+
+def exact(info, pix_fmt: str) -> bool:
+    """Whether frames of ``pix_fmt`` in a stream like ``info`` go through these passes."""
+    return pix_fmt in FORMATS and info.matrix in MATRICES and info.curve != "hlg" and not info.rgb
+
+
+def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
+    """R'G'B' -> (E'y, E'cb, E'cr), 3 x 3 float64."""
+    kr, kb = MATRICES[matrix]
+    kg = 1.0 - kr - kb
+    return np.array([[kr, kg, kb],
+                     [-kr / (2 * (1 - kb)), -kg / (2 * (1 - kb)), 0.5],
+                     [0.5, -kg / (2 * (1 - kr)), -kb / (2 * (1 - kr))]])
+
+
+def ycbcr_to_rgb_matrix(matrix: int) -> np.ndarray:
+    """(E'y, E'cb, E'cr) -> R'G'B', 3 x 3 float64: the inverse of :func:`rgb_to_ycbcr_matrix`, its first column 1."""
+    kr, kb = MATRICES[matrix]
+    kg = 1.0 - kr - kb
+    return np.array([[1.0, 0.0, 2 * (1 - kr)],
+                     [1.0, -2 * kb * (1 - kb) / kg, -2 * kr * (1 - kr) / kg],
+                     [1.0, 2 * (1 - kb), 0.0]])
+
+
+def code_range(bits: int, full: bool) -> np.ndarray:
+    """``(y0, ys, c0, cs)``: ``E'y = (Y - y0) / ys``, ``E'c = (C - c0) / cs`` for codes of ``bits`` bits."""
+    if full:
+        top = float((1 << bits) - 1)
+        return np.array([0.0, top, float(1 << (bits - 1)), top])
+    s = float(1 << (bits - 8))
+    return np.array([16.0 * s, 219.0 * s, 128.0 * s, 224.0 * s])
+
+
+def planes(frame) -> list[np.ndarray]:
+    """The Y, Cb and Cr planes of a PyAV frame as 2-D arrays over its own buffers (rows padded to the line size)."""
+    dtype = np.uint8 if FORMATS[frame.format.name][0] == 8 else np.uint16
+    size = np.dtype(dtype).itemsize
+    return [np.frombuffer(p, dtype).reshape(p.height, p.line_size // size) for p in frame.planes[:3]]
+
+
+@lru_cache(maxsize=8)
+def _pairs(curve: str, wide: bool) -> np.ndarray:
+    """The decoding table as 65536 float32 pairs (value at code i, step to code i + 1; the last step 0)."""
+    t = np.asarray(_decode_table(curve, wide), np.float64).reshape(-1)
+    return np.ascontiguousarray(np.stack([t, np.append(np.diff(t), 0.0)], -1), np.float32).reshape(-1)
+
+
+def _decode_args(info, pix_fmt: str):
+    bits, hx, vy = FORMATS[pix_fmt]
+    wide = info.primaries == _BT2020
+    prim = np.ascontiguousarray(_matrix_2020_to_709()) if wide else np.empty(0)
+    return (hx, vy, code_range(bits, info.range == 2), ycbcr_to_rgb_matrix(info.matrix),
+            _pairs(info.curve, wide), prim)
+
+
+def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> np.ndarray:
+    """A decoded PyAV frame (a format of ``FORMATS``) -> linear Rec.709 float32 H x W x 3, in one compiled pass.
+
+    ``window`` ``(row0, row1, col0, col1)``: only those pixels are written (into ``out`` when given, reused from
+    frame to frame; else into a new frame of zeros)."""
+    h, w = frame.height, frame.width
+    if out is None:
+        out = (np.empty if window is None else np.zeros)((h, w, 3), np.float32)
+    r0, r1, c0, c1 = window or (0, h, 0, w)
+    y, u, v = planes(frame)
+    hx, vy, rng, k, table, prim = _decode_args(info, frame.format.name)
+    from lenslab.native import extension
+
+    extension().ycbcr_to_linear(y, u, v, hx, vy, rng, k, table, prim, out, r0, r1, c0, c1, threads())
+    return out
+
+
+def ycbcr_to_linear_reference(y, u, v, info, pix_fmt: str, size: tuple[int, int]) -> np.ndarray:
+    """NumPy reference of :func:`ycbcr_to_linear`: planes (2-D arrays) -> linear float32 ``size`` (H, W) x 3."""
+    h, w = size
+    hx, vy, (y0, ys, c0, cs), k, table, prim = _decode_args(info, pix_fmt)
+
+    def up(c):
+        return np.repeat(np.repeat(c, 1 << vy, 0), 1 << hx, 1)[:h, :w]
+
+    f32 = np.float32
+    n = np.arange(256 if y.dtype == np.uint8 else 65536, dtype=np.float64)
+    ly, lc = ((n - y0) / ys * 65535.0).astype(f32), ((n - c0) / cs * 65535.0).astype(f32)
+    cb, cr = lc[up(u)], lc[up(v)]
+    x = ly[y[:h, :w]][..., None] + (k[:, 1].astype(f32) * cb[..., None] + k[:, 2].astype(f32) * cr[..., None])
+    x = np.clip(x, 0.0, 65535.0).astype(f32)
+    i = x.astype(np.int32)  # at most 65535, whose step is 0
+    lin = table[2 * i] + (x - i.astype(f32)) * table[2 * i + 1]
+    return lin @ prim.T.astype(f32) if prim.size else lin
+
+
+def _encode_args(info, pix_fmt: str, encoded: bool):
+    bits, hx, vy = FORMATS[pix_fmt]
+    empty = np.empty(0)
+    if encoded:  # code values already: a clamp
+        curve, zero, prim = np.empty(0, np.float32), 0.0, empty
+    else:
+        curve, zero = _encode_table(info.curve)
+        prim = np.linalg.inv(_matrix_2020_to_709()) if info.primaries == _BT2020 else empty
+    b0 = int(np.array(2.0**LOW, np.float32).view(np.uint32))
+    return (bits, hx, vy, np.ascontiguousarray(prim), np.ascontiguousarray(curve, np.float32), b0, float(zero),
+            rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))
+
+
+def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False, reuse=None):
+    """Linear Rec.709 float32 H x W x 3 (``encoded``: code values in [0, 1] in the stream's primaries and transfer)
+    -> a PyAV frame of ``pix_fmt`` (a format of ``FORMATS``) with the stream's matrix and range, in one compiled
+    pass; NaN and infinities as :func:`lenslab.io.video_colour.from_linear` makes them finite.
+
+    ``reuse``: an earlier frame to write into when it has this size and format. An encoder that still holds it
+    makes PyAV give it new memory first (``make_writable``); one that is done with it leaves its pages, so a 4K
+    frame's 5.5 MB is not faulted in anew every frame."""
+    import av
+
+    image = np.ascontiguousarray(image[..., :3], np.float32)
+    h, w = image.shape[:2]
+    if reuse is not None and (reuse.width, reuse.height, reuse.format.name) == (w, h, pix_fmt):
+        frame = reuse
+        frame.make_writable()
+    else:
+        frame = av.VideoFrame(w, h, pix_fmt)
+    bits, hx, vy, prim, curve, b0, zero, k, rng, top = _encode_args(info, pix_fmt, encoded)
+    from lenslab.native import extension
+
+    extension().linear_to_ycbcr(image, prim, curve, b0, KNOT_SHIFT, zero, k, rng, top, *planes(frame), hx, vy,
+                                threads())
+    return frame
+
+
+def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.ndarray]:
+    """NumPy reference of :func:`linear_to_ycbcr` (linear light), with colour-science's inverse transfer function
+    in float64 in place of its table: the Y, Cb and Cr planes as integer arrays (H x W, then the chroma size)."""
+    from lenslab.io.video_colour import from_linear
+
+    bits, hx, vy, _, _, _, _, k, (y0, ys, c0, cs), top = _encode_args(info, pix_fmt, True)
+    e = np.clip(from_linear(image[..., :3], info), 0.0, 1.0) @ k.T
+    h, w = e.shape[:2]
+    bh, bw = 1 << vy, 1 << hx
+    pad = np.full((-(-h // bh) * bh, -(-w // bw) * bw, 2), np.nan)
+    pad[:h, :w] = e[..., 1:]
+    c = np.nanmean(pad.reshape(pad.shape[0] // bh, bh, pad.shape[1] // bw, bw, 2), axis=(1, 3))
+
+    def code(x):
+        return np.clip(np.round(x), 0, top).astype(np.int64)
+
+    return [code(e[..., 0] * ys + y0), code(c[..., 0] * cs + c0), code(c[..., 1] * cs + c0)]
+
+
+__all__ = ["FORMATS", "MATRICES", "exact", "planes", "ycbcr_to_linear", "ycbcr_to_linear_reference",
+           "linear_to_ycbcr", "linear_to_ycbcr_reference", "rgb_to_ycbcr_matrix", "ycbcr_to_rgb_matrix", "code_range"]
