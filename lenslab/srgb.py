@@ -67,7 +67,7 @@ def cache_dir() -> Path:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "lenslab"
 
 
-def _cached(name: str, length: int, dtype, build, prefix: str = f"srgb-v{_CACHE_VERSION}") -> np.ndarray:
+def cached_table(name: str, length: int, dtype, build, prefix: str = f"srgb-v{_CACHE_VERSION}") -> np.ndarray:
     """The table ``name`` from the cache (checked for its length and type), else ``build()`` and keep it."""
     path = cache_dir() / f"{prefix}-{name}.npy"
     try:
@@ -97,7 +97,7 @@ def decode_table(maxval: int) -> np.ndarray:
         return eotf(np.arange(maxval + 1, dtype=np.float64) / maxval)
     if maxval not in (255, 65535):
         return build().astype(np.float32)
-    return _cached(f"decode-{maxval}", maxval + 1, np.float32, build)
+    return cached_table(f"decode-{maxval}", maxval + 1, np.float32, build)
 
 
 @functools.lru_cache(maxsize=2)
@@ -105,16 +105,16 @@ def thresholds(bits: int) -> np.ndarray:
     """float64: the linear value at which the rounded ``bits``-bit code reaches k, for k = 1..2^bits - 1
     (the EOTF of (k - 0.5) / maxval)."""
     maxval = (1 << int(bits)) - 1
-    return _cached(f"thresholds-{bits}", maxval, np.float64,
+    return cached_table(f"thresholds-{bits}", maxval, np.float64,
                    lambda: eotf((np.arange(1, maxval + 1, dtype=np.float64) - 0.5) / maxval))
 
 
 @functools.lru_cache(maxsize=1)
-def _encode_table() -> tuple[np.ndarray, np.ndarray, float]:
+def encode_table() -> tuple[np.ndarray, np.ndarray, float]:
     """(value at each point, step to the next, slope below the knee) of the encoding: ENCODE_POINTS
     intervals over the curved segment [KNEE_LINEAR, 1]; the straight one below needs only its slope."""
     grid = KNEE_LINEAR + (1.0 - KNEE_LINEAR) * np.arange(ENCODE_POINTS + 1, dtype=np.float64) / ENCODE_POINTS
-    table = _cached("encode", ENCODE_POINTS + 1, np.float64, lambda: eotf_inverse(grid))
+    table = cached_table("encode", ENCODE_POINTS + 1, np.float64, lambda: eotf_inverse(grid))
     return table[:-1].astype(np.float32), np.diff(table).astype(np.float32), float(table[0] / KNEE_LINEAR)
 
 
@@ -122,7 +122,7 @@ def encode(linear) -> np.ndarray:
     """Linear light -> sRGB code values in [0, 1], float32 of the same shape: NaN and values below 0
     become 0, values above 1 (and +inf) become 1. Linear interpolation in a table of the encoding's
     curved segment (within 1e-7 of colour-science), its straight segment by its slope."""
-    base, step, slope = _encode_table()
+    base, step, slope = encode_table()
     values = np.asarray(linear)
     out = np.empty(values.shape, np.float32)
     flat, codes = values.reshape(-1), out.reshape(-1)

@@ -36,7 +36,7 @@ from lenslab.errors import FormatError, cause
 from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 from lenslab.io.video_colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
 from lenslab.io.video_ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
-from lenslab.io.video_colour import (REFERENCE_WHITE, _BT2020, _decode_table,  # noqa: F401  (re-exported)
+from lenslab.io.video_colour import (REFERENCE_WHITE, BT2020, decode_table,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
                                      linear_to_codes16, to_linear)
 
@@ -156,7 +156,7 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
     of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
-        _decode_table(info.curve, info.primaries == _BT2020)
+        decode_table(info.curve, info.primaries == BT2020)
 
     ring: list = []
 

@@ -27,7 +27,7 @@ import numpy as np
 
 #: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
 REFERENCE_WHITE = 203.0
-_BT2020 = 9  # AVCOL_PRI_BT2020
+BT2020 = 9  # AVCOL_PRI_BT2020
 KNOT_SHIFT = 13  # 2^(23 - 13) = 1024 knots per binade of float32
 LOW, HIGH = -60, 7  # the table spans [2^LOW, 2^HIGH]; below: the code of 0; above: the code of 2^HIGH
 
@@ -121,13 +121,13 @@ def cached(name: str, length: int, dtype, build) -> np.ndarray:
     """The video table ``name``, built with colour-science the first time and kept in lenslab's cache
     directory (:func:`lenslab.srgb.cache_dir`): importing colour-science costs a second or more, which a short
     clip would wait for on every run."""
-    from lenslab.srgb import _cached
+    from lenslab.srgb import cached_table
 
-    return _cached(name, length, dtype, build, prefix=f"video-v{CACHE_VERSION}")
+    return cached_table(name, length, dtype, build, prefix=f"video-v{CACHE_VERSION}")
 
 
 @lru_cache(maxsize=1)
-def _matrix_2020_to_709() -> np.ndarray:
+def matrix_2020_to_709() -> np.ndarray:
     def build():
         import colour
 
@@ -140,8 +140,8 @@ def _matrix_2020_to_709() -> np.ndarray:
 def to_linear(codes: np.ndarray, info) -> np.ndarray:
     """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
     lin = _eotf(codes.astype(np.float64), info.curve)
-    if info.primaries == _BT2020:
-        lin = lin @ _matrix_2020_to_709().T
+    if info.primaries == BT2020:
+        lin = lin @ matrix_2020_to_709().T
     return lin.astype(np.float32)
 
 
@@ -163,8 +163,8 @@ def _eotf(v: np.ndarray, curve: str) -> np.ndarray:
 def from_linear(image: np.ndarray, info) -> np.ndarray:
     """Linear Rec.709 (H x W x 3) -> code values in [0, 1], the inverse of :func:`to_linear`."""
     lin = np.nan_to_num(np.asarray(image, np.float64), nan=0.0, posinf=1e4, neginf=0.0)
-    if info.primaries == _BT2020:
-        lin = lin @ np.linalg.inv(_matrix_2020_to_709()).T
+    if info.primaries == BT2020:
+        lin = lin @ np.linalg.inv(matrix_2020_to_709()).T
     return _eotf_inverse(lin, info.curve)
 
 
@@ -187,7 +187,7 @@ def _eotf_inverse(lin: np.ndarray, curve: str, bounded: bool = True) -> np.ndarr
 
 
 @lru_cache(maxsize=8)
-def _encode_table(curve: str) -> tuple[np.ndarray, float]:
+def encode_table(curve: str) -> tuple[np.ndarray, float]:
     """(:func:`_eotf_inverse` at the knots of :mod:`lenslab.io.video_colour`, float32; the code of 0), cached."""
     x = knots()
     t = cached(f"inverse-{curve}-{LOW}-{HIGH}-{KNOT_SHIFT}", len(x) + 1, np.float32,
@@ -203,12 +203,12 @@ def linear_to_codes16(image: np.ndarray, info, encoded: bool = False) -> np.ndar
         return codes_from_linear(image, None, 0.0, None)
     if info.curve == "hlg":
         return np.round(from_linear(image[..., :3], info) * 65535.0).astype(np.uint16)
-    wide = np.linalg.inv(_matrix_2020_to_709()) if info.primaries == _BT2020 else None
-    return codes_from_linear(image, *_encode_table(info.curve), wide)
+    wide = np.linalg.inv(matrix_2020_to_709()) if info.primaries == BT2020 else None
+    return codes_from_linear(image, *encode_table(info.curve), wide)
 
 
 @lru_cache(maxsize=8)
-def _decode_table(curve: str, wide: bool) -> np.ndarray:
+def decode_table(curve: str, wide: bool) -> np.ndarray:
     """:func:`to_linear` of every 16-bit code value (65536 x 1 float32, or float64 for BT.2020, whose matrix
     comes after): a decoded frame is then one lookup, the same values as the transfer function's. Built with
     colour-science once and kept in lenslab's cache directory (:func:`lenslab.io.video_colour.cached`)."""
@@ -224,10 +224,10 @@ def codes16_to_linear(codes: np.ndarray, info) -> np.ndarray:
     is computed pixel by pixel; the other curves act on each value alone."""
     if info.curve == "hlg":
         return to_linear(codes.astype(np.float64) / 65535.0, info)
-    wide = info.primaries == _BT2020
-    lin = _decode_table(info.curve, wide)[codes]
+    wide = info.primaries == BT2020
+    lin = decode_table(info.curve, wide)[codes]
     if wide:
-        return (lin @ _matrix_2020_to_709().T).astype(np.float32)
+        return (lin @ matrix_2020_to_709().T).astype(np.float32)
     return lin
 
 
@@ -237,8 +237,8 @@ def codes16_to_linear_compiled(codes: np.ndarray, info, window: tuple[int, int, 
     whole frame); ``window``, ``out`` and ``origin``: see :func:`linear_from_codes`."""
     if info.curve == "hlg":
         return codes16_to_linear(codes, info)
-    wide = info.primaries == _BT2020
-    return linear_from_codes(codes, _decode_table(info.curve, wide), _matrix_2020_to_709() if wide else None,
+    wide = info.primaries == BT2020
+    return linear_from_codes(codes, decode_table(info.curve, wide), matrix_2020_to_709() if wide else None,
                              window, out, origin)
 
 

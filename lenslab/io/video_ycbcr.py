@@ -7,9 +7,9 @@ and range formulas of ITU-R BT.709, BT.601 and BT.2020 (non-constant luminance) 
 
 Decoding takes the decoder's planes as they are (no copy, no swscale): chroma is repeated over its block (as
 swscale's default does), R'G'B' is computed in float32, clamped to [0, 1] and taken through the transfer function's
-65536-entry table (:func:`lenslab.io.video_colour._decode_table`) interpolated linearly, then BT.2020 -> Rec.709
+65536-entry table (:func:`lenslab.io.video_colour.decode_table`) interpolated linearly, then BT.2020 -> Rec.709
 where the stream is wide (float32 throughout: within a few float32 steps of the exact values). Only the window a warp reads is computed. Encoding takes linear light through the
-inverse transfer function's table (:func:`lenslab.io.video_colour._encode_table`) to R'G'B' in [0, 1], then to
+inverse transfer function's table (:func:`lenslab.io.video_colour.encode_table`) to R'G'B' in [0, 1], then to
 codes rounded once at the stream's depth; a chroma sample is the mean of its block's Cb (Cr).
 
 swscale's 16-bit RGB paths, which these replace, are not exact: they decode a 10-bit white (Y' = 940) to
@@ -24,8 +24,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.video_colour import (_BT2020, KNOT_SHIFT, LOW, _decode_table, _encode_table,
-                                     _matrix_2020_to_709, threads)
+from lenslab.io.video_colour import (BT2020, KNOT_SHIFT, LOW, decode_table, encode_table,
+                                     matrix_2020_to_709, threads)
 
 #: planar pixel formats: (bits, log2 chroma subsampling across, down)
 FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
@@ -78,14 +78,14 @@ def planes(frame) -> list[np.ndarray]:
 @lru_cache(maxsize=8)
 def _pairs(curve: str, wide: bool) -> np.ndarray:
     """The decoding table as 65536 float32 pairs (value at code i, step to code i + 1; the last step 0)."""
-    t = np.asarray(_decode_table(curve, wide), np.float64).reshape(-1)
+    t = np.asarray(decode_table(curve, wide), np.float64).reshape(-1)
     return np.ascontiguousarray(np.stack([t, np.append(np.diff(t), 0.0)], -1), np.float32).reshape(-1)
 
 
 def _decode_args(info, pix_fmt: str):
     bits, hx, vy = FORMATS[pix_fmt]
-    wide = info.primaries == _BT2020
-    prim = np.ascontiguousarray(_matrix_2020_to_709()) if wide else np.empty(0)
+    wide = info.primaries == BT2020
+    prim = np.ascontiguousarray(matrix_2020_to_709()) if wide else np.empty(0)
     return (hx, vy, code_range(bits, info.range == 2), ycbcr_to_rgb_matrix(info.matrix),
             _pairs(info.curve, wide), prim)
 
@@ -132,8 +132,8 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
     if encoded:  # code values already: a clamp
         curve, zero, prim = np.empty(0, np.float32), 0.0, empty
     else:
-        curve, zero = _encode_table(info.curve)
-        prim = np.linalg.inv(_matrix_2020_to_709()) if info.primaries == _BT2020 else empty
+        curve, zero = encode_table(info.curve)
+        prim = np.linalg.inv(matrix_2020_to_709()) if info.primaries == BT2020 else empty
     b0 = int(np.array(2.0**LOW, np.float32).view(np.uint32))
     return (bits, hx, vy, np.ascontiguousarray(prim), np.ascontiguousarray(curve, np.float32), b0, float(zero),
             rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))

@@ -100,6 +100,7 @@ void register_video(nb::module_& m) {
         need(out.size() == lin.size(), "out: the image's shape");
         need(matrix.size() == 0 || matrix.size() == 9, "matrix: 3 x 3 or empty");
         need(table.size() == 0 || table.size() >= 2, "a table of two knots at least");
+        need(0 <= shift && shift < 32, "shift: 0 to 31");
         Curve c{table.size() ? table.data() : nullptr, int64_t(table.size()), b0, shift, zero};
         codes_from_linear(lin.data(), int64_t(lin.shape(0)), int64_t(lin.shape(1)),
                           matrix.size() ? matrix.data() : nullptr, c, out.data(), threads);

@@ -198,6 +198,7 @@ void register_video_ycbcr(nb::module_& m) {
         need(primaries.size() == 0 || primaries.size() == 9, "primaries: 3 x 3 or empty");
         need(table.size() == 0 || table.size() >= 2, "a table of two knots at least");
         need(range.size() == 4 && matrix.size() == 9, "range 4, matrix 9");
+        need(0 <= shift && shift < 32, "shift: 0 to 31");
         Curve c{table.size() ? table.data() : nullptr, int64_t(table.size()), b0, shift, zero};
         const double* g = range.data();
         Range r{g[0], g[1], g[2], g[3]};
