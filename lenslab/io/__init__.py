@@ -60,7 +60,7 @@ def __getattr__(name):  # the EXR codec (and NumPy) load only when used: command
         return HalfOverflowWarning
     raise AttributeError(f"module 'lenslab.io' has no attribute {name!r}")
 
-__all__ = ["read", "write", "split_selector", "output_channels", "is_alpha_name", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
+__all__ = ["read", "write", "split_selector", "output_channels", "is_alpha_name", "carries_alpha", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
            "atomic_write_path", "HDR_FORMATS", "sniff", "formats"]
 
 #: formats holding linear floats (high dynamic range); the others hold display-encoded codes
@@ -216,6 +216,19 @@ def is_alpha_name(name: str) -> bool:
     """Whether a channel of this name is alpha: ``A``, or ``A`` of a layer (``left.A``), as OpenImageIO
     and compositors read it; any other channel holds data."""
     return isinstance(name, str) and name.rsplit(".", 1)[-1] == "A"
+
+
+def carries_alpha(meta: dict, count: int) -> bool:
+    """Whether an image of ``count`` channels read with ``meta`` carries alpha: its last channel is named
+    ``A`` (or ``layer.A``) where the file named its channels, else (no names) 2 or 4 channels.
+
+    >>> carries_alpha({"channels": ["u", "v"]}, 2), carries_alpha({"channels": ["Y", "A"]}, 2), carries_alpha({}, 4)
+    (False, True, True)
+    """
+    names = (meta or {}).get("channel_names") or (meta or {}).get("channels")
+    if isinstance(names, (list, tuple)) and len(names) == count and count:
+        return is_alpha_name(names[-1])
+    return count in (2, 4)
 
 
 def output_channels(meta: dict, count: int) -> list[str]:

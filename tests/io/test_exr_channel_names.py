@@ -129,3 +129,32 @@ def test_output_channels_rules():
     assert lio.output_channels({"channels": ["Y", "A"]}, 3) == ["R", "G", "B"]  # had alpha: no second A
     assert lio.output_channels({}, 2) == ["Y", "A"]
     assert lio.is_alpha_name("left.A") and not lio.is_alpha_name("AO") and not lio.is_alpha_name("v")
+
+
+def test_carries_alpha_follows_the_names_openimageio_reads(tmp_path):
+    u, v = _uv()
+    for name, chans in {"uv": {"u": u, "v": v}, "ya": {"Y": u, "A": np.clip(v, 0, 1)},
+                        "layer": {"left.R": u, "left.G": u, "left.B": u, "left.A": np.clip(v, 0, 1)}}.items():
+        OpenEXR.File(_header(), chans).write(str(tmp_path / f"{name}.exr"))
+        names, alpha, _ = _oiio(tmp_path / f"{name}.exr")
+        image, meta = lio.read(tmp_path / f"{name}.exr")
+        assert lio.carries_alpha(meta, image.shape[2]) == (alpha >= 0), name
+
+
+def test_settle_leaves_data_channels_alone():
+    """``settle`` with ``alpha=False`` (two data channels): nothing clipped, nothing divided; the coverage
+    alone is clipped. With alpha (the default for 2 channels) the rules of lenslab.io.alpha apply."""
+    from lenslab.io.alpha import settle, split_alpha
+
+    u, v = _uv()
+    image = np.stack([u, v], axis=-1)
+    coverage = np.full((H, W), 1.5, np.float32)
+    data = image.copy()
+    settle(data, coverage, alpha=False)
+    np.testing.assert_array_equal(data, image)
+    assert coverage.max() == 1.0
+    colour, a = split_alpha(data, coverage, alpha=False)
+    assert colour.shape == (H, W, 2) and a is coverage
+    as_alpha = image.copy()
+    settle(as_alpha, None)
+    assert as_alpha[..., 1].min() >= 0.0 and as_alpha[..., 1].max() <= 1.0  # v taken as alpha: settled
