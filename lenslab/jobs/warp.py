@@ -76,7 +76,7 @@ class WarpJob(Job):
 
 def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) -> None:
     """Warp ``src_path`` to ``dst_path`` as ``job`` says, with the maps of ``cache``."""
-    from lenslab.io import read, write
+    from lenslab.io import carries_alpha, read, write
     from lenslab.io.registry import format_for_path, get
     from lenslab.jobs.policy import check_output
     from lenslab.io.alpha import split_alpha, with_alpha
@@ -111,7 +111,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
         if hasattr(progress, "start"):
             progress.start(dst.height)
-        colour, alpha = cache.warp_frame(image, src, dst, progress=progress)  # as every video frame is
+        colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
+                                         alpha=carries_alpha(meta, image.shape[2]))
     # premultiplied colour and its alpha (the source's own, warped like colour, or the coverage); an output
     # that keeps no alpha gets the colour over black
     keep = keeps_alpha(fmt, not job.no_alpha)

@@ -55,17 +55,17 @@ class PlanCache:
             self._plans.popitem(last=False)
         return plan
 
-    def warp(self, image, src: Camera, dst: Camera, progress=None):
+    def warp(self, image, src: Camera, dst: Camera, progress=None, alpha: bool | None = None):
         """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp`."""
-        return self.plan(src, dst).run(image, progress=progress)
+        return self.plan(src, dst).run(image, progress=progress, alpha_channel=alpha)
 
-    def warp_frame(self, image, src: Camera, dst: Camera, progress=None):
+    def warp_frame(self, image, src: Camera, dst: Camera, progress=None, alpha: bool | None = None):
         """The step a still image and every frame of a clip share, between decoding to linear light (the
         format's reader) and encoding (its writer): warp, alpha settled, split into ``(premultiplied
         colour, alpha)`` (the image's own alpha, or the coverage)."""
         from lenslab.io.alpha import split_alpha
 
-        return split_alpha(*self.warp(image, src, dst, progress=progress))
+        return split_alpha(*self.warp(image, src, dst, progress=progress, alpha=alpha), alpha=alpha)
 
 
 __all__ = ["PlanCache", "geometry_key", "MAX_MAP_BYTES"]

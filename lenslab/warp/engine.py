@@ -201,8 +201,9 @@ class WarpPlan:
         arr3 = arr[..., None] if arr.ndim == 2 else arr
         return np.ascontiguousarray(arr3, dtype=np.float32)
 
-    def run(self, image, progress: Callable[[int], None] | None = None):
-        """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size."""
+    def run(self, image, progress: Callable[[int], None] | None = None, alpha_channel: bool | None = None):
+        """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size;
+        ``alpha_channel=False``: the image holds data channels only (none settled as alpha)."""
         src = self.check_image(image)
         h, w = self.out_shape
         out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
@@ -213,7 +214,7 @@ class WarpPlan:
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
             self.render(src, out, alpha, None)
-        settle(out, alpha)
+        settle(out, alpha, alpha_channel)
         if not alpha.any():
             warnings.warn(EmptyViewWarning(
                 f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "

@@ -1,0 +1,38 @@
+"""A warp of two data channels (``u, v``: no channel named ``A``) keeps them as data: not clipped to
+[0, 1], not premultiplied or divided by the second one; the warp's coverage is written beside them as
+``A``. OpenImageIO reads the output (names, alpha channel); the expected values are the source's own,
+since an equirect -> equirect warp of the same size and lens samples every output pixel centre on a
+source pixel centre (bilinear weights 1 and 0 up to the float64 round-off of the pixel-centre map, ~1e-16:
+a value moves by at most a few float32 ulps, or ~1e-16 x its neighbour where it is 0)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lenslab.cli.main import main
+
+OpenEXR = pytest.importorskip("OpenEXR")
+oiio = pytest.importorskip("OpenImageIO")
+
+H, W = 8, 16
+
+
+def test_warp_keeps_two_data_channels(tmp_path):
+    u = np.linspace(0.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
+    v = np.linspace(-5.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
+    OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+                 {"u": u, "v": v}).write(str(tmp_path / "uv.exr"))
+    assert main(["warp", str(tmp_path / "uv.exr"), "-o", str(tmp_path / "w.exr"), "--from", "equirect", "--to",
+                 "equirect", "--size", f"{W}x{H}", "--pixel-type", "float", "-q"]) == 0
+    inp = oiio.ImageInput.open(str(tmp_path / "w.exr"))
+    spec = inp.spec()
+    pixels = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, "float"), np.float32)
+    inp.close()
+    names = tuple(spec.channelnames)
+    assert sorted(names) == ["A", "u", "v"] and names[spec.alpha_channel] == "A"
+    wu, wv = pixels[..., names.index("u")], pixels[..., names.index("v")]
+    assert wv.min() < 0.0 and wv.max() > 1.0  # not clipped to [0, 1]
+    np.testing.assert_allclose(wv, v, rtol=1e-6, atol=1e-12)  # not premultiplied, not divided by v
+    np.testing.assert_allclose(wu, u, rtol=1e-6, atol=1e-12)
+    np.testing.assert_array_equal(pixels[..., spec.alpha_channel], 1.0)  # the coverage: all seen
