@@ -25,7 +25,9 @@ file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Opt
 - EXR: ``pixel_type="half"|"float"``, ``compression="zip"`` (see ``lenslab.io.exr.COMPRESSIONS``),
   ``channels=[names]``, ``attributes={name: value}``
 
-Images with alpha (2 or 4 channels, alpha last) hold premultiplied colour in memory; PNG and 8/16-bit
+Alpha is the last channel and, where the file names its channels (EXR), only a channel named ``A``
+(:func:`carries_alpha`; ``u, v`` are two data channels); names go back to an EXR writer through
+:func:`output_channels`. Images with alpha hold premultiplied colour in memory; PNG and 8/16-bit
 TIFF store straight colour and are converted when written and read, EXR and float TIFF store it as it
 is (:mod:`lenslab.io.alpha`). Formats without alpha (PPM, PFM, JPG) drop the alpha channel (the image
 over black); PGM and ``Pf`` hold one channel.
@@ -60,7 +62,8 @@ def __getattr__(name):  # the EXR codec (and NumPy) load only when used: command
         return HalfOverflowWarning
     raise AttributeError(f"module 'lenslab.io' has no attribute {name!r}")
 
-__all__ = ["read", "write", "split_selector", "output_channels", "is_alpha_name", "carries_alpha", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
+__all__ = ["read", "write", "split_selector", "output_channels", "is_alpha_name", "carries_alpha",
+           "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
            "atomic_write_path", "HDR_FORMATS", "sniff", "formats"]
 
 #: formats holding linear floats (high dynamic range); the others hold display-encoded codes
@@ -144,7 +147,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     Returns
     -------
     image : numpy.ndarray
-        float32 ``H x W x C`` in linear light (``C`` is 1, 3 or 4; a fourth channel is alpha, with the
+        float32 ``H x W x C`` in linear light (``C`` is 1 to 4; a last channel named ``A`` is alpha, with the
         colour premultiplied by it).
     meta : dict
         ``format``, ``bit_depth``, ``sample_type``, ``channels``, ``display_encoded``, ``attributes``
