@@ -96,8 +96,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         dst = None
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
+        named = carries_alpha(meta, image.shape[2])
         colour, alpha = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
-                                                      progress=progress))
+                                                      progress=progress, alpha_channel=named), alpha=named)
     else:
         src = source_camera(job.source, meta, image.shape)
         if job.flip or job.source_flip:

@@ -36,3 +36,27 @@ def test_warp_keeps_two_data_channels(tmp_path):
     np.testing.assert_allclose(wv, v, rtol=1e-6, atol=1e-12)  # not premultiplied, not divided by v
     np.testing.assert_allclose(wu, u, rtol=1e-6, atol=1e-12)
     np.testing.assert_array_equal(pixels[..., spec.alpha_channel], 1.0)  # the coverage: all seen
+
+
+def test_warp_through_an_st_map_keeps_two_data_channels(tmp_path):
+    """The same with an ST map of the identity (lenslab's own ``stmap`` command): exact, for the same
+    reason as above."""
+    u = np.linspace(0.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
+    v = np.linspace(-5.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
+    OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+                 {"u": u, "v": v}).write(str(tmp_path / "uv.exr"))
+    from lenslab import Camera
+    from lenslab.stmap import st_map, write_st_map
+
+    cam = Camera.from_spec("equirect", (W, H))
+    write_st_map(tmp_path / "st.exr", st_map(cam, cam))
+    assert main(["warp", str(tmp_path / "uv.exr"), "-o", str(tmp_path / "w.exr"), "--stmap", str(tmp_path / "st.exr"),
+                 "--pixel-type", "float", "-q"]) == 0
+    inp = oiio.ImageInput.open(str(tmp_path / "w.exr"))
+    spec = inp.spec()
+    pixels = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, "float"), np.float32)
+    inp.close()
+    names = tuple(spec.channelnames)
+    assert sorted(names) == ["A", "u", "v"] and names[spec.alpha_channel] == "A"
+    np.testing.assert_allclose(pixels[..., names.index("v")], v, rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(pixels[..., names.index("u")], u, rtol=1e-6, atol=1e-12)
