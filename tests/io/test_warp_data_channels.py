@@ -18,6 +18,17 @@ oiio = pytest.importorskip("OpenImageIO")
 H, W = 8, 16
 
 
+def _warped(path):
+    """(names, alpha index, pixels) of a warp of ``u, v`` as OpenImageIO reads it, with its names checked."""
+    inp = oiio.ImageInput.open(str(path))
+    spec = inp.spec()
+    pixels = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, "float"), np.float32)
+    inp.close()
+    names = tuple(spec.channelnames)
+    assert sorted(names) == ["A", "u", "v"] and names[spec.alpha_channel] == "A"  # EXR lists names in order
+    return names, spec.alpha_channel, pixels
+
+
 def test_warp_keeps_two_data_channels(tmp_path):
     u = np.linspace(0.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
     v = np.linspace(-5.0, 5.0, H * W, dtype=np.float32).reshape(H, W)
@@ -25,17 +36,12 @@ def test_warp_keeps_two_data_channels(tmp_path):
                  {"u": u, "v": v}).write(str(tmp_path / "uv.exr"))
     assert main(["warp", str(tmp_path / "uv.exr"), "-o", str(tmp_path / "w.exr"), "--from", "equirect", "--to",
                  "equirect", "--size", f"{W}x{H}", "--pixel-type", "float", "-q"]) == 0
-    inp = oiio.ImageInput.open(str(tmp_path / "w.exr"))
-    spec = inp.spec()
-    pixels = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, "float"), np.float32)
-    inp.close()
-    names = tuple(spec.channelnames)
-    assert sorted(names) == ["A", "u", "v"] and names[spec.alpha_channel] == "A"
+    names, alpha, pixels = _warped(tmp_path / "w.exr")
     wu, wv = pixels[..., names.index("u")], pixels[..., names.index("v")]
     assert wv.min() < 0.0 and wv.max() > 1.0  # not clipped to [0, 1]
     np.testing.assert_allclose(wv, v, rtol=1e-6, atol=1e-12)  # not premultiplied, not divided by v
     np.testing.assert_allclose(wu, u, rtol=1e-6, atol=1e-12)
-    np.testing.assert_array_equal(pixels[..., spec.alpha_channel], 1.0)  # the coverage: all seen
+    np.testing.assert_array_equal(pixels[..., alpha], 1.0)  # the coverage: all seen
 
 
 def test_warp_through_an_st_map_keeps_two_data_channels(tmp_path):
@@ -52,11 +58,6 @@ def test_warp_through_an_st_map_keeps_two_data_channels(tmp_path):
     write_st_map(tmp_path / "st.exr", st_map(cam, cam))
     assert main(["warp", str(tmp_path / "uv.exr"), "-o", str(tmp_path / "w.exr"), "--stmap", str(tmp_path / "st.exr"),
                  "--pixel-type", "float", "-q"]) == 0
-    inp = oiio.ImageInput.open(str(tmp_path / "w.exr"))
-    spec = inp.spec()
-    pixels = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, "float"), np.float32)
-    inp.close()
-    names = tuple(spec.channelnames)
-    assert sorted(names) == ["A", "u", "v"] and names[spec.alpha_channel] == "A"
+    names, alpha, pixels = _warped(tmp_path / "w.exr")
     np.testing.assert_allclose(pixels[..., names.index("v")], v, rtol=1e-6, atol=1e-12)
     np.testing.assert_allclose(pixels[..., names.index("u")], u, rtol=1e-6, atol=1e-12)
