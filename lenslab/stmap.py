@@ -266,8 +266,10 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
 
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
-                     progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Warp ``image`` by an ST map (made by lenslab or any other tool).
+                     progress: Callable[[int], None] | None = None,
+                     alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Warp ``image`` by an ST map (made by lenslab or any other tool); ``alpha_channel=False``: data
+    channels only, none settled as alpha.
 
     One sample per pixel goes through the engine's :func:`~lenslab.warp.given.warp_with_map`
     (lenslab's filters, and its footprint prefilter with ``antialias``); ``samples`` > 1 takes that
@@ -327,7 +329,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     if samples == 1:
         x, y, ok = source_positions(st, size)
         return warp_with_map(image, np.stack([x, y], axis=-1), ok, filter=filter, antialias=antialias,
-                             progress=progress)
+                             progress=progress, alpha_channel=alpha_channel)
     src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
     h, w = st.shape[:2]
     out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
@@ -343,7 +345,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
             progress(r1 - r0)
     from lenslab.io.alpha import settle
 
-    settle(out, alpha)
+    settle(out, alpha, alpha_channel)
     if image.ndim == 2:
         out = out[..., 0]
     return out, alpha

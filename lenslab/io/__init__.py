@@ -25,7 +25,9 @@ file is written to a temporary name and renamed (see :mod:`lenslab.atomic`). Opt
 - EXR: ``pixel_type="half"|"float"``, ``compression="zip"`` (see ``lenslab.io.exr.COMPRESSIONS``),
   ``channels=[names]``, ``attributes={name: value}``
 
-Images with alpha (2 or 4 channels, alpha last) hold premultiplied colour in memory; PNG and 8/16-bit
+Alpha is the last channel and, where the file names its channels (EXR), only a channel named ``A``
+(:func:`carries_alpha`; ``u, v`` are two data channels); names go back to an EXR writer through
+:func:`output_channels`. Images with alpha hold premultiplied colour in memory; PNG and 8/16-bit
 TIFF store straight colour and are converted when written and read, EXR and float TIFF store it as it
 is (:mod:`lenslab.io.alpha`). Formats without alpha (PPM, PFM, JPG) drop the alpha channel (the image
 over black); PGM and ``Pf`` hold one channel.
@@ -60,7 +62,8 @@ def __getattr__(name):  # the EXR codec (and NumPy) load only when used: command
         return HalfOverflowWarning
     raise AttributeError(f"module 'lenslab.io' has no attribute {name!r}")
 
-__all__ = ["read", "write", "split_selector", "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
+__all__ = ["read", "write", "split_selector", "output_channels", "is_alpha_name", "carries_alpha",
+           "FormatError", "HalfOverflowWarning", "CameraAttributeWarning",
            "atomic_write_path", "HDR_FORMATS", "sniff", "formats"]
 
 #: formats holding linear floats (high dynamic range); the others hold display-encoded codes
@@ -144,7 +147,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     Returns
     -------
     image : numpy.ndarray
-        float32 ``H x W x C`` in linear light (``C`` is 1, 3 or 4; a fourth channel is alpha, with the
+        float32 ``H x W x C`` in linear light (``C`` is 1 to 4; a last channel named ``A`` is alpha, with the
         colour premultiplied by it).
     meta : dict
         ``format``, ``bit_depth``, ``sample_type``, ``channels``, ``display_encoded``, ``attributes``
@@ -206,6 +209,51 @@ def with_alpha(image: np.ndarray, alpha: ArrayLike) -> np.ndarray:
     if image.shape[2] not in (1, 3):
         raise FormatError(f"the image already has {image.shape[2]} channels; give alpha only with grey or RGB")
     return np.concatenate([image, a[..., None]], axis=2)
+
+
+#: channel names an EXR writer gives an image that carries none, by channel count
+DEFAULT_CHANNELS = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}
+
+
+def is_alpha_name(name: str) -> bool:
+    """Whether a channel of this name is alpha: ``A``, or ``A`` of a layer (``left.A``), as OpenImageIO
+    and compositors read it; any other channel holds data."""
+    return isinstance(name, str) and name.rsplit(".", 1)[-1] == "A"
+
+
+def carries_alpha(meta: dict, count: int) -> bool:
+    """Whether an image of ``count`` channels read with ``meta`` carries alpha: its last channel is named
+    ``A`` (or ``layer.A``) where the file named its channels, else (no names) 2 or 4 channels.
+
+    >>> carries_alpha({"channels": ["u", "v"]}, 2), carries_alpha({"channels": ["Y", "A"]}, 2), carries_alpha({}, 4)
+    (False, True, True)
+    """
+    names = (meta or {}).get("channel_names") or (meta or {}).get("channels")
+    if isinstance(names, (list, tuple)) and len(names) == count and count:
+        return is_alpha_name(names[-1])
+    return count in (2, 4)
+
+
+def output_channels(meta: dict, count: int) -> list[str]:
+    """The channel names to write for an image of ``count`` channels made from an input described by
+    ``meta`` (what :func:`read` gave): the input's own names when the image has as many channels; those
+    names and ``A`` when the image has one more (the coverage a warp adds to an image without alpha);
+    else the usual ``Y``, ``Y A``, ``R G B``, ``R G B A``.
+
+    >>> output_channels({"channel_names": ["u", "v"]}, 2), output_channels({"channels": ["Z"]}, 2)
+    (['u', 'v'], ['Z', 'A'])
+    """
+    names = (meta or {}).get("channel_names") or (meta or {}).get("channels")
+    ok = isinstance(names, (list, tuple)) and names and all(isinstance(n, str) and n for n in names) \
+        and len(set(names)) == len(names)
+    if ok and len(names) == count:
+        return list(names)
+    if ok and len(names) + 1 == count and not any(is_alpha_name(n) for n in names):
+        return [*names, "A"]
+    default = DEFAULT_CHANNELS.get(count)
+    if default is None:
+        raise FormatError(f"an image with {count} channels needs channel names")
+    return list(default)
 
 
 def fit_channels(a: "np.ndarray", fmt) -> "np.ndarray":

@@ -28,8 +28,12 @@ import numpy as np
 F32 = np.float32
 
 
-def has_alpha(image: np.ndarray) -> bool:
-    """Whether an H x W x C image carries alpha (C = 2 or 4: alpha is the last channel)."""
+def has_alpha(image: np.ndarray, alpha: bool | None = None) -> bool:
+    """Whether an H x W x C image carries alpha: ``alpha`` when given (what its channel names say,
+    :func:`lenslab.io.carries_alpha`: two data channels such as ``u, v`` carry none), else C = 2 or 4
+    (alpha is the last channel)."""
+    if alpha is not None:
+        return bool(alpha) and image.ndim == 3 and image.shape[2] >= 2
     return image.ndim == 3 and image.shape[2] in (2, 4)
 
 
@@ -38,18 +42,19 @@ def colour_channels(nc: int) -> slice:
     return slice(0, nc - 1) if nc in (2, 4) else slice(0, nc)
 
 
-def settle(image: np.ndarray, coverage: np.ndarray | None = None) -> None:
+def settle(image: np.ndarray, coverage: np.ndarray | None = None, alpha: bool | None = None) -> None:
     """Hold the contract in place: ``image`` (H x W x C float32, colour premultiplied) and ``coverage``
     (H x W float32, the warp's fraction of valid samples) end with every alpha in [0, 1].
 
     ``coverage`` is clipped to [0, 1] (NaN to 0); an image with alpha (C = 2 or 4) has its alpha and
-    colour settled by the rules of the module docstring."""
+    colour settled by the rules of the module docstring; ``alpha=False``: the image holds data channels
+    only (none is clipped or used as coverage)."""
     # two reductions find the usual case (nothing to do) at a fraction of the cost of fixing; a NaN makes
     # the test fail and is fixed with the rest
     if coverage is not None and coverage.size and not (coverage.min() >= 0.0 and coverage.max() <= 1.0):
         np.nan_to_num(coverage, copy=False, nan=0.0)
         np.clip(coverage, 0.0, 1.0, out=coverage)
-    if image.ndim != 3 or not has_alpha(image) or not image.size:
+    if image.ndim != 3 or not has_alpha(image, alpha) or not image.size:
         return
     a = image[..., -1]
     if a.min() >= 0.0 and a.max() <= 1.0:
@@ -98,10 +103,11 @@ def expose(image: np.ndarray, stops: float, in_place: bool = False) -> np.ndarra
     return out
 
 
-def split_alpha(out: np.ndarray, coverage: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def split_alpha(out: np.ndarray, coverage: np.ndarray, alpha: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A warp's ``(image, coverage)`` -> ``(premultiplied colour, alpha)``: an image that carries alpha
-    gives its own (warped like colour, so it includes the coverage), any other the coverage."""
-    if has_alpha(out):
+    (``alpha``, else by its channel count: :func:`has_alpha`) gives its own (warped like colour, so it
+    includes the coverage), any other the coverage."""
+    if has_alpha(out, alpha):
         return out[..., :-1], out[..., -1]
     return out, coverage
 

@@ -6,7 +6,10 @@ Reading
   selector: the first part (with a :class:`MultiPartWarning` naming the others, as a command's note), and
   its base (undotted) channels.
 - Channels become R, G, B (+ A); Y (+ A); luminance-chroma Y, RY, BY (+ A), converted to RGB; a lone
-  channel of any name becomes a one-channel image; any other set is stacked in name order.
+  channel of any name becomes a one-channel image; any other set is stacked in name order. Only a
+  channel named ``A`` is alpha (as in OpenImageIO): ``u, v`` or ``forward.u, forward.v`` are two data
+  channels. ``meta["channel_names"]`` keeps the file's names (a part's only layer included), which
+  :func:`lenslab.io.output_channels` gives back to an EXR writer.
 - Luminance-chroma: the subsampled chroma is upsampled (linear interpolation between the stored
   samples, which sit on even pixel coordinates) and ``R = (RY + 1) Y``, ``B = (BY + 1) Y``,
   ``G = (Y - wR R - wB B) / wG`` with the luminance weights of the file's chromaticities.
@@ -287,7 +290,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             planes, out_names = [y], ["Y"]
         ignored = sorted(keys - {"Y", "RY", "BY", "A"})
     else:
-        order = sorted(keys)
+        order = sorted(keys - {"A"}) + (["A"] if "A" in keys else [])  # alpha last, as in memory
         planes, out_names = [get(c) for c in order], order
     if "A" in keys and out_names[:3] == ["R", "G", "B"]:
         planes.append(get("A"))
@@ -322,6 +325,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "sample_type": "float" if pixel_types <= {"FLOAT"} else ("half" if pixel_types <= {"HALF"} else
                                                               "/".join(sorted(t.lower() for t in pixel_types))),
         "channels": out_names,
+        # the names a writer keeps (EXR): the file's own, with the layer of a part's only layer
+        "channel_names": out_names if converted or layer is not None else [short.get(n, n) for n in out_names],
         "display_encoded": False,
         "attributes": attributes,
         "part": index,
@@ -385,7 +390,9 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
                           "(zip is the most widely readable)")
     if channels is None:
-        channels = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}.get(c)
+        from lenslab.io import DEFAULT_CHANNELS
+
+        channels = DEFAULT_CHANNELS.get(c)
         if channels is None:
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:

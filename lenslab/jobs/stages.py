@@ -114,8 +114,10 @@ def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | 
         opts["dither"] = options["dither"]  # (quantising to integers only)
     if "compression" in accepts and options.get("compression") is not None:
         opts["compression"] = options["compression"]
-    if channels == 2 and "channels" in accepts:  # grey and alpha, named as the format names them
-        opts["channels"] = ["Y", "A"]
+    if channels and "channels" in accepts:  # the input's channel names where kept, else Y A / R G B A
+        from lenslab.io import output_channels
+
+        opts["channels"] = output_channels(meta, channels)
     camera = meta.get("camera") if camera is None else camera
     if fmt.camera and camera is not None:
         opts["camera"] = camera

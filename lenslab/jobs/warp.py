@@ -76,7 +76,7 @@ class WarpJob(Job):
 
 def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) -> None:
     """Warp ``src_path`` to ``dst_path`` as ``job`` says, with the maps of ``cache``."""
-    from lenslab.io import read, write
+    from lenslab.io import carries_alpha, read, write
     from lenslab.io.registry import format_for_path, get
     from lenslab.jobs.policy import check_output
     from lenslab.io.alpha import split_alpha, with_alpha
@@ -96,8 +96,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         dst = None
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
+        named = carries_alpha(meta, image.shape[2])
         colour, alpha = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
-                                                      progress=progress))
+                                                      progress=progress, alpha_channel=named), alpha=named)
     else:
         src = source_camera(job.source, meta, image.shape)
         if job.flip or job.source_flip:
@@ -111,7 +112,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
         if hasattr(progress, "start"):
             progress.start(dst.height)
-        colour, alpha = cache.warp_frame(image, src, dst, progress=progress)  # as every video frame is
+        colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
+                                         alpha=carries_alpha(meta, image.shape[2]))
     # premultiplied colour and its alpha (the source's own, warped like colour, or the coverage); an output
     # that keeps no alpha gets the colour over black
     keep = keeps_alpha(fmt, not job.no_alpha)

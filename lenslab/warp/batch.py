@@ -55,18 +55,18 @@ class PlanCache:
             self._plans.popitem(last=False)
         return plan
 
-    def warp(self, image, src: Camera, dst: Camera, progress=None, into=None):
+    def warp(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None):
         """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp` (``into``: see
         :meth:`lenslab.warp.engine.WarpPlan.run`)."""
-        return self.plan(src, dst).run(image, progress=progress, into=into)
+        return self.plan(src, dst).run(image, progress=progress, into=into, alpha_channel=alpha)
 
-    def warp_frame(self, image, src: Camera, dst: Camera, progress=None, into=None):
+    def warp_frame(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None):
         """The step a still image and every frame of a clip share, between decoding to linear light (the
         format's reader) and encoding (its writer): warp, alpha settled, split into ``(premultiplied
         colour, alpha)`` (the image's own alpha, or the coverage). ``into``: output arrays to reuse."""
         from lenslab.io.alpha import split_alpha
 
-        return split_alpha(*self.warp(image, src, dst, progress=progress, into=into))
+        return split_alpha(*self.warp(image, src, dst, progress=progress, into=into, alpha=alpha), alpha=alpha)
 
 
 __all__ = ["PlanCache", "geometry_key", "MAX_MAP_BYTES"]

@@ -201,11 +201,13 @@ class WarpPlan:
         arr3 = arr[..., None] if arr.ndim == 2 else arr
         return np.ascontiguousarray(arr3, dtype=np.float32)
 
-    def run(self, image, progress: Callable[[int], None] | None = None, into=None):
+    def run(self, image, progress: Callable[[int], None] | None = None, into=None,
+            alpha_channel: bool | None = None):
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
 
         ``into``: ``(image, alpha)`` arrays of those shapes to write into, zeroed first (a clip's frames reuse a
-        few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit."""
+        few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit.
+        ``alpha_channel=False``: the image holds data channels only (none settled as alpha)."""
         src = self.check_image(image)
         h, w = self.out_shape
         if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
@@ -222,7 +224,7 @@ class WarpPlan:
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
             self.render(src, out, alpha, None)
-        settle(out, alpha)
+        settle(out, alpha, alpha_channel)
         if not alpha.any():
             warnings.warn(EmptyViewWarning(
                 f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "

@@ -29,8 +29,11 @@ BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 
 def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None = None, filter: str = "bilinear",
                   antialias: bool = False, source: Lens | Camera | None = None,
-                  progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  progress: Callable[[int], None] | None = None,
+                  alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
+    ``alpha_channel=False``: the image holds data channels only (the last of 2 or 4 is not settled as
+    alpha; :func:`lenslab.io.carries_alpha`).
 
     Parameters
     ----------
@@ -112,7 +115,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
 
     done = None if progress is None else (lambda rows_: progress(rows_[1] - rows_[0]))
     run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], draw, done)
-    settle(out, alpha)
+    settle(out, alpha, alpha_channel)
     if img.ndim == 2:
         out = out[..., 0]
     return out, alpha
