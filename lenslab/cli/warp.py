@@ -239,6 +239,12 @@ def run(args: argparse.Namespace) -> int:
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
         st_map(args.stmap)  # read now: a bad map is one error before any file
+    from lenslab.filters import check_filter_with_antialias
+
+    try:
+        check_filter_with_antialias(args.filter, args.antialias, ("--filter", "--antialias"))
+    except LenslabError as exc:
+        raise UsageError(str(exc)) from None
     args.exposure = parse_exposure(args.exposure)
     check_once(args)
     if args.compat:

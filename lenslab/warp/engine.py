@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from lenslab.errors import WarpError
-from lenslab.filters import filter_named
+from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
@@ -59,6 +59,7 @@ class WarpPlan:
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
                                 "build one with Camera.from_spec(spec, (width, height))")
         filter = filter_named(filter)
+        check_filter_with_antialias(filter, antialias)
         try:
             samples = int(samples)
         except (TypeError, ValueError):

@@ -1,0 +1,60 @@
+"""What a new user meets on a first walk through the commands: options that cannot apply are usage errors
+(exit 2, one line, before any work, no output made), every error line has the same form, and a file's notes
+are printed as notes by every command."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lenslab.cli.main import main
+from lenslab.io import write
+
+
+@pytest.fixture
+def pano(tmp_path):
+    p = tmp_path / "pano.exr"
+    write(p, np.full((16, 32, 3), 0.5, np.float32))
+    return p
+
+
+def one_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+@pytest.mark.parametrize("filt", ["nearest", "bicubic", "lanczos"])
+def test_a_filter_with_antialias_is_a_usage_error(pano, tmp_path, capsys, filt):
+    out = tmp_path / "out.exr"
+    rc = main(["warp", str(pano), "-o", str(out), "--to", "perspective:fov=30", "--size", "8x8",
+               "--filter", filt, "--antialias"])
+    line = one_line(capsys)
+    assert rc == 2
+    assert line == (f"lenslab warp: error: --filter {filt} does nothing with --antialias: the footprint filter "
+                    "replaces it (it averages the bilinear source over each pixel's footprint); give one")
+    assert not out.exists()
+
+
+def test_the_default_filter_with_antialias_warps(pano, tmp_path, capsys):
+    out = tmp_path / "out.exr"
+    rc = main(["warp", str(pano), "-o", str(out), "--to", "perspective:fov=30", "--size", "8x8", "--antialias", "-q"])
+    assert rc == 0 and out.exists()
+
+
+def test_the_python_api_refuses_a_filter_with_antialias_too():
+    import lenslab
+    from lenslab.errors import WarpError
+    from lenslab.warp import warp_with_map
+
+    pano = np.full((16, 32, 3), 0.5, np.float32)
+    src = lenslab.Camera.from_spec("equirect", (32, 16))
+    dst = lenslab.Camera.from_spec("perspective:fov=30", (8, 8))
+    with pytest.raises(WarpError, match="filter bicubic does nothing with antialias: the footprint filter"):
+        lenslab.warp(pano, src, dst, filter="bicubic", antialias=True)
+    xy = np.stack(np.meshgrid(np.arange(4) + 0.5, np.arange(4) + 0.5), axis=-1)
+    with pytest.raises(WarpError, match="filter nearest does nothing with antialias"):
+        warp_with_map(pano, xy, filter="nearest", antialias=True)
+    # the guide's example: the footprint filter on its own
+    image, alpha = lenslab.warp(pano, src, dst, antialias=True)
+    np.testing.assert_allclose(image, 0.5, rtol=1e-3)  # a constant source stays constant (half-float input)
