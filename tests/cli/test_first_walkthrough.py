@@ -58,3 +58,26 @@ def test_the_python_api_refuses_a_filter_with_antialias_too():
     # the guide's example: the footprint filter on its own
     image, alpha = lenslab.warp(pano, src, dst, antialias=True)
     np.testing.assert_allclose(image, 0.5, rtol=1e-3)  # a constant source stays constant (half-float input)
+
+
+def test_the_display_named_in_the_help_picks_that_display(pano, tmp_path, capsys):
+    """``--display 'Display P3'`` (the --help example): the name before " - " wins over 'Display P3 HDR - Display'.
+    The display's names are OpenColorIO's own, from its built-in config."""
+    import PyOpenColorIO as OCIO
+
+    from lenslab.io.ocio import load_config, resolve
+
+    config = load_config(None)
+    names = list(config.getDisplays())
+    assert {"Display P3 - Display", "Display P3 HDR - Display"} <= set(names)
+    assert resolve(config, "Display P3", None)[0] == "Display P3 - Display"
+    assert resolve(config, "display p3 hdr", None)[0] == "Display P3 HDR - Display"
+    assert resolve(config, "Display P3 - Display", None)[0] == "Display P3 - Display"
+    out = tmp_path / "p3.png"
+    assert main(["tonemap", str(pano), "-o", str(out), "--display", "Display P3", "-q"]) == 0 and out.exists()
+    capsys.readouterr()
+    rc = main(["tonemap", str(pano), "-o", str(tmp_path / "x.png"), "--display", "P3"])
+    line = one_line(capsys)
+    assert rc == 2 and line.startswith("lenslab tonemap: error: display 'P3' matches several of the config's: "
+                                       "Display P3 - Display; Display P3 HDR - Display;")
+    assert OCIO.GetVersion()  # the names above are those of the OpenColorIO installed
