@@ -81,3 +81,29 @@ def test_the_display_named_in_the_help_picks_that_display(pano, tmp_path, capsys
     assert rc == 2 and line.startswith("lenslab tonemap: error: display 'P3' matches several of the config's: "
                                        "Display P3 - Display; Display P3 HDR - Display;")
     assert OCIO.GetVersion()  # the names above are those of the OpenColorIO installed
+
+
+def multipart_exr(path):
+    """A two-part EXR written by OpenEXR itself (not by lenslab)."""
+    OpenEXR = pytest.importorskip("OpenEXR")
+    h = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    a = np.full((4, 8), 0.5, np.float32)
+    parts = [OpenEXR.Part({**h, "name": "beauty"}, {"R": a, "G": a, "B": a}, "beauty"),
+             OpenEXR.Part({**h, "name": "depth"}, {"Z": 7 * a}, "depth")]
+    OpenEXR.File(parts).write(str(path))
+    return path
+
+
+@pytest.mark.parametrize("command", [["info", "{m}"], ["tonemap", "{m}", "-o", "{d}/t.png", "-q"],
+                                     ["diff", "{m}", "{m}", "-q"],
+                                     ["warp", "{m}", "-o", "{d}/w.exr", "--to", "fisheye", "--size", "8x8", "-q"],
+                                     ["convert", "{m}", "--to", "pfm", "-o", "{d}/c.pfm", "-q"]])
+def test_the_multi_part_note_is_one_note_line_in_every_command(tmp_path, capsys, command):
+    m = multipart_exr(tmp_path / "m.exr")
+    rc = main([a.format(m=m, d=tmp_path) for a in command])
+    err = capsys.readouterr().err
+    notes = [line for line in err.splitlines() if "has 2 parts" in line]
+    assert rc == 0
+    assert notes == [f"lenslab {command[0]}: note: {m}: has 2 parts (0: 'beauty', 1: 'depth'); read part 0 "
+                     "('beauty'): pick another as m.exr:NAME or m.exr:INDEX"], err
+    assert "MultiPartWarning" not in err and "warnings.warn" not in err and ".py:" not in err
