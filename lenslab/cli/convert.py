@@ -131,8 +131,9 @@ def run(args: argparse.Namespace) -> int:
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
     check_convert_options(args, files, display["display"])
-    for pat, reason in missing:
-        print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
+    from lenslab.jobs.funnel import report_missing
+
+    report_missing("lenslab convert", missing)
     if not files:
         if not missing:  # each missing input already has its line
             print("lenslab convert: error: nothing to convert", file=sys.stderr)

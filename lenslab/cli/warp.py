@@ -250,8 +250,9 @@ def run(args: argparse.Namespace) -> int:
     if args.compat:
         check_compat(args)
     files, missing = expand_inputs(args.inputs)
-    for pat, reason in missing:
-        print(f"lenslab warp: {pat}: {reason}", file=sys.stderr)
+    from lenslab.jobs.funnel import report_missing
+
+    report_missing("lenslab warp", missing)
     if not files:
         if not missing:
             print("lenslab warp: error: nothing to warp", file=sys.stderr)

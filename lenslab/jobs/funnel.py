@@ -119,6 +119,13 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
             return exit_code(exc)
 
 
+def report_missing(prog: str, missing) -> None:
+    """One error line per input that names no file (``(input, reason)`` of
+    :func:`lenslab.jobs.plan.expand_inputs`), in the form of every other error: ``PROG: error: IN: reason``."""
+    for pat, reason in missing:
+        print(f"{prog}: error: {cut(f'{pat}: {reason}')}", file=sys.stderr)
+
+
 def note_printer(prog: str):
     """``warnings.showwarning`` of a command: a warning that reaches the terminal (a file's note, such as
     the parts of a multi-part EXR) is one line, ``PROG: note: MESSAGE``, never Python's warning with its

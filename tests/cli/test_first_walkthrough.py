@@ -107,3 +107,17 @@ def test_the_multi_part_note_is_one_note_line_in_every_command(tmp_path, capsys,
     assert notes == [f"lenslab {command[0]}: note: {m}: has 2 parts (0: 'beauty', 1: 'depth'); read part 0 "
                      "('beauty'): pick another as m.exr:NAME or m.exr:INDEX"], err
     assert "MultiPartWarning" not in err and "warnings.warn" not in err and ".py:" not in err
+
+
+@pytest.mark.parametrize("command", [["warp", "{n}", "-o", "{d}/x.exr", "--to", "fisheye"],
+                                     ["convert", "{n}", "--to", "png", "-o", "{d}/x.png"],
+                                     ["tonemap", "{n}", "-o", "{d}/x.png"], ["tonemap", "{n}", "{n}2", "-o", "{d}/o"],
+                                     ["info", "{n}"], ["diff", "{n}", "{n}"]])
+def test_a_missing_input_is_one_error_line_of_the_same_form_in_every_command(tmp_path, capsys, command):
+    n = tmp_path / "nothere.exr"
+    rc = main([a.format(n=n, d=tmp_path) for a in command])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == (4 if command[0] == "diff" else 1)  # diff keeps idiff's exit codes: 4, a file not read
+    assert err[0] == f"lenslab {command[0]}: error: {n}: no such file or directory", err
+    assert all(line.startswith(f"lenslab {command[0]}: error: ") for line in err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing made, not even the output folder
