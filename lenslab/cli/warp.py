@@ -169,12 +169,31 @@ def check_options_apply(args, pairs) -> None:
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
     videos = [is_video(src) for src, _ in pairs]
+    check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
         check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
               for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
     check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
+
+
+def check_video_output(pairs, videos) -> None:
+    """A video output needs a video input: an input lenslab cannot read is named as the cause (a failed
+    input), a still image is a usage error; never "cannot tell the output format" of a good output name."""
+    from lenslab.errors import UsageError
+    from lenslab.io import split_selector
+    from lenslab.io.codecs import VIDEO_EXTENSIONS
+    from lenslab.io.registry import sniff
+
+    for (src, dst), video in zip(pairs, videos):
+        if not video and Path(dst).suffix.lower() in VIDEO_EXTENSIONS:
+            from lenslab.jobs.funnel import working_on
+
+            with working_on(src):
+                sniff(split_selector(src)[0])  # an input it cannot read: its own error, naming it
+            raise UsageError(f"{src} is a still image and -o {dst} a video: warp it to an image file "
+                             "(e.g. .exr), or give a video input")
 
 
 def output_extension(fmt: str | None):

@@ -121,3 +121,38 @@ def test_a_missing_input_is_one_error_line_of_the_same_form_in_every_command(tmp
     assert err[0] == f"lenslab {command[0]}: error: {n}: no such file or directory", err
     assert all(line.startswith(f"lenslab {command[0]}: error: ") for line in err), err
     assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing made, not even the output folder
+
+
+def mpeg_ts(path):
+    """A real MPEG transport stream (a format lenslab does not read), written by PyAV (FFmpeg)."""
+    av = pytest.importorskip("av")
+    with av.open(str(path), "w", format="mpegts") as box:
+        stream = box.add_stream("mpeg2video", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 16, 16, "yuv420p"
+        for i in range(3):
+            frame = av.VideoFrame.from_ndarray(np.full((16, 16, 3), 40 * i, np.uint8), format="rgb24")
+            for packet in stream.encode(frame):
+                box.mux(packet)
+        for packet in stream.encode():
+            box.mux(packet)
+    return path
+
+
+def test_a_video_warp_of_an_unread_input_names_the_input_as_convert_does(tmp_path, capsys):
+    clip = mpeg_ts(tmp_path / "clip.ts")
+    assert clip.read_bytes()[0] == 0x47  # MPEG-TS's sync byte: a real transport stream
+    out = tmp_path / "fish.mp4"
+    rc = main(["warp", str(clip), "-o", str(out), "--to", "fisheye:fov=180", "--size", "8x8"])
+    line = one_line(capsys)
+    assert rc == 1 and line.startswith(f"lenslab warp: error: {clip}: not a recognised image"), line
+    assert "fish.mp4" not in line and not out.exists()
+    rc = main(["convert", str(clip), "--to", "mp4", "-o", str(out)])
+    assert rc == 1 and one_line(capsys).split(": error: ")[1] == line.split(": error: ")[1]
+
+
+def test_a_still_image_warped_to_a_video_name_is_a_usage_error(pano, tmp_path, capsys):
+    out = tmp_path / "fish.mp4"
+    rc = main(["warp", str(pano), "-o", str(out), "--to", "fisheye:fov=180", "--size", "8x8"])
+    assert rc == 2 and one_line(capsys) == (f"lenslab warp: error: {pano} is a still image and -o {out} a video: "
+                                            "warp it to an image file (e.g. .exr), or give a video input")
+    assert not out.exists()
