@@ -54,6 +54,15 @@ def check_convert_options(args, files, display) -> None:
         holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
         linear = [(fmt.title, "it holds linear light")] if holds else []
     check_tone_applies("--tone", given, display, linear)
+    if args.to not in VIDEO:
+        from lenslab.jobs.display import check_display_outputs
+
+        check_display_outputs(display, [get(args.to)], args.bits)
+        if not display:  # a display's codes are RGB, whatever the input
+            from lenslab.jobs.stages import check_channels_fit
+
+            for f in files:
+                check_channels_fit(f, get(args.to))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -115,6 +115,12 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.arguments import check_tone_applies
 
     check_tone_applies("--curve", curve_given, display["display"], [])
+    if display["display"]:  # a format that cannot hold the display's codes: refused before any file is read
+        from lenslab.jobs.display import check_display_outputs
+
+        out = Path(args.output)
+        target = args.format or (output_format(out) if out.suffix and not out.is_dir() else "png")
+        check_display_outputs(display["display"], [get_format(target)], args.bits)
 
     if is_batch(args):
         return run_many(args, curve.name, params)

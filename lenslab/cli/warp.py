@@ -176,6 +176,15 @@ def check_options_apply(args, pairs) -> None:
               else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
               for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
     check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
+    from lenslab.jobs.display import check_display_outputs
+    from lenslab.jobs.stages import check_channels_fit
+
+    for (src, dst), video in zip(pairs, videos):
+        if not video and not getattr(args, "display", None):  # a display's codes are RGB, whatever the input
+            check_channels_fit(src, get(format_for_path(dst, None)))
+
+    check_display_outputs(getattr(args, "display", None),
+                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, videos) if not v}])
 
 
 def check_video_output(pairs, videos) -> None:

@@ -156,3 +156,45 @@ def test_a_still_image_warped_to_a_video_name_is_a_usage_error(pano, tmp_path, c
     assert rc == 2 and one_line(capsys) == (f"lenslab warp: error: {pano} is a still image and -o {out} a video: "
                                             "warp it to an image file (e.g. .exr), or give a video input")
     assert not out.exists()
+
+
+PQ_JPEG = "Rec.2100-PQ: an HDR display needs 16-bit samples; JPEG holds 8: write PNG or TIFF"
+RGB_PGM = "PGM holds 1 channel(s); this image has 3: write PPM, or keep one channel"
+
+
+@pytest.mark.parametrize("command,message", [
+    (["warp", "{p}", "-o", "{d}/w.jpg", "--to", "fisheye", "--size", "8x8", "--display", "Rec.2100-PQ"], PQ_JPEG),
+    (["convert", "{p}", "--to", "jpg", "-o", "{d}/w.jpg", "--display", "Rec.2100-PQ"], PQ_JPEG),
+    (["tonemap", "{p}", "-o", "{d}/w.jpg", "--display", "Rec.2100-PQ"], PQ_JPEG),
+    (["tonemap", "{p}", "-o", "{d}/w.png", "--display", "Rec.2100-PQ", "--bits", "8"],
+     "Rec.2100-PQ: an HDR display needs 16-bit samples; drop --bits 8"),
+    (["warp", "{p}", "-o", "{d}/w.pgm", "--to", "fisheye", "--size", "8x8", "--display", "sRGB"],
+     "sRGB: a display's code values are RGB; PGM holds 1 channel(s): write PPM, PNG or TIFF"),
+    (["warp", "{p}", "-o", "{d}/w.pgm", "--to", "fisheye", "--size", "8x8"], "{p}: " + RGB_PGM),
+    (["convert", "{p}", "--to", "pgm", "-o", "{d}/w.pgm"], "{p}: " + RGB_PGM),
+])
+def test_an_output_that_cannot_hold_what_is_asked_is_refused_before_any_work(pano, tmp_path, capsys, monkeypatch,
+                                                                             command, message):
+    import lenslab.io
+
+    def no_read(*a, **k):
+        raise AssertionError("the input was read: the refusal came after work")
+
+    monkeypatch.setattr(lenslab.io, "read", no_read)
+    rc = main([a.format(p=pano, d=tmp_path) for a in command])
+    assert rc == 2
+    assert one_line(capsys) == f"lenslab {command[0]}: error: " + message.format(p=pano)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pano.exr"]
+
+
+def test_what_the_output_can_hold_still_works(pano, tmp_path):
+    """PQ into 16-bit PNG, and one grey channel into PGM (the channel count read from the EXR header,
+    as OpenEXR writes it)."""
+    OpenEXR = pytest.importorskip("OpenEXR")
+    grey = tmp_path / "grey.exr"
+    h = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    OpenEXR.File(h, {"Y": np.full((16, 32), 0.5, np.float32)}).write(str(grey))
+    assert main(["warp", str(grey), "-o", str(tmp_path / "g.pgm"), "--to", "fisheye", "--size", "8x8", "-q"]) == 0
+    assert main(["warp", str(pano), "-o", str(tmp_path / "pq.png"), "--to", "fisheye", "--size", "8x8",
+                 "--display", "Rec.2100-PQ", "-q"]) == 0
+    assert (tmp_path / "pq.png").read_bytes()[24] == 16  # the IHDR's bit depth (PNG spec, 11.2.2): 16 bits
