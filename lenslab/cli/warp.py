@@ -89,7 +89,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     quality.add_argument("--seed", type=int, default=None,
                          help="jitter the samples within their strata with this seed (default: strata centres)")
     quality.add_argument("--antialias", action="store_true",
-                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels)")
+                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels); "
+                              "it replaces --filter, so the two are not given together")
     quality.add_argument("--exact-map", action="store_true",
                          help="evaluate the lens models at every sample (default: a checked interpolation "
                               "lattice, within 1/100 pixel)")
