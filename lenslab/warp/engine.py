@@ -318,7 +318,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         Sub-pixel samples per output pixel (strata centres, or jittered per row with ``seed``).
     antialias : bool
         Prefilter by each pixel's footprint on the source (:mod:`lenslab.warp.antialias`), for outputs
-        that shrink the source; combines with ``samples``.
+        that shrink the source; combines with ``samples``. It replaces the filter (it averages the
+        bilinear source), so ``filter`` stays ``"bilinear"`` with it.
     seed : int, optional
         Jitter the sub-pixel samples, deterministically per row.
     allow_parallax : bool
@@ -348,8 +349,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     Raises
     ------
     lenslab.errors.WarpError
-        An image of the wrong size or with NaN or infinite values, an unknown filter, or eyes that
-        differ without ``allow_parallax``.
+        An image of the wrong size or with NaN or infinite values, an unknown filter, a filter other
+        than bilinear with ``antialias``, or eyes that differ without ``allow_parallax``.
 
     Examples
     --------

@@ -47,7 +47,8 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:data:`lenslab.filters.FILTERS`).
     antialias : bool
         Average the source over each pixel's footprint (from the map's differences between
-        neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
+        neighbouring pixels) instead of one filtered tap; for maps that shrink the source. It replaces
+        the filter, so ``filter`` stays ``"bilinear"`` with it (another is a WarpError).
     source : lenslab.lenses.Lens or lenslab.lenses.Camera, optional
         The source's lens, whose seams and pieces say how taps beyond its edges continue (a panorama's
         wrap and poles, a cube map's neighbouring faces); default: taps clamp to the edge pixel.
