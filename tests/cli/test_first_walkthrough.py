@@ -198,3 +198,14 @@ def test_what_the_output_can_hold_still_works(pano, tmp_path):
     assert main(["warp", str(pano), "-o", str(tmp_path / "pq.png"), "--to", "fisheye", "--size", "8x8",
                  "--display", "Rec.2100-PQ", "-q"]) == 0
     assert (tmp_path / "pq.png").read_bytes()[24] == 16  # the IHDR's bit depth (PNG spec, 11.2.2): 16 bits
+
+
+@pytest.mark.parametrize("command", [["warp", "--to", "fisheye", "--size", "8x8"], ["convert", "--to", "pfm"],
+                                     ["tonemap"]])
+def test_a_failed_file_of_a_batch_is_an_error_line_of_the_same_form(pano, tmp_path, capsys, command):
+    bad = tmp_path / "bad.exr"
+    bad.write_bytes(b"v/1\x01" + bytes(60))  # OpenEXR's magic number and a broken header
+    rc = main([command[0], str(pano), str(bad), "-o", str(tmp_path / "out"), *command[1:], "-q"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 1
+    assert [line for line in err if "bad.exr" in line][0].startswith(f"lenslab {command[0]}: error: {bad}: "), err
