@@ -172,6 +172,8 @@ RGB_PGM = "PGM holds 1 channel(s); this image has 3: write PPM, or keep one chan
      "sRGB: a display's code values are RGB; PGM holds 1 channel(s): write PPM, PNG or TIFF"),
     (["warp", "{p}", "-o", "{d}/w.pgm", "--to", "fisheye", "--size", "8x8"], "{p}: " + RGB_PGM),
     (["convert", "{p}", "--to", "pgm", "-o", "{d}/w.pgm"], "{p}: " + RGB_PGM),
+    (["tonemap", "{p}", "-o", "{d}/w.pgm"], "{p}: " + RGB_PGM),
+    (["tonemap", "{p}", "{p}", "-o", "{d}/o", "--format", "pgm"], "{p}: " + RGB_PGM),
 ])
 def test_an_output_that_cannot_hold_what_is_asked_is_refused_before_any_work(pano, tmp_path, capsys, monkeypatch,
                                                                              command, message):
