@@ -71,6 +71,15 @@ def filter_named(name: str) -> str:
     return FILTERS.canonical(name)
 
 
+def check_filter_with_antialias(filter: str, antialias: bool, flags: tuple[str, str] = ("filter", "antialias")) -> None:
+    """The footprint prefilter (``antialias``) averages the bilinear source over each pixel's footprint: it
+    replaces the reconstruction filter, so another filter with it would be silently ignored.
+    :class:`~lenslab.errors.WarpError` for that combination (``flags`` name the two options in it)."""
+    if antialias and FILTERS.canonical(filter) != "bilinear":
+        raise WarpError(f"{flags[0]} {FILTERS.canonical(filter)} does nothing with {flags[1]}: the footprint filter "
+                        "replaces it (it averages the bilinear source over each pixel's footprint); give one")
+
+
 def cli_filter(text: str) -> str:
     """``--filter``'s argument type: a filter's name or another name of it, as its canonical name; any
     other word is refused (argparse's one-line usage error), the message listing the filters."""

@@ -54,6 +54,15 @@ def check_convert_options(args, files, display) -> None:
         holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
         linear = [(fmt.title, "it holds linear light")] if holds else []
     check_tone_applies("--tone", given, display, linear)
+    if args.to not in VIDEO:
+        from lenslab.jobs.display import check_display_outputs
+
+        check_display_outputs(display, [get(args.to)], args.bits)
+        if not display:  # a display's codes are RGB, whatever the input
+            from lenslab.jobs.stages import check_channels_fit
+
+            for f in files:
+                check_channels_fit(f, get(args.to))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -131,8 +140,9 @@ def run(args: argparse.Namespace) -> int:
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
     check_convert_options(args, files, display["display"])
-    for pat, reason in missing:
-        print(f"lenslab convert: {pat}: {reason}", file=sys.stderr)
+    from lenslab.jobs.funnel import report_missing
+
+    report_missing("lenslab convert", missing)
     if not files:
         if not missing:  # each missing input already has its line
             print("lenslab convert: error: nothing to convert", file=sys.stderr)

@@ -115,6 +115,18 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.arguments import check_tone_applies
 
     check_tone_applies("--curve", curve_given, display["display"], [])
+    # a format that cannot hold the display's codes, or the channels an input's header declares: refused
+    # before any file is read
+    target = get_format(args.format or ("png" if is_batch(args) else output_format(args.output)))
+    if display["display"]:
+        from lenslab.jobs.display import check_display_outputs
+
+        check_display_outputs(display["display"], [target], args.bits)
+    else:
+        from lenslab.jobs.stages import check_channels_fit
+
+        for name in args.inputs:
+            check_channels_fit(name, target)
 
     if is_batch(args):
         return run_many(args, curve.name, params)

@@ -34,8 +34,9 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
     exposure = parse_exposure(args.exposure)
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, False, roots)
-    for pat, reason in missing:
-        print(f"lenslab tonemap: {pat}: {reason}", file=sys.stderr)
+    from lenslab.jobs.funnel import report_missing
+
+    report_missing("lenslab tonemap", missing)
     if not files:
         if not missing:  # each missing input already has its line
             print("lenslab tonemap: error: nothing to tone-map", file=sys.stderr)

@@ -89,7 +89,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     quality.add_argument("--seed", type=int, default=None,
                          help="jitter the samples within their strata with this seed (default: strata centres)")
     quality.add_argument("--antialias", action="store_true",
-                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels)")
+                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels); "
+                              "it replaces --filter, so the two are not given together")
     quality.add_argument("--exact-map", action="store_true",
                          help="evaluate the lens models at every sample (default: a checked interpolation "
                               "lattice, within 1/100 pixel)")
@@ -169,12 +170,40 @@ def check_options_apply(args, pairs) -> None:
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
     videos = [is_video(src) for src, _ in pairs]
+    check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
         check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
               for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
     check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
+    from lenslab.jobs.display import check_display_outputs
+    from lenslab.jobs.stages import check_channels_fit
+
+    for (src, dst), video in zip(pairs, videos):
+        if not video and not getattr(args, "display", None):  # a display's codes are RGB, whatever the input
+            check_channels_fit(src, get(format_for_path(dst, None)))
+
+    check_display_outputs(getattr(args, "display", None),
+                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, videos) if not v}])
+
+
+def check_video_output(pairs, videos) -> None:
+    """A video output needs a video input: an input lenslab cannot read is named as the cause (a failed
+    input), a still image is a usage error; never "cannot tell the output format" of a good output name."""
+    from lenslab.errors import UsageError
+    from lenslab.io import split_selector
+    from lenslab.io.codecs import VIDEO_EXTENSIONS
+    from lenslab.io.registry import sniff
+
+    for (src, dst), video in zip(pairs, videos):
+        if not video and Path(dst).suffix.lower() in VIDEO_EXTENSIONS:
+            from lenslab.jobs.funnel import working_on
+
+            with working_on(src):
+                sniff(split_selector(src)[0])  # an input it cannot read: its own error, naming it
+            raise UsageError(f"{src} is a still image and -o {dst} a video: warp it to an image file "
+                             "(e.g. .exr), or give a video input")
 
 
 def output_extension(fmt: str | None):
@@ -239,13 +268,20 @@ def run(args: argparse.Namespace) -> int:
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
         st_map(args.stmap)  # read now: a bad map is one error before any file
+    from lenslab.filters import check_filter_with_antialias
+
+    try:
+        check_filter_with_antialias(args.filter, args.antialias, ("--filter", "--antialias"))
+    except LenslabError as exc:
+        raise UsageError(str(exc)) from None
     args.exposure = parse_exposure(args.exposure)
     check_once(args)
     if args.compat:
         check_compat(args)
     files, missing = expand_inputs(args.inputs)
-    for pat, reason in missing:
-        print(f"lenslab warp: {pat}: {reason}", file=sys.stderr)
+    from lenslab.jobs.funnel import report_missing
+
+    report_missing("lenslab warp", missing)
     if not files:
         if not missing:
             print("lenslab warp: error: nothing to warp", file=sys.stderr)

@@ -96,11 +96,16 @@ def check_lut_files(config, source) -> None:
 
 
 def _pick(kind: str, name: str, choices: list[str]) -> str:
+    """The one of ``choices`` that ``name`` means (case aside): the same name, else the one whose name before
+    " - " it is, else the one name that holds it; :class:`OCIOError` when none or several do."""
     low = name.lower()
     for c in choices:
         if c.lower() == low:
             return c
-    found = [c for c in choices if low in c.lower()]
+    # the name before " - " ("Display P3" of "Display P3 - Display") wins over longer names holding it
+    found = [c for c in choices if c.lower().partition(" - ")[0].strip() == low]
+    if len(found) != 1:
+        found = [c for c in choices if low in c.lower()]
     if len(found) == 1:
         return found[0]
     which = "matches several" if found else "is not one"

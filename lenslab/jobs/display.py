@@ -4,6 +4,37 @@ the display's code values and the write options they need (see :mod:`lenslab.io.
 from __future__ import annotations
 
 
+def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
+    """:class:`~lenslab.errors.FormatError` when format record ``fmt`` cannot hold what ``display`` gives:
+    an HDR display's (PQ, HLG) codes need 16-bit samples (not JPEG, not ``--bits 8``), and a display's
+    codes are RGB (not PGM). Depends on no image: commands call it before any work."""
+    from lenslab.errors import FormatError
+    from lenslab.io.ocio import is_hdr_display
+
+    hdr = is_hdr_display(display)
+    accepts = fmt.write_options
+    if hdr and "sample_type" not in accepts and "bits" in accepts and not any(b >= 16 for b in fmt.bit_depths):
+        raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG or TIFF")
+    if hdr and bits == 8:
+        raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
+    if 3 not in fmt.channels:
+        holds = " or ".join(str(n) for n in fmt.channels)
+        raise FormatError(f"{display}: a display's code values are RGB; {fmt.title} holds {holds} channel(s): "
+                          "write PPM, PNG or TIFF")
+
+
+def check_display_outputs(display: str | None, formats, bits: int | None = None) -> None:
+    """:func:`check_display_holds` for each output format record of a command, before any work: a format
+    that cannot hold what ``--display`` (and ``--bits``) ask for is a usage error."""
+    from lenslab.errors import FormatError, UsageError
+
+    for fmt in formats if display else ():
+        try:
+            check_display_holds(display, fmt, bits)
+        except FormatError as exc:
+            raise UsageError(str(exc)) from None
+
+
 def apply_display(image, fmt, options: dict) -> tuple:
     """(display-encoded image, write options it needs) for format record ``fmt``.
 
@@ -13,28 +44,18 @@ def apply_display(image, fmt, options: dict) -> tuple:
     as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
     over black.
     """
-    from lenslab.errors import FormatError
     from lenslab.io.ocio import display_transform, is_hdr_display
 
     display = options["display"]
     hdr = is_hdr_display(display)
     bits = options.get("bits")
+    check_display_holds(display, fmt, bits)
     extra: dict = {}
     accepts = fmt.write_options
     if "sample_type" in accepts:  # TIFF: integers of the asked depth, 16 by default
         extra["sample_type"] = f"uint{bits or 16}"
-        bits = bits or 16
-    elif "bits" in accepts:
-        depths = [b for b in fmt.bit_depths if b >= 16]
-        if hdr and not depths:
-            raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG or "
-                              "TIFF")
-        if hdr and bits == 8:
-            raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
-        if (hdr or bits == 16) and depths:
-            extra["bits"] = 16
-    if hdr and bits == 8:
-        raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
+    elif "bits" in accepts and (hdr or bits == 16) and any(b >= 16 for b in fmt.bit_depths):
+        extra["bits"] = 16
     if "raw" in accepts:
         extra["raw"] = True
     if hdr and "cicp" in accepts:  # PNG: say PQ or HLG in the file, or readers take the codes for sRGB

@@ -91,6 +91,7 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
     ``debug``). Returns the exit code."""
     with warnings.catch_warnings(), stop_signals():
         warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
+        warnings.showwarning = note_printer(prog)
         try:
             code = int(func() or 0)
             sys.stdout.flush()
@@ -116,6 +117,26 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
                 traceback.print_exc()
             print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return exit_code(exc)
+
+
+def report_missing(prog: str, missing) -> None:
+    """One error line per input that names no file (``(input, reason)`` of
+    :func:`lenslab.jobs.plan.expand_inputs`), in the form of every other error: ``PROG: error: IN: reason``."""
+    for pat, reason in missing:
+        print(f"{prog}: error: {cut(f'{pat}: {reason}')}", file=sys.stderr)
+
+
+def note_printer(prog: str):
+    """``warnings.showwarning`` of a command: a warning that reaches the terminal (a file's note, such as
+    the parts of a multi-part EXR) is one line, ``PROG: note: MESSAGE``, never Python's warning with its
+    source line. Batch commands record each file's warnings as its notes (:func:`user_notes`) and print them
+    in the same form."""
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split()) or category.__name__
+        print(f"{prog}: note: {cut(text)}", file=sys.stderr)
+
+    return show
 
 
 def _print_repairs(prog: str) -> None:

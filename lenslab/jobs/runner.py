@@ -201,7 +201,7 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
                 print(f"{command}: note: {src}: {note}", file=sys.stderr)
     failed = [(src, err) for src, _, err, _ in results if err]
     for src, err in failed:
-        print(f"{command}: FAILED: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+        print(f"{command}: error: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
     if summary is not None:
         print(summary.format(done=len(results) - len(failed), total=len(results) if total is None else total)
               + (f"; {len(failed)} failed" if failed else "") + tail, file=sys.stderr)

@@ -143,3 +143,45 @@ def check_image(image, what: str = "image"):
 
 
 __all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image"]
+
+
+def known_channels(src) -> int | None:
+    """How many channels reading ``src`` gives, when its header tells without reading pixels: a format whose
+    images all have one count (PPM, Radiance HDR, PGM), or an EXR whose first part holds R, G, B (and A)
+    only; None when only reading it would tell (a part or layer selector, other layers, other formats)."""
+    from lenslab.io import split_selector
+    from lenslab.io.registry import get, sniff
+
+    file, selector = split_selector(src)
+    try:
+        name = sniff(file)
+        fmt = get(name)
+        if len(fmt.channels) == 1:
+            return fmt.channels[0]
+        if fmt.selectors and selector is None:
+            from lenslab.io.probe import probe
+
+            names = {c["name"] for c in probe(file, name)["parts"][0]["channels"]}
+            if names in ({"R", "G", "B"}, {"R", "G", "B", "A"}):
+                return len(names)
+    except Exception:  # noqa: BLE001 - a file its header does not describe: reading it reports why
+        return None
+    return None
+
+
+def check_channels_fit(src, fmt) -> None:
+    """A usage error, before any work, when the output format record ``fmt`` cannot hold the channels of
+    ``src`` as its header tells them (an RGB image to PGM); the rule and words of
+    :func:`lenslab.io.fit_channels`, which writing applies."""
+    channels = known_channels(src)
+    if channels is None:
+        return
+    import numpy as np
+
+    from lenslab.errors import FormatError, UsageError
+    from lenslab.io import fit_channels
+
+    try:
+        fit_channels(np.zeros((1, 1, channels), np.float32), fmt)
+    except FormatError as exc:
+        raise UsageError(f"{src}: {exc}") from None

@@ -55,8 +55,8 @@ class WarpSetting:
 
     @classmethod
     def parse(cls, token: str) -> "WarpSetting":
-        """``bilinear``, ``lanczos``, ``antialias`` (bilinear with the footprint prefilter),
-        ``bicubic+antialias``, and ``@N`` or ``@KxK`` for sub-samples: ``bilinear@2x2``."""
+        """``bilinear``, ``lanczos``, ``antialias`` (bilinear with the footprint prefilter, which replaces
+        the filter: ``bicubic+antialias`` is refused), and ``@N`` or ``@KxK`` for sub-samples: ``bilinear@2x2``."""
         tok = token.strip().lower()
         if not tok:
             raise ValidationError("empty warp setting; use e.g. bilinear, lanczos, antialias or bilinear@2x2")
@@ -84,6 +84,13 @@ class WarpSetting:
             else:
                 raise ValidationError(
                     f"warp setting {token!r}: unknown filter {p!r}; use one of {', '.join(FILTERS)} or antialias")
+        from lenslab.errors import WarpError
+        from lenslab.filters import check_filter_with_antialias
+
+        try:
+            check_filter_with_antialias(filt, antialias, ("the filter", "antialias"))
+        except WarpError as exc:
+            raise ValidationError(f"warp setting {token!r}: {exc}") from None
         return cls(filt, samples, antialias)
 
 

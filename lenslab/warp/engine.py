@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from lenslab.errors import WarpError
-from lenslab.filters import filter_named
+from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
@@ -59,6 +59,7 @@ class WarpPlan:
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
                                 "build one with Camera.from_spec(spec, (width, height))")
         filter = filter_named(filter)
+        check_filter_with_antialias(filter, antialias)
         try:
             samples = int(samples)
         except (TypeError, ValueError):
@@ -328,7 +329,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         Sub-pixel samples per output pixel (strata centres, or jittered per row with ``seed``).
     antialias : bool
         Prefilter by each pixel's footprint on the source (:mod:`lenslab.warp.antialias`), for outputs
-        that shrink the source; combines with ``samples``.
+        that shrink the source; combines with ``samples``. It replaces the filter (it averages the
+        bilinear source), so ``filter`` stays ``"bilinear"`` with it.
     seed : int, optional
         Jitter the sub-pixel samples, deterministically per row.
     allow_parallax : bool
@@ -358,8 +360,8 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     Raises
     ------
     lenslab.errors.WarpError
-        An image of the wrong size or with NaN or infinite values, an unknown filter, or eyes that
-        differ without ``allow_parallax``.
+        An image of the wrong size or with NaN or infinite values, an unknown filter, a filter other
+        than bilinear with ``antialias``, or eyes that differ without ``allow_parallax``.
 
     Examples
     --------

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from lenslab.errors import WarpError
-from lenslab.filters import filter_named
+from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands
@@ -50,7 +50,8 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         ``nearest``, ``bilinear``, ``bicubic`` or ``lanczos`` (:data:`lenslab.filters.FILTERS`).
     antialias : bool
         Average the source over each pixel's footprint (from the map's differences between
-        neighbouring pixels) instead of one filtered tap; for maps that shrink the source.
+        neighbouring pixels) instead of one filtered tap; for maps that shrink the source. It replaces
+        the filter, so ``filter`` stays ``"bilinear"`` with it (another is a WarpError).
     source : lenslab.lenses.Lens or lenslab.lenses.Camera, optional
         The source's lens, whose seams and pieces say how taps beyond its edges continue (a panorama's
         wrap and poles, a cube map's neighbouring faces); default: taps clamp to the edge pixel.
@@ -78,6 +79,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     [[1.0, 2.0, 3.0], [5.0, 6.0, 7.0], [9.0, 10.0, 11.0]]
     """
     filter = filter_named(filter)
+    check_filter_with_antialias(filter, antialias)
     from lenslab.errors import check_image_shape
 
     img = check_image_shape(image, channels=None)

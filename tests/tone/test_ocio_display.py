@@ -81,9 +81,9 @@ def test_convert_writes_the_display_codes(tmp_path):
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "tiff", "--display", "rec.2100-pq",
                  "--view", "1000 nits (rec.2020)", "-o", str(tmp_path / "pq.tif"), "-q"]) == 0
     assert tifffile.imread(tmp_path / "pq.tif").dtype == np.uint16
-    # 8-bit JPEG cannot hold PQ; an unknown display is a usage error
+    # 8-bit JPEG cannot hold PQ: a usage error before any work, as is an unknown display
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "jpg", "--display", "rec.2100-pq",
-                 "-o", str(tmp_path / "pq.jpg"), "-q"]) == 1
+                 "-o", str(tmp_path / "pq.jpg"), "-q"]) == 2
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "png", "--display", "no such display",
                  "-o", str(tmp_path / "x.png"), "-q"]) == 2
 
@@ -119,8 +119,8 @@ def test_tonemap_writes_the_display_codes(tmp_path):
                  "--view", "ACES 2.0 - SDR", "--exposure", "1", "-o", str(tmp_path / "out"), "-q"]) == 0
     batch = cv2.imread(str(tmp_path / "out" / "t.png"), cv2.IMREAD_UNCHANGED)[..., ::-1].astype(np.float64)
     assert np.abs(batch - want).max() <= 0.5 + 65535 * 1e-5
-    # bad names are one usage error; --view without --display too; PQ needs 16 bits
+    # bad names are one usage error; --view without --display too; PQ needs 16 bits (refused before any work)
     assert main(["tonemap", str(tmp_path / "s.exr"), "--display", "no such display", "-o", str(tmp_path / "x.png")]) == 2
     assert main(["tonemap", str(tmp_path / "s.exr"), "--view", "ACES 2.0 - SDR", "-o", str(tmp_path / "x.png")]) == 2
-    assert main(["tonemap", str(tmp_path / "s.exr"), "--display", "rec.2100-pq", "-o", str(tmp_path / "x.jpg")]) == 1
+    assert main(["tonemap", str(tmp_path / "s.exr"), "--display", "rec.2100-pq", "-o", str(tmp_path / "x.jpg")]) == 2
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.jpg").exists()

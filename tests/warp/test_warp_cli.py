@@ -85,7 +85,7 @@ def test_batch_goes_on_after_a_failure_and_reuses_one_map(pano, tmp_path, capsys
                "--pixel-type", "float"])
     assert rc == 1
     err = capsys.readouterr().err
-    assert "FAILED" in err and "broken.exr" in err and "warped 3 of 4 file(s) with 1 map(s)" in err
+    assert ": error: " in err and "broken.exr" in err and "warped 3 of 4 file(s) with 1 map(s)" in err
     first = read(outdir / "frame0.exr")[0]
     third = read(outdir / "frame2.exr")[0]
     np.testing.assert_allclose(third[..., :3], 3 * first[..., :3], rtol=1e-6)

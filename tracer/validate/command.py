@@ -15,7 +15,7 @@ Two modes:
                          is a closed-form function of direction (no tracer needed).
 
 Warp settings (--filters): a filter (lenslab.filters.FILTERS); 'antialias' is bilinear with the
-footprint prefilter (or FILTER+antialias); append @KxK for sub-samples: bilinear@2x2.
+footprint prefilter (which replaces the filter); append @KxK for sub-samples: bilinear@2x2.
 
 Examples:
   lenslab validate --scene cornell --to fisheye:fov=180,mapping=equisolid -o report/
