@@ -87,6 +87,12 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Hammer directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("cubemap_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 30, "cubemap: 30 parameters");
+        cubemap_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Cube map directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
     m.attr("pixel_kernel_ids") = [] {
         nb::dict ids;
         ids["equirect_pixels"] = 0;

@@ -28,6 +28,10 @@ void perspective_pixels(const double* d, int64_t n, const double* p, double* xy,
 // hammer: p = W, H, H / W, edge slack
 void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 
+// cube map (Cubemap._dir_to_pixel: d as given, not normalised): p = W, H, face width, face height, edge slack,
+// border nudge, then per major axis +x, -x, +y, -y, +z, -z: the face's column, row, sign of A, sign of B
+void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
 // a tiled grid: each direction to the first tile that sees it (Tiled.dir_to_pixel). p = the number of tiles, then
 // per tile: its kernel's number in pixel_kernel_ids(), the count of its parameters, the cosine of its reach (-1:
 // no cone test), its axis (3), its turn R (9, row-major: the tile sees d R), its offset (2) and the largest

@@ -1,7 +1,7 @@
 """The lens models' compiled kernels: C++17 in the extension ``lenslab.cxx_kernels`` (``src/native/lens_*``),
 built by ``pip install -e .``, so no lens compiles anything on a machine's first warp.
 
-Direction -> pixel of the equirect, perspective and Hammer models (their
+Direction -> pixel of the equirect, perspective, Hammer and cube map models (their
 :class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp engine and :meth:`Lens.dir_to_pixel` run), the
 calibrated models' projections and solved inverses, OCamCalib's solved projection, the lensfun profiles'
 direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
@@ -60,7 +60,8 @@ def dir_kernel_holds(lens, model: type, steps: tuple[str, ...] = ()) -> bool:
 KERNEL_STEPS = ("dir_to_pixel", "dir_to_uv", "uv_to_pixel", "snap_to_image", "edge_slack")
 
 
-def kernel_holds(lens, model: type) -> bool:
+def kernel_holds(lens, model: type, steps: tuple[str, ...] = ()) -> bool:
     """Whether ``model``'s compiled kernel still describes ``lens``: a subclass that changed one of
-    :data:`KERNEL_STEPS` has no kernel (its :meth:`dir_to_pixel` runs its own NumPy steps)."""
-    return all(getattr(type(lens), name) is getattr(model, name) for name in KERNEL_STEPS)
+    :data:`KERNEL_STEPS` (or of the model's own ``steps``) has no kernel (its :meth:`dir_to_pixel` runs its own
+    NumPy steps)."""
+    return all(getattr(type(lens), name) is getattr(model, name) for name in KERNEL_STEPS + tuple(steps))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, as_points, clean
+from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, as_points, clean
 from lenslab.lenses.core.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
@@ -155,8 +155,26 @@ class Cubemap(Lens):
             o *= inv
         return clean(d, self.in_image(xy) & ok & self._used.take(face), inplace=True)
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``cubemap_pixels``: the NumPy steps of :meth:`_dir_to_pixel`), or None
+        for a subclass that changed one of those steps."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Cubemap, ("_dir_to_pixel", "face_size")):
+            return None
+        ew, eh = self.face_size
+        slot = self._slot_of_axis  # per major axis +x, -x, +y, -y, +z, -z: its face's column, row, signs of A, B
+        faces = np.stack([slot % self.cols, slot // self.cols, self._sA.take(slot), self._sB.take(slot)], axis=-1)
+        return PixelKernel(lens_kernels().cubemap_pixels, np.concatenate(
+            [[self.width, self.height, ew, eh, self.edge_slack, BORDER_NUDGE], faces.ravel()]).astype(FLOAT))
+
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")
+        kern = self.pixel_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import project_kernel
+
+            return project_kernel(kern, d)
         with np.errstate(all="ignore"):
             return self._dir_to_pixel(d)
 
