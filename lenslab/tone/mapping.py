@@ -142,8 +142,13 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         np.divide(colour_part, a, out=colour_part, where=a > 0)
         mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, threads=threads,
                          **resolved)
+        del colour_part  # (its copy of the colour is not kept while the output is assembled)
         mapped *= a
-        return np.concatenate([mapped, alpha[..., None].astype(F32)], axis=-1)
+        out = np.empty(x.shape, F32)
+        out[..., :-1] = mapped
+        del mapped
+        out[..., -1] = alpha
+        return out
 
     ev = parse_exposure(exposure, x, primaries)
     scale = 2.0 ** ev
