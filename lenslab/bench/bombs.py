@@ -2,7 +2,7 @@
 for each way a registered format compresses (PNG and TIFF Deflate, EXR ZIP, PIZ and DWAA, JPEG,
 Radiance run lengths, an H.264 clip), each written by the format's own library (zlib, tifffile,
 OpenEXR, OpenCV, PyAV) or by its specification's rules. Every one must be refused before its pixels
-are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 128 MiB).
+are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 64 MiB).
 
 The builders hand their libraries all-zero arrays (``np.zeros``: pages the kernel maps only when
 written), so making the corpus costs a few seconds and little memory.
@@ -95,10 +95,22 @@ BOMBS = {
 }
 
 
+def edge_size() -> tuple[int, int]:
+    """(width, height) of the 2:1 RGBA image whose float32 decoding comes nearest to
+    :data:`lenslab.io.budget.BASE_BYTES` without passing it: the largest a file under 1 MB may decode to."""
+    from math import isqrt
+
+    from lenslab.io.budget import BASE_BYTES
+
+    pixels = BASE_BYTES // 16  # RGBA float32
+    height = max(1, isqrt(pixels // 2))
+    return max(1, pixels // height), height
+
+
 def write_edge(path) -> Path:
-    """A flat 4096 x 2048 RGBA half EXR (OpenEXR, ZIP): 72 kB that decode to exactly
+    """A flat 2:1 RGBA half EXR (OpenEXR, ZIP) of :func:`edge_size`: tens of kB that decode to the budget
     :data:`lenslab.io.budget.BASE_BYTES` of float32, the most a file under 1 MB is allowed."""
-    _exr_rgba(Path(path), 4096, 2048)
+    _exr_rgba(Path(path), *edge_size())
     return Path(path)
 
 
@@ -121,4 +133,4 @@ def write_bombs(folder) -> dict[str, tuple[int, int]]:
     return made
 
 
-__all__ = ["BOMBS", "RAW", "write_bombs", "write_edge"]
+__all__ = ["BOMBS", "RAW", "edge_size", "write_bombs", "write_edge"]

@@ -9,9 +9,13 @@ one line naming the file and before any pixel memory exists:
 
 - a size beyond :data:`lenslab.inputs.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
-- a decoded float image larger than :data:`BASE_BYTES` (128 MiB) from a file under :data:`SMALL_FILE`
-  (1 MiB): no file under 1 MB makes a command allocate more than about 200 MB, however well it
-  compresses (a flat 8192 x 4096 half EXR of lenslab's own is 213 kB; ``LENSLAB_BASE_BYTES`` admits it);
+- a decoded float image larger than :data:`BASE_BYTES` (64 MiB) from a file under :data:`SMALL_FILE`
+  (1 MiB): no file under 1 MB makes a command allocate more than 200 MB, however well it compresses.
+  64 MiB is what the commands hold within that with a margin (``lenslab bench memory``, the
+  ``memory.edge_*`` figures: a warp holds its source and an output, a tone map its source, the
+  unpremultiplied colour and the file's reading buffers). Genuine flat images beyond it are refused
+  too (a flat 4096 x 2160 RGB float EXR, ZIP, is 113 kB and decodes to 106 MB); ``LENSLAB_BASE_BYTES``
+  admits them;
 - a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
   :data:`BASE_BYTES`. 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float image,
   which lenslab's own EXR and PNG writers reach on a flat colour; ``LENSLAB_MAX_RATIO`` changes it.
@@ -31,8 +35,9 @@ from lenslab.errors import FormatError
 from lenslab.inputs.limits import env_int
 
 
-#: a decoded float image up to this size is admitted whatever its file's size
-BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 128 << 20)
+#: a decoded float image up to this size is admitted whatever its file's size: what every command holds
+#: within 200 MB beyond its start with a margin (``lenslab bench memory``, ``memory.edge_*``)
+BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 64 << 20)
 #: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
 MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
 #: a file smaller than this never decodes to more than BASE_BYTES
@@ -94,8 +99,7 @@ def check(path, declared: Declared, file_bytes: int) -> None:
     if need > BASE_BYTES and file_bytes < SMALL_FILE:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
                           f"{_mb(file_bytes)}; a file under 1 MB may decode to at most {_mb(BASE_BYTES)}; refused as "
-                          f"a decompression bomb{declared.hint} (LENSLAB_BASE_BYTES raises the limit for a genuine "
-                          "flat image)")
+                          f"a decompression bomb{declared.hint} (a genuine flat image: set LENSLAB_BASE_BYTES={need})")
     if need > BASE_BYTES and need > MAX_RATIO * file_bytes:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
                           f"{_mb(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "

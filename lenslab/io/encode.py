@@ -65,11 +65,17 @@ def quantise(values: np.ndarray, bits: int, dither: bool = False, seed: int | No
     Rounds to nearest. ``dither=True`` adds triangular (TPDF) noise of +-1 code before rounding, which
     trades banding in smooth gradients for fine grain.
     """
+    rng = np.random.default_rng(seed) if dither else None
+    return _quantise(values, bits, (rng, rng) if dither else None)
+
+
+def _quantise(values: np.ndarray, bits: int, noise=None) -> np.ndarray:
+    """:func:`quantise` with the dither's two uniform draws taken from the generators ``noise`` (None: no
+    dither): the same pair twice for a whole image, or two streams apart by the image's size for a block."""
     maxval = (1 << bits) - 1
     x = _clean(values) * np.float32(maxval)
-    if dither:
-        rng = np.random.default_rng(seed)
-        x += (rng.random(x.shape, dtype=np.float32) - rng.random(x.shape, dtype=np.float32))
+    if noise is not None:
+        x += (noise[0].random(x.shape, dtype=np.float32) - noise[1].random(x.shape, dtype=np.float32))
     x = np.floor(x + np.float32(0.5), out=x)
     np.clip(x, 0, maxval, out=x)
     return x.astype(np.uint8 if bits <= 8 else np.uint16)
@@ -151,25 +157,64 @@ def count_non_finite(image: np.ndarray, rows: int = 256) -> tuple[int, int, int]
     return nan, pos, neg
 
 
-def note_non_finite(image: np.ndarray, title: str, becomes: str) -> None:
-    """Warn (:class:`NonFiniteWarning`) with the counts of NaN and infinite samples ``title`` replaces."""
+def note_non_finite(image: np.ndarray | None, title: str, becomes: str, counts: tuple[int, int, int] | None = None,
+                    stacklevel: int = 3) -> None:
+    """Warn (:class:`NonFiniteWarning`) with the counts of NaN and infinite samples ``title`` replaces:
+    those of ``image``, or ``counts`` (NaN, +inf, -inf) already made."""
     import warnings
 
-    nan, pos, neg = count_non_finite(image)
+    nan, pos, neg = count_non_finite(image) if counts is None else counts
     if nan or pos or neg:
         parts = [f"{n} {what}" for n, what in ((nan, "NaN"), (pos, "+inf"), (neg, "-inf")) if n]
         warnings.warn(NonFiniteWarning(f"{title} cannot hold NaN or infinity: {', '.join(parts)} sample(s) written "
-                                       f"as {becomes}"), stacklevel=3)
+                                       f"as {becomes}"), stacklevel=stacklevel)
 
 
-def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool = False) -> np.ndarray:
+def _noise_streams(values: int, seed: int = 0):
+    """Two generators that give, block after block, the two uniform draws :func:`quantise` takes for an
+    array of ``values`` values: the second starts where the first draw of the whole array ends."""
+    first, second = np.random.default_rng(seed), np.random.default_rng(seed)
+    for s in range(0, values, _BLOCK):  # (drawn and dropped: the float32 draws of a generator are a stream)
+        second.random(min(_BLOCK, values - s), dtype=np.float32)
+    return first, second
+
+
+def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool = False,
+                 straight: bool = False) -> np.ndarray:
     """Float32 H x W x C -> uint8/uint16 samples: colour sRGB-encoded (``raw``: value * maxval), alpha
-    (the last channel of 2 or 4) always value * maxval; rounded to nearest. NaN and infinite samples
-    (NaN and -inf as 0, +inf as maxval) are counted in a :class:`NonFiniteWarning`."""
-    note_non_finite(image, f"{bits}-bit integer samples", "0 (NaN, -inf) and the largest code (+inf)")
-    if raw:
-        return quantise(image, bits, dither=dither)
-    if image.shape[-1] not in (2, 4):
-        return encode_quantise(image, bits, dither=dither)
-    codes = encode_quantise(image[..., :-1], bits, dither=dither)
-    return np.concatenate([codes, quantise(image[..., -1:], bits)], axis=-1)
+    (the last channel of 2 or 4) always value * maxval; rounded to nearest (``dither``: TPDF, as
+    :func:`quantise` with seed 0). NaN and infinite samples (NaN and -inf as 0, +inf as maxval) are
+    counted in a :class:`NonFiniteWarning`. ``straight`` (not with ``raw``): ``image`` holds
+    premultiplied colour and the samples are of straight colour, as ``unpremultiply(image)`` gives.
+
+    Works a block of pixels at a time into the output: no float copy of the image's size (the codes
+    are those of the whole image at once, dither included)."""
+    from lenslab.io.alpha import unpremultiply
+
+    c = image.shape[-1]
+    alpha = c in (2, 4) and not raw
+    coded = c - 1 if alpha else c  # channels encoded (and dithered); alpha is quantised alone
+    pixels = image.reshape(-1, c)
+    n = pixels.shape[0]
+    out = np.empty((n, c), np.uint8 if bits <= 8 else np.uint16)
+    noise = _noise_streams(n * coded) if dither else None
+    nan = pos = neg = 0
+    step = max(1, _BLOCK // c)
+    for s in range(0, n, step):
+        block = pixels[s:s + step]
+        if straight and alpha:
+            block = unpremultiply(block[None])[0]
+        counts = count_non_finite(block)
+        nan, pos, neg = nan + counts[0], pos + counts[1], neg + counts[2]
+        colour = block[:, :coded]
+        if raw:
+            out[s:s + step, :coded] = _quantise(colour, bits, noise)
+        elif noise is None and bits in _CELLS:
+            out[s:s + step, :coded] = _encode_table(colour.astype(np.float32, copy=False), bits)
+        else:
+            out[s:s + step, :coded] = _quantise(encode_srgb(colour), bits, noise)
+        if alpha:
+            out[s:s + step, coded:] = quantise(block[:, coded:], bits)
+    note_non_finite(None, f"{bits}-bit integer samples", "0 (NaN, -inf) and the largest code (+inf)",
+                    counts=(nan, pos, neg))
+    return out.reshape(image.shape)

@@ -15,7 +15,7 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
-from lenslab.io.alpha import premultiply, unpremultiply
+from lenslab.io.alpha import premultiply
 
 
 def _png_size(data: bytes) -> tuple[int, int] | None:
@@ -134,7 +134,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
             raise FormatError(f"JPG quality must be 0..100, not {quality}")
     elif bits not in (8, 16):
         raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
-    codes = encode_codes(image if raw else unpremultiply(image), bits, raw, dither)
+    codes = encode_codes(image, bits, raw, dither, straight=not raw)  # (unpremultiplied block by block)
     if c == 3:
         codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
     elif c == 4:

@@ -24,7 +24,7 @@ import numpy as np
 
 from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
-from lenslab.io.alpha import premultiply, unpremultiply
+from lenslab.io.alpha import premultiply
 
 #: TIFF ExtraSamples: 1 associated alpha (premultiplied colour), 2 unassociated (straight colour)
 ASSOCIATED = 1
@@ -119,7 +119,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     else:
         from lenslab.io.encode import encode_codes
 
-        data = encode_codes(image if raw else unpremultiply(image), np.dtype(dtype).itemsize * 8, raw, dither)
+        data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither, straight=not raw)
     options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
                "software": "lenslab", "metadata": None}
     if alpha:

@@ -44,7 +44,7 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
     else the tone curve where the output holds display values, else the exposure alone. Alpha (the last
     channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
-    is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
+    (or a tone curve) is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
     hold."""
     from lenslab.errors import FormatError
 
@@ -64,7 +64,7 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
         from lenslab.tone import tonemap
 
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
-                       **dict(look.params)), {}
+                       in_place=in_place, **dict(look.params)), {}
     if exposure == "auto":
         from lenslab.io.registry import formats
 

@@ -47,14 +47,15 @@ class TonemapJob(Job):
         image, meta = io.read(src)
         self.write(dst, check_image(image, src), meta)
 
-    def write(self, dst: str, image, meta: dict) -> None:
-        """Develop ``image`` (scene-linear, read with ``meta``) and write it to ``dst``."""
+    def write(self, dst: str, image, meta: dict, in_place: bool = True) -> None:
+        """Develop ``image`` (scene-linear, read with ``meta``) and write it to ``dst``. ``in_place``: the
+        image is given up (the curve may write in its memory; its shape stays)."""
         from lenslab import io
         from lenslab.io.registry import format_for_path, get
         from lenslab.jobs.stages import develop, encode_options
 
         fmt = get(format_for_path(dst, None))
-        out, shown = develop(image, meta, fmt, self.look)
+        out, shown = develop(image, meta, fmt, self.look, in_place=in_place)
         dither = None if self.display else self.dither  # display code values are rounded, never dithered
         opts = encode_options(fmt, {"camera": meta.get("camera")}, {"bits": self.bits, "dither": dither},
                               channels=out.shape[-1])

@@ -114,12 +114,15 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             progress.start(dst.height)
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]))
+    del image  # (the source is not kept while the output is developed and written)
     # premultiplied colour and its alpha (the source's own, warped like colour, or the coverage); an output
     # that keeps no alpha gets the colour over black
     keep = keeps_alpha(fmt, not job.no_alpha)
     look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
-    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look)
+    # with alpha, the image developed is a new array of this function's own: the look may work in its memory
+    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
+                            in_place=keep)
     opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=dst,
                           channels=result.shape[2])
     write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})

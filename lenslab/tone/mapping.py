@@ -75,7 +75,8 @@ def as_float32(image) -> np.ndarray:
 
 
 def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
-            *, primaries: str = "sRGB", threads: int | None = None, **params: float) -> np.ndarray:
+            *, primaries: str = "sRGB", threads: int | None = None, in_place: bool = False,
+            **params: float) -> np.ndarray:
     """Tone-map scene-linear ``image`` to display-linear float32 in [0, 1] (same shape).
 
     The order of work is fixed: bad values are repaired, then the exposure, then the curve (see the
@@ -98,6 +99,9 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     threads : int, optional
         Threads that share a large image (None: every core this process may use); the result does not
         depend on it.
+    in_place : bool
+        The caller gives ``image`` up (a float32 array): the result may be written in its memory and
+        returned, with no output array of the image's size (the same values).
     **params
         The curve's own parameters (``lenslab curves`` and :data:`lenslab.tone.CURVES` list them).
 
@@ -141,9 +145,14 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         a = alpha[..., None]
         np.divide(colour_part, a, out=colour_part, where=a > 0)
         mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, threads=threads,
-                         **resolved)
+                         in_place=True, **resolved)  # (the copy is this function's own)
+        del colour_part
         mapped *= a
-        return np.concatenate([mapped, alpha[..., None].astype(F32)], axis=-1)
+        out = x if _own(image, x, in_place) else np.empty(x.shape, F32)
+        out[..., :-1] = mapped
+        del mapped
+        out[..., -1] = alpha
+        return out
 
     ev = parse_exposure(exposure, x, primaries)
     scale = 2.0 ** ev
@@ -168,11 +177,20 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
         scale = scale * resolved["key"] / max(avg, 1e-30)
 
-    out = np.empty_like(x)
+    # in place where each block is read before it is written (per value, or RGB through planar copies)
+    # and the warning need not look at the input again (no negative beyond the slight ones)
+    out = x if (_own(image, x, in_place) and x.flags.c_contiguous and (mode_key == "per-channel" or not rgb)
+                and x.size and bool(x.min() >= -SLIGHT)) else np.empty_like(x)
     with np.errstate(divide="ignore", over="ignore"):
         _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads)
     warn_repairs(counts, x.size, x)
     return out
+
+
+def _own(image, x: np.ndarray, in_place: bool) -> bool:
+    """Whether ``x`` (``image`` as float32) may hold the result: the caller gave ``image`` up, or ``x`` is
+    a copy made here."""
+    return (in_place or x is not image) and x.flags.writeable
 
 
 def _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads):

@@ -18,8 +18,8 @@ from tests.hostile_run import run
 
 oiio = pytest.importorskip("OpenImageIO")
 
-#: lenslab.io.budget: a file under 1 MiB decodes to at most 128 MiB of float32
-SMALL_FILE, BASE_BYTES = 1 << 20, 128 << 20
+#: lenslab.io.budget: a file under 1 MiB decodes to at most 64 MiB of float32
+SMALL_FILE, BASE_BYTES = 1 << 20, 64 << 20
 
 
 @pytest.fixture(scope="module")
@@ -72,3 +72,48 @@ def test_the_radiance_bomb_decodes_with_the_limit_raised(bombs, tmp_path):
     inp.close()
     assert (spec.width, spec.height) == (3800, 3800)
     assert not pixels.any()  # RGBE (0, 0, 0, 0) is black (Ward, Graphics Gems II)
+
+
+def test_the_edge_file_decodes_to_the_budget_and_is_admitted(tmp_path):
+    """The benchmark's edge file (lenslab.bench.bombs.write_edge, written by OpenEXR) is under 1 MB, is
+    the size OpenImageIO reads, decodes to at most the 64 MiB budget and to more with one row added; a
+    convert of it succeeds and OpenImageIO reads its zeros back."""
+    from lenslab.bench.bombs import edge_size, write_edge
+
+    path = write_edge(tmp_path / "edge.exr")
+    w, h = edge_size()
+    assert path.stat().st_size < SMALL_FILE
+    assert _outside_size(path) == (w, h) and abs(w - 2 * h) <= 2  # 2:1, as an equirect
+    assert w * h * 4 * 4 <= BASE_BYTES < w * (h + 1) * 4 * 4  # RGBA float32
+    out = tmp_path / "out.exr"
+    done = run([sys.executable, "-m", "lenslab", "convert", str(path), "--to", "exr", "-o", str(out), "-q"])
+    assert done.returncode == 0, done.stderr
+    inp = oiio.ImageInput.open(str(out))
+    spec = inp.spec()
+    inp.close()
+    assert (spec.width, spec.height, spec.nchannels) == (w, h, 4)
+
+
+def test_a_flat_4k_float_exr_is_refused_and_admitted_as_the_refusal_says(tmp_path):
+    """A flat 4096 x 2160 RGB float EXR written by OpenEXR (ZIP: about 113 kB) decodes to 106 MB, over
+    the budget of a file under 1 MB: refused in one line that names the LENSLAB_BASE_BYTES value that
+    admits it; with that value it converts and OpenImageIO reads its colour back."""
+    import OpenEXR
+
+    src = tmp_path / "flat.exr"
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    OpenEXR.File(header, {"RGB": np.full((2160, 4096, 3), 0.25, np.float32)}).write(str(src))
+    assert src.stat().st_size < SMALL_FILE and _outside_size(src) == (4096, 2160)
+    need = 4096 * 2160 * 3 * 4
+    out = tmp_path / "out.exr"
+    argv = [sys.executable, "-m", "lenslab", "convert", str(src), "--to", "exr", "-o", str(out), "-q"]
+    done = run(argv)
+    assert done.returncode == 1 and not out.exists()
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"LENSLAB_BASE_BYTES={need}" in lines[0] and "67.1 MB" in lines[0], done.stderr
+    done = run(argv, env=dict(os.environ, LENSLAB_BASE_BYTES=str(need)))
+    assert done.returncode == 0, done.stderr
+    inp = oiio.ImageInput.open(str(out))
+    pixels = np.asarray(inp.read_image("float"))
+    inp.close()
+    assert pixels.shape == (2160, 4096, 3) and np.all(pixels == np.float32(0.25))  # 0.25: exact in half
