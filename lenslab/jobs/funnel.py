@@ -92,6 +92,7 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
     with warnings.catch_warnings(), stop_signals():
         warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
         warnings.showwarning = note_printer(prog)
+        _forget_repairs()  # the command reports its own repairs, not those of earlier calls in this process
         try:
             code = int(func() or 0)
             sys.stdout.flush()
@@ -117,6 +118,14 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
                 traceback.print_exc()
             print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return exit_code(exc)
+
+
+def _forget_repairs() -> None:
+    """Reset the process's tally of repaired slight negatives (only when the tone package is loaded: a
+    command that never tone-maps does not import it for this)."""
+    repairs = sys.modules.get("lenslab.tone.repairs")
+    if repairs is not None:
+        repairs.take()
 
 
 def report_missing(prog: str, missing) -> None:
