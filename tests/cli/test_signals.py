@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.child_signals import default_stop_signals
+
 from lenslab.io import read, write
 
 pytestmark = pytest.mark.slow
@@ -60,7 +62,8 @@ def _wait_for(condition, proc) -> None:
 def test_a_stop_signal_mid_batch_ends_it_like_ctrl_c(tmp_path, sig, code, name, jobs):
     frames = _frames(tmp_path / "in", 24)
     out = tmp_path / "out"
-    proc = subprocess.Popen(_warp(tmp_path, "--jobs", jobs), stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(_warp(tmp_path, "--jobs", jobs), stderr=subprocess.PIPE, text=True,
+                            preexec_fn=default_stop_signals)
     try:
         _wait_for(lambda: len(_outputs(out)) >= 1, proc)  # the batch is under way
         proc.send_signal(signal.SIGSTOP)  # frozen: it cannot finish before the signal
@@ -85,7 +88,8 @@ def test_a_stop_signal_mid_batch_ends_it_like_ctrl_c(tmp_path, sig, code, name, 
 def test_a_batch_killed_outright_is_resumed_without_its_temporaries(tmp_path):
     frames = _frames(tmp_path / "in", 24)
     out = tmp_path / "out"
-    proc = subprocess.Popen(_warp(tmp_path, "--jobs", "1", "-q"), stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(_warp(tmp_path, "--jobs", "1", "-q"), stderr=subprocess.PIPE, text=True,
+                            preexec_fn=default_stop_signals)
     try:
         while True:  # stop the process while it writes an output (a temporary is on disk)
             _wait_for(lambda: _temporaries(out), proc)
@@ -134,6 +138,7 @@ def test_a_batch_started_under_nohup_goes_on_after_sighup(tmp_path):
     out = tmp_path / "out"
 
     def ignore_hangup():  # what nohup does before it starts the command
+        default_stop_signals()
         signal.signal(signal.SIGHUP, signal.SIG_IGN)
 
     proc = subprocess.Popen(_warp(tmp_path, "--jobs", "1", "-q"), stderr=subprocess.PIPE, text=True,

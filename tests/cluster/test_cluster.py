@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.child_signals import default_stop_signals
+
 pytest.importorskip("distributed")
 
 from lenslab.cli.main import main as lenslab  # noqa: E402
@@ -238,7 +240,7 @@ def test_ctrl_c_cancels_the_batch_and_leaves_no_temporary_file(tmp_path, schedul
     guard = time.monotonic() + 300  # against a hang only: every wait below is for a state
     with Client(scheduler, set_as_default=False) as client:
         pids = list(client.run(os.getpid).values())
-        proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+        proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, preexec_fn=default_stop_signals)
         frozen = False
         try:
             # under way: an output done and a task running on a worker

@@ -20,6 +20,8 @@ import time
 
 import pytest
 
+from tests.child_signals import default_stop_signals
+
 pytestmark = pytest.mark.slow
 
 HANG_GUARD = 300  # seconds: only against a test that would otherwise wait forever on a broken build
@@ -63,7 +65,7 @@ def test_a_stop_signal_mid_render_ends_it_like_ctrl_c(tmp_path, sig, code, name)
     argv = TRACER + ["render", "--scene", "cornell", "--size", "64x64", "--spp", "1000000", "-o", str(out / "r.exr"),
                      "--variance-out", str(out / "v.exr")]
     proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=default_stop_signals)
     os.close(slave)
     try:
         shown = _read_until(master, proc, b"tracing cornell")  # the render is under way
