@@ -290,6 +290,10 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
         The footprint prefilter (with ``samples=1`` only).
     progress : callable, optional
         Called with the number of output rows done.
+    alpha_channel : bool, optional
+        Whether the image's last channel is alpha: None decides by the channel count (2 or 4), False
+        keeps every channel as data (none clipped to [0, 1] or used as coverage), True makes the last one
+        alpha (an image of two channels or more).
 
     Returns
     -------

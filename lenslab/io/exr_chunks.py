@@ -119,7 +119,8 @@ def _headers(f, size) -> list[dict]:
             if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
                 part[name.decode()] = struct.unpack("<iiii", value)
             elif kind == b"chlist":
-                part["channels"] = _channel_count(f.name, value)
+                part["channel_names"] = _channel_names(f.name, value)
+                part["channels"] = len(part["channel_names"])
             elif kind == b"compression" and n == 1:
                 part["compression"] = value[0]
             elif kind == b"tiledesc" and n == 9:
@@ -135,19 +136,34 @@ def _headers(f, size) -> list[dict]:
     return parts
 
 
-def _channel_count(path, value: bytes) -> int:
-    """Channels of a ``chlist`` value (each a UTF-8 name, a NUL and 16 bytes; a NUL ends the list)."""
-    pos, count = 0, 0
+def _channel_names(path, value: bytes) -> list[str]:
+    """The names in a ``chlist`` value (each a UTF-8 name, a NUL and 16 bytes; a NUL ends the list)."""
+    pos, names = 0, []
     while pos < len(value) and value[pos] != 0:
         end = value.find(b"\0", pos)
         if end < 0 or end + 17 > len(value):
             raise FormatError(f"{path}: the channel list is damaged")
         try:
-            value[pos:end].decode("utf-8")
+            names.append(value[pos:end].decode("utf-8"))
         except UnicodeDecodeError:
-            raise FormatError(f"{path}: channel {count + 1}'s name is not UTF-8 text; the file is damaged") from None
-        pos, count = end + 17, count + 1
-    return count
+            raise FormatError(f"{path}: channel {len(names) + 1}'s name is not UTF-8 text; the file is damaged") from None
+        pos = end + 17
+    return names
+
+
+def first_part_channels(path) -> list[str]:
+    """The channel names of an EXR's first part, from lenslab's own reading of the header (no pixel is
+    decoded, and OpenEXR never sees the file)."""
+    size = os.path.getsize(path)
+    try:
+        with open(path, "rb") as f:
+            parts = _headers(f, size)
+    except (EOFError, struct.error):
+        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
+                          "truncated or damaged") from None
+    if not parts or "channel_names" not in parts[0]:
+        raise FormatError(f"{path}: the OpenEXR header names no channels; the file is damaged")
+    return parts[0]["channel_names"]
 
 
 def _chunks(part) -> int:

@@ -158,10 +158,10 @@ def known_channels(src) -> int | None:
         fmt = get(name)
         if len(fmt.channels) == 1:
             return fmt.channels[0]
-        if fmt.selectors and selector is None:
-            from lenslab.io.probe import probe
+        if name == "exr" and selector is None:  # the header's channel list, read without decoding a pixel
+            from lenslab.io.exr_chunks import first_part_channels
 
-            names = {c["name"] for c in probe(file, name)["parts"][0]["channels"]}
+            names = set(first_part_channels(file))
             if names in ({"R", "G", "B"}, {"R", "G", "B", "A"}):
                 return len(names)
     except Exception:  # noqa: BLE001 - a file its header does not describe: reading it reports why

@@ -57,6 +57,10 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         wrap and poles, a cube map's neighbouring faces); default: taps clamp to the edge pixel.
     progress : callable, optional
         Called with the number of output rows done.
+    alpha_channel : bool, optional
+        Whether the image's last channel is alpha: None decides by the channel count (2 or 4), False
+        keeps every channel as data (none clipped to [0, 1] or used as coverage), True makes the last one
+        alpha (an image of two channels or more).
 
     Returns
     -------
