@@ -2,7 +2,7 @@
 for each way a registered format compresses (PNG and TIFF Deflate, EXR ZIP, PIZ and DWAA, JPEG,
 Radiance run lengths, an H.264 clip), each written by the format's own library (zlib, tifffile,
 OpenEXR, OpenCV, PyAV) or by its specification's rules. Every one must be refused before its pixels
-are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 64 MiB).
+are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 128 MiB).
 
 The builders hand their libraries all-zero arrays (``np.zeros``: pages the kernel maps only when
 written), so making the corpus costs a few seconds and little memory.
