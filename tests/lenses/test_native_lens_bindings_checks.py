@@ -8,15 +8,18 @@ import numpy as np
 import pytest
 
 from lenslab import cxx_kernels as K
+from lenslab.lenses.formulas.solve import kernel_settings
 
-SOLVER = (1e-12, 1e-12, 4.0, 50)  # tol, res_tol, rel_ulps, max_iter
+SOLVER = kernel_settings()  # tol, res_tol, rel_ulps, max_iter: what the lens models pass
 
 
 def _division(step):
+    """The division model's solved side for (0.3, 0.4) (r_u = 0.5) and (2, 1) (beyond f_hi = 1)."""
     uv = np.array([[0.3, 0.4], [2.0, 1.0]])
     table = np.linspace(0.0, 1.0, 16)
-    K.division_unbend(uv, -0.1, 0.0, 1.0, 1.0, False, False, table, step, *SOLVER, np.zeros((2, 2)),
-                      np.zeros(2, bool))
+    out, ok = np.zeros((2, 2)), np.zeros(2, bool)
+    K.division_unbend(uv, -0.1, 0.0, 1.0, 1.0, False, False, table, step, *SOLVER, out, ok)
+    return out, ok
 
 
 @pytest.mark.parametrize("step", [-1.0, -1e-300, 0.0, np.nan, np.inf])
@@ -27,7 +30,14 @@ def test_a_table_step_that_is_not_a_positive_number_is_refused(step):
 
 
 def test_a_positive_table_step_solves():
-    _division(1.0 / 15.0)
+    """r_u = r_d / (1 + k1 r_d^2) solved in closed form (transcribed in float64): r_d = (1 - sqrt(1 - 4 k1 r_u^2))
+    / (2 k1 r_u), along the point's direction; the point beyond f_hi is invalid and zero. 1e-12: the solver's
+    tolerance (1e-13) with the scale's rounding."""
+    out, ok = _division(1.0 / 15.0)
+    k1, ru = -0.1, 0.5
+    rd = (1.0 - np.sqrt(1.0 - 4.0 * k1 * ru * ru)) / (2.0 * k1 * ru)
+    np.testing.assert_allclose(out[0], np.array([0.3, 0.4]) * (rd / ru), rtol=0, atol=1e-12)
+    assert ok.tolist() == [True, False] and out[1].tolist() == [0.0, 0.0]
 
 
 def _tile(kernel_id=1.0, nparams=6.0):
