@@ -65,6 +65,9 @@ class Format:
     #: and channels, TIFF pages, the Radiance header, video streams), for ``lenslab info``; :func:`header_only`
     #: for formats whose one image and header ``read`` already reports in full
     probe: Callable | None = None
+    #: ``channel_names(path) -> list[str]``: the names of the channels ``read`` gives with no selector, from
+    #: the header alone (no pixel decoded), for formats whose files name their channels
+    channel_names: Callable | None = None
 
     def holds_straight(self, sample_type: str = "uint") -> bool:
         """Whether a file of this format, written with ``sample_type`` samples, holds straight colour."""

@@ -147,21 +147,19 @@ __all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_al
 
 def known_channels(src) -> int | None:
     """How many channels reading ``src`` gives, when its header tells without reading pixels: a format whose
-    images all have one count (PPM, Radiance HDR, PGM), or an EXR whose first part holds R, G, B (and A)
-    only; None when only reading it would tell (a part or layer selector, other layers, other formats)."""
+    images all have one count (PPM, Radiance HDR, PGM), or a file whose header names R, G, B (and A) only
+    (the format record's ``channel_names``: an EXR's first part); None when only reading it would tell (a
+    part or layer selector, other layers, other formats)."""
     from lenslab.io import split_selector
     from lenslab.io.registry import get, sniff
 
     file, selector = split_selector(src)
     try:
-        name = sniff(file)
-        fmt = get(name)
+        fmt = get(sniff(file))
         if len(fmt.channels) == 1:
             return fmt.channels[0]
-        if name == "exr" and selector is None:  # the header's channel list, read without decoding a pixel
-            from lenslab.io.exr_chunks import first_part_channels
-
-            names = set(first_part_channels(file))
+        if fmt.channel_names is not None and selector is None:  # the header's list, no pixel decoded
+            names = set(fmt.channel_names(file))
             if names in ({"R", "G", "B"}, {"R", "G", "B", "A"}):
                 return len(names)
     except Exception:  # noqa: BLE001 - a file its header does not describe: reading it reports why

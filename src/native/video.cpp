@@ -21,8 +21,8 @@ using lenslab_video::need;
 
 namespace {
 
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+using lenslab::bind::In;
+using lenslab::bind::Out;
 
 // 16-bit codes -> linear float32 by `table` (65536); `m` (9 doubles, row-major) applied after the table when given
 // (BT.2020 -> Rec.709), the products summed in float64 in the order r, g, b. `out` is a rows x cols x 3 frame;

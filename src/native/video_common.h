@@ -2,6 +2,8 @@
 // inverse transfer function's table over float32 bit patterns.
 #pragma once
 
+#include "bind.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -11,9 +13,7 @@
 
 namespace lenslab_video {
 
-inline void need(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(what);
-}
+using lenslab::bind::need;  // the bindings' one-line refusal (bind.h)
 
 // fn(r0, r1) over rows [0, rows) in `threads` bands of a multiple of `align` rows; the first on the calling thread
 template <typename F>

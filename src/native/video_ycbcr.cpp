@@ -27,8 +27,8 @@ using lenslab_video::need;
 namespace {
 
 using Plane = nb::ndarray<nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-template <typename T> using In = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
-template <typename T> using Out = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+using lenslab::bind::In;
+using lenslab::bind::Out;
 
 // How codes stand for values: Y' = (code - y0) / ys, C = (code - c0) / cs (a division: 940 is 1 exactly)
 struct Range {

@@ -20,9 +20,15 @@ def _write(tmp, image, **options):
 
 
 def _declare(path, **options):
-    from lenslab.io.exr_chunks import declare_exr
+    from lenslab.io.exr.chunks import declare_exr
 
     return declare_exr(path, **options)
+
+
+def _channel_names(path) -> list[str]:
+    from lenslab.io.exr.chunks import first_part_channels
+
+    return first_part_channels(path)
 
 
 def _window(w) -> list[int]:
@@ -77,7 +83,8 @@ def _probe(path) -> dict:
 FORMATS = (Format(
     name="exr", title="OpenEXR", extensions=(".exr",), magic=lambda head: head.startswith(b"\x76\x2f\x31\x01"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(16, 32), sample_types=("half", "float", "uint"),
-    read=_read, declare=_declare, write=_write, probe=_probe, read_options=("data_window", "rec709"),
+    read=_read, declare=_declare, write=_write, probe=_probe, channel_names=_channel_names,
+    read_options=("data_window", "rec709"),
     write_options={"pixel_type": "half or float (default half)",
                    "compression": "zip (default), piz, zips, rle, none, pxr24, b44, b44a, dwaa, dwab, zstd, ...",
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
