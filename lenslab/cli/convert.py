@@ -96,7 +96,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
                         help="video inputs: only frames A to B-1 (e.g. 10:20), written as NAME.000010.exr, ...")
-    from lenslab.io.codecs import CODECS
+    from lenslab.io.video.codecs import CODECS
     from lenslab.jobs.arguments import float_in
 
     parser.add_argument("--rate", type=float_in(0, 1000), default=24.0, metavar="FPS",

@@ -193,7 +193,7 @@ def check_video_output(pairs, videos) -> None:
     input), a still image is a usage error; never "cannot tell the output format" of a good output name."""
     from lenslab.errors import UsageError
     from lenslab.io import split_selector
-    from lenslab.io.codecs import VIDEO_EXTENSIONS
+    from lenslab.io.video.codecs import VIDEO_EXTENSIONS
     from lenslab.io.registry import sniff
 
     for (src, dst), video in zip(pairs, videos):

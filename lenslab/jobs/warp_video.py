@@ -9,7 +9,7 @@ from pathlib import Path
 
 
 def add_video_arguments(parser: argparse.ArgumentParser) -> None:
-    from lenslab.io.codecs import CODECS
+    from lenslab.io.video.codecs import CODECS
 
     g = parser.add_argument_group("video (MP4, MOV, MKV inputs)")
     g.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,

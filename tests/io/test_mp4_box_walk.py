@@ -1,4 +1,4 @@
-"""The box walk of MP4/MOV files (lenslab.io.video_layout.check_boxes) before FFmpeg sees them: clips
+"""The box walk of MP4/MOV files (lenslab.io.video.layout.check_boxes) before FFmpeg sees them: clips
 written by PyAV (FFmpeg's muxers: MP4, MOV, fragmented MP4) pass; nesting without end, a box larger
 than its parent, a box that cannot advance and sample tables that declare more entries than their box
 holds are refused by ``lenslab convert`` in one line naming the file, in a subprocess under an
@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from lenslab.io.video_layout import MAX_DEPTH, check_boxes
+from lenslab.io.video.layout import MAX_DEPTH, check_boxes
 from tests.hostile_run import run
 
 av = pytest.importorskip("av")

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from lenslab.io.video import VideoInfo
-from lenslab.io.video_colour import (codes16_to_linear, codes16_to_linear_compiled, from_linear, linear_to_codes16,
+from lenslab.io.video.colour import (codes16_to_linear, codes16_to_linear_compiled, from_linear, linear_to_codes16,
                                      to_linear)
 
 CURVES = {"bt1886": 1, "srgb": 13, "pq": 16}

@@ -10,7 +10,7 @@ import threading
 import numpy as np
 import pytest
 
-from lenslab.io.prefetch import ahead
+from lenslab.io.video.prefetch import ahead
 from lenslab.io.video import VideoInfo, codes16_to_linear, to_linear
 
 

@@ -1,4 +1,4 @@
-"""The compiled Y'CbCr passes (lenslab.io.video_ycbcr) against colour-science's Y'CbCr functions (the BT.709, BT.601
+"""The compiled Y'CbCr passes (lenslab.io.video.ycbcr) against colour-science's Y'CbCr functions (the BT.709, BT.601
 and BT.2020 matrices with H.273's limited and full ranges) and its transfer functions, in float64; and against their
 NumPy references. Frames are odd-sized so that the last chroma block of 4:2:0 / 4:2:2 is a partial one."""
 
@@ -13,7 +13,7 @@ import pytest
 av = pytest.importorskip("av")
 
 from lenslab.io.video import VideoInfo  # noqa: E402
-from lenslab.io.video_ycbcr import (FORMATS, linear_to_ycbcr, linear_to_ycbcr_reference, planes,  # noqa: E402
+from lenslab.io.video.ycbcr import (FORMATS, linear_to_ycbcr, linear_to_ycbcr_reference, planes,  # noqa: E402
                                     ycbcr_to_linear, ycbcr_to_linear_reference)
 
 H, W = 21, 37

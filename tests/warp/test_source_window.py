@@ -9,7 +9,7 @@ from fractions import Fraction
 import numpy as np
 
 from lenslab.io.video import VideoInfo
-from lenslab.io.video_colour import codes16_to_linear_compiled
+from lenslab.io.video.colour import codes16_to_linear_compiled
 from lenslab.lenses import Camera
 from lenslab.warp.batch import PlanCache
 

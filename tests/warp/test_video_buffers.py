@@ -51,7 +51,7 @@ def test_reused_encoder_frames_keep_every_frame(tmp_path):
     from fractions import Fraction
 
     from lenslab.io.video import VideoInfo, VideoWriter
-    from lenslab.io.video_ycbcr import linear_to_ycbcr_reference
+    from lenslab.io.video.ycbcr import linear_to_ycbcr_reference
 
     info = VideoInfo(W, H, Fraction(25), N, "h264", "yuv420p")
     y, x = np.mgrid[0:H, 0:W]

@@ -34,9 +34,9 @@ import numpy as np
 
 from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
+from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
 
 HALF_MAX = 65504.0
-REC709 = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)
 CAMERA_ATTRIBUTE = "lenslab.camera"
 COMPRESSIONS = ("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                 "htj2k32")
@@ -145,52 +145,6 @@ def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]
                       f"choose one as 'file.exr:LAYER'")
 
 
-def upsample(a: np.ndarray, xs: int, ys: int, w: int, h: int, x0: int, y0: int) -> np.ndarray:
-    """A subsampled channel back to full resolution by linear interpolation between its samples.
-
-    Stored samples sit at absolute pixel coordinates divisible by the sampling rate.
-    """
-    out = a.astype(np.float32)
-    for axis, s, n, o in ((1, xs, w, x0), (0, ys, h, y0)):
-        if s == 1:
-            continue
-        pos = (np.arange(n) + o) / s - np.ceil(o / s)  # position of each full pixel in sample units
-        m = out.shape[axis]
-        f = np.floor(pos).astype(np.intp)
-        i0, i1 = np.clip(f, 0, m - 1), np.clip(f + 1, 0, m - 1)  # beyond the samples: the nearest one
-        t = (pos - f).astype(np.float32)
-        a0, a1 = np.take(out, i0, axis=axis), np.take(out, i1, axis=axis)
-        shape = (1, n) if axis == 1 else (n, 1)
-        out = a0 + (a1 - a0) * t.reshape(shape)
-    return out
-
-
-def _npm(chromaticities) -> np.ndarray:
-    """RGB -> XYZ matrix of the primaries and white point (x, y pairs; Y of white = 1)."""
-    import colour
-
-    c = np.asarray(chromaticities, dtype=np.float64)
-    return colour.normalised_primary_matrix(c[:6].reshape(3, 2), c[6:8])
-
-
-def luminance_weights(chromaticities=None) -> np.ndarray:
-    """(wR, wG, wB): the Y row of the RGB -> XYZ matrix of the chromaticities (Rec.709 if None)."""
-    return _npm(chromaticities if chromaticities is not None else REC709)[1]
-
-
-def yca_to_rgb(y: np.ndarray, ry: np.ndarray, by: np.ndarray, weights) -> np.ndarray:
-    """Luminance-chroma (full-resolution Y, RY, BY) -> RGB, float32 H x W x 3.
-
-    ``RY = (R - Y) / Y`` and ``BY = (B - Y) / Y`` as OpenEXR stores them, so ``R = (RY + 1) Y``,
-    ``B = (BY + 1) Y`` and G follows from ``Y = wR R + wG G + wB B``.
-    """
-    wr, wg, wb = (np.float32(v) for v in weights)
-    r = (ry + np.float32(1)) * y
-    b = (by + np.float32(1)) * y
-    g = (y - wr * r - wb * b) / wg
-    return np.stack([r, g, b], axis=-1).astype(np.float32, copy=False)
-
-
 def _to_float(pixels: np.ndarray) -> np.ndarray:
     return pixels if pixels.dtype == np.float32 else pixels.astype(np.float32)
 
@@ -200,7 +154,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     import OpenEXR
 
     part_sel, layer_sel = _split_selector(selector)
-    from lenslab.io.exr_chunks import check_chunks
+    from lenslab.io.exr.chunks import check_chunks
 
     check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
     try:
@@ -305,7 +259,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
-        m = np.linalg.solve(_npm(REC709), _npm(chroma)).astype(np.float32)  # file RGB -> XYZ -> Rec.709
+        m = np.linalg.solve(primary_matrix(REC709), primary_matrix(chroma)).astype(np.float32)  # file RGB -> XYZ -> Rec.709
         image[..., :3] = image[..., :3] @ m.T
         primaries_converted = True
 

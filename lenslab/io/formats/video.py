@@ -3,7 +3,7 @@ through :mod:`lenslab.io.video` (``lenslab warp`` and ``lenslab convert`` use it
 
 from __future__ import annotations
 
-from lenslab.io.codecs import VIDEO_EXTENSIONS
+from lenslab.io.video.codecs import VIDEO_EXTENSIONS
 from lenslab.io.plugin import Format
 
 
@@ -27,7 +27,7 @@ def _read(path, selector=None):
 
 
 def _declare(path, **_):
-    from lenslab.io.video_layout import declare_video
+    from lenslab.io.video.layout import declare_video
 
     return declare_video(path)
 

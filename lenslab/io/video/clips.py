@@ -2,8 +2,8 @@
 
 Decoding: each frame's Y'CbCr planes go to linear light in one compiled pass, exact to the stream's matrix
 (BT.709, BT.601 or BT.2020) and range, through a table of colour-science's transfer function chosen by the
-stream's transfer tag (:mod:`lenslab.io.video_ycbcr`; encoding is the same pass backwards). HLG, RGB-coded
-streams and other pixel formats go through FFmpeg's swscale to 16-bit RGB first (:mod:`lenslab.io.video_colour`).
+stream's transfer tag (:mod:`lenslab.io.video.ycbcr`; encoding is the same pass backwards). HLG, RGB-coded
+streams and other pixel formats go through FFmpeg's swscale to 16-bit RGB first (:mod:`lenslab.io.video.colour`).
 Decoding runs on a thread ahead of the caller:
 
 - BT.709 / BT.601 / BT.2020 SDR / unspecified: the BT.1886 display EOTF (gamma 2.4, black 0, white 1)
@@ -33,10 +33,10 @@ import numpy as np
 
 from lenslab.errors import FormatError, cause
 
-from lenslab.io.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
-from lenslab.io.video_colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
-from lenslab.io.video_ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
-from lenslab.io.video_colour import (REFERENCE_WHITE, BT2020, decode_table,  # noqa: F401  (re-exported)
+from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
+from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
+from lenslab.io.video.ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
+from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
                                      linear_to_codes16, to_linear)
 
@@ -192,7 +192,7 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                             ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
                         yield i, ycbcr_to_linear(frame, info, box, ring[-1])
 
-    from lenslab.io.prefetch import ahead
+    from lenslab.io.video.prefetch import ahead
 
     yield from ahead(frames(), prefetch)
 

@@ -13,7 +13,7 @@ passes that apply them to whole frames.
   (``tests/io/test_video_colour.py``). HLG, whose EOTF mixes the channels, stays in NumPy both ways.
 
 These passes serve the frames that go through swscale's matrix and range (HLG, RGB-coded streams, other pixel
-formats); planar Y'CbCr frames go to and from linear light in one pass each way (:mod:`lenslab.io.video_ycbcr`). The tables are built with
+formats); planar Y'CbCr frames go to and from linear light in one pass each way (:mod:`lenslab.io.video.ycbcr`). The tables are built with
 colour-science the first time a curve is met and kept in lenslab's cache directory (:func:`cached`), so a run
 does not wait for colour-science's import (1.2 to 2.4 s here).
 """
@@ -188,7 +188,7 @@ def _eotf_inverse(lin: np.ndarray, curve: str, bounded: bool = True) -> np.ndarr
 
 @lru_cache(maxsize=8)
 def encode_table(curve: str) -> tuple[np.ndarray, float]:
-    """(:func:`_eotf_inverse` at the knots of :mod:`lenslab.io.video_colour`, float32; the code of 0), cached."""
+    """(:func:`_eotf_inverse` at the knots of :mod:`lenslab.io.video.colour`, float32; the code of 0), cached."""
     x = knots()
     t = cached(f"inverse-{curve}-{LOW}-{HIGH}-{KNOT_SHIFT}", len(x) + 1, np.float32,
                lambda: _eotf_inverse(np.concatenate([[0.0], x.astype(np.float64)]), curve, bounded=False))
@@ -211,7 +211,7 @@ def linear_to_codes16(image: np.ndarray, info, encoded: bool = False) -> np.ndar
 def decode_table(curve: str, wide: bool) -> np.ndarray:
     """:func:`to_linear` of every 16-bit code value (65536 x 1 float32, or float64 for BT.2020, whose matrix
     comes after): a decoded frame is then one lookup, the same values as the transfer function's. Built with
-    colour-science once and kept in lenslab's cache directory (:func:`lenslab.io.video_colour.cached`)."""
+    colour-science once and kept in lenslab's cache directory (:func:`lenslab.io.video.colour.cached`)."""
     dtype = np.float64 if wide else np.float32
     return cached(f"decode-{curve}-{np.dtype(dtype).name}", 65536, dtype,
                   lambda: _eotf(np.arange(65536, dtype=np.float64) / 65535.0, curve))

@@ -7,9 +7,9 @@ and range formulas of ITU-R BT.709, BT.601 and BT.2020 (non-constant luminance) 
 
 Decoding takes the decoder's planes as they are (no copy, no swscale): chroma is repeated over its block (as
 swscale's default does), R'G'B' is computed in float32, clamped to [0, 1] and taken through the transfer function's
-65536-entry table (:func:`lenslab.io.video_colour.decode_table`) interpolated linearly, then BT.2020 -> Rec.709
+65536-entry table (:func:`lenslab.io.video.colour.decode_table`) interpolated linearly, then BT.2020 -> Rec.709
 where the stream is wide (float32 throughout: within a few float32 steps of the exact values). Only the window a warp reads is computed. Encoding takes linear light through the
-inverse transfer function's table (:func:`lenslab.io.video_colour.encode_table`) to R'G'B' in [0, 1], then to
+inverse transfer function's table (:func:`lenslab.io.video.colour.encode_table`) to R'G'B' in [0, 1], then to
 codes rounded once at the stream's depth; a chroma sample is the mean of its block's Cb (Cr).
 
 swscale's 16-bit RGB paths, which these replace, are not exact: they decode a 10-bit white (Y' = 940) to
@@ -24,7 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.video_colour import (BT2020, KNOT_SHIFT, LOW, decode_table, encode_table,
+from lenslab.io.video.colour import (BT2020, KNOT_SHIFT, LOW, decode_table, encode_table,
                                      matrix_2020_to_709, threads)
 
 #: planar pixel formats: (bits, log2 chroma subsampling across, down)
@@ -142,7 +142,7 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
 def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False, reuse=None):
     """Linear Rec.709 float32 H x W x 3 (``encoded``: code values in [0, 1] in the stream's primaries and transfer)
     -> a PyAV frame of ``pix_fmt`` (a format of ``FORMATS``) with the stream's matrix and range, in one compiled
-    pass; NaN and infinities as :func:`lenslab.io.video_colour.from_linear` makes them finite.
+    pass; NaN and infinities as :func:`lenslab.io.video.colour.from_linear` makes them finite.
 
     ``reuse``: an earlier frame to write into when it has this size and format. An encoder that still holds it
     makes PyAV give it new memory first (``make_writable``); one that is done with it leaves its pages, so a 4K
@@ -167,7 +167,7 @@ def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False
 def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.ndarray]:
     """NumPy reference of :func:`linear_to_ycbcr` (linear light), with colour-science's inverse transfer function
     in float64 in place of its table: the Y, Cb and Cr planes as integer arrays (H x W, then the chroma size)."""
-    from lenslab.io.video_colour import from_linear
+    from lenslab.io.video.colour import from_linear
 
     bits, hx, vy, _, _, _, _, k, (y0, ys, c0, cs), top = _encode_args(info, pix_fmt, True)
     e = np.clip(from_linear(image[..., :3], info), 0.0, 1.0) @ k.T
