@@ -35,6 +35,7 @@ import numpy as np
 from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
+from lenslab.library_output import library_cause, quiet_library
 
 HALF_MAX = 65504.0
 CAMERA_ATTRIBUTE = "lenslab.camera"
@@ -157,11 +158,14 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     from lenslab.io.exr.chunks import check_chunks
 
     check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
+    said: list[str] = []  # what the library prints of a damaged file: kept off the terminal, the first as cause
     try:
-        head = OpenEXR.File(str(path), header_only=True)
-        parts = head.parts
+        with quiet_library(said):
+            head = OpenEXR.File(str(path), header_only=True)
+            parts = head.parts
     except Exception as exc:  # the bindings raise RuntimeError/ValueError with the library's message
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({cause(exc)}); the file is damaged") from None
+        why = library_cause(said, path) or cause(exc)
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = _find_part(path, parts, part_sel, layer_sel)
@@ -193,11 +197,13 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     if whole and (len(types) != 1 or set(sampling.values()) != {(1, 1)}):
         whole = None
     try:
-        full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
-        chans = full.parts[index].channels
+        with quiet_library(said):
+            full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
+            chans = full.parts[index].channels
     except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        said = f" ({cause(exc)})" if isinstance(exc, (RuntimeError, OSError)) and str(exc) else ""
-        raise FormatError(f"{path}: OpenEXR cannot read the pixels{said}; the file is damaged") from None
+        why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
+        why = f" ({why})" if why else ""
+        raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
 
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])
@@ -365,6 +371,7 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
     else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
         chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
     try:
-        OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
+        with quiet_library():
+            OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
         raise FormatError(f"OpenEXR could not write the image ({cause(exc)})") from None

@@ -44,14 +44,19 @@ def _probe(path) -> dict:
 
     from lenslab.errors import FormatError, cause
     from lenslab.io.exr import plain_value
+    from lenslab.library_output import library_cause, quiet_library
 
+    said: list[str] = []
     try:
-        head = OpenEXR.File(str(path), header_only=True)
+        with quiet_library(said):
+            head = OpenEXR.File(str(path), header_only=True)
     except Exception as exc:
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({cause(exc)}); the file is damaged") from None
+        why = library_cause(said, path) or cause(exc)
+        raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
     types: dict[tuple[int, str], str] = {}
     try:
-        full = OpenEXR.File(str(path), separate_channels=True)
+        with quiet_library():
+            full = OpenEXR.File(str(path), separate_channels=True)
         for i, part in enumerate(full.parts):
             for name, ch in part.channels.items():
                 types[(i, name)] = _EXR_TYPES.get(str(ch.pixels.dtype), str(ch.pixels.dtype))

@@ -155,8 +155,11 @@ def _xmp(path: Path, info: PhotoLens) -> None:
 def _exr(path: Path, info: PhotoLens) -> None:
     import OpenEXR
 
+    from lenslab.library_output import quiet_library
+
     try:
-        header = OpenEXR.File(str(path), header_only=True).parts[0].header
+        with quiet_library():
+            header = OpenEXR.File(str(path), header_only=True).parts[0].header
     except Exception:
         raise LensError(f"{path}: OpenEXR cannot read the header; the file is damaged") from None
     got = {

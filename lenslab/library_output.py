@@ -1,0 +1,99 @@
+"""Keep what a C library prints about a damaged file off the terminal.
+
+OpenEXR's C core reports a damaged chunk on standard error (``FILE: (EXR_ERR_CORRUPT_CHUNK) ...``, one
+line per failed step) and its Python bindings add ``Warning: Exception raised reading pixel data ...`` on
+standard output, below Python's ``sys.stderr``/``sys.stdout``: a failed input would show several lines
+besides lenslab's own ``lenslab CMD: error: FILE: cause``. :func:`quiet_library` points file descriptors
+1 and 2 at temporary files for the duration of a library call, then gives back to the real descriptors
+every captured line that is not the library's (lenslab's own notes, a progress bar from another thread),
+and hands the library's lines to the caller, which may use the first as the cause in its one-line error.
+
+Threads: the redirection is process-wide, so it is shared: the first thread in redirects, the last one out
+restores and sorts what was captured (lines from any thread in between are kept, in order per stream).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import sys
+import tempfile
+import threading
+
+#: lines OpenEXR prints: its C core's error handler and its Python bindings' reading warning
+LIBRARY_LINE = re.compile(r"\((EXR_ERR_\w+)\)|^Warning: Exception raised (reading|writing)")
+
+_lock = threading.Lock()
+_state: dict = {"depth": 0, "saved": None}
+
+
+def _flush() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+
+
+def _begin() -> None:
+    _flush()
+    saved = []
+    try:
+        for fd in (1, 2):
+            spool = tempfile.TemporaryFile()
+            saved.append((fd, os.dup(fd), spool))
+            os.dup2(spool.fileno(), fd)
+    except OSError:  # a closed descriptor: nothing to protect
+        for fd, old, spool in saved:
+            os.dup2(old, fd)
+            os.close(old)
+            spool.close()
+        saved = None
+    _state["saved"] = saved
+
+
+def _end() -> list[str]:
+    _flush()
+    saved, _state["saved"] = _state["saved"], None
+    said: list[str] = []
+    for fd, old, spool in saved or ():
+        os.dup2(old, fd)
+        os.close(old)
+        spool.seek(0)
+        text = spool.read().decode("utf-8", "replace")
+        spool.close()
+        keep = []
+        for line in text.splitlines(keepends=True):
+            (said if LIBRARY_LINE.search(line) else keep).append(line)
+        if keep:
+            with contextlib.suppress(OSError):
+                os.write(fd, "".join(keep).encode())
+    return [line.strip() for line in said]
+
+
+@contextlib.contextmanager
+def quiet_library(said: list[str] | None = None):
+    """Run the block with the library's own lines kept off standard output and error; append them (stripped)
+    to ``said`` when given and this call is the last one out."""
+    with _lock:
+        if _state["depth"] == 0:
+            _begin()
+        _state["depth"] += 1
+    try:
+        yield
+    finally:
+        with _lock:
+            _state["depth"] -= 1
+            lines = _end() if _state["depth"] == 0 else []
+        if said is not None:
+            said.extend(lines)
+
+
+def library_cause(said: list[str], path) -> str:
+    """The first captured line about ``path``, without the path, as a cause for an error message ('' if none)."""
+    prefix = f"{path}: "
+    for line in said:
+        m = LIBRARY_LINE.search(line)
+        if m and m.group(1):
+            text = line[len(prefix):] if line.startswith(prefix) else line
+            return f"{m.group(1)}: {text.replace(m.group(0), '', 1).strip()}"
+    return ""
