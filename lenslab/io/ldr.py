@@ -65,6 +65,11 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
             attributes["cICP"] = describe(points)
             if points[1] not in SRGB_TRANSFERS:  # PQ, HLG, linear...: the codes are not sRGB
                 coded = points
+    grey_alpha = False
+    if fmt == "png":
+        from lenslab.io.png_grey_alpha import is_grey_alpha
+
+        grey_alpha = is_grey_alpha(data)
     codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
     del data  # the file's bytes are not kept while the floats are made
     if codes is None:
@@ -72,6 +77,8 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if codes.ndim == 2:
         codes = codes[..., None]
     c = codes.shape[2]
+    if grey_alpha and c == 4:  # OpenCV repeats the grey as B, G and R: keep one, and the alpha
+        codes, c = codes[..., [0, 3]], 2
     if c == 3:
         codes = codes[..., ::-1]
     elif c == 4:
@@ -116,7 +123,7 @@ def _gain_map_note(data: bytes) -> dict:
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
                subsampling: str | None = None, bits: int = 8, dither: bool = False,
                compression: int = 1, cicp=None) -> bytes:
-    """Encode a float image (C = 1, 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes.
+    """Encode a float image (C = 1, 2 (grey and alpha), 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes.
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
     6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
@@ -135,6 +142,11 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     elif bits not in (8, 16):
         raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
     codes = encode_codes(image, bits, raw, dither, straight=not raw)  # (unpremultiplied block by block)
+    if c == 2 and fmt == "png":  # grey and alpha: a file OpenCV cannot write
+        from lenslab.io.png_grey_alpha import encode_grey_alpha
+
+        buf = encode_grey_alpha(codes, compression)
+        return buf if cicp is None else _with_cicp(buf, cicp)
     if c == 3:
         codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
     elif c == 4:
@@ -156,10 +168,14 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     if cicp is not None:
         if fmt != "png":
             raise FormatError("only PNG carries a cICP chunk")
-        from lenslab.io.png_cicp import with_cicp
-
-        try:
-            return with_cicp(buf.tobytes(), cicp)
-        except ValueError as exc:
-            raise FormatError(str(exc)) from None
+        return _with_cicp(buf.tobytes(), cicp)
     return buf.tobytes()
+
+
+def _with_cicp(png: bytes, cicp) -> bytes:
+    from lenslab.io.png_cicp import with_cicp
+
+    try:
+        return with_cicp(png, cicp)
+    except ValueError as exc:
+        raise FormatError(str(exc)) from None

@@ -61,7 +61,7 @@ def oiio_read(path):
 
 
 #: (extension, lenslab write options, channel counts, bits)
-DISPLAY = [(".png", {"bits": 8}, (1, 3, 4), 8), (".png", {"bits": 16}, (1, 3, 4), 16),
+DISPLAY = [(".png", {"bits": 8}, (1, 2, 3, 4), 8), (".png", {"bits": 16}, (1, 2, 3, 4), 16),
            (".tif", {"sample_type": "uint8"}, (1, 2, 3, 4), 8), (".tif", {"sample_type": "uint16"}, (1, 2, 3, 4), 16),
            (".ppm", {"bits": 8}, (3,), 8), (".ppm", {"bits": 16}, (3,), 16), (".pgm", {"bits": 8}, (1,), 8),
            (".pgm", {"bits": 16}, (1,), 16), (".jpg", {}, (1, 3), 8)]

@@ -1,4 +1,5 @@
-"""PNG: 8- or 16-bit sRGB grey, RGB or RGBA through OpenCV (codec: :mod:`lenslab.io.ldr`)."""
+"""PNG: 8- or 16-bit sRGB grey, grey+alpha, RGB or RGBA (codec: :mod:`lenslab.io.ldr`, OpenCV; grey+alpha:
+:mod:`lenslab.io.png_grey_alpha`)."""
 
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ def _declare(path, **options):
 
 FORMATS = (Format(
     name="png", title="PNG", extensions=(".png",), magic=lambda head: head.startswith(b"\x89PNG\r\n\x1a\n"),
-    hdr=False, alpha=True, channels=(1, 3, 4), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
+    hdr=False, alpha=True, channels=(1, 2, 3, 4), bit_depths=(8, 16), sample_types=("uint",), read=_read, declare=_declare,
     probe=header_only,
     write=_write, read_options=("raw",),
     write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
