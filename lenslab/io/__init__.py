@@ -231,7 +231,9 @@ def carries_alpha(meta: dict, count: int) -> bool:
     names = (meta or {}).get("channel_names") or (meta or {}).get("channels")
     if isinstance(names, (list, tuple)) and len(names) == count and count:
         return is_alpha_name(names[-1])
-    return count in (2, 4)
+    from lenslab.io.alpha import alpha_last
+
+    return alpha_last(count)
 
 
 def output_channels(meta: dict, count: int) -> list[str]:

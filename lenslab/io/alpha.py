@@ -1,6 +1,7 @@
 """Alpha: one meaning in memory, each format's own rule in files.
 
-In memory an image with 2 or 4 channels carries alpha last (Y A, R G B A); alpha is *coverage* in
+In memory an image carries alpha last where its channel names say so (only ``A`` is alpha); an array
+without names, when it has 2 or 4 channels (Y A, R G B A): :func:`alpha_last` is that one rule; alpha is *coverage* in
 [0, 1] and the colour is *premultiplied* by it (the OpenEXR convention): a pixel half covered by a
 surface of straight colour ``c`` holds ``(c / 2, 1 / 2)``. :func:`settle` is where that holds after
 every operation (the warp engine calls it on every output, whatever filter, falloff, per-channel
@@ -28,18 +29,29 @@ import numpy as np
 F32 = np.float32
 
 
-def has_alpha(image: np.ndarray, alpha: bool | None = None) -> bool:
-    """Whether an H x W x C image carries alpha: ``alpha`` when given (what its channel names say,
-    :func:`lenslab.io.carries_alpha`: two data channels such as ``u, v`` carry none), else C = 2 or 4
-    (alpha is the last channel)."""
+def alpha_last(nc: int, alpha: bool | None = None) -> bool:
+    """The one rule of which images carry alpha: an image of ``nc`` channels carries it last when ``alpha``
+    says so (what its channel names say, :func:`lenslab.io.carries_alpha`: only ``A`` is alpha, so ``u, v``
+    or ``R, G, B, Z`` carry none) and it has a channel besides; with nothing said (``alpha=None``: an array
+    without names), when ``nc`` is 2 or 4 (``Y A``, ``R G B A``).
+
+    >>> alpha_last(4), alpha_last(4, False), alpha_last(2, True), alpha_last(3), alpha_last(1, True)
+    (True, False, True, False, False)
+    """
     if alpha is not None:
-        return bool(alpha) and image.ndim == 3 and image.shape[2] >= 2
-    return image.ndim == 3 and image.shape[2] in (2, 4)
+        return bool(alpha) and nc >= 2
+    return nc in (2, 4)
 
 
-def colour_channels(nc: int) -> slice:
-    """The channels of an image with ``nc`` channels that hold light (all but a trailing alpha)."""
-    return slice(0, nc - 1) if nc in (2, 4) else slice(0, nc)
+def has_alpha(image: np.ndarray, alpha: bool | None = None) -> bool:
+    """Whether an H x W x C image carries alpha (:func:`alpha_last`)."""
+    return image.ndim == 3 and alpha_last(image.shape[2], alpha)
+
+
+def colour_channels(nc: int, alpha: bool | None = None) -> slice:
+    """The channels of an image with ``nc`` channels that hold light or data (all but a trailing alpha,
+    :func:`alpha_last`)."""
+    return slice(0, nc - 1) if alpha_last(nc, alpha) else slice(0, nc)
 
 
 def settle(image: np.ndarray, coverage: np.ndarray | None = None, alpha: bool | None = None) -> None:
@@ -70,11 +82,11 @@ def settle(image: np.ndarray, coverage: np.ndarray | None = None, alpha: bool | 
         image[under] = 0.0
 
 
-def unpremultiply(image: np.ndarray) -> np.ndarray:
+def unpremultiply(image: np.ndarray, alpha: bool | None = None) -> np.ndarray:
     """Premultiplied (memory) -> straight colour (PNG, integer TIFF): a float32 copy, colour divided by
     alpha where alpha > 0 and 0 where alpha is 0; alpha clipped to [0, 1]. Images without alpha are
-    returned as they are."""
-    if not has_alpha(image):
+    returned as they are (``alpha``: :func:`alpha_last`)."""
+    if not has_alpha(image, alpha):
         return image
     out = np.array(image, dtype=F32, copy=True)
     a = np.clip(np.nan_to_num(out[..., -1:], nan=0.0), 0.0, 1.0)
@@ -85,21 +97,21 @@ def unpremultiply(image: np.ndarray) -> np.ndarray:
     return out
 
 
-def premultiply(image: np.ndarray) -> np.ndarray:
+def premultiply(image: np.ndarray, alpha: bool | None = None) -> np.ndarray:
     """Straight colour (as PNG and unassociated TIFF store it) -> premultiplied, in place; returned."""
-    if has_alpha(image):
+    if has_alpha(image, alpha):
         image[..., :-1] *= image[..., -1:]
     return image
 
 
-def expose(image: np.ndarray, stops: float, in_place: bool = False) -> np.ndarray:
+def expose(image: np.ndarray, stops: float, in_place: bool = False, alpha: bool | None = None) -> np.ndarray:
     """``image`` (H x W x C float32) with its colour times ``2**stops`` and alpha kept (exposure is light,
     not coverage); a new array, or with ``in_place`` ``image`` itself when it is float32 (the caller gives
     it up: no copy of the image's size)."""
     own = in_place and isinstance(image, np.ndarray) and image.dtype == F32 and image.flags.writeable
     out = image if own else np.array(image, dtype=F32, copy=True)
     if float(stops) != 0.0:
-        out[..., colour_channels(out.shape[-1]) if out.ndim == 3 else slice(None)] *= F32(2.0 ** float(stops))
+        out[..., colour_channels(out.shape[-1], alpha) if out.ndim == 3 else slice(None)] *= F32(2.0 ** float(stops))
     return out
 
 

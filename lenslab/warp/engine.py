@@ -219,12 +219,12 @@ class WarpPlan:
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
-        self.render(src, out, alpha, progress)
+        self.render(src, out, alpha, progress, alpha_channel)
         if not all_finite(out):  # NaN or inf in the source reached the output: read them as finite
             src, bad = finite_source(src)
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
-            self.render(src, out, alpha, None)
+            self.render(src, out, alpha, None, alpha_channel)
         settle(out, alpha, alpha_channel)
         if not alpha.any():
             warnings.warn(EmptyViewWarning(
@@ -235,20 +235,21 @@ class WarpPlan:
         return out, alpha
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
-               progress: Callable[[int], None] | None = None) -> None:
-        """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
+               progress: Callable[[int], None] | None = None, alpha_channel: bool | None = None) -> None:
+        """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size);
+        ``alpha_channel``: whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`)."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
-                render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
+                render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress, alpha_channel)
             return
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
-            src = divide_by_falloff(src, self.src_falloff)
+            src = divide_by_falloff(src, self.src_falloff, alpha_channel)
         if self.channels is not None:
             render_channels(self.channels, src, out, alpha, progress)
         else:
             self._render_bands(src, out, alpha, progress)
         if self.dst_falloff is not None:
-            out[..., colour_channels(out.shape[2])] *= self.dst_falloff[..., None]
+            out[..., colour_channels(out.shape[2], alpha_channel)] *= self.dst_falloff[..., None]
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
@@ -306,7 +307,8 @@ class EmptyViewWarning(UserWarning):
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
          antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
          exact_map: bool = False, band_points: int = BAND_POINTS,
-         progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+         progress: Callable[[int], None] | None = None,
+         alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Reproject ``image`` seen by ``src_camera`` into the view of ``dst_camera``.
 
     Each output pixel takes ``samples`` stratified sub-pixel samples; a sample is *valid* when its
@@ -343,6 +345,10 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         Samples mapped at a time (bounds the working memory).
     progress : callable, optional
         Called with the number of output rows done.
+    alpha_channel : bool, optional
+        Whether the image's last channel is alpha: True for ``... A``, False for data channels only
+        (``u, v``; ``R, G, B, Z``), as :func:`lenslab.io.carries_alpha` says from a file's channel names.
+        None: an image of 2 or 4 channels carries alpha (:func:`lenslab.io.alpha.alpha_last`).
 
     Returns
     -------
@@ -352,7 +358,7 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
         the number of samples. Divide by alpha where alpha > 0 for straight colour.
     alpha : numpy.ndarray
         float32 ``h x w`` coverage: the fraction of each pixel's samples that are valid, exactly 0 where
-        none is. An image of 2 or 4 channels carries its own alpha last (premultiplied); it is warped
+        none is. An image that carries alpha (``alpha_channel``) has it last (premultiplied); it is warped
         like colour (so it includes the coverage). Every alpha ends in [0, 1]
         (:func:`lenslab.io.alpha.settle`); vignetting and its removal change colour, never alpha.
         ``lenslab.write(path, image, alpha=alpha)`` stores both as RGBA.
@@ -382,7 +388,7 @@ def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str =
     """
     plan = WarpPlan(src_camera, dst_camera, filter=filter, samples=samples, antialias=antialias, seed=seed,
                     allow_parallax=allow_parallax, exact_map=exact_map, band_points=band_points)
-    return plan.run(image, progress=progress)
+    return plan.run(image, progress=progress, alpha_channel=alpha_channel)
 
 
 __all__ = ["WarpPlan", "warp", "MapBand", "EmptyViewWarning"]

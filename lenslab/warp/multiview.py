@@ -16,7 +16,7 @@ from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 
 
 def warp_tiles(images: Sequence[ArrayLike | None], src_cameras: Sequence[Camera], dst_camera: Camera,
-               **options: Any) -> tuple[np.ndarray, np.ndarray]:
+               alpha_channel: bool | None = None, **options: Any) -> tuple[np.ndarray, np.ndarray]:
     """Warp one source per tile into a camera made of tiles: tile ``k`` from ``images[k]`` seen by ``src_cameras[k]``.
 
     For multi-view outputs whose tiles stand at different eye points (a light-field grid, a camera
@@ -32,6 +32,8 @@ def warp_tiles(images: Sequence[ArrayLike | None], src_cameras: Sequence[Camera]
         The camera of each source image.
     dst_camera : Camera
         The output, a camera whose lens is made of tiles (``tiled:...`` with each tile's pose and eye).
+    alpha_channel : bool, optional
+        Whether the sources' last channel is alpha (as in :func:`~lenslab.warp.engine.warp`).
     **options
         Those of :func:`~lenslab.warp.engine.warp`: ``filter``, ``samples``, ``antialias``, ``progress``...
 
@@ -86,13 +88,13 @@ def warp_tiles(images: Sequence[ArrayLike | None], src_cameras: Sequence[Camera]
             alpha = np.zeros((dst_camera.height, dst_camera.width), dtype=np.float32)
         elif arr.shape[2] != channels:
             raise WarpError(f"every tile's source must have the same channels; got {channels} and {arr.shape[2]}")
-        render_region(plan, arr, out, alpha, x0, y0, progress)
+        render_region(plan, arr, out, alpha, x0, y0, progress, alpha_channel)
     if out is None:
         raise WarpError("no tile has both a camera and a source image: nothing to warp")
     if not all_finite(out):
         raise WarpError("a tile's source holds NaN or infinite values; clean it first (e.g. lenslab convert "
                         "repairs and reports them)")
-    settle(out, alpha)
+    settle(out, alpha, alpha_channel)
     return out, alpha
 
 

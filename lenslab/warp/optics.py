@@ -10,7 +10,8 @@ multiplied by the falloff at each output pixel's centre; as a source the image i
 falloff at each source pixel's centre (never by less than ``MIN_FALLOFF``) before it is sampled, so
 every sample reads the light as it was before the lens dimmed it. Both are smooth across a pixel, so
 one value per pixel stands for all its samples. Falloff dims light, not coverage: a trailing alpha
-channel is never multiplied or divided by it (:mod:`lenslab.io.alpha`).
+channel (only where the image carries one: :func:`lenslab.io.alpha.alpha_last`) is never multiplied or
+divided by it.
 """
 
 from __future__ import annotations
@@ -49,11 +50,12 @@ def falloff_image(lens) -> np.ndarray | None:
     return out
 
 
-def divide_by_falloff(src: np.ndarray, falloff: np.ndarray) -> np.ndarray:
+def divide_by_falloff(src: np.ndarray, falloff: np.ndarray, alpha: bool | None = None) -> np.ndarray:
     """A copy of ``src`` (H x W x C float32) whose colour is divided by ``falloff`` (H x W), never by less
-    than MIN_FALLOFF; a trailing alpha channel (C = 2 or 4) is coverage, not light, and is kept."""
+    than MIN_FALLOFF; a trailing alpha channel (:func:`lenslab.io.alpha.alpha_last`) is coverage, not light,
+    and is kept."""
     out = src.copy()
-    out[..., colour_channels(src.shape[2])] /= np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
+    out[..., colour_channels(src.shape[2], alpha)] /= np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
     return out
 
 
