@@ -128,7 +128,7 @@ def _camera(path, text):
 
 
 def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = False,
-         rec709: bool = True) -> tuple[np.ndarray, dict[str, Any]]:
+         rec709: bool = True, extra_channels: bool = False) -> tuple[np.ndarray, dict[str, Any]]:
     """Read an image file into linear float32.
 
     The format comes from the file's magic bytes, never its name.
@@ -143,6 +143,9 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
         EXR: keep the stored data window instead of placing it in the display window.
     rec709 : bool
         EXR: convert the file's own primaries to Rec.709 (False keeps them).
+    extra_channels : bool
+        EXR: also keep the part's other channels (``Z``, ``N.x``...; always named in
+        ``meta["extra_channels"]``) as ``meta["extra_planes"]``, which an EXR writer's ``extra`` takes back.
 
     Returns
     -------
@@ -174,7 +177,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     fmt = get(sniff(file))
     if selector is not None and not fmt.selectors:
         raise FormatError(f"{file}: a ':{selector}' selector only applies to EXR files (this is {fmt.title})")
-    given = {"raw": raw, "data_window": data_window, "rec709": rec709}
+    given = {"raw": raw, "data_window": data_window, "rec709": rec709, "extra_channels": extra_channels}
     from lenslab.io.budget import admit
 
     admit(file, fmt, **({"data_window": data_window} if "data_window" in fmt.read_options else {}))

@@ -68,13 +68,21 @@ class ConvertJob(Job):
 
             frames_to_files(str(src_file), dst, self)
             return
-        image, meta = read(src, data_window=self.data_window)
-        # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
-        image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
         from lenslab.io.registry import get
 
-        if "in_place" in get(self.to).write_options:
+        fmt = get(self.to)
+        keeps_extra = "extra" in fmt.write_options  # depth, normals...: kept where the output holds them
+        image, meta = read(src, data_window=self.data_window, extra_channels=keeps_extra)
+        # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
+        image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
+        if "in_place" in fmt.write_options:
             write_opts["in_place"] = True
+        if keeps_extra and meta.get("extra_planes"):
+            write_opts["extra"] = meta["extra_planes"]
+        else:
+            from lenslab.io.exr.extra import warn_dropped
+
+            warn_dropped(src, meta.get("extra_channels") or [], fmt.title)
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 

@@ -151,7 +151,7 @@ def _to_float(pixels: np.ndarray) -> np.ndarray:
 
 
 def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
-             rec709: bool = True) -> tuple[np.ndarray, dict]:
+             rec709: bool = True, extra_channels: bool = False) -> tuple[np.ndarray, dict]:
     import OpenEXR
 
     part_sel, layer_sel = _split_selector(selector)
@@ -276,6 +276,11 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             placed[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
         image = placed
 
+    used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
+                                                   else set())
+    from lenslab.io.exr.extra import extra_names, extra_planes
+
+    others = extra_names(names, used)
     pixel_types = types if whole is not None else {plain_value(c.type()) for n, c in chans.items() if n in short.values()}
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
     attributes = {k: plain_value(v) for k, v in header.items() if k != "channels"}
@@ -295,6 +300,11 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "layer": layer,
         "file_channels": names,
         "ignored_channels": [short[c] for c in ignored],
+        # every channel of the part not in the image (Z, N.x, other layers), and with extra_channels=True
+        # their planes (stored type, placed as the image is) for an EXR writer's ``extra``
+        "extra_channels": others,
+        "extra_planes": extra_planes(path, chans, others, sampling, (x0, y0, x1, y1),
+                                     None if data_window else (X0, Y0, X1, Y1)) if extra_channels else {},
         "luminance_chroma": converted,
         "primaries_converted_to_rec709": primaries_converted,
         "data_window": [x0, y0, x1, y1],
@@ -337,9 +347,10 @@ def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.nd
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
-              threads: int | None = None, in_place: bool = False) -> None:
+              threads: int | None = None, in_place: bool = False, extra: dict | None = None) -> None:
     """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``in_place``: a half-float file is converted in
-    the image's own memory, which the caller gives up (``image`` is overwritten)."""
+    the image's own memory, which the caller gives up (``image`` is overwritten). ``extra``: more channels
+    ``{name: H x W plane}`` (depth, normals...) written in their own type (half, float32 or uint32)."""
     import OpenEXR
 
     h, w, c = image.shape
@@ -370,6 +381,13 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         chans = {"".join(channels): np.ascontiguousarray(data)}
     else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
         chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
+    for name, plane in (extra or {}).items():
+        if name in channels or name in chans:
+            continue  # a channel of the image itself
+        if plane.shape != (h, w):
+            raise FormatError(f"channel {clip(name)} is {plane.shape[1]} x {plane.shape[0]}, not the image's {w} x {h}")
+        chans[name] = np.ascontiguousarray(plane if plane.dtype in (np.float16, np.float32, np.uint32)
+                                           else plane.astype(np.float32))
     try:
         with quiet_library():
             OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))

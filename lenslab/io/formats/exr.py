@@ -7,10 +7,10 @@ from lenslab.io.plugin import Format
 #: OpenEXR's pixel types by the NumPy dtype its bindings give them
 _EXR_TYPES = {"float16": "half", "float32": "float", "uint32": "uint"}
 
-def _read(path, selector=None, data_window=False, rec709=True):
+def _read(path, selector=None, data_window=False, rec709=True, extra_channels=False):
     from lenslab.io.exr import read_exr
 
-    return read_exr(path, selector, data_window=data_window, rec709=rec709)
+    return read_exr(path, selector, data_window=data_window, rec709=rec709, extra_channels=extra_channels)
 
 
 def _write(tmp, image, **options):
@@ -89,11 +89,12 @@ FORMATS = (Format(
     name="exr", title="OpenEXR", extensions=(".exr",), magic=lambda head: head.startswith(b"\x76\x2f\x31\x01"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(16, 32), sample_types=("half", "float", "uint"),
     read=_read, declare=_declare, write=_write, probe=_probe, channel_names=_channel_names,
-    read_options=("data_window", "rec709"),
+    read_options=("data_window", "rec709", "extra_channels"),
     write_options={"pixel_type": "half or float (default half)",
                    "compression": "zip (default), piz, zips, rle, none, pxr24, b44, b44a, dwaa, dwab, zstd, ...",
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
                    "attributes": "header attributes {name: value}",
+                   "extra": "more channels {name: H x W plane} (depth, normals...), written in their own type",
                    "threads": "codec threads (default: one per core)",
                    "in_place": "True: a half-float file is converted in the image's own memory (the array is "
                                "overwritten; saves a copy of half the image's size)"},
