@@ -142,17 +142,46 @@ def processor(display: str, view: str | None = None, colorspace: str | None = No
         raise OCIOError(f"OpenColorIO cannot build the transform {cs!r} -> {d!r} / {v!r} ({cause(exc)})") from None
 
 
+@functools.lru_cache(maxsize=16)
+def reference_white_gain(display: str, view: str, colorspace: str, config: str | None = None) -> float:
+    """The scene-linear gain that puts 1.0 on BT.2408's HDR reference white (203 cd/m², ITU-R BT.2408) in a
+    PQ or HLG display's colorimetric view; 1.0 for SDR displays and tone-mapping views.
+
+    OpenColorIO's configs scale their HDR displays so that 1.0 is 100 cd/m²: through an un-tone-mapped
+    or video view a diffuse white of 1.0 would land at 100 cd/m², and a reader that decodes PQ or HLG as
+    BT.2408 says (lenslab, FFmpeg's tone mapping, colour-science divided by 203) gets 0.49 of it back. A
+    view is colorimetric when twice the light gives twice the display light; tone-mapping views (ACES
+    output transforms) place white themselves and are left as their authors made them."""
+    from lenslab.io.png_cicp import display_code_points, to_linear_light
+
+    points = display_code_points(display)
+    if points is None:
+        return 1.0
+    cpu, _ = processor(display, view, colorspace, config)
+    probe = np.array([[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]]], np.float32)
+    cpu.applyRGB(probe)
+    light, _ = to_linear_light(np.clip(probe, 0.0, 1.0), points)  # 1.0 = 203 cd/m2, as files are read
+    one, two = float(light[0, 0, 1]), float(light[0, 1, 1])
+    if not (one > 0.0 and abs(two / (2.0 * one) - 1.0) < 1e-3):
+        return 1.0
+    return 1.0 / one
+
+
 def display_transform(image: np.ndarray, display: str, view: str | None = None, colorspace: str | None = None,
                       config: str | None = None) -> np.ndarray:
     """float32 H x W x C scene-linear -> display code values (float32, same shape; alpha unchanged).
 
-    One channel is treated as grey (R = G = B) and returned as one channel.
+    One channel is treated as grey (R = G = B) and returned as one channel. A PQ or HLG display's
+    colorimetric view puts 1.0 at 203 cd/m² (:func:`reference_white_gain`).
     """
-    cpu, _ = processor(display, view, colorspace, config)
+    cpu, (d, v, cs) = processor(display, view, colorspace, config)
     a = np.asarray(image, np.float32)
     c = a.shape[-1]
     rgb = np.repeat(a[..., :1], 3, axis=-1) if c in (1, 2) else a[..., :3]
     out = np.array(rgb, dtype=np.float32, order="C")  # a copy: OpenColorIO works in place
+    gain = reference_white_gain(d, v, cs, config)
+    if gain != 1.0:
+        out *= np.float32(gain)
     cpu.applyRGB(out)
     out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
     if c in (1, 2):

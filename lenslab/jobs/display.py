@@ -6,17 +6,25 @@ from __future__ import annotations
 
 def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
     """:class:`~lenslab.errors.FormatError` when format record ``fmt`` cannot hold what ``display`` gives:
-    an HDR display's (PQ, HLG) codes need 16-bit samples (not JPEG, not ``--bits 8``), and a display's
-    codes are RGB (not PGM). Depends on no image: commands call it before any work."""
+    an HDR display's (PQ, HLG) codes need 16-bit samples (not JPEG, not ``--bits 8``) and a file that says
+    they are PQ or HLG (PNG's cICP chunk, a video's transfer tag: TIFF, PPM and EXR have no such tag), and a
+    display's codes are RGB (not PGM). Depends on no image: commands call it before any work."""
     from lenslab.errors import FormatError
     from lenslab.io.ocio import is_hdr_display
 
     hdr = is_hdr_display(display)
     accepts = fmt.write_options
     if hdr and "sample_type" not in accepts and "bits" in accepts and not any(b >= 16 for b in fmt.bit_depths):
-        raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG or TIFF")
+        raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG")
     if hdr and bits == 8:
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
+    if hdr and "cicp" not in accepts and fmt.kind != "video":
+        from lenslab.io.png_cicp import display_code_points
+
+        what = "HLG" if (display_code_points(display) or (0, 0))[1] == 18 else "PQ"
+        raise FormatError(f"{display}: {fmt.title} has no tag that says its samples are {what}-encoded (readers "
+                          f"would take them for sRGB): write PNG (its cICP chunk says Rec.2100 {what}), a video "
+                          "clip (its transfer tag), or EXR without --display (linear light)")
     if 3 not in fmt.channels:
         holds = " or ".join(str(n) for n in fmt.channels)
         raise FormatError(f"{display}: a display's code values are RGB; {fmt.title} holds {holds} channel(s): "

@@ -158,7 +158,7 @@ def test_a_still_image_warped_to_a_video_name_is_a_usage_error(pano, tmp_path, c
     assert not out.exists()
 
 
-PQ_JPEG = "Rec.2100-PQ: an HDR display needs 16-bit samples; JPEG holds 8: write PNG or TIFF"
+PQ_JPEG = "Rec.2100-PQ: an HDR display needs 16-bit samples; JPEG holds 8: write PNG"
 RGB_PGM = "PGM holds 1 channel(s); this image has 3: write PPM, or keep one channel"
 
 

@@ -78,9 +78,13 @@ def test_convert_writes_the_display_codes(tmp_path):
     assert pq.dtype == np.uint16
     want = np.clip(_reference(img, *PQ), 0, 1).astype(np.float64) * 65535
     assert np.abs(pq[..., ::-1] - want).max() <= 0.5 + 65535 * 1e-5
+    # TIFF has no tag that says PQ: refused before any work (PNG's cICP chunk says it)
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "tiff", "--display", "rec.2100-pq",
-                 "--view", "1000 nits (rec.2020)", "-o", str(tmp_path / "pq.tif"), "-q"]) == 0
-    assert tifffile.imread(tmp_path / "pq.tif").dtype == np.uint16
+                 "--view", "1000 nits (rec.2020)", "-o", str(tmp_path / "pq.tif"), "-q"]) == 2
+    assert not (tmp_path / "pq.tif").exists()
+    assert main(["convert", str(tmp_path / "s.exr"), "--to", "tiff", "--display", "srgb",
+                 "--view", "ACES 2.0 - SDR", "-o", str(tmp_path / "sdr.tif"), "-q"]) == 0
+    assert tifffile.imread(tmp_path / "sdr.tif").dtype == np.uint16
     # 8-bit JPEG cannot hold PQ: a usage error before any work, as is an unknown display
     assert main(["convert", str(tmp_path / "s.exr"), "--to", "jpg", "--display", "rec.2100-pq",
                  "-o", str(tmp_path / "pq.jpg"), "-q"]) == 2
