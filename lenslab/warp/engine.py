@@ -25,7 +25,7 @@ from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
-from lenslab.warp.filters import all_finite, finite_source, sample
+from lenslab.warp.filters import all_finite, clamp_non_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
@@ -220,11 +220,9 @@ class WarpPlan:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
         self.render(src, out, alpha, progress, alpha_channel)
-        if not all_finite(out):  # NaN or inf in the source reached the output: read them as finite
-            src, bad = finite_source(src)
-            warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
-                          "float32", RuntimeWarning, stacklevel=2)
-            self.render(src, out, alpha, None, alpha_channel)
+        if not all_finite(out):
+            note = self._finite_output(src, out, alpha, alpha_channel)
+            warnings.warn(note, RuntimeWarning, stacklevel=2)
         settle(out, alpha, alpha_channel)
         if not alpha.any():
             warnings.warn(EmptyViewWarning(
@@ -233,6 +231,22 @@ class WarpPlan:
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
+
+    def _finite_output(self, src, out, alpha, alpha_channel) -> str:
+        """Make an output with NaN or inf finite, and say what happened: non-finite source values (NaN read as
+        0, +-inf as the largest float32, and the warp done again), or finite ones whose filtered sums passed
+        float32's range (those outputs clamped)."""
+        src, bad = finite_source(src)
+        if bad:
+            self.render(src, out, alpha, None, alpha_channel)
+        over = clamp_non_finite(out)
+        big = f"{np.finfo(np.float32).max:.3g}"
+        said = f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest float32" if bad else ""
+        if over:
+            why = (f"{over} output values passed float32's range (+-{big}) in the warp's arithmetic (a filter's "
+                   f"weighted sum, the removal of vignetting); they were clamped to +-{big} (NaN: 0)")
+            said = f"{said}; {why}" if said else f"the source is finite, but {why}"
+        return said
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, alpha_channel: bool | None = None) -> None:

@@ -122,6 +122,16 @@ def all_finite(a: np.ndarray) -> bool:
     return all(run_bands([flat[i:i + step] for i in range(0, flat.size, step)], check))
 
 
+def clamp_non_finite(out: np.ndarray) -> int:
+    """Make ``out`` (float32) finite in place, NaN -> 0 and +-inf -> +-float32 max; the count of values changed."""
+    if all_finite(out):
+        return 0
+    n = int(np.count_nonzero(~np.isfinite(out)))
+    big = np.finfo(np.float32).max
+    np.nan_to_num(out, copy=False, nan=0.0, posinf=big, neginf=-big)
+    return n
+
+
 def finite_source(src: np.ndarray) -> tuple[np.ndarray, int]:
     """``src`` itself when all finite, else a copy with NaN -> 0 and +-inf -> +-float32 max; and the count."""
     if all_finite(src):

@@ -55,7 +55,8 @@ def divide_by_falloff(src: np.ndarray, falloff: np.ndarray, alpha: bool | None =
     than MIN_FALLOFF; a trailing alpha channel (:func:`lenslab.io.alpha.alpha_last`) is coverage, not light,
     and is kept."""
     out = src.copy()
-    out[..., colour_channels(src.shape[2], alpha)] /= np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
+    with np.errstate(over="ignore"):  # light beyond float32: inf here, clamped and reported by the engine
+        out[..., colour_channels(src.shape[2], alpha)] /= np.maximum(falloff, np.float32(MIN_FALLOFF))[..., None]
     return out
 
 
