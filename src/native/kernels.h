@@ -44,14 +44,31 @@ inline double dfloor(double v) {
     return t > v ? t - 1.0 : t;
 }
 
-// One pixel's nc channels, bilinear in float32 lerps from four flat tap offsets (lenslab.warp.filters.lerp_n).
+// The bilinear value of four taps as the weighted sum in float64, a tap of weight 0 left out: finite for finite
+// taps of any size (|value| <= the largest |tap|), where float32 lerps pass float32's range (b - a of taps of
+// opposite signs beyond 1.7e38 is inf, and inf - inf NaN); an infinite tap of weight 0 is not read.
+inline float lerp_wide(float a, float b, float c, float d, float tx, float ty) {
+    const double wx = tx, wy = ty, ux = 1.0 - wx, uy = 1.0 - wy;
+    const double w[4] = {ux * uy, wx * uy, ux * wy, wx * wy};
+    const float v[4] = {a, b, c, d};
+    double s = 0.0;
+    for (int k = 0; k < 4; ++k)
+        if (w[k] != 0.0) s += w[k] * double(v[k]);
+    return float(s);  // within one float64 rounding of a convex combination: never beyond the largest float32
+}
+
+// One pixel's nc channels, bilinear in float32 lerps from four flat tap offsets (lenslab.warp.kernels.reference
+// bilinear1); a value the float32 steps make non-finite is made again by lerp_wide (never for taps below 1.7e38).
 inline void lerp(const float* flat, uint64_t p00, uint64_t p10, uint64_t p01, uint64_t p11, float tx, float ty,
                  int64_t nc, float* o) {
     for (int64_t ch = 0; ch < nc; ++ch) {
         float a = flat[p00 + ch], b = flat[p01 + ch];
         float upper = a + tx * (flat[p10 + ch] - a);
         float lower = b + tx * (flat[p11 + ch] - b);
-        o[ch] = upper + ty * (lower - upper);
+        float v = upper + ty * (lower - upper);
+        if (__builtin_expect(!(v - v == 0.0f), 0))  // inf or NaN: the float32 steps overflowed (or a tap is inf)
+            v = lerp_wide(a, flat[p10 + ch], b, flat[p11 + ch], tx, ty);
+        o[ch] = v;
     }
 }
 

@@ -87,9 +87,9 @@ void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const flo
                 const bool* valid, int64_t npix, int64_t ns, Border b, float* out, float* alpha) {
     const float inv = float(1.0 / double(ns));
     uint64_t p[4];
-    float acc[64];
+    double acc[64];  // float64 sums: samples of opposite signs near the largest float32 neither overflow nor cancel
     for (int64_t q = 0; q < npix; ++q) {
-        for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0f;
+        for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0;
         int64_t hits = 0;
         for (int64_t k = q * ns; k < (q + 1) * ns; ++k) {
             if (k + PREFETCH < npix * ns && valid[k + PREFETCH]) {  // a sample a few ahead: both its tap rows
@@ -106,16 +106,16 @@ void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const flo
             float fx0 = ffloor(x), fy0 = ffloor(y);
             float tx = x - fx0, ty = y - fy0;
             corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
-            float w00 = (1.0f - tx) * (1.0f - ty), w10 = tx * (1.0f - ty);
-            float w01 = (1.0f - tx) * ty, w11 = tx * ty;
+            const double w00 = (1.0f - tx) * (1.0f - ty), w10 = tx * (1.0f - ty);  // float32 weights, as before
+            const double w01 = (1.0f - tx) * ty, w11 = tx * ty;
             for (int64_t ch = 0; ch < nc; ++ch)
-                acc[ch] += w00 * flat[p[0] + ch] + w10 * flat[p[1] + ch] + w01 * flat[p[2] + ch]
-                           + w11 * flat[p[3] + ch];
+                acc[ch] += w00 * double(flat[p[0] + ch]) + w10 * double(flat[p[1] + ch])
+                           + w01 * double(flat[p[2] + ch]) + w11 * double(flat[p[3] + ch]);
         }
-        // a sum of samples near the largest float32 may pass it: the mean of finite samples is finite
+        // the mean of finite samples is within float32's range up to a float64 rounding: clamped to it
         for (int64_t ch = 0; ch < nc; ++ch) {
-            float v = acc[ch] * inv;
-            out[q * nc + ch] = v > FLT_MAX ? FLT_MAX : (v < -FLT_MAX ? -FLT_MAX : v);
+            double v = acc[ch] * double(inv);
+            out[q * nc + ch] = float(v > FLT_MAX ? FLT_MAX : (v < -FLT_MAX ? -FLT_MAX : v));
         }
         alpha[q] = float(double(hits) * double(inv));
     }

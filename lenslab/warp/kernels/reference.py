@@ -40,15 +40,35 @@ def _taps(src, x, y, border):
 
 
 def bilinear1(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, border):
-    """One sample per pixel: ``(out (n, C), alpha (n,))``; float32 lerps ``a + t (b - a)``, along x first."""
+    """One sample per pixel: ``(out (n, C), alpha (n,))``; float32 lerps ``a + t (b - a)``, along x first. A
+    value those steps make non-finite (taps of opposite signs beyond 1.7e38: ``b - a`` overflows) is made
+    again as the float64 weighted sum of the taps of non-zero weight (:func:`lerp_wide`)."""
     x, y, v = (np.asarray(a).reshape(-1) for a in (xs, ys, valid))
     x, y = x.astype(np.float32), y.astype(np.float32)
     (a, b, c, d), tx, ty = _taps(src, x, y, border)
-    upper = a + tx * (b - a)
-    lower = c + tx * (d - c)
-    out = (upper + ty * (lower - upper)).astype(np.float32)
+    with np.errstate(over="ignore", invalid="ignore"):
+        upper = a + tx * (b - a)
+        lower = c + tx * (d - c)
+        out = (upper + ty * (lower - upper)).astype(np.float32)
+    bad = ~np.isfinite(out)
+    if bad.any():
+        tx2, ty2 = np.broadcast_to(tx, out.shape)[bad], np.broadcast_to(ty, out.shape)[bad]
+        out[bad] = lerp_wide(a[bad], b[bad], c[bad], d[bad], tx2, ty2)
     out[~v] = 0.0
     return out, v.astype(np.float32)
+
+
+def lerp_wide(a, b, c, d, tx, ty) -> np.ndarray:
+    """The bilinear value of taps ``a b`` (upper row) ``c d`` at fractions ``tx, ty`` as the float64 sum of the
+    taps times their weights, a tap of weight 0 left out (an inf tap of weight 0 is not read): finite for
+    finite taps of any size, float32 out."""
+    wx, wy = np.asarray(tx, np.float64), np.asarray(ty, np.float64)
+    ux, uy = 1.0 - wx, 1.0 - wy
+    s = np.zeros(np.shape(a), np.float64)
+    with np.errstate(invalid="ignore"):
+        for w, t in ((ux * uy, a), (wx * uy, b), (ux * wy, c), (wx * wy, d)):
+            s += np.where(w != 0.0, w * np.asarray(t, np.float64), 0.0)
+    return s.astype(np.float32)
 
 
 def bilinear_n(src, xs, ys, valid, border):
@@ -58,16 +78,18 @@ def bilinear_n(src, xs, ys, valid, border):
     x, y, v = (np.asarray(a).reshape(-1, ns) for a in (xs, ys, valid))
     (a, b, c, d), tx, ty = _taps(src, x.reshape(-1).astype(np.float32), y.reshape(-1).astype(np.float32), border)
     one = np.float32(1.0)
-    val = ((one - tx) * (one - ty)) * a + (tx * (one - ty)) * b + ((one - tx) * ty) * c + (tx * ty) * d
-    val = np.where(v.reshape(-1, 1), val, np.float32(0.0)).reshape(x.shape + (src.shape[2],))
-    acc = np.zeros((x.shape[0], src.shape[2]), np.float32)
+    w = [((one - tx) * (one - ty)), (tx * (one - ty)), ((one - tx) * ty), (tx * ty)]  # float32 weights
+    f64 = [np.asarray(t, np.float64) for t in (a, b, c, d)]
+    val = w[0].astype(np.float64) * f64[0] + w[1].astype(np.float64) * f64[1] + w[2].astype(np.float64) * f64[2] \
+        + w[3].astype(np.float64) * f64[3]  # float64 sums: opposite signs near float32's largest do not overflow
+    val = np.where(v.reshape(-1, 1), val, 0.0).reshape(x.shape + (src.shape[2],))
+    acc = np.zeros((x.shape[0], src.shape[2]), np.float64)
     for k in range(ns):  # in sample order, as the kernel adds them
         acc += val[:, k]
     inv = np.float32(1.0 / ns)
-    big = np.finfo(np.float32).max  # a sum near the largest float32 may pass it; the mean of finite values may not
-    with np.errstate(over="ignore"):
-        mean = acc * inv
-    return np.where(mean > big, big, np.where(mean < -big, -big, mean)), (v.sum(axis=1) * np.float64(inv)).astype(np.float32)
+    big = float(np.finfo(np.float32).max)  # the mean of finite values is in range up to a float64 rounding
+    mean = np.clip(acc * np.float64(inv), -big, big).astype(np.float32)
+    return mean, (v.sum(axis=1) * np.float64(inv)).astype(np.float32)
 
 
 def taps(src, xs, ys, valid):
