@@ -177,14 +177,18 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 i += 1
                 if stop is not None and i >= stop:
                     break
+                if i >= start and (frame.width, frame.height) != (info.width, info.height):
+                    raise FormatError(f"{path}: frame {i} (counting from 0) is {frame.width} x {frame.height}, not "
+                                      f"{info.width} x {info.height} as the clip declares: the frame size changes "
+                                      "mid-stream; re-encode the clip at one size (e.g. ffmpeg -i CLIP -vf "
+                                      f"scale={info.width}:{info.height} OUT)")
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
                     box = window and window()
                     if not exact(info, frame.format.name):  # swscale's path (HLG, other formats and matrices)
                         yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
-                    elif box is None or box[1] > frame.height or box[3] > frame.width:
-                        # (a frame of another size than the stream declared: the warp says so)
+                    elif box is None:
                         yield i, ycbcr_to_linear(frame, info)
                     else:  # reused: the caller is done with a frame long before its turn comes
                         ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
