@@ -73,6 +73,9 @@ class ConvertJob(Job):
         fmt = get(self.to)
         keeps_extra = "extra" in fmt.write_options  # depth, normals...: kept where the output holds them
         image, meta = read(src, data_window=self.data_window, extra_channels=keeps_extra)
+        from lenslab.jobs.stages import check_data_channels
+
+        check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
         # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
         image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
         if "in_place" in fmt.write_options:

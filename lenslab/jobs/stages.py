@@ -142,7 +142,8 @@ def check_image(image, what: str = "image"):
     return (a[..., None] if a.ndim == 2 else a).astype(np.float32, copy=False)
 
 
-__all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image"]
+__all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image",
+           "check_data_channels"]
 
 
 def known_channels(src) -> int | None:
@@ -183,3 +184,22 @@ def check_channels_fit(src, fmt) -> None:
         fit_channels(np.zeros((1, 1, channels), np.float32), fmt)
     except FormatError as exc:
         raise UsageError(f"{src}: {exc}") from None
+
+
+def check_data_channels(src, meta: dict, count: int, fmt=None) -> None:
+    """:class:`~lenslab.errors.FormatError` (one line naming ``src``) when an image of 2 or 4 channels carries
+    no alpha (its names say so: ``u, v``; ``R, G, B, Z``; only ``A`` is alpha) and would go where the last
+    of 2 or 4 channels is taken for alpha or dropped: a format record ``fmt`` that does not keep channel
+    names (only EXR does), or a tone curve (``fmt`` None), which acts on colour and alpha."""
+    if count not in (2, 4):
+        return
+    from lenslab.errors import FormatError
+    from lenslab.io import carries_alpha, output_channels
+
+    if carries_alpha(meta, count) or (fmt is not None and "channels" in fmt.write_options):
+        return
+    names = ", ".join(output_channels(meta, count))
+    where = (f"{fmt.title} would take the last for alpha or drop it: write EXR, which keeps them by name"
+             if fmt is not None else "a tone curve acts on colour and alpha: keep them with lenslab convert --to exr")
+    raise FormatError(f"{src}: channels {names} hold data, none is alpha (only A is); {where}")
+

@@ -52,8 +52,9 @@ class TonemapJob(Job):
         image is given up (the curve may write in its memory; its shape stays)."""
         from lenslab import io
         from lenslab.io.registry import format_for_path, get
-        from lenslab.jobs.stages import develop, encode_options
+        from lenslab.jobs.stages import check_data_channels, develop, encode_options
 
+        check_data_channels(meta.get("path", "the image"), meta, image.shape[-1] if image.ndim == 3 else 1)
         fmt = get(format_for_path(dst, None))
         out, shown = develop(image, meta, fmt, self.look, in_place=in_place)
         dither = None if self.display else self.dither  # display code values are rounded, never dithered

@@ -90,6 +90,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     check_output(dst_path, [src_path], job.overwrite)
     image, meta = read(src_path)
     image = check_image(image, src_path)
+    from lenslab.jobs.stages import check_data_channels
+
+    check_data_channels(src_path, meta, image.shape[2], fmt)
     if job.stmap:
         from lenslab.stmap import warp_with_st_map
 
