@@ -18,10 +18,11 @@ def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG")
     if hdr and bits == 8:
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
-    if hdr and "cicp" not in accepts and fmt.kind != "video":
-        from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.png_cicp import display_code_points
 
-        what = "HLG" if (display_code_points(display) or (0, 0))[1] == 18 else "PQ"
+    points = display_code_points(display) if hdr else None
+    if points is not None and "cicp" not in accepts and fmt.kind != "video":
+        what = "HLG" if points[1] == 18 else "PQ"
         raise FormatError(f"{display}: {fmt.title} has no tag that says its samples are {what}-encoded (readers "
                           f"would take them for sRGB): write PNG (its cICP chunk says Rec.2100 {what}), a video "
                           "clip (its transfer tag), or EXR without --display (linear light)")
