@@ -34,7 +34,8 @@ def display_code_points(display: str) -> tuple[int, int, int, int] | None:
     return None
 
 
-def _chunk(kind: bytes, data: bytes) -> bytes:
+def png_chunk(kind: bytes, data: bytes) -> bytes:
+    """One PNG chunk: its length, type, data and CRC-32 (PNG Specification, 5.3)."""
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
 
@@ -46,7 +47,7 @@ def with_cicp(png: bytes, points) -> bytes:
     end = 8 + 8 + 13 + 4  # signature, IHDR length and type, its 13 bytes, its CRC
     if png[12:16] != b"IHDR":
         raise ValueError("not a PNG stream that starts with IHDR")
-    return png[:end] + _chunk(b"cICP", bytes(points)) + png[end:]
+    return png[:end] + png_chunk(b"cICP", bytes(points)) + png[end:]
 
 
 def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:

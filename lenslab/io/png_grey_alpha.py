@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-from lenslab.io.png_cicp import _chunk
+from lenslab.io.png_cicp import png_chunk
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 GREY_ALPHA = 4  # IHDR colour type
@@ -33,5 +33,5 @@ def encode_grey_alpha(codes: np.ndarray, compression: int = 1) -> bytes:
     rows = np.ascontiguousarray(codes, dtype=codes.dtype.newbyteorder(">")).view(np.uint8).reshape(h, -1)
     raw = np.concatenate([np.zeros((h, 1), np.uint8), rows], axis=1)  # filter byte 0 on each row
     head = struct.pack(">IIBBBBB", w, h, depth, GREY_ALPHA, 0, 0, 0)
-    return (SIGNATURE + _chunk(b"IHDR", head) + _chunk(b"IDAT", zlib.compress(raw.tobytes(), int(compression)))
-            + _chunk(b"IEND", b""))
+    return (SIGNATURE + png_chunk(b"IHDR", head) + png_chunk(b"IDAT", zlib.compress(raw.tobytes(), int(compression)))
+            + png_chunk(b"IEND", b""))
