@@ -250,9 +250,9 @@ def _select(keys: set[str]) -> tuple[list[str | None], list[str], list[str], boo
     return order, list(order), [], False
 
 
-def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.ndarray:
+def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) -> np.ndarray:
     """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
-    block of rows at a time, so the only full-size allocation is the result. ``in_place``: the result
+    block of rows at a time (None: about 2 MB of float32), so the only full-size allocation is the result. ``in_place``: the result
     is made in the first half of ``image``'s own memory (no allocation of the image's size; ``image`` is
     overwritten) when ``image`` is a C-contiguous, writable float32 array."""
     own = (in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable
@@ -263,6 +263,7 @@ def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.nd
     else:
         out = np.empty(image.shape, np.float16)
     n = 0
+    rows = rows or max(1, (2 << 20) // max(1, image[:1].nbytes))
     for y in range(0, image.shape[0], rows):
         block = image[y:y + rows]
         big = np.abs(block) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
