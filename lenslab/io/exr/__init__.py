@@ -18,6 +18,9 @@ Reading
 - The data window is placed in the display window (outside it: 0, alpha 0) unless
   ``data_window=True`` keeps the stored pixels as they are.
 - Tiled and mip-mapped files read at their full-resolution level. Deep files are refused.
+- The first part's full-resolution channels are read a band of whole chunks at a time into the float32
+  image (:mod:`lenslab.io.exr.bands`): no copy of the image at its stored type beside it. Other parts,
+  subsampled and luminance-chroma channels take OpenEXR's whole-file read (:mod:`lenslab.io.exr.whole`).
 
 Writing: half (default) or float, ZIP compression by default, the camera as a TOML string attribute
 ``lenslab.camera``. Values beyond half's range are clamped to +-65504 and counted in a
