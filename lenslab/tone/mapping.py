@@ -161,13 +161,19 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         lum = luminance_sample(stats, weights) * scale
         avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
         scale = scale * resolved["key"] / max(avg, 1e-30)
-    same = _own(image, x, in_place) and x.flags.c_contiguous
+    # the result in x's memory: the caller gave it up, and each block is read before it is written (per
+    # value, or RGB through planar copies; an image with alpha maps a copy of its straight colour)
+    same = _own(image, x, in_place) and x.flags.c_contiguous and (alpha or mode_key == "per-channel" or not rgb)
     out = x if same else np.empty_like(x)
     counts, is_slight = Counts(), True
+    # bands where something is copied or judged before its memory is overwritten: the straight colour of an
+    # image with alpha, or an image mapped in place that holds negatives beyond the slight ones; else one pass
+    clean = None if alpha or not same else bool(x.min() >= -SLIGHT)
+    spans = _bands(x) if alpha or clean is False else [(0, x.shape[0])]
     with np.errstate(divide="ignore", over="ignore"):
-        for r0, r1 in _bands(x):
+        for r0, r1 in spans:
             is_slight &= _band(spec, resolved, scale, x[r0:r1], out[r0:r1], same, alpha, rgb, mode_key, weights,
-                               counts, threads)
+                               counts, threads, clean)
     warn_repairs(counts, x.size - (x[..., -1].size if alpha else 0), is_slight=is_slight)
     return out
 
@@ -187,11 +193,11 @@ def _bands(x: np.ndarray) -> list[tuple[int, int]]:
     return [(r, min(n, r + rows)) for r in range(0, n, rows)]
 
 
-def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, counts, threads) -> bool:
+def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, counts, threads, clean=None) -> bool:
     """Map the band ``xb`` into ``ob`` (``same``: the same memory), counting the repairs into ``counts``;
     whether its negatives are all slight (:func:`slight`). With ``alpha`` (the last channel, colour
     premultiplied): the curve acts on the straight colour, which is premultiplied again, and alpha is
-    clipped to [0, 1]."""
+    clipped to [0, 1]. ``clean``: whether the band holds no negative beyond the slight ones, when known."""
     if alpha:
         a = np.clip(np.nan_to_num(xb[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)[..., None]
         src = xb[..., :-1].copy()
@@ -201,7 +207,7 @@ def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, co
     # in place where each block is read before it is written (per value, or RGB through planar copies) and
     # the band's input is not needed again (no negative beyond the slight ones to judge)
     writable = (alpha or same) and (mode_key == "per-channel" or not rgb)
-    if writable and bool(src.min() >= -SLIGHT):
+    if writable and (clean if clean is not None else bool(src.min() >= -SLIGHT)):
         dst = src
     else:
         dst = np.empty_like(src) if alpha or same else ob
