@@ -140,9 +140,10 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     # (unpremultiplied block by block)
     codes = encode_codes(image, bits, raw, dither, straight=not raw, in_place=in_place)
     if c in (3, 4):  # OpenCV's order, B G R (A): red and blue swapped in place, a band of rows at a time
+        swap = cv2.COLOR_RGB2BGR if c == 3 else cv2.COLOR_RGBA2BGRA
         for r in range(0, codes.shape[0], 64):
             band = codes[r:r + 64]
-            band[..., [0, 2]] = band[..., [2, 0]]
+            cv2.cvtColor(band, swap, dst=band)
     if fmt == "jpg":
         sub = subsampling or ("444" if int(quality) >= 90 else "420")
         factors = {"444": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_444, "422": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_422,
