@@ -64,6 +64,9 @@ class WarpJob(Job):
     codec: str | None = None
     #: one batch's maps are its own (a process keeps the maps of one batch at a time)
     batch: str = field(default_factory=lambda: secrets.token_hex(8), compare=False)
+    #: False: the job warps one still image, whose maps no later image reuses: none are kept (a band's map
+    #: lives in scratch memory while it is drawn)
+    keep_maps: bool = True
 
     @property
     def st(self):
@@ -147,8 +150,11 @@ def plan_cache(job):
     factory = WarpPlan
     if job.compat == "v360":
         from lenslab.warp.compat_v360 import V360Plan as factory
-    return PlanCache(factory=factory, filter=job.filter, samples=job.samples, antialias=job.antialias,
-                     seed=job.seed, allow_parallax=job.allow_parallax, exact_map=job.exact_map)
+    from lenslab.warp.batch import MAX_MAP_BYTES
+
+    return PlanCache(factory=factory, max_map_bytes=MAX_MAP_BYTES if job.keep_maps else 0, filter=job.filter,
+                     samples=job.samples, antialias=job.antialias, seed=job.seed,
+                     allow_parallax=job.allow_parallax, exact_map=job.exact_map)
 
 
 def st_map(path: str):
