@@ -152,9 +152,15 @@ def plan_cache(job):
         from lenslab.warp.compat_v360 import V360Plan as factory
     from lenslab.warp.batch import MAX_MAP_BYTES
 
-    return PlanCache(factory=factory, max_map_bytes=MAX_MAP_BYTES if job.keep_maps else 0, filter=job.filter,
-                     samples=job.samples, antialias=job.antialias, seed=job.seed,
-                     allow_parallax=job.allow_parallax, exact_map=job.exact_map)
+    # maps not kept: each band's lives in scratch memory while it is drawn, in bands of SCRATCH_POINTS
+    kept = {} if job.keep_maps else {"max_map_bytes": 0, "band_points": SCRATCH_POINTS}
+    return PlanCache(factory=factory, filter=job.filter, samples=job.samples, antialias=job.antialias,
+                     seed=job.seed, allow_parallax=job.allow_parallax, exact_map=job.exact_map, **kept)
+
+
+#: output samples per band of a warp whose maps are not kept: a band's map and scratch stay a few MB per
+#: thread (as fast as the engine's larger bands: the kernels' work per sample dominates)
+SCRATCH_POINTS = 1 << 16
 
 
 def st_map(path: str):
