@@ -104,3 +104,21 @@ def test_half_float_and_uint_channels_keep_their_values(tmp_path, band_size):
     own = OpenEXR.File(str(path), separate_channels=True).channels()["B"].pixels  # OpenEXR's own reader
     assert np.array_equal(image[..., 2], own.astype(np.float32))
     assert meta["sample_type"] == "float/half/uint" and meta["bit_depth"] == 32
+
+
+def test_other_primaries_are_converted_in_every_band(tmp_path, band_size):
+    """Rec.2020 primaries (the file's chromaticities attribute) to Rec.709 over 600 rows (several bands
+    of the conversion): colour-science's RGB_to_RGB matrix in float64 (both white points D65, no
+    adaptation), within float32's rounding of a 3 x 3 product (1e-6 of values up to 1.7)."""
+    colour = pytest.importorskip("colour")
+    rng = np.random.default_rng(6)
+    img = rng.random((600, 40, 3)).astype(np.float32)
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+              "chromaticities": (0.708, 0.292, 0.170, 0.797, 0.131, 0.046, 0.3127, 0.3290)}
+    path = tmp_path / "p.exr"
+    OpenEXR.File(header, {"RGB": img}).write(str(path))
+    image, meta = lio.read(path)
+    m = colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["ITU-R BT.2020"], colour.RGB_COLOURSPACES["ITU-R BT.709"],
+                                 chromatic_adaptation_transform=None)
+    assert meta["primaries_converted_to_rec709"]
+    np.testing.assert_allclose(image, img.astype(np.float64) @ m.T, rtol=0, atol=1e-6)
