@@ -9,7 +9,10 @@ number of the file's chunks (16 scanlines for ZIP, 32 for PIZ, 256 for DWAB, a r
 chunk is decoded twice.
 
 The scanline interface reads a file's first part at its full resolution, channels sampled at every
-pixel; :func:`can_read` says whether a read is of that kind (others take the whole-file read).
+pixel; :func:`can_read` says whether a read is of that kind (others take the whole-file read). It holds
+Python's lock while it decodes a band: the threads of a batch wait for each other's decoding (their
+writing and other work go on between bands), while OpenEXR's own pool (``lenslab.io.exr.THREADS``)
+decodes a band's chunks in parallel.
 """
 
 from __future__ import annotations
@@ -85,7 +88,7 @@ def read_into(path, header: dict, names: list[str | None], types: dict[str, str]
     reader = OpenEXR.InputFile(str(path))
     groups: dict[str, list[tuple[int, str]]] = {}  # one call per stored type (a chunk is decoded once a call)
     for i, n in wanted:
-        groups.setdefault(types.get(n, "FLOAT") if types.get(n) in _DTYPES else "FLOAT", []).append((i, n))
+        groups.setdefault(types.get(n) if types.get(n) in _DTYPES else "FLOAT", []).append((i, n))
     start = y0 + (first - y0) // rows * rows  # bands aligned to the window's first row: whole chunks
     for a in range(start, last + 1, rows):
         b0, b1 = max(a, first), min(a + rows - 1, last)
