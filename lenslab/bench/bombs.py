@@ -96,15 +96,15 @@ BOMBS = {
 
 
 def edge_size() -> tuple[int, int]:
-    """(width, height) of the 2:1 RGBA image whose float32 decoding comes nearest to
-    :data:`lenslab.io.budget.BASE_BYTES` without passing it: the largest a file under 1 MB may decode to."""
+    """(width, height) of the largest 2:1 RGBA image (an equirect panorama, which ``lenslab warp`` takes
+    without ``--from``) whose float32 decoding stays within :data:`lenslab.io.budget.BASE_BYTES`: the
+    largest panorama a file under 1 MB may decode to."""
     from math import isqrt
 
     from lenslab.io.budget import BASE_BYTES
 
-    pixels = BASE_BYTES // 16  # RGBA float32
-    height = max(1, isqrt(pixels // 2))
-    return max(1, pixels // height), height
+    height = max(1, isqrt(BASE_BYTES // 32))  # RGBA float32: 2 * height * height * 16 bytes
+    return 2 * height, height
 
 
 def write_edge(path) -> Path:

@@ -288,7 +288,10 @@ def run(args: argparse.Namespace) -> int:
         return 1
     pairs = plan_outputs(files, args.output, output_extension(args.format), fmt=args.format, verb="warp")
     check_options_apply(args, pairs)
-    job = WarpJob.from_options(args)
+    from lenslab.jobs.warp_video import is_video
+
+    # one still image: no later image reuses its maps, which are then not kept
+    job = WarpJob.from_options(args, keep_maps=len(pairs) > 1 or any(is_video(src) for src, _ in pairs))
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "":
         from lenslab.jobs.policy import make_output_dir

@@ -9,11 +9,13 @@ one line naming the file and before any pixel memory exists:
 
 - a size beyond :data:`lenslab.inputs.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
-- a decoded float image larger than :data:`BASE_BYTES` (128 MiB) from a file under :data:`SMALL_FILE`
-  (1 MiB), however well it compresses. 128 MiB admits the panoramas people share on the web (a 4096 x 2048
-  JPEG under 1 MB decodes to 101 MB, which 64 MiB refused); a command working on an image at this limit
-  allocates up to about 2.4 times it (``lenslab bench memory``, the ``memory.edge_*`` figures), so the
-  200 MB aim for files under 1 MB holds only up to about 64 MiB. Genuine flat images beyond the limit are
+- a decoded float image larger than :data:`BASE_BYTES` (96 MiB) from a file under :data:`SMALL_FILE`
+  (1 MiB), however well it compresses. 96 MiB is exactly a 4096 x 2048 RGB panorama in float32: the
+  panoramas people share on the web (a 4096 x 2048 JPEG or PNG under 1 MB) are read, and every command
+  on an image at this limit peaks within 200 MB beyond its start (``lenslab bench memory``, the
+  ``memory.edge_*`` figures: a flat RGBA image of the budget). A 4096 x 2048 RGBA image (128 MiB) from a
+  file under 1 MB is refused: a command reads it into one float image of its size, and a warp holds
+  that source, its output and its maps, which passes 200 MB. Genuine flat images beyond the limit are
   refused too (a flat 6144 x 3072 RGB float EXR, ZIP, decodes to 226 MB); ``LENSLAB_BASE_BYTES`` admits them;
 - a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
   :data:`BASE_BYTES`. 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float image,
@@ -36,7 +38,7 @@ from lenslab.inputs.limits import env_int
 
 #: a decoded float image up to this size is admitted whatever its file's size: what every command holds
 #: within 200 MB beyond its start with a margin (``lenslab bench memory``, ``memory.edge_*``)
-BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 128 << 20)
+BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 96 << 20)
 #: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
 MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
 #: a file smaller than this never decodes to more than BASE_BYTES

@@ -180,7 +180,7 @@ def _noise_streams(values: int, seed: int = 0):
 
 
 def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool = False,
-                 straight: bool = False) -> np.ndarray:
+                 straight: bool = False, in_place: bool = False) -> np.ndarray:
     """Float32 H x W x C -> uint8/uint16 samples: colour sRGB-encoded (``raw``: value * maxval), alpha
     (the last channel of 2 or 4) always value * maxval; rounded to nearest (``dither``: TPDF, as
     :func:`quantise` with seed 0). NaN and infinite samples (NaN and -inf as 0, +inf as maxval) are
@@ -188,7 +188,9 @@ def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool =
     premultiplied colour and the samples are of straight colour, as ``unpremultiply(image)`` gives.
 
     Works a block of pixels at a time into the output: no float copy of the image's size (the codes
-    are those of the whole image at once, dither included)."""
+    are those of the whole image at once, dither included). ``in_place``: the codes are written into the
+    first bytes of ``image``'s own memory (a C-contiguous, writable float32 array the caller gives up: it
+    is overwritten), so the only memory of the image's size is the image itself."""
     from lenslab.io.alpha import unpremultiply
 
     c = image.shape[-1]
@@ -196,25 +198,33 @@ def encode_codes(image: np.ndarray, bits: int, raw: bool = False, dither: bool =
     coded = c - 1 if alpha else c  # channels encoded (and dithered); alpha is quantised alone
     pixels = image.reshape(-1, c)
     n = pixels.shape[0]
-    out = np.empty((n, c), np.uint8 if bits <= 8 else np.uint16)
+    kind = np.uint8 if bits <= 8 else np.uint16
+    own = (in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable
+           and image.size > 0)
+    # in place: block i's codes land at bytes a quarter (8 bits) or a half (16 bits) of the way to its own
+    # floats, over floats of this block or earlier ones, which are read into the block's codes before
+    out = pixels.reshape(-1).view(kind)[:n * c].reshape(n, c) if own else np.empty((n, c), kind)
     noise = _noise_streams(n * coded) if dither else None
     nan = pos = neg = 0
     step = max(1, _BLOCK // c)
+    codes = np.empty((min(step, n), c), kind)
     for s in range(0, n, step):
         block = pixels[s:s + step]
+        m = block.shape[0]
         if straight and alpha:
             block = unpremultiply(block[None])[0]
         counts = count_non_finite(block)
         nan, pos, neg = nan + counts[0], pos + counts[1], neg + counts[2]
         colour = block[:, :coded]
         if raw:
-            out[s:s + step, :coded] = _quantise(colour, bits, noise)
+            codes[:m, :coded] = _quantise(colour, bits, noise)
         elif noise is None and bits in _CELLS:
-            out[s:s + step, :coded] = _encode_table(colour.astype(np.float32, copy=False), bits)
+            codes[:m, :coded] = _encode_table(colour.astype(np.float32, copy=False), bits)
         else:
-            out[s:s + step, :coded] = _quantise(encode_srgb(colour), bits, noise)
+            codes[:m, :coded] = _quantise(encode_srgb(colour), bits, noise)
         if alpha:
-            out[s:s + step, coded:] = quantise(block[:, coded:], bits)
+            codes[:m, coded:] = quantise(block[:, coded:], bits)
+        out[s:s + m] = codes[:m]
     note_non_finite(None, f"{bits}-bit integer samples", "0 (NaN, -inf) and the largest code (+inf)",
                     counts=(nan, pos, neg))
     return out.reshape(image.shape)

@@ -122,12 +122,15 @@ def _gain_map_note(data: bytes) -> dict:
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
                subsampling: str | None = None, bits: int = 8, dither: bool = False,
-               compression: int = 1, cicp=None) -> bytes:
-    """Encode a float image (C = 1, 2 (grey and alpha), 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes.
+               compression: int = 1, cicp=None, in_place: bool = False):
+    """Encode a float image (C = 1, 2 (grey and alpha), 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes
+    (a bytes-like object: the encoder's own buffer, not copied).
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
     6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
-    encoding, :mod:`lenslab.io.png_cicp`).
+    encoding, :mod:`lenslab.io.png_cicp`). ``in_place``: the code values are made in the image's own
+    memory (the caller gives it up; :func:`lenslab.io.encode.encode_codes`), so encoding holds no other
+    array of the image's size than the file's bytes.
     """
     import cv2
 
@@ -141,16 +144,18 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
             raise FormatError(f"JPG quality must be 0..100, not {quality}")
     elif bits not in (8, 16):
         raise FormatError(f"PNG can be written with bits=8 or bits=16, not {bits!r}")
-    codes = encode_codes(image, bits, raw, dither, straight=not raw)  # (unpremultiplied block by block)
+    # (unpremultiplied block by block)
+    codes = encode_codes(image, bits, raw, dither, straight=not raw, in_place=in_place)
     if c == 2 and fmt == "png":  # grey and alpha: a file OpenCV cannot write
         from lenslab.io.png_grey_alpha import encode_grey_alpha
 
         buf = encode_grey_alpha(codes, compression)
         return buf if cicp is None else _with_cicp(buf, cicp)
-    if c == 3:
-        codes = cv2.cvtColor(codes, cv2.COLOR_RGB2BGR)
-    elif c == 4:
-        codes = cv2.cvtColor(np.ascontiguousarray(codes), cv2.COLOR_RGBA2BGRA)
+    if c in (3, 4):  # OpenCV's order, B G R (A): red and blue swapped in place, a band of rows at a time
+        swap = cv2.COLOR_RGB2BGR if c == 3 else cv2.COLOR_RGBA2BGRA
+        for r in range(0, codes.shape[0], 64):
+            band = codes[r:r + 64]
+            cv2.cvtColor(band, swap, dst=band)
     if fmt == "jpg":
         sub = subsampling or ("444" if int(quality) >= 90 else "420")
         factors = {"444": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_444, "422": cv2.IMWRITE_JPEG_SAMPLING_FACTOR_422,
@@ -165,11 +170,12 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
         ok, buf = cv2.imencode(".png", codes, [cv2.IMWRITE_PNG_COMPRESSION, int(compression)])
     if not ok:
         raise FormatError(f"OpenCV could not encode the image as {fmt.upper()}")
+    del codes
     if cicp is not None:
         if fmt != "png":
             raise FormatError("only PNG carries a cICP chunk")
         return _with_cicp(buf.tobytes(), cicp)
-    return buf.tobytes()
+    return memoryview(buf).cast("B")
 
 
 def _with_cicp(png: bytes, cicp) -> bytes:

@@ -64,6 +64,9 @@ class WarpJob(Job):
     codec: str | None = None
     #: one batch's maps are its own (a process keeps the maps of one batch at a time)
     batch: str = field(default_factory=lambda: secrets.token_hex(8), compare=False)
+    #: False: the job warps one still image, whose maps no later image reuses: none are kept (a band's map
+    #: lives in scratch memory while it is drawn)
+    keep_maps: bool = True
 
     @property
     def st(self):
@@ -150,8 +153,17 @@ def plan_cache(job):
     factory = WarpPlan
     if job.compat == "v360":
         from lenslab.warp.compat_v360 import V360Plan as factory
+    from lenslab.warp.batch import MAX_MAP_BYTES
+
+    # maps not kept: each band's lives in scratch memory while it is drawn, in bands of SCRATCH_POINTS
+    kept = {} if job.keep_maps else {"max_map_bytes": 0, "band_points": SCRATCH_POINTS}
     return PlanCache(factory=factory, filter=job.filter, samples=job.samples, antialias=job.antialias,
-                     seed=job.seed, allow_parallax=job.allow_parallax, exact_map=job.exact_map)
+                     seed=job.seed, allow_parallax=job.allow_parallax, exact_map=job.exact_map, **kept)
+
+
+#: output samples per band of a warp whose maps are not kept: a band's map and scratch stay a few MB per
+#: thread (as fast as the engine's larger bands: the kernels' work per sample dominates)
+SCRATCH_POINTS = 1 << 16
 
 
 def st_map(path: str):

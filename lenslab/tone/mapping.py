@@ -45,12 +45,15 @@ class ToneWarning(UserWarning):
 
 
 
-def warn_repairs(counts: Counts, total: int, image=None) -> None:
+def warn_repairs(counts: Counts, total: int, image=None, is_slight: bool | None = None) -> None:
     """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (a codec's undershoot,
-    :func:`lenslab.tone.repairs.slight`, judged on ``image``) go to the command's one-line tally instead."""
+    :func:`lenslab.tone.repairs.slight`, judged on ``image``, or ``is_slight`` as already judged band by
+    band) go to the command's one-line tally instead."""
     if not counts.any():
         return
-    if not counts.nan and not counts.posinf and slight(image if image is not None else (), counts.lowest):
+    if is_slight is None:
+        is_slight = slight(image if image is not None else (), counts.lowest)
+    if not counts.nan and not counts.posinf and is_slight:
         tally_slight(counts.negative, counts.lowest)
         return
     parts = []
@@ -137,52 +140,126 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     if mode_key not in ("per-channel", "luminance"):
         raise ToneError(f"tone mode {mode!r} is not valid; use 'per-channel' or 'luminance'")
     x = as_float32(image)
+    if x.ndim == 0:
+        return tonemap(x.reshape(1), spec.name, exposure, mode_key, primaries=primaries, **resolved).reshape(())
     if x.ndim == 3 and x.shape[-1] not in (1, 2, 3, 4):
         raise ToneError(f"image has {x.shape[-1]} channels; tone mapping takes 1 or 3 (plus alpha)")
-    if x.ndim == 3 and x.shape[-1] in (2, 4):
-        alpha = np.clip(np.nan_to_num(x[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
+    alpha = x.ndim == 3 and x.shape[-1] in (2, 4)
+    if spec.kind == "local":
+        return _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha)
+    colour = x.shape[-1] - 1 if alpha else (x.shape[-1] if x.ndim == 3 else 1)
+    rgb = x.ndim == 3 and colour == 3
+    # the statistics (auto exposure, an image curve's key) from a strided sample of the straight colour
+    stats = straight_sample(x) if alpha else x
+    ev = parse_exposure(exposure, stats, primaries)
+    scale = 2.0 ** ev
+    # luminance weights only where something weighs channels (importing colour-science takes a while)
+    needs_weights = rgb and (mode_key == "luminance" or spec.kind == "image")
+    weights = luminance_weights(primaries) if needs_weights else None
+    if spec.kind == "image":
+        # Reinhard et al. 2002: the scale key / log-average comes from the image's luminance
+        lum = luminance_sample(stats, weights) * scale
+        avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
+        scale = scale * resolved["key"] / max(avg, 1e-30)
+    # the result in x's memory: the caller gave it up, and each block is read before it is written (per
+    # value, or RGB through planar copies; an image with alpha maps a copy of its straight colour)
+    same = _own(image, x, in_place) and x.flags.c_contiguous and (alpha or mode_key == "per-channel" or not rgb)
+    out = x if same else np.empty_like(x)
+    counts, is_slight = Counts(), True
+    # bands where something is copied or judged before its memory is overwritten: the straight colour of an
+    # image with alpha, or an image mapped in place that holds negatives beyond the slight ones; else one pass
+    clean = None if alpha or not same else bool(x.min() >= -SLIGHT)
+    spans = _bands(x) if alpha or clean is False else [(0, x.shape[0])]
+    with np.errstate(divide="ignore", over="ignore"):
+        for r0, r1 in spans:
+            is_slight &= _band(spec, resolved, scale, x[r0:r1], out[r0:r1], same, alpha, rgb, mode_key, weights,
+                               counts, threads, clean)
+    warn_repairs(counts, x.size - (x[..., -1].size if alpha else 0), is_slight=is_slight)
+    return out
+
+
+#: values of one band of rows (a band, its straight colour and a mapped copy stay a few MB)
+BAND_VALUES = 1 << 21
+
+
+def _bands(x: np.ndarray) -> list[tuple[int, int]]:
+    """Bands of the rows of ``x``: a multiple of 8 rows each (the 8 x 8 blocks of :func:`slight`) of about
+    :data:`BAND_VALUES` values; a 1-D array is one band."""
+    n = x.shape[0] if x.ndim else 0
+    if x.ndim < 2 or n == 0:
+        return [(0, n)] if n else []
+    per_row = max(1, x[0].size)
+    rows = max(8, BAND_VALUES // per_row // 8 * 8)
+    return [(r, min(n, r + rows)) for r in range(0, n, rows)]
+
+
+def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, counts, threads, clean=None) -> bool:
+    """Map the band ``xb`` into ``ob`` (``same``: the same memory), counting the repairs into ``counts``;
+    whether its negatives are all slight (:func:`slight`). With ``alpha`` (the last channel, colour
+    premultiplied): the curve acts on the straight colour, which is premultiplied again, and alpha is
+    clipped to [0, 1]. ``clean``: whether the band holds no negative beyond the slight ones, when known."""
+    if alpha:
+        a = np.clip(np.nan_to_num(xb[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)[..., None]
+        src = xb[..., :-1].copy()
+        np.divide(src, a, out=src, where=a > 0)
+    else:
+        src = xb
+    # in place where each block is read before it is written (per value, or RGB through planar copies) and
+    # the band's input is not needed again (no negative beyond the slight ones to judge)
+    writable = (alpha or same) and (mode_key == "per-channel" or not rgb)
+    if writable and (clean if clean is not None else bool(src.min() >= -SLIGHT)):
+        dst = src
+    else:
+        dst = np.empty_like(src) if alpha or same else ob
+    tally = Counts()
+    _apply_global(spec, resolved, scale, src, dst, rgb, mode_key, weights, tally, threads)
+    # judged before the band's memory takes the result
+    judged = not tally.negative or bool(tally.nan or tally.posinf) or slight(src, tally.lowest)
+    if alpha:
+        dst *= a
+        ob[..., :-1] = dst
+        ob[..., -1:] = a
+    elif dst is not ob:
+        ob[...] = dst
+    counts.add(tally)
+    return judged
+
+
+def straight_sample(x: np.ndarray, max_samples: int = 1 << 18) -> np.ndarray:
+    """The pixels of an image with alpha (H x W x C, colour premultiplied) that
+    :func:`lenslab.tone.exposure.luminance_sample` takes (every ``step``-th), as straight colour
+    (``n x 1 x (C - 1)``): statistics of the straight colour with no copy of the image's size."""
+    px = x.reshape(-1, x.shape[-1])
+    step = max(1, -(-px.shape[0] // max_samples))
+    sample = px[::step]
+    a = np.clip(np.nan_to_num(sample[:, -1:], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
+    colour = sample[:, :-1].copy()
+    np.divide(colour, a, out=colour, where=a > 0)
+    return colour[:, None, :]
+
+
+def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha) -> np.ndarray:
+    """A local curve (it looks at the whole image): on a copy of the straight colour."""
+    if alpha:
+        a = np.clip(np.nan_to_num(x[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
         colour_part = x[..., :-1].copy()
-        a = alpha[..., None]
-        np.divide(colour_part, a, out=colour_part, where=a > 0)
+        np.divide(colour_part, a[..., None], out=colour_part, where=a[..., None] > 0)
         mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, threads=threads,
                          in_place=True, **resolved)  # (the copy is this function's own)
         del colour_part
-        mapped *= a
+        mapped *= a[..., None]
         out = x if _own(image, x, in_place) else np.empty(x.shape, F32)
         out[..., :-1] = mapped
-        del mapped
-        out[..., -1] = alpha
+        out[..., -1] = a
         return out
-
-    ev = parse_exposure(exposure, x, primaries)
-    scale = 2.0 ** ev
     rgb = x.ndim == 3 and x.shape[-1] == 3
-    # luminance weights only where something weighs channels (importing colour-science takes a while)
-    needs_weights = spec.kind == "local" or (rgb and (mode_key == "luminance" or spec.kind == "image"))
-    weights = luminance_weights(primaries) if needs_weights else None
+    ev = parse_exposure(exposure, x, primaries)
     counts = Counts()
-
-    if spec.kind == "local":
-        clean = x.copy()
-        inf_mask = repair(clean, counts)
-        clean *= F32(scale)
-        out = spec.build(clean, resolved, weights)
-        out[inf_mask.any(axis=-1) if rgb else inf_mask] = 1
-        warn_repairs(counts, x.size, x)
-        return out
-
-    if spec.kind == "image":
-        # Reinhard et al. 2002: the scale key / log-average comes from the image's luminance
-        lum = luminance_sample(x, weights) * scale
-        avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
-        scale = scale * resolved["key"] / max(avg, 1e-30)
-
-    # in place where each block is read before it is written (per value, or RGB through planar copies)
-    # and the warning need not look at the input again (no negative beyond the slight ones)
-    out = x if (_own(image, x, in_place) and x.flags.c_contiguous and (mode_key == "per-channel" or not rgb)
-                and x.size and bool(x.min() >= -SLIGHT)) else np.empty_like(x)
-    with np.errstate(divide="ignore", over="ignore"):
-        _apply_global(spec, resolved, scale, x, out, rgb, mode_key, weights, counts, threads)
+    clean = x.copy()
+    inf_mask = repair(clean, counts)
+    clean *= F32(2.0 ** ev)
+    out = spec.build(clean, resolved, luminance_weights(primaries))
+    out[inf_mask.any(axis=-1) if rgb else inf_mask] = 1
     warn_repairs(counts, x.size, x)
     return out
 

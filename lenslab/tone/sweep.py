@@ -55,10 +55,7 @@ def run_split(sweep, src: np.ndarray, dst: np.ndarray, kernel, extra: tuple, cou
     with ThreadPoolExecutor(len(parts)) as pool:
         list(pool.map(work, zip(parts, tallies)))
     for t in tallies:
-        counts.nan += t.nan
-        counts.posinf += t.posinf
-        counts.negative += t.negative
-        counts.lowest = min(counts.lowest, t.lowest)
+        counts.add(t)
 
 
 class Counts:
@@ -70,6 +67,12 @@ class Counts:
 
     def any(self) -> bool:
         return bool(self.nan or self.posinf or self.negative)
+
+    def add(self, other: "Counts") -> None:
+        self.nan += other.nan
+        self.posinf += other.posinf
+        self.negative += other.negative
+        self.lowest = min(self.lowest, other.lowest)
 
 
 def repair(block: np.ndarray, counts: Counts) -> np.ndarray:

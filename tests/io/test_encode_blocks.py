@@ -62,6 +62,18 @@ def _round_coverage(a, maxval):
     return np.floor(a32 * np.float32(maxval) + np.float32(0.5)).astype(np.int64)
 
 
+def check_straight_codes(path, img, bits) -> None:
+    """The codes of ``path`` (read by OpenImageIO) are colour-science's sRGB of ``img``'s straight colour,
+    rounded, and its alpha as coverage."""
+    maxval = (1 << bits) - 1
+    straight, a = _straight64(img)
+    expected_colour = _round(colour.models.eotf_inverse_sRGB(np.clip(np.nan_to_num(straight, nan=0.0, posinf=1.0,
+                                                                                   neginf=0.0), 0, 1)), maxval)
+    got = _codes(path, bits).astype(np.int64)
+    assert np.array_equal(got[..., :-1], expected_colour)
+    assert np.array_equal(got[..., -1:], _round_coverage(a, maxval))
+
+
 @pytest.mark.parametrize("ext,opts,bits,c", [(".png", {"bits": 8}, 8, 4), (".png", {"bits": 16}, 16, 4),
                                              (".tif", {"sample_type": "uint8"}, 8, 4),
                                              (".tif", {"sample_type": "uint16"}, 16, 2)])
@@ -73,13 +85,7 @@ def test_straight_codes_are_colour_science_srgb_of_the_whole_image(tmp_path, ext
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         lio.write(path, img, **opts)
-    maxval = (1 << bits) - 1
-    straight, a = _straight64(img)
-    expected_colour = _round(colour.models.eotf_inverse_sRGB(np.clip(np.nan_to_num(straight, nan=0.0, posinf=1.0,
-                                                                                   neginf=0.0), 0, 1)), maxval)
-    got = _codes(path, bits).astype(np.int64)
-    assert np.array_equal(got[..., :-1], expected_colour)
-    assert np.array_equal(got[..., -1:], _round_coverage(a, maxval))
+    check_straight_codes(path, img, bits)
     notes = [str(w.message) for w in caught if issubclass(w.category, NonFiniteWarning)]
     assert len(notes) == 1 and "1 NaN" in notes[0] and "1 +inf" in notes[0] and "1 -inf" in notes[0], notes
 

@@ -18,6 +18,9 @@ Reading
 - The data window is placed in the display window (outside it: 0, alpha 0) unless
   ``data_window=True`` keeps the stored pixels as they are.
 - Tiled and mip-mapped files read at their full-resolution level. Deep files are refused.
+- The first part's full-resolution channels are read a band of whole chunks at a time into the float32
+  image (:mod:`lenslab.io.exr.bands`): no copy of the image at its stored type beside it. Other parts,
+  subsampled and luminance-chroma channels take OpenEXR's whole-file read (:mod:`lenslab.io.exr.whole`).
 
 Writing: half (default) or float, ZIP compression by default, the camera as a TOML string attribute
 ``lenslab.camera``. Values beyond half's range are clamped to +-65504 and counted in a
@@ -146,10 +149,6 @@ def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]
                       f"choose one as 'file.exr:LAYER'")
 
 
-def _to_float(pixels: np.ndarray) -> np.ndarray:
-    return pixels if pixels.dtype == np.float32 else pixels.astype(np.float32)
-
-
 def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
              rec709: bool = True, extra_channels: bool = False) -> tuple[np.ndarray, dict]:
     import OpenEXR
@@ -182,106 +181,46 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     header = hpart.header
     (x0, y0), (x1, y1) = (tuple(int(v) for v in a) for a in header["dataWindow"])
     (X0, Y0), (X1, Y1) = (tuple(int(v) for v in a) for a in header["displayWindow"])
-    w, h = x1 - x0 + 1, y1 - y0 + 1
     check_size(path, X1 - X0 + 1, Y1 - Y0 + 1)
     names = _channel_names(hpart)
     short = _layer_channels(path, names, layer)
     sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
 
-    # plain RGB(A) of one sample type: the library interleaves while decoding (no copy afterwards)
-    whole = "RGBA" if sorted(names) == ["A", "B", "G", "R"] else "RGB" if sorted(names) == ["B", "G", "R"] else None
-    try:
-        types = {plain_value(c.type()) for c in header.get("channels", [])}
-    except (IndexError, ValueError, RuntimeError, TypeError):  # some headers do not say until the pixels are read
-        types = set()
-    if whole and (len(types) != 1 or set(sampling.values()) != {(1, 1)}):
-        whole = None
-    try:
-        with quiet_library(said):
-            full = OpenEXR.File(str(path), separate_channels=whole is None, num_threads=THREADS)
-            chans = full.parts[index].channels
-    except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
-        why = f" ({why})" if why else ""
-        raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
-
-    def get(name: str) -> np.ndarray:
-        ch = chans.get(short[name])
-        if ch is None or ch.pixels is None:
-            raise FormatError(f"{path}: channel {clip(short[name])} has no pixel data; the file is damaged")
-        pix = ch.pixels
-        if pix.dtype == object:
-            raise FormatError(f"{path}: channel {clip(short[name])} holds deep samples; lenslab reads flat images")
-        xs, ys = sampling.get(short[name], (1, 1))
-        if (xs, ys) != (1, 1):
-            return upsample(pix, xs, ys, w, h, x0, y0)
-        if pix.shape != (h, w):
-            raise FormatError(f"{path}: channel {clip(short[name])} is {pix.shape[1]} x {pix.shape[0]}, not the data "
-                              f"window's {w} x {h}; the file is damaged")
-        return pix  # half, float or uint: converted to float32 once, when copied into the image
-
     chroma = header.get("chromaticities")
     keys = set(short)
-    if whole is not None:
-        block = chans.get(whole)
-        if block is None or block.pixels is None or block.pixels.shape != (h, w, len(whole)):
-            raise FormatError(f"{path}: the pixel data does not match the header; the file is damaged")
-        keys = set()  # handled here, not channel by channel below
-    ignored: list[str] = []
-    converted = False
-    if whole is not None:
-        planes, out_names = [], list(whole)
-    elif len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
-        (name,) = keys
-        planes, out_names = [get(name)], [name]
-    elif keys & {"R", "G", "B"}:
-        planes = [get(c) if c in keys else None for c in "RGB"]  # None: a missing colour channel is 0
-        out_names = ["R", "G", "B"]
-        ignored = sorted(keys - {"R", "G", "B", "A"})
-    elif "Y" in keys:
-        y = get("Y")
-        if "RY" in keys and "BY" in keys:
-            rgb = yca_to_rgb(_to_float(y), get("RY"), get("BY"), luminance_weights(chroma))
-            planes, out_names = [rgb[..., 0], rgb[..., 1], rgb[..., 2]], ["R", "G", "B"]
-            converted = True
-        elif "A" in keys:  # grey and alpha, two channels (as OpenImageIO reads them)
-            planes, out_names = [y, get("A")], ["Y", "A"]
-        else:
-            planes, out_names = [y], ["Y"]
-        ignored = sorted(keys - {"Y", "RY", "BY", "A"})
+    order, out_names, ignored, converted = _select(keys)
+    window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
+    from lenslab.io.exr import bands
+
+    if not converted and bands.can_read(index, [short[c] for c in order if c is not None], sampling):
+        image, pixel_types = bands.read_image(path, header, short, order, window, display, data_window, THREADS)
     else:
-        order = sorted(keys - {"A"}) + (["A"] if "A" in keys else [])  # alpha last, as in memory
-        planes, out_names = [get(c) for c in order], order
-    if "A" in keys and out_names[:3] == ["R", "G", "B"]:
-        planes.append(get("A"))
-        out_names.append("A")
-    if whole is not None:
-        image = np.ascontiguousarray(block.pixels, dtype=np.float32)
-    else:
-        image = np.empty((h, w, len(planes)), np.float32)
-        for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
-            image[..., i] = 0 if plane is None else plane
+        from lenslab.io.exr.whole import placed, read_whole
+
+        image, pixel_types = read_whole(path, index, header, names, short, order, converted, sampling, window,
+                                        THREADS)
+        if not data_window and window != display:
+            image = placed(image, window, display)
 
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
         m = np.linalg.solve(primary_matrix(REC709), primary_matrix(chroma)).astype(np.float32)  # file RGB -> XYZ -> Rec.709
-        image[..., :3] = image[..., :3] @ m.T
+        for r in range(0, image.shape[0], 256):  # a band at a time: no temporary of the image's size
+            image[r:r + 256, :, :3] = image[r:r + 256, :, :3] @ m.T
         primaries_converted = True
-
-    if not data_window and (x0, y0, x1, y1) != (X0, Y0, X1, Y1):
-        placed = np.zeros((Y1 - Y0 + 1, X1 - X0 + 1, image.shape[2]), np.float32)
-        ix0, iy0, ix1, iy1 = max(x0, X0), max(y0, Y0), min(x1, X1), min(y1, Y1)
-        if ix0 <= ix1 and iy0 <= iy1:
-            placed[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
-        image = placed
 
     used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
                                                    else set())
     from lenslab.io.exr.extra import extra_names, extra_planes
 
     others = extra_names(names, used)
-    pixel_types = types if whole is not None else {plain_value(c.type()) for n, c in chans.items() if n in short.values()}
+    planes = {}
+    if extra_channels and others:  # read apart (only EXR to EXR asks): the image's own read stays by bands
+        from lenslab.io.exr.whole import part_channels
+
+        planes = extra_planes(path, part_channels(path, index, THREADS), others, sampling, window,
+                              None if data_window else display)
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
     attributes = {k: plain_value(v) for k, v in header.items() if k != "channels"}
     meta = {
@@ -303,8 +242,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         # every channel of the part not in the image (Z, N.x, other layers), and with extra_channels=True
         # their planes (stored type, placed as the image is) for an EXR writer's ``extra``
         "extra_channels": others,
-        "extra_planes": extra_planes(path, chans, others, sampling, (x0, y0, x1, y1),
-                                     None if data_window else (X0, Y0, X1, Y1)) if extra_channels else {},
+        "extra_planes": planes,
         "luminance_chroma": converted,
         "primaries_converted_to_rec709": primaries_converted,
         "data_window": [x0, y0, x1, y1],
@@ -315,9 +253,28 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     return image, meta
 
 
-def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.ndarray:
+def _select(keys: set[str]) -> tuple[list[str | None], list[str], list[str], bool]:
+    """(channels to read in the image's order, by short name; None: a missing colour channel, 0),
+    the image's channel names, the channels left out, and whether the file is luminance-chroma
+    (Y, RY, BY: read and converted to RGB)."""
+    alpha = ["A"] if "A" in keys else []
+    if len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
+        return list(keys), list(keys), [], False
+    if keys & {"R", "G", "B"}:
+        return [c if c in keys else None for c in "RGB"] + alpha, ["R", "G", "B"] + alpha, \
+            sorted(keys - {"R", "G", "B", "A"}), False
+    if "Y" in keys:
+        ignored = sorted(keys - {"Y", "RY", "BY", "A"})
+        if "RY" in keys and "BY" in keys:
+            return ["Y", "RY", "BY"] + alpha, ["R", "G", "B"] + alpha, ignored, True
+        return ["Y"] + alpha, ["Y"] + alpha, ignored, False  # grey (and alpha, as OpenImageIO reads them)
+    order = sorted(keys - {"A"}) + alpha  # alpha last, as in memory
+    return order, list(order), [], False
+
+
+def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) -> np.ndarray:
     """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
-    block of rows at a time, so the only full-size allocation is the result. ``in_place``: the result
+    block of rows at a time (None: about 2 MB of float32), so the only full-size allocation is the result. ``in_place``: the result
     is made in the first half of ``image``'s own memory (no allocation of the image's size; ``image`` is
     overwritten) when ``image`` is a C-contiguous, writable float32 array."""
     own = (in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable
@@ -328,6 +285,7 @@ def to_half(image: np.ndarray, rows: int = 256, in_place: bool = False) -> np.nd
     else:
         out = np.empty(image.shape, np.float16)
     n = 0
+    rows = rows or max(1, (2 << 20) // max(1, image[:1].nbytes))
     for y in range(0, image.shape[0], rows):
         block = image[y:y + rows]
         big = np.abs(block) > HALF_MAX  # NaN compares False; infinities are kept as they are, below

@@ -119,7 +119,8 @@ def _headers(f, size) -> list[dict]:
             if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
                 part[name.decode()] = struct.unpack("<iiii", value)
             elif kind == b"chlist":
-                part["channel_names"] = _channel_names(f.name, value)
+                part["channel_types"] = _channel_list(f.name, value)
+                part["channel_names"] = list(part["channel_types"])
                 part["channels"] = len(part["channel_names"])
             elif kind == b"compression" and n == 1:
                 part["compression"] = value[0]
@@ -136,24 +137,29 @@ def _headers(f, size) -> list[dict]:
     return parts
 
 
-def _channel_names(path, value: bytes) -> list[str]:
-    """The names in a ``chlist`` value (each a UTF-8 name, a NUL and 16 bytes; a NUL ends the list)."""
-    pos, names = 0, []
+#: OpenEXR's pixel type codes (``Imf::PixelType``)
+PIXEL_TYPES = {0: "UINT", 1: "HALF", 2: "FLOAT"}
+
+
+def _channel_list(path, value: bytes) -> dict[str, str]:
+    """{name: pixel type} of a ``chlist`` value (each a UTF-8 name, a NUL and 16 bytes: int32 pixel type,
+    pLinear, three reserved bytes, int32 x and y sampling; a NUL ends the list)."""
+    pos, types = 0, {}
     while pos < len(value) and value[pos] != 0:
         end = value.find(b"\0", pos)
         if end < 0 or end + 17 > len(value):
             raise FormatError(f"{path}: the channel list is damaged")
         try:
-            names.append(value[pos:end].decode("utf-8"))
+            name = value[pos:end].decode("utf-8")
         except UnicodeDecodeError:
-            raise FormatError(f"{path}: channel {len(names) + 1}'s name is not UTF-8 text; the file is damaged") from None
+            raise FormatError(f"{path}: channel {len(types) + 1}'s name is not UTF-8 text; the file is damaged") from None
+        (code,) = struct.unpack("<i", value[end + 1:end + 5])
+        types[name] = PIXEL_TYPES.get(code, "UNKNOWN")
         pos = end + 17
-    return names
+    return types
 
 
-def first_part_channels(path) -> list[str]:
-    """The channel names of an EXR's first part, from lenslab's own reading of the header (no pixel is
-    decoded, and OpenEXR never sees the file)."""
+def _first_part(path) -> dict:
     size = os.path.getsize(path)
     try:
         with open(path, "rb") as f:
@@ -163,7 +169,19 @@ def first_part_channels(path) -> list[str]:
                           "truncated or damaged") from None
     if not parts or "channel_names" not in parts[0]:
         raise FormatError(f"{path}: the OpenEXR header names no channels; the file is damaged")
-    return parts[0]["channel_names"]
+    return parts[0]
+
+
+def first_part_types(path) -> dict[str, str]:
+    """{channel name: pixel type ("HALF", "FLOAT", "UINT")} of an EXR's first part, from lenslab's own
+    reading of the header (OpenEXR's header-only reading does not give them for every file)."""
+    return _first_part(path)["channel_types"]
+
+
+def first_part_channels(path) -> list[str]:
+    """The channel names of an EXR's first part, from lenslab's own reading of the header (no pixel is
+    decoded, and OpenEXR never sees the file)."""
+    return _first_part(path)["channel_names"]
 
 
 def _chunks(part) -> int:
