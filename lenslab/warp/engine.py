@@ -25,6 +25,7 @@ from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
+from lenslab.warp.checks import OutputChecks
 from lenslab.warp.filters import all_finite, finite_source, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
@@ -219,14 +220,17 @@ class WarpPlan:
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
-        self.render(src, out, alpha, progress)
-        if not all_finite(out):  # NaN or inf in the source reached the output: read them as finite
+        checks = OutputChecks.of(src.shape[2], alpha_channel)  # made by the bands when they draw it all
+        drawn = self.render(src, out, alpha, progress, checks)
+        if not (checks.finite if drawn else all_finite(out)):  # NaN or inf in the source reached the output
             src, bad = finite_source(src)
             warnings.warn(f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest "
                           "float32", RuntimeWarning, stacklevel=2)
-            self.render(src, out, alpha, None)
-        settle(out, alpha, alpha_channel)
-        if not alpha.any():
+            checks = OutputChecks.of(src.shape[2], alpha_channel)
+            drawn = self.render(src, out, alpha, None, checks)
+        if not (drawn and checks.in_range):
+            settle(out, alpha, alpha_channel)
+        if not (checks.covered if drawn and checks.in_range else alpha.any()):
             warnings.warn(EmptyViewWarning(
                 f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
                 "lenses, the pose and the source's field of view"), stacklevel=2)
@@ -235,22 +239,28 @@ class WarpPlan:
         return out, alpha
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
-               progress: Callable[[int], None] | None = None) -> None:
-        """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size)."""
+               progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None) -> bool:
+        """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size). True when
+        this plan's bands drew the whole output as it stands and gave each band to ``checks``."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
                 render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress)
-            return
+            return False
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff)
+        if self.dst_falloff is not None:
+            checks = None  # the falloff changes the output after the bands
         if self.channels is not None:
             render_channels(self.channels, src, out, alpha, progress)
+            checks = None
         else:
-            self._render_bands(src, out, alpha, progress)
+            self._render_bands(src, out, alpha, progress, checks)
         if self.dst_falloff is not None:
             out[..., colour_channels(out.shape[2])] *= self.dst_falloff[..., None]
+        return checks is not None
 
-    def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
+    def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
+                      checks: OutputChecks | None = None) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
 
         def draw(band):
@@ -263,6 +273,8 @@ class WarpPlan:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+            if checks is not None:
+                checks.band(out[sl], alpha[sl])
             return band
 
         def done(band):
@@ -299,8 +311,6 @@ class _Rows:
 
 class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
-
-
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
