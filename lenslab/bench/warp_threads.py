@@ -22,6 +22,10 @@ import statistics
 import time
 
 
+#: rounds of the --antialias case (the others take ``--repeat`` rounds, at most 7)
+AA_ROUNDS = 3
+
+
 def _ceilings():
     """``{name: fn(threads)}`` of the two plain tasks (arrays made once; a pool of two threads kept)."""
     from concurrent.futures import ThreadPoolExecutor
@@ -76,10 +80,12 @@ def thread_scaling(args, set_threads, read_source) -> None:
              ("warp.threads_antialias", "one-shot --antialias", lambda: warp(src_img, src, dst, antialias=True))]
     ceil = _ceilings()
     runs = {key: {1: [], 2: []} for key, _, _ in cases}
-    print(f"threads: {src_img.shape[1]}x{src_img.shape[0]} -> 4096x4096 {args.dst}, {rounds} rounds of 1 and 2 "
-          "threads in turn, beside the machine's own two-thread ceiling")
+    print(f"threads: {src_img.shape[1]}x{src_img.shape[0]} -> 4096x4096 {args.dst}, {rounds} rounds ({min(rounds, AA_ROUNDS)} "
+          "for --antialias) of 1 and 2 threads in turn, beside the machine's own two-thread ceiling")
     for r in range(rounds):
         for key, _, fn in cases:
+            if key == "warp.threads_antialias" and r >= AA_ROUNDS:  # 3-5 s a round on a loaded machine
+                continue
             for n in ((1, 2) if r % 2 == 0 else (2, 1)):
                 set_threads(n)
                 runs[key][n].append(_timed((lambda n=n: ceil[key.split(".")[1]](n)) if fn is None else fn))
