@@ -1,11 +1,43 @@
-// The cube map's direction -> pixel (lens_kernels.h), built with every multiply and add rounded as written
-// (CMakeLists.txt), so it gives Cubemap._dir_to_pixel's bits (tests/lenses/test_native_cubemap_kernel.py).
+// The cube maps' direction -> pixel (lens_kernels.h), built with every multiply and add rounded as written
+// (CMakeLists.txt): the plain cube map gives Cubemap._dir_to_pixel's bits (tests/lenses/test_native_cubemap_kernel.py),
+// the equi-angular one EquiAngularCubemap._dir_to_pixel's to a few ulps of its arc tangents
+// (tests/lenses/test_native_eac_kernel.py).
 #include <algorithm>
 #include <cmath>
 
 #include "lens_kernels.h"
 
+#ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec; CMakeLists.txt finds it)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+#endif
+
 namespace lenslab::lens {
+
+namespace {
+
+// atan2(y[j], x[j]) of four pairs, written over y: with glibc's vector maths four at a time (every element takes the
+// same path whatever its place in a call, so a map does not depend on how the warp cut it into bands)
+inline void atan2_4(double* y, const double* x) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(y, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
+#else
+    for (int j = 0; j < 4; ++j) y[j] = std::atan2(y[j], x[j]);
+#endif
+}
+
+// snap_to_image (within `slack` px of the edges counts, moved onto them) and clean()'s finite test, then the store
+inline void store(int64_t i, double x, double y, double w, double h, double slack, double* xy, bool* ok) {
+    if (!(x >= -slack && x <= w + slack && y >= -slack && y <= h + slack)) return;
+    x = std::min(std::max(x, 0.0), w);
+    y = std::min(std::max(y, 0.0), h);
+    if (!std::isfinite(x * x + y * y)) return;
+    xy[2 * i] = x;
+    xy[2 * i + 1] = y;
+    ok[i] = true;
+}
+
+}  // namespace
 
 // Cubemap._dir_to_pixel, one direction at a time, the same operations in the same order: the major axis of d (as
 // given, not normalised; the first of x, y, z on ties), its face's cell and signed A and B axes, the position inside
@@ -44,13 +76,62 @@ void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, boo
         y *= eh;
         x = std::min(x, (f[0] + 1.0) * ew - nudge);
         y = std::min(y, (f[1] + 1.0) * eh - nudge);
-        if (!(x >= -slack && x <= w + slack && y >= -slack && y <= h + slack)) continue;
-        x = std::min(std::max(x, 0.0), w);
-        y = std::min(std::max(y, 0.0), h);
-        if (!std::isfinite(x * x + y * y)) continue;  // clean()'s test
-        xy[2 * i] = x;
-        xy[2 * i + 1] = y;
-        ok[i] = true;
+        store(i, x, y, w, h, slack, xy, ok);
+    }
+}
+
+
+// EquiAngularCubemap._dir_to_pixel, four directions at a time: the major axis of d (the first of x, y, z on ties), its
+// face's slot and signed A and B components, the angles atan(d.A / t) and atan(d.B / t) (as atan2(d.A, t): t > 0, and
+// no rounding of the quotient), the face fractions (4/pi) angle, the nudge off the face's right and bottom edges, the
+// position in the 3x2 layout with its pad, then snap_to_image. Non-finite components make the point invalid.
+void eac_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], pu = p[2], pv = p[3], slack = p[4], fx_max = p[5], fy_max = p[6];
+    const double* faces = p + 7;  // per major axis +x, -x, +y, -y, +z, -z: col, row, index and sign of A, of B
+    const double four_over_pi = 4.0 / M_PI;
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double au[4] = {0.0, 0.0, 0.0, 0.0}, av[4] = {0.0, 0.0, 0.0, 0.0}, t[4] = {1.0, 1.0, 1.0, 1.0};
+        const double* face[4] = {faces, faces, faces, faces};
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const int64_t i = i0 + j;
+            xy[2 * i] = 0.0;
+            xy[2 * i + 1] = 0.0;
+            ok[i] = false;
+            const double* v = d + 3 * i;
+            if (!(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))) continue;
+            const double ax = std::fabs(v[0]), ay = std::fabs(v[1]), az = std::fabs(v[2]);
+            int axis;
+            if (ax >= ay && ax >= az) axis = 0;
+            else if (ay >= az) axis = 1;
+            else axis = 2;
+            const double tj = axis == 0 ? ax : axis == 1 ? ay : az;
+            if (!(tj > 0.0)) continue;
+            const double* f = faces + 6 * (2 * axis + (v[axis] < 0.0 ? 1 : 0));
+            au[j] = v[int(f[2])] * f[3];
+            av[j] = v[int(f[4])] * f[5];
+            t[j] = tj;
+            face[j] = f;
+            good[j] = true;
+        }
+        atan2_4(au, t);
+        atan2_4(av, t);
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            const int64_t i = i0 + j;
+            const double* f = face[j];
+            double fx = four_over_pi * au[j];
+            fx += 1.0;
+            fx *= 0.5;
+            double fy = four_over_pi * av[j];
+            fy += 1.0;
+            fy *= 0.5;
+            fx = std::min(fx, fx_max);
+            fy = std::min(fy, fy_max);
+            store(i, w * (pu + (f[0] + fx) * (1.0 - 2.0 * pu) / 3.0), h * (pv + 0.5 * f[1] + fy * (0.5 - 2.0 * pv)), w,
+                  h, slack, xy, ok);
+        }
     }
 }
 
