@@ -57,6 +57,25 @@ def _ceilings():
     return {"copy": lambda n: split(copy, n, a.size), "compute": lambda n: split(compute, n, x.size)}
 
 
+def _pressure() -> str:
+    """The kernel's CPU pressure (the share of the last 10 s in which some runnable task waited for a core), when
+    this Linux reports it, and the load average."""
+    import os
+
+    words = []
+    try:
+        with open("/proc/pressure/cpu", encoding="ascii") as f:
+            some = dict(kv.split("=") for kv in f.readline().split()[1:])
+        words.append(f"CPU pressure {float(some['avg10']):.0f}% of the last 10 s")
+    except (OSError, ValueError, KeyError):
+        pass
+    try:
+        words.append("load " + " ".join(f"{v:.2f}" for v in os.getloadavg()))
+    except OSError:
+        pass
+    return ", ".join(words) or "load unknown"
+
+
 def _timed(fn) -> tuple[float, float]:
     """Wall and process CPU seconds of ``fn()``."""
     t0, c0 = time.perf_counter(), time.process_time()
@@ -82,6 +101,7 @@ def thread_scaling(args, set_threads, read_source) -> None:
     runs = {key: {1: [], 2: []} for key, _, _ in cases}
     print(f"threads: {src_img.shape[1]}x{src_img.shape[0]} -> 4096x4096 {args.dst}, {rounds} rounds ({min(rounds, AA_ROUNDS)} "
           "for --antialias) of 1 and 2 threads in turn, beside the machine's own two-thread ceiling")
+    before = _pressure()
     for r in range(rounds):
         for key, _, fn in cases:
             if key == "warp.threads_antialias" and r >= AA_ROUNDS:  # 3-5 s a round on a loaded machine
@@ -90,6 +110,7 @@ def thread_scaling(args, set_threads, read_source) -> None:
                 set_threads(n)
                 runs[key][n].append(_timed((lambda n=n: ceil[key.split(".")[1]](n)) if fn is None else fn))
     set_threads(2)
+    print(f"  machine before: {before}; after: {_pressure()}")
     for key, label, fn in cases:
         one, two = runs[key][1], runs[key][2]
         best1, best2 = min(w for w, _ in one), min(w for w, _ in two)
