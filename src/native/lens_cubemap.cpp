@@ -10,6 +10,8 @@
 #ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec; CMakeLists.txt finds it)
 #include <immintrin.h>
 extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+extern "C" __m256d _ZGVdN4v_sin(__m256d);
+extern "C" __m256d _ZGVdN4v_cos(__m256d);
 #endif
 
 namespace lenslab::lens {
@@ -24,6 +26,22 @@ inline void atan2_4(double* y, const double* x) {
 #else
     for (int j = 0; j < 4; ++j) y[j] = std::atan2(y[j], x[j]);
 #endif
+}
+
+// tan(a[j]) of four angles in [-pi/4, pi/4], written over a: sine over cosine, with glibc's vector maths four at a time
+inline void tan_4(double* a) {
+    double c[4];
+#ifdef LENSLAB_MVEC
+    const __m256d v = _mm256_loadu_pd(a);
+    _mm256_storeu_pd(c, _ZGVdN4v_cos(v));
+    _mm256_storeu_pd(a, _ZGVdN4v_sin(v));
+#else
+    for (int j = 0; j < 4; ++j) {
+        c[j] = std::cos(a[j]);
+        a[j] = std::sin(a[j]);
+    }
+#endif
+    for (int j = 0; j < 4; ++j) a[j] /= c[j];
 }
 
 // snap_to_image (within `slack` px of the edges counts, moved onto them) and clean()'s finite test, then the store
@@ -131,6 +149,59 @@ void eac_pixels(const double* d, int64_t n, const double* p, double* xy, bool* o
             fy = std::min(fy, fy_max);
             store(i, w * (pu + (f[0] + fx) * (1.0 - 2.0 * pu) / 3.0), h * (pv + 0.5 * f[1] + fy * (0.5 - 2.0 * pv)), w,
                   h, slack, xy, ok);
+        }
+    }
+}
+
+// EquiAngularCubemap._pixel_to_dir, four pixels at a time: the face column and row and the fractions across them (with
+// the pad), the tests of the fractions and of the image, the cube coordinates tan(pi/4 (2 f - 1)) (sine over cosine),
+// d = uf A + vf B + C with the face's axes, normalised; clean()'s finite test.
+void eac_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double w = p[0], h = p[1], pu = p[2], pv = p[3], kx = p[4], ky = p[5];
+    const double* axes = p + 6;  // per slot (row by row): A, B, C
+    const double quarter = M_PI / 4;
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double a[4] = {0.0, 0.0, 0.0, 0.0}, b[4] = {0.0, 0.0, 0.0, 0.0};
+        int slot[4] = {0, 0, 0, 0};
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const double x = xy[2 * (i0 + j)], y = xy[2 * (i0 + j) + 1];
+            double t = x / w;
+            t -= pu;
+            t *= kx;
+            const double col = std::min(std::max(std::floor(t), 0.0), 2.0);
+            const double fx = t - col;
+            const double yn = y / h;
+            const double row = std::min(std::max(std::floor(2.0 * yn), 0.0), 1.0);
+            const double fy = (yn - pv - 0.5 * row) / ky;
+            good[j] = t >= 0.0 && t <= 3.0 && fy >= 0.0 && fy <= 1.0 && x >= 0.0 && x <= w && y >= 0.0 && y <= h
+                      && std::isfinite(t) && std::isfinite(yn);
+            if (!good[j]) continue;
+            slot[j] = int(row) * 3 + int(col);
+            a[j] = quarter * (2.0 * fx - 1.0);
+            b[j] = quarter * (2.0 * fy - 1.0);
+        }
+        tan_4(a);
+        tan_4(b);
+        for (int64_t j = 0; j < m; ++j) {
+            double* o = d + 3 * (i0 + j);
+            o[0] = o[1] = o[2] = 0.0;
+            ok[i0 + j] = false;
+            if (!good[j]) continue;
+            const double uf = a[j], vf = b[j];
+            const double* A = axes + 9 * slot[j];
+            const double norm = std::sqrt(uf * uf + vf * vf + 1.0);
+            double v[3];
+            for (int k = 0; k < 3; ++k) {
+                v[k] = uf * A[k] + vf * A[3 + k] + A[6 + k];
+                v[k] /= norm;
+            }
+            if (!std::isfinite(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])) continue;
+            o[0] = v[0];
+            o[1] = v[1];
+            o[2] = v[2];
+            ok[i0 + j] = true;
         }
     }
 }

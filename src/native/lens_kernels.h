@@ -35,6 +35,9 @@ void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, boo
 // slack, the largest face fractions across and down (the border nudge), then per major axis +x, -x, +y, -y, +z, -z:
 // the face's column, row, the component of d along A and its sign, the component along B and its sign
 void eac_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// and its pixel -> unit direction (EquiAngularCubemap._pixel_to_dir; a DirKernel): p = W, H, pad / W, pad / H,
+// 3 / (1 - 2 pad / W), 1/2 - 2 pad / H, then per slot (row by row) its axes A, B, C (9)
+void eac_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 
 // a tiled grid: each direction to the first tile that sees it (Tiled.dir_to_pixel). p = the number of tiles, then
 // per tile: its kernel's number in pixel_kernel_ids(), the count of its parameters, the cosine of its reach (-1:

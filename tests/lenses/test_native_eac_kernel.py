@@ -121,3 +121,68 @@ def test_the_binding_refuses_parameters_it_cannot_use(bad):
     d = np.zeros((1, 3))
     with pytest.raises(ValueError, match="eac"):
         lens_kernels().eac_pixels(d, p, np.empty((1, 2)), np.empty(1, bool))
+
+
+# -- pixel -> direction (eac_dirs, the model's DirKernel) ------------------------------------------------------------
+
+@pytest.mark.parametrize("spec,size", LENSES)
+def test_directions_of_pixels_are_v360s(spec, size):
+    """v360's direction of positions inside each face (its faces' edges and the pad excluded: v360 stretches the pad
+    its own way); tolerance 8 ulps of a unit vector (both take two tangents in float64, lenslab's as sine over cosine)."""
+    w, h = size
+    lens = make_lens(spec, size)
+    pad = lens.pad
+    fw, fh = (w - 2 * pad) / 3.0, h / 2.0 - 2 * pad
+    rng = np.random.default_rng(11)
+    pts = np.array([(pad + (face % 3 + fx) * fw, pad + (face // 3) * h / 2.0 + fy * fh)
+                    for face in range(6) for fx, fy in rng.uniform(0.001, 0.999, size=(40, 2))])
+    want = np.array([v360_eac_to_xyz(x, y, w, h, pad) for x, y in pts])
+    d, ok = lens.pixel_to_dir(pts)
+    assert ok.all() and lens.dir_kernel() is not None
+    np.testing.assert_allclose(d, want, rtol=0, atol=8 * EPS)
+
+
+coord_px = st.one_of(st.floats(-3.0, 1.01, allow_nan=False).map(lambda f: f * 1024.0),
+                     st.sampled_from([0.0, -0.0, 1e-300, 2.0, 3.5, 200.0, 341.0 + 1 / 3, 512.0, 1024.0, math.nan,
+                                      math.inf, -math.inf, 1e300]))
+PIXELS = st.lists(st.tuples(coord_px, coord_px), min_size=1, max_size=64).map(lambda r: np.array(r, dtype=np.float64))
+
+
+@pytest.mark.parametrize("spec,size", LENSES)
+@settings(max_examples=60, deadline=None)
+@given(xy=PIXELS)
+def test_dir_kernel_follows_the_numpy_steps(spec, size, xy):
+    """Pixels anywhere (the pad, the faces' borders, the image's edges and beyond, NaN and infinities): the same
+    validity as the NumPy steps, unit directions within 8 ulps (their tangents: NumPy's against sine over cosine),
+    zero where there is no ray; the same values wherever a pixel falls in a call."""
+    lens = make_lens(spec, size)
+    xy = xy * np.array([size[0], size[1]]) / 1024.0
+    d, ok = lens.pixel_to_dir(xy)
+    with np.errstate(all="ignore"):
+        want, want_ok = EquiAngularCubemap._pixel_to_dir(lens, xy.copy())
+    np.testing.assert_array_equal(ok, want_ok)
+    np.testing.assert_allclose(d, want, rtol=0, atol=8 * EPS)
+    assert (d[~ok] == 0).all()
+    many, many_ok = lens.pixel_to_dir(np.repeat(xy, 5, axis=0))
+    np.testing.assert_array_equal(many, np.repeat(d, 5, axis=0))
+    np.testing.assert_array_equal(many_ok, np.repeat(ok, 5))
+
+
+def test_a_model_that_changes_a_pixel_step_keeps_its_numpy_steps():
+    class Turned(EquiAngularCubemap):
+        name = "eac-turned-test"
+
+        def _pixel_to_dir(self, xy):
+            d, ok = super()._pixel_to_dir(xy)
+            return -d, ok
+
+    lens = Turned(width=600, height=400)
+    assert lens.dir_kernel() is None
+    d, ok = lens.pixel_to_dir([[300.0, 100.0]])  # the front face's centre, turned back
+    np.testing.assert_allclose(d, [[0.0, 0.0, -1.0]], atol=1e-15)
+
+
+def test_the_dir_binding_refuses_a_wrong_parameter_count():
+    p = make_lens("eac", (600, 400)).dir_kernel().params[:-1]
+    with pytest.raises(ValueError, match="parameters"):
+        lens_kernels().eac_dirs(np.zeros((1, 2)), p, np.empty((1, 3)), np.empty(1, bool))

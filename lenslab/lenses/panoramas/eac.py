@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, as_points, clean
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint, as_points, clean
 from lenslab.lenses.core.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
@@ -97,9 +97,27 @@ class EquiAngularCubemap(Lens):
         rects = [(self.pad + (k % 3) * fw, self.pad + (k // 3) * self.height / 2.0, fw, fh) for k in range(6)]
         return cube_pieces(rects, EAC_AXES)
 
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``eac_dirs``: the steps of :meth:`_pixel_to_dir`, its tangents as sine over
+        cosine to a few ulps), or None for a subclass that changed one of those steps."""
+        from lenslab.lenses.core.native import lens_kernels
+
+        if not all(getattr(type(self), k) is getattr(EquiAngularCubemap, k) for k in ("pixel_to_dir", "_pixel_to_dir",
+                                                                                     "in_image")):
+            return None
+        return DirKernel(lens_kernels().eac_dirs, np.concatenate(
+            [[self.width, self.height, self.pu, self.pv, 3.0 / (1.0 - 2.0 * self.pu), 0.5 - 2.0 * self.pv],
+             np.array(EAC_AXES, dtype=FLOAT).ravel()]).astype(FLOAT))
+
     def pixel_to_dir(self, xy):
+        xy = as_points(xy, 2, "pixel coordinates")
+        kern = self.dir_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import unproject_kernel
+
+            return unproject_kernel(kern, xy)
         with np.errstate(all="ignore"):
-            return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"))
+            return self._pixel_to_dir(xy)
 
     def _pixel_to_dir(self, xy):
         t = xy[..., 0] / self.width
