@@ -35,6 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also warp a 16384x8192 source into 8192x8192 and report peak memory (slow, ~3 GB)")
     parser.add_argument("--skip-speed", action="store_true", help="accuracy (and --big) only")
     parser.add_argument("--skip-threads", action="store_true", help="leave out the two-thread figures (slow)")
+    parser.add_argument("--only-threads", action="store_true",
+                        help="the two-thread figures alone (with the machine's own two-thread ceiling)")
     parser.add_argument("--skip-accuracy", action="store_true",
                         help="leave out the accuracy on the real panoramas (slow: a float64 reference for each)")
 
@@ -167,33 +169,17 @@ def interleaved(cases, repeat: int) -> dict[str, float]:
 
 
 def thread_scaling(args) -> None:
-    """Two threads against one at a 4096x4096 output, one-shot bilinear and --antialias."""
+    """Two threads against one at a 4096x4096 output (:mod:`lenslab.bench.warp_threads`)."""
     import cv2
     import numpy as np
 
-    from lenslab.bench.results import figure, mark
-    from lenslab.lenses import Camera
-    from lenslab.warp import warp
+    from lenslab.bench.warp_threads import thread_scaling as run
 
-    pano = _read(args.data / "forest.exr")
-    src_img = np.ascontiguousarray(cv2.resize(pano, (4096, 2048), interpolation=cv2.INTER_CUBIC), np.float32)
-    src = Camera.from_spec("equirect", (4096, 2048))
-    dst = Camera.from_spec(args.dst, (4096, 4096))
-    repeat = max(1, min(args.repeat, 3))
-    print(f"threads: 4096x2048 -> 4096x4096 {args.dst}, best of {repeat}")
-    for key, label, kw in (("warp.threads_one_shot", "one-shot bilinear", {}),
-                           ("warp.threads_antialias", "one-shot --antialias", {"antialias": True})):
-        times = {}
-        for _ in range(repeat):  # one and two threads alternately, so that load changes hit both
-            for n in (1, 2):
-                _threads(n)
-                best = interleaved([(n, lambda: warp(src_img, src, dst, **kw))], 1)[n]
-                times[n] = min(times.get(n, float("inf")), best)
-        speedup = times[1] / times[2]
-        ok = figure(key, f"{label}, 2 threads vs 1 at 4096x4096", speedup, "x", aim=1.7, better="higher")
-        print(f"  {label:<24s} 1 thread {times[1] * 1e3:8.0f} ms   2 threads {times[2] * 1e3:8.0f} ms   "
-              f"{speedup:5.2f}x  aim >= 1.7x  {mark(ok)}")
-    _threads(2)
+    def source():
+        pano = _read(args.data / "forest.exr")
+        return np.ascontiguousarray(cv2.resize(pano, (4096, 2048), interpolation=cv2.INTER_CUBIC), np.float32)
+
+    run(args, _threads, source)
 
 
 def accuracy(args) -> None:
@@ -291,6 +277,9 @@ def big(args) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.only_threads:
+        thread_scaling(args)
+        return 0
     if not args.skip_speed:
         speed(args)
         if not args.skip_threads:

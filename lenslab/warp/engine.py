@@ -25,7 +25,8 @@ from lenslab.io.alpha import colour_channels, settle
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
-from lenslab.warp.filters import all_finite, clamp_non_finite, finite_source, sample
+from lenslab.warp.checks import OutputChecks, finite_output
+from lenslab.warp.filters import all_finite, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
@@ -219,12 +220,14 @@ class WarpPlan:
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
-        self.render(src, out, alpha, progress, alpha_channel)
-        if not all_finite(out):
-            note = self._finite_output(src, out, alpha, alpha_channel)
-            warnings.warn(note, RuntimeWarning, stacklevel=2)
-        settle(out, alpha, alpha_channel)
-        if not alpha.any():
+        checks = OutputChecks.of(src.shape[2], alpha_channel)  # made by the bands when they draw it all
+        drawn = self.render(src, out, alpha, progress, checks, alpha_channel)
+        if not (checks.finite if drawn else all_finite(out)):
+            warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
+            drawn = False  # drawn again or clamped: the bands' checks no longer hold
+        if not (drawn and checks.in_range):
+            settle(out, alpha, alpha_channel)
+        if not (checks.covered if drawn and checks.in_range else alpha.any()):
             warnings.warn(EmptyViewWarning(
                 f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
                 "lenses, the pose and the source's field of view"), stacklevel=2)
@@ -232,40 +235,31 @@ class WarpPlan:
             out = out[..., 0]
         return out, alpha
 
-    def _finite_output(self, src, out, alpha, alpha_channel) -> str:
-        """Make an output with NaN or inf finite, and say what happened: non-finite source values (NaN read as
-        0, +-inf as the largest float32, and the warp done again), or finite ones whose filtered sums passed
-        float32's range (those outputs clamped)."""
-        src, bad = finite_source(src)
-        if bad:
-            self.render(src, out, alpha, None, alpha_channel)
-        over = clamp_non_finite(out)
-        big = f"{np.finfo(np.float32).max:.3g}"
-        said = f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest float32" if bad else ""
-        if over:
-            why = (f"{over} output values passed float32's range (+-{big}) in the warp's arithmetic (a filter's "
-                   f"weighted sum, the removal of vignetting); they were clamped to +-{big} (NaN: 0)")
-            said = f"{said}; {why}" if said else f"the source is finite, but {why}"
-        return said
-
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
-               progress: Callable[[int], None] | None = None, alpha_channel: bool | None = None) -> None:
+               progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,
+               alpha_channel: bool | None = None) -> bool:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size);
-        ``alpha_channel``: whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`)."""
+        ``alpha_channel``: whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`). True when
+        this plan's bands drew the whole output as it stands and gave each band to ``checks``."""
         if self.parts is not None:
             for x0, y0, part, crop in self.parts:
                 render_region(part, crop_source(src, crop), out, alpha, x0, y0, progress, alpha_channel)
-            return
+            return False
         if self.src_falloff is not None:  # light, not coverage: alpha is left alone
             src = divide_by_falloff(src, self.src_falloff, alpha_channel)
+        if self.dst_falloff is not None:
+            checks = None  # the falloff changes the output after the bands
         if self.channels is not None:
             render_channels(self.channels, src, out, alpha, progress)
+            checks = None
         else:
-            self._render_bands(src, out, alpha, progress)
+            self._render_bands(src, out, alpha, progress, checks)
         if self.dst_falloff is not None:
             out[..., colour_channels(out.shape[2], alpha_channel)] *= self.dst_falloff[..., None]
+        return checks is not None
 
-    def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
+    def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
+                      checks: OutputChecks | None = None) -> None:
         pyramid = aa.pyramid(src, self.border) if self.antialias else None
 
         def draw(band):
@@ -278,6 +272,8 @@ class WarpPlan:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+            if checks is not None:
+                checks.band(out[sl], alpha[sl])
             return band
 
         def done(band):
@@ -314,8 +310,6 @@ class _Rows:
 
 class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
-
-
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,

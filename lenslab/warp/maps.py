@@ -213,11 +213,9 @@ class Mapper:
         ncy = -(-self.height // s)
         xn = (np.arange(ncx + 3, dtype=np.float64) - 1.0) * s
         yn = (np.arange(ncy + 3, dtype=np.float64) - 1.0) * s
-        pts = np.stack(np.meshgrid(xn, yn, indexing="xy"), axis=-1)
         # the exact map at the nodes and at the four check points of every cell, in chunks shared by the threads
-        checks = [np.stack(np.meshgrid((np.arange(ncx) + tx) * s, (np.arange(ncy) + ty) * s, indexing="xy"), axis=-1)
-                  for tx, ty in CHECK_POINTS]
-        exact = _exact_grids(self.src, self.dst, [(pts, True)] + [(g, False) for g in checks])
+        checks = [((np.arange(ncx) + tx) * s, (np.arange(ncy) + ty) * s, False) for tx, ty in CHECK_POINTS]
+        exact = _exact_grids(self.src, self.dst, [(xn, yn, True)] + checks)
         xy, v, vd, dirs = exact[0]
         nx, ny, have = ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
         def win4(m, reduce):
@@ -360,25 +358,28 @@ class Mapper:
 EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
 
 
-def _exact_grids(src: Camera, dst: Camera, grids: list[tuple[np.ndarray, bool]]) -> list[tuple]:
-    """:func:`exact_map_parts` over each grid of points (with its ``with_dirs``), ``EXACT_CHUNK`` points
-    at a time, the chunks of every grid shared by the engine's threads (so that they finish together)."""
-    flats = [points.reshape(-1, 2) for points, _ in grids]
+def _exact_grids(src: Camera, dst: Camera, grids: list[tuple[np.ndarray, np.ndarray, bool]]) -> list[tuple]:
+    """:func:`exact_map_parts` over each grid ``(xs, ys, with_dirs)`` (the points ``(xs[j], ys[i])``, row ``i``
+    and column ``j``), about ``EXACT_CHUNK`` points at a time: the chunks of every grid are shared by the engine's
+    threads (so that they finish together), and each makes its own points (none are made beforehand in one thread)."""
     # each chunk writes its rows of its grid's arrays: (x, y) float64, validity, the output ray's validity
     # and, with_dirs, the direction float64
-    out = [(np.empty((len(f), 2)), np.empty(len(f), bool), np.empty(len(f), bool))
-           + ((np.empty((len(f), 3)),) if with_dirs else ()) for f, (_, with_dirs) in zip(flats, grids)]
-    jobs = [(g, i, with_dirs) for g, (flat, (_, with_dirs)) in enumerate(zip(flats, grids))
-            for i in range(0, len(flat), EXACT_CHUNK)]
+    out = [(np.empty((len(ys), len(xs), 2)), np.empty((len(ys), len(xs)), bool), np.empty((len(ys), len(xs)), bool))
+           + ((np.empty((len(ys), len(xs), 3)),) if with_dirs else ()) for xs, ys, with_dirs in grids]
+    jobs = [(g, r, min(len(ys), r + step)) for g, (xs, ys, _) in enumerate(grids)
+            for step in (max(1, EXACT_CHUNK // max(1, len(xs))),) for r in range(0, len(ys), step)]
 
     def one(job):
-        g, i, with_dirs = job
-        for dest, part in zip(out[g], exact_map_parts(src, dst, flats[g][i:i + EXACT_CHUNK], with_dirs)):
-            dest[i:i + EXACT_CHUNK] = part
+        g, r0, r1 = job
+        xs, ys, with_dirs = grids[g]
+        pts = np.empty((r1 - r0, len(xs), 2))
+        pts[..., 0] = xs
+        pts[..., 1] = ys[r0:r1, None]
+        for dest, part in zip(out[g], exact_map_parts(src, dst, pts, with_dirs)):
+            dest[r0:r1] = part
 
     run_bands(jobs, one)
-    return [tuple(a.reshape(points.shape[:-1] + a.shape[1:]) for a in arrays)
-            for arrays, (points, _) in zip(out, grids)]
+    return out
 
 
 def sample_pattern(samples: int) -> np.ndarray:

@@ -15,7 +15,7 @@ def render_region(plan, src, out, alpha, x0: int, y0: int, progress, alpha_chann
     h, w = plan.out_shape
     part = np.zeros((h, w, out.shape[2]), dtype=np.float32)
     part_alpha = np.zeros((h, w), dtype=np.float32)
-    plan.render(src, part, part_alpha, progress, alpha_channel)
+    plan.render(src, part, part_alpha, progress, alpha_channel=alpha_channel)
     out[y0:y0 + h, x0:x0 + w] = part
     alpha[y0:y0 + h, x0:x0 + w] = part_alpha
 

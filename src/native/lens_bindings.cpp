@@ -93,6 +93,16 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Cube map directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("eac_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 43, "eac: 43 parameters");
+        const double* q = p.data();
+        for (int k = 0; k < 6; ++k) {  // the components along A and B index d: 0, 1 or 2
+            need(whole(q[7 + 6 * k + 2], 2) >= 0 && whole(q[7 + 6 * k + 4], 2) >= 0, "eac: a face's axes");
+        }
+        eac_pixels(d.data(), points(d, 3, xy, 2, ok), q, xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Equi-angular cube map directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
     m.attr("pixel_kernel_ids") = [] {
         nb::dict ids;
         ids["equirect_pixels"] = 0;

@@ -3,7 +3,8 @@
 // as the models' NumPy steps (Lens.pixel_to_dir: pixel_to_uv, the model's uv_to_dir, the finiteness tests and
 // clean; equidistant's sine and cosine from glibc's vector maths where it has them, within 4 ulps), so a warp's
 // exact map costs a fraction of the NumPy one; NumPy references in
-// lenslab/lenses/formulas/reference.py (fisheye_dirs), held to them by tests/lenses/test_native_pixel_dirs.py.
+// lenslab/lenses/formulas/reference.py (fisheye_dirs), held to them by tests/lenses/test_native_pixel_dirs.py. The
+// equi-angular cube map's (eac_dirs) is in lens_cubemap.cpp, bound here.
 // Built with every multiply and add rounded as written (CMakeLists.txt), as the NumPy code rounds them.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -20,6 +21,7 @@ extern "C" __m256d _ZGVdN4v_cos(__m256d);
 #endif
 
 #include "lens_formulas.h"
+#include "lens_kernels.h"
 
 namespace nb = nanobind;
 
@@ -200,4 +202,7 @@ void register_lens_dirs(nb::module_& m) {
     bind_dirs<lenslab::lens::fisheye_dirs, 10>(
         m, "fisheye_dirs",
         "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::eac_dirs, 60>(
+        m, "eac_dirs",
+        "Equi-angular cube map pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
 }

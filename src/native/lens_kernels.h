@@ -31,6 +31,13 @@ void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool
 // cube map (Cubemap._dir_to_pixel: d as given, not normalised): p = W, H, face width, face height, edge slack,
 // border nudge, then per major axis +x, -x, +y, -y, +z, -z: the face's column, row, sign of A, sign of B
 void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// equi-angular cube map (EquiAngularCubemap._dir_to_pixel, v360's eac layout): p = W, H, pad / W, pad / H, edge
+// slack, the largest face fractions across and down (the border nudge), then per major axis +x, -x, +y, -y, +z, -z:
+// the face's column, row, the component of d along A and its sign, the component along B and its sign
+void eac_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// and its pixel -> unit direction (EquiAngularCubemap._pixel_to_dir; a DirKernel): p = W, H, pad / W, pad / H,
+// 3 / (1 - 2 pad / W), 1/2 - 2 pad / H, then per slot (row by row) its axes A, B, C (9)
+void eac_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 
 // a tiled grid: each direction to the first tile that sees it (Tiled.dir_to_pixel). p = the number of tiles, then
 // per tile: its kernel's number in pixel_kernel_ids(), the count of its parameters, the cosine of its reach (-1:

@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 from lenslab.lenses import make_lens
 from lenslab.lenses.core.native import project_kernel
 from lenslab.lenses.panoramas.cubemap import BORDER_NUDGE, Cubemap
+from lenslab.lenses.panoramas.eac import EquiAngularCubemap
 from lenslab.warp.maps import COMPILED_PROJECT_MIN, project
 
 NAN, INF = math.nan, math.inf
@@ -113,19 +114,21 @@ def test_corners_pinned_from_the_face_formulas():
     np.testing.assert_array_equal(xy, np.array(want))
 
 
-def test_reference_points_through_the_kernel():
-    """The ffmpeg v360 pixels pinned on the model (its reference points) come back through the kernel, within each
+@pytest.mark.parametrize("model", [Cubemap, EquiAngularCubemap])
+def test_reference_points_through_the_kernel(model):
+    """The ffmpeg v360 pixels pinned on each cube map (its reference points) come back through its kernel, within each
     point's stated tolerance (the precision of its source)."""
-    for ref in Cubemap.reference_points:
+    for ref in model.reference_points:
         lens = make_lens(ref.spec, ref.size)
         xy, ok = project_kernel(lens.pixel_kernel(), np.array([ref.direction], dtype=np.float64))
         assert ok.all()
         np.testing.assert_allclose(xy[0], ref.pixel, rtol=0, atol=ref.tolerance)
 
 
-def test_a_model_that_changes_a_step_keeps_its_numpy_steps():
-    class Shifted(Cubemap):
-        name = "cubemap-shifted-test"
+@pytest.mark.parametrize("model,want", [(Cubemap, [150.0, 150.0]), (EquiAngularCubemap, [150.0, 50.0])])
+def test_a_model_that_changes_a_step_keeps_its_numpy_steps(model, want):
+    class Shifted(model):
+        name = f"{model.name}-shifted-test"
 
         def _dir_to_pixel(self, d):
             xy, ok = super()._dir_to_pixel(d)
@@ -134,5 +137,4 @@ def test_a_model_that_changes_a_step_keeps_its_numpy_steps():
     lens = Shifted(width=600, height=400)
     assert lens.pixel_kernel() is None
     xy, ok = lens.dir_to_pixel([[0.0, 0.0, 1.0]])
-    np.testing.assert_array_equal(xy, [[150.0, 150.0]])
-    assert make_lens("eac", (600, 400)).pixel_kernel() is None  # its own mapping inside the faces
+    np.testing.assert_array_equal(xy, [want])

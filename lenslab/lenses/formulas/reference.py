@@ -4,7 +4,7 @@ Each function takes the arguments of the kernel of the same name, without its ou
 what the kernel writes: ``(out, ok)`` (and the largest iteration count where the kernel returns one). They
 are composed from the NumPy formulas of this package (the whole-image models' kernels, ``perspective_pixels``,
 ``hammer_pixels`` and ``tiled_pixels``, have theirs in the models' own NumPy steps of ``dir_to_pixel``, which run
-when the kernel is switched off; ``cubemap_pixels`` has ``Cubemap._dir_to_pixel``) (:mod:`.azimuthal`, :mod:`.lonlat`, :mod:`.calibrated`,
+when the kernel is switched off; ``cubemap_pixels`` has ``Cubemap._dir_to_pixel`` and ``eac_pixels`` ``EquiAngularCubemap._dir_to_pixel``) (:mod:`.azimuthal`, :mod:`.lonlat`, :mod:`.calibrated`,
 :mod:`.radial`) and solve with :func:`.solve.invert_increasing`, the vectorised form of the kernels' Newton;
 OCamCalib's radius is solved here on the angle ``atan2(rho, -pol(rho))`` itself, where the kernel solves the
 sign of a sine. ``tests/lenses/test_native_lens_kernels.py`` holds each kernel to its reference. They are for

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, as_points, clean
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint, as_points, clean
 from lenslab.lenses.core.protocol import cube_pieces
 from lenslab.lenses.registry import register
 
@@ -97,9 +97,27 @@ class EquiAngularCubemap(Lens):
         rects = [(self.pad + (k % 3) * fw, self.pad + (k // 3) * self.height / 2.0, fw, fh) for k in range(6)]
         return cube_pieces(rects, EAC_AXES)
 
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``eac_dirs``: the steps of :meth:`_pixel_to_dir`, its tangents as sine over
+        cosine to a few ulps), or None for a subclass that changed one of those steps."""
+        from lenslab.lenses.core.native import lens_kernels
+
+        if not all(getattr(type(self), k) is getattr(EquiAngularCubemap, k) for k in ("pixel_to_dir", "_pixel_to_dir",
+                                                                                     "in_image")):
+            return None
+        return DirKernel(lens_kernels().eac_dirs, np.concatenate(
+            [[self.width, self.height, self.pu, self.pv, 3.0 / (1.0 - 2.0 * self.pu), 0.5 - 2.0 * self.pv],
+             np.array(EAC_AXES, dtype=FLOAT).ravel()]).astype(FLOAT))
+
     def pixel_to_dir(self, xy):
+        xy = as_points(xy, 2, "pixel coordinates")
+        kern = self.dir_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import unproject_kernel
+
+            return unproject_kernel(kern, xy)
         with np.errstate(all="ignore"):
-            return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"))
+            return self._pixel_to_dir(xy)
 
     def _pixel_to_dir(self, xy):
         t = xy[..., 0] / self.width
@@ -120,8 +138,28 @@ class EquiAngularCubemap(Lens):
         d /= np.sqrt(uf * uf + vf * vf + 1.0)[..., None]
         return clean(d, ok, inplace=True)
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``eac_pixels``: the steps of :meth:`_dir_to_pixel`, its arc tangents to a
+        few ulps), or None for a subclass that changed one of those steps."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, EquiAngularCubemap, ("_dir_to_pixel",)):
+            return None
+        slot = self._slot_of_axis  # per major axis +x, -x, +y, -y, +z, -z: its face's slot, A and B as components
+        faces = np.stack([slot % 3, slot // 3, self._iA.take(slot), self._sA.take(slot), self._iB.take(slot),
+                          self._sB.take(slot)], axis=-1)
+        fx_max = 1.0 - BORDER_NUDGE / (self.width * (1.0 - 2.0 * self.pu) / 3.0)
+        fy_max = 1.0 - BORDER_NUDGE / (self.height * (0.5 - 2.0 * self.pv))
+        return PixelKernel(lens_kernels().eac_pixels, np.concatenate(
+            [[self.width, self.height, self.pu, self.pv, self.edge_slack, fx_max, fy_max], faces.ravel()]).astype(FLOAT))
+
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")
+        kern = self.pixel_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import project_kernel
+
+            return project_kernel(kern, d)
         with np.errstate(all="ignore"):
             return self._dir_to_pixel(d)
 
@@ -131,11 +169,14 @@ class EquiAngularCubemap(Lens):
         neg = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0] < 0
         slot = self._slot_of_axis.take(2 * axis + neg)
         t = np.take_along_axis(a, axis[..., None], axis=-1)[..., 0]  # d . C > 0
-        # A and B are signed unit axes: d . A is one component of d times a sign
+        # A and B are signed unit axes: d . A is one component of d times a sign (divided by t, not multiplied
+        # by 1 / t, which overflows for a subnormal t)
         uf = np.take_along_axis(d, self._iA.take(slot)[..., None], axis=-1)[..., 0]
-        uf *= self._sA.take(slot) / t
+        uf *= self._sA.take(slot)
+        uf /= t
         vf = np.take_along_axis(d, self._iB.take(slot)[..., None], axis=-1)[..., 0]
-        vf *= self._sB.take(slot) / t
+        vf *= self._sB.take(slot)
+        vf /= t
         fx = (4.0 / np.pi) * np.arctan(uf)
         fx += 1.0
         fx *= 0.5

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import os
 import threading
-from concurrent.futures import ThreadPoolExecutor
 
 _local = threading.local()
 
@@ -90,9 +89,15 @@ def set_threads(n: int | None) -> None:
 
 def run_bands(jobs, work, on_done=None) -> list:
     """``[work(job) for job in jobs]``, on :func:`threads` threads when there is more than one job
-    (results in order); ``on_done(result)`` is called in the calling thread as each finishes, in order."""
+    (results in order); ``on_done(result)`` is called in the calling thread as each finishes, in order.
+
+    The calling thread takes jobs too, beside ``threads() - 1`` helpers of a pool kept for the process (a warp
+    runs several of these a call: starting threads for each waited on the scheduler, a few milliseconds a
+    start on a loaded machine). Jobs are taken one at a time, so uneven jobs balance themselves. A job that
+    calls ``run_bands`` itself runs its jobs in its own thread (the cores are already busy). The first error
+    stops the jobs not yet started and is raised once those started have finished."""
     jobs = list(jobs)
-    n = min(threads(), len(jobs))
+    n = 1 if getattr(_local, "in_job", False) else min(threads(), len(jobs))
     if n <= 1:
         out = []
         for job in jobs:
@@ -101,15 +106,117 @@ def run_bands(jobs, work, on_done=None) -> list:
                 on_done(res)
             out.append(res)
         return out
-    with ThreadPoolExecutor(max_workers=n) as pool:
-        futures = [pool.submit(work, job) for job in jobs]
-        out = []
-        for fut in futures:
-            res = fut.result()
+    run = _Run(jobs, work)
+    _pool.submit(run.take, n - 1)
+    flushed = 0
+    try:
+        while True:
+            took = run.take_one()
+            with run.cond:
+                while not took and run.error is None and not run.finished[flushed]:
+                    run.cond.wait()  # nothing left to take: wait for the helpers' jobs
+                ready = flushed
+                while ready < len(jobs) and run.finished[ready]:
+                    ready += 1
+                error = run.error
+            if error is not None:
+                break
             if on_done is not None:
-                on_done(res)
-            out.append(res)
-        return out
+                for i in range(flushed, ready):
+                    on_done(run.results[i])
+            flushed = ready
+            if flushed == len(jobs):
+                return run.results
+        raise error
+    except BaseException:
+        with run.cond:  # no job starts now; those under way finish first (they write into the caller's arrays)
+            run.stop = True
+            while run.running:
+                run.cond.wait()
+        raise
+
+
+class _Run:
+    """The jobs of one :func:`run_bands` call, taken one at a time by the caller and the pool's helpers."""
+
+    def __init__(self, jobs, work):
+        self.jobs, self.work = jobs, work
+        self.results = [None] * len(jobs)
+        self.finished = [False] * len(jobs)
+        self.started = 0
+        self.running = 0
+        self.error = None
+        self.stop = False
+        self.cond = threading.Condition()
+
+    def take_one(self) -> bool:
+        """Run the next job not yet taken in this thread; False when none is left."""
+        with self.cond:
+            if self.stop or self.error is not None or self.started >= len(self.jobs):
+                return False
+            i = self.started
+            self.started += 1
+            self.running += 1
+        outer = getattr(_local, "in_job", False)
+        _local.in_job = True
+        try:
+            res, err = self.work(self.jobs[i]), None
+        except BaseException as exc:  # handed to the caller
+            res, err = None, exc
+        finally:
+            _local.in_job = outer
+        with self.cond:
+            self.results[i] = res
+            self.finished[i] = True
+            self.running -= 1
+            if err is not None and self.error is None:
+                self.error = err
+            self.cond.notify_all()
+        return True
+
+    def take(self) -> None:
+        while self.take_one():
+            pass
+
+
+class _Pool:
+    """Helper threads kept for the process (daemons, idle on a queue between runs; started as needed, none
+    before the first run with more than one thread; a forked child starts its own)."""
+
+    def __init__(self):
+        import queue
+
+        self.queue = queue.SimpleQueue()
+        self.size = 0
+        self.lock = threading.Lock()
+
+    def submit(self, fn, count: int) -> None:
+        with self.lock:
+            while self.size < count:
+                threading.Thread(target=self._serve, name=f"lenslab-band-{self.size}", daemon=True).start()
+                self.size += 1
+        for _ in range(count):
+            self.queue.put(fn)
+
+    def _serve(self) -> None:
+        while True:
+            fn = self.queue.get()
+            try:
+                fn()
+            except BaseException:  # pragma: no cover - _Run.take hands every error to its caller
+                pass
+
+
+_pool = _Pool()
+
+
+def _reset_pool() -> None:
+    global _pool
+    _pool = _Pool()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_reset_pool)
 
 
 #: scratch buffers kept between bands and warps (at most this many), so that a band's working arrays (the map

@@ -1,0 +1,66 @@
+"""What a warp checks of its output, band by band as each band is drawn (while its rows are still in cache
+and on the thread that drew them), instead of in passes over the whole output after the bands.
+
+A 4096x4096 RGB output is 268 MB: every pass over it (finite values, alpha in [0, 1], any coverage) costs
+4-20 ms of memory traffic in the calling thread alone, and memory traffic does not scale with threads here
+(``lenslab bench warp`` prints the machine's two-thread copy ratio). The engine uses these checks when the
+bands drew the whole output (no falloff or tile after them), else it scans the output as before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.io.alpha import has_alpha
+from lenslab.warp.filters import all_finite, clamp_non_finite, finite_source
+
+
+class OutputChecks:
+    """Whether every band drawn so far holds finite values only (``finite``), coverage and the image's own
+    alpha (when it carries one) in [0, 1] (``in_range``, NaN fails it), and some coverage (``covered``).
+
+    ``image_alpha``: whether the image's last channel is alpha (:func:`lenslab.io.alpha.has_alpha`). Threads
+    only ever turn ``finite`` and ``in_range`` to False and ``covered`` to True, so no lock is needed."""
+
+    def __init__(self, image_alpha: bool):
+        self.image_alpha = bool(image_alpha)
+        self.finite = True
+        self.in_range = True
+        self.covered = False
+
+    @classmethod
+    def of(cls, channels: int, alpha_channel: bool | None) -> "OutputChecks":
+        return cls(has_alpha(np.empty((0, 0, channels), np.float32), alpha_channel))
+
+    def band(self, out: np.ndarray, alpha: np.ndarray) -> None:
+        """Check a band's rows: ``out`` float32 h x W x C (C-contiguous) and ``alpha`` float32 h x W."""
+        if not out.size:
+            return
+        if not all_finite(out):
+            self.finite = False
+        lo, hi = alpha.min(), alpha.max()
+        if not (lo >= 0.0 and hi <= 1.0):
+            self.in_range = False
+        if self.image_alpha:
+            a = out[..., -1]
+            if not (a.min() >= 0.0 and a.max() <= 1.0):
+                self.in_range = False
+        if hi > 0.0:
+            self.covered = True
+
+
+def finite_output(render, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, alpha_channel) -> str:
+    """Make an output with NaN or inf finite, and say what happened: non-finite source values (NaN read as 0,
+    +-inf as the largest float32, and the warp drawn again by ``render``, a plan's), or finite ones whose
+    filtered sums passed float32's range (those outputs clamped)."""
+    src, bad = finite_source(src)
+    if bad:
+        render(src, out, alpha, None, None, alpha_channel)
+    over = clamp_non_finite(out)
+    big = f"{np.finfo(np.float32).max:.3g}"
+    said = f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest float32" if bad else ""
+    if over:
+        why = (f"{over} output values passed float32's range (+-{big}) in the warp's arithmetic (a filter's "
+               f"weighted sum, the removal of vignetting); they were clamped to +-{big} (NaN: 0)")
+        said = f"{said}; {why}" if said else f"the source is finite, but {why}"
+    return said
