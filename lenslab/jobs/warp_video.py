@@ -103,10 +103,13 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
             window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
-            # output frames reused in turn: the encoder holds at most three (two queued, one encoding)
+            # output frames reused in turn: the writer may still read `held` earlier ones (none when it takes each
+            # frame to the encoder's planes as it is written)
             ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
-                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(4)]
-            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, window=window)):
+                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(1 + writer.held)]
+            # decoded two frames ahead on a thread of its own; converted, warped and taken to the encoder's planes
+            # here, each pass on every core; encoded on a thread of its own
+            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, prefetch=2, window=window)):
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
                                           into=ring[k % len(ring)])  # as a still image is; outside the view: black
                 plan[:] = [cache.plan(src, dst)]

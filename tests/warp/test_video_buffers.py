@@ -15,7 +15,7 @@ from lenslab.lenses import Camera  # noqa: E402
 from lenslab.warp import warp  # noqa: E402
 from tests.io.ycbcr_oracle import decode_codes, write_ffv1  # noqa: E402
 
-W, H, N, SIDE = 64, 32, 11, 24  # more frames than either ring (the decoder's 6, the output's 4)
+W, H, N, SIDE = 64, 32, 11, 24  # more frames than any ring (the encoder's 3 Y'CbCr frames)
 TO = "fisheye:fov=180"
 
 
