@@ -214,8 +214,9 @@ class WarpPlan:
         if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
                 and into[0].dtype == into[1].dtype == np.float32:
             out, alpha = into
-            out.fill(0.0)
-            alpha.fill(0.0)
+            if not self._draws_every_pixel():
+                out.fill(0.0)
+                alpha.fill(0.0)
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
@@ -233,6 +234,12 @@ class WarpPlan:
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
+
+    def _draws_every_pixel(self) -> bool:
+        """Whether rendering sets every output pixel, so that an output to reuse need not be zeroed: kept taps
+        draw each pixel or set it empty."""
+        return self.parts is None and self.channels is None and bool(self._bands) and \
+            all(isinstance(b, TapBand) for b in self._bands)
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None) -> None:
