@@ -64,36 +64,48 @@ inline void primaries(float* o, int64_t n, const float* mf) {
 // `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
 // LY and LC the codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly), the
 // bracket once per chroma sample; then the transfer function's table, then `m` (BT.2020 -> Rec.709) when given.
+// The codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly): Y' (ly) and chroma
+// (lc), n codes each
+inline void code_values(Range r, int64_t n, float* ly, float* lc) {
+    for (int64_t c = 0; c < n; ++c) {
+        ly[c] = float((double(c) - r.y0) / r.ys * 65535.0);
+        lc[c] = float((double(c) - r.c0) / r.cs * 65535.0);
+    }
+}
+
+// 8-bit samples, a matrix whose R' row has no Cb and B' row no Cr (BT.709, BT.601, BT.2020): R' depends on Y' and Cr
+// only, B' on Y' and Cb, so their linear values are two tables of 256 x 256 (`rb`: R' by Cr then Y', then B' by Cb
+// then Y'), made by the lookups to_linear makes, leaving one lookup a pixel (G')
+void rb_tables(Range r, const double* k, const float* t, float* rb) {
+    float ly[256], lc[256];
+    code_values(r, 256, ly, lc);
+    const float kb0 = float(k[1]), kr0 = float(k[2]), kb2 = float(k[7]), kr2 = float(k[8]);
+    for (int64_t c = 0; c < 256; ++c) {
+        const float cr = kb0 * 0.0f + kr0 * lc[c], cb = kb2 * lc[c] + kr2 * 0.0f;
+        for (int64_t y = 0; y < 256; ++y) {
+            rb[c * 256 + y] = lookup(t, ly[y] + cr);
+            rb[65536 + c * 256 + y] = lookup(t, ly[y] + cb);
+        }
+    }
+}
+
+// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
+// `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
+// LY and LC the codes' values (code_values), the bracket once per chroma sample; then the transfer function's
+// table, then `m` (BT.2020 -> Rec.709) when given. `rb` (8-bit samples; may be null): R' and B' from rb_tables.
 template <typename T>
-void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const double* m, float* out,
-               int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
+void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const float* rb, const double* m,
+               float* out, int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
     constexpr int64_t N = int64_t(1) << (8 * sizeof(T));
     std::vector<float> ly(N), lc(N);
-    for (int64_t c = 0; c < N; ++c) {
-        ly[size_t(c)] = float((double(c) - r.y0) / r.ys * 65535.0);
-        lc[size_t(c)] = float((double(c) - r.c0) / r.cs * 65535.0);
-    }
+    code_values(r, N, ly.data(), lc.data());
     const float kb[3] = {float(k[1]), float(k[4]), float(k[7])}, kr[3] = {float(k[2]), float(k[5]), float(k[8])};
     float mf[9];
     for (int q = 0; q < 9; ++q) mf[q] = m ? float(m[q]) : 0.0f;
     const float* LY = ly.data();
     const float* LC = lc.data();
-    // 8-bit samples: R' depends on Y' and Cr only, B' on Y' and Cb (the matrix's zeros), so their linear values are
-    // two tables of 256 x 256, made by the same lookups as below, leaving one lookup a pixel (G')
-    std::vector<float> tr, tb;
-    if (N == 256 && k[1] == 0.0 && k[8] == 0.0 && (c1 - c0) * (r1 - r0) >= 4 * N * N) {
-        tr.resize(size_t(N * N));
-        tb.resize(size_t(N * N));
-        for (int64_t c = 0; c < N; ++c) {
-            const float cr = kb[0] * 0.0f + kr[0] * LC[c], cb = kb[2] * LC[c] + kr[2] * 0.0f;
-            for (int64_t y = 0; y < N; ++y) {
-                tr[size_t(c * N + y)] = lookup(t, LY[y] + cr);
-                tb[size_t(c * N + y)] = lookup(t, LY[y] + cb);
-            }
-        }
-    }
-    const float* TR = tr.empty() ? nullptr : tr.data();
-    const float* TB = tb.empty() ? nullptr : tb.data();
+    const float* TR = N == 256 ? rb : nullptr;
+    const float* TB = TR == nullptr ? nullptr : TR + 65536;
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
         int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1, n = (c1 - c0) * 3;
         std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3), xs(size_t(std::max<int64_t>(n, 0)));
@@ -321,9 +333,19 @@ void check_planes(Plane& y, Plane& u, Plane& v, int64_t h, int64_t w, int hx, in
 }  // namespace
 
 void register_video_ycbcr(nb::module_& m) {
+    m.def("ycbcr_rb_tables", [](In<double> range, In<double> matrix, In<float> table, Out<float> out) {
+        need(range.size() == 4 && matrix.size() == 9 && table.size() == 2 * 65536, "range 4, matrix 9, table 2 x 65536");
+        need(out.size() == 2 * 65536, "out: 2 x 256 x 256");
+        const double* k = matrix.data();
+        need(k[1] == 0.0 && k[8] == 0.0, "a matrix whose R' row has no Cb and B' row no Cr");
+        const double* g = range.data();
+        rb_tables(Range{g[0], g[1], g[2], g[3]}, k, table.data(), out.data());
+    }, nb::arg("range"), nb::arg("matrix"), nb::arg("table"), nb::arg("out").noconvert(),
+       nb::call_guard<nb::gil_scoped_release>());
+
     m.def("ycbcr_to_linear", [](Plane y, Plane u, Plane v, int hx, int vy, In<double> range, In<double> matrix,
-                                In<float> table, In<double> primaries, Out<float> out, int64_t r0, int64_t r1,
-                                int64_t c0, int64_t c1, int64_t threads) {
+                                In<float> table, In<float> rb, In<double> primaries, Out<float> out, int64_t r0,
+                                int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
         need(out.ndim() == 3 && out.shape(2) == 3, "out: H x W x 3");
         int64_t h = int64_t(out.shape(0)), w = int64_t(out.shape(1));
         check_planes(y, u, v, h, w, hx, vy);
@@ -333,14 +355,17 @@ void register_video_ycbcr(nb::module_& m) {
         const double* g = range.data();
         Range r{g[0], g[1], g[2], g[3]};
         const double* pm = primaries.size() ? primaries.data() : nullptr;
+        need(rb.size() == 0 || (rb.size() == 2 * 65536 && y.dtype() == nb::dtype<uint8_t>()),
+             "rb: empty, or the tables of 8-bit samples (2 x 256 x 256)");
+        const float* tables = rb.size() ? rb.data() : nullptr;
         if (y.dtype() == nb::dtype<uint8_t>())
-            to_linear(planes_of<const uint8_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), pm, out.data(), w,
-                      r0, r1, c0, c1, threads);
+            to_linear(planes_of<const uint8_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), tables, pm,
+                      out.data(), w, r0, r1, c0, c1, threads);
         else
-            to_linear(planes_of<const uint16_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), pm, out.data(), w,
-                      r0, r1, c0, c1, threads);
+            to_linear(planes_of<const uint16_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), nullptr, pm,
+                      out.data(), w, r0, r1, c0, c1, threads);
     }, nb::arg("y"), nb::arg("u"), nb::arg("v"), nb::arg("hx"), nb::arg("vy"), nb::arg("range"), nb::arg("matrix"),
-       nb::arg("table"), nb::arg("primaries"), nb::arg("out").noconvert(), nb::arg("r0"), nb::arg("r1"),
+       nb::arg("table"), nb::arg("rb"), nb::arg("primaries"), nb::arg("out").noconvert(), nb::arg("r0"), nb::arg("r1"),
        nb::arg("c0"), nb::arg("c1"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>());
 
     m.def("linear_to_ycbcr", [](In<float> lin, In<double> primaries, In<float> table, uint32_t b0, int shift,

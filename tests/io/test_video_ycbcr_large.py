@@ -1,7 +1,7 @@
-"""The compiled decoding of 8-bit frames large enough for its R' and B' tables (a window of 4 x 256 x 256 pixels or
-more: :func:`lenslab.io.video.ycbcr.ycbcr_to_linear` reads R' and B' from 256 x 256 tables there instead of a lookup a
-pixel) against colour-science's Y'CbCr decoding and BT.1886 EOTF in float64, and against the NumPy reference; the
-encoding of a frame wider than eight pixels (eight at a time where the CPU can) against the NumPy reference."""
+"""The compiled decoding of large 8-bit frames (R' and B' from 256 x 256 tables, G' by a lookup a pixel: many chroma
+rows and columns, bands on threads) against colour-science's Y'CbCr decoding and BT.1886 EOTF in float64, and against
+the NumPy reference; the encoding of a frame wider than eight pixels (eight at a time where the CPU can) against the
+NumPy reference."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from lenslab.io.video.ycbcr import (linear_to_ycbcr, linear_to_ycbcr_reference, 
                                     ycbcr_to_linear, ycbcr_to_linear_reference)
 from tests.io.test_video_ycbcr import _decode_bound  # noqa: E402
 
-H, W = 515, 611  # odd: the last chroma blocks are partial; more than 4 x 256 x 256 pixels
+H, W = 515, 611  # odd: the last chroma blocks are partial
 
 
 @pytest.mark.parametrize("fmt,matrix,rng", [("yuv420p", 1, 1), ("yuv444p", 5, 2), ("yuv422p", 1, 1)])
