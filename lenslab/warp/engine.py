@@ -167,6 +167,12 @@ class WarpPlan:
         if kept is not None:
             self._bands = kept
 
+    def prepare(self) -> None:
+        """Compute and keep the maps now, before any image, where the plan caches them (as the first image's warp
+        would): a clip's decoder opens meanwhile."""
+        if self.cache and self._bands is None and self.parts is None and self.channels is None:
+            self._bands = run_bands(self.band_rows(), lambda rows: self._kept_band(*rows))
+
     def source_window(self) -> tuple[int, int, int, int] | None:
         """``(row0, row1, col0, col1)`` of the source pixels this plan reads, once its maps are kept as taps
         (after the first image); None when not known or when it reads across the source's edges. A video
