@@ -139,6 +139,7 @@ def _maps_ahead(cache, src, dst):
         try:
             plan = cache.plan(src, dst)
             plan.prepare()
+            plan.source_window()  # kept by the plan
             box["plan"] = plan
         except BaseException as exc:  # raised in the caller's thread
             box["error"] = exc
