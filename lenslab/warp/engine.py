@@ -168,8 +168,7 @@ class WarpPlan:
             self._bands = kept
 
     def prepare(self) -> None:
-        """Compute and keep the maps now, before any image, where the plan caches them (as the first image's warp
-        would): a clip's decoder opens meanwhile."""
+        """Compute and keep the maps now, where the plan caches them (as its first image would)."""
         if self.cache and self._bands is None and self.parts is None and self.channels is None:
             self._bands = run_bands(self.band_rows(), lambda rows: self._kept_band(*rows))
 
@@ -242,8 +241,7 @@ class WarpPlan:
         return out, alpha
 
     def _draws_every_pixel(self) -> bool:
-        """Whether rendering sets every output pixel, so that an output to reuse need not be zeroed: kept taps
-        draw each pixel or set it empty."""
+        """Whether rendering sets every output pixel (kept taps draw each or set it empty): no zeroing first."""
         return self.parts is None and self.channels is None and bool(self._bands) and \
             all(isinstance(b, TapBand) for b in self._bands)
 
