@@ -1,5 +1,5 @@
-"""A clip longer than the rings of reused frames (the decoder's and the warp's output) is warped frame by frame as
-its own frames are: each output frame of `lenslab warp` against lenslab.warp.warp of the input frame decoded
+"""A clip longer than the buffers reused from frame to frame (the decoded source, the warp's output, the encoder's
+ring of Y'CbCr frames) is warped frame by frame as its own frames are: each output frame of `lenslab warp` against lenslab.warp.warp of the input frame decoded
 independently (colour-science's Y'CbCr decoding and BT.1886 EOTF), so a frame overwritten too early would show."""
 
 from __future__ import annotations
