@@ -94,7 +94,13 @@ def add_debug_option(parser, default=False) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import os
+
     from lenslab.jobs.funnel import EXIT_USAGE, run_command
+
+    # the commands run threads of their own (bands of rows, the codecs'): OpenBLAS's, started with NumPy, would
+    # only spin beside them (50 ms of a core at every start)
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
     argv = sys.argv[1:] if argv is None else list(argv)
     first = next((a for a in argv if not a.startswith("-")), None)  # the only options before it take no value

@@ -98,18 +98,22 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     whole = start == 0 and stop is None
     written = 0
     with atomic_write_path(dst_path, overwrite=args.overwrite) as tmp:
+        plan = _maps_ahead(cache, src, dst)  # computed while the encoder and the decoder open
         writer = VideoWriter(tmp, info, codec=getattr(args, "codec", None), size=tuple(dst.size),
                              audio_from=src_path if whole and info.audio else None)
         with writer, _frame_bar(show, total, Path(src_path).name) as bar:
-            plan: list = []  # once the first frame is warped, later frames are converted where the plan reads
-            window = None if source_flips else (lambda: plan[0].source_window() if plan else None)
-            # output frames reused in turn: the encoder holds at most three (two queued, one encoding)
+            # frames are converted to linear light where the plan reads
+            window = None if source_flips else (lambda: plan().source_window())
+            # output frames reused in turn: the writer may still read `held` earlier ones (none when it takes each
+            # frame to the encoder's planes as it is written)
             ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
-                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(4)]
-            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, window=window)):
+                     np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(1 + writer.held)]
+            # decoded two frames ahead on a thread of its own; converted, warped and taken to the encoder's planes
+            # here, each pass on every core; encoded on a thread of its own
+            for k, (_, frame) in enumerate(read_frames(src_path, start, stop, prefetch=2, window=window)):
+                plan()
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
                                           into=ring[k % len(ring)])  # as a still image is; outside the view: black
-                plan[:] = [cache.plan(src, dst)]
                 if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out, encoded=bool(display), handover=True)  # not reused until encoded
@@ -122,6 +126,34 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
 
         warnings.warn("the audio was left out: it is kept only when the whole clip is warped", UserWarning,
                       stacklevel=2)
+
+
+def _maps_ahead(cache, src, dst):
+    """Start computing the maps of ``src -> dst`` (``cache``'s plan) on a thread of their own; the function returned
+    waits for them and gives the plan, or raises what went wrong there."""
+    import threading
+
+    box: dict = {}
+
+    def work():
+        try:
+            plan = cache.plan(src, dst)
+            plan.prepare()
+            plan.source_window()  # kept by the plan
+            box["plan"] = plan
+        except BaseException as exc:  # raised in the caller's thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=work, daemon=True, name="lenslab-maps")
+    thread.start()
+
+    def plan():
+        thread.join()
+        if "error" in box:
+            raise box["error"]
+        return box["plan"]
+
+    return plan
 
 
 def _frame_bar(show: bool, total: int, name: str):

@@ -168,6 +168,11 @@ class WarpPlan:
         if kept is not None:
             self._bands = kept
 
+    def prepare(self) -> None:
+        """Compute and keep the maps now, where the plan caches them (as its first image would)."""
+        if self.cache and self._bands is None and self.parts is None and self.channels is None:
+            self._bands = run_bands(self.band_rows(), lambda rows: self._kept_band(*rows))
+
     def source_window(self) -> tuple[int, int, int, int] | None:
         """``(row0, row1, col0, col1)`` of the source pixels this plan reads, once its maps are kept as taps
         (after the first image); None when not known or when it reads across the source's edges. A video
@@ -215,8 +220,9 @@ class WarpPlan:
         if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
                 and into[0].dtype == into[1].dtype == np.float32:
             out, alpha = into
-            out.fill(0.0)
-            alpha.fill(0.0)
+            if not self._draws_every_pixel():
+                out.fill(0.0)
+                alpha.fill(0.0)
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
@@ -234,6 +240,11 @@ class WarpPlan:
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
+
+    def _draws_every_pixel(self) -> bool:
+        """Whether rendering sets every output pixel (kept taps draw each or set it empty): no zeroing first."""
+        return self.parts is None and self.channels is None and bool(self._bands) and \
+            all(isinstance(b, TapBand) for b in self._bands)
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,

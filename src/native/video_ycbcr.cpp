@@ -52,24 +52,60 @@ inline float lookup(const float* t, float x) {
     return t[2 * i] + (x - float(i)) * t[2 * i + 1];
 }
 
+// n pixels (n x 3, float32) through the 3 x 3 matrix `mf` (row-major) in place
+inline void primaries(float* o, int64_t n, const float* mf) {
+    for (int64_t c = 0; c < n; ++c) {
+        float e0 = o[3 * c], e1 = o[3 * c + 1], e2 = o[3 * c + 2];
+        for (int q = 0; q < 3; ++q) o[3 * c + q] = mf[3 * q] * e0 + mf[3 * q + 1] * e1 + mf[3 * q + 2] * e2;
+    }
+}
+
 // Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
 // `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
 // LY and LC the codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly), the
 // bracket once per chroma sample; then the transfer function's table, then `m` (BT.2020 -> Rec.709) when given.
+// The codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly): Y' (ly) and chroma
+// (lc), n codes each
+inline void code_values(Range r, int64_t n, float* ly, float* lc) {
+    for (int64_t c = 0; c < n; ++c) {
+        ly[c] = float((double(c) - r.y0) / r.ys * 65535.0);
+        lc[c] = float((double(c) - r.c0) / r.cs * 65535.0);
+    }
+}
+
+// 8-bit samples, a matrix whose R' row has no Cb and B' row no Cr (BT.709, BT.601, BT.2020): R' depends on Y' and Cr
+// only, B' on Y' and Cb, so their linear values are two tables of 256 x 256 (`rb`: R' by Cr then Y', then B' by Cb
+// then Y'), made by the lookups to_linear makes, leaving one lookup a pixel (G')
+void rb_tables(Range r, const double* k, const float* t, float* rb) {
+    float ly[256], lc[256];
+    code_values(r, 256, ly, lc);
+    const float kb0 = float(k[1]), kr0 = float(k[2]), kb2 = float(k[7]), kr2 = float(k[8]);
+    for (int64_t c = 0; c < 256; ++c) {
+        const float cr = kb0 * 0.0f + kr0 * lc[c], cb = kb2 * lc[c] + kr2 * 0.0f;
+        for (int64_t y = 0; y < 256; ++y) {
+            rb[c * 256 + y] = lookup(t, ly[y] + cr);
+            rb[65536 + c * 256 + y] = lookup(t, ly[y] + cb);
+        }
+    }
+}
+
+// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
+// `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
+// LY and LC the codes' values (code_values), the bracket once per chroma sample; then the transfer function's
+// table, then `m` (BT.2020 -> Rec.709) when given. `rb` (8-bit samples; may be null): R' and B' from rb_tables.
 template <typename T>
-void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const double* m, float* out,
-               int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
+void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const float* rb, const double* m,
+               float* out, int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
     constexpr int64_t N = int64_t(1) << (8 * sizeof(T));
     std::vector<float> ly(N), lc(N);
-    for (int64_t c = 0; c < N; ++c) {
-        ly[size_t(c)] = float((double(c) - r.y0) / r.ys * 65535.0);
-        lc[size_t(c)] = float((double(c) - r.c0) / r.cs * 65535.0);
-    }
+    code_values(r, N, ly.data(), lc.data());
     const float kb[3] = {float(k[1]), float(k[4]), float(k[7])}, kr[3] = {float(k[2]), float(k[5]), float(k[8])};
     float mf[9];
     for (int q = 0; q < 9; ++q) mf[q] = m ? float(m[q]) : 0.0f;
     const float* LY = ly.data();
     const float* LC = lc.data();
+    const float* TR = N == 256 ? rb : nullptr;
+    const float* TB = TR == nullptr ? nullptr : TR + 65536;
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
         int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1, n = (c1 - c0) * 3;
         std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3), xs(size_t(std::max<int64_t>(n, 0)));
@@ -78,6 +114,19 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
             const T* ur = p.u + (j >> p.vy) * p.su;
             const T* vr = p.v + (j >> p.vy) * p.sv;
             float* ch = chroma.data() - 3 * k0;
+            if (TR != nullptr) {  // R' and B' from their tables, G' by its lookup
+                float* g = chroma.data() - k0;
+                for (int64_t cc = k0; cc < k1; ++cc) g[cc] = kb[1] * LC[ur[cc]] + kr[1] * LC[vr[cc]];
+                float* o = out + j * cols * 3;
+                for (int64_t c = c0; c < c1; ++c) {
+                    const int64_t y = yr[c], cc = c >> p.hx;
+                    o[3 * c] = TR[(int64_t(vr[cc]) << 8) + y];
+                    o[3 * c + 1] = lookup(t, LY[y] + g[cc]);
+                    o[3 * c + 2] = TB[(int64_t(ur[cc]) << 8) + y];
+                }
+                if (m != nullptr) primaries(o + c0 * 3, c1 - c0, mf);
+                continue;
+            }
             for (int64_t cc = k0; cc < k1; ++cc) {
                 float cb = LC[ur[cc]], cr = LC[vr[cc]];
                 for (int q = 0; q < 3; ++q) ch[3 * cc + q] = kb[q] * cb + kr[q] * cr;
@@ -92,11 +141,164 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
             float* o = out + (j * cols + c0) * 3;
             const float* xv = xs.data();
             for (int64_t q = 0; q < n; ++q) o[q] = lookup(t, xv[q]);
-            if (m != nullptr) {
-                for (int64_t c = 0; c < c1 - c0; ++c) {
-                    float e0 = o[3 * c], e1 = o[3 * c + 1], e2 = o[3 * c + 2];
-                    for (int q = 0; q < 3; ++q) o[3 * c + q] = mf[3 * q] * e0 + mf[3 * q + 1] * e1 + mf[3 * q + 2] * e2;
+            if (m != nullptr) primaries(o, c1 - c0, mf);
+        }
+    });
+}
+
+// One row of linear float32 (cols x 3) -> R'G'B' in [0, 1] in `e`: NaN and infinities made finite, `m` (Rec.709 ->
+// the stream's primaries) when given, the inverse transfer function's table (none: values already encoded), clamped.
+inline void encoded_row(const float* a, int64_t cols, const double* m, const Curve& curve, float* e) {
+    const int64_t n = cols * 3;
+    for (int64_t q = 0; q < n; ++q) e[q] = lenslab_video::finite(a[q]);
+    if (m != nullptr) {
+        for (int64_t c = 0; c < cols; ++c) {
+            float y0 = e[3 * c], y1 = e[3 * c + 1], y2 = e[3 * c + 2];
+            for (int q = 0; q < 3; ++q) e[3 * c + q] = float(m[3 * q] * y0 + m[3 * q + 1] * y1 + m[3 * q + 2] * y2);
+        }
+    }
+    // plain loops over the row's values, which the compiler turns into vector gathers and clamps
+    if (curve.table != nullptr) {
+        lenslab_video::curve_many(curve, e, e, n);
+    }
+    for (int64_t q = 0; q < n; ++q) e[q] = e[q] > 0.0f ? (e[q] < 1.0f ? e[q] : 1.0f) : 0.0f;
+}
+
+// The pixels of a row of linear float32 (cols x 3) from the first on, eight at a time, as the scalar loop of
+// from_linear_t computes them: R'G'B' by the curve (none: the values themselves) clamped to [0, 1], Y' in float64
+// rounded to its code in `yr`, E'cb and E'cr in float64 in `u`, `v`. Returns how many pixels it did (a multiple of 8;
+// 0 without AVX2).
+template <typename T>
+int64_t row_codes_x8(const float* a, int64_t cols, const Curve& curve, const double* k, const Range& r, double top,
+                     T* yr, double* u, double* v) {
+#if defined(__AVX2__) && defined(__FMA__)
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    // gather each channel's eight values from three vectors of interleaved R, G, B
+    const __m256i pr0 = _mm256_setr_epi32(0, 3, 6, 0, 0, 0, 0, 0), pr1 = _mm256_setr_epi32(0, 0, 0, 1, 4, 7, 0, 0),
+                  pr2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 2, 5);
+    const __m256i pg0 = _mm256_setr_epi32(1, 4, 7, 0, 0, 0, 0, 0), pg1 = _mm256_setr_epi32(0, 0, 0, 2, 5, 0, 0, 0),
+                  pg2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 3, 6);
+    const __m256i pb0 = _mm256_setr_epi32(2, 5, 0, 0, 0, 0, 0, 0), pb1 = _mm256_setr_epi32(0, 0, 0, 3, 6, 0, 0, 0),
+                  pb2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 4, 7);
+    const __m256d K[9] = {_mm256_set1_pd(k[0]), _mm256_set1_pd(k[1]), _mm256_set1_pd(k[2]), _mm256_set1_pd(k[3]),
+                          _mm256_set1_pd(k[4]), _mm256_set1_pd(k[5]), _mm256_set1_pd(k[6]), _mm256_set1_pd(k[7]),
+                          _mm256_set1_pd(k[8])};
+    const __m256d ys = _mm256_set1_pd(r.ys), y0 = _mm256_set1_pd(r.y0), dtop = _mm256_set1_pd(top),
+                  dzero = _mm256_setzero_pd();
+    alignas(32) float e[24];
+    int64_t c = 0;
+    for (; c + 8 <= cols; c += 8) {
+        const float* x = a + 3 * c;
+        if (curve.table != nullptr) {
+            lenslab_video::curve_many(curve, x, e, 24);
+        } else {
+            std::memcpy(e, x, sizeof e);
+        }
+        __m256 w[3];
+        for (int q = 0; q < 3; ++q)  // max first: NaN -> 0
+            w[q] = _mm256_min_ps(_mm256_max_ps(_mm256_load_ps(e + 8 * q), zero), one);
+        __m256 R = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pr0),
+                                                   _mm256_permutevar8x32_ps(w[1], pr1), 0x38),
+                                   _mm256_permutevar8x32_ps(w[2], pr2), 0xC0);
+        __m256 G = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pg0),
+                                                   _mm256_permutevar8x32_ps(w[1], pg1), 0x18),
+                                   _mm256_permutevar8x32_ps(w[2], pg2), 0xE0);
+        __m256 B = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pb0),
+                                                   _mm256_permutevar8x32_ps(w[1], pb1), 0x1C),
+                                   _mm256_permutevar8x32_ps(w[2], pb2), 0xE0);
+        __m128i codes[2];
+        for (int h = 0; h < 2; ++h) {
+            __m256d e0 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(R, 1) : _mm256_castps256_ps128(R));
+            __m256d e1 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(G, 1) : _mm256_castps256_ps128(G));
+            __m256d e2 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(B, 1) : _mm256_castps256_ps128(B));
+            __m256d wy = _mm256_fmadd_pd(K[2], e2, _mm256_fmadd_pd(K[1], e1, _mm256_mul_pd(K[0], e0)));
+            __m256d wu = _mm256_fmadd_pd(K[5], e2, _mm256_fmadd_pd(K[4], e1, _mm256_mul_pd(K[3], e0)));
+            __m256d wv = _mm256_fmadd_pd(K[8], e2, _mm256_fmadd_pd(K[7], e1, _mm256_mul_pd(K[6], e0)));
+            _mm256_storeu_pd(u + c + 4 * h, wu);
+            _mm256_storeu_pd(v + c + 4 * h, wv);
+            __m256d y = _mm256_fmadd_pd(wy, ys, y0);
+            y = _mm256_min_pd(_mm256_max_pd(y, dzero), dtop);
+            codes[h] = _mm256_cvtpd_epi32(_mm256_round_pd(y, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+        }
+        __m128i c16 = _mm_packus_epi32(codes[0], codes[1]);  // eight codes, at most `top` < 2^16
+        if constexpr (sizeof(T) == 1) {
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(yr + c), _mm_packus_epi16(c16, c16));
+        } else {
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(yr + c), c16);
+        }
+    }
+    return c;
+#else
+    (void)a; (void)cols; (void)curve; (void)k; (void)r; (void)top; (void)yr; (void)u; (void)v;
+    return 0;
+#endif
+}
+
+// Linear float32 -> Y'CbCr planes: per row, R'G'B' (encoded_row), then Y' in float64 rounded once to its code, and
+// each pixel's E'cb and E'cr (float64) kept for its chroma block; a block's chroma is their mean, summed row by row
+// in column order, rounded once. HX, VY: log2 of the chroma subsampling, known to the compiler, so that the loops
+// over a row (stride-3 reads, one code per pixel) vectorise.
+template <typename T, int HX, int VY>
+void from_linear_t(const float* lin, int64_t rows, int64_t cols, const double* m, Curve curve, const double* k,
+                   Range r, double top, Planes<T> p, int64_t threads) {
+    constexpr int64_t bw = int64_t(1) << HX, bh = int64_t(1) << VY;
+    const int64_t ccols = (cols + bw - 1) / bw, full = cols / bw;
+    const double k0 = k[0], k1 = k[1], k2 = k[2], k3 = k[3], k4 = k[4], k5 = k[5], k6 = k[6], k7 = k[7], k8 = k[8];
+    auto code = [top](double x) { return T(std::nearbyint(x > 0.0 ? (x < top ? x : top) : 0.0)); };
+    bands(rows, threads, bh, [=](int64_t j0, int64_t j1) {
+        std::vector<float> es(size_t(cols) * 3);
+        std::vector<double> us(size_t(bh * cols)), vs(size_t(bh * cols));
+        float* e = es.data();
+        for (int64_t jb = j0; jb < j1; jb += bh) {
+            const int64_t je = std::min(j1, jb + bh);
+            for (int64_t j = jb; j < je; ++j) {
+                const float* a = lin + j * cols * 3;
+                T* yr = p.y + j * p.sy_;
+                double* u = us.data() + (j - jb) * cols;
+                double* v = vs.data() + (j - jb) * cols;
+                // eight pixels at a time where the CPU can (no primaries to convert: the curve makes NaN and
+                // infinities finite as finite() would, 0 and the last knot), the rest one by one
+                const int64_t done = m == nullptr ? row_codes_x8(a, cols, curve, k, r, top, yr, u, v) : 0;
+                encoded_row(a + done * 3, cols - done, m, curve, e);
+                for (int64_t c = done; c < cols; ++c) {
+                    const float* ec = e + 3 * (c - done);
+                    const double e0 = ec[0], e1 = ec[1], e2 = ec[2];
+                    yr[c] = code((k0 * e0 + k1 * e1 + k2 * e2) * r.ys + r.y0);
+                    u[c] = k3 * e0 + k4 * e1 + k5 * e2;
+                    v[c] = k6 * e0 + k7 * e1 + k8 * e2;
                 }
+            }
+            const int64_t nr = je - jb;
+            T* ur = p.u + (jb >> VY) * p.su;
+            T* vr = p.v + (jb >> VY) * p.sv;
+            const double* u = us.data();
+            const double* v = vs.data();
+            if (nr == bh) {  // whole blocks: the sums unrolled
+                const double nb = double(bw * bh);
+                for (int64_t cc = 0; cc < full; ++cc) {
+                    double su = 0.0, sv = 0.0;
+                    for (int64_t jj = 0; jj < bh; ++jj) {
+                        for (int64_t x = 0; x < bw; ++x) {
+                            su += u[jj * cols + cc * bw + x];
+                            sv += v[jj * cols + cc * bw + x];
+                        }
+                    }
+                    ur[cc] = code(su / nb * r.cs + r.c0);
+                    vr[cc] = code(sv / nb * r.cs + r.c0);
+                }
+            }
+            for (int64_t cc = nr == bh ? full : 0; cc < ccols; ++cc) {  // blocks cut by the frame's edges
+                const int64_t x1 = std::min(cols, (cc + 1) * bw);
+                double su = 0.0, sv = 0.0;
+                for (int64_t jj = 0; jj < nr; ++jj) {
+                    for (int64_t x = cc * bw; x < x1; ++x) {
+                        su += u[jj * cols + x];
+                        sv += v[jj * cols + x];
+                    }
+                }
+                const double nb = double(nr * (x1 - cc * bw));
+                ur[cc] = code(su / nb * r.cs + r.c0);
+                vr[cc] = code(sv / nb * r.cs + r.c0);
             }
         }
     });
@@ -105,48 +307,12 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
 template <typename T>
 void from_linear(const float* lin, int64_t rows, int64_t cols, const double* m, Curve curve, const double* k, Range r,
                  double top, Planes<T> p, int64_t threads) {
-    int64_t bw = int64_t(1) << p.hx, bh = int64_t(1) << p.vy, ccols = (cols + bw - 1) / bw;
-    auto code = [top](double x) { return T(std::nearbyint(x > 0.0 ? (x < top ? x : top) : 0.0)); };
-    bands(rows, threads, bh, [=](int64_t j0, int64_t j1) {
-        std::vector<double> acc(size_t(ccols) * 3);
-        std::vector<float> es(size_t(cols) * 3);
-        float* e = es.data();
-        const int64_t n = cols * 3;
-        for (int64_t jb = j0; jb < j1; jb += bh) {
-            std::fill(acc.begin(), acc.end(), 0.0);
-            int64_t je = std::min(j1, jb + bh);
-            for (int64_t j = jb; j < je; ++j) {
-                const float* a = lin + j * cols * 3;
-                for (int64_t q = 0; q < n; ++q) e[q] = lenslab_video::finite(a[q]);
-                if (m != nullptr) {
-                    for (int64_t c = 0; c < cols; ++c) {
-                        float y0 = e[3 * c], y1 = e[3 * c + 1], y2 = e[3 * c + 2];
-                        for (int q = 0; q < 3; ++q)
-                            e[3 * c + q] = float(m[3 * q] * y0 + m[3 * q + 1] * y1 + m[3 * q + 2] * y2);
-                    }
-                }
-                // one plain loop over the row's values, which the compiler turns into vector gathers
-                if (curve.table != nullptr) {
-                    for (int64_t q = 0; q < n; ++q) e[q] = lenslab_video::curve_flat(curve, e[q]);
-                }
-                for (int64_t q = 0; q < n; ++q) e[q] = e[q] > 0.0f ? (e[q] < 1.0f ? e[q] : 1.0f) : 0.0f;
-                for (int64_t c = 0; c < cols; ++c) {
-                    double w[3];
-                    for (int q = 0; q < 3; ++q)
-                        w[q] = k[3 * q] * e[3 * c] + k[3 * q + 1] * e[3 * c + 1] + k[3 * q + 2] * e[3 * c + 2];
-                    p.y[j * p.sy_ + c] = code(w[0] * r.ys + r.y0);
-                    acc[size_t(c >> p.hx) * 2] += w[1];
-                    acc[size_t(c >> p.hx) * 2 + 1] += w[2];
-                }
-            }
-            int64_t n_rows = je - jb;
-            for (int64_t cc = 0; cc < ccols; ++cc) {
-                double nb = double(n_rows * (std::min(cols, (cc + 1) * bw) - cc * bw));
-                p.u[(jb >> p.vy) * p.su + cc] = code(acc[size_t(cc) * 2] / nb * r.cs + r.c0);
-                p.v[(jb >> p.vy) * p.sv + cc] = code(acc[size_t(cc) * 2 + 1] / nb * r.cs + r.c0);
-            }
-        }
-    });
+    switch (p.hx * 2 + p.vy) {
+        case 0: return from_linear_t<T, 0, 0>(lin, rows, cols, m, curve, k, r, top, p, threads);
+        case 1: return from_linear_t<T, 0, 1>(lin, rows, cols, m, curve, k, r, top, p, threads);
+        case 2: return from_linear_t<T, 1, 0>(lin, rows, cols, m, curve, k, r, top, p, threads);
+        default: return from_linear_t<T, 1, 1>(lin, rows, cols, m, curve, k, r, top, p, threads);
+    }
 }
 
 template <typename T> Planes<T> planes_of(Plane& y, Plane& u, Plane& v, int hx, int vy) {
@@ -167,9 +333,19 @@ void check_planes(Plane& y, Plane& u, Plane& v, int64_t h, int64_t w, int hx, in
 }  // namespace
 
 void register_video_ycbcr(nb::module_& m) {
+    m.def("ycbcr_rb_tables", [](In<double> range, In<double> matrix, In<float> table, Out<float> out) {
+        need(range.size() == 4 && matrix.size() == 9 && table.size() == 2 * 65536, "range 4, matrix 9, table 2 x 65536");
+        need(out.size() == 2 * 65536, "out: 2 x 256 x 256");
+        const double* k = matrix.data();
+        need(k[1] == 0.0 && k[8] == 0.0, "a matrix whose R' row has no Cb and B' row no Cr");
+        const double* g = range.data();
+        rb_tables(Range{g[0], g[1], g[2], g[3]}, k, table.data(), out.data());
+    }, nb::arg("range"), nb::arg("matrix"), nb::arg("table"), nb::arg("out").noconvert(),
+       nb::call_guard<nb::gil_scoped_release>());
+
     m.def("ycbcr_to_linear", [](Plane y, Plane u, Plane v, int hx, int vy, In<double> range, In<double> matrix,
-                                In<float> table, In<double> primaries, Out<float> out, int64_t r0, int64_t r1,
-                                int64_t c0, int64_t c1, int64_t threads) {
+                                In<float> table, In<float> rb, In<double> primaries, Out<float> out, int64_t r0,
+                                int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
         need(out.ndim() == 3 && out.shape(2) == 3, "out: H x W x 3");
         int64_t h = int64_t(out.shape(0)), w = int64_t(out.shape(1));
         check_planes(y, u, v, h, w, hx, vy);
@@ -179,14 +355,17 @@ void register_video_ycbcr(nb::module_& m) {
         const double* g = range.data();
         Range r{g[0], g[1], g[2], g[3]};
         const double* pm = primaries.size() ? primaries.data() : nullptr;
+        need(rb.size() == 0 || (rb.size() == 2 * 65536 && y.dtype() == nb::dtype<uint8_t>()),
+             "rb: empty, or the tables of 8-bit samples (2 x 256 x 256)");
+        const float* tables = rb.size() ? rb.data() : nullptr;
         if (y.dtype() == nb::dtype<uint8_t>())
-            to_linear(planes_of<const uint8_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), pm, out.data(), w,
-                      r0, r1, c0, c1, threads);
+            to_linear(planes_of<const uint8_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), tables, pm,
+                      out.data(), w, r0, r1, c0, c1, threads);
         else
-            to_linear(planes_of<const uint16_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), pm, out.data(), w,
-                      r0, r1, c0, c1, threads);
+            to_linear(planes_of<const uint16_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), nullptr, pm,
+                      out.data(), w, r0, r1, c0, c1, threads);
     }, nb::arg("y"), nb::arg("u"), nb::arg("v"), nb::arg("hx"), nb::arg("vy"), nb::arg("range"), nb::arg("matrix"),
-       nb::arg("table"), nb::arg("primaries"), nb::arg("out").noconvert(), nb::arg("r0"), nb::arg("r1"),
+       nb::arg("table"), nb::arg("rb"), nb::arg("primaries"), nb::arg("out").noconvert(), nb::arg("r0"), nb::arg("r1"),
        nb::arg("c0"), nb::arg("c1"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>());
 
     m.def("linear_to_ycbcr", [](In<float> lin, In<double> primaries, In<float> table, uint32_t b0, int shift,

@@ -1,5 +1,5 @@
 """Frames decoded only in a window (the pixels a warp reads: the compiled Y'CbCr pass reads only their samples,
-into a ring of reused buffers) hold in that window the values the whole frame's decoding gives, frame after
+into one buffer reused frame to frame) hold in that window the values the whole frame's decoding gives, frame after
 frame, and 0 outside it."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ av = pytest.importorskip("av")
 from lenslab.io.video import read_frames  # noqa: E402
 from tests.io.ycbcr_oracle import write_ffv1  # noqa: E402
 
-W, H, N = 64, 32, 11  # more frames than the ring (prefetch 3 + 3) holds, so buffers are reused
+W, H, N = 64, 32, 11  # frames enough that a stale buffer or a frame converted out of turn would show
 
 
 def _make(path, pix_fmt):
@@ -29,8 +29,8 @@ def test_windowed_frames_equal_whole_frames_in_the_window(tmp_path, pix_fmt):
     parts, buffers = [], set()
     for _, f in read_frames(tmp_path / "clip.mkv", window=lambda: box):
         buffers.add(f.__array_interface__["data"][0])
-        parts.append(f.copy())  # valid until more frames are taken
-    assert len(parts) == len(whole) == N and len(buffers) == 6  # the ring: prefetch 3 + 3
+        parts.append(f.copy())  # valid until the next frame is taken
+    assert len(parts) == len(whole) == N and len(buffers) == 1  # one buffer, converted as each frame is taken
     r0, r1, c0, c1 = box
     for part, want in zip(parts, whole):
         np.testing.assert_array_equal(part[r0:r1, c0:c1], want[r0:r1, c0:c1])

@@ -1,5 +1,5 @@
-"""A clip longer than the rings of reused frames (the decoder's and the warp's output) is warped frame by frame as
-its own frames are: each output frame of `lenslab warp` against lenslab.warp.warp of the input frame decoded
+"""A clip longer than the buffers reused from frame to frame (the decoded source, the warp's output, the encoder's
+ring of Y'CbCr frames) is warped frame by frame as its own frames are: each output frame of `lenslab warp` against lenslab.warp.warp of the input frame decoded
 independently (colour-science's Y'CbCr decoding and BT.1886 EOTF), so a frame overwritten too early would show."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from lenslab.lenses import Camera  # noqa: E402
 from lenslab.warp import warp  # noqa: E402
 from tests.io.ycbcr_oracle import decode_codes, write_ffv1  # noqa: E402
 
-W, H, N, SIDE = 64, 32, 11, 24  # more frames than either ring (the decoder's 6, the output's 4)
+W, H, N, SIDE = 64, 32, 11, 24  # more frames than any ring (the encoder's 3 Y'CbCr frames)
 TO = "fisheye:fov=180"
 
 

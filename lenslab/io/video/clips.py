@@ -103,7 +103,33 @@ def _open(path):
         raise FormatError(f"{path}: FFmpeg cannot open it as a video ({cause(exc)})") from None
 
 
+#: the streams of the last few files probed, by path, size, modification time and inode: a command probes its input
+#: for the budget, for the warp and for decoding, and FFmpeg's probe decodes frames (50 ms for a 4K H.264 clip)
+_PROBED: dict = {}
+
+
 def probe_video(path) -> VideoInfo:
+    """What the video stream of ``path`` holds (a new :class:`VideoInfo` each call)."""
+    import os
+    from dataclasses import replace
+
+    try:
+        st = os.stat(path)
+        key = (os.path.abspath(path), st.st_size, st.st_mtime_ns, st.st_ino)
+    except (OSError, TypeError, ValueError):
+        key = None
+    if key is None or key not in _PROBED:
+        info = _probe(path)
+        if key is None:
+            return info
+        if len(_PROBED) >= 8:
+            _PROBED.clear()
+        _PROBED[key] = info
+    info = _PROBED[key]
+    return replace(info, extra=dict(info.extra))
+
+
+def _probe(path) -> VideoInfo:
     with _open(path) as c:
         if not c.streams.video:
             raise FormatError(f"{path}: the file holds no video stream")
@@ -147,20 +173,20 @@ def frame_codes(frame, info: VideoInfo) -> np.ndarray:
 def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3, window=None):
     """Yield (index, linear float32 H x W x 3) for frames ``start <= index < stop``.
 
-    ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
-    the only pixels converted to linear light: those a warp reads. Such frames are written into a ring of
-    ``prefetch + 3`` buffers (a 4K frame is 88 MB of fresh pages otherwise): each is valid until the caller has
-    taken ``prefetch + 2`` more, and outside the window it holds 0 or an earlier frame's values.
+    Decoding runs on a thread of its own, ``prefetch`` frames ahead of the caller (PyAV and the compiled passes
+    release the GIL), so a warp of each frame overlaps the next decode; so does the conversion to linear light,
+    except with ``window``.
 
-    Decoding and the conversion to linear light run on a thread of their own, ``prefetch`` frames ahead
-    of the caller (PyAV and NumPy release the GIL), so a warp of each frame overlaps the next decode."""
+    ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
+    the only pixels converted to linear light: those a warp reads. Y'CbCr frames are then converted in the caller's
+    thread as it takes them, into one buffer reused frame to frame (a 4K frame is 88 MB of fresh pages otherwise):
+    each frame is valid until the caller takes the next, and outside the window it holds 0 or an earlier frame's
+    values."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
         decode_table(info.curve, info.primaries == BT2020)
 
-    ring: list = []
-
-    def frames():
+    def frames():  # on the decoding thread
         with _open(path) as c:
             stream = c.streams.video[0]
             stream.thread_type = "AUTO"
@@ -185,20 +211,27 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
                 if i >= start and info.rgb:  # RGB-coded: its codes exactly, at its own depth
                     yield i, to_linear(frame_codes(frame, info), info)
                 elif i >= start:
-                    box = window and window()
                     if not exact(info, frame.format.name):  # swscale's path (HLG, other formats and matrices)
                         yield i, codes16_to_linear_compiled(frame_codes16(frame, info), info)
-                    elif box is None:
+                    elif window is None:
                         yield i, ycbcr_to_linear(frame, info)
-                    else:  # reused: the caller is done with a frame long before its turn comes
-                        ring.append(ring.pop(0) if len(ring) == prefetch + 3 else None)
-                        if ring[-1] is None or ring[-1].shape != (frame.height, frame.width, 3):
-                            ring[-1] = np.zeros((frame.height, frame.width, 3), np.float32)
-                        yield i, ycbcr_to_linear(frame, info, box, ring[-1])
+                    else:  # converted by the caller, where it reads
+                        yield i, frame
 
     from lenslab.io.video.prefetch import ahead
 
-    yield from ahead(frames(), prefetch)
+    buffer: list = []
+    for i, item in ahead(frames(), prefetch):
+        if isinstance(item, np.ndarray):
+            yield i, item
+            continue
+        box = window()
+        if box is not None and (box[1] > item.height or box[3] > item.width):
+            yield i, ycbcr_to_linear(item, info)  # a frame of another size than the stream declared: the warp says so
+            continue
+        if not buffer or buffer[0].shape != (item.height, item.width, 3):
+            buffer[:] = [np.zeros((item.height, item.width, 3), np.float32)]
+        yield i, ycbcr_to_linear(item, info, box or (0, item.height, 0, item.width), buffer[0])
 
 
 class VideoWriter:
@@ -239,32 +272,51 @@ class VideoWriter:
         cc.thread_type = "AUTO"  # frame threads where the encoder has them, as ffmpeg's own default
         if encoder == "libx265":
             cc.options = {"x265-params": "log-level=error"}
-        self.count = 0
-        self._thread = self._queue = self._error = self._spare = None
+        self.count = self.encoded = 0  # frames written, frames given to the encoder
+        self._thread = self._queue = self._error = self._planes = None
         self.audio_from = audio_from
         self.audio: dict = {}
         if audio_from is not None:  # streams are added before the first packet writes the header
             with _open(audio_from) as src:
                 self.audio = {s.index: self.container.add_stream_from_template(s) for s in src.streams.audio}
 
+    #: Y'CbCr frames the exact path fills in turn: one being filled, one waiting, one being encoded
+    PLANES_RING = 3
+
+    @property
+    def held(self) -> int:
+        """How many earlier images a :meth:`write` with ``handover`` may still be reading when it returns: 0 where
+        the frame goes to the encoder's planes in the caller's thread (Y'CbCr streams), else 3."""
+        return 0 if exact(self.info, self.pix_fmt) else 3
+
     def write(self, image: np.ndarray, encoded: bool = False, handover: bool = False) -> None:
         """Encode one frame: linear Rec.709 light, or (``encoded``) code values in [0, 1] already in the
         stream's primaries and transfer (a display transform's output).
 
-        The frame is copied and encoded on a thread of its own, at most two frames behind the caller, so
-        the next frame's warp overlaps this one's encoding; an error there is raised by the next
-        :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32 H x W x 3) is the writer's from now on,
-        not copied: the writer has read it by the time three more :meth:`write` calls have returned (at most two frames
-        wait in its queue, one is being encoded), so a caller may then reuse it."""
+        Y'CbCr streams: the frame goes to the encoder's planes here, in one compiled pass (without the GIL), into a
+        ring of :data:`PLANES_RING` frames; RGB streams and HLG: the frame is copied. Either is encoded on a thread
+        of its own, at most one frame behind the caller, so the next frame's warp overlaps this one's encoding; an
+        error there is raised by the next :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32
+        H x W x 3) is the writer's from now on, not copied: the writer has read it by the time :attr:`held` more
+        :meth:`write` calls have returned, so a caller may then reuse it."""
         import queue
         import threading
 
         self._check()
         if self._thread is None:
-            self._queue = queue.Queue(maxsize=2)
+            self._queue = queue.Queue(maxsize=1)
             self._thread = threading.Thread(target=self._encode_loop, daemon=True, name="lenslab-encode")
             self._thread.start()
+        if exact(self.info, self.pix_fmt):
+            # reused in turn: an encoder that still holds one makes PyAV give it new memory (make_writable)
+            ring = self._planes = self._planes or [None] * self.PLANES_RING
+            slot = self.count % len(ring)
+            ring[slot] = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded, ring[slot])
+            self._queue.put((ring[slot], encoded))
+            self.count += 1
+            return
         self._queue.put((image if handover else np.array(image[..., :3], dtype=np.float32, copy=True), encoded))
+        self.count += 1
 
     def _encode_loop(self) -> None:
         while True:
@@ -288,16 +340,15 @@ class VideoWriter:
             self._thread.join()
             self._thread = None
 
-    def _encode(self, image: np.ndarray, encoded: bool) -> None:
-        av = _av()
-        if exact(self.info, self.pix_fmt):  # one compiled pass to the encoder's planes, reused frame to frame
-            frame = self._spare = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded, self._spare)
-        else:
-            frame = self._swscale(av, image, encoded)
+    def _encode(self, image, encoded: bool) -> None:
+        if isinstance(image, np.ndarray):  # RGB streams, HLG: swscale's path, here
+            frame = self._swscale(_av(), image, encoded)
+        else:  # the encoder's planes already (write)
+            frame = image
         # tags on the frame itself (reformat's dst_color_trc would make FFmpeg convert the pixels too)
         frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
-        frame.pts = self.count  # in the encoder's time base, 1 / rate
-        self.count += 1
+        frame.pts = self.encoded  # in the encoder's time base, 1 / rate
+        self.encoded += 1
         for packet in self.stream.encode(frame):
             self.container.mux(packet)
 

@@ -8,7 +8,9 @@ and range formulas of ITU-R BT.709, BT.601 and BT.2020 (non-constant luminance) 
 Decoding takes the decoder's planes as they are (no copy, no swscale): chroma is repeated over its block (as
 swscale's default does), R'G'B' is computed in float32, clamped to [0, 1] and taken through the transfer function's
 65536-entry table (:func:`lenslab.io.video.colour.decode_table`) interpolated linearly, then BT.2020 -> Rec.709
-where the stream is wide (float32 throughout: within a few float32 steps of the exact values). Only the window a warp reads is computed. Encoding takes linear light through the
+where the stream is wide (float32 throughout: within a few float32 steps of the exact values); for 8-bit samples R'
+and B' (which need no Cb, no Cr respectively) come from 256 x 256 tables of the same lookups (:func:`_rb_tables`).
+Only the window a warp reads is computed. Encoding takes linear light through the
 inverse transfer function's table (:func:`lenslab.io.video.colour.encode_table`) to R'G'B' in [0, 1], then to
 codes rounded once at the stream's depth; a chroma sample is the mean of its block's Cb (Cr).
 
@@ -82,6 +84,17 @@ def _pairs(curve: str, wide: bool) -> np.ndarray:
     return np.ascontiguousarray(np.stack([t, np.append(np.diff(t), 0.0)], -1), np.float32).reshape(-1)
 
 
+@lru_cache(maxsize=8)
+def _rb_tables(curve: str, wide: bool, full: bool, matrix: int) -> np.ndarray:
+    """8-bit samples: the linear R' by (Cr, Y') and B' by (Cb, Y'), 2 x 256 x 256 float32, made by the lookups the
+    compiled decoding makes (R' has no Cb term and B' no Cr in these matrices), so that it looks up G' alone."""
+    from lenslab.native import extension
+
+    out = np.empty(2 * 65536, np.float32)
+    extension().ycbcr_rb_tables(code_range(8, full), ycbcr_to_rgb_matrix(matrix), _pairs(curve, wide), out)
+    return out
+
+
 def _decode_args(info, pix_fmt: str):
     bits, hx, vy = FORMATS[pix_fmt]
     wide = info.primaries == BT2020
@@ -101,9 +114,11 @@ def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> 
     r0, r1, c0, c1 = window or (0, h, 0, w)
     y, u, v = planes(frame)
     hx, vy, rng, k, table, prim = _decode_args(info, frame.format.name)
+    rb = _rb_tables(info.curve, info.primaries == BT2020, info.range == 2, info.matrix) if y.dtype == np.uint8 \
+        else np.empty(0, np.float32)
     from lenslab.native import extension
 
-    extension().ycbcr_to_linear(y, u, v, hx, vy, rng, k, table, prim, out, r0, r1, c0, c1, threads())
+    extension().ycbcr_to_linear(y, u, v, hx, vy, rng, k, table, rb, prim, out, r0, r1, c0, c1, threads())
     return out
 
 
