@@ -9,9 +9,11 @@ bands drew the whole output (no falloff or tile after them), else it scans the o
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from lenslab.io.alpha import has_alpha
+from lenslab.io.alpha import has_alpha, settle
 from lenslab.warp.filters import all_finite, clamp_non_finite, finite_source
 
 
@@ -64,3 +66,37 @@ def finite_output(render, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, a
                f"weighted sum, the removal of vignetting); they were clamped to +-{big} (NaN: 0)")
         said = f"{said}; {why}" if said else f"the source is finite, but {why}"
     return said
+
+
+class EmptyViewWarning(UserWarning):
+    """A warp's output sees nothing of its source: every pixel has zero coverage."""
+
+
+def settle_checked(out: np.ndarray, alpha: np.ndarray, alpha_channel, checks: "OutputChecks | None") -> None:
+    """Settle alpha (:func:`lenslab.io.alpha.settle`) unless the bands' ``checks`` (None: none cover the
+    whole output) found it in range, and warn (:class:`EmptyViewWarning`) when nothing is covered."""
+    vouched = checks is not None and checks.in_range
+    if not vouched:
+        settle(out, alpha, alpha_channel)
+    if not (checks.covered if vouched else alpha.any()):
+        h, w = alpha.shape[:2]
+        warnings.warn(EmptyViewWarning(
+            f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
+            "lenses, the pose and the source's field of view"), stacklevel=3)
+
+
+def checked_source(image, camera) -> np.ndarray:
+    """``image`` as a float32 H x W x C source for ``camera`` (a 2-D image gets one channel); WarpError when
+    its size is not the camera's or it does not hold real numbers."""
+    from lenslab.errors import WarpError, check_image_shape
+
+    arr = check_image_shape(image, channels=None)
+    h, w = arr.shape[:2]
+    if (w, h) != camera.size:
+        raise WarpError(
+            f"the image is {w}x{h} but the source camera is {camera.width}x{camera.height}; "
+            "give a source camera of the image's size (e.g. Camera(lens.with_size(w, h), pose))")
+    if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+        raise WarpError(f"the image must hold real numbers, got dtype {arr.dtype}")
+    arr3 = arr[..., None] if arr.ndim == 2 else arr
+    return np.ascontiguousarray(arr3, dtype=np.float32)

@@ -1,15 +1,15 @@
 """The warp itself: a plan (cameras, filter, sampling) run band by band over the output.
 
-Memory stays bounded whatever the sizes: the output is produced in bands of rows, each needing only
-its own map (``band_points`` samples at a time, 9 bytes each, plus the float64 working set of the
-lens models for the samples computed exactly), so a warp needs the source, the output and a fixed
-working set per thread (bands run one per thread, :func:`lenslab.warp.kernels.dispatch.threads` of them at once), plus
-the map lattice (five float64 per 8 x 8 output pixels). Measured by ``lenslab bench warp --big``, one
-thread: a 16384x8192 float RGB source (1.5 GiB) into an 8192x8192 180-degree view (0.75 GiB + 0.25 GiB alpha)
-allocates about 50 MiB beyond the output. ``antialias=True`` adds the source's mip pyramid (a third of
-the source) and 16 bytes of footprint per output pixel of a band. A plan made with ``cache=True`` keeps every band's map (for many
-images of the same geometry, see :mod:`lenslab.warp.batch`); a one-sample bilinear map is kept as taps,
-a source offset and two weights per pixel (:mod:`lenslab.warp.taps`).
+Memory stays bounded whatever the sizes: the output is produced in bands of rows, each needing only its own map
+(``band_points`` samples at a time, 9 bytes each, plus the float64 working set of the lens models for the samples
+computed exactly), so a warp needs the source, the output and a fixed working set per thread (bands run one per
+thread, :func:`lenslab.warp.kernels.dispatch.threads` of them at once), plus the map lattice (five float64 per 8 x
+8 output pixels). Measured by ``lenslab bench warp --big``, one thread: a 16384x8192 float RGB source (1.5 GiB)
+into an 8192x8192 180-degree view (0.75 GiB + 0.25 GiB alpha) allocates about 50 MiB beyond the output.
+``antialias=True`` adds the source's mip pyramid (a third of the source) and 16 bytes of footprint per output pixel
+of a band. A plan made with ``cache=True`` keeps every band's map (for many images of the same geometry, see
+:mod:`lenslab.warp.batch`); a one-sample bilinear map is kept as taps, a source offset and two weights per pixel
+(:mod:`lenslab.warp.taps`).
 """
 
 from __future__ import annotations
@@ -21,11 +21,12 @@ import numpy as np
 
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
-from lenslab.io.alpha import colour_channels, settle
+from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
-from lenslab.warp.checks import OutputChecks, finite_output
+from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, finite_output,  # noqa: F401
+                                 settle_checked)
 from lenslab.warp.filters import all_finite, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
@@ -195,18 +196,8 @@ class WarpPlan:
 
     # -- pixels --------------------------------------------------------------------------------
     def check_image(self, image) -> np.ndarray:
-        from lenslab.errors import check_image_shape
-
-        arr = check_image_shape(image, channels=None)
-        h, w = arr.shape[:2]
-        if (w, h) != self.src.size:
-            raise WarpError(
-                f"the image is {w}x{h} but the source camera is {self.src.width}x{self.src.height}; "
-                "give a source camera of the image's size (e.g. Camera(lens.with_size(w, h), pose))")
-        if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
-            raise WarpError(f"the image must hold real numbers, got dtype {arr.dtype}")
-        arr3 = arr[..., None] if arr.ndim == 2 else arr
-        return np.ascontiguousarray(arr3, dtype=np.float32)
+        """The image as the float32 H x W x C source of this plan (WarpError for another size or type)."""
+        return checked_source(image, self.src)
 
     def run(self, image, progress: Callable[[int], None] | None = None, into=None,
             alpha_channel: bool | None = None):
@@ -231,12 +222,7 @@ class WarpPlan:
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
             drawn = False  # drawn again or clamped: the bands' checks no longer hold
-        if not (drawn and checks.in_range):
-            settle(out, alpha, alpha_channel)
-        if not (checks.covered if drawn and checks.in_range else alpha.any()):
-            warnings.warn(EmptyViewWarning(
-                f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
-                "lenses, the pose and the source's field of view"), stacklevel=2)
+        settle_checked(out, alpha, alpha_channel, checks if drawn else None)
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
@@ -317,10 +303,6 @@ class _Rows:
 
     def __init__(self, band):
         self.r0, self.r1 = band.r0, band.r1
-
-
-class EmptyViewWarning(UserWarning):
-    """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
