@@ -251,7 +251,7 @@ class WarpPlan:
             out[..., colour_channels(out.shape[2])] *= self.dst_falloff[..., None]
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress) -> None:
-        pyramid = aa.pyramid(src, self.border) if self.antialias else None
+        pyramid = aa.pyramid(src, self.border, lazy=True) if self.antialias else None
 
         def draw(band):
             sl = slice(band.r0, band.r1)

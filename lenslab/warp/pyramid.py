@@ -7,7 +7,8 @@ its NumPy reference."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import threading
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -25,7 +26,11 @@ THIN = 1e-3  # texels: a footprint thinner than this (a line, a point) is given 
 
 @dataclass
 class Pyramid:
-    """Box-filtered levels of a source: level 0 is the source itself, the others packed in one buffer."""
+    """Box-filtered levels of a source: level 0 is the source itself, the others packed in one buffer.
+
+    A lazy pyramid builds the rows of levels 1.. as footprints first need them (:meth:`ensure`): the rest of its
+    buffer is never written, so never given memory (a fisheye of a panorama reads the coarser levels near the
+    poles only)."""
 
     level0: np.ndarray  # the source, flattened (a view, no copy)
     rest: np.ndarray  # levels 1.. one after the other, flattened float32
@@ -33,14 +38,78 @@ class Pyramid:
     offsets: np.ndarray  # (L,) int64: start of each level in ``rest`` (0 for level 0)
     channels: int
     source: np.ndarray  # the source, H x W x C
+    built: list = field(default_factory=list)  # per level >= 1: bool (rows,), the rows already built
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def level(self, lev: int) -> np.ndarray:
+        """Level ``lev`` as an (h, w, C) array (a view)."""
+        if lev == 0:
+            return self.source
+        h, w = self.shapes[lev]
+        off = self.offsets[lev]
+        return self.rest[off:off + h * w * self.channels].reshape(h, w, self.channels)
+
+    def build(self, lev: int, r0: int, r1: int) -> None:
+        """Rows ``r0:r1`` of level ``lev`` >= 1 (those of the finer levels they come from first)."""
+        done = self.built[lev - 1]
+        todo = np.flatnonzero(~done[r0:r1]) + r0
+        if not len(todo):
+            return
+        a, b = int(todo[0]), int(todo[-1]) + 1
+        if lev > 1:
+            self.build(lev - 1, 2 * a, 2 * b)
+        cur, nxt = self.level(lev - 1), self.level(lev)
+        k = native.kernels()
+        k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
+        done[a:b] = True
+
+    def ensure(self, xs, ys, foot) -> None:
+        """Build the rows of the coarser levels that footprints at ``xs, ys`` (source pixels, index coordinates)
+        with sides ``foot`` (..., 4) read: the level and the window the filter picks (src/native/footprint.cpp),
+        a texel wider, rows beyond a pole or an edge folded back."""
+        if all(d.all() for d in self.built):
+            return
+        f = np.asarray(foot, np.float32).reshape(-1, 4)
+        la = f[:, 0] * f[:, 0] + f[:, 1] * f[:, 1]
+        lb = f[:, 2] * f[:, 2] + f[:, 3] * f[:, 3]
+        far = ~(np.maximum(la, lb) <= np.float32(MAX_TAPS * MAX_TAPS))  # NaN included: built for any level
+        if not far.any():
+            return
+        f = f[far].astype(np.float64)
+        y = np.asarray(ys, np.float32).reshape(-1)[far].astype(np.float64)
+        longest = np.sqrt(np.maximum(la[far], lb[far]).astype(np.float64))
+        nlev = len(self.shapes)
+        lev = np.zeros(len(y), np.int64)
+        for k in range(1, nlev):
+            lev += ~(longest <= MAX_TAPS * (1 << (k - 1)))
+        with self.lock:
+            for k in range(1, nlev):
+                sel = lev == k
+                if not sel.any():
+                    continue
+                lh = int(self.shapes[k][0])
+                scale = lh / float(self.shapes[0][0])
+                ey = np.minimum(0.5 * (np.abs(f[sel, 1]) + np.abs(f[sel, 3])) * scale + 1.0, WINDOW / 2 + 1.0)
+                cy = (np.clip(y[sel], -2.0**40, 2.0**40) + 0.5) * scale - 0.5
+                lo, hi = np.nanmin(cy - ey), np.nanmax(cy + ey)
+                lo = int(max(-lh, math.floor(lo) - 1)) if math.isfinite(lo) else -lh
+                hi = int(min(2 * lh, math.floor(hi) + 2)) if math.isfinite(hi) else 2 * lh
+                if np.isnan(cy).any():
+                    lo, hi = -lh, 2 * lh
+                if lo < 0:  # rows above the top come back from below it (a pole) or are row 0
+                    hi = max(hi, -lo)
+                if hi > lh:
+                    lo = min(lo, 2 * lh - hi)
+                self.build(k, max(0, lo), min(lh, max(hi, 1)))
 
 
-def pyramid(src: np.ndarray, border: Border) -> Pyramid:
+def pyramid(src: np.ndarray, border: Border, lazy: bool = False) -> Pyramid:
     """Box-filtered levels of ``src`` (float32 H x W x C): level 0 is ``src``, each next one halves it (2x2
     mean, summed in float64: a finite source gives finite levels; compiled, one band of rows per thread).
 
     Halving stops at a level with an odd side (its seam or pole structure would shift by half a texel)
-    or below 2 pixels. The extra levels take a third of the source's memory, in one buffer.
+    or below 2 pixels. The extra levels take a third of the source's memory, in one buffer. ``lazy``: no
+    level beyond 0 is built yet; :meth:`Pyramid.ensure` builds the rows footprints read.
     """
     shapes = [src.shape[:2]]
     while shapes[-1][0] >= 2 and shapes[-1][1] >= 2 and shapes[-1][0] % 2 == 0 and shapes[-1][1] % 2 == 0:
@@ -49,29 +118,38 @@ def pyramid(src: np.ndarray, border: Border) -> Pyramid:
     sizes = [h * w * nc for h, w in shapes[1:]]
     offsets = np.concatenate([[0, 0], np.cumsum(sizes)[:-1]]).astype(np.int64)[:len(shapes)]
     rest = np.empty(max(1, sum(sizes)), np.float32)
+    pyr = Pyramid(src.reshape(-1), rest, np.array(shapes, dtype=np.int64), offsets, nc, src,
+                  [np.zeros(h, bool) for h, _ in shapes[1:]])
+    if lazy:
+        return pyr
     k = native.kernels()
     cur = c32(src)
-    for (h, w), off in zip(shapes[1:], offsets[1:]):
-        nxt = rest[off:off + h * w * nc].reshape(h, w, nc)
+    for lev, (h, w) in enumerate(shapes[1:], start=1):
+        nxt = pyr.level(lev)
         step = -(-h // threads())  # rows of the level per thread (the kernel releases the GIL)
         run_bands(range(0, h, step), lambda r: k.halve(cur[2 * r:2 * (r + step)], nxt[r:r + step]))
+        pyr.built[lev - 1][:] = True
         cur = nxt
-    return Pyramid(src.reshape(-1), rest, np.array(shapes, dtype=np.int64), offsets, nc, src)
+    return pyr
 
 
 def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
                      alpha: np.ndarray) -> None:
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
+    read = band.valid & ~band.edge
+    pyr.ensure(band.xs[read], band.ys[read], band.foot[read])
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
-                cbool(band.valid & ~band.edge), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
+                cbool(read), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
     if len(band.edge_idx):  # the samples split on the edge of the valid region: each valid sub-sample is
         # itself a footprint, its sample's sides divided by the split, so that it averages its own cell
         m, kk = band.edge_xs.shape
         ns = band.xs.shape[2]
         split = math.isqrt(kk)
         sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(split)
+        ev = band.edge_valid
+        pyr.ensure(band.edge_xs[ev], band.edge_ys[ev], np.broadcast_to(sub[:, None, :], (m, kk, 4))[ev])
         sub_out = np.empty((m, pyr.channels), np.float32)
         sub_alpha = np.empty(m, np.float32)
         k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.edge_xs), c32(band.edge_ys),
