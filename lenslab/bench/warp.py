@@ -136,7 +136,7 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
     def levels():  # the pyramid's rows the footprints read (the warp builds them as its bands need them)
         pyr = aa.pyramid(src_img, plan.border, lazy=True)
         for b in bands:
-            pyr.ensure(b.xs[b.valid], b.ys[b.valid], b.foot[b.valid])
+            pyr.ensure(b.ys, b.valid, b.foot)
         return pyr
 
     pyr = levels()

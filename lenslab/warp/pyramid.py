@@ -63,42 +63,24 @@ class Pyramid:
         k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
         done[a:b] = True
 
-    def ensure(self, xs, ys, foot) -> None:
-        """Build the rows of the coarser levels that footprints at ``xs, ys`` (source pixels, index coordinates)
-        with sides ``foot`` (..., 4) read: the level and the window the filter picks (src/native/footprint.cpp),
-        a texel wider, rows beyond a pole or an edge folded back."""
+    def ensure(self, ys, valid, foot) -> None:
+        """Build the rows of the coarser levels that the valid footprints at rows ``ys`` (source pixels, index
+        coordinates) with sides ``foot`` (..., 4) read: the level and the window the filter picks, a texel wider
+        (compiled: ``level_rows``, reference :func:`lenslab.warp.kernels.reference.level_rows`), rows beyond a
+        pole or an edge folded back."""
         if all(d.all() for d in self.built):
             return
-        f = np.asarray(foot, np.float32).reshape(-1, 4)
-        la = f[:, 0] * f[:, 0] + f[:, 1] * f[:, 1]
-        lb = f[:, 2] * f[:, 2] + f[:, 3] * f[:, 3]
-        far = ~(np.maximum(la, lb) <= np.float32(MAX_TAPS * MAX_TAPS))  # NaN included: built for any level
-        if not far.any():
-            return
-        f = f[far].astype(np.float64)
-        y = np.asarray(ys, np.float32).reshape(-1)[far].astype(np.float64)
-        longest = np.sqrt(np.maximum(la[far], lb[far]).astype(np.float64))
-        nlev = len(self.shapes)
-        lev = np.zeros(len(y), np.int64)
-        for k in range(1, nlev):
-            lev += ~(longest <= MAX_TAPS * (1 << (k - 1)))
+        rows = np.empty((len(self.shapes), 2), np.int64)
+        native.kernels().level_rows(self.shapes, c32(ys), cbool(valid), c32(foot), MAX_TAPS, rows)
         with self.lock:
-            for k in range(1, nlev):
-                sel = lev == k
-                if not sel.any():
+            for k in range(1, len(self.shapes)):
+                lo, hi = (int(v) for v in rows[k])
+                if lo >= hi:
                     continue
                 lh = int(self.shapes[k][0])
-                scale = lh / float(self.shapes[0][0])
-                ey = np.minimum(0.5 * (np.abs(f[sel, 1]) + np.abs(f[sel, 3])) * scale + 1.0, WINDOW / 2 + 1.0)
-                cy = (np.clip(y[sel], -2.0**40, 2.0**40) + 0.5) * scale - 0.5
-                lo, hi = np.nanmin(cy - ey), np.nanmax(cy + ey)
-                lo = int(max(-lh, math.floor(lo) - 1)) if math.isfinite(lo) else -lh
-                hi = int(min(2 * lh, math.floor(hi) + 2)) if math.isfinite(hi) else 2 * lh
-                if np.isnan(cy).any():
-                    lo, hi = -lh, 2 * lh
                 if lo < 0:  # rows above the top come back from below it (a pole) or are row 0
                     hi = max(hi, -lo)
-                if hi > lh:
+                if hi > lh:  # and those below the bottom from above it
                     lo = min(lo, 2 * lh - hi)
                 self.build(k, max(0, lo), min(lh, max(hi, 1)))
 
@@ -138,7 +120,7 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
     read = band.valid & ~band.edge
-    pyr.ensure(band.xs[read], band.ys[read], band.foot[read])
+    pyr.ensure(band.ys, read, band.foot)
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
                 cbool(read), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
@@ -148,8 +130,7 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
         ns = band.xs.shape[2]
         split = math.isqrt(kk)
         sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(split)
-        ev = band.edge_valid
-        pyr.ensure(band.edge_xs[ev], band.edge_ys[ev], np.broadcast_to(sub[:, None, :], (m, kk, 4))[ev])
+        pyr.ensure(band.edge_ys, band.edge_valid, np.broadcast_to(sub[:, None, :], (m, kk, 4)))
         sub_out = np.empty((m, pyr.channels), np.float32)
         sub_alpha = np.empty(m, np.float32)
         k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.edge_xs), c32(band.edge_ys),

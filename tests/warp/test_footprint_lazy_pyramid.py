@@ -1,9 +1,9 @@
 """The pyramid a warp builds lazily (only the rows of the coarser levels that footprints read) gives the
 footprint filter exactly the texels of the pyramid built whole, and leaves the rest unbuilt.
 
-The whole pyramid is itself held to 2x2 means computed here in float64 (the first test), so the lazy one is
-held to the same values: any row the filter reads but the lazy pyramid did not build would be uninitialised
-memory, and the outputs would differ."""
+The whole pyramid is itself held to 2x2 means computed in float64 (tests/warp/test_footprint_exact.py), so the
+lazy one is held to the same values: any row the filter reads but the lazy pyramid did not build would be
+uninitialised memory, and the outputs would differ."""
 
 from __future__ import annotations
 
@@ -24,15 +24,6 @@ def _source(seed=0):
     img = rng.uniform(0.0, 1.0, (H, W, 3)).astype(np.float32)
     img[::17, ::13] = 500.0  # small bright texels, as a sun or a lamp
     return img
-
-
-def test_pyramid_levels_are_float64_two_by_two_means():
-    img = _source()
-    pyr = pyramid(img, Border(True, True, True))
-    want = img.astype(np.float64)
-    for lev in range(1, len(pyr.shapes)):
-        want = 0.25 * (want[0::2, 0::2] + want[0::2, 1::2] + want[1::2, 0::2] + want[1::2, 1::2])
-        np.testing.assert_allclose(pyr.level(lev), want, rtol=2 * np.finfo(np.float32).eps)
 
 
 @pytest.mark.parametrize("spec", ["fisheye:fov=180", "fisheye:fov=360", "equirect"])
@@ -71,3 +62,27 @@ def test_a_warp_with_antialias_builds_the_rows_it_reads():
         aa.sample_footprint(pyr, b, plan.border, want[b.r0:b.r1], want_alpha[b.r0:b.r1])
     np.testing.assert_array_equal(alpha, want_alpha)
     np.testing.assert_array_equal(out, want)
+
+
+def test_level_rows_kernel_matches_its_numpy_reference():
+    """The rows each level's footprints read, compiled and in NumPy (float32 sides as the filter clamps them:
+    NaN a point, beyond 2^40 at 2^40), on footprints from a texel to the whole panorama, hostile ones included."""
+    from lenslab import cxx_kernels as K
+    from lenslab.warp.kernels import reference as ref
+    from lenslab.warp.pyramid import MAX_TAPS
+
+    rng = np.random.default_rng(5)
+    pyr = pyramid(np.zeros((512, 1024, 1), np.float32), Border(True, True, True), lazy=True)
+    n = 4000
+    ys = rng.uniform(-40.0, 560.0, n).astype(np.float32)
+    side = np.exp(rng.uniform(np.log(0.5), np.log(2000.0), (n, 4))) * rng.choice([-1.0, 1.0], (n, 4))
+    foot = side.astype(np.float32)
+    foot[:10] = np.nan
+    foot[10:20, 1] = np.inf
+    ys[20:30] = np.nan
+    valid = rng.uniform(size=n) > 0.2
+    rows = np.empty((len(pyr.shapes), 2), np.int64)
+    K.level_rows(pyr.shapes, ys, valid, foot, MAX_TAPS, rows)
+    want = ref.level_rows(pyr.shapes, ys, valid, foot)
+    np.testing.assert_array_equal(rows, want)
+    assert (rows[1:, 0] < rows[1:, 1]).sum() >= 5  # footprints on several coarser levels

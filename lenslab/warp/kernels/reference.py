@@ -213,6 +213,32 @@ def prefix_slices(cx, cy, ax, ay, bx, by, rows):
     return acc, abs(ax * by - ay * bx)
 
 
+def level_rows(shapes, ys, valid, foot) -> np.ndarray:
+    """``(levels, 2)`` int64: the rows ``[first, end)`` of each pyramid level that the footprint filter reads for
+    the valid samples at rows ``ys`` with sides ``foot`` (..., 4): each sample's level and window as
+    :func:`footprint` picks them, a texel wider each way (level 0 and levels no sample picks: first > end)."""
+    shapes = np.asarray(shapes)
+    rows = np.array([[np.iinfo(np.int64).max, np.iinfo(np.int64).min]] * len(shapes), np.int64)
+    f = np.asarray(foot, np.float32).reshape(-1, 4)
+    f = np.where(np.isnan(f), 0.0, clamp_pos(f)).astype(np.float64)
+    y = clamp_pos(np.asarray(ys, np.float32).reshape(-1)).astype(np.float64)
+    ok = np.asarray(valid, bool).reshape(-1)
+    longest = np.maximum(np.sqrt(f[:, 0] ** 2 + f[:, 1] ** 2), np.sqrt(f[:, 2] ** 2 + f[:, 3] ** 2))
+    lev = np.zeros(len(y), np.int64)
+    for k in range(1, len(shapes)):
+        lev += longest > MAX_TAPS * (1 << (k - 1))
+    for k in range(1, len(shapes)):
+        sel = ok & (lev == k)
+        if not sel.any():
+            continue
+        lh = int(shapes[k][0])
+        scale = lh / float(shapes[0][0])
+        ey = np.minimum(0.5 * (np.abs(f[sel, 1]) + np.abs(f[sel, 3])) * scale + 1.0, WINDOW // 2 + 1.0)
+        cy = (y[sel] + 0.5) * scale - 0.5
+        rows[k] = (max(-lh, int(np.floor(cy - ey).min()) - 1), min(2 * lh, int(np.floor(cy + ey).max()) + 2))
+    return rows
+
+
 def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
     """The footprint filter (see :mod:`lenslab.warp.antialias`): ``(out (n, C), alpha (n,))`` for pixels of
     ``S`` samples (``xs`` (..., S), ``foot`` (..., S, 4)), every step in float64 Python arithmetic."""
