@@ -2,7 +2,8 @@
 sampler that averages it over each output sample's footprint (see :mod:`lenslab.warp.antialias` for
 the method and the footprints themselves). The sampler is C++ compiled ahead of time
 (:mod:`lenslab.warp.kernels.native`, ``src/native/footprint.cpp``); :func:`lenslab.warp.kernels.reference.footprint` is
-its NumPy reference."""
+its NumPy reference. A warp builds its pyramid lazily: only the rows of the coarser levels that its footprints
+read (:meth:`Pyramid.ensure`)."""
 
 from __future__ import annotations
 

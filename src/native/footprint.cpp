@@ -1,11 +1,11 @@
 // The footprint prefilter: each output sample averages the bilinear source over its footprint, a
 // parallelogram read from the finest pyramid level at which it spans at most max_taps texels (see
-// lenslab/warp/antialias.py for the method). The parallelogram is sliced along its shorter extent; between
-// breakpoints (its vertices and the texel rows) each slice is integrated exactly across (the antiderivative
-// of the row's linear interpolant, from per-row prefix sums of the window: O(1) per slice, whatever its
-// width) and by 2-point Gauss-Legendre along. In float64, in the order of the NumPy reference
-// (lenslab.warp.kernels.reference.prefix_slices); a footprint clipped by its window (beyond the coarsest
-// level) takes the texel weights instead (reference.slice_weights).
+// lenslab/warp/antialias.py for the method). By Green's theorem, edge by edge: the integral over y of F at the
+// right ends of the parallelogram's rows less F at the left ends, F the integral of the row's linear interpolant
+// from the window's first texel (per-row prefix sums of the window: O(1) per point, whatever the width), each
+// edge cut at the texel rows and integrated by 2-point Gauss-Legendre. In float64, in the order of the NumPy
+// reference (lenslab.warp.kernels.reference.prefix_slices); a footprint clipped by its window (beyond the
+// coarsest level) takes the texel weights of the slices instead (reference.slice_weights).
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -314,9 +314,12 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             ++hits;
             const float* f = foot + 4 * s;
             const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
-            const double longest = std::max(std::sqrt(fax * fax + fay * fay), std::sqrt(fbx * fbx + fby * fby));
+            const double la = fax * fax + fay * fay, lb = fbx * fbx + fby * fby;
             int64_t lev = 0;
-            while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+            if (std::max(la, lb) > max_taps * max_taps) {  // beyond level 0 (the square roots only then)
+                const double longest = std::max(std::sqrt(la), std::sqrt(lb));
+                while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+            }
             const int64_t lh = shapes[2 * lev], lw = shapes[2 * lev + 1];
             const double scale = double(lh) / h0;
             const double ax = fax * scale, ay = fay * scale, bx = fbx * scale, by = fby * scale;
