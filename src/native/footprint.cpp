@@ -223,7 +223,7 @@ void load_rows(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc
                 R.f[r][u] = load_texel<NC>(t, t + 4 > end, c0, cn);
             }
         }
-        L acc = R.f[r][0] * 0.0;
+        L acc{};  // (zero: a texel of inf would make 0 * inf NaN)
         for (int64_t u = 0; u + 1 < nu; ++u) {
             R.s[r][u] = acc;
             R.h[r][u] = 0.5 * (R.f[r][u + 1] - R.f[r][u]);
@@ -350,7 +350,7 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                 for (int64_t c0 = 0; c0 < nc; c0 += GROUP) {
                     const int64_t cn = std::min(GROUP, nc - c0);
                     load_rows<NC>(lbuf, lw, lh, nc, c0, cn, b, cols ? wy0 : wx0, cols ? wx0 : wy0, nu, nv, cols, *rows);
-                    typename Lanes<NC>::type part = rows->f[0][0] * 0.0;
+                    typename Lanes<NC>::type part{};
                     const double area = cols ? prefix_slices<NC>(cy - double(wy0), cx - double(wx0), tay, tax, tby, tbx,
                                                                  nu, nv, *rows, part)
                                              : prefix_slices<NC>(cx - double(wx0), cy - double(wy0), tax, tay, tbx, tby,
