@@ -11,7 +11,6 @@ from lenslab.warp.pyramid import pyramid
 from lenslab.warp.seam import Border
 
 
-
 @pytest.mark.parametrize("nc", [2, 5])
 def test_footprint_filter_of_other_channel_counts_matches_the_reference(nc):
     """Images of 2 or 5 channels run the filter in groups of at most four channels (the rows' prefix sums of

@@ -86,4 +86,3 @@ def test_level_rows_kernel_matches_its_numpy_reference():
     want = ref.level_rows(pyr.shapes, ys, valid, foot)
     np.testing.assert_array_equal(rows, want)
     assert (rows[1:, 0] < rows[1:, 1]).sum() >= 5  # footprints on several coarser levels
-
