@@ -21,7 +21,7 @@ from lenslab.warp.seam import Border
 MAX_TAPS = 8.0  # longest side of a footprint, in texels of the level it is read from (a coarser level
 #               blurs: at 4 the error on forest.exr doubles; measured in docs/design.md)
 WINDOW = 24  # texels: the side of the window of weights a footprint is gathered through (fits 2 MAX_TAPS + 3;
-#              the same constant in src/native/footprint.cpp)
+#              the same constant in src/native/footprint_edges.h)
 THIN = 1e-3  # texels: a footprint thinner than this (a line, a point) is given this thickness
 
 
