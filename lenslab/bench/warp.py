@@ -120,7 +120,8 @@ def speed(args) -> None:
 def antialias_stages(src_img, src, dst, repeat: int) -> None:
     """Where one-shot --antialias spends its time, one thread, in CPU milliseconds (``time.process_time``,
     less disturbed by other processes than wall time; best of ``repeat``, stages interleaved): the map with
-    the footprints (and the rim's pixels split and mapped exactly), the pyramid, the footprint filter."""
+    the footprints (and the rim's pixels split and mapped exactly), the rows of the pyramid's coarser levels
+    that the footprints read, the footprint filter."""
     import time
 
     import numpy as np
@@ -133,7 +134,14 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
     out = np.zeros(plan.out_shape + (src_img.shape[2],), np.float32)
     alpha = np.zeros(plan.out_shape, np.float32)
     bands = list(plan.bands())
-    pyr = aa.pyramid(src_img, plan.border)
+
+    def levels():  # the pyramid's rows the footprints read (the warp builds them as its bands need them)
+        pyr = aa.pyramid(src_img, plan.border, lazy=True)
+        for b in bands:
+            pyr.ensure(b.ys, b.valid, b.foot)
+        return pyr
+
+    pyr = levels()
 
     def cpu(fn):
         t0 = time.process_time()
@@ -142,7 +150,7 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
 
     stages = {
         "map and footprints": lambda: list(plan.bands()),
-        "pyramid": lambda: aa.pyramid(src_img, plan.border),
+        "pyramid": levels,
         "footprint filter": lambda: [aa.sample_footprint(pyr, b, plan.border, out[b.r0:b.r1], alpha[b.r0:b.r1])
                                      for b in bands],
     }

@@ -18,15 +18,15 @@ prefilter spends the work only where it is needed:
    and pole structure of a panorama survives the halving; :mod:`lenslab.warp.pyramid`) provides pre-averaged texels.
 3. The level ``L`` is the finest at which the footprint spans at most ``MAX_TAPS`` texels along its
    longer side (a coarser level blurs: its texels are 2x2 means read bilinearly).
-4. The bilinear reconstruction is averaged over the parallelogram exactly but for one quadrature: the
-   parallelogram is sliced along its shorter extent (rows, or columns for a tall one). Between
-   consecutive breakpoints (its vertices and the texel rows, where the reconstruction bends) the
-   slice's ends move linearly, and each texel's weight is integrated along by 2-point Gauss-Legendre
-   and across exactly (the tent's antiderivative), split between the two texel rows around the slice
-   as bilinear interpolation splits it. The weights sum to the parallelogram's area; one window of
-   texels is then read once (``src/native/footprint.cpp``). The rule is exact for slices whose ends stay
-   between texel columns; where an end crosses one, the tent bends inside a Gauss interval
-   (``tests/warp/test_footprint_exact.py`` bounds that error).
+4. The bilinear reconstruction is integrated over the parallelogram by Green's theorem: the integral
+   over y of F at the right ends of its rows less F at the left ends, where F(x, y) is the integral of
+   the reconstruction along row y up to x (the parallelogram is taken along its shorter extent: rows,
+   or columns for a tall one). Along each texel row F is a running sum of trapezoids plus a quadratic
+   inside the last one, read in O(1) from the prefix sums of the window's rows, whatever the
+   footprint's width. Each edge is cut at the texel rows (where the reconstruction bends in y) and
+   each piece integrated by 2-point Gauss-Legendre, exact while the edge stays between two texel
+   columns (``src/native/footprint.cpp``; ``tests/warp/test_footprint_exact.py`` bounds the error
+   where it crosses one). The integral is divided by the parallelogram's area.
 5. A pixel whose validity differs from a neighbour's (or, on the image's border, from the point half
    a pixel outside) straddles the edge of the valid region (a circular image's rim, a source image's
    border): it is split into ``EDGE_SPLIT x EDGE_SPLIT`` sub-samples mapped exactly, which measure its

@@ -257,7 +257,7 @@ class WarpPlan:
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
                       checks: OutputChecks | None = None) -> None:
-        pyramid = aa.pyramid(src, self.border) if self.antialias else None
+        pyramid = aa.pyramid(src, self.border, lazy=True) if self.antialias else None
 
         def draw(band):
             sl = slice(band.r0, band.r1)

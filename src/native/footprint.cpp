@@ -1,10 +1,14 @@
 // The footprint prefilter: each output sample averages the bilinear source over its footprint, a
 // parallelogram read from the finest pyramid level at which it spans at most max_taps texels (see
-// lenslab/warp/antialias.py for the method). The parallelogram is cut into na x nb cells; each cell is read
-// through the product of its exact x and y marginals (the tent convolved with two boxes: separable weights
-// from the tent's second antiderivative). Weights in float64, in the order of the NumPy reference
-// (lenslab.warp.kernels.reference.footprint).
+// lenslab/warp/antialias.py for the method). By Green's theorem, edge by edge: the integral over y of F at the
+// right ends of the parallelogram's rows less F at the left ends, F the integral of the row's linear interpolant
+// from the window's first texel (per-row prefix sums of the window: O(1) per point, whatever the width), each
+// edge cut at the texel rows and integrated by 2-point Gauss-Legendre. In float64, in the order of the NumPy
+// reference (lenslab.warp.kernels.reference.prefix_slices); a footprint clipped by its window (beyond the
+// coarsest level) takes the texel weights of the slices instead (reference.slice_weights). The edge integrals
+// are in footprint_edges.h.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -13,12 +17,14 @@
 #include <nanobind/ndarray.h>
 
 #include "bind.h"
+#include "footprint_edges.h"
 #include "sampler.h"
 
 namespace lenslab {
 namespace {
 
-constexpr int WINDOW = 24;  // texels: the window of weights a footprint is gathered through (2 max_taps + 4)
+using namespace footprint_edges;
+
 constexpr int LANES = 8;  // texels a slice's weights are computed for at once (one AVX-512 vector of doubles)
 constexpr int STRIDE = WINDOW + LANES;  // a row of the weights, with room for the last lanes
 constexpr double THIN = 1e-3;  // texels: a box narrower than this is read as a line (error ~THIN^2)
@@ -29,7 +35,7 @@ inline double tent_c(double u) {
     return 0.5 + v - 0.5 * v * std::fabs(v);
 }
 
-inline int64_t ifloor(double v) { return int64_t(dfloor(v)); }
+inline int64_t ifloor(double v) { return int64_t(bfloor(v)); }
 
 // a footprint side as the filter reads it: NaN a point (0), beyond +-2^40 texels (inf included) +-2^40
 inline double clamp_side(float v) { return v == v ? double(clamp_pos(v)) : 0.0; }
@@ -82,11 +88,11 @@ double slice_weights(double cx, double cy, double ax, double ay, double bx, doub
                 if (x > br) { br = x; re = e; }
             }
         }
-        const double y1 = std::min(ys[v], dfloor(y) + 1.0);
+        const double y1 = std::min(ys[v], bfloor(y) + 1.0);
         const double len = y1 - y, mid = 0.5 * (y + y1), g = 0.5 * len;
         // both Gauss points lie between the same two texel rows: one pass over the texels for the two
         double xl[2], xr[2], w0[2], w1[2];
-        const double fm = dfloor(mid);
+        const double fm = bfloor(mid);
         const int64_t j = int64_t(fm) - wy0;
         for (int p = 0; p < 2; ++p) {
             const double yy = p == 0 ? mid - g2 * len : mid + g2 * len;
@@ -158,6 +164,8 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
     const double inv = 1.0 / double(ns);
     const double h0 = double(shapes[0]);
     double wgt[(WINDOW + 2) * STRIDE];
+    std::vector<Rows<NC>> rows_buf(1);  // (110 kB: on the heap)
+    Rows<NC>* rows = rows_buf.data();
     double acc[NC > 0 ? NC : 64];
     for (int64_t q = 0; q < npix; ++q) {
         for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0;
@@ -167,9 +175,12 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             ++hits;
             const float* f = foot + 4 * s;
             const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
-            const double longest = std::max(std::sqrt(fax * fax + fay * fay), std::sqrt(fbx * fbx + fby * fby));
+            const double la = fax * fax + fay * fay, lb = fbx * fbx + fby * fby;
             int64_t lev = 0;
-            while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+            if (std::max(la, lb) > max_taps * max_taps) {  // beyond level 0 (the square roots only then)
+                const double longest = std::max(std::sqrt(la), std::sqrt(lb));
+                while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+            }
             const int64_t lh = shapes[2 * lev], lw = shapes[2 * lev + 1];
             const double scale = double(lh) / h0;
             const double ax = fax * scale, ay = fay * scale, bx = fbx * scale, by = fby * scale;
@@ -195,6 +206,23 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             const float* lbuf = buf + offsets[lev];
             const bool cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
             const int64_t nu = cols ? nwy : nwx, nv = cols ? nwx : nwy;  // texels along a slice, slices' rows
+            if (nwx < WINDOW && nwy < WINDOW) {  // the footprint inside its window: its rows' prefix sums
+                constexpr int64_t GROUP = NC > 0 ? NC : 4;  // channels integrated at once
+                for (int64_t c0 = 0; c0 < nc; c0 += GROUP) {
+                    const int64_t cn = std::min(GROUP, nc - c0);
+                    load_rows<NC>(lbuf, lw, lh, nc, c0, cn, b, cols ? wy0 : wx0, cols ? wx0 : wy0, nu, nv, cols, *rows);
+                    typename Lanes<NC>::type part{};
+                    const double area = cols ? prefix_slices<NC>(cy - double(wy0), cx - double(wx0), tay, tax, tby, tbx,
+                                                                 nu, nv, *rows, part)
+                                             : prefix_slices<NC>(cx - double(wx0), cy - double(wy0), tax, tay, tbx, tby,
+                                                                 nu, nv, *rows, part);
+                    const double norm = 1.0 / area;
+                    if constexpr (NC == 1) acc[0] += part * norm;
+                    else for (int64_t ch = 0; ch < cn; ++ch) acc[c0 + ch] += part[ch] * norm;
+                }
+                continue;
+            }
+            // a footprint beyond the coarsest level, clipped by its window: the texels' weights, summed
             double* const w = wgt + STRIDE;  // row -1 of the weights is scratch
             for (int64_t j = 0; j < nv + 2; ++j) std::fill(wgt + j * STRIDE, wgt + j * STRIDE + nu + LANES, 0.0);
             const double area = cols ? slice_weights(cy, cx, tay, tax, tby, tbx, wy0, wx0, nu, nv, w, STRIDE)
@@ -233,6 +261,32 @@ void footprint(const float* level0, const float* rest, const int64_t* shapes, co
 }  // namespace lenslab
 
 namespace lenslab {
+
+// The rows of each pyramid level (levels 1..) that the footprint filter reads for these samples: rows (nlev, 2)
+// int64, [first, end) widened to cover every sample whose footprint picks that level (its window, a texel more
+// each way; a level no sample picks keeps first > end). Rows beyond the image are left for the caller to fold.
+void level_rows(const int64_t* shapes, int64_t nlev, const float* ys, const bool* valid, const float* foot,
+                int64_t n, double max_taps, int64_t* rows) {
+    const double h0 = double(shapes[0]);
+    for (int64_t s = 0; s < n; ++s) {
+        if (!valid[s]) continue;
+        const float* f = foot + 4 * s;
+        const double ax = clamp_side(f[0]), ay = clamp_side(f[1]), bx = clamp_side(f[2]), by = clamp_side(f[3]);
+        const double la = ax * ax + ay * ay, lb = bx * bx + by * by;
+        if (!(std::max(la, lb) > max_taps * max_taps)) continue;  // level 0 (no square root for most)
+        const double longest = std::max(std::sqrt(la), std::sqrt(lb));
+        if (!(longest > max_taps)) continue;
+        int64_t lev = 0;
+        while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
+        const int64_t lh = shapes[2 * lev];
+        const double scale = double(lh) / h0;
+        const double ey = std::min(0.5 * (std::fabs(ay) + std::fabs(by)) * scale + 1.0, double(WINDOW / 2 + 1));
+        const double cy = (double(clamp_pos(ys[s])) + 0.5) * scale - 0.5;
+        const int64_t lo = std::max(-lh, ifloor(cy - ey) - 1), hi = std::min(2 * lh, ifloor(cy + ey) + 2);
+        rows[2 * lev] = std::min(rows[2 * lev], lo);
+        rows[2 * lev + 1] = std::max(rows[2 * lev + 1], hi);
+    }
+}
 
 // One pyramid level: out (h/2, w/2, nc) = the mean of each 2x2 block of src (h, w, nc), summed in float64 (a mean
 // of finite float32 values is finite).
@@ -293,6 +347,19 @@ void register_footprint(nb::module_& m) {
     }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"),
        nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
+
+    m.def("level_rows", [](InI shapes, InF ys, InB valid, InF foot, double max_taps, bind::Out<int64_t> rows) {
+        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && shapes.shape(0) > 0, "pyramid shapes");
+        need(valid.size() == ys.size() && foot.size() == 4 * ys.size(), "level_rows: ys, valid, foot (n, 4) alike");
+        need(rows.size() == 2 * shapes.shape(0), "level_rows: rows must be (levels, 2)");
+        need(max_taps > 0.0, "max_taps must be positive");
+        int64_t* r = rows.data();
+        for (size_t l = 0; l < shapes.shape(0); ++l) { r[2 * l] = INT64_MAX; r[2 * l + 1] = INT64_MIN; }
+        nb::gil_scoped_release release;
+        level_rows(shapes.data(), int64_t(shapes.shape(0)), ys.data(), valid.data(), foot.data(), int64_t(ys.size()),
+                   max_taps, r);
+    }, nb::arg("shapes"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("max_taps"),
+       nb::arg("rows").noconvert());
 
     m.def("halve", [](InF src, OutF out) {
         need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2

@@ -177,6 +177,90 @@ def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
     return w[1:-1], total
 
 
+def window_rows(win: np.ndarray):
+    """``(f, h, s)`` of a window's rows (``win`` (rows, texels, C) float64, the slices' rows first): the texels'
+    values, half the step to the next texel, and the integral of the row's linear interpolant from texel 0 to
+    each texel (trapezoids summed in order), so that the integral from texel 0 to ``u + t`` is ``s + t (f + t h)``."""
+    f = np.asarray(win, dtype=np.float64)
+    h = np.zeros_like(f)
+    s = np.zeros_like(f)
+    h[:, :-1] = 0.5 * (f[:, 1:] - f[:, :-1])
+    for u in range(f.shape[1] - 2):
+        s[:, u + 1] = s[:, u] + 0.5 * (f[:, u] + f[:, u + 1])
+    return f, h, s
+
+
+def edge_integral(xa, ya, xb, yb, sign, rows, acc):
+    """``acc + sign *`` the integral over y of ``F(x(y), y)`` along the edge from ``(xa, ya)`` to ``(xb, yb)``
+    (``ya <= yb``, window coordinates), ``F(x, y)`` the integral of the bilinear reconstruction along row y from
+    the window's first texel to x. Cut at the texel rows, each piece by 2-point Gauss-Legendre."""
+    if not yb > ya:
+        return acc
+    f, h, s = rows
+    k = (xb - xa) / (yb - ya)
+    umax, jmax = float(f.shape[1] - 2), f.shape[0] - 2
+    n = math.floor(ya)
+    while n < yb:
+        y0, y1 = max(ya, n), min(yb, n + 1.0)
+        length, mid = y1 - y0, 0.5 * (y0 + y1)
+        g = sign * 0.5 * length
+        j = min(jmax, max(0, int(n)))
+        for yy in (mid - G2 * length, mid + G2 * length):
+            x = xa + (yy - ya) * k
+            uf = min(umax, max(0.0, math.floor(x)))
+            t, ty, u = x - uf, yy - n, int(uf)
+            f0 = s[j, u] + t * (f[j, u] + t * h[j, u])
+            f1 = s[j + 1, u] + t * (f[j + 1, u] + t * h[j + 1, u])
+            acc = acc + (g * (1.0 - ty)) * f0 + (g * ty) * f1
+        n += 1.0
+    return acc
+
+
+def prefix_slices(cx, cy, ax, ay, bx, by, rows):
+    """``(integral (C,), area)``: the bilinear reconstruction of a window's rows (:func:`window_rows`) integrated
+    over the parallelogram ``c + s a + r b`` (s, r in [-1/2, 1/2]; window coordinates, texel (0, 0) the window's
+    first). By Green's theorem: the integral over y of F at the right ends of its rows less F at the left ends,
+    edge by edge (:func:`edge_integral`); the area is ``|a x b|``."""
+    vx = [cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx, cx - 0.5 * ax + 0.5 * bx]
+    vy = [cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by, cy - 0.5 * ay + 0.5 * by]
+    ib = 0
+    for e in range(1, 4):  # the lowest vertex (the first of equals); the highest is opposite
+        ib = e if vy[e] < vy[ib] else ib
+    it, m1, m2 = (ib + 2) % 4, (ib + 1) % 4, (ib + 3) % 4
+    cross = (vx[m1] - vx[ib]) * (vy[it] - vy[ib]) - (vy[m1] - vy[ib]) * (vx[it] - vx[ib])
+    left, right = (m1, m2) if cross < 0.0 else (m2, m1)  # left of the line from the lowest to the highest
+    acc = np.zeros(rows[0].shape[2])
+    for a, b, sign in ((ib, right, 1.0), (right, it, 1.0), (ib, left, -1.0), (left, it, -1.0)):
+        acc = edge_integral(vx[a], vy[a], vx[b], vy[b], sign, rows, acc)
+    return acc, abs(ax * by - ay * bx)
+
+
+def level_rows(shapes, ys, valid, foot) -> np.ndarray:
+    """``(levels, 2)`` int64: the rows ``[first, end)`` of each pyramid level that the footprint filter reads for
+    the valid samples at rows ``ys`` with sides ``foot`` (..., 4): each sample's level and window as
+    :func:`footprint` picks them, a texel wider each way (level 0 and levels no sample picks: first > end)."""
+    shapes = np.asarray(shapes)
+    rows = np.array([[np.iinfo(np.int64).max, np.iinfo(np.int64).min]] * len(shapes), np.int64)
+    f = np.asarray(foot, np.float32).reshape(-1, 4)
+    f = np.where(np.isnan(f), 0.0, clamp_pos(f)).astype(np.float64)
+    y = clamp_pos(np.asarray(ys, np.float32).reshape(-1)).astype(np.float64)
+    ok = np.asarray(valid, bool).reshape(-1)
+    longest = np.maximum(np.sqrt(f[:, 0] ** 2 + f[:, 1] ** 2), np.sqrt(f[:, 2] ** 2 + f[:, 3] ** 2))
+    lev = np.zeros(len(y), np.int64)
+    for k in range(1, len(shapes)):
+        lev += longest > MAX_TAPS * (1 << (k - 1))
+    for k in range(1, len(shapes)):
+        sel = ok & (lev == k)
+        if not sel.any():
+            continue
+        lh = int(shapes[k][0])
+        scale = lh / float(shapes[0][0])
+        ey = np.minimum(0.5 * (np.abs(f[sel, 1]) + np.abs(f[sel, 3])) * scale + 1.0, WINDOW // 2 + 1.0)
+        cy = (y[sel] + 0.5) * scale - 0.5
+        rows[k] = (max(-lh, int(np.floor(cy - ey).min()) - 1), min(2 * lh, int(np.floor(cy + ey).max()) + 2))
+    return rows
+
+
 def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
     """The footprint filter (see :mod:`lenslab.warp.antialias`): ``(out (n, C), alpha (n,))`` for pixels of
     ``S`` samples (``xs`` (..., S), ``foot`` (..., S, 4)), every step in float64 Python arithmetic."""
@@ -223,16 +307,25 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
                 wx0, nwx = math.floor(cx) + 1 - WINDOW // 2, WINDOW
             if nwy > WINDOW:
                 wy0, nwy = math.floor(cy) + 1 - WINDOW // 2, WINDOW
-            if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
+            jj, ii = np.mgrid[wy0:wy0 + nwy, wx0:wx0 + nwx]
+            fi, fj = fold_index(ii.ravel(), jj.ravel(), lw, lh, *border)
+            texels = img[fj, fi].astype(np.float64)
+            if nwx < WINDOW and nwy < WINDOW:  # inside its window: the rows' prefix sums
+                win = texels.reshape(nwy, nwx, nc)
+                if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
+                    part, area = prefix_slices(cy - wy0, cx - wx0, ay, ax, by, bx, window_rows(win.transpose(1, 0, 2)))
+                else:
+                    part, area = prefix_slices(cx - wx0, cy - wy0, ax, ay, bx, by, window_rows(win))
+                acc += part * (1.0 / area)
+                continue
+            # clipped by its window (beyond the coarsest level): the texels' weights
+            if ey > ex:
                 wt, area = slice_weights(cy, cx, ay, ax, by, bx, wy0, wx0, nwy, nwx)
                 wt = wt.T
             else:
                 wt, area = slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy)
-            if nwx == WINDOW or nwy == WINDOW:  # a footprint beyond the coarsest level: weights clipped
-                area = float(wt.sum())
-            jj, ii = np.mgrid[wy0:wy0 + nwy, wx0:wx0 + nwx]
-            fi, fj = fold_index(ii.ravel(), jj.ravel(), lw, lh, *border)
-            acc += (wt.ravel()[:, None] * img[fj, fi].astype(np.float64)).sum(axis=0) * (1.0 / area)
+            area = float(wt.sum())
+            acc += (wt.ravel()[:, None] * texels).sum(axis=0) * (1.0 / area)
         out[q] = acc / ns
         alpha[q] = hits / ns
     return out.astype(np.float32), alpha.astype(np.float32)
