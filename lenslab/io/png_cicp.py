@@ -1,13 +1,13 @@
-"""PNG's ``cICP`` chunk (PNG Specification, Third Edition, 11.3.2.6): the coding-independent code points of
-ITU-T H.273 that tell a reader how the samples are encoded, written for HDR displays and read back.
+"""PNG's ``cICP`` chunk (PNG Specification, Third Edition, 11.3.2.6): the coding-independent code points of ITU-T
+H.273 that tell a reader how the samples are encoded, written for HDR displays and read back.
 
 Rec.2100 PQ is colour primaries 9 (BT.2020), transfer 16 (SMPTE ST 2084), matrix 0 (RGB), full range 1;
-Rec.2100 HLG the same with transfer 18 (ARIB STD-B67). The chunk is four bytes and must come before
-``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
+Rec.2100 HLG the same with transfer 18 (ARIB STD-B67); a PQ display on P3-D65 primaries has primaries 12. The
+chunk is four bytes and must come before ``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
 
 Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
-FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries
-converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are; any other
+FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries and P3-D65
+primaries converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are; any other
 transfer is left as code values, with a note.
 """
 
@@ -25,13 +25,20 @@ SRGB_TRANSFERS = (1, 13)  # what lenslab's sRGB decoding stands for (BT.709's cu
 
 
 def display_code_points(display: str) -> tuple[int, int, int, int] | None:
-    """The cICP code points of an OpenColorIO display name: Rec.2100 PQ or HLG, else None."""
+    """The cICP code points of an OpenColorIO PQ or HLG display (None for the others): the primaries and
+    transfer of its video tags (:data:`lenslab.io.video.colour.DISPLAY_TAGS`: ``ST2084-P3-D65`` is P3-D65,
+    12), RGB (matrix 0), full range; a display of another config named for PQ or HLG is taken as Rec.2100
+    (BT.2020 primaries), or P3-D65 when its name says P3."""
+    from lenslab.io.video.colour import DISPLAY_TAGS
+
     low = display.lower()
-    if "hlg" in low:
-        return HLG
-    if "pq" in low or "st2084" in low or "st-2084" in low:
-        return PQ
-    return None
+    tags = DISPLAY_TAGS.get(low.split(" - display")[0])
+    if tags is not None:
+        return (tags[0], tags[1], 0, 1) if tags[1] in (PQ[1], HLG[1]) else None
+    transfer = HLG[1] if "hlg" in low else PQ[1] if ("pq" in low or "st2084" in low or "st-2084" in low) else None
+    if transfer is None:
+        return None
+    return (12 if "p3" in low else 9, transfer, 0, 1)
 
 
 def png_chunk(kind: bytes, data: bytes) -> bytes:

@@ -36,7 +36,7 @@ from lenslab.errors import FormatError, cause
 from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
 from lenslab.io.video.ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
-from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table,  # noqa: F401  (re-exported)
+from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table, is_wide,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
                                      linear_to_codes16, to_linear)
 
@@ -184,7 +184,7 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
     values."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
-        decode_table(info.curve, info.primaries == BT2020)
+        decode_table(info.curve, is_wide(info.primaries))
 
     def frames():  # on the decoding thread
         with _open(path) as c:

@@ -126,22 +126,39 @@ def cached(name: str, length: int, dtype, build) -> np.ndarray:
     return cached_table(name, length, dtype, build, prefix=f"video-v{CACHE_VERSION}")
 
 
-@lru_cache(maxsize=1)
-def matrix_2020_to_709() -> np.ndarray:
+#: H.273 colour primaries converted to and from Rec.709 (colour-science's names; the same D65 white, so no
+#: adaptation): BT.2020 (9) and P3-D65 (12, SMPTE EG 432-1). Others (1 BT.709, 2 unspecified) are read as Rec.709.
+WIDE_PRIMARIES = {9: "ITU-R BT.2020", 12: "P3-D65"}
+
+
+@lru_cache(maxsize=4)
+def matrix_to_709(primaries: int) -> np.ndarray | None:
+    """Linear RGB in the H.273 ``primaries`` -> linear Rec.709 (float64 3 x 3), or None for Rec.709 itself and
+    primaries read as Rec.709."""
+    name = WIDE_PRIMARIES.get(int(primaries))
+    if name is None:
+        return None
+
     def build():
         import colour
 
         cs = colour.RGB_COLOURSPACES
-        return colour.matrix_RGB_to_RGB(cs["ITU-R BT.2020"], cs["ITU-R BT.709"]).reshape(-1)
+        return colour.matrix_RGB_to_RGB(cs[name], cs["ITU-R BT.709"]).reshape(-1)
 
-    return cached("bt2020-to-bt709", 9, np.float64, build).reshape(3, 3)
+    key = "bt2020-to-bt709" if int(primaries) == BT2020 else f"primaries{int(primaries)}-to-bt709"
+    return cached(key, 9, np.float64, build).reshape(3, 3)
+
+
+def is_wide(primaries: int) -> bool:
+    """Whether frames of these H.273 primaries are converted to Rec.709 (:data:`WIDE_PRIMARIES`)."""
+    return int(primaries) in WIDE_PRIMARIES
 
 
 def to_linear(codes: np.ndarray, info) -> np.ndarray:
     """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
     lin = _eotf(codes.astype(np.float64), info.curve)
-    if info.primaries == BT2020:
-        lin = lin @ matrix_2020_to_709().T
+    if is_wide(info.primaries):
+        lin = lin @ matrix_to_709(info.primaries).T
     return lin.astype(np.float32)
 
 
@@ -163,8 +180,8 @@ def _eotf(v: np.ndarray, curve: str) -> np.ndarray:
 def from_linear(image: np.ndarray, info) -> np.ndarray:
     """Linear Rec.709 (H x W x 3) -> code values in [0, 1], the inverse of :func:`to_linear`."""
     lin = np.nan_to_num(np.asarray(image, np.float64), nan=0.0, posinf=1e4, neginf=0.0)
-    if info.primaries == BT2020:
-        lin = lin @ np.linalg.inv(matrix_2020_to_709()).T
+    if is_wide(info.primaries):
+        lin = lin @ np.linalg.inv(matrix_to_709(info.primaries)).T
     return _eotf_inverse(lin, info.curve)
 
 
@@ -203,7 +220,7 @@ def linear_to_codes16(image: np.ndarray, info, encoded: bool = False) -> np.ndar
         return codes_from_linear(image, None, 0.0, None)
     if info.curve == "hlg":
         return np.round(from_linear(image[..., :3], info) * 65535.0).astype(np.uint16)
-    wide = np.linalg.inv(matrix_2020_to_709()) if info.primaries == BT2020 else None
+    wide = np.linalg.inv(matrix_to_709(info.primaries)) if is_wide(info.primaries) else None
     return codes_from_linear(image, *encode_table(info.curve), wide)
 
 
@@ -224,10 +241,10 @@ def codes16_to_linear(codes: np.ndarray, info) -> np.ndarray:
     is computed pixel by pixel; the other curves act on each value alone."""
     if info.curve == "hlg":
         return to_linear(codes.astype(np.float64) / 65535.0, info)
-    wide = info.primaries == BT2020
+    wide = is_wide(info.primaries)
     lin = decode_table(info.curve, wide)[codes]
     if wide:
-        return (lin @ matrix_2020_to_709().T).astype(np.float32)
+        return (lin @ matrix_to_709(info.primaries).T).astype(np.float32)
     return lin
 
 
@@ -237,10 +254,10 @@ def codes16_to_linear_compiled(codes: np.ndarray, info, window: tuple[int, int, 
     whole frame); ``window``, ``out`` and ``origin``: see :func:`linear_from_codes`."""
     if info.curve == "hlg":
         return codes16_to_linear(codes, info)
-    wide = info.primaries == BT2020
-    return linear_from_codes(codes, decode_table(info.curve, wide), matrix_2020_to_709() if wide else None,
+    wide = is_wide(info.primaries)
+    return linear_from_codes(codes, decode_table(info.curve, wide), matrix_to_709(info.primaries) if wide else None,
                              window, out, origin)
 
 
 __all__ = ["to_linear", "from_linear", "codes16_to_linear", "codes16_to_linear_compiled", "linear_to_codes16",
-           "linear_from_codes", "codes_from_linear", "cached", "knots", "display_tags", "DISPLAY_TAGS"]
+           "linear_from_codes", "codes_from_linear", "matrix_to_709", "is_wide", "cached", "knots", "display_tags", "DISPLAY_TAGS"]

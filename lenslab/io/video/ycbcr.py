@@ -26,8 +26,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.video.colour import (BT2020, KNOT_SHIFT, LOW, decode_table, encode_table,
-                                     matrix_2020_to_709, threads)
+from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_to_709,
+                                     threads)
 
 #: planar pixel formats: (bits, log2 chroma subsampling across, down)
 FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
@@ -97,8 +97,8 @@ def _rb_tables(curve: str, wide: bool, full: bool, matrix: int) -> np.ndarray:
 
 def _decode_args(info, pix_fmt: str):
     bits, hx, vy = FORMATS[pix_fmt]
-    wide = info.primaries == BT2020
-    prim = np.ascontiguousarray(matrix_2020_to_709()) if wide else np.empty(0)
+    wide = is_wide(info.primaries)
+    prim = np.ascontiguousarray(matrix_to_709(info.primaries)) if wide else np.empty(0)
     return (hx, vy, code_range(bits, info.range == 2), ycbcr_to_rgb_matrix(info.matrix),
             _pairs(info.curve, wide), prim)
 
@@ -114,7 +114,7 @@ def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> 
     r0, r1, c0, c1 = window or (0, h, 0, w)
     y, u, v = planes(frame)
     hx, vy, rng, k, table, prim = _decode_args(info, frame.format.name)
-    rb = _rb_tables(info.curve, info.primaries == BT2020, info.range == 2, info.matrix) if y.dtype == np.uint8 \
+    rb = _rb_tables(info.curve, is_wide(info.primaries), info.range == 2, info.matrix) if y.dtype == np.uint8 \
         else np.empty(0, np.float32)
     from lenslab.native import extension
 
@@ -148,7 +148,7 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
         curve, zero, prim = np.empty(0, np.float32), 0.0, empty
     else:
         curve, zero = encode_table(info.curve)
-        prim = np.linalg.inv(matrix_2020_to_709()) if info.primaries == BT2020 else empty
+        prim = np.linalg.inv(matrix_to_709(info.primaries)) if is_wide(info.primaries) else empty
     b0 = int(np.array(2.0**LOW, np.float32).view(np.uint32))
     return (bits, hx, vy, np.ascontiguousarray(prim), np.ascontiguousarray(curve, np.float32), b0, float(zero),
             rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))
