@@ -7,20 +7,24 @@ from __future__ import annotations
 def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
     """:class:`~lenslab.errors.FormatError` when format record ``fmt`` cannot hold what ``display`` gives:
     an HDR display's (PQ, HLG) codes need 16-bit samples (not JPEG, not ``--bits 8``) and a file that says
-    they are PQ or HLG (PNG's cICP chunk, a video's transfer tag: TIFF, PPM and EXR have no such tag), and a
-    display's codes are RGB (not PGM). Depends on no image: commands call it before any work."""
+    they are PQ or HLG (PNG's cICP chunk, a video's transfer tag: TIFF, PPM and EXR have no such tag); an
+    extended-range display (beyond SDR, neither PQ nor HLG: code values above 1.0) is refused for every
+    format; a display's codes are RGB (not PGM). Depends on no image: commands call it before any work."""
     from lenslab.errors import FormatError
     from lenslab.io.ocio import is_hdr_display
+    from lenslab.io.png_cicp import display_code_points
 
     hdr = is_hdr_display(display)
+    points = display_code_points(display) if hdr else None
+    if hdr and points is None:  # beyond SDR but neither PQ nor HLG: code values above 1.0 (Apple's EDR)
+        raise FormatError(f"{display}: an extended-range display (code values above 1.0), which no file or "
+                          f"video tag here can say and {fmt.title} would clip: use 'Display P3 - Display' (SDR), "
+                          "'ST2084-P3-D65 - Display' (PQ, to PNG or video), or EXR without --display (linear light)")
     accepts = fmt.write_options
     if hdr and "sample_type" not in accepts and "bits" in accepts and not any(b >= 16 for b in fmt.bit_depths):
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; {fmt.title} holds 8: write PNG")
     if hdr and bits == 8:
         raise FormatError(f"{display}: an HDR display needs 16-bit samples; drop --bits 8")
-    from lenslab.io.png_cicp import display_code_points
-
-    points = display_code_points(display) if hdr else None
     if points is not None and "cicp" not in accepts and fmt.kind != "video":
         what = "HLG" if points[1] == 18 else "PQ"
         raise FormatError(f"{display}: {fmt.title} has no tag that says its samples are {what}-encoded (readers "
