@@ -73,15 +73,16 @@ def apply_display(image, fmt, options: dict) -> tuple:
         points = display_code_points(display)
         if points is not None:
             extra["cicp"] = points
-    transform = lambda x: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
-                                            options.get("ocio"))
+    transform = lambda x, a: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
+                                               options.get("ocio"), alpha_channel=a)
     from lenslab.io.alpha import has_alpha, premultiply, unpremultiply
 
-    if not has_alpha(image) or not fmt.alpha:  # no alpha kept: the colour over black
-        colour = image[..., :-1] if has_alpha(image) else image
-        return transform(colour), extra
+    alpha = has_alpha(image, options.get("alpha"))  # the image's names where given (only A is alpha)
+    if not alpha or not fmt.alpha:  # no alpha kept: the colour over black
+        colour = image[..., :-1] if alpha else image
+        return transform(colour, False), extra
     # the display's code values of the straight colour; premultiplied by alpha where the file keeps
     # premultiplied colour (EXR, float TIFF), straight where it keeps straight colour (PNG, integer TIFF)
-    out = transform(unpremultiply(image))
+    out = transform(unpremultiply(image, True), True)
     sample = "uint" if "bits" in accepts or str(extra.get("sample_type", "")).startswith("uint") else "float"
-    return (out if fmt.holds_straight(sample) else premultiply(out)), extra
+    return (out if fmt.holds_straight(sample) else premultiply(out, True)), extra

@@ -74,11 +74,14 @@ def luminance_weights(primaries: str = "sRGB") -> np.ndarray:
     return w.astype(F32)
 
 
-def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18) -> np.ndarray:
+def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18, alpha: bool | None = None) -> np.ndarray:
     """Luminance of (an evenly strided sample of) the image, float64, bad values as in tonemap
-    (NaN and negatives count as 0, pixels with a +inf channel are dropped)."""
+    (NaN and negatives count as 0, pixels with a +inf channel are dropped); a trailing alpha
+    (:func:`lenslab.io.alpha.alpha_last`) is left out."""
+    from lenslab.io.alpha import alpha_last
+
     x = np.asarray(image)
-    if x.ndim == 3 and x.shape[-1] in (2, 4):
+    if x.ndim == 3 and alpha_last(x.shape[-1], alpha):
         x = x[..., :-1]
     channels = 3 if x.ndim == 3 and x.shape[-1] == 3 else 1
     px = x.reshape(-1, channels)
@@ -95,6 +98,23 @@ def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18) -> 
     else:
         lum = planes[0]
     return lum[finite]
+
+
+def covered_luminance(image: np.ndarray, weights, max_samples: int = 1 << 18) -> tuple[np.ndarray, np.ndarray]:
+    """(luminance of the straight colour, coverage) of the covered pixels (alpha > 0) of (an evenly
+    strided sample of) an image with alpha last (H x W x C, colour premultiplied), float64; bad values as
+    in :func:`luminance_sample`, alpha clipped to [0, 1] (NaN: 0)."""
+    x = np.asarray(image)
+    px = x.reshape(-1, x.shape[-1])
+    step = max(1, -(-px.shape[0] // max_samples))
+    sample = np.array(px[::step], dtype=np.float64)
+    a = np.clip(np.nan_to_num(sample[:, -1], nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    covered = a > 0
+    colour = sample[covered, :-1] / a[covered, None]
+    lum = luminance_sample(colour[:, None, :], weights if colour.shape[1] == 3 else None, colour.shape[0] + 1,
+                           alpha=False)
+    finite = ~np.isposinf(colour).any(axis=1)
+    return lum, a[covered][finite]
 
 
 def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None) -> float:
@@ -117,7 +137,8 @@ def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None) 
     return float(2.0 ** np.mean(logs))
 
 
-def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0, primaries: str = "sRGB") -> float:
+def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0, primaries: str = "sRGB",
+                  alpha_channel: bool | None = None) -> float:
     """Exposure in stops that brings the image's log-average luminance to ``key`` (middle grey).
 
     The average is taken over positive pixels (black borders, e.g. outside a fisheye circle, are
@@ -136,6 +157,9 @@ def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0,
     primaries : str
         The RGB primaries whose luminance weights apply: a colour-science colourspace name
         (``"sRGB"``, ``"ITU-R BT.2020"``...) or an EXR header's chromaticities.
+    alpha_channel : bool, optional
+        Whether the last channel is alpha (what the channel names say); None: 2 or 4 channels carry it
+        (:func:`lenslab.io.alpha.alpha_last`).
 
     Returns
     -------
@@ -160,19 +184,27 @@ def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0,
         raise ToneError(f"auto exposure: trim={trim:g} must be a percentage in [0, 50)")
     if not key > 0:
         raise ToneError(f"auto exposure: key={key:g} must be > 0 (middle grey is 0.18)")
+    from lenslab.io.alpha import alpha_last
+
     x = np.asarray(image)
-    colour_image = x.ndim == 3 and x.shape[-1] in (3, 4)
-    avg = log_average(luminance_sample(x, luminance_weights(primaries) if colour_image else None), trim=trim)
+    alpha = x.ndim == 3 and alpha_last(x.shape[-1], alpha_channel)
+    colour_image = x.ndim == 3 and x.shape[-1] - alpha == 3
+    weights = luminance_weights(primaries) if colour_image else None
+    if alpha:  # the straight colour of the covered pixels, as a compositor measures it
+        lum, _ = covered_luminance(x, weights)
+        avg = log_average(lum, trim=trim)
+    else:
+        avg = log_average(luminance_sample(x, weights, alpha=False), trim=trim)
     if avg <= 0:
         return 0.0
     return float(np.clip(math.log2(key / avg), *EXPOSURE_RANGE))
 
 
-def parse_exposure(exposure, image, primaries) -> float:
+def parse_exposure(exposure, image, primaries, alpha: bool | None = None) -> float:
     if isinstance(exposure, str):
         text = exposure.strip().lower()
         if text == "auto":
-            return auto_exposure(image, primaries=primaries)
+            return auto_exposure(image, primaries=primaries, alpha_channel=alpha)
         try:
             exposure = float(text)
         except ValueError:
