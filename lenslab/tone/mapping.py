@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 from lenslab.errors import ToneError
 from lenslab.io.alpha import alpha_last
 from lenslab.tone.exposure import (
+    covered_luminance,
     log_average,
     luminance_sample,
     luminance_weights,
@@ -154,8 +155,8 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         return _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha)
     colour = x.shape[-1] - 1 if alpha else (x.shape[-1] if x.ndim == 3 else 1)
     rgb = x.ndim == 3 and colour == 3
-    # the statistics (auto exposure, an image curve's key) from a strided sample of the straight colour
-    stats = straight_sample(x) if alpha else x
+    # the statistics (auto exposure, an image curve's key) from a strided sample; with alpha, of the covered
+    # pixels' straight colour, each counted by its coverage (lenslab.tone.exposure)
     ev = parse_exposure(exposure, x, primaries, alpha)
     scale = 2.0 ** ev
     # luminance weights only where something weighs channels (importing colour-science takes a while)
@@ -163,8 +164,9 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     weights = luminance_weights(primaries) if needs_weights else None
     if spec.kind == "image":
         # Reinhard et al. 2002: the scale key / log-average comes from the image's luminance
-        lum = luminance_sample(stats, weights) * scale
-        avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
+        lum, coverage = covered_luminance(x, weights) if alpha else (luminance_sample(x, weights, alpha=False), None)
+        lum *= scale
+        avg = log_average(lum, delta=resolved["delta"], weights=coverage) if lum.size else 1.0
         scale = scale * resolved["key"] / max(avg, 1e-30)
     # the result in x's memory: the caller gave it up, and each block is read before it is written (per
     # value, or RGB through planar copies; an image with alpha maps a copy of its straight colour)
@@ -228,19 +230,6 @@ def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, co
         ob[...] = dst
     counts.add(tally)
     return judged
-
-
-def straight_sample(x: np.ndarray, max_samples: int = 1 << 18) -> np.ndarray:
-    """The pixels of an image with alpha (H x W x C, colour premultiplied) that
-    :func:`lenslab.tone.exposure.luminance_sample` takes (every ``step``-th), as straight colour
-    (``n x 1 x (C - 1)``): statistics of the straight colour with no copy of the image's size."""
-    px = x.reshape(-1, x.shape[-1])
-    step = max(1, -(-px.shape[0] // max_samples))
-    sample = px[::step]
-    a = np.clip(np.nan_to_num(sample[:, -1:], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
-    colour = sample[:, :-1].copy()
-    np.divide(colour, a, out=colour, where=a > 0)
-    return colour[:, None, :]
 
 
 def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha) -> np.ndarray:
