@@ -155,7 +155,7 @@ def reference_white_gain(display: str, view: str, colorspace: str, config: str |
     from lenslab.io.png_cicp import display_code_points, to_linear_light
 
     points = display_code_points(display)
-    if points is None:
+    if points is None or points[1] not in (16, 18):  # SDR (an SDR P3 display has code points too)
         return 1.0
     cpu, _ = processor(display, view, colorspace, config)
     probe = np.array([[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]]], np.float32)

@@ -48,7 +48,8 @@ def apply_display(image, fmt, options: dict) -> tuple:
     """(display-encoded image, write options it needs) for format record ``fmt``.
 
     HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
-    8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG). The code values are stored as they are (``raw``), not sRGB-encoded again.
+    8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG; an SDR
+display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 primaries, sRGB transfer). The code values are stored as they are (``raw``), not sRGB-encoded again.
     With alpha (premultiplied ``image``) the transform acts on the straight colour and the codes are kept
     as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
     over black.
@@ -67,7 +68,7 @@ def apply_display(image, fmt, options: dict) -> tuple:
         extra["bits"] = 16
     if "raw" in accepts:
         extra["raw"] = True
-    if hdr and "cicp" in accepts:  # PNG: say PQ or HLG in the file, or readers take the codes for sRGB
+    if "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries in the file, or readers take the codes for sRGB
         from lenslab.io.png_cicp import display_code_points
 
         points = display_code_points(display)
