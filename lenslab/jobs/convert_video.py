@@ -15,7 +15,22 @@ def frame_path(dst, index: int) -> Path:
 
 def frames_to_files(src: str, dst: str, job) -> str:
     """Write every frame of ``src`` (or the range of the :class:`~lenslab.jobs.convert.ConvertJob` ``job``'s
-    ``frames``) next to ``dst``; returns the first path."""
+    ``frames``) next to ``dst``; returns the first path. All or none: the frames are temporaries until the
+    last is written, then renamed (:func:`lenslab.staging.staged`); a failure (a damaged frame, a frame of
+    another size, Ctrl-C) removes them and leaves the folder as it was. A cluster task's are already staged:
+    the command renames them, or removes them when the task failed."""
+    from lenslab.atomic import STAGING, owner
+    from lenslab.staging import commit, staged
+
+    if getattr(STAGING, "owner", None) is not None:
+        return _frames(src, dst, job)
+    with staged(owner()) as written:
+        first = _frames(src, dst, job)
+        commit(written)
+    return first
+
+
+def _frames(src: str, dst: str, job) -> str:
     from tqdm import tqdm
 
     from lenslab.errors import FormatError
