@@ -68,12 +68,16 @@ display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 prim
         extra["bits"] = 16
     if "raw" in accepts:
         extra["raw"] = True
-    if "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries in the file, or readers take the codes for sRGB
-        from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.png_cicp import display_code_points
 
-        points = display_code_points(display)
-        if points is not None:
-            extra["cicp"] = points
+    points = display_code_points(display)
+    if points is not None and "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries, or readers take sRGB
+        extra["cicp"] = points
+    elif points is not None and not hdr and fmt.kind != "video":  # (HDR ones are refused before any work)
+        import warnings
+
+        warnings.warn(f"{display}: {fmt.title} has no tag for these primaries; readers will take the codes for "
+                      "sRGB on Rec.709 (write PNG, whose cICP chunk says P3-D65)", UserWarning, stacklevel=2)
     transform = lambda x, a: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
                                                options.get("ocio"), alpha_channel=a)
     from lenslab.io.alpha import has_alpha, premultiply, unpremultiply

@@ -110,3 +110,16 @@ def test_a_png_tagged_srgb_p3_is_read_into_rec709(tmp_path):
     np.testing.assert_allclose(got[..., 3:], a, rtol=0, atol=1e-7)
     raw, _ = lio.read(tmp_path / "p3.png", raw=True)  # raw: the codes as they are
     np.testing.assert_allclose(raw[..., :3], codes[..., :3] / 255.0, rtol=0, atol=1e-7)
+
+
+def test_a_display_p3_jpeg_says_it_has_no_tag(tmp_path):
+    lio.write(tmp_path / "s.exr", _scene(), pixel_type="float")
+    run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(tmp_path / "s.exr"), "--to", "jpg",
+                          "--display", "Display P3 - Display", "-o", str(tmp_path / "p3.jpg")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    notes = [line for line in run.stderr.splitlines() if "no tag for these primaries" in line]
+    assert len(notes) == 1 and "write PNG" in notes[0]
+    srgb = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(tmp_path / "s.exr"), "--to", "jpg",
+                           "--display", "sRGB - Display", "-o", str(tmp_path / "srgb.jpg")], capture_output=True, text=True)
+    assert srgb.returncode == 0 and "no tag" not in srgb.stderr
