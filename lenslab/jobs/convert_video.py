@@ -1,15 +1,27 @@
-"""``lenslab convert`` on video: a clip to one image file per frame (``NAME.000000.exr``, ...), in linear
-light decoded as :mod:`lenslab.io.video` describes."""
+"""``lenslab convert`` on video: a clip to one image file per frame (``NAME.000000.exr``, ..., or the frame
+number where the name has ``%04d``), in linear light decoded as :mod:`lenslab.io.video` describes."""
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
 
+#: a printf-style frame number in an output name (``%d``, ``%04d``), as FFmpeg's image sequences take it
+FRAME_NUMBER = re.compile(r"%(0?\d*)d")
+
+
 def frame_path(dst, index: int) -> Path:
-    """``out/clip.exr`` -> ``out/clip.000042.exr``: frame numbers as in the clip, from 0."""
+    """``out/clip.exr`` -> ``out/clip.000042.exr``, and ``out/%04d.exr`` -> ``out/0042.exr`` (the first
+    ``%d`` or ``%0Nd`` of the file name): frame numbers as in the clip, from 0.
+
+    >>> frame_path("out/clip.exr", 42).as_posix(), frame_path("out/f_%04d.png", 7).as_posix()
+    ('out/clip.000042.exr', 'out/f_0007.png')
+    """
     d = Path(dst)
+    if FRAME_NUMBER.search(d.name):
+        return d.with_name(FRAME_NUMBER.sub(lambda m: f"{index:{m.group(1)}d}", d.name, count=1))
     return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
 
 

@@ -52,3 +52,19 @@ def test_a_whole_range_is_renamed_at_the_end(resized, tmp_path):  # noqa: F811
     assert run.returncode == 0, run.stderr
     names = sorted(p.name for p in out.iterdir())
     assert names == [f"ab.{i:06d}.png" for i in range(n)]  # every frame, no temporary
+
+
+def test_a_printf_name_numbers_the_frames_and_fails_whole(resized, tmp_path):  # noqa: F811
+    clip, _, _, n = resized
+    out = tmp_path / "frames"
+    out.mkdir()
+    pattern = str(out / "f_%04d.png")
+    run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(clip), "--to", "png", "--frames", f"2:{n}",
+                          "-o", pattern], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    # the clip's own frame numbers (as --frames counts them), printf's %04d
+    assert sorted(p.name for p in out.iterdir()) == ["f_%04d.png" % i for i in range(2, n)]
+    again = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(clip), "--to", "png", "-o",
+                            str(tmp_path / "g_%d.png")], capture_output=True, text=True)
+    assert again.returncode == 1
+    assert not list(tmp_path.glob("g_*")) and not list(tmp_path.glob(".g_*"))
