@@ -91,14 +91,16 @@ def run(args: argparse.Namespace) -> int:
 
     output_format(args.output)  # an unknown extension: one usage error before the image is read
     fmt = get(format_for_path(args.output, None))
-    image, _ = io.read(args.input)
-    if image.ndim == 3 and image.shape[2] in (2, 4):
-        image = image[..., :-1]
+    image, meta = io.read(args.input)
     if image.ndim == 2:
         image = image[..., None]
-    from lenslab.jobs.stages import resolved_exposure
+    from lenslab.jobs.stages import image_alpha, resolved_exposure
 
-    ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet)
+    alpha = image_alpha(meta, image.shape[2])
+    # auto exposure from the covered pixels' straight colour (lenslab.tone.exposure), then the colour over black
+    ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet, alpha)
+    if alpha:
+        image = image[..., :-1]
     panels = []
     for i, name in enumerate(names):  # the look stage of every job: exposure, then the curve
         with repairs_reported("lenslab compare-tones", args.input, report=i == 0):  # the input's repairs, once

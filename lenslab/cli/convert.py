@@ -95,7 +95,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.jobs.warp_video import parse_frames
 
     parser.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
-                        help="video inputs: only frames A to B-1 (e.g. 10:20), written as NAME.000010.exr, ...")
+                        help="video inputs: only frames A to B-1 (e.g. 10:20), written as NAME.000010.exr, ... "
+                             "(or -o 'f_%%04d.exr': f_0010.exr ...); all or none: a failed frame leaves none")
     from lenslab.io.video.codecs import CODECS
     from lenslab.jobs.arguments import float_in
 

@@ -56,7 +56,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
-    coded = None
+    coded = wide = None
     if fmt == "png":
         from lenslab.io.png_cicp import SRGB_TRANSFERS, describe, read_cicp
 
@@ -65,6 +65,8 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
             attributes["cICP"] = describe(points)
             if points[1] not in SRGB_TRANSFERS:  # PQ, HLG, linear...: the codes are not sRGB
                 coded = points
+            else:  # sRGB codes, on primaries that may not be Rec.709's (Display P3)
+                wide = points[0]
     grey_alpha = False
     if fmt == "png":
         from lenslab.io.png_grey_alpha import is_grey_alpha
@@ -98,6 +100,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
 
         image, attributes["note"] = to_linear_light(image, coded)
         linear = coded[1] in (16, 18)
+    elif not raw and wide is not None and c in (3, 4):  # sRGB codes on P3-D65 (or BT.2020) primaries
+        from lenslab.io.png_cicp import wide_to_709
+
+        attributes["note"] = wide_to_709(image, wide)
     if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
         premultiply(image)                      # premultiplied colour
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]

@@ -155,7 +155,7 @@ def reference_white_gain(display: str, view: str, colorspace: str, config: str |
     from lenslab.io.png_cicp import display_code_points, to_linear_light
 
     points = display_code_points(display)
-    if points is None:
+    if points is None or points[1] not in (16, 18):  # SDR (an SDR P3 display has code points too)
         return 1.0
     cpu, _ = processor(display, view, colorspace, config)
     probe = np.array([[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]]], np.float32)
@@ -168,24 +168,34 @@ def reference_white_gain(display: str, view: str, colorspace: str, config: str |
 
 
 def display_transform(image: np.ndarray, display: str, view: str | None = None, colorspace: str | None = None,
-                      config: str | None = None) -> np.ndarray:
+                      config: str | None = None, alpha_channel: bool | None = None) -> np.ndarray:
     """float32 H x W x C scene-linear -> display code values (float32, same shape; alpha unchanged).
 
-    One channel is treated as grey (R = G = B) and returned as one channel. A PQ or HLG display's
+    ``alpha_channel``: whether the last channel is alpha (what the image's channel names say: only ``A``
+    is); None: 2 or 4 channels carry it (:func:`lenslab.io.alpha.alpha_last`, the rule of the warp APIs).
+    The colour is one channel (grey, R = G = B, returned as one channel) or three; other channels (data
+    named ``Z`` or ``u, v``) have no display colour and are refused. A PQ or HLG display's
     colorimetric view puts 1.0 at 203 cd/m² (:func:`reference_white_gain`).
     """
-    cpu, (d, v, cs) = processor(display, view, colorspace, config)
+    from lenslab.io.alpha import alpha_last
+
     a = np.asarray(image, np.float32)
     c = a.shape[-1]
-    rgb = np.repeat(a[..., :1], 3, axis=-1) if c in (1, 2) else a[..., :3]
+    alpha = a.ndim == 3 and alpha_last(c, alpha_channel)
+    colour = c - 1 if alpha else c
+    if colour not in (1, 3):
+        raise OCIOError(f"a display transform takes grey or RGB colour (plus alpha); this image has {colour} "
+                        f"colour channel{'s' if colour != 1 else ''}{' and alpha' if alpha else ''}")
+    cpu, (d, v, cs) = processor(display, view, colorspace, config)
+    rgb = np.repeat(a[..., :1], 3, axis=-1) if colour == 1 else a[..., :3]
     out = np.array(rgb, dtype=np.float32, order="C")  # a copy: OpenColorIO works in place
     gain = reference_white_gain(d, v, cs, config)
     if gain != 1.0:
         out *= np.float32(gain)
     cpu.applyRGB(out)
     out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
-    if c in (1, 2):
+    if colour == 1:
         out = out[..., :1]
-    if c in (2, 4):
+    if alpha:
         out = np.concatenate([out, a[..., -1:]], axis=-1)
     return out.astype(np.float32, copy=False)

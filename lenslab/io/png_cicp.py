@@ -2,13 +2,15 @@
 H.273 that tell a reader how the samples are encoded, written for HDR displays and read back.
 
 Rec.2100 PQ is colour primaries 9 (BT.2020), transfer 16 (SMPTE ST 2084), matrix 0 (RGB), full range 1;
-Rec.2100 HLG the same with transfer 18 (ARIB STD-B67); a PQ display on P3-D65 primaries has primaries 12. The
-chunk is four bytes and must come before ``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
+Rec.2100 HLG the same with transfer 18 (ARIB STD-B67); a PQ display on P3-D65 primaries has primaries 12, and
+so has the SDR Display P3 (transfer 13, sRGB: without the chunk every reader takes its codes for sRGB on
+Rec.709). The chunk is four bytes and must come before ``PLTE`` and ``IDAT``: it is written right after ``IHDR``.
 
 Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
 FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries and P3-D65
-primaries converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are; any other
-transfer is left as code values, with a note.
+primaries converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are, then
+converted from P3-D65 or BT.2020 primaries to Rec.709 by colour-science's matrix; any other transfer is left
+as code values, with a note.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import zlib
 
 PQ = (9, 16, 0, 1)
 HLG = (9, 18, 0, 1)
+BT709 = 1  # H.273 colour primaries of Rec.709 and sRGB
 #: H.273 transfer characteristics a reader here names (others are reported by number)
 TRANSFERS = {1: "BT.709", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
              16: "PQ (SMPTE ST 2084)", 18: "HLG (ARIB STD-B67)"}
@@ -25,16 +28,18 @@ SRGB_TRANSFERS = (1, 13)  # what lenslab's sRGB decoding stands for (BT.709's cu
 
 
 def display_code_points(display: str) -> tuple[int, int, int, int] | None:
-    """The cICP code points of an OpenColorIO PQ or HLG display (None for the others): the primaries and
-    transfer of its video tags (:data:`lenslab.io.video.colour.DISPLAY_TAGS`: ``ST2084-P3-D65`` is P3-D65,
-    12), RGB (matrix 0), full range; a display of another config named for PQ or HLG is taken as Rec.2100
-    (BT.2020 primaries), or P3-D65 when its name says P3."""
+    """The cICP code points of an OpenColorIO display whose codes a reader would otherwise take for sRGB
+    on Rec.709 primaries: a PQ or HLG display, or an SDR display on other primaries (``Display P3``: P3-D65,
+    12, sRGB transfer, 13); None for the others. The primaries and transfer of its video tags
+    (:data:`lenslab.io.video.colour.DISPLAY_TAGS`: ``ST2084-P3-D65`` is P3-D65, 12), RGB (matrix 0), full
+    range; a display of another config named for PQ or HLG is taken as Rec.2100 (BT.2020 primaries), or
+    P3-D65 when its name says P3."""
     from lenslab.io.video.colour import DISPLAY_TAGS
 
     low = display.lower()
     tags = DISPLAY_TAGS.get(low.split(" - display")[0])
     if tags is not None:
-        return (tags[0], tags[1], 0, 1) if tags[1] in (PQ[1], HLG[1]) else None
+        return (tags[0], tags[1], 0, 1) if tags[1] in (PQ[1], HLG[1]) or tags[0] != BT709 else None
     transfer = HLG[1] if "hlg" in low else PQ[1] if ("pq" in low or "st2084" in low or "st-2084" in low) else None
     if transfer is None:
         return None
@@ -92,6 +97,24 @@ def to_linear_light(codes, points):
     what = "PQ" if transfer == 16 else "HLG"
     return np.ascontiguousarray(out, dtype=np.float32), (
         f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 (the PNG's cICP chunk)")
+
+
+def wide_to_709(image, primaries: int) -> str:
+    """Linear light decoded from sRGB codes on H.273 ``primaries`` (H x W x C float32, straight colour, alpha
+    last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
+    (:func:`lenslab.io.video.colour.matrix_to_709`); the note a reader shows. Rec.709 primaries, and
+    primaries lenslab reads as Rec.709, are left alone."""
+    import numpy as np
+
+    from lenslab.io.video.colour import is_wide, matrix_to_709
+
+    if not is_wide(primaries):
+        return f"the PNG's cICP chunk says primaries {primaries}: read as Rec.709"
+    m = matrix_to_709(primaries).astype(np.float32)
+    rgb = image[..., :3]
+    rgb[...] = rgb @ m.T
+    name = {12: "P3-D65", 9: "BT.2020"}.get(int(primaries), f"primaries {primaries}")
+    return f"sRGB codes on {name} primaries (the PNG's cICP chunk), converted to Rec.709"
 
 
 def describe(points) -> str:

@@ -52,7 +52,8 @@ def apply_display(image, fmt, options: dict) -> tuple:
     """(display-encoded image, write options it needs) for format record ``fmt``.
 
     HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
-    8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG). The code values are stored as they are (``raw``), not sRGB-encoded again.
+    8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG; an SDR
+display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 primaries, sRGB transfer). The code values are stored as they are (``raw``), not sRGB-encoded again.
     With alpha (premultiplied ``image``) the transform acts on the straight colour and the codes are kept
     as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
     over black.
@@ -71,21 +72,26 @@ def apply_display(image, fmt, options: dict) -> tuple:
         extra["bits"] = 16
     if "raw" in accepts:
         extra["raw"] = True
-    if hdr and "cicp" in accepts:  # PNG: say PQ or HLG in the file, or readers take the codes for sRGB
-        from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.png_cicp import display_code_points
 
-        points = display_code_points(display)
-        if points is not None:
-            extra["cicp"] = points
-    transform = lambda x: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
-                                            options.get("ocio"))
+    points = display_code_points(display)
+    if points is not None and "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries, or readers take sRGB
+        extra["cicp"] = points
+    elif points is not None and not hdr and fmt.kind != "video":  # (HDR ones are refused before any work)
+        import warnings
+
+        warnings.warn(f"{display}: {fmt.title} has no tag for these primaries; readers will take the codes for "
+                      "sRGB on Rec.709 (write PNG, whose cICP chunk says P3-D65)", UserWarning, stacklevel=2)
+    transform = lambda x, a: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
+                                               options.get("ocio"), alpha_channel=a)
     from lenslab.io.alpha import has_alpha, premultiply, unpremultiply
 
-    if not has_alpha(image) or not fmt.alpha:  # no alpha kept: the colour over black
-        colour = image[..., :-1] if has_alpha(image) else image
-        return transform(colour), extra
+    alpha = has_alpha(image, options.get("alpha"))  # the image's names where given (only A is alpha)
+    if not alpha or not fmt.alpha:  # no alpha kept: the colour over black
+        colour = image[..., :-1] if alpha else image
+        return transform(colour, False), extra
     # the display's code values of the straight colour; premultiplied by alpha where the file keeps
     # premultiplied colour (EXR, float TIFF), straight where it keeps straight colour (PNG, integer TIFF)
-    out = transform(unpremultiply(image))
+    out = transform(unpremultiply(image, True), True)
     sample = "uint" if "bits" in accepts or str(extra.get("sample_type", "")).startswith("uint") else "float"
-    return (out if fmt.holds_straight(sample) else premultiply(out)), extra
+    return (out if fmt.holds_straight(sample) else premultiply(out, True)), extra

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from lenslab.io.alpha import expose, has_alpha  # noqa: F401  (the look's exposure: colour, never alpha)
+from lenslab.io.alpha import alpha_last, expose, has_alpha  # noqa: F401  (the look's exposure: colour, never alpha)
 
 
 @dataclass(frozen=True)
@@ -49,13 +49,14 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
     from lenslab.errors import FormatError
 
     exposure = look.exposure
+    alpha = image_alpha(meta, image.shape[2]) if getattr(image, "ndim", 0) == 3 else False
     integers = bool(look.bits) and "sample_type" in fmt.write_options  # TIFF with --bits: display-encoded
     if look.display:
         from lenslab.jobs.display import apply_display
 
         if exposure == "auto":
             raise FormatError("--exposure auto goes with a tone curve; give a number of stops with --display")
-        shown, extra = apply_display(expose(image, exposure), fmt, look.display_options())
+        shown, extra = apply_display(expose(image, exposure, alpha=alpha), fmt, {**look.display_options(), "alpha": alpha})
         if fmt.hdr and not {"raw", "sample_type"} & set(extra):
             raise FormatError(f"a display transform writes display images (png, tif, jpg, ppm); {fmt.title} "
                               "holds scene-linear values")
@@ -64,16 +65,30 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
         from lenslab.tone import tonemap
 
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
-                       in_place=in_place, **dict(look.params)), {}
+                       in_place=in_place, alpha_channel=alpha, **dict(look.params)), {}
     if exposure == "auto":
         from lenslab.io.registry import formats
 
         shown = ", ".join(f.name for f in formats().values() if f.writable and not f.hdr and f.kind == "image")
         raise FormatError(f"--exposure auto applies when writing display formats ({shown})")
-    return expose(image, exposure, in_place=in_place), {}
+    return expose(image, exposure, in_place=in_place, alpha=alpha), {}
 
 
-def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False):
+def image_alpha(meta: dict, count: int) -> bool:
+    """Whether an image of ``count`` channels made from an input described by ``meta`` carries alpha last:
+    the last of the names it is written with is ``A`` (:func:`lenslab.io.output_channels`: the input's
+    names, those and the ``A`` a warp adds), else :func:`lenslab.io.alpha.alpha_last`."""
+    from lenslab.errors import FormatError
+    from lenslab.io import is_alpha_name, output_channels
+
+    try:
+        return is_alpha_name(output_channels(meta, count)[-1])
+    except FormatError:
+        return alpha_last(count)
+
+
+def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False,
+                      alpha: bool | None = None):
     """``exposure`` with ``"auto"`` worked out from ``image`` once (:func:`lenslab.tone.auto_exposure`) and
     said on standard error, so that a command shows the stops it used; a number is returned as it is."""
     if str(exposure).strip().lower() != "auto":
@@ -82,7 +97,7 @@ def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: b
 
     from lenslab.tone import auto_exposure
 
-    ev = auto_exposure(image, primaries=primaries)
+    ev = auto_exposure(image, primaries=primaries, alpha_channel=alpha)
     if not quiet:
         print(f"{where}: auto exposure {ev:+.2f} stops", file=sys.stderr)
     return ev
@@ -142,7 +157,7 @@ def check_image(image, what: str = "image"):
     return (a[..., None] if a.ndim == 2 else a).astype(np.float32, copy=False)
 
 
-__all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image",
+__all__ = ["Look", "develop", "image_alpha", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image",
            "check_data_channels"]
 
 

@@ -77,6 +77,10 @@ class WarpJob(Job):
         warp_one(src, Path(dst), self, plans_for(self), progress=progress)
 
 
+#: why a warp writes colour and alpha only
+WARP_DROPS = "a warp resamples colour and alpha only (depth, normals and vectors belong to the source camera)"
+
+
 def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) -> None:
     """Warp ``src_path`` to ``dst_path`` as ``job`` says, with the maps of ``cache``."""
     from lenslab.io import carries_alpha, read, write
@@ -96,6 +100,11 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.jobs.stages import check_data_channels
 
     check_data_channels(src_path, meta, image.shape[2], fmt)
+    from lenslab.io.exr.extra import warn_dropped
+
+    # depth, normals, motion vectors are measured in the source camera's frame: resampled into another lens
+    # they would keep the numbers and lose their meaning
+    warn_dropped(src_path, meta.get("extra_channels") or [], fmt.title, WARP_DROPS)
     if job.stmap:
         from lenslab.stmap import warp_with_st_map
 

@@ -1,7 +1,8 @@
 """Exposure: luminance weights, log-averages and automatic exposure.
 
 Exposure is in stops, ``x * 2**EV``. ``auto`` picks EV so that the log-average luminance, with the
-darkest and brightest percent of the positive pixels left out, lands on middle grey (0.18).
+darkest and brightest percent of the positive pixels left out, lands on middle grey (0.18); an image with
+alpha is measured on its covered pixels' straight colour, each counted by its coverage.
 Luminance weights are the Y row of the image's RGB -> XYZ matrix: the sRGB standard's own for sRGB
 (the default), from chromaticities by SMPTE RP 177, or from colour-science for any other colourspace name.
 """
@@ -74,11 +75,14 @@ def luminance_weights(primaries: str = "sRGB") -> np.ndarray:
     return w.astype(F32)
 
 
-def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18) -> np.ndarray:
+def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18, alpha: bool | None = None) -> np.ndarray:
     """Luminance of (an evenly strided sample of) the image, float64, bad values as in tonemap
-    (NaN and negatives count as 0, pixels with a +inf channel are dropped)."""
+    (NaN and negatives count as 0, pixels with a +inf channel are dropped); a trailing alpha
+    (:func:`lenslab.io.alpha.alpha_last`) is left out."""
+    from lenslab.io.alpha import alpha_last
+
     x = np.asarray(image)
-    if x.ndim == 3 and x.shape[-1] in (2, 4):
+    if x.ndim == 3 and alpha_last(x.shape[-1], alpha):
         x = x[..., :-1]
     channels = 3 if x.ndim == 3 and x.shape[-1] == 3 else 1
     px = x.reshape(-1, channels)
@@ -97,33 +101,83 @@ def luminance_sample(image: np.ndarray, weights, max_samples: int = 1 << 18) -> 
     return lum[finite]
 
 
-def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None) -> float:
-    """Log-average (geometric mean) of luminance values.
+def covered_luminance(image: np.ndarray, weights, max_samples: int = 1 << 18) -> tuple[np.ndarray, np.ndarray]:
+    """(luminance of the straight colour, coverage) of the covered pixels (alpha > 0) of (an evenly
+    strided sample of) an image with alpha last (H x W x C, colour premultiplied), float64; bad values as
+    in :func:`luminance_sample`, alpha clipped to [0, 1] (NaN: 0)."""
+    x = np.asarray(image)
+    px = x.reshape(-1, x.shape[-1])
+    step = max(1, -(-px.shape[0] // max_samples))
+    sample = np.array(px[::step], dtype=np.float64)
+    a = np.clip(np.nan_to_num(sample[:, -1], nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    covered = a > 0
+    colour = sample[covered, :-1] / a[covered, None]
+    lum = luminance_sample(colour[:, None, :], weights if colour.shape[1] == 3 else None, colour.shape[0] + 1,
+                           alpha=False)
+    finite = ~np.isposinf(colour).any(axis=1)
+    return lum, a[covered][finite]
+
+
+def log_average(lum: np.ndarray, trim: float = 0.0, delta: float | None = None,
+                weights: np.ndarray | None = None) -> float:
+    """Log-average (geometric mean) of luminance values, each counted by its ``weights`` (an image with
+    alpha: the coverage; None: all 1).
 
     ``delta=None``: over the positive values only, with the ``trim`` percent darkest and brightest of
-    them left out (0 when there are none). ``delta > 0``: Reinhard et al.'s ``exp(mean(log(delta + L)))``
-    over every value.
+    them (by weight) left out (0 when there are none). ``delta > 0``: Reinhard et al.'s
+    ``exp(mean(log(delta + L)))`` over every value.
     """
     lum = np.asarray(lum, dtype=np.float64).reshape(-1)
+    w = None if weights is None else np.asarray(weights, dtype=np.float64).reshape(-1)
     if delta is not None:
-        return float(np.exp(np.mean(np.log(delta + lum)))) if lum.size else 0.0
-    logs = np.log2(lum[lum > 0])
+        if not lum.size or (w is not None and not w.sum() > 0):
+            return 0.0
+        return float(np.exp(np.average(np.log(delta + lum), weights=w)))
+    positive = lum > 0
+    logs = np.log2(lum[positive])
+    if w is not None:
+        w = w[positive]
+        logs, w = logs[w > 0], w[w > 0]
     if logs.size == 0:
         return 0.0
     if trim > 0:
-        lo, hi = np.percentile(logs, [trim, 100.0 - trim])
-        kept = logs[(logs >= lo) & (logs <= hi)]
-        logs = kept if kept.size else logs
-    return float(2.0 ** np.mean(logs))
+        lo, hi = np.percentile(logs, [trim, 100.0 - trim]) if w is None else _weighted_bounds(logs, w, trim)
+        kept = (logs >= lo) & (logs <= hi)
+        if kept.any():
+            logs, w = logs[kept], (None if w is None else w[kept])
+    return float(2.0 ** np.average(logs, weights=w))
 
 
-def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0, primaries: str = "sRGB") -> float:
+def _weighted_bounds(logs: np.ndarray, w: np.ndarray, trim: float) -> tuple[float, float]:
+    """The ``trim`` and ``100 - trim`` percentiles of ``logs`` weighted by ``w`` (the inverse of the
+    weighted cumulative distribution, NumPy's ``inverted_cdf`` method): the first value whose
+    cumulative weight reaches the share."""
+    order = np.argsort(logs, kind="stable")
+    values, cum = logs[order], np.cumsum(w[order])
+    last = values.size - 1
+    lo = values[min(int(np.searchsorted(cum, cum[-1] * trim / 100.0)), last)]
+    hi = values[min(int(np.searchsorted(cum, cum[-1] * (1.0 - trim / 100.0))), last)]
+    return float(lo), float(hi)
+
+
+def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0, primaries: str = "sRGB",
+                  alpha_channel: bool | None = None) -> float:
     """Exposure in stops that brings the image's log-average luminance to ``key`` (middle grey).
 
     The average is taken over positive pixels (black borders, e.g. outside a fisheye circle, are
     not scene content), with the ``trim`` percent darkest and brightest left out: a small sun of
     30000 does not drag the rest into black. An image with no positive pixel gets 0 (it stays black).
     The result is limited to :data:`EXPOSURE_RANGE`.
+
+    An image with alpha is measured as a compositor sees its covered pixels: the luminance of each
+    pixel's *straight* colour (premultiplied colour / alpha), counted by its coverage,
+    ``2 ** (sum(a * log2 L) / sum(a))`` over the pixels with ``a > 0`` (the trim by coverage too, NumPy's
+    weighted ``inverted_cdf`` percentiles; when every covered pixel has the same alpha, the statistic of
+    an image without alpha).
+    Premultiplied colour would count a pixel half covered by a sky of 4.0 as a dark pixel of 2.0, a
+    value the scene does not hold, and brighten the whole image for its transparent edge; straight colour
+    counted as a whole pixel would give a pixel 1 % covered (its colour divided by 0.01: quantisation and
+    noise a hundred times) the weight of a covered one.
 
     Parameters
     ----------
@@ -136,6 +190,9 @@ def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0,
     primaries : str
         The RGB primaries whose luminance weights apply: a colour-science colourspace name
         (``"sRGB"``, ``"ITU-R BT.2020"``...) or an EXR header's chromaticities.
+    alpha_channel : bool, optional
+        Whether the last channel is alpha (what the channel names say); None: 2 or 4 channels carry it
+        (:func:`lenslab.io.alpha.alpha_last`).
 
     Returns
     -------
@@ -160,19 +217,28 @@ def auto_exposure(image: ArrayLike, key: float = MIDDLE_GREY, trim: float = 1.0,
         raise ToneError(f"auto exposure: trim={trim:g} must be a percentage in [0, 50)")
     if not key > 0:
         raise ToneError(f"auto exposure: key={key:g} must be > 0 (middle grey is 0.18)")
+    from lenslab.io.alpha import alpha_last
+
     x = np.asarray(image)
-    colour_image = x.ndim == 3 and x.shape[-1] in (3, 4)
-    avg = log_average(luminance_sample(x, luminance_weights(primaries) if colour_image else None), trim=trim)
+    alpha = x.ndim == 3 and alpha_last(x.shape[-1], alpha_channel)
+    colour_image = x.ndim == 3 and x.shape[-1] - alpha == 3
+    weights = luminance_weights(primaries) if colour_image else None
+    if alpha:  # the straight colour of the covered pixels, each counted by its coverage
+        lum, coverage = covered_luminance(x, weights)
+        # all covered alike (alpha 1): the very statistic of an image without alpha (its trim interpolates)
+        avg = log_average(lum, trim=trim, weights=None if np.all(coverage == coverage[:1]) else coverage)
+    else:
+        avg = log_average(luminance_sample(x, weights, alpha=False), trim=trim)
     if avg <= 0:
         return 0.0
     return float(np.clip(math.log2(key / avg), *EXPOSURE_RANGE))
 
 
-def parse_exposure(exposure, image, primaries) -> float:
+def parse_exposure(exposure, image, primaries, alpha: bool | None = None) -> float:
     if isinstance(exposure, str):
         text = exposure.strip().lower()
         if text == "auto":
-            return auto_exposure(image, primaries=primaries)
+            return auto_exposure(image, primaries=primaries, alpha_channel=alpha)
         try:
             exposure = float(text)
         except ValueError:

@@ -23,7 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from lenslab.errors import ToneError
+from lenslab.io.alpha import alpha_last
 from lenslab.tone.exposure import (
+    covered_luminance,
     log_average,
     luminance_sample,
     luminance_weights,
@@ -79,7 +81,7 @@ def as_float32(image) -> np.ndarray:
 
 def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0, mode: str = "per-channel",
             *, primaries: str = "sRGB", threads: int | None = None, in_place: bool = False,
-            **params: float) -> np.ndarray:
+            alpha_channel: bool | None = None, **params: float) -> np.ndarray:
     """Tone-map scene-linear ``image`` to display-linear float32 in [0, 1] (same shape).
 
     The order of work is fixed: bad values are repaired, then the exposure, then the curve (see the
@@ -88,7 +90,7 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     Parameters
     ----------
     image : array_like
-        ``H x W x C`` (``C`` = 1, 3; 2 or 4 with alpha last, colour premultiplied as in OpenEXR: the
+        ``H x W x C`` (``C`` = 1, 3, or one more with alpha last, colour premultiplied as in OpenEXR: the
         curve acts on the unpremultiplied colour and alpha passes through clipped to [0, 1]), or any
         array of single-channel values.
     curve : str
@@ -105,6 +107,10 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
     in_place : bool
         The caller gives ``image`` up (a float32 array): the result may be written in its memory and
         returned, with no output array of the image's size (the same values).
+    alpha_channel : bool, optional
+        Whether the last channel is alpha (what the image's channel names say: only ``A`` is alpha);
+        None: an image of 2 or 4 channels carries it (:func:`lenslab.io.alpha.alpha_last`, the rule the
+        warp APIs follow). ``False``: every channel is mapped as a value (``u, v`` or ``R, G, B, Z``).
     **params
         The curve's own parameters (``lenslab curves`` and :data:`lenslab.tone.CURVES` list them).
 
@@ -144,22 +150,23 @@ def tonemap(image: ArrayLike, curve: str = "hable", exposure: float | str = 0.0,
         return tonemap(x.reshape(1), spec.name, exposure, mode_key, primaries=primaries, **resolved).reshape(())
     if x.ndim == 3 and x.shape[-1] not in (1, 2, 3, 4):
         raise ToneError(f"image has {x.shape[-1]} channels; tone mapping takes 1 or 3 (plus alpha)")
-    alpha = x.ndim == 3 and x.shape[-1] in (2, 4)
+    alpha = x.ndim == 3 and alpha_last(x.shape[-1], alpha_channel)
     if spec.kind == "local":
         return _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha)
     colour = x.shape[-1] - 1 if alpha else (x.shape[-1] if x.ndim == 3 else 1)
     rgb = x.ndim == 3 and colour == 3
-    # the statistics (auto exposure, an image curve's key) from a strided sample of the straight colour
-    stats = straight_sample(x) if alpha else x
-    ev = parse_exposure(exposure, stats, primaries)
+    # the statistics (auto exposure, an image curve's key) from a strided sample; with alpha, of the covered
+    # pixels' straight colour, each counted by its coverage (lenslab.tone.exposure)
+    ev = parse_exposure(exposure, x, primaries, alpha)
     scale = 2.0 ** ev
     # luminance weights only where something weighs channels (importing colour-science takes a while)
     needs_weights = rgb and (mode_key == "luminance" or spec.kind == "image")
     weights = luminance_weights(primaries) if needs_weights else None
     if spec.kind == "image":
         # Reinhard et al. 2002: the scale key / log-average comes from the image's luminance
-        lum = luminance_sample(stats, weights) * scale
-        avg = log_average(lum, delta=resolved["delta"]) if lum.size else 1.0
+        lum, coverage = covered_luminance(x, weights) if alpha else (luminance_sample(x, weights, alpha=False), None)
+        lum *= scale
+        avg = log_average(lum, delta=resolved["delta"], weights=coverage) if lum.size else 1.0
         scale = scale * resolved["key"] / max(avg, 1e-30)
     # the result in x's memory: the caller gave it up, and each block is read before it is written (per
     # value, or RGB through planar copies; an image with alpha maps a copy of its straight colour)
@@ -225,27 +232,15 @@ def _band(spec, resolved, scale, xb, ob, same, alpha, rgb, mode_key, weights, co
     return judged
 
 
-def straight_sample(x: np.ndarray, max_samples: int = 1 << 18) -> np.ndarray:
-    """The pixels of an image with alpha (H x W x C, colour premultiplied) that
-    :func:`lenslab.tone.exposure.luminance_sample` takes (every ``step``-th), as straight colour
-    (``n x 1 x (C - 1)``): statistics of the straight colour with no copy of the image's size."""
-    px = x.reshape(-1, x.shape[-1])
-    step = max(1, -(-px.shape[0] // max_samples))
-    sample = px[::step]
-    a = np.clip(np.nan_to_num(sample[:, -1:], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
-    colour = sample[:, :-1].copy()
-    np.divide(colour, a, out=colour, where=a > 0)
-    return colour[:, None, :]
-
-
 def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_place, alpha) -> np.ndarray:
     """A local curve (it looks at the whole image): on a copy of the straight colour."""
     if alpha:
         a = np.clip(np.nan_to_num(x[..., -1], nan=0.0, posinf=1.0, neginf=0.0), 0, 1)
         colour_part = x[..., :-1].copy()
         np.divide(colour_part, a[..., None], out=colour_part, where=a[..., None] > 0)
-        mapped = tonemap(colour_part, spec.name, exposure, mode_key, primaries=primaries, threads=threads,
-                         in_place=True, **resolved)  # (the copy is this function's own)
+        ev = parse_exposure(exposure, x, primaries, True)  # the covered pixels' (lenslab.tone.exposure)
+        mapped = tonemap(colour_part, spec.name, ev, mode_key, primaries=primaries, threads=threads,
+                         in_place=True, alpha_channel=False, **resolved)  # (the copy is this function's own)
         del colour_part
         mapped *= a[..., None]
         out = x if _own(image, x, in_place) else np.empty(x.shape, F32)
@@ -253,7 +248,7 @@ def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_
         out[..., -1] = a
         return out
     rgb = x.ndim == 3 and x.shape[-1] == 3
-    ev = parse_exposure(exposure, x, primaries)
+    ev = parse_exposure(exposure, x, primaries, False)
     counts = Counts()
     clean = x.copy()
     inf_mask = repair(clean, counts)
