@@ -89,9 +89,12 @@ def plain_value(value):
         return value
     if isinstance(value, (np.integer, np.floating)):
         return value.item()
-    if hasattr(value, "name") and isinstance(getattr(value, "name"), str):  # enums
-        return value.name
-    return repr(value)
+    try:
+        if hasattr(value, "name") and isinstance(getattr(value, "name"), str):  # enums
+            return value.name
+        return repr(value)
+    except Exception:  # an attribute of a type the bindings do not know, whose bytes they cannot even show
+        return f"<{type(value).__name__}>"
 
 
 def _split_selector(selector: str | None) -> tuple[str | None, str | None]:
