@@ -116,11 +116,10 @@ def _mantiuk(img: np.ndarray, avg: float, params: dict) -> np.ndarray:
     if positive.size == 0:  # pragma: no cover - avg > 0 means some pixel is positive
         return np.zeros_like(img)
     # OpenCV floors luminance at 1e-4 of the maximum it is given (13.3 stops): the top is chosen so that the
-    # darkest 0.1 percent of the scene stays above that floor, unless that would clip more than the
-    # brightest 0.1 percent (which the display mapping clips anyway); and at most `headroom` stops above
-    # the log-average
-    dark, bright = np.percentile(positive, [CUT_PERCENT, 100.0 - CUT_PERCENT])
-    top = min(float(luma.max()), avg * 2.0 ** params["headroom"], max(float(dark) / _OPENCV_FLOOR, float(bright)))
+    # darkest 0.1 percent of the scene stays above that floor (what lies above the top is white anyway),
+    # but at least 4 stops and at most `headroom` stops above the log-average
+    dark = float(np.percentile(positive, CUT_PERCENT))
+    top = min(float(luma.max()), avg * 2.0 ** params["headroom"], max(dark / _OPENCV_FLOOR, avg * 16.0))
     lum = np.clip(luma, np.float32(top * _OPENCV_FLOOR), np.float32(top))
     # OpenCV's operator on a probe whose green is 0 and whose red and blue are the luminance over their
     # luma weights: its luma is the luminance, its minimum 0, so OpenCV's final stretch (minimum to 0,
@@ -238,7 +237,10 @@ def mantiuk(rgb: ArrayLike, scale: float = 0.7, saturation: float = 1.0, headroo
     rgb : array_like
         Scene-linear RGB, ``H x W x 3``.
     scale : float
-        The contrast scale factor (below 1 compresses).
+        OpenCV's contrast scale factor (below 1 compresses). With the paper's power-law transducer it
+        multiplies every contrast at every scale alike, which makes the reconstruction a global power of
+        the luminance, and the display mapping then sets the range: on the panoramas measured the result
+        does not change with ``scale``; ``display_range`` sets the contrast.
     saturation : float
         Colour saturation: ``(c / L)^saturation`` times the new luminance (1 keeps it).
     headroom : float

@@ -121,3 +121,22 @@ def test_colour_follows_the_new_luminance(saturation):
     out = tone.mantiuk(img, saturation=saturation).astype(np.float64)
     want = np.clip((img / (img @ REC601)[..., None]) ** saturation * shown[..., None], 0.0, 1.0)
     np.testing.assert_allclose(out, want, rtol=1e-4, atol=1e-6)  # float32 luma of equal channels vs float64
+
+
+HDRI = __import__("pathlib").Path(__file__).resolve().parents[2].parent / "shared" / "data" / "hdri"
+
+
+@pytest.mark.skipif(not HDRI.is_dir(), reason="the shared panoramas are absent (they exist in CI)")
+@pytest.mark.parametrize("name", ["city", "courtyard", "forest", "interior", "night", "studio", "sunrise", "sunset"])
+def test_real_panoramas_fill_the_display(name):
+    import lenslab.io as lio
+
+    img, _ = lio.read(HDRI / f"{name}.exr")
+    rgb = np.ascontiguousarray(img[..., :3])
+    lum = tone.mantiuk(rgb) @ REC601.astype(np.float32)
+    lo, hi = np.percentile(lum[rgb @ REC601.astype(np.float32) > 0], [0.1, 99.9])  # black in, black out
+    # the 0.1 and 99.9 percentiles span the display's 2.3 decades, whatever the sun (before: OpenCV's
+    # stretch put sunset's 99th percentile at code 64 of 255, 10^-1.3 in linear light); colour clipping
+    # and the percentile's interpolation between pixels allow a tenth of a decade
+    assert np.log10(hi) > -0.1
+    assert np.log10(lo) == pytest.approx(-2.3, abs=0.15)
