@@ -6,7 +6,8 @@ mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any d
 let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a single input, or
 next to each input. HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go
 through a tone curve first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
-display transform instead (--display, --view). EXR to EXR keeps the input's pixel type.
+display transform instead (--display, --view). EXR to EXR keeps the input's pixel type, and a 16-bit
+PNG, PPM/PGM or TIFF input stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
@@ -82,8 +83,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--quality", type=int_in(0, 100), default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
-                        help="PNG/PPM/PGM bits per sample (default 8); TIFF: 8- or 16-bit display-encoded "
-                             "integers instead of floats")
+                        help="PNG/PPM/PGM bits per sample (default: 16 for a 16-bit input, else 8); TIFF: 8- or "
+                             "16-bit display-encoded integers instead of floats (default: 16-bit integers for a "
+                             "16-bit input, else floats)")
     parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
                         help="EXR/TIFF float type (default: the input's for EXR to EXR, else half for EXR, "
                              "float for TIFF)")

@@ -162,7 +162,12 @@ def run(args: argparse.Namespace) -> int:
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
     if not args.quiet:
         h, w_ = image.shape[:2]
-        print(f"{args.output}: display {display['display']}, view {display['view'] or '(first)'}" if display["display"]
-              else f"{args.output}: {w_} x {h}, curve {curve.name} ({args.mode}), exposure {float(exposure):+.2f} stops",
-              file=sys.stderr)
+        if display["display"]:  # the names the config matched, the view it defaults to when none was given
+            from lenslab.io.ocio import processor
+
+            _, (d, v, _) = processor(display["display"], display["view"], display["colorspace"], display["ocio"])
+            print(f"{args.output}: display {d}, view {v}", file=sys.stderr)
+        else:
+            print(f"{args.output}: {w_} x {h}, curve {curve.name} ({args.mode}), exposure {float(exposure):+.2f} stops",
+                  file=sys.stderr)
     return 0

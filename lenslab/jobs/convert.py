@@ -3,7 +3,7 @@ becomes one file per frame (:mod:`lenslab.jobs.convert_video`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import ClassVar
 
 from lenslab.jobs.job import Job
@@ -52,8 +52,9 @@ class ConvertJob(Job):
         from lenslab.jobs.stages import develop, encode_options
 
         fmt = get(self.to)
-        image, shown = develop(image, meta, fmt, self.look, in_place=in_place)
-        return image, {**encode_options(fmt, meta, self.encoding, channels=image.shape[-1]), **shown}
+        job = self if self.bits else replace(self, bits=kept_bits(fmt, meta))
+        image, shown = develop(image, meta, fmt, job.look, in_place=in_place)
+        return image, {**encode_options(fmt, meta, job.encoding, channels=image.shape[-1]), **shown}
 
     def run(self, src: str, dst: str, progress=None) -> None:
         from lenslab.io import read, split_selector, write
@@ -89,4 +90,14 @@ class ConvertJob(Job):
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 
-__all__ = ["ConvertJob"]
+def kept_bits(fmt, meta: dict) -> int | None:
+    """16 where the input holds 16-bit integers and format record ``fmt`` writes 16-bit integers (PNG, PPM/PGM,
+    TIFF): the input's precision is kept, as EXR to EXR keeps its pixel type; else None (the format's
+    default). ``--bits`` overrides it."""
+    integers = {"bits", "sample_type"} & set(fmt.write_options)
+    if meta.get("sample_type") == "uint" and meta.get("bit_depth") == 16 and 16 in fmt.bit_depths and integers:
+        return 16
+    return None
+
+
+__all__ = ["ConvertJob", "kept_bits"]

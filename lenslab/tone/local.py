@@ -5,18 +5,23 @@ the image by its maximum and floors luminance at 1e-4 of it before taking logari
 30000 over a scene near 1 would sit the whole scene on that floor. Before handing the image over, lenslab
 therefore clips it at ``2**headroom`` times its log-average luminance (positive pixels, darkest and
 brightest percent left out); whatever lies above is white in the result anyway. OpenCV's own gamma
-is left at 1 (the output is display-linear: lenslab's writer applies the sRGB encoding) and its
-output, stretched by OpenCV to [0, 1], is cleaned of the NaN it can leave (and then stretched again).
-OpenCV weighs luminance with Rec.601 luma (0.299, 0.587, 0.114) internally. An image of one luminance
-has no contrast for Mantiuk to map (OpenCV's solver fails on it): it maps to mid-grey, colour kept as
-Mantiuk keeps it, so a flat image gives a flat image.
+is left at 1 (the output is display-linear: lenslab's writer applies the sRGB encoding).
+
+Drago's output, stretched by OpenCV to [0, 1], is cleaned of the NaN it can leave (and then stretched
+again). Mantiuk keeps OpenCV's reconstruction of the luminance but not its ending: OpenCV stretches the
+result's maximum to 1, so a sun set the white and left a panorama murky (median code 33 of 255);
+lenslab puts the result on the display as Mantiuk's reference implementation does (:func:`display_map`),
+and clips the scene so that OpenCV's floor lies below its darkest 0.1 percent. OpenCV weighs luminance
+with Rec.601 luma (0.299, 0.587, 0.114) internally. An image of one luminance has no contrast for Mantiuk
+to map (OpenCV's solver fails on it): it maps to mid-grey, colour kept as Mantiuk keeps it, so a flat
+image gives a flat image.
 
 >>> ramp = np.repeat(np.geomspace(0.01, 100.0, 16, dtype=np.float32)[None, :, None], 3, axis=2)
 >>> y = drago(np.repeat(ramp, 4, axis=0))[0, :, 0]
 >>> bool(np.all(np.diff(y) > 0)), float(y[-1])              # OpenCV stretches the result to [0, 1]
 (True, 1.0)
 >>> y = mantiuk(np.repeat(ramp, 4, axis=0))
->>> bool(y.min() >= 0.0), float(y.max())                      # likewise stretched to [0, 1]
+>>> bool(y.min() >= 0.0), float(y.max())                      # its 99.9th percentile at 1
 (True, 1.0)
 """
 
@@ -32,6 +37,11 @@ from lenslab.tone.mapping import tonemap
 from lenslab.tone.registry import register
 
 _MIN_SIDE = {"drago": 1, "mantiuk": 4}
+_REC601 = (0.299, 0.587, 0.114)  # OpenCV's luma weights (COLOR_RGB2GRAY)
+_OPENCV_FLOOR = 1e-4  # OpenCV's Mantiuk floors luminance at this fraction of its maximum
+#: Mantiuk's reference implementation (pfstmo mantiuk06): display range in log10 units, percent cut at each end
+DISPLAY_RANGE = 2.3
+CUT_PERCENT = 0.1
 
 
 def _quietly(fn, *args):
@@ -70,20 +80,14 @@ def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     avg = log_average(luminance_sample(img, weights), trim=1.0)
     if avg <= 0:
         return np.zeros(shape, np.float32)  # nothing positive: black stays black
+    if name == "mantiuk":
+        out = _mantiuk(img, avg, params)
+        return (out.mean(axis=-1, dtype=np.float32) if grey else out).reshape(shape)
     img = np.minimum(img, np.float32(avg * 2.0 ** params["headroom"]))
 
-    if name == "mantiuk":
-        luma = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)  # what OpenCV's Mantiuk takes the contrast of
-        if float(luma.max()) == float(luma.min()):
-            out = _no_contrast(img, luma, float(params["saturation"]))
-            return (out.mean(axis=-1, dtype=np.float32) if grey else out).reshape(shape)
-    if name == "drago":
-        op = cv2.createTonemapDrago(gamma=1.0, saturation=float(params["saturation"]), bias=float(params["bias"]))
-    elif name == "mantiuk":
-        op = cv2.createTonemapMantiuk(gamma=1.0, scale=float(params["scale"]),
-                                      saturation=float(params["saturation"]))
-    else:  # pragma: no cover - the registry only routes these two here
+    if name != "drago":  # pragma: no cover - the registry only routes these two here
         raise ToneError(f"no OpenCV operator called {name!r}")
+    op = cv2.createTonemapDrago(gamma=1.0, saturation=float(params["saturation"]), bias=float(params["bias"]))
     out = _quietly(op.process, img)
     bad = ~np.isfinite(out)
     if bad.any():
@@ -97,6 +101,59 @@ def _apply(name: str, image: np.ndarray, params: dict, weights) -> np.ndarray:
     if grey:
         out = out.mean(axis=-1, dtype=np.float32)
     return np.ascontiguousarray(out, dtype=np.float32).reshape(shape)
+
+
+def _mantiuk(img: np.ndarray, avg: float, params: dict) -> np.ndarray:
+    """Mantiuk contrast mapping of a repaired, exposed float32 H x W x 3 image (log-average ``avg`` > 0):
+    OpenCV's reconstruction of the luminance, then the authors' display mapping (:func:`display_map`),
+    then the colour of each pixel as Mantiuk keeps it, ``(c / L)^saturation`` times the new luminance."""
+    import cv2
+
+    luma = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)  # Rec.601 luma, as OpenCV's operator takes it
+    if float(luma.max()) == float(luma.min()):
+        return _no_contrast(img, luma, float(params["saturation"]))
+    positive = luma[luma > 0]
+    if positive.size == 0:  # pragma: no cover - avg > 0 means some pixel is positive
+        return np.zeros_like(img)
+    # OpenCV floors luminance at 1e-4 of the maximum it is given (13.3 stops): the top is chosen so that the
+    # darkest 0.1 percent of the scene stays above that floor (what lies above the top is white anyway),
+    # but at least 4 stops and at most `headroom` stops above the log-average
+    dark = float(np.percentile(positive, CUT_PERCENT))
+    top = min(float(luma.max()), avg * 2.0 ** params["headroom"], max(dark / _OPENCV_FLOOR, avg * 16.0))
+    lum = np.clip(luma, np.float32(top * _OPENCV_FLOOR), np.float32(top))
+    # OpenCV's operator on a probe whose green is 0 and whose red and blue are the luminance over their
+    # luma weights: its luma is the luminance, its minimum 0, so OpenCV's final stretch (minimum to 0,
+    # maximum to 1) is a plain division by the maximum and its red channel is the new luminance, scaled
+    k = np.float32(1.0 / (_REC601[0] + _REC601[2]))
+    probe = np.zeros_like(img)
+    probe[..., 0] = lum * k
+    probe[..., 2] = lum * k
+    op = cv2.createTonemapMantiuk(gamma=1.0, scale=_OPENCV_SCALE, saturation=1.0)
+    new = _quietly(op.process, probe)[..., 0]
+    shown = display_map(np.log(np.maximum(new, np.finfo(np.float32).tiny)), float(params["display_range"]))
+    ratio = np.divide(img, luma[..., None], out=np.zeros_like(img), where=luma[..., None] > 0)
+    out = np.power(ratio, np.float32(params["saturation"]), dtype=np.float32) * shown[..., None]
+    return np.clip(np.nan_to_num(out, nan=0.0, posinf=1.0), 0.0, 1.0).astype(np.float32)
+
+
+def display_map(log_lum: np.ndarray, display_range: float = DISPLAY_RANGE) -> np.ndarray:
+    """The display mapping of Mantiuk's reference implementation (pfstmo ``mantiuk06``): the 0.1th and 99.9th
+    percentiles of the reconstructed log10 luminance go to ``-display_range`` and 0 (2.3 log10 units: a
+    200:1 display), linearly in log; what lies beyond is clipped to [0, 1].
+
+    ``log_lum``: natural-log luminance, any scale (only its percentiles matter). Returns float32
+    display-linear luminance, ``10 ** ((y - y_lo) / (y_hi - y_lo) * display_range - display_range)``.
+
+    >>> y = display_map(np.log(np.geomspace(1e-3, 1e3, 1001)))
+    >>> [round(float(v), 4) for v in (y[0], y[500], y[-1])]   # 0.1 % cut at each end
+    [0.005, 0.0708, 1.0]
+    """
+    y = np.asarray(log_lum, dtype=np.float64) / np.log(10.0)
+    lo, hi = np.percentile(y, [CUT_PERCENT, 100.0 - CUT_PERCENT])
+    if not hi > lo:  # pragma: no cover - an image of one luminance goes to _no_contrast
+        return np.full(y.shape, 10.0 ** (-0.5 * display_range), np.float32)
+    out = np.power(10.0, (y - lo) / (hi - lo) * display_range - display_range)
+    return np.clip(out, 0.0, 1.0).astype(np.float32)
 
 
 def _no_contrast(img: np.ndarray, luma: np.ndarray, saturation: float) -> np.ndarray:
@@ -115,9 +172,14 @@ _LOCAL_HEADROOM = Param("headroom", 12.0, "stops above the log-average kept befo
 _DRAGO_P = (Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
             Param("bias", 0.85, "bias of the logarithmic base (Drago: 0.7 to 0.9)", 0.0, 1.0, lo_open=True),
             _LOCAL_HEADROOM)
-_MANTIUK_P = (Param("scale", 0.7, "contrast scale factor (lower: stronger compression)", 0.0, 2.0, lo_open=True),
-              Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
-              _LOCAL_HEADROOM)
+#: OpenCV's contrast factor: with the paper's power-law transducer it scales every contrast alike, so the
+#: rebuilt luminance is a power of the scene's, and the display mapping takes any power to the same image
+_OPENCV_SCALE = 0.7
+_MANTIUK_P = (Param("saturation", 1.0, "colour saturation (OpenCV)", 0.0, 4.0, lo_open=True),
+              _LOCAL_HEADROOM,
+              Param("display_range", DISPLAY_RANGE, "display dynamic range the scene's 0.1 to 99.9 percentiles "
+                    "are mapped to (2.3: 200:1, Mantiuk's reference implementation)", 0.5, 6.0,
+                    units="log10 units"))
 
 
 @register("drago", "local", _DRAGO_P, build=lambda image, p, w: _apply("drago", image, p, w))
@@ -159,23 +221,30 @@ def drago(rgb: ArrayLike, saturation: float = 1.0, bias: float = 0.85, headroom:
 
 
 @register("mantiuk", "local", _MANTIUK_P, build=lambda image, p, w: _apply("mantiuk", image, p, w))
-def mantiuk(rgb: ArrayLike, scale: float = 0.7, saturation: float = 1.0, headroom: float = 12.0) -> np.ndarray:
-    """Mantiuk contrast-domain mapping (OpenCV ``createTonemapMantiuk``): contrasts of the log
-    luminance pyramid are scaled (``scale``) and the image is rebuilt by conjugate gradients.
+def mantiuk(rgb: ArrayLike, saturation: float = 1.0, headroom: float = 12.0,
+            display_range: float = DISPLAY_RANGE) -> np.ndarray:
+    """Mantiuk contrast-domain mapping: contrasts of the log luminance pyramid are scaled (OpenCV
+    ``createTonemapMantiuk``), the luminance is rebuilt by conjugate gradients, and its 0.1 to 99.9
+    percentiles are put on a 200:1 display as the authors' implementation (pfstmo) does.
 
     Mantiuk, Myszkowski, Seidel, "A Perceptual Framework for Contrast Processing of High Dynamic
-    Range Images", ACM TAP 2006. A local operator: not a per-pixel curve.
+    Range Images", ACM TAP 2006. A local operator: not a per-pixel curve. OpenCV maps each contrast
+    through the paper's transducer ``T(G) = 54.09288 G^0.4185``, scales the response by its ``scale`` and
+    maps it back, so each contrast is multiplied by ``scale^(1 / 0.4185)`` alike: the rebuilt luminance is
+    a power of the scene's, which the display mapping takes to the same image for any ``scale`` (so it is
+    not a parameter here; ``display_range`` sets the contrast). OpenCV's own ending (the maximum to 1, a linear stretch) is replaced by :func:`display_map`: with it a sun set
+    the white point and left the scene dark.
 
     Parameters
     ----------
     rgb : array_like
         Scene-linear RGB, ``H x W x 3``.
-    scale : float
-        The contrast scale factor (below 1 compresses).
     saturation : float
-        OpenCV's colour saturation (1 keeps it).
+        Colour saturation: ``(c / L)^saturation`` times the new luminance (1 keeps it).
     headroom : float
-        Stops kept above the log-average before OpenCV sees the image (its float input is bounded).
+        Stops kept above the log-average at most before OpenCV sees the image (its float input is bounded).
+    display_range : float
+        The display's dynamic range in log10 units that the scene's 0.1 to 99.9 percentiles fill.
 
     Returns
     -------
@@ -193,4 +262,4 @@ def mantiuk(rgb: ArrayLike, scale: float = 0.7, saturation: float = 1.0, headroo
     >>> bool(out[-1].mean() > out[0].mean())  # the bright end stays brighter than the dark one
     True
     """
-    return tonemap(rgb, "mantiuk", scale=scale, saturation=saturation, headroom=headroom)
+    return tonemap(rgb, "mantiuk", saturation=saturation, headroom=headroom, display_range=display_range)

@@ -176,13 +176,12 @@ def test_bad_parameters_say_what_is_valid():
         tone.tonemap(np.zeros((2, 2, 5), np.float32), "hable")
 
 
-def test_drago_and_mantiuk_match_opencv_when_nothing_is_clipped():
+def test_drago_matches_opencv_when_nothing_is_clipped():
+    # (mantiuk keeps OpenCV's reconstruction but not its final stretch: tests/tone/test_mantiuk_display.py)
     rng = np.random.default_rng(5)
     img = (0.2 * np.exp2(rng.normal(0, 1, (24, 32, 3)))).astype(np.float32)  # < 12 stops of range
     ref = cv2.createTonemapDrago(1.0, 0.8, 0.85).process(img.copy())
     np.testing.assert_allclose(tone.drago(img, saturation=0.8), ref, atol=1e-6)  # the same float32 code
-    ref = cv2.createTonemapMantiuk(1.0, 0.7, 1.0).process(img.copy())
-    np.testing.assert_allclose(tone.mantiuk(img), ref, atol=1e-6)
 
 
 @pytest.mark.parametrize("name", ["drago", "mantiuk"])
