@@ -6,7 +6,8 @@ mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any d
 let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a single input, or
 next to each input. HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go
 through a tone curve first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
-display transform instead (--display, --view). EXR to EXR keeps the input's pixel type.
+display transform instead (--display, --view). EXR to EXR keeps each channel's pixel type (half colour
+beside a float depth stays half and float).
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
@@ -85,8 +86,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="PNG/PPM/PGM bits per sample (default 8); TIFF: 8- or 16-bit display-encoded "
                              "integers instead of floats")
     parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
-                        help="EXR/TIFF float type (default: the input's for EXR to EXR, else half for EXR, "
-                             "float for TIFF)")
+                        help="EXR/TIFF float type of the colour and alpha (default: each channel's stored type "
+                             "for EXR to EXR, else half for EXR, float for TIFF); other EXR channels keep theirs")
     parser.add_argument("--compression", default=None,
                         help="EXR compression (default zip, readable everywhere; also piz, zips, rle, none, "
                              "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")

@@ -221,6 +221,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
 
         planes = extra_planes(path, part_channels(path, index, THREADS), others, sampling, window,
                               None if data_window else display)
+    stored = _image_types(order, short, pixel_types, converted)
+    pixel_types = set(stored) or set(pixel_types.values())
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
     attributes = {k: plain_value(v) for k, v in header.items() if k != "channels"}
     meta = {
@@ -229,6 +231,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "sample_type": "float" if pixel_types <= {"FLOAT"} else ("half" if pixel_types <= {"HALF"} else
                                                               "/".join(sorted(t.lower() for t in pixel_types))),
         "channels": out_names,
+        # each image channel's stored type (half, float or uint): what an EXR writer keeps
+        "channel_types": [t.lower() for t in stored],
         # the names a writer keeps (EXR): the file's own, with the layer of a part's only layer
         "channel_names": out_names if converted or layer is not None else [short.get(n, n) for n in out_names],
         "display_encoded": False,
@@ -251,6 +255,16 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "storage": storage,
     }
     return image, meta
+
+
+def _image_types(order: list[str | None], short: dict[str, str], types: dict[str, str], converted: bool) -> list[str]:
+    """The stored type (HALF, FLOAT, UINT) of each channel of the image read in ``order``: a missing colour
+    channel (None) takes its neighbours' type; R, G, B made from luminance-chroma take Y's."""
+    known = [types.get(short[c], "UNKNOWN") if c is not None else None for c in order]
+    if converted:
+        known[1] = known[2] = known[0]
+    fill = next((t for t in known if t is not None), "HALF")
+    return [fill if t is None else t for t in known]
 
 
 def _select(keys: set[str]) -> tuple[list[str | None], list[str], list[str], bool]:
@@ -303,17 +317,33 @@ def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) 
     return out
 
 
-def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
+def _as_type(plane: np.ndarray, kind: str) -> np.ndarray:
+    """One float32 ``H x W`` plane as a contiguous array of EXR pixel type ``kind``: half (clamped as
+    :func:`to_half` does), float, or uint (rounded, clipped to 0 .. 2**32 - 1, NaN as 0)."""
+    if kind == "half":
+        return to_half(np.ascontiguousarray(plane))
+    if kind == "uint":
+        return np.nan_to_num(np.clip(np.rint(plane.astype(np.float64)), 0, 2 ** 32 - 1)).astype(np.uint32)
+    return np.ascontiguousarray(plane, np.float32)
+
+
+def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
               threads: int | None = None, in_place: bool = False, extra: dict | None = None) -> None:
-    """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``in_place``: a half-float file is converted in
-    the image's own memory, which the caller gives up (``image`` is overwritten). ``extra``: more channels
+    """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``pixel_type``: "half" or "float" for every
+    channel, or a list of "half", "float", "uint", one a channel (an EXR's channels as they were stored);
+    ``in_place``: a half-float file is converted in the image's own memory, which the caller gives up
+    (``image`` is overwritten). ``extra``: more channels
     ``{name: H x W plane}`` (depth, normals...) written in their own type (half, float32 or uint32)."""
     import OpenEXR
 
     h, w, c = image.shape
-    if pixel_type not in ("half", "float"):
-        raise FormatError(f"EXR pixel_type must be 'half' or 'float', not {pixel_type!r}")
+    per_channel = not isinstance(pixel_type, str)
+    kinds = list(pixel_type) if per_channel else [pixel_type] * c
+    if len(kinds) != c or any(k not in ("half", "float", "uint") for k in kinds) or \
+            (not per_channel and pixel_type == "uint"):
+        raise FormatError(f"EXR pixel_type must be 'half' or 'float', or one of 'half', 'float', 'uint' for each "
+                          f"of the {c} channels, not {clip(pixel_type)}")
     comp = str(compression).lower().replace("_compression", "")
     if comp not in COMPRESSIONS:
         raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
@@ -326,7 +356,10 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:
         raise FormatError(f"{len(channels)} channel names given for an image with {c} channels")
-    data = to_half(image, in_place=in_place) if pixel_type == "half" else np.asarray(image, np.float32)
+    if len(set(kinds)) == 1 and kinds[0] != "uint":
+        data = to_half(image, in_place=in_place) if kinds[0] == "half" else np.asarray(image, np.float32)
+    else:  # each channel in its own type (an EXR's colour as it was stored): one plane at a time
+        data = [_as_type(image[..., i], k) for i, k in enumerate(kinds)]
     enum = "NO_COMPRESSION" if comp == "none" else f"{comp.upper()}_COMPRESSION"
     header = {"compression": getattr(OpenEXR, enum), "type": OpenEXR.scanlineimage}
     for k, v in (attributes or {}).items():
@@ -335,7 +368,9 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
         header[k] = v
     if camera is not None:
         header[CAMERA_ATTRIBUTE] = camera.to_toml()
-    if "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
+    if isinstance(data, list):
+        chans = dict(zip(channels, data))
+    elif "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
         chans = {"".join(channels): np.ascontiguousarray(data)}
     else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
         chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}

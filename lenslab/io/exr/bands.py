@@ -100,10 +100,10 @@ def read_into(path, header: dict, names: list[str | None], types: dict[str, str]
 
 
 def read_image(path, header: dict, short: dict[str, str], order: list[str | None], window, display,
-               data_window: bool, threads: int) -> tuple[np.ndarray, set[str]]:
+               data_window: bool, threads: int) -> tuple[np.ndarray, dict[str, str]]:
     """The first part's image as float32, channel ``order[i]`` (a short name of ``short``; None: 0) in
     channel ``i``, placed in the display window ``display`` unless ``data_window`` (0 outside the data
-    window ``window``); and the pixel types of the channels of ``short``."""
+    window ``window``); and the pixel type of each channel of ``short`` (full name -> HALF, FLOAT, UINT)."""
     from lenslab.errors import FormatError, cause
 
     x0, y0, x1, y1 = window
@@ -129,4 +129,4 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
         why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
         why = f" ({why})" if why else ""
         raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
-    return image, {types.get(n, "UNKNOWN") for n in short.values()}
+    return image, {n: types.get(n, "UNKNOWN") for n in short.values()}
