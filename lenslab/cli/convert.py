@@ -109,7 +109,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="video codec of a clip (default by extension: .mp4 h264 or h265 for HDR, .mov prores, "
                              ".mkv ffv1)")
     parser.add_argument("--data-window", action="store_true",
-                        help="EXR input: keep the stored data window instead of placing it in the display window")
+                        help="EXR input: keep the stored data window instead of placing it in the display window "
+                             "(EXR to EXR always keeps both windows as stored)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     from lenslab.cli.display import add_display_arguments
     from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options

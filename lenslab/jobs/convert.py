@@ -72,7 +72,10 @@ class ConvertJob(Job):
 
         fmt = get(self.to)
         keeps_extra = "extra" in fmt.write_options  # depth, normals...: kept where the output holds them
-        image, meta = read(src, data_window=self.data_window, extra_channels=keeps_extra)
+        from lenslab.io.registry import sniff
+
+        same = fmt.name == "exr" and sniff(src_file) == "exr"  # EXR to EXR: the data window stays as stored
+        image, meta = read(src, data_window=self.data_window or same, extra_channels=keeps_extra)
         from lenslab.jobs.stages import check_data_channels
 
         check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
@@ -82,6 +85,11 @@ class ConvertJob(Job):
             write_opts["in_place"] = True
         if keeps_extra and meta.get("extra_planes"):
             write_opts["extra"] = meta["extra_planes"]
+        if same:  # the windows and the header attributes that still hold (lenslab.io.exr.keep)
+            from lenslab.io.exr.keep import kept_header
+
+            written = [*write_opts.get("channels", meta["channels"]), *write_opts.get("extra", {})]
+            write_opts.update(kept_header(src_file, meta, written))
         else:
             from lenslab.io.exr.extra import warn_dropped
 

@@ -329,11 +329,13 @@ def _as_type(plane: np.ndarray, kind: str) -> np.ndarray:
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
-              threads: int | None = None, in_place: bool = False, extra: dict | None = None) -> None:
+              threads: int | None = None, in_place: bool = False, extra: dict | None = None,
+              window=None) -> None:
     """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``pixel_type``: "half" or "float" for every
     channel, or a list of "half", "float", "uint", one a channel (an EXR's channels as they were stored);
     ``in_place``: a half-float file is converted in the image's own memory, which the caller gives up
-    (``image`` is overwritten). ``extra``: more channels
+    (``image`` is overwritten). ``window``: the data and display windows ``(x0, y0, x1, y1)`` (default:
+    both the image's own size at 0, 0). ``extra``: more channels
     ``{name: H x W plane}`` (depth, normals...) written in their own type (half, float32 or uint32)."""
     import OpenEXR
 
@@ -366,6 +368,12 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half"
         if k in _RESERVED:
             continue
         header[k] = v
+    if window is not None:  # the stored pixels' place: (x0, y0, x1, y1) of the data and display windows
+        (x0, y0, x1, y1), (X0, Y0, X1, Y1) = (tuple(int(v) for v in box) for box in window)
+        if (x1 - x0 + 1, y1 - y0 + 1) != (w, h) or X1 < X0 or Y1 < Y0:
+            raise FormatError(f"EXR data window {x1 - x0 + 1} x {y1 - y0 + 1} given for an image of {w} x {h}")
+        header["dataWindow"] = (np.array([x0, y0], np.int32), np.array([x1, y1], np.int32))
+        header["displayWindow"] = (np.array([X0, Y0], np.int32), np.array([X1, Y1], np.int32))
     if camera is not None:
         header[CAMERA_ATTRIBUTE] = camera.to_toml()
     if isinstance(data, list):

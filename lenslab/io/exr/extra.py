@@ -2,8 +2,9 @@
 motion vectors, other layers): named for a note, and kept as planes for an EXR writer.
 
 Each plane keeps its stored type (half, float or uint), is upsampled like the image's channels when
-subsampled, and is placed in the display window as the image is (outside the data window: 0), so a
-convert from EXR to EXR writes them back where they were.
+subsampled, and is placed in the display window as the image is (outside the data window: 0), or kept
+in the data window with ``data_window=True``, which a convert from EXR to EXR reads them with so that it
+writes them back where they were (no 0 made up outside the stored pixels).
 """
 
 from __future__ import annotations

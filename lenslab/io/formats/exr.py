@@ -95,6 +95,8 @@ FORMATS = (Format(
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
                    "attributes": "header attributes {name: value}",
                    "extra": "more channels {name: H x W plane} (depth, normals...), written in their own type",
+                   "window": "(data window, display window), each (x0, y0, x1, y1): where the pixels lie "
+                             "(default: both the image, at 0, 0)",
                    "threads": "codec threads (default: one per core)",
                    "in_place": "True: a half-float file is converted in the image's own memory (the array is "
                                "overwritten; saves a copy of half the image's size)"},
