@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.errors import FormatError, cause, clip
+from lenslab.errors import FormatError, clip
 from lenslab.io.exr.colour import luminance_weights, upsample, yca_to_rgb
 
 
@@ -72,14 +72,14 @@ def part_channels(path, index: int, threads: int, separate: bool = True):
     channel); what the library prints of a damaged file is kept off the terminal, its first line the cause."""
     import OpenEXR
 
-    from lenslab.library_output import library_cause, quiet_library
+    from lenslab.library_output import failure_cause, quiet_library
 
     said: list[str] = []
     try:
         with quiet_library(said):
             return OpenEXR.File(str(path), separate_channels=separate, num_threads=threads).parts[index].channels
     except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
+        why = failure_cause(said, exc, path, (RuntimeError, OSError))
         why = f" ({why})" if why else ""
         raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
 
