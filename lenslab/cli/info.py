@@ -156,7 +156,9 @@ def _text(d: dict) -> str:
     others = d.get("extra_channels") or d.get("ignored_channels")
     if others:  # every channel of the part beside the image's: what convert to EXR keeps, other formats drop
         shown = ", ".join(others[:12]) + (f" and {len(others) - 12} more" if len(others) > 12 else "")
-        lines.append(f"  {len(others)} other channel(s), not in the image (EXR output keeps them): {shown}")
+        lost = [n for n in others if n in d["channels"]]  # a layer read alone takes the base channels' names
+        kept = f"EXR output keeps them but {', '.join(lost)}" if lost else "EXR output keeps them"
+        lines.append(f"  {len(others)} other channel(s), not in the image ({kept}): {shown}")
     lines.append(f"  {'channel':<8s} {'min':>12s} {'mean':>12s} {'max':>12s} {'NaN':>8s} {'inf':>8s} {'negative':>9s}")
 
     def num(v):

@@ -84,7 +84,12 @@ class ConvertJob(Job):
         if "in_place" in fmt.write_options:
             write_opts["in_place"] = True
         if keeps_extra and meta.get("extra_planes"):
-            write_opts["extra"] = meta["extra_planes"]
+            from lenslab.io.exr.extra import clashing, warn_dropped
+
+            lost = clashing(list(meta["extra_planes"]), write_opts.get("channels") or [])
+            write_opts["extra"] = {n: p for n, p in meta["extra_planes"].items() if n not in lost}
+            warn_dropped(src, lost, fmt.title, "the layer's own channels are written under those names (convert "
+                                               "the file without a layer to keep every channel)")
         if same:  # the windows and the header attributes that still hold (lenslab.io.exr.keep)
             from lenslab.io.exr.keep import kept_header
 

@@ -77,3 +77,20 @@ def test_an_explicit_pixel_type_sets_the_colour_and_extra_channels_keep_theirs(t
     assert main(["convert", str(src), "--to", "exr", "--pixel-type", "half", "-o", str(tmp_path / "h.exr"),
                  "-q"]) == 0
     assert oiio_formats(tmp_path / "h.exr") == {"R": "half", "G": "half", "B": "half", "Z": "float"}
+
+
+def test_mixed_types_clamp_half_channels_in_one_note(tmp_path):
+    import warnings
+
+    import lenslab
+    from lenslab.io.exr import HalfOverflowWarning
+
+    image = np.full((3, 4, 3), 1e5, np.float32)  # beyond half's 65504 in every channel
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lenslab.write(tmp_path / "m.exr", image, channels=["R", "G", "Z"], pixel_type=["half", "half", "float"])
+    notes = [w for w in caught if issubclass(w.category, HalfOverflowWarning)]
+    assert len(notes) == 1 and "24 value(s)" in str(notes[0].message)  # R and G: 2 x 12 pixels
+    assert oiio_formats(tmp_path / "m.exr") == {"R": "half", "G": "half", "Z": "float"}
+    got = oiio_pixels(tmp_path / "m.exr")
+    assert (got["R"] == 65504).all() and (got["Z"] == 1e5).all()

@@ -240,14 +240,22 @@ def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) 
     return out
 
 
-def _as_type(plane: np.ndarray, kind: str) -> np.ndarray:
-    """One float32 ``H x W`` plane as a contiguous array of EXR pixel type ``kind``: half (clamped as
-    :func:`to_half` does), float, or uint (rounded, clipped to 0 .. 2**32 - 1, NaN as 0)."""
-    if kind == "half":
-        return to_half(np.ascontiguousarray(plane))
-    if kind == "uint":
-        return np.nan_to_num(np.clip(np.rint(plane.astype(np.float64)), 0, 2 ** 32 - 1)).astype(np.uint32)
-    return np.ascontiguousarray(plane, np.float32)
+def _planes(image: np.ndarray, kinds: list[str]) -> list[np.ndarray]:
+    """Each channel of a float32 ``H x W x C`` image as a contiguous plane of its EXR pixel type: half
+    (clamped as :func:`to_half` does, in one call for every half channel: one note), float, or uint
+    (rounded, clipped to 0 .. 2**32 - 1, NaN as 0)."""
+    halves = [i for i, k in enumerate(kinds) if k == "half"]
+    half = to_half(image[..., halves]) if halves else None
+    out = []
+    for i, kind in enumerate(kinds):
+        plane = image[..., i]
+        if kind == "half":
+            out.append(np.ascontiguousarray(half[..., halves.index(i)]))
+        elif kind == "uint":
+            out.append(np.nan_to_num(np.clip(np.rint(plane.astype(np.float64)), 0, 2 ** 32 - 1)).astype(np.uint32))
+        else:
+            out.append(np.ascontiguousarray(plane, np.float32))
+    return out
 
 
 def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half", compression: str = "zip",
@@ -284,7 +292,7 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half"
     if len(set(kinds)) == 1 and kinds[0] != "uint":
         data = to_half(image, in_place=in_place) if kinds[0] == "half" else np.asarray(image, np.float32)
     else:  # each channel in its own type (an EXR's colour as it was stored): one plane at a time
-        data = [_as_type(image[..., i], k) for i, k in enumerate(kinds)]
+        data = _planes(image, kinds)
     enum = "NO_COMPRESSION" if comp == "none" else f"{comp.upper()}_COMPRESSION"
     header = {"compression": getattr(OpenEXR, enum), "type": OpenEXR.scanlineimage}
     for k, v in (attributes or {}).items():

@@ -54,14 +54,22 @@ class DroppedChannelsWarning(UserWarning):
     ``command_line`` is the note without the path (a command's note names the file)."""
 
 
-def warn_dropped(path, names: list[str], target: str) -> None:
-    """Say in one line that ``names`` were not written to a ``target`` file (nothing when there are none)."""
+def clashing(extra: list[str], written: list[str]) -> list[str]:
+    """The extra channels an EXR cannot keep beside the image's: those named as one of the image's
+    ``written`` channels (the base ``R, G, B`` of a file whose layer ``left`` is written as ``R, G, B``)."""
+    return [n for n in extra if n in set(written)]
+
+
+def warn_dropped(path, names: list[str], target: str, why: str | None = None) -> None:
+    """Say in one line that ``names`` were not written to a ``target`` file (nothing when there are none);
+    ``why``: the reason (default: the format holds colour and alpha only)."""
     if not names:
         return
     import warnings
 
     shown = ", ".join(clip(n) for n in names[:12]) + (f" and {len(names) - 12} more" if len(names) > 12 else "")
-    note = f"channel(s) {shown} not written: {target} holds colour and alpha only (write EXR to keep them)"
+    why = why or f"{target} holds colour and alpha only (write EXR to keep them)"
+    note = f"channel(s) {shown} not written: {why}"
     warning = DroppedChannelsWarning(f"{path}: {note}")
     warning.command_line = note
     warnings.warn(warning, stacklevel=3)
