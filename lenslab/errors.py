@@ -91,8 +91,13 @@ def clip(value, limit: int = 40) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def cause(exc: BaseException, limit: int = 80) -> str:
-    """An exception of a library as a few words for a message: its first line, cut to ``limit``."""
+def cause(exc: BaseException | str, limit: int = 80) -> str:
+    """An exception of a library (or its text) as a few words for a message: its first line, cut to at
+    most ``limit`` characters after a whole word."""
     lines = str(exc).strip().splitlines()
     text = lines[0].strip() if lines else type(exc).__name__
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    if len(text) <= limit:
+        return text
+    cut = text[:limit - 3].rstrip()
+    space = cut.rfind(" ")
+    return (cut[:space].rstrip(" ,;:(") if space > 0 else cut) + "..."

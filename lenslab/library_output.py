@@ -10,6 +10,9 @@ and hands the library's lines to the caller, which may use the first as the caus
 
 Threads: the redirection is process-wide, so it is shared: the first thread in redirects, the last one out
 restores and sorts what was captured (lines from any thread in between are kept, in order per stream).
+Every call, first or last out, is handed the library's lines captured so far, from every thread: the
+library names the file in each, so :func:`library_cause` takes the first about its own file, and a damaged
+file gets the same cause alone and in a batch of threads.
 """
 
 from __future__ import annotations
@@ -51,6 +54,21 @@ def _begin() -> None:
     _state["saved"] = saved
 
 
+def _library_lines(text: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if LIBRARY_LINE.search(line)]
+
+
+def _so_far() -> list[str]:
+    """The library's lines captured until now (the capture goes on for the other threads inside)."""
+    _flush()
+    lines: list[str] = []
+    for _fd, _old, spool in _state["saved"] or ():
+        with contextlib.suppress(OSError):
+            size = os.fstat(spool.fileno()).st_size
+            lines += _library_lines(os.pread(spool.fileno(), size, 0).decode("utf-8", "replace"))
+    return lines
+
+
 def _end() -> list[str]:
     _flush()
     saved, _state["saved"] = _state["saved"], None
@@ -83,17 +101,29 @@ def quiet_library(said: list[str] | None = None):
     finally:
         with _lock:
             _state["depth"] -= 1
-            lines = _end() if _state["depth"] == 0 else []
+            lines = _end() if _state["depth"] == 0 else _so_far()
         if said is not None:
             said.extend(lines)
 
 
 def library_cause(said: list[str], path) -> str:
-    """The first captured line about ``path``, without the path, as a cause for an error message ('' if none)."""
+    """The first captured line about ``path`` (a line that names another file is another thread's), without
+    the path, as a cause for an error message ('' if none)."""
     prefix = f"{path}: "
     for line in said:
         m = LIBRARY_LINE.search(line)
-        if m and m.group(1):
+        if m and m.group(1) and (line.startswith(prefix) or line.startswith(m.group(0))):
             text = line[len(prefix):] if line.startswith(prefix) else line
             return f"{m.group(1)}: {text.replace(m.group(0), '', 1).strip()}"
     return ""
+
+
+def failure_cause(said: list[str], exc: BaseException, path, library_errors=(Exception,)) -> str:
+    """Why OpenEXR failed on ``path``, in whole words: the first line the library printed about it, else
+    the exception's first line when it is one of ``library_errors`` (the bindings' own errors, such as an
+    IndexError of a failed read, say nothing), the file's name left out (the message names it)."""
+    from lenslab.errors import cause
+
+    why = library_cause(said, path) or (cause(exc, 400) if isinstance(exc, library_errors) else "")
+    why = why.replace(f" in {path},", ",").replace(f" in {path}", "").replace(str(path), "the file")
+    return cause(why, 100) if why else ""

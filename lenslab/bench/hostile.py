@@ -128,7 +128,8 @@ def cases(folder) -> list[Case]:
         Case("tiff_page_loop", "loop.tif", ("info", "{file}"), "loop"),
         Case("jpeg_sof_30000x17000", "huge.jpg", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
         Case("png_declares_20000", "huge.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "holds"),
-        Case("exr_display_window_20000", window, ("convert", "{file}", "--to", "exr", "-o", "{out}"), "data window"),
+        # (to PFM: EXR to EXR keeps the 8 x 8 data window, and has nothing to place)
+        Case("exr_display_window_20000", window, ("convert", "{file}", "--to", "pfm", "-o", "{out}"), "data window"),
         Case("png_chunk_of_4_gb", "chunk.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "declares"),
         Case("exr_multipart_without_parts", "nopart.exr", ("convert", "{file}", "--to", "exr", "-o", "{out}"),
              "no part"),

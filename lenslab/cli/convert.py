@@ -6,8 +6,9 @@ mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any d
 let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a single input, or
 next to each input. HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go
 through a tone curve first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
-display transform instead (--display, --view). EXR to EXR keeps the input's pixel type, and a 16-bit
-PNG, PPM/PGM or TIFF input stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
+display transform instead (--display, --view). EXR to EXR keeps each channel's pixel type (half colour
+beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input stays 16-bit in PNG,
+PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
@@ -87,8 +88,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "16-bit display-encoded integers instead of floats (default: 16-bit integers for a "
                              "16-bit input, else floats)")
     parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
-                        help="EXR/TIFF float type (default: the input's for EXR to EXR, else half for EXR, "
-                             "float for TIFF)")
+                        help="EXR/TIFF float type of the colour and alpha (default: each channel's stored type "
+                             "for EXR to EXR, else half for EXR, float for TIFF); other EXR channels keep theirs")
     parser.add_argument("--compression", default=None,
                         help="EXR compression (default zip, readable everywhere; also piz, zips, rle, none, "
                              "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")
@@ -111,7 +112,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="video codec of a clip (default by extension: .mp4 h264 or h265 for HDR, .mov prores, "
                              ".mkv ffv1)")
     parser.add_argument("--data-window", action="store_true",
-                        help="EXR input: keep the stored data window instead of placing it in the display window")
+                        help="EXR input: keep the stored data window instead of placing it in the display window "
+                             "(EXR to EXR always keeps both windows as stored)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     from lenslab.cli.display import add_display_arguments
     from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options

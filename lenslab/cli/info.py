@@ -74,7 +74,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         "lens": camera.lens.spec() if camera is not None else None,
         "camera": camera.to_dict() if camera is not None else None,
     }
-    for key in ("part", "part_name", "layer", "data_window", "display_window", "ignored_channels",
+    for key in ("part", "part_name", "layer", "data_window", "display_window", "ignored_channels", "extra_channels",
                 "luminance_chroma", "primaries_converted_to_rec709"):
         if key in meta:
             out[key] = meta[key]
@@ -153,8 +153,12 @@ def _text(d: dict) -> str:
         lines.append("  luminance/chroma (Y, RY, BY) converted to RGB")
     if d.get("primaries_converted_to_rec709"):
         lines.append("  colour converted from the file's chromaticities to Rec.709 primaries")
-    if d.get("ignored_channels"):
-        lines.append(f"  other channels (not read): {', '.join(d['ignored_channels'])}")
+    others = d.get("extra_channels") or d.get("ignored_channels")
+    if others:  # every channel of the part beside the image's: what convert to EXR keeps, other formats drop
+        shown = ", ".join(others[:12]) + (f" and {len(others) - 12} more" if len(others) > 12 else "")
+        lost = [n for n in others if n in d["channels"]]  # a layer read alone takes the base channels' names
+        kept = f"EXR output keeps them but {', '.join(lost)}" if lost else "EXR output keeps them"
+        lines.append(f"  {len(others)} other channel(s), not in the image ({kept}): {shown}")
     lines.append(f"  {'channel':<8s} {'min':>12s} {'mean':>12s} {'max':>12s} {'NaN':>8s} {'inf':>8s} {'negative':>9s}")
 
     def num(v):

@@ -73,7 +73,10 @@ class ConvertJob(Job):
 
         fmt = get(self.to)
         keeps_extra = "extra" in fmt.write_options  # depth, normals...: kept where the output holds them
-        image, meta = read(src, data_window=self.data_window, extra_channels=keeps_extra)
+        from lenslab.io.registry import sniff
+
+        same = fmt.name == "exr" and sniff(src_file) == "exr"  # EXR to EXR: the data window stays as stored
+        image, meta = read(src, data_window=self.data_window or same, extra_channels=keeps_extra)
         from lenslab.jobs.stages import check_data_channels
 
         check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
@@ -82,7 +85,17 @@ class ConvertJob(Job):
         if "in_place" in fmt.write_options:
             write_opts["in_place"] = True
         if keeps_extra and meta.get("extra_planes"):
-            write_opts["extra"] = meta["extra_planes"]
+            from lenslab.io.exr.extra import clashing, warn_dropped
+
+            lost = clashing(list(meta["extra_planes"]), write_opts.get("channels") or [])
+            write_opts["extra"] = {n: p for n, p in meta["extra_planes"].items() if n not in lost}
+            warn_dropped(src, lost, fmt.title, "the layer's own channels are written under those names (convert "
+                                               "the file without a layer to keep every channel)")
+        if same:  # the windows and the header attributes that still hold (lenslab.io.exr.keep)
+            from lenslab.io.exr.keep import kept_header
+
+            written = [*write_opts.get("channels", meta["channels"]), *write_opts.get("extra", {})]
+            write_opts.update(kept_header(src_file, meta, written))
         else:
             from lenslab.io.exr.extra import warn_dropped
 

@@ -107,8 +107,8 @@ def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | 
     """The write options of format record ``fmt``, from the job's ``options`` and what the input held
     (``meta``): only what the format declares it accepts.
 
-    ``options``: ``quality``, ``bits``, ``dither``, ``pixel_type`` (EXR-style float type; None: the input's when it
-    is of the same format, else half), ``sample_type`` (TIFF-style), ``compression`` (None: the
+    ``options``: ``quality``, ``bits``, ``dither``, ``pixel_type`` (EXR-style float type; None: each channel's
+    stored type when the input is of the same format, else half), ``sample_type`` (TIFF-style), ``compression`` (None: the
     format's default). ``camera``: stored where the format can hold one (default: the input's)."""
     opts: dict = {}
     accepts = fmt.write_options
@@ -121,7 +121,10 @@ def encode_options(fmt, meta: dict, options: dict, camera=None, channels: int | 
         opts["sample_type"] = f"uint{bits}" if bits else (options.get("sample_type") or "float")
     if "pixel_type" in accepts:
         pixel_type = options.get("pixel_type")
-        if pixel_type is None:
+        stored = meta.get("channel_types") if meta.get("format") == fmt.name else None
+        if pixel_type is None and stored and len(stored) == channels and set(stored) <= {"half", "float", "uint"}:
+            pixel_type = list(stored)  # each channel as the input stored it (R, G, B, A half beside a float Z)
+        elif pixel_type is None:
             kept = meta.get("sample_type") if meta.get("format") == fmt.name else "half"
             pixel_type = kept if kept in ("half", "float") else "float"
         opts["pixel_type"] = pixel_type

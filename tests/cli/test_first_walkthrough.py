@@ -105,7 +105,8 @@ def test_the_multi_part_note_is_one_note_line_in_every_command(tmp_path, capsys,
     notes = [line for line in err.splitlines() if "has 2 parts" in line]
     assert rc == 0
     assert notes == [f"lenslab {command[0]}: note: {m}: has 2 parts (0: 'beauty', 1: 'depth'); read part 0 "
-                     "('beauty'): pick another as m.exr:NAME or m.exr:INDEX"], err
+                     "('beauty') only: the other part is neither read nor written; pick another as m.exr:NAME or "
+                     "m.exr:INDEX"], err
     assert "MultiPartWarning" not in err and "warnings.warn" not in err and ".py:" not in err
 
 

@@ -106,6 +106,13 @@ def test_convert_to_exr_and_tiff_write_grey_and_alpha(grey_alpha, tmp_path):
         page = t.pages[0]
         pixels = page.asarray()
         assert pixels.shape == codes.shape and page.photometric.name == "MINISBLACK"
+        if maxval == 65535:  # a 16-bit input stays 16-bit integers: straight alpha, the input's codes
+            assert pixels.dtype == np.uint16 and [int(v) for v in page.extrasamples] == [2]
+            covered = codes[..., 1] > 0  # where alpha is 0 lenslab's premultiplied image holds no colour: 0
+            np.testing.assert_array_equal(pixels[..., 1], codes[..., 1])
+            np.testing.assert_array_equal(pixels[..., 0][covered], codes[..., 0][covered])
+            assert not pixels[..., 0][~covered].any()
+            return
         assert [int(v) for v in page.extrasamples] == [1]  # associated alpha: float TIFF holds premultiplied
     np.testing.assert_allclose(pixels[..., 0], premultiplied, rtol=0, atol=1e-6)
     np.testing.assert_allclose(pixels[..., 1], alpha, rtol=0, atol=2e-7)

@@ -38,14 +38,19 @@ import numpy as np
 from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
-from lenslab.library_output import library_cause, quiet_library
+from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, select_channels,
+                                   split_part_layer)
+from lenslab.library_output import failure_cause, quiet_library
 
 HALF_MAX = 65504.0
 CAMERA_ATTRIBUTE = "lenslab.camera"
 COMPRESSIONS = ("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                 "htj2k32")
-_RESERVED = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "pixelAspectRatio",
-             "screenWindowCenter", "screenWindowWidth", "type", "tiles", "name", "version", "chunkCount"}
+_RESERVED = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "type", "tiles", "name",
+             "version", "chunkCount"}
+#: attributes of OpenEXR's standard header given as plain values (a list from ``meta["attributes"]``)
+_AS_TYPE = {"pixelAspectRatio": float, "screenWindowWidth": float,
+            "screenWindowCenter": lambda v: np.asarray(v, np.float32).reshape(2)}
 
 
 #: threads the OpenEXR codec may use per file (the bindings default to none; 0 = decode in the calling
@@ -72,7 +77,9 @@ def _first_part_note(path, parts) -> None:
     names = [p.name() or f"#{i}" for i, p in enumerate(parts)]
     shown = ", ".join(f"{i}: {clip(n)}" for i, n in enumerate(names[:8])) + (
         f" and {len(names) - 8} more" if len(names) > 8 else "")
-    note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}): pick another as "
+    rest = len(parts) - 1
+    note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}) only: the other "
+            f"{f'{rest} parts are' if rest > 1 else 'part is'} neither read nor written; pick another as "
             f"{Path(path).name}:NAME or {Path(path).name}:INDEX")
     warning = MultiPartWarning(f"{path}: {note}")
     warning.command_line = note
@@ -97,66 +104,11 @@ def plain_value(value):
         return f"<{type(value).__name__}>"
 
 
-def _split_selector(selector: str | None) -> tuple[str | None, str | None]:
-    if not selector:
-        return None, None
-    if ":" in selector:
-        part, layer = selector.split(":", 1)
-        return part or None, layer or None
-    return selector, None
-
-
-def _find_part(path, parts, part_sel: str | None, layer_sel: str | None):
-    """(part index, layer) for the selector; a lone selector is a part index, a part name or a layer."""
-    names = [p.name() for p in parts]
-    if part_sel is None:
-        return 0, layer_sel
-    if part_sel.isdigit():
-        i = int(part_sel)
-        if i >= len(parts):
-            raise FormatError(f"{path}: part {i} does not exist; the file has {len(parts)} part(s) "
-                              f"({', '.join(repr(n) for n in names)})")
-        return i, layer_sel
-    if part_sel in names:
-        return names.index(part_sel), layer_sel
-    if layer_sel is None:  # a lone name that is not a part: a layer of the first part with it
-        for i, p in enumerate(parts):
-            if any(c.startswith(part_sel + ".") for c in _channel_names(p)):
-                return i, part_sel
-    layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in _channel_names(p) if "." in c})
-    raise FormatError(f"{path}: no part or layer named {part_sel!r}; parts: "
-                      f"{', '.join(repr(n) for n in names)}; layers: {', '.join(layers) or 'none'}")
-
-
-def _channel_names(part) -> list[str]:
-    chans = part.header.get("channels") if isinstance(part.header, dict) else None
-    if chans is None:
-        return list(part.channels)
-    return [c.name for c in chans]
-
-
-def _layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]:
-    """Short name -> full channel name for ``layer`` (None: the base layer, or the only layer)."""
-    if layer is not None:
-        sel = {n[len(layer) + 1:]: n for n in names if n.startswith(layer + ".") and "." not in n[len(layer) + 1:]}
-        if not sel:
-            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {clip(', '.join(names), 80)}")
-        return sel
-    base = {n: n for n in names if "." not in n}
-    if base:
-        return base
-    layers = sorted({n.rsplit(".", 1)[0] for n in names})
-    if len(layers) == 1:
-        return {n.rsplit(".", 1)[1]: n for n in names}
-    raise FormatError(f"{path}: the part has no base channels, only layers {', '.join(layers)}; "
-                      f"choose one as 'file.exr:LAYER'")
-
-
 def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
              rec709: bool = True, extra_channels: bool = False) -> tuple[np.ndarray, dict]:
     import OpenEXR
 
-    part_sel, layer_sel = _split_selector(selector)
+    part_sel, layer_sel = split_part_layer(selector)
     from lenslab.io.exr.chunks import check_chunks
 
     check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
@@ -166,11 +118,11 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             head = OpenEXR.File(str(path), header_only=True)
             parts = head.parts
     except Exception as exc:  # the bindings raise RuntimeError/ValueError with the library's message
-        why = library_cause(said, path) or cause(exc)
+        why = failure_cause(said, exc, path)
         raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
-    index, layer = _find_part(path, parts, part_sel, layer_sel)
+    index, layer = find_part(path, parts, part_sel, layer_sel)
     if not selector and len(parts) > 1:
         _first_part_note(path, parts)
     hpart = parts[index]
@@ -185,13 +137,13 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     (x0, y0), (x1, y1) = (tuple(int(v) for v in a) for a in header["dataWindow"])
     (X0, Y0), (X1, Y1) = (tuple(int(v) for v in a) for a in header["displayWindow"])
     check_size(path, X1 - X0 + 1, Y1 - Y0 + 1)
-    names = _channel_names(hpart)
-    short = _layer_channels(path, names, layer)
+    names = channel_names(hpart)
+    short = layer_channels(path, names, layer)
     sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
 
     chroma = header.get("chromaticities")
     keys = set(short)
-    order, out_names, ignored, converted = _select(keys)
+    order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
     from lenslab.io.exr import bands
 
@@ -224,6 +176,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
 
         planes = extra_planes(path, part_channels(path, index, THREADS), others, sampling, window,
                               None if data_window else display)
+    stored = image_types(order, short, pixel_types, converted)
+    pixel_types = set(stored) or set(pixel_types.values())
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
     attributes = {k: plain_value(v) for k, v in header.items() if k != "channels"}
     meta = {
@@ -232,6 +186,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "sample_type": "float" if pixel_types <= {"FLOAT"} else ("half" if pixel_types <= {"HALF"} else
                                                               "/".join(sorted(t.lower() for t in pixel_types))),
         "channels": out_names,
+        # each image channel's stored type (half, float or uint): what an EXR writer keeps
+        "channel_types": [t.lower() for t in stored],
         # the names a writer keeps (EXR): the file's own, with the layer of a part's only layer
         "channel_names": out_names if converted or layer is not None else [short.get(n, n) for n in out_names],
         "display_encoded": False,
@@ -254,25 +210,6 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "storage": storage,
     }
     return image, meta
-
-
-def _select(keys: set[str]) -> tuple[list[str | None], list[str], list[str], bool]:
-    """(channels to read in the image's order, by short name; None: a missing colour channel, 0),
-    the image's channel names, the channels left out, and whether the file is luminance-chroma
-    (Y, RY, BY: read and converted to RGB)."""
-    alpha = ["A"] if "A" in keys else []
-    if len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
-        return list(keys), list(keys), [], False
-    if keys & {"R", "G", "B"}:
-        return [c if c in keys else None for c in "RGB"] + alpha, ["R", "G", "B"] + alpha, \
-            sorted(keys - {"R", "G", "B", "A"}), False
-    if "Y" in keys:
-        ignored = sorted(keys - {"Y", "RY", "BY", "A"})
-        if "RY" in keys and "BY" in keys:
-            return ["Y", "RY", "BY"] + alpha, ["R", "G", "B"] + alpha, ignored, True
-        return ["Y"] + alpha, ["Y"] + alpha, ignored, False  # grey (and alpha, as OpenImageIO reads them)
-    order = sorted(keys - {"A"}) + alpha  # alpha last, as in memory
-    return order, list(order), [], False
 
 
 def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) -> np.ndarray:
@@ -306,17 +243,43 @@ def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) 
     return out
 
 
-def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compression: str = "zip",
+def _planes(image: np.ndarray, kinds: list[str]) -> list[np.ndarray]:
+    """Each channel of a float32 ``H x W x C`` image as a contiguous plane of its EXR pixel type: half
+    (clamped as :func:`to_half` does, in one call for every half channel: one note), float, or uint
+    (rounded, clipped to 0 .. 2**32 - 1, NaN as 0)."""
+    halves = [i for i, k in enumerate(kinds) if k == "half"]
+    half = to_half(image[..., halves]) if halves else None
+    out = []
+    for i, kind in enumerate(kinds):
+        plane = image[..., i]
+        if kind == "half":
+            out.append(np.ascontiguousarray(half[..., halves.index(i)]))
+        elif kind == "uint":
+            out.append(np.nan_to_num(np.clip(np.rint(plane.astype(np.float64)), 0, 2 ** 32 - 1)).astype(np.uint32))
+        else:
+            out.append(np.ascontiguousarray(plane, np.float32))
+    return out
+
+
+def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half", compression: str = "zip",
               channels: list[str] | None = None, attributes: dict | None = None, camera=None,
-              threads: int | None = None, in_place: bool = False, extra: dict | None = None) -> None:
-    """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``in_place``: a half-float file is converted in
-    the image's own memory, which the caller gives up (``image`` is overwritten). ``extra``: more channels
+              threads: int | None = None, in_place: bool = False, extra: dict | None = None,
+              window=None) -> None:
+    """Write ``image`` (float32 ``H x W x C``) to ``tmp``; ``pixel_type``: "half" or "float" for every
+    channel, or a list of "half", "float", "uint", one a channel (an EXR's channels as they were stored);
+    ``in_place``: a half-float file is converted in the image's own memory, which the caller gives up
+    (``image`` is overwritten). ``window``: the data and display windows ``(x0, y0, x1, y1)`` (default:
+    both the image's own size at 0, 0). ``extra``: more channels
     ``{name: H x W plane}`` (depth, normals...) written in their own type (half, float32 or uint32)."""
     import OpenEXR
 
     h, w, c = image.shape
-    if pixel_type not in ("half", "float"):
-        raise FormatError(f"EXR pixel_type must be 'half' or 'float', not {pixel_type!r}")
+    per_channel = not isinstance(pixel_type, str)
+    kinds = list(pixel_type) if per_channel else [pixel_type] * c
+    if len(kinds) != c or any(k not in ("half", "float", "uint") for k in kinds) or \
+            (not per_channel and pixel_type == "uint"):
+        raise FormatError(f"EXR pixel_type must be 'half' or 'float', or one of 'half', 'float', 'uint' for each "
+                          f"of the {c} channels, not {clip(pixel_type)}")
     comp = str(compression).lower().replace("_compression", "")
     if comp not in COMPRESSIONS:
         raise FormatError(f"unknown EXR compression {compression!r}; choose one of {', '.join(COMPRESSIONS)} "
@@ -329,16 +292,30 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str = "half", compressio
             raise FormatError(f"an image with {c} channels needs channel names: pass channels=[...]")
     if len(channels) != c:
         raise FormatError(f"{len(channels)} channel names given for an image with {c} channels")
-    data = to_half(image, in_place=in_place) if pixel_type == "half" else np.asarray(image, np.float32)
+    if len(set(kinds)) == 1 and kinds[0] != "uint":
+        data = to_half(image, in_place=in_place) if kinds[0] == "half" else np.asarray(image, np.float32)
+    else:  # each channel in its own type (an EXR's colour as it was stored): one plane at a time
+        data = _planes(image, kinds)
     enum = "NO_COMPRESSION" if comp == "none" else f"{comp.upper()}_COMPRESSION"
     header = {"compression": getattr(OpenEXR, enum), "type": OpenEXR.scanlineimage}
     for k, v in (attributes or {}).items():
         if k in _RESERVED:
             continue
-        header[k] = v
+        try:
+            header[k] = _AS_TYPE[k](v) if k in _AS_TYPE else v
+        except (TypeError, ValueError):
+            raise FormatError(f"EXR attribute {k}: {clip(v)} is not a {'pair of numbers' if 'Center' in k else 'number'}") from None
+    if window is not None:  # the stored pixels' place: (x0, y0, x1, y1) of the data and display windows
+        (x0, y0, x1, y1), (X0, Y0, X1, Y1) = (tuple(int(v) for v in box) for box in window)
+        if (x1 - x0 + 1, y1 - y0 + 1) != (w, h) or X1 < X0 or Y1 < Y0:
+            raise FormatError(f"EXR data window {x1 - x0 + 1} x {y1 - y0 + 1} given for an image of {w} x {h}")
+        header["dataWindow"] = (np.array([x0, y0], np.int32), np.array([x1, y1], np.int32))
+        header["displayWindow"] = (np.array([X0, Y0], np.int32), np.array([X1, Y1], np.int32))
     if camera is not None:
         header[CAMERA_ATTRIBUTE] = camera.to_toml()
-    if "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
+    if isinstance(data, list):
+        chans = dict(zip(channels, data))
+    elif "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
         chans = {"".join(channels): np.ascontiguousarray(data)}
     else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
         chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}

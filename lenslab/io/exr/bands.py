@@ -100,11 +100,11 @@ def read_into(path, header: dict, names: list[str | None], types: dict[str, str]
 
 
 def read_image(path, header: dict, short: dict[str, str], order: list[str | None], window, display,
-               data_window: bool, threads: int) -> tuple[np.ndarray, set[str]]:
+               data_window: bool, threads: int) -> tuple[np.ndarray, dict[str, str]]:
     """The first part's image as float32, channel ``order[i]`` (a short name of ``short``; None: 0) in
     channel ``i``, placed in the display window ``display`` unless ``data_window`` (0 outside the data
-    window ``window``); and the pixel types of the channels of ``short``."""
-    from lenslab.errors import FormatError, cause
+    window ``window``); and the pixel type of each channel of ``short`` (full name -> HALF, FLOAT, UINT)."""
+    from lenslab.errors import FormatError
 
     x0, y0, x1, y1 = window
     X0, Y0, X1, Y1 = display
@@ -118,7 +118,7 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
     from lenslab.io.exr.chunks import first_part_types
 
     types = first_part_types(path)
-    from lenslab.library_output import library_cause, quiet_library
+    from lenslab.library_output import failure_cause, quiet_library
 
     said: list[str] = []  # what the library prints of a damaged file: kept off the terminal, the first as cause
     try:
@@ -126,7 +126,7 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
             read_into(path, header, [None if c is None else short[c] for c in order], types, window, image, at,
                       threads)
     except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
+        why = failure_cause(said, exc, path, (RuntimeError, OSError))
         why = f" ({why})" if why else ""
         raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
-    return image, {types.get(n, "UNKNOWN") for n in short.values()}
+    return image, {n: types.get(n, "UNKNOWN") for n in short.values()}

@@ -2,8 +2,9 @@
 motion vectors, other layers): named for a note, and kept as planes for an EXR writer.
 
 Each plane keeps its stored type (half, float or uint), is upsampled like the image's channels when
-subsampled, and is placed in the display window as the image is (outside the data window: 0), so a
-convert from EXR to EXR writes them back where they were.
+subsampled, and is placed in the display window as the image is (outside the data window: 0), or kept
+in the data window with ``data_window=True``, which a convert from EXR to EXR reads them with so that it
+writes them back where they were (no 0 made up outside the stored pixels).
 """
 
 from __future__ import annotations
@@ -53,15 +54,22 @@ class DroppedChannelsWarning(UserWarning):
     ``command_line`` is the note without the path (a command's note names the file)."""
 
 
+def clashing(extra: list[str], written: list[str]) -> list[str]:
+    """The extra channels an EXR cannot keep beside the image's: those named as one of the image's
+    ``written`` channels (the base ``R, G, B`` of a file whose layer ``left`` is written as ``R, G, B``)."""
+    return [n for n in extra if n in set(written)]
+
+
 def warn_dropped(path, names: list[str], target: str, why: str | None = None) -> None:
     """Say in one line that ``names`` were not written to a ``target`` file (nothing when there are none);
-    ``why``: the reason, when it is not that the format cannot hold them."""
+    ``why``: the reason (default: the format holds colour and alpha only)."""
     if not names:
         return
     import warnings
 
     shown = ", ".join(clip(n) for n in names[:12]) + (f" and {len(names) - 12} more" if len(names) > 12 else "")
-    note = f"channel(s) {shown} not written: " + (why or f"{target} holds colour and alpha only (write EXR to keep them)")
+    why = why or f"{target} holds colour and alpha only (write EXR to keep them)"
+    note = f"channel(s) {shown} not written: {why}"
     warning = DroppedChannelsWarning(f"{path}: {note}")
     warning.command_line = note
     warnings.warn(warning, stacklevel=3)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.errors import FormatError, cause, clip
+from lenslab.errors import FormatError, clip
 from lenslab.io.exr.colour import luminance_weights, upsample, yca_to_rgb
 
 
@@ -16,10 +16,10 @@ def _to_float(pixels: np.ndarray) -> np.ndarray:
 
 def read_whole(path, index: int, header: dict, names: list[str], short: dict[str, str], order: list[str | None],
                converted: bool, sampling: dict, window: tuple[int, int, int, int],
-               threads: int) -> tuple[np.ndarray, set[str]]:
+               threads: int) -> tuple[np.ndarray, dict[str, str]]:
     """The data window of part ``index`` as float32, channel ``order[i]`` (a short name of ``short``;
     None: 0) in channel ``i``; ``converted``: ``order`` starts with Y, RY, BY, which become R, G, B.
-    Also the pixel types of the channels read from."""
+    Also the pixel type of each channel read from (full name -> HALF, FLOAT, UINT)."""
     import OpenEXR
 
     from lenslab.io.exr import plain_value
@@ -39,7 +39,7 @@ def read_whole(path, index: int, header: dict, names: list[str], short: dict[str
         block = chans.get(whole)
         if block is None or block.pixels is None or block.pixels.shape != (h, w, len(whole)):
             raise FormatError(f"{path}: the pixel data does not match the header; the file is damaged")
-        return np.ascontiguousarray(block.pixels, dtype=np.float32), types
+        return np.ascontiguousarray(block.pixels, dtype=np.float32), {n: next(iter(types)) for n in short.values()}
 
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])
@@ -64,7 +64,7 @@ def read_whole(path, index: int, header: dict, names: list[str], short: dict[str
     image = np.empty((h, w, len(planes)), np.float32)
     for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
         image[..., i] = 0 if plane is None else plane
-    return image, {plain_value(c.type()) for n, c in chans.items() if n in short.values()}
+    return image, {n: plain_value(c.type()) for n, c in chans.items() if n in short.values()}
 
 
 def part_channels(path, index: int, threads: int, separate: bool = True):
@@ -72,14 +72,14 @@ def part_channels(path, index: int, threads: int, separate: bool = True):
     channel); what the library prints of a damaged file is kept off the terminal, its first line the cause."""
     import OpenEXR
 
-    from lenslab.library_output import library_cause, quiet_library
+    from lenslab.library_output import failure_cause, quiet_library
 
     said: list[str] = []
     try:
         with quiet_library(said):
             return OpenEXR.File(str(path), separate_channels=separate, num_threads=threads).parts[index].channels
     except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = library_cause(said, path) or (cause(exc) if isinstance(exc, (RuntimeError, OSError)) else "")
+        why = failure_cause(said, exc, path, (RuntimeError, OSError))
         why = f" ({why})" if why else ""
         raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
 

@@ -42,16 +42,16 @@ def _probe(path) -> dict:
     pixels (deep files cannot be read so: their types stay "unknown")."""
     import OpenEXR
 
-    from lenslab.errors import FormatError, cause
+    from lenslab.errors import FormatError
     from lenslab.io.exr import plain_value
-    from lenslab.library_output import library_cause, quiet_library
+    from lenslab.library_output import failure_cause, quiet_library
 
     said: list[str] = []
     try:
         with quiet_library(said):
             head = OpenEXR.File(str(path), header_only=True)
     except Exception as exc:
-        why = library_cause(said, path) or cause(exc)
+        why = failure_cause(said, exc, path)
         raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
     types: dict[tuple[int, str], str] = {}
     try:
@@ -95,6 +95,8 @@ FORMATS = (Format(
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
                    "attributes": "header attributes {name: value}",
                    "extra": "more channels {name: H x W plane} (depth, normals...), written in their own type",
+                   "window": "(data window, display window), each (x0, y0, x1, y1): where the pixels lie "
+                             "(default: both the image, at 0, 0)",
                    "threads": "codec threads (default: one per core)",
                    "in_place": "True: a half-float file is converted in the image's own memory (the array is "
                                "overwritten; saves a copy of half the image's size)"},

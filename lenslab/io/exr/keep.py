@@ -1,0 +1,64 @@
+"""What an EXR written from an EXR keeps of the input's header, as a compositor (or ``oiiotool``) would.
+
+- The data and display windows: the stored pixels are written where they were, outside the data window
+  nothing (a reader gives 0 there, as for the input), so a depth ``Z`` is never given a 0 it did not have.
+- Attributes that still describe the written channels: ``multiView`` when every view's channels are
+  written under their own names (a layer read alone, ``file.exr:left``, becomes ``R, G, B``: the views
+  no longer hold, the attribute is left out); a part's ``view``; ``chromaticities`` unless the colour was
+  converted to Rec.709 on reading (the file then holds Rec.709, OpenEXR's default); everything about the
+  shot and the file (``owner``, ``comments``, ``capDate``, ``envmap``, ``wrapmodes``, densities ...).
+- Left out: what the writer sets itself (channels, compression, line order, storage, tiles, part name,
+  chunk count), the preview image (a thumbnail of pixels that may have changed), lenslab's camera (the
+  writer stores the camera read, if any), and values of types the bindings cannot write back.
+"""
+
+from __future__ import annotations
+
+from lenslab.errors import FormatError
+
+#: attributes the writer sets from the image or its options, never copied
+WRITER_SETS = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "type", "tiles", "name",
+               "version", "chunkCount", "preview", "lenslab.camera"}
+
+
+def _views_hold(file_channels: list[str], written: set[str]) -> bool:
+    """Whether every view's channels are written under their own names. Each channel belongs to a view (a
+    prefix naming one, else the first, default view), so: every channel of the part."""
+    return set(file_channels) <= written
+
+
+def _writable(value) -> bool:
+    import numpy as np
+
+    if isinstance(value, (str, int, float, np.ndarray)):
+        return True
+    if isinstance(value, (list, tuple)):
+        return all(_writable(v) for v in value)
+    return type(value).__module__ == "OpenEXR"  # the bindings' own types (enums, rationals, time codes...)
+
+
+def kept_header(path, meta: dict, written: list[str]) -> dict:
+    """The write options that keep ``meta``'s part header (``meta``: what :func:`lenslab.io.read` gave for
+    an EXR read with ``data_window=True``; ``written``: every channel name to be written): ``window``
+    (the data and display windows) and ``attributes`` (raw values from OpenEXR's header)."""
+    import OpenEXR
+
+    from lenslab.library_output import failure_cause, quiet_library
+
+    said: list[str] = []
+    try:
+        with quiet_library(said):
+            header = OpenEXR.File(str(path), header_only=True).parts[meta.get("part", 0)].header
+    except Exception as exc:  # read a moment ago: a file changed under us
+        why = failure_cause(said, exc, path)
+        raise FormatError(f"{path}: OpenEXR cannot read the header again ({why}); the file changed") from None
+    keep = {}
+    for name, value in header.items():
+        if name in WRITER_SETS or not _writable(value):
+            continue
+        if name == "chromaticities" and meta.get("primaries_converted_to_rec709"):
+            continue
+        if name == "multiView" and not _views_hold(meta.get("file_channels") or [], set(written)):
+            continue
+        keep[name] = value
+    return {"window": (meta["data_window"], meta["display_window"]), "attributes": keep}

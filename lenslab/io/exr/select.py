@@ -1,0 +1,91 @@
+"""Which part, layer and channels of an EXR an image is read from: the selector (``file.exr:2:left``),
+the part's channel names, a layer's short names, the channels that make the image (alpha last) and
+their stored types."""
+
+from __future__ import annotations
+
+from lenslab.errors import FormatError, clip
+
+
+def split_part_layer(selector: str | None) -> tuple[str | None, str | None]:
+    if not selector:
+        return None, None
+    if ":" in selector:
+        part, layer = selector.split(":", 1)
+        return part or None, layer or None
+    return selector, None
+
+
+def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
+    """(part index, layer) for the selector; a lone selector is a part index, a part name or a layer."""
+    names = [p.name() for p in parts]
+    if part_sel is None:
+        return 0, layer_sel
+    if part_sel.isdigit():
+        i = int(part_sel)
+        if i >= len(parts):
+            raise FormatError(f"{path}: part {i} does not exist; the file has {len(parts)} part(s) "
+                              f"({', '.join(repr(n) for n in names)})")
+        return i, layer_sel
+    if part_sel in names:
+        return names.index(part_sel), layer_sel
+    if layer_sel is None:  # a lone name that is not a part: a layer of the first part with it
+        for i, p in enumerate(parts):
+            if any(c.startswith(part_sel + ".") for c in channel_names(p)):
+                return i, part_sel
+    layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
+    raise FormatError(f"{path}: no part or layer named {part_sel!r}; parts: "
+                      f"{', '.join(repr(n) for n in names)}; layers: {', '.join(layers) or 'none'}")
+
+
+def channel_names(part) -> list[str]:
+    chans = part.header.get("channels") if isinstance(part.header, dict) else None
+    if chans is None:
+        return list(part.channels)
+    return [c.name for c in chans]
+
+
+def layer_channels(path, names: list[str], layer: str | None) -> dict[str, str]:
+    """Short name -> full channel name for ``layer`` (None: the base layer, or the only layer)."""
+    if layer is not None:
+        sel = {n[len(layer) + 1:]: n for n in names if n.startswith(layer + ".") and "." not in n[len(layer) + 1:]}
+        if not sel:
+            raise FormatError(f"{path}: no channels in layer {layer!r}; channels: {clip(', '.join(names), 80)}")
+        return sel
+    base = {n: n for n in names if "." not in n}
+    if base:
+        return base
+    layers = sorted({n.rsplit(".", 1)[0] for n in names})
+    if len(layers) == 1:
+        return {n.rsplit(".", 1)[1]: n for n in names}
+    raise FormatError(f"{path}: the part has no base channels, only layers {', '.join(layers)}; "
+                      f"choose one as 'file.exr:LAYER'")
+
+
+def image_types(order: list[str | None], short: dict[str, str], types: dict[str, str], converted: bool) -> list[str]:
+    """The stored type (HALF, FLOAT, UINT) of each channel of the image read in ``order``: a missing colour
+    channel (None) takes its neighbours' type; R, G, B made from luminance-chroma take Y's."""
+    known = [types.get(short[c], "UNKNOWN") if c is not None else None for c in order]
+    if converted:
+        known[1] = known[2] = known[0]
+    fill = next((t for t in known if t is not None), "HALF")
+    return [fill if t is None else t for t in known]
+
+
+def select_channels(keys: set[str]) -> tuple[list[str | None], list[str], list[str], bool]:
+    """(channels to read in the image's order, by short name; None: a missing colour channel, 0),
+    the image's channel names, the channels left out, and whether the file is luminance-chroma
+    (Y, RY, BY: read and converted to RGB)."""
+    alpha = ["A"] if "A" in keys else []
+    if len(keys) == 1:  # a lone channel of any name (e.g. only 'G', or 'Z') is a one-channel image
+        return list(keys), list(keys), [], False
+    if keys & {"R", "G", "B"}:
+        return [c if c in keys else None for c in "RGB"] + alpha, ["R", "G", "B"] + alpha, \
+            sorted(keys - {"R", "G", "B", "A"}), False
+    if "Y" in keys:
+        ignored = sorted(keys - {"Y", "RY", "BY", "A"})
+        if "RY" in keys and "BY" in keys:
+            return ["Y", "RY", "BY"] + alpha, ["R", "G", "B"] + alpha, ignored, True
+        return ["Y"] + alpha, ["Y"] + alpha, ignored, False  # grey (and alpha, as OpenImageIO reads them)
+    order = sorted(keys - {"A"}) + alpha  # alpha last, as in memory
+    return order, list(order), [], False
