@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import secrets
 import stat
 import threading
 from pathlib import Path
@@ -28,11 +27,14 @@ STAGING = threading.local()
 
 def _host_tag() -> str:
     """Six hex digits naming this machine: a temporary's process number means something only on its host
-    (workers on other machines share the folders)."""
-    import hashlib
-    import socket
+    (workers on other machines share the folders). The host name is ``socket.gethostname()``'s (``uname``'s node
+    name); SHA-1 is the built-in one when there is one (OpenSSL's, through hashlib, takes a command 2 ms to load)."""
+    try:
+        from _sha1 import sha1
+    except ImportError:  # pragma: no cover  (a Python built without it)
+        from hashlib import sha1
 
-    return hashlib.sha1(socket.gethostname().encode()).hexdigest()[:6]
+    return sha1(os.uname().nodename.encode()).hexdigest()[:6]
 
 
 HOST = _host_tag()
@@ -112,7 +114,7 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
     staging = getattr(STAGING, "owner", None)
-    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{staging or owner()}-{secrets.token_hex(4)}{target.suffix}"
+    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{staging or owner()}-{os.urandom(4).hex()}{target.suffix}"
     try:
         yield tmp
         if not tmp.exists():

@@ -60,14 +60,18 @@ class Registry(Mapping, Generic[T]):
 
     ``kind`` names the members in messages (``"lens model"``); ``error`` is the exception an unknown
     name raises; ``load`` (optional) is called once before the first lookup to import the modules
-    that :meth:`add` their members; ``key`` normalises names (default: case-insensitive).
+    that :meth:`add` their members; ``key`` normalises names (default: case-insensitive). ``find``
+    (optional, with ``load``) is given a name not registered yet before ``load`` runs, and may import
+    only the module that registers it: a lookup of one member then costs one module, while listing the
+    members (and any name ``find`` does not bring) still runs ``load``.
     """
 
     def __init__(self, kind: str, error: type[Exception] = KeyError, load: Callable[[], None] | None = None,
-                 key: Callable[[str], str] = plain_key):
+                 key: Callable[[str], str] = plain_key, find: Callable[[str], None] | None = None):
         self.kind = kind
         self.error = error
         self._load = load
+        self._find = find
         self._loaded = load is None
         self._loading = False
         self._lock = threading.RLock()
@@ -120,12 +124,27 @@ class Registry(Mapping, Generic[T]):
             finally:
                 self._loading = False
 
+    def sort(self, key: Callable[[Entry[T]], Any]) -> None:
+        """Put the members in the order of ``key`` (stable): a loader's order, whatever was looked up first."""
+        with self._lock:
+            self._entries = dict(sorted(self._entries.items(), key=lambda item: key(item[1])))
+
+    def _resolve(self, name: str) -> str:
+        """The canonical key of ``name`` if it is registered, loading only what is needed: what ``find``
+        imports for it, else everything; the key itself (not registered) otherwise."""
+        key = self._key(name)
+        if key not in self._entries and key not in self._aliases and not self._loaded:
+            if self._find is not None and not self._loading:
+                with self._lock:
+                    self._find(key)
+            if key not in self._entries and key not in self._aliases:
+                self.ensure_loaded()
+        return self._aliases.get(key, key)
+
     # -- lookup -------------------------------------------------------------------------------
     def canonical(self, name: str) -> str:
         """The canonical name of ``name`` or an alias of it; the registry's error listing valid names."""
-        self.ensure_loaded()
-        key = self._key(name)
-        key = self._aliases.get(key, key)
+        key = self._resolve(name)
         if key not in self._entries:
             raise self.error(f"unknown {self.kind} {name!r}; valid: {', '.join(self.names())}")
         return key
@@ -157,17 +176,12 @@ class Registry(Mapping, Generic[T]):
 
     # -- Mapping (canonical names; aliases are accepted by [] and in) ---------------------------
     def __getitem__(self, name: str) -> T:
-        self.ensure_loaded()
-        key = self._key(name)
-        key = self._aliases.get(key, key)
-        return self._entries[key].value
+        return self._entries[self._resolve(name)].value
 
     def __contains__(self, name: object) -> bool:
         if not isinstance(name, str):
             return False
-        self.ensure_loaded()
-        key = self._key(name)
-        return key in self._entries or key in self._aliases
+        return self._resolve(name) in self._entries
 
     def __iter__(self) -> Iterator[str]:
         self.ensure_loaded()

@@ -148,7 +148,6 @@ def check_once(args) -> None:
     the tone curve for display outputs, the display."""
     from lenslab.jobs.warp_cameras import default_size
     from lenslab.lenses.registry import make_lens
-    from lenslab.tone import get_curve
 
     if args.to:
         make_lens(args.to, args.size or default_size(args.to, 256))
@@ -156,7 +155,10 @@ def check_once(args) -> None:
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata
         make_lens(args.source, (512, 256))
-    get_curve(args.tone or "hable")
+    if args.tone:  # the default curve (hable) needs no check, nor the curves loaded
+        from lenslab.tone import get_curve
+
+        get_curve(args.tone)
     from lenslab.cli.display import display_options
 
     display_options(args)  # unknown display, view or colour space: one usage error now

@@ -96,8 +96,6 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
     bounds how many of the others run at once (:func:`memory_bound`), so that big files do not exhaust
     the memory (the commands' default; an explicit ``--jobs N`` is taken as it is).
     """
-    import concurrent.futures as cf
-
     jobs = list(jobs)
     if first_alone and jobs:
         rss0 = _peak_rss()
@@ -115,6 +113,8 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
             if on_done is not None:
                 on_done(out[-1])
         return out
+    import concurrent.futures as cf
+
     import lenslab.io.exr
     from lenslab.atomic import STOPPING
     from lenslab.errors import NUMPY_NOTES

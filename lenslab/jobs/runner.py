@@ -193,9 +193,9 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
     """Print each ``(input, output, error, notes)`` result's notes and failure, then ``summary`` (None:
     none) with ``{done}`` and ``{total}`` (default: the results) filled in, the failures counted and
     ``tail`` added. Returns the failed ones."""
-    from lenslab.tone.repairs import absorb_note
-
     for src, _, _, notes in results:
+        if notes:  # the tone package only for notes to absorb
+            from lenslab.tone.repairs import absorb_note
         for note in notes:  # repaired values, clamped halves: reported, never hidden
             if not absorb_note(note):  # a worker's slight negatives: in the command's one summary line
                 print(f"{command}: note: {src}: {note}", file=sys.stderr)

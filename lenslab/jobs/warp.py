@@ -9,7 +9,6 @@ worker costs less than shipping it, see ``lenslab bench cluster``).
 from __future__ import annotations
 
 import os
-import secrets
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
@@ -63,7 +62,7 @@ class WarpJob(Job):
     frames: tuple | None = None
     codec: str | None = None
     #: one batch's maps are its own (a process keeps the maps of one batch at a time)
-    batch: str = field(default_factory=lambda: secrets.token_hex(8), compare=False)
+    batch: str = field(default_factory=lambda: os.urandom(8).hex(), compare=False)
     #: False: the job warps one still image, whose maps no later image reuses: none are kept (a band's map
     #: lives in scratch memory while it is drawn)
     keep_maps: bool = True

@@ -28,9 +28,10 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
     h, w = shape[:2]
     if spec:
         from lenslab.lenses.lensfun.exif import is_auto
-        from lenslab.lenses.lensfun.match import auto_spec
 
         if is_auto(spec) and not (spec.strip().lower() == "auto" and meta.get("camera") is not None):
+            from lenslab.lenses.lensfun.match import auto_spec
+
             spec = auto_spec(spec, meta.get("path", ""))  # the lens the photo's metadata names
             print(f"lenslab: source lens from the file's metadata: {spec}", file=sys.stderr)
         elif is_auto(spec):  # auto: the camera the file records

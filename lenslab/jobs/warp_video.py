@@ -110,13 +110,17 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                      np.empty((dst.size[1], dst.size[0]), np.float32)) for _ in range(1 + writer.held)]
             # decoded two frames ahead on a thread of its own; converted, warped and taken to the encoder's planes
             # here, each pass on every core; encoded on a thread of its own
+            developed = display or look.always or float(args.exposure) != 0.0  # else the look is the identity
             for k, (_, frame) in enumerate(read_frames(src_path, start, stop, prefetch=2, window=window)):
                 plan()
+                # Y'CbCr out: each band's rows go to the encoder's planes on the band's thread, while in cache
+                rows = None if developed else writer.rows()
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
-                                          into=ring[k % len(ring)])  # as a still image is; outside the view: black
-                if display or look.always or float(args.exposure) != 0.0:  # else the look is the identity
+                                          into=ring[k % len(ring)], on_band=rows)  # as a still image is; outside
+                if developed:  # the view: black
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
-                writer.write(out, encoded=bool(display), handover=True)  # not reused until encoded
+                writer.write(out if rows is None else rows.finish(out), encoded=bool(display),
+                             handover=True)  # not reused until encoded
                 written += 1
                 bar.update()
         if written == 0:

@@ -12,6 +12,7 @@ list the valid ones.
 
 from __future__ import annotations
 
+import sys
 from typing import TYPE_CHECKING, Any
 
 from lenslab.errors import LensError
@@ -43,9 +44,50 @@ def load_models() -> None:
                 scan(module)
 
     scan(package)
+    # one order whatever was looked up before (a lookup imports its model's module first): the modules' order
+    order = {name: i for i, name in enumerate(sorted(m for m in sys.modules if m.startswith(package.__name__ + ".")))}
+    REGISTRY.sort(lambda entry: order.get(entry.value.__module__, len(order)))
 
 
-REGISTRY: Registry[type] = Registry("lens model", LensError, load=load_models)
+def model_modules(name: str) -> list[str]:
+    """The modules that may register the model ``name``, found without importing any: the model modules
+    named for it (``tan-fisheye``: ``projections/tan_fisheye.py``), else those whose text holds it quoted
+    (``"mercator"`` in ``projections/cylindrical.py``). A hint only: what they do not register, a full
+    :func:`load_models` finds."""
+    import os
+
+    import lenslab.lenses as package
+
+    stem = name.replace("-", "_")
+    if not stem.isidentifier() or stem == "registry" or stem.endswith("kernels"):
+        return []
+    models = [(sub, os.path.join(base, sub)) for base in package.__path__ for sub in sorted(os.listdir(base))
+              if sub not in MACHINERY and os.path.isfile(os.path.join(base, sub, "__init__.py"))]
+    named = [f"{package.__name__}.{sub}.{stem}" for sub, folder in models
+             if os.path.isfile(os.path.join(folder, stem + ".py"))]
+    if named:
+        return named
+    quoted = (f'"{name}"', f"'{name}'")
+    found = []
+    for sub, folder in models:
+        for file in sorted(os.listdir(folder)):
+            if file.endswith(".py") and file != "__init__.py" and not file[:-3].endswith("kernels"):
+                with open(os.path.join(folder, file), encoding="utf-8") as f:
+                    text = f.read()
+                if any(q in text for q in quoted):
+                    found.append(f"{package.__name__}.{sub}.{file[:-3]}")
+    return found
+
+
+def find_model(name: str) -> None:
+    """Import the modules of :func:`model_modules`: a command that names its lenses loads those alone."""
+    import importlib
+
+    for module in model_modules(name):
+        importlib.import_module(module)
+
+
+REGISTRY: Registry[type] = Registry("lens model", LensError, load=load_models, find=find_model)
 
 
 def register(cls):

@@ -55,18 +55,23 @@ class PlanCache:
             self._plans.popitem(last=False)
         return plan
 
-    def warp(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None):
-        """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp` (``into``: see
-        :meth:`lenslab.warp.engine.WarpPlan.run`)."""
-        return self.plan(src, dst).run(image, progress=progress, into=into, alpha_channel=alpha)
+    def warp(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None,
+             on_band=None):
+        """Warp ``image`` with the (cached) plan of this geometry; see :func:`lenslab.warp.warp` (``into`` and
+        ``on_band``: see :meth:`lenslab.warp.engine.WarpPlan.run`)."""
+        return self.plan(src, dst).run(image, progress=progress, into=into, alpha_channel=alpha, on_band=on_band)
 
-    def warp_frame(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None):
+    def warp_frame(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None,
+                   on_band=None):
         """The step a still image and every frame of a clip share, between decoding to linear light (the
         format's reader) and encoding (its writer): warp, alpha settled, split into ``(premultiplied
-        colour, alpha)`` (the image's own alpha, or the coverage). ``into``: output arrays to reuse."""
+        colour, alpha)`` (the image's own alpha, or the coverage). ``into``: output arrays to reuse;
+        ``on_band(rows, sl)``: the output's final rows as the bands draw them (a clip's encoder takes each band
+        on its thread; the colour of an image without alpha channel is its rows as they are)."""
         from lenslab.io.alpha import split_alpha
 
-        return split_alpha(*self.warp(image, src, dst, progress=progress, into=into, alpha=alpha), alpha=alpha)
+        return split_alpha(*self.warp(image, src, dst, progress=progress, into=into, alpha=alpha, on_band=on_band),
+                           alpha=alpha)
 
 
 __all__ = ["PlanCache", "geometry_key", "MAX_MAP_BYTES"]

@@ -24,20 +24,27 @@ class OutputChecks:
     ``image_alpha``: whether the image's last channel is alpha (:func:`lenslab.io.alpha.has_alpha`). Threads
     only ever turn ``finite`` and ``in_range`` to False and ``covered`` to True, so no lock is needed."""
 
-    def __init__(self, image_alpha: bool):
+    def __init__(self, image_alpha: bool, on_band=None):
         self.image_alpha = bool(image_alpha)
+        self.on_band = on_band  # given each band's rows once checked (WarpPlan.run's on_band)
         self.finite = True
         self.in_range = True
         self.covered = False
 
     @classmethod
-    def of(cls, channels: int, alpha_channel: bool | None) -> "OutputChecks":
-        return cls(has_alpha(np.empty((0, 0, channels), np.float32), alpha_channel))
+    def of(cls, channels: int, alpha_channel: bool | None, on_band=None) -> "OutputChecks":
+        return cls(has_alpha(np.empty((0, 0, channels), np.float32), alpha_channel), on_band)
 
-    def band(self, out: np.ndarray, alpha: np.ndarray) -> None:
-        """Check a band's rows: ``out`` float32 h x W x C (C-contiguous) and ``alpha`` float32 h x W."""
+    def band(self, out: np.ndarray, alpha: np.ndarray, rows: slice | None = None) -> None:
+        """Check a band's rows ``rows`` (then hand them to ``on_band``): ``out`` float32 h x W x C (C-contiguous)
+        and ``alpha`` float32 h x W."""
         if not out.size:
             return
+        self._check(out, alpha)
+        if self.on_band is not None and rows is not None:
+            self.on_band(out, rows)
+
+    def _check(self, out: np.ndarray, alpha: np.ndarray) -> None:
         if not all_finite(out):
             self.finite = False
         lo, hi = alpha.min(), alpha.max()

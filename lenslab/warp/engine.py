@@ -200,12 +200,15 @@ class WarpPlan:
         return checked_source(image, self.src)
 
     def run(self, image, progress: Callable[[int], None] | None = None, into=None,
-            alpha_channel: bool | None = None):
+            alpha_channel: bool | None = None, on_band: Callable | None = None):
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
 
         ``into``: ``(image, alpha)`` arrays of those shapes to write into, zeroed first (a clip's frames reuse a
         few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit.
-        ``alpha_channel=False``: the image holds data channels only (none settled as alpha)."""
+        ``alpha_channel=False``: the image holds data channels only (none settled as alpha). ``on_band(rows,
+        sl)``: called with the output's final rows ``sl`` (``rows`` = ``image[sl]``) as each band is drawn, on its
+        thread while they are in cache (a clip's encoder takes them there), or once with every row after a
+        warp whose pixels changed after its bands (alpha settled, values made finite, a falloff, pieces)."""
         src = self.check_image(image)
         h, w = self.out_shape
         if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
@@ -217,12 +220,14 @@ class WarpPlan:
         else:
             out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
-        checks = OutputChecks.of(src.shape[2], alpha_channel)  # made by the bands when they draw it all
+        checks = OutputChecks.of(src.shape[2], alpha_channel, on_band)  # made by the bands when they draw it all
         drawn = self.render(src, out, alpha, progress, checks, alpha_channel)
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
             drawn = False  # drawn again or clamped: the bands' checks no longer hold
         settle_checked(out, alpha, alpha_channel, checks if drawn else None)
+        if on_band is not None and not (drawn and checks.in_range):  # changed after the bands gave their rows
+            on_band(out, slice(0, h))
         if np.ndim(image) == 2:
             out = out[..., 0]
         return out, alpha
@@ -270,7 +275,7 @@ class WarpPlan:
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
             if checks is not None:
-                checks.band(out[sl], alpha[sl])
+                checks.band(out[sl], alpha[sl], sl)
             return band
 
         def done(band):

@@ -1,6 +1,7 @@
 // Python bindings of the compiled kernels (lenslab.cxx_kernels). Every function releases the GIL: the engine
 // runs one band of rows per thread. Arrays are C-contiguous and of the stated dtypes (checked by nanobind);
 // inputs of another layout or dtype are converted, outputs never are (written in place, or refused).
+#include <cstring>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
@@ -130,9 +131,15 @@ NB_MODULE(cxx_kernels, m) {
     m.def("all_finite", [](In<float> a) {
         const float* p = a.data();
         const size_t n = a.size();
-        bool ok = true;
-        for (size_t i = 0; i < n; ++i) ok &= std::isfinite(p[i]);  // branch-free: vectorised
-        return ok;
+        // a float is NaN or infinite when its exponent bits are all set: an integer test the compiler vectorises
+        // (std::isfinite's compare stays scalar here, 1.3 cycles a value)
+        uint32_t bad = 0;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t bits;
+            std::memcpy(&bits, p + i, sizeof bits);
+            bad |= uint32_t((bits & 0x7f800000u) == 0x7f800000u);
+        }
+        return bad == 0;
     }, nb::arg("a"), nb::call_guard<nb::gil_scoped_release>());
 
     register_tracer_paths(m);

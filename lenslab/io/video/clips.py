@@ -32,14 +32,12 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, cause
-
 from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
 from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
-from lenslab.io.video.ycbcr import exact, linear_to_ycbcr, ycbcr_to_linear
+from lenslab.io.video.ycbcr import RowsToYCbCr, exact, ycbcr_frame, ycbcr_to_linear
 from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table, is_wide,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
                                      linear_to_codes16, to_linear)
-
 
 # FFmpeg's enum values (libavutil/pixfmt.h)
 _TRC = {1: "bt1886", 6: "bt1886", 14: "bt1886", 15: "bt1886", 2: "bt1886", 13: "srgb", 16: "pq", 18: "hlg"}
@@ -294,11 +292,11 @@ class VideoWriter:
         stream's primaries and transfer (a display transform's output).
 
         Y'CbCr streams: the frame goes to the encoder's planes here, in one compiled pass (without the GIL), into a
-        ring of :data:`PLANES_RING` frames; RGB streams and HLG: the frame is copied. Either is encoded on a thread
-        of its own, at most one frame behind the caller, so the next frame's warp overlaps this one's encoding; an
-        error there is raised by the next :meth:`write` or by :meth:`close`. ``handover``: ``image`` (float32
-        H x W x 3) is the writer's from now on, not copied: the writer has read it by the time :attr:`held` more
-        :meth:`write` calls have returned, so a caller may then reuse it."""
+        ring of :data:`PLANES_RING` frames (or ``image`` is such a frame, filled by :meth:`rows`); RGB streams and
+        HLG: the frame is copied. Either is encoded on a thread of its own, at most one frame behind the caller, so
+        the next frame's warp overlaps this one's encoding; an error there is raised by the next :meth:`write` or
+        by :meth:`close`. ``handover``: ``image`` (float32 H x W x 3) is the writer's from now on, not copied: the
+        writer has read it by the time :attr:`held` more :meth:`write` calls have returned."""
         import queue
         import threading
 
@@ -307,16 +305,26 @@ class VideoWriter:
             self._queue = queue.Queue(maxsize=1)
             self._thread = threading.Thread(target=self._encode_loop, daemon=True, name="lenslab-encode")
             self._thread.start()
-        if exact(self.info, self.pix_fmt):
-            # reused in turn: an encoder that still holds one makes PyAV give it new memory (make_writable)
-            ring = self._planes = self._planes or [None] * self.PLANES_RING
-            slot = self.count % len(ring)
-            ring[slot] = linear_to_ycbcr(image, self.info, self.pix_fmt, encoded, ring[slot])
-            self._queue.put((ring[slot], encoded))
+        if isinstance(image, np.ndarray) and exact(self.info, self.pix_fmt):  # to the encoder's planes, here
+            fill = self.rows(encoded)
+            fill(image, slice(0, image.shape[0]))
+            image = fill.finish(image)
+        if not isinstance(image, np.ndarray):  # a Y'CbCr frame of rows()
+            self._queue.put((image, encoded))
             self.count += 1
             return
         self._queue.put((image if handover else np.array(image[..., :3], dtype=np.float32, copy=True), encoded))
         self.count += 1
+
+    def rows(self, encoded: bool = False) -> RowsToYCbCr | None:
+        """The next frame's Y'CbCr planes to fill rows at a time (a warp's ``on_band``), then :meth:`write` its
+        ``finish``; None where the stream takes RGB (RGB streams, HLG: swscale's path)."""
+        if not exact(self.info, self.pix_fmt):
+            return None
+        # reused in turn: an encoder that still holds one makes PyAV give it new memory (make_writable)
+        ring, slot, cc = self._planes or [None] * self.PLANES_RING, self.count % self.PLANES_RING, self.stream.codec_context
+        self._planes, ring[slot] = ring, ycbcr_frame(cc.width, cc.height, self.pix_fmt, ring[slot])
+        return RowsToYCbCr(self.info, self.pix_fmt, encoded, ring[slot])
 
     def _encode_loop(self) -> None:
         while True:
@@ -376,9 +384,7 @@ class VideoWriter:
         if not self.audio:
             return
         with _open(self.audio_from) as src:
-            for packet in src.demux([s for s in src.streams.audio]):
-                if packet.dts is None:
-                    continue
+            for packet in (p for p in src.demux([s for s in src.streams.audio]) if p.dts is not None):
                 packet.stream = self.audio[packet.stream.index]
                 self.container.mux(packet)
 

@@ -162,21 +162,61 @@ def linear_to_ycbcr(image: np.ndarray, info, pix_fmt: str, encoded: bool = False
     ``reuse``: an earlier frame to write into when it has this size and format. An encoder that still holds it
     makes PyAV give it new memory first (``make_writable``); one that is done with it leaves its pages, so a 4K
     frame's 5.5 MB is not faulted in anew every frame."""
-    import av
-
     image = np.ascontiguousarray(image[..., :3], np.float32)
     h, w = image.shape[:2]
-    if reuse is not None and (reuse.width, reuse.height, reuse.format.name) == (w, h, pix_fmt):
-        frame = reuse
-        frame.make_writable()
-    else:
-        frame = av.VideoFrame(w, h, pix_fmt)
-    bits, hx, vy, prim, curve, b0, zero, k, rng, top = _encode_args(info, pix_fmt, encoded)
-    from lenslab.native import extension
+    rows = RowsToYCbCr(info, pix_fmt, encoded, ycbcr_frame(w, h, pix_fmt, reuse))
+    rows(image, slice(0, h))
+    return rows.frame
 
-    extension().linear_to_ycbcr(image, prim, curve, b0, KNOT_SHIFT, zero, k, rng, top, *planes(frame), hx, vy,
-                                threads())
-    return frame
+
+def ycbcr_frame(w: int, h: int, pix_fmt: str, reuse=None):
+    """A PyAV frame of ``pix_fmt`` to write: ``reuse`` (made writable) when it has this size and format."""
+    import av
+
+    if reuse is not None and (reuse.width, reuse.height, reuse.format.name) == (w, h, pix_fmt):
+        reuse.make_writable()
+        return reuse
+    return av.VideoFrame(w, h, pix_fmt)
+
+
+class RowsToYCbCr:
+    """:func:`linear_to_ycbcr` a few rows at a time, into ``frame``'s planes: called as ``(rows, sl)`` with the
+    rows ``sl`` of a linear frame (a warp's ``on_band``, on each band's thread while its rows are in cache), and
+    :meth:`finish`-ed with the whole frame. The rows of a chroma block that two calls share (4:2:0) are left to
+    :meth:`finish`, so every code is what one pass over the frame gives."""
+
+    def __init__(self, info, pix_fmt: str, encoded: bool, frame):
+        self.args = _encode_args(info, pix_fmt, encoded)
+        self.frame, self.planes, self.height = frame, planes(frame), frame.height
+        self.block = 1 << self.args[2]
+        self.shared: set[int] = set()
+
+    def __call__(self, rows: np.ndarray, sl: slice) -> None:
+        r0, r1, b = sl.start, sl.stop, self.block
+        a, z = -(-r0 // b) * b, (r1 if r1 == self.height else r1 // b * b)  # whole blocks: rows a to z
+        if r0 < a:
+            self.shared.add(a - b)
+        if z < r1:
+            self.shared.add(z)
+        if a < z:
+            self._convert(rows[a - r0:z - r0], a, z, threads() if z - a == self.height else 1)
+
+    def _convert(self, rows: np.ndarray, a: int, z: int, n: int) -> None:
+        from lenslab.native import extension
+
+        bits, hx, vy, prim, curve, b0, zero, k, rng, top = self.args
+        y, u, v = self.planes
+        c0, c1 = a >> vy, (z + (1 << vy) - 1) >> vy
+        extension().linear_to_ycbcr(np.ascontiguousarray(rows[..., :3], np.float32), prim, curve, b0, KNOT_SHIFT, zero,
+                                    k, rng, top, y[a:z], u[c0:c1], v[c0:c1], hx, vy, n)
+
+    def finish(self, image: np.ndarray):
+        """The frame, once every row of ``image`` (the linear frame) has been given: the shared blocks converted."""
+        for a in sorted(self.shared):
+            z = min(self.height, a + self.block)
+            self._convert(image[a:z], a, z, 1)
+        self.shared.clear()
+        return self.frame
 
 
 def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.ndarray]:
@@ -199,4 +239,4 @@ def linear_to_ycbcr_reference(image: np.ndarray, info, pix_fmt: str) -> list[np.
 
 
 __all__ = ["FORMATS", "MATRICES", "exact", "planes", "ycbcr_to_linear", "ycbcr_to_linear_reference",
-           "linear_to_ycbcr", "linear_to_ycbcr_reference", "rgb_to_ycbcr_matrix", "ycbcr_to_rgb_matrix", "code_range"]
+           "linear_to_ycbcr", "linear_to_ycbcr_reference", "RowsToYCbCr", "ycbcr_frame", "rgb_to_ycbcr_matrix", "ycbcr_to_rgb_matrix", "code_range"]

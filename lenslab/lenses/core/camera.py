@@ -6,7 +6,6 @@ rays come from :meth:`Camera.rays`, and the warp's output directions from :meth:
 
 from __future__ import annotations
 
-import tomllib
 from typing import Any, Sequence
 
 import numpy as np
