@@ -28,6 +28,14 @@ void perspective_pixels(const double* d, int64_t n, const double* p, double* xy,
 // hammer: p = W, H, H / W, edge slack
 void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 
+// fisheye (lens_pixels.cpp): p = W, H, H / W, mapping code, plane scale, largest s over it (with the rim slack),
+// off-centre (0 or 1), cx, cy, r_ref, edge slack, turned (0 or 1), then the turn R (9, row-major: the lens sees R d)
+void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// cylinders (lens_pixels.cpp): p = W, H, H / W, cylinder code, F, Fv, largest |longitude| (with its slack), edge slack
+void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// Brown distortion of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, k1, k2, fold radius squared, edge slack
+void brown_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
 // cube map (Cubemap._dir_to_pixel: d as given, not normalised): p = W, H, face width, face height, edge slack,
 // border nudge, then per major axis +x, -x, +y, -y, +z, -z: the face's column, row, sign of A, sign of B
 void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);

@@ -1,0 +1,226 @@
+// Direction -> pixel of the fisheye (and of the little planet, a stereographic fisheye turned to look down), the
+// cylinders (central, Lambert's equal-area, Mercator) and the Brown distortion of a pinhole: their PixelKernel
+// (lens_kernels.h), Lens.dir_to_pixel's NumPy steps (normalise, the model's dir_to_uv, uv_to_pixel, snap_to_image)
+// in their order, built with every multiply and add rounded as written (CMakeLists.txt). The arc tangents, hypot and
+// inverse hyperbolic sines come from glibc's vector maths four at a time where it has them (within 4 ulps of libm);
+// every element takes the same path whatever its place in a call (a short block is padded), so a map does not
+// depend on how the warp cut it into bands. Held to the models' NumPy steps and to the published formulas by
+// tests/lenses/test_native_projection_pixels.py.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "lens_formulas.h"
+#include "lens_kernels.h"
+#include "lens_pixel_steps.h"
+
+#ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec; CMakeLists.txt finds it)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+extern "C" __m256d _ZGVdN4vv_hypot(__m256d, __m256d);
+extern "C" __m256d _ZGVdN4v_asinh(__m256d);
+#endif
+
+namespace lenslab::lens {
+
+namespace {
+
+// atan2(y[j], x[j]) of four pairs, into out
+inline void atan2_4(double* out, const double* y, const double* x) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
+#else
+    for (int j = 0; j < 4; ++j) out[j] = std::atan2(y[j], x[j]);
+#endif
+}
+
+// hypot(a[j], b[j]) of four pairs, into out
+inline void hypot_4(double* out, const double* a, const double* b) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(out, _ZGVdN4vv_hypot(_mm256_loadu_pd(a), _mm256_loadu_pd(b)));
+#else
+    for (int j = 0; j < 4; ++j) out[j] = std::hypot(a[j], b[j]);
+#endif
+}
+
+// asinh(a[j]) of four values, written over them
+inline void asinh_4(double* a) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(a, _ZGVdN4v_asinh(_mm256_loadu_pd(a)));
+#else
+    for (int j = 0; j < 4; ++j) a[j] = std::asinh(a[j]);
+#endif
+}
+
+// Up to four directions from i0 (m of them), normalised (Lens.dir_to_pixel) and turned by R (row-major: the
+// lens sees R d), into x, y, z; their outputs cleared; `good` false for zero and non-finite ones. Padding and
+// unseen lanes hold +z.
+inline bool load4(const double* d, int64_t i0, int64_t m, const double* R, double* x, double* y, double* z,
+                  bool* good, double* xy, bool* ok) {
+    bool any = false;
+    for (int j = 0; j < 4; ++j) {
+        x[j] = 0.0;
+        y[j] = 0.0;
+        z[j] = 1.0;
+        good[j] = false;
+    }
+    for (int64_t j = 0; j < m; ++j) {
+        clear2(i0 + j, xy, ok);
+        double a, b, c;
+        if (!unit_dir(d, i0 + j, a, b, c)) continue;
+        if (R) {  // d @ R.T, as NumPy's matmul: exact for the axis permutations the models use
+            x[j] = a * R[0] + b * R[1] + c * R[2];
+            y[j] = a * R[3] + b * R[4] + c * R[5];
+            z[j] = a * R[6] + b * R[7] + c * R[8];
+        } else {
+            x[j] = a;
+            y[j] = b;
+            z[j] = c;
+        }
+        good[j] = true;
+        any = true;
+    }
+    return any;
+}
+
+// Fisheye.dir_to_uv (azimuthal.dir_to_plane of the mapping KIND, over the plane scale, the rim test, the seen test
+// of the orthographic mapping, Fisheye._from_local), then the pixel
+template <int64_t KIND>
+void fisheye_loop(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], ps = p[4], s_lim = p[5], cx = p[7], cy = p[8], r_ref = p[9];
+    const double slack = p[10];
+    const bool local = p[6] != 0.0;
+    const double* R = p[11] != 0.0 ? p + 12 : nullptr;
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4], y[4], z[4], rho2[4], rho[4], theta[4] = {0.0, 0.0, 0.0, 0.0};
+        bool good[4];
+        if (!load4(d, i0, m, R, x, y, z, good, xy, ok)) continue;
+        for (int j = 0; j < 4; ++j) {
+            rho2[j] = x[j] * x[j] + y[j] * y[j];
+            rho[j] = std::sqrt(rho2[j]);
+        }
+        if constexpr (KIND == EQUIDISTANT) atan2_4(theta, rho, z);
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            const double dz = z[j], r = rho[j];
+            double s, k;
+            if constexpr (KIND == EQUIDISTANT) {  // s = theta
+                s = theta[j];
+                k = r > 0.0 ? s / r : 1.0;
+            } else if constexpr (KIND == EQUISOLID) {  // s = 2 rho / sqrt(2 (1 + dz)); behind, sqrt(2 (1 - dz))
+                if (dz < 0.0) {
+                    s = std::sqrt(2.0 * (1.0 - dz));
+                    k = s / r;
+                } else {
+                    k = std::sqrt(2.0 * (1.0 + dz));
+                    k = 2.0 / k;
+                    s = k * r;
+                }
+            } else if constexpr (KIND == STEREOGRAPHIC) {  // s = 2 rho / (1 + dz); behind, 2 (1 - dz) / rho
+                if (dz < 0.0) {
+                    const double num = 2.0 * (1.0 - dz);
+                    s = num / r;
+                    k = num / rho2[j];
+                } else {
+                    k = 2.0 / (1.0 + dz);
+                    s = k * r;
+                }
+            } else {  // ORTHOGRAPHIC
+                k = 1.0;
+                s = r;
+            }
+            double u, v;
+            if (r == 0.0 && dz < 0.0) {  // the back pole: every azimuth at once, (s, 0)
+                u = s;
+                v = 0.0;
+            } else {
+                u = x[j] * k;
+                v = y[j] * k;
+            }
+            u /= ps;
+            v /= ps;
+            if (!(s / ps <= s_lim)) continue;
+            if constexpr (KIND == ORTHOGRAPHIC) {
+                if (!(dz >= 0.0)) continue;
+            }
+            if (local) {
+                u *= r_ref;
+                v *= r_ref;
+                u += cx;
+                v += cy;
+            }
+            uv_pixel(i0 + j, u, v, w, h, aspect, slack, xy, ok);
+        }
+    }
+}
+
+// _Cylinder.dir_to_uv (lonlat.dir_to_lonlat, lonlat.lat_to_height of KIND, over F and Fv, the longitude test), then
+// the pixel
+template <int64_t KIND>
+void cylinder_loop(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], F = p[4], Fv = p[5], lon_lim = p[6], slack = p[7];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4], y[4], z[4], phi[4], c[4], t[4];
+        bool good[4];
+        if (!load4(d, i0, m, nullptr, x, y, z, good, xy, ok)) continue;
+        atan2_4(phi, x, z);
+        if constexpr (KIND != EQUAL_AREA_CYLINDRICAL) {  // the height s / c (0 at the poles, which are unseen)
+            hypot_4(c, x, z);
+            for (int j = 0; j < 4; ++j) t[j] = c[j] > 0.0 ? y[j] / c[j] : 0.0;
+            if constexpr (KIND == MERCATOR) asinh_4(t);  // atanh(s) = asinh(s / c): no 1 - s near the poles
+        }
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            double v;
+            if constexpr (KIND == EQUAL_AREA_CYLINDRICAL) {
+                v = y[j];
+            } else {
+                if (!(c[j] > 0.0)) continue;
+                v = t[j];
+            }
+            if (!(std::fabs(phi[j]) <= lon_lim)) continue;
+            uv_pixel(i0 + j, phi[j] / F, v / Fv, w, h, aspect, slack, xy, ok);
+        }
+    }
+}
+
+}  // namespace
+
+void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    switch (int64_t(p[3])) {
+        case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;
+        case EQUISOLID: fisheye_loop<EQUISOLID>(d, n, p, xy, ok); break;
+        case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(d, n, p, xy, ok); break;
+        case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(d, n, p, xy, ok); break;
+        default: throw std::invalid_argument("fisheye_pixels: not a fisheye mapping code");
+    }
+}
+
+void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    switch (int64_t(p[3])) {
+        case CYLINDRICAL: cylinder_loop<CYLINDRICAL>(d, n, p, xy, ok); break;
+        case EQUAL_AREA_CYLINDRICAL: cylinder_loop<EQUAL_AREA_CYLINDRICAL>(d, n, p, xy, ok); break;
+        case MERCATOR: cylinder_loop<MERCATOR>(d, n, p, xy, ok); break;
+        default: throw std::invalid_argument("cylinder_pixels: not a cylinder code");
+    }
+}
+
+// Perspective.dir_to_uv, then Brown.unbend (u, v) (1 + s (k1 + k2 s)) with s = u^2 + v^2 and its fold test, then the
+// pixel
+void brown_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], t = p[3], tv = p[4], k1 = p[5], k2 = p[6], fold2 = p[7];
+    const double slack = p[8];
+    for (int64_t i = 0; i < n; ++i) {
+        clear2(i, xy, ok);
+        double u, v;
+        if (!pinhole_uv(d, i, t, tv, u, v)) continue;
+        const double s = u * u + v * v;
+        if (!(s < fold2)) continue;
+        const double poly = 1.0 + s * (k1 + k2 * s);
+        uv_pixel(i, u * poly, v * poly, w, h, aspect, slack, xy, ok);
+    }
+}
+
+}  // namespace lenslab::lens
