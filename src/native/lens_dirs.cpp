@@ -18,6 +18,8 @@
 #include <immintrin.h>
 extern "C" __m256d _ZGVdN4v_sin(__m256d);
 extern "C" __m256d _ZGVdN4v_cos(__m256d);
+extern "C" __m256d _ZGVdN4v_tanh(__m256d);
+extern "C" __m256d _ZGVdN4v_cosh(__m256d);
 #endif
 
 #include "lens_formulas.h"
@@ -131,7 +133,90 @@ void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, dou
     }
 }
 
+// sin and cos of four angles (into sn, cs), and with Mercator's latitude tanh and cosh of four heights
+inline void sin_cos4(const double* a, double* sn, double* cs) {
+#ifdef LENSLAB_MVEC
+    const __m256d v = _mm256_loadu_pd(a);
+    _mm256_storeu_pd(sn, _ZGVdN4v_sin(v));
+    _mm256_storeu_pd(cs, _ZGVdN4v_cos(v));
+#else
+    for (int j = 0; j < 4; ++j) {
+        sn[j] = std::sin(a[j]);
+        cs[j] = std::cos(a[j]);
+    }
+#endif
+}
+
+inline void tanh_cosh4(const double* a, double* th, double* ch) {
+#ifdef LENSLAB_MVEC
+    const __m256d v = _mm256_loadu_pd(a);
+    _mm256_storeu_pd(th, _ZGVdN4v_tanh(v));
+    _mm256_storeu_pd(ch, _ZGVdN4v_cosh(v));
+#else
+    for (int j = 0; j < 4; ++j) {
+        th[j] = std::tanh(a[j]);
+        ch[j] = std::cosh(a[j]);
+    }
+#endif
+}
+
+// _Cylinder.uv_to_dir (longitude u F; lonlat.height_to_lat of KIND at v Fv; lonlat.lonlat_to_dir) through
+// Lens.pixel_to_dir, four pixels at a time. p = W, H, H / W, code, F, Fv, the equal-area height limit (with slack)
+template <int64_t KIND>
+void cylinder_loop(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double F = p[4], Fv = p[5], y_lim = p[6];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double phi[4] = {0.0, 0.0, 0.0, 0.0}, y[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], cs[4], s[4], c[4];
+        bool seen[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const double px = xy[2 * (i0 + j)], py = xy[2 * (i0 + j) + 1];
+            double u, v;
+            uv_of(px, py, p, u, v);
+            phi[j] = u * F;
+            y[j] = v * Fv;
+            seen[j] = finite(px * px + py * py);
+        }
+        sin_cos4(phi, sn, cs);
+        if constexpr (KIND == MERCATOR) {  // sin = tanh(y), cos = 1 / cosh(y)
+            tanh_cosh4(y, s, c);
+            for (int j = 0; j < 4; ++j) c[j] = 1.0 / c[j];
+        }
+        for (int64_t j = 0; j < m; ++j) {
+            bool good = seen[j] && std::fabs(phi[j]) <= PI;
+            if constexpr (KIND == CYLINDRICAL) {  // cos = 1 / sqrt(1 + y^2), sin = y cos
+                c[j] = 1.0 / std::sqrt(1.0 + y[j] * y[j]);
+                s[j] = y[j] * c[j];
+                good = good && finite(y[j]);
+            } else if constexpr (KIND == EQUAL_AREA_CYLINDRICAL) {  // sin = y clipped to [-1, 1]
+                s[j] = std::isnan(y[j]) ? y[j] : std::min(std::max(y[j], -1.0), 1.0);
+                c[j] = std::sqrt(at_least0(1.0 - s[j] * s[j]));
+                good = good && std::fabs(y[j]) <= y_lim;
+            } else {
+                good = good && finite(y[j]);
+            }
+            const double dx = sn[j] * c[j], dy = s[j], dz = cs[j] * c[j];
+            good = good && finite(dx * dx + dy * dy + dz * dz);
+            double* o = d + 3 * (i0 + j);
+            ok[i0 + j] = good;
+            o[0] = good ? dx : 0.0;
+            o[1] = good ? dy : 0.0;
+            o[2] = good ? dz : 0.0;
+        }
+    }
+}
+
 }  // namespace
+
+// cylinder pixels -> unit directions (0 and false where the lens has no ray)
+void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    switch (int64_t(p[3])) {
+        case CYLINDRICAL: cylinder_loop<CYLINDRICAL>(xy, n, p, d, ok); break;
+        case EQUAL_AREA_CYLINDRICAL: cylinder_loop<EQUAL_AREA_CYLINDRICAL>(xy, n, p, d, ok); break;
+        case MERCATOR: cylinder_loop<MERCATOR>(xy, n, p, d, ok); break;
+        default: throw std::invalid_argument("cylinder_dirs: not a cylinder code");
+    }
+}
 
 // perspective pixels -> unit directions (Perspective.uv_to_dir: every finite pixel has a ray). p = W, H, H / W, t, tv
 void perspective_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
@@ -164,6 +249,22 @@ void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool*
         case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(xy, n, p, d, ok); break;
         case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(xy, n, p, d, ok); break;
         default: throw std::invalid_argument("fisheye_dirs: not a fisheye mapping code");
+    }
+}
+
+// a fisheye turned in the camera (the little planet): fisheye_dirs, then d M with M (row-major) after the fisheye's
+// 10 parameters, as NumPy's matmul (exact for the axis permutations the models use); in blocks that stay in the cache
+void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    constexpr int64_t B = 256;
+    const double* M = p + 10;
+    for (int64_t i0 = 0; i0 < n; i0 += B) {
+        const int64_t m = std::min(B, n - i0);
+        fisheye_dirs(xy + 2 * i0, m, p, d + 3 * i0, ok + i0);
+        for (int64_t j = 0; j < m; ++j) {
+            double* o = d + 3 * (i0 + j);
+            const double a = o[0], b = o[1], c = o[2];
+            for (int k = 0; k < 3; ++k) o[k] = a * M[k] + b * M[3 + k] + c * M[6 + k];
+        }
     }
 }
 
@@ -202,6 +303,12 @@ void register_lens_dirs(nb::module_& m) {
     bind_dirs<lenslab::lens::fisheye_dirs, 10>(
         m, "fisheye_dirs",
         "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::turned_fisheye_dirs, 19>(
+        m, "turned_fisheye_dirs",
+        "Pixels of a fisheye turned in the camera (any length; non-finite ones invalid) -> unit directions.");
+    bind_dirs<lenslab::lens::cylinder_dirs, 7>(
+        m, "cylinder_dirs",
+        "Cylinder pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
     bind_dirs<lenslab::lens::eac_dirs, 60>(
         m, "eac_dirs",
         "Equi-angular cube map pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");

@@ -28,6 +28,13 @@ void perspective_pixels(const double* d, int64_t n, const double* p, double* xy,
 // hammer: p = W, H, H / W, edge slack
 void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 
+// pixel -> unit direction (DirKernels, lens_dirs.cpp) of a fisheye: p = W, H, H / W, mapping code, plane scale, the
+// largest squared radius, cx, cy, r_ref, off-centre; of a fisheye turned in the camera: those, then M (9, row-major:
+// the camera sees d M); of a cylinder: p = W, H, H / W, cylinder code, F, Fv, the equal-area height limit
+void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+
 // fisheye (lens_pixels.cpp): p = W, H, H / W, mapping code, plane scale, largest s over it (with the rim slack),
 // off-centre (0 or 1), cx, cy, r_ref, edge slack, turned (0 or 1), then the turn R (9, row-major: the lens sees R d)
 void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);

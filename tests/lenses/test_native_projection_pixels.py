@@ -17,9 +17,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
 
 from lenslab.lenses import make_lens
 from lenslab.lenses.core.native import project_kernel
+from tests.lenses.test_native_lens_kernels import DIRS, HYP, numpy_steps
+from tests.lenses.test_native_pixel_dirs import fisheyes
 
 TOL = 1e-9  # px (see the module's docstring)
 
@@ -157,3 +160,13 @@ def test_brown_kernel_is_opencvs_projection():
     xy, ok = project_kernel(lens.pixel_kernel(), d)
     assert in_frame.sum() > 1000 and ok[in_frame].all()
     np.testing.assert_allclose(xy[in_frame], want[in_frame], rtol=0, atol=TOL)
+
+
+@HYP
+@given(lens=fisheyes(), d=DIRS)
+def test_fisheye_kernel_is_the_models_numpy_steps_for_any_fisheye(lens, d):
+    """Any mapping, fov from 1e-6 degrees to its limit, vfov, dfov and off-centre circles, sizes 1 to 4096 px."""
+    xy, ok = project_kernel(lens.pixel_kernel(), d)
+    want, want_ok = numpy_steps(lens).dir_to_pixel(d)
+    np.testing.assert_array_equal(ok, want_ok)
+    np.testing.assert_allclose(xy, want, rtol=0, atol=TOL)
