@@ -94,6 +94,13 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Fisheye directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("dual_fisheye_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 10, "dual fisheye: 10 parameters");
+        need(whole(p.data()[3], 64) >= 0, "dual fisheye: the mapping code must be a whole number");
+        dual_fisheye_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Dual-fisheye directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
     m.def("cylinder_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
         need(p.size() == 8, "cylinder: 8 parameters");
         need(whole(p.data()[3], 64) >= 0, "cylinder: the projection code must be a whole number");

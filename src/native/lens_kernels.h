@@ -38,6 +38,9 @@ void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool
 // fisheye (lens_pixels.cpp): p = W, H, H / W, mapping code, plane scale, largest s over it (with the rim slack),
 // off-centre (0 or 1), cx, cy, r_ref, edge slack, turned (0 or 1), then the turn R (9, row-major: the lens sees R d)
 void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// two fisheyes back to back (lens_pixels.cpp): p = W, H, half width, mapping code, plane scale, largest s over it (with
+// the rim slack), the front lens's left edge, edge slack, half / H, the largest x of the left half
+void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // cylinders (lens_pixels.cpp): p = W, H, H / W, cylinder code, F, Fv, largest |longitude| (with its slack), edge slack
 void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // Brown distortion of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, k1, k2, fold radius squared, edge slack

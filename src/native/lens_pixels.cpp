@@ -1,4 +1,5 @@
-// Direction -> pixel of the fisheye (and of the little planet, a stereographic fisheye turned to look down), the
+// Direction -> pixel of the fisheye (and of the little planet, a stereographic fisheye turned to look down, and of
+// two fisheyes back to back), the
 // cylinders (central, Lambert's equal-area, Mercator) and the Brown distortion of a pinhole: their PixelKernel
 // (lens_kernels.h), Lens.dir_to_pixel's NumPy steps (normalise, the model's dir_to_uv, uv_to_pixel, snap_to_image)
 // in their order, built with every multiply and add rounded as written (CMakeLists.txt). The arc tangents and the logarithm
@@ -81,8 +82,64 @@ inline bool load4(const double* d, int64_t i0, int64_t m, const double* R, doubl
     return any;
 }
 
-// Fisheye.dir_to_uv (azimuthal.dir_to_plane of the mapping KIND, over the plane scale, the rim test, the seen test
-// of the orthographic mapping, Fisheye._from_local), then the pixel
+// Fisheye.dir_to_uv of one unit direction (azimuthal.dir_to_plane of the mapping KIND with rho^2 = x^2 + y^2, rho and,
+// equidistant, theta = atan2(rho, z); over the plane scale ps; the rim test s / ps <= s_lim; the orthographic
+// mapping's seen test), before Fisheye._from_local: false where the lens does not see it
+template <int64_t KIND>
+inline bool fisheye_uv(double x, double y, double dz, double rho2, double r, double theta, double ps, double s_lim,
+                       double& u, double& v) {
+    double s, k;
+    if constexpr (KIND == EQUIDISTANT) {  // s = theta
+        s = theta;
+        k = r > 0.0 ? s / r : 1.0;
+    } else if constexpr (KIND == EQUISOLID) {  // s = 2 rho / sqrt(2 (1 + dz)); behind, sqrt(2 (1 - dz))
+        if (dz < 0.0) {
+            s = std::sqrt(2.0 * (1.0 - dz));
+            k = s / r;
+        } else {
+            k = std::sqrt(2.0 * (1.0 + dz));
+            k = 2.0 / k;
+            s = k * r;
+        }
+    } else if constexpr (KIND == STEREOGRAPHIC) {  // s = 2 rho / (1 + dz); behind, 2 (1 - dz) / rho
+        if (dz < 0.0) {
+            const double num = 2.0 * (1.0 - dz);
+            s = num / r;
+            k = num / rho2;
+        } else {
+            k = 2.0 / (1.0 + dz);
+            s = k * r;
+        }
+    } else {  // ORTHOGRAPHIC
+        k = 1.0;
+        s = r;
+    }
+    if (r == 0.0 && dz < 0.0) {  // the back pole: every azimuth at once, (s, 0)
+        u = s;
+        v = 0.0;
+    } else {
+        u = x * k;
+        v = y * k;
+    }
+    u /= ps;
+    v /= ps;
+    if (!(s / ps <= s_lim)) return false;
+    if constexpr (KIND == ORTHOGRAPHIC) return dz >= 0.0;
+    return true;
+}
+
+// rho^2, rho and (equidistant) theta of four unit directions, theta four at a time
+template <int64_t KIND>
+inline void polar4(const double* x, const double* y, const double* z, double* rho2, double* rho, double* theta) {
+    for (int j = 0; j < 4; ++j) {
+        rho2[j] = x[j] * x[j] + y[j] * y[j];
+        rho[j] = std::sqrt(rho2[j]);
+        theta[j] = 0.0;
+    }
+    if constexpr (KIND == EQUIDISTANT) atan2_4(theta, rho, z);
+}
+
+// Fisheye.dir_to_uv through Lens.dir_to_pixel (with Fisheye._from_local), then the pixel
 template <int64_t KIND>
 void fisheye_loop(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     const double w = p[0], h = p[1], aspect = p[2], ps = p[4], s_lim = p[5], cx = p[7], cy = p[8], r_ref = p[9];
@@ -91,57 +148,13 @@ void fisheye_loop(const double* d, int64_t n, const double* p, double* xy, bool*
     const double* R = p[11] != 0.0 ? p + 12 : nullptr;
     for (int64_t i0 = 0; i0 < n; i0 += 4) {
         const int64_t m = std::min<int64_t>(4, n - i0);
-        double x[4], y[4], z[4], rho2[4], rho[4], theta[4] = {0.0, 0.0, 0.0, 0.0};
+        double x[4], y[4], z[4], rho2[4], rho[4], theta[4];
         bool good[4];
         if (!load4(d, i0, m, R, x, y, z, good, xy, ok)) continue;
-        for (int j = 0; j < 4; ++j) {
-            rho2[j] = x[j] * x[j] + y[j] * y[j];
-            rho[j] = std::sqrt(rho2[j]);
-        }
-        if constexpr (KIND == EQUIDISTANT) atan2_4(theta, rho, z);
+        polar4<KIND>(x, y, z, rho2, rho, theta);
         for (int64_t j = 0; j < m; ++j) {
-            if (!good[j]) continue;
-            const double dz = z[j], r = rho[j];
-            double s, k;
-            if constexpr (KIND == EQUIDISTANT) {  // s = theta
-                s = theta[j];
-                k = r > 0.0 ? s / r : 1.0;
-            } else if constexpr (KIND == EQUISOLID) {  // s = 2 rho / sqrt(2 (1 + dz)); behind, sqrt(2 (1 - dz))
-                if (dz < 0.0) {
-                    s = std::sqrt(2.0 * (1.0 - dz));
-                    k = s / r;
-                } else {
-                    k = std::sqrt(2.0 * (1.0 + dz));
-                    k = 2.0 / k;
-                    s = k * r;
-                }
-            } else if constexpr (KIND == STEREOGRAPHIC) {  // s = 2 rho / (1 + dz); behind, 2 (1 - dz) / rho
-                if (dz < 0.0) {
-                    const double num = 2.0 * (1.0 - dz);
-                    s = num / r;
-                    k = num / rho2[j];
-                } else {
-                    k = 2.0 / (1.0 + dz);
-                    s = k * r;
-                }
-            } else {  // ORTHOGRAPHIC
-                k = 1.0;
-                s = r;
-            }
             double u, v;
-            if (r == 0.0 && dz < 0.0) {  // the back pole: every azimuth at once, (s, 0)
-                u = s;
-                v = 0.0;
-            } else {
-                u = x[j] * k;
-                v = y[j] * k;
-            }
-            u /= ps;
-            v /= ps;
-            if (!(s / ps <= s_lim)) continue;
-            if constexpr (KIND == ORTHOGRAPHIC) {
-                if (!(dz >= 0.0)) continue;
-            }
+            if (!good[j] || !fisheye_uv<KIND>(x[j], y[j], z[j], rho2[j], rho[j], theta[j], ps, s_lim, u, v)) continue;
             if (local) {
                 u *= r_ref;
                 v *= r_ref;
@@ -149,6 +162,48 @@ void fisheye_loop(const double* d, int64_t n, const double* p, double* xy, bool*
                 v += cy;
             }
             uv_pixel(i0 + j, u, v, w, h, aspect, slack, xy, ok);
+        }
+    }
+}
+
+// DualFisheye.dir_to_pixel: the direction from the lens whose axis is nearer (the back lens, x and z negated, for
+// z < 0), that fisheye's dir_to_uv, the position in its half, kept off the shared edge in the left half, the image
+// test. p = W, H, the half width, mapping code, plane scale, largest s over it, the front lens's left edge, edge slack,
+// half / H, the largest x of the left half
+template <int64_t KIND>
+void dual_fisheye_loop(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], half = p[2], ps = p[4], s_lim = p[5], front_x0 = p[6], slack = p[7];
+    const double ky = p[8], left_max = p[9];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4], y[4], z[4], rho2[4], rho[4], theta[4];
+        bool good[4], back[4];
+        if (!load4(d, i0, m, nullptr, x, y, z, good, xy, ok)) continue;
+        for (int j = 0; j < 4; ++j) {
+            back[j] = z[j] < 0.0;
+            if (back[j]) {  // half a turn about +y: exact
+                x[j] = -x[j];
+                z[j] = -z[j];
+            }
+        }
+        polar4<KIND>(x, y, z, rho2, rho, theta);
+        for (int64_t j = 0; j < m; ++j) {
+            double u, v;
+            if (!good[j] || !fisheye_uv<KIND>(x[j], y[j], z[j], rho2[j], rho[j], theta[j], ps, s_lim, u, v)) continue;
+            const double x0 = back[j] ? half - front_x0 : front_x0;
+            double px = u + 1.0;
+            px *= 0.5;
+            px *= half;
+            px += x0;
+            double py = v * ky;
+            py = 1.0 - py;
+            py *= 0.5;
+            py *= h;
+            if (x0 == 0.0) px = std::min(px, left_max);  // the shared edge belongs to the right half
+            if (!(px >= -slack && px <= w + slack && py >= -slack && py <= h + slack)) continue;
+            xy[2 * (i0 + j)] = std::min(std::max(px, 0.0), w);
+            xy[2 * (i0 + j) + 1] = std::min(std::max(py, 0.0), h);
+            ok[i0 + j] = true;
         }
     }
 }
@@ -195,6 +250,16 @@ void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, boo
         case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(d, n, p, xy, ok); break;
         case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(d, n, p, xy, ok); break;
         default: throw std::invalid_argument("fisheye_pixels: not a fisheye mapping code");
+    }
+}
+
+void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    switch (int64_t(p[3])) {
+        case EQUIDISTANT: dual_fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;
+        case EQUISOLID: dual_fisheye_loop<EQUISOLID>(d, n, p, xy, ok); break;
+        case STEREOGRAPHIC: dual_fisheye_loop<STEREOGRAPHIC>(d, n, p, xy, ok); break;
+        case ORTHOGRAPHIC: dual_fisheye_loop<ORTHOGRAPHIC>(d, n, p, xy, ok); break;
+        default: throw std::invalid_argument("dual_fisheye_pixels: not a fisheye mapping code");
     }
 }
 

@@ -133,7 +133,8 @@ WHOLE = [("perspective:fov=90", (640, 480)), ("perspective:fov=0.01", (64, 64)),
          ("perspective:fov=179.99", (512, 512)), ("perspective:fov=120,vfov=60", (800, 400)),
          ("perspective:dfov=100", (600, 400)), ("hammer", (800, 400)), ("hammer", (512, 512)),
          ("tiled:2x2", (800, 600)), ("tiled:3x1", (900, 200)),
-         # the fisheye mappings, the little planet, the cylinders and the Brown-distorted pinhole (lens_pixels.cpp;
+         # the fisheye mappings, the little planet, the cylinders, the Brown-distorted pinhole and two fisheyes back to
+         # back (lens_pixels.cpp;
          # their published formulas in test_native_projection_pixels.py)
          ("fisheye:fov=180,mapping=stereographic", (512, 512)), ("fisheye:fov=350,mapping=stereographic", (640, 480)),
          ("fisheye:fov=0.01,mapping=stereographic", (64, 64)), ("fisheye:fov=180,mapping=equidistant", (512, 512)),
@@ -146,7 +147,11 @@ WHOLE = [("perspective:fov=90", (640, 480)), ("perspective:fov=0.01", (64, 64)),
          ("mercator", (512, 512)), ("mercator:fov=200,vfov=150", (1024, 512)), ("mercator:fov=359.99", (600, 700)),
          ("mercator:vfov=179.999", (256, 256)),
          ("brown:k1=-0.05,fov=90", (640, 480)), ("brown:k1=-0.3,fov=120", (512, 512)),  # folds inside the image
-         ("brown:k1=0.1,k2=0.05,fov=0.5", (64, 48)), ("brown:k1=0.1,k2=-0.3,fov=100,vfov=60", (800, 400))]
+         ("brown:k1=0.1,k2=0.05,fov=0.5", (64, 48)), ("brown:k1=0.1,k2=-0.3,fov=100,vfov=60", (800, 400)),
+         ("dual-fisheye:fov=190", (1024, 512)), ("dual-fisheye:fov=180,mapping=equisolid,front=right", (1024, 512)),
+         ("dual-fisheye:fov=200,mapping=stereographic", (1001, 480)),  # an odd width: halves of 500.5 px
+         ("dual-fisheye:fov=170,mapping=orthographic", (800, 400)), ("dual-fisheye:fov=360", (800, 400)),
+         ("dual-fisheye:fov=0.01", (64, 32))]
 
 
 def numpy_steps(lens):
@@ -162,7 +167,8 @@ def numpy_steps(lens):
 @HYP
 @given(d=DIRS)
 def test_whole_image_kernels_match_the_models_numpy_steps(spec, size, d):
-    """The whole-image kernels (perspective, Hammer, tiled, fisheye, little planet, cylinders, Brown) are the NumPy
+    """The whole-image kernels (perspective, Hammer, tiled, fisheye, little planet, dual fisheye,
+    cylinders, Brown) are the NumPy
     steps of Lens.dir_to_pixel (normalise, dir_to_uv, uv_to_pixel, snap_to_image; for a grid, the first tile that
     sees the direction): those steps, run with the kernels switched off, are their reference."""
     lens = make_lens(spec, size)

@@ -1,5 +1,5 @@
-"""The compiled direction -> pixel of the fisheye mappings, the little planet, the cylinders (central, Lambert's
-equal-area, Mercator) and the Brown-distorted pinhole (``src/native/lens_pixels.cpp``).
+"""The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the
+cylinders (central, Lambert's equal-area, Mercator) and the Brown-distorted pinhole (``src/native/lens_pixels.cpp``).
 
 Each kernel is held to the model's own NumPy steps (``Lens.dir_to_pixel`` with the kernel switched off: they are its
 specification) by ``test_native_lens_kernels.py`` (hypothesis directions with the poles, the seam, the axis, the
@@ -103,6 +103,23 @@ def test_little_planet_kernel_is_a_stereographic_fisheye_looking_down():
     assert ok.all()
     np.testing.assert_allclose(xy, [[512.0, 512.0], [512.0, 512.0 - 512.0 * np.tan(np.pi / 4) /
                                                       np.tan(3 * np.pi / 8)]], rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("mapping,front", [("equidistant", "left"), ("equisolid", "right")])
+def test_dual_fisheye_kernel_is_two_fisheyes_back_to_back(mapping, front):
+    """ffmpeg v360's dfisheye layout: each half of width W/2 one fisheye of fov 190 across it; the nearer lens sees a
+    direction (the back one for dz < 0, whose frame is the camera's turned half a turn about +y: (-dx, dy, -dz))."""
+    w, h = 2048, 1024
+    half = w / 2.0
+    d = _unit(np.random.default_rng(13), 20000)
+    back = d[:, 2] < 0
+    lx, lz = np.where(back, -d[:, 0], d[:, 0]), np.where(back, -d[:, 2], d[:, 2])
+    want, _ = _fisheye_pixels(lx, d[:, 1], lz, mapping, 190.0, half, h)
+    x0 = np.where(back, half, 0.0) if front == "left" else np.where(back, 0.0, half)
+    want[:, 0] += x0
+    xy, ok = project_kernel(make_lens(f"dual-fisheye:fov=190,mapping={mapping},front={front}", (w, h)).pixel_kernel(), d)
+    assert ok.all()
+    np.testing.assert_allclose(xy, want, rtol=0, atol=TOL)
 
 
 #: J. P. Snyder, Map Projections - A Working Manual (1987): the height of the latitude phi on the unit sphere
