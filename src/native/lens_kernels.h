@@ -41,6 +41,8 @@ void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, boo
 // two fisheyes back to back (lens_pixels.cpp): p = W, H, half width, mapping code, plane scale, largest s over it (with
 // the rim slack), the front lens's left edge, edge slack, half / H, the largest x of the left half
 void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// sinusoidal (lens_pixels.cpp): p = W, H, H / W, edge slack
+void sinusoidal_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // cylinders (lens_pixels.cpp): p = W, H, H / W, cylinder code, F, Fv, largest |longitude| (with its slack), edge slack
 void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // Brown distortion of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, k1, k2, fold radius squared, edge slack

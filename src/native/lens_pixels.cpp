@@ -243,6 +243,27 @@ void cylinder_loop(const double* d, int64_t n, const double* p, double* xy, bool
 
 }  // namespace
 
+// Sinusoidal.dir_to_uv (u = atan2(dx, dz) c / pi with c = hypot(dx, dz), v = atan2(dy, c) / pi), then the pixel.
+// p = W, H, H / W, edge slack
+void sinusoidal_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], slack = p[3];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4], y[4], z[4], c[4], phi[4], theta[4];
+        bool good[4];
+        if (!load4(d, i0, m, nullptr, x, y, z, good, xy, ok)) continue;
+        for (int j = 0; j < 4; ++j) c[j] = std::sqrt(x[j] * x[j] + z[j] * z[j]);  // hypot of a unit direction
+        atan2_4(phi, x, z);
+        atan2_4(theta, y, c);
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            double u = phi[j] * c[j];
+            u /= PI;
+            uv_pixel(i0 + j, u, theta[j] / PI, w, h, aspect, slack, xy, ok);
+        }
+    }
+}
+
 void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     switch (int64_t(p[3])) {
         case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;

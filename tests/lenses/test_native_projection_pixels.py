@@ -1,5 +1,6 @@
 """The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the
-cylinders (central, Lambert's equal-area, Mercator) and the Brown-distorted pinhole (``src/native/lens_pixels.cpp``).
+cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map and the Brown-distorted pinhole
+(``src/native/lens_pixels.cpp``).
 
 Each kernel is held to the model's own NumPy steps (``Lens.dir_to_pixel`` with the kernel switched off: they are its
 specification) by ``test_native_lens_kernels.py`` (hypothesis directions with the poles, the seam, the axis, the
@@ -155,6 +156,21 @@ def test_cylinder_kernels_are_snyders_formulas(name, extra, size):
     assert seen.sum() > 3000 and ok[seen].all()
     assert not ok[np.abs(lam) > fov / 2 + 1e-9].any()
     np.testing.assert_allclose(xy[seen], want[seen], rtol=0, atol=TOL)
+
+
+def test_sinusoidal_kernel_is_snyders_formula():
+    """Snyder (1987), section 30, eq. (30-1) and (30-2): x = R (lambda - lambda0) cos(phi), y = R phi, with R = W / (2 pi)
+    on a 2:1 frame, the latitude phi = asin(dy) (kept below 85 degrees, where asin keeps its digits)."""
+    w, h = 2048, 1024
+    d = _unit(np.random.default_rng(14), 20000)
+    phi = np.arcsin(d[:, 1])
+    lam = np.arctan2(d[:, 0], d[:, 2])
+    R = w / (2.0 * np.pi)
+    want = np.stack([w / 2.0 + R * lam * np.cos(phi), h / 2.0 - R * phi], -1)
+    xy, ok = project_kernel(make_lens("sinusoidal", (w, h)).pixel_kernel(), d)
+    keep = np.abs(phi) < np.radians(85.0)
+    assert ok.all()
+    np.testing.assert_allclose(xy[keep], want[keep], rtol=0, atol=TOL)
 
 
 def test_brown_kernel_is_opencvs_projection():
