@@ -264,6 +264,32 @@ void sinusoidal_pixels(const double* d, int64_t n, const double* p, double* xy, 
     }
 }
 
+// Pannini.dir_to_uv (S = (d + 1) / (d + cos phi) with cos phi = dz / c, c = hypot(dx, dz); u = (dx / c) S / x_f,
+// v = (dy / c) (1 + (1 - vcomp) (S - 1)) / x_f; seen within the edge longitude, off the poles, for S > 0), then the
+// pixel. p = W, H, H / W, d, x_f, cos of the edge longitude (with its slack), 1 - vcomp, edge slack
+void pannini_pixels(const double* dirs, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], d = p[3], x_f = p[4], cos_edge = p[5], keep = p[6];
+    const double slack = p[7];
+    for (int64_t i = 0; i < n; ++i) {
+        clear2(i, xy, ok);
+        double x, y, z;
+        if (!unit_dir(dirs, i, x, y, z)) continue;
+        const double c = std::sqrt(x * x + z * z);  // hypot of a unit direction
+        const double inv_c = c > 0.0 ? 1.0 / c : 0.0;
+        const double cphi = z * inv_c;
+        double S = d + cphi;
+        if (!(cphi >= cos_edge && c > 0.0 && S > 0.0)) continue;
+        S = (d + 1.0) / S;
+        double u = x * inv_c;
+        u *= S;
+        u /= x_f;
+        double v = y * inv_c;
+        v *= 1.0 + keep * (S - 1.0);
+        v /= x_f;
+        if (std::isfinite(u) && std::isfinite(v)) uv_pixel(i, u, v, w, h, aspect, slack, xy, ok);
+    }
+}
+
 void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     switch (int64_t(p[3])) {
         case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;

@@ -1,5 +1,5 @@
 """The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the
-cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map and the Brown-distorted pinhole
+cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini and the Brown-distorted pinhole
 (``src/native/lens_pixels.cpp``).
 
 Each kernel is held to the model's own NumPy steps (``Lens.dir_to_pixel`` with the kernel switched off: they are its
@@ -171,6 +171,26 @@ def test_sinusoidal_kernel_is_snyders_formula():
     keep = np.abs(phi) < np.radians(85.0)
     assert ok.all()
     np.testing.assert_allclose(xy[keep], want[keep], rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)), (100.0, 0.0, (640, 480))])
+def test_pannini_kernel_is_sharpless_formula(fov, dist, size):
+    """Sharpless, Postle and German (2010), eq. 1-2: S = (d + 1) / (d + cos phi), x = S sin phi, y = S tan theta,
+    scaled so that the edge longitude fov/2 is at the left and right edges: pixel x = W/2 (1 + x / x_F), y = H/2 - W/2
+    y / x_F with x_F = S(fov/2) sin(fov/2) (no vertical compression)."""
+    w, h = size
+    d = _unit(np.random.default_rng(15), 20000)
+    phi = np.arctan2(d[:, 0], d[:, 2])
+    theta = np.arctan2(d[:, 1], np.hypot(d[:, 0], d[:, 2]))
+    S = (dist + 1.0) / (dist + np.cos(phi))
+    F = np.radians(fov) / 2.0
+    x_f = (dist + 1.0) / (dist + np.cos(F)) * np.sin(F)
+    want = np.stack([w / 2.0 * (1.0 + S * np.sin(phi) / x_f), h / 2.0 - w / 2.0 * S * np.tan(theta) / x_f], -1)
+    in_frame = ((np.abs(phi) < F) & (want[:, 0] > 1e-6) & (want[:, 0] < w - 1e-6) & (want[:, 1] > 1e-6)
+                & (want[:, 1] < h - 1e-6))
+    xy, ok = project_kernel(make_lens(f"pannini:fov={fov:g},d={dist:g}", size).pixel_kernel(), d)
+    assert in_frame.sum() > 2000 and ok[in_frame].all()
+    np.testing.assert_allclose(xy[in_frame], want[in_frame], rtol=0, atol=TOL)
 
 
 def test_brown_kernel_is_opencvs_projection():

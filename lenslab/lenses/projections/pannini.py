@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -120,6 +120,17 @@ class Pannini(Lens):
         np.multiply(tan_t, c, out=out[..., 1])
         np.multiply(np.cos(phi), c, out=out[..., 2])
         return out, ok & np.isfinite(tan_t)
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``pannini_pixels``: the NumPy steps of :meth:`dir_to_uv` through
+        :meth:`Lens.dir_to_pixel`, in their order)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Pannini, ("_vscale",)):
+            return None
+        return PixelKernel(lens_kernels().pannini_pixels, np.array(
+            [self.width, self.height, self.aspect, self.d, self.x_f, self._cos_edge, 1.0 - self.vcomp,
+             self.edge_slack], dtype=FLOAT))
 
     def dir_to_uv(self, dv):
         dx, dy, dz = dv[..., 0], dv[..., 1], dv[..., 2]
