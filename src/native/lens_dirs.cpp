@@ -18,6 +18,7 @@
 #include <immintrin.h>
 extern "C" __m256d _ZGVdN4v_sin(__m256d);
 extern "C" __m256d _ZGVdN4v_cos(__m256d);
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
 extern "C" __m256d _ZGVdN4v_tanh(__m256d);
 extern "C" __m256d _ZGVdN4v_cosh(__m256d);
 #endif
@@ -206,7 +207,58 @@ void cylinder_loop(const double* xy, int64_t n, const double* p, double* d, bool
     }
 }
 
+// atan2(y[j], x[j]) of four pairs, into out
+inline void atan2_4(double* out, const double* y, const double* x) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
+#else
+    for (int j = 0; j < 4; ++j) out[j] = std::atan2(y[j], x[j]);
+#endif
+}
+
 }  // namespace
+
+// Pannini.uv_to_dir through Lens.pixel_to_dir, four pixels at a time: with x = u x_f, k = x^2 / (d + 1)^2, the root of
+// 1 + k (1 - d^2), cos phi from it, S = (d + 1)(k + 1) / (d + root), phi = atan2(x, S cos phi), the latitude's tangent
+// v x_f / (1 + (1 - vcomp)(S - 1)); d = (sin phi, tan, cos phi) cos(latitude). p = W, H, H / W, d, x_f, (d + 1)^2,
+// 1 - d^2, the largest |phi| (with its slack), 1 - vcomp
+void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double dd = p[3], x_f = p[4], dp2 = p[5], omd2 = p[6], phi_lim = p[7], keep = p[8];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4] = {0.0, 0.0, 0.0, 0.0}, y[4] = {0.0, 0.0, 0.0, 0.0}, sc[4] = {1.0, 1.0, 1.0, 1.0};
+        double S[4] = {1.0, 1.0, 1.0, 1.0}, phi[4], sn[4], cs[4];
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const double px = xy[2 * (i0 + j)], py = xy[2 * (i0 + j) + 1];
+            double u, v;
+            uv_of(px, py, p, u, v);
+            x[j] = u * x_f;
+            y[j] = v * x_f;
+            const double k = x[j] * x[j] / dp2;
+            const double disc = 1.0 + k * omd2;
+            const double root = std::sqrt(at_least0(disc));
+            const double clon = (root - k * dd) / (k + 1.0);
+            S[j] = (dd + 1.0) * (k + 1.0) / (dd + root);
+            sc[j] = S[j] * clon;
+            good[j] = disc >= 0.0 && finite(px * px + py * py);
+        }
+        atan2_4(phi, x, sc);
+        sin_cos4(phi, sn, cs);
+        for (int64_t j = 0; j < m; ++j) {
+            const double tan_t = y[j] / (1.0 + keep * (S[j] - 1.0));
+            const double c = 1.0 / std::sqrt(1.0 + tan_t * tan_t);
+            const double dx = sn[j] * c, dy = tan_t * c, dz = cs[j] * c;
+            const bool seen = good[j] && std::fabs(phi[j]) <= phi_lim && finite(tan_t)
+                              && finite(dx * dx + dy * dy + dz * dz);
+            double* o = d + 3 * (i0 + j);
+            ok[i0 + j] = seen;
+            o[0] = seen ? dx : 0.0;
+            o[1] = seen ? dy : 0.0;
+            o[2] = seen ? dz : 0.0;
+        }
+    }
+}
 
 // cylinder pixels -> unit directions (0 and false where the lens has no ray)
 void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
@@ -306,6 +358,9 @@ void register_lens_dirs(nb::module_& m) {
     bind_dirs<lenslab::lens::turned_fisheye_dirs, 19>(
         m, "turned_fisheye_dirs",
         "Pixels of a fisheye turned in the camera (any length; non-finite ones invalid) -> unit directions.");
+    bind_dirs<lenslab::lens::pannini_dirs, 9>(
+        m, "pannini_dirs",
+        "Pannini pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
     bind_dirs<lenslab::lens::cylinder_dirs, 7>(
         m, "cylinder_dirs",
         "Cylinder pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");

@@ -34,6 +34,8 @@ void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool
 void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+// of Pannini: p = W, H, H / W, d, x_f, (d + 1)^2, 1 - d^2, the largest |longitude| (with its slack), 1 - vcomp
+void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 
 // fisheye (lens_pixels.cpp): p = W, H, H / W, mapping code, plane scale, largest s over it (with the rim slack),
 // off-centre (0 or 1), cx, cy, r_ref, edge slack, turned (0 or 1), then the turn R (9, row-major: the lens sees R d)

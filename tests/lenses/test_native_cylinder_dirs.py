@@ -1,14 +1,15 @@
-"""The cylinders' and the little planet's compiled pixel -> direction (``cylinder_dirs``, ``turned_fisheye_dirs``,
-``src/native/lens_dirs.cpp``; their DirKernel, which ``Lens.pixel_to_dir`` and so the warp's exact map run), against
+"""The cylinders', Pannini's and the little planet's compiled pixel -> direction (``cylinder_dirs``, ``pannini_dirs``,
+``turned_fisheye_dirs``, ``src/native/lens_dirs.cpp``; their DirKernel, which ``Lens.pixel_to_dir`` and so the warp's exact map run), against
 the models' own NumPy steps (their specification) on pixels drawn by hypothesis with the extremes mixed in (the
 corners and edges, far outside, NaN and infinite pixels, fields of view near 0 and at 360 degrees, vfov 180), and
 against the inverse formulas of J. P. Snyder, *Map Projections - A Working Manual* (1987; Mercator section 7, the
-equal-area cylinder section 10) and of the stereographic fisheye, transcribed here in float64.
+equal-area cylinder section 10), of the stereographic fisheye and Sharpless et al.'s Pannini (2010, eq. 1-2),
+transcribed here in float64.
 
 Tolerances: the kernels run the NumPy steps' operations in the same order without fused multiply-adds, so validity
 is the same bit for bit; the directions differ by the last bits of the sines and cosines of the longitude and of
 Mercator's tanh and cosh, which the kernel takes from glibc's vector maths (each within 4 ulps) and NumPy from its
-own loops, two of them multiplied: 8 ulps of a unit vector (2e-15). The little planet's turn is an exact axis
+own loops (Pannini's arc tangent too), two of them multiplied: 8 ulps of a unit vector (2e-15). The little planet's turn is an exact axis
 permutation: the fisheye kernel's 4 ulps (1e-15, as tests/lenses/test_native_pixel_dirs.py holds it). Snyder's
 inverse reaches the direction through other functions (an arc tangent of an exponential, an arc sine, then the sine
 and cosine of the latitude): within 1e-12 of a unit ray (a few ulps, times 1/cos of the latitude where the arc sine
@@ -30,6 +31,8 @@ SPECS = [("cylindrical", (1024, 512)), ("cylindrical:fov=180,vfov=120", (4096, 2
          ("cylindrical-equal-area:vfov=180", (4096, 2048)), ("cylindrical-equal-area:fov=359.99", (333, 4096)),
          ("mercator", (4096, 4096)), ("mercator:fov=200,vfov=150", (1024, 512)), ("mercator:fov=0.01", (64, 64)),
          ("mercator:vfov=179.999", (256, 256)),
+         ("pannini", (800, 400)), ("pannini:fov=170,d=2,vcomp=0.5", (512, 512)), ("pannini:fov=100,d=0", (300, 700)),
+         ("pannini:fov=0.01", (64, 64)), ("pannini:fov=239.9,d=0.5,vcomp=1", (800, 400)),
          ("little-planet", (4096, 4096)), ("little-planet:fov=359.9", (640, 400)), ("little-planet:fov=0.01", (64, 64))]
 
 
@@ -106,3 +109,23 @@ def test_little_planet_kernel_is_the_stereographic_fisheye_looking_down():
     inside = r <= w / 2.0
     assert ok[inside].all() and not ok[r > w / 2.0 + 1e-6].any()
     np.testing.assert_allclose(d[inside], want[inside], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)), (100.0, 0.0, (640, 480))])
+def test_pannini_kernel_rays_land_where_sharpless_formula_puts_them(fov, dist, size):
+    """Each ray's longitude phi and latitude theta, through Sharpless, Postle and German's eq. 1-2 (S = (d + 1) /
+    (d + cos phi), x = S sin phi, y = S tan theta, scaled so that fov/2 is at the side edges: pixel x = W/2 (1 + x /
+    x_F), y = H/2 - W/2 y / x_F, x_F = S(fov/2) sin(fov/2)), land on the pixel the ray came from: within 1e-9 px
+    (a few ulps of the ray, times at most 1e3 px per unit)."""
+    w, h = size
+    rng = np.random.default_rng(16)
+    xy = np.stack([rng.uniform(0.0, w, 20000), rng.uniform(0.0, h, 20000)], -1)
+    d, ok = unproject_kernel(make_lens(f"pannini:fov={fov:g},d={dist:g}", size).dir_kernel(), xy)
+    assert ok.all()
+    phi = np.arctan2(d[:, 0], d[:, 2])
+    theta = np.arctan2(d[:, 1], np.hypot(d[:, 0], d[:, 2]))
+    S = (dist + 1.0) / (dist + np.cos(phi))
+    F = np.radians(fov) / 2.0
+    x_f = (dist + 1.0) / (dist + np.cos(F)) * np.sin(F)
+    back = np.stack([w / 2.0 * (1.0 + S * np.sin(phi) / x_f), h / 2.0 - w / 2.0 * S * np.tan(theta) / x_f], -1)
+    np.testing.assert_allclose(back, xy, rtol=0, atol=1e-9)

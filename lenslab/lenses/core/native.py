@@ -8,7 +8,7 @@ calibrated models' projections and solved inverses, OCamCalib's solved projectio
 direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
 reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
 
-Pixel -> direction of the fisheye, the little planet, the cylinders, the perspective and the equi-angular cube map (their
+Pixel -> direction of the fisheye, the little planet, the cylinders, Pannini, the perspective and the equi-angular cube map (their
 :class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs, so the warp's exact map does):
 ``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
 """

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -100,6 +100,18 @@ class Pannini(Lens):
 
     def _vscale(self, S):
         return 1.0 + (1.0 - self.vcomp) * (S - 1.0)
+
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``pannini_dirs``: the NumPy steps of :meth:`uv_to_dir` through
+        :meth:`Lens.pixel_to_dir`, in their order)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, Pannini, ("_vscale",)):
+            return None
+        d = self.d
+        return DirKernel(lens_kernels().pannini_dirs, np.array(
+            [self.width, self.height, self.aspect, d, self.x_f, (d + 1.0) ** 2, 1.0 - d * d,
+             self.F * (1.0 + 1e-12) + 1e-15, 1.0 - self.vcomp], dtype=FLOAT))
 
     def uv_to_dir(self, uv):
         d = self.d
