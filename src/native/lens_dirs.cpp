@@ -14,21 +14,17 @@
 #include <cstdint>
 #include <stdexcept>
 
-#ifdef LENSLAB_MVEC  // glibc's vector maths (CMakeLists.txt finds it)
-#include <immintrin.h>
-extern "C" __m256d _ZGVdN4v_sin(__m256d);
-extern "C" __m256d _ZGVdN4v_cos(__m256d);
-extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
-extern "C" __m256d _ZGVdN4v_tanh(__m256d);
-extern "C" __m256d _ZGVdN4v_cosh(__m256d);
-#endif
-
 #include "lens_formulas.h"
 #include "lens_kernels.h"
+#include "lens_vmath.h"
 
 namespace nb = nanobind;
 
 namespace lenslab::lens {
+
+using vmath::atan2_4;
+using vmath::sin_cos4;
+using vmath::tanh_cosh4;
 
 namespace {
 
@@ -119,46 +115,10 @@ void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, dou
             for (int64_t j = 0; j < m; ++j) store_dir(q[j], 0.0, 0.0, d + 3 * (i0 + j), ok + i0 + j);
             continue;
         }
-#ifdef LENSLAB_MVEC
-        const __m256d sv = _mm256_loadu_pd(s);
-        _mm256_storeu_pd(sn, _ZGVdN4v_sin(sv));
-        _mm256_storeu_pd(cs, _ZGVdN4v_cos(sv));
-#else
-        for (int j = 0; j < 4; ++j) {
-            sn[j] = std::sin(s[j]);
-            cs[j] = std::cos(s[j]);
-        }
-#endif
+        sin_cos4(s, sn, cs);
         for (int64_t j = 0; j < m; ++j)
             store_dir(q[j], s[j] > 0.0 ? sn[j] / s[j] : 1.0, cs[j], d + 3 * (i0 + j), ok + i0 + j);
     }
-}
-
-// sin and cos of four angles (into sn, cs), and with Mercator's latitude tanh and cosh of four heights
-inline void sin_cos4(const double* a, double* sn, double* cs) {
-#ifdef LENSLAB_MVEC
-    const __m256d v = _mm256_loadu_pd(a);
-    _mm256_storeu_pd(sn, _ZGVdN4v_sin(v));
-    _mm256_storeu_pd(cs, _ZGVdN4v_cos(v));
-#else
-    for (int j = 0; j < 4; ++j) {
-        sn[j] = std::sin(a[j]);
-        cs[j] = std::cos(a[j]);
-    }
-#endif
-}
-
-inline void tanh_cosh4(const double* a, double* th, double* ch) {
-#ifdef LENSLAB_MVEC
-    const __m256d v = _mm256_loadu_pd(a);
-    _mm256_storeu_pd(th, _ZGVdN4v_tanh(v));
-    _mm256_storeu_pd(ch, _ZGVdN4v_cosh(v));
-#else
-    for (int j = 0; j < 4; ++j) {
-        th[j] = std::tanh(a[j]);
-        ch[j] = std::cosh(a[j]);
-    }
-#endif
 }
 
 // _Cylinder.uv_to_dir (longitude u F; lonlat.height_to_lat of KIND at v Fv; lonlat.lonlat_to_dir) through
@@ -205,15 +165,6 @@ void cylinder_loop(const double* xy, int64_t n, const double* p, double* d, bool
             o[2] = good ? dz : 0.0;
         }
     }
-}
-
-// atan2(y[j], x[j]) of four pairs, into out
-inline void atan2_4(double* out, const double* y, const double* x) {
-#ifdef LENSLAB_MVEC
-    _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
-#else
-    for (int j = 0; j < 4; ++j) out[j] = std::atan2(y[j], x[j]);
-#endif
 }
 
 }  // namespace

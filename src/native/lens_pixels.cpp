@@ -14,25 +14,14 @@
 #include "lens_formulas.h"
 #include "lens_kernels.h"
 #include "lens_pixel_steps.h"
+#include "lens_vmath.h"
 
-#ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec; CMakeLists.txt finds it)
-#include <immintrin.h>
-extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
-extern "C" __m256d _ZGVdN4v_log(__m256d);
-#endif
 
 namespace lenslab::lens {
 
-namespace {
+using vmath::atan2_4;
 
-// atan2(y[j], x[j]) of four pairs, into out
-inline void atan2_4(double* out, const double* y, const double* x) {
-#ifdef LENSLAB_MVEC
-    _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
-#else
-    for (int j = 0; j < 4; ++j) out[j] = std::atan2(y[j], x[j]);
-#endif
-}
+namespace {
 
 // asinh(a[j]) of four values, written over them, as sign(a) log(|a| + sqrt(a^2 + 1)) with glibc's vector logarithm
 // (three times faster than its vector asinh): within a few ulps of 1 of it, the same to 1e-13 px of a map; the
@@ -43,11 +32,7 @@ inline void asinh_4(double* a) {
         const double m = std::fabs(a[j]);
         g[j] = m + std::sqrt(m * m + 1.0);
     }
-#ifdef LENSLAB_MVEC
-    _mm256_storeu_pd(g, _ZGVdN4v_log(_mm256_loadu_pd(g)));
-#else
-    for (int j = 0; j < 4; ++j) g[j] = std::log(g[j]);
-#endif
+    vmath::log4(g);
     for (int j = 0; j < 4; ++j) a[j] = std::copysign(g[j], a[j]);
 }
 
