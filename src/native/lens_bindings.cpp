@@ -113,6 +113,12 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Pannini directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("swirl_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 7, "swirl: 7 parameters");
+        swirl_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Swirled pinhole directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
     m.def("cylinder_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
         need(p.size() == 8, "cylinder: 8 parameters");
         need(whole(p.data()[3], 64) >= 0, "cylinder: the projection code must be a whole number");

@@ -47,6 +47,8 @@ void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy
 void sinusoidal_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // Pannini (lens_pixels.cpp): p = W, H, H / W, d, x_f, cos of the edge longitude, 1 - vcomp, edge slack
 void pannini_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// swirl of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, -amount, edge slack
+void swirl_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // cylinders (lens_pixels.cpp): p = W, H, H / W, cylinder code, F, Fv, largest |longitude| (with its slack), edge slack
 void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 // Brown distortion of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, k1, k2, fold radius squared, edge slack

@@ -20,6 +20,7 @@
 namespace lenslab::lens {
 
 using vmath::atan2_4;
+using vmath::sin_cos4;
 
 namespace {
 
@@ -272,6 +273,31 @@ void pannini_pixels(const double* dirs, int64_t n, const double* p, double* xy, 
         v *= 1.0 + keep * (S - 1.0);
         v /= x_f;
         if (std::isfinite(u) && std::isfinite(v)) uv_pixel(i, u, v, w, h, aspect, slack, xy, ok);
+    }
+}
+
+// Perspective.dir_to_uv, then Swirl.unbend (rotate_by_radius by -amount: (u + i v) exp(i k), k = -amount |(u, v)|,
+// as NumPy's complex product), then the pixel, four directions at a time. p = W, H, H / W, t, t_v, -amount, edge slack
+void swirl_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
+    const double w = p[0], h = p[1], aspect = p[2], t = p[3], tv = p[4], amount = p[5], slack = p[6];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double u[4] = {0.0, 0.0, 0.0, 0.0}, v[4] = {0.0, 0.0, 0.0, 0.0}, k[4] = {0.0, 0.0, 0.0, 0.0}, c[4], s[4];
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            clear2(i0 + j, xy, ok);
+            good[j] = pinhole_uv(d, i0 + j, t, tv, u[j], v[j]);
+            if (!good[j]) continue;
+            k[j] = u[j] * u[j];
+            k[j] += v[j] * v[j];
+            k[j] = std::sqrt(k[j]);
+            k[j] *= amount;
+        }
+        sin_cos4(k, s, c);
+        for (int64_t j = 0; j < m; ++j) {
+            if (!good[j]) continue;
+            uv_pixel(i0 + j, c[j] * u[j] - s[j] * v[j], c[j] * v[j] + s[j] * u[j], w, h, aspect, slack, xy, ok);
+        }
     }
 }
 

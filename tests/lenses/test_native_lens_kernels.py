@@ -153,7 +153,9 @@ WHOLE = [("perspective:fov=90", (640, 480)), ("perspective:fov=0.01", (64, 64)),
          ("dual-fisheye:fov=170,mapping=orthographic", (800, 400)), ("dual-fisheye:fov=360", (800, 400)),
          ("dual-fisheye:fov=0.01", (64, 32)), ("sinusoidal", (800, 400)), ("sinusoidal", (300, 700)),
          ("pannini", (800, 400)), ("pannini:fov=170,d=2,vcomp=0.5", (512, 512)), ("pannini:fov=100,d=0", (300, 700)),
-         ("pannini:fov=0.01", (64, 64)), ("pannini:fov=239.9,d=0.5,vcomp=1", (800, 400))]
+         ("pannini:fov=0.01", (64, 64)), ("pannini:fov=239.9,d=0.5,vcomp=1", (800, 400)),
+         ("swirl:amount=6", (800, 400)), ("swirl:amount=-3,fov=150", (512, 512)), ("swirl:amount=0", (300, 700)),
+         ("swirl:amount=100,fov=0.01", (64, 64))]
 
 
 def numpy_steps(lens):
@@ -170,7 +172,7 @@ def numpy_steps(lens):
 @given(d=DIRS)
 def test_whole_image_kernels_match_the_models_numpy_steps(spec, size, d):
     """The whole-image kernels (perspective, Hammer, sinusoidal, Pannini, tiled, fisheye, little planet,
-    dual fisheye, cylinders, Brown) are the NumPy
+    dual fisheye, cylinders, Brown, swirl) are the NumPy
     steps of Lens.dir_to_pixel (normalise, dir_to_uv, uv_to_pixel, snap_to_image; for a grid, the first tile that
     sees the direction): those steps, run with the kernels switched off, are their reference."""
     lens = make_lens(spec, size)

@@ -1,5 +1,5 @@
 """The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the
-cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini and the Brown-distorted pinhole
+cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini and the Brown-distorted and swirled pinholes
 (``src/native/lens_pixels.cpp``).
 
 Each kernel is held to the model's own NumPy steps (``Lens.dir_to_pixel`` with the kernel switched off: they are its
@@ -190,6 +190,23 @@ def test_pannini_kernel_is_sharpless_formula(fov, dist, size):
                 & (want[:, 1] < h - 1e-6))
     xy, ok = project_kernel(make_lens(f"pannini:fov={fov:g},d={dist:g}", size).pixel_kernel(), d)
     assert in_frame.sum() > 2000 and ok[in_frame].all()
+    np.testing.assert_allclose(xy[in_frame], want[in_frame], rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("amount,fov,size", [(6.0, 90.0, (800, 400)), (-3.0, 150.0, (512, 512))])
+def test_swirl_kernel_is_the_polar_swirl_of_a_pinhole(amount, fov, size):
+    """docs/conventions.md: in polar coordinates (rho, alpha) of the pinhole's (u', v') = (dx / dz, dy / dz) / t, the
+    image point is at alpha = alpha' - rho amount, rho kept; pixel x = W/2 (1 + u), y = H/2 - W/2 v."""
+    w, h = size
+    d = _unit(np.random.default_rng(17), 20000)
+    d = d[d[:, 2] > 0.2]
+    t = np.tan(np.radians(fov) / 2.0)
+    up, vp = d[:, 0] / d[:, 2] / t, d[:, 1] / d[:, 2] / t
+    rho, alpha = np.hypot(up, vp), np.arctan2(vp, up) - np.hypot(up, vp) * amount
+    want = np.stack([w / 2.0 * (1.0 + rho * np.cos(alpha)), h / 2.0 - w / 2.0 * rho * np.sin(alpha)], -1)
+    in_frame = (want[:, 0] > 1e-6) & (want[:, 0] < w - 1e-6) & (want[:, 1] > 1e-6) & (want[:, 1] < h - 1e-6)
+    xy, ok = project_kernel(make_lens(f"swirl:amount={amount:g},fov={fov:g}", size).pixel_kernel(), d)
+    assert in_frame.sum() > 1000 and ok[in_frame].all()
     np.testing.assert_allclose(xy[in_frame], want[in_frame], rtol=0, atol=TOL)
 
 

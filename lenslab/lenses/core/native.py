@@ -2,7 +2,7 @@
 built by ``pip install -e .``, so no lens compiles anything on a machine's first warp.
 
 Direction -> pixel of the equirect, perspective, Hammer, cube map, equi-angular cube map, fisheye, little-planet,
-dual-fisheye, cylinder (central, equal-area, Mercator), sinusoidal, Pannini and Brown-distorted pinhole models (their
+dual-fisheye, cylinder (central, equal-area, Mercator), sinusoidal, Pannini and Brown-distorted and swirled pinhole models (their
 :class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp engine and :meth:`Lens.dir_to_pixel` run), the
 calibrated models' projections and solved inverses, OCamCalib's solved projection, the lensfun profiles'
 direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
