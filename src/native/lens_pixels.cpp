@@ -1,12 +1,12 @@
 // Direction -> pixel of the fisheye (and of the little planet, a stereographic fisheye turned to look down, and of
-// two fisheyes back to back), the
-// cylinders (central, Lambert's equal-area, Mercator) and the Brown distortion of a pinhole: their PixelKernel
-// (lens_kernels.h), Lens.dir_to_pixel's NumPy steps (normalise, the model's dir_to_uv, uv_to_pixel, snap_to_image)
-// in their order, built with every multiply and add rounded as written (CMakeLists.txt). The arc tangents and the logarithm
-// of Mercator's asinh come from glibc's vector maths four at a time where it has them (within 4 ulps of libm);
-// every element takes the same path whatever its place in a call (a short block is padded), so a map does not
-// depend on how the warp cut it into bands. Held to the models' NumPy steps and to the published formulas by
-// tests/lenses/test_native_projection_pixels.py.
+// two fisheyes back to back), the cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini
+// and the Brown-distorted and swirled pinholes: their PixelKernel (lens_kernels.h), the steps of the model's NumPy
+// dir_to_pixel (normalise, dir_to_uv, uv_to_pixel, snap_to_image) in their order, built with every multiply and add
+// rounded as written (CMakeLists.txt). The arc tangents, the logarithm of Mercator's asinh and the swirl's sines and
+// cosines come from glibc's vector maths four at a time where it has them (lens_vmath.h, within 4 ulps of libm);
+// every element takes the same path whatever its place in a call (a short block is padded), so a map does not depend
+// on how the warp cut it into bands. Held to the models' NumPy steps by tests/lenses/test_native_lens_kernels.py and
+// to the published formulas by tests/lenses/test_native_projection_pixels.py.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

@@ -1,20 +1,19 @@
 """The cylinders', Pannini's and the little planet's compiled pixel -> direction (``cylinder_dirs``, ``pannini_dirs``,
-``turned_fisheye_dirs``, ``src/native/lens_dirs.cpp``; their DirKernel, which ``Lens.pixel_to_dir`` and so the warp's exact map run), against
-the models' own NumPy steps (their specification) on pixels drawn by hypothesis with the extremes mixed in (the
-corners and edges, far outside, NaN and infinite pixels, fields of view near 0 and at 360 degrees, vfov 180), and
-against the inverse formulas of J. P. Snyder, *Map Projections - A Working Manual* (1987; Mercator section 7, the
-equal-area cylinder section 10), of the stereographic fisheye and Sharpless et al.'s Pannini (2010, eq. 1-2),
-transcribed here in float64.
+``turned_fisheye_dirs``, ``src/native/lens_dirs.cpp``; their DirKernel, which ``Lens.pixel_to_dir`` and so the
+warp's exact map run), against the models' own NumPy steps (their specification) on pixels drawn by hypothesis with
+the extremes mixed in (the corners and edges, far outside, NaN and infinite pixels, fields of view near 0 and at 360
+degrees, vfov 180), and against the inverse formulas of J. P. Snyder, *Map Projections - A Working Manual* (1987;
+Mercator section 7, the equal-area cylinder section 10), of the stereographic fisheye and Sharpless et al.'s Pannini
+(2010, eq. 1-2), transcribed here in float64.
 
 Tolerances: the kernels run the NumPy steps' operations in the same order without fused multiply-adds, so validity
 is the same bit for bit; the directions differ by the last bits of the sines and cosines of the longitude and of
 Mercator's tanh and cosh, which the kernel takes from glibc's vector maths (each within 4 ulps) and NumPy from its
-own loops (Pannini's arc tangent too), two of them multiplied: 8 ulps of a unit vector (2e-15). The little planet's turn is an exact axis
-permutation: the fisheye kernel's 4 ulps (1e-15, as tests/lenses/test_native_pixel_dirs.py holds it). Snyder's
-inverse reaches the direction through other functions (an arc tangent of an exponential, an arc sine, then the sine
-and cosine of the latitude): within 1e-12 of a unit ray (a few ulps, times 1/cos of the latitude where the arc sine
-nears the pole).
-"""
+own loops (Pannini's arc tangent too), two of them multiplied: 8 ulps of a unit vector (2e-15). The little planet's
+turn is an exact axis permutation: the fisheye kernel's 4 ulps (1e-15, as tests/lenses/test_native_pixel_dirs.py
+holds it). Snyder's inverse reaches the direction through other functions (an arc tangent of an exponential, an arc
+sine, then the sine and cosine of the latitude): within 1e-12 of a unit ray (a few ulps, times 1/cos of the latitude
+where the arc sine nears the pole)."""
 
 from __future__ import annotations
 
@@ -72,7 +71,8 @@ SNYDER_LAT = {
                                              ("cylindrical", ":fov=180,vfov=120", (1024, 512))])
 def test_cylinder_kernels_are_snyders_inverse(name, extra, size):
     """lambda = x / R about the image centre with R = W / fov (radians) (eq. 7-5), the latitude of the height
-    (H/2 - y) / R, or with vfov of h(vfov/2) (H/2 - y) / (H/2); d = (cos phi sin lambda, sin phi, cos phi cos lambda)."""
+    (H/2 - y) / R, or with vfov of h(vfov/2) (H/2 - y) / (H/2); d = (cos phi sin lambda, sin phi,
+    cos phi cos lambda)."""
     w, h = size
     lens = make_lens(name + extra, size)
     rng = np.random.default_rng(11)
@@ -111,7 +111,8 @@ def test_little_planet_kernel_is_the_stereographic_fisheye_looking_down():
     np.testing.assert_allclose(d[inside], want[inside], rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)), (100.0, 0.0, (640, 480))])
+@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)),
+                                           (100.0, 0.0, (640, 480))])
 def test_pannini_kernel_rays_land_where_sharpless_formula_puts_them(fov, dist, size):
     """Each ray's longitude phi and latitude theta, through Sharpless, Postle and German's eq. 1-2 (S = (d + 1) /
     (d + cos phi), x = S sin phi, y = S tan theta, scaled so that fov/2 is at the side edges: pixel x = W/2 (1 + x /

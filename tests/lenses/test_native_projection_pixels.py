@@ -1,5 +1,5 @@
-"""The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the
-cylinders (central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini and the Brown-distorted and swirled pinholes
+"""The compiled direction -> pixel of the fisheye mappings, the little planet, two fisheyes back to back, the cylinders
+(central, Lambert's equal-area, Mercator), the sinusoidal map, Pannini and the Brown-distorted and swirled pinholes
 (``src/native/lens_pixels.cpp``).
 
 Each kernel is held to the model's own NumPy steps (``Lens.dir_to_pixel`` with the kernel switched off: they are its
@@ -118,7 +118,8 @@ def test_dual_fisheye_kernel_is_two_fisheyes_back_to_back(mapping, front):
     want, _ = _fisheye_pixels(lx, d[:, 1], lz, mapping, 190.0, half, h)
     x0 = np.where(back, half, 0.0) if front == "left" else np.where(back, 0.0, half)
     want[:, 0] += x0
-    xy, ok = project_kernel(make_lens(f"dual-fisheye:fov=190,mapping={mapping},front={front}", (w, h)).pixel_kernel(), d)
+    lens = make_lens(f"dual-fisheye:fov=190,mapping={mapping},front={front}", (w, h))
+    xy, ok = project_kernel(lens.pixel_kernel(), d)
     assert ok.all()
     np.testing.assert_allclose(xy, want, rtol=0, atol=TOL)
 
@@ -159,8 +160,8 @@ def test_cylinder_kernels_are_snyders_formulas(name, extra, size):
 
 
 def test_sinusoidal_kernel_is_snyders_formula():
-    """Snyder (1987), section 30, eq. (30-1) and (30-2): x = R (lambda - lambda0) cos(phi), y = R phi, with R = W / (2 pi)
-    on a 2:1 frame, the latitude phi = asin(dy) (kept below 85 degrees, where asin keeps its digits)."""
+    """Snyder (1987), section 30, eq. (30-1) and (30-2): x = R (lambda - lambda0) cos(phi), y = R phi, with
+    R = W / (2 pi) on a 2:1 frame, the latitude phi = asin(dy) (kept below 85 degrees, where asin keeps its digits)."""
     w, h = 2048, 1024
     d = _unit(np.random.default_rng(14), 20000)
     phi = np.arcsin(d[:, 1])
@@ -173,7 +174,8 @@ def test_sinusoidal_kernel_is_snyders_formula():
     np.testing.assert_allclose(xy[keep], want[keep], rtol=0, atol=TOL)
 
 
-@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)), (100.0, 0.0, (640, 480))])
+@pytest.mark.parametrize("fov,dist,size", [(150.0, 1.0, (1200, 600)), (170.0, 2.0, (1024, 1024)),
+                                           (100.0, 0.0, (640, 480))])
 def test_pannini_kernel_is_sharpless_formula(fov, dist, size):
     """Sharpless, Postle and German (2010), eq. 1-2: S = (d + 1) / (d + cos phi), x = S sin phi, y = S tan theta,
     scaled so that the edge longitude fov/2 is at the left and right edges: pixel x = W/2 (1 + x / x_F), y = H/2 - W/2

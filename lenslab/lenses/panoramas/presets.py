@@ -82,7 +82,8 @@ class LittlePlanet(Lens):
         return d @ DOWN, ok  # camera = D^T lens
 
     def dir_kernel(self):
-        """The compiled ``pixel -> dir``: the fisheye's (``fisheye_dirs``) turned by ``D^T`` (``turned_fisheye_dirs``)."""
+        """The compiled ``pixel -> dir``: the fisheye's (``fisheye_dirs``) turned by ``D^T``
+        (``turned_fisheye_dirs``)."""
         from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
 
         kern = self._fisheye.dir_kernel()
