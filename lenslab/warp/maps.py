@@ -148,7 +148,7 @@ def exact_map_parts(src: Camera, dst: Camera, points: np.ndarray, with_dirs: boo
 #: per direction (6e4 directions, one thread, CPU time on a loaded machine); the two agree to a few ulps
 #: (tests/warp/test_warp_project.py). The lattice's nodes, checks and the samples it leaves (rim, poles) are
 #: projected in calls of thousands. Models whose ``dir_to_pixel`` is itself the kernel (perspective, Hammer,
-#: cube maps, tiled grids of the first two) run it at every size.
+#: cube maps, fisheye, little planet, cylinders, Brown pinhole, tiled grids of the first two) run it at every size.
 COMPILED_PROJECT_MIN = 1 << 12
 
 

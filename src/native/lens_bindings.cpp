@@ -87,6 +87,51 @@ void register_lens_kernels(nb::module_& m) {
     }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
        "Hammer directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
 
+    m.def("fisheye_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 21, "fisheye: 21 parameters");
+        need(whole(p.data()[3], 64) >= 0, "fisheye: the mapping code must be a whole number");
+        fisheye_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Fisheye directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("dual_fisheye_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 10, "dual fisheye: 10 parameters");
+        need(whole(p.data()[3], 64) >= 0, "dual fisheye: the mapping code must be a whole number");
+        dual_fisheye_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Dual-fisheye directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("sinusoidal_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 4, "sinusoidal: 4 parameters");
+        sinusoidal_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Sinusoidal directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("pannini_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 8, "pannini: 8 parameters");
+        pannini_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Pannini directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("swirl_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 7, "swirl: 7 parameters");
+        swirl_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Swirled pinhole directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("cylinder_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 8, "cylinder: 8 parameters");
+        need(whole(p.data()[3], 64) >= 0, "cylinder: the projection code must be a whole number");
+        cylinder_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Cylinder directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
+    m.def("brown_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
+        need(p.size() == 9, "brown: 9 parameters");
+        brown_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());
+    }, arg("d"), arg("params"), arg("xy").noconvert(), arg("ok").noconvert(), release,
+       "Brown-distorted pinhole directions (any length; zero and non-finite invalid) -> pixels (the lens's PixelKernel).");
+
     m.def("cubemap_pixels", [](Vec d, Vec p, Out<double> xy, Out<bool> ok) {
         need(p.size() == 30, "cubemap: 30 parameters");
         cubemap_pixels(d.data(), points(d, 3, xy, 2, ok), p.data(), xy.data(), ok.data());

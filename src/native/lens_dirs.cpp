@@ -14,18 +14,17 @@
 #include <cstdint>
 #include <stdexcept>
 
-#ifdef LENSLAB_MVEC  // glibc's vector maths (CMakeLists.txt finds it)
-#include <immintrin.h>
-extern "C" __m256d _ZGVdN4v_sin(__m256d);
-extern "C" __m256d _ZGVdN4v_cos(__m256d);
-#endif
-
 #include "lens_formulas.h"
 #include "lens_kernels.h"
+#include "lens_vmath.h"
 
 namespace nb = nanobind;
 
 namespace lenslab::lens {
+
+using vmath::atan2_4;
+using vmath::sin_cos4;
+using vmath::tanh_cosh4;
 
 namespace {
 
@@ -116,22 +115,111 @@ void fisheye_loop<EQUIDISTANT>(const double* xy, int64_t n, const double* p, dou
             for (int64_t j = 0; j < m; ++j) store_dir(q[j], 0.0, 0.0, d + 3 * (i0 + j), ok + i0 + j);
             continue;
         }
-#ifdef LENSLAB_MVEC
-        const __m256d sv = _mm256_loadu_pd(s);
-        _mm256_storeu_pd(sn, _ZGVdN4v_sin(sv));
-        _mm256_storeu_pd(cs, _ZGVdN4v_cos(sv));
-#else
-        for (int j = 0; j < 4; ++j) {
-            sn[j] = std::sin(s[j]);
-            cs[j] = std::cos(s[j]);
-        }
-#endif
+        sin_cos4(s, sn, cs);
         for (int64_t j = 0; j < m; ++j)
             store_dir(q[j], s[j] > 0.0 ? sn[j] / s[j] : 1.0, cs[j], d + 3 * (i0 + j), ok + i0 + j);
     }
 }
 
+// _Cylinder.uv_to_dir (longitude u F; lonlat.height_to_lat of KIND at v Fv; lonlat.lonlat_to_dir) through
+// Lens.pixel_to_dir, four pixels at a time. p = W, H, H / W, code, F, Fv, the equal-area height limit (with slack)
+template <int64_t KIND>
+void cylinder_loop(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double F = p[4], Fv = p[5], y_lim = p[6];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double phi[4] = {0.0, 0.0, 0.0, 0.0}, y[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], cs[4], s[4], c[4];
+        bool seen[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const double px = xy[2 * (i0 + j)], py = xy[2 * (i0 + j) + 1];
+            double u, v;
+            uv_of(px, py, p, u, v);
+            phi[j] = u * F;
+            y[j] = v * Fv;
+            seen[j] = finite(px * px + py * py);
+        }
+        sin_cos4(phi, sn, cs);
+        if constexpr (KIND == MERCATOR) {  // sin = tanh(y), cos = 1 / cosh(y)
+            tanh_cosh4(y, s, c);
+            for (int j = 0; j < 4; ++j) c[j] = 1.0 / c[j];
+        }
+        for (int64_t j = 0; j < m; ++j) {
+            bool good = seen[j] && std::fabs(phi[j]) <= PI;
+            if constexpr (KIND == CYLINDRICAL) {  // cos = 1 / sqrt(1 + y^2), sin = y cos
+                c[j] = 1.0 / std::sqrt(1.0 + y[j] * y[j]);
+                s[j] = y[j] * c[j];
+                good = good && finite(y[j]);
+            } else if constexpr (KIND == EQUAL_AREA_CYLINDRICAL) {  // sin = y clipped to [-1, 1]
+                s[j] = std::isnan(y[j]) ? y[j] : std::min(std::max(y[j], -1.0), 1.0);
+                c[j] = std::sqrt(at_least0(1.0 - s[j] * s[j]));
+                good = good && std::fabs(y[j]) <= y_lim;
+            } else {
+                good = good && finite(y[j]);
+            }
+            const double dx = sn[j] * c[j], dy = s[j], dz = cs[j] * c[j];
+            good = good && finite(dx * dx + dy * dy + dz * dz);
+            double* o = d + 3 * (i0 + j);
+            ok[i0 + j] = good;
+            o[0] = good ? dx : 0.0;
+            o[1] = good ? dy : 0.0;
+            o[2] = good ? dz : 0.0;
+        }
+    }
+}
+
 }  // namespace
+
+// Pannini.uv_to_dir through Lens.pixel_to_dir, four pixels at a time: with x = u x_f, k = x^2 / (d + 1)^2, the root of
+// 1 + k (1 - d^2), cos phi from it, S = (d + 1)(k + 1) / (d + root), phi = atan2(x, S cos phi), the latitude's tangent
+// v x_f / (1 + (1 - vcomp)(S - 1)); d = (sin phi, tan, cos phi) cos(latitude). p = W, H, H / W, d, x_f, (d + 1)^2,
+// 1 - d^2, the largest |phi| (with its slack), 1 - vcomp
+void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double dd = p[3], x_f = p[4], dp2 = p[5], omd2 = p[6], phi_lim = p[7], keep = p[8];
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double x[4] = {0.0, 0.0, 0.0, 0.0}, y[4] = {0.0, 0.0, 0.0, 0.0}, sc[4] = {1.0, 1.0, 1.0, 1.0};
+        double S[4] = {1.0, 1.0, 1.0, 1.0}, phi[4], sn[4], cs[4];
+        bool good[4] = {false, false, false, false};
+        for (int64_t j = 0; j < m; ++j) {
+            const double px = xy[2 * (i0 + j)], py = xy[2 * (i0 + j) + 1];
+            double u, v;
+            uv_of(px, py, p, u, v);
+            x[j] = u * x_f;
+            y[j] = v * x_f;
+            const double k = x[j] * x[j] / dp2;
+            const double disc = 1.0 + k * omd2;
+            const double root = std::sqrt(at_least0(disc));
+            const double clon = (root - k * dd) / (k + 1.0);
+            S[j] = (dd + 1.0) * (k + 1.0) / (dd + root);
+            sc[j] = S[j] * clon;
+            good[j] = disc >= 0.0 && finite(px * px + py * py);
+        }
+        atan2_4(phi, x, sc);
+        sin_cos4(phi, sn, cs);
+        for (int64_t j = 0; j < m; ++j) {
+            const double tan_t = y[j] / (1.0 + keep * (S[j] - 1.0));
+            const double c = 1.0 / std::sqrt(1.0 + tan_t * tan_t);
+            const double dx = sn[j] * c, dy = tan_t * c, dz = cs[j] * c;
+            const bool seen = good[j] && std::fabs(phi[j]) <= phi_lim && finite(tan_t)
+                              && finite(dx * dx + dy * dy + dz * dz);
+            double* o = d + 3 * (i0 + j);
+            ok[i0 + j] = seen;
+            o[0] = seen ? dx : 0.0;
+            o[1] = seen ? dy : 0.0;
+            o[2] = seen ? dz : 0.0;
+        }
+    }
+}
+
+// cylinder pixels -> unit directions (0 and false where the lens has no ray)
+void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    switch (int64_t(p[3])) {
+        case CYLINDRICAL: cylinder_loop<CYLINDRICAL>(xy, n, p, d, ok); break;
+        case EQUAL_AREA_CYLINDRICAL: cylinder_loop<EQUAL_AREA_CYLINDRICAL>(xy, n, p, d, ok); break;
+        case MERCATOR: cylinder_loop<MERCATOR>(xy, n, p, d, ok); break;
+        default: throw std::invalid_argument("cylinder_dirs: not a cylinder code");
+    }
+}
 
 // perspective pixels -> unit directions (Perspective.uv_to_dir: every finite pixel has a ray). p = W, H, H / W, t, tv
 void perspective_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
@@ -164,6 +252,22 @@ void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool*
         case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(xy, n, p, d, ok); break;
         case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(xy, n, p, d, ok); break;
         default: throw std::invalid_argument("fisheye_dirs: not a fisheye mapping code");
+    }
+}
+
+// a fisheye turned in the camera (the little planet): fisheye_dirs, then d M with M (row-major) after the fisheye's
+// 10 parameters, as NumPy's matmul (exact for the axis permutations the models use); in blocks that stay in the cache
+void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    constexpr int64_t B = 256;
+    const double* M = p + 10;
+    for (int64_t i0 = 0; i0 < n; i0 += B) {
+        const int64_t m = std::min(B, n - i0);
+        fisheye_dirs(xy + 2 * i0, m, p, d + 3 * i0, ok + i0);
+        for (int64_t j = 0; j < m; ++j) {
+            double* o = d + 3 * (i0 + j);
+            const double a = o[0], b = o[1], c = o[2];
+            for (int k = 0; k < 3; ++k) o[k] = a * M[k] + b * M[3 + k] + c * M[6 + k];
+        }
     }
 }
 
@@ -202,6 +306,15 @@ void register_lens_dirs(nb::module_& m) {
     bind_dirs<lenslab::lens::fisheye_dirs, 10>(
         m, "fisheye_dirs",
         "Fisheye pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::turned_fisheye_dirs, 19>(
+        m, "turned_fisheye_dirs",
+        "Pixels of a fisheye turned in the camera (any length; non-finite ones invalid) -> unit directions.");
+    bind_dirs<lenslab::lens::pannini_dirs, 9>(
+        m, "pannini_dirs",
+        "Pannini pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::cylinder_dirs, 7>(
+        m, "cylinder_dirs",
+        "Cylinder pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
     bind_dirs<lenslab::lens::eac_dirs, 60>(
         m, "eac_dirs",
         "Equi-angular cube map pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");

@@ -1,6 +1,7 @@
 // The lens models' array kernels (see lens_kernels.h): the same steps as the models' former numba kernels,
 // compiled ahead of time, so a lens costs nothing to start on a new machine.
 #include "lens_kernels.h"
+#include "lens_pixel_steps.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,12 +27,6 @@ inline bool store(int64_t i, double u, double v, const Frame& f, double* xy, boo
         return true;
     }
     return false;
-}
-
-inline void clear2(int64_t i, double* out, bool* ok) {
-    out[2 * i] = 0.0;
-    out[2 * i + 1] = 0.0;
-    ok[i] = false;
 }
 
 // lenslab direction i (any length) as a unit ray in OpenCV's frame (y down); false unless finite and non-zero
@@ -118,47 +113,14 @@ inline Undistorted undistort(double xd, double yd, const Distortion& m, double h
     return {ok, x, y, r.its + it2};
 }
 
-// direction i scaled to unit length as Lens.dir_to_pixel does; false for zero and non-finite ones
-inline bool unit_dir(const double* d, int64_t i, double& x, double& y, double& z) {
-    x = d[3 * i];
-    y = d[3 * i + 1];
-    z = d[3 * i + 2];
-    const double n2 = x * x + y * y + z * z;
-    if (!(n2 > 0.0 && finite(n2))) return false;
-    const double s = std::sqrt(n2);
-    x /= s;
-    y /= s;
-    z /= s;
-    return true;
-}
-
-// Lens.uv_to_pixel then Lens.snap_to_image (W, H, H / W, slack), writing pixel i when it is inside
-inline void uv_pixel(int64_t i, double u, double v, double w, double h, double aspect, double slack, double* xy,
-                     bool* ok) {
-    double x = u + 1.0;
-    x *= 0.5 * w;
-    double y = w != h ? 1.0 - v / aspect : 1.0 - v;
-    y *= 0.5 * h;
-    if (x >= -slack && x <= w + slack && y >= -slack && y <= h + slack) {
-        xy[2 * i] = std::min(std::max(x, 0.0), w);
-        xy[2 * i + 1] = std::min(std::max(y, 0.0), h);
-        ok[i] = true;
-    }
-}
-
 }  // namespace
 
 void perspective_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
     const double w = p[0], h = p[1], t = p[2], tv = p[3], aspect = p[4], slack = p[5];
     for (int64_t i = 0; i < n; ++i) {
         clear2(i, xy, ok);
-        double x, y, z;
-        if (!unit_dir(d, i, x, y, z) || !(z > 0.0)) continue;
-        const double inv = 1.0 / z;
-        double u = x * inv, v = y * inv;
-        u /= t;
-        v /= tv;
-        uv_pixel(i, u, v, w, h, aspect, slack, xy, ok);
+        double u, v;
+        if (pinhole_uv(d, i, t, tv, u, v)) uv_pixel(i, u, v, w, h, aspect, slack, xy, ok);
     }
 }
 

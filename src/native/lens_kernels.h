@@ -28,6 +28,32 @@ void perspective_pixels(const double* d, int64_t n, const double* p, double* xy,
 // hammer: p = W, H, H / W, edge slack
 void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
 
+// pixel -> unit direction (DirKernels, lens_dirs.cpp) of a fisheye: p = W, H, H / W, mapping code, plane scale, the
+// largest squared radius, cx, cy, r_ref, off-centre; of a fisheye turned in the camera: those, then M (9, row-major:
+// the camera sees d M); of a cylinder: p = W, H, H / W, cylinder code, F, Fv, the equal-area height limit
+void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+// of Pannini: p = W, H, H / W, d, x_f, (d + 1)^2, 1 - d^2, the largest |longitude| (with its slack), 1 - vcomp
+void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+
+// fisheye (lens_pixels.cpp): p = W, H, H / W, mapping code, plane scale, largest s over it (with the rim slack),
+// off-centre (0 or 1), cx, cy, r_ref, edge slack, turned (0 or 1), then the turn R (9, row-major: the lens sees R d)
+void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// two fisheyes back to back (lens_pixels.cpp): p = W, H, half width, mapping code, plane scale, largest s over it (with
+// the rim slack), the front lens's left edge, edge slack, half / H, the largest x of the left half
+void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// sinusoidal (lens_pixels.cpp): p = W, H, H / W, edge slack
+void sinusoidal_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// Pannini (lens_pixels.cpp): p = W, H, H / W, d, x_f, cos of the edge longitude, 1 - vcomp, edge slack
+void pannini_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// swirl of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, -amount, edge slack
+void swirl_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// cylinders (lens_pixels.cpp): p = W, H, H / W, cylinder code, F, Fv, largest |longitude| (with its slack), edge slack
+void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+// Brown distortion of a pinhole (lens_pixels.cpp): p = W, H, H / W, t, t_v, k1, k2, fold radius squared, edge slack
+void brown_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);
+
 // cube map (Cubemap._dir_to_pixel: d as given, not normalised): p = W, H, face width, face height, edge slack,
 // border nudge, then per major axis +x, -x, +y, -y, +z, -z: the face's column, row, sign of A, sign of B
 void cubemap_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok);

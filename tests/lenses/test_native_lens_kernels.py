@@ -132,7 +132,30 @@ def test_equirect_pixel_kernel_matches_its_reference_and_the_model(spec, d):
 WHOLE = [("perspective:fov=90", (640, 480)), ("perspective:fov=0.01", (64, 64)),  # fov near 0
          ("perspective:fov=179.99", (512, 512)), ("perspective:fov=120,vfov=60", (800, 400)),
          ("perspective:dfov=100", (600, 400)), ("hammer", (800, 400)), ("hammer", (512, 512)),
-         ("tiled:2x2", (800, 600)), ("tiled:3x1", (900, 200))]
+         ("tiled:2x2", (800, 600)), ("tiled:3x1", (900, 200)),
+         # the fisheye mappings, the little planet, the cylinders, the Brown-distorted pinhole and two fisheyes back to
+         # back (lens_pixels.cpp;
+         # their published formulas in test_native_projection_pixels.py)
+         ("fisheye:fov=180,mapping=stereographic", (512, 512)), ("fisheye:fov=350,mapping=stereographic", (640, 480)),
+         ("fisheye:fov=0.01,mapping=stereographic", (64, 64)), ("fisheye:fov=180,mapping=equidistant", (512, 512)),
+         ("fisheye:fov=360,mapping=equidistant", (512, 512)), ("fisheye:fov=360,mapping=equisolid", (512, 384)),
+         ("fisheye:fov=180,mapping=orthographic", (800, 600)), ("fisheye:dfov=180", (800, 533)),
+         ("fisheye:vfov=150,mapping=equisolid,cx=0.05,cy=-0.02", (800, 533)),
+         ("little-planet", (512, 512)), ("little-planet:fov=359.9", (640, 400)), ("little-planet:fov=0.01", (64, 64)),
+         ("cylindrical", (1024, 512)), ("cylindrical:fov=180,vfov=120", (1024, 512)), ("cylindrical:fov=0.01", (64, 64)),
+         ("cylindrical-equal-area", (1024, 326)), ("cylindrical-equal-area:vfov=180", (1024, 512)),
+         ("mercator", (512, 512)), ("mercator:fov=200,vfov=150", (1024, 512)), ("mercator:fov=359.99", (600, 700)),
+         ("mercator:vfov=179.999", (256, 256)),
+         ("brown:k1=-0.05,fov=90", (640, 480)), ("brown:k1=-0.3,fov=120", (512, 512)),  # folds inside the image
+         ("brown:k1=0.1,k2=0.05,fov=0.5", (64, 48)), ("brown:k1=0.1,k2=-0.3,fov=100,vfov=60", (800, 400)),
+         ("dual-fisheye:fov=190", (1024, 512)), ("dual-fisheye:fov=180,mapping=equisolid,front=right", (1024, 512)),
+         ("dual-fisheye:fov=200,mapping=stereographic", (1001, 480)),  # an odd width: halves of 500.5 px
+         ("dual-fisheye:fov=170,mapping=orthographic", (800, 400)), ("dual-fisheye:fov=360", (800, 400)),
+         ("dual-fisheye:fov=0.01", (64, 32)), ("sinusoidal", (800, 400)), ("sinusoidal", (300, 700)),
+         ("pannini", (800, 400)), ("pannini:fov=170,d=2,vcomp=0.5", (512, 512)), ("pannini:fov=100,d=0", (300, 700)),
+         ("pannini:fov=0.01", (64, 64)), ("pannini:fov=239.9,d=0.5,vcomp=1", (800, 400)),
+         ("swirl:amount=6", (800, 400)), ("swirl:amount=-3,fov=150", (512, 512)), ("swirl:amount=0", (300, 700)),
+         ("swirl:amount=100,fov=0.01", (64, 64))]
 
 
 def numpy_steps(lens):
@@ -148,9 +171,10 @@ def numpy_steps(lens):
 @HYP
 @given(d=DIRS)
 def test_whole_image_kernels_match_the_models_numpy_steps(spec, size, d):
-    """The perspective, Hammer and tiled kernels are the NumPy steps of Lens.dir_to_pixel (normalise,
-    dir_to_uv, uv_to_pixel, snap_to_image; for a grid, the first tile that sees the direction): those steps,
-    run with the kernels switched off, are their reference."""
+    """The whole-image kernels (perspective, Hammer, sinusoidal, Pannini, tiled, fisheye, little planet,
+    dual fisheye, cylinders, Brown, swirl) are the NumPy
+    steps of Lens.dir_to_pixel (normalise, dir_to_uv, uv_to_pixel, snap_to_image; for a grid, the first tile that
+    sees the direction): those steps, run with the kernels switched off, are their reference."""
     lens = make_lens(spec, size)
     kern = lens.pixel_kernel()
     assert kern is not None

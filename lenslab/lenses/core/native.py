@@ -1,15 +1,16 @@
 """The lens models' compiled kernels: C++17 in the extension ``lenslab.cxx_kernels`` (``src/native/lens_*``),
 built by ``pip install -e .``, so no lens compiles anything on a machine's first warp.
 
-Direction -> pixel of the equirect, perspective, Hammer, cube map and equi-angular cube map models (their
-:class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp engine and :meth:`Lens.dir_to_pixel` run), the
-calibrated models' projections and solved inverses, OCamCalib's solved projection, the lensfun profiles'
-direction -> pixel and the solved sides of the division, Brown and tan-fold fisheye models. Each has a NumPy
-reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
+Direction -> pixel of the equirect, perspective, Hammer, cube map, equi-angular cube map, fisheye, little-planet,
+dual-fisheye, cylinder (central, equal-area, Mercator), sinusoidal, Pannini and Brown-distorted and swirled pinhole
+models (their :class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp engine and
+:meth:`Lens.dir_to_pixel` run), the calibrated models' projections and solved inverses, OCamCalib's solved
+projection, the lensfun profiles' direction -> pixel and the solved sides of the division, Brown and tan-fold
+fisheye models. Each has a NumPy reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
 
-Pixel -> direction of the fisheye, the perspective and the equi-angular cube map (their
-:class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs, so the warp's exact map does):
-``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
+Pixel -> direction of the fisheye, the little planet, the cylinders, Pannini, the perspective and the equi-angular
+cube map (their :class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs, so the
+warp's exact map does): ``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
 """
 
 from __future__ import annotations

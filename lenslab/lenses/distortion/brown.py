@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.distortion.division import smallest_positive_root
 from lenslab.lenses.registry import register
 from lenslab.lenses.formulas.solve import BROWN, inverse_table, kernel_settings
@@ -79,6 +79,20 @@ class Brown(Wrapped):
         valid = np.empty(flat.shape[0], dtype=np.bool_)
         lens_kernels().brown_bend(flat, self.k1, self.k2, self.ru_hi, self.rd_fold, table, step, *kernel_settings(), out, valid)
         return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` of a Brown-distorted pinhole (``brown_pixels``: the NumPy steps of the
+        perspective's :meth:`dir_to_uv`, :meth:`unbend` and :meth:`Lens.dir_to_pixel`, in their order); None for
+        other bases."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+        from lenslab.lenses.projections.perspective import Perspective
+
+        base = self.base_lens
+        if type(base) is not Perspective or not kernel_holds(self, Brown, ("unbend",)):
+            return None
+        return PixelKernel(lens_kernels().brown_pixels, np.array(
+            [self.width, self.height, self.aspect, base.t, base.tv, self.k1, self.k2, self.ru_fold * self.ru_fold,
+             self.edge_slack], dtype=FLOAT))
 
     def unbend(self, uv):
         u, v = uv[..., 0], uv[..., 1]

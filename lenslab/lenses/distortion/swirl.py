@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 from lenslab.lenses.core.wrapped import Wrapped
 
@@ -66,6 +66,18 @@ class Swirl(Wrapped):
 
     def bend(self, uv):
         return rotate_by_radius(uv, self.amount), np.ones(uv.shape[:-1], dtype=bool)
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` of a swirled pinhole (``swirl_pixels``: the NumPy steps of the perspective's
+        :meth:`dir_to_uv`, :meth:`unbend` and :meth:`Lens.dir_to_pixel`, in their order); None for other bases."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+        from lenslab.lenses.projections.perspective import Perspective
+
+        base = self.base_lens
+        if type(base) is not Perspective or not kernel_holds(self, Swirl, ("unbend",)):
+            return None
+        return PixelKernel(lens_kernels().swirl_pixels, np.array(
+            [self.width, self.height, self.aspect, base.t, base.tv, -self.amount, self.edge_slack], dtype=FLOAT))
 
     def unbend(self, uv):
         return rotate_by_radius(uv, -self.amount), np.ones(uv.shape[:-1], dtype=bool)

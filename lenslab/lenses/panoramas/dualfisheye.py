@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, ReferencePoint
-from lenslab.lenses.projections.fisheye import FOV_LIMITS, Fisheye
+from lenslab.lenses.core.base import FLOAT, Lens, Param, Piece, PixelKernel, ReferencePoint
+from lenslab.lenses.projections.fisheye import FOV_LIMITS, RIM_SLACK, Fisheye
 from lenslab.lenses.registry import register
 
 #: camera -> back-lens frame: the front lens turned half a turn about +y (its right is -x)
@@ -88,10 +88,27 @@ class DualFisheye(Lens):
             ok &= self.in_image(xy) & np.isfinite(x) & np.isfinite(y)
         return clean(d, ok, inplace=True)
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``dual_fisheye_pixels``: the NumPy steps of :meth:`dir_to_pixel`, in their
+        order)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        fish = self._lens
+        if not kernel_holds(self, DualFisheye) or type(fish) is not Fisheye:
+            return None
+        return PixelKernel(lens_kernels().dual_fisheye_pixels, np.array(
+            [self.width, self.height, self.half, fish.kind, fish.plane_scale, fish.s_max * (1.0 + RIM_SLACK),
+             self._front_x0, self.edge_slack, self.half / self.height, self.half * (1.0 - 1e-15)], dtype=FLOAT))
+
     def dir_to_pixel(self, dirs):
         from lenslab.lenses.core.base import as_points, clean
 
         d = as_points(dirs, 3, "directions")
+        kern = self.pixel_kernel()
+        if kern is not None:  # the same steps, compiled, in one pass
+            from lenslab.lenses.core.native import project_kernel
+
+            return project_kernel(kern, d)
         with np.errstate(all="ignore"):
             n = np.sqrt(np.einsum("...i,...i->...", d, d))
             good = (n > 0) & np.isfinite(n)

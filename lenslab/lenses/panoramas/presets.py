@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.projections.equirect import Equirect
 from lenslab.lenses.projections.fisheye import Fisheye
 from lenslab.lenses.registry import register
@@ -80,6 +80,24 @@ class LittlePlanet(Lens):
     def uv_to_dir(self, uv):
         d, ok = self._fisheye.uv_to_dir(uv)
         return d @ DOWN, ok  # camera = D^T lens
+
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir``: the fisheye's (``fisheye_dirs``) turned by ``D^T``
+        (``turned_fisheye_dirs``)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        kern = self._fisheye.dir_kernel()
+        if kern is None or not dir_kernel_holds(self, LittlePlanet):
+            return None
+        return DirKernel(lens_kernels().turned_fisheye_dirs, np.concatenate([kern.params, DOWN.reshape(9)]))
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel``: the fisheye's (``fisheye_pixels``) seeing ``D d``."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, LittlePlanet):
+            return None
+        return PixelKernel(lens_kernels().fisheye_pixels, self._fisheye.pixel_params(DOWN))
 
     def dir_to_uv(self, d):
         return self._fisheye.dir_to_uv(np.ascontiguousarray(d @ DOWN.T, dtype=FLOAT))

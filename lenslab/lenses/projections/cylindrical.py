@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, Seams
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint, Seams
 from lenslab.lenses.formulas import lonlat
 from lenslab.lenses.registry import register
 
@@ -96,6 +96,27 @@ class _Cylinder(Lens):
         phi = uv[..., 0] * self.F
         sin_t, cos_t, ok = self.v_to_lat(uv[..., 1] * self.Fv)
         return lonlat.lonlat_to_dir(phi, sin_t, cos_t), ok & (np.abs(phi) <= np.pi)
+
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``cylinder_dirs``: the NumPy steps of :meth:`uv_to_dir` through
+        :meth:`Lens.pixel_to_dir`, in their order)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, _Cylinder, ("v_to_lat",)):
+            return None
+        return DirKernel(lens_kernels().cylinder_dirs, np.array(
+            [self.width, self.height, self.aspect, self.kind, self.F, self.Fv, 1.0 + LON_SLACK], dtype=FLOAT))
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``cylinder_pixels``: the NumPy steps of :meth:`dir_to_uv` through
+        :meth:`Lens.dir_to_pixel`, in their order)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, _Cylinder, ("lat_to_v",)):
+            return None
+        return PixelKernel(lens_kernels().cylinder_pixels, np.array(
+            [self.width, self.height, self.aspect, self.kind, self.F, self.Fv, self.F * (1.0 + LON_SLACK),
+             self.edge_slack], dtype=FLOAT))
 
     def dir_to_uv(self, d):
         phi, s, c = lonlat.dir_to_lonlat(d)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import DirKernel, Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
 
@@ -175,6 +175,23 @@ class Fisheye(Lens):
         return d, r2 <= self._s_max2
 
     # -- direction -> pixel ------------------------------------------------------------------
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``fisheye_pixels``: the NumPy steps of :meth:`dir_to_uv` through
+        :meth:`Lens.dir_to_pixel`, in their order)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Fisheye, ("_from_local",)):
+            return None
+        return PixelKernel(lens_kernels().fisheye_pixels, self.pixel_params())
+
+    def pixel_params(self, turn=None) -> np.ndarray:
+        """The parameters of ``fisheye_pixels`` for this lens, seeing ``turn @ d`` (a 3 x 3 rotation; None: ``d``)."""
+        local = not (self.cx == 0.0 and self.cy == 0.0 and self.r_ref == 1.0)
+        head = [self.width, self.height, self.aspect, self.kind, self.plane_scale, self.s_max * (1.0 + RIM_SLACK),
+                local, self.cx, self.cy, self.r_ref, self.edge_slack, turn is not None]
+        rows = np.zeros(9) if turn is None else np.asarray(turn, dtype=np.float64).reshape(9)
+        return np.concatenate([np.array(head, dtype=np.float64), rows])
+
     def dir_to_uv(self, d):
         xy, s, seen = azimuthal.dir_to_plane(self.kind, d)
         xy /= self.plane_scale

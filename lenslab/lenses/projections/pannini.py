@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint
+from lenslab.lenses.core.base import FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -101,6 +101,18 @@ class Pannini(Lens):
     def _vscale(self, S):
         return 1.0 + (1.0 - self.vcomp) * (S - 1.0)
 
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``pannini_dirs``: the NumPy steps of :meth:`uv_to_dir` through
+        :meth:`Lens.pixel_to_dir`, in their order)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, Pannini, ("_vscale",)):
+            return None
+        d = self.d
+        return DirKernel(lens_kernels().pannini_dirs, np.array(
+            [self.width, self.height, self.aspect, d, self.x_f, (d + 1.0) ** 2, 1.0 - d * d,
+             self.F * (1.0 + 1e-12) + 1e-15, 1.0 - self.vcomp], dtype=FLOAT))
+
     def uv_to_dir(self, uv):
         d = self.d
         x = uv[..., 0] * self.x_f
@@ -120,6 +132,17 @@ class Pannini(Lens):
         np.multiply(tan_t, c, out=out[..., 1])
         np.multiply(np.cos(phi), c, out=out[..., 2])
         return out, ok & np.isfinite(tan_t)
+
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``pannini_pixels``: the NumPy steps of :meth:`dir_to_uv` through
+        :meth:`Lens.dir_to_pixel`, in their order)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Pannini, ("_vscale",)):
+            return None
+        return PixelKernel(lens_kernels().pannini_pixels, np.array(
+            [self.width, self.height, self.aspect, self.d, self.x_f, self._cos_edge, 1.0 - self.vcomp,
+             self.edge_slack], dtype=FLOAT))
 
     def dir_to_uv(self, dv):
         dx, dy, dz = dv[..., 0], dv[..., 1], dv[..., 2]

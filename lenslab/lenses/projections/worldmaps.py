@@ -158,6 +158,15 @@ class Sinusoidal(Lens):
         np.multiply(np.cos(phi), c, out=d[..., 2])
         return d, ok
 
+    def pixel_kernel(self):
+        """The compiled ``dir -> pixel`` (``sinusoidal_pixels``: the NumPy steps of :meth:`dir_to_pixel`)."""
+        from lenslab.lenses.core.native import kernel_holds, lens_kernels
+
+        if not kernel_holds(self, Sinusoidal):
+            return None
+        return PixelKernel(lens_kernels().sinusoidal_pixels, np.array([self.width, self.height, self.aspect,
+                                                                        self.edge_slack], dtype=FLOAT))
+
     def dir_to_uv(self, d):
         dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
         c = np.hypot(dx, dz)
