@@ -8,11 +8,11 @@ besides lenslab's own ``lenslab CMD: error: FILE: cause``. :func:`quiet_library`
 every captured line that is not the library's (lenslab's own notes, a progress bar from another thread),
 and hands the library's lines to the caller, which may use the first as the cause in its one-line error.
 
-Threads: the redirection is process-wide, so it is shared: the first thread in redirects, the last one out
-restores and sorts what was captured (lines from any thread in between are kept, in order per stream).
-Every call, first or last out, is handed the library's lines captured so far, from every thread: the
-library names the file in each, so :func:`library_cause` takes the first about its own file, and a damaged
-file gets the same cause alone and in a batch of threads.
+Threads: the redirection is process-wide, so one library call holds it at a time (a reentrant lock held
+for the whole block: a thread may nest calls, other threads wait to start theirs). Output another thread
+writes meanwhile is captured too and given back as soon as the call ends, in order per stream; the
+library's lines handed back are then only this call's, so a damaged file gets the same cause alone and in
+a batch of threads. OpenEXR decodes on its own thread pool, so one read at a time still uses every core.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import threading
 #: lines OpenEXR prints: its C core's error handler and its Python bindings' reading warning
 LIBRARY_LINE = re.compile(r"\((EXR_ERR_\w+)\)|^Warning: Exception raised (reading|writing)")
 
-_lock = threading.Lock()
+_lock = threading.RLock()  # held for a whole capture: one thread's library calls at a time
 _state: dict = {"depth": 0, "saved": None}
 
 
@@ -74,11 +74,15 @@ def _end() -> list[str]:
     saved, _state["saved"] = _state["saved"], None
     said: list[str] = []
     for fd, old, spool in saved or ():
-        os.dup2(old, fd)
-        os.close(old)
-        spool.seek(0)
-        text = spool.read().decode("utf-8", "replace")
-        spool.close()
+        try:
+            os.dup2(old, fd)  # each descriptor back first, whatever happens to the others
+        finally:
+            os.close(old)
+        try:
+            spool.seek(0)
+            text = spool.read().decode("utf-8", "replace")
+        finally:
+            spool.close()
         keep = []
         for line in text.splitlines(keepends=True):
             (said if LIBRARY_LINE.search(line) else keep).append(line)
@@ -91,19 +95,18 @@ def _end() -> list[str]:
 @contextlib.contextmanager
 def quiet_library(said: list[str] | None = None):
     """Run the block with the library's own lines kept off standard output and error; append them (stripped)
-    to ``said`` when given and this call is the last one out."""
+    to ``said`` when given (the outermost call of a thread's nested ones gets them all)."""
     with _lock:
         if _state["depth"] == 0:
             _begin()
         _state["depth"] += 1
-    try:
-        yield
-    finally:
-        with _lock:
+        try:
+            yield
+        finally:
             _state["depth"] -= 1
             lines = _end() if _state["depth"] == 0 else _so_far()
-        if said is not None:
-            said.extend(lines)
+            if said is not None:
+                said.extend(lines)
 
 
 def library_cause(said: list[str], path) -> str:

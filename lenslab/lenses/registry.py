@@ -59,7 +59,7 @@ def model_modules(name: str) -> list[str]:
     import lenslab.lenses as package
 
     stem = name.replace("-", "_")
-    if not stem.isidentifier() or stem == "registry" or stem.endswith("kernels"):
+    if not stem.isidentifier() or stem.startswith("_") or stem == "registry" or stem.endswith("kernels"):
         return []
     models = [(sub, os.path.join(base, sub)) for base in package.__path__ for sub in sorted(os.listdir(base))
               if sub not in MACHINERY and os.path.isfile(os.path.join(base, sub, "__init__.py"))]

@@ -56,13 +56,15 @@ class Pyramid:
         todo = np.flatnonzero(~done[r0:r1]) + r0
         if not len(todo):
             return
-        a, b = int(todo[0]), int(todo[-1]) + 1
-        if lev > 1:
-            self.build(lev - 1, 2 * a, 2 * b)
         cur, nxt = self.level(lev - 1), self.level(lev)
         k = native.kernels()
-        k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
-        done[a:b] = True
+        breaks = np.flatnonzero(np.diff(todo) > 1) + 1  # runs of missing rows: built rows are never written
+        for run in np.split(todo, breaks):  # again (other bands may be reading them without the GIL)
+            a, b = int(run[0]), int(run[-1]) + 1
+            if lev > 1:
+                self.build(lev - 1, 2 * a, 2 * b)
+            k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
+            done[a:b] = True
 
     def ensure(self, ys, valid, foot) -> None:
         """Build the rows of the coarser levels that the valid footprints at rows ``ys`` (source pixels, index
@@ -76,9 +78,11 @@ class Pyramid:
         with self.lock:
             for k in range(1, len(self.shapes)):
                 lo, hi = (int(v) for v in rows[k])
-                if lo >= hi:
+                if lo == np.iinfo(np.int64).max:  # no footprint reads this level
                     continue
                 lh = int(self.shapes[k][0])
+                if lo >= hi:  # every window beyond an edge (clamped to +-lh): the rows the filter folds to
+                    lo, hi = 0, lh
                 if lo < 0:  # rows above the top come back from below it (a pole) or are row 0
                     hi = max(hi, -lo)
                 if hi > lh:  # and those below the bottom from above it

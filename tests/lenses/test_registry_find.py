@@ -46,3 +46,11 @@ def test_an_alias_find_does_not_bring_and_an_unknown_name_load_everything():
     with pytest.raises(KeyError, match="valid: red, blue"):
         table.lookup("green")
     assert calls["load"] == 1  # once
+
+
+def test_a_private_name_imports_no_module():
+    # "__init__" is an identifier and every model package has one: a lookup must not import the packages'
+    # __init__ files again as modules of their own
+    from lenslab.lenses.registry import model_modules
+
+    assert model_modules("__init__") == [] and model_modules("_private") == []

@@ -86,3 +86,32 @@ def test_level_rows_kernel_matches_its_numpy_reference():
     want = ref.level_rows(pyr.shapes, ys, valid, foot)
     np.testing.assert_array_equal(rows, want)
     assert (rows[1:, 0] < rows[1:, 1]).sum() >= 5  # footprints on several coarser levels
+
+
+@pytest.mark.parametrize("far", [5.0 * H, -4.0 * H, float("nan")])
+def test_a_window_wholly_beyond_an_edge_reads_built_rows(far):
+    # A valid sample whose window lies wholly beyond the top or bottom (or a NaN row, read as far above) is
+    # clamped by level_rows to an empty range, while the filter still reads the edge rows it folds to: the
+    # lazy pyramid must build them (before, the lazy output was the unbuilt buffer: NaN here).
+    from lenslab.warp.kernels import native
+    from lenslab.warp.pyramid import MAX_TAPS
+
+    img = _source(3)
+    n = 4
+    xs = np.full((1, n, 1), 10.0, np.float32)
+    ys = np.full((1, n, 1), far, np.float32)
+    valid = np.ones((1, n, 1), bool)
+    foot = np.tile(np.array([30.0, 0.0, 0.0, 30.0], np.float32), (1, n, 1, 1))  # 30 texels: level 2
+    outs = []
+    for lazy in (False, True):
+        pyr = pyramid(img, Border(), lazy=lazy)
+        if lazy:
+            pyr.rest[:] = np.nan  # what an unbuilt row would hold at worst
+        pyr.ensure(ys, valid, foot)
+        out = np.empty((n, 3), np.float32)
+        alpha = np.empty(n, np.float32)
+        native.kernels().footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, xs, ys, valid, foot,
+                                   False, False, False, MAX_TAPS, out, alpha)
+        outs.append(out)
+    assert np.isfinite(outs[0]).all()
+    np.testing.assert_array_equal(outs[1], outs[0])
