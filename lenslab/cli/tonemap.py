@@ -168,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
             _, (d, v, _) = processor(display["display"], display["view"], display["colorspace"], display["ocio"])
             print(f"{args.output}: display {d}, view {v}", file=sys.stderr)
         else:
-            print(f"{args.output}: {w_} x {h}, curve {curve.name} ({args.mode}), exposure {float(exposure):+.2f} stops",
+            how = "a local operator on luminance" if curve.kind == "local" else args.mode  # mode does not apply
+            print(f"{args.output}: {w_} x {h}, curve {curve.name} ({how}), exposure {float(exposure):+.2f} stops",
                   file=sys.stderr)
     return 0
