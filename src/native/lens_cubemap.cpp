@@ -6,42 +6,21 @@
 #include <cmath>
 
 #include "lens_kernels.h"
-
-#ifdef LENSLAB_MVEC  // glibc's vector maths (libmvec; CMakeLists.txt finds it)
-#include <immintrin.h>
-extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
-extern "C" __m256d _ZGVdN4v_sin(__m256d);
-extern "C" __m256d _ZGVdN4v_cos(__m256d);
-#endif
+#include "lens_vmath.h"
 
 namespace lenslab::lens {
 
 namespace {
 
-// atan2(y[j], x[j]) of four pairs, written over y: with glibc's vector maths four at a time (every element takes the
+// atan2(y[j], x[j]) of four pairs, written over y (glibc's vector maths four at a time: every element takes the
 // same path whatever its place in a call, so a map does not depend on how the warp cut it into bands)
-inline void atan2_4(double* y, const double* x) {
-#ifdef LENSLAB_MVEC
-    _mm256_storeu_pd(y, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
-#else
-    for (int j = 0; j < 4; ++j) y[j] = std::atan2(y[j], x[j]);
-#endif
-}
+inline void atan2_4(double* y, const double* x) { vmath::atan2_4(y, y, x); }
 
-// tan(a[j]) of four angles in [-pi/4, pi/4], written over a: sine over cosine, with glibc's vector maths four at a time
+// tan(a[j]) of four angles in [-pi/4, pi/4], written over a: sine over cosine
 inline void tan_4(double* a) {
-    double c[4];
-#ifdef LENSLAB_MVEC
-    const __m256d v = _mm256_loadu_pd(a);
-    _mm256_storeu_pd(c, _ZGVdN4v_cos(v));
-    _mm256_storeu_pd(a, _ZGVdN4v_sin(v));
-#else
-    for (int j = 0; j < 4; ++j) {
-        c[j] = std::cos(a[j]);
-        a[j] = std::sin(a[j]);
-    }
-#endif
-    for (int j = 0; j < 4; ++j) a[j] /= c[j];
+    double s[4], c[4];
+    vmath::sin_cos4(a, s, c);
+    for (int j = 0; j < 4; ++j) a[j] = s[j] / c[j];
 }
 
 // snap_to_image (within `slack` px of the edges counts, moved onto them) and clean()'s finite test, then the store

@@ -1,7 +1,7 @@
-// Four-wide transcendental functions for the lens kernels (lens_dirs.cpp, lens_pixels.cpp): glibc's vector maths
-// (libmvec, within 4 ulps of libm; CMakeLists.txt finds it and defines LENSLAB_MVEC) where the kernels are built for
-// AVX2, the scalar libm calls otherwise. Each lane is its own: an element's value does not depend on its neighbours
-// or on its place in a call.
+// Four-wide transcendental functions for the lens kernels (lens_dirs.cpp, lens_pixels.cpp, lens_cubemap.cpp):
+// glibc's vector maths (libmvec, within 4 ulps of libm; CMakeLists.txt finds it and defines LENSLAB_MVEC) where
+// the kernels are built for AVX2, the scalar libm calls otherwise. Each lane is its own: an element's value does
+// not depend on its neighbours or on its place in a call.
 #pragma once
 
 #include <cmath>
