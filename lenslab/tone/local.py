@@ -165,7 +165,7 @@ def _no_contrast(img: np.ndarray, luma: np.ndarray, saturation: float) -> np.nda
     return np.clip(out, 0.0, 1.0).astype(np.float32)
 
 
-_LOCAL_HEADROOM = Param("headroom", 12.0, "stops above the log-average kept before OpenCV's "
+_LOCAL_HEADROOM = Param("headroom", 12.0, "how far above the log-average the image is kept before OpenCV's "
                         "normalisation by the maximum (brighter is clipped)", 1.0, 30.0, units="stops")
 
 
