@@ -315,5 +315,8 @@ def run(args: argparse.Namespace) -> int:
         maps = "" if where else f" with {plans_for(job).built} map(s)"
         return f"warped {{done}} of {{total}} file(s){maps}{where}"
 
-    status = run_batch("lenslab warp", job, pairs, args, summary, skipped)
+    from lenslab.jobs.frame_files import in_sequence_folder
+
+    # a clip to 'frames/%04d.png': the folder made as -o DIR is
+    status = in_sequence_folder(pairs, is_video, lambda: run_batch("lenslab warp", job, pairs, args, summary, skipped))
     return 1 if status or missing else 0

@@ -57,4 +57,23 @@ def sequence_folder(pairs, is_clip) -> Path | None:
     return folder
 
 
-__all__ = ["FRAME_NUMBER", "frame_path", "all_or_none", "sequence_folder"]
+def in_sequence_folder(pairs, is_clip, run) -> int:
+    """``run()`` (a batch: its exit status) with the :func:`sequence_folder` of ``pairs`` made first, as
+    ``-o DIR`` is made (every check of the command has passed), and removed again, with the parents it
+    needed, when the batch failed having written nothing there."""
+    from lenslab.jobs.policy import make_output_dir, remove_made_dirs
+
+    folder, made = sequence_folder(pairs, is_clip), []
+    if folder is not None:
+        make_output_dir(folder, made)
+    try:
+        status = run()
+    except BaseException:
+        remove_made_dirs(made)
+        raise
+    if status:
+        remove_made_dirs(made)
+    return status
+
+
+__all__ = ["FRAME_NUMBER", "frame_path", "all_or_none", "sequence_folder", "in_sequence_folder"]

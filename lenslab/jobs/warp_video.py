@@ -199,7 +199,9 @@ def _maps_ahead(cache, src, dst):
         except BaseException as exc:  # raised in the caller's thread
             box["error"] = exc
 
-    thread = threading.Thread(target=work, daemon=True, name="lenslab-maps")
+    # not a daemon: a run that ends before it waits (no frame in the range, a damaged first frame) lets it
+    # finish before the interpreter goes, instead of aborting in the middle of native code
+    thread = threading.Thread(target=work, daemon=False, name="lenslab-maps")
     thread.start()
 
     def plan():
