@@ -51,9 +51,8 @@ def sequence_folder(pairs, is_clip) -> Path | None:
         return None
     src, dst = pairs[0]
     folder = Path(dst).parent
-    if Path(dst).suffix.lower() in VIDEO_EXTENSIONS or folder.is_dir() or not (
-            FRAME_NUMBER.search(Path(dst).name) or is_clip(src)):
-        return None
+    if Path(dst).suffix.lower() in VIDEO_EXTENSIONS or folder.is_dir() or not is_clip(src):
+        return None  # a clip to a clip, a folder already there, a still image (written to a name as it is)
     return folder
 
 

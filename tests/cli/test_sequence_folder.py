@@ -88,3 +88,13 @@ def test_a_folder_already_there_is_kept_when_the_command_fails(resized, tmp_path
     run = _lenslab("convert", clip_path, "--to", "png", "-o", tmp_path / "ff" / "%04d.png")
     assert run.returncode == 1
     assert (tmp_path / "ff").is_dir() and list((tmp_path / "ff").iterdir()) == []
+
+
+def test_a_still_image_to_a_missing_folder_is_still_refused(tmp_path):
+    import lenslab.io as lio
+
+    lio.write(tmp_path / "still.exr", np.ones((8, 16, 3), np.float32))
+    run = _lenslab("convert", tmp_path / "still.exr", "--to", "png", "-o", tmp_path / "ff" / "%04d.png")
+    assert run.returncode == 1
+    assert "the folder" in run.stderr and "does not exist" in run.stderr  # one image: no sequence, no folder made
+    assert not (tmp_path / "ff").exists()
