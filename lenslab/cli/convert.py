@@ -180,8 +180,13 @@ def run(args: argparse.Namespace) -> int:
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     if skipped and not args.quiet:
         print(f"lenslab convert: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
-    status = run_batch("lenslab convert", job, pairs, args, skipped=skipped,
-                       summary=lambda where: f"converted {{done}} of {{total}} file(s) to {args.to.upper()}{where}")
+    from lenslab.jobs.frame_files import in_sequence_folder
+    from lenslab.jobs.warp_video import is_video
+
+    # a clip to 'frames/%04d.png': the folder made as -o DIR is
+    status = in_sequence_folder(pairs, is_video, lambda: run_batch(
+        "lenslab convert", job, pairs, args, skipped=skipped,
+        summary=lambda where: f"converted {{done}} of {{total}} file(s) to {args.to.upper()}{where}"))
     return 1 if status or missing else 0
 
 

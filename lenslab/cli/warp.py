@@ -26,6 +26,8 @@ examples:
   lenslab warp plate.exr -o undistorted.exr --stmap undistort.exr --filter bicubic --samples 4
   lenslab warp clip.mp4 -o fish.mp4 --to fisheye:fov=180 --size 1080x1080 --frames 0:240
       (video: every frame with one map; rate, colour tags and audio kept; PQ/HLG stay HDR)
+  lenslab warp clip.mp4 -o 'fish/%04d.exr' --to fisheye:fov=180 --size 1080x1080
+      (one image per frame, numbered as in the clip: fish/0000.exr ...; -o fish/shot.exr: shot.000000.exr ...)
 """
 
 from __future__ import annotations
@@ -48,7 +50,8 @@ MAX_SAMPLES = 4096
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
-                        help="output file (one input), or directory (created if missing)")
+                        help="output file (one input; a clip to images: 'frames/%%04d.png' or frames/NAME.png, one "
+                             "file per frame), or directory (created if missing)")
     parser.add_argument("--to", metavar="SPEC", action=Once,
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
                              "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'); or give --stmap")
@@ -175,9 +178,13 @@ def check_options_apply(args, pairs) -> None:
     check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
         check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
+    from lenslab.jobs.warp_video import image_format
+
+    # a clip to a clip (or to a name the warp refuses); a clip to image files is developed as still images are
+    clips = [v and image_format(dst) is None for (_, dst), v in zip(pairs, videos)]
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
-              for (_, dst), v in zip(pairs, videos) if v or get(format_for_path(dst, None)).hdr]
+              for (_, dst), v in zip(pairs, clips) if v or get(format_for_path(dst, None)).hdr]
     check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit
@@ -187,7 +194,7 @@ def check_options_apply(args, pairs) -> None:
             check_channels_fit(src, get(format_for_path(dst, None)))
 
     check_display_outputs(getattr(args, "display", None),
-                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, videos) if not v}])
+                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, clips) if not v}])
 
 
 def check_video_output(pairs, videos) -> None:
@@ -308,5 +315,8 @@ def run(args: argparse.Namespace) -> int:
         maps = "" if where else f" with {plans_for(job).built} map(s)"
         return f"warped {{done}} of {{total}} file(s){maps}{where}"
 
-    status = run_batch("lenslab warp", job, pairs, args, summary, skipped)
+    from lenslab.jobs.frame_files import in_sequence_folder
+
+    # a clip to 'frames/%04d.png': the folder made as -o DIR is
+    status = in_sequence_folder(pairs, is_video, lambda: run_batch("lenslab warp", job, pairs, args, summary, skipped))
     return 1 if status or missing else 0

@@ -3,43 +3,19 @@ number where the name has ``%04d``), in linear light decoded as :mod:`lenslab.io
 
 from __future__ import annotations
 
-import re
 import sys
 from pathlib import Path
 
-
-#: a printf-style frame number in an output name (``%d``, ``%04d``), as FFmpeg's image sequences take it
-FRAME_NUMBER = re.compile(r"%(0?\d*)d")
-
-
-def frame_path(dst, index: int) -> Path:
-    """``out/clip.exr`` -> ``out/clip.000042.exr``, and ``out/%04d.exr`` -> ``out/0042.exr`` (the first
-    ``%d`` or ``%0Nd`` of the file name): frame numbers as in the clip, from 0.
-
-    >>> frame_path("out/clip.exr", 42).as_posix(), frame_path("out/f_%04d.png", 7).as_posix()
-    ('out/clip.000042.exr', 'out/f_0007.png')
-    """
-    d = Path(dst)
-    if FRAME_NUMBER.search(d.name):
-        return d.with_name(FRAME_NUMBER.sub(lambda m: f"{index:{m.group(1)}d}", d.name, count=1))
-    return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
+from lenslab.jobs.frame_files import frame_path
 
 
 def frames_to_files(src: str, dst: str, job) -> str:
     """Write every frame of ``src`` (or the range of the :class:`~lenslab.jobs.convert.ConvertJob` ``job``'s
-    ``frames``) next to ``dst``; returns the first path. All or none: the frames are temporaries until the
-    last is written, then renamed (:func:`lenslab.staging.staged`); a failure (a damaged frame, a frame of
-    another size, Ctrl-C) removes them and leaves the folder as it was. A cluster task's are already staged:
-    the command renames them, or removes them when the task failed."""
-    from lenslab.atomic import STAGING, owner
-    from lenslab.staging import commit, staged
+    ``frames``) next to ``dst`` (named by :func:`~lenslab.jobs.frame_files.frame_path`), all or none
+    (:func:`~lenslab.jobs.frame_files.all_or_none`); returns the first path."""
+    from lenslab.jobs.frame_files import all_or_none
 
-    if getattr(STAGING, "owner", None) is not None:
-        return _frames(src, dst, job)
-    with staged(owner()) as written:
-        first = _frames(src, dst, job)
-        commit(written)
-    return first
+    return all_or_none(lambda: _frames(src, dst, job))
 
 
 def _frames(src: str, dst: str, job) -> str:

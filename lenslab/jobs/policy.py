@@ -86,7 +86,22 @@ def output_format(path: str | os.PathLike) -> str:
         raise UsageError(str(exc)) from None
 
 
-def make_output_dir(path: str | os.PathLike) -> Path:
+def make_output_dir(path: str | os.PathLike, made: list | None = None) -> Path:
+    """Create the output folder ``path`` (and its missing parents) once :func:`check_output_dir` says it can
+    be; ``made``: a list the folders created are added to, deepest first (for :func:`remove_made_dirs`)."""
     out = check_output_dir(path)
+    new = [p for p in (out, *out.parents) if not p.exists()]
     out.mkdir(parents=True, exist_ok=True)
+    if made is not None:
+        made.extend(new)
     return out
+
+
+def remove_made_dirs(made: list) -> None:
+    """Remove the folders :func:`make_output_dir` created (``made``, deepest first) while they are empty: a
+    command that failed having written nothing there leaves nothing behind."""
+    for folder in made:
+        try:
+            folder.rmdir()
+        except OSError:  # something was written there (or by another process): kept, and its parents
+            return

@@ -82,11 +82,11 @@ WARP_DROPS = "a warp resamples colour and alpha only (depth, normals and vectors
 
 def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) -> None:
     """Warp ``src_path`` to ``dst_path`` as ``job`` says, with the maps of ``cache``."""
-    from lenslab.io import carries_alpha, read, write
+    from lenslab.io import carries_alpha, read
     from lenslab.io.registry import format_for_path, get
     from lenslab.jobs.policy import check_output
-    from lenslab.io.alpha import split_alpha, with_alpha
-    from lenslab.jobs.stages import Look, check_image, develop, encode_options, keeps_alpha
+    from lenslab.io.alpha import split_alpha
+    from lenslab.jobs.stages import check_image
     from lenslab.jobs.warp_cameras import autoscale_camera, default_size, output_camera, source_camera
     from lenslab.jobs.warp_video import is_video, warp_video
 
@@ -129,17 +129,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]))
     del image  # (the source is not kept while the output is developed and written)
-    # premultiplied colour and its alpha (the source's own, warped like colour, or the coverage); an output
-    # that keeps no alpha gets the colour over black
-    keep = keeps_alpha(fmt, not job.no_alpha)
-    look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
-                colorspace=job.colorspace, ocio=job.ocio)
-    # with alpha, the image developed is a new array of this function's own: the look may work in its memory
-    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
-                            in_place=keep)
-    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=dst,
-                          channels=result.shape[2])
-    write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})
+    from lenslab.jobs.warp_output import write_warped
+
+    write_warped(dst_path, colour, alpha, meta, fmt, job, dst)
 
 
 def plans_for(job: WarpJob):

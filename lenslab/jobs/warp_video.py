@@ -1,5 +1,6 @@
 """``lenslab warp`` on video: every frame warped with one map, encoded with the input's rate, colour tags
-and audio (see :mod:`lenslab.io.video` for the colour rules)."""
+and audio (see :mod:`lenslab.io.video` for the colour rules), or written as one image file per frame
+(:mod:`lenslab.jobs.frame_files`)."""
 
 from __future__ import annotations
 
@@ -47,7 +48,9 @@ def is_video(path) -> bool:
 
 
 def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
-    """Decode, warp every frame with the map of the first, encode; a progress bar by frames."""
+    """Decode, warp every frame with the map of the first, encode (or write each to an image file when
+    ``dst_path`` names an image: ``frames/%04d.png``, or ``frames/shot.png`` for ``shot.000000.png``, ...); a
+    progress bar by frames."""
     import numpy as np
 
     from lenslab.jobs.policy import check_output
@@ -56,9 +59,10 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
 
-    if Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:
-        raise FormatError(f"{src_path} is a video: give -o NAME with one of {', '.join(VIDEO_EXTENSIONS)} "
-                          "(frames to EXR: lenslab convert VIDEO --to exr)")
+    image = None if Path(dst_path).suffix.lower() in VIDEO_EXTENSIONS else image_format(dst_path)
+    if image is None and Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:
+        raise FormatError(f"{src_path} is a video: give -o NAME with one of {', '.join(VIDEO_EXTENSIONS)}, or "
+                          "an image name for one file per frame (e.g. 'frames/%04d.exr')")
     if args.stmap:
         raise FormatError("--stmap applies to images; warp a video with --to SPEC")
     if args.exposure == "auto":
@@ -79,6 +83,10 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     dst = output_camera(args, src, size)
     if args.autoscale:
         dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
+    show = not args.quiet and sys.stderr.isatty()
+    if image is not None:
+        return _to_files(src_path, dst_path, image, args, cache, (src, dst, info), (start, stop, total),
+                         source_flips, show)
     display = getattr(args, "display", None)
     if display:  # code values of an OpenColorIO display, tagged as that display
         from dataclasses import replace
@@ -94,7 +102,6 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
 
     clip = next(f for f in formats().values() if Path(dst_path).suffix.lower() in f.extensions)
     look = Look(exposure=args.exposure, display=display, view=args.view, colorspace=args.colorspace, ocio=args.ocio)
-    show = not args.quiet and sys.stderr.isatty()
     whole = start == 0 and stop is None
     written = 0
     with atomic_write_path(dst_path, overwrite=args.overwrite) as tmp:
@@ -132,6 +139,50 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                       stacklevel=2)
 
 
+def image_format(path):
+    """The record of the image format a name asks for (by its extension), or None when it names none."""
+    from lenslab.errors import FormatError
+    from lenslab.io.registry import format_for_path, get
+
+    try:
+        fmt = get(format_for_path(path, None))
+    except FormatError:
+        return None
+    return None if fmt.kind == "video" else fmt
+
+
+def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips, show) -> None:
+    """Every frame (of ``frames``: start, stop, total) warped from camera ``src`` to ``dst`` (``cameras``: src,
+    dst and the clip's info) and written as an image of format record ``fmt``, developed as a still image is,
+    numbered as in the clip; all or none."""
+    from lenslab.errors import FormatError
+    from lenslab.jobs.frame_files import all_or_none, frame_path
+    from lenslab.jobs.warp_output import write_warped
+    from lenslab.io.video import read_frames
+    from lenslab.warp.mirror import mirror_frames
+
+    src, dst, info = cameras
+    start, stop, total = frames
+    # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
+    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
+    plan = _maps_ahead(cache, src, dst)
+    window = None if source_flips else (lambda: plan().source_window())
+
+    def write_frames():
+        written = 0
+        with _frame_bar(show, total, Path(src_path).name) as bar:
+            for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
+                plan()
+                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)
+                write_warped(frame_path(dst_path, i), colour, alpha, meta, fmt, job, dst)
+                written += 1
+                bar.update()
+        if written == 0:
+            raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
+
+    all_or_none(write_frames)
+
+
 def _maps_ahead(cache, src, dst):
     """Start computing the maps of ``src -> dst`` (``cache``'s plan) on a thread of their own; the function returned
     waits for them and gives the plan, or raises what went wrong there."""
@@ -148,7 +199,9 @@ def _maps_ahead(cache, src, dst):
         except BaseException as exc:  # raised in the caller's thread
             box["error"] = exc
 
-    thread = threading.Thread(target=work, daemon=True, name="lenslab-maps")
+    # not a daemon: a run that ends before it waits (no frame in the range, a damaged first frame) lets it
+    # finish before the interpreter goes, instead of aborting in the middle of native code
+    thread = threading.Thread(target=work, daemon=False, name="lenslab-maps")
     thread.start()
 
     def plan():

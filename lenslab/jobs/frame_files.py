@@ -1,0 +1,78 @@
+"""A clip written as image files, one per frame (``lenslab convert`` and ``lenslab warp``): the frames' names
+(``NAME.000042.exr``, or the frame number where the name has ``%04d``), their all-or-none writing, and the
+folder a sequence's name asks for."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+#: a printf-style frame number in an output name (``%d``, ``%04d``), as FFmpeg's image sequences take it
+FRAME_NUMBER = re.compile(r"%(0?\d*)d")
+
+
+def frame_path(dst, index: int) -> Path:
+    """``out/clip.exr`` -> ``out/clip.000042.exr``, and ``out/%04d.exr`` -> ``out/0042.exr`` (the first
+    ``%d`` or ``%0Nd`` of the file name): frame numbers as in the clip, from 0.
+
+    >>> frame_path("out/clip.exr", 42).as_posix(), frame_path("out/f_%04d.png", 7).as_posix()
+    ('out/clip.000042.exr', 'out/f_0007.png')
+    """
+    d = Path(dst)
+    if FRAME_NUMBER.search(d.name):
+        return d.with_name(FRAME_NUMBER.sub(lambda m: f"{index:{m.group(1)}d}", d.name, count=1))
+    return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
+
+
+def all_or_none(write_frames):
+    """Call ``write_frames()`` (which writes each frame with :func:`lenslab.io.write`) so that its files are
+    temporaries until the last is written, then renamed (:func:`lenslab.staging.staged`); a failure (a damaged
+    frame, a frame of another size, Ctrl-C) removes them and leaves the folder as it was. A cluster task's
+    writes are already staged: the command renames them, or removes them when the task failed. Returns what
+    ``write_frames`` returns."""
+    from lenslab.atomic import STAGING, owner
+    from lenslab.staging import commit, staged
+
+    if getattr(STAGING, "owner", None) is not None:
+        return write_frames()
+    with staged(owner()) as written:
+        result = write_frames()
+        commit(written)
+    return result
+
+
+def sequence_folder(pairs, is_clip) -> Path | None:
+    """The folder to make for a single clip written as image files (``-o 'frames/%04d.png'`` or
+    ``-o frames/shot.png``) when it does not exist yet, as ``-o DIR`` is made; else None. ``is_clip(src)``
+    says whether an input is a clip."""
+    from lenslab.io.video.codecs import VIDEO_EXTENSIONS
+
+    if len(pairs) != 1:
+        return None
+    src, dst = pairs[0]
+    folder = Path(dst).parent
+    if Path(dst).suffix.lower() in VIDEO_EXTENSIONS or folder.is_dir() or not is_clip(src):
+        return None  # a clip to a clip, a folder already there, a still image (written to a name as it is)
+    return folder
+
+
+def in_sequence_folder(pairs, is_clip, run) -> int:
+    """``run()`` (a batch: its exit status) with the :func:`sequence_folder` of ``pairs`` made first, as
+    ``-o DIR`` is made (every check of the command has passed), and removed again, with the parents it
+    needed, when the batch failed having written nothing there."""
+    from lenslab.jobs.policy import make_output_dir, remove_made_dirs
+
+    folder, made = sequence_folder(pairs, is_clip), []
+    if folder is not None:
+        make_output_dir(folder, made)
+    try:
+        status = run()
+    except BaseException:
+        remove_made_dirs(made)
+        raise
+    if status:
+        remove_made_dirs(made)
+    return status
+
+
+__all__ = ["FRAME_NUMBER", "frame_path", "all_or_none", "sequence_folder", "in_sequence_folder"]

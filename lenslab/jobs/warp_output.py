@@ -1,0 +1,26 @@
+"""The last stage of a warp, shared by a still image and each frame of a clip written as image files: develop
+for the output format, keep or drop alpha, write."""
+
+from __future__ import annotations
+
+
+def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera) -> None:
+    """Develop a warped image (premultiplied ``colour`` and its ``alpha``: the source's own, warped like colour,
+    or the coverage) for format record ``fmt`` as ``job`` says and write it; an output that keeps no alpha gets
+    the colour over black. ``camera``: the output's, stored where the format holds one."""
+    from lenslab.io import write
+    from lenslab.io.alpha import with_alpha
+    from lenslab.jobs.stages import Look, develop, encode_options, keeps_alpha
+
+    keep = keeps_alpha(fmt, not job.no_alpha)
+    look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
+                colorspace=job.colorspace, ocio=job.ocio)
+    # with alpha, the image developed is a new array of this function's own: the look may work in its memory
+    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
+                            in_place=keep)
+    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=camera,
+                          channels=result.shape[2])
+    write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})
+
+
+__all__ = ["write_warped"]
