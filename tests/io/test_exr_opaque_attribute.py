@@ -36,17 +36,28 @@ def fuzzed(tmp_path):
     return path
 
 
-def test_openexr_reads_the_header_and_cannot_show_the_attribute(fuzzed):
+def test_openexr_reads_the_header_with_the_attribute(fuzzed):
+    # OpenEXR 3.3's bindings raise UnicodeDecodeError from repr() of this attribute; a later release may
+    # not, so the fallback itself is held by the next test whatever the installed version does
     header = OpenEXR.File(str(fuzzed), header_only=True).parts[0].header
-    with pytest.raises(UnicodeDecodeError):
-        repr(header["pixenels"])
+    assert "pixenels" in header
+
+
+def test_a_value_that_cannot_be_shown_is_named_by_its_type():
+    from lenslab.io.exr import plain_value
+
+    class OpaqueAttribute:
+        def __repr__(self):
+            raise UnicodeDecodeError("utf-8", b"ch\xedlist", 2, 3, "invalid continuation byte")
+
+    assert plain_value(OpaqueAttribute()) == "<OpaqueAttribute>"
 
 
 def test_lenslab_reads_it_with_every_attribute_openexr_sees(fuzzed):
     header = OpenEXR.File(str(fuzzed), header_only=True).parts[0].header
     _, meta = lio.read(fuzzed)
     assert set(meta["attributes"]) == set(header) - {"channels"}
-    assert meta["attributes"]["pixenels"] == "<OpaqueAttribute>"
+    assert isinstance(meta["attributes"]["pixenels"], str)
 
 
 @pytest.mark.parametrize("args", [["info"], ["convert", "--to", "png", "-o", "{out}"]])
