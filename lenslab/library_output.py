@@ -109,6 +109,22 @@ def quiet_library(said: list[str] | None = None):
                 said.extend(lines)
 
 
+def library_call(path, call, cannot: str, consequence: str = "the file is damaged", library_errors=(Exception,)):
+    """``call()`` with the library's own lines kept off the terminal (:func:`quiet_library`); a failure becomes
+    one :class:`~lenslab.errors.FormatError`: ``PATH: CANNOT (cause); CONSEQUENCE``, the cause the library's
+    first line about ``path`` (:func:`failure_cause`)."""
+    from lenslab.errors import FormatError
+
+    said: list[str] = []
+    try:
+        with quiet_library(said):
+            return call()
+    except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
+        why = failure_cause(said, exc, path, library_errors)
+        why = f" ({why})" if why else ""
+        raise FormatError(f"{path}: {cannot}{why}; {consequence}") from None
+
+
 def library_cause(said: list[str], path) -> str:
     """The first captured line about ``path`` (a line that names another file is another thread's), without
     the path, as a cause for an error message ('' if none)."""

@@ -40,7 +40,7 @@ from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
 from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, select_channels,
                                    split_part_layer)
-from lenslab.library_output import failure_cause, quiet_library
+from lenslab.library_output import library_call, quiet_library
 
 HALF_MAX = 65504.0
 CAMERA_ATTRIBUTE = "lenslab.camera"
@@ -112,14 +112,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     from lenslab.io.exr.chunks import check_chunks
 
     check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
-    said: list[str] = []  # what the library prints of a damaged file: kept off the terminal, the first as cause
-    try:
-        with quiet_library(said):
-            head = OpenEXR.File(str(path), header_only=True)
-            parts = head.parts
-    except Exception as exc:  # the bindings raise RuntimeError/ValueError with the library's message
-        why = failure_cause(said, exc, path)
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
+    parts = library_call(path, lambda: OpenEXR.File(str(path), header_only=True).parts,
+                         "OpenEXR cannot read the header")
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = find_part(path, parts, part_sel, layer_sel)

@@ -104,8 +104,6 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
     """The first part's image as float32, channel ``order[i]`` (a short name of ``short``; None: 0) in
     channel ``i``, placed in the display window ``display`` unless ``data_window`` (0 outside the data
     window ``window``); and the pixel type of each channel of ``short`` (full name -> HALF, FLOAT, UINT)."""
-    from lenslab.errors import FormatError
-
     x0, y0, x1, y1 = window
     X0, Y0, X1, Y1 = display
     if data_window:
@@ -118,15 +116,9 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
     from lenslab.io.exr.chunks import first_part_types
 
     types = first_part_types(path)
-    from lenslab.library_output import failure_cause, quiet_library
+    from lenslab.library_output import library_call
 
-    said: list[str] = []  # what the library prints of a damaged file: kept off the terminal, the first as cause
-    try:
-        with quiet_library(said):
-            read_into(path, header, [None if c is None else short[c] for c in order], types, window, image, at,
-                      threads)
-    except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = failure_cause(said, exc, path, (RuntimeError, OSError))
-        why = f" ({why})" if why else ""
-        raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
+    names = [None if c is None else short[c] for c in order]
+    library_call(path, lambda: read_into(path, header, names, types, window, image, at, threads),
+                 "OpenEXR cannot read the pixels", library_errors=(RuntimeError, OSError))
     return image, {n: types.get(n, "UNKNOWN") for n in short.values()}

@@ -39,12 +39,9 @@ def extra_planes(path, chans, names: list[str], sampling: dict, window, placed_i
             raise FormatError(f"{path}: channel {clip(name)} is {pix.shape[1]} x {pix.shape[0]}, not the data "
                               f"window's {w} x {h}; the file is damaged")
         if placed_in is not None and tuple(placed_in) != tuple(window):
-            X0, Y0, X1, Y1 = placed_in
-            full = np.zeros((Y1 - Y0 + 1, X1 - X0 + 1), pix.dtype)
-            ix0, iy0, ix1, iy1 = max(x0, X0), max(y0, Y0), min(x1, X1), min(y1, Y1)
-            if ix0 <= ix1 and iy0 <= iy1:
-                full[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = pix[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
-            pix = full
+            from lenslab.io.exr.whole import placed
+
+            pix = placed(pix, window, placed_in)
         out[name] = np.ascontiguousarray(pix)
     return out
 

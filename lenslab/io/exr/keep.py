@@ -14,7 +14,6 @@
 
 from __future__ import annotations
 
-from lenslab.errors import FormatError
 
 #: attributes the writer sets from the image or its options, never copied
 WRITER_SETS = {"channels", "compression", "dataWindow", "displayWindow", "lineOrder", "type", "tiles", "name",
@@ -43,15 +42,11 @@ def kept_header(path, meta: dict, written: list[str]) -> dict:
     (the data and display windows) and ``attributes`` (raw values from OpenEXR's header)."""
     import OpenEXR
 
-    from lenslab.library_output import failure_cause, quiet_library
+    from lenslab.library_output import library_call
 
-    said: list[str] = []
-    try:
-        with quiet_library(said):
-            header = OpenEXR.File(str(path), header_only=True).parts[meta.get("part", 0)].header
-    except Exception as exc:  # read a moment ago: a file changed under us
-        why = failure_cause(said, exc, path)
-        raise FormatError(f"{path}: OpenEXR cannot read the header again ({why}); the file changed") from None
+    # read a moment ago: a failure now is a file changed under us
+    header = library_call(path, lambda: OpenEXR.File(str(path), header_only=True).parts[meta.get("part", 0)].header,
+                          "OpenEXR cannot read the header again", "the file changed")
     keep = {}
     for name, value in header.items():
         if name in WRITER_SETS or not _writable(value):

@@ -72,23 +72,19 @@ def part_channels(path, index: int, threads: int, separate: bool = True):
     channel); what the library prints of a damaged file is kept off the terminal, its first line the cause."""
     import OpenEXR
 
-    from lenslab.library_output import failure_cause, quiet_library
+    from lenslab.library_output import library_call
 
-    said: list[str] = []
-    try:
-        with quiet_library(said):
-            return OpenEXR.File(str(path), separate_channels=separate, num_threads=threads).parts[index].channels
-    except Exception as exc:  # the library's own words where it gives any, not an error of its bindings
-        why = failure_cause(said, exc, path, (RuntimeError, OSError))
-        why = f" ({why})" if why else ""
-        raise FormatError(f"{path}: OpenEXR cannot read the pixels{why}; the file is damaged") from None
+    return library_call(path, lambda: OpenEXR.File(str(path), separate_channels=separate,
+                                                   num_threads=threads).parts[index].channels,
+                        "OpenEXR cannot read the pixels", library_errors=(RuntimeError, OSError))
 
 
 def placed(image: np.ndarray, window, display) -> np.ndarray:
-    """The data window's ``image`` placed in the display window (0 outside it)."""
+    """The data window's ``image`` (H x W or H x W x C, its dtype kept) placed in the display window (0
+    outside it)."""
     x0, y0, x1, y1 = window
     X0, Y0, X1, Y1 = display
-    out = np.zeros((Y1 - Y0 + 1, X1 - X0 + 1, image.shape[2]), np.float32)
+    out = np.zeros((Y1 - Y0 + 1, X1 - X0 + 1) + image.shape[2:], image.dtype)
     ix0, iy0, ix1, iy1 = max(x0, X0), max(y0, Y0), min(x1, X1), min(y1, Y1)
     if ix0 <= ix1 and iy0 <= iy1:
         out[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]

@@ -42,17 +42,10 @@ def _probe(path) -> dict:
     pixels (deep files cannot be read so: their types stay "unknown")."""
     import OpenEXR
 
-    from lenslab.errors import FormatError
     from lenslab.io.exr import plain_value
-    from lenslab.library_output import failure_cause, quiet_library
+    from lenslab.library_output import library_call, quiet_library
 
-    said: list[str] = []
-    try:
-        with quiet_library(said):
-            head = OpenEXR.File(str(path), header_only=True)
-    except Exception as exc:
-        why = failure_cause(said, exc, path)
-        raise FormatError(f"{path}: OpenEXR cannot read the header ({why}); the file is damaged") from None
+    head = library_call(path, lambda: OpenEXR.File(str(path), header_only=True), "OpenEXR cannot read the header")
     types: dict[tuple[int, str], str] = {}
     try:
         with quiet_library():
