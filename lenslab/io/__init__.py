@@ -180,8 +180,11 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     given = {"raw": raw, "data_window": data_window, "rec709": rec709, "extra_channels": extra_channels}
     from lenslab.io.budget import admit
 
-    admit(file, fmt, **({"data_window": data_window} if "data_window" in fmt.read_options else {}))
-    image, meta = fmt.read(file, selector, **{k: given[k] for k in fmt.read_options if k in given})
+    declared = admit(file, fmt, **({"data_window": data_window} if "data_window" in fmt.read_options else {}))
+    options = {k: given[k] for k in fmt.read_options if k in given}
+    if declared is not None and declared.parsed is not None:
+        options["parsed"] = declared.parsed  # the header the budget read: not parsed a second time
+    image, meta = fmt.read(file, selector, **options)
     meta["path"] = str(file)
     meta["size"] = [int(image.shape[1]), int(image.shape[0])]
     meta["camera"] = _camera(file, meta["attributes"].get(CAMERA_ATTRIBUTE))

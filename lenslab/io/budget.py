@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import os
 import stat
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from lenslab.errors import FormatError
@@ -67,6 +67,9 @@ class Declared:
     what: str = "pixel data"
     #: appended to a refusal of the ratio rule (how to read less)
     hint: str = ""
+    #: what the hook parsed of the header, which :func:`lenslab.io.read` gives the format's reader back
+    #: (``parsed=``) so that a read parses the header once; None: nothing to give
+    parsed: object = field(default=None, compare=False, repr=False)
 
     @property
     def float_bytes(self) -> int:

@@ -24,7 +24,8 @@ class Format:
     """One file format.
 
     ``read(path, selector, **read_options) -> (float32 H x W x C image, meta)`` receives only the
-    options named in ``read_options``; ``write(tmp_path, image, **write_options)`` writes a float32
+    options named in ``read_options``, and ``parsed=`` when the ``declare`` hook's answer carries what it
+    parsed of the header (:attr:`lenslab.io.budget.Declared.parsed`); ``write(tmp_path, image, **write_options)`` writes a float32
     image whose channel count is one of ``channels`` (the caller has already fitted it).
     """
 

@@ -95,7 +95,7 @@ class ConvertJob(Job):
             from lenslab.io.exr.keep import kept_header
 
             written = [*write_opts.get("channels", meta["channels"]), *write_opts.get("extra", {})]
-            write_opts.update(kept_header(src_file, meta, written))
+            write_opts.update(kept_header(meta, written))
         else:
             from lenslab.io.exr.extra import warn_dropped
 

@@ -105,13 +105,16 @@ def plain_value(value):
 
 
 def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
-             rec709: bool = True, extra_channels: bool = False) -> tuple[np.ndarray, dict]:
+             rec709: bool = True, extra_channels: bool = False, layout=None) -> tuple[np.ndarray, dict]:
+    """``layout``: the header as :func:`lenslab.io.exr.chunks.parse_header` read it (the byte budget's
+    reading, given back by :func:`lenslab.io.read`); None: it is read here."""
     import OpenEXR
 
-    part_sel, layer_sel = split_part_layer(selector)
-    from lenslab.io.exr.chunks import check_chunks
+    from lenslab.io.exr.chunks import check_chunks, parse_header
 
-    check_chunks(path)  # a truncated file: one line here, not the library's several on stderr
+    part_sel, layer_sel = split_part_layer(selector)
+    layout = parse_header(path) if layout is None else layout
+    check_chunks(path, layout)  # a truncated file: one line here, not the library's several on stderr
     parts = library_call(path, lambda: OpenEXR.File(str(path), header_only=True).parts,
                          "OpenEXR cannot read the header")
     if not parts:
@@ -139,17 +142,25 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     keys = set(short)
     order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
+    used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
+                                                   else set())
     from lenslab.io.exr import bands
+    from lenslab.io.exr.extra import extra_names, extra_planes
 
-    if not converted and bands.can_read(index, [short[c] for c in order if c is not None], sampling):
-        image, pixel_types = bands.read_image(path, header, short, order, window, display, data_window, THREADS)
+    others = extra_names(names, used)
+    wanted = others if extra_channels else []  # the extra planes come from the image's own decoding
+    image_names = [short[c] for c in order if c is not None]
+    if not converted and bands.can_read(index, image_names + wanted, sampling):
+        image, pixel_types, planes = bands.read_image(path, header, short, order, window, display, data_window,
+                                                      THREADS, layout.parts[0].get("channel_types", {}), wanted)
     else:
         from lenslab.io.exr.whole import placed, read_whole
 
-        image, pixel_types = read_whole(path, index, header, names, short, order, converted, sampling, window,
-                                        THREADS)
+        image, pixel_types, chans = read_whole(path, index, header, names, short, order, converted, sampling,
+                                               window, THREADS)
         if not data_window and window != display:
             image = placed(image, window, display)
+        planes = extra_planes(path, chans, wanted, sampling, window, None if data_window else display)
 
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
@@ -159,17 +170,6 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
             image[r:r + 256, :, :3] = image[r:r + 256, :, :3] @ m.T
         primaries_converted = True
 
-    used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
-                                                   else set())
-    from lenslab.io.exr.extra import extra_names, extra_planes
-
-    others = extra_names(names, used)
-    planes = {}
-    if extra_channels and others:  # read apart (only EXR to EXR asks): the image's own read stays by bands
-        from lenslab.io.exr.whole import part_channels
-
-        planes = extra_planes(path, part_channels(path, index, THREADS), others, sampling, window,
-                              None if data_window else display)
     stored = image_types(order, short, pixel_types, converted)
     pixel_types = set(stored) or set(pixel_types.values())
     bits = 32 if ({"FLOAT", "UINT"} & pixel_types) else 16
@@ -202,6 +202,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "display_window": [X0, Y0, X1, Y1],
         "origin": [x0, y0] if data_window else [X0, Y0],
         "storage": storage,
+        # the part's header as OpenEXR read it (raw values): what an EXR writer keeps of it
+        # (:func:`lenslab.io.exr.keep.kept_header`) without reading the file again
+        "exr_header": header,
     }
     return image, meta
 

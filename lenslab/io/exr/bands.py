@@ -58,12 +58,13 @@ def band_rows(header: dict, width: int, channels: int) -> int:
 
 
 def read_into(path, header: dict, names: list[str | None], types: dict[str, str], window: tuple[int, int, int, int],
-              out: np.ndarray, at: tuple[int, int], threads: int) -> None:
+              out: np.ndarray, at: tuple[int, int], threads: int, planes: dict | None = None) -> None:
     """Decode data window ``window`` (x0, y0, x1, y1) of ``path``'s first part (``header``: its header as
     ``OpenEXR.File`` gives it; the scanline interface's own header segfaults on some files) into ``out``
     (float32 H x W x C), its pixel (x0, y0) at ``out[at[1], at[0]]``, channel ``names[i]`` into
     ``out[..., i]`` (None: left as it is). The rows and columns of the window outside ``out`` are
-    skipped (a data window larger than the display window).
+    skipped (a data window larger than the display window). ``planes``: more channels ``{name: H x W
+    array of the stored type}``, filled from the same decoding, placed as ``out`` is.
 
     Each channel is decoded at its stored type (``types``: name -> HALF, FLOAT or UINT) and converted by
     NumPy, as the whole-file read does: half NaN keep their payloads, which the library's own
@@ -81,29 +82,37 @@ def read_into(path, header: dict, names: list[str | None], types: dict[str, str]
     left, right = max(0, -at[0]), min(width, W - at[0])
     if first > last or left >= right:
         return
-    wanted = [(i, n) for i, n in enumerate(names) if n is not None]
+    wanted = [(i, n) for i, n in enumerate(names) if n is not None] + [(n, n) for n in planes or {}]
     if not wanted:
         return
     rows = band_rows(header, width, len(wanted))
     reader = OpenEXR.InputFile(str(path))
-    groups: dict[str, list[tuple[int, str]]] = {}  # one call per stored type (a chunk is decoded once a call)
+    groups: dict[str, list[tuple[int | str, str]]] = {}  # one call per stored type (a chunk is decoded once a call)
     for i, n in wanted:
         groups.setdefault(types.get(n) if types.get(n) in _DTYPES else "FLOAT", []).append((i, n))
     start = y0 + (first - y0) // rows * rows  # bands aligned to the window's first row: whole chunks
     for a in range(start, last + 1, rows):
         b0, b1 = max(a, first), min(a + rows - 1, last)
-        dst = out[b0 - y0 + at[1]:b1 - y0 + at[1] + 1, left + at[0]:right + at[0]]
+        ys, xs = slice(b0 - y0 + at[1], b1 - y0 + at[1] + 1), slice(left + at[0], right + at[0])
+        dst = out[ys, xs]
         for kind, chans in groups.items():
-            planes = reader.channels([n for _, n in chans], Imath.PixelType(getattr(Imath.PixelType, kind)), b0, b1)
-            for (i, _), data in zip(chans, planes):
-                dst[..., i] = np.frombuffer(data, _DTYPES[kind]).reshape(b1 - b0 + 1, width)[:, left:right]
+            decoded = reader.channels([n for _, n in chans], Imath.PixelType(getattr(Imath.PixelType, kind)), b0, b1)
+            for (i, _), data in zip(chans, decoded):
+                band = np.frombuffer(data, _DTYPES[kind]).reshape(b1 - b0 + 1, width)[:, left:right]
+                if isinstance(i, str):
+                    planes[i][ys, xs] = band
+                else:
+                    dst[..., i] = band
 
 
 def read_image(path, header: dict, short: dict[str, str], order: list[str | None], window, display,
-               data_window: bool, threads: int) -> tuple[np.ndarray, dict[str, str]]:
+               data_window: bool, threads: int, types: dict[str, str],
+               extra: list[str] = ()) -> tuple[np.ndarray, dict[str, str], dict[str, np.ndarray]]:
     """The first part's image as float32, channel ``order[i]`` (a short name of ``short``; None: 0) in
     channel ``i``, placed in the display window ``display`` unless ``data_window`` (0 outside the data
-    window ``window``); and the pixel type of each channel of ``short`` (full name -> HALF, FLOAT, UINT)."""
+    window ``window``); the pixel type of each channel of ``short`` (full name -> HALF, FLOAT, UINT; ``types``:
+    every channel's, from lenslab's reading of the header); and the planes of channels ``extra`` (full
+    names) at their stored type, placed as the image is, decoded in the same pass."""
     x0, y0, x1, y1 = window
     X0, Y0, X1, Y1 = display
     if data_window:
@@ -113,12 +122,10 @@ def read_image(path, header: dict, short: dict[str, str], order: list[str | None
     covered = data_window or tuple(window) == tuple(display)
     make = np.empty if covered and None not in order else np.zeros  # (zeros: pages mapped only when written)
     image = make((*shape, len(order)), np.float32)
-    from lenslab.io.exr.chunks import first_part_types
-
-    types = first_part_types(path)
+    planes = {n: (np.empty if covered else np.zeros)(shape, _DTYPES.get(types.get(n), np.float32)) for n in extra}
     from lenslab.library_output import library_call
 
     names = [None if c is None else short[c] for c in order]
-    library_call(path, lambda: read_into(path, header, names, types, window, image, at, threads),
+    library_call(path, lambda: read_into(path, header, names, types, window, image, at, threads, planes),
                  "OpenEXR cannot read the pixels", library_errors=(RuntimeError, OSError))
-    return image, {n: types.get(n, "UNKNOWN") for n in short.values()}
+    return image, {n: types.get(n, "UNKNOWN") for n in short.values()}, planes

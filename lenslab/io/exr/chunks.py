@@ -6,12 +6,16 @@ layout first gives one line instead: the header's attributes (name, type, size, 
 name, then the offset table (one uint64 per chunk), then each chunk's leader (its first scanline and
 packed size, two int32), all little-endian (OpenEXR, "The OpenEXR File Layout"). Only single-part
 scanline files are checked this way; tiled, multi-part and deep files are left to the library.
+
+A read parses the header once (:func:`parse_header`): the byte budget (:func:`declare_exr`) gives its
+:class:`Layout` to the reader, which checks the chunks and reads the channels' stored types from it.
 """
 
 from __future__ import annotations
 
 import os
 import struct
+from dataclasses import dataclass
 
 from lenslab.errors import FormatError
 
@@ -34,49 +38,25 @@ def _cstring(f, limit: int = 256) -> bytes:
     raise EOFError  # no name or type is this long: not a header
 
 
-def check_chunks(path) -> None:
-    """Raise :class:`FormatError` (one line) when a single-part scanline EXR's header, offset table or a
-    chunk it points to is cut short by the end of the file; any other layout passes unchecked."""
-    try:
-        _check(path)
-    except (EOFError, struct.error):  # (FormatError, a ValueError, says more and passes through)
-        raise FormatError(f"{path}: the header ends early or is damaged ({os.path.getsize(path)} bytes); the file "
-                          "is truncated or damaged") from None
-
-
-def _check(path) -> None:
-    size = os.path.getsize(path)
+def check_chunks(path, layout: Layout) -> None:
+    """Raise :class:`FormatError` (one line) when a single-part scanline EXR's offset table, or a chunk it
+    points to, is cut short by the end of the file; ``layout``: the file's header as :func:`parse_header`
+    read it (tiled, multi-part and deep files are left to the library)."""
+    if layout.version & (TILED | NON_IMAGE | MULTIPART) or len(layout.parts) != 1:
+        return
+    part = layout.parts[0]
+    compression, window = part.get("compression"), part.get("dataWindow")
+    if compression is None or window is None or compression >= len(LINES_PER_CHUNK):
+        return
+    chunks = _chunks(part)
+    size, table_end = layout.size, layout.header_end + 8 * chunks
+    if chunks <= 0:
+        return
+    if table_end > size:
+        raise FormatError(f"{path}: the table of its {chunks} chunks ends at byte {table_end} but the file has "
+                          f"{size} bytes; the file is truncated")
     with open(path, "rb") as f:
-        head = f.read(8)
-        if len(head) < 8:
-            raise EOFError
-        magic, version = struct.unpack("<ii", head)
-        if magic != MAGIC or version & (TILED | NON_IMAGE | MULTIPART):
-            return
-        compression, window = None, None
-        while True:
-            name = _cstring(f)
-            if not name:
-                break
-            kind = _cstring(f)
-            (n,) = struct.unpack("<i", f.read(4))
-            if n < 0 or f.tell() + n > size:
-                raise EOFError
-            value = f.read(n)
-            if name == b"compression" and kind == b"compression" and n == 1:
-                compression = value[0]
-            elif name == b"dataWindow" and kind == b"box2i" and n == 16:
-                window = struct.unpack("<iiii", value)
-        if compression is None or window is None or compression >= len(LINES_PER_CHUNK):
-            return
-        lines = LINES_PER_CHUNK[compression]
-        chunks = -(-(window[3] - window[1] + 1) // lines)
-        table_end = f.tell() + 8 * chunks
-        if chunks <= 0:
-            return
-        if table_end > size:
-            raise FormatError(f"{path}: the table of its {chunks} chunks ends at byte {table_end} but the file has "
-                              f"{size} bytes; the file is truncated")
+        f.seek(layout.header_end)
         offsets = struct.unpack(f"<{chunks}Q", f.read(8 * chunks))
         for i, off in enumerate(offsets):
             end = off + 8
@@ -90,8 +70,9 @@ def _check(path) -> None:
                     + "; the file is truncated or damaged")
 
 
-def _headers(f, size) -> list[dict]:
-    """The attributes of interest of every part's header (one for a single-part file)."""
+def _headers(f, size) -> tuple[list[dict], int]:
+    """The attributes of interest of every part's header (one for a single-part file), and the version
+    field."""
     magic_version = f.read(8)
     if len(magic_version) < 8:
         raise EOFError
@@ -118,13 +99,13 @@ def _headers(f, size) -> list[dict]:
             value = f.read(n)
             if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
                 part[name.decode()] = struct.unpack("<iiii", value)
-            elif kind == b"chlist":
+            elif (name, kind) == (b"channels", b"chlist"):  # (by name and type, as OpenEXR finds them)
                 part["channel_types"] = _channel_list(f.name, value)
                 part["channel_names"] = list(part["channel_types"])
                 part["channels"] = len(part["channel_names"])
-            elif kind == b"compression" and n == 1:
+            elif (name, kind) == (b"compression", b"compression") and n == 1:
                 part["compression"] = value[0]
-            elif kind == b"tiledesc" and n == 9:
+            elif (name, kind) == (b"tiles", b"tiledesc") and n == 9:
                 part["tiles"] = struct.unpack("<IIB", value)
             elif name == b"type" and kind == b"string":
                 part["tiled"] = value.startswith(b"tiled")
@@ -134,7 +115,7 @@ def _headers(f, size) -> list[dict]:
         parts.append(part)
         if not multi:
             break
-    return parts
+    return parts, version
 
 
 #: OpenEXR's pixel type codes (``Imf::PixelType``)
@@ -159,29 +140,52 @@ def _channel_list(path, value: bytes) -> dict[str, str]:
     return types
 
 
-def _first_part(path) -> dict:
+@dataclass(frozen=True)
+class Layout:
+    """An EXR's header as lenslab reads it, once a read (:func:`parse_header`): each part's attributes of
+    interest (``dataWindow``, ``displayWindow`` as (x0, y0, x1, y1), ``channel_types`` {name: HALF, FLOAT or
+    UINT} and ``channel_names`` in file order, ``compression`` code, ``tiles`` (x size, y size, mode),
+    ``tiled``, ``deep``), where the header ends (the offset tables start), the file's size and version."""
+
+    parts: tuple
+    header_end: int
+    size: int
+    version: int
+
+    @property
+    def multipart(self) -> bool:
+        return bool(self.version & MULTIPART)
+
+    def first_part(self, path) -> dict:
+        if not self.parts or "channel_names" not in self.parts[0]:
+            raise FormatError(f"{path}: the OpenEXR header names no channels; the file is damaged")
+        return self.parts[0]
+
+
+def parse_header(path) -> Layout:
+    """Read ``path``'s header (every part's) and where it ends: the one parse of lenslab's own that a read
+    of an EXR makes (the byte budget, the truncation check and the band reader all take its answer).
+    A header cut short or damaged is a :class:`FormatError` of one line."""
     size = os.path.getsize(path)
     try:
         with open(path, "rb") as f:
-            parts = _headers(f, size)
+            parts, version = _headers(f, size)
+            return Layout(tuple(parts), f.tell(), size, version)
     except (EOFError, struct.error):
         raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
                           "truncated or damaged") from None
-    if not parts or "channel_names" not in parts[0]:
-        raise FormatError(f"{path}: the OpenEXR header names no channels; the file is damaged")
-    return parts[0]
 
 
 def first_part_types(path) -> dict[str, str]:
     """{channel name: pixel type ("HALF", "FLOAT", "UINT")} of an EXR's first part, from lenslab's own
     reading of the header (OpenEXR's header-only reading does not give them for every file)."""
-    return _first_part(path)["channel_types"]
+    return parse_header(path).first_part(path)["channel_types"]
 
 
 def first_part_channels(path) -> list[str]:
     """The channel names of an EXR's first part, from lenslab's own reading of the header (no pixel is
     decoded, and OpenEXR never sees the file)."""
-    return _first_part(path)["channel_names"]
+    return parse_header(path).first_part(path)["channel_names"]
 
 
 def _chunks(part) -> int:
@@ -196,17 +200,12 @@ def _chunks(part) -> int:
 
 def declare_exr(path, data_window: bool = False, **_):
     """:class:`lenslab.io.budget.Declared` of an EXR: the largest part's display window (its data window
-    with ``data_window=True``), and the offset tables and chunk leaders every chunk of it needs."""
+    with ``data_window=True``), and the offset tables and chunk leaders every chunk of it needs; its
+    ``parsed`` is the :class:`Layout` read, which the reader takes back (the header is parsed once)."""
     from lenslab.io.budget import Declared
 
-    size = os.path.getsize(path)
-    try:
-        with open(path, "rb") as f:
-            parts = _headers(f, size)
-            header_end = f.tell()
-    except (EOFError, struct.error):
-        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
-                          "truncated or damaged") from None
+    layout = parse_header(path)
+    parts, size, header_end = layout.parts, layout.size, layout.header_end
     if not parts:
         raise FormatError(f"{path}: the OpenEXR header declares no part; the file is damaged")
     best, table, hint = None, 0, ""
@@ -231,4 +230,4 @@ def declare_exr(path, data_window: bool = False, **_):
             leader = (20 if part.get("tiled") else 8) + (4 if len(parts) > 1 else 0)
             table += _chunks(part) * (8 + leader)
     return Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
-                    what="chunk tables and chunk leaders", hint=hint)
+                    what="chunk tables and chunk leaders", hint=hint, parsed=layout)

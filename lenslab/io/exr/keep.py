@@ -36,17 +36,12 @@ def _writable(value) -> bool:
     return type(value).__module__ == "OpenEXR"  # the bindings' own types (enums, rationals, time codes...)
 
 
-def kept_header(path, meta: dict, written: list[str]) -> dict:
+def kept_header(meta: dict, written: list[str]) -> dict:
     """The write options that keep ``meta``'s part header (``meta``: what :func:`lenslab.io.read` gave for
-    an EXR read with ``data_window=True``; ``written``: every channel name to be written): ``window``
-    (the data and display windows) and ``attributes`` (raw values from OpenEXR's header)."""
-    import OpenEXR
-
-    from lenslab.library_output import library_call
-
-    # read a moment ago: a failure now is a file changed under us
-    header = library_call(path, lambda: OpenEXR.File(str(path), header_only=True).parts[meta.get("part", 0)].header,
-                          "OpenEXR cannot read the header again", "the file changed")
+    an EXR read with ``data_window=True``, its ``exr_header`` the part's header as OpenEXR read it then;
+    ``written``: every channel name to be written): ``window`` (the data and display windows) and
+    ``attributes`` (raw values of that header)."""
+    header = meta.get("exr_header") or {}
     keep = {}
     for name, value in header.items():
         if name in WRITER_SETS or not _writable(value):

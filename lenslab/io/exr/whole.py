@@ -16,10 +16,11 @@ def _to_float(pixels: np.ndarray) -> np.ndarray:
 
 def read_whole(path, index: int, header: dict, names: list[str], short: dict[str, str], order: list[str | None],
                converted: bool, sampling: dict, window: tuple[int, int, int, int],
-               threads: int) -> tuple[np.ndarray, dict[str, str]]:
+               threads: int) -> tuple[np.ndarray, dict[str, str], dict]:
     """The data window of part ``index`` as float32, channel ``order[i]`` (a short name of ``short``;
     None: 0) in channel ``i``; ``converted``: ``order`` starts with Y, RY, BY, which become R, G, B.
-    Also the pixel type of each channel read from (full name -> HALF, FLOAT, UINT)."""
+    Also the pixel type of each channel read from (full name -> HALF, FLOAT, UINT), and the part's
+    channels as the library decoded them (the other channels' planes come from this one decoding)."""
     import OpenEXR
 
     from lenslab.io.exr import plain_value
@@ -39,7 +40,8 @@ def read_whole(path, index: int, header: dict, names: list[str], short: dict[str
         block = chans.get(whole)
         if block is None or block.pixels is None or block.pixels.shape != (h, w, len(whole)):
             raise FormatError(f"{path}: the pixel data does not match the header; the file is damaged")
-        return np.ascontiguousarray(block.pixels, dtype=np.float32), {n: next(iter(types)) for n in short.values()}
+        return (np.ascontiguousarray(block.pixels, dtype=np.float32), {n: next(iter(types)) for n in short.values()},
+                chans)
 
     def get(name: str) -> np.ndarray:
         ch = chans.get(short[name])
@@ -64,7 +66,7 @@ def read_whole(path, index: int, header: dict, names: list[str], short: dict[str
     image = np.empty((h, w, len(planes)), np.float32)
     for i, plane in enumerate(planes):  # one pass per channel: conversion and interleaving together
         image[..., i] = 0 if plane is None else plane
-    return image, {n: plain_value(c.type()) for n, c in chans.items() if n in short.values()}
+    return image, {n: plain_value(c.type()) for n, c in chans.items() if n in short.values()}, chans
 
 
 def part_channels(path, index: int, threads: int, separate: bool = True):

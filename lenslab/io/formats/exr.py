@@ -7,10 +7,11 @@ from lenslab.io.plugin import Format
 #: OpenEXR's pixel types by the NumPy dtype its bindings give them
 _EXR_TYPES = {"float16": "half", "float32": "float", "uint32": "uint"}
 
-def _read(path, selector=None, data_window=False, rec709=True, extra_channels=False):
+def _read(path, selector=None, data_window=False, rec709=True, extra_channels=False, parsed=None):
     from lenslab.io.exr import read_exr
 
-    return read_exr(path, selector, data_window=data_window, rec709=rec709, extra_channels=extra_channels)
+    return read_exr(path, selector, data_window=data_window, rec709=rec709, extra_channels=extra_channels,
+                    layout=parsed)
 
 
 def _write(tmp, image, **options):
