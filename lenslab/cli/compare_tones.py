@@ -94,9 +94,10 @@ def run(args: argparse.Namespace) -> int:
     image, meta = io.read(args.input)
     if image.ndim == 2:
         image = image[..., None]
-    from lenslab.jobs.stages import image_alpha, resolved_exposure
+    from lenslab.io import carries_alpha
+    from lenslab.jobs.stages import resolved_exposure
 
-    alpha = image_alpha(meta, image.shape[2])
+    alpha = carries_alpha(meta, image.shape[2])
     # auto exposure from the covered pixels' straight colour (lenslab.tone.exposure), then the colour over black
     ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet, alpha)
     if alpha:

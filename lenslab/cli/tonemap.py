@@ -153,10 +153,10 @@ def run(args: argparse.Namespace) -> int:
     if not display["display"]:
         from lenslab.jobs.stages import resolved_exposure
 
-        from lenslab.jobs.stages import image_alpha
+        from lenslab.io import carries_alpha
 
         exposure = resolved_exposure(image, exposure, args.primaries, args.input, args.quiet,
-                                     image_alpha(meta, image.shape[2]) if image.ndim == 3 else False)
+                                     carries_alpha(meta, image.shape[2]) if image.ndim == 3 else False)
     job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
     with repairs_reported("lenslab tonemap", args.input):
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage

@@ -228,18 +228,23 @@ def is_alpha_name(name: str) -> bool:
 
 
 def carries_alpha(meta: dict, count: int) -> bool:
-    """Whether an image of ``count`` channels read with ``meta`` carries alpha: its last channel is named
-    ``A`` (or ``layer.A``) where the file named its channels, else (no names) 2 or 4 channels.
+    """Whether an image of ``count`` channels made from an input described by ``meta`` (what :func:`read`
+    gave) carries alpha last: the one alpha rule of every command. Where the channels have names, the last
+    of the names the image is written with (:func:`output_channels`: the input's own names, or those and
+    the ``A`` a warp adds to an image without alpha) is ``A`` (or ``layer.A``); else (no names) 2 or 4
+    channels (:func:`lenslab.io.alpha.alpha_last`).
 
     >>> carries_alpha({"channels": ["u", "v"]}, 2), carries_alpha({"channels": ["Y", "A"]}, 2), carries_alpha({}, 4)
     (False, True, True)
+    >>> carries_alpha({"channels": ["u", "v"]}, 3)  # u, v and the coverage a warp adds, written as A
+    True
     """
-    names = (meta or {}).get("channel_names") or (meta or {}).get("channels")
-    if isinstance(names, (list, tuple)) and len(names) == count and count:
-        return is_alpha_name(names[-1])
     from lenslab.io.alpha import alpha_last
 
-    return alpha_last(count)
+    try:
+        return is_alpha_name(output_channels(meta, count)[-1])
+    except FormatError:  # no names for this many channels
+        return alpha_last(count)
 
 
 def output_channels(meta: dict, count: int) -> list[str]:

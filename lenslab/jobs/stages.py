@@ -49,7 +49,9 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
     from lenslab.errors import FormatError
 
     exposure = look.exposure
-    alpha = image_alpha(meta, image.shape[2]) if getattr(image, "ndim", 0) == 3 else False
+    from lenslab.io import carries_alpha
+
+    alpha = carries_alpha(meta, image.shape[2]) if getattr(image, "ndim", 0) == 3 else False
     integers = bool(look.bits) and "sample_type" in fmt.write_options  # TIFF with --bits: display-encoded
     if look.display:
         from lenslab.jobs.display import apply_display
@@ -72,19 +74,6 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
         shown = ", ".join(f.name for f in formats().values() if f.writable and not f.hdr and f.kind == "image")
         raise FormatError(f"--exposure auto applies when writing display formats ({shown})")
     return expose(image, exposure, in_place=in_place, alpha=alpha), {}
-
-
-def image_alpha(meta: dict, count: int) -> bool:
-    """Whether an image of ``count`` channels made from an input described by ``meta`` carries alpha last:
-    the last of the names it is written with is ``A`` (:func:`lenslab.io.output_channels`: the input's
-    names, those and the ``A`` a warp adds), else :func:`lenslab.io.alpha.alpha_last`."""
-    from lenslab.errors import FormatError
-    from lenslab.io import is_alpha_name, output_channels
-
-    try:
-        return is_alpha_name(output_channels(meta, count)[-1])
-    except FormatError:
-        return alpha_last(count)
 
 
 def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False,
@@ -160,7 +149,7 @@ def check_image(image, what: str = "image"):
     return (a[..., None] if a.ndim == 2 else a).astype(np.float32, copy=False)
 
 
-__all__ = ["Look", "develop", "image_alpha", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image",
+__all__ = ["Look", "develop", "encode_options", "expose", "has_alpha", "keeps_alpha", "check_image",
            "check_data_channels"]
 
 

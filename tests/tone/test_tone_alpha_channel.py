@@ -84,11 +84,12 @@ def test_display_transform_takes_alpha_from_the_caller():
 
 def test_develop_reads_alpha_from_the_channel_names():
     from lenslab.io.registry import get
-    from lenslab.jobs.stages import Look, develop, image_alpha
+    from lenslab.io import carries_alpha
+    from lenslab.jobs.stages import Look, develop
 
-    assert image_alpha({"channels": ["R", "G", "B", "Z"]}, 4) is False
-    assert image_alpha({"channels": ["Z"]}, 2) is True  # a warp's coverage added as A
-    assert image_alpha({}, 4) is True
+    assert carries_alpha({"channels": ["R", "G", "B", "Z"]}, 4) is False
+    assert carries_alpha({"channels": ["Z"]}, 2) is True  # a warp's coverage added as A
+    assert carries_alpha({}, 4) is True
     img = _image(4)
     out, _ = develop(img, {"channels": ["u", "v", "w", "A"]}, get("exr"), Look(exposure=1.0))
     np.testing.assert_allclose(out[..., :3], img[..., :3].astype(np.float64) * 2.0, rtol=0, atol=0)
