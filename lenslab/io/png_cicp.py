@@ -104,15 +104,13 @@ def wide_to_709(image, primaries: int) -> str:
     last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
     (:func:`lenslab.io.video.colour.matrix_to_709`); the note a reader shows. Rec.709 primaries, and
     primaries lenslab reads as Rec.709, are left alone."""
-    import numpy as np
-
     from lenslab.io.video.colour import is_wide, matrix_to_709
 
     if not is_wide(primaries):
         return f"the PNG's cICP chunk says primaries {primaries}: read as Rec.709"
-    m = matrix_to_709(primaries).astype(np.float32)
-    rgb = image[..., :3]
-    rgb[...] = rgb @ m.T
+    from lenslab.io.primaries import to_rec709
+
+    to_rec709(image, matrix_to_709(primaries))
     name = {12: "P3-D65", 9: "BT.2020"}.get(int(primaries), f"primaries {primaries}")
     return f"sRGB codes on {name} primaries (the PNG's cICP chunk), converted to Rec.709"
 

@@ -165,9 +165,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
-        m = np.linalg.solve(primary_matrix(REC709), primary_matrix(chroma)).astype(np.float32)  # file RGB -> XYZ -> Rec.709
-        for r in range(0, image.shape[0], 256):  # a band at a time: no temporary of the image's size
-            image[r:r + 256, :, :3] = image[r:r + 256, :, :3] @ m.T
+        from lenslab.io.primaries import matrix_from_chromaticities, to_rec709
+
+        to_rec709(image, matrix_from_chromaticities(chroma))  # file RGB -> XYZ -> Rec.709, by bands
         primaries_converted = True
 
     stored = image_types(order, short, pixel_types, converted)
