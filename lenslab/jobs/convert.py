@@ -92,7 +92,9 @@ class ConvertJob(Job):
             warn_dropped(src, lost, fmt.title, "the layer's own channels are written under those names (convert "
                                                "the file without a layer to keep every channel)")
         if same:  # the windows and the header attributes that still hold (lenslab.io.exr.keep)
-            from lenslab.io.exr.keep import kept_header
+            from lenslab.io.exr.keep import kept_header, warn_scanlines
+
+            warn_scanlines(src, meta)  # tiles and smaller levels are not kept: said in one note
 
             written = [*write_opts.get("channels", meta["channels"]), *write_opts.get("extra", {})]
             write_opts.update(kept_header(meta, written))

@@ -8,7 +8,8 @@
   converted to Rec.709 on reading (the file then holds Rec.709, OpenEXR's default); everything about the
   shot and the file (``owner``, ``comments``, ``capDate``, ``envmap``, ``wrapmodes``, densities ...).
 - Left out: what the writer sets itself (channels, compression, line order, storage, tiles, part name,
-  chunk count), the preview image (a thumbnail of pixels that may have changed), lenslab's camera (the
+  chunk count): a tiled or mip-mapped input is written as scanlines, its full-resolution level only, and
+  :func:`warn_scanlines` says so in one note, the preview image (a thumbnail of pixels that may have changed), lenslab's camera (the
   writer stores the camera read, if any), and values of types the bindings cannot write back.
 """
 
@@ -52,3 +53,42 @@ def kept_header(meta: dict, written: list[str]) -> dict:
             continue
         keep[name] = value
     return {"window": (meta["data_window"], meta["display_window"]), "attributes": keep}
+
+
+class ScanlineWarning(UserWarning):
+    """A tiled (or mip-mapped) EXR was written from EXR as scanlines, its full-resolution level only.
+    ``command_line`` is the note without the path (a command's note names the file)."""
+
+
+def _levels(n: int, round_up: bool) -> int:
+    """OpenEXR's level count along a side of ``n`` pixels: log2(n) rounded down (or up) plus one."""
+    return ((n - 1).bit_length() if round_up else n.bit_length() - 1) + 1
+
+
+def storage_note(meta: dict) -> str | None:
+    """What writing ``meta``'s EXR part as scanlines leaves out, in one line; None for a scanline part."""
+    tiles = (meta.get("exr_header") or {}).get("tiles")
+    if tiles is None or "tiled" not in str(meta.get("storage", "")).lower():
+        return None
+    x0, y0, x1, y1 = meta["data_window"]
+    up = "UP" in str(getattr(tiles, "roundingMode", ""))
+    nx, ny = _levels(x1 - x0 + 1, up), _levels(y1 - y0 + 1, up)
+    mode = str(getattr(tiles, "mode", ""))
+    levels = max(nx, ny) if "MIPMAP" in mode else nx * ny if "RIPMAP" in mode else 1
+    kind = "mip-mapped" if "MIPMAP" in mode else "rip-mapped"
+    what = f"tiled ({tiles.xSize} x {tiles.ySize} tiles" + (f", {kind}, {levels} levels)" if levels > 1 else ")")
+    return f"{what}: written as scanlines" + (
+        f", the full-resolution level only (the {levels - 1} smaller levels are not written)" if levels > 1 else "")
+
+
+def warn_scanlines(path, meta: dict) -> None:
+    """Say in one note that ``meta``'s tiled or mip-mapped EXR part is written as scanlines (nothing for a
+    scanline part)."""
+    note = storage_note(meta)
+    if note is None:
+        return
+    import warnings
+
+    warning = ScanlineWarning(f"{path}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=3)
