@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from lenslab.params import Param
 from lenslab.tone.exposure import EXPOSURE_RANGE, MIDDLE_GREY, auto_exposure, log_average, luminance_weights
-from lenslab.tone.mapping import ToneWarning, tonemap
+from lenslab.tone.mapping import ExposureIgnoredWarning, ToneWarning, tonemap
 from lenslab.tone.registry import CURVES, Curve, curve_names, describe_curves, get_curve
 
 # the curve modules register themselves, in the order users see them listed
@@ -40,7 +40,7 @@ from lenslab.tone.pbr_neutral import pbr_neutral  # isort: skip
 from lenslab.tone.local import drago, mantiuk  # isort: skip
 
 __all__ = [
-    "CURVES", "Curve", "Param", "ToneWarning", "tonemap", "auto_exposure", "log_average",
+    "CURVES", "Curve", "Param", "ToneWarning", "ExposureIgnoredWarning", "tonemap", "auto_exposure", "log_average",
     "luminance_weights", "curve_names", "get_curve", "describe_curves",
     "clamp", "gamma", "reinhard", "reinhard_extended", "reinhard2002", "hable", "aces", "aces_hill",
     "agx", "pbr_neutral", "drago", "mantiuk",

@@ -220,7 +220,8 @@ def drago(rgb: ArrayLike, saturation: float = 1.0, bias: float = 0.85, headroom:
     return tonemap(rgb, "drago", saturation=saturation, bias=bias, headroom=headroom)
 
 
-@register("mantiuk", "local", _MANTIUK_P, build=lambda image, p, w: _apply("mantiuk", image, p, w))
+@register("mantiuk", "local", _MANTIUK_P, build=lambda image, p, w: _apply("mantiuk", image, p, w),
+          ignores_exposure="it puts the scene's 0.1 to 99.9 percentiles on the display whatever the exposure")
 def mantiuk(rgb: ArrayLike, saturation: float = 1.0, headroom: float = 12.0,
             display_range: float = DISPLAY_RANGE) -> np.ndarray:
     """Mantiuk contrast-domain mapping: contrasts of the log luminance pyramid are scaled (OpenCV

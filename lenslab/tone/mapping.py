@@ -46,6 +46,11 @@ class ToneWarning(UserWarning):
         self.nan, self.posinf, self.negative, self.total = int(nan), int(posinf), int(negative), int(total)
 
 
+class ExposureIgnoredWarning(UserWarning):
+    """An exposure was given to a curve whose result is the same for any exposure (its record's
+    ``ignores_exposure`` says why)."""
+
+
 
 def warn_repairs(counts: Counts, total: int, image=None, is_slight: bool | None = None) -> None:
     """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (a codec's undershoot,
@@ -249,6 +254,9 @@ def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_
         return out
     rgb = x.ndim == 3 and x.shape[-1] == 3
     ev = parse_exposure(exposure, x, primaries, False)
+    if spec.ignores_exposure and ev != 0:
+        warnings.warn(ExposureIgnoredWarning(f"the exposure has no effect with tone curve {spec.name}: "
+                                             f"{spec.ignores_exposure}"), stacklevel=4)
     counts = Counts()
     clean = x.copy()
     inf_mask = repair(clean, counts)

@@ -43,6 +43,9 @@ class Curve:
     build: Callable | None = field(default=None, repr=False)
     build_grey: Callable | None = field(default=None, repr=False)
     check: Callable[[dict], dict] | None = field(default=None, repr=False)
+    #: why the curve gives the same image for any exposure (a note for a user who gives one), or "" when the
+    #: exposure matters
+    ignores_exposure: str = ""
 
     @property
     def doc(self) -> str:
@@ -92,16 +95,17 @@ CURVES: Registry[Curve] = Registry("tone curve", ToneError, load=load_curves, ke
 
 def register(name: str, kind: str, params: tuple[Param, ...] = (), build: Callable | None = None,
              build_grey: Callable | None = None, check: Callable[[dict], dict] | None = None,
-             references: tuple[str, ...] = (), examples: tuple[str, ...] = ()):
+             references: tuple[str, ...] = (), examples: tuple[str, ...] = (), ignores_exposure: str = ""):
     """Decorator: register the curve function it wraps as ``name`` (its docstring's first paragraph
-    is the summary ``lenslab curves --list`` prints)."""
+    is the summary ``lenslab curves --list`` prints). ``ignores_exposure``: why the curve's result is the
+    same for any exposure, said in a note when one is given."""
     if kind not in KINDS:  # pragma: no cover - a programming error in a curve module
         raise ValueError(f"curve kind {kind!r}; use one of {', '.join(KINDS)}")
 
     def deco(fn):
         first_paragraph = (fn.__doc__ or "").strip().split("\n\n")[0]
         summary = " ".join(line.strip() for line in first_paragraph.splitlines())
-        CURVES.add(name, Curve(name, fn, tuple(params), kind, summary, build, build_grey, check),
+        CURVES.add(name, Curve(name, fn, tuple(params), kind, summary, build, build_grey, check, ignores_exposure),
                    summary=summary, capabilities={"kind": kind}, references=tuple(references),
                    examples=tuple(examples))
         return fn
