@@ -80,6 +80,12 @@ class ConvertJob(Job):
         from lenslab.jobs.stages import check_data_channels
 
         check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
+        if meta.get("other_views"):  # one view of a multi-view EXR: written alone, as a plain image
+            from lenslab.io.exr.extra import warn_dropped
+
+            rest = [v for v in (meta["attributes"].get("multiView") or []) if v != meta["view"]]
+            warn_dropped(src, meta["other_views"], fmt.title, f"they belong to the other view(s) {', '.join(rest)}; "
+                                                              f"view {meta['view']} is written alone, as a plain image")
         # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
         image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
         if "in_place" in fmt.write_options:

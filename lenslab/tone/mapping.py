@@ -256,7 +256,7 @@ def _local(image, x, spec, resolved, exposure, mode_key, primaries, threads, in_
     ev = parse_exposure(exposure, x, primaries, False)
     if spec.ignores_exposure and ev != 0:
         warnings.warn(ExposureIgnoredWarning(f"the exposure has no effect with tone curve {spec.name}: "
-                                             f"{spec.ignores_exposure}"), stacklevel=4)
+                                             f"{spec.ignores_exposure}"), stacklevel=3)
     counts = Counts()
     clean = x.copy()
     inf_mask = repair(clean, counts)

@@ -5,6 +5,10 @@ Reading
   (``file.exr:left`` reads ``left.R``, ``left.G``, ... ; ``file.exr:2:left`` both); without a
   selector: the first part (with a :class:`MultiPartWarning` naming the others, as a command's note), and
   its base (undotted) channels.
+- A view of a multi-view part (``file.exr:right``, a name of its ``multiView`` attribute; the first is the
+  default view, whose channels carry no view in their names, as OpenEXR names them) is read alone: its
+  other channels are the extra channels, named without the view (``right.Z`` -> ``Z``), and the other
+  views' channels are only named (``meta["other_views"]``), so a writer makes a plain image of the view.
 - Channels become R, G, B (+ A); Y (+ A); luminance-chroma Y, RY, BY (+ A), converted to RGB; a lone
   channel of any name becomes a one-channel image; any other set is stacked in name order. Only a
   channel named ``A`` is alpha (as in OpenImageIO): ``u, v`` or ``forward.u, forward.v`` are two data
@@ -39,7 +43,7 @@ from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
 from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, select_channels,
-                                   split_part_layer)
+                                   split_part_layer, view_of, views, without_view)
 from lenslab.library_output import library_call, quiet_library
 
 HALF_MAX = 65504.0
@@ -135,6 +139,10 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     (X0, Y0), (X1, Y1) = (tuple(int(v) for v in a) for a in header["displayWindow"])
     check_size(path, X1 - X0 + 1, Y1 - Y0 + 1)
     names = channel_names(hpart)
+    all_views = views(header)
+    view = layer if layer in all_views else None  # one view of a multi-view part: its channels only
+    if view is not None and not any(n.startswith(view + ".") for n in names):
+        layer = None  # the default view: the undotted channels
     short = layer_channels(path, names, layer)
     sampling = {c.name: (c.xSampling, c.ySampling) for c in header.get("channels", [])}
 
@@ -148,6 +156,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     from lenslab.io.exr.extra import extra_names, extra_planes
 
     others = extra_names(names, used)
+    other_views = [n for n in others if view is not None and view_of(n, all_views) != view]
+    others = [n for n in others if n not in other_views]
     wanted = others if extra_channels else []  # the extra planes come from the image's own decoding
     image_names = [short[c] for c in order if c is not None]
     if not converted and bands.can_read(index, image_names + wanted, sampling):
@@ -161,6 +171,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         if not data_window and window != display:
             image = placed(image, window, display)
         planes = extra_planes(path, chans, wanted, sampling, window, None if data_window else display)
+    if view is not None:  # the view's own channels, named as a plain image's (left.Z -> Z)
+        planes = {without_view(n, view): plane for n, plane in planes.items()}
 
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
@@ -196,6 +208,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         # their planes (stored type, placed as the image is) for an EXR writer's ``extra``
         "extra_channels": others,
         "extra_planes": planes,
+        # a view of a multi-view part read alone: its name, and the other views' channels (not read)
+        "view": view,
+        "other_views": other_views,
         "luminance_chroma": converted,
         "primaries_converted_to_rec709": primaries_converted,
         "data_window": [x0, y0, x1, y1],

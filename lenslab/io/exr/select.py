@@ -29,13 +29,34 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
         return i, layer_sel
     if part_sel in names:
         return names.index(part_sel), layer_sel
-    if layer_sel is None:  # a lone name that is not a part: a layer of the first part with it
+    if layer_sel is None:  # a lone name that is not a part: a layer (or view) of the first part with it
         for i, p in enumerate(parts):
-            if any(c.startswith(part_sel + ".") for c in channel_names(p)):
+            if any(c.startswith(part_sel + ".") for c in channel_names(p)) or part_sel in views(p.header):
                 return i, part_sel
     layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
     raise FormatError(f"{path}: no part or layer named {part_sel!r}; parts: "
                       f"{', '.join(repr(n) for n in names)}; layers: {', '.join(layers) or 'none'}")
+
+
+def views(header) -> list[str]:
+    """The views of a multi-view part (its ``multiView`` attribute; the first is the default view), or []."""
+    return [str(v) for v in (header.get("multiView") or [])] if isinstance(header, dict) else []
+
+
+def view_of(name: str, names: list[str]) -> str:
+    """The view channel ``name`` belongs to among views ``names``, by OpenEXR's naming of multi-view
+    channels: the name's second-to-last component when it is a view (``left.R``, ``diffuse.left.R``),
+    else the first, default, view (``R``, ``diffuse.R``)."""
+    parts = name.split(".")
+    return parts[-2] if len(parts) >= 2 and parts[-2] in names else names[0]
+
+
+def without_view(name: str, view: str) -> str:
+    """A channel's name with its view left out (``left.Z`` -> ``Z``, ``depth.left.Z`` -> ``depth.Z``)."""
+    parts = name.split(".")
+    if len(parts) >= 2 and parts[-2] == view:
+        del parts[-2]
+    return ".".join(parts)
 
 
 def channel_names(part) -> list[str]:
