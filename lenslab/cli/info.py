@@ -75,7 +75,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         "camera": camera.to_dict() if camera is not None else None,
     }
     for key in ("part", "part_name", "layer", "data_window", "display_window", "ignored_channels", "extra_channels",
-                "luminance_chroma", "primaries_converted_to_rec709"):
+                "luminance_chroma", "primaries_converted_to_rec709", "view", "other_views"):
         if key in meta:
             out[key] = meta[key]
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
@@ -153,6 +153,10 @@ def _text(d: dict) -> str:
         lines.append("  luminance/chroma (Y, RY, BY) converted to RGB")
     if d.get("primaries_converted_to_rec709"):
         lines.append("  colour converted from the file's chromaticities to Rec.709 primaries")
+    if d.get("other_views"):  # one view of a multi-view part: the others are neither read nor written
+        rest = d["other_views"]
+        shown = ", ".join(rest[:12]) + (f" and {len(rest) - 12} more" if len(rest) > 12 else "")
+        lines.append(f"  view {d['view']} alone: {len(rest)} channel(s) of the other views not read: {shown}")
     others = d.get("extra_channels") or d.get("ignored_channels")
     if others:  # every channel of the part beside the image's: what convert to EXR keeps, other formats drop
         shown = ", ".join(others[:12]) + (f" and {len(others) - 12} more" if len(others) > 12 else "")

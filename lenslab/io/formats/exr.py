@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from lenslab.io.plugin import Format
 
-#: OpenEXR's pixel types by the NumPy dtype its bindings give them
-_EXR_TYPES = {"float16": "half", "float32": "float", "uint32": "uint"}
 
 def _read(path, selector=None, data_window=False, rec709=True, extra_channels=False, parsed=None):
     from lenslab.io.exr import read_exr
@@ -39,23 +37,17 @@ def _window(w) -> list[int]:
 
 def _probe(path) -> dict:
     """Every part: storage, compression, windows, line order, channels (pixel type, sampling), layers and
-    attributes. Channel types come from OpenEXR's full read only because the bindings give them with the
-    pixels (deep files cannot be read so: their types stay "unknown")."""
+    attributes. Channel types come from lenslab's own reading of the header (no pixel is decoded; OpenEXR's
+    header-only reading does not give them)."""
     import OpenEXR
 
     from lenslab.io.exr import plain_value
-    from lenslab.library_output import library_call, quiet_library
+    from lenslab.io.exr.chunks import parse_header
+    from lenslab.library_output import library_call
 
     head = library_call(path, lambda: OpenEXR.File(str(path), header_only=True), "OpenEXR cannot read the header")
-    types: dict[tuple[int, str], str] = {}
-    try:
-        with quiet_library():
-            full = OpenEXR.File(str(path), separate_channels=True)
-        for i, part in enumerate(full.parts):
-            for name, ch in part.channels.items():
-                types[(i, name)] = _EXR_TYPES.get(str(ch.pixels.dtype), str(ch.pixels.dtype))
-    except Exception:
-        pass
+    types = {(i, name): kind.lower() for i, part in enumerate(parse_header(path).parts)
+             for name, kind in part.get("channel_types", {}).items()}
     parts = []
     for i, part in enumerate(head.parts):
         h = part.header
