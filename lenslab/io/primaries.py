@@ -24,10 +24,10 @@ def matrix_from_chromaticities(chromaticities) -> np.ndarray:
 
 
 def to_rec709(image: np.ndarray, matrix, rows: int = BAND_ROWS) -> np.ndarray:
-    """Apply ``matrix`` (3 x 3, file RGB -> Rec.709) to the first three channels of ``image`` (float32
-    H x W x C, C >= 3; alpha and other channels untouched) in place, ``rows`` rows at a time, in float32.
-    Returns ``image``."""
-    m = np.asarray(matrix, dtype=np.float32).T
+    """Apply ``matrix`` (3 x 3, file RGB -> Rec.709) to the first three channels of ``image`` (float32 or
+    float64 H x W x C, C >= 3; alpha and other channels untouched) in place, ``rows`` rows at a time, in
+    the image's own precision. Returns ``image``."""
+    m = np.asarray(matrix, dtype=image.dtype).T
     for r in range(0, image.shape[0], rows):
         band = image[r:r + rows, :, :3]
         band[...] = band @ m

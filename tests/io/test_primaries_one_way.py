@@ -80,3 +80,21 @@ def test_a_tagged_png_file_is_read_through_it(tmp_path, applied):
     expected = colour.RGB_to_RGB(decoded.astype(np.float64), colour.RGB_COLOURSPACES["P3-D65"], BT709)
     m = colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["P3-D65"], BT709)
     assert np.all(np.abs(image - expected) <= _bound(m, decoded))
+
+
+def test_a_pq_png_on_bt2020_goes_through_it_as_colour_science_decodes_it(tmp_path, applied):
+    from lenslab.io.png_cicp import with_cicp
+
+    codes = np.random.default_rng(7).integers(0, 65536, (5, 8, 3)).astype(np.float32) / 65535
+    plain = tmp_path / "plain.png"
+    lio.write(plain, codes, raw=True, bits=16)
+    tagged = tmp_path / "pq.png"
+    tagged.write_bytes(with_cicp(plain.read_bytes(), (9, 16, 0, 1)))  # Rec.2100 PQ: BT.2020, ST 2084
+    image, _ = lio.read(tagged)
+    assert len(applied) == 1
+    stored, _ = lio.read(plain, raw=True)  # the 16-bit codes / 65535, as written
+    light = colour.eotf(stored.astype(np.float64), "ST 2084") / 203.0  # 1.0 = 203 cd/m2 (ITU-R BT.2408)
+    expected = colour.RGB_to_RGB(light, colour.RGB_COLOURSPACES["ITU-R BT.2020"], BT709)
+    # float64 throughout, rounded once to float32 at the end: 2 ulp of float32, plus 1e-9 for the
+    # two float64 evaluations of the PQ curve (a 10000 cd/m2 code is 49 times the reference white)
+    np.testing.assert_allclose(image, expected, rtol=2 * np.finfo(np.float32).eps, atol=1e-9)

@@ -158,7 +158,9 @@ def to_linear(codes: np.ndarray, info) -> np.ndarray:
     """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
     lin = _eotf(codes.astype(np.float64), info.curve)
     if is_wide(info.primaries):
-        lin = lin @ matrix_to_709(info.primaries).T
+        from lenslab.io.primaries import to_rec709
+
+        to_rec709(lin, matrix_to_709(info.primaries))
     return lin.astype(np.float32)
 
 
