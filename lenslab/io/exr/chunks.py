@@ -176,12 +176,6 @@ def parse_header(path) -> Layout:
                           "truncated or damaged") from None
 
 
-def first_part_types(path) -> dict[str, str]:
-    """{channel name: pixel type ("HALF", "FLOAT", "UINT")} of an EXR's first part, from lenslab's own
-    reading of the header (OpenEXR's header-only reading does not give them for every file)."""
-    return parse_header(path).first_part(path)["channel_types"]
-
-
 def first_part_channels(path) -> list[str]:
     """The channel names of an EXR's first part, from lenslab's own reading of the header (no pixel is
     decoded, and OpenEXR never sees the file)."""
