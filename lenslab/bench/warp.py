@@ -138,7 +138,7 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
     def levels():  # the pyramid's rows the footprints read (the warp builds them as its bands need them)
         pyr = aa.pyramid(src_img, plan.border, lazy=True)
         for b in bands:
-            pyr.ensure(b.ys, b.valid, b.foot)
+            pyr.ensure(b.ys, b.valid, b.foot, b.coarse)
         return pyr
 
     pyr = levels()

@@ -66,15 +66,17 @@ class Pyramid:
             k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
             done[a:b] = True
 
-    def ensure(self, ys, valid, foot) -> None:
+    def ensure(self, ys, valid, foot, coarse=None) -> None:
         """Build the rows of the coarser levels that the valid footprints at rows ``ys`` (source pixels, index
         coordinates) with sides ``foot`` (..., 4) read: the level and the window the filter picks, a texel wider
         (compiled: ``level_rows``, reference :func:`lenslab.warp.kernels.reference.level_rows`), rows beyond a
-        pole or an edge folded back."""
+        pole or an edge folded back. ``coarse``: int64 flat indices of the samples that may leave level 0 (every
+        other footprint spans at most ``MAX_TAPS`` texels; :attr:`FootprintBand.coarse`); None: look at all."""
         if all(d.all() for d in self.built):
             return
         rows = np.empty((len(self.shapes), 2), np.int64)
-        native.kernels().level_rows(self.shapes, c32(ys), cbool(valid), c32(foot), MAX_TAPS, rows)
+        idx = None if coarse is None else np.ascontiguousarray(coarse, dtype=np.int64)
+        native.kernels().level_rows(self.shapes, c32(ys), cbool(valid), c32(foot), MAX_TAPS, rows, idx)
         with self.lock:
             for k in range(1, len(self.shapes)):
                 lo, hi = (int(v) for v in rows[k])
@@ -125,7 +127,7 @@ def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
     read = band.valid & ~band.edge
-    pyr.ensure(band.ys, read, band.foot)
+    pyr.ensure(band.ys, read, band.foot, getattr(band, "coarse", None))
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
                 cbool(read), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
