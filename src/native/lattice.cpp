@@ -296,4 +296,14 @@ void lattice_rows(const LatticeBand& b, double inv) {
     }
 }
 
+void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float* xs, float* ys, bool* valid) {
+    for (int64_t e = 0; e < n; ++e) {
+        const int64_t q = at[e];
+        const bool ok = v[e];
+        xs[q] = ok ? float(xy[2 * e] - 0.5) : 0.0f;
+        ys[q] = ok ? float(xy[2 * e + 1] - 0.5) : 0.0f;
+        valid[q] = ok;
+    }
+}
+
 }  // namespace lenslab
