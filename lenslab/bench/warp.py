@@ -129,6 +129,7 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
     from lenslab.bench.results import figure
     from lenslab.warp import antialias as aa
     from lenslab.warp.engine import WarpPlan
+    from lenslab.warp.pyramid import ensure_band
 
     plan = WarpPlan(src, dst, antialias=True)
     out = np.zeros(plan.out_shape + (src_img.shape[2],), np.float32)
@@ -138,7 +139,7 @@ def antialias_stages(src_img, src, dst, repeat: int) -> None:
     def levels():  # the pyramid's rows the footprints read (the warp builds them as its bands need them)
         pyr = aa.pyramid(src_img, plan.border, lazy=True)
         for b in bands:
-            pyr.ensure(b.ys, b.valid, b.foot)
+            ensure_band(pyr, b)
         return pyr
 
     pyr = levels()

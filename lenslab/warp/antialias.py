@@ -46,7 +46,7 @@ import numpy as np
 from lenslab.warp.kernels import native
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
-from lenslab.warp.pyramid import pyramid, sample_footprint  # noqa: F401  (the source side)
+from lenslab.warp.pyramid import MAX_TAPS, pyramid, sample_footprint  # noqa: F401  (the source side)
 
 JACOBIAN_POINTS = 5  # map evaluations per sample with samples > 1: the centre and the four secant ends
 EDGE_SPLIT = 4  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
@@ -62,11 +62,15 @@ class FootprintBand(MapBand):
     edge_xs: np.ndarray = None  # (M, K) float32: their sub-samples (index coordinates)
     edge_ys: np.ndarray = None
     edge_valid: np.ndarray = None  # (M, K) bool
+    #: (N,) int64 flat indices into (h, W, S), in order, of the valid samples whose footprint may span more than
+    #: MAX_TAPS texels (so may read the pyramid's coarser levels): a superset of those that do; None: not known
+    coarse: np.ndarray = None
 
     @property
     def nbytes(self) -> int:
         return (super().nbytes + self.foot.nbytes + self.edge.nbytes + self.edge_idx.nbytes
-                + self.edge_xs.nbytes + self.edge_ys.nbytes + self.edge_valid.nbytes)
+                + self.edge_xs.nbytes + self.edge_ys.nbytes + self.edge_valid.nbytes
+                + (0 if self.coarse is None else self.coarse.nbytes))
 
 
 def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> FootprintBand:
@@ -114,8 +118,8 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
         piece = piece_numbers(rects, np.arange(w)[None, :] + 0.5, np.arange(a0, a1)[:, None] + 0.5)
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)
-    neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, mapper.wrap, piece, foot,
-                      edge)
+    coarse = neighbour_secants(band.xs[..., 0], band.ys[..., 0], band.valid[..., 0], r0 - a0, mapper.wrap, piece,
+                               foot, edge, far=MAX_TAPS)
     top = r0 - a0
     valid = band.valid[top:top + h]
     # pixels on the image's border have no neighbour outside it: the validity of the point half a
@@ -132,10 +136,11 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
     o = offsets[0, 0, 0]
     _, ok = exact_map(mapper.src, mapper.dst, np.stack([cc + o[0] + dx, r0 + rr + o[1] + dy], axis=-1))
     edge[rr[ok != valid[rr, cc, 0]], cc[ok != valid[rr, cc, 0]], 0] = True
-    return (band.xs[top:top + h], band.ys[top:top + h], valid, foot, edge)
+    return (band.xs[top:top + h], band.ys[top:top + h], valid, foot, edge, coarse)
 
 
-def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, foot, edge) -> "FootprintBand":
+def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, foot, edge,
+                 coarse=None) -> "FootprintBand":
     """The footprint band, with the samples on the edge of the valid region split into
     EDGE_SPLIT x EDGE_SPLIT plain sub-samples (mapped exactly) that measure their partial coverage."""
     flat = np.flatnonzero(edge)
@@ -150,7 +155,8 @@ def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, f
     exy, ev = exact_map(mapper.src, mapper.dst, pts)
     return FootprintBand(r0, r0 + xs.shape[0], np.ascontiguousarray(xs), np.ascontiguousarray(ys),
                          np.ascontiguousarray(valid), foot, edge, flat,
-                         (exy[..., 0] - 0.5).astype(np.float32), (exy[..., 1] - 0.5).astype(np.float32), ev)
+                         (exy[..., 0] - 0.5).astype(np.float32), (exy[..., 1] - 0.5).astype(np.float32), ev,
+                         coarse)
 
 
 def piece_rects(lens):
@@ -195,13 +201,22 @@ def _inside_piece(allo, offsets, r0, h, w, rects):
     return ends.reshape(h, w, 5 * n, 2)
 
 
-def neighbour_secants(xs, ys, vs, top: int, wrap: float, piece, foot, edge) -> None:
+def neighbour_secants(xs, ys, vs, top: int, wrap: float, piece, foot, edge, far: float | None = None):
     """Footprint sides of the pixels of rows ``top:top + h`` of a map of pixel centres (``xs`` etc.
     (rows, W)) from their neighbours, into ``foot`` (h, W, 1, 4) and ``edge`` (h, W, 1); ``piece`` (rows, W)
     int32 numbers each pixel's piece (None: one piece), and a neighbour in another piece does not count
-    (compiled ahead of time; reference :func:`lenslab.warp.kernels.reference.neighbour_secants`)."""
+    (compiled ahead of time; reference :func:`lenslab.warp.kernels.reference.neighbour_secants`).
+
+    With ``far``: returns the int64 flat indices (into (h, W)) of the valid pixels with a side that may be longer
+    than ``far`` texels (every one that is, and a few within a float32 rounding of it), found as the sides are made."""
     piece = np.zeros((0, 0), np.int32) if piece is None else np.ascontiguousarray(piece, dtype=np.int32)
-    native.kernels().neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge)
+    k = native.kernels()
+    if far is None:
+        k.neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge)
+        return None
+    idx = np.empty(edge.size, np.int64)  # pages are given memory only where written: about 2% of them here
+    n = k.neighbour_secants(c32(xs), c32(ys), cbool(vs), int(top), float(wrap), piece, foot, edge, float(far), idx)
+    return idx[:n].copy()
 
 
 def secants(xs, ys, vs, wrap: float, foot) -> None:

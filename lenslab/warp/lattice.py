@@ -66,3 +66,11 @@ def lattice_rows(coef, state, cb0, inv, r0, offs, xs, ys, valid, need, dirs) -> 
     row, and a row is walked cell by cell (the samples of an interpolating cell are one vectorised loop)."""
     native.kernels().lattice_rows(coef, state, int(cb0), float(inv), int(r0), np.ascontiguousarray(offs, np.float64),
                                   xs, ys, valid, need, dirs)
+
+
+def place(at, xy, v, xs, ys, valid) -> None:
+    """Write mapped samples into a band's flat maps: at flat positions ``at`` (int64), ``xs``/``ys`` (float32) get
+    the index coordinates ``xy - 0.5`` (``xy`` float64 (n, 2) source pixels) where ``v``, else 0, and ``valid``
+    gets ``v`` (one compiled pass, no temporaries; reference :func:`lenslab.warp.kernels.lattice_reference.place`)."""
+    native.kernels().place(np.ascontiguousarray(at, np.int64), np.ascontiguousarray(xy, np.float64),
+                           np.ascontiguousarray(v, np.bool_), xs, ys, valid)

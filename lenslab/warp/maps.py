@@ -42,7 +42,7 @@ from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.lenses.core.native import project_kernel
 from lenslab.warp.kernels.dispatch import run_bands, scratch
 from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
-                                  lattice_rows)
+                                  lattice_rows, place)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -350,9 +350,7 @@ class Mapper:
             np.add(c, o[..., 0], out=pts[:, 0])
             np.add(r0 + r, o[..., 1], out=pts[:, 1])
             xy, v = exact_map(self.src, self.dst, pts)
-        xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
-        ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
-        valid[at] = v
+        place(at, xy.reshape(-1, 2), v.reshape(-1), xs, ys, valid)
 
 
 EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)

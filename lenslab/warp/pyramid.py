@@ -53,28 +53,35 @@ class Pyramid:
     def build(self, lev: int, r0: int, r1: int) -> None:
         """Rows ``r0:r1`` of level ``lev`` >= 1 (those of the finer levels they come from first)."""
         done = self.built[lev - 1]
-        todo = np.flatnonzero(~done[r0:r1]) + r0
-        if not len(todo):
+        seg = done[r0:r1]
+        if seg.all():
             return
+        # the runs of missing rows: built rows are never written again (other bands may be reading them without
+        # the GIL); mostly none of the rows is built yet, one run
+        runs = [(r0, r1)]
+        if seg.any():
+            todo = np.flatnonzero(~seg) + r0
+            breaks = np.flatnonzero(np.diff(todo) > 1) + 1
+            runs = [(int(run[0]), int(run[-1]) + 1) for run in np.split(todo, breaks)]
         cur, nxt = self.level(lev - 1), self.level(lev)
         k = native.kernels()
-        breaks = np.flatnonzero(np.diff(todo) > 1) + 1  # runs of missing rows: built rows are never written
-        for run in np.split(todo, breaks):  # again (other bands may be reading them without the GIL)
-            a, b = int(run[0]), int(run[-1]) + 1
+        for a, b in runs:
             if lev > 1:
                 self.build(lev - 1, 2 * a, 2 * b)
             k.halve(c32(cur[2 * a:2 * b]), nxt[a:b])
             done[a:b] = True
 
-    def ensure(self, ys, valid, foot) -> None:
+    def ensure(self, ys, valid, foot, coarse=None) -> None:
         """Build the rows of the coarser levels that the valid footprints at rows ``ys`` (source pixels, index
         coordinates) with sides ``foot`` (..., 4) read: the level and the window the filter picks, a texel wider
         (compiled: ``level_rows``, reference :func:`lenslab.warp.kernels.reference.level_rows`), rows beyond a
-        pole or an edge folded back."""
+        pole or an edge folded back. ``coarse``: int64 flat indices of the samples that may leave level 0 (every
+        other footprint spans at most ``MAX_TAPS`` texels; :attr:`FootprintBand.coarse`); None: look at all."""
         if all(d.all() for d in self.built):
             return
         rows = np.empty((len(self.shapes), 2), np.int64)
-        native.kernels().level_rows(self.shapes, c32(ys), cbool(valid), c32(foot), MAX_TAPS, rows)
+        idx = None if coarse is None else np.ascontiguousarray(coarse, dtype=np.int64)
+        native.kernels().level_rows(self.shapes, c32(ys), cbool(valid), c32(foot), MAX_TAPS, rows, idx)
         with self.lock:
             for k in range(1, len(self.shapes)):
                 lo, hi = (int(v) for v in rows[k])
@@ -120,27 +127,41 @@ def pyramid(src: np.ndarray, border: Border, lazy: bool = False) -> Pyramid:
     return pyr
 
 
+def ensure_band(pyr: Pyramid, band):
+    """Build the pyramid's rows that a footprint band reads (:meth:`Pyramid.ensure`): its samples' footprints,
+    those split on the edge of the valid region left out, and the footprints of their sub-samples, each the
+    sample's sides divided by the split. Returns what the filter reads: which samples (bool, as ``band.valid``),
+    and the sub-samples' sides ((M, K, 4) float32)."""
+    read = band.valid & ~band.edge
+    pyr.ensure(band.ys, read, band.foot, getattr(band, "coarse", None))
+    m, kk = band.edge_xs.shape
+    sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(math.isqrt(kk))
+    s64 = sub.astype(np.float64)
+    # the split samples whose sub-samples may leave level 0 (a side beyond MAX_TAPS, or not a number): the others
+    # read no coarser row
+    far = np.flatnonzero(~((s64[:, 0] ** 2 + s64[:, 1] ** 2 <= MAX_TAPS ** 2)
+                           & (s64[:, 2] ** 2 + s64[:, 3] ** 2 <= MAX_TAPS ** 2)))
+    if len(far):
+        pyr.ensure(band.edge_ys[far], band.edge_valid[far], np.broadcast_to(sub[far, None, :], (len(far), kk, 4)))
+    return read, np.broadcast_to(sub[:, None, :], (m, kk, 4))
+
+
 def sample_footprint(pyr: Pyramid, band, border: Border, out: np.ndarray,
                      alpha: np.ndarray) -> None:
     """Fill ``out`` and ``alpha`` for a footprint band (see the module docstring)."""
     wrap, top, bottom = border.flags
-    read = band.valid & ~band.edge
-    pyr.ensure(band.ys, read, band.foot)
+    read, sub = ensure_band(pyr, band)
     k = native.kernels()
     k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.xs), c32(band.ys),
                 cbool(read), c32(band.foot), wrap, top, bottom, MAX_TAPS, out, alpha)
     if len(band.edge_idx):  # the samples split on the edge of the valid region: each valid sub-sample is
         # itself a footprint, its sample's sides divided by the split, so that it averages its own cell
-        m, kk = band.edge_xs.shape
+        m = band.edge_xs.shape[0]
         ns = band.xs.shape[2]
-        split = math.isqrt(kk)
-        sub = band.foot.reshape(-1, 4)[band.edge_idx] / np.float32(split)
-        pyr.ensure(band.edge_ys, band.edge_valid, np.broadcast_to(sub[:, None, :], (m, kk, 4)))
         sub_out = np.empty((m, pyr.channels), np.float32)
         sub_alpha = np.empty(m, np.float32)
         k.footprint(pyr.level0, pyr.rest, pyr.shapes, pyr.offsets, c32(band.edge_xs), c32(band.edge_ys),
-                    cbool(band.edge_valid), c32(np.broadcast_to(sub[:, None, :], (m, kk, 4))), wrap, top, bottom,
-                    MAX_TAPS, sub_out, sub_alpha)
+                    cbool(band.edge_valid), c32(sub), wrap, top, bottom, MAX_TAPS, sub_out, sub_alpha)
         pix = band.edge_idx // ns
         flat, flat_alpha = out.reshape(-1, pyr.channels), alpha.reshape(-1)
         np.add.at(flat, pix, sub_out * np.float32(1.0 / ns))

@@ -138,6 +138,18 @@ void bind_map_kernels(nb::module_& m) {
        nb::arg("xs").noconvert(), nb::arg("ys").noconvert(), nb::arg("valid").noconvert(), nb::arg("need").noconvert(),
        nb::arg("dirs").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 
+    m.def("place", [](In<int64_t> at, In<double> xy, In<bool> v, Out<float> xs, Out<float> ys, Out<bool> valid) {
+        const size_t n = at.size(), size = xs.size();
+        need(xy.size() == 2 * n && v.size() == n, "place: xy (n, 2) and v (n,) for n positions");
+        need(ys.size() == size && valid.size() == size, "place: xs, ys and valid differ in size");
+        const int64_t* a = at.data();
+        bool inside = true;
+        for (size_t e = 0; e < n; ++e) inside &= a[e] >= 0 && size_t(a[e]) < size;
+        need(inside, "place: a position beyond the maps");
+        place(a, xy.data(), v.data(), int64_t(n), xs.data(), ys.data(), valid.data());
+    }, nb::arg("at"), nb::arg("xy"), nb::arg("v"), nb::arg("xs").noconvert(), nb::arg("ys").noconvert(),
+       nb::arg("valid").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
     m.def("fold_piece", [](int64_t i, int64_t j, int64_t p, In<int64_t> table) {
         need(table.ndim() == 2 && table.shape(1) == 16 && p >= 0 && p < int64_t(table.shape(0)), "no such piece");
         const int64_t np = int64_t(table.shape(0));

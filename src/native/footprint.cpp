@@ -260,52 +260,6 @@ void footprint(const float* level0, const float* rest, const int64_t* shapes, co
 
 }  // namespace lenslab
 
-namespace lenslab {
-
-// The rows of each pyramid level (levels 1..) that the footprint filter reads for these samples: rows (nlev, 2)
-// int64, [first, end) widened to cover every sample whose footprint picks that level (its window, a texel more
-// each way; a level no sample picks keeps first > end). Rows beyond the image are left for the caller to fold.
-void level_rows(const int64_t* shapes, int64_t nlev, const float* ys, const bool* valid, const float* foot,
-                int64_t n, double max_taps, int64_t* rows) {
-    const double h0 = double(shapes[0]);
-    for (int64_t s = 0; s < n; ++s) {
-        if (!valid[s]) continue;
-        const float* f = foot + 4 * s;
-        const double ax = clamp_side(f[0]), ay = clamp_side(f[1]), bx = clamp_side(f[2]), by = clamp_side(f[3]);
-        const double la = ax * ax + ay * ay, lb = bx * bx + by * by;
-        if (!(std::max(la, lb) > max_taps * max_taps)) continue;  // level 0 (no square root for most)
-        const double longest = std::max(std::sqrt(la), std::sqrt(lb));
-        if (!(longest > max_taps)) continue;
-        int64_t lev = 0;
-        while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
-        const int64_t lh = shapes[2 * lev];
-        const double scale = double(lh) / h0;
-        const double ey = std::min(0.5 * (std::fabs(ay) + std::fabs(by)) * scale + 1.0, double(WINDOW / 2 + 1));
-        const double cy = (double(clamp_pos(ys[s])) + 0.5) * scale - 0.5;
-        const int64_t lo = std::max(-lh, ifloor(cy - ey) - 1), hi = std::min(2 * lh, ifloor(cy + ey) + 2);
-        rows[2 * lev] = std::min(rows[2 * lev], lo);
-        rows[2 * lev + 1] = std::max(rows[2 * lev + 1], hi);
-    }
-}
-
-// One pyramid level: out (h/2, w/2, nc) = the mean of each 2x2 block of src (h, w, nc), summed in float64 (a mean
-// of finite float32 values is finite).
-void halve(const float* src, int64_t h, int64_t w, int64_t nc, float* out) {
-    const int64_t oh = h / 2, ow = w / 2, row = w * nc;
-    for (int64_t j = 0; j < oh; ++j) {
-        const float* r0 = src + 2 * j * row;
-        const float* r1 = r0 + row;
-        float* o = out + j * ow * nc;
-        for (int64_t i = 0; i < ow; ++i)
-            for (int64_t ch = 0; ch < nc; ++ch) {
-                const int64_t k = 2 * i * nc + ch;
-                o[i * nc + ch] = float(((double(r0[k]) + double(r0[k + nc])) + (double(r1[k]) + double(r1[k + nc]))) * 0.25);
-            }
-    }
-}
-
-}  // namespace lenslab
-
 // The binding (lenslab.cxx_kernels.footprint), registered by src/native/module.cpp; the GIL is released.
 namespace nb = nanobind;
 
@@ -347,24 +301,4 @@ void register_footprint(nb::module_& m) {
     }, nb::arg("level0"), nb::arg("rest"), nb::arg("shapes"), nb::arg("offsets"), nb::arg("xs"), nb::arg("ys"),
        nb::arg("valid"), nb::arg("foot"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("max_taps"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert());
-
-    m.def("level_rows", [](InI shapes, InF ys, InB valid, InF foot, double max_taps, bind::Out<int64_t> rows) {
-        need(shapes.ndim() == 2 && shapes.shape(1) == 2 && shapes.shape(0) > 0, "pyramid shapes");
-        need(valid.size() == ys.size() && foot.size() == 4 * ys.size(), "level_rows: ys, valid, foot (n, 4) alike");
-        need(rows.size() == 2 * shapes.shape(0), "level_rows: rows must be (levels, 2)");
-        need(max_taps > 0.0, "max_taps must be positive");
-        int64_t* r = rows.data();
-        for (size_t l = 0; l < shapes.shape(0); ++l) { r[2 * l] = INT64_MAX; r[2 * l + 1] = INT64_MIN; }
-        nb::gil_scoped_release release;
-        level_rows(shapes.data(), int64_t(shapes.shape(0)), ys.data(), valid.data(), foot.data(), int64_t(ys.size()),
-                   max_taps, r);
-    }, nb::arg("shapes"), nb::arg("ys"), nb::arg("valid"), nb::arg("foot"), nb::arg("max_taps"),
-       nb::arg("rows").noconvert());
-
-    m.def("halve", [](InF src, OutF out) {
-        need(src.ndim() == 3 && out.ndim() == 3 && out.shape(0) == src.shape(0) / 2 && out.shape(1) == src.shape(1) / 2
-             && out.shape(2) == src.shape(2), "halve: out must be (h/2, w/2, c) of src (h, w, c)");
-        nb::gil_scoped_release release;
-        halve(src.data(), int64_t(src.shape(0)), int64_t(src.shape(1)), int64_t(src.shape(2)), out.data());
-    }, nb::arg("src"), nb::arg("out").noconvert());
 }

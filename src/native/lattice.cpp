@@ -206,6 +206,31 @@ void lattice_eval(const LatticeBand& b, double step) {
 void lattice_rows(const LatticeBand& b, double inv) {
     double rc[5][4];
     const int64_t w = b.w, n = b.n;
+    // the runs of samples k along a row that share a cell: the same in every row (they depend on the column
+    // alone), so found once for the band
+    struct Run { int64_t c, c1, ca; };
+    std::vector<std::vector<Run>> runs(static_cast<size_t>(n));
+    for (int64_t k = 0; k < n; ++k) {
+        const double ox = b.offs[2 * k];
+        int64_t c = 0;
+        while (c < w) {
+            const int64_t ca = cell_of(std::floor((double(c) + ox) * inv), b.ncx);
+            int64_t c1 = w;  // the samples up to c1 share cell ca (the last cell: all)
+            if (ca < b.ncx - 1) {
+                const double edge = double(ca + 1);
+                c1 = std::min(w, std::max(c + 1, int64_t(std::ceil(edge / inv - ox))));
+                while (c1 > c + 1 && (double(c1 - 1) + ox) * inv >= edge) --c1;
+                while (c1 < w && (double(c1) + ox) * inv < edge) ++c1;
+            }
+            runs[size_t(k)].push_back({c, c1, ca});
+            c = c1;
+        }
+    }
+    // one sample per pixel: each column's fraction in its cell, the same in every row
+    std::vector<double> txs(n == 1 ? size_t(w) : 0);
+    if (n == 1)
+        for (const Run& run : runs[0])
+            for (int64_t cc = run.c; cc < run.c1; ++cc) txs[size_t(cc)] = (double(cc) + b.offs[0]) * inv - double(run.ca);
     for (int64_t r = 0; r < b.h; ++r) {
         for (int64_t k = 0; k < n; ++k) {
             const double ox = b.offs[2 * k];
@@ -216,16 +241,8 @@ void lattice_rows(const LatticeBand& b, double inv) {
             float* yr = b.ys + r * w * n + k;
             bool* vr = b.valid + r * w * n + k;
             int8_t* nr = b.need + r * w * n + k;
-            int64_t c = 0;
-            while (c < w) {
-                const int64_t ca = cell_of(std::floor((double(c) + ox) * inv), b.ncx);
-                int64_t c1 = w;  // the samples up to c1 share cell ca (the last cell: all)
-                if (ca < b.ncx - 1) {
-                    const double edge = double(ca + 1);
-                    c1 = std::min(w, std::max(c + 1, int64_t(std::ceil(edge / inv - ox))));
-                    while (c1 > c + 1 && (double(c1 - 1) + ox) * inv >= edge) --c1;
-                    while (c1 < w && (double(c1) + ox) * inv < edge) ++c1;
-                }
+            for (const Run& run : runs[size_t(k)]) {
+                const int64_t c = run.c, c1 = run.c1, ca = run.ca;
                 const int st = b.state[cb * b.ncx + ca];
                 const double* cf = b.coef + ((cb - b.cb0) * b.ncx + ca) * b.nk * 16;
                 if (st > 0) {  // each component's bicubic along this row: a cubic in tx
@@ -242,13 +259,16 @@ void lattice_rows(const LatticeBand& b, double inv) {
                     const double b0 = rc[1][0], b1 = rc[1][1], b2 = rc[1][2], b3 = rc[1][3];
                     float* __restrict__ xo = xr;
                     float* __restrict__ yo = yr;
+                    const double* __restrict__ tr = txs.data();
                     for (int64_t cc = c; cc < c1; ++cc) {
-                        const double tx = (double(cc) + ox) * inv - dca;
+                        const double tx = tr[cc];
                         xo[cc] = float((((a3 * tx + a2) * tx + a1) * tx + a0) - 0.5);
                         yo[cc] = float((((b3 * tx + b2) * tx + b1) * tx + b0) - 0.5);
                     }
-                    std::memset(vr + c, 1, size_t(c1 - c));
-                    std::memset(nr + c, NEED_DONE, size_t(c1 - c));
+                    for (int64_t cc = c; cc < c1; ++cc) {  // (a run is a cell's few samples: no call to memset)
+                        vr[cc] = true;
+                        nr[cc] = NEED_DONE;
+                    }
                 } else if (st == 1) {
                     const double a0 = rc[0][0], a1 = rc[0][1], a2 = rc[0][2], a3 = rc[0][3];
                     const double b0 = rc[1][0], b1 = rc[1][1], b2 = rc[1][2], b3 = rc[1][3];
@@ -271,9 +291,18 @@ void lattice_rows(const LatticeBand& b, double inv) {
                         store_cell(b, (r * w + cc) * n + k, st, 0.0, 0.0, dx, dy, dz);
                     }
                 }
-                c = c1;
             }
         }
+    }
+}
+
+void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float* xs, float* ys, bool* valid) {
+    for (int64_t e = 0; e < n; ++e) {
+        const int64_t q = at[e];
+        const bool ok = v[e];
+        xs[q] = ok ? float(xy[2 * e] - 0.5) : 0.0f;
+        ys[q] = ok ? float(xy[2 * e + 1] - 0.5) : 0.0f;
+        valid[q] = ok;
     }
 }
 

@@ -45,6 +45,10 @@ void lattice_eval(const LatticeBand& b, double step);
 // The same for offsets shared by every pixel, walked cell by cell along each row (lattice_rows); inv = 1/step.
 void lattice_rows(const LatticeBand& b, double inv);
 
+// Place n mapped samples at flat positions at[] of a band's maps: index coordinates xy - 0.5 rounded to float32
+// where valid, 0 where not (lenslab.warp.lattice.place; xy (n, 2) float64).
+void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float* xs, float* ys, bool* valid);
+
 // Fold tap (i, j) of a sample in piece p into that piece or across its edge into the neighbour
 // (lenslab.warp.seam.fold_piece); table (pieces, 16).
 void fold_piece(int64_t& i, int64_t& j, int64_t p, const int64_t* table);

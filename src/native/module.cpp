@@ -4,8 +4,10 @@
 #include <cstring>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "bind.h"
@@ -37,6 +39,7 @@ void register_video_ycbcr(nb::module_& m);  // video_ycbcr.cpp: Y'CbCr planes <-
 void register_tone(nb::module_& m);  // tone.cpp
 void register_footprint(nb::module_& m);  // src/native/footprint.cpp
 void register_secants(nb::module_& m);  // src/native/secants.cpp
+void register_pyramid(nb::module_& m);  // src/native/pyramid.cpp: the pyramid's levels and the rows footprints read
 void register_lens_dirs(nb::module_& m);  // lens_dirs.cpp: pixel -> direction of the closed-form lenses
 
 NB_MODULE(cxx_kernels, m) {
@@ -110,9 +113,11 @@ NB_MODULE(cxx_kernels, m) {
 
     register_footprint(m);
     register_secants(m);
+    register_pyramid(m);
 
     m.def("neighbour_secants", [](In<float> xs, In<float> ys, In<bool> vs, int64_t top, double wrap,
-                                  In<int32_t> piece, Out<float> foot, Out<bool> edge) {
+                                  In<int32_t> piece, Out<float> foot, Out<bool> edge, double far,
+                                  std::optional<Out<int64_t>> coarse) {
         need(xs.ndim() == 2 && ys.ndim() == 2 && vs.ndim() == 2, "maps must be rows x width");
         const int64_t nrows = int64_t(xs.shape(0)), w = int64_t(xs.shape(1));
         need(int64_t(ys.shape(0)) == nrows && int64_t(vs.shape(0)) == nrows && int64_t(ys.shape(1)) == w
@@ -122,11 +127,14 @@ NB_MODULE(cxx_kernels, m) {
         need(foot.size() == size_t(4 * h * w) && top >= 0 && top + h <= nrows, "footprint rows");
         need(piece.size() == 0 || (piece.ndim() == 2 && int64_t(piece.shape(0)) == nrows
                                    && int64_t(piece.shape(1)) == w), "piece numbers must match the map");
-        neighbour_secants(xs.data(), ys.data(), vs.data(), nrows, w, top, h, wrap,
-                          piece.size() == 0 ? nullptr : piece.data(), foot.data(), edge.data());
+        need(!coarse || coarse->size() == size_t(h * w), "coarse must hold an index for every pixel");
+        nb::gil_scoped_release release;
+        return neighbour_secants(xs.data(), ys.data(), vs.data(), nrows, w, top, h, wrap,
+                                 piece.size() == 0 ? nullptr : piece.data(), foot.data(), edge.data(), far,
+                                 coarse ? coarse->data() : nullptr);
     }, nb::arg("xs"), nb::arg("ys"), nb::arg("vs"), nb::arg("top"), nb::arg("wrap"), nb::arg("piece"),
-       nb::arg("foot").noconvert(), nb::arg("edge").noconvert(),
-       nb::call_guard<nb::gil_scoped_release>());
+       nb::arg("foot").noconvert(), nb::arg("edge").noconvert(), nb::arg("far") = INFINITY,
+       nb::arg("coarse").noconvert() = nb::none());
 
     m.def("all_finite", [](In<float> a) {
         const float* p = a.data();

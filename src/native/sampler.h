@@ -28,8 +28,10 @@ void footprint(const float* level0, const float* rest, const int64_t* shapes, co
 
 // Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w): foot (h, w, 4) = a, b; edge
 // (h, w): a neighbour's validity differs. piece (nrows x w, or null for one piece): each pixel's piece number; a
-// neighbour in another piece does not count.
-void neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t nrows, int64_t w, int64_t top,
-                       int64_t h, double wrap, const int32_t* piece, float* foot, bool* edge);
+// neighbour in another piece does not count. coarse (h * w, or null): the flat indices (into h x w) of the valid
+// pixels with a side that may be longer than `far` texels, in order; returns their count.
+int64_t neighbour_secants(const float* xs, const float* ys, const bool* vs, int64_t nrows, int64_t w, int64_t top,
+                          int64_t h, double wrap, const int32_t* piece, float* foot, bool* edge, double far,
+                          int64_t* coarse);
 
 }  // namespace lenslab

@@ -166,3 +166,11 @@ def lattice_rows(coef, state, cb0: int, inv: float, r0: int, offs, shape):
 
     d = np.stack([cubic(2), cubic(3), cubic(4)], -1) if coef.shape[2] >= 5 else np.zeros((len(st), 3))
     return _store(st, cubic(0), cubic(1), d, shape)
+
+
+def place(at, xy, v, xs, ys, valid) -> None:
+    """Mapped samples into flat maps (float32 ``xs, ys``, bool ``valid``) at positions ``at``: ``xy - 0.5`` in
+    float64 rounded to float32 where ``v``, else 0."""
+    xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
+    ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
+    valid[at] = v
