@@ -11,14 +11,19 @@ input in one of three ways, each lens saying which with its ``v360_read`` attrib
 - ``"centre"`` (the cube layouts): lenslab's own convention, ``index = p - 1/2``;
 - ``"shift"``: ``index = p``, half a pixel further right and down than lenslab.
 
-Its panorama input clamps at the poles instead of continuing across them. :class:`V360Plan`
-reproduces these conventions with lenslab's lens models and filters. It does not reproduce v360's
-other habits (clamping float input to [0, 1], filling pixels outside an output projection with
-whatever its formulas give, the integer face sizes it rounds non-divisible cube maps to): the output keeps HDR values and alpha.
+Its panorama input clamps at the poles instead of continuing across them. v360 writes every output pixel:
+where an output projection has no ray of its own (a fisheye's corners, an EAC's padding) it carries its
+formulas on or samples a fixed direction, which each such lens gives as ``v360_pixel_to_dir``
+(:mod:`lenslab.lenses.core.v360`; :func:`v360_output`). :class:`V360Plan` reproduces these conventions
+with lenslab's lens models and filters. It does not reproduce v360's other habits (clamping float input
+to [0, 1], filling the pixels its input projection does not see with the input's top-left pixel, the
+integer face sizes it rounds non-divisible cube maps to): the output keeps HDR values, and alpha where
+the source has no ray.
 """
 
 from __future__ import annotations
 
+from copy import copy
 from dataclasses import replace
 
 import numpy as np
@@ -72,13 +77,24 @@ def check_v360(src_lens=None, dst_lens=None, samples: int = 1, antialias: bool =
     return None if src_lens is None else v360_read(src_lens)
 
 
+def v360_output(camera: Camera) -> Camera:
+    """``camera`` with the rays v360 gives its output pixels (:mod:`lenslab.lenses.core.v360`): a copy of its lens
+    whose ``pixel_to_dir`` is the lens's ``v360_pixel_to_dir``, where it has one (``camera`` itself otherwise)."""
+    rays = getattr(camera.lens, "v360_pixel_to_dir", None)
+    if rays is None:
+        return camera
+    lens = copy(camera.lens)
+    lens.pixel_to_dir = rays  # the copy's own, ahead of its class's
+    return Camera(lens, camera.pose)
+
+
 class V360Plan(WarpPlan):
-    """A :class:`WarpPlan` with v360's sample positions (see the module docstring)."""
+    """A :class:`WarpPlan` with v360's sample positions and the output pixels it fills (see the module docstring)."""
 
     def __init__(self, src_camera: Camera, dst_camera: Camera, **options):
         self.read = check_v360(src_camera.lens, dst_camera.lens, options.get("samples", 1),
                                options.get("antialias", False))
-        super().__init__(src_camera, dst_camera, **options)
+        super().__init__(src_camera, v360_output(dst_camera), **options)
         if self.channels is not None:
             raise WarpError("--compat v360: ffmpeg's v360 has no per-channel optics (chromatic aberration); "
                             "drop --compat v360 or the lens's tca")
@@ -95,4 +111,4 @@ def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
     return V360Plan(src_camera, dst_camera, **options)
 
 
-__all__ = ["V360Plan", "check_v360", "v360_plan", "v360_read"]
+__all__ = ["V360Plan", "check_v360", "v360_output", "v360_plan", "v360_read"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
+from lenslab.lenses.core import v360
 from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
@@ -173,6 +174,19 @@ class Fisheye(Lens):
         d, _ = azimuthal.plane_to_dir(self.kind, uv[..., 0] * c, uv[..., 1] * c)
         r2 = uv[..., 0] * uv[..., 0] + uv[..., 1] * uv[..., 1]
         return d, r2 <= self._s_max2
+
+    def v360_uv_to_dir(self, uv):
+        """:meth:`uv_to_dir` as ffmpeg's v360 carries it on past the image circle: equidistant and stereographic
+        everywhere (equidistant past the back pole), equisolid to the back pole, orthographic to 90 degrees."""
+        c = self.plane_scale
+        uv = self._to_local(uv)
+        d, ok = azimuthal.plane_to_dir(self.kind, uv[..., 0] * c, uv[..., 1] * c)
+        return d, ok | (self.kind == azimuthal.EQUIDISTANT)
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this fisheye's output pixels (:mod:`lenslab.lenses.core.v360`): :meth:`v360_uv_to_dir`,
+        and orthographic past 90 degrees the forward direction."""
+        return v360.continued(self, xy, self.v360_uv_to_dir, v360.FORWARD if self.mapping == "orthographic" else None)
 
     # -- direction -> pixel ------------------------------------------------------------------
     def pixel_kernel(self):
