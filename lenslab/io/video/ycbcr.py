@@ -26,7 +26,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_to_709,
+from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_from_709,
+                                     matrix_to_709,
                                      threads)
 
 #: planar pixel formats: (bits, log2 chroma subsampling across, down)
@@ -148,7 +149,7 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
         curve, zero, prim = np.empty(0, np.float32), 0.0, empty
     else:
         curve, zero = encode_table(info.curve)
-        prim = np.linalg.inv(matrix_to_709(info.primaries)) if is_wide(info.primaries) else empty
+        prim = matrix_from_709(info.primaries) if is_wide(info.primaries) else empty
     b0 = int(np.array(2.0**LOW, np.float32).view(np.uint32))
     return (bits, hx, vy, np.ascontiguousarray(prim), np.ascontiguousarray(curve, np.float32), b0, float(zero),
             rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))
