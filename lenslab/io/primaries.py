@@ -61,6 +61,28 @@ def h273_matrix(primaries: int, to_709: bool = True) -> np.ndarray | None:
     return m
 
 
+#: ITU-T H.273 matrix coefficients lenslab's Y'CbCr passes take (colour-science's ``WEIGHTS_YCBCR`` names): BT.709
+#: (also 2, unspecified, as swscale's default), BT.601 (5 BT.470BG, 6 SMPTE 170M), BT.2020 non-constant luminance
+H273_YCBCR = {1: "ITU-R BT.709", 2: "ITU-R BT.709", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
+
+
+@lru_cache(maxsize=8)
+def ycbcr_weights(matrix: int) -> tuple[float, float]:
+    """``(Kr, Kb)`` of the H.273 ``matrix`` coefficients (:data:`H273_YCBCR`): colour-science's ``WEIGHTS_YCBCR``,
+    kept in lenslab's cache directory as the primaries matrices are."""
+    from lenslab.srgb import cached_table
+
+    name = H273_YCBCR[int(matrix)]
+
+    def build():
+        import colour
+
+        return np.asarray(colour.WEIGHTS_YCBCR[name], dtype=np.float64)
+
+    kr, kb = cached_table(f"ycbcr-{name.replace(' ', '').replace('.', '')}", 2, np.float64, build, prefix=CACHE_PREFIX)
+    return float(kr), float(kb)
+
+
 def to_rec709(image: np.ndarray, matrix, rows: int = BAND_ROWS) -> np.ndarray:
     """Apply ``matrix`` (3 x 3, file RGB -> Rec.709) to the first three channels of ``image`` (float32 or
     float64 H x W x C, C >= 3; alpha and other channels untouched) in place, ``rows`` rows at a time, in

@@ -26,6 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from lenslab.io.primaries import H273_YCBCR, ycbcr_weights
 from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_from_709,
                                      matrix_to_709,
                                      threads)
@@ -34,9 +35,8 @@ from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table
 FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
            "yuv420p10le": (10, 1, 1), "yuv422p10le": (10, 1, 0), "yuv444p10le": (10, 0, 0),
            "yuv420p12le": (12, 1, 1), "yuv422p12le": (12, 1, 0), "yuv444p12le": (12, 0, 0)}
-#: matrix tag (H.273) -> (Kr, Kb): BT.709 (also unspecified, as swscale's default), BT.601 (BT.470BG, SMPTE 170M),
-#: BT.2020 non-constant luminance
-MATRICES = {1: (0.2126, 0.0722), 2: (0.2126, 0.0722), 5: (0.299, 0.114), 6: (0.299, 0.114), 9: (0.2627, 0.0593)}
+#: matrix tags (H.273) these passes take, with colour-science's (Kr, Kb) (:func:`lenslab.io.primaries.ycbcr_weights`)
+MATRICES = frozenset(H273_YCBCR)
 
 
 def exact(info, pix_fmt: str) -> bool:
@@ -46,7 +46,7 @@ def exact(info, pix_fmt: str) -> bool:
 
 def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
     """R'G'B' -> (E'y, E'cb, E'cr), 3 x 3 float64."""
-    kr, kb = MATRICES[matrix]
+    kr, kb = ycbcr_weights(matrix)
     kg = 1.0 - kr - kb
     return np.array([[kr, kg, kb],
                      [-kr / (2 * (1 - kb)), -kg / (2 * (1 - kb)), 0.5],
@@ -55,7 +55,7 @@ def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
 
 def ycbcr_to_rgb_matrix(matrix: int) -> np.ndarray:
     """(E'y, E'cb, E'cr) -> R'G'B', 3 x 3 float64: the inverse of :func:`rgb_to_ycbcr_matrix`, its first column 1."""
-    kr, kb = MATRICES[matrix]
+    kr, kb = ycbcr_weights(matrix)
     kg = 1.0 - kr - kb
     return np.array([[1.0, 0.0, 2 * (1 - kr)],
                      [1.0, -2 * kb * (1 - kb) / kg, -2 * kr * (1 - kr) / kg],
