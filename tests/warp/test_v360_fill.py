@@ -7,6 +7,12 @@ down or forward; an equisolid frame past the back pole is left at zero. Debian's
 RGBA source (``format=gbrap``): its output's alpha says which pixels it filled from the source (255) and
 which it left at zero, and lenslab's colour and alpha are compared with it at every pixel of the frame,
 corners included.
+
+As its source, v360 reads a direction its input projection does not see from the input's top-left pixel
+(``flat``, fisheye, ``cylindrical``, ``pannini``), and its fisheye inputs see their whole frame, corners
+included; ``mercator`` and ``hequirect`` clamp to their edges: those too are compared at every pixel but for
+a band along the edge of what the source sees, where v360 decides from float32 numbers and, at the frame's
+edge, by its own rounding.
 """
 
 from __future__ import annotations
@@ -21,8 +27,9 @@ from lenslab.cli.main import main
 from lenslab.io import read, write
 from lenslab.lenses import Camera
 from lenslab.warp.compat_v360 import v360_output
+from lenslab.warp.maps import exact_map_parts
 
-from tests.warp.test_v360_ffmpeg import TOL, ffmpeg, source_codes
+from tests.warp.test_v360_ffmpeg import EDGE, SHARED, TOL, ffmpeg, source_codes, v360_input
 
 #: a pixel centre this close (px) to a jump in v360's map (the edge of a fill, a face or a half) is left
 #: out: v360 decides its side in float32, lenslab in float64; a smooth map moves 1e-4 radians over it
@@ -55,10 +62,10 @@ def run_ffmpeg_rgba(tmp_path, codes: np.ndarray, opts: str, size) -> np.ndarray:
     return cv2.imread(str(out), cv2.IMREAD_UNCHANGED)[..., [2, 1, 0, 3]].astype(np.float64)
 
 
-def run_lenslab(tmp_path, codes, spec, size, flags=(), compat=True) -> np.ndarray:
+def run_lenslab(tmp_path, codes, spec, size, flags=(), compat=True, source="equirect") -> np.ndarray:
     src, out = tmp_path / "ll_in.exr", tmp_path / "ll_out.exr"
     write(src, codes.astype(np.float32) / 255, pixel_type="float", overwrite=True)
-    args = ["warp", str(src), "--from", "equirect", "--to", spec, "--size", f"{size[0]}x{size[1]}", *flags,
+    args = ["warp", str(src), "--from", source, "--to", spec, "--size", f"{size[0]}x{size[1]}", *flags,
             "--pixel-type", "float", "-o", str(out), "-q", "--overwrite"] + (["--compat", "v360"] if compat else [])
     assert main(args) == 0
     img = read(out)[0].astype(np.float64)
@@ -121,3 +128,42 @@ def test_without_compat_the_corners_have_no_ray(tmp_path):
     outside, inside = r > 1 + 1 / 32, r < 1 - 1 / 32  # a pixel's width from the rim: no partial coverage
     assert outside.sum() > 700 and np.all(ours[outside] == 0)  # transparent black: no ray
     assert np.all(ours[..., 3][inside] == 1)
+
+
+#: sources with directions they do not see (the others cover the whole sphere)
+PARTIAL = [case for case in SHARED if case[0].startswith(("half-equirect", "perspective", "fisheye", "cylindrical:",
+                                                          "mercator", "pannini"))]
+
+
+def seen_edge(spec: str, size, out_size=(128, 64)) -> np.ndarray:
+    """Output pixels within EDGE output pixels (8 directions) of one whose ray the source sees differently,
+    by lenslab's lens or by where it says v360 still reads (``v360_dir_to_pixel``)."""
+    src, dst = Camera.from_spec(spec, size), Camera.from_spec("equirect", out_size)
+    w, h = out_size
+    centres = np.stack(np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5), axis=-1)
+
+    def seen(pts):
+        _, ok, _, d = exact_map_parts(src, dst, pts, with_dirs=True)
+        further = getattr(src.lens, "v360_dir_to_pixel", None)
+        return ok | (further(d)[1] if further is not None else False)
+
+    at = seen(centres)
+    out = np.zeros((h, w), dtype=bool)
+    for a in np.arange(8) * np.pi / 4:
+        out |= seen(centres + EDGE * np.array([np.cos(a), np.sin(a)])) != at
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("spec,opts,size", PARTIAL, ids=[c[0] for c in PARTIAL])
+def test_what_the_source_does_not_see_is_read_as_v360_reads_it(tmp_path, spec, opts, size):
+    codes = source_codes(*size)
+    theirs = run_ffmpeg_rgba(tmp_path, codes, f"{v360_input(opts)}:output=e", (128, 64))
+    ours = run_lenslab(tmp_path, codes, "equirect", (128, 64), source=spec)
+    skip = seen_edge(spec, size)
+    keep = ~skip
+    assert keep.mean() > 0.8, keep.mean()
+    diff = np.abs(ours[..., :3] - theirs[..., :3]).max(axis=-1)[keep]
+    assert diff.max() <= TOL, (diff.max(), np.argwhere(keep)[np.argmax(diff)])
+    np.testing.assert_array_equal(ours[..., 3], 1.0)  # every pixel drawn, as v360 draws every pixel
+    np.testing.assert_array_equal(theirs[..., 3], 255)

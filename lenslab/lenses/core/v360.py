@@ -8,6 +8,11 @@ its formula has no answer it reports the pixel invisible and still samples a fix
 pole is its one place with no sample at all (zeros). A lens whose frame has such parts says so with a
 ``v360_pixel_to_dir(xy)`` method, built from the helpers here; ``lenslab warp --compat v360`` uses it
 for the output (:mod:`lenslab.warp.compat_v360`).
+
+As its input, v360 reads a direction a projection does not see from the input's top-left pixel (a ``flat``,
+fisheye, ``cylindrical`` or ``pannini`` input: the lens's ``v360_unseen`` is :data:`TOP_LEFT`), and some
+inputs see more than the lens does (a fisheye's whole frame, corners included; ``mercator`` and ``hequirect``
+clamped to their edge rows and columns): such a lens gives where v360 reads as ``v360_dir_to_pixel(d)``.
 """
 
 from __future__ import annotations
@@ -42,4 +47,8 @@ def continued(lens, xy, uv_to_dir, fill=None) -> tuple[np.ndarray, np.ndarray]:
     return filled(lens, xy, d, np.asarray(ok, dtype=bool) & np.ones(d.shape[:-1], dtype=bool), fill)
 
 
-__all__ = ["DOWN", "FORWARD", "continued", "filled"]
+#: a source lens's ``v360_unseen``: v360 reads the input's top-left pixel for a direction it does not see
+TOP_LEFT = "top-left"
+
+
+__all__ = ["DOWN", "FORWARD", "TOP_LEFT", "continued", "filled"]
