@@ -102,15 +102,14 @@ def to_linear_light(codes, points):
 def wide_to_709(image, primaries: int) -> str:
     """Linear light decoded from sRGB codes on H.273 ``primaries`` (H x W x C float32, straight colour, alpha
     last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
-    (:func:`lenslab.io.video.colour.matrix_to_709`); the note a reader shows. Rec.709 primaries, and
+    (:func:`lenslab.io.primaries.h273_matrix`); the note a reader shows. Rec.709 primaries, and
     primaries lenslab reads as Rec.709, are left alone."""
-    from lenslab.io.video.colour import is_wide, matrix_to_709
+    from lenslab.io.primaries import h273_matrix, to_rec709
 
-    if not is_wide(primaries):
+    matrix = h273_matrix(primaries)
+    if matrix is None:
         return f"the PNG's cICP chunk says primaries {primaries}: read as Rec.709"
-    from lenslab.io.primaries import to_rec709
-
-    to_rec709(image, matrix_to_709(primaries))
+    to_rec709(image, matrix)
     name = {12: "P3-D65", 9: "BT.2020"}.get(int(primaries), f"primaries {primaries}")
     return f"sRGB codes on {name} primaries (the PNG's cICP chunk), converted to Rec.709"
 

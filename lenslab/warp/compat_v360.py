@@ -11,14 +11,19 @@ input in one of three ways, each lens saying which with its ``v360_read`` attrib
 - ``"centre"`` (the cube layouts): lenslab's own convention, ``index = p - 1/2``;
 - ``"shift"``: ``index = p``, half a pixel further right and down than lenslab.
 
-Its panorama input clamps at the poles instead of continuing across them. :class:`V360Plan`
-reproduces these conventions with lenslab's lens models and filters. It does not reproduce v360's
-other habits (clamping float input to [0, 1], filling pixels outside an output projection with
-whatever its formulas give, the integer face sizes it rounds non-divisible cube maps to): the output keeps HDR values and alpha.
+Its panorama input clamps at the poles instead of continuing across them. v360 writes every output pixel:
+where an output projection has no ray of its own (a fisheye's corners, an EAC's padding) it carries its
+formulas on or samples a fixed direction, which each such lens gives as ``v360_pixel_to_dir``
+(:mod:`lenslab.lenses.core.v360`; :func:`v360_output`). :class:`V360Plan` reproduces these conventions
+with lenslab's lens models and filters, and reads as v360 does where the source lens has no ray
+(``v360_dir_to_pixel``: a fisheye's frame corners, clamped edges; ``v360_unseen``: the top-left pixel). It
+does not reproduce v360's other habits (clamping float input to [0, 1], the integer face sizes it rounds
+non-divisible cube maps to): the output keeps HDR values.
 """
 
 from __future__ import annotations
 
+from copy import copy
 from dataclasses import replace
 
 import numpy as np
@@ -26,7 +31,7 @@ import numpy as np
 from lenslab.errors import WarpError
 from lenslab.lenses import Camera
 from lenslab.warp.engine import WarpPlan
-from lenslab.warp.maps import MapBand
+from lenslab.warp.maps import MapBand, exact_map_parts
 
 READS = ("span", "span-halves", "centre", "shift")
 
@@ -72,22 +77,63 @@ def check_v360(src_lens=None, dst_lens=None, samples: int = 1, antialias: bool =
     return None if src_lens is None else v360_read(src_lens)
 
 
+def v360_output(camera: Camera) -> Camera:
+    """``camera`` with the rays v360 gives its output pixels (:mod:`lenslab.lenses.core.v360`): a copy of its lens
+    whose ``pixel_to_dir`` is the lens's ``v360_pixel_to_dir``, where it has one (``camera`` itself otherwise)."""
+    rays = getattr(camera.lens, "v360_pixel_to_dir", None)
+    if rays is None:
+        return camera
+    lens = copy(camera.lens)
+    lens.pixel_to_dir = rays  # the copy's own, ahead of its class's
+    return Camera(lens, camera.pose)
+
+
 class V360Plan(WarpPlan):
-    """A :class:`WarpPlan` with v360's sample positions (see the module docstring)."""
+    """A :class:`WarpPlan` with v360's sample positions and the output pixels it fills (see the module docstring)."""
 
     def __init__(self, src_camera: Camera, dst_camera: Camera, **options):
         self.read = check_v360(src_camera.lens, dst_camera.lens, options.get("samples", 1),
                                options.get("antialias", False))
-        super().__init__(src_camera, dst_camera, **options)
+        super().__init__(src_camera, v360_output(dst_camera), **options)
         if self.channels is not None:
             raise WarpError("--compat v360: ffmpeg's v360 has no per-channel optics (chromatic aberration); "
                             "drop --compat v360 or the lens's tca")
         self.border = replace(self.border, pole_top=False, pole_bottom=False)  # v360 clamps rows at the poles
 
     def _band(self, r0: int, r1: int, out: tuple | None = None) -> MapBand:
-        band = self.mapper.map_band(r0, r1, self._offsets(r0, r1), out)
+        offsets = self._offsets(r0, r1)
+        band = self.mapper.map_band(r0, r1, offsets, out)
         to_v360_index(band.xs, band.ys, band.valid, self.src.lens, self.read)
+        if not band.valid.all():
+            self._read_unseen(band, offsets)
         return band
+
+    def _read_unseen(self, band: MapBand, offsets: np.ndarray) -> None:
+        """Where v360 reads the samples whose output ray the source lens does not see (an output ray that v360
+        itself has): where the lens's ``v360_dir_to_pixel`` says v360 still sees it (clamped to the frame, as v360
+        clamps its taps), else the top-left pixel for a lens whose ``v360_unseen`` says so."""
+        lens = self.src.lens
+        further = getattr(lens, "v360_dir_to_pixel", None)
+        top_left = getattr(lens, "v360_unseen", None) == "top-left"
+        if further is None and not top_left:
+            return
+        r, c, k = np.nonzero(~band.valid)
+        o = np.asarray(offsets, np.float64).reshape(-1, 2)[k]  # one sample per pixel, the same offsets in each
+        pts = np.stack([c + o[:, 0], band.r0 + r + o[:, 1]], axis=-1)
+        _, _, ray, d = exact_map_parts(self.src, self.dst, pts, with_dirs=True)
+        xs, ys = np.zeros(len(r), np.float32), np.zeros(len(r), np.float32)
+        seen = np.zeros(len(r), bool)
+        if further is not None:
+            px, seen = further(d)
+            seen &= ray
+            xs[:], ys[:] = px[:, 0] - 0.5, px[:, 1] - 0.5
+            to_v360_index(xs, ys, seen, lens, self.read)
+            np.clip(xs, 0.0, lens.width - 1.0, out=xs)
+            np.clip(ys, 0.0, lens.height - 1.0, out=ys)
+        fill = seen | (ray & top_left)
+        xs[~seen], ys[~seen] = 0.0, 0.0  # the top-left pixel's centre, in v360's reading as in lenslab's
+        at = (r[fill], c[fill], k[fill])
+        band.xs[at], band.ys[at], band.valid[at] = xs[fill], ys[fill], True
 
 
 def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
@@ -95,4 +141,4 @@ def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
     return V360Plan(src_camera, dst_camera, **options)
 
 
-__all__ = ["V360Plan", "check_v360", "v360_plan", "v360_read"]
+__all__ = ["V360Plan", "check_v360", "v360_output", "v360_plan", "v360_read"]

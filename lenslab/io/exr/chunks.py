@@ -8,13 +8,16 @@ packed size, two int32), all little-endian (OpenEXR, "The OpenEXR File Layout").
 scanline files are checked this way; tiled, multi-part and deep files are left to the library.
 
 A read parses the header once (:func:`parse_header`): the byte budget (:func:`declare_exr`) gives its
-:class:`Layout` to the reader, which checks the chunks and reads the channels' stored types from it.
+:class:`Layout` to the reader, which checks the chunks and reads the channels' stored types from it; a
+command's channel check before its job (:func:`first_part_channels`) takes the same parse, kept for that file.
 """
 
 from __future__ import annotations
 
 import os
 import struct
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 
 from lenslab.errors import FormatError
@@ -162,18 +165,41 @@ class Layout:
         return self.parts[0]
 
 
+#: headers parsed lately, by the file they were read from (see :func:`parse_header`): a command's channel
+#: check before its job and the job's read of the same input share one parse
+_PARSED: OrderedDict = OrderedDict()
+_PARSED_MAX = 32
+_PARSED_LOCK = threading.Lock()
+
+
 def parse_header(path) -> Layout:
     """Read ``path``'s header (every part's) and where it ends: the one parse of lenslab's own that a read
     of an EXR makes (the byte budget, the truncation check and the band reader all take its answer).
-    A header cut short or damaged is a :class:`FormatError` of one line."""
-    size = os.path.getsize(path)
-    try:
-        with open(path, "rb") as f:
-            parts, version = _headers(f, size)
-            return Layout(tuple(parts), f.tell(), size, version)
-    except (EOFError, struct.error):
-        raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({size} bytes); the file is "
-                          "truncated or damaged") from None
+    A header cut short or damaged is a :class:`FormatError` of one line.
+
+    The answer is kept for the file it was read from (its device, inode, size and modification and change
+    times, taken from the open file): asked again about that same file, as a command's channel check and
+    then its read are, this returns the same :class:`Layout` (shared: never change it) without parsing the
+    header again; a file written since is parsed anew."""
+    with open(path, "rb") as f:
+        st = os.fstat(f.fileno())
+        key = (os.path.abspath(path), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+        with _PARSED_LOCK:
+            layout = _PARSED.get(key)
+            if layout is not None:
+                _PARSED.move_to_end(key)
+                return layout
+        try:
+            parts, version = _headers(f, st.st_size)
+            layout = Layout(tuple(parts), f.tell(), st.st_size, version)
+        except (EOFError, struct.error):
+            raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({st.st_size} bytes); the "
+                              "file is truncated or damaged") from None
+    with _PARSED_LOCK:
+        _PARSED[key] = layout
+        while len(_PARSED) > _PARSED_MAX:
+            _PARSED.popitem(last=False)
+    return layout
 
 
 def first_part_channels(path) -> list[str]:

@@ -25,6 +25,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from lenslab.io.primaries import H273_PRIMARIES, h273_matrix
+
 #: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
 REFERENCE_WHITE = 203.0
 BT2020 = 9  # AVCOL_PRI_BT2020
@@ -126,27 +128,20 @@ def cached(name: str, length: int, dtype, build) -> np.ndarray:
     return cached_table(name, length, dtype, build, prefix=f"video-v{CACHE_VERSION}")
 
 
-#: H.273 colour primaries converted to and from Rec.709 (colour-science's names; the same D65 white, so no
-#: adaptation): BT.2020 (9) and P3-D65 (12, SMPTE EG 432-1). Others (1 BT.709, 2 unspecified) are read as Rec.709.
-WIDE_PRIMARIES = {9: "ITU-R BT.2020", 12: "P3-D65"}
+#: H.273 colour primaries converted to and from Rec.709 (:data:`lenslab.io.primaries.H273_PRIMARIES`)
+WIDE_PRIMARIES = H273_PRIMARIES
 
 
-@lru_cache(maxsize=4)
 def matrix_to_709(primaries: int) -> np.ndarray | None:
     """Linear RGB in the H.273 ``primaries`` -> linear Rec.709 (float64 3 x 3), or None for Rec.709 itself and
-    primaries read as Rec.709."""
-    name = WIDE_PRIMARIES.get(int(primaries))
-    if name is None:
-        return None
+    primaries read as Rec.709: :func:`lenslab.io.primaries.h273_matrix`."""
+    return h273_matrix(primaries)
 
-    def build():
-        import colour
 
-        cs = colour.RGB_COLOURSPACES
-        return colour.matrix_RGB_to_RGB(cs[name], cs["ITU-R BT.709"]).reshape(-1)
-
-    key = "bt2020-to-bt709" if int(primaries) == BT2020 else f"primaries{int(primaries)}-to-bt709"
-    return cached(key, 9, np.float64, build).reshape(3, 3)
+def matrix_from_709(primaries: int) -> np.ndarray | None:
+    """Linear Rec.709 -> linear RGB in the H.273 ``primaries`` (float64 3 x 3), or None: colour-science's matrix
+    (:func:`lenslab.io.primaries.h273_matrix`), the way back of :func:`matrix_to_709`."""
+    return h273_matrix(primaries, to_709=False)
 
 
 def is_wide(primaries: int) -> bool:
@@ -183,7 +178,7 @@ def from_linear(image: np.ndarray, info) -> np.ndarray:
     """Linear Rec.709 (H x W x 3) -> code values in [0, 1], the inverse of :func:`to_linear`."""
     lin = np.nan_to_num(np.asarray(image, np.float64), nan=0.0, posinf=1e4, neginf=0.0)
     if is_wide(info.primaries):
-        lin = lin @ np.linalg.inv(matrix_to_709(info.primaries)).T
+        lin = lin @ matrix_from_709(info.primaries).T
     return _eotf_inverse(lin, info.curve)
 
 
@@ -222,7 +217,7 @@ def linear_to_codes16(image: np.ndarray, info, encoded: bool = False) -> np.ndar
         return codes_from_linear(image, None, 0.0, None)
     if info.curve == "hlg":
         return np.round(from_linear(image[..., :3], info) * 65535.0).astype(np.uint16)
-    wide = np.linalg.inv(matrix_to_709(info.primaries)) if is_wide(info.primaries) else None
+    wide = matrix_from_709(info.primaries) if is_wide(info.primaries) else None
     return codes_from_linear(image, *encode_table(info.curve), wide)
 
 
@@ -262,4 +257,4 @@ def codes16_to_linear_compiled(codes: np.ndarray, info, window: tuple[int, int, 
 
 
 __all__ = ["to_linear", "from_linear", "codes16_to_linear", "codes16_to_linear_compiled", "linear_to_codes16",
-           "linear_from_codes", "codes_from_linear", "matrix_to_709", "is_wide", "cached", "knots", "display_tags", "DISPLAY_TAGS"]
+           "linear_from_codes", "codes_from_linear", "matrix_to_709", "matrix_from_709", "is_wide", "cached", "knots", "display_tags", "DISPLAY_TAGS"]

@@ -26,16 +26,17 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_to_709,
+from lenslab.io.primaries import H273_YCBCR, ycbcr_weights
+from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_from_709,
+                                     matrix_to_709,
                                      threads)
 
 #: planar pixel formats: (bits, log2 chroma subsampling across, down)
 FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
            "yuv420p10le": (10, 1, 1), "yuv422p10le": (10, 1, 0), "yuv444p10le": (10, 0, 0),
            "yuv420p12le": (12, 1, 1), "yuv422p12le": (12, 1, 0), "yuv444p12le": (12, 0, 0)}
-#: matrix tag (H.273) -> (Kr, Kb): BT.709 (also unspecified, as swscale's default), BT.601 (BT.470BG, SMPTE 170M),
-#: BT.2020 non-constant luminance
-MATRICES = {1: (0.2126, 0.0722), 2: (0.2126, 0.0722), 5: (0.299, 0.114), 6: (0.299, 0.114), 9: (0.2627, 0.0593)}
+#: matrix tags (H.273) these passes take, with colour-science's (Kr, Kb) (:func:`lenslab.io.primaries.ycbcr_weights`)
+MATRICES = frozenset(H273_YCBCR)
 
 
 def exact(info, pix_fmt: str) -> bool:
@@ -45,7 +46,7 @@ def exact(info, pix_fmt: str) -> bool:
 
 def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
     """R'G'B' -> (E'y, E'cb, E'cr), 3 x 3 float64."""
-    kr, kb = MATRICES[matrix]
+    kr, kb = ycbcr_weights(matrix)
     kg = 1.0 - kr - kb
     return np.array([[kr, kg, kb],
                      [-kr / (2 * (1 - kb)), -kg / (2 * (1 - kb)), 0.5],
@@ -54,7 +55,7 @@ def rgb_to_ycbcr_matrix(matrix: int) -> np.ndarray:
 
 def ycbcr_to_rgb_matrix(matrix: int) -> np.ndarray:
     """(E'y, E'cb, E'cr) -> R'G'B', 3 x 3 float64: the inverse of :func:`rgb_to_ycbcr_matrix`, its first column 1."""
-    kr, kb = MATRICES[matrix]
+    kr, kb = ycbcr_weights(matrix)
     kg = 1.0 - kr - kb
     return np.array([[1.0, 0.0, 2 * (1 - kr)],
                      [1.0, -2 * kb * (1 - kb) / kg, -2 * kr * (1 - kr) / kg],
@@ -148,7 +149,7 @@ def _encode_args(info, pix_fmt: str, encoded: bool):
         curve, zero, prim = np.empty(0, np.float32), 0.0, empty
     else:
         curve, zero = encode_table(info.curve)
-        prim = np.linalg.inv(matrix_to_709(info.primaries)) if is_wide(info.primaries) else empty
+        prim = matrix_from_709(info.primaries) if is_wide(info.primaries) else empty
     b0 = int(np.array(2.0**LOW, np.float32).view(np.uint32))
     return (bits, hx, vy, np.ascontiguousarray(prim), np.ascontiguousarray(curve, np.float32), b0, float(zero),
             rgb_to_ycbcr_matrix(info.matrix), code_range(bits, info.range == 2), float((1 << bits) - 1))

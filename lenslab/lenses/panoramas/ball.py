@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from lenslab.lenses.core import v360
 from lenslab.lenses.core.base import FLOAT, Lens, ReferencePoint
 from lenslab.lenses.registry import register
 
@@ -47,6 +48,10 @@ class Ball(Lens):
         d[..., 1] = k * t
         d[..., 2] = np.cos(a)
         return d, ok
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: outside the circle (invisible to v360) it samples straight down."""
+        return v360.continued(self, xy, self.uv_to_dir, v360.DOWN)
 
     def dir_to_uv(self, d):
         r = np.sqrt(np.maximum(0.0, 1.0 - np.clip(d[..., 2], -1.0, 1.0)) * 0.5)

@@ -70,6 +70,14 @@ class DualFisheye(Lens):
         return (Piece(0.0, 0.0, self.half, float(self.height)), Piece(self.half, 0.0, self.half, float(self.height)))
 
     def pixel_to_dir(self, xy):
+        return self._halves_to_dir(xy, self._lens.uv_to_dir)
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: each lens's formula carried on outside its circle
+        (:meth:`Fisheye.v360_uv_to_dir`)."""
+        return self._halves_to_dir(xy, self._lens.v360_uv_to_dir)
+
+    def _halves_to_dir(self, xy, uv_to_dir):
         from lenslab.lenses.core.base import as_points, clean
 
         xy = as_points(xy, 2, "pixel coordinates")
@@ -81,7 +89,7 @@ class DualFisheye(Lens):
             uv = np.empty(xy.shape, dtype=FLOAT)
             uv[..., 0] = 2.0 * (x - x0) / self.half - 1.0
             uv[..., 1] = (1.0 - 2.0 * y / self.height) * (self.height / self.half)
-            d, ok = self._lens.uv_to_dir(uv)
+            d, ok = uv_to_dir(uv)
             flip = np.where(back, -1.0, 1.0)  # the back lens: half a turn about +y (x and z change sign)
             d[..., 0] *= flip
             d[..., 2] *= flip

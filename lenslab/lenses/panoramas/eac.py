@@ -119,21 +119,31 @@ class EquiAngularCubemap(Lens):
         with np.errstate(all="ignore"):
             return self._pixel_to_dir(xy)
 
-    def _pixel_to_dir(self, xy):
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: the padding continues its face's plane, linearly (the
+        cube coordinate is ``s`` itself past ``|s| = 1``, where it meets ``tan(pi/4 s)``)."""
+        with np.errstate(all="ignore"):
+            return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"), padding=True)
+
+    def _pixel_to_dir(self, xy, padding=False):
         t = xy[..., 0] / self.width
         t -= self.pu
         t *= 3.0 / (1.0 - 2.0 * self.pu)
-        ok = (t >= 0.0) & (t <= 3.0)
+        ok = (t >= 0.0) & (t <= 3.0) | padding
         col = np.clip(np.floor(t), 0, 2)
         fx = t - col
         yn = xy[..., 1] / self.height
         row = np.clip(np.floor(2.0 * yn), 0, 1)
         fy = (yn - self.pv - 0.5 * row) / (0.5 - 2.0 * self.pv)
-        ok &= (fy >= 0.0) & (fy <= 1.0) & self.in_image(xy)
+        ok &= ((fy >= 0.0) & (fy <= 1.0) | padding) & self.in_image(xy)
         ok &= np.isfinite(t) & np.isfinite(yn)
         slot = np.where(ok, row * 3 + col, 0).astype(np.intp)
-        uf = np.tan(np.pi / 4 * (2.0 * fx - 1.0))
-        vf = np.tan(np.pi / 4 * (2.0 * fy - 1.0))
+        uf, vf = 2.0 * fx - 1.0, 2.0 * fy - 1.0
+        if padding:  # v360's padding: linear past the face's edge
+            uf = np.where(np.abs(uf) < 1.0, np.tan(np.pi / 4 * uf), uf)
+            vf = np.where(np.abs(vf) < 1.0, np.tan(np.pi / 4 * vf), vf)
+        else:
+            uf, vf = np.tan(np.pi / 4 * uf), np.tan(np.pi / 4 * vf)
         d = (uf[..., None] * self._A[slot] + vf[..., None] * self._B[slot] + self._C[slot])
         d /= np.sqrt(uf * uf + vf * vf + 1.0)[..., None]
         return clean(d, ok, inplace=True)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from lenslab.lenses.core import v360
 from lenslab.lenses.core.base import FLOAT, Lens, Param, ReferencePoint, as_points, clean
 from lenslab.lenses.registry import register
 
@@ -70,6 +71,12 @@ class Globe(Lens):
             rr = np.where(r > 0, r, 1.0)
             d = np.stack([sz * s / rr, sz * t / rr, cz], axis=-1).astype(FLOAT)
         return clean(d, ok, inplace=True)
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: off the sphere (invisible to v360) it samples straight down."""
+        xy = as_points(xy, 2, "pixel coordinates")
+        d, ok = self.pixel_to_dir(xy)
+        return v360.filled(self, xy, d, ok, v360.DOWN)
 
     def dir_to_pixel(self, dirs):
         d = as_points(dirs, 3, "directions")

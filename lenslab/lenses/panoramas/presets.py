@@ -34,6 +34,15 @@ class HalfEquirect(Equirect):
     params = ()
     lon_min, lon_max, lat_min, lat_max = -90.0, 90.0, -90.0, 90.0
 
+    def v360_dir_to_pixel(self, d):
+        """Where v360 reads this frame as its input: behind the camera, clamped to the nearer edge column."""
+        from lenslab.lenses.formulas import lonlat
+
+        phi, s, c = lonlat.dir_to_lonlat(d)
+        px = np.stack([(np.clip(phi / np.pi, -0.5, 0.5) + 0.5) * self.width,
+                       (0.5 - np.arctan2(s, c) / np.pi) * self.height], axis=-1)
+        return px, np.isfinite(px).all(axis=-1)
+
 
 #: lens axes of the little planet in camera space: image right = +x, image up = +z (forward), the
 #: optical axis = -y (straight down); rows are the lens's x, y and z axes

@@ -163,6 +163,8 @@ class Cylindrical(_Cylinder):
     summary = "central cylinder: longitude across, tan(latitude) up (straight verticals)"
 
     kind = lonlat.CYLINDRICAL
+    #: as v360's input, a direction this projection does not see reads the top-left pixel (lenslab.lenses.core.v360)
+    v360_unseen = "top-left"
 
     def slope(self, s, c):  # d tan / d theta = 1 / cos^2
         return 1.0 / (c * c)
@@ -232,6 +234,17 @@ class Mercator(_Cylinder):
     frame_aspect = 1.0  # latitudes to 85.05 degrees, the square of web maps
 
     kind = lonlat.MERCATOR
+
+    def v360_dir_to_pixel(self, d):
+        """Where v360 reads this Mercator frame as its input: past its top and bottom rows, clamped to them."""
+        phi, s, c = lonlat.dir_to_lonlat(d)
+        with np.errstate(all="ignore"):
+            v, _ = self.lat_to_v(s, c)
+            uv = np.stack([phi / self.F, v / self.Fv], axis=-1)
+            px = self.uv_to_pixel(uv)
+            np.clip(px[..., 1], 0.0, self.height, out=px[..., 1])
+            ok = np.abs(phi) <= self.F * (1.0 + LON_SLACK)
+        return px, ok & np.isfinite(px).all(axis=-1)
 
     def slope(self, s, c):  # d atanh(sin) / d theta = 1 / cos
         return 1.0 / c

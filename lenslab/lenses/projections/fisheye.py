@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint
+from lenslab.lenses.core import v360
+from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint, clean
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
 
@@ -174,6 +175,19 @@ class Fisheye(Lens):
         r2 = uv[..., 0] * uv[..., 0] + uv[..., 1] * uv[..., 1]
         return d, r2 <= self._s_max2
 
+    def v360_uv_to_dir(self, uv):
+        """:meth:`uv_to_dir` as ffmpeg's v360 carries it on past the image circle: equidistant and stereographic
+        everywhere (equidistant past the back pole), equisolid to the back pole, orthographic to 90 degrees."""
+        c = self.plane_scale
+        uv = self._to_local(uv)
+        d, ok = azimuthal.plane_to_dir(self.kind, uv[..., 0] * c, uv[..., 1] * c)
+        return d, ok | (self.kind == azimuthal.EQUIDISTANT)
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this fisheye's output pixels (:mod:`lenslab.lenses.core.v360`): :meth:`v360_uv_to_dir`,
+        and orthographic past 90 degrees the forward direction."""
+        return v360.continued(self, xy, self.v360_uv_to_dir, v360.FORWARD if self.mapping == "orthographic" else None)
+
     # -- direction -> pixel ------------------------------------------------------------------
     def pixel_kernel(self):
         """The compiled ``dir -> pixel`` (``fisheye_pixels``: the NumPy steps of :meth:`dir_to_uv` through
@@ -191,6 +205,26 @@ class Fisheye(Lens):
                 local, self.cx, self.cy, self.r_ref, self.edge_slack, turn is not None]
         rows = np.zeros(9) if turn is None else np.asarray(turn, dtype=np.float64).reshape(9)
         return np.concatenate([np.array(head, dtype=np.float64), rows])
+
+    #: as v360's input, a direction outside the frame reads the top-left pixel (lenslab.lenses.core.v360)
+    v360_unseen = v360.TOP_LEFT
+
+    def v360_dir_to_pixel(self, d):
+        """Where v360 reads this fisheye as its input (continuous pixel coordinates, float64 ``(..., 2)``) and whether
+        it sees the direction (unit ``(..., 3)``): anywhere in the frame, the corners outside the image circle
+        included (orthographic: the front hemisphere). Measured on ffmpeg 5.1: its equidistant input tests
+        ``0 <= x < W`` itself, the other mappings the position they read at (``x (W - 1) / W``, see
+        :mod:`lenslab.warp.compat_v360`), a pixel's width further out."""
+        xy, _, seen = azimuthal.dir_to_plane(self.kind, d)
+        xy /= self.plane_scale
+        px = self.uv_to_pixel(self._from_local(xy))
+        w, h = float(self.width), float(self.height)
+        if self.mapping != "equidistant":
+            w, h = w * w / max(w - 1.0, 1.0), h * h / max(h - 1.0, 1.0)
+        with np.errstate(invalid="ignore"):
+            ok = (px[..., 0] >= 0) & (px[..., 0] < w) & (px[..., 1] >= 0) & (px[..., 1] < h)
+            ok &= seen | (self.mapping != "orthographic")
+        return clean(px, ok, inplace=True)
 
     def dir_to_uv(self, d):
         xy, s, seen = azimuthal.dir_to_plane(self.kind, d)

@@ -77,6 +77,8 @@ class Pannini(Lens):
     summary = "Pannini: wide views with straight verticals (distance d, vertical compression)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"
+    #: as v360's input, a direction this projection does not see reads the top-left pixel (lenslab.lenses.core.v360)
+    v360_unseen = "top-left"
     #: the frame the model fills, width / height (the default output size of lenslab warp)
     frame_aspect = 1.5
     params = (

@@ -42,6 +42,8 @@ class Perspective(Lens):
     summary = "pinhole camera (rectilinear)"
     #: how ffmpeg's v360 reads this projection as its input (lenslab.warp.compat_v360)
     v360_read = "span"
+    #: as v360's input, a direction this projection does not see reads the top-left pixel (lenslab.lenses.core.v360)
+    v360_unseen = "top-left"
     params = (
         Param("fov", 90.0, "horizontal field of view, degrees", 0.0, 180.0, lo_open=True, hi_open=True),
         Param("vfov", 0.0, "vertical field of view, degrees (0: square pixels from fov)", 0.0, 180.0, hi_open=True),

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from lenslab.lenses.core import v360
 from lenslab.lenses.core.base import FLOAT, Lens, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
@@ -72,6 +73,11 @@ class Hammer(Lens):
         d[..., 1] = s
         np.multiply(np.cos(phi), c, out=d[..., 2])
         return d, ok
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: its formulas carried on outside the ellipse (the longitude
+        ``2 atan2`` past +-180 degrees)."""
+        return v360.continued(self, xy, lambda uv: (self.uv_to_dir(uv)[0], True))
 
     def pixel_kernel(self):
         """The compiled ``dir -> pixel`` (``hammer_pixels``: the NumPy steps of :meth:`dir_to_pixel`)."""
@@ -157,6 +163,11 @@ class Sinusoidal(Lens):
         np.sin(theta, out=d[..., 1])
         np.multiply(np.cos(phi), c, out=d[..., 2])
         return d, ok
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 gives this output's pixels: its formulas carried on outside the sine curves (the longitude
+        past +-180 degrees)."""
+        return v360.continued(self, xy, lambda uv: (self.uv_to_dir(uv)[0], True))
 
     def pixel_kernel(self):
         """The compiled ``dir -> pixel`` (``sinusoidal_pixels``: the NumPy steps of :meth:`dir_to_pixel`)."""
