@@ -8,10 +8,10 @@ H.264, resample bilinearly (v360's ``line``, lenslab's default) and encode with 
 wants; the settings each encoder wrote into its output (x264's own options SEI) are printed, so a run shows
 that the comparison is fair (Debian's ffmpeg and PyAV bring their own builds of x264). Every command runs as its own process,
 ``--repeat`` times, interleaved with the other, after one uncounted lenslab run (its kernels compiled or
-loaded from numba's cache, Python's bytecode written: as ``lenslab bench startup``, the runs may write that cache
-even where this shell forbids it, since an installed lenslab has its bytecode and a run that compiles every module
-from source measures the shell, not the command); the figures are the median wall times as ratios lenslab / ffmpeg, aim at most
-1x, with CPU time (user + system of the process) beside them.
+loaded from numba's cache, Python's bytecode written: as in ``lenslab bench startup``, the runs may write that
+cache even where this shell forbids it, since an installed lenslab has its bytecode, and a run that compiles every
+module from source measures the shell, not the command); the figures are the median wall times as ratios
+lenslab / ffmpeg, aim at most 1x, with CPU time (user + system of the process) beside them.
 
 ffmpeg must be on PATH (Debian's ffmpeg is enough); without it the benchmark says so and ends with 1.
 """

@@ -1,7 +1,7 @@
-"""The video codecs lenslab writes and the containers it knows.
+"""The video codecs lenslab writes and the containers it knows, and the opening of an encoder.
 
 A table without heavy imports: the command line's ``--codec`` choices, format detection and the
-encoder (:mod:`lenslab.io.video`) all read it.
+encoder (:mod:`lenslab.io.video`) all read it (:func:`open_encoder` imports PyAV when called).
 """
 
 from __future__ import annotations
