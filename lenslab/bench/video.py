@@ -8,8 +8,10 @@ H.264, resample bilinearly (v360's ``line``, lenslab's default) and encode with 
 wants; the settings each encoder wrote into its output (x264's own options SEI) are printed, so a run shows
 that the comparison is fair (Debian's ffmpeg and PyAV bring their own builds of x264). Every command runs as its own process,
 ``--repeat`` times, interleaved with the other, after one uncounted lenslab run (its kernels compiled or
-loaded from numba's cache); the figures are the median wall times as ratios lenslab / ffmpeg, aim at most
-1x, with CPU time (user + system of the process) beside them.
+loaded from numba's cache, Python's bytecode written: as in ``lenslab bench startup``, the runs may write that
+cache even where this shell forbids it, since an installed lenslab has its bytecode, and a run that compiles every
+module from source measures the shell, not the command); the figures are the median wall times as ratios
+lenslab / ffmpeg, aim at most 1x, with CPU time (user + system of the process) beside them.
 
 ffmpeg must be on PATH (Debian's ffmpeg is enough); without it the benchmark says so and ends with 1.
 """
@@ -81,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError:
         print(f"lenslab bench video: --sizes {args.sizes!r}: give WxH,WxH,...", file=sys.stderr)
         return 2
-    env = dict(os.environ)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}  # a warm install (above)
     print(f"video: H.264 equirect clips of {args.frames} frames -> H.264 180-degree fisheye as tall as the source, "
           f"whole process, all threads both, {args.repeat} runs each, medians (load {os.getloadavg()[0]:.2f})")
     with tempfile.TemporaryDirectory(prefix="lenslab-bench-video-") as tmp:

@@ -58,6 +58,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     from lenslab.errors import FormatError
     from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
+    from lenslab.io.video.codecs import open_encoder
 
     image = None if Path(dst_path).suffix.lower() in VIDEO_EXTENSIONS else image_format(dst_path)
     if image is None and Path(dst_path).suffix.lower() not in VIDEO_EXTENSIONS:
@@ -108,6 +109,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         plan = _maps_ahead(cache, src, dst)  # computed while the encoder and the decoder open
         writer = VideoWriter(tmp, info, codec=getattr(args, "codec", None), size=tuple(dst.size),
                              audio_from=src_path if whole and info.audio else None)
+        open_encoder(writer.container, writer.stream)  # while the maps are made; a size it refuses: one error now
         with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             # frames are converted to linear light where the plan reads
             window = None if source_flips else (lambda: plan().source_window())
