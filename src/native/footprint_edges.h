@@ -100,9 +100,9 @@ void load_rows(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc
 // F(x, y) the integral of the bilinear reconstruction along the slices' row y from the window's first texel to x.
 // Cut at the texel rows (where the reconstruction bends in y), each piece by 2-point Gauss-Legendre: exact while
 // the edge stays between two texel columns (F is then a cubic along it).
-template <int NC>
+template <int NC, class RowsT>
 inline void edge_integral(double xa, double ya, double xb, double yb, double sign, double umax, int64_t jmax,
-                          const Rows<NC>& R, typename Lanes<NC>::type& acc) {
+                          const RowsT& R, typename Lanes<NC>::type& acc) {
     if (!(yb > ya)) return;  // a horizontal edge adds nothing
     const double k = (xb - xa) / (yb - ya);
     const double g2 = 0.5 / std::sqrt(3.0);
@@ -150,9 +150,9 @@ inline void edge_integral(double xa, double ya, double xb, double yb, double sig
 // window of nu x nv texels, into acc (c in window coordinates: texel (0, 0) at its first texel, where a
 // footprint at 2^40 keeps the precision of its sides): by Green's theorem, the integral over y of F at the right
 // ends of its rows less F at the left ends (F as in edge_integral), edge by edge. Returns the area.
-template <int NC>
+template <int NC, class RowsT>
 double prefix_slices(double cx, double cy, double ax, double ay, double bx, double by, int64_t nu, int64_t nv,
-                     const Rows<NC>& R, typename Lanes<NC>::type& acc) {
+                     const RowsT& R, typename Lanes<NC>::type& acc) {
     const double vx[4] = {cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx,
                           cx - 0.5 * ax + 0.5 * bx};
     const double vy[4] = {cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by,
