@@ -6,7 +6,9 @@
 // edge cut at the texel rows and integrated by 2-point Gauss-Legendre. In float64, in the order of the NumPy
 // reference (lenslab.warp.kernels.reference.prefix_slices); a footprint clipped by its window (beyond the
 // coarsest level) takes the texel weights of the slices instead (reference.slice_weights). The edge integrals
-// are in footprint_edges.h.
+// are in footprint_edges.h. The footprints of a run of pixels in an output row share one window
+// (footprint_chunks.h), and neighbouring pixels of a row share the side between them: a quadrilateral whose
+// shared side is integrated once for both (reference.footprint with rows of pixels).
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -159,13 +161,17 @@ inline void gather(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_
 struct Item {
     int mode;
     bool cols;  // sliced along columns (x and y swap roles)
+    bool thin;  // given a thickness (a line or a point)
+    bool sl, sr;  // its left (-a) or right (+a) side is the one shared with that neighbour (a quadrilateral)
+    bool seam;  // its left neighbour lies a turn away (across the seam): their windows' rows do not line up
     int64_t lev, wx0, wy0, nwx, nwy;
     double cx, cy, tax, tay, tbx, tby;
+    double qx[4], qy[4];  // a quadrilateral's vertices V0 (-a -b) V1 (+a -b) V2 (+a +b) V3 (-a +b), from c
     Span w;  // the window in slice coordinates (mode 1)
 };
 
-Item setup(const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, const float* f, double max_taps) {
-    Item it;
+void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, const float* f,
+           double max_taps) {
     it.mode = 1;
     const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
     const double la = fax * fax + fay * fay, lb = fbx * fbx + fby * fby;
@@ -181,7 +187,9 @@ Item setup(const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, c
     it.cy = (double(clamp_pos(ys)) + 0.5) * scale - 0.5;
     // a degenerate footprint (a line or a point) gets a thickness far below a texel
     double tax = ax, tay = ay, tbx = bx, tby = by;
-    if (std::fabs(ax * by - ay * bx) < THIN * THIN) {
+    it.thin = !(std::fabs(ax * by - ay * bx) >= THIN * THIN);
+    it.sl = it.sr = it.seam = false;
+    if (it.thin) {
         const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
         if (la >= lb && la > 0.0) { tbx = -THIN * ay / la; tby = THIN * ax / la; }
         else if (lb > 0.0) { tax = THIN * by / lb; tay = -THIN * bx / lb; }
@@ -201,7 +209,72 @@ Item setup(const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, c
     it.cols = ey > ex;  // slice along the shorter extent (fewer slices): along columns if x is
     if (!(it.nwx < WINDOW && it.nwy < WINDOW)) it.mode = 2;
     it.w = it.cols ? Span{it.wy0, it.wx0, it.nwy, it.nwx} : Span{it.wx0, it.wy0, it.nwx, it.nwy};
-    return it;
+}
+
+// Neighbouring pixels of an output row share the side between them (their footprints' sides there, averaged), so
+// that their footprints tile the row and one integral along it serves both. Only parallelograms sliced along rows
+// with room in their window, of one level, whose sides there lie within an eighth of their smaller height of each
+// other (not across a piece's edge or a fold of the map; across the seam, a turn apart).
+inline bool shareable(const Item& it) {
+    return it.mode == 1 && !it.cols && !it.thin && it.nwx <= WINDOW - 3 && it.nwy <= WINDOW - 3;
+}
+
+// the parallelogram's smaller height: its area over its longer side
+inline double height(const Item& it) {
+    const double la = it.tax * it.tax + it.tay * it.tay, lb = it.tbx * it.tbx + it.tby * it.tby;
+    return std::fabs(it.tax * it.tby - it.tay * it.tbx) / std::sqrt(std::max(la, lb));
+}
+
+// (period: the level's width when the source wraps around, else 0)
+void link(Item& l, Item& r, const int64_t* shapes, bool wrap) {
+    if (!shareable(l) || !shareable(r) || l.lev != r.lev) return;
+    double dx = r.cx - l.cx;
+    const double dy = r.cy - l.cy;
+    double turns = 0.0;
+    if (wrap) {  // neighbours across the seam: r's centre a turn nearer
+        const double period = double(shapes[2 * l.lev + 1]);
+        turns = std::nearbyint(dx / period);
+        dx -= period * turns;
+    }
+    // l's V1 and V2, r's V0 and V3, from l's centre
+    const double l1x = 0.5 * l.tax - 0.5 * l.tbx, l1y = 0.5 * l.tay - 0.5 * l.tby;
+    const double l2x = 0.5 * l.tax + 0.5 * l.tbx, l2y = 0.5 * l.tay + 0.5 * l.tby;
+    const double r0x = dx + (-0.5 * r.tax - 0.5 * r.tbx), r0y = dy + (-0.5 * r.tay - 0.5 * r.tby);
+    const double r3x = dx + (-0.5 * r.tax + 0.5 * r.tbx), r3y = dy + (-0.5 * r.tay + 0.5 * r.tby);
+    const double gap = std::max(std::max(std::fabs(l1x - r0x), std::fabs(l1y - r0y)),
+                                std::max(std::fabs(l2x - r3x), std::fabs(l2y - r3y)));
+    // within an eighth of the footprints' smaller height (a sliver's sides may not move by more than a little of
+    // its thickness)
+    const double tol = 0.125 * std::min(height(l), height(r));
+    if (!(gap <= tol)) return;  // (NaN: not shared)
+    const double p1x = 0.5 * (l1x + r0x), p1y = 0.5 * (l1y + r0y), p2x = 0.5 * (l2x + r3x), p2y = 0.5 * (l2y + r3y);
+    l.sr = r.sl = true;
+    r.seam = turns != 0.0;
+    l.qx[1] = p1x; l.qy[1] = p1y; l.qx[2] = p2x; l.qy[2] = p2y;
+    r.qx[0] = p1x - dx; r.qy[0] = p1y - dy; r.qx[3] = p2x - dx; r.qy[3] = p2y - dy;
+}
+
+// A footprint with a shared side: its own vertices on the other sides, and the window of the quadrilateral.
+void finish_quad(Item& it) {
+    if (!it.sl && !it.sr) return;
+    if (!it.sl) {
+        it.qx[0] = -0.5 * it.tax - 0.5 * it.tbx; it.qy[0] = -0.5 * it.tay - 0.5 * it.tby;
+        it.qx[3] = -0.5 * it.tax + 0.5 * it.tbx; it.qy[3] = -0.5 * it.tay + 0.5 * it.tby;
+    }
+    if (!it.sr) {
+        it.qx[1] = 0.5 * it.tax - 0.5 * it.tbx; it.qy[1] = 0.5 * it.tay - 0.5 * it.tby;
+        it.qx[2] = 0.5 * it.tax + 0.5 * it.tbx; it.qy[2] = 0.5 * it.tay + 0.5 * it.tby;
+    }
+    const double x0 = std::min(std::min(it.qx[0], it.qx[1]), std::min(it.qx[2], it.qx[3]));
+    const double x1 = std::max(std::max(it.qx[0], it.qx[1]), std::max(it.qx[2], it.qx[3]));
+    const double y0 = std::min(std::min(it.qy[0], it.qy[1]), std::min(it.qy[2], it.qy[3]));
+    const double y1 = std::max(std::max(it.qy[0], it.qy[1]), std::max(it.qy[2], it.qy[3]));
+    // every texel the reconstruction over it touches: floor(x) and floor(x) + 1 for each x it spans
+    it.wx0 = ifloor(it.cx + x0);
+    it.wy0 = ifloor(it.cy + y0);
+    it.nwx = ifloor(it.cx + x1) + 2 - it.wx0;
+    it.nwy = ifloor(it.cy + y1) + 2 - it.wy0;
+    it.w = Span{it.wx0, it.wy0, it.nwx, it.nwy};
 }
 
 // NC > 0: that many channels, known to the compiler; NC == 0: nc (<= 64) at run time. The samples are read in
@@ -226,21 +299,55 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
     int cur = 0;
     int64_t next_c = -1;
     // the footprints of the chunk at c (in a row ending at end), their windows' texels prefetched
+    // rows of pixels (one sample each): neighbours share sides
+    const bool share = ns == 1 && row_len > 1;
+    auto one = [&](int64_t s, Item& it) {
+        if (!valid[s]) it.mode = 0;
+        else setup(it, shapes, nlev, h0, xs[s], ys[s], foot + 4 * s, max_taps);
+    };
     auto prepare = [&](int64_t c, int64_t end, Item* its) {
         const int n = int(std::min<int64_t>(CHUNK, end - c));
+        for (int k = 0; k < n; ++k) one(c + k, its[k]);
+        if (share) {  // the sides shared with the neighbours, the one before and the one after the chunk included
+            const int64_t row0 = c - (c % row_len);
+            Item before, after;
+            before.mode = after.mode = 0;
+            if (c > row0) one(c - 1, before);
+            if (c + n < row0 + row_len) one(c + n, after);
+            link(before, its[0], shapes, b.wrap);
+            for (int k = 0; k + 1 < n; ++k) link(its[k], its[k + 1], shapes, b.wrap);
+            link(its[n - 1], after, shapes, b.wrap);
+            for (int k = 0; k < n; ++k) finish_quad(its[k]);
+        }
+        // the texels of the level-0 windows' bounding box, a cache line at a time (any other: window by window)
+        const int64_t lh0 = shapes[0], lw0 = shapes[1];
+        int64_t x0 = INT64_MAX, x1 = INT64_MIN, y0 = INT64_MAX, y1 = INT64_MIN;
         for (int k = 0; k < n; ++k) {
-            if (!valid[c + k]) { its[k].mode = 0; continue; }
-            its[k] = setup(shapes, nlev, h0, xs[c + k], ys[c + k], foot + 4 * (c + k), max_taps);
             const Item& it = its[k];
             if (it.mode != 1) continue;
-            const int64_t lh = shapes[2 * it.lev], lw = shapes[2 * it.lev + 1];
-            const float* lbuf = (it.lev == 0 ? level0 : rest) + offsets[it.lev];
-            const int64_t x0 = std::max<int64_t>(0, std::min(lw - 1, it.wx0));
-            const int64_t x1 = std::max<int64_t>(0, std::min(lw - 1, it.wx0 + it.nwx - 1));
-            for (int64_t y = std::max<int64_t>(0, it.wy0); y < std::min(lh, it.wy0 + it.nwy); ++y) {
-                __builtin_prefetch(lbuf + (y * lw + x0) * nc);
-                __builtin_prefetch(lbuf + (y * lw + x1) * nc + nc - 1);
+            if (it.lev == 0) {
+                x0 = std::min(x0, it.wx0); x1 = std::max(x1, it.wx0 + it.nwx);
+                y0 = std::min(y0, it.wy0); y1 = std::max(y1, it.wy0 + it.nwy);
+                continue;
             }
+            const int64_t lh = shapes[2 * it.lev], lw = shapes[2 * it.lev + 1];
+            const float* lbuf = rest + offsets[it.lev];
+            const int64_t a = std::max<int64_t>(0, std::min(lw - 1, it.wx0));
+            const int64_t e = std::max<int64_t>(0, std::min(lw - 1, it.wx0 + it.nwx - 1));
+            for (int64_t y = std::max<int64_t>(0, it.wy0); y < std::min(lh, it.wy0 + it.nwy); ++y) {
+                __builtin_prefetch(lbuf + (y * lw + a) * nc);
+                __builtin_prefetch(lbuf + (y * lw + e) * nc + nc - 1);
+            }
+        }
+        if (x0 < x1) {
+            x0 = std::max<int64_t>(0, x0); x1 = std::min(lw0, x1);
+            y0 = std::max<int64_t>(0, y0); y1 = std::min(lh0, y1);
+            if (x0 < x1 && y0 < y1 && (x1 - x0) * (y1 - y0) <= CAP)
+                for (int64_t y = y0; y < y1; ++y) {
+                    const float* r = level0 + (y * lw0) * nc;
+                    for (int64_t i = x0 * nc; i < x1 * nc; i += 16) __builtin_prefetch(r + i);
+                    __builtin_prefetch(r + x1 * nc - 1);
+                }
         }
     };
     int members[CHUNK];
@@ -291,22 +398,52 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                 int nm = 0;
                 members[nm++] = k;
                 done[k] = true;
-                G.start(it.w);
+                int64_t u0 = it.w.u0, u1 = it.w.u0 + it.w.nu, v0 = it.w.v0, v1 = it.w.v0 + it.w.nv;
                 for (int k2 = k + 1; k2 < n; ++k2) {
                     const Item& o = items[k2];
-                    if (done[k2] || o.mode != 1 || o.lev != it.lev || o.cols != it.cols || G.gain(o.w) < 0) continue;
-                    G.add(o.w);
+                    if (done[k2] || o.mode != 1 || o.lev != it.lev || o.cols != it.cols) continue;
+                    const int64_t a0 = std::min(u0, o.w.u0), a1 = std::max(u1, o.w.u0 + o.w.nu);
+                    const int64_t b0 = std::min(v0, o.w.v0), b1 = std::max(v1, o.w.v0 + o.w.nv);
+                    if (b1 - b0 > MAXR || (a1 - a0) * (b1 - b0) > CAP) continue;  // (a seam, a jump of the map)
+                    u0 = a0; u1 = a1; v0 = b0; v1 = b1;
                     members[nm++] = k2;
                     done[k2] = true;
                 }
+                G.start(v0, v1);
+                for (int m = 0; m < nm; ++m) G.add(items[members[m]].w);
                 constexpr int64_t GROUP = NC > 0 ? NC : 4;  // channels integrated at once
                 for (int64_t c0 = 0; c0 < nc; c0 += GROUP) {
                     const int64_t cn = std::min(GROUP, nc - c0);
                     G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
+                    L carry{};  // the shared side of the last footprint, integrated from its frame (negated)
                     for (int m = 0; m < nm; ++m) {
                         const Item& o = items[members[m]];
                         G.rows(o.w, R);
                         L part{};
+                        if (o.sl || o.sr) {  // a quadrilateral: the contour V0 V1 V2 V3
+                            double vx[4], vy[4];
+                            for (int e = 0; e < 4; ++e) {
+                                vx[e] = (o.cx - double(o.wx0)) + o.qx[e];
+                                vy[e] = (o.cy - double(o.wy0)) + o.qy[e];
+                            }
+                            const double umax = double(o.w.nu - 2);
+                            const int64_t jmax = o.w.nv - 2;
+                            // its left side from the footprint before, when that one was just integrated
+                            const bool have = o.sl && !o.seam && m > 0 && members[m - 1] == members[m] - 1;
+                            if (have) part = carry;
+                            else directed_edge<NC>(vx[3], vy[3], vx[0], vy[0], umax, jmax, R, part);
+                            directed_edge<NC>(vx[0], vy[0], vx[1], vy[1], umax, jmax, R, part);
+                            directed_edge<NC>(vx[2], vy[2], vx[3], vy[3], umax, jmax, R, part);
+                            L right{};
+                            directed_edge<NC>(vx[1], vy[1], vx[2], vy[2], umax, jmax, R, right);
+                            part = part + right;
+                            carry = -right;
+                            const double norm = 2.0 / shoelace2(vx, vy);
+                            double* vm = val.data() + members[m] * nc;
+                            if constexpr (NC == 1) vm[0] = part * norm;
+                            else for (int64_t ch = 0; ch < cn; ++ch) vm[c0 + ch] = part[ch] * norm;
+                            continue;
+                        }
                         const double area = o.cols ? prefix_slices<NC>(o.cy - double(o.wy0), o.cx - double(o.wx0), o.tay, o.tax,
                                                                        o.tby, o.tbx, o.w.nu, o.w.nv, R, part)
                                                    : prefix_slices<NC>(o.cx - double(o.wx0), o.cy - double(o.wy0), o.tax, o.tay,

@@ -1,14 +1,15 @@
 // Shared windows for the footprint filter (src/native/footprint.cpp): the footprints of a run of consecutive samples
 // in one output row read the texels of one window, loaded once with its rows' prefix sums, instead of one window
-// each. NumPy reference: lenslab.warp.kernels.reference.chunk_spans and footprint (chunk > 1).
+// each (NumPy reference: lenslab.warp.kernels.reference.footprint, which reads each footprint through its own
+// window: the same integral).
 //
-// The window is ragged: slice row v holds the texels [u0[v], u1[v]) only, the union of the windows of the
+// The window is ragged: slice row v holds the texels [lo[v], hi[v]) only, the union of the windows of the
 // footprints that read that row. Each row's prefix sums start at its own first texel. That moves F (the integral
 // along the row, footprint_edges.h) by a constant per row, and between two texel rows F is the linear mix of
 // the two: the shift is a function of y alone, whose integral around a closed contour is zero. Each footprint's
-// integral is therefore the one its own window gives, but for float64 rounding: with F up to a span of
-// CAP texels, at most about CAP * 2^-53 of the sum of the span's |texels| (a footprint beside a sun a few
-// hundred texels away keeps about 1e-13 of the sun's value as absolute error).
+// integral is therefore the one its own window gives, but for float64 rounding: F sums at most CAP texels, so its
+// rounding error is below about CAP * 2^-53 of the sum of their magnitudes (2.3e-13 of it), against the
+// footprint's own integral of the same texels.
 #pragma once
 
 #include <algorithm>
@@ -45,42 +46,23 @@ struct Ragged {
     typedef typename Lanes<NC>::type L;
     int64_t vb = 0;  // slice row of lo[0]
     int64_t vlo = 0, vhi = 0;  // the rows in use: [vlo, vhi)
-    int64_t total = 0;  // texels
     int64_t lo[MAXR], hi[MAXR], base[MAXR];
     std::vector<L> f, h, s;
     Ragged() : f(CAP), h(CAP), s(CAP) {}
 
-    void start(const Span& w) {
-        vb = w.v0 - (MAXR - WINDOW) / 2;
-        vlo = w.v0;
-        vhi = w.v0;
-        total = 0;
-        add(w);
+    // the rows [v0, v1) (at most MAXR), empty
+    void start(int64_t v0, int64_t v1) {
+        vb = vlo = v0;
+        vhi = v1;
+        for (int64_t r = 0; r < v1 - v0; ++r) { lo[r] = INT64_MAX; hi[r] = INT64_MIN; }
     }
-    // the texels the union gains with w (-1: it would not fit)
-    int64_t gain(const Span& w) const {
-        if (w.v0 < vb || w.v0 + w.nv > vb + MAXR) return -1;
-        int64_t g = 0;
+    // the window w joins the union (its rows inside [vlo, vhi))
+    void add(const Span& w) {
         for (int64_t v = w.v0; v < w.v0 + w.nv; ++v) {
             const int64_t r = v - vb;
-            if (v < vlo || v >= vhi || lo[r] >= hi[r]) { g += w.nu; continue; }
-            g += std::max(hi[r], w.u0 + w.nu) - std::min(lo[r], w.u0) - (hi[r] - lo[r]);
+            lo[r] = std::min(lo[r], w.u0);
+            hi[r] = std::max(hi[r], w.u0 + w.nu);
         }
-        return total + g > CAP ? -1 : g;
-    }
-    void add(const Span& w) {
-        for (int64_t v = std::min(vlo, w.v0); v < std::max(vhi, w.v0 + w.nv); ++v) {
-            const int64_t r = v - vb;
-            if (v < vlo || v >= vhi) { lo[r] = INT64_MAX; hi[r] = INT64_MIN; }
-            if (v >= w.v0 && v < w.v0 + w.nv) {
-                const int64_t old = lo[r] < hi[r] ? hi[r] - lo[r] : 0;
-                lo[r] = std::min(lo[r], w.u0);
-                hi[r] = std::max(hi[r], w.u0 + w.nu);
-                total += (hi[r] - lo[r]) - old;
-            }
-        }
-        vlo = std::min(vlo, w.v0);
-        vhi = std::max(vhi, w.v0 + w.nv);
     }
 
     // the texels of every row (channels c0 .. c0 + cn) with their prefix sums (as load_rows, from each row's first)
