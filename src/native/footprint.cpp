@@ -414,10 +414,15 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                 constexpr int64_t GROUP = NC > 0 ? NC : 4;  // channels integrated at once
                 for (int64_t c0 = 0; c0 < nc; c0 += GROUP) {
                     const int64_t cn = std::min(GROUP, nc - c0);
-                    G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
+                    const bool finite = G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
                     L carry{};  // the shared side of the last footprint, integrated from its frame (negated)
                     for (int m = 0; m < nm; ++m) {
                         const Item& o = items[members[m]];
+                        if (!finite && nm > 1) {  // a texel not finite: this footprint through its own window alone
+                            G.start(o.w.v0, o.w.v0 + o.w.nv);
+                            G.add(o.w);
+                            G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
+                        }
                         G.rows(o.w, R);
                         L part{};
                         if (o.sl || o.sr) {  // a quadrilateral: the contour V0 V1 V2 V3
@@ -429,7 +434,7 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                             const double umax = double(o.w.nu - 2);
                             const int64_t jmax = o.w.nv - 2;
                             // its left side from the footprint before, when that one was just integrated
-                            const bool have = o.sl && !o.seam && m > 0 && members[m - 1] == members[m] - 1;
+                            const bool have = o.sl && !o.seam && finite && m > 0 && members[m - 1] == members[m] - 1;
                             if (have) part = carry;
                             else directed_edge<NC>(vx[3], vy[3], vx[0], vy[0], umax, jmax, R, part);
                             directed_edge<NC>(vx[0], vy[0], vx[1], vy[1], umax, jmax, R, part);

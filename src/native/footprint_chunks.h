@@ -65,12 +65,15 @@ struct Ragged {
         }
     }
 
-    // the texels of every row (channels c0 .. c0 + cn) with their prefix sums (as load_rows, from each row's first)
-    void load(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc_, int64_t c0, int64_t cn, Border b,
+    // the texels of every row (channels c0 .. c0 + cn) with their prefix sums (as load_rows, from each row's first);
+    // false if a texel is not finite (a prefix sum would carry it along the rest of its row, into footprints that
+    // do not read that texel: each footprint is then read through its own window)
+    bool load(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc_, int64_t c0, int64_t cn, Border b,
               bool cols) {
         const int64_t nc = NC > 0 ? NC : nc_;
         const float* end = buf + lw * lh * nc;
         int64_t at = 0;
+        L ends{};  // the rows' last prefix sums and last texels (0 * ends stays 0 while they are finite)
         for (int64_t v = vlo; v < vhi; ++v) {
             const int64_t r = v - vb;
             base[r] = at;
@@ -100,8 +103,11 @@ struct Ragged {
                 H[u] = 0.5 * (F[u + 1] - F[u]);
                 acc = acc + 0.5 * (F[u] + F[u + 1]);
             }
+            ends = ends + 0.0 * (acc + F[n - 1]);
             at += n;
         }
+        if constexpr (NC == 1) return ends == 0.0;
+        else return ends[0] == 0.0 && ends[1] == 0.0 && ends[2] == 0.0 && ends[3] == 0.0;
     }
 
     // the rows of a footprint's window w (inside the union)

@@ -164,3 +164,22 @@ def test_a_finite_source_gives_finite_rows_beside_non_finite_positions():
     foot[0, 5::9, 0, 0] = np.nan
     out, _ = _run(pyr, xs, ys, valid, foot)
     assert np.isfinite(out).all()
+
+
+def test_a_texel_of_inf_reaches_only_the_footprints_that_read_it():
+    # a shared window's prefix sums would carry inf along its rows: such a run is read footprint by footprint,
+    # so each pixel is what its own window gives (the reference reads each footprint through its own window)
+    src = np.random.default_rng(7).uniform(0.0, 1.0, (64, 128, 3)).astype(np.float32)
+    xs, ys, valid, foot = _lens_band("fisheye:fov=180")
+    r = xs.shape[0] // 2
+    p = xs.shape[1] // 2
+    src[int(round(float(ys[r, p, 0]))), int(round(float(xs[r, p, 0])))] = np.inf
+    pyr = pyramid(src, PANO)
+    out, _ = _run(pyr, xs, ys, valid, foot)
+    with np.errstate(invalid="ignore"):  # inf - inf in the reference's prefix sums: NaN, as in the kernel
+        want, _ = fref.footprint(pyr, xs, ys, valid, foot, PANO.flags)
+    out = out.reshape(-1, 3)
+    finite = np.isfinite(want).all(axis=1)
+    assert 0 < (~finite).sum() < 12  # the inf reaches the few footprints around it
+    np.testing.assert_array_equal(np.isfinite(out).all(axis=1), finite)
+    np.testing.assert_allclose(out[finite], want[finite], rtol=2 * EPS32, atol=2 * EPS32)
