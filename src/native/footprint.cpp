@@ -181,7 +181,7 @@ void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs, f
         while (lev + 1 < nlev && longest > max_taps * double(int64_t(1) << lev)) ++lev;
     }
     it.lev = lev;
-    const double scale = double(shapes[2 * lev]) / h0;
+    const double scale = lev == 0 ? 1.0 : double(shapes[2 * lev]) / h0;  // (level 0: exactly 1)
     const double ax = fax * scale, ay = fay * scale, bx = fbx * scale, by = fby * scale;
     it.cx = (double(clamp_pos(xs)) + 0.5) * scale - 0.5;  // NaN: the left or top edge
     it.cy = (double(clamp_pos(ys)) + 0.5) * scale - 0.5;
@@ -219,10 +219,12 @@ inline bool shareable(const Item& it) {
     return it.mode == 1 && !it.cols && !it.thin && it.nwx <= WINDOW - 3 && it.nwy <= WINDOW - 3;
 }
 
-// the parallelogram's smaller height: its area over its longer side
-inline double height(const Item& it) {
+// whether gap is within an eighth of the parallelogram's smaller height (its area over its longer side), squared:
+// (8 gap)^2 |longer side|^2 <= area^2
+inline bool within(double gap, const Item& it) {
     const double la = it.tax * it.tax + it.tay * it.tay, lb = it.tbx * it.tbx + it.tby * it.tby;
-    return std::fabs(it.tax * it.tby - it.tay * it.tbx) / std::sqrt(std::max(la, lb));
+    const double area = it.tax * it.tby - it.tay * it.tbx, g8 = 8.0 * gap;
+    return g8 * g8 * std::max(la, lb) <= area * area;
 }
 
 // (period: the level's width when the source wraps around, else 0)
@@ -245,8 +247,7 @@ void link(Item& l, Item& r, const int64_t* shapes, bool wrap) {
                                 std::max(std::fabs(l2x - r3x), std::fabs(l2y - r3y)));
     // within an eighth of the footprints' smaller height (a sliver's sides may not move by more than a little of
     // its thickness)
-    const double tol = 0.125 * std::min(height(l), height(r));
-    if (!(gap <= tol)) return;  // (NaN: not shared)
+    if (!(within(gap, l) && within(gap, r))) return;  // (NaN: not shared)
     const double p1x = 0.5 * (l1x + r0x), p1y = 0.5 * (l1y + r0y), p2x = 0.5 * (l2x + r3x), p2y = 0.5 * (l2y + r3y);
     l.sr = r.sl = true;
     r.seam = turns != 0.0;

@@ -181,9 +181,12 @@ def _sample(levels, h0, x, y, f):
                 quad=None)
 
 
-def _height(s):
+def _within(gap, s):
+    """Whether ``gap`` is within an eighth of the smaller height of the sample's parallelogram (its area over its
+    longer side), squared: (8 gap)^2 |longer side|^2 <= area^2."""
     (ax, ay), (bx, by) = s["a"], s["b"]
-    return abs(ax * by - ay * bx) / math.sqrt(max(ax * ax + ay * ay, bx * bx + by * by))
+    area, g8 = ax * by - ay * bx, 8.0 * gap
+    return g8 * g8 * max(ax * ax + ay * ay, bx * bx + by * by) <= area * area
 
 
 def _shareable(s):
@@ -219,7 +222,7 @@ def share_sides(row, widths, wrap):
         r0, r3 = own(right, 0), own(right, 3)
         r0, r3 = [dx + r0[0], dy + r0[1]], [dx + r3[0], dy + r3[1]]
         gap = max(abs(l1[0] - r0[0]), abs(l1[1] - r0[1]), abs(l2[0] - r3[0]), abs(l2[1] - r3[1]))
-        if not gap <= 0.125 * min(_height(left), _height(right)):
+        if not (_within(gap, left) and _within(gap, right)):
             continue
         p1 = [0.5 * (l1[0] + r0[0]), 0.5 * (l1[1] + r0[1])]
         p2 = [0.5 * (l2[0] + r3[0]), 0.5 * (l2[1] + r3[1])]
