@@ -356,7 +356,7 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
     std::vector<double> val(size_t(CHUNK * nc));
     double acc[NC > 0 ? NC : 64];
     for (int64_t ch = 0; ch < nc; ++ch) acc[ch] = 0.0;
-    int64_t hits = 0;
+    int64_t hits = 0, sub = 0, q = 0;  // the samples of pixel q summed so far
     const int64_t total = npix * ns;
     for (int64_t row = 0; row < total; row += row_len) {
         const int64_t row_end = std::min(total, row + row_len);
@@ -463,16 +463,16 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
             }
             // the pixels' sums, in the samples' order
             for (int k = 0; k < n; ++k) {
-                const int64_t s = c + k;
                 if (items[k].mode != 0) {
                     ++hits;
                     for (int64_t ch = 0; ch < nc; ++ch) acc[ch] += val[k * nc + ch];
                 }
-                if ((s + 1) % ns == 0) {
-                    const int64_t q = s / ns;
+                if (++sub == ns) {  // the pixel's last sample
                     for (int64_t ch = 0; ch < nc; ++ch) { out[q * nc + ch] = float(acc[ch] * inv); acc[ch] = 0.0; }
                     alpha[q] = float(double(hits) * inv);
                     hits = 0;
+                    sub = 0;
+                    ++q;
                 }
             }
         }
