@@ -100,9 +100,9 @@ void load_rows(const float* __restrict__ buf, int64_t lw, int64_t lh, int64_t nc
 // F(x, y) the integral of the bilinear reconstruction along the slices' row y from the window's first texel to x.
 // Cut at the texel rows (where the reconstruction bends in y), each piece by 2-point Gauss-Legendre: exact while
 // the edge stays between two texel columns (F is then a cubic along it).
-template <int NC>
+template <int NC, class RowsT>
 inline void edge_integral(double xa, double ya, double xb, double yb, double sign, double umax, int64_t jmax,
-                          const Rows<NC>& R, typename Lanes<NC>::type& acc) {
+                          const RowsT& R, typename Lanes<NC>::type& acc) {
     if (!(yb > ya)) return;  // a horizontal edge adds nothing
     const double k = (xb - xa) / (yb - ya);
     const double g2 = 0.5 / std::sqrt(3.0);
@@ -146,13 +146,29 @@ inline void edge_integral(double xa, double ya, double xb, double yb, double sig
     }
 }
 
+// The directed edge from P to Q of a contour: + the integral of F dy from P to Q (edge_integral runs upwards, so
+// an edge that runs down is integrated from Q to P and subtracted; a horizontal one adds nothing).
+template <int NC, class RowsT>
+inline void directed_edge(double px, double py, double qx, double qy, double umax, int64_t jmax, const RowsT& R,
+                          typename Lanes<NC>::type& acc) {
+    if (qy > py) edge_integral<NC>(px, py, qx, qy, 1.0, umax, jmax, R, acc);
+    else edge_integral<NC>(qx, qy, px, py, -1.0, umax, jmax, R, acc);
+}
+
+// Twice the signed area of the quadrilateral V0 V1 V2 V3 (the shoelace formula): the sign of the contour
+// integral of F dy around it, so that their ratio is the mean over it whichever way it turns.
+inline double shoelace2(const double* vx, const double* vy) {
+    return (vx[0] * vy[1] - vx[1] * vy[0]) + (vx[1] * vy[2] - vx[2] * vy[1]) + (vx[2] * vy[3] - vx[3] * vy[2])
+           + (vx[3] * vy[0] - vx[0] * vy[3]);
+}
+
 // The bilinear reconstruction integrated over the parallelogram c + s a + r b (s, r in [-1/2, 1/2]) inside its
 // window of nu x nv texels, into acc (c in window coordinates: texel (0, 0) at its first texel, where a
 // footprint at 2^40 keeps the precision of its sides): by Green's theorem, the integral over y of F at the right
 // ends of its rows less F at the left ends (F as in edge_integral), edge by edge. Returns the area.
-template <int NC>
+template <int NC, class RowsT>
 double prefix_slices(double cx, double cy, double ax, double ay, double bx, double by, int64_t nu, int64_t nv,
-                     const Rows<NC>& R, typename Lanes<NC>::type& acc) {
+                     const RowsT& R, typename Lanes<NC>::type& acc) {
     const double vx[4] = {cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx,
                           cx - 0.5 * ax + 0.5 * bx};
     const double vy[4] = {cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by,

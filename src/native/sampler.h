@@ -21,10 +21,11 @@ void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t
             const float* ys, int64_t m, Border b, float* out, float* alpha);
 
 // The footprint prefilter (lenslab.warp.pyramid): npix pixels of ns samples; foot (npix, ns, 4);
-// shapes (nlev, 2) (height, width); offsets (nlev,) into rest for levels >= 1.
+// shapes (nlev, 2) (height, width); offsets (nlev,) into rest for levels >= 1; row_len samples (a multiple of ns)
+// make one output row, whose footprints may share windows (footprint_chunks.h).
 void footprint(const float* level0, const float* rest, const int64_t* shapes, const int64_t* offsets, int64_t nlev,
                int64_t nc, const float* xs, const float* ys, const bool* valid, const float* foot, int64_t npix,
-               int64_t ns, Border b, double max_taps, float* out, float* alpha);
+               int64_t ns, int64_t row_len, Border b, double max_taps, float* out, float* alpha);
 
 // Footprint sides of rows top..top+h of a one-sample map (xs, ys, vs: nrows x w): foot (h, w, 4) = a, b; edge
 // (h, w): a neighbour's validity differs. piece (nrows x w, or null for one piece): each pixel's piece number; a

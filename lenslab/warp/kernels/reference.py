@@ -7,11 +7,12 @@ hold the kernels to them. They are slow (the footprint reference is a Python loo
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
-from lenslab.warp.pyramid import MAX_TAPS, THIN, WINDOW, Pyramid
+from lenslab.warp.kernels.footprint_reference import (  # noqa: F401  (the footprint filter's reference)
+    edge_integral, footprint, prefix_slices, slice_weights, window_rows)
+from lenslab.warp.pyramid import MAX_TAPS, WINDOW
 from lenslab.warp.seam import fold_taps as fold_index
 
 INVALID = np.uint32(0xFFFFFFFF)
@@ -108,133 +109,6 @@ def taps(src, xs, ys, valid):
     return off, tx, ty
 
 
-def _tent_c(u: float) -> float:
-    """The tent's antiderivative: 0 below -1, 1 above 1."""
-    v = min(1.0, max(-1.0, u))
-    return 0.5 + v - 0.5 * v * abs(v)
-
-
-G2 = 0.5 / math.sqrt(3.0)  # the 2-point Gauss-Legendre nodes at mid -+ G2 * len
-
-
-def slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy):
-    """``(weights (nwy, nwx) float64, area)``: texel (wx0 + i, wy0 + j)'s weight in the bilinear
-    reconstruction integrated over the parallelogram ``c + s a + r b`` (s, r in [-1/2, 1/2]).
-
-    Between consecutive breakpoints in y (the vertices and the texel rows) the slice's ends move
-    linearly and each texel's weight is a cubic in y: 2-point Gauss-Legendre; across x each slice is
-    integrated exactly by the tent's antiderivative, and split between the two texel rows around it by
-    the linear interpolation of the bilinear reconstruction.
-    """
-    vx = [cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx, cx - 0.5 * ax + 0.5 * bx]
-    vy = [cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by, cy - 0.5 * ay + 0.5 * by]
-    edges = []
-    for e in range(4):
-        f = (e + 1) % 4
-        if vy[e] <= vy[f]:
-            lo, xlo, hi, xhi = vy[e], vx[e], vy[f], vx[f]
-        else:
-            lo, xlo, hi, xhi = vy[f], vx[f], vy[e], vx[e]
-        edges.append((lo, hi, xlo, (xhi - xlo) / (hi - lo) if hi > lo else 0.0))
-    ys = sorted(vy)
-    w = np.zeros((nwy + 2, nwx))  # rows -1 and nwy: scratch
-    # only the window's rows -1 .. nwy - 1 (a footprint inside its window lies within them; a clipped one takes
-    # its sum from the weights)
-    y_end = min(ys[3], float(wy0 + nwy))
-    total, y, v, seen, left, right = 0.0, max(ys[0], float(wy0 - 1)), 1, 0, edges[0], edges[0]
-    while y < y_end:
-        while v < 3 and ys[v] <= y:
-            v += 1
-        if v != seen:  # a new pair of vertices: the edges on the left and on the right until the next
-            seen = v
-            ym = 0.5 * (ys[v - 1] + ys[v])
-            active = [(xlo + (ym - lo) * k, e) for e, (lo, hi, xlo, k) in enumerate(edges)
-                      if lo <= ym <= hi and hi != lo]
-            left = edges[min(active, key=lambda t: t[0])[1]] if active else edges[0]  # the first of equals
-            right = edges[max(active, key=lambda t: t[0])[1]] if active else edges[0]
-        y1 = min(ys[v], math.floor(y) + 1.0)
-        length, mid = y1 - y, 0.5 * (y + y1)
-        g = 0.5 * length
-        pts = []
-        for yy in (mid - G2 * length, mid + G2 * length):
-            xl = left[2] + (yy - left[0]) * left[3]
-            xr = max(xl, right[2] + (yy - right[0]) * right[3])
-            total += g * (xr - xl)
-            ty = yy - math.floor(mid)
-            pts.append((xl, xr, g * (1.0 - ty), g * ty))
-        j = math.floor(mid) - wy0
-        if not -1 <= j < nwy:
-            y = y1
-            continue
-        (xl0, xr0, a0, b0), (xl1, xr1, a1, b1) = pts
-        lo_x, hi_x = min(xl0, xl1), max(xr0, xr1)
-        for i in range(max(math.floor(lo_x - 1.0) + 1 - wx0, 0), min(math.floor(hi_x + 1.0) + 1 - wx0, nwx)):
-            wa = _tent_c(xr0 - wx0 - i) - _tent_c(xl0 - wx0 - i)
-            wb = _tent_c(xr1 - wx0 - i) - _tent_c(xl1 - wx0 - i)
-            w[j + 1, i] += a0 * wa + a1 * wb
-            w[j + 2, i] += b0 * wa + b1 * wb
-        y = y1
-    return w[1:-1], total
-
-
-def window_rows(win: np.ndarray):
-    """``(f, h, s)`` of a window's rows (``win`` (rows, texels, C) float64, the slices' rows first): the texels'
-    values, half the step to the next texel, and the integral of the row's linear interpolant from texel 0 to
-    each texel (trapezoids summed in order), so that the integral from texel 0 to ``u + t`` is ``s + t (f + t h)``."""
-    f = np.asarray(win, dtype=np.float64)
-    h = np.zeros_like(f)
-    s = np.zeros_like(f)
-    h[:, :-1] = 0.5 * (f[:, 1:] - f[:, :-1])
-    for u in range(f.shape[1] - 2):
-        s[:, u + 1] = s[:, u] + 0.5 * (f[:, u] + f[:, u + 1])
-    return f, h, s
-
-
-def edge_integral(xa, ya, xb, yb, sign, rows, acc):
-    """``acc + sign *`` the integral over y of ``F(x(y), y)`` along the edge from ``(xa, ya)`` to ``(xb, yb)``
-    (``ya <= yb``, window coordinates), ``F(x, y)`` the integral of the bilinear reconstruction along row y from
-    the window's first texel to x. Cut at the texel rows, each piece by 2-point Gauss-Legendre."""
-    if not yb > ya:
-        return acc
-    f, h, s = rows
-    k = (xb - xa) / (yb - ya)
-    umax, jmax = float(f.shape[1] - 2), f.shape[0] - 2
-    n = math.floor(ya)
-    while n < yb:
-        y0, y1 = max(ya, n), min(yb, n + 1.0)
-        length, mid = y1 - y0, 0.5 * (y0 + y1)
-        g = sign * 0.5 * length
-        j = min(jmax, max(0, int(n)))
-        for yy in (mid - G2 * length, mid + G2 * length):
-            x = xa + (yy - ya) * k
-            uf = min(umax, max(0.0, math.floor(x)))
-            t, ty, u = x - uf, yy - n, int(uf)
-            f0 = s[j, u] + t * (f[j, u] + t * h[j, u])
-            f1 = s[j + 1, u] + t * (f[j + 1, u] + t * h[j + 1, u])
-            acc = acc + (g * (1.0 - ty)) * f0 + (g * ty) * f1
-        n += 1.0
-    return acc
-
-
-def prefix_slices(cx, cy, ax, ay, bx, by, rows):
-    """``(integral (C,), area)``: the bilinear reconstruction of a window's rows (:func:`window_rows`) integrated
-    over the parallelogram ``c + s a + r b`` (s, r in [-1/2, 1/2]; window coordinates, texel (0, 0) the window's
-    first). By Green's theorem: the integral over y of F at the right ends of its rows less F at the left ends,
-    edge by edge (:func:`edge_integral`); the area is ``|a x b|``."""
-    vx = [cx - 0.5 * ax - 0.5 * bx, cx + 0.5 * ax - 0.5 * bx, cx + 0.5 * ax + 0.5 * bx, cx - 0.5 * ax + 0.5 * bx]
-    vy = [cy - 0.5 * ay - 0.5 * by, cy + 0.5 * ay - 0.5 * by, cy + 0.5 * ay + 0.5 * by, cy - 0.5 * ay + 0.5 * by]
-    ib = 0
-    for e in range(1, 4):  # the lowest vertex (the first of equals); the highest is opposite
-        ib = e if vy[e] < vy[ib] else ib
-    it, m1, m2 = (ib + 2) % 4, (ib + 1) % 4, (ib + 3) % 4
-    cross = (vx[m1] - vx[ib]) * (vy[it] - vy[ib]) - (vy[m1] - vy[ib]) * (vx[it] - vx[ib])
-    left, right = (m1, m2) if cross < 0.0 else (m2, m1)  # left of the line from the lowest to the highest
-    acc = np.zeros(rows[0].shape[2])
-    for a, b, sign in ((ib, right, 1.0), (right, it, 1.0), (ib, left, -1.0), (left, it, -1.0)):
-        acc = edge_integral(vx[a], vy[a], vx[b], vy[b], sign, rows, acc)
-    return acc, abs(ax * by - ay * bx)
-
-
 def level_rows(shapes, ys, valid, foot) -> np.ndarray:
     """``(levels, 2)`` int64: the rows ``[first, end)`` of each pyramid level that the footprint filter reads for
     the valid samples at rows ``ys`` with sides ``foot`` (..., 4): each sample's level and window as
@@ -259,76 +133,6 @@ def level_rows(shapes, ys, valid, foot) -> np.ndarray:
         cy = (y[sel] + 0.5) * scale - 0.5
         rows[k] = (max(-lh, int(np.floor(cy - ey).min()) - 1), min(2 * lh, int(np.floor(cy + ey).max()) + 2))
     return rows
-
-
-def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
-    """The footprint filter (see :mod:`lenslab.warp.antialias`): ``(out (n, C), alpha (n,))`` for pixels of
-    ``S`` samples (``xs`` (..., S), ``foot`` (..., S, 4)), every step in float64 Python arithmetic."""
-    ns = xs.shape[-1]
-    x, y, v = (np.asarray(a).reshape(-1, ns) for a in (xs, ys, valid))
-    f = np.asarray(foot, dtype=np.float64).reshape(-1, ns, 4)
-    nc = pyr.channels
-    levels = [pyr.source] + [pyr.rest[o:o + h * w * nc].reshape(h, w, nc)
-                             for o, (h, w) in zip(pyr.offsets[1:], pyr.shapes[1:])]
-    h0 = float(pyr.shapes[0, 0])
-    out = np.zeros((x.shape[0], nc))
-    alpha = np.zeros(x.shape[0])
-    for q in range(x.shape[0]):
-        acc = np.zeros(nc)
-        hits = 0
-        for s in range(ns):
-            if not v[q, s]:
-                continue
-            hits += 1
-            ax, ay, bx, by = (0.0 if math.isnan(t) else float(clamp_pos(t)) for t in f[q, s])  # NaN: a point
-            longest = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
-            lev = 0
-            while lev + 1 < len(levels) and longest > MAX_TAPS * (1 << lev):
-                lev += 1
-            img = levels[lev]
-            lh, lw = img.shape[:2]
-            scale = lh / h0
-            ax, ay, bx, by = ax * scale, ay * scale, bx * scale, by * scale
-            cx = (float(clamp_pos(x[q, s])) + 0.5) * scale - 0.5
-            cy = (float(clamp_pos(y[q, s])) + 0.5) * scale - 0.5
-            if abs(ax * by - ay * bx) < THIN * THIN:  # a line or a point: a thickness far below a texel
-                la, lb = math.hypot(ax, ay), math.hypot(bx, by)
-                if la >= lb and la > 0.0:
-                    bx, by = -THIN * ay / la, THIN * ax / la
-                elif lb > 0.0:
-                    ax, ay = THIN * by / lb, -THIN * bx / lb
-                else:
-                    ax, ay, bx, by = THIN, 0.0, 0.0, THIN
-            # the window: every texel the thickened footprint touches
-            ex, ey = 0.5 * (abs(ax) + abs(bx)) + 1.0, 0.5 * (abs(ay) + abs(by)) + 1.0
-            wx0, wy0 = math.floor(cx - ex) + 1, math.floor(cy - ey) + 1
-            nwx, nwy = math.floor(cx + ex) + 1 - wx0, math.floor(cy + ey) + 1 - wy0
-            if nwx > WINDOW:  # a footprint beyond the coarsest level: the window centred on it
-                wx0, nwx = math.floor(cx) + 1 - WINDOW // 2, WINDOW
-            if nwy > WINDOW:
-                wy0, nwy = math.floor(cy) + 1 - WINDOW // 2, WINDOW
-            jj, ii = np.mgrid[wy0:wy0 + nwy, wx0:wx0 + nwx]
-            fi, fj = fold_index(ii.ravel(), jj.ravel(), lw, lh, *border)
-            texels = img[fj, fi].astype(np.float64)
-            if nwx < WINDOW and nwy < WINDOW:  # inside its window: the rows' prefix sums
-                win = texels.reshape(nwy, nwx, nc)
-                if ey > ex:  # sliced along the shorter extent: here x, so x and y swap roles
-                    part, area = prefix_slices(cy - wy0, cx - wx0, ay, ax, by, bx, window_rows(win.transpose(1, 0, 2)))
-                else:
-                    part, area = prefix_slices(cx - wx0, cy - wy0, ax, ay, bx, by, window_rows(win))
-                acc += part * (1.0 / area)
-                continue
-            # clipped by its window (beyond the coarsest level): the texels' weights
-            if ey > ex:
-                wt, area = slice_weights(cy, cx, ay, ax, by, bx, wy0, wx0, nwy, nwx)
-                wt = wt.T
-            else:
-                wt, area = slice_weights(cx, cy, ax, ay, bx, by, wx0, wy0, nwx, nwy)
-            area = float(wt.sum())
-            acc += (wt.ravel()[:, None] * texels).sum(axis=0) * (1.0 / area)
-        out[q] = acc / ns
-        alpha[q] = hits / ns
-    return out.astype(np.float32), alpha.astype(np.float32)
 
 
 def neighbour_secants(xs, ys, vs, top: int, h: int, wrap: float, piece=None):
