@@ -14,6 +14,7 @@ command's channel check before its job (:func:`first_part_channels`) takes the s
 
 from __future__ import annotations
 
+import hashlib
 import os
 import struct
 import threading
@@ -166,14 +167,18 @@ class Layout:
 
 
 #: headers parsed lately, by the file they were read from (see :func:`parse_header`): a command's channel
-#: check before its job and the job's read of the same input share one parse. Each entry keeps the header's
-#: bytes too: a hit counts only where the file still starts with them (its stat alone cannot tell a file
-#: rewritten in place within a clock tick of a coarse file system)
+#: check before its job and the job's read of the same input share one parse. Each entry keeps a digest of the
+#: header's bytes too: a hit counts only where the file still starts with them (its stat alone cannot tell a
+#: file rewritten in place within a clock tick of a coarse file system)
 _PARSED: OrderedDict = OrderedDict()
 _PARSED_MAX = 32
 #: headers longer than this are parsed each time (a real header is a few kilobytes)
 _PARSED_BYTES = 1 << 20
 _PARSED_LOCK = threading.Lock()
+
+
+def _digest(head: bytes) -> bytes:
+    return hashlib.blake2b(head, digest_size=16).digest()
 
 
 def parse_header(path) -> Layout:
@@ -192,8 +197,8 @@ def parse_header(path) -> Layout:
         with _PARSED_LOCK:
             kept = _PARSED.get(key)
         if kept is not None:
-            layout, head = kept
-            if f.read(len(head)) == head:
+            layout, digest = kept
+            if _digest(f.read(layout.header_end)) == digest:
                 with _PARSED_LOCK:
                     if key in _PARSED:
                         _PARSED.move_to_end(key)
@@ -208,9 +213,9 @@ def parse_header(path) -> Layout:
         if layout.header_end > _PARSED_BYTES:
             return layout
         f.seek(0)
-        head = f.read(layout.header_end)
+        digest = _digest(f.read(layout.header_end))
     with _PARSED_LOCK:
-        _PARSED[key] = (layout, head)
+        _PARSED[key] = (layout, digest)
         while len(_PARSED) > _PARSED_MAX:
             _PARSED.popitem(last=False)
     return layout
