@@ -150,6 +150,10 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     keys = set(short)
     order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
+    if chroma is not None and (converted or rec709 and out_names[:3] == ["R", "G", "B"]):
+        from lenslab.io.primaries import check_chromaticities
+
+        check_chromaticities(path, chroma)  # before any pixel is decoded
     used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
                                                    else set())
     from lenslab.io.exr import bands
