@@ -27,13 +27,15 @@ def _has_avx2(arch: str) -> bool:
     return "#define __AVX2__ 1" in macros
 
 
-def _configure(build: Path, arch: str) -> str:
-    """Configure ``build`` for ``arch``; the compile line of the lens kernels (the ones that use libmvec)."""
-    subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-G", "Ninja", f"-DLENSLAB_ARCH={arch}",
+def _configure(build: Path, arch: str | None, what: str = "DEFINES") -> str:
+    """Configure ``build`` for ``arch`` (None: no LENSLAB_ARCH given, as a plain ``pip install -e .``); the
+    ``what`` (DEFINES or FLAGS) of the compile line of the lens kernels (the ones that use libmvec)."""
+    given = [] if arch is None else [f"-DLENSLAB_ARCH={arch}"]
+    subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-G", "Ninja", *given,
                     f"-DPython_EXECUTABLE={sys.executable}"], check=True, capture_output=True, text=True)
     ninja = (build / "build.ninja").read_text()
     block = ninja[ninja.index("src/native/lens_kernels.cpp"):]
-    return re.search(r"DEFINES = (.*)", block).group(1)
+    return re.search(rf"{what} = (.*)", block).group(1)
 
 
 def test_mvec_follows_the_target_cpu_when_the_build_directory_is_reused(tmp_path):
@@ -44,3 +46,13 @@ def test_mvec_follows_the_target_cpu_when_the_build_directory_is_reused(tmp_path
     assert not _has_avx2("x86-64")
     assert "LENSLAB_MVEC" not in _configure(build, "x86-64")  # the same directory, now for any x86-64
     assert ("LENSLAB_MVEC" in _configure(build, "native")) == first  # and back
+
+
+def test_a_build_without_lenslab_arch_is_for_this_cpu_again(tmp_path):
+    """``LENSLAB_ARCH`` holds for the build it is given to: a later ``pip install -e .`` (no CMAKE_ARGS) in the
+    same build directory builds for the CPU it runs on, as the docs promise, not for the packager's target."""
+    build = tmp_path / "build"
+    assert "-march=x86-64 " in _configure(build, "x86-64", "FLAGS") + " "
+    flags = _configure(build, None, "FLAGS")
+    assert "-march=native" in flags and "-march=x86-64" not in flags
+    assert flags == _configure(tmp_path / "fresh", None, "FLAGS")
