@@ -43,6 +43,29 @@ def matrix_from_chromaticities(chromaticities) -> np.ndarray:
     return matrix_between(space)
 
 
+def check_chromaticities(path, chromaticities) -> None:
+    """A :class:`~lenslab.errors.FormatError` (one line) unless ``chromaticities`` (x, y of R, G, B and white,
+    OpenEXR's order) describe a colour space: finite numbers, the white strictly inside the triangle of the
+    three primaries (so each primary adds light to white, whatever the sign of its y: ACES AP0's blue has y < 0).
+    Two primaries at one point, a white with y = 0 or outside the triangle would give a singular or nearly
+    singular matrix and meaningless colour."""
+    from lenslab.errors import FormatError
+
+    c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)
+    ok = c.size == 8 and bool(np.isfinite(c).all())
+    if ok:
+        (xr, yr), (xg, yg), (xb, yb), (xw, yw) = c.reshape(4, 2)
+        area = (xg - xr) * (yb - yr) - (xb - xr) * (yg - yr)  # twice the triangle's signed area
+        with np.errstate(all="ignore"):
+            g = ((xw - xr) * (yb - yr) - (xb - xr) * (yw - yr)) / area  # the white's barycentric coordinates
+            b = ((xg - xr) * (yw - yr) - (xw - xr) * (yg - yr)) / area
+        ok = abs(area) > 1e-6 and g > 0 and b > 0 and 1.0 - g - b > 0 and yw > 1e-6
+    if not ok:
+        shown = ", ".join(f"{v:.6g}" for v in c[:8])
+        raise FormatError(f"{path}: its chromaticities attribute ({shown}) describes no colour space (the white "
+                          "must lie inside the triangle of red, green and blue); the file is damaged")
+
+
 @lru_cache(maxsize=8)
 def h273_matrix(primaries: int, to_709: bool = True) -> np.ndarray | None:
     """float64 3 x 3 (read-only) from linear RGB in the H.273 ``primaries`` to linear Rec.709 (``to_709``) or

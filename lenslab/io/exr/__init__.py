@@ -42,6 +42,7 @@ import numpy as np
 from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
+from lenslab.io.exr.keep import PartHeader
 from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, select_channels,
                                    split_part_layer, view_of, views, without_view)
 from lenslab.library_output import library_call, quiet_library
@@ -150,6 +151,10 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     keys = set(short)
     order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
+    if chroma is not None and (converted or rec709 and out_names[:3] == ["R", "G", "B"]):
+        from lenslab.io.primaries import check_chromaticities
+
+        check_chromaticities(path, chroma)  # before any pixel is decoded
     used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
                                                    else set())
     from lenslab.io.exr import bands
@@ -219,7 +224,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "storage": storage,
         # the part's header as OpenEXR read it (raw values): what an EXR writer keeps of it
         # (:func:`lenslab.io.exr.keep.kept_header`) without reading the file again
-        "exr_header": header,
+        "exr_header": PartHeader(header),
     }
     return image, meta
 

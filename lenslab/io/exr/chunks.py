@@ -14,6 +14,7 @@ command's channel check before its job (:func:`first_part_channels`) takes the s
 
 from __future__ import annotations
 
+import hashlib
 import os
 import struct
 import threading
@@ -166,10 +167,18 @@ class Layout:
 
 
 #: headers parsed lately, by the file they were read from (see :func:`parse_header`): a command's channel
-#: check before its job and the job's read of the same input share one parse
+#: check before its job and the job's read of the same input share one parse. Each entry keeps a digest of the
+#: header's bytes too: a hit counts only where the file still starts with them (its stat alone cannot tell a
+#: file rewritten in place within a clock tick of a coarse file system)
 _PARSED: OrderedDict = OrderedDict()
 _PARSED_MAX = 32
+#: headers longer than this are parsed each time (a real header is a few kilobytes)
+_PARSED_BYTES = 1 << 20
 _PARSED_LOCK = threading.Lock()
+
+
+def _digest(head: bytes) -> bytes:
+    return hashlib.blake2b(head, digest_size=16).digest()
 
 
 def parse_header(path) -> Layout:
@@ -178,25 +187,35 @@ def parse_header(path) -> Layout:
     A header cut short or damaged is a :class:`FormatError` of one line.
 
     The answer is kept for the file it was read from (its device, inode, size and modification and change
-    times, taken from the open file): asked again about that same file, as a command's channel check and
-    then its read are, this returns the same :class:`Layout` (shared: never change it) without parsing the
-    header again; a file written since is parsed anew."""
+    times, taken from the open file, and the header's bytes): asked again about that same file, as a
+    command's channel check and then its read are, this returns the same :class:`Layout` (shared: never
+    change it) after reading the header's bytes alone (no parse); a file written since is parsed anew,
+    whatever its times say (the parse depends on those bytes and the file's size alone)."""
     with open(path, "rb") as f:
         st = os.fstat(f.fileno())
         key = (os.path.abspath(path), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
         with _PARSED_LOCK:
-            layout = _PARSED.get(key)
-            if layout is not None:
-                _PARSED.move_to_end(key)
+            kept = _PARSED.get(key)
+        if kept is not None:
+            layout, digest = kept
+            if _digest(f.read(layout.header_end)) == digest:
+                with _PARSED_LOCK:
+                    if key in _PARSED:
+                        _PARSED.move_to_end(key)
                 return layout
+            f.seek(0)
         try:
             parts, version = _headers(f, st.st_size)
             layout = Layout(tuple(parts), f.tell(), st.st_size, version)
         except (EOFError, struct.error):
             raise FormatError(f"{path}: the OpenEXR header ends early or is damaged ({st.st_size} bytes); the "
                               "file is truncated or damaged") from None
+        if layout.header_end > _PARSED_BYTES:
+            return layout
+        f.seek(0)
+        digest = _digest(f.read(layout.header_end))
     with _PARSED_LOCK:
-        _PARSED[key] = layout
+        _PARSED[key] = (layout, digest)
         while len(_PARSED) > _PARSED_MAX:
             _PARSED.popitem(last=False)
     return layout

@@ -21,6 +21,25 @@ WRITER_SETS = {"channels", "compression", "dataWindow", "displayWindow", "lineOr
                "version", "chunkCount", "preview", "lenslab.camera"}
 
 
+class PartHeader(dict):
+    """A part's header as OpenEXR read it (``meta["exr_header"]``), which pickles (and deep-copies) as what
+    can be pickled of it: the bindings cannot pickle some of their objects (channel lists, tile descriptions),
+    and ``meta`` must travel (a Dask task's result) and copy as every other format's does. Left out of a copy:
+    those values only (the writer sets them itself)."""
+
+    def __reduce__(self):
+        import pickle
+
+        def portable(value) -> bool:
+            try:
+                pickle.dumps(value)
+            except Exception:  # (the bindings raise TypeError; anything else is not portable either)
+                return False
+            return True
+
+        return PartHeader, ({k: v for k, v in self.items() if portable(v)},)
+
+
 def _views_hold(file_channels: list[str], written: set[str]) -> bool:
     """Whether every view's channels are written under their own names. Each channel belongs to a view (a
     prefix naming one, else the first, default view), so: every channel of the part."""
