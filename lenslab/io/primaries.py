@@ -12,15 +12,17 @@ import numpy as np
 BAND_ROWS = 256
 
 
-def matrix_from_chromaticities(chromaticities) -> np.ndarray:
+def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) -> np.ndarray:
     """float64 3 x 3 from linear RGB on ``chromaticities`` (x, y of R, G, B and white, OpenEXR's order)
-    to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged)."""
+    to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged), or with
+    colour-science's ``adaptation`` transform from the file's white to D65 (``"Bradford"``: an ICC profile's
+    white becomes Rec.709's, :mod:`lenslab.io.icc`)."""
     import colour
 
     c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)
     space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
                                    use_derived_matrix_XYZ_to_RGB=True)
-    return colour.matrix_RGB_to_RGB(space, colour.RGB_COLOURSPACES["ITU-R BT.709"], None)
+    return colour.matrix_RGB_to_RGB(space, colour.RGB_COLOURSPACES["ITU-R BT.709"], adaptation)
 
 
 def to_rec709(image: np.ndarray, matrix, rows: int = BAND_ROWS) -> np.ndarray:

@@ -1,0 +1,242 @@
+"""Embedded ICC profiles mean what they say: read through littleCMS's answer, written as colour-science's P3.
+
+Expected values come from outside lenslab: littleCMS (Pillow's ``ImageCms.buildTransform`` from the file's
+profile to its built-in sRGB, 8-bit, relative colorimetric) on the same code values; colour-science's sRGB
+curve and its P3-D65 -> BT.709 matrix in float64; colour-science's Display P3 primaries adapted to D50 by
+Bradford against the colorants littleCMS parses from the written profile; Pillow's own reading of the files.
+
+Tolerances: against littleCMS, 1 code of 8 bits: its output is rounded to a code (0.5) and its 8-bit
+matrix-shaper pipeline works in 1.14 fixed point with 16-bit curve tables (measured under 0.65 for Display P3,
+Adobe RGB and ROMM); against colour-science, 2e-5 of linear light: the written colorants are s15.16 numbers
+(2^-17 = 7.6e-6 each) and the para curve's parameters too (4.2e-6 from IEC 61966-2-1's curve).
+"""
+
+from __future__ import annotations
+
+import io
+import struct
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lenslab.errors import FormatError
+
+colour = pytest.importorskip("colour")
+ImageCms = pytest.importorskip("PIL.ImageCms")
+from PIL import Image  # noqa: E402
+
+import lenslab.io as lio  # noqa: E402
+from lenslab.io.icc_build import profile as build_profile  # noqa: E402
+from lenslab.io.icc_chunks import jpeg_with_profile, png_with_profile  # noqa: E402
+from lenslab.io.png_cicp import with_cicp  # noqa: E402
+
+GHOSTSCRIPT = Path("/usr/share/color/icc/ghostscript")  # Debian's libgs-common
+SRGB_ENCODE = lambda x: colour.cctf_encoding(np.clip(x, 0, 1), "sRGB")  # noqa: E731
+P3_TO_709 = colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["Display P3"], colour.RGB_COLOURSPACES["ITU-R BT.709"])
+
+
+def _system(name: str) -> bytes:
+    path = GHOSTSCRIPT / name
+    if not path.is_file():
+        pytest.skip(f"{path} is absent (Debian's libgs-common, which .ci/run installs)")
+    return path.read_bytes()
+
+
+def _codes(shape=(48, 64, 3), seed=0) -> np.ndarray:
+    codes = np.random.default_rng(seed).integers(0, 256, shape, dtype=np.uint8)
+    codes[0, :8] = [[0, 0, 0], [255, 255, 255], [255, 0, 0], [0, 255, 0], [0, 0, 255], [128, 128, 128],
+                    [1, 1, 1], [254, 254, 254]]
+    return codes
+
+
+def _png(codes: np.ndarray, icc: bytes | None = None, cicp=None) -> bytes:
+    buf = io.BytesIO()
+    Image.fromarray(codes).save(buf, "PNG")  # Pillow writes the file: lenslab only reads it
+    data = buf.getvalue()
+    data = with_cicp(data, cicp) if cicp else data
+    return png_with_profile(data, icc) if icc is not None else data
+
+
+def _littlecms(codes: np.ndarray, icc: bytes) -> np.ndarray:
+    """littleCMS's sRGB codes of ``codes`` under profile ``icc``."""
+    t = ImageCms.buildTransform(ImageCms.ImageCmsProfile(io.BytesIO(icc)), ImageCms.createProfile("sRGB"), "RGB",
+                                "RGB")
+    return np.asarray(ImageCms.applyTransform(Image.fromarray(codes), t)).astype(np.float64)
+
+
+def _read_as_srgb(path) -> tuple[np.ndarray, dict]:
+    img, meta = lio.read(path)
+    return SRGB_ENCODE(img[..., :3].astype(np.float64)) * 255.0, meta
+
+
+@pytest.mark.parametrize("name", ["a98.icc", "rommrgb.icc", "display-p3"])
+@pytest.mark.parametrize("fmt", ["png", "tiff"])
+def test_matrix_trc_profiles_read_as_littlecms_converts_them(tmp_path, name, fmt):
+    icc = build_profile("Display P3") if name == "display-p3" else _system(name)
+    codes = _codes()
+    path = tmp_path / f"in.{fmt}"
+    if fmt == "png":
+        path.write_bytes(_png(codes, icc))
+    else:
+        import tifffile
+
+        tifffile.imwrite(path, codes, photometric="rgb", iccprofile=icc)  # tag 34675, written by tifffile
+    ours, meta = _read_as_srgb(path)
+    assert "applied" in meta["attributes"]["icc"] and "not applied" not in meta["attributes"]["icc"]
+    np.testing.assert_allclose(ours, _littlecms(codes, icc), rtol=0, atol=1.0)
+
+
+def test_a_real_display_p3_photo_reads_as_littlecms_converts_it(shared_data):
+    """The Ultra HDR sample's SDR image carries a phone's Display P3 profile (v4, para type 3, chad)."""
+    path = shared_data / "formats/oiio-images/ultrahdr_sky.jpg"
+    with Image.open(path) as im:
+        icc = im.info["icc_profile"]
+    raw, _ = lio.read(path, raw=True)  # the decoder's code values, given to littleCMS too
+    codes = np.round(raw * 255).astype(np.uint8)[::7, ::7]
+    ours, meta = _read_as_srgb(path)
+    assert "'Display P3'" in meta["attributes"]["icc"]
+    np.testing.assert_allclose(ours[::7, ::7], _littlecms(codes, icc), rtol=0, atol=1.0)
+
+
+def test_the_written_p3_profile_is_colour_sciences_p3_adapted_to_d50():
+    space = colour.RGB_COLOURSPACES["Display P3"]
+    d50 = np.array([0.9642, 1.0, 0.8249])  # ICC.1 7.2.16
+    chad = colour.adaptation.matrix_chromatic_adaptation_VonKries(colour.xy_to_XYZ(space.whitepoint), d50, "Bradford")
+    want = chad @ colour.normalised_primary_matrix(space.primaries, space.whitepoint)
+    parsed = ImageCms.ImageCmsProfile(io.BytesIO(build_profile("Display P3")))
+    got = np.array([getattr(parsed.profile, f"{c}_colorant")[0] for c in ("red", "green", "blue")]).T
+    np.testing.assert_allclose(got, want, rtol=0, atol=2.0 ** -16)  # s15.16 rounding
+    np.testing.assert_allclose(np.array(parsed.profile.chromatic_adaptation[0]), chad, rtol=0, atol=2.0 ** -16)
+    assert ImageCms.getProfileDescription(parsed).strip() == "Display P3"
+    assert parsed.profile.is_matrix_shaper and parsed.profile.version == 4.4
+
+
+def test_p3_codes_read_as_colour_sciences_matrix_on_linear_values(tmp_path):
+    codes = np.random.default_rng(2).integers(0, 65536, (40, 50, 3), dtype=np.uint16)
+    import tifffile
+
+    tifffile.imwrite(tmp_path / "p3.tif", codes, photometric="rgb", iccprofile=build_profile("Display P3"))
+    got, _ = lio.read(tmp_path / "p3.tif")
+    want = colour.cctf_decoding(codes / 65535.0, "sRGB") @ P3_TO_709.T
+    np.testing.assert_allclose(got, want, rtol=0, atol=2e-5)
+
+
+def test_display_p3_output_carries_an_icc_profile_beside_cicp(tmp_path):
+    """A Display P3 PNG as Pillow sees it (no cICP): littleCMS's reading of its profile is lenslab's reading
+    of its cICP chunk; the TIFF's tag 34675 the same."""
+    pytest.importorskip("PyOpenColorIO")
+    from lenslab.io.png_cicp import read_cicp
+
+    scene = np.random.default_rng(3).random((24, 32, 3), dtype=np.float32)
+    lio.write(tmp_path / "s.exr", scene, pixel_type="float")
+    from lenslab.cli.main import main
+
+    for fmt in ("png", "tiff"):
+        assert main(["convert", str(tmp_path / "s.exr"), "--to", fmt, "--display", "Display P3 - Display",
+                     "--bits", "8", "-o", str(tmp_path / f"p3.{fmt[:3]}")]) in (0, None)
+    data = (tmp_path / "p3.png").read_bytes()
+    assert read_cicp(data) == (12, 13, 0, 1)
+    with Image.open(tmp_path / "p3.png") as im:
+        icc, codes = im.info["icc_profile"], np.asarray(im.convert("RGB"))
+    ours, meta = _read_as_srgb(tmp_path / "p3.png")
+    assert "precedence" in meta["attributes"]["icc"]
+    np.testing.assert_allclose(ours, _littlecms(codes, icc), rtol=0, atol=1.0)
+    tif, meta = _read_as_srgb(tmp_path / "p3.tif")
+    assert "'Display P3'" in meta["attributes"]["icc"]
+    # the profile's s15.16 colorants (within 1e-5 of colour-science's matrix) against cICP's exact matrix: under
+    # 12.92 * 255 * 1e-5 = 0.033 of a code after sRGB encoding, its steepest
+    np.testing.assert_allclose(tif, ours, rtol=0, atol=0.05)
+
+
+def test_cicp_wins_over_iccp(tmp_path):
+    codes = _codes()
+    (tmp_path / "t.png").write_bytes(_png(codes, build_profile("Display P3"), cicp=(1, 13, 0, 1)))
+    img, meta = lio.read(tmp_path / "t.png")
+    np.testing.assert_allclose(img, colour.cctf_decoding(codes / 255.0, "sRGB"), rtol=0, atol=1e-6)
+    assert "cICP chunk takes precedence" in meta["attributes"]["icc"]
+
+
+def test_srgb_profiles_read_as_today_and_others_are_noted(tmp_path):
+    codes = _codes()
+    (tmp_path / "plain.png").write_bytes(_png(codes))
+    plain, _ = lio.read(tmp_path / "plain.png")
+    np.testing.assert_allclose(plain, colour.cctf_decoding(codes / 255.0, "sRGB"), rtol=0, atol=1e-6)
+    lcms_srgb = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()  # littleCMS's own, v4 para
+    lab = ImageCms.ImageCmsProfile(ImageCms.createProfile("LAB")).tobytes()
+    for icc, says in ((lcms_srgb, "sRGB, read as sRGB"), (lab, "not applied, read as sRGB")):
+        (tmp_path / "t.png").write_bytes(_png(codes, icc))
+        img, meta = lio.read(tmp_path / "t.png")
+        np.testing.assert_array_equal(img, plain)
+        assert says in meta["attributes"]["icc"]
+    if (GHOSTSCRIPT / "default_cmyk.icc").is_file():
+        (tmp_path / "c.jpg").write_bytes(jpeg_with_profile(_jpeg(codes), _system("default_cmyk.icc")))
+        img, meta = lio.read(tmp_path / "c.jpg")
+        assert "CMYK" in meta["attributes"]["icc"] and "not applied" in meta["attributes"]["icc"]
+
+
+def _jpeg(codes: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    Image.fromarray(codes).save(buf, "JPEG", quality=95)
+    return buf.getvalue()
+
+
+def test_a_jpeg_profile_in_app2_segments_is_applied(tmp_path):
+    codes = _codes()
+    icc = _system("a98.icc")
+    (tmp_path / "a.jpg").write_bytes(jpeg_with_profile(_jpeg(codes), icc))
+    with Image.open(tmp_path / "a.jpg") as im:
+        assert im.info["icc_profile"] == icc  # Pillow finds what was written
+    raw, _ = lio.read(tmp_path / "a.jpg", raw=True)
+    ours, _ = _read_as_srgb(tmp_path / "a.jpg")
+    np.testing.assert_allclose(ours, _littlecms(np.round(raw * 255).astype(np.uint8), icc), rtol=0, atol=1.0)
+
+
+def _tag(icc: bytes, sig: bytes) -> int:
+    count = struct.unpack(">I", icc[128:132])[0]
+    for i in range(count):
+        if icc[132 + 12 * i:136 + 12 * i] == sig:
+            return 132 + 12 * i
+    raise KeyError(sig)
+
+
+def _hostile() -> dict[str, bytes]:
+    good = bytearray(build_profile("Display P3"))
+    outside = bytearray(good)
+    outside[_tag(good, b"rXYZ") + 4:_tag(good, b"rXYZ") + 8] = struct.pack(">I", 1 << 30)
+    longer = bytearray(good)
+    longer[:4] = struct.pack(">I", len(good) + 100)
+    flat = bytearray(good)
+    at = struct.unpack(">I", good[_tag(good, b"rTRC") + 4:_tag(good, b"rTRC") + 8])[0]
+    flat[at + 12:at + 16] = bytes(4)  # gamma 0
+    return {"outside": bytes(outside), "declares": bytes(longer), "gamma": bytes(flat)}
+
+
+@pytest.mark.parametrize("case, cause", [("outside", "outside"), ("declares", "declares"), ("gamma", "gamma 0")])
+def test_hostile_profiles_are_refused_in_one_line(tmp_path, case, cause):
+    (tmp_path / "h.png").write_bytes(_png(_codes((8, 8, 3)), _hostile()[case]))
+    with pytest.raises(FormatError) as err:
+        lio.read(tmp_path / "h.png")
+    message = str(err.value)
+    assert "\n" not in message and "h.png" in message and "ICC profile" in message and cause in message
+
+
+def test_an_iccp_chunk_that_inflates_past_the_budget_is_refused(tmp_path):
+    from lenslab.io.png_cicp import png_chunk
+
+    data = _png(_codes((8, 8, 3)))
+    bomb = png_chunk(b"iCCP", b"x\0\0" + zlib.compress(bytes(64 << 20), 9))  # 64 MiB in about 64 kB
+    (tmp_path / "b.png").write_bytes(data[:33] + bomb + data[33:])
+    with pytest.raises(FormatError, match="inflates past"):
+        lio.read(tmp_path / "b.png")
+
+
+def test_a_jpeg_profile_missing_a_segment_is_refused(tmp_path):
+    icc = build_profile("Display P3")
+    jpg = jpeg_with_profile(_jpeg(_codes((8, 8, 3))), icc)
+    at = jpg.index(b"ICC_PROFILE\0") + 12
+    jpg = jpg[:at] + bytes([2, 2]) + jpg[at + 2:]  # says segment 2 of 2; segment 1 is nowhere
+    (tmp_path / "m.jpg").write_bytes(jpg)
+    with pytest.raises(FormatError, match="segments"):
+        lio.read(tmp_path / "m.jpg")
