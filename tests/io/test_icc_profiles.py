@@ -62,7 +62,7 @@ def _png(codes: np.ndarray, icc: bytes | None = None, cicp=None) -> bytes:
 def _littlecms(codes: np.ndarray, icc: bytes) -> np.ndarray:
     """littleCMS's sRGB codes of ``codes`` under profile ``icc``."""
     t = ImageCms.buildTransform(ImageCms.ImageCmsProfile(io.BytesIO(icc)), ImageCms.createProfile("sRGB"), "RGB",
-                                "RGB")
+                                "RGB", ImageCms.Intent.RELATIVE_COLORIMETRIC)  # (perceptual: v4 black point comp.)
     return np.asarray(ImageCms.applyTransform(Image.fromarray(codes), t)).astype(np.float64)
 
 
@@ -240,3 +240,23 @@ def test_a_jpeg_profile_missing_a_segment_is_refused(tmp_path):
     (tmp_path / "m.jpg").write_bytes(jpg)
     with pytest.raises(FormatError, match="segments"):
         lio.read(tmp_path / "m.jpg")
+
+
+def _para(function: int, params) -> bytes:
+    """lenslab's Display P3 profile with its shared curve replaced by a ``para`` curve of ``function``."""
+    icc = bytearray(build_profile("Display P3"))
+    at = struct.unpack(">I", icc[_tag(icc, b"rTRC") + 4:_tag(icc, b"rTRC") + 8])[0]
+    body = b"para" + bytes(4) + struct.pack(">H", function) + bytes(2)
+    body += b"".join(struct.pack(">i", round(v * 65536)) for v in params)
+    icc[at:at + 32] = body + bytes(32 - len(body))  # the tag keeps its 32 bytes (type 3's five parameters)
+    return bytes(icc)
+
+
+@pytest.mark.parametrize("function, params", [(0, [1.8]), (1, [2.2, 1.1, -0.1]), (2, [2.0, 0.9, 0.05, 0.02]),
+                                              (3, [2.6, 1.0, 0.0, 0.5, 0.1])])
+def test_parametric_curves_read_as_littlecms_evaluates_them(tmp_path, function, params):
+    icc = _para(function, params)
+    codes = _codes()
+    (tmp_path / "p.png").write_bytes(_png(codes, icc))
+    ours, _ = _read_as_srgb(tmp_path / "p.png")
+    np.testing.assert_allclose(ours, _littlecms(codes, icc), rtol=0, atol=1.0)
