@@ -242,21 +242,81 @@ def test_a_jpeg_profile_missing_a_segment_is_refused(tmp_path):
         lio.read(tmp_path / "m.jpg")
 
 
+def _retagged(icc: bytes, sigs, body: bytes) -> bytes:
+    """``icc`` with tags ``sigs`` pointing at ``body``, appended at its end (its size updated)."""
+    out = bytearray(icc) + bytes(-len(icc) % 4)
+    at = len(out)
+    out += body
+    for sig in sigs:
+        out[_tag(icc, sig) + 4:_tag(icc, sig) + 12] = struct.pack(">II", at, len(body))
+    out[:4] = struct.pack(">I", len(out))
+    return bytes(out)
+
+
 def _para(function: int, params) -> bytes:
-    """lenslab's Display P3 profile with its shared curve replaced by a ``para`` curve of ``function``."""
-    icc = bytearray(build_profile("Display P3"))
-    at = struct.unpack(">I", icc[_tag(icc, b"rTRC") + 4:_tag(icc, b"rTRC") + 8])[0]
+    """lenslab's Display P3 profile with its curves replaced by one ``para`` curve of ``function``."""
     body = b"para" + bytes(4) + struct.pack(">H", function) + bytes(2)
     body += b"".join(struct.pack(">i", round(v * 65536)) for v in params)
-    icc[at:at + 32] = body + bytes(32 - len(body))  # the tag keeps its 32 bytes (type 3's five parameters)
-    return bytes(icc)
+    return _retagged(build_profile("Display P3"), (b"rTRC", b"gTRC", b"bTRC"), body)
+
+
+def _near(ours: np.ndarray, theirs: np.ndarray) -> None:
+    """Within 1 code of littleCMS where its code is 16 or more. Below, littleCMS's 8-bit pipeline (curves joined
+    into 16-bit tables, interpolated) strays from the curve where sRGB's slope is 12.92: measured up to 1.47 codes
+    for a gamma of 1.8, which the float64 formula of ICC.1 checks instead. (Curves with a jump at ``d`` are left
+    out: littleCMS resamples them and interpolates across the jump.)"""
+    above = theirs >= 16
+    np.testing.assert_allclose(ours[above], theirs[above], rtol=0, atol=1.0)
+
+
+PARA = {0: lambda x, g: x ** g, 1: lambda x, g, a, b: np.where(x >= -b / a, np.clip(a * x + b, 0, None) ** g, 0.0),
+        2: lambda x, g, a, b, c: np.where(x >= -b / a, np.clip(a * x + b, 0, None) ** g + c, c),
+        3: lambda x, g, a, b, c, d: np.where(x >= d, np.clip(a * x + b, 0, None) ** g, c * x),
+        4: lambda x, g, a, b, c, d, e, f: np.where(x >= d, np.clip(a * x + b, 0, None) ** g + e, c * x + f)}
 
 
 @pytest.mark.parametrize("function, params", [(0, [1.8]), (1, [2.2, 1.1, -0.1]), (2, [2.0, 0.9, 0.05, 0.02]),
-                                              (3, [2.6, 1.0, 0.0, 0.5, 0.1])])
-def test_parametric_curves_read_as_littlecms_evaluates_them(tmp_path, function, params):
+                                              (3, [2.6, 1.0, 0.0, 0.5, 0.1]),
+                                              (4, [2.4, 1 / 1.055, 0.055 / 1.055, 1 / 12.92, 0.04045, 0.01, 0.01])])
+def test_parametric_curves_read_as_icc1_and_littlecms_evaluate_them(tmp_path, function, params):
+    """ICC.1 table 68's five functions transcribed in float64 (parameters rounded to s15.16, output clipped to
+    [0, 1]), then colour-science's P3 -> Rec.709 matrix; and littleCMS on the same codes."""
     icc = _para(function, params)
     codes = _codes()
     (tmp_path / "p.png").write_bytes(_png(codes, icc))
-    ours, _ = _read_as_srgb(tmp_path / "p.png")
-    np.testing.assert_allclose(ours, _littlecms(codes, icc), rtol=0, atol=1.0)
+    img, _ = lio.read(tmp_path / "p.png")
+    q = [round(v * 65536) / 65536 for v in params]
+    want = np.clip(PARA[function](codes / 255.0, *q), 0, 1) @ P3_TO_709.T
+    np.testing.assert_allclose(img, want, rtol=0, atol=2e-5)
+    _near(SRGB_ENCODE(img.astype(np.float64)) * 255, _littlecms(codes, icc))
+
+
+def test_a_grey_profile_reads_as_its_curve_says(tmp_path):
+    """Ghostscript's grey profile with its kTRC made a gamma of 1.8 (curv, u8.8: 461 / 256): the curve in
+    float64, and littleCMS's grey -> sRGB on the same codes."""
+    icc = _retagged(_system("default_gray.icc"), (b"kTRC",), b"curv" + bytes(4) + struct.pack(">IH", 1, 461))
+    codes = _codes((32, 40, 3))[..., 0]
+    (tmp_path / "g.png").write_bytes(_png(codes, icc))
+    img, meta = lio.read(tmp_path / "g.png")
+    assert img.shape == (32, 40, 1) and "grey curve applied" in meta["attributes"]["icc"]
+    np.testing.assert_allclose(img[..., 0], (codes / 255.0) ** (461 / 256), rtol=0, atol=1e-6)
+    t = ImageCms.buildTransform(ImageCms.ImageCmsProfile(io.BytesIO(icc)), ImageCms.createProfile("sRGB"), "L",
+                                "RGB", ImageCms.Intent.RELATIVE_COLORIMETRIC)
+    theirs = np.asarray(ImageCms.applyTransform(Image.fromarray(codes), t)).astype(np.float64)[..., 1]
+    _near(SRGB_ENCODE(img[..., 0].astype(np.float64)) * 255, theirs)
+
+
+def test_alpha_stays_coverage_and_16_bit_pngs_are_decoded_through_the_profile(tmp_path):
+    """RGBA: the profile acts on the straight colour, then it is premultiplied (colour-science's sRGB curve and
+    P3 matrix, to the profile's s15.16 precision); 16-bit: every code through the curve, not a table of 256."""
+    import cv2
+
+    codes = np.random.default_rng(5).integers(0, 65536, (24, 30, 4), dtype=np.uint16)
+
+    _, enc = cv2.imencode(".png", codes[..., [2, 1, 0, 3]])  # OpenCV writes 16-bit RGBA (B, G, R, A order)
+    (tmp_path / "a.png").write_bytes(png_with_profile(enc.tobytes(), build_profile("Display P3")))
+    img, _ = lio.read(tmp_path / "a.png")
+    alpha = codes[..., 3:] / 65535.0
+    want = (colour.cctf_decoding(codes[..., :3] / 65535.0, "sRGB") @ P3_TO_709.T) * alpha
+    np.testing.assert_allclose(img[..., :3], want, rtol=0, atol=2e-5)
+    np.testing.assert_allclose(img[..., 3:], alpha, rtol=0, atol=1e-7)
