@@ -59,7 +59,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
     coded = wide = None
     if fmt == "png":
-        from lenslab.io.png_cicp import SRGB_TRANSFERS, describe, read_cicp
+        from lenslab.io.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
 
         points = read_cicp(data)
         if points is not None:
@@ -73,7 +73,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         from lenslab.io.icc_chunks import jpeg_profile, png_profile
 
         profile = (png_profile if fmt == "png" else jpeg_profile)(data, str(path))
-    elif not raw and fmt == "png" and b"iCCP" in data[:data.find(b"IDAT")]:
+    elif not raw and fmt == "png" and chunk_before_data(data, b"iCCP") is not None:
         attributes["icc"] = "ICC profile present, not applied: the cICP chunk takes precedence"
     grey_alpha = False
     if fmt == "png":

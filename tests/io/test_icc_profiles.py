@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from lenslab.errors import FormatError
 
@@ -320,3 +322,18 @@ def test_alpha_stays_coverage_and_16_bit_pngs_are_decoded_through_the_profile(tm
     want = (colour.cctf_decoding(codes[..., :3] / 65535.0, "sRGB") @ P3_TO_709.T) * alpha
     np.testing.assert_allclose(img[..., :3], want, rtol=0, atol=2e-5)
     np.testing.assert_allclose(img[..., 3:], alpha, rtol=0, atol=1e-7)
+
+
+@settings(max_examples=12, deadline=None)
+@given(size=st.integers(1, 200_000), seed=st.integers(0, 2 ** 32 - 1))
+def test_profiles_of_any_size_are_found_as_pillow_finds_them(size, seed):
+    """APP2 segments of 65519 bytes each (a profile of 200 kB takes four) and an iCCP chunk: Pillow's reading of
+    the written file is the profile, and so is lenslab's."""
+    from lenslab.io.icc_chunks import jpeg_profile, png_profile
+
+    icc = np.random.default_rng(seed).integers(0, 256, size, dtype=np.uint8).tobytes()
+    codes = _codes((8, 8, 3))
+    for data, find in ((jpeg_with_profile(_jpeg(codes), icc), jpeg_profile), (_png(codes, icc), png_profile)):
+        with Image.open(io.BytesIO(data)) as im:
+            assert im.info["icc_profile"] == icc
+        assert find(data, "f") == icc
