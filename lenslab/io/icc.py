@@ -9,7 +9,8 @@ inverse of the profile's ``chad`` tag (Bradford from the media white point ``wtp
 as v2 profiles do), and the light they describe goes to linear Rec.709 by colour-science's matrix from the
 primaries' and white's chromaticities, its white to D65 by Bradford (:func:`lenslab.io.primaries.
 matrix_from_chromaticities`): the file's white becomes Rec.709's white, as an ICC reader's relative
-colorimetric rendering makes it. A grey profile's ``kTRC`` is applied the same way (no colorants).
+colorimetric rendering makes it. A grey profile's ``kTRC`` is applied the same way (no colorants). Float
+samples (TIFF) are linear light: only a linear profile's colorants apply to them (:func:`linear`).
 
 A profile whose matrix is the identity within :data:`SRGB_MATRIX_TOLERANCE` and whose curves are sRGB's within
 :data:`SRGB_CURVE_TOLERANCE` is sRGB: the file reads exactly as one without a profile. Any other profile
@@ -208,6 +209,13 @@ def plan(data: bytes, channels: int, where: str) -> Plan:
     if _is_srgb(curves, matrix):
         return Plan("srgb", f"{label}: sRGB, read as sRGB")
     return Plan("matrix", f"{label}: its curves and colorants applied, converted to linear Rec.709", curves, matrix)
+
+
+def linear(how: Plan) -> bool:
+    """Whether every curve of a matrix/TRC profile is the identity (within 1e-6): a linear profile, which float
+    samples (linear light) follow too."""
+    x = np.linspace(0.0, 1.0, 257)
+    return how.kind == "matrix" and all(np.abs(np.asarray(fn(x)) - x).max() <= 1e-6 for fn in how.curves)
 
 
 def decode(codes: np.ndarray, maxval: int, how: Plan, where: str) -> np.ndarray:

@@ -87,8 +87,16 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     kind = data.dtype.kind
     if kind == "f":
         image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
-        if profile is not None:
-            attrs["icc"] = "ICC profile present, not applied: float samples are read as linear Rec.709"
+        if profile is not None:  # linear light: a linear matrix/TRC profile's colorants apply, its curves do not
+            from lenslab.io.icc import linear, plan
+            from lenslab.io.primaries import to_rec709
+
+            how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
+            if linear(how):
+                image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
+                attrs["icc"] = how.note
+            else:
+                attrs["icc"] = f"{how.note.split(':')[0]}: not applied, float samples are read as linear Rec.709"
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
     elif data.dtype in (np.uint8, np.uint16):
         from lenslab.io.encode import decode_codes

@@ -337,3 +337,21 @@ def test_profiles_of_any_size_are_found_as_pillow_finds_them(size, seed):
         with Image.open(io.BytesIO(data)) as im:
             assert im.info["icc_profile"] == icc
         assert find(data, "f") == icc
+
+
+def test_float_tiffs_follow_a_linear_profile_and_note_a_curved_one(tmp_path):
+    """Float samples are linear light: a linear P3 profile's colorants apply (colour-science's matrix, to the
+    profile's s15.16 precision); the sRGB-curved P3 profile is noted, not applied (the samples stay as written)."""
+    import tifffile
+
+    values = np.random.default_rng(6).random((16, 20, 3), dtype=np.float32) * 4
+    tifffile.imwrite(tmp_path / "lin.tif", values, photometric="rgb", iccprofile=_para(0, [1.0]))
+    tifffile.imwrite(tmp_path / "srgb.tif", values, photometric="rgb", iccprofile=build_profile("Display P3"))
+    got, meta = lio.read(tmp_path / "lin.tif")
+    # the profile's matrix is within 1e-5 of colour-science's in each entry (s15.16 colorants): values up to 4
+    # summed over three terms, 1.2e-4
+    np.testing.assert_allclose(got, values.astype(np.float64) @ P3_TO_709.T, rtol=0, atol=1.2e-4)
+    assert "applied" in meta["attributes"]["icc"]
+    got, meta = lio.read(tmp_path / "srgb.tif")
+    np.testing.assert_array_equal(got, values)
+    assert "not applied" in meta["attributes"]["icc"]
