@@ -50,6 +50,18 @@ def _jpeg(width: int, height: int) -> bytes:
     return b"\xff\xd8" + dqt + sof + dht + sos + bytes(64) + b"\xff\xd9"
 
 
+def _iccp_bomb() -> bytes:
+    """A valid 8 x 8 PNG whose iCCP chunk (an ICC profile) inflates to 64 MB from 64 kB."""
+    import zlib
+
+    from lenslab.io.png_cicp import png_chunk
+
+    rows = b"".join(b"\0" + bytes(8 * 3) for _ in range(8))
+    return (b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", struct.pack(">IIBBBBB", 8, 8, 8, 2, 0, 0, 0))
+            + png_chunk(b"iCCP", b"bomb\0\0" + zlib.compress(bytes(64 << 20), 9))
+            + png_chunk(b"IDAT", zlib.compress(rows)) + png_chunk(b"IEND", b""))
+
+
 def _exr_window(folder: Path, side: int) -> Path:
     """An EXR holding 8 x 8 pixels in a side x side display window."""
     import numpy as np
@@ -118,6 +130,7 @@ def cases(folder) -> list[Case]:
         "inf.txt": b"# OCamCalib\n#polynomial cam2world\n2 1 0\n\n2 1 0\n\n0 0\n\n1 0 0\n\ninf inf\n",
         "cameras.txt": b"1 PINHOLE 100000 100000 1000 1000 50000 50000\n",
     }
+    files["iccp.png"] = _iccp_bomb()
     for name, data in files.items():
         (folder / name).write_bytes(data)
     window = _exr_window(folder, 20000).name
@@ -133,6 +146,8 @@ def cases(folder) -> list[Case]:
         Case("png_chunk_of_4_gb", "chunk.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "declares"),
         Case("exr_multipart_without_parts", "nopart.exr", ("convert", "{file}", "--to", "exr", "-o", "{out}"),
              "no part"),
+        Case("png_icc_profile_inflates_to_64_mb", "iccp.png", ("convert", "{file}", "--to", "exr", "-o", "{out}"),
+             "inflates"),
         Case("hdr_declares_20000", "huge.hdr", ("info", "{file}"), "holds"),
         Case("hdr_exposure_nan", "nan.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),
         Case("hdr_exposure_tiny", "tiny.hdr", ("convert", "{file}", "--to", "exr", "-o", "{out}"), "EXPOSURE"),

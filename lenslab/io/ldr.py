@@ -4,7 +4,8 @@ OpenCV works in BGR order; images here are RGB. PNG alpha is straight (the PNG s
 colour is unpremultiplied before it is encoded and premultiplied after it is decoded, so memory holds
 premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
 they are. JPG EXIF orientation is not applied (pixels are returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
-standard-dynamic-range image.
+standard-dynamic-range image. An embedded ICC profile (PNG ``iCCP``, JPEG ``APP2``) is applied as
+:mod:`lenslab.io.icc` says, unless a PNG's ``cICP`` chunk speaks (it takes precedence).
 """
 
 from __future__ import annotations
@@ -58,7 +59,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
     coded = wide = None
     if fmt == "png":
-        from lenslab.io.png_cicp import SRGB_TRANSFERS, describe, read_cicp
+        from lenslab.io.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
 
         points = read_cicp(data)
         if points is not None:
@@ -67,6 +68,13 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
                 coded = points
             else:  # sRGB codes, on primaries that may not be Rec.709's (Display P3)
                 wide = points[0]
+    profile = None  # an ICC profile, applied where no cICP chunk speaks (PNG 3rd edition: cICP wins)
+    if not raw and (fmt == "jpg" or points is None):
+        from lenslab.io.icc_chunks import jpeg_profile, png_profile
+
+        profile = (png_profile if fmt == "png" else jpeg_profile)(data, str(path))
+    elif not raw and fmt == "png" and chunk_before_data(data, b"iCCP") is not None:
+        attributes["icc"] = "ICC profile present, not applied: the cICP chunk takes precedence"
     grey_alpha = False
     if fmt == "png":
         from lenslab.io.png_grey_alpha import is_grey_alpha
@@ -93,7 +101,16 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         raise FormatError(f"{path}: {fmt.upper()} with {codes.dtype} samples is not supported; use 8 or 16 bits")
     from lenslab.io.encode import decode_codes
 
-    image = decode_codes(codes, maxval, raw or coded is not None)
+    how = None
+    if profile is not None:
+        from lenslab.io.icc import decode, plan
+
+        how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
+        attributes["icc"] = how.note
+    if how is not None and how.curves:  # a matrix/TRC or grey profile: its curves, its colorants
+        image = decode(codes, maxval, how, str(path))
+    else:
+        image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
     if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
         from lenslab.io.png_cicp import to_linear_light
@@ -128,13 +145,14 @@ def _gain_map_note(data: bytes) -> dict:
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
                subsampling: str | None = None, bits: int = 8, dither: bool = False,
-               compression: int = 1, cicp=None, in_place: bool = False):
+               compression: int = 1, cicp=None, in_place: bool = False, icc: bytes | None = None):
     """Encode a float image (C = 1, 2 (grey and alpha), 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes
     (a bytes-like object: the encoder's own buffer, not copied).
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
     6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
-    encoding, :mod:`lenslab.io.png_cicp`). ``in_place``: the code values are made in the image's own
+    encoding, :mod:`lenslab.io.png_cicp`). ``icc``: an ICC profile's bytes, written as PNG's ``iCCP`` chunk or
+    JPEG's ``APP2`` segments (:mod:`lenslab.io.icc_chunks`). ``in_place``: the code values are made in the image's own
     memory (the caller gives it up; :func:`lenslab.io.encode.encode_codes`), so encoding holds no other
     array of the image's size than the file's bytes.
     """
@@ -155,8 +173,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     if c == 2 and fmt == "png":  # grey and alpha: a file OpenCV cannot write
         from lenslab.io.png_grey_alpha import encode_grey_alpha
 
-        buf = encode_grey_alpha(codes, compression)
-        return buf if cicp is None else _with_cicp(buf, cicp)
+        return _tagged(encode_grey_alpha(codes, compression), fmt, cicp, icc)
     if c in (3, 4):  # OpenCV's order, B G R (A): red and blue swapped in place, a band of rows at a time
         swap = cv2.COLOR_RGB2BGR if c == 3 else cv2.COLOR_RGBA2BGRA
         for r in range(0, codes.shape[0], 64):
@@ -177,17 +194,22 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     if not ok:
         raise FormatError(f"OpenCV could not encode the image as {fmt.upper()}")
     del codes
-    if cicp is not None:
-        if fmt != "png":
-            raise FormatError("only PNG carries a cICP chunk")
-        return _with_cicp(buf.tobytes(), cicp)
+    if cicp is not None or icc is not None:
+        return _tagged(buf.tobytes(), fmt, cicp, icc)
     return memoryview(buf).cast("B")
 
 
-def _with_cicp(png: bytes, cicp) -> bytes:
+def _tagged(encoded: bytes, fmt: str, cicp, icc) -> bytes:
+    """``encoded`` with its ``cICP`` chunk (PNG only) and its ICC profile."""
+    from lenslab.io.icc_chunks import jpeg_with_profile, png_with_profile
     from lenslab.io.png_cicp import with_cicp
 
+    if cicp is not None and fmt != "png":
+        raise FormatError("only PNG carries a cICP chunk")
     try:
-        return with_cicp(png, cicp)
+        out = encoded if cicp is None else with_cicp(encoded, cicp)
+        if icc is not None:
+            out = png_with_profile(out, icc) if fmt == "png" else jpeg_with_profile(out, icc)
+        return out
     except ValueError as exc:
         raise FormatError(str(exc)) from None

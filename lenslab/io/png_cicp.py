@@ -62,18 +62,24 @@ def with_cicp(png: bytes, points) -> bytes:
     return png[:end] + png_chunk(b"cICP", bytes(points)) + png[end:]
 
 
-def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
-    """The code points of the first ``cICP`` chunk before the image data, or None."""
+def chunk_before_data(png: bytes, kind: bytes) -> bytes | None:
+    """The data of the first chunk of ``kind`` before the image data (``IDAT``), whole, or None."""
     pos, n = 8, len(png)
     while pos + 8 <= n:
         length = int.from_bytes(png[pos:pos + 4], "big")
-        kind = png[pos + 4:pos + 8]
-        if kind in (b"IDAT", b"IEND"):
+        found = png[pos + 4:pos + 8]
+        if found in (b"IDAT", b"IEND"):
             return None
-        if kind == b"cICP" and length == 4 and pos + 12 <= n:
-            return tuple(png[pos + 8:pos + 12])
+        if found == kind and pos + 8 + length <= n:
+            return png[pos + 8:pos + 8 + length]
         pos += 12 + length
     return None
+
+
+def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
+    """The code points of the first ``cICP`` chunk before the image data, or None."""
+    data = chunk_before_data(png, b"cICP")
+    return tuple(data) if data is not None and len(data) == 4 else None
 
 
 def to_linear_light(codes, points):

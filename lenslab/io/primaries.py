@@ -21,26 +21,29 @@ REC709 = "ITU-R BT.709"
 CACHE_PREFIX = "primaries-v1"
 
 
-def matrix_between(source, target=REC709) -> np.ndarray:
+def matrix_between(source, target=REC709, adaptation: str | None = None) -> np.ndarray:
     """float64 3 x 3 from linear RGB in ``source`` to linear RGB in ``target`` (colour-science colourspace names
-    or ``RGB_Colourspace`` objects): ``colour.matrix_RGB_to_RGB`` without chromatic adaptation."""
+    or ``RGB_Colourspace`` objects): ``colour.matrix_RGB_to_RGB``, without chromatic adaptation unless
+    ``adaptation`` names colour-science's transform (``"Bradford"``)."""
     import colour
 
     spaces = colour.RGB_COLOURSPACES
     source = spaces[source] if isinstance(source, str) else source
     target = spaces[target] if isinstance(target, str) else target
-    return np.asarray(colour.matrix_RGB_to_RGB(source, target, None), dtype=np.float64)
+    return np.asarray(colour.matrix_RGB_to_RGB(source, target, adaptation), dtype=np.float64)
 
 
-def matrix_from_chromaticities(chromaticities) -> np.ndarray:
+def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) -> np.ndarray:
     """float64 3 x 3 from linear RGB on ``chromaticities`` (x, y of R, G, B and white, OpenEXR's order)
-    to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged)."""
+    to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged), or with
+    colour-science's ``adaptation`` transform from the file's white to D65 (``"Bradford"``: an ICC profile's
+    white becomes Rec.709's, :mod:`lenslab.io.icc`)."""
     import colour
 
     c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)
     space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
                                    use_derived_matrix_XYZ_to_RGB=True)
-    return matrix_between(space)
+    return matrix_between(space, adaptation=adaptation)
 
 
 def check_chromaticities(path, chromaticities) -> None:

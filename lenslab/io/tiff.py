@@ -13,7 +13,8 @@ integer types sRGB-encoded unless ``raw=True``); alpha is written as an extra sa
 associated (premultiplied colour, as EXR's) for float and unassociated for integers (straight
 colour, as PNG's: unpremultiplied before encoding);
 ``compression="zlib"`` (Adobe Deflate, default), ``"lzw"``, ``"zstd"`` or ``"none"``, with the
-horizontal (integer) or floating-point predictor unless ``predictor=False``.
+horizontal (integer) or floating-point predictor unless ``predictor=False``; ``icc``: an ICC profile written
+as tag 34675 (read back, on integer samples, as :mod:`lenslab.io.icc` says).
 """
 
 from __future__ import annotations
@@ -72,6 +73,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
                  "extrasamples": [int(v) for v in page.extrasamples]}
         if page.description:
             attrs["description"] = page.description
+        profile = _profile(page, path) if not raw else None
     if "S" in axes:
         data = np.moveaxis(data, axes.index("S"), -1)
         axes = axes.replace("S", "") + "S"
@@ -85,12 +87,31 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     kind = data.dtype.kind
     if kind == "f":
         image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
+        if profile is not None:  # linear light: a linear matrix/TRC profile's colorants apply, its curves do not
+            from lenslab.io.icc import linear, plan
+            from lenslab.io.primaries import to_rec709
+
+            how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
+            if linear(how):
+                image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
+                attrs["icc"] = how.note
+            else:
+                attrs["icc"] = f"{how.note.split(':')[0]}: not applied, float samples are read as linear Rec.709"
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
     elif data.dtype in (np.uint8, np.uint16):
         from lenslab.io.encode import decode_codes
 
         bits, sample, encoded = data.dtype.itemsize * 8, "uint", not raw
-        image = decode_codes(data, np.iinfo(data.dtype).max, raw)
+        how = None
+        if profile is not None:  # tag 34675: applied to integer samples as PNG's and JPEG's are
+            from lenslab.io.icc import decode, plan
+
+            how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
+            attrs["icc"] = how.note
+        if how is not None and how.curves:
+            image = decode(data, np.iinfo(data.dtype).max, how, str(path))
+        else:
+            image = decode_codes(data, np.iinfo(data.dtype).max, raw)
     else:
         raise FormatError(f"{path}: TIFF with {data.dtype} samples is not supported; lenslab reads float "
                           "(16, 32, 64-bit) and unsigned 8- and 16-bit samples")
@@ -102,8 +123,20 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     return np.ascontiguousarray(image, dtype=np.float32), meta
 
 
+def _profile(page, path) -> bytes | None:
+    """The bytes of the page's ICC profile tag (34675), its size checked against the budget before reading."""
+    from lenslab.io.icc import MAX_BYTES, refuse
+
+    tag = page.tags.get(34675)
+    if tag is None:
+        return None
+    if tag.count > MAX_BYTES:
+        refuse(str(path), f"tag declares {tag.count} bytes, more than the {MAX_BYTES >> 20} MiB a profile is read up to")
+    return bytes(tag.value)
+
+
 def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compression: str = "zlib",
-               predictor: bool = True, raw: bool = False, dither: bool = False) -> None:
+               predictor: bool = True, raw: bool = False, dither: bool = False, icc: bytes | None = None) -> None:
     import tifffile
 
     if sample_type not in SAMPLE_TYPES:
@@ -122,6 +155,8 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
         data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither, straight=not raw)
     options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
                "software": "lenslab", "metadata": None}
+    if icc is not None:  # tag 34675: what the integer codes mean (a display's profile, lenslab.io.icc_build)
+        options["iccprofile"] = bytes(icc)
     if alpha:
         options["extrasamples"] = ["assocalpha" if np.dtype(dtype).kind == "f" else "unassalpha"]
     if predictor and COMPRESSIONS[comp] is not None:

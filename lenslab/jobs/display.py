@@ -53,7 +53,8 @@ def apply_display(image, fmt, options: dict) -> tuple:
 
     HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
     8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG; an SDR
-display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 primaries, sRGB transfer). The code values are stored as they are (``raw``), not sRGB-encoded again.
+display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 primaries, sRGB transfer; PNG, JPEG
+    and TIFF get its ICC profile, :mod:`lenslab.io.icc_build`, for readers that do not read cICP). The code values are stored as they are (``raw``), not sRGB-encoded again.
     With alpha (premultiplied ``image``) the transform acts on the straight colour and the codes are kept
     as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
     over black.
@@ -77,11 +78,16 @@ display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 prim
     points = display_code_points(display)
     if points is not None and "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries, or readers take sRGB
         extra["cicp"] = points
+    if points is not None and not hdr and "icc" in accepts:  # SDR on P3: an ICC profile for readers without cICP
+        from lenslab.io.icc_build import display_profile
+
+        extra["icc"] = display_profile(points)
     elif points is not None and not hdr and fmt.kind != "video":  # (HDR ones are refused before any work)
         import warnings
 
         warnings.warn(f"{display}: {fmt.title} has no tag for these primaries; readers will take the codes for "
-                      "sRGB on Rec.709 (write PNG, whose cICP chunk says P3-D65)", UserWarning, stacklevel=2)
+                      "sRGB on Rec.709 (write PNG, JPEG or TIFF, which carry an ICC profile)", UserWarning,
+                      stacklevel=2)
     transform = lambda x, a: display_transform(x, display, options.get("view"), options.get("colorspace"),  # noqa: E731
                                                options.get("ocio"), alpha_channel=a)
     from lenslab.io.alpha import has_alpha, premultiply, unpremultiply

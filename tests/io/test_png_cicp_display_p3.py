@@ -8,6 +8,7 @@ P3-D65 -> BT.709 matrix in float64."""
 
 from __future__ import annotations
 
+import io
 import struct
 import subprocess
 import sys
@@ -112,10 +113,19 @@ def test_a_png_tagged_srgb_p3_is_read_into_rec709(tmp_path):
     np.testing.assert_allclose(raw[..., :3], codes[..., :3] / 255.0, rtol=0, atol=1e-7)
 
 
-def test_a_display_p3_jpeg_says_it_has_no_tag(tmp_path):
+def test_a_display_p3_jpeg_carries_its_profile_and_a_ppm_says_it_has_no_tag(tmp_path):
+    from PIL import Image, ImageCms
+
     lio.write(tmp_path / "s.exr", _scene(), pixel_type="float")
     run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(tmp_path / "s.exr"), "--to", "jpg",
                           "--display", "Display P3 - Display", "-o", str(tmp_path / "p3.jpg")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0 and "no tag" not in run.stderr, run.stderr
+    with Image.open(tmp_path / "p3.jpg") as im:  # Pillow finds the profile in its APP2 segments
+        icc = im.info["icc_profile"]
+    assert ImageCms.getProfileDescription(ImageCms.ImageCmsProfile(io.BytesIO(icc))).strip() == "Display P3"
+    run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(tmp_path / "s.exr"), "--to", "ppm",
+                          "--display", "Display P3 - Display", "-o", str(tmp_path / "p3.ppm")],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     notes = [line for line in run.stderr.splitlines() if "no tag for these primaries" in line]

@@ -34,6 +34,7 @@ FORMATS = (Format(
     write_options={"quality": "0..100 (default 95)", "subsampling": "444, 422 or 420 (default 444 at quality >= 90)",
                    "raw": "True: code values / 255, no sRGB encoding", "dither": "True: TPDF dither",
                    "bits": "8 only",
+                   "icc": "an ICC profile (bytes) written as APP2 segments (the Display P3 display writes one)",
                    "in_place": "True: the code values are made in the image's own memory (the array is overwritten; "
                                "saves an array of the image's size in samples)"},
     note="Ultra HDR: the SDR base image is read, the gain map ignored"),)
