@@ -10,15 +10,9 @@ import math
 
 import numpy as np
 
+from lenslab.warp.kernels.positions import clamp_pos
 from lenslab.warp.pyramid import MAX_TAPS, THIN, WINDOW, Pyramid
 from lenslab.warp.seam import fold_taps as fold_index
-
-
-def clamp_pos(v):
-    """Map positions as the samplers read them (see :func:`lenslab.warp.kernels.reference.clamp_pos`)."""
-    from lenslab.warp.kernels.reference import clamp_pos as clamp
-
-    return clamp(v)
 
 
 def _tent_c(u: float) -> float:

@@ -7,24 +7,16 @@ hold the kernels to them. They are slow (the footprint reference is a Python loo
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from lenslab.warp.kernels.footprint_reference import (  # noqa: F401  (the footprint filter's reference)
     edge_integral, footprint, prefix_slices, slice_weights, window_rows)
+from lenslab.warp.kernels.positions import FAR, clamp_pos  # noqa: F401  (read as reference.clamp_pos too)
 from lenslab.warp.pyramid import MAX_TAPS, WINDOW
 from lenslab.warp.seam import fold_taps as fold_index
 
 INVALID = np.uint32(0xFFFFFFFF)
 FOLDED = np.uint32(0xFFFFFFFE)
-FAR = np.float32(2.0**40)  # a position beyond +-2^40 (inf included) is read at +-2^40, NaN at -2^40 (clamp_pos)
-
-
-def clamp_pos(v):
-    """Map positions as the samplers read them (``clamp_pos`` in ``src/native/kernels.h``): an edge pixel for
-    1e30, inf or NaN, and no float converted to an integer out of range."""
-    v = np.asarray(v, dtype=np.float32)
-    return np.where(v >= -FAR, np.minimum(v, FAR), -FAR).astype(np.float32)
 
 
 def _taps(src, x, y, border):
