@@ -11,15 +11,8 @@ import sys
 import numpy as np
 import pytest
 
-oiio = pytest.importorskip("OpenImageIO")
 OpenEXR = pytest.importorskip("OpenEXR")
-
-
-def _names(path) -> list[str]:
-    inp = oiio.ImageInput.open(str(path))
-    names = list(inp.spec().channelnames)
-    inp.close()
-    return names
+from tests.io.test_warp_extra_channels_note import _names  # noqa: E402  (OpenImageIO's channel names)
 
 
 def _exr(path, extra: bool):
