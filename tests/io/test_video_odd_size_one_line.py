@@ -39,3 +39,28 @@ def test_an_odd_size_is_one_error_line(tmp_path, codec, size):
         f"lenslab warp: error: {clip}: the {encoder} encoder cannot encode {w} x {h} frames in "
         f"{'yuv420p10le' if codec == 'h265' else 'yuv420p'}: its 4:2:0 chroma needs an even width and height"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4"]  # no output, no temporary
+
+
+@pytest.mark.parametrize("codec", ["h264", "h265"])
+def test_frames_of_an_odd_size_to_a_clip_are_one_error_line(tmp_path, codec):
+    """`lenslab convert 'frames/*.exr' --to mp4` of 33 x 31 frames: one line naming the first frame and the
+    encoder's need (it was PyAV's 'avcodec_open2("libx264", {})' error, and x265's own lines before it)."""
+    import numpy as np
+
+    import lenslab
+
+    assert not encoder_opens("libx264", "yuv420p", 33, 31, str(tmp_path / "probe.mp4"))
+    (tmp_path / "probe.mp4").unlink(missing_ok=True)
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    for i in range(3):
+        lenslab.write(frames / f"f{i}.exr", np.full((31, 33, 3), 0.2 * i, np.float32))
+    out = tmp_path / "clip.mp4"
+    run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(frames / "*.exr"), "--to", "mp4",
+                          "-o", str(out), "--codec", codec], capture_output=True, text=True)
+    assert run.returncode == 1
+    encoder, pix = {"h264": ("libx264", "yuv420p"), "h265": ("libx265", "yuv420p10le")}[codec]
+    assert run.stderr.strip().splitlines() == [
+        f"lenslab convert: error: {frames / 'f0.exr'}: the {encoder} encoder cannot encode 33 x 31 frames in {pix}: "
+        "its 4:2:0 chroma needs an even width and height"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frames"]  # no clip, no temporary
