@@ -90,6 +90,17 @@ class LittlePlanet(Lens):
         d, ok = self._fisheye.uv_to_dir(uv)
         return d @ DOWN, ok  # camera = D^T lens
 
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 (``sg`` with ``pitch=-90``) gives this frame's pixels (:mod:`lenslab.lenses.core.v360`):
+        the stereographic formula carried on past the horizon's field of view into the frame's corners."""
+        from lenslab.lenses.core import v360
+
+        def carried_on(uv):
+            d, ok = self._fisheye.v360_uv_to_dir(uv)
+            return d @ DOWN, ok
+
+        return v360.continued(self, xy, carried_on)
+
     def dir_kernel(self):
         """The compiled ``pixel -> dir``: the fisheye's (``fisheye_dirs``) turned by ``D^T``
         (``turned_fisheye_dirs``)."""
