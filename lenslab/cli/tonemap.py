@@ -155,7 +155,9 @@ def run(args: argparse.Namespace) -> int:
 
         from lenslab.io import carries_alpha
 
-        exposure = resolved_exposure(image, exposure, args.primaries, args.input, args.quiet,
+        # a curve the exposure cannot change (mantiuk) says so in its note; no stops are printed for it
+        exposure = resolved_exposure(image, exposure, args.primaries, args.input,
+                                     args.quiet or bool(curve.ignores_exposure),
                                      carries_alpha(meta, image.shape[2]) if image.ndim == 3 else False)
     job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
     with repairs_reported("lenslab tonemap", args.input):
@@ -169,6 +171,6 @@ def run(args: argparse.Namespace) -> int:
             print(f"{args.output}: display {d}, view {v}", file=sys.stderr)
         else:
             how = "a local operator on luminance" if curve.kind == "local" else args.mode  # mode does not apply
-            print(f"{args.output}: {w_} x {h}, curve {curve.name} ({how}), exposure {float(exposure):+.2f} stops",
-                  file=sys.stderr)
+            stops = "the exposure has no effect" if curve.ignores_exposure else f"exposure {float(exposure):+.2f} stops"
+            print(f"{args.output}: {w_} x {h}, curve {curve.name} ({how}), {stops}", file=sys.stderr)
     return 0

@@ -91,6 +91,13 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
                     info = VideoInfo(w, h, Fraction(str(options.get("rate") or 24)), len(files), "", "",
                                      primaries, transfer, matrix, 1)
                     writer = VideoWriter(tmp, info, codec=options.get("codec"))
+                    from lenslab.io.video.codecs import open_encoder
+
+                    try:  # a size the encoder refuses: one line now (it closes the writer's container)
+                        open_encoder(writer.container, writer.stream)
+                    except FormatError as exc:
+                        writer = None
+                        raise FormatError(f"{f}: {exc}") from None
                 elif image.shape[:2] != (writer.info.height, writer.info.width):
                     raise FormatError(f"{f}: {image.shape[1]}x{image.shape[0]} differs from the first frame's "
                                       f"{writer.info.width}x{writer.info.height}; a clip has one size")

@@ -9,6 +9,10 @@ from typing import ClassVar
 from lenslab.jobs.job import Job
 
 
+TONE_DROPS = ("a tone-mapped image holds display colour and alpha only (keep depth, normals and vectors "
+              "with lenslab convert --to exr)")
+
+
 @dataclass(frozen=True)
 class TonemapJob(Job):
     """What ``lenslab tonemap`` does to each file: exposure, the curve (``curve``, ``params``, ``mode``,
@@ -54,8 +58,12 @@ class TonemapJob(Job):
         from lenslab.io.registry import format_for_path, get
         from lenslab.jobs.stages import check_data_channels, develop, encode_options
 
-        check_data_channels(meta.get("path", "the image"), meta, image.shape[-1] if image.ndim == 3 else 1)
+        where = meta.get("path", "the image")
+        check_data_channels(where, meta, image.shape[-1] if image.ndim == 3 else 1)
         fmt = get(format_for_path(dst, None))
+        from lenslab.io.exr.extra import warn_dropped
+
+        warn_dropped(where, meta.get("extra_channels") or [], fmt.title, TONE_DROPS)
         out, shown = develop(image, meta, fmt, self.look, in_place=in_place)
         dither = None if self.display else self.dither  # display code values are rounded, never dithered
         opts = encode_options(fmt, {"camera": meta.get("camera")}, {"bits": self.bits, "dither": dither},

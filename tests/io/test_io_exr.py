@@ -43,7 +43,7 @@ def test_multipart_selection_by_index_name_and_layer(tmp_path):
     assert img[0, 0].tolist() == [8, 9, 10] and meta["part"] == 2
     with pytest.raises(lio.FormatError, match="part 5 does not exist.*3 part"):
         lio.read(f"{p}:5")
-    with pytest.raises(lio.FormatError, match="no part or layer named 'right'.*layers: left"):
+    with pytest.raises(lio.FormatError, match="no part, layer or view named 'right'.*layers: left"):
         lio.read(f"{p}:right")
 
 

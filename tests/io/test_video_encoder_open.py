@@ -22,9 +22,14 @@ from tests.warp.test_video_warp_imports import _clip  # noqa: E402  (a 3-frame H
 
 def _x264_opens(width: int, height: int) -> bool:
     """Whether FFmpeg's libx264 (through PyAV, no lenslab) opens for yuv420p frames of this size."""
-    with av.open("unused.mp4", "w", format="mp4") as c:
-        s = c.add_stream("libx264", rate=Fraction(24))
-        s.width, s.height, s.pix_fmt = width, height, "yuv420p"
+    return encoder_opens("libx264", "yuv420p", width, height)
+
+
+def encoder_opens(encoder: str, pix_fmt: str, width: int, height: int, where: str = "unused.mp4") -> bool:
+    """Whether FFmpeg's ``encoder`` (through PyAV, no lenslab) opens for ``pix_fmt`` frames of this size."""
+    with av.open(where, "w", format="mp4") as c:
+        s = c.add_stream(encoder, rate=Fraction(24))
+        s.width, s.height, s.pix_fmt = width, height, pix_fmt
         try:
             s.codec_context.open()
         except av.error.FFmpegError:

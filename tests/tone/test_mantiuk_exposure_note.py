@@ -53,3 +53,25 @@ def test_the_command_prints_one_note_line(tmp_path):
     notes = [line for line in run.stderr.splitlines() if "note:" in line]
     assert notes == ["lenslab tonemap: note: the exposure has no effect with tone curve mantiuk: it puts the "
                      "scene's 0.1 to 99.9 percentiles on the display whatever the exposure"]
+
+
+@pytest.mark.parametrize("exposure", ["2", "auto"])
+def test_the_summary_line_claims_no_stops_the_curve_did_not_use(tmp_path, exposure):
+    """The summary of a mantiuk tone-map must not print "exposure +2.00 stops" (nor an "auto exposure"
+    line) beside the note that the exposure has no effect: the PNG is byte for byte the one made without
+    an exposure."""
+    src = tmp_path / "hdr.exr"
+    lio.write(src, _image())
+
+    def run(out, *extra):
+        done = subprocess.run([sys.executable, "-m", "lenslab", "tonemap", str(src), "-o", str(tmp_path / out),
+                               "--curve", "mantiuk", "--no-dither", *extra], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        return done.stderr.splitlines()
+
+    lines = run("e.png", "--exposure", exposure)
+    run("plain.png")
+    assert (tmp_path / "e.png").read_bytes() == (tmp_path / "plain.png").read_bytes()
+    assert not [line for line in lines if "stops" in line], lines
+    assert f"{tmp_path / 'e.png'}: 48 x 40, curve mantiuk (a local operator on luminance), " \
+           "the exposure has no effect" in lines

@@ -125,13 +125,13 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     if not parts:
         raise FormatError(f"{path}: OpenEXR found no readable part; the file is truncated or damaged")
     index, layer = find_part(path, parts, part_sel, layer_sel)
-    if not selector and len(parts) > 1:
-        _first_part_note(path, parts)
     hpart = parts[index]
     storage = plain_value(hpart.type())
-    if "deep" in str(storage).lower():
+    if "deep" in str(storage).lower():  # refused before the note that the part is read: one line, the error
         raise FormatError(f"{path}: part {index} ({clip(hpart.name())}) is a deep image (several samples per "
                           "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
+    if not selector and len(parts) > 1:
+        _first_part_note(path, parts)
     for p in parts:
         (dx0, dy0), (dx1, dy1) = (tuple(int(v) for v in a) for a in p.header["dataWindow"])
         check_size(path, dx1 - dx0 + 1, dy1 - dy0 + 1)

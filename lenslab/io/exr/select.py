@@ -34,8 +34,10 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
             if any(c.startswith(part_sel + ".") for c in channel_names(p)) or part_sel in views(p.header):
                 return i, part_sel
     layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
-    raise FormatError(f"{path}: no part or layer named {part_sel!r}; parts: "
-                      f"{', '.join(repr(n) for n in names)}; layers: {', '.join(layers) or 'none'}")
+    known = list(dict.fromkeys(v for p in parts for v in views(p.header)))  # a selector takes a view too
+    named = ", ".join(repr(n) for n in names if n) or f"{len(parts)}, unnamed"
+    raise FormatError(f"{path}: no part, layer or view named {part_sel!r}; parts: {named}; layers: "
+                      f"{', '.join(layers) or 'none'}" + (f"; views: {', '.join(known)}" if known else ""))
 
 
 def views(header) -> list[str]:

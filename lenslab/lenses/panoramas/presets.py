@@ -90,6 +90,25 @@ class LittlePlanet(Lens):
         d, ok = self._fisheye.uv_to_dir(uv)
         return d @ DOWN, ok  # camera = D^T lens
 
+    #: v360 reads a direction its ``sg`` input does not see from the input's top-left pixel
+    v360_unseen = "top-left"
+
+    def v360_dir_to_pixel(self, d):
+        """Where v360 reads this frame as its input (``sg`` looking down): the stereographic fisheye's reading,
+        the frame's corners included (:meth:`Fisheye.v360_dir_to_pixel` of the turned direction)."""
+        return self._fisheye.v360_dir_to_pixel(np.ascontiguousarray(np.asarray(d, dtype=FLOAT) @ DOWN.T))
+
+    def v360_pixel_to_dir(self, xy):
+        """The rays v360 (``sg`` with ``pitch=-90``) gives this frame's pixels (:mod:`lenslab.lenses.core.v360`):
+        the stereographic formula carried on past the horizon's field of view into the frame's corners."""
+        from lenslab.lenses.core import v360
+
+        def carried_on(uv):
+            d, ok = self._fisheye.v360_uv_to_dir(uv)
+            return d @ DOWN, ok
+
+        return v360.continued(self, xy, carried_on)
+
     def dir_kernel(self):
         """The compiled ``pixel -> dir``: the fisheye's (``fisheye_dirs``) turned by ``D^T``
         (``turned_fisheye_dirs``)."""

@@ -1,0 +1,66 @@
+"""A warp to an H.265 clip of an odd size fails in one line, before any frame: x265 refuses 4:2:0 frames of
+an odd width or height (checked on PyAV directly first: FFmpeg's own refusal), and it used to print its own two
+``x265 [error]`` lines on standard error before lenslab's. Run as a command, since x265 writes to the process's
+standard error itself."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+av = pytest.importorskip("av")
+
+from tests.io.test_video_encoder_open import encoder_opens  # noqa: E402
+from tests.warp.test_video_warp_imports import _clip  # noqa: E402  (a 3-frame H.264 clip, by PyAV)
+
+
+def _x265_opens(width: int, height: int, tmp_path) -> bool:
+    """Whether FFmpeg's libx265 (through PyAV, no lenslab) opens for yuv420p10le frames of this size."""
+    if "libx265" not in av.codecs_available:
+        pytest.skip("this FFmpeg has no libx265")
+    return encoder_opens("libx265", "yuv420p10le", width, height, str(tmp_path / "probe.mp4"))
+
+
+@pytest.mark.parametrize("codec, size", [("h265", "63x63"), ("h265", "64x63"), ("h264", "63x64")])
+def test_an_odd_size_is_one_error_line(tmp_path, codec, size):
+    assert _x265_opens(64, 64, tmp_path) and not _x265_opens(63, 63, tmp_path)
+    (tmp_path / "probe.mp4").unlink(missing_ok=True)
+    clip = tmp_path / "clip.mp4"
+    _clip(clip)
+    run = subprocess.run([sys.executable, "-m", "lenslab", "warp", str(clip), "-o", str(tmp_path / "fish.mp4"),
+                          "--from", "equirect", "--to", "fisheye:fov=180", "--size", size, "--codec", codec],
+                         capture_output=True, text=True)
+    assert run.returncode == 1
+    w, h = size.split("x")
+    encoder = {"h264": "libx264", "h265": "libx265"}[codec]
+    assert run.stderr.strip().splitlines() == [
+        f"lenslab warp: error: {clip}: the {encoder} encoder cannot encode {w} x {h} frames in "
+        f"{'yuv420p10le' if codec == 'h265' else 'yuv420p'}: its 4:2:0 chroma needs an even width and height"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4"]  # no output, no temporary
+
+
+@pytest.mark.parametrize("codec", ["h264", "h265"])
+def test_frames_of_an_odd_size_to_a_clip_are_one_error_line(tmp_path, codec):
+    """`lenslab convert 'frames/*.exr' --to mp4` of 33 x 31 frames: one line naming the first frame and the
+    encoder's need (it was PyAV's 'avcodec_open2("libx264", {})' error, and x265's own lines before it)."""
+    import numpy as np
+
+    import lenslab
+
+    assert not encoder_opens("libx264", "yuv420p", 33, 31, str(tmp_path / "probe.mp4"))
+    (tmp_path / "probe.mp4").unlink(missing_ok=True)
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    for i in range(3):
+        lenslab.write(frames / f"f{i}.exr", np.full((31, 33, 3), 0.2 * i, np.float32))
+    out = tmp_path / "clip.mp4"
+    run = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(frames / "*.exr"), "--to", "mp4",
+                          "-o", str(out), "--codec", codec], capture_output=True, text=True)
+    assert run.returncode == 1
+    encoder, pix = {"h264": ("libx264", "yuv420p"), "h265": ("libx265", "yuv420p10le")}[codec]
+    assert run.stderr.strip().splitlines() == [
+        f"lenslab convert: error: {frames / 'f0.exr'}: the {encoder} encoder cannot encode 33 x 31 frames in {pix}: "
+        "its 4:2:0 chroma needs an even width and height"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frames"]  # no clip, no temporary
