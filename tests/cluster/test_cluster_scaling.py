@@ -121,3 +121,32 @@ def test_a_render_on_two_workers_is_cut_into_32_tiles_shared_between_them():
     assert len(tiled.info["workers"]) == 2
     local = render(load_scene("cornell"), camera, spp=1, seed=5, max_depth=2, threads=1)
     assert np.array_equal(tiled.image, local.image)
+
+
+def _background_periods(dask_worker) -> dict:
+    """A worker's periodic work, as its event loop runs it: milliseconds between calls."""
+    return {name: dask_worker.periodic_callbacks[name].callback_time for name in ("profile", "tick")}
+
+
+def test_lenslabs_workers_wake_their_profiler_every_100ms_and_the_docs_recipe_does_the_same(tmp_path):
+    """lenslab's local workers sample their task's stack every 100 ms and check their event loop every
+    200 ms (Dask's defaults: 10 ms and 20 ms), read back from the workers' event loops; the config file of
+    docs/guide/batches.md gives `dask worker` the same settings as lenslab's own clusters."""
+    import re
+    from pathlib import Path
+
+    import dask
+
+    from lenslab.cluster.connect import WORKER_CONFIG, local_cluster
+
+    with local_cluster(workers=2, threads=1) as client:
+        periods = list(client.run(_background_periods).values())
+    assert periods == [{"profile": 100.0, "tick": 200.0}] * 2
+    text = (Path(__file__).parents[2] / "docs" / "guide" / "batches.md").read_text()
+    recipe = re.search(r"```yaml\n(distributed:\n.*?)```", text, re.S).group(1)
+    (tmp_path / "lenslab.yaml").write_text(recipe)
+    config = dask.config.merge(dask.config.config, dask.config.collect(paths=[str(tmp_path)], env={}))
+    with dask.config.set(config):
+        for key, value in WORKER_CONFIG.items():
+            assert dask.config.get(key) == value, key
+    assert dask.config.get("distributed.worker.profile.interval") == "10ms"  # Dask's default, for contrast
