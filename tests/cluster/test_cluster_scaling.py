@@ -5,7 +5,9 @@ long for the other at the end. States, read back from outside the code that sets
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import os
 import sys
 
 import numpy as np
@@ -54,8 +56,21 @@ needs_glibc = pytest.mark.skipif(not sys.platform.startswith("linux") or _glibc(
                                  reason="glibc's mallinfo2 reads the allocator's state (Linux)")
 
 
+@contextlib.contextmanager
+def _environment_restored():
+    """This process's environment as it was: a Dask nanny also writes its workers' variables
+    (``MALLOC_TRIM_THRESHOLD_``, ``OMP_NUM_THREADS``...) into the environment of the process that runs it."""
+    saved = dict(os.environ)
+    try:
+        yield
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
+
+
 @needs_glibc
-def test_a_worker_keeps_the_memory_its_tiles_free_whatever_dasks_nanny_set(tmp_path):
+@pytest.mark.filterwarnings("ignore:Port .* is already in use")  # another cluster's status page: nothing to report
+def test_a_worker_keeps_the_memory_its_tiles_free_whatever_dasks_nanny_set():
     """A plain Dask cluster (Dask's own worker settings: ``MALLOC_TRIM_THRESHOLD_=65536``, which also
     fixes the mmap threshold at 128 KiB): before its first tile a worker maps a 24 MiB block and gives it
     back on free; after a tile it serves it from its heap and keeps it."""
@@ -64,9 +79,10 @@ def test_a_worker_keeps_the_memory_its_tiles_free_whatever_dasks_nanny_set(tmp_p
     from lenslab.lenses import Camera
     from tracer.tiles import render_tile
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=40) as cluster, Client(cluster, set_as_default=False) as client:
-        env = client.run(lambda: __import__("os").environ.get("MALLOC_TRIM_THRESHOLD_"))
+    with _environment_restored(), LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                               dashboard_address=None, silence_logs=40) as cluster, \
+            Client(cluster, set_as_default=False) as client:
+        env = client.run(os.environ.get, "MALLOC_TRIM_THRESHOLD_")
         assert list(env.values()) == ["65536"]  # Dask's default, as a user's `dask worker` has it
         (before,) = client.run(probe_malloc).values()
         assert before == {"mmapped": True, "kept": False}
