@@ -102,7 +102,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
 
     add_scheduler_options(p, skip_existing=False)
     p.add_argument("--tiles", type=positive_int, metavar="N",
-                   help="with --scheduler: trace the image as N tiles of rows on the workers (default 4 per worker "
+                   help="with --scheduler: trace the image as N tiles of rows on the workers (default 16 per worker "
                         "thread); the image is bit for bit the one a local render with the same --seed makes")
 
 

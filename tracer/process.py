@@ -14,6 +14,9 @@ defaults of the process work against that, each measured on a 256x256 64 spp ren
   user has set ``MALLOC_MMAP_THRESHOLD_`` or ``MALLOC_TRIM_THRESHOLD_``.
 - **Cycle collection** during the imports (a render's own arrays make no cycles): off from the start, as
   :func:`tracer.cli.run_render` keeps it during the render (it turns it back on when done).
+
+A Dask worker tracing tiles (:mod:`tracer.tiles`) is started by the nanny, already with NumPy loaded: it
+keeps freed memory from its first tile on (:func:`prepare_worker`).
 """
 
 from __future__ import annotations
@@ -34,11 +37,34 @@ def prepare_render() -> None:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     if any(k in os.environ for k in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")):
         return
+    keep_freed_memory()
+
+
+def keep_freed_memory() -> bool:
+    """glibc's malloc serves allocations below 32 MiB from its heaps and keeps what is freed there (see the
+    module's note); takes effect for every later allocation of this process. False where the C library has
+    no ``mallopt``."""
     try:
         libc = ctypes.CDLL(None)
         mallopt = libc.mallopt
     except (OSError, AttributeError, TypeError):  # no C library to open by name (Windows), or no mallopt
-        return
+        return False
     mallopt.argtypes, mallopt.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
-    mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
-    mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
+    return bool(mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)) and bool(mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD))
+
+
+_WORKER_PREPARED: list[bool] = []
+
+
+def prepare_worker() -> None:
+    """The same memory setting in a Dask worker's process, once, before its first tile.
+
+    A worker is started by Dask's nanny, not by ``tracer render``, so :func:`prepare_render` never ran
+    there: every band of every tile faulted its scratch in again, and with two workers on two cores the
+    page faults of one slowed the other's (docs/design.md, "Clusters: scaling"). The nanny sets
+    ``MALLOC_TRIM_THRESHOLD_`` for every worker it starts, so unlike a render's own process the variable
+    says nothing of the user's wish and the setting is made whatever it holds. BLAS is on the worker's
+    threads already (the nanny sets ``OPENBLAS_NUM_THREADS`` before NumPy loads).
+    """
+    if not _WORKER_PREPARED:
+        _WORKER_PREPARED.append(keep_freed_memory())

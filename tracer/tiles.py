@@ -19,6 +19,11 @@ import numpy as np
 
 _SCENES: dict[tuple, object] = {}  # one per worker process: scene key -> loaded scene
 _KEEP_SCENES = 2
+#: tiles per worker thread by default: the rows of an image are not equally costly (an interior's
+#: panorama: walls near, light far) and a worker's last tile may end while the other's has far to go;
+#: with 16 a tile is about 1/16 of a worker's share, so the wait at the end is about 1/64 of the render
+#: on average, against the scheduler's cost of a task (a few ms) per tile (docs/design.md, "Clusters: scaling")
+TILES_PER_THREAD = 16
 
 
 def scene_key(scene: str, env: str | None = None) -> tuple:
@@ -57,8 +62,10 @@ def render_tile(scene: str, env: str | None, camera, rows: tuple[int, int], opti
                 prepare: tuple | None = None) -> dict:
     """Trace ``rows`` of the image on this worker; returns the tile's float32 arrays."""
     from lenslab.cluster.tasks import worker_threads
+    from tracer.process import prepare_worker
     from tracer.rendering import render
 
+    prepare_worker()  # freed memory kept, as in a render's own process
     result = render(worker_scene(scene, env, prepare), camera, rows=rows, threads=worker_threads(), **options)
     return {"rows": rows, "image": result.image, "variance": result.variance, "alpha": result.alpha,
             "scene": result.info.get("scene", "")}
@@ -82,14 +89,14 @@ def render_tiled(client, scene: str, camera, spp: int = 16, seed: int | None = 0
     """Render ``camera``'s image of ``scene`` as tiles on ``client``'s workers; a
     :class:`~tracer.rendering.RenderResult` equal, pixel for pixel, to ``render(scene, camera, ...)``.
 
-    ``tiles`` defaults to four per worker thread; ``prepare`` see :func:`worker_scene`. A worker lost mid-render has its tiles traced again
+    ``tiles`` defaults to :data:`TILES_PER_THREAD` per worker thread; ``prepare`` see :func:`worker_scene`. A worker lost mid-render has its tiles traced again
     elsewhere (by the scheduler); Ctrl-C cancels the tiles not done.
     """
     from lenslab.cluster.run import gather_as_completed, submit
     from tracer.rendering import RenderResult, relative_error
 
     if tiles is None:
-        tiles = 4 * max(1, sum(client.nthreads().values()))
+        tiles = TILES_PER_THREAD * max(1, sum(client.nthreads().values()))
     ranges = tile_rows(camera, spp, tiles)
     options = {"spp": int(spp), "seed": seed, "integrator": integrator, "max_depth": int(max_depth)}
     start = time.perf_counter()

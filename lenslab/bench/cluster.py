@@ -13,8 +13,10 @@ is made once per worker; its cost is set beside the cost of scattering the map's
 Convert: the same frames to EXR with ``--jobs 1``, ``--jobs 2`` and the two workers.
 
 Trace: ``tracer render --scheduler`` of a 2048x1024 panorama of the Cornell box at 64 spp (``--quick``:
-4 spp) on one worker and on two, the speed-up against one worker (aim: 1.7x). Both clusters
-are started before the clock starts; every figure's machine load is in the JSON record.
+4 spp) on one worker and on two, interleaved, the speed-up against one worker (aim: 1.7x), and the two
+workers' CPU time over the one worker's (1.0: cutting the image into tiles adds no work). Each cluster is
+started, and its workers have loaded the scene, before the clock starts; every figure's machine load is
+in the JSON record.
 """
 
 from __future__ import annotations
@@ -43,7 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
     parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
     parser.add_argument("--repeat", type=int, default=3,
-                        help="runs of each warp batch, interleaved; the medians count (default 3)")
+                        help="runs of each warp batch and of each trace, interleaved; the medians count "
+                             "(default 3)")
 
 
 def make_frames(folder: Path, n: int, width: int, height: int) -> list[Path]:
@@ -98,19 +101,21 @@ def _threads(job, frames, out: Path, jobs: int) -> float:
     return seconds
 
 
-def _on_cluster(client, job, frames, out: Path) -> tuple[float, float]:
-    """Wall time of the batch, and the workers' summed busy time."""
+def _on_cluster(client, job, frames, out: Path) -> tuple[float, float, float]:
+    """Wall time of the batch, the workers' summed busy time and their processes' CPU time."""
     from lenslab.jobs.runner import run_on_cluster
 
     workers: dict = {}
     pairs = [(str(src), str(out / (src.stem + ".exr"))) for src in frames]
+    cpu = _workers_cpu(client)
     t0 = time.perf_counter()
     results = run_on_cluster(client, job, pairs, workers=workers, close=False)
     wall = time.perf_counter() - t0
+    cpu = _workers_cpu(client) - cpu
     errors = [r[2] for r in results if r[2]]
     if errors:
         raise RuntimeError(errors[0])
-    return wall, sum(s for _, s in workers.values())
+    return wall, sum(s for _, s in workers.values()), cpu
 
 
 def warm_up(client, job, frame: Path, out: Path) -> None:
@@ -141,18 +146,21 @@ def batches(args, tmp: Path) -> None:
     job = warp_job()
     _local(job, frames[:1], _fresh(tmp / "out"), 1)  # compile or load the kernels first
     cores = os.cpu_count() or 1
-    runs: dict[str, list] = {"one": [], "default": [], "cluster": []}
+    runs: dict[str, list] = {"one": [], "default": [], "cluster": [], "one_cpu": []}
     with local_cluster(workers=2) as client:
         warm_up(client, job, frames[0], _fresh(tmp / "out"))
         for _ in range(max(1, args.repeat)):  # interleaved, so that every configuration sees the same load
+            cpu = time.thread_time()  # the one job runs in this thread (bands and codec too)
             runs["one"].append(_local(job, frames, _fresh(tmp / "out"), 1))
+            runs["one_cpu"].append(time.thread_time() - cpu)
             runs["default"].append(_threads(job, frames, _fresh(tmp / "out"), cores))
             runs["cluster"].append(_on_cluster(client, job, frames, _fresh(tmp / "out")))
         one, default = statistics.median(runs["one"]), statistics.median(runs["default"])
-        wall, busy = sorted(runs["cluster"])[len(runs["cluster"]) // 2]
+        wall, busy, cpu = sorted(runs["cluster"])[len(runs["cluster"]) // 2]
+        one_cpu = statistics.median(runs["one_cpu"])
         map_build, scatter = map_costs(client, job, frames[0])
         convert = ConvertJob(to="exr", overwrite=True, pixel_type="half", compression="zip")
-        c_wall, _ = _on_cluster(client, convert, frames, _fresh(tmp / "out"))
+        c_wall, _, _ = _on_cluster(client, convert, frames, _fresh(tmp / "out"))
         noop = noop_overhead(client)
     print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024, medians of {max(1, args.repeat)} runs "
           f"(load {os.getloadavg()[0]:.2f})")
@@ -167,6 +175,9 @@ def batches(args, tmp: Path) -> None:
            one / default, "x")
     figure("cluster.warp_two_workers_efficiency", "warp: two workers' efficiency against one job", speedup / 2, "",
            better="higher")
+    figure("cluster.warp_workers_cpu_ratio", "warp: the two workers' CPU time over the one job's (1: the cluster "
+           "adds no work)", cpu / one_cpu, "")
+    print(f"  CPU time: one job {one_cpu:.2f} s, the two workers {cpu:.2f} s ({cpu / one_cpu:.2f}x)")
     overhead = max(0.0, (2 * wall - busy) / n) * 1e3
     figure("cluster.warp_idle_per_task_ms", "warp batch: workers' time outside the tasks, per task", overhead, "ms")
     print(f"  workers' idle time, per task {overhead:6.1f} ms  (wall clock x 2 workers - time in the tasks)")
@@ -254,29 +265,50 @@ def map_costs(client, job, frame: Path) -> tuple[float, float]:
     return build, scatter
 
 
+def _workers_cpu(client) -> float:
+    """Seconds of CPU the cluster's worker processes have used so far (all their threads)."""
+    return sum(user + system for user, system in client.run(_cpu_times).values())
+
+
+def _cpu_times() -> tuple[float, float]:
+    t = os.times()
+    return t.user, t.system
+
+
 def trace(args, tmp: Path) -> None:
+    """One worker against two, interleaved (one worker, two, one, two, ...: on a shared machine a single
+    pair of runs measures the change of load between them as much as the scaling), medians of
+    ``--repeat`` runs each; with the workers' CPU time, which the load of other processes hardly moves."""
     from lenslab.bench.results import figure, mark
     from lenslab.cluster.connect import local_cluster
 
     size, spp = "2048x1024", (4 if args.quick else 64)
     exe = [shutil.which("tracer")] if shutil.which("tracer") else [sys.executable, "-m", "tracer.cli"]
     command = exe + ["render", "--scene", "cornell", "--camera", "equirect", "--seed", "1", "-q", "--overwrite"]
-    times = {}
-    for workers in (1, 2):
-        with local_cluster(workers=workers) as client:
-            address = client.scheduler.address
-            out = str(tmp / f"trace-{workers}.exr")
-            subprocess.run(command + ["--size", "64x32", "--spp", "1", "-o", out, "--scheduler", address],
-                           check=True)  # the workers load the scene and build its embree structure
-            t0 = time.perf_counter()
-            subprocess.run(command + ["--size", size, "--spp", str(spp), "-o", out, "--scheduler", address],
-                           check=True)
-            times[workers] = time.perf_counter() - t0
-    speedup = times[1] / times[2]
+    runs: dict[int, list] = {1: [], 2: []}
+    for _ in range(max(1, args.repeat)):
+        for workers in (1, 2):
+            with local_cluster(workers=workers) as client:
+                address = client.scheduler.address
+                out = str(tmp / f"trace-{workers}.exr")
+                subprocess.run(command + ["--size", "64x32", "--spp", "1", "-o", out, "--scheduler", address],
+                               check=True)  # the workers load the scene and build its embree structure
+                cpu = _workers_cpu(client)
+                t0 = time.perf_counter()
+                subprocess.run(command + ["--size", size, "--spp", str(spp), "-o", out, "--scheduler", address],
+                               check=True)
+                runs[workers].append((time.perf_counter() - t0, _workers_cpu(client) - cpu))
+    one, two = (statistics.median(w for w, _ in runs[n]) for n in (1, 2))
+    cpu_one, cpu_two = (statistics.median(c for _, c in runs[n]) for n in (1, 2))
+    speedup = one / two
     ok = figure("cluster.trace_two_workers_speedup", f"trace {size} at {spp} spp: two workers vs one", speedup, "x",
                 aim=AIM_SPEEDUP, better="higher")
-    print(f"trace: cornell panorama {size} at {spp} spp (load {os.getloadavg()[0]:.2f}): one worker "
-          f"{times[1]:.2f} s, two workers {times[2]:.2f} s, {speedup:.2f}x (aim {AIM_SPEEDUP}x) {mark(ok)}")
+    figure("cluster.trace_workers_cpu_ratio", f"trace {size} at {spp} spp: the two workers' CPU time over the one "
+           "worker's (1: splitting adds no work)", cpu_two / cpu_one, "")
+    print(f"trace: cornell panorama {size} at {spp} spp, medians of {max(1, args.repeat)} runs, interleaved (load "
+          f"{os.getloadavg()[0]:.2f}): one worker {one:.2f} s, two workers {two:.2f} s, {speedup:.2f}x (aim "
+          f"{AIM_SPEEDUP}x) {mark(ok)}; the workers' CPU {cpu_one:.2f} s and {cpu_two:.2f} s "
+          f"({cpu_two / cpu_one:.2f}x)")
 
 
 def run(args: argparse.Namespace) -> int:

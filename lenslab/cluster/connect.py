@@ -136,11 +136,19 @@ def client_for(where: dict, timeout: float | None = None) -> Iterator:
         close_client(client)
 
 
-#: Dask settings for lenslab's workers (README, "Beyond one machine", gives them as a config file for
-#: ``dask worker``). Dask's nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``, which makes the C
-#: library give every freed image buffer back to the system and fault it in again for the next frame:
-#: measured on a 2048x1024 EXR frame into a fisheye, 152 ms a frame with it, 125 ms without (one worker).
-WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+#: Dask settings for lenslab's workers (docs/guide/batches.md gives them as a config file for ``dask worker``;
+#: docs/design.md, "Clusters: scaling", has the measurements).
+#:
+#: - Dask's nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``, which makes the C library give every
+#:   freed image buffer back to the system and fault it in again for the next frame: measured on a 2048x1024
+#:   EXR frame into a fisheye, 152 ms a frame with it, 125 ms without (one worker).
+#: - A worker samples its running task's stack every 10 ms (its profiler) and measures its event loop every
+#:   20 ms, each time taking the GIL from the task: 3.4% of a core per worker, busy or not (a worker's main
+#:   thread during a 5 s task), which two workers on two cores take from their tasks. Every 100 ms and 200 ms:
+#:   0.8%, and the dashboard's profiles are still drawn.
+WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                 "distributed.worker.profile.interval": "100ms",
+                 "distributed.admin.tick.interval": "200ms"}
 
 
 @contextlib.contextmanager
