@@ -147,7 +147,7 @@ def _background_periods(dask_worker) -> dict:
 def test_lenslabs_workers_wake_their_profiler_every_100ms_and_the_docs_recipe_does_the_same(tmp_path):
     """lenslab's local workers sample their task's stack every 100 ms and check their event loop every
     200 ms (Dask's defaults: 10 ms and 20 ms), read back from the workers' event loops; the config file of
-    docs/guide/batches.md gives `dask worker` the same settings as lenslab's own clusters."""
+    docs/guide/batches.md and the README give `dask worker` the same settings as lenslab's own clusters."""
     import re
     from pathlib import Path
 
@@ -158,11 +158,13 @@ def test_lenslabs_workers_wake_their_profiler_every_100ms_and_the_docs_recipe_do
     with local_cluster(workers=2, threads=1) as client:
         periods = list(client.run(_background_periods).values())
     assert periods == [{"profile": 100.0, "tick": 200.0}] * 2
-    text = (Path(__file__).parents[2] / "docs" / "guide" / "batches.md").read_text()
-    recipe = re.search(r"```yaml\n(distributed:\n.*?)```", text, re.S).group(1)
-    (tmp_path / "lenslab.yaml").write_text(recipe)
-    config = dask.config.merge(dask.config.config, dask.config.collect(paths=[str(tmp_path)], env={}))
-    with dask.config.set(config):
-        for key, value in WORKER_CONFIG.items():
-            assert dask.config.get(key) == value, key
+    for page in (Path(__file__).parents[2] / "docs" / "guide" / "batches.md", Path(__file__).parents[2] / "README.md"):
+        recipe = re.search(r"```yaml\n(distributed:\n.*?)```", page.read_text(), re.S).group(1)
+        folder = tmp_path / page.stem
+        folder.mkdir()
+        (folder / "lenslab.yaml").write_text(recipe)
+        config = dask.config.merge(dask.config.config, dask.config.collect(paths=[str(folder)], env={}))
+        with dask.config.set(config):
+            for key, value in WORKER_CONFIG.items():
+                assert dask.config.get(key) == value, (page.name, key)
     assert dask.config.get("distributed.worker.profile.interval") == "10ms"  # Dask's default, for contrast
