@@ -83,6 +83,11 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
 
         out["lens_metadata"] = metadata_report(file)
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
+    tiles = (meta.get("exr_header") or {}).get("tiles")
+    if "tiles" in attrs and tiles is not None and "data_window" in meta:  # the words convert's note uses
+        from lenslab.io.exr.keep import tiling
+
+        attrs["tiles"] = tiling(tiles, meta["data_window"])[0]
     out["attributes"] = attrs
     out["structure"] = probe(file, fmt.name)
     return out

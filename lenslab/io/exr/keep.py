@@ -84,19 +84,25 @@ def _levels(n: int, round_up: bool) -> int:
     return ((n - 1).bit_length() if round_up else n.bit_length() - 1) + 1
 
 
-def storage_note(meta: dict) -> str | None:
-    """What writing ``meta``'s EXR part as scanlines leaves out, in one line; None for a scanline part."""
-    tiles = (meta.get("exr_header") or {}).get("tiles")
-    if tiles is None or "tiled" not in str(meta.get("storage", "")).lower():
-        return None
-    x0, y0, x1, y1 = meta["data_window"]
+def tiling(tiles, data_window) -> tuple[str, int]:
+    """An EXR part's tiling in words ("64 x 64 tiles, mip-mapped, 7 levels"; "32 x 16 tiles" for one level) and
+    its level count, from OpenEXR's ``TileDescription`` and the part's data window (x0, y0, x1, y1)."""
+    x0, y0, x1, y1 = data_window
     up = "UP" in str(getattr(tiles, "roundingMode", ""))
     nx, ny = _levels(x1 - x0 + 1, up), _levels(y1 - y0 + 1, up)
     mode = str(getattr(tiles, "mode", ""))
     levels = max(nx, ny) if "MIPMAP" in mode else nx * ny if "RIPMAP" in mode else 1
     kind = "mip-mapped" if "MIPMAP" in mode else "rip-mapped"
-    what = f"tiled ({tiles.xSize} x {tiles.ySize} tiles" + (f", {kind}, {levels} levels)" if levels > 1 else ")")
-    return f"{what}: written as scanlines" + (
+    return f"{tiles.xSize} x {tiles.ySize} tiles" + (f", {kind}, {levels} levels" if levels > 1 else ""), levels
+
+
+def storage_note(meta: dict) -> str | None:
+    """What writing ``meta``'s EXR part as scanlines leaves out, in one line; None for a scanline part."""
+    tiles = (meta.get("exr_header") or {}).get("tiles")
+    if tiles is None or "tiled" not in str(meta.get("storage", "")).lower():
+        return None
+    words, levels = tiling(tiles, meta["data_window"])
+    return f"tiled ({words}): written as scanlines" + (
         f", the full-resolution level only (the {levels - 1} smaller levels are not written)" if levels > 1 else "")
 
 

@@ -68,6 +68,10 @@ def _probe(path) -> dict:
                            if k not in ("channels", "compression", "dataWindow", "displayWindow", "lineOrder",
                                         "name", "type")},
         })
+        if "tiles" in h:  # in the words convert's note uses, not the bindings' repr
+            from lenslab.io.exr.keep import tiling
+
+            parts[-1]["attributes"]["tiles"] = tiling(h["tiles"], parts[-1]["data_window"])[0]
     return {"parts": parts}
 
 

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, cause
-from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS  # noqa: F401  (re-exported)
+from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS, x265_params  # noqa: F401  (re-exported)
 from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
 from lenslab.io.video.ycbcr import RowsToYCbCr, exact, ycbcr_frame, ycbcr_to_linear
 from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table, is_wide,  # noqa: F401  (re-exported)
@@ -269,7 +269,7 @@ class VideoWriter:
                                                                            info.matrix, info.range)
         cc.thread_type = "AUTO"  # frame threads where the encoder has them, as ffmpeg's own default
         if encoder == "libx265":
-            cc.options = {"x265-params": "log-level=error"}
+            cc.options = {"x265-params": x265_params(w, h)}
         self.count = self.encoded = 0  # frames written, frames given to the encoder
         self._thread = self._queue = self._error = self._planes = None
         self.audio_from = audio_from
