@@ -64,6 +64,12 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
+    if "gain_map" in attributes and not raw:  # a command's user is told too, not only lenslab info's
+        import warnings
+
+        warning = GainMapWarning(f"{path}: {attributes['gain_map']}")
+        warning.command_line = attributes["gain_map"]
+        warnings.warn(warning, stacklevel=3)
     coded = wide = None
     if fmt == "png":
         from lenslab.io.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
@@ -145,6 +151,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         "attributes": attributes,
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta
+
+
+class GainMapWarning(UserWarning):
+    """An Ultra HDR JPEG was read as its SDR base image: its gain map (the HDR rendition) is not applied."""
 
 
 def _gain_map_note(data: bytes) -> dict:

@@ -95,3 +95,16 @@ def test_auto_exposure_with_a_display_is_a_usage_error(tmp_path, command):
     assert done.returncode == 2, done.stderr
     assert done.stderr.strip().count("\n") == 0 and "--exposure auto goes with a tone curve" in done.stderr
     assert not (tmp_path / "out.png").exists()
+
+
+def test_converting_an_ultra_hdr_jpeg_says_its_gain_map_is_not_applied(tmp_path):
+    """The phone's Ultra HDR JPEG: a user converting it to EXR is told they get the SDR base image (the
+    gain map's XMP namespace, ``hdrgm``, is Adobe's gain-map specification's, which Google's Ultra HDR uses)."""
+    sky = Path(__file__).resolve().parents[3] / "shared" / "data" / "formats" / "oiio-images" / "ultrahdr_sky.jpg"
+    if not sky.is_file():
+        pytest.skip("../shared/data/formats is absent")
+    assert b"hdrgm:" in sky.read_bytes()
+    done = _lenslab("convert", str(sky), "--to", "exr", "-o", str(tmp_path / "sky.exr"), cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    notes = [line for line in done.stderr.splitlines() if "note:" in line]
+    assert len(notes) == 1 and "gain map present and ignored" in notes[0] and "SDR base image" in notes[0]
