@@ -330,8 +330,11 @@ def tone_curves(run_: Run, records: dict, warped: dict, ev: float):
     name = SAMPLE_CURVE_VIEW if SAMPLE_CURVE_VIEW in warped else next(iter(warped))
     image = warped[name][0]
     curves = curve_names()
-    for c in curves:
-        run_.write(f"tone/{c}.jpg", tonemap(image, curve=c, exposure=ev), f"tone curve {c}")
+    from lenslab.tone.registry import get_curve
+
+    for c in curves:  # a curve that ignores the exposure (mantiuk) is given none, so the demo prints no note for it
+        stops = 0.0 if get_curve(c).ignores_exposure else ev
+        run_.write(f"tone/{c}.jpg", tonemap(image, curve=c, exposure=stops), f"tone curve {c}")
     run_.write("tone/hable.ppm", tonemap(image, curve="hable", exposure=ev), "tone curve hable, 8-bit PPM")
     run_.say(f"tone-mapped the {name} view with {len(curves)} curves: {', '.join(curves)}")
     run_.done()

@@ -36,8 +36,11 @@ def split_alpha(image: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
 def tone(image: np.ndarray, curve: str = "hable", exposure: float = 0.0) -> np.ndarray:
     """Display-linear RGB in [0, 1] (float32). Colour is premultiplied by alpha, so this is the image over black."""
     from lenslab.tone import tonemap
+    from lenslab.tone.registry import get_curve
 
     rgb, _ = split_alpha(image)
+    if get_curve(curve).ignores_exposure:  # the page's exposure means nothing to it (mantiuk): no note for it
+        exposure = 0.0
     return np.clip(np.asarray(tonemap(rgb, curve=curve, exposure=exposure), dtype=np.float32), 0.0, 1.0)
 
 

@@ -39,6 +39,9 @@ def display_options(args: argparse.Namespace) -> dict:
     from lenslab.errors import UsageError
     from lenslab.io.ocio import OCIOError, processor
 
+    if str(getattr(args, "exposure", None)).strip().lower() == "auto":  # a usage error, before any file is read
+        raise UsageError("--exposure auto goes with a tone curve; give a number of stops with --display")
+
     try:  # unknown names: one usage error now, before any file is read
         processor(opts["display"], opts["view"], opts["colorspace"], opts["ocio"])
     except OCIOError as exc:

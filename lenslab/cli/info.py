@@ -186,6 +186,8 @@ def _text(d: dict) -> str:
     if set(d.get("structure") or {}) <= {"file_bytes"}:  # no structure probe: the reader's attributes
         for k, v in d["attributes"].items():
             lines.append(f"  {k}: {v}")
+    elif "icc" in d["attributes"]:  # what was done with an embedded profile (TIFF), which no probe shows
+        lines.append(f"  icc: {d['attributes']['icc']}")
     return "\n".join(lines)
 
 

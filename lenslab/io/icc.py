@@ -64,6 +64,11 @@ def refuse(where: str, what: str):
     raise FormatError(f"{where}: the embedded ICC profile {what}; remove it or save the image without one")
 
 
+def check(data: bytes, where: str) -> None:
+    """Refuses a damaged profile (its header, size, tag table) in one line, before any pixel is decoded."""
+    _tags(data, where)
+
+
 def _tags(data: bytes, where: str) -> dict[bytes, tuple[int, int]]:
     """The tag table (signature -> offset, size), every tag inside the profile's declared size."""
     if len(data) > MAX_BYTES:
@@ -171,7 +176,8 @@ def _is_srgb(curves, matrix) -> bool:
 
 
 def plan(data: bytes, channels: int, where: str) -> Plan:
-    """What to do with profile ``data`` for an image of ``channels`` colour channels (1 grey, 3 RGB)."""
+    """What to do with profile ``data`` for an image of ``channels`` colour channels (1 grey, 3 RGB, 4 the CMYK
+    inks of a JPEG that its decoder gives as RGB)."""
     tags = _tags(data, where)
     from PIL import ImageCms
 
@@ -184,7 +190,10 @@ def plan(data: bytes, channels: int, where: str) -> Plan:
         refuse(where, f"cannot be parsed by littleCMS ({' '.join(str(exc).split())[:60]})")
     label = f"ICC profile '{name}'"
     lut = [t.decode() for t in LUT_TAGS if t in tags]
-    wanted = {3: "RGB", 1: "GRAY"}.get(channels)
+    wanted = {3: "RGB", 1: "GRAY", 4: "CMYK"}.get(channels)
+    if space == wanted == "CMYK":  # a CMYK JPEG, which the decoder turns into RGB by inverting its inks
+        return Plan("ignored", f"{label} is for the JPEG's CMYK inks: not applied, the inks converted to RGB "
+                    "without colour management (each inverted, times the inverted K), read as sRGB")
     if space != wanted:
         return Plan("ignored", f"{label} is for {space or '?'} data, the image is {wanted or channels}: "
                     "not applied, read as sRGB")

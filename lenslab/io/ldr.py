@@ -27,6 +27,12 @@ def _png_size(data: bytes) -> tuple[int, int] | None:
 
 def _jpg_size(data: bytes) -> tuple[int, int] | None:
     """Width and height from the first start-of-frame marker, or None if none is found."""
+    frame = _jpg_frame(data)
+    return None if frame is None else frame[:2]
+
+
+def _jpg_frame(data: bytes) -> tuple[int, int, int] | None:
+    """Width, height and component count (3 YCbCr or RGB, 4 CMYK or YCCK) of the first start-of-frame."""
     pos, n = 2, len(data)
     while pos + 4 <= n:
         if data[pos] != 0xFF:
@@ -37,9 +43,10 @@ def _jpg_size(data: bytes) -> tuple[int, int] | None:
             continue
         length = int.from_bytes(data[pos + 2:pos + 4], "big")
         if 0xC0 <= marker <= 0xCF and marker not in (0xC4, 0xC8, 0xCC):
-            if pos + 9 > n:
+            if pos + 10 > n:
                 return None
-            return int.from_bytes(data[pos + 7:pos + 9], "big"), int.from_bytes(data[pos + 5:pos + 7], "big")
+            return (int.from_bytes(data[pos + 7:pos + 9], "big"), int.from_bytes(data[pos + 5:pos + 7], "big"),
+                    data[pos + 9])
         pos += 2 + length
     return None
 
@@ -57,6 +64,12 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
     attributes = _gain_map_note(data) if fmt == "jpg" else {}
+    if "gain_map" in attributes and not raw:  # a command's user is told too, not only lenslab info's
+        import warnings
+
+        warning = GainMapWarning(f"{path}: {attributes['gain_map']}")
+        warning.command_line = attributes["gain_map"]
+        warnings.warn(warning, stacklevel=3)
     coded = wide = None
     if fmt == "png":
         from lenslab.io.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
@@ -73,6 +86,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         from lenslab.io.icc_chunks import jpeg_profile, png_profile
 
         profile = (png_profile if fmt == "png" else jpeg_profile)(data, str(path))
+        if profile is not None:  # a damaged profile is refused before the decoder warns of it
+            from lenslab.io.icc import check
+
+            check(profile, str(path))
     elif not raw and fmt == "png" and chunk_before_data(data, b"iCCP") is not None:
         attributes["icc"] = "ICC profile present, not applied: the cICP chunk takes precedence"
     grey_alpha = False
@@ -80,6 +97,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         from lenslab.io.png_grey_alpha import is_grey_alpha
 
         grey_alpha = is_grey_alpha(data)
+    inks = fmt == "jpg" and (_jpg_frame(data) or (0, 0, 3))[2] == 4  # CMYK: OpenCV decodes it to RGB
     codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
     del data  # the file's bytes are not kept while the floats are made
     if codes is None:
@@ -105,7 +123,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     if profile is not None:
         from lenslab.io.icc import decode, plan
 
-        how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
+        how = plan(profile, 4 if inks else c - 1 if c in (2, 4) else c, str(path))
         attributes["icc"] = how.note
     if how is not None and how.curves:  # a matrix/TRC or grey profile: its curves, its colorants
         image = decode(codes, maxval, how, str(path))
@@ -133,6 +151,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         "attributes": attributes,
     }
     return np.ascontiguousarray(image, dtype=np.float32), meta
+
+
+class GainMapWarning(UserWarning):
+    """An Ultra HDR JPEG was read as its SDR base image: its gain map (the HDR rendition) is not applied."""
 
 
 def _gain_map_note(data: bytes) -> dict:

@@ -35,7 +35,9 @@ def curve_samples(name: str, stops=(-10.0, 8.0), exposure: float = 0.0, n: int =
     curve = get_curve(name)
     if curve.kind == "local":
         ramp = np.repeat(np.repeat(x[None, :, None], 8, axis=0), 3, axis=2)
-        y = tonemap(ramp, curve.name, exposure=exposure)[4, :, 1]
+        # a chart of every curve at one exposure: a curve the exposure does not change (mantiuk) takes none, and
+        # the chart prints no note for it
+        y = tonemap(ramp, curve.name, exposure=0.0 if curve.ignores_exposure else exposure)[4, :, 1]
     elif curve.kind == "image":
         y = reinhard2002(x * np.float32(2.0 ** exposure), log_avg=MIDDLE_GREY)
     else:

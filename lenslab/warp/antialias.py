@@ -48,6 +48,13 @@ from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
 from lenslab.warp.pyramid import MAX_TAPS, pyramid, sample_footprint  # noqa: F401  (the source side)
 
+#: a footprint is kept at least this many source pixels thick (and at least 1/SLIVER_ANISOTROPY of its longer side,
+#: when that is less). A sliver (sides almost parallel: a strong swirl's, near where its map folds) has an area far
+#: smaller than its sides, and the integral over it, exact to a small absolute error, divided by that area made
+#: values far outside the source's range (negative ones from a positive panorama); half a pixel bounds it and
+#: brings the swirl of a real panorama closer to 256-sample supersampling (city.exr: relative L1 0.25% -> 0.16%)
+SLIVER_HEIGHT = 0.5
+SLIVER_ANISOTROPY = 8.0
 JACOBIAN_POINTS = 5  # map evaluations per sample with samples > 1: the centre and the four secant ends
 EDGE_SPLIT = 4  # a sample whose footprint straddles the edge of the valid region becomes EDGE_SPLIT^2 samples
 
@@ -139,10 +146,46 @@ def _neighbour_footprint(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray):
     return (band.xs[top:top + h], band.ys[top:top + h], valid, foot, edge, coarse)
 
 
+def thicken_slivers(foot: np.ndarray) -> bool:
+    """Widen in place every footprint (``foot[..., 0:2]`` = a, ``[..., 2:4]`` = b) thinner than
+    ``min(SLIVER_HEIGHT, longer side / SLIVER_ANISOTROPY)`` across its longer side to that height, by moving its
+    shorter side along the longer one's normal (the orientation kept). Returns whether any was widened."""
+    flat = foot.reshape(-1, 4)
+    a0, a1, b0, b1 = flat.T
+    long2 = np.maximum(a0 * a0 + a1 * a1, b0 * b0 + b1 * b1)
+    cross = a0 * b1
+    cross -= a1 * b0
+    cross *= cross
+    # |a x b| / longer side < min(SLIVER_HEIGHT, longer side / SLIVER_ANISOTROPY), squared
+    thin = cross < np.minimum(long2 * np.float32(SLIVER_HEIGHT ** 2), long2 * long2 / np.float32(SLIVER_ANISOTROPY ** 2))
+    thin = np.flatnonzero(thin)
+    if not len(thin):
+        return False
+    f = flat[thin].astype(np.float64)
+    a, b = f[:, 0:2], f[:, 2:4]
+    a_long = (a * a).sum(axis=1) >= (b * b).sum(axis=1)
+    longer = np.where(a_long[:, None], a, b)
+    length = np.hypot(longer[:, 0], longer[:, 1])
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    sign = np.where(cross >= 0.0, 1.0, -1.0)
+    height = np.minimum(SLIVER_HEIGHT, length / SLIVER_ANISOTROPY)
+    add = (height * length - np.abs(cross)) / np.maximum(length, 1e-30)  # height to add
+    normal = np.stack([-longer[:, 1], longer[:, 0]], axis=1) / np.maximum(length, 1e-30)[:, None]
+    step = (sign * add)[:, None] * normal  # a x (b + step) = cross + sign * add * length; (a - step) x b too
+    f[:, 2:4] = np.where(a_long[:, None], b + step, b)
+    f[:, 0:2] = np.where(a_long[:, None], a, a - step)
+    flat[thin] = f
+    return True
+
+
 def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, foot, edge,
                  coarse=None) -> "FootprintBand":
     """The footprint band, with the samples on the edge of the valid region split into
-    EDGE_SPLIT x EDGE_SPLIT plain sub-samples (mapped exactly) that measure their partial coverage."""
+    EDGE_SPLIT x EDGE_SPLIT plain sub-samples (mapped exactly) that measure their partial coverage. Slivers are
+    widened first (:func:`thicken_slivers`); a widened side may reach a coarser level, so then every sample is
+    looked at for it (``coarse`` None)."""
+    if thicken_slivers(foot):
+        coarse = None
     flat = np.flatnonzero(edge)
     k = EDGE_SPLIT
     sub = ((np.arange(k) + 0.5) / k - 0.5) * (2.0 * half)
