@@ -169,7 +169,10 @@ def _close_bars() -> None:
         from tqdm import tqdm
 
         for bar in list(getattr(tqdm, "_instances", ())):
-            bar.close()
+            try:
+                bar.close()
+            except AttributeError:  # one the interrupt caught half-built: the line is cleared below
+                tqdm._instances.discard(bar)
     if sys.stderr.isatty():  # bars are drawn on a terminal only
         sys.stderr.write("\r\033[K")
         sys.stderr.flush()

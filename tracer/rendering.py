@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import sys
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -193,7 +193,7 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
 
     effects = has_effects(camera.lens)
 
-    def band(pass_no: int, pass_spp: int, r0: int, r1: int) -> None:
+    def band(pass_no: int, pass_spp: int, r0: int, r1: int) -> int:
         grid_seed = None if seed is None else _sub_seed(seed, pass_no)
         o, d, ok = camera.rays(samples=pass_spp, seed=grid_seed, rows=slice(top + r0, top + r1))
         h = r1 - r0
@@ -222,8 +222,7 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
         m2[r0:r1] += b_m2 + delta * delta * (n_a * n_b / n)
         count[r0:r1] += n_b
         valid[r0:r1] += ok.reshape(h, width, pass_spp).sum(axis=2)
-        if bar is not None:
-            bar.update(h * width * pass_spp)
+        return h * width * pass_spp  # samples traced: the main thread moves the bar
 
     start = time.perf_counter()
     stopped_by = "spp"
@@ -237,12 +236,19 @@ def render(scene, camera, spp: int = 16, seed: int | None = 0, integrator: str =
                 if done < spp:
                     stopped_by = "time"
                 break
-            jobs = [ex.submit(band, pass_no, pass_spp, r0, min(height, r0 + rows_per_band))
-                    for r0 in range(0, height, rows_per_band)]
-            try:
-                for j in jobs:
-                    j.result()
+            jobs = []
+            try:  # Ctrl-C may land anywhere in here, in the middle of starting a pool thread too
+                for r0 in range(0, height, rows_per_band):
+                    jobs.append(ex.submit(band, pass_no, pass_spp, r0, min(height, r0 + rows_per_band)))
+                for j in as_completed(jobs):
+                    traced = j.result()
+                    if bar is not None:  # drawn by this thread only: none draws it once it is closed
+                        bar.update(traced)
             except BaseException:  # an error or Ctrl-C: drop the bands not started yet
+                for j in jobs:
+                    j.cancel()
+                # the queue is emptied too: a pool thread whose start the interrupt cut short (the pool does
+                # not join it) ends after its band
                 ex.shutdown(wait=True, cancel_futures=True)
                 if bar is not None:
                     bar.close()

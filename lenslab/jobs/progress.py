@@ -20,6 +20,7 @@ class RowBar:
         self.step = "reading"
         self.lock = threading.Lock()
         self.timer = None
+        self.closed = False
         self._arm()
 
     def _arm(self) -> None:
@@ -35,6 +36,8 @@ class RowBar:
 
     def _say(self) -> None:
         with self.lock:
+            if self.closed:  # the timer fired as the bar closed (Ctrl-C): nothing after the command's last line
+                return
             if self.bar is None:
                 print(f"{self.desc}: {self.step}...", file=self.stream, flush=True)
             elif self.bar.n == 0:
@@ -66,5 +69,6 @@ class RowBar:
     def close(self) -> None:
         self._cancel()
         with self.lock:
+            self.closed = True
             if self.bar is not None:
                 self.bar.close()

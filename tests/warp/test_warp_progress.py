@@ -52,3 +52,14 @@ def test_a_slow_step_is_named_before_the_bar_appears(monkeypatch):
         time.sleep(0.01)
     bar.close()
     assert "pano.exr: reading..." in stream.getvalue()
+
+
+def test_a_step_named_as_the_bar_closes_is_not_shown():
+    """The timer that names a slow step can fire as Ctrl-C closes the bar: what it would say must not land
+    after the command's interrupted line."""
+    stream = io.StringIO()
+    bar = progress.RowBar("pano.exr", stream)
+    bar.status("reading")
+    bar.close()
+    bar._say()  # the timer's call, made after the close as a timer that fired just before it makes it
+    assert stream.getvalue() == ""
