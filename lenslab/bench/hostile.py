@@ -54,7 +54,7 @@ def _iccp_bomb() -> bytes:
     """A valid 8 x 8 PNG whose iCCP chunk (an ICC profile) inflates to 64 MB from 64 kB."""
     import zlib
 
-    from lenslab.io.png_cicp import png_chunk
+    from lenslab.io.colour.png_cicp import png_chunk
 
     rows = b"".join(b"\0" + bytes(8 * 3) for _ in range(8))
     return (b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", struct.pack(">IIBBBBB", 8, 8, 8, 2, 0, 0, 0))

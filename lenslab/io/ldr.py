@@ -5,7 +5,7 @@ colour is unpremultiplied before it is encoded and premultiplied after it is dec
 premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
 they are. JPG EXIF orientation is not applied (pixels are returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
 standard-dynamic-range image. An embedded ICC profile (PNG ``iCCP``, JPEG ``APP2``) is applied as
-:mod:`lenslab.io.icc` says, unless a PNG's ``cICP`` chunk speaks (it takes precedence).
+:mod:`lenslab.io.colour.icc` says, unless a PNG's ``cICP`` chunk speaks (it takes precedence).
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         warnings.warn(warning, stacklevel=3)
     coded = wide = None
     if fmt == "png":
-        from lenslab.io.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
+        from lenslab.io.colour.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
 
         points = read_cicp(data)
         if points is not None:
@@ -83,11 +83,11 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
                 wide = points[0]
     profile = None  # an ICC profile, applied where no cICP chunk speaks (PNG 3rd edition: cICP wins)
     if not raw and (fmt == "jpg" or points is None):
-        from lenslab.io.icc_chunks import jpeg_profile, png_profile
+        from lenslab.io.colour.icc_chunks import jpeg_profile, png_profile
 
         profile = (png_profile if fmt == "png" else jpeg_profile)(data, str(path))
         if profile is not None:  # a damaged profile is refused before the decoder warns of it
-            from lenslab.io.icc import check
+            from lenslab.io.colour.icc import check
 
             check(profile, str(path))
     elif not raw and fmt == "png" and chunk_before_data(data, b"iCCP") is not None:
@@ -121,7 +121,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
 
     how = None
     if profile is not None:
-        from lenslab.io.icc import decode, plan
+        from lenslab.io.colour.icc import decode, plan
 
         how = plan(profile, 4 if inks else c - 1 if c in (2, 4) else c, str(path))
         attributes["icc"] = how.note
@@ -131,12 +131,12 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
     if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
-        from lenslab.io.png_cicp import to_linear_light
+        from lenslab.io.colour.png_cicp import to_linear_light
 
         image, attributes["note"] = to_linear_light(image, coded)
         linear = coded[1] in (16, 18)
     elif not raw and wide is not None and c in (3, 4):  # sRGB codes on P3-D65 (or BT.2020) primaries
-        from lenslab.io.png_cicp import wide_to_709
+        from lenslab.io.colour.png_cicp import wide_to_709
 
         attributes["note"] = wide_to_709(image, wide)
     if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
@@ -173,8 +173,8 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
     6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
-    encoding, :mod:`lenslab.io.png_cicp`). ``icc``: an ICC profile's bytes, written as PNG's ``iCCP`` chunk or
-    JPEG's ``APP2`` segments (:mod:`lenslab.io.icc_chunks`). ``in_place``: the code values are made in the image's own
+    encoding, :mod:`lenslab.io.colour.png_cicp`). ``icc``: an ICC profile's bytes, written as PNG's ``iCCP`` chunk or
+    JPEG's ``APP2`` segments (:mod:`lenslab.io.colour.icc_chunks`). ``in_place``: the code values are made in the image's own
     memory (the caller gives it up; :func:`lenslab.io.encode.encode_codes`), so encoding holds no other
     array of the image's size than the file's bytes.
     """
@@ -223,8 +223,8 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
 
 def _tagged(encoded: bytes, fmt: str, cicp, icc) -> bytes:
     """``encoded`` with its ``cICP`` chunk (PNG only) and its ICC profile."""
-    from lenslab.io.icc_chunks import jpeg_with_profile, png_with_profile
-    from lenslab.io.png_cicp import with_cicp
+    from lenslab.io.colour.icc_chunks import jpeg_with_profile, png_with_profile
+    from lenslab.io.colour.png_cicp import with_cicp
 
     if cicp is not None and fmt != "png":
         raise FormatError("only PNG carries a cICP chunk")

@@ -152,7 +152,7 @@ def reference_white_gain(display: str, view: str, colorspace: str, config: str |
     BT.2408 says (lenslab, FFmpeg's tone mapping, colour-science divided by 203) gets 0.49 of it back. A
     view is colorimetric when twice the light gives twice the display light; tone-mapping views (ACES
     output transforms) place white themselves and are left as their authors made them."""
-    from lenslab.io.png_cicp import display_code_points, to_linear_light
+    from lenslab.io.colour.png_cicp import display_code_points, to_linear_light
 
     points = display_code_points(display)
     if points is None or points[1] not in (16, 18):  # SDR (an SDR P3 display has code points too)

@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-from lenslab.io.png_cicp import png_chunk
+from lenslab.io.colour.png_cicp import png_chunk
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 GREY_ALPHA = 4  # IHDR colour type

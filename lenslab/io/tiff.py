@@ -14,7 +14,7 @@ associated (premultiplied colour, as EXR's) for float and unassociated for integ
 colour, as PNG's: unpremultiplied before encoding);
 ``compression="zlib"`` (Adobe Deflate, default), ``"lzw"``, ``"zstd"`` or ``"none"``, with the
 horizontal (integer) or floating-point predictor unless ``predictor=False``; ``icc``: an ICC profile written
-as tag 34675 (read back, on integer samples, as :mod:`lenslab.io.icc` says).
+as tag 34675 (read back, on integer samples, as :mod:`lenslab.io.colour.icc` says).
 """
 
 from __future__ import annotations
@@ -88,8 +88,8 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     if kind == "f":
         image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
         if profile is not None:  # linear light: a linear matrix/TRC profile's colorants apply, its curves do not
-            from lenslab.io.icc import linear, plan
-            from lenslab.io.primaries import to_rec709
+            from lenslab.io.colour.icc import linear, plan
+            from lenslab.io.colour.primaries import to_rec709
 
             how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
             if linear(how):
@@ -104,7 +104,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
         bits, sample, encoded = data.dtype.itemsize * 8, "uint", not raw
         how = None
         if profile is not None:  # tag 34675: applied to integer samples as PNG's and JPEG's are
-            from lenslab.io.icc import decode, plan
+            from lenslab.io.colour.icc import decode, plan
 
             how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
             attrs["icc"] = how.note
@@ -125,7 +125,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 
 def _profile(page, path) -> bytes | None:
     """The bytes of the page's ICC profile tag (34675), its size checked against the budget before reading."""
-    from lenslab.io.icc import MAX_BYTES, refuse
+    from lenslab.io.colour.icc import MAX_BYTES, refuse
 
     tag = page.tags.get(34675)
     if tag is None:
@@ -155,7 +155,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
         data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither, straight=not raw)
     options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
                "software": "lenslab", "metadata": None}
-    if icc is not None:  # tag 34675: what the integer codes mean (a display's profile, lenslab.io.icc_build)
+    if icc is not None:  # tag 34675: what the integer codes mean (a display's profile, lenslab.io.colour.icc_build)
         options["iccprofile"] = bytes(icc)
     if alpha:
         options["extrasamples"] = ["assocalpha" if np.dtype(dtype).kind == "f" else "unassalpha"]

@@ -12,7 +12,7 @@ def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
     format; a display's codes are RGB (not PGM). Depends on no image: commands call it before any work."""
     from lenslab.errors import FormatError
     from lenslab.io.ocio import is_hdr_display
-    from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.colour.png_cicp import display_code_points
 
     hdr = is_hdr_display(display)
     points = display_code_points(display) if hdr else None
@@ -54,7 +54,7 @@ def apply_display(image, fmt, options: dict) -> tuple:
     HDR displays (PQ, HLG) need 16 bits: PNG, PPM and TIFF are written with 16-bit samples, and an
     8-bit format is refused; a PNG also gets the display's ``cICP`` chunk (Rec.2100 PQ or HLG; an SDR
 display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 primaries, sRGB transfer; PNG, JPEG
-    and TIFF get its ICC profile, :mod:`lenslab.io.icc_build`, for readers that do not read cICP). The code values are stored as they are (``raw``), not sRGB-encoded again.
+    and TIFF get its ICC profile, :mod:`lenslab.io.colour.icc_build`, for readers that do not read cICP). The code values are stored as they are (``raw``), not sRGB-encoded again.
     With alpha (premultiplied ``image``) the transform acts on the straight colour and the codes are kept
     as the format keeps colour (its record's ``straight_alpha``); a format without alpha gets the colour
     over black.
@@ -73,13 +73,13 @@ display on other primaries than Rec.709's, Display P3, gets one too: P3-D65 prim
         extra["bits"] = 16
     if "raw" in accepts:
         extra["raw"] = True
-    from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.colour.png_cicp import display_code_points
 
     points = display_code_points(display)
     if points is not None and "cicp" in accepts:  # PNG: say PQ, HLG or P3 primaries, or readers take sRGB
         extra["cicp"] = points
     if points is not None and not hdr and "icc" in accepts:  # SDR on P3: an ICC profile for readers without cICP
-        from lenslab.io.icc_build import display_profile
+        from lenslab.io.colour.icc_build import display_profile
 
         extra["icc"] = display_profile(points)
     elif points is not None and not hdr and fmt.kind != "video":  # (HDR ones are refused before any work)

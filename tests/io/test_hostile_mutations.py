@@ -46,7 +46,7 @@ def image_seeds(folder) -> dict[str, bytes]:
             continue
         path = folder / f"seed{fmt.extensions[0]}"
         if fmt.writable:  # with an ICC profile where the format carries one, so mutations reach its parser
-            from lenslab.io.icc_build import profile
+            from lenslab.io.colour.icc_build import profile
 
             icc = {"icc": profile("Display P3")} if "icc" in fmt.write_options else {}
             lio.write(path, img[..., :1] if 3 not in fmt.channels else img, format=name, **icc)

@@ -30,9 +30,9 @@ ImageCms = pytest.importorskip("PIL.ImageCms")
 from PIL import Image  # noqa: E402
 
 import lenslab.io as lio  # noqa: E402
-from lenslab.io.icc_build import profile as build_profile  # noqa: E402
-from lenslab.io.icc_chunks import jpeg_with_profile, png_with_profile  # noqa: E402
-from lenslab.io.png_cicp import with_cicp  # noqa: E402
+from lenslab.io.colour.icc_build import profile as build_profile  # noqa: E402
+from lenslab.io.colour.icc_chunks import jpeg_with_profile, png_with_profile  # noqa: E402
+from lenslab.io.colour.png_cicp import with_cicp  # noqa: E402
 
 GHOSTSCRIPT = Path("/usr/share/color/icc/ghostscript")  # Debian's libgs-common
 SRGB_ENCODE = lambda x: colour.cctf_encoding(np.clip(x, 0, 1), "sRGB")  # noqa: E731
@@ -129,7 +129,7 @@ def test_display_p3_output_carries_an_icc_profile_beside_cicp(tmp_path):
     """A Display P3 PNG as Pillow sees it (no cICP): littleCMS's reading of its profile is lenslab's reading
     of its cICP chunk; the TIFF's tag 34675 the same."""
     pytest.importorskip("PyOpenColorIO")
-    from lenslab.io.png_cicp import read_cicp
+    from lenslab.io.colour.png_cicp import read_cicp
 
     scene = np.random.default_rng(3).random((24, 32, 3), dtype=np.float32)
     lio.write(tmp_path / "s.exr", scene, pixel_type="float")
@@ -225,7 +225,7 @@ def test_hostile_profiles_are_refused_in_one_line(tmp_path, case, cause):
 
 
 def test_an_iccp_chunk_that_inflates_past_the_budget_is_refused(tmp_path):
-    from lenslab.io.png_cicp import png_chunk
+    from lenslab.io.colour.png_cicp import png_chunk
 
     data = _png(_codes((8, 8, 3)))
     bomb = png_chunk(b"iCCP", b"x\0\0" + zlib.compress(bytes(64 << 20), 9))  # 64 MiB in about 64 kB
@@ -329,7 +329,7 @@ def test_alpha_stays_coverage_and_16_bit_pngs_are_decoded_through_the_profile(tm
 def test_profiles_of_any_size_are_found_as_pillow_finds_them(size, seed):
     """APP2 segments of 65519 bytes each (a profile of 200 kB takes four) and an iCCP chunk: Pillow's reading of
     the written file is the profile, and so is lenslab's."""
-    from lenslab.io.icc_chunks import jpeg_profile, png_profile
+    from lenslab.io.colour.icc_chunks import jpeg_profile, png_profile
 
     icc = np.random.default_rng(seed).integers(0, 256, size, dtype=np.uint8).tobytes()
     codes = _codes((8, 8, 3))

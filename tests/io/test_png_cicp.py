@@ -90,7 +90,7 @@ def test_sdr_png_has_no_cicp_chunk_and_reads_as_srgb(tmp_path):
 def test_other_transfers_are_left_as_codes_and_srgb_stays_srgb(tmp_path):
     import cv2
 
-    from lenslab.io.png_cicp import with_cicp
+    from lenslab.io.colour.png_cicp import with_cicp
 
     codes = (np.arange(24, dtype=np.uint16).reshape(2, 4, 3) * 2000)
     ok, buf = cv2.imencode(".png", codes[..., ::-1])

@@ -56,7 +56,7 @@ def _scene():
 
 
 def test_display_p3_code_points():
-    from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.colour.png_cicp import display_code_points
 
     assert display_code_points("Display P3 - Display") == DISPLAY_P3
     assert display_code_points("sRGB - Display") is None  # Rec.709 primaries, sRGB: what readers assume

@@ -48,7 +48,7 @@ def _png_with_cicp(path, codes16: np.ndarray, points) -> None:
 
 @pytest.mark.parametrize("display", sorted(H273))
 def test_display_code_points_are_h273s(display):
-    from lenslab.io.png_cicp import display_code_points
+    from lenslab.io.colour.png_cicp import display_code_points
 
     assert display_code_points(display) == H273[display]
 

@@ -1,4 +1,4 @@
-"""Other primaries become Rec.709 one way (:func:`lenslab.io.primaries.to_rec709`, a band of rows at a time,
+"""Other primaries become Rec.709 one way (:func:`lenslab.io.colour.primaries.to_rec709`, a band of rows at a time,
 in place) for an EXR's ``chromaticities`` attribute and a PNG's cICP primaries alike. Expected values:
 colour-science's ``RGB_to_RGB`` in float64 on the same pixels (no chromatic adaptation for the EXR: its
 XYZ unchanged, as OpenEXR's RGB -> XYZ of its chromaticities gives it), the pixels read by OpenEXR."""
@@ -10,7 +10,7 @@ import OpenEXR
 import pytest
 
 import lenslab.io as lio
-from lenslab.io import primaries
+from lenslab.io.colour import primaries
 
 colour = pytest.importorskip("colour")
 
@@ -53,7 +53,7 @@ def test_an_exr_with_ap0_chromaticities_is_read_as_colour_science_converts_it(tm
 
 
 def test_a_p3_png_goes_through_the_same_function_as_colour_science_converts_it(tmp_path, applied):
-    from lenslab.io.png_cicp import wide_to_709
+    from lenslab.io.colour.png_cicp import wide_to_709
 
     rng = np.random.default_rng(5)
     linear = rng.uniform(0, 1, (260, 5, 4)).astype(np.float32)
@@ -67,7 +67,7 @@ def test_a_p3_png_goes_through_the_same_function_as_colour_science_converts_it(t
 
 
 def test_a_tagged_png_file_is_read_through_it(tmp_path, applied):
-    from lenslab.io.png_cicp import with_cicp
+    from lenslab.io.colour.png_cicp import with_cicp
 
     codes = np.random.default_rng(6).uniform(0, 1, (6, 9, 3)).astype(np.float32)
     plain = tmp_path / "plain.png"
@@ -83,7 +83,7 @@ def test_a_tagged_png_file_is_read_through_it(tmp_path, applied):
 
 
 def test_a_pq_png_on_bt2020_goes_through_it_as_colour_science_decodes_it(tmp_path, applied):
-    from lenslab.io.png_cicp import with_cicp
+    from lenslab.io.colour.png_cicp import with_cicp
 
     codes = np.random.default_rng(7).integers(0, 65536, (5, 8, 3)).astype(np.float32) / 65535
     plain = tmp_path / "plain.png"

@@ -1,4 +1,4 @@
-"""Video takes its primaries matrices from the one place stills take theirs (:mod:`lenslab.io.primaries`,
+"""Video takes its primaries matrices from the one place stills take theirs (:mod:`lenslab.io.colour.primaries`,
 colour-science's ``matrix_RGB_to_RGB``): decoding and encoding PQ and HLG frames, the tables' NumPy paths and
 the compiled Y'CbCr passes, both ways (the way back is colour-science's matrix, not an inverse computed by
 lenslab). Expected values: colour-science's ``RGB_to_RGB``, ``matrix_RGB_to_RGB``, its transfer functions
@@ -12,7 +12,7 @@ import colour
 import numpy as np
 import pytest
 
-from lenslab.io import primaries
+from lenslab.io.colour import primaries
 from lenslab.io.video import VideoInfo
 from lenslab.io.video import colour as vcolour
 from lenslab.io.video import ycbcr

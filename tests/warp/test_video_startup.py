@@ -23,7 +23,7 @@ from tests.warp.test_video_warp_imports import _clip  # noqa: E402  (a 3-frame H
 WARP_COMMANDS = {"lenslab.cli", "lenslab.cli.main", "lenslab.cli.warp", "lenslab.cli.display"}
 #: readers of other formats, calibration files and the lens database; a clip's warp reads none of them
 READERS = ("lenslab.io.exr", "lenslab.io.tiff", "lenslab.io.ldr", "lenslab.io.pfm", "lenslab.io.pnm",
-           "lenslab.io.rgbe", "lenslab.io.ocio", "lenslab.io.png_cicp", "lenslab.calibfiles.",
+           "lenslab.io.rgbe", "lenslab.io.ocio", "lenslab.io.colour.png_cicp", "lenslab.calibfiles.",
            "lenslab.lenses.lensfun.database", "lenslab.stmap", "lenslab.metrics")
 #: the libraries behind those readers, and the progress bar a quiet run does not show
 LIBRARIES = ("OpenEXR", "Imath", "tifffile", "PIL", "imageio", "PyOpenColorIO", "OpenImageIO", "tqdm",

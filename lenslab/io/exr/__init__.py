@@ -152,7 +152,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
     if chroma is not None and (converted or rec709 and out_names[:3] == ["R", "G", "B"]):
-        from lenslab.io.primaries import check_chromaticities
+        from lenslab.io.colour.primaries import check_chromaticities
 
         check_chromaticities(path, chroma)  # before any pixel is decoded
     used = {short.get(n, n) for n in out_names} | ({short[c] for c in ("Y", "RY", "BY") if c in short} if converted
@@ -182,7 +182,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     primaries_converted = False
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
-        from lenslab.io.primaries import matrix_from_chromaticities, to_rec709
+        from lenslab.io.colour.primaries import matrix_from_chromaticities, to_rec709
 
         to_rec709(image, matrix_from_chromaticities(chroma))  # file RGB -> XYZ -> Rec.709, by bands
         primaries_converted = True

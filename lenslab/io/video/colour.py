@@ -25,7 +25,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.primaries import H273_PRIMARIES, h273_matrix
+from lenslab.io.colour.primaries import H273_PRIMARIES, h273_matrix
 
 #: HDR reference white (ITU-R BT.2408): the luminance lenslab's 1.0 stands for in PQ and HLG video
 REFERENCE_WHITE = 203.0
@@ -128,19 +128,19 @@ def cached(name: str, length: int, dtype, build) -> np.ndarray:
     return cached_table(name, length, dtype, build, prefix=f"video-v{CACHE_VERSION}")
 
 
-#: H.273 colour primaries converted to and from Rec.709 (:data:`lenslab.io.primaries.H273_PRIMARIES`)
+#: H.273 colour primaries converted to and from Rec.709 (:data:`lenslab.io.colour.primaries.H273_PRIMARIES`)
 WIDE_PRIMARIES = H273_PRIMARIES
 
 
 def matrix_to_709(primaries: int) -> np.ndarray | None:
     """Linear RGB in the H.273 ``primaries`` -> linear Rec.709 (float64 3 x 3), or None for Rec.709 itself and
-    primaries read as Rec.709: :func:`lenslab.io.primaries.h273_matrix`."""
+    primaries read as Rec.709: :func:`lenslab.io.colour.primaries.h273_matrix`."""
     return h273_matrix(primaries)
 
 
 def matrix_from_709(primaries: int) -> np.ndarray | None:
     """Linear Rec.709 -> linear RGB in the H.273 ``primaries`` (float64 3 x 3), or None: colour-science's matrix
-    (:func:`lenslab.io.primaries.h273_matrix`), the way back of :func:`matrix_to_709`."""
+    (:func:`lenslab.io.colour.primaries.h273_matrix`), the way back of :func:`matrix_to_709`."""
     return h273_matrix(primaries, to_709=False)
 
 
@@ -153,7 +153,7 @@ def to_linear(codes: np.ndarray, info) -> np.ndarray:
     """Code values in [0, 1] (H x W x 3) -> linear Rec.709 float32, by the stream's transfer and primaries."""
     lin = _eotf(codes.astype(np.float64), info.curve)
     if is_wide(info.primaries):
-        from lenslab.io.primaries import to_rec709
+        from lenslab.io.colour.primaries import to_rec709
 
         to_rec709(lin, matrix_to_709(info.primaries))
     return lin.astype(np.float32)

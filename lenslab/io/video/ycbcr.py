@@ -26,7 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from lenslab.io.primaries import H273_YCBCR, ycbcr_weights
+from lenslab.io.colour.primaries import H273_YCBCR, ycbcr_weights
 from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table, is_wide, matrix_from_709,
                                      matrix_to_709,
                                      threads)
@@ -35,7 +35,7 @@ from lenslab.io.video.colour import (KNOT_SHIFT, LOW, decode_table, encode_table
 FORMATS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0),
            "yuv420p10le": (10, 1, 1), "yuv422p10le": (10, 1, 0), "yuv444p10le": (10, 0, 0),
            "yuv420p12le": (12, 1, 1), "yuv422p12le": (12, 1, 0), "yuv444p12le": (12, 0, 0)}
-#: matrix tags (H.273) these passes take, with colour-science's (Kr, Kb) (:func:`lenslab.io.primaries.ycbcr_weights`)
+#: matrix tags (H.273) these passes take, with colour-science's (Kr, Kb) (:func:`lenslab.io.colour.primaries.ycbcr_weights`)
 MATRICES = frozenset(H273_YCBCR)
 
 

@@ -1,14 +1,14 @@
 """Where an ICC profile sits in a PNG (the ``iCCP`` chunk, PNG Specification 11.3.2.3: a name, a NUL, method 0
 and the zlib-compressed profile) and in a JPEG (``APP2`` segments that start ``ICC_PROFILE\\0``, a sequence
 number and a count, ICC.1 Annex B.4): taken out for reading, put in for writing. Bounded by what the file holds
-and by :data:`lenslab.io.icc.MAX_BYTES` after inflation (a small chunk cannot inflate past it)."""
+and by :data:`lenslab.io.colour.icc.MAX_BYTES` after inflation (a small chunk cannot inflate past it)."""
 
 from __future__ import annotations
 
 import struct
 import zlib
 
-from lenslab.io.icc import MAX_BYTES, refuse
+from lenslab.io.colour.icc import MAX_BYTES, refuse
 
 JPEG_TAG = b"ICC_PROFILE\0"
 #: profile bytes in one APP2 segment: 65535 less its length field, tag, sequence number and count
@@ -18,7 +18,7 @@ IHDR_END = 8 + 8 + 13 + 4  # signature, IHDR length and type, its 13 bytes, its 
 
 def png_profile(png: bytes, where: str) -> bytes | None:
     """The profile of a PNG's ``iCCP`` chunk, inflated, or None without one."""
-    from lenslab.io.png_cicp import chunk_before_data
+    from lenslab.io.colour.png_cicp import chunk_before_data
 
     chunk = chunk_before_data(png, b"iCCP")
     if chunk is None:
@@ -69,7 +69,7 @@ def jpeg_profile(jpg: bytes, where: str) -> bytes | None:
 def png_with_profile(png: bytes, profile: bytes, name: bytes = b"ICC profile") -> bytes:
     """``png`` with an ``iCCP`` chunk of ``profile`` right after its ``IHDR`` (before ``cICP``, ``PLTE`` and
     the image data, as the chunk must be)."""
-    from lenslab.io.png_cicp import png_chunk
+    from lenslab.io.colour.png_cicp import png_chunk
 
     if png[12:16] != b"IHDR":
         raise ValueError("not a PNG stream that starts with IHDR")

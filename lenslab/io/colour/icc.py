@@ -7,7 +7,7 @@ exactly: each channel's code value goes through the profile's tone curve (``rTRC
 ``gXYZ``, ``bXYZ``, adapted to the D50 connection space) are taken back to the device's own white through the
 inverse of the profile's ``chad`` tag (Bradford from the media white point ``wtpt`` to D50 when it has none,
 as v2 profiles do), and the light they describe goes to linear Rec.709 by colour-science's matrix from the
-primaries' and white's chromaticities, its white to D65 by Bradford (:func:`lenslab.io.primaries.
+primaries' and white's chromaticities, its white to D65 by Bradford (:func:`lenslab.io.colour.primaries.
 matrix_from_chromaticities`): the file's white becomes Rec.709's white, as an ICC reader's relative
 colorimetric rendering makes it. A grey profile's ``kTRC`` is applied the same way (no colorants). Float
 samples (TIFF) are linear light: only a linear profile's colorants apply to them (:func:`linear`).
@@ -142,7 +142,7 @@ def _xyz(value) -> np.ndarray | None:
 
 def _to_rec709(pcs: np.ndarray, chad: np.ndarray, where: str) -> np.ndarray:
     """3 x 3 device RGB -> linear Rec.709 from the colorants (columns, D50 PCS) and the adaptation to D50."""
-    from lenslab.io.primaries import matrix_from_chromaticities
+    from lenslab.io.colour.primaries import matrix_from_chromaticities
 
     if not (np.all(np.isfinite(pcs)) and np.all(np.isfinite(chad))) or abs(np.linalg.det(chad)) < 1e-6:
         refuse(where, "has colorants or a chromatic adaptation that are not numbers a profile holds")
@@ -237,7 +237,7 @@ def decode(codes: np.ndarray, maxval: int, how: Plan, where: str) -> np.ndarray:
     if c in (2, 4):
         out[..., -1] = codes[..., -1].astype(np.float32) / np.float32(maxval)
     if how.matrix is not None:
-        from lenslab.io.primaries import to_rec709
+        from lenslab.io.colour.primaries import to_rec709
 
         to_rec709(out, how.matrix)
     return out

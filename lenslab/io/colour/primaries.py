@@ -37,7 +37,7 @@ def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) ->
     """float64 3 x 3 from linear RGB on ``chromaticities`` (x, y of R, G, B and white, OpenEXR's order)
     to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged), or with
     colour-science's ``adaptation`` transform from the file's white to D65 (``"Bradford"``: an ICC profile's
-    white becomes Rec.709's, :mod:`lenslab.io.icc`)."""
+    white becomes Rec.709's, :mod:`lenslab.io.colour.icc`)."""
     import colour
 
     c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)

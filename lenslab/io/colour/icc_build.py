@@ -17,7 +17,7 @@ import struct
 
 import numpy as np
 
-from lenslab.io.icc import D50
+from lenslab.io.colour.icc import D50
 
 #: IEC 61966-2-1: y = ((x + 0.055) / 1.055) ** 2.4 from x = 0.04045, x / 12.92 below (``para`` type 3: g a b c d)
 SRGB_CURVE = (2.4, 1 / 1.055, 0.055 / 1.055, 1 / 12.92, 0.04045)

@@ -108,9 +108,9 @@ def to_linear_light(codes, points):
 def wide_to_709(image, primaries: int) -> str:
     """Linear light decoded from sRGB codes on H.273 ``primaries`` (H x W x C float32, straight colour, alpha
     last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
-    (:func:`lenslab.io.primaries.h273_matrix`); the note a reader shows. Rec.709 primaries, and
+    (:func:`lenslab.io.colour.primaries.h273_matrix`); the note a reader shows. Rec.709 primaries, and
     primaries lenslab reads as Rec.709, are left alone."""
-    from lenslab.io.primaries import h273_matrix, to_rec709
+    from lenslab.io.colour.primaries import h273_matrix, to_rec709
 
     matrix = h273_matrix(primaries)
     if matrix is None:
