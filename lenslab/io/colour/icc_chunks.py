@@ -13,7 +13,6 @@ from lenslab.io.colour.icc import MAX_BYTES, refuse
 JPEG_TAG = b"ICC_PROFILE\0"
 #: profile bytes in one APP2 segment: 65535 less its length field, tag, sequence number and count
 JPEG_SEGMENT = 65535 - 2 - len(JPEG_TAG) - 2
-IHDR_END = 8 + 8 + 13 + 4  # signature, IHDR length and type, its 13 bytes, its CRC
 
 
 def png_profile(png: bytes, where: str) -> bytes | None:
@@ -69,12 +68,9 @@ def jpeg_profile(jpg: bytes, where: str) -> bytes | None:
 def png_with_profile(png: bytes, profile: bytes, name: bytes = b"ICC profile") -> bytes:
     """``png`` with an ``iCCP`` chunk of ``profile`` right after its ``IHDR`` (before ``cICP``, ``PLTE`` and
     the image data, as the chunk must be)."""
-    from lenslab.io.colour.png_cicp import png_chunk
+    from lenslab.io.colour.png_cicp import after_ihdr
 
-    if png[12:16] != b"IHDR":
-        raise ValueError("not a PNG stream that starts with IHDR")
-    chunk = png_chunk(b"iCCP", name[:79] + b"\0\0" + zlib.compress(bytes(profile), 9))
-    return bytes(png[:IHDR_END]) + chunk + bytes(png[IHDR_END:])
+    return after_ihdr(png, b"iCCP", name[:79] + b"\0\0" + zlib.compress(bytes(profile), 9))
 
 
 def jpeg_with_profile(jpg: bytes, profile: bytes) -> bytes:

@@ -51,15 +51,24 @@ def png_chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
 
+#: where the chunk after ``IHDR`` starts: the signature, IHDR's length and type, its 13 bytes and its CRC
+IHDR_END = 8 + 8 + 13 + 4
+
+
+def after_ihdr(png: bytes, kind: bytes, data: bytes) -> bytes:
+    """``png`` with a chunk of ``kind`` holding ``data`` right after its ``IHDR`` (where ``cICP`` and ``iCCP``
+    must come: before ``PLTE`` and the image data)."""
+    if png[12:16] != b"IHDR":
+        raise ValueError("not a PNG stream that starts with IHDR")
+    return bytes(png[:IHDR_END]) + png_chunk(kind, data) + bytes(png[IHDR_END:])
+
+
 def with_cicp(png: bytes, points) -> bytes:
     """``png`` with a ``cICP`` chunk of ``points`` (4 integers 0..255) right after its ``IHDR``."""
     points = tuple(int(v) for v in points)
     if len(points) != 4 or not all(0 <= v <= 255 for v in points):
         raise ValueError(f"cICP takes 4 code points 0..255, not {points!r}")
-    end = 8 + 8 + 13 + 4  # signature, IHDR length and type, its 13 bytes, its CRC
-    if png[12:16] != b"IHDR":
-        raise ValueError("not a PNG stream that starts with IHDR")
-    return png[:end] + png_chunk(b"cICP", bytes(points)) + png[end:]
+    return after_ihdr(png, b"cICP", bytes(points))
 
 
 def chunk_before_data(png: bytes, kind: bytes) -> bytes | None:
