@@ -424,6 +424,13 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                             G.add(o.w);
                             G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
                         }
+                        // the mean part * norm, within the texels the window read (where they are finite)
+                        auto put = [&](const L& part, double norm) {
+                            const L v = clamp_mean(part * norm, G.vmin, G.vmax);
+                            double* vm = val.data() + members[m] * nc;
+                            if constexpr (NC == 1) vm[0] = v;
+                            else for (int64_t ch = 0; ch < cn; ++ch) vm[c0 + ch] = v[ch];
+                        };
                         G.rows(o.w, R);
                         L part{};
                         if (o.sl || o.sr) {  // a quadrilateral: the contour V0 V1 V2 V3
@@ -444,20 +451,14 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                             directed_edge<NC>(vx[1], vy[1], vx[2], vy[2], umax, jmax, R, right);
                             part = part + right;
                             carry = -right;
-                            const double norm = 2.0 / shoelace2(vx, vy);
-                            double* vm = val.data() + members[m] * nc;
-                            if constexpr (NC == 1) vm[0] = part * norm;
-                            else for (int64_t ch = 0; ch < cn; ++ch) vm[c0 + ch] = part[ch] * norm;
+                            put(part, 2.0 / shoelace2(vx, vy));
                             continue;
                         }
                         const double area = o.cols ? prefix_slices<NC>(o.cy - double(o.wy0), o.cx - double(o.wx0), o.tay, o.tax,
                                                                        o.tby, o.tbx, o.w.nu, o.w.nv, R, part)
                                                    : prefix_slices<NC>(o.cx - double(o.wx0), o.cy - double(o.wy0), o.tax, o.tay,
                                                                        o.tbx, o.tby, o.w.nu, o.w.nv, R, part);
-                        const double norm = 1.0 / area;
-                        double* vm = val.data() + members[m] * nc;
-                        if constexpr (NC == 1) vm[0] = part * norm;
-                        else for (int64_t ch = 0; ch < cn; ++ch) vm[c0 + ch] = part[ch] * norm;
+                        put(part, 1.0 / area);
                     }
                 }
             }

@@ -47,6 +47,7 @@ struct Ragged {
     int64_t vb = 0;  // slice row of lo[0]
     int64_t vlo = 0, vhi = 0;  // the rows in use: [vlo, vhi)
     int64_t lo[MAXR], hi[MAXR], base[MAXR];
+    L vmin{}, vmax{};  // the least and greatest texel the window holds (each channel), after load
     std::vector<L> f, h, s;
     Ragged() : f(CAP), h(CAP), s(CAP) {}
 
@@ -74,6 +75,7 @@ struct Ragged {
         const float* end = buf + lw * lh * nc;
         int64_t at = 0;
         L ends{};  // the rows' last prefix sums and last texels (0 * ends stays 0 while they are finite)
+        bool any = false;
         for (int64_t v = vlo; v < vhi; ++v) {
             const int64_t r = v - vb;
             base[r] = at;
@@ -98,16 +100,28 @@ struct Ragged {
             L* H = h.data() + at;
             L* S = s.data() + at;
             L acc{};  // (zero: a texel of inf would make 0 * inf NaN)
+            L mn = any ? lane_min(vmin, F[n - 1]) : F[n - 1], mx = any ? lane_max(vmax, F[n - 1]) : F[n - 1];
+            any = true;
             for (int64_t u = 0; u + 1 < n; ++u) {
                 S[u] = acc;
                 H[u] = 0.5 * (F[u + 1] - F[u]);
                 acc = acc + 0.5 * (F[u] + F[u + 1]);
+                mn = lane_min(mn, F[u]);
+                mx = lane_max(mx, F[u]);
             }
+            vmin = mn;
+            vmax = mx;
             ends = ends + 0.0 * (acc + F[n - 1]);
             at += n;
         }
-        if constexpr (NC == 1) return ends == 0.0;
-        else return ends[0] == 0.0 && ends[1] == 0.0 && ends[2] == 0.0 && ends[3] == 0.0;
+        bool finite;
+        if constexpr (NC == 1) finite = ends == 0.0;
+        else finite = ends[0] == 0.0 && ends[1] == 0.0 && ends[2] == 0.0 && ends[3] == 0.0;
+        if (!finite) {  // (no bound: the means are not clamped)
+            vmin = L{} - INFINITY;
+            vmax = L{} + INFINITY;
+        }
+        return finite;
     }
 
     // the rows of a footprint's window w (inside the union)

@@ -55,6 +55,22 @@ inline typename Lanes<NC>::type load_texel(const float* t, bool last, int64_t c0
     }
 }
 
+// each lane's least and greatest of a and b (where b is not a number: a)
+inline double lane_min(double a, double b) { return b < a ? b : a; }
+inline double lane_max(double a, double b) { return b > a ? b : a; }
+inline V4 lane_min(V4 a, V4 b) { return b < a ? b : a; }
+inline V4 lane_max(V4 a, V4 b) { return b > a ? b : a; }
+
+// The mean of a footprint, part / area, kept within [lo, hi], the least and greatest texel its window read: the
+// exact box average of a bilinear reconstruction is a convex combination of those texels, so this removes only
+// float64 rounding (of a prefix sum's constant that cancels around the contour: a value of -7e-14 where a
+// non-negative source is 0 beside a bright texel). NaN stays NaN.
+template <class L>
+inline L clamp_mean(L v, L lo, L hi) {
+    v = v < lo ? lo : v;
+    return v > hi ? hi : v;
+}
+
 // The rows of a window as the slices read them: row r (slices' rows: y; x when the footprint is sliced along
 // columns), texel u along it: its value f, half the step to the next texel h = (f[u + 1] - f[u]) / 2, and the
 // integral s of the row's linear interpolant from texel 0 to texel u (trapezoids, summed in order), so that

@@ -247,6 +247,17 @@ def quad_integral(vx, vy, rows):
     return acc, area
 
 
+def _within_texels(mean, texels):
+    """A footprint's mean kept within the least and greatest of the texels its window read (each channel), where
+    they are all finite: the exact box average of a bilinear reconstruction is a convex combination of them, so
+    this removes only float64 rounding (the kernel keeps it within its run's shared window, a looser bound of the
+    same kind). NaN stays NaN."""
+    if not np.isfinite(texels).all():
+        return mean
+    lo, hi = texels.min(axis=0), texels.max(axis=0)
+    return np.where(mean < lo, lo, np.where(mean > hi, hi, mean))
+
+
 def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
     """The footprint filter (see :mod:`lenslab.warp.antialias`): ``(out (n, C), alpha (n,))`` for pixels of
     ``S`` samples (``xs`` (..., S), ``foot`` (..., S, 4)), every step in float64 Python arithmetic. Rows of
@@ -285,7 +296,7 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
                 part, area = quad_integral([cx - wx0 + p[0] for p in smp["quad"]],
                                            [cy - wy0 + p[1] for p in smp["quad"]],
                                            window_rows(texels.reshape(nwy, nwx, nc)))
-                acc += part * (1.0 / area)
+                acc += _within_texels(part * (1.0 / area), texels)
                 continue
             if nwx < WINDOW and nwy < WINDOW:  # inside its window: the rows' prefix sums
                 win = texels.reshape(nwy, nwx, nc)
@@ -293,7 +304,7 @@ def footprint(pyr: Pyramid, xs, ys, valid, foot, border):
                     part, area = prefix_slices(cy - wy0, cx - wx0, ay, ax, by, bx, window_rows(win.transpose(1, 0, 2)))
                 else:
                     part, area = prefix_slices(cx - wx0, cy - wy0, ax, ay, bx, by, window_rows(win))
-                acc += part * (1.0 / area)
+                acc += _within_texels(part * (1.0 / area), texels)
                 continue
             # clipped by its window (beyond the coarsest level): the texels' weights
             if ey > ex:
