@@ -151,14 +151,12 @@ def thicken_slivers(foot: np.ndarray) -> bool:
     ``min(SLIVER_HEIGHT, longer side / SLIVER_ANISOTROPY)`` across its longer side to that height, by moving its
     shorter side along the longer one's normal (the orientation kept). Returns whether any was widened."""
     flat = foot.reshape(-1, 4)
-    a0, a1, b0, b1 = flat.T
-    long2 = np.maximum(a0 * a0 + a1 * a1, b0 * b0 + b1 * b1)
-    cross = a0 * b1
-    cross -= a1 * b0
-    cross *= cross
-    # |a x b| / longer side < min(SLIVER_HEIGHT, longer side / SLIVER_ANISOTROPY), squared
-    thin = cross < np.minimum(long2 * np.float32(SLIVER_HEIGHT ** 2), long2 * long2 / np.float32(SLIVER_ANISOTROPY ** 2))
-    thin = np.flatnonzero(thin)
+    # |a x b| / longer side < min(SLIVER_HEIGHT, longer side / SLIVER_ANISOTROPY), squared, in float32: the
+    # squared cross product against min(long2 SLIVER_HEIGHT^2, long2^2 / SLIVER_ANISOTROPY^2), long2 the longer
+    # side squared (one compiled pass; reference :func:`thin_reference`)
+    thin = np.empty(len(flat), np.int64)  # (pages get memory only where written: a few here)
+    thin = thin[:native.kernels().thin_footprints(c32(flat), np.float32(SLIVER_HEIGHT ** 2),
+                                                  np.float32(SLIVER_ANISOTROPY ** 2), thin)]
     if not len(thin):
         return False
     f = flat[thin].astype(np.float64)
@@ -176,6 +174,18 @@ def thicken_slivers(foot: np.ndarray) -> bool:
     f[:, 0:2] = np.where(a_long[:, None], a, a - step)
     flat[thin] = f
     return True
+
+
+def thin_reference(foot: np.ndarray) -> np.ndarray:
+    """The flat indices of the footprints (``(..., 4)`` float32) that :func:`thicken_slivers` widens, in NumPy's
+    float32 steps (the reference of the compiled ``thin_footprints``)."""
+    a0, a1, b0, b1 = foot.reshape(-1, 4).T
+    long2 = np.maximum(a0 * a0 + a1 * a1, b0 * b0 + b1 * b1)
+    cross = a0 * b1
+    cross -= a1 * b0
+    cross *= cross
+    return np.flatnonzero(cross < np.minimum(long2 * np.float32(SLIVER_HEIGHT ** 2),
+                                             long2 * long2 / np.float32(SLIVER_ANISOTROPY ** 2)))
 
 
 def _split_edges(mapper: Mapper, r0: int, offsets, half: float, xs, ys, valid, foot, edge,

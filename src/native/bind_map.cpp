@@ -150,6 +150,12 @@ void bind_map_kernels(nb::module_& m) {
     }, nb::arg("at"), nb::arg("xy"), nb::arg("v"), nb::arg("xs").noconvert(), nb::arg("ys").noconvert(),
        nb::arg("valid").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 
+    m.def("thin_footprints", [](In<float> foot, float h2, float q2, Out<int64_t> idx) {
+        const size_t n = foot.size() / 4;
+        need(foot.size() == 4 * n && idx.size() >= n, "thin_footprints: foot (..., 4) and idx of one per footprint");
+        return thin_footprints(foot.data(), int64_t(n), h2, q2, idx.data());
+    }, nb::arg("foot"), nb::arg("h2"), nb::arg("q2"), nb::arg("idx").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
     m.def("fold_piece", [](int64_t i, int64_t j, int64_t p, In<int64_t> table) {
         need(table.ndim() == 2 && table.shape(1) == 16 && p >= 0 && p < int64_t(table.shape(0)), "no such piece");
         const int64_t np = int64_t(table.shape(0));

@@ -306,4 +306,37 @@ void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float*
     }
 }
 
+// The footprints (n, 4: a then b, float32) thinner than min(sqrt(h2), longer side / sqrt(q2)) across their longer
+// side, their indices into idx; returns how many (lenslab.warp.antialias.thicken_slivers). Each step rounds to
+// float32 as NumPy's does (this file is built without fused multiply-adds); NaN is not thin.
+int64_t thin_footprints(const float* __restrict__ foot, int64_t n, float h2, float q2, int64_t* __restrict__ idx) {
+    constexpr int64_t BLOCK = 256;  // the tests of a block at once (vectorised), then its thin ones listed
+    uint8_t thin[BLOCK];
+    int64_t k = 0;
+    for (int64_t e0 = 0; e0 < n; e0 += BLOCK) {
+        const int64_t m = std::min(BLOCK, n - e0);
+        const float* f = foot + 4 * e0;
+        uint8_t any = 0;
+        for (int64_t e = 0; e < m; ++e) {
+            const float a0 = f[4 * e], a1 = f[4 * e + 1], b0 = f[4 * e + 2], b1 = f[4 * e + 3];
+            const float la = a0 * a0 + a1 * a1, lb = b0 * b0 + b1 * b1;
+            const float long2 = la > lb ? la : lb;
+            float cross = a0 * b1;
+            cross -= a1 * b0;
+            cross *= cross;
+            // cross < min(long2 h2, long2^2 / q2), false where NumPy's maximum or minimum gives NaN (la or lb NaN;
+            // the products of a long2 that is not NaN are not NaN)
+            const uint8_t t = (la == la) & (lb == lb) & (cross < long2 * h2) & (cross < long2 * long2 / q2);
+            thin[e] = t;
+            any |= t;
+        }
+        if (!any) continue;
+        for (int64_t e = 0; e < m; ++e) {
+            idx[k] = e0 + e;
+            k += thin[e];
+        }
+    }
+    return k;
+}
+
 }  // namespace lenslab

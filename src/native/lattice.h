@@ -48,6 +48,9 @@ void lattice_rows(const LatticeBand& b, double inv);
 // Place n mapped samples at flat positions at[] of a band's maps: index coordinates xy - 0.5 rounded to float32
 // where valid, 0 where not (lenslab.warp.lattice.place; xy (n, 2) float64).
 void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float* xs, float* ys, bool* valid);
+// The footprints (n, 4 float32) thinner than min(sqrt(h2), longer side / sqrt(q2)): their indices into idx, how many
+// (lenslab.warp.antialias.thicken_slivers; float32 steps as NumPy's).
+int64_t thin_footprints(const float* foot, int64_t n, float h2, float q2, int64_t* idx);
 
 // Fold tap (i, j) of a sample in piece p into that piece or across its edge into the neighbour
 // (lenslab.warp.seam.fold_piece); table (pieces, 16).
