@@ -170,7 +170,7 @@ struct Item {
     Span w;  // the window in slice coordinates (mode 1)
 };
 
-void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, const float* f,
+__attribute__((always_inline)) inline void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, const float* f,
            double max_taps) {
     it.mode = 1;
     const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
@@ -221,14 +221,14 @@ inline bool shareable(const Item& it) {
 
 // whether gap is within an eighth of the parallelogram's smaller height (its area over its longer side), squared:
 // (8 gap)^2 |longer side|^2 <= area^2
-inline bool within(double gap, const Item& it) {
+__attribute__((always_inline)) inline bool within(double gap, const Item& it) {
     const double la = it.tax * it.tax + it.tay * it.tay, lb = it.tbx * it.tbx + it.tby * it.tby;
     const double area = it.tax * it.tby - it.tay * it.tbx, g8 = 8.0 * gap;
     return g8 * g8 * std::max(la, lb) <= area * area;
 }
 
 // (period: the level's width when the source wraps around, else 0)
-void link(Item& l, Item& r, const int64_t* shapes, bool wrap) {
+__attribute__((always_inline)) inline void link(Item& l, Item& r, const int64_t* shapes, bool wrap) {
     if (!shareable(l) || !shareable(r) || l.lev != r.lev) return;
     double dx = r.cx - l.cx;
     const double dy = r.cy - l.cy;
@@ -256,7 +256,7 @@ void link(Item& l, Item& r, const int64_t* shapes, bool wrap) {
 }
 
 // A footprint with a shared side: its own vertices on the other sides, and the window of the quadrilateral.
-void finish_quad(Item& it) {
+__attribute__((always_inline)) inline void finish_quad(Item& it) {
     if (!it.sl && !it.sr) return;
     if (!it.sl) {
         it.qx[0] = -0.5 * it.tax - 0.5 * it.tbx; it.qy[0] = -0.5 * it.tay - 0.5 * it.tby;
