@@ -167,11 +167,12 @@ struct Item {
     int64_t lev, wx0, wy0, nwx, nwy;
     double cx, cy, tax, tay, tbx, tby;
     double qx[4], qy[4];  // a quadrilateral's vertices V0 (-a -b) V1 (+a -b) V2 (+a +b) V3 (-a +b), from c
+    double long2, area2;  // the (thickened) parallelogram's longer side and area, squared (within)
     Span w;  // the window in slice coordinates (mode 1)
 };
 
-__attribute__((always_inline)) inline void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs, float ys, const float* f,
-           double max_taps) {
+__attribute__((always_inline)) inline void setup(Item& it, const int64_t* shapes, int64_t nlev, double h0, float xs,
+                                                 float ys, const float* f, double max_taps) {
     it.mode = 1;
     const double fax = clamp_side(f[0]), fay = clamp_side(f[1]), fbx = clamp_side(f[2]), fby = clamp_side(f[3]);
     const double la = fax * fax + fay * fay, lb = fbx * fbx + fby * fby;
@@ -196,6 +197,11 @@ __attribute__((always_inline)) inline void setup(Item& it, const int64_t* shapes
         else { tax = THIN; tay = 0.0; tbx = 0.0; tby = THIN; }
     }
     it.tax = tax; it.tay = tay; it.tbx = tbx; it.tby = tby;
+    {
+        const double la = tax * tax + tay * tay, lb = tbx * tbx + tby * tby, area = tax * tby - tay * tbx;
+        it.long2 = std::max(la, lb);
+        it.area2 = area * area;
+    }
     // the window: every texel the reconstruction over the (thickened) parallelogram touches
     const double ex = 0.5 * (std::fabs(tax) + std::fabs(tbx)) + 1.0, ey = 0.5 * (std::fabs(tay) + std::fabs(tby)) + 1.0;
     it.wx0 = ifloor(it.cx - ex) + 1;
@@ -222,9 +228,8 @@ inline bool shareable(const Item& it) {
 // whether gap is within an eighth of the parallelogram's smaller height (its area over its longer side), squared:
 // (8 gap)^2 |longer side|^2 <= area^2
 __attribute__((always_inline)) inline bool within(double gap, const Item& it) {
-    const double la = it.tax * it.tax + it.tay * it.tay, lb = it.tbx * it.tbx + it.tby * it.tby;
-    const double area = it.tax * it.tby - it.tay * it.tbx, g8 = 8.0 * gap;
-    return g8 * g8 * std::max(la, lb) <= area * area;
+    const double g8 = 8.0 * gap;
+    return g8 * g8 * it.long2 <= it.area2;
 }
 
 // (period: the level's width when the source wraps around, else 0)
