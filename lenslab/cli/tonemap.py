@@ -100,17 +100,19 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.errors import UsageError
     from lenslab.io.registry import get as get_format
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
-    from lenslab.jobs.policy import check_output, output_format
+    from lenslab.jobs.policy import check_output, output_format, refuse_inputs
 
     check_skip_or_overwrite(args)
+    from lenslab.cli.tonemap_batch import is_batch, run_many
+
+    if not is_batch(args):  # the input named as the output: a usage error before any file is read
+        refuse_inputs([args.output], [io.split_selector(args.inputs[0])[0]])
     curve_given, args.curve = args.curve is not None, args.curve or "hable"
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
     curve.resolve(params)  # fail before reading a large file
     from lenslab.cli.display import display_options
-    from lenslab.cli.tonemap_batch import is_batch, run_many
-
     display = display_options(args)  # bad display names: one usage error before any file is read
     from lenslab.jobs.arguments import check_tone_applies
 
