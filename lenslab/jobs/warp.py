@@ -128,10 +128,11 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             progress.start(dst.height)
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]))
+    source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped
 
-    write_warped(dst_path, colour, alpha, meta, fmt, job, dst)
+    write_warped(dst_path, colour, alpha, meta, fmt, job, dst, source_alpha)
 
 
 def plans_for(job: WarpJob):
