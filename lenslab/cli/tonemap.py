@@ -2,7 +2,8 @@
 
 Exposure comes first (stops, or 'auto': the log-average luminance, leaving out the darkest and
 brightest percent, goes to middle grey), then the curve, per channel or on luminance (keeps hue).
-NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr.
+NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr; the colours of
+a Display P3 or Adobe RGB file outside sRGB are clipped per channel, with a note counting the pixels.
 LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (dithered unless
 --no-dither); float outputs (EXR, PFM) keep the display-linear values.
 

@@ -85,6 +85,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     if c > 4:
         data, c = data[..., :4], 4
     kind = data.dtype.kind
+    gamut = None  # the wide primaries integer codes were converted from (lenslab.io.colour.gamut)
     if kind == "f":
         image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
         if profile is not None:  # linear light: a linear matrix/TRC profile's colorants apply, its curves do not
@@ -110,6 +111,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
             attrs["icc"] = how.note
         if how is not None and how.curves:
             image = decode(data, np.iinfo(data.dtype).max, how, str(path))
+            gamut = f"ICC profile '{how.name}'" if how.matrix is not None else None  # codes on other primaries
         else:
             image = decode_codes(data, np.iinfo(data.dtype).max, raw)
     else:
@@ -120,6 +122,10 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {"format": "tiff", "bit_depth": bits, "sample_type": sample, "channels": names,
             "display_encoded": encoded, "attributes": attrs}
+    if gamut:  # every negative component is a colour outside Rec.709's gamut (lenslab.io.colour.gamut)
+        from lenslab.io.colour.gamut import WIDE_GAMUT
+
+        meta[WIDE_GAMUT] = gamut
     return np.ascontiguousarray(image, dtype=np.float32), meta
 
 

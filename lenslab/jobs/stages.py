@@ -42,8 +42,9 @@ class Look:
 
 def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple:
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
-    else the tone curve where the output holds display values, else the exposure alone. Alpha (the last
-    channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
+    else the tone curve where the output holds display values, else the exposure alone; for display values the
+    colours of a wide-gamut file outside Rec.709's gamut are clipped first, with a note that counts them
+    (:func:`lenslab.io.colour.gamut.clip_outside`). Alpha (the last channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
     (or a tone curve) is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
     hold."""
     from lenslab.errors import FormatError
@@ -63,6 +64,10 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
             raise FormatError(f"a display transform writes display images (png, tif, jpg, ppm); {fmt.title} "
                               "holds scene-linear values")
         return shown, extra
+    if look.always or not fmt.hdr or integers:  # display values: a wide-gamut file's colours outside Rec.709's
+        from lenslab.io.colour.gamut import clip_outside  # gamut are clipped here, and said so
+
+        image = clip_outside(image, meta, alpha, in_place=in_place)
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap
 
