@@ -175,15 +175,28 @@ def test_a_batch_that_would_write_over_an_input_is_a_usage_error_before_any_read
     assert (tmp_path / "a.exr").read_bytes() == (tmp_path / "b.exr").read_bytes() == KEEP
 
 
-@pytest.mark.parametrize("name", ["lenslab convert", "lenslab warp", "lenslab tonemap", "lenslab compare-tones",
-                                  "lenslab diff"])
+#: command -> (the input's name, arguments before it, the option that names it when it is not positional)
+ONE_FILE = {
+    "lenslab convert": ("a.exr", ["--to", "exr"], None),
+    "lenslab warp": ("a.exr", ["--to", "fisheye:fov=180"], None),
+    "lenslab tonemap": ("a.exr", [], None),
+    "lenslab compare-tones": ("a.exr", [], None),
+    "lenslab diff": ("a.exr", ["{src}"], None),
+    "lenslab camera convert": ("cam.toml", [], None),
+    "tracer render": ("a.exr", ["--scene", "sky", "--size", "8x8", "--spp", "1", "-q"], "--env"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(ONE_FILE))
 def test_one_file_named_as_its_own_output_is_refused_before_it_is_read(tmp_path, name):
-    src = tmp_path / "a.exr"
-    src.write_bytes(KEEP)  # not an image: reading it would fail with another message and exit 1
-    extra = {"lenslab convert": ["--to", "exr"], "lenslab warp": ["--to", "fisheye:fov=180"],
-             "lenslab diff": [str(src)]}.get(name, [])
-    code, _, err = run(_commands()[name], [*extra, str(src), "-o", str(src), "--overwrite"])
+    file, extra, option = ONE_FILE[name]
+    src = tmp_path / file
+    src.write_bytes(KEEP)  # not an image or a camera: reading it would fail with another message and exit 1
+    extra = [str(src) if a == "{src}" else a for a in extra]
+    named = [option, str(src)] if option else [str(src)]
+    code, _, err = run(_commands()[name], [*extra, *named, "-o", str(src), "--overwrite"])
     assert code == 2, err
-    assert err.strip().splitlines() == [f"{name}: error: {src}: is an input of this command; it is never written "
+    prog = " ".join(name.split()[:2])  # the funnel names the command ("lenslab camera", not its action)
+    assert err.strip().splitlines() == [f"{prog}: error: {src}: is an input of this command; it is never written "
                                         "over, even with --overwrite: choose another output name"], err
     assert src.read_bytes() == KEEP
