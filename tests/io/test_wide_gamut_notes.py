@@ -1,4 +1,4 @@
-"""A wide-gamut file (Display P3, Adobe RGB) written as an sRGB PNG or JPEG by ``convert`` or ``tonemap``: its
+"""A wide-gamut file (Display P3, Adobe RGB; PNG with an ICC profile or cICP chunk, JPEG, TIFF) written as an sRGB PNG or JPEG by ``convert`` or ``tonemap``: its
 colours outside the sRGB gamut are clipped per channel, and the command says so once, in those words, with
 the count of pixels; never as repaired damage or a codec's undershoot.
 
@@ -118,3 +118,30 @@ def test_an_srgb_file_and_an_hdr_output_say_nothing(tmp_path, capsys):
     assert main(["convert", str(plain), "--to", "png", "-o", str(tmp_path / "plain-out.png")]) == 0
     assert main(["convert", str(wide), "--to", "exr", "-o", str(tmp_path / "wide.exr")]) == 0
     assert _notes(capsys.readouterr().err) == []
+
+
+@pytest.mark.parametrize("fmt", ["jpg", "tif"])
+def test_a_jpeg_or_tiff_with_a_profile_says_it_too(tmp_path, capsys, fmt):
+    """The profile in a JPEG's APP2 segments (written by Pillow) or a TIFF's tag 34675 (by tifffile). The JPEG
+    holds flat 8 x 8 blocks at quality 100 without chroma subsampling; the count is made from the codes its
+    decoder gives (lenslab's raw reading, the codes before any colour management)."""
+    from lenslab.io import read
+
+    icc = _icc("display-p3")
+    codes = np.kron(_codes("display-p3")[:5, :7], np.ones((8, 8, 1), np.uint8))
+    src = tmp_path / f"wide.{fmt}"
+    if fmt == "jpg":
+        Image.fromarray(codes).save(src, "JPEG", quality=100, subsampling=0, icc_profile=icc)
+        codes = np.rint(read(src, raw=True)[0] * 255).astype(np.uint8)
+    else:
+        import tifffile
+
+        tifffile.imwrite(src, codes, photometric="rgb", iccprofile=icc)
+    low = _linear_709(codes, "display-p3").min(axis=-1)
+    assert np.abs(low).min() > 1e-4  # no pixel at the gamut's edge: the count is the same in float32
+    outside = int((low < 0).sum())
+    assert 0 < outside < low.size
+    assert main(["tonemap", str(src), "-o", str(tmp_path / "out.png")]) == 0
+    err = capsys.readouterr().err
+    assert _notes(err) == [f"lenslab tonemap: note: {src}: {outside} of {low.size} pixels hold colours outside the "
+                           "sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel"], err
