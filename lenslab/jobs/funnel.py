@@ -62,8 +62,9 @@ def working_on(path) -> Iterator[None]:
 @contextlib.contextmanager
 def stop_signals() -> Iterator[None]:
     """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration, Ctrl-C raises
-    KeyboardInterrupt as Python's own handler does; each is recorded for :func:`stop_signal`. A signal the command was started with ignored (``nohup``) stays ignored;
-    elsewhere than in the main thread, nothing changes."""
+    KeyboardInterrupt as Python's own handler does; each is recorded for :func:`stop_signal`. A signal the
+    command was started with ignored (``nohup``) stays ignored, and a Ctrl-C handler of the program that calls
+    the command is kept; elsewhere than in the main thread, nothing changes."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():

@@ -50,8 +50,8 @@ def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | o
 
 def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = (), overwrite: bool = False) -> Path:
     """Refuse to write ``path`` when it is one of ``inputs`` (always: :func:`refuse_inputs`, a usage error) or
-    exists (unless ``overwrite``: an :class:`OutputError`). Returns ``path`` as a :class:`~pathlib.Path`. Nothing is written.
-    """
+    exists (unless ``overwrite``: an :class:`OutputError`). Returns ``path`` as a :class:`~pathlib.Path`.
+    Nothing is written."""
     refuse_inputs([path], inputs)
     out = Path(path)
     if out.is_dir():

@@ -42,11 +42,11 @@ class Look:
 
 def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple:
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
-    else the tone curve where the output holds display values, else the exposure alone; for display values the
-    colours of a wide-gamut file outside Rec.709's gamut are clipped first, with a note that counts them
-    (:func:`lenslab.io.colour.gamut.clip_outside`). Alpha (the last channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
-    (or a tone curve) is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
-    hold."""
+    else the tone curve where the output holds display values, else the exposure alone; for display values
+    the colours of a wide-gamut file outside Rec.709's gamut are clipped first, with a note that counts them
+    (:func:`lenslab.io.colour.gamut.clip_outside`). Alpha (the last channel of 2 or 4) passes through.
+    ``in_place``: the caller gives ``image`` up, and an exposure alone (or a tone curve) is applied in its
+    memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot hold."""
     from lenslab.errors import FormatError
 
     exposure = look.exposure

@@ -1,6 +1,7 @@
-"""A wide-gamut file (Display P3, Adobe RGB; PNG with an ICC profile or cICP chunk, JPEG, TIFF) written as an sRGB PNG or JPEG by ``convert`` or ``tonemap``: its
-colours outside the sRGB gamut are clipped per channel, and the command says so once, in those words, with
-the count of pixels; never as repaired damage or a codec's undershoot.
+"""A wide-gamut file (Display P3, Adobe RGB; a PNG with an ICC profile or a cICP chunk, a JPEG, a TIFF) written
+as an sRGB PNG or JPEG by ``convert`` or ``tonemap``: its colours outside the sRGB gamut are clipped per
+channel, and the command says so once, in those words, with the count of pixels; never as repaired damage or
+a codec's undershoot.
 
 Outside values: which pixels lie outside the sRGB gamut is colour-science's answer in float64 (its sRGB or
 Adobe RGB decoding and its matrix from the file's primaries to BT.709: a negative component is a chromaticity
