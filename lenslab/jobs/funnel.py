@@ -124,6 +124,8 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
                 traceback.print_exc()
             print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return exit_code(exc)
+        finally:  # a later call of the library in this process (a notebook) starts with no signal received
+            RECEIVED_SIGNALS.clear()
 
 
 def _forget_repairs() -> None:

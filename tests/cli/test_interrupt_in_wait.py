@@ -79,22 +79,26 @@ CHILD = textwrap.dedent('''
         return 1
 
     CHAIN, WHERE = sys.argv[1], sys.argv[2]
-    sys.exit(run_command("lenslab wait", wait_in_condition if WHERE == "command" else batch))
+    code = run_command("lenslab wait", wait_in_condition if WHERE == "command" else batch)
+    from lenslab.errors import stop_signal
+
+    print(stop_signal(RuntimeError("a later error of the library")))  # the signal is the ended command's only
+    sys.exit(code)
 ''')
 
 
 @pytest.mark.parametrize("where", ["command", "batch file"])
 @pytest.mark.parametrize("chain", ["kept", "cut"])
 def test_ctrl_c_inside_a_condition_wait_exits_130_with_the_interrupted_line(chain, where):
-    proc = subprocess.Popen([sys.executable, "-c", CHILD, chain, where.split()[0]], stderr=subprocess.PIPE,
-                            text=True, preexec_fn=default_stop_signals)
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, chain, where.split()[0]], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, preexec_fn=default_stop_signals)
     try:
         assert proc.stderr.readline() == "waiting\n"  # blocks until the child is inside the wait
         proc.send_signal(signal.SIGINT)
-        err = proc.stderr.read()
-        proc.wait(timeout=HANG_GUARD)
+        out, err = proc.communicate(timeout=HANG_GUARD)
     finally:
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 130, err
     assert err.strip().splitlines() == ["lenslab wait: interrupted (Ctrl-C); unfinished outputs removed"], err
+    assert out == "None\n"  # once the command has ended, an error is an error again (a notebook goes on)
