@@ -98,6 +98,9 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.stages import resolved_exposure
 
     alpha = carries_alpha(meta, image.shape[2])
+    from lenslab.io.colour.gamut import clip_outside
+
+    image = clip_outside(image, meta, alpha, in_place=True)  # a wide-gamut file's colours outside sRGB: said once
     # auto exposure from the covered pixels' straight colour (lenslab.tone.exposure), then the colour over black
     ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet, alpha)
     if alpha:

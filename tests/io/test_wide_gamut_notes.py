@@ -80,7 +80,7 @@ def _notes(err: str) -> list[str]:
 
 
 @pytest.mark.parametrize("name", sorted(SPACES))
-@pytest.mark.parametrize("command", ["convert", "tonemap"])
+@pytest.mark.parametrize("command", ["convert", "tonemap", "compare-tones"])
 @pytest.mark.parametrize("ext", ["png", "jpg"])
 def test_colours_outside_srgb_are_counted_and_called_clipped(tmp_path, capsys, name, command, ext):
     codes = _codes(name)
@@ -89,7 +89,7 @@ def test_colours_outside_srgb_are_counted_and_called_clipped(tmp_path, capsys, n
     src, out = tmp_path / "wide.png", tmp_path / f"out.{ext}"
     _write(src, codes, name)
     args = ["convert", str(src), "--to", ext, "-o", str(out)] if command == "convert" else \
-        ["tonemap", str(src), "-o", str(out)]
+        [command, str(src), "-o", str(out)]
     assert main(args) == 0
     err = capsys.readouterr().err
     given = {"display-p3": "ICC profile 'Display P3'", "a98": "ICC profile 'Artifex Software A98 ICC Profile'",
