@@ -146,3 +146,56 @@ def test_a_jpeg_or_tiff_with_a_profile_says_it_too(tmp_path, capsys, fmt):
     err = capsys.readouterr().err
     assert _notes(err) == [f"lenslab tonemap: note: {src}: {outside} of {low.size} pixels hold colours outside the "
                            "sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel"], err
+
+
+def _p3_linear(name: str = "display-p3") -> np.ndarray:
+    """float32 linear light on Display P3 primaries (colour-science's sRGB decoding of :func:`_codes`)."""
+    return colour.cctf_decoding(_codes(name).astype(np.float64) / 255, "sRGB").astype(np.float32)
+
+
+def _exr_with_p3_chromaticities(path: Path, values: np.ndarray) -> None:
+    """Written by OpenImageIO, with the chromaticities attribute of colour-science's Display P3."""
+    oiio = pytest.importorskip("OpenImageIO")
+    space = colour.RGB_COLOURSPACES["Display P3"]
+    spec = oiio.ImageSpec(values.shape[1], values.shape[0], 3, "float")
+    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"),
+                   tuple(float(v) for v in [*space.primaries.reshape(-1), *space.whitepoint]))
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec) and out.write_image(values), oiio.geterror()
+    out.close()
+
+
+@pytest.mark.parametrize("fmt", ["exr", "float tiff"])
+def test_a_float_file_without_negatives_of_its_own_says_it_too(tmp_path, capsys, fmt):
+    """An EXR on P3 chromaticities, or a float TIFF with a linear P3 profile: the file holds no negative, so the
+    negatives after the conversion are colours outside the gamut (counted on colour-science's matrix)."""
+    values = _p3_linear()
+    src = tmp_path / ("wide.exr" if fmt == "exr" else "wide.tif")
+    if fmt == "exr":
+        _exr_with_p3_chromaticities(src, values)
+        given = "chromaticities"
+    else:
+        import tifffile
+
+        from tests.io.test_icc_profiles import _para  # lenslab's P3 profile with a linear para curve
+
+        tifffile.imwrite(src, values, photometric="rgb", iccprofile=_para(0, [1.0]))
+        given = "ICC profile 'Display P3'"
+    low = colour.RGB_to_RGB(values.astype(np.float64), "Display P3", "ITU-R BT.709", None).min(axis=-1)
+    outside = int((low < 0).sum())
+    assert main(["tonemap", str(src), "-o", str(tmp_path / "out.png")]) == 0
+    err = capsys.readouterr().err
+    assert _notes(err) == [f"lenslab tonemap: note: {src}: {outside} of {low.size} pixels hold colours outside the "
+                           f"sRGB gamut (the file's {given}): clipped per channel"], err
+
+
+def test_a_float_file_with_negatives_of_its_own_keeps_the_repair_note(tmp_path, capsys):
+    """One value of the file's own below 0: its negatives cannot be told from the gamut's, and tone mapping
+    reports them as it reports any negative."""
+    values = _p3_linear()
+    values[5, 5, 1] = -0.25
+    src = tmp_path / "own.exr"
+    _exr_with_p3_chromaticities(src, values)
+    assert main(["tonemap", str(src), "-o", str(tmp_path / "out.png")]) == 0
+    err = capsys.readouterr().err
+    assert "outside the sRGB gamut" not in err and "negative values" in err, err
