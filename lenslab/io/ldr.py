@@ -128,7 +128,9 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
     gamut = None  # the wide primaries integer codes were converted from (lenslab.io.colour.gamut)
     if how is not None and how.curves:  # a matrix/TRC or grey profile: its curves, its colorants
         image = decode(codes, maxval, how, str(path))
-        gamut = f"ICC profile '{how.name}'" if how.matrix is not None else None
+        from lenslab.io.colour.gamut import profile_gamut
+
+        gamut = profile_gamut(how)
     else:
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False

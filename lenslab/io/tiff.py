@@ -94,12 +94,12 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 
             how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
             if linear(how):
-                from lenslab.io.colour.gamut import outside
+                from lenslab.io.colour.gamut import outside, profile_gamut
 
                 own = outside(image[..., :3])  # negatives of the file's own: not the gamut's
                 image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
                 attrs["icc"] = how.note
-                gamut = f"ICC profile '{how.name}'" if not own else None
+                gamut = profile_gamut(how) if not own else None
             else:
                 attrs["icc"] = f"{how.note.split(':')[0]}: not applied, float samples are read as linear Rec.709"
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
@@ -115,7 +115,9 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
             attrs["icc"] = how.note
         if how is not None and how.curves:
             image = decode(data, np.iinfo(data.dtype).max, how, str(path))
-            gamut = f"ICC profile '{how.name}'" if how.matrix is not None else None  # codes on other primaries
+            from lenslab.io.colour.gamut import profile_gamut
+
+            gamut = profile_gamut(how)  # codes on other primaries
         else:
             image = decode_codes(data, np.iinfo(data.dtype).max, raw)
     else:

@@ -5,9 +5,10 @@ component: its chromaticity lies outside the sRGB triangle. That is no damage of
 undershoot: a display output (an sRGB PNG or JPEG, a tone-mapped image) clips it per channel, and the command
 says how many pixels were clipped, in those words (:func:`clip_outside`).
 
-A reader that converts a file's colours from such primaries names them in the image's ``meta[WIDE_GAMUT]`` when
-the file held no negative value of its own (integer codes never do; a float file, EXR or TIFF, is looked at
-before the conversion): every negative component of that image is then a colour outside the gamut. A float
+A reader that converts a file's colours from such primaries (:func:`widens`: not sRGB's own) names them in
+the image's ``meta[WIDE_GAMUT]`` when the file held no negative value of its own (integer codes never do; a
+float file, EXR or TIFF, is looked at before the conversion): every negative component of that image is then
+a colour outside the gamut. A float
 file with negatives of its own is not named: its negatives stay the tone curve's repairs, small undershoot
 and real negative light alike (:mod:`lenslab.tone.repairs`).
 """
@@ -31,6 +32,25 @@ class GamutWarning(UserWarning):
     def __init__(self, message: str, pixels: int = 0, total: int = 0):
         super().__init__(message)
         self.pixels, self.total = int(pixels), int(total)
+
+
+def widens(matrix: np.ndarray) -> bool:
+    """Whether the 3 x 3 matrix (file RGB -> linear Rec.709) takes some colour of the file's own gamut outside
+    Rec.709's: one of its entries is negative beyond the precision of the file's primaries. A profile on sRGB's
+    own primaries with another curve (scRGB, esRGB, a gamma 2.2 "sRGB") gives entries of about -1e-4 (its
+    s15.16 colorants and their Bradford adaptation; colour-science's own sRGB -> BT.709 matrix has -8e-5): no
+    colour of such a file is outside, and the few 1e-4 below 0 it takes stay the tone curve's slight repairs.
+    The bound is the one within which a profile's matrix is sRGB's (``icc.SRGB_MATRIX_TOLERANCE``); Display P3
+    gives -0.22, Adobe RGB -0.40."""
+    from lenslab.io.colour.icc import SRGB_MATRIX_TOLERANCE
+
+    return bool(np.min(np.asarray(matrix, dtype=np.float64)) < -SRGB_MATRIX_TOLERANCE)
+
+
+def profile_gamut(how) -> str | None:
+    """What :data:`WIDE_GAMUT` says for codes converted by the ICC plan ``how``
+    (:func:`lenslab.io.colour.icc.plan`): ``ICC profile 'NAME'`` when its matrix :func:`widens`, else None."""
+    return f"ICC profile '{how.name}'" if how.matrix is not None and widens(how.matrix) else None
 
 
 def outside(colour: np.ndarray) -> int:
@@ -75,4 +95,4 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
     return image
 
 
-__all__ = ["WIDE_GAMUT", "GamutWarning", "clip_outside", "outside"]
+__all__ = ["WIDE_GAMUT", "GamutWarning", "clip_outside", "outside", "profile_gamut", "widens"]
