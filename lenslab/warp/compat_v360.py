@@ -141,14 +141,4 @@ def v360_plan(src_camera: Camera, dst_camera: Camera, **options) -> V360Plan:
     return V360Plan(src_camera, dst_camera, **options)
 
 
-def writes_alpha(alpha: np.ndarray, source_alpha: bool) -> bool:
-    """Whether a display image (PNG; not an HDR output such as EXR or float TIFF) warped with ``--compat v360``
-    carries alpha, as ffmpeg's does: v360 keeps its input's pixel format, so an RGB source gives an RGB image
-    (measured on Debian's ffmpeg 5.1, ``tests/warp/test_v360_channels.py``) and only a source with alpha
-    (``source_alpha``) an RGBA one.
-    lenslab's coverage ``alpha`` (H x W) is kept where a pixel is not covered (an equisolid output past its
-    back pole, which v360 fills with zeros: the colour is the same, the alpha says there is no ray there)."""
-    return bool(source_alpha or not (alpha >= 1).all())
-
-
-__all__ = ["V360Plan", "check_v360", "v360_output", "v360_plan", "v360_read", "writes_alpha"]
+__all__ = ["V360Plan", "check_v360", "v360_output", "v360_plan", "v360_read"]

@@ -71,3 +71,23 @@ def test_without_alpha_the_colour_is_the_covered_colour(tmp_path):
     rgb, rgba = _read(tmp_path / "out3.png"), _read(tmp_path / "out4.png")
     assert (rgba[..., 3] == 255).all()
     np.testing.assert_array_equal(rgb, rgba[..., :3])
+
+
+#: an equisolid output past its back pole: v360 writes zeros there (no ray), lenslab's coverage is 0
+FFMPEG_BEYOND = "v360=input=e:output=equisolid:h_fov=300:v_fov=300:w=32:h=32"
+LENSLAB_BEYOND = ["--from", "equirect", "--to", "fisheye:fov=300,mapping=equisolid", "--size", "32x32"]
+
+
+def test_uncovered_pixels_do_not_add_alpha_to_an_rgb_output(tmp_path):
+    """ffmpeg keeps the RGB format where it writes zeros, and so does --compat v360: those pixels are black,
+    as ffmpeg's are (read from its file: the same pixels are zero in both)."""
+    src, theirs, ours = tmp_path / "pano.png", tmp_path / "ffmpeg.png", tmp_path / "lenslab.png"
+    _write(src, _source(3))
+    subprocess.run([_ffmpeg(), "-v", "error", "-y", "-i", str(src), "-vf", FFMPEG_BEYOND, str(theirs)], check=True)
+    assert main(["warp", str(src), *LENSLAB_BEYOND, "--compat", "v360", "-o", str(ours), "-q"]) == 0
+    ff, ll = _read(theirs), _read(ours)
+    zeros = (ff == 0).all(axis=-1)
+    assert zeros.sum() > 100  # (the view has pixels past the back pole)
+    assert ll.shape[2] == ff.shape[2] == 3
+    assert (ll[zeros] == 0).all()
+
