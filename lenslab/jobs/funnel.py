@@ -39,6 +39,7 @@ class Interrupted(KeyboardInterrupt):
 
 _NUMPY_NOTES = NUMPY_NOTES
 
+
 def user_notes(caught) -> list[str]:
     """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out),
     in the commands' words where a warning carries them (``command_line``)."""
@@ -64,7 +65,8 @@ def stop_signals() -> Iterator[None]:
     """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration, Ctrl-C raises
     KeyboardInterrupt as Python's own handler does; each is recorded for :func:`stop_signal`. A signal the
     command was started with ignored (``nohup``) stays ignored, and a Ctrl-C handler of the program that calls
-    the command is kept; elsewhere than in the main thread, nothing changes."""
+    the command is kept; elsewhere than in the main thread, nothing changes. The record goes with the handlers:
+    after the block, an error is an error again."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():
@@ -89,6 +91,7 @@ def stop_signals() -> Iterator[None]:
     finally:
         for sig, handler in saved.items():
             signal.signal(sig, handler)
+        RECEIVED_SIGNALS.clear()  # (after the handlers: one landing before this is forgotten too)
 
 
 def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) -> int:
