@@ -67,7 +67,8 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
     if look.always or not fmt.hdr or integers:  # display values: a wide-gamut file's colours outside Rec.709's
         from lenslab.io.colour.gamut import clip_outside  # gamut are clipped here, and said so
 
-        image = clip_outside(image, meta, alpha, in_place=in_place)
+        clipped = clip_outside(image, meta, alpha, in_place=in_place)
+        in_place, image = in_place or clipped is not image, clipped  # a clipped copy is the curve's to work in
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap
 
