@@ -96,7 +96,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
             if linear(how):
                 from lenslab.io.colour.gamut import outside, profile_gamut
 
-                own = outside(image[..., :3])  # negatives of the file's own: not the gamut's
+                own = outside(image)  # negatives of the file's own: not the gamut's
                 image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
                 attrs["icc"] = how.note
                 gamut = profile_gamut(how) if not own else None

@@ -188,7 +188,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         matrix = matrix_from_chromaticities(chroma)
         # wider primaries, no negative of the file's own: the negatives after the conversion are colours outside
         # Rec.709's gamut
-        gamut = "chromaticities" if widens(matrix) and outside(image[..., :3]) == 0 else None
+        gamut = "chromaticities" if widens(matrix) and outside(image) == 0 else None
         to_rec709(image, matrix)  # file RGB -> XYZ -> Rec.709, by bands
         primaries_converted = True
 
