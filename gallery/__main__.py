@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from lenslab.jobs.arguments import ArgumentParser
-from lenslab.errors import OutputError, UsageError
+from lenslab.errors import UsageError
 from lenslab.jobs.funnel import run_command
 
 
@@ -55,7 +55,7 @@ def run(args) -> int:
                          "first, or give --hdri DIR or --report DIR")
     for folder in (report, hdri):
         if folder is not None and Path(folder).resolve() == Path(args.out).resolve():
-            raise OutputError(f"{folder} is an input of the page; it is never written into, even with "
+            raise UsageError(f"{folder} is an input of the page; it is never written into, even with "
                               "--overwrite: give another output folder")
     check_output_dir(args.out)
     index = Path(args.out) / "index.html"

@@ -35,7 +35,7 @@ import sys
 import time
 from pathlib import Path
 
-from lenslab.errors import OutputError
+from lenslab.errors import UsageError
 from lenslab.jobs.arguments import positive_int
 
 HELP = "trace the built-in Cornell box, warp it into every lens and build the HTML gallery"
@@ -170,7 +170,7 @@ def run(args: argparse.Namespace) -> int:
         if folder is not None and not folder.is_dir():
             raise FileNotFoundError(f"{name} {folder}: no such folder")
         if folder is not None and folder.resolve() == out.resolve():
-            raise OutputError(f"{name} {folder} is an input of the demo; it is never written into, even with "
+            raise UsageError(f"{name} {folder} is an input of the demo; it is never written into, even with "
                               "--overwrite: give another output folder with -o")
     check_output(out, args.overwrite)
 

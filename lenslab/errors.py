@@ -12,6 +12,29 @@ from __future__ import annotations
 NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
 
 
+#: the stop signals received while a command runs, recorded by the handlers of the error funnel
+#: (:func:`lenslab.jobs.funnel.stop_signals`); cleared when a command starts
+RECEIVED_SIGNALS: list[int] = []
+
+
+def stop_signal(exc: BaseException | None = None) -> int | None:
+    """The number of the stop signal that ``exc`` comes from: a KeyboardInterrupt (or the funnel's
+    ``Interrupted``, which carries ``signum``) itself or in its chain of causes, or any error once the command
+    has received a stop signal (whatever is raised after a Ctrl-C is the command ending); None for an error
+    of its own. A Ctrl-C that lands inside ``threading.Condition.wait`` (a pool's or a progress bar's wait)
+    can leave its lock released, and what reaches the caller is then a RuntimeError ("release unlocked
+    lock"), not the KeyboardInterrupt: wherever errors are caught, this tells the interrupt from a failure."""
+    import signal
+
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return int(getattr(exc, "signum", signal.SIGINT))
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return RECEIVED_SIGNALS[0] if RECEIVED_SIGNALS else None
+
+
 class LenslabError(Exception):
     """Base of every lenslab error (mixed into a built-in type below)."""
 

@@ -155,8 +155,11 @@ def run_render(args) -> int:
     gc.disable()
     try:
         return _render(args)
-    except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP: the note is the command's last line
-        _close_bars()
+    except BaseException as exc:
+        from lenslab.errors import stop_signal
+
+        if stop_signal(exc) is not None:  # Ctrl-C, SIGTERM, SIGHUP: the note is the command's last line
+            _close_bars()
         raise
     finally:
         gc.enable()

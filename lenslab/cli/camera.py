@@ -101,6 +101,11 @@ def run(args: argparse.Namespace) -> int:
 
     import warnings
 
+    if args.action == "convert":  # the file read as the output: a usage error before it is read
+        from lenslab.calibfiles import split_pick
+        from lenslab.jobs.policy import refuse_inputs
+
+        refuse_inputs([args.output], [split_pick(args.camera)[0]])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         lens = load(args.camera, args.size)

@@ -98,10 +98,17 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.stages import resolved_exposure
 
     alpha = carries_alpha(meta, image.shape[2])
+    from lenslab.io.colour.gamut import clip_outside
+
+    # a wide-gamut file's colours outside sRGB, said once: clipped for the curves, not for the display transform,
+    # which is given the file's own colours as tonemap --display gives them
+    source = image if display["display"] else None
+    image = clip_outside(image, meta, alpha, in_place=source is None)
     # auto exposure from the covered pixels' straight colour (lenslab.tone.exposure), then the colour over black
     ev = resolved_exposure(image, args.exposure, args.primaries, args.input, args.quiet, alpha)
     if alpha:
         image = image[..., :-1]
+        source = None if source is None else source[..., :-1]
     panels = []
     for i, name in enumerate(names):  # the look stage of every job: exposure, then the curve
         with repairs_reported("lenslab compare-tones", args.input, report=i == 0):  # the input's repairs, once
@@ -120,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.srgb import encode
 
         panels = [encode(p) for p in panels]
-        shown, _ = develop(image, {}, fmt, Look(exposure=ev, **display))  # the look stage's display transform
+        shown, _ = develop(source, {}, fmt, Look(exposure=ev, **display))  # the look stage's display transform
         h, w = shown.shape[:2]
         if args.panel_width and w > args.panel_width:
             shown = cv2.resize(shown, (args.panel_width, max(1, round(h * args.panel_width / w))),

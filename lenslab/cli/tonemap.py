@@ -2,7 +2,8 @@
 
 Exposure comes first (stops, or 'auto': the log-average luminance, leaving out the darkest and
 brightest percent, goes to middle grey), then the curve, per channel or on luminance (keeps hue).
-NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr.
+NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr; the colours of
+a Display P3 or Adobe RGB file outside sRGB are clipped per channel, with a note counting the pixels.
 LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (dithered unless
 --no-dither); float outputs (EXR, PFM) keep the display-linear values.
 
@@ -100,17 +101,19 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.errors import UsageError
     from lenslab.io.registry import get as get_format
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
-    from lenslab.jobs.policy import check_output, output_format
+    from lenslab.jobs.policy import check_output, output_format, refuse_inputs
 
     check_skip_or_overwrite(args)
+    from lenslab.cli.tonemap_batch import is_batch, run_many
+
+    if not is_batch(args):  # the input named as the output: a usage error before any file is read
+        refuse_inputs([args.output], [io.split_selector(args.inputs[0])[0]])
     curve_given, args.curve = args.curve is not None, args.curve or "hable"
 
     curve = tone.get_curve(args.curve)
     params = parse_params(args.param)
     curve.resolve(params)  # fail before reading a large file
     from lenslab.cli.display import display_options
-    from lenslab.cli.tonemap_batch import is_batch, run_many
-
     display = display_options(args)  # bad display names: one usage error before any file is read
     from lenslab.jobs.arguments import check_tone_applies
 

@@ -296,6 +296,10 @@ def run(args: argparse.Namespace) -> int:
             print("lenslab warp: error: nothing to warp", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, output_extension(args.format), fmt=args.format, verb="warp")
+    if args.stmap:  # the map is an input too: named as an output, a usage error before any image is read
+        from lenslab.jobs.policy import refuse_inputs
+
+        refuse_inputs([dst for _, dst in pairs], [args.stmap])
     check_options_apply(args, pairs)
     from lenslab.jobs.warp_video import is_video
 

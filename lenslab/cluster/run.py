@@ -68,6 +68,8 @@ def gather_as_completed(client, futures: list, progress: bool = False, unit: str
     from distributed import as_completed
     from tqdm import tqdm
 
+    from lenslab.errors import stop_signal
+
     bar = tqdm(total=len(futures), unit=unit, desc=desc, file=sys.stderr, leave=False,
                disable=not (progress and sys.stderr.isatty()))
     address = getattr(getattr(client, "scheduler", None), "address", "?")
@@ -77,7 +79,7 @@ def gather_as_completed(client, futures: list, progress: bool = False, unit: str
                 value, worker, seconds = fut.result()
                 error = None
             except BaseException as exc:  # the task raised, or its worker was lost too often (KilledWorker)
-                if isinstance(exc, KeyboardInterrupt):
+                if stop_signal(exc) is not None:  # Ctrl-C, also as the RuntimeError of an interrupted wait
                     raise
                 if _lost(client, exc):
                     raise SchedulerLost(address) from None

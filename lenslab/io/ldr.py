@@ -125,20 +125,26 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
 
         how = plan(profile, 4 if inks else c - 1 if c in (2, 4) else c, str(path))
         attributes["icc"] = how.note
+    gamut = None  # the wide primaries integer codes were converted from (lenslab.io.colour.gamut)
     if how is not None and how.curves:  # a matrix/TRC or grey profile: its curves, its colorants
         image = decode(codes, maxval, how, str(path))
+        from lenslab.io.colour.gamut import profile_gamut
+
+        gamut = profile_gamut(how)
     else:
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
     if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
-        from lenslab.io.colour.png_cicp import to_linear_light
+        from lenslab.io.colour.png_cicp import H273_NAMES, to_linear_light
 
         image, attributes["note"] = to_linear_light(image, coded)
         linear = coded[1] in (16, 18)
+        gamut = f"cICP primaries {H273_NAMES[coded[0]]}" if linear and c in (3, 4) and coded[0] in H273_NAMES else None
     elif not raw and wide is not None and c in (3, 4):  # sRGB codes on P3-D65 (or BT.2020) primaries
-        from lenslab.io.colour.png_cicp import wide_to_709
+        from lenslab.io.colour.png_cicp import H273_NAMES, wide_to_709
 
         attributes["note"] = wide_to_709(image, wide)
+        gamut = f"cICP primaries {H273_NAMES[wide]}" if wide in H273_NAMES else None
     if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
         premultiply(image)                      # premultiplied colour
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
@@ -150,6 +156,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         "display_encoded": not raw and not linear,
         "attributes": attributes,
     }
+    if gamut:
+        from lenslab.io.colour.gamut import WIDE_GAMUT
+
+        meta[WIDE_GAMUT] = gamut
     return np.ascontiguousarray(image, dtype=np.float32), meta
 
 

@@ -69,6 +69,9 @@ class Format:
     #: ``channel_names(path) -> list[str]``: the names of the channels ``read`` gives with no selector, from
     #: the header alone (no pixel decoded), for formats whose files name their channels
     channel_names: Callable | None = None
+    #: a float format whose files cannot hold a negative sample (Radiance RGBE: unsigned mantissas), written
+    #: as 0: a wide-gamut image's colours outside sRGB are clipped for it as for a display format
+    clips_negatives: bool = False
 
     def holds_straight(self, sample_type: str = "uint") -> bool:
         """Whether a file of this format, written with ``sample_type`` samples, holds straight colour."""

@@ -85,6 +85,7 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     if c > 4:
         data, c = data[..., :4], 4
     kind = data.dtype.kind
+    gamut = None  # the wide primaries integer codes were converted from (lenslab.io.colour.gamut)
     if kind == "f":
         image = data.astype(np.float32, copy=False)  # float32 samples: no second copy
         if profile is not None:  # linear light: a linear matrix/TRC profile's colorants apply, its curves do not
@@ -93,8 +94,12 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 
             how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
             if linear(how):
+                from lenslab.io.colour.gamut import outside, profile_gamut
+
+                own = outside(image)  # negatives of the file's own: not the gamut's
                 image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
                 attrs["icc"] = how.note
+                gamut = profile_gamut(how) if not own else None
             else:
                 attrs["icc"] = f"{how.note.split(':')[0]}: not applied, float samples are read as linear Rec.709"
         bits, sample, encoded = data.dtype.itemsize * 8, {2: "half", 4: "float", 8: "double"}[data.dtype.itemsize], False
@@ -110,6 +115,9 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
             attrs["icc"] = how.note
         if how is not None and how.curves:
             image = decode(data, np.iinfo(data.dtype).max, how, str(path))
+            from lenslab.io.colour.gamut import profile_gamut
+
+            gamut = profile_gamut(how)  # codes on other primaries
         else:
             image = decode_codes(data, np.iinfo(data.dtype).max, raw)
     else:
@@ -120,6 +128,10 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {"format": "tiff", "bit_depth": bits, "sample_type": sample, "channels": names,
             "display_encoded": encoded, "attributes": attrs}
+    if gamut:  # every negative component is a colour outside Rec.709's gamut (lenslab.io.colour.gamut)
+        from lenslab.io.colour.gamut import WIDE_GAMUT
+
+        meta[WIDE_GAMUT] = gamut
     return np.ascontiguousarray(image, dtype=np.float32), meta
 
 

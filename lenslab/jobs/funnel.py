@@ -20,7 +20,8 @@ import sys
 import warnings
 from typing import Callable, Iterator
 
-from lenslab.errors import NUMPY_NOTES, LensError, LenslabError, OutputError, ToneError, UsageError
+from lenslab.errors import (NUMPY_NOTES, RECEIVED_SIGNALS, LensError, LenslabError, OutputError, ToneError, UsageError,
+                            stop_signal)
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 #: the signals that end a command as Ctrl-C does, and their names in the one-line note
@@ -61,9 +62,11 @@ def working_on(path) -> Iterator[None]:
 
 @contextlib.contextmanager
 def stop_signals() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration (Ctrl-C already
-    raises KeyboardInterrupt). A signal the command was started with ignored (``nohup``) stays ignored;
-    elsewhere than in the main thread, nothing changes."""
+    """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread for the duration, Ctrl-C raises
+    KeyboardInterrupt as Python's own handler does; each is recorded for :func:`stop_signal`. A signal the
+    command was started with ignored (``nohup``) stays ignored, and a Ctrl-C handler of the program that calls
+    the command is kept; elsewhere than in the main thread, nothing changes. The record goes with the handlers:
+    after the block, an error is an error again."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():
@@ -71,12 +74,16 @@ def stop_signals() -> Iterator[None]:
         return
 
     def stop(signum, frame):
+        RECEIVED_SIGNALS.append(signum)
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
         raise Interrupted(signum)
 
     saved = {}
-    for sig in (signal.SIGTERM, signal.SIGHUP):
-        if signal.getsignal(sig) is signal.SIG_IGN:
-            continue  # ignored by whoever started us (nohup): it stays ignored
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        current = signal.getsignal(sig)
+        if current is signal.SIG_IGN or (sig == signal.SIGINT and current is not signal.default_int_handler):
+            continue  # ignored by whoever started us (nohup), or Ctrl-C handled by the program that calls us
         with contextlib.suppress(OSError, ValueError):
             saved[sig] = signal.signal(sig, stop)
     try:
@@ -84,6 +91,7 @@ def stop_signals() -> Iterator[None]:
     finally:
         for sig, handler in saved.items():
             signal.signal(sig, handler)
+        RECEIVED_SIGNALS.clear()  # (after the handlers: one landing before this is forgotten too)
 
 
 def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) -> int:
@@ -93,21 +101,22 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
         warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
         warnings.showwarning = note_printer(prog)
         _forget_repairs()  # the command reports its own repairs, not those of earlier calls in this process
+        RECEIVED_SIGNALS.clear()
         try:
             code = int(func() or 0)
             sys.stdout.flush()
             _print_repairs(prog)
             return code
-        except KeyboardInterrupt as exc:
-            signum = getattr(exc, "signum", signal.SIGINT)
-            print(f"{prog}: interrupted ({STOP_SIGNALS.get(signum, signum)}); unfinished outputs removed",
-                  file=sys.stderr)
-            return 128 + int(signum)
         except BrokenPipeError:
             return _closed_pipe()
         except SystemExit:
             raise
         except BaseException as exc:  # noqa: BLE001 - the funnel: every error is one line
+            signum = stop_signal(exc)  # Ctrl-C, also when it reached us as another error (see stop_signal)
+            if signum is not None:
+                print(f"{prog}: interrupted ({STOP_SIGNALS.get(signum, signum)}); unfinished outputs removed",
+                      file=sys.stderr)
+                return 128 + int(signum)
             if isinstance(exc, OSError) and exc.errno == 32:  # EPIPE raised by a writer as a plain OSError
                 return _closed_pipe()
             if not isinstance(exc, Exception) and type(exc).__name__ != "CancelledError":
@@ -118,6 +127,8 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
                 traceback.print_exc()
             print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
             return exit_code(exc)
+        finally:  # a later call of the library in this process (a notebook) starts with no signal received
+            RECEIVED_SIGNALS.clear()
 
 
 def _forget_repairs() -> None:

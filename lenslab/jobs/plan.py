@@ -67,11 +67,11 @@ def plan_outputs(files: list[str], output: str | None, extension: str | Callable
     its dot, or a function of the input path giving it (a clip stays a clip). ``roots`` (from
     :func:`expand_inputs`): a file found under a folder goes to the same sub-folder of ``-o``, mirroring
     the input tree. ``fmt``: the format the command was told to write (``--to``, ``--format``); a file
-    name ``-o`` of another format is a usage error. ``verb`` words the message for two inputs that would
-    write one output."""
+    name ``-o`` of another format is a usage error, and so is an output that is one of the inputs. ``verb``
+    words the message for two inputs that would write one output."""
     from lenslab.errors import FormatError, UsageError
     from lenslab.io import split_selector
-    from lenslab.jobs.policy import check_output_dir, output_format
+    from lenslab.jobs.policy import check_output_dir, output_format, refuse_inputs
 
     ext_of = extension if callable(extension) else (lambda _src: extension)
     out = Path(output) if output is not None else None
@@ -98,6 +98,7 @@ def plan_outputs(files: list[str], output: str | None, extension: str | Callable
             raise FormatError(f"{f} and {targets[dst]} would both be written to {dst}; {verb} them separately")
         targets[dst] = f
         pairs.append((f, dst))
+    refuse_inputs(targets, (split_selector(f)[0] for f in files))  # a usage error, before any input is read
     return pairs
 
 

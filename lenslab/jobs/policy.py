@@ -3,7 +3,8 @@
 - an existing file is replaced only with ``--overwrite``, and only when it is a regular file (never a
   folder, a FIFO or a device node, with or without ``--overwrite``);
 - an input is never written over, with or without ``--overwrite`` (the same path, or the same file
-  reached through a link: compared by device and inode);
+  reached through a link: compared by device and inode): a usage error (exit status 2), found from the names
+  before any input is read (:func:`refuse_inputs`, which :func:`check_output` and a batch's plan call);
 - every file is written to a temporary name and renamed (:func:`lenslab.atomic.atomic_write_path`);
 - a batch checks what does not depend on one file before it touches anything, and creates no output
   folder when it cannot start (:func:`check_output_dir` only says what it would create).
@@ -21,27 +22,38 @@ from lenslab.atomic import refuse_special
 from lenslab.errors import OutputError, UsageError
 
 
-def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
-    """Whether ``a`` and ``b`` name the same existing file (same device and inode, links followed)."""
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return False
-
-
-def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = (), overwrite: bool = False) -> Path:
-    """Refuse to write ``path`` when it is one of ``inputs`` (always) or exists (unless ``overwrite``).
-
-    Raises :class:`OutputError`; returns ``path`` as a :class:`~pathlib.Path`. Nothing is written.
-    """
-    out = Path(path)
+def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | os.PathLike]) -> None:
+    """A :class:`~lenslab.errors.UsageError` (exit status 2) when one of ``outputs`` is one of ``inputs``: the
+    same path, or the same file through a link (device and inode). Only names are compared and existing files
+    stat'ed (each once, whatever the batch's size): no input is read, so a command calls this first."""
+    names, ids = set(), set()
     for src in inputs:
         src = str(src)
         if ":" in src and not os.path.exists(src):  # an EXR part or layer selector: file.exr:left
             src = src.rpartition(":")[0]
-        if same_file(out, src) or (Path(src).absolute() == out.absolute()):
-            raise OutputError(f"{out}: is an input of this command; it is never written over, even with "
-                              "--overwrite: choose another output name")
+        names.add(Path(src).absolute())
+        try:
+            st = os.stat(src)
+            ids.add((st.st_dev, st.st_ino))
+        except OSError:
+            pass
+    for out in map(Path, outputs):
+        try:
+            st = os.stat(out)
+            linked = (st.st_dev, st.st_ino) in ids
+        except OSError:
+            linked = False
+        if linked or out.absolute() in names:
+            raise UsageError(f"{out}: is an input of this command; it is never written over, even with "
+                             "--overwrite: choose another output name")
+
+
+def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = (), overwrite: bool = False) -> Path:
+    """Refuse to write ``path`` when it is one of ``inputs`` (always: :func:`refuse_inputs`, a usage error) or
+    exists (unless ``overwrite``: an :class:`OutputError`). Returns ``path`` as a :class:`~pathlib.Path`.
+    Nothing is written."""
+    refuse_inputs([path], inputs)
+    out = Path(path)
     if out.is_dir():
         raise UsageError(f"{out}: is a folder; give a file name to write to")
     if os.path.lexists(out) and not overwrite:

@@ -19,6 +19,7 @@ from lenslab.jobs.job import Job
 def execute(job: Job, src: str, dst: str, progress=None) -> tuple[str, str, str | None, list[str]]:
     """Run ``job`` on one file; a failure becomes this file's one-line error, warnings become its notes."""
     from lenslab.cluster.threads import recorded_warnings
+    from lenslab.errors import stop_signal
     from lenslab.jobs.funnel import one_line, user_notes
 
     with recorded_warnings() as caught:
@@ -26,6 +27,8 @@ def execute(job: Job, src: str, dst: str, progress=None) -> tuple[str, str, str 
             job.run(src, dst, progress=progress)
             error = None
         except Exception as exc:  # noqa: BLE001 - one bad file must not stop the batch
+            if stop_signal(exc) is not None:  # Ctrl-C that surfaced as another error: it stops the batch
+                raise
             error = one_line(exc)
     return src, dst, error, user_notes(caught)
 

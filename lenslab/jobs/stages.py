@@ -42,10 +42,12 @@ class Look:
 
 def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple:
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
-    else the tone curve where the output holds display values, else the exposure alone. Alpha (the last
-    channel of 2 or 4) passes through. ``in_place``: the caller gives ``image`` up, and an exposure alone
-    (or a tone curve) is applied in its memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot
-    hold."""
+    else the tone curve where the output holds display values, else the exposure alone; for display values
+    the colours of a wide-gamut file outside Rec.709's gamut are clipped first, with a note that counts them
+    (:func:`lenslab.io.colour.gamut.clip_outside`), and so they are for a float format that cannot hold them
+    (Radiance RGBE). Alpha (the last channel of 2 or 4) passes through.
+    ``in_place``: the caller gives ``image`` up, and an exposure alone (or a tone curve) is applied in its
+    memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot hold."""
     from lenslab.errors import FormatError
 
     exposure = look.exposure
@@ -63,6 +65,11 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
             raise FormatError(f"a display transform writes display images (png, tif, jpg, ppm); {fmt.title} "
                               "holds scene-linear values")
         return shown, extra
+    if look.always or not fmt.hdr or integers or fmt.clips_negatives:  # display values (or RGBE's): a wide-gamut
+        from lenslab.io.colour.gamut import clip_outside  # file's colours outside Rec.709's gamut are clipped here
+
+        clipped = clip_outside(image, meta, alpha, in_place=in_place)
+        in_place, image = in_place or clipped is not image, clipped  # a clipped copy is the curve's to work in
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap
 

@@ -93,7 +93,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     if is_video(src_path):  # every frame with one map, to a video
         return warp_video(src_path, dst_path, job, cache)
     fmt = get(format_for_path(dst_path, None))
-    check_output(dst_path, [src_path], job.overwrite)
+    check_output(dst_path, [src_path, *([job.stmap] if job.stmap else [])], job.overwrite)
     image, meta = read(src_path)
     image = check_image(image, src_path)
     from lenslab.jobs.stages import check_data_channels
@@ -128,10 +128,11 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             progress.start(dst.height)
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]))
+    source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped
 
-    write_warped(dst_path, colour, alpha, meta, fmt, job, dst)
+    write_warped(dst_path, colour, alpha, meta, fmt, job, dst, source_alpha)
 
 
 def plans_for(job: WarpJob):

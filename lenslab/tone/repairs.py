@@ -20,7 +20,8 @@ What counts as slight, and why:
   after a bilinear warp; 2^-5 leaves twice that margin. Negative light from a colour conversion is a
   sizeable part of the pixel's own value (BT.2020 green in Rec.709: -9 %), and filter ringing next to a
   highlight (Lanczos beside the sun: 40 % to 360 % of the block) stays above it: both are reported per
-  image.
+  image. (The colours of an integer file on wider primaries outside Rec.709's gamut never reach here: the
+  commands clip them first and say so, :mod:`lenslab.io.colour.gamut`.)
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """The output policy, for every command of every entry point (derived from the parsers).
 
-Every command that writes is run against an output that already exists (no --overwrite) and against
-its own input (with --overwrite, by the same path and through a symbolic link): it refuses with one
-error line and exit code 1, and the file's bytes are unchanged. A command added later fails
+Every command that writes is run against an output that already exists (no --overwrite: one error line,
+exit code 1) and against its own input (with --overwrite, by the same path and through a symbolic link: a
+usage error, one line and exit code 2 as the brief gives usage errors, before the input is read), and the
+file's bytes are unchanged. A command added later fails
 ``test_every_command_is_classified`` until it has a row here.
 """
 
@@ -145,8 +146,57 @@ def test_an_input_is_never_written_over(work, name, link):
             os.symlink(work / source, work / target)
     before = protected.read_bytes()
     code, _, err = run(_commands()[name], args)
-    assert code == REFUSAL_CODE.get(name, (1,))[0], (name, err)
-    assert "input" in err, err
+    assert code == 2, (name, err)  # a usage error, whatever the command's other codes (diff's 4 included)
+    assert len(err.strip().splitlines()) == 1 and "is an input of " in err, err
     assert "Traceback" not in err
     assert protected.read_bytes() == before
     assert not [p for p in work.rglob(".*tmp*")], "a temporary file was left behind"
+
+
+#: batch forms whose planned outputs include one of their inputs: (arguments, the input written over)
+def _batch_own_input(d: Path) -> dict[str, list[str]]:
+    return {
+        "lenslab convert": ["--to", "exr", str(d), "-o", str(d), "--overwrite"],
+        "lenslab warp": [str(d), "-o", str(d), "--to", "fisheye:fov=180", "--format", "exr", "--overwrite"],
+        "lenslab tonemap": [str(d), "-o", str(d), "--format", "exr", "--overwrite"],
+    }
+
+
+@pytest.mark.parametrize("name", sorted(_batch_own_input(Path("/nonexistent"))))
+def test_a_batch_that_would_write_over_an_input_is_a_usage_error_before_any_read(tmp_path, name):
+    """The inputs are not images at all: had any been read, the error would name what is wrong with it
+    (exit 1); the one line is the usage error found from the names alone."""
+    for f in ("a.exr", "b.exr"):
+        (tmp_path / f).write_bytes(KEEP)
+    code, _, err = run(_commands()[name], _batch_own_input(tmp_path)[name])
+    assert code == 2, err
+    assert err.strip().splitlines() == [f"{name}: error: {tmp_path / 'a.exr'}: is an input of this command; it is "
+                                        "never written over, even with --overwrite: choose another output name"], err
+    assert (tmp_path / "a.exr").read_bytes() == (tmp_path / "b.exr").read_bytes() == KEEP
+
+
+#: command -> (the input's name, arguments before it, the option that names it when it is not positional)
+ONE_FILE = {
+    "lenslab convert": ("a.exr", ["--to", "exr"], None),
+    "lenslab warp": ("a.exr", ["--to", "fisheye:fov=180"], None),
+    "lenslab tonemap": ("a.exr", [], None),
+    "lenslab compare-tones": ("a.exr", [], None),
+    "lenslab diff": ("a.exr", ["{src}"], None),
+    "lenslab camera convert": ("cam.toml", [], None),
+    "tracer render": ("a.exr", ["--scene", "sky", "--size", "8x8", "--spp", "1", "-q"], "--env"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(ONE_FILE))
+def test_one_file_named_as_its_own_output_is_refused_before_it_is_read(tmp_path, name):
+    file, extra, option = ONE_FILE[name]
+    src = tmp_path / file
+    src.write_bytes(KEEP)  # not an image or a camera: reading it would fail with another message and exit 1
+    extra = [str(src) if a == "{src}" else a for a in extra]
+    named = [option, str(src)] if option else [str(src)]
+    code, _, err = run(_commands()[name], [*extra, *named, "-o", str(src), "--overwrite"])
+    assert code == 2, err
+    prog = " ".join(name.split()[:2])  # the funnel names the command ("lenslab camera", not its action)
+    assert err.strip().splitlines() == [f"{prog}: error: {src}: is an input of this command; it is never written "
+                                        "over, even with --overwrite: choose another output name"], err
+    assert src.read_bytes() == KEEP

@@ -181,7 +181,7 @@ def test_cli_file_rules(tmp_path, capsys):
     before = out.read_bytes()
     assert main(["diff", str(fa), str(fb), "-o", str(out), "-q", "--flip", "off"]) == 4  # exists: never replaced
     assert out.read_bytes() == before and "already exists" in capsys.readouterr().err
-    assert main(["diff", str(fa), str(fb), "-o", str(fa), "--overwrite", "-q"]) == 4  # an input: never written
+    assert main(["diff", str(fa), str(fb), "-o", str(fa), "--overwrite", "-q"]) == 2  # an input: a usage error
     assert read(fa)[0].shape == a.shape and "input" in capsys.readouterr().err
     assert main(["diff", str(fa), str(tmp_path / "missing.exr")]) == 4
     err = capsys.readouterr().err.strip().splitlines()

@@ -52,12 +52,13 @@ LUT_TAGS = (b"A2B0", b"A2B1", b"A2B2", b"D2B0", b"D2B1", b"D2B2")
 class Plan:
     """What a reader does with a profile: ``kind`` "srgb" (read as sRGB), "matrix" (``curves`` per colour
     channel, then ``matrix``, 3 x 3 file RGB -> Rec.709), "grey" (one curve) or "ignored" (read as sRGB);
-    ``note`` is the one line ``lenslab info`` shows."""
+    ``note`` is the one line ``lenslab info`` shows; ``name`` the profile's description."""
 
     kind: str
     note: str
     curves: tuple = ()
     matrix: np.ndarray | None = None
+    name: str = ""
 
 
 def refuse(where: str, what: str):
@@ -217,7 +218,8 @@ def plan(data: bytes, channels: int, where: str) -> Plan:
     matrix = _to_rec709(np.stack(colorants, axis=1), adapt, where)
     if _is_srgb(curves, matrix):
         return Plan("srgb", f"{label}: sRGB, read as sRGB")
-    return Plan("matrix", f"{label}: its curves and colorants applied, converted to linear Rec.709", curves, matrix)
+    return Plan("matrix", f"{label}: its curves and colorants applied, converted to linear Rec.709", curves, matrix,
+                name)
 
 
 def linear(how: Plan) -> bool:

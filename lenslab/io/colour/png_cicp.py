@@ -114,6 +114,10 @@ def to_linear_light(codes, points):
         f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 (the PNG's cICP chunk)")
 
 
+#: the names notes give the H.273 primaries converted to Rec.709
+H273_NAMES = {12: "P3-D65", 9: "BT.2020"}
+
+
 def wide_to_709(image, primaries: int) -> str:
     """Linear light decoded from sRGB codes on H.273 ``primaries`` (H x W x C float32, straight colour, alpha
     last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
@@ -125,7 +129,7 @@ def wide_to_709(image, primaries: int) -> str:
     if matrix is None:
         return f"the PNG's cICP chunk says primaries {primaries}: read as Rec.709"
     to_rec709(image, matrix)
-    name = {12: "P3-D65", 9: "BT.2020"}.get(int(primaries), f"primaries {primaries}")
+    name = H273_NAMES.get(int(primaries), f"primaries {primaries}")
     return f"sRGB codes on {name} primaries (the PNG's cICP chunk), converted to Rec.709"
 
 

@@ -179,12 +179,17 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     if view is not None:  # the view's own channels, named as a plain image's (left.Z -> Z)
         planes = {without_view(n, view): plane for n, plane in planes.items()}
 
-    primaries_converted = False
+    primaries_converted, gamut = False, None
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
+        from lenslab.io.colour.gamut import outside, widens
         from lenslab.io.colour.primaries import matrix_from_chromaticities, to_rec709
 
-        to_rec709(image, matrix_from_chromaticities(chroma))  # file RGB -> XYZ -> Rec.709, by bands
+        matrix = matrix_from_chromaticities(chroma)
+        # wider primaries, no negative of the file's own: the negatives after the conversion are colours outside
+        # Rec.709's gamut
+        gamut = "chromaticities" if widens(matrix) and outside(image) == 0 else None
+        to_rec709(image, matrix)  # file RGB -> XYZ -> Rec.709, by bands
         primaries_converted = True
 
     stored = image_types(order, short, pixel_types, converted)
@@ -226,6 +231,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         # (:func:`lenslab.io.exr.keep.kept_header`) without reading the file again
         "exr_header": PartHeader(header),
     }
+    if gamut:
+        meta["wide_gamut"] = gamut  # what gave the wide primaries (lenslab.io.colour.gamut.WIDE_GAMUT)
     return image, meta
 
 

@@ -38,6 +38,6 @@ FORMATS = (Format(
     name="hdr", title="Radiance HDR", extensions=(".hdr", ".pic", ".rgbe"),
     magic=lambda head: head.startswith((b"#?RADIANCE", b"#?RGBE")) or (head.startswith(b"#?") and b"\n" in head),
     hdr=True, alpha=False, channels=(3,), bit_depths=(32,), sample_types=("rgbe",), read=_read, declare=_declare, write=_write,
-    probe=_probe,
+    probe=_probe, clips_negatives=True,
     write_options={"rle": "True (default): run-length encoded scanlines; False: flat"},
     note="EXPOSURE and COLORCORR divided out; XYZE refused; grey is written as equal R, G, B"),)

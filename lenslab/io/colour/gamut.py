@@ -1,0 +1,103 @@
+"""Colours outside the output's gamut: a file on primaries wider than Rec.709's (Display P3, Adobe RGB, BT.2020
+in an ICC profile or a PNG cICP chunk) holds colours that Rec.709 (sRGB's primaries, lenslab's working space)
+cannot show. Converted to linear Rec.709 (:mod:`lenslab.io.colour.primaries`), such a colour has a negative
+component: its chromaticity lies outside the sRGB triangle. That is no damage of the file, and no codec's
+undershoot: a display output (an sRGB PNG or JPEG, a tone-mapped image) clips it per channel, and the command
+says how many pixels were clipped, in those words (:func:`clip_outside`).
+
+A reader that converts a file's colours from such primaries (:func:`widens`: not sRGB's own) names them in
+the image's ``meta[WIDE_GAMUT]`` when the file held no negative value of its own (integer codes never do; a
+float file, EXR or TIFF, is looked at before the conversion): every negative component of that image is then
+a colour outside the gamut. A float
+file with negatives of its own is not named: its negatives stay the tone curve's repairs, small undershoot
+and real negative light alike (:mod:`lenslab.tone.repairs`).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+#: ``meta`` key a reader sets to what gave the wide primaries it converted integer codes from (``ICC profile
+#: 'Display P3'``, ``cICP primaries P3-D65``)
+WIDE_GAMUT = "wide_gamut"
+#: rows looked at a time: no temporary of the image's size
+BAND_ROWS = 256
+
+
+class GamutWarning(UserWarning):
+    """Pixels whose colour lies outside the output's gamut were clipped per channel; ``pixels`` of ``total``."""
+
+    def __init__(self, message: str, pixels: int = 0, total: int = 0):
+        super().__init__(message)
+        self.pixels, self.total = int(pixels), int(total)
+
+
+def widens(matrix: np.ndarray) -> bool:
+    """Whether the 3 x 3 matrix (file RGB -> linear Rec.709) takes some colour of the file's own gamut outside
+    Rec.709's: one of its entries is negative beyond the precision of the file's primaries. A profile on sRGB's
+    own primaries with another curve (scRGB, esRGB, a gamma 2.2 "sRGB") gives entries of about -1e-4 (its
+    s15.16 colorants and their Bradford adaptation; colour-science's own sRGB -> BT.709 matrix has -8e-5): no
+    colour of such a file is outside, and the few 1e-4 below 0 it takes stay the tone curve's slight repairs.
+    The bound is the one within which a profile's matrix is sRGB's (``icc.SRGB_MATRIX_TOLERANCE``); Display P3
+    gives -0.22, Adobe RGB -0.40."""
+    from lenslab.io.colour.icc import SRGB_MATRIX_TOLERANCE
+
+    return bool(np.min(np.asarray(matrix, dtype=np.float64)) < -SRGB_MATRIX_TOLERANCE)
+
+
+def profile_gamut(how) -> str | None:
+    """What :data:`WIDE_GAMUT` says for codes converted by the ICC plan ``how``
+    (:func:`lenslab.io.colour.icc.plan`): ``ICC profile 'NAME'`` when its matrix :func:`widens`, else None."""
+    return f"ICC profile '{how.name}'" if how.matrix is not None and widens(how.matrix) else None
+
+
+def outside(image: np.ndarray) -> int:
+    """How many pixels of ``image`` (float H x W x C, the colour in its first three channels) have a negative
+    colour component (NaN is not negative), a band of whole rows at a time, every channel read in its memory
+    order: a band whose minimum is not negative is passed at once (the minimum runs at memory speed; a negative
+    of another channel, alpha or depth, only sends its band to the next step). In a band with a negative, the
+    signs, one byte a component, are or-ed over the three colour columns. Measured on an 8K image with a
+    negative on every seventh row: 0.06 s of CPU for RGB, where the per-pixel minimum of three strided
+    channels took 0.17 s (0.18 s for RGBA's colour view)."""
+    count, channels = 0, image.shape[2]
+    for r in range(0, image.shape[0], BAND_ROWS):
+        band = image[r:r + BAND_ROWS]
+        if band.min() >= 0:  # (NaN compares False: such a band is looked at pixel by pixel)
+            continue
+        signs = (band < 0).view(np.uint8).reshape(-1, channels)  # a new contiguous array: a byte a component
+        count += int(np.count_nonzero(signs[:, 0] | signs[:, 1] | signs[:, 2]))
+    return count
+
+
+def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = False) -> np.ndarray:
+    """``image`` (float32 H x W x C, premultiplied colour, alpha last when ``alpha``) with the negative colour
+    components of a wide-gamut file (``meta[WIDE_GAMUT]``) set to 0, per channel, as a display output clips
+    them, and a :class:`GamutWarning` that counts the pixels: ``FILE: N of M pixels hold colours outside the
+    sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel``. ``in_place``: the caller gives
+    ``image`` up; else it is copied when something is clipped. Any other image is returned as it is."""
+    name = meta.get(WIDE_GAMUT)
+    if not name or getattr(image, "ndim", 0) != 3 or image.shape[2] - bool(alpha) != 3:
+        return image
+    count = outside(image)
+    if not count:
+        return image
+    if not in_place or not image.flags.writeable:
+        image = image.copy()
+    for r in range(0, image.shape[0], BAND_ROWS):  # whole pixels, in memory order; alpha put back as it was
+        band = image[r:r + BAND_ROWS]
+        kept = band[..., -1].copy() if alpha else None
+        np.maximum(band, 0.0, out=band)
+        if alpha:
+            band[..., -1] = kept
+    total = image.shape[0] * image.shape[1]
+    text = (f"{count} of {total} pixel{'s' if total != 1 else ''} hold colours outside the sRGB gamut (the "
+            f"file's {name}): clipped per channel")
+    warning = GamutWarning(f"{meta.get('path', 'the image')}: {text}", count, total)
+    warning.command_line = text  # a batch's note names the file itself
+    warnings.warn(warning, stacklevel=2)
+    return image
+
+
+__all__ = ["WIDE_GAMUT", "GamutWarning", "clip_outside", "outside", "profile_gamut", "widens"]
