@@ -112,7 +112,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         open_encoder(writer.container, writer.stream)  # while the maps are made; a size it refuses: one error now
         with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             # frames are converted to linear light where the plan reads
-            window = None if source_flips else (lambda: plan().source_window())
+            window = None if source_flips else (lambda: plan().source_spans())
             # output frames reused in turn: the writer may still read `held` earlier ones (none when it takes each
             # frame to the encoder's planes as it is written)
             ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
@@ -168,7 +168,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
     meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
     plan = _maps_ahead(cache, src, dst)
-    window = None if source_flips else (lambda: plan().source_window())
+    window = None if source_flips else (lambda: plan().source_spans())
 
     def write_frames():
         written = 0
@@ -196,7 +196,7 @@ def _maps_ahead(cache, src, dst):
         try:
             plan = cache.plan(src, dst)
             plan.prepare()
-            plan.source_window()  # kept by the plan
+            plan.source_spans()  # kept by the plan
             box["plan"] = plan
         except BaseException as exc:  # raised in the caller's thread
             box["error"] = exc

@@ -111,6 +111,24 @@ NB_MODULE(cxx_kernels, m) {
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
 
+    m.def("tap_reads", [](int64_t sw, int64_t sh, In<uint32_t> off, In<float> xs, In<float> ys, bool wrap, bool top,
+                          bool bottom, Out<uint8_t> read) {
+        need(sw > 0 && sh > 0 && uint64_t(sw) * uint64_t(sh) < TAP_FOLDED, "taps need a source of fewer than 2^32 - 2 pixels");
+        need(xs.size() == ys.size() && read.size() == size_t(sw * sh), "read: the source's size");
+        const uint32_t* o = off.data();
+        const int64_t last = sw * (sh - 1) - 1;  // a 2x2's top-left tap is below it
+        for (size_t q = 0; q < off.size(); ++q)
+            need(o[q] >= TAP_FOLDED || int64_t(o[q]) < last, "a tap reads outside the source");
+        tap_reads(sw, sh, o, int64_t(off.size()), xs.data(), ys.data(), int64_t(xs.size()), {wrap, top, bottom},
+                  read.data());
+    }, nb::arg("sw"), nb::arg("sh"), nb::arg("off"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"),
+       nb::arg("bottom"), nb::arg("read").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("read_spans", [](int64_t sw, int64_t sh, In<uint8_t> read, Out<int64_t> spans) {
+        need(sw > 0 && sh > 0 && read.size() == size_t(sw * sh) && spans.size() == size_t(4 * sh), "read: sh x sw, spans: sh x 4");
+        read_spans(sw, sh, read.data(), spans.data());
+    }, nb::arg("sw"), nb::arg("sh"), nb::arg("read"), nb::arg("spans").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
     register_footprint(m);
     register_secants(m);
     register_pyramid(m);
