@@ -1,6 +1,7 @@
 // Python bindings of the compiled kernels (lenslab.cxx_kernels). Every function releases the GIL: the engine
 // runs one band of rows per thread. Arrays are C-contiguous and of the stated dtypes (checked by nanobind);
 // inputs of another layout or dtype are converted, outputs never are (written in place, or refused).
+#include <algorithm>
 #include <cstring>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -92,9 +93,11 @@ NB_MODULE(cxx_kernels, m) {
         need(tx.size() == n && ty.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
         const int64_t last = int64_t(src.size() / size_t(nc)) - sw - 1;  // a 2x2's top-left tap is below it
         const uint32_t* o = off.data();
-        bool inside = true;
-        for (size_t q = 0; q < n; ++q) inside &= o[q] >= TAP_FOLDED || int64_t(o[q]) < last;
-        need(inside, "a tap reads outside the source");
+        // an offset in [last, TAP_FOLDED) reads outside: one unsigned compare each, in a loop the compiler vectorises
+        const uint32_t lo = uint32_t(std::clamp<int64_t>(last, 0, TAP_FOLDED)), span = TAP_FOLDED - lo;
+        uint32_t outside = 0;
+        for (size_t q = 0; q < n; ++q) outside |= uint32_t(uint32_t(o[q] - lo) < span);
+        need(outside == 0, "a tap reads outside the source");
         from_taps(src.data(), sw, nc, off.data(), tx.data(), ty.data(), int64_t(n), out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("nc"), nb::arg("off"), nb::arg("tx"), nb::arg("ty"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
