@@ -121,12 +121,12 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
             # here, each pass on every core; encoded on a thread of its own
             developed = display or look.always or float(args.exposure) != 0.0  # else the look is the identity
             for k, (_, frame) in enumerate(read_frames(src_path, start, stop, prefetch=2, window=window)):
-                plan()
                 # Y'CbCr out: each band's rows go to the encoder's planes on the band's thread, while in cache
                 rows = None if developed else writer.rows()
+                # warped as a still image is (outside the view: black), with the plan made ahead
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
-                                          into=ring[k % len(ring)], on_band=rows)  # as a still image is; outside
-                if developed:  # the view: black
+                                          into=ring[k % len(ring)], on_band=rows, plan=plan())
+                if developed:
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out if rows is None else rows.finish(out), encoded=bool(display),
                              handover=True)  # not reused until encoded
@@ -174,8 +174,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
         written = 0
         with _frame_bar(show, total, Path(src_path).name) as bar:
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
-                plan()
-                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)
+                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
                 write_warped(frame_path(dst_path, i), colour, alpha, meta, fmt, job, dst)
                 written += 1
                 bar.update()
