@@ -1,5 +1,3 @@
-import sys
+from lenslab.cli.main import console
 
-from lenslab.cli.main import main
-
-sys.exit(main())
+console()

@@ -112,5 +112,14 @@ def main(argv: list[str] | None = None) -> int:
     return run_command(f"lenslab {args.command}", lambda: args._module.run(args), debug=getattr(args, "debug", False))
 
 
+def console() -> None:
+    """The ``lenslab`` command (and ``python -m lenslab``): :func:`main`, then the process ends without the
+    interpreter's teardown (:mod:`lenslab.cli.process_exit`)."""
+    code = main()  # a usage error or --help: SystemExit, the interpreter's usual exit
+    from lenslab.cli.process_exit import exit_now
+
+    exit_now(code)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    console()

@@ -112,7 +112,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         open_encoder(writer.container, writer.stream)  # while the maps are made; a size it refuses: one error now
         with writer, _frame_bar(show, total, Path(src_path).name) as bar:
             # frames are converted to linear light where the plan reads
-            window = None if source_flips else (lambda: plan().source_window())
+            window = None if source_flips else (lambda: plan().source_spans())
             # output frames reused in turn: the writer may still read `held` earlier ones (none when it takes each
             # frame to the encoder's planes as it is written)
             ring = [(np.empty((dst.size[1], dst.size[0], 3), np.float32),
@@ -121,12 +121,12 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
             # here, each pass on every core; encoded on a thread of its own
             developed = display or look.always or float(args.exposure) != 0.0  # else the look is the identity
             for k, (_, frame) in enumerate(read_frames(src_path, start, stop, prefetch=2, window=window)):
-                plan()
                 # Y'CbCr out: each band's rows go to the encoder's planes on the band's thread, while in cache
                 rows = None if developed else writer.rows()
+                # warped as a still image is (outside the view: black), with the plan made ahead
                 out, _ = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst,
-                                          into=ring[k % len(ring)], on_band=rows)  # as a still image is; outside
-                if developed:  # the view: black
+                                          into=ring[k % len(ring)], on_band=rows, plan=plan())
+                if developed:
                     out, _ = develop(out, {"display_encoded": True}, clip, look)  # exposure, or the display
                 writer.write(out if rows is None else rows.finish(out), encoded=bool(display),
                              handover=True)  # not reused until encoded
@@ -168,14 +168,13 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
     meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
     plan = _maps_ahead(cache, src, dst)
-    window = None if source_flips else (lambda: plan().source_window())
+    window = None if source_flips else (lambda: plan().source_spans())
 
     def write_frames():
         written = 0
         with _frame_bar(show, total, Path(src_path).name) as bar:
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
-                plan()
-                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst)
+                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
                 write_warped(frame_path(dst_path, i), colour, alpha, meta, fmt, job, dst)
                 written += 1
                 bar.update()
@@ -196,7 +195,7 @@ def _maps_ahead(cache, src, dst):
         try:
             plan = cache.plan(src, dst)
             plan.prepare()
-            plan.source_window()  # kept by the plan
+            plan.source_spans()  # kept by the plan
             box["plan"] = plan
         except BaseException as exc:  # raised in the caller's thread
             box["error"] = exc

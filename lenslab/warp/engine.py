@@ -32,7 +32,7 @@ from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
 from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_image, render_channels
 from lenslab.warp.seam import border_of
-from lenslab.warp.taps import TapBand, eligible, sample_taps, source_window, taps_of
+from lenslab.warp.taps import TapBand, eligible, sample_taps, source_spans, source_window, taps_of
 from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 
 if TYPE_CHECKING:
@@ -40,7 +40,6 @@ if TYPE_CHECKING:
 from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
-
 
 #: strata per pixel (4 x 4) when ``antialias`` meets a source that blends several views (dual fisheye)
 VIEW_AA_SAMPLES = 16
@@ -175,16 +174,19 @@ class WarpPlan:
             self._bands = run_bands(self.band_rows(), lambda rows: self._kept_band(*rows))
 
     def source_window(self) -> tuple[int, int, int, int] | None:
-        """``(row0, row1, col0, col1)`` of the source pixels this plan reads, once its maps are kept as taps
-        (after the first image); None when not known or when it reads across the source's edges. A video
-        decoder converts only these pixels of every later frame."""
+        """``(row0, row1, col0, col1)``: the box around :meth:`source_spans`, or None when they are not known."""
+        return None if (spans := self.source_spans()) is None else source_window(spans)
+
+    def source_spans(self) -> np.ndarray | None:
+        """The source pixels this plan reads, row by row (:func:`lenslab.warp.taps.source_spans`), once its maps are
+        kept as taps (after the first image), else None. A video decoder converts only these pixels of each frame."""
         bands = self._bands
         if self.parts is not None or self.channels is not None or not bands or \
                 not all(isinstance(b, TapBand) for b in bands):
             return None
-        if getattr(self, "_window", None) is None:
-            self._window = (source_window(bands, self.src.width, self.src.height),)
-        return self._window[0]
+        if getattr(self, "_spans", None) is None:
+            self._spans = source_spans(bands, self.border, self.src.width, self.src.height)
+        return self._spans
 
     @property
     def map_bytes(self) -> int:
@@ -305,15 +307,13 @@ class _Rows:
     """The rows a band covered, without its map (what a plan that does not cache keeps of a band)."""
 
     __slots__ = ("r0", "r1")
-
     def __init__(self, band):
         self.r0, self.r1 = band.r0, band.r1
 
 
 def warp(image: ArrayLike, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
          antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
-         exact_map: bool = False, band_points: int = BAND_POINTS,
-         progress: Callable[[int], None] | None = None,
+         exact_map: bool = False, band_points: int = BAND_POINTS, progress: Callable[[int], None] | None = None,
          alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Reproject ``image`` seen by ``src_camera`` into the view of ``dst_camera``.
 

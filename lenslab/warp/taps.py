@@ -68,18 +68,27 @@ def sample_taps(src: np.ndarray, band: TapBand, border, out: np.ndarray, alpha: 
         k.folded(flat, sw, sh, nc, band.fold_idx, band.fold_x, band.fold_y, wrap, top, bottom, out, alpha)
 
 
-def source_window(bands: list[TapBand], src_width: int, src_height: int) -> tuple[int, int, int, int] | None:
-    """``(row0, row1, col0, col1)``: the source pixels the taps of ``bands`` read (both taps of each pair), or
-    None when a pixel goes through the folding sampler, which reads across the source's edges."""
-    if any(len(b.fold_idx) for b in bands):
-        return None
-    r0, r1, c0, c1 = src_height, 0, src_width, 0
+def source_spans(bands: list[TapBand], border, src_width: int, src_height: int) -> np.ndarray:
+    """The source pixels the taps of ``bands`` read, all four taps of each pixel, those of the folding sampler
+    (across the seam, over a pole) included: ``(src_height, 4)`` int64, row ``j`` read within columns
+    ``spans[j, 0]`` to ``spans[j, 1] - 1`` and ``spans[j, 2]`` to ``spans[j, 3] - 1`` (the second span empty but
+    where the row is read on both sides of the seam; all 0 for a row not read). No other source pixel is read."""
+    read = np.zeros((src_height, src_width), np.uint8)
+    wrap, top, bottom = border.flags
+    k = native.kernels()
     for b in bands:
-        off = b.off[b.off < FOLDED]
-        if off.size:
-            rows, cols = np.divmod(off, np.uint32(src_width))
-            r0, r1 = min(r0, int(rows.min())), max(r1, int(rows.max()) + 2)
-            c0, c1 = min(c0, int(cols.min())), max(c1, int(cols.max()) + 2)
-    if r1 <= r0:
+        k.tap_reads(src_width, src_height, b.off.reshape(-1), b.fold_x, b.fold_y, wrap, top, bottom, read)
+    spans = np.empty((src_height, 4), np.int64)
+    k.read_spans(src_width, src_height, read, spans)
+    return spans
+
+
+def source_window(spans: np.ndarray) -> tuple[int, int, int, int]:
+    """``(row0, row1, col0, col1)``: the box around :func:`source_spans`'s ``spans`` (all 0 when nothing is read)."""
+    some = (spans[:, 1] > spans[:, 0]) | (spans[:, 3] > spans[:, 2])
+    rows = np.flatnonzero(some)
+    if not rows.size:
         return 0, 0, 0, 0
-    return r0, min(r1, src_height), c0, min(c1, src_width)
+    lo = np.where(spans[rows, 1] > spans[rows, 0], spans[rows, 0], spans[rows, 2])
+    hi = np.where(spans[rows, 3] > spans[rows, 2], spans[rows, 3], spans[rows, 1])
+    return int(rows[0]), int(rows[-1]) + 1, int(lo.min()), int(hi.max())

@@ -1,6 +1,7 @@
 // Python bindings of the compiled kernels (lenslab.cxx_kernels). Every function releases the GIL: the engine
 // runs one band of rows per thread. Arrays are C-contiguous and of the stated dtypes (checked by nanobind);
 // inputs of another layout or dtype are converted, outputs never are (written in place, or refused).
+#include <algorithm>
 #include <cstring>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -92,9 +93,11 @@ NB_MODULE(cxx_kernels, m) {
         need(tx.size() == n && ty.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
         const int64_t last = int64_t(src.size() / size_t(nc)) - sw - 1;  // a 2x2's top-left tap is below it
         const uint32_t* o = off.data();
-        bool inside = true;
-        for (size_t q = 0; q < n; ++q) inside &= o[q] >= TAP_FOLDED || int64_t(o[q]) < last;
-        need(inside, "a tap reads outside the source");
+        // an offset in [last, TAP_FOLDED) reads outside: one unsigned compare each, in a loop the compiler vectorises
+        const uint32_t lo = uint32_t(std::clamp<int64_t>(last, 0, TAP_FOLDED)), span = TAP_FOLDED - lo;
+        uint32_t outside = 0;
+        for (size_t q = 0; q < n; ++q) outside |= uint32_t(uint32_t(o[q] - lo) < span);
+        need(outside == 0, "a tap reads outside the source");
         from_taps(src.data(), sw, nc, off.data(), tx.data(), ty.data(), int64_t(n), out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("nc"), nb::arg("off"), nb::arg("tx"), nb::arg("ty"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
@@ -110,6 +113,24 @@ NB_MODULE(cxx_kernels, m) {
                alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("idx"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("tap_reads", [](int64_t sw, int64_t sh, In<uint32_t> off, In<float> xs, In<float> ys, bool wrap, bool top,
+                          bool bottom, Out<uint8_t> read) {
+        need(sw > 0 && sh > 0 && uint64_t(sw) * uint64_t(sh) < TAP_FOLDED, "taps need a source of fewer than 2^32 - 2 pixels");
+        need(xs.size() == ys.size() && read.size() == size_t(sw * sh), "read: the source's size");
+        const uint32_t* o = off.data();
+        const int64_t last = sw * (sh - 1) - 1;  // a 2x2's top-left tap is below it
+        for (size_t q = 0; q < off.size(); ++q)
+            need(o[q] >= TAP_FOLDED || int64_t(o[q]) < last, "a tap reads outside the source");
+        tap_reads(sw, sh, o, int64_t(off.size()), xs.data(), ys.data(), int64_t(xs.size()), {wrap, top, bottom},
+                  read.data());
+    }, nb::arg("sw"), nb::arg("sh"), nb::arg("off"), nb::arg("xs"), nb::arg("ys"), nb::arg("wrap"), nb::arg("top"),
+       nb::arg("bottom"), nb::arg("read").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("read_spans", [](int64_t sw, int64_t sh, In<uint8_t> read, Out<int64_t> spans) {
+        need(sw > 0 && sh > 0 && read.size() == size_t(sw * sh) && spans.size() == size_t(4 * sh), "read: sh x sw, spans: sh x 4");
+        read_spans(sw, sh, read.data(), spans.data());
+    }, nb::arg("sw"), nb::arg("sh"), nb::arg("read"), nb::arg("spans").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 
     register_footprint(m);
     register_secants(m);

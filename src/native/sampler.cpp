@@ -164,4 +164,43 @@ void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t
     }
 }
 
+void tap_reads(int64_t sw, int64_t sh, const uint32_t* off, int64_t n, const float* xs, const float* ys, int64_t m,
+               Border b, uint8_t* read) {
+    for (int64_t q = 0; q < n; ++q) {
+        if (off[q] >= TAP_FOLDED) continue;
+        uint8_t* t = read + off[q];
+        t[0] = t[1] = t[sw] = t[sw + 1] = 1;
+    }
+    uint64_t p[4];
+    for (int64_t e = 0; e < m; ++e) {  // the folding sampler's taps, as folded() finds them
+        const float x = clamp_pos(xs[e]), y = clamp_pos(ys[e]);
+        corners(int64_t(ffloor(x)), int64_t(ffloor(y)), sw, sh, 1, b, p);
+        for (int k = 0; k < 4; ++k) read[p[k]] = 1;
+    }
+}
+
+void read_spans(int64_t sw, int64_t sh, const uint8_t* read, int64_t* spans) {
+    for (int64_t j = 0; j < sh; ++j) {
+        const uint8_t* r = read + j * sw;
+        int64_t* s = spans + 4 * j;
+        s[0] = s[1] = s[2] = s[3] = 0;
+        int64_t first = 0, last = sw - 1;
+        while (first < sw && !r[first]) ++first;
+        if (first == sw) continue;  // not read
+        while (!r[last]) --last;
+        int64_t g0 = 0, g1 = 0;  // the longest run of unread columns between first and last
+        for (int64_t c = first; c <= last;) {
+            if (r[c]) { ++c; continue; }
+            int64_t e = c;
+            while (!r[e]) ++e;
+            if (e - c > g1 - g0) { g0 = c; g1 = e; }
+            c = e;
+        }
+        s[0] = first;  // first to last, less the longest unread run (none: g0 = g1 = 0, the second span empty)
+        s[1] = g1 > g0 ? g0 : last + 1;
+        s[2] = g1 > g0 ? g1 : 0;
+        s[3] = g1 > g0 ? last + 1 : 0;
+    }
+}
+
 }  // namespace lenslab

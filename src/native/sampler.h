@@ -19,6 +19,14 @@ void from_taps(const float* flat, int64_t sw, int64_t nc, const uint32_t* off, c
                int64_t n, float* out, float* alpha);
 void folded(const float* flat, int64_t sw, int64_t sh, int64_t nc, const int64_t* idx, const float* xs,
             const float* ys, int64_t m, Border b, float* out, float* alpha);
+// The source pixels a band's taps read (from_taps: off, n pixels; folded: xs, ys, m positions), all four of each
+// pixel's taps, marked 1 in `read` (sh x sw, kept across bands)
+void tap_reads(int64_t sw, int64_t sh, const uint32_t* off, int64_t n, const float* xs, const float* ys, int64_t m,
+               Border b, uint8_t* read);
+// Each row's marked columns of `read` (sh x sw) within two spans [s0, s1) and [s2, s3) (spans: sh x 4; all 0 for a
+// row not read): the first marked column to the last, less the longest unread run between them (a row read on both
+// sides of the seam leaves out the columns between); the second span is empty (0, 0) where none is left out
+void read_spans(int64_t sw, int64_t sh, const uint8_t* read, int64_t* spans);
 
 // The footprint prefilter (lenslab.warp.pyramid): npix pixels of ns samples; foot (npix, ns, 4);
 // shapes (nlev, 2) (height, width); offsets (nlev,) into rest for levels >= 1; row_len samples (a multiple of ns)

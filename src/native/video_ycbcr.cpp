@@ -60,10 +60,6 @@ inline void primaries(float* o, int64_t n, const float* mf) {
     }
 }
 
-// Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
-// `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
-// LY and LC the codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly), the
-// bracket once per chroma sample; then the transfer function's table, then `m` (BT.2020 -> Rec.709) when given.
 // The codes' values times 65535 (tables rounded once from float64, so white is 65535 exactly): Y' (ly) and chroma
 // (lc), n codes each
 inline void code_values(Range r, int64_t n, float* ly, float* lc) {
@@ -95,7 +91,8 @@ void rb_tables(Range r, const double* k, const float* t, float* rb) {
 // table, then `m` (BT.2020 -> Rec.709) when given. `rb` (8-bit samples; may be null): R' and B' from rb_tables.
 template <typename T>
 void to_linear(Planes<const T> p, Range r, const double* k, const float* t, const float* rb, const double* m,
-               float* out, int64_t cols, int64_t r0, int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
+               float* out, int64_t cols, int64_t r0, int64_t r1, int64_t c0_, int64_t c1_, const int64_t* spans,
+               int64_t threads) {
     constexpr int64_t N = int64_t(1) << (8 * sizeof(T));
     std::vector<float> ly(N), lc(N);
     code_values(r, N, ly.data(), lc.data());
@@ -107,9 +104,16 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
     const float* TR = N == 256 ? rb : nullptr;
     const float* TB = TR == nullptr ? nullptr : TR + 65536;
     bands(r1 - r0, threads, 1, [=](int64_t b0, int64_t b1) {
-        int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1, n = (c1 - c0) * 3;
-        std::vector<float> chroma(size_t(std::max<int64_t>(k1 - k0, 0)) * 3), xs(size_t(std::max<int64_t>(n, 0)));
-        for (int64_t j = r0 + b0; j < r0 + b1; ++j) {
+        std::vector<float> chroma(size_t(std::max<int64_t>(((c1_ - 1) >> p.hx) + 1 - (c0_ >> p.hx), 0)) * 3),
+            xs(size_t(std::max<int64_t>((c1_ - c0_) * 3, 0)));
+        for (int64_t piece = int64_t(r0 + b0) * 2; piece < int64_t(r0 + b1) * 2; ++piece) {
+            // row j's columns c0 to c1 - 1: the window's, or (spans) narrowed to each of the row's two spans
+            const int64_t j = piece >> 1, e = piece & 1;
+            if (spans == nullptr && e) continue;
+            const int64_t c0 = spans ? std::max(c0_, spans[4 * j + 2 * e]) : c0_;
+            const int64_t c1 = spans ? std::min(c1_, spans[4 * j + 2 * e + 1]) : c1_;
+            if (c1 <= c0) continue;
+            const int64_t k0 = c0 >> p.hx, k1 = ((c1 - 1) >> p.hx) + 1, n = (c1 - c0) * 3;
             const T* yr = p.y + j * p.sy_;
             const T* ur = p.u + (j >> p.vy) * p.su;
             const T* vr = p.v + (j >> p.vy) * p.sv;
@@ -164,75 +168,7 @@ inline void encoded_row(const float* a, int64_t cols, const double* m, const Cur
     for (int64_t q = 0; q < n; ++q) e[q] = e[q] > 0.0f ? (e[q] < 1.0f ? e[q] : 1.0f) : 0.0f;
 }
 
-// The pixels of a row of linear float32 (cols x 3) from the first on, eight at a time, as the scalar loop of
-// from_linear_t computes them: R'G'B' by the curve (none: the values themselves) clamped to [0, 1], Y' in float64
-// rounded to its code in `yr`, E'cb and E'cr in float64 in `u`, `v`. Returns how many pixels it did (a multiple of 8;
-// 0 without AVX2).
-template <typename T>
-int64_t row_codes_x8(const float* a, int64_t cols, const Curve& curve, const double* k, const Range& r, double top,
-                     T* yr, double* u, double* v) {
-#if defined(__AVX2__) && defined(__FMA__)
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-    // gather each channel's eight values from three vectors of interleaved R, G, B
-    const __m256i pr0 = _mm256_setr_epi32(0, 3, 6, 0, 0, 0, 0, 0), pr1 = _mm256_setr_epi32(0, 0, 0, 1, 4, 7, 0, 0),
-                  pr2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 2, 5);
-    const __m256i pg0 = _mm256_setr_epi32(1, 4, 7, 0, 0, 0, 0, 0), pg1 = _mm256_setr_epi32(0, 0, 0, 2, 5, 0, 0, 0),
-                  pg2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 3, 6);
-    const __m256i pb0 = _mm256_setr_epi32(2, 5, 0, 0, 0, 0, 0, 0), pb1 = _mm256_setr_epi32(0, 0, 0, 3, 6, 0, 0, 0),
-                  pb2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 4, 7);
-    const __m256d K[9] = {_mm256_set1_pd(k[0]), _mm256_set1_pd(k[1]), _mm256_set1_pd(k[2]), _mm256_set1_pd(k[3]),
-                          _mm256_set1_pd(k[4]), _mm256_set1_pd(k[5]), _mm256_set1_pd(k[6]), _mm256_set1_pd(k[7]),
-                          _mm256_set1_pd(k[8])};
-    const __m256d ys = _mm256_set1_pd(r.ys), y0 = _mm256_set1_pd(r.y0), dtop = _mm256_set1_pd(top),
-                  dzero = _mm256_setzero_pd();
-    alignas(32) float e[24];
-    int64_t c = 0;
-    for (; c + 8 <= cols; c += 8) {
-        const float* x = a + 3 * c;
-        if (curve.table != nullptr) {
-            lenslab_video::curve_many(curve, x, e, 24);
-        } else {
-            std::memcpy(e, x, sizeof e);
-        }
-        __m256 w[3];
-        for (int q = 0; q < 3; ++q)  // max first: NaN -> 0
-            w[q] = _mm256_min_ps(_mm256_max_ps(_mm256_load_ps(e + 8 * q), zero), one);
-        __m256 R = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pr0),
-                                                   _mm256_permutevar8x32_ps(w[1], pr1), 0x38),
-                                   _mm256_permutevar8x32_ps(w[2], pr2), 0xC0);
-        __m256 G = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pg0),
-                                                   _mm256_permutevar8x32_ps(w[1], pg1), 0x18),
-                                   _mm256_permutevar8x32_ps(w[2], pg2), 0xE0);
-        __m256 B = _mm256_blend_ps(_mm256_blend_ps(_mm256_permutevar8x32_ps(w[0], pb0),
-                                                   _mm256_permutevar8x32_ps(w[1], pb1), 0x1C),
-                                   _mm256_permutevar8x32_ps(w[2], pb2), 0xE0);
-        __m128i codes[2];
-        for (int h = 0; h < 2; ++h) {
-            __m256d e0 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(R, 1) : _mm256_castps256_ps128(R));
-            __m256d e1 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(G, 1) : _mm256_castps256_ps128(G));
-            __m256d e2 = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(B, 1) : _mm256_castps256_ps128(B));
-            __m256d wy = _mm256_fmadd_pd(K[2], e2, _mm256_fmadd_pd(K[1], e1, _mm256_mul_pd(K[0], e0)));
-            __m256d wu = _mm256_fmadd_pd(K[5], e2, _mm256_fmadd_pd(K[4], e1, _mm256_mul_pd(K[3], e0)));
-            __m256d wv = _mm256_fmadd_pd(K[8], e2, _mm256_fmadd_pd(K[7], e1, _mm256_mul_pd(K[6], e0)));
-            _mm256_storeu_pd(u + c + 4 * h, wu);
-            _mm256_storeu_pd(v + c + 4 * h, wv);
-            __m256d y = _mm256_fmadd_pd(wy, ys, y0);
-            y = _mm256_min_pd(_mm256_max_pd(y, dzero), dtop);
-            codes[h] = _mm256_cvtpd_epi32(_mm256_round_pd(y, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
-        }
-        __m128i c16 = _mm_packus_epi32(codes[0], codes[1]);  // eight codes, at most `top` < 2^16
-        if constexpr (sizeof(T) == 1) {
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(yr + c), _mm_packus_epi16(c16, c16));
-        } else {
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(yr + c), c16);
-        }
-    }
-    return c;
-#else
-    (void)a; (void)cols; (void)curve; (void)k; (void)r; (void)top; (void)yr; (void)u; (void)v;
-    return 0;
-#endif
-}
+#include "video_codes_x8.h"  // row_codes_x8: the encoding's rows eight pixels at a time (AVX2)
 
 // Linear float32 -> Y'CbCr planes: per row, R'G'B' (encoded_row), then Y' in float64 rounded once to its code, and
 // each pixel's E'cb and E'cr (float64) kept for its chroma block; a block's chroma is their mean, summed row by row
@@ -345,7 +281,7 @@ void register_video_ycbcr(nb::module_& m) {
 
     m.def("ycbcr_to_linear", [](Plane y, Plane u, Plane v, int hx, int vy, In<double> range, In<double> matrix,
                                 In<float> table, In<float> rb, In<double> primaries, Out<float> out, int64_t r0,
-                                int64_t r1, int64_t c0, int64_t c1, int64_t threads) {
+                                int64_t r1, int64_t c0, int64_t c1, In<int64_t> spans, int64_t threads) {
         need(out.ndim() == 3 && out.shape(2) == 3, "out: H x W x 3");
         int64_t h = int64_t(out.shape(0)), w = int64_t(out.shape(1));
         check_planes(y, u, v, h, w, hx, vy);
@@ -358,15 +294,17 @@ void register_video_ycbcr(nb::module_& m) {
         need(rb.size() == 0 || (rb.size() == 2 * 65536 && y.dtype() == nb::dtype<uint8_t>()),
              "rb: empty, or the tables of 8-bit samples (2 x 256 x 256)");
         const float* tables = rb.size() ? rb.data() : nullptr;
+        need(spans.size() == 0 || spans.size() == size_t(4 * h), "spans: empty, or each row's two spans of columns");
+        const int64_t* sp = spans.size() ? spans.data() : nullptr;
         if (y.dtype() == nb::dtype<uint8_t>())
             to_linear(planes_of<const uint8_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), tables, pm,
-                      out.data(), w, r0, r1, c0, c1, threads);
+                      out.data(), w, r0, r1, c0, c1, sp, threads);
         else
             to_linear(planes_of<const uint16_t>(y, u, v, hx, vy), r, matrix.data(), table.data(), nullptr, pm,
-                      out.data(), w, r0, r1, c0, c1, threads);
+                      out.data(), w, r0, r1, c0, c1, sp, threads);
     }, nb::arg("y"), nb::arg("u"), nb::arg("v"), nb::arg("hx"), nb::arg("vy"), nb::arg("range"), nb::arg("matrix"),
        nb::arg("table"), nb::arg("rb"), nb::arg("primaries"), nb::arg("out").noconvert(), nb::arg("r0"), nb::arg("r1"),
-       nb::arg("c0"), nb::arg("c1"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>());
+       nb::arg("c0"), nb::arg("c1"), nb::arg("spans"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>());
 
     m.def("linear_to_ycbcr", [](In<float> lin, In<double> primaries, In<float> table, uint32_t b0, int shift,
                                 float zero, In<double> matrix, In<double> range, double top, Plane y, Plane u,

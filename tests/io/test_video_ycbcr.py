@@ -106,6 +106,8 @@ def test_encoding_is_colour_sciences_inverse_eotf_and_ycbcr(case):
     rs = np.random.default_rng(2)
     lin = rs.uniform(-0.1, 1.3, (H, W, 3)) ** 3  # dark values dense, some above white and below black
     lin.reshape(-1, 3)[:4] = [[np.nan, 0, 1], [np.inf, -np.inf, 0], [1, 1, 1], [0, 0, 0]]
+    lin[3:9, 2:30] = 0.0  # black runs, as outside a lens's view: whole groups of eight pixels and parts of them
+    lin[9, 5:21] = -0.0
     lin = lin.astype(np.float32)
     info = _info(case)
     got = [p[:-(-H // (1 << (vy if k else 0))), :-(-W // (1 << (hx if k else 0)))].astype(np.int64)

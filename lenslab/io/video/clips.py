@@ -175,11 +175,11 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
     release the GIL), so a warp of each frame overlaps the next decode; so does the conversion to linear light,
     except with ``window``.
 
-    ``window``: a function called for each frame, giving None (the whole frame) or ``(row0, row1, col0, col1)``,
-    the only pixels converted to linear light: those a warp reads. Y'CbCr frames are then converted in the caller's
-    thread as it takes them, into one buffer reused frame to frame (a 4K frame is 88 MB of fresh pages otherwise):
-    each frame is valid until the caller takes the next, and outside the window it holds 0 or an earlier frame's
-    values."""
+    ``window``: a function called for each frame, giving None (the whole frame), ``(row0, row1, col0, col1)`` or each
+    row's spans of columns (``H x 4``, :func:`lenslab.warp.taps.source_spans`): the pixels a warp reads, the only ones
+    converted to linear light. Y'CbCr frames are then converted in the caller's thread as it takes them, into one
+    buffer reused frame to frame (a 4K frame is 88 MB of fresh pages otherwise): each frame is valid until the
+    caller takes the next, and outside the window it holds 0 or an earlier frame's values."""
     info = probe_video(path)
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
         decode_table(info.curve, is_wide(info.primaries))
@@ -224,12 +224,13 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
             yield i, item
             continue
         box = window()
-        if box is not None and (box[1] > item.height or box[3] > item.width):
+        if box is not None and (len(box) != item.height if isinstance(box, np.ndarray) else box[1] > item.height
+                                or box[3] > item.width):
             yield i, ycbcr_to_linear(item, info)  # a frame of another size than the stream declared: the warp says so
             continue
         if not buffer or buffer[0].shape != (item.height, item.width, 3):
             buffer[:] = [np.zeros((item.height, item.width, 3), np.float32)]
-        yield i, ycbcr_to_linear(item, info, box or (0, item.height, 0, item.width), buffer[0])
+        yield i, ycbcr_to_linear(item, info, (0, item.height, 0, item.width) if box is None else box, buffer[0])
 
 
 class VideoWriter:

@@ -107,11 +107,15 @@ def _decode_args(info, pix_fmt: str):
 def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> np.ndarray:
     """A decoded PyAV frame (a format of ``FORMATS``) -> linear Rec.709 float32 H x W x 3, in one compiled pass.
 
-    ``window`` ``(row0, row1, col0, col1)``: only those pixels are written (into ``out`` when given, reused from
+    ``window`` ``(row0, row1, col0, col1)``, or each row's two spans of columns (``H x 4`` int64, start and end of each;
+    :func:`lenslab.warp.taps.source_spans`): only those pixels are written (into ``out`` when given, reused from
     frame to frame; else into a new frame of zeros)."""
     h, w = frame.height, frame.width
     if out is None:
         out = (np.empty if window is None else np.zeros)((h, w, 3), np.float32)
+    spans = np.empty(0, np.int64)
+    if isinstance(window, np.ndarray):
+        spans, window = np.ascontiguousarray(window, np.int64).reshape(-1), None
     r0, r1, c0, c1 = window or (0, h, 0, w)
     y, u, v = planes(frame)
     hx, vy, rng, k, table, prim = _decode_args(info, frame.format.name)
@@ -119,7 +123,7 @@ def ycbcr_to_linear(frame, info, window=None, out: np.ndarray | None = None) -> 
         else np.empty(0, np.float32)
     from lenslab.native import extension
 
-    extension().ycbcr_to_linear(y, u, v, hx, vy, rng, k, table, rb, prim, out, r0, r1, c0, c1, threads())
+    extension().ycbcr_to_linear(y, u, v, hx, vy, rng, k, table, rb, prim, out, r0, r1, c0, c1, spans, threads())
     return out
 
 
