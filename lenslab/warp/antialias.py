@@ -25,7 +25,7 @@ prefilter spends the work only where it is needed:
    inside the last one, read in O(1) from the prefix sums of the window's rows, whatever the
    footprint's width. Each edge is cut at the texel rows (where the reconstruction bends in y) and
    each piece integrated by 2-point Gauss-Legendre, exact while the edge stays between two texel
-   columns (``src/native/footprint.cpp``; ``tests/warp/test_footprint_exact.py`` bounds the error
+   columns (``src/native/footprint_edges.h``; ``tests/warp/test_footprint_exact.py`` bounds the error
    where it crosses one). The integral is divided by the parallelogram's area.
 5. A pixel whose validity differs from a neighbour's (or, on the image's border, from the point half
    a pixel outside) straddles the edge of the valid region (a circular image's rim, a source image's

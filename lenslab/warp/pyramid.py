@@ -1,9 +1,9 @@
 """The footprint prefilter's source side: a box-filtered pyramid of the source and the compiled
 sampler that averages it over each output sample's footprint (see :mod:`lenslab.warp.antialias` for
 the method and the footprints themselves). The sampler is C++ compiled ahead of time
-(:mod:`lenslab.warp.kernels.native`, ``src/native/footprint.cpp``); :func:`lenslab.warp.kernels.reference.footprint` is
-its NumPy reference. A warp builds its pyramid lazily: only the rows of the coarser levels that its footprints
-read (:meth:`Pyramid.ensure`)."""
+(:mod:`lenslab.warp.kernels.native`, ``src/native/footprint_runs.cpp``);
+:func:`lenslab.warp.kernels.reference.footprint` is its NumPy reference. A warp builds its pyramid lazily: only
+the rows of the coarser levels that its footprints read (:meth:`Pyramid.ensure`)."""
 
 from __future__ import annotations
 

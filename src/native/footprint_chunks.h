@@ -1,6 +1,6 @@
-// Shared windows for the footprint filter (src/native/footprint.cpp): the footprints of a run of consecutive samples
-// in one output row read the texels of one window, loaded once with its rows' prefix sums, instead of one window
-// each (NumPy reference: lenslab.warp.kernels.reference.footprint, which reads each footprint through its own
+// Shared windows for the footprint filter (src/native/footprint_runs.cpp): the footprints of a run of consecutive
+// samples in one output row read the texels of one window, loaded once with its rows' prefix sums, instead of one
+// window each (NumPy reference: lenslab.warp.kernels.reference.footprint, which reads each footprint through its own
 // window: the same integral).
 //
 // The window is ragged: slice row v holds the texels [lo[v], hi[v]) only, the union of the windows of the

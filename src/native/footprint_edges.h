@@ -1,6 +1,7 @@
-// The footprint filter's integral over a parallelogram inside its window (src/native/footprint.cpp): the window's
-// rows with their prefix sums, and Green's theorem edge by edge (NumPy reference:
-// lenslab.warp.kernels.reference.window_rows, edge_integral, prefix_slices). Included by footprint.cpp only.
+// The footprint filter's integral over a parallelogram inside its window (src/native/footprint_runs.cpp): the
+// window's rows with their prefix sums, and Green's theorem edge by edge (NumPy reference:
+// lenslab.warp.kernels.reference.window_rows, edge_integral, prefix_slices). Included by the filter's files and by
+// pyramid.cpp, which finds the rows of the levels the filter reads.
 #pragma once
 
 #include <algorithm>
@@ -27,6 +28,12 @@ inline double bfloor(double v) {
     return dfloor(v);
 #endif
 }
+
+inline int64_t ifloor(double v) { return int64_t(bfloor(v)); }
+
+// a footprint side as the filter reads it (and pyramid.cpp, for the rows it will read): NaN a point (0), beyond
+// +-2^40 texels (inf included) +-2^40
+inline double clamp_side(float v) { return v == v ? double(clamp_pos(v)) : 0.0; }
 
 // A texel's channels in float64, as one vector (3 and 4 channels: four lanes, the last one idle for 3; any other
 // count (NC = 0) is read in groups of at most four)

@@ -38,7 +38,7 @@ void register_tracer_paths(nb::module_& m);  // tracer_paths.cpp: the tracer's b
 void register_video(nb::module_& m);  // video.cpp: the video colour passes
 void register_video_ycbcr(nb::module_& m);  // video_ycbcr.cpp: Y'CbCr planes <-> linear light
 void register_tone(nb::module_& m);  // tone.cpp
-void register_footprint(nb::module_& m);  // src/native/footprint.cpp
+void register_footprint(nb::module_& m);  // src/native/footprint_runs.cpp
 void register_secants(nb::module_& m);  // src/native/secants.cpp
 void register_pyramid(nb::module_& m);  // src/native/pyramid.cpp: the pyramid's levels and the rows footprints read
 void register_lens_dirs(nb::module_& m);  // lens_dirs.cpp: pixel -> direction of the closed-form lenses

@@ -21,12 +21,9 @@ namespace lenslab {
 namespace {
 
 using footprint_edges::bfloor;
+using footprint_edges::clamp_side;
+using footprint_edges::ifloor;
 using footprint_edges::WINDOW;
-
-inline int64_t ifloor(double v) { return int64_t(bfloor(v)); }
-
-// a footprint side as the filter reads it: NaN a point (0), beyond +-2^40 texels (inf included) +-2^40
-inline double clamp_side(float v) { return v == v ? double(clamp_pos(v)) : 0.0; }
 
 // one texel channel of a level: the mean of its 2x2 block, summed in float64 in this order (the bits of every
 // path below and of the reference)

@@ -1,5 +1,5 @@
 """The footprint filter on rows of pixels: neighbours share the side between them, and a run of pixels shares one
-window of the source (``src/native/footprint.cpp``, ``src/native/footprint_chunks.h``; NumPy reference
+window of the source (``src/native/footprint_setup.h``, ``src/native/footprint_chunks.h``; NumPy reference
 :func:`lenslab.warp.kernels.footprint_reference.footprint`).
 
 Outside values: on an affine map every footprint is the pixel's exact preimage, a parallelogram whose sides

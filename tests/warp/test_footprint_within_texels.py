@@ -1,5 +1,5 @@
-"""The footprint filter never leaves the range of the texels it read (``src/native/footprint.cpp``: each footprint's
-mean is kept within the least and greatest texel of its run's shared window).
+"""The footprint filter never leaves the range of the texels it read (``src/native/footprint_runs.cpp``: each
+footprint's mean is kept within the least and greatest texel of its run's shared window).
 
 The exact box average of a bilinear reconstruction is a convex combination of the texels read, so a non-negative
 source gives non-negative values. Before, float64 rounding of the rows' prefix sums made small negatives: where a

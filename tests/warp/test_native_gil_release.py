@@ -15,7 +15,7 @@ import pytest
 
 SRC = Path(__file__).resolve().parents[2] / "src" / "native"
 #: the binding files of everything a band can call (samplers, the map lattice, the footprint filter, lens kernels)
-FILES = ("module.cpp", "bind_map.cpp", "footprint.cpp", "secants.cpp", "lens_bindings.cpp", "lens_dirs.cpp")
+FILES = ("module.cpp", "bind_map.cpp", "footprint_runs.cpp", "secants.cpp", "lens_bindings.cpp", "lens_dirs.cpp")
 #: functions that keep the GIL, and why
 KEEPS_GIL = {"fold_piece": "one scalar look-up in the table of a cube's pieces, called by the separable filter's NumPy reference only"}
 

@@ -1,5 +1,5 @@
-"""NumPy reference of the compiled footprint filter (``src/native/footprint.cpp``, :mod:`lenslab.warp.pyramid`), for
-the tests: every step in float64 Python arithmetic, one readable step at a time, each footprint read through its own
+"""NumPy reference of the compiled footprint filter (``src/native/footprint_runs.cpp``, :mod:`lenslab.warp.pyramid`),
+for the tests: every step in float64 Python arithmetic, one readable step at a time, each footprint read through its own
 window (the kernel shares windows between the footprints of a run of pixels: the same integral, float64 rounding
 apart; ``src/native/footprint_chunks.h``). Slow: tests only.
 """
