@@ -40,12 +40,13 @@ class Look:
                 "bits": self.bits}
 
 
-def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple:
+def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str | None = None) -> tuple:
     """(image as format record ``fmt`` stores it, write options the look needs): the display transform,
     else the tone curve where the output holds display values, else the exposure alone; for display values
     the colours of a wide-gamut file outside Rec.709's gamut are clipped first, with a note that counts them
     (:func:`lenslab.io.colour.gamut.clip_outside`), and so they are for a float format that cannot hold them
-    (Radiance RGBE). Alpha (the last channel of 2 or 4) passes through.
+    (Radiance RGBE); ``of`` names what ``image`` is when not the file's own pixels (``the warped image
+    out.png``), for that note. Alpha (the last channel of 2 or 4) passes through.
     ``in_place``: the caller gives ``image`` up, and an exposure alone (or a tone curve) is applied in its
     memory. Raises :class:`~lenslab.errors.FormatError` for a look the output cannot hold."""
     from lenslab.errors import FormatError
@@ -68,7 +69,7 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False) -> tuple
     if look.always or not fmt.hdr or integers or fmt.clips_negatives:  # display values (or RGBE's): a wide-gamut
         from lenslab.io.colour.gamut import clip_outside  # file's colours outside Rec.709's gamut are clipped here
 
-        clipped = clip_outside(image, meta, alpha, in_place=in_place)
+        clipped = clip_outside(image, meta, alpha, in_place=in_place, of=of)
         in_place, image = in_place or clipped is not image, clipped  # a clipped copy is the curve's to work in
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap

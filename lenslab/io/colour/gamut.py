@@ -71,12 +71,15 @@ def outside(image: np.ndarray) -> int:
     return count
 
 
-def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = False) -> np.ndarray:
+def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = False,
+                 of: str | None = None) -> np.ndarray:
     """``image`` (float32 H x W x C, premultiplied colour, alpha last when ``alpha``) with the negative colour
     components of a wide-gamut file (``meta[WIDE_GAMUT]``) set to 0, per channel, as a display output clips
     them, and a :class:`GamutWarning` that counts the pixels: ``FILE: N of M pixels hold colours outside the
-    sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel``. ``in_place``: the caller gives
-    ``image`` up; else it is copied when something is clipped. Any other image is returned as it is."""
+    sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel``. ``of``: what ``image`` is when it
+    is not the file's own pixels (``the warped image out.png``): the note then counts the pixels of that
+    (``N of M pixels of the warped image out.png hold ...``). ``in_place``: the caller gives ``image`` up; else it
+    is copied when something is clipped. Any other image is returned as it is."""
     name = meta.get(WIDE_GAMUT)
     if not name or getattr(image, "ndim", 0) != 3 or image.shape[2] - bool(alpha) != 3:
         return image
@@ -92,8 +95,8 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
         if alpha:
             band[..., -1] = kept
     total = image.shape[0] * image.shape[1]
-    text = (f"{count} of {total} pixel{'s' if total != 1 else ''} hold colours outside the sRGB gamut (the "
-            f"file's {name}): clipped per channel")
+    text = (f"{count} of {total} pixel{'s' if total != 1 else ''}{f' of {of}' if of else ''} hold colours outside "
+            f"the sRGB gamut (the file's {name}): clipped per channel")
     warning = GamutWarning(f"{meta.get('path', 'the image')}: {text}", count, total)
     warning.command_line = text  # a batch's note names the file itself
     warnings.warn(warning, stacklevel=2)
