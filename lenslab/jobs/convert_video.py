@@ -55,7 +55,8 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
     """Encode image files (in the order given) as one clip at ``options["rate"]`` frames per second.
 
     ``bt709``: SDR, the tone curve (or ``--display``) first as for any display output; ``pq``/``hlg``:
-    linear light as it is (1.0 = 203 cd/m^2), BT.2020, 10-bit.
+    linear light as it is (1.0 = 203 cd/m^2), BT.2020, 10-bit. Colours of wide-gamut frames outside the sRGB
+    gamut are clipped per channel and counted over the clip, in one note.
     """
     from fractions import Fraction
 
@@ -77,7 +78,10 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
     primaries, transfer, matrix = TRANSFERS[options.get("transfer") or "bt709"]
     hdr = transfer != 1
     show = sys.stderr.isatty() and not options.get("quiet")
-    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp:
+    from lenslab.io.colour.gamut import tallied
+
+    # colours outside the sRGB gamut: counted over every frame, one note for the clip
+    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp, tallied() as gamut:
         writer = None
         try:
             for f in tqdm(files, unit="frame", disable=not show, file=sys.stderr, leave=False):
@@ -105,4 +109,6 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
         finally:
             if writer is not None:
                 writer.close()
+    if writer is not None:
+        gamut.warn(dst, len(files), writer.info.width * writer.info.height)
     return dst

@@ -15,7 +15,10 @@ and real negative light alike (:mod:`lenslab.tone.repairs`).
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import warnings
+from typing import Iterator
 
 import numpy as np
 
@@ -32,6 +35,47 @@ class GamutWarning(UserWarning):
     def __init__(self, message: str, pixels: int = 0, total: int = 0):
         super().__init__(message)
         self.pixels, self.total = int(pixels), int(total)
+
+
+class GamutTally:
+    """The colours outside the sRGB gamut that :func:`clip_outside` clipped in the frames of one clip, for one
+    note on the clip: ``CLIP: N of M pixels in F of T frames hold colours outside the sRGB gamut (the frames'
+    ICC profile 'Display P3'): clipped per channel``, where M counts every frame's pixels."""
+
+    def __init__(self):
+        self.pixels, self.frames, self.names = 0, 0, {}
+
+    def add(self, count: int, name: str) -> None:
+        self.pixels += int(count)
+        self.frames += 1
+        self.names[name] = None
+
+    def warn(self, output: str, frames: int, frame_pixels: int) -> None:
+        """The clip's one :class:`GamutWarning` (none when nothing was clipped): ``frames`` frames of
+        ``frame_pixels`` pixels each were written to ``output``."""
+        if not self.pixels:
+            return
+        total = int(frames) * int(frame_pixels)
+        text = (f"{self.pixels} of {total} pixels in {self.frames} of {frames} frame{'s' if frames != 1 else ''} "
+                f"hold colours outside the sRGB gamut (the frames' {', '.join(self.names)}): clipped per channel")
+        warning = GamutWarning(f"{output}: {text}", self.pixels, total)
+        warning.command_line = text
+        warnings.warn(warning, stacklevel=2)
+
+
+_TALLY: contextvars.ContextVar[GamutTally | None] = contextvars.ContextVar("gamut_tally", default=None)
+
+
+@contextlib.contextmanager
+def tallied() -> Iterator[GamutTally]:
+    """Within the block, :func:`clip_outside` (in this thread) counts into the tally it yields instead of
+    warning once per image: the frames of a clip, whose note is the tally's :meth:`GamutTally.warn`."""
+    tally = GamutTally()
+    token = _TALLY.set(tally)
+    try:
+        yield tally
+    finally:
+        _TALLY.reset(token)
 
 
 def widens(matrix: np.ndarray) -> bool:
@@ -78,7 +122,8 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
     them, and a :class:`GamutWarning` that counts the pixels: ``FILE: N of M pixels hold colours outside the
     sRGB gamut (the file's ICC profile 'Display P3'): clipped per channel``. ``of``: what ``image`` is when it
     is not the file's own pixels (``the warped image out.png``): the note then counts the pixels of that
-    (``N of M pixels of the warped image out.png hold ...``). ``in_place``: the caller gives ``image`` up; else it
+    (``N of M pixels of the warped image out.png hold ...``). Within :func:`tallied` the count goes to the
+    tally instead (a clip's frames: one note for the clip). ``in_place``: the caller gives ``image`` up; else it
     is copied when something is clipped. Any other image is returned as it is."""
     name = meta.get(WIDE_GAMUT)
     if not name or getattr(image, "ndim", 0) != 3 or image.shape[2] - bool(alpha) != 3:
@@ -95,6 +140,10 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
         if alpha:
             band[..., -1] = kept
     total = image.shape[0] * image.shape[1]
+    tally = _TALLY.get()
+    if tally is not None:
+        tally.add(count, name)
+        return image
     text = (f"{count} of {total} pixel{'s' if total != 1 else ''}{f' of {of}' if of else ''} hold colours outside "
             f"the sRGB gamut (the file's {name}): clipped per channel")
     warning = GamutWarning(f"{meta.get('path', 'the image')}: {text}", count, total)
@@ -103,4 +152,4 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
     return image
 
 
-__all__ = ["WIDE_GAMUT", "GamutWarning", "clip_outside", "outside", "profile_gamut", "widens"]
+__all__ = ["WIDE_GAMUT", "GamutTally", "GamutWarning", "clip_outside", "outside", "profile_gamut", "tallied", "widens"]
