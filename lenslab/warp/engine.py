@@ -41,7 +41,6 @@ from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
 
-
 #: strata per pixel (4 x 4) when ``antialias`` meets a source that blends several views (dual fisheye)
 VIEW_AA_SAMPLES = 16
 
@@ -266,6 +265,7 @@ class WarpPlan:
 
         def draw(band):
             sl = slice(band.r0, band.r1)
+            said = None  # what the sampler says of the rows it drew (None: the checks scan them)
             if isinstance(band, TapBand):
                 sample_taps(src, band, self.border, out[sl], alpha[sl])
             elif isinstance(band, ViewBand):
@@ -273,9 +273,9 @@ class WarpPlan:
             elif self.antialias:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
-                sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+                said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
             if checks is not None:
-                checks.band(out[sl], alpha[sl], sl)
+                checks.band(out[sl], alpha[sl], sl, said)
             return band
 
         def done(band):
