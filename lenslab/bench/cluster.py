@@ -10,7 +10,9 @@ Warp: 32 frames of 2048x1024 EXR (``--quick``: 16 of 1024x512) into a 1024x1024 
 with the speed-up and efficiency of the two workers against one job (aim: 1.7x), and the overhead of a
 task: the workers' busy time taken from their wall time, per task (aim: under 20 ms). The warp's map
 is made once per worker; its cost is set beside the cost of scattering the map's bytes to the workers.
-Convert: the same frames to EXR with ``--jobs 1``, ``--jobs 2`` and the two workers.
+Convert: the same frames to EXR with ``--jobs 1``, ``--jobs 2`` and the two workers, with the workers' CPU
+time over ``--jobs 1``'s. Every warp and convert configuration runs once per round, ``--repeat`` rounds,
+in the reverse order every other round; the medians count.
 
 Trace: ``tracer render --scheduler`` of a 2048x1024 panorama of the Cornell box at 64 spp (``--quick``:
 4 spp) on one worker and on two, interleaved, the speed-up against one worker (aim: 1.7x), and the two
@@ -45,8 +47,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
     parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
     parser.add_argument("--repeat", type=int, default=3,
-                        help="runs of each warp batch and of each trace, interleaved; the medians count "
-                             "(default 3)")
+                        help="runs of each warp and convert batch and of each trace, interleaved; the medians "
+                             "count (default 3)")
 
 
 def make_frames(folder: Path, n: int, width: int, height: int) -> list[Path]:
@@ -146,21 +148,31 @@ def batches(args, tmp: Path) -> None:
     job = warp_job()
     _local(job, frames[:1], _fresh(tmp / "out"), 1)  # compile or load the kernels first
     cores = os.cpu_count() or 1
-    runs: dict[str, list] = {"one": [], "default": [], "cluster": [], "one_cpu": []}
+    convert = ConvertJob(to="exr", overwrite=True, pixel_type="half", compression="zip")
+    runs: dict[str, list] = {k: [] for k in ("one", "one_cpu", "default", "cluster", "c_one", "c_one_cpu", "c_two",
+                                             "c_cluster")}
     with local_cluster(workers=2) as client:
         warm_up(client, job, frames[0], _fresh(tmp / "out"))
-        for _ in range(max(1, args.repeat)):  # interleaved, so that every configuration sees the same load
-            cpu = time.thread_time()  # the one job runs in this thread (bands and codec too)
-            runs["one"].append(_local(job, frames, _fresh(tmp / "out"), 1))
-            runs["one_cpu"].append(time.thread_time() - cpu)
-            runs["default"].append(_threads(job, frames, _fresh(tmp / "out"), cores))
-            runs["cluster"].append(_on_cluster(client, job, frames, _fresh(tmp / "out")))
+        warm_up(client, convert, frames[0], _fresh(tmp / "out"))
+        # interleaved, so that every configuration sees the same load, and in the reverse order every other
+        # round, so that none always runs first (after the previous batch's outputs were written)
+        steps = [("one", lambda: _timed(_local, job, frames, _fresh(tmp / "out"), 1)),
+                 ("default", lambda: _threads(job, frames, _fresh(tmp / "out"), cores)),
+                 ("cluster", lambda: _on_cluster(client, job, frames, _fresh(tmp / "out"))),
+                 ("c_one", lambda: _timed(convert_jobs, frames, tmp, convert, 1)),
+                 ("c_two", lambda: convert_jobs(frames, tmp, convert, 2)),
+                 ("c_cluster", lambda: _on_cluster(client, convert, frames, _fresh(tmp / "out")))]
+        for r in range(max(1, args.repeat)):
+            for key, step in steps if r % 2 == 0 else steps[::-1]:
+                value = step()
+                if key in ("one", "c_one"):  # (wall, CPU time of this thread: the one job runs in it)
+                    runs[key + "_cpu"].append(value[1])
+                    value = value[0]
+                runs[key].append(value)
         one, default = statistics.median(runs["one"]), statistics.median(runs["default"])
         wall, busy, cpu = sorted(runs["cluster"])[len(runs["cluster"]) // 2]
         one_cpu = statistics.median(runs["one_cpu"])
         map_build, scatter = map_costs(client, job, frames[0])
-        convert = ConvertJob(to="exr", overwrite=True, pixel_type="half", compression="zip")
-        c_wall, _, _ = _on_cluster(client, convert, frames, _fresh(tmp / "out"))
         noop = noop_overhead(client)
     print(f"warp: {n} frames {width}x{height} -> fisheye 1024x1024, medians of {max(1, args.repeat)} runs "
           f"(load {os.getloadavg()[0]:.2f})")
@@ -192,13 +204,24 @@ def batches(args, tmp: Path) -> None:
     # and then shipped: build time plus scatter time (less CPU in all, more wall clock)
     print(f"  the map made on a worker   {map_build * 1e3:8.1f} ms of wall clock (every worker at once); made once "
           f"and scattered {(map_build + scatter) * 1e3:.1f} ms ({scatter * 1e3:.1f} ms of it to ship the bytes)")
-    c_one = convert_jobs(frames, tmp, convert, 1)
-    c_two = convert_jobs(frames, tmp, convert, 2)
-    print(f"convert: {n} frames to EXR: --jobs 1 {c_one:.2f} s, --jobs 2 {c_two:.2f} s ({c_one / c_two:.2f}x), "
-          f"two Dask workers {c_wall:.2f} s ({c_one / c_wall:.2f}x)")
+    c_one, c_two = statistics.median(runs["c_one"]), statistics.median(runs["c_two"])
+    c_wall, _, c_cpu = sorted(runs["c_cluster"])[len(runs["c_cluster"]) // 2]
+    c_one_cpu = statistics.median(runs["c_one_cpu"])
+    print(f"convert: {n} frames to EXR, medians of {max(1, args.repeat)} runs: --jobs 1 {c_one:.2f} s, --jobs 2 "
+          f"{c_two:.2f} s ({c_one / c_two:.2f}x), two Dask workers {c_wall:.2f} s ({c_one / c_wall:.2f}x); CPU time: "
+          f"--jobs 1 {c_one_cpu:.2f} s, the two workers {c_cpu:.2f} s ({c_cpu / c_one_cpu:.2f}x)")
     figure("cluster.convert_jobs2_speedup", f"convert {n} frames: --jobs 2 vs --jobs 1", c_one / c_two, "x")
     figure("cluster.convert_two_workers_speedup", f"convert {n} frames: two Dask workers vs --jobs 1",
            c_one / c_wall, "x", aim=AIM_SPEEDUP, better="higher")
+    figure("cluster.convert_workers_cpu_ratio", "convert: the two workers' CPU time over --jobs 1's (1: the "
+           "cluster adds no work)", c_cpu / c_one_cpu, "")
+
+
+def _timed(fn, *args) -> tuple[float, float]:
+    """``fn(*args)`` (which returns its wall time) and the CPU time this thread spent in it."""
+    cpu = time.thread_time()
+    wall = fn(*args)
+    return wall, time.thread_time() - cpu
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from lenslab.io.alpha import has_alpha, settle
-from lenslab.warp.filters import all_finite, clamp_non_finite, finite_source
+from lenslab.warp.filters import SAMPLED_COVERED, SAMPLED_NON_FINITE, all_finite, clamp_non_finite, finite_source
 
 
 class OutputChecks:
@@ -35,14 +35,28 @@ class OutputChecks:
     def of(cls, channels: int, alpha_channel: bool | None, on_band=None) -> "OutputChecks":
         return cls(has_alpha(np.empty((0, 0, channels), np.float32), alpha_channel), on_band)
 
-    def band(self, out: np.ndarray, alpha: np.ndarray, rows: slice | None = None) -> None:
+    def band(self, out: np.ndarray, alpha: np.ndarray, rows: slice | None = None, sampled: int | None = None) -> None:
         """Check a band's rows ``rows`` (then hand them to ``on_band``): ``out`` float32 h x W x C (C-contiguous)
-        and ``alpha`` float32 h x W."""
+        and ``alpha`` float32 h x W. ``sampled``: what the sampler that drew them said of them
+        (:func:`lenslab.warp.filters.sample`'s flags; None: nothing, they are scanned)."""
         if not out.size:
             return
-        self._check(out, alpha)
+        if sampled is None:
+            self._check(out, alpha)
+        else:  # the sampler's word: its coverage is 0 or 1; only an image's own alpha is scanned
+            if sampled & SAMPLED_NON_FINITE:
+                self.finite = False
+            if sampled & SAMPLED_COVERED:
+                self.covered = True
+            if self.image_alpha:
+                self._check_image_alpha(out)
         if self.on_band is not None and rows is not None:
             self.on_band(out, rows)
+
+    def _check_image_alpha(self, out: np.ndarray) -> None:
+        a = out[..., -1]
+        if not (a.min() >= 0.0 and a.max() <= 1.0):
+            self.in_range = False
 
     def _check(self, out: np.ndarray, alpha: np.ndarray) -> None:
         if not all_finite(out):
@@ -51,9 +65,7 @@ class OutputChecks:
         if not (lo >= 0.0 and hi <= 1.0):
             self.in_range = False
         if self.image_alpha:
-            a = out[..., -1]
-            if not (a.min() >= 0.0 and a.max() <= 1.0):
-                self.in_range = False
+            self._check_image_alpha(out)
         if hi > 0.0:
             self.covered = True
 

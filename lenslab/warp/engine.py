@@ -268,6 +268,7 @@ class WarpPlan:
 
         def draw(band):
             sl = slice(band.r0, band.r1)
+            said = None  # what the sampler says of the rows it drew (None: the checks scan them)
             if isinstance(band, TapBand):
                 sample_taps(src, band, self.border, out[sl], alpha[sl])
             elif isinstance(band, ViewBand):
@@ -275,9 +276,9 @@ class WarpPlan:
             elif self.antialias:
                 aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
             else:
-                sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
+                said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
             if checks is not None:
-                checks.band(out[sl], alpha[sl], sl)
+                checks.band(out[sl], alpha[sl], sl, said)
             return band
 
         def done(band):

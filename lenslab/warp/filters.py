@@ -69,8 +69,11 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
 
     Returns
     -------
-    None
-        ``out`` and ``alpha`` are filled in place (the engine hands each thread its rows).
+    int or None
+        ``out`` and ``alpha`` are filled in place (the engine hands each thread its rows). The single-sample
+        bilinear kernel also says what it wrote, while the values were in registers (no second pass over the
+        rows): :data:`SAMPLED_NON_FINITE` when some value is NaN or infinite, :data:`SAMPLED_COVERED` when some
+        sample is valid (its alpha is 0 or 1, always in range). None from the other kernels.
 
     Examples
     --------
@@ -99,12 +102,20 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     k = native.kernels()
     if kind == 1 and not border.has_pieces:  # float32 lerps
         sh, sw, nc = src.shape
-        one = k.bilinear1 if xs.shape[2] == 1 else k.bilinear_n
-        one(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
+        if xs.shape[2] == 1:
+            return k.bilinear1(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out,
+                               alpha)
+        k.bilinear_n(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
     else:  # float64 weights, taps folded into the neighbouring piece where the source has pieces
         cw, ch = border.cell
         k.separable(src, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, border.pieces, border.grid, cw, ch, kind,
                     out, alpha)
+    return None
+
+
+#: what :func:`sample`'s single-sample bilinear kernel says of a band it wrote (src/native/sampler.h)
+SAMPLED_NON_FINITE = 1
+SAMPLED_COVERED = 2
 
 
 def all_finite(a: np.ndarray) -> bool:

@@ -23,11 +23,20 @@ def ghost_nodes(nx, ny, valid, wrap):
 
     Returns the filled x and y node values (C-contiguous float64) and which nodes now have a value.
     """
-    gx = np.ascontiguousarray(nx, dtype=np.float64).copy()
-    gy = np.ascontiguousarray(ny, dtype=np.float64).copy()
-    have = np.ascontiguousarray(valid, dtype=np.bool_).copy()
+    gx, gy = np.empty(np.shape(nx)), np.empty(np.shape(ny))
+    return gx, gy, ghost_nodes_into(nx, ny, valid, wrap, gx, gy)
+
+
+def ghost_nodes_into(nx, ny, valid, wrap, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
+    """:func:`ghost_nodes` written into ``gx`` and ``gy`` (C-contiguous float64 arrays of the nodes' shape, e.g. two
+    planes of the lattice's stacked nodes); returns which nodes now have a value. The two components share the
+    extrapolation's decisions (they depend on ``valid`` alone) and, with ``wrap`` 0, its arithmetic: any two
+    components of one set of nodes may be filled in one call."""
+    np.copyto(gx, nx)
+    np.copyto(gy, ny)
+    have = np.array(valid, dtype=np.bool_, order="C")
     native.kernels().ghost_pass(gx, gy, have, float(wrap))
-    return gx, gy, have
+    return have
 
 
 def lattice_grid(nx, ny, tx: float, ty: float, wrap: float) -> tuple[np.ndarray, np.ndarray]:

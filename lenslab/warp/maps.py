@@ -41,8 +41,8 @@ from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.lenses.core.native import project_kernel
 from lenslab.warp.kernels.dispatch import run_bands, scratch
-from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes, lattice_eval, lattice_grid,
-                                  lattice_rows, place)
+from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes_into, lattice_eval,
+                                  lattice_grid, lattice_rows, place)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -217,7 +217,10 @@ class Mapper:
         checks = [((np.arange(ncx) + tx) * s, (np.arange(ncy) + ty) * s, False) for tx, ty in CHECK_POINTS]
         exact = _exact_grids(self.src, self.dst, [(xn, yn, True)] + checks)
         xy, v, vd, dirs = exact[0]
-        nx, ny, have = ghost_nodes(xy[..., 0], xy[..., 1], v, self.wrap)
+        # the nodes' components (x, y and, for a sphere, the direction) as planes of one array, filled in place
+        stacked = np.empty((5 if self.sphere else 2,) + v.shape)
+        nx, ny = stacked[0], stacked[1]
+        have = ghost_nodes_into(xy[..., 0], xy[..., 1], v, self.wrap, nx, ny)
         def win4(m, reduce):
             """``reduce`` (np.logical_and or np.logical_or) over each 4x4 window of ``m``, as two passes of
             three element-wise operations (the same as reducing the windows themselves, much faster)."""
@@ -232,7 +235,7 @@ class Mapper:
         # below decide whether the result is good enough)
         ok = win4(have, np.logical_and) & corners(v)
         dead = ~win4(vd, np.logical_or)  # no output ray anywhere near
-        nodes = [nx, ny]
+        nodes = stacked[:2]
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it), the four on the engine's threads
         def check(job):
@@ -248,9 +251,13 @@ class Mapper:
         if self.sphere and cand.any():
             # second chance for the cells left near a pole: interpolate the ray direction (smooth
             # there) and project it exactly; only where the output rays exist
-            gd = run_bands(range(3), lambda k: ghost_nodes(dirs[..., k], dirs[..., k], vd, 0.0))
-            nodes += [g[0] for g in gd]
-            ok_dir = (win4(gd[0][2], np.logical_and) & corners(vd))[cand]
+            # two components a call, the third beside a spare plane: two calls of equal cost on the threads
+            spare = np.empty(vd.shape)
+            gd = run_bands([(2, 3), (4, None)], lambda p: ghost_nodes_into(
+                dirs[..., p[0] - 2], dirs[..., (p[1] or p[0]) - 2], vd, 0.0, stacked[p[0]],
+                spare if p[1] is None else stacked[p[1]]))
+            nodes = stacked
+            ok_dir = (win4(gd[0], np.logical_and) & corners(vd))[cand]
 
             def check_dir(job):
                 (tx, ty), (exy, ev, _) = job
@@ -262,7 +269,7 @@ class Mapper:
             for passed in run_bands(list(zip(CHECK_POINTS, exact[1:])), check_dir):
                 ok_dir &= passed
             state.reshape(-1)[np.flatnonzero(cand)[ok_dir]] = 2
-        return np.stack(nodes), state
+        return nodes, state
 
     def _close(self, ix, iy, exy) -> np.ndarray:
         """Interpolated positions within ``tol`` of the exact ones (measured on the sphere)."""

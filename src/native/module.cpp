@@ -57,8 +57,8 @@ NB_MODULE(cxx_kernels, m) {
         size_t n = xs.size();
         need(holds(src.size(), sw, sh, nc), "source size");
         need(ys.size() == n && valid.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
-        bilinear1(src.data(), sw, sh, nc, xs.data(), ys.data(), valid.data(), int64_t(n), {wrap, top, bottom},
-                  out.data(), alpha.data());
+        return bilinear1(src.data(), sw, sh, nc, xs.data(), ys.data(), valid.data(), int64_t(n), {wrap, top, bottom},
+                         out.data(), alpha.data());
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
           nb::call_guard<nb::gil_scoped_release>());
 

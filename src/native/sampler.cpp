@@ -2,6 +2,7 @@
 #include "kernels.h"
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 
 #include "sampler.h"
 
@@ -43,11 +44,13 @@ void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const 
 }
 
 template <int NC>
-void bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t nc_, const float* __restrict__ xs,
-                 const float* __restrict__ ys, const bool* __restrict__ valid, int64_t n, Border b,
-                 float* __restrict__ out, float* __restrict__ alpha) {
+int bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t nc_, const float* __restrict__ xs,
+                const float* __restrict__ ys, const bool* __restrict__ valid, int64_t n, Border b,
+                float* __restrict__ out, float* __restrict__ alpha) {
     const int64_t nc = NC > 0 ? NC : nc_;
     uint64_t p[4];
+    uint32_t bad = 0;  // a value written is NaN or infinite (all exponent bits set)
+    bool covered = false;
     for (int64_t q = 0; q < n; ++q) {
         if (q + PREFETCH < n && valid[q + PREFETCH]) {  // both tap rows of a sample a few ahead (no effect on values)
             const int64_t i = int32_t(xs[q + PREFETCH]), j = int32_t(ys[q + PREFETCH]);
@@ -67,14 +70,21 @@ void bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t
         float fx0 = ffloor(x), fy0 = ffloor(y);
         corners(int64_t(fx0), int64_t(fy0), sw, sh, nc, b, p);
         lerp(flat, p[0], p[1], p[2], p[3], x - fx0, y - fy0, nc, o);
+        for (int64_t ch = 0; ch < nc; ++ch) {  // read back while in a register: no second pass over the output
+            uint32_t bits;
+            std::memcpy(&bits, o + ch, sizeof bits);
+            bad |= uint32_t((bits & 0x7f800000u) == 0x7f800000u);
+        }
         alpha[q] = 1.0f;
+        covered = true;
     }
+    return (bad ? SAMPLED_NON_FINITE : 0) | (covered ? SAMPLED_COVERED : 0);
 }
 
 }  // namespace
 
-void bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
-               const bool* valid, int64_t n, Border b, float* out, float* alpha) {
+int bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+              const bool* valid, int64_t n, Border b, float* out, float* alpha) {
     switch (nc) {
         case 1: return bilinear1_t<1>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
         case 3: return bilinear1_t<3>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);

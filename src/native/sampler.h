@@ -7,8 +7,11 @@ namespace lenslab {
 constexpr uint32_t TAP_INVALID = 0xFFFFFFFFu;  // no source: colour and alpha 0
 constexpr uint32_t TAP_FOLDED = 0xFFFFFFFEu;   // taps across an edge: the folding sampler
 
-// n pixels, one sample each: out (n, nc), alpha (n,)
-void bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
+// what bilinear1 says of the values it wrote (alpha is 0 or 1, always in range)
+constexpr int SAMPLED_NON_FINITE = 1;  // some value is NaN or infinite
+constexpr int SAMPLED_COVERED = 2;     // some sample is valid (alpha 1)
+// n pixels, one sample each: out (n, nc), alpha (n,); returns SAMPLED_* flags
+int bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
                const bool* valid, int64_t n, Border b, float* out, float* alpha);
 // npix pixels of ns samples each (xs (npix, ns)); nc <= 64
 void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
