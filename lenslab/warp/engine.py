@@ -295,8 +295,7 @@ class WarpPlan:
             run_bands(self.band_rows(), lambda rows: self._drawn(*rows, draw), done)
 
     def _drawn(self, r0: int, r1: int, draw) -> "_Rows":
-        """Map and draw rows ``r0:r1`` of a plan that does not cache: a plain map lives in scratch arrays
-        reused from band to band (no fresh pages to fault in for each band's map)."""
+        """Map and draw rows ``r0:r1`` without caching: a plain map in scratch arrays reused band to band."""
         if self.views or self.antialias:
             return _Rows(draw(self._band(r0, r1)))
         shape = (r1 - r0, self.dst.width, self.samples)
