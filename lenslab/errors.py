@@ -7,6 +7,9 @@ OSError), so ``except ValueError`` keeps working.
 
 from __future__ import annotations
 
+import contextlib
+from _thread import get_ident
+
 #: NumPy's arithmetic notes (NaN or inf met in a cast, a division, a log) are the commands' business to
 #: handle and report in the user's terms; they never reach the terminal as library warnings.
 NUMPY_NOTES = r"(invalid value|overflow|divide by zero|underflow) encountered"
@@ -33,6 +36,45 @@ def stop_signal(exc: BaseException | None = None) -> int | None:
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
     return RECEIVED_SIGNALS[0] if RECEIVED_SIGNALS else None
+
+
+#: per thread (by id): how deep it is in :func:`stop_signals_held` blocks, and the stop it has held back
+_HELD_DEPTH: dict[int, int] = {}
+_HELD_STOP: dict[int, BaseException] = {}
+
+
+@contextlib.contextmanager
+def stop_signals_held():
+    """A block that a stop signal does not cut in two: the exception of a stop signal received inside it (in
+    the main thread, where Python runs signal handlers) is raised when the outermost such block ends, after its
+    clean-up. For work whose half-done state outlives the exception, such as file descriptors pointed
+    elsewhere for a library call (:mod:`lenslab.library_output`): an exception between two of its steps would
+    leave standard error pointed at a temporary file, and the command's last line would go there. Blocks nest;
+    elsewhere than in the main thread they change nothing."""
+    me = get_ident()
+    _HELD_DEPTH[me] = _HELD_DEPTH.get(me, 0) + 1  # from here on, a stop waits for the end of the block
+    try:
+        yield
+    finally:
+        depth = _HELD_DEPTH[me] - 1
+        if depth:
+            _HELD_DEPTH[me] = depth  # (held all along: the outer block ends it)
+        else:
+            del _HELD_DEPTH[me]
+            held = _HELD_STOP.pop(me, None)  # (a stop landing from here on is raised by its handler at once)
+            if held is not None:
+                raise held
+
+
+def hold_stop(exc: BaseException) -> bool:
+    """For a stop signal's handler: True if this thread is inside :func:`stop_signals_held`, where ``exc`` is kept
+    (the first stop received) to be raised at the block's end; False if the handler is to raise ``exc`` now."""
+    me = get_ident()
+    if _HELD_DEPTH.get(me):
+        _HELD_STOP.setdefault(me, exc)
+        return True
+    _HELD_STOP.pop(me, None)  # raised now: nothing is left to raise later
+    return False
 
 
 class LenslabError(Exception):

@@ -8,6 +8,8 @@ besides lenslab's own ``lenslab CMD: error: FILE: cause``. :func:`quiet_library`
 every captured line that is not the library's (lenslab's own notes, a progress bar from another thread),
 and hands the library's lines to the caller, which may use the first as the cause in its one-line error.
 
+Stop signals: the redirection is made and undone whole (:func:`quiet_library`).
+
 Threads: the redirection is process-wide, so one library call holds it at a time (a reentrant lock held
 for the whole block: a thread may nest calls, other threads wait to start theirs). Output another thread
 writes meanwhile is captured too and given back as soon as the call ends, in order per stream; the
@@ -23,6 +25,8 @@ import re
 import sys
 import tempfile
 import threading
+
+from lenslab.errors import stop_signals_held
 
 #: lines OpenEXR prints: its C core's error handler and its Python bindings' reading warning
 LIBRARY_LINE = re.compile(r"\((EXR_ERR_\w+)\)|^Warning: Exception raised (reading|writing)")
@@ -95,8 +99,13 @@ def _end() -> list[str]:
 @contextlib.contextmanager
 def quiet_library(said: list[str] | None = None):
     """Run the block with the library's own lines kept off standard output and error; append them (stripped)
-    to ``said`` when given (the outermost call of a thread's nested ones gets them all)."""
-    with _lock:
+    to ``said`` when given (the outermost call of a thread's nested ones gets them all).
+
+    A stop signal (Ctrl-C, SIGTERM) received inside is raised once the descriptors are given back
+    (:func:`~lenslab.errors.stop_signals_held`): raised between two of their steps, it would leave standard
+    error pointed at a temporary file, and the command's last line, ``interrupted``, would go there. The block
+    is one call of the library, which a signal's handler cannot interrupt anyway."""
+    with _lock, stop_signals_held():
         if _state["depth"] == 0:
             _begin()
         _state["depth"] += 1

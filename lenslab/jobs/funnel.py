@@ -21,7 +21,7 @@ import warnings
 from typing import Callable, Iterator
 
 from lenslab.errors import (NUMPY_NOTES, RECEIVED_SIGNALS, LensError, LenslabError, OutputError, ToneError, UsageError,
-                            stop_signal)
+                            hold_stop, stop_signal)
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 #: the signals that end a command as Ctrl-C does, and their names in the one-line note
@@ -75,9 +75,9 @@ def stop_signals() -> Iterator[None]:
 
     def stop(signum, frame):
         RECEIVED_SIGNALS.append(signum)
-        if signum == signal.SIGINT:
-            raise KeyboardInterrupt
-        raise Interrupted(signum)
+        exc = KeyboardInterrupt() if signum == signal.SIGINT else Interrupted(signum)
+        if not hold_stop(exc):  # (inside a block a stop must not cut in two, it is raised at the block's end)
+            raise exc
 
     saved = {}
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
