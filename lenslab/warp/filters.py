@@ -87,7 +87,7 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
     >>> xs, ys = np.full((1, 1, 1), 1.5), np.zeros((1, 1, 1))
     >>> out, alpha = np.zeros((1, 1, 1), np.float32), np.zeros((1, 1), np.float32)
     >>> for name in ("nearest", "bilinear", "bicubic"):
-    ...     sample(src, xs, ys, np.ones((1, 1, 1), bool), Border(), name, out, alpha)
+    ...     said = sample(src, xs, ys, np.ones((1, 1, 1), bool), Border(), name, out, alpha)
     ...     print(name, float(out[0, 0, 0]), float(alpha[0, 0]))
     nearest 3.0 1.0
     bilinear 2.0 1.0
