@@ -11,7 +11,7 @@ The source camera comes from --from, else from the file's own header (EXR writte
 a full equirect panorama is assumed when the image is twice as wide as it is tall.
 
 Several inputs (files, directories or glob patterns) with one geometry share one map, computed
-once; -o is then a directory. A failing input is reported and the others go on; the exit code is 1
+once, also when files are warped at once (--jobs); -o is then a directory. A failing input is reported and the others go on; the exit code is 1
 if any failed. Outputs are written to a temporary name and renamed.
 
 Shrinking a detailed source (a 4K panorama into a 1K fisheye) aliases with one sample per pixel:
