@@ -273,7 +273,7 @@ class WarpPlan:
             elif isinstance(band, ViewBand):
                 sample_views(src, band, self.border, self.filter, out[sl], alpha[sl])
             elif self.antialias:
-                aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
+                aa.draw_footprints(self, pyramid, band, out[sl], alpha[sl])
             else:
                 sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
             if checks is not None:
