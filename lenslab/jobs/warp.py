@@ -132,28 +132,14 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]), plan=plan)
         if job.antialias:
+            from lenslab.jobs.warp_output import note_softening
+
             note_softening(job, plan)
     source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped
 
     write_warped(dst_path, colour, alpha, meta, fmt, job, dst, source_alpha)
-
-
-def note_softening(job: WarpJob, plan) -> None:
-    """Once per batch (per process): a note when ``--antialias`` met a view that shrinks its source nowhere
-    (:mod:`lenslab.warp.minification`), where it only softens the image."""
-    import warnings
-
-    from lenslab.warp.minification import NOTE, shrinks
-
-    if shrinks(plan) is not False:
-        return
-    with _CACHE_LOCK:
-        if _CACHE.setdefault(("softening noted", getattr(job, "batch", None)), False):
-            return
-        _CACHE[("softening noted", getattr(job, "batch", None))] = True
-    warnings.warn(NOTE, UserWarning, stacklevel=2)
 
 
 def plans_for(job: WarpJob):
@@ -199,4 +185,4 @@ def st_map(path: str):
     return _CACHE[key]
 
 
-__all__ = ["WarpJob", "warp_one", "note_softening", "plans_for", "plan_cache", "st_map"]
+__all__ = ["WarpJob", "warp_one", "plans_for", "plan_cache", "st_map"]

@@ -187,9 +187,9 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
 
 
 def _note_softening(job, plan) -> None:
-    """The note of a clip warped with --antialias whose view shrinks the source nowhere (:mod:`lenslab.jobs.warp`)."""
+    """The note of a clip warped with --antialias whose view shrinks the source nowhere (:mod:`lenslab.jobs.warp_output`)."""
     if job.antialias:
-        from lenslab.jobs.warp import note_softening
+        from lenslab.jobs.warp_output import note_softening
 
         note_softening(job, plan)
 
