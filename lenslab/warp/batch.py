@@ -36,6 +36,18 @@ def map_bytes_estimate(dst: Camera, samples: int, antialias: bool, filter: str =
     return dst.width * dst.height * samples * per
 
 
+def _own(exc: BaseException) -> BaseException:
+    """A copy of ``exc`` for another thread to raise: its own traceback and file name (the funnel marks the
+    file an error belongs to on the exception); ``exc`` itself when it does not copy faithfully."""
+    import copy
+
+    try:
+        clone = copy.copy(exc)
+    except Exception:  # noqa: BLE001 - an exception whose class does not rebuild from its args
+        return exc
+    return clone if type(clone) is type(exc) and str(clone) == str(exc) else exc
+
+
 class PlanCache:
     """Plans by geometry, least recently used dropped first (``keep`` geometries at most)."""
 
@@ -61,7 +73,13 @@ class PlanCache:
             else:
                 self._plans.move_to_end(key)
         if pending is not None:
-            return pending.result()
+            try:
+                return pending.result()
+            except BaseException as exc:  # the builder's error, raised as this caller's own
+                own = _own(exc)
+                if own is exc:
+                    raise
+                raise own from exc
         try:
             plan = self._build(src, dst)
         except BaseException as exc:

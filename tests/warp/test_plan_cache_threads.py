@@ -13,6 +13,7 @@ import pytest
 
 import lenslab.warp.batch as batch
 from lenslab.cli.main import main
+from lenslab.errors import WarpError
 from lenslab.io import write
 from lenslab.lenses import Camera
 from lenslab.warp import WarpPlan
@@ -89,13 +90,15 @@ def test_two_threads_asking_for_one_geometry_build_its_maps_once(monkeypatch):
     np.testing.assert_array_equal(first.run(image)[0], ref.run(image)[0])
 
 
-def test_a_failed_build_fails_both_callers_and_is_tried_again(monkeypatch):
+@pytest.mark.parametrize("error", [MemoryError("no room for the maps"), WarpError("the lens sees nothing")])
+def test_a_failed_build_fails_both_callers_and_is_tried_again(monkeypatch, error):
     src, dst = Camera.from_spec("equirect", (64, 32)), Camera.from_spec("fisheye:fov=180", (24, 24))
-    held = _Held(monkeypatch, fail=MemoryError("no room for the maps"))
+    held = _Held(monkeypatch, fail=error)
     cache = PlanCache(factory=held)
     got = _both(cache, src, dst)
     assert held.calls == 1 and cache.built == 0
-    assert all(isinstance(e, MemoryError) and str(e) == "no room for the maps" for e in got)
+    assert all(type(e) is type(error) and str(e) == str(error) for e in got)
+    assert got[0] is not got[1]  # each file's own failure (the funnel marks its file on it)
     held.fail = None  # the failure is not kept: the next file of this geometry builds it
     assert isinstance(cache.plan(src, dst), WarpPlan) and held.calls == 2 and cache.built == 1
 
