@@ -11,12 +11,15 @@ The source camera comes from --from, else from the file's own header (EXR writte
 a full equirect panorama is assumed when the image is twice as wide as it is tall.
 
 Several inputs (files, directories or glob patterns) with one geometry share one map, computed
-once; -o is then a directory. A failing input is reported and the others go on; the exit code is 1
+once, also when files are warped at once (--jobs); -o is then a directory. A failing input is reported and the others go on; the exit code is 1
 if any failed. Outputs are written to a temporary name and renamed.
 
 Shrinking a detailed source (a 4K panorama into a 1K fisheye) aliases with one sample per pixel:
 add --antialias (a footprint filter: as accurate as 4x4 supersampling or better, at about half its
-cost) or --samples 16.
+cost) or --samples 16. --antialias averages each output pixel's whole area, so it softens a view
+that does not shrink the source (a same-size or enlarged warp: each pixel then takes 9/16 of the
+source pixel under it and the rest from its neighbours, as dense supersampling does); use it where
+the output shrinks the source. A warp given --antialias that shrinks the source nowhere says so.
 
 examples:
   lenslab warp pano.exr -o fish.exr --to fisheye:fov=180 --size 1024x1024 --antialias
@@ -92,8 +95,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     quality.add_argument("--seed", type=int, default=None,
                          help="jitter the samples within their strata with this seed (default: strata centres)")
     quality.add_argument("--antialias", action="store_true",
-                         help="footprint prefilter where the output shrinks the source (bilinear, mip levels); "
-                              "it replaces --filter, so the two are not given together")
+                         help="average each output pixel's whole area (a footprint filter, bilinear, mip levels): "
+                              "for views that shrink the source; it softens a same-size or enlarged view (a note "
+                              "says so). It replaces --filter, so the two are not given together")
     quality.add_argument("--exact-map", action="store_true",
                          help="evaluate the lens models at every sample (default: a checked interpolation "
                               "lattice, within 1/100 pixel)")

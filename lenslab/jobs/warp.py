@@ -9,6 +9,7 @@ worker costs less than shipping it, see ``lenslab bench cluster``).
 from __future__ import annotations
 
 import os
+import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
@@ -16,6 +17,7 @@ from typing import ClassVar
 from lenslab.jobs.job import Job
 
 _CACHE: dict[tuple, object] = {}  # per process: the plans of one batch's geometry, the ST maps read
+_CACHE_LOCK = threading.Lock()  # files warped at once on threads share one plan cache
 
 
 @dataclass(frozen=True)
@@ -126,8 +128,13 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
         if hasattr(progress, "start"):
             progress.start(dst.height)
+        plan = cache.plan(src, dst)
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
-                                         alpha=carries_alpha(meta, image.shape[2]))
+                                         alpha=carries_alpha(meta, image.shape[2]), plan=plan)
+        if job.antialias:
+            from lenslab.jobs.warp_output import note_softening
+
+            note_softening(job, plan)
     source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped
@@ -139,11 +146,12 @@ def plans_for(job: WarpJob):
     """This process's :class:`~lenslab.warp.batch.PlanCache` for the sampling of ``job`` (made on first
     use; one batch's maps at a time)."""
     key = ("plans", job.batch, job.compat, job.filter, job.samples, job.antialias, job.seed, job.allow_parallax, job.exact_map)
-    if key not in _CACHE:
-        for old in [k for k in _CACHE if k[0] == "plans"]:
-            del _CACHE[old]
-        _CACHE[key] = plan_cache(job)
-    return _CACHE[key]
+    with _CACHE_LOCK:
+        if key not in _CACHE:
+            for old in [k for k in _CACHE if k[0] == "plans"]:
+                del _CACHE[old]
+            _CACHE[key] = plan_cache(job)
+        return _CACHE[key]
 
 
 def plan_cache(job):

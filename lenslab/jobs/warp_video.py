@@ -134,6 +134,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
                 bar.update()
         if written == 0:
             raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
+    _note_softening(args, plan())
     if info.audio and not whole:
         import warnings
 
@@ -180,8 +181,17 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
                 bar.update()
         if written == 0:
             raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
+        _note_softening(job, plan())
 
     all_or_none(write_frames)
+
+
+def _note_softening(job, plan) -> None:
+    """The note of a clip warped with --antialias whose view shrinks the source nowhere (:mod:`lenslab.jobs.warp_output`)."""
+    if job.antialias:
+        from lenslab.jobs.warp_output import note_softening
+
+        note_softening(job, plan)
 
 
 def _maps_ahead(cache, src, dst):

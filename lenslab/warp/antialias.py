@@ -46,6 +46,7 @@ import numpy as np
 from lenslab.warp.kernels import native
 from lenslab.warp.kernels.native import c32, cbool
 from lenslab.warp.maps import MapBand, Mapper, exact_map
+from lenslab.warp.minification import watch
 from lenslab.warp.pyramid import MAX_TAPS, pyramid, sample_footprint  # noqa: F401  (the source side)
 
 #: a footprint is kept at least this many source pixels thick (and at least 1/SLIVER_ANISOTROPY of its longer side,
@@ -78,6 +79,13 @@ class FootprintBand(MapBand):
         return (super().nbytes + self.foot.nbytes + self.edge.nbytes + self.edge_idx.nbytes
                 + self.edge_xs.nbytes + self.edge_ys.nbytes + self.edge_valid.nbytes
                 + (0 if self.coarse is None else self.coarse.nbytes))
+
+
+def draw_footprints(plan, pyr, band: "FootprintBand", out: np.ndarray, alpha: np.ndarray) -> None:
+    """Fill ``out`` and ``alpha`` for a footprint band of ``plan`` from the source's pyramid ``pyr``, its footprints
+    looked at on the way (:func:`lenslab.warp.minification.watch`: whether the plan shrinks its source anywhere)."""
+    watch(plan, band)
+    sample_footprint(pyr, band, plan.border, out, alpha)
 
 
 def footprint_band(mapper: Mapper, r0: int, r1: int, offsets: np.ndarray) -> FootprintBand:

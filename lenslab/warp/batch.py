@@ -4,11 +4,17 @@ A batch of frames from the same camera into the same output costs one map comput
 frame is a sampling pass only. :class:`PlanCache` keeps the plans of the geometries seen so far (a
 batch usually has one), with their maps cached while they fit in ``max_map_bytes``; a geometry whose
 maps would not fit is warped band by band as usual, without caching.
+
+Files warped at once on threads share the cache: the first to ask for a geometry builds its plan and maps,
+every other thread that asks for it meanwhile waits for that build and reuses it (or fails with its error),
+so each geometry's maps are computed once however the threads interleave.
 """
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
+from concurrent.futures import Future
 
 from lenslab.lenses import Camera
 from lenslab.warp.engine import WarpPlan
@@ -30,6 +36,18 @@ def map_bytes_estimate(dst: Camera, samples: int, antialias: bool, filter: str =
     return dst.width * dst.height * samples * per
 
 
+def _own(exc: BaseException) -> BaseException:
+    """A copy of ``exc`` for another thread to raise: its own traceback and file name (the funnel marks the
+    file an error belongs to on the exception); ``exc`` itself when it does not copy faithfully."""
+    import copy
+
+    try:
+        clone = copy.copy(exc)
+    except Exception:  # noqa: BLE001 - an exception whose class does not rebuild from its args
+        return exc
+    return clone if type(clone) is type(exc) and str(clone) == str(exc) else exc
+
+
 class PlanCache:
     """Plans by geometry, least recently used dropped first (``keep`` geometries at most)."""
 
@@ -38,21 +56,49 @@ class PlanCache:
         self.keep = max(1, int(keep))
         self.max_map_bytes = int(max_map_bytes)
         self.options = options
-        self._plans: OrderedDict[str, WarpPlan] = OrderedDict()
+        self._plans: OrderedDict[str, Future] = OrderedDict()  # a geometry's plan, built or being built
+        self._lock = threading.Lock()
         self.built = 0  # plans made (map computations), for reporting
 
     def plan(self, src: Camera, dst: Camera) -> WarpPlan:
+        """This geometry's plan, its maps computed (when they are kept): built by the first caller, waited for
+        by any other thread that asks while it is built (which then fails with the builder's error, if any)."""
         key = geometry_key(src, dst)
-        if key in self._plans:
-            self._plans.move_to_end(key)
-            return self._plans[key]
+        with self._lock:
+            pending = self._plans.get(key)
+            if pending is None:
+                self._plans[key] = mine = Future()
+                while len(self._plans) > self.keep:  # a dropped build still reaches those waiting for it
+                    self._plans.popitem(last=False)
+            else:
+                self._plans.move_to_end(key)
+        if pending is not None:
+            try:
+                return pending.result()
+            except BaseException as exc:  # the builder's error, raised as this caller's own
+                own = _own(exc)
+                if own is exc:
+                    raise
+                raise own from exc
+        try:
+            plan = self._build(src, dst)
+        except BaseException as exc:
+            with self._lock:  # a later file of this geometry tries again
+                if self._plans.get(key) is mine:
+                    del self._plans[key]
+            mine.set_exception(exc)
+            raise
+        mine.set_result(plan)
+        return plan
+
+    def _build(self, src: Camera, dst: Camera) -> WarpPlan:
+        """A new plan of this geometry, its maps computed now when they fit the cache."""
         cache = map_bytes_estimate(dst, self.options.get("samples", 1), self.options.get("antialias", False),
                                    self.options.get("filter", "bilinear")) <= self.max_map_bytes // self.keep
         plan = self.factory(src, dst, cache=cache, **self.options)
-        self.built += 1
-        self._plans[key] = plan
-        while len(self._plans) > self.keep:
-            self._plans.popitem(last=False)
+        plan.prepare()
+        with self._lock:
+            self.built += 1
         return plan
 
     def warp(self, image, src: Camera, dst: Camera, progress=None, into=None, alpha: bool | None = None,

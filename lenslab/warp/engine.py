@@ -34,10 +34,10 @@ from lenslab.warp.optics import channel_cameras, divide_by_falloff, falloff_imag
 from lenslab.warp.seam import border_of
 from lenslab.warp.taps import TapBand, eligible, sample_taps, source_spans, source_window, taps_of
 from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
+from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
-from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
 BAND_POINTS = 1 << 18  # output samples per band
 
@@ -69,14 +69,12 @@ class WarpPlan:
             raise WarpError(f"samples per pixel must be in 1..1024, got {samples}")
         self.src, self.dst = src_camera, dst_camera
         self.filter, self.samples, self.antialias = filter, samples, bool(antialias)
-        self.seed = seed
-        self.cache = bool(cache)
+        self.seed, self.cache = seed, bool(cache)
         self.band_points = max(1, int(band_points))
         self._bands: list | None = None
         self.border = border_of(src_camera.lens)
-        self.parts = None
+        self.parts = self.channels = None
         self.views = False
-        self.channels = None
         opts = dict(filter=filter, samples=samples, antialias=antialias, seed=seed,
                     allow_parallax=allow_parallax, exact_map=exact_map, cache=cache, band_points=band_points)
         eyes = eye_pairs(src_camera, dst_camera)
@@ -169,7 +167,9 @@ class WarpPlan:
             self._bands = kept
 
     def prepare(self) -> None:
-        """Compute and keep the maps now, where the plan caches them (as its first image would)."""
+        """Compute and keep the maps now, where the plan caches them (as its first image would), its pieces' too."""
+        for part in [p for _, _, p, _ in self.parts or ()] + list(self.channels or ()):
+            part.prepare()
         if self.cache and self._bands is None and self.parts is None and self.channels is None:
             self._bands = run_bands(self.band_rows(), lambda rows: self._kept_band(*rows))
 
@@ -274,7 +274,7 @@ class WarpPlan:
             elif isinstance(band, ViewBand):
                 sample_views(src, band, self.border, self.filter, out[sl], alpha[sl])
             elif self.antialias:
-                aa.sample_footprint(pyramid, band, self.border, out[sl], alpha[sl])
+                aa.draw_footprints(self, pyramid, band, out[sl], alpha[sl])
             else:
                 said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
             if checks is not None:
