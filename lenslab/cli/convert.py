@@ -144,6 +144,10 @@ def run(args: argparse.Namespace) -> int:
         check_compression(fmt, args.compression)
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
+    from lenslab.jobs.plan import plan_outputs
+
+    # where each output goes: a usage error (an input written over, two inputs to one output) before any read
+    pairs = plan_outputs(files, args.output, fmt.extensions[0], roots, fmt=args.to) if files and args.to not in VIDEO else []
     check_convert_options(args, files, display["display"])
     from lenslab.jobs.funnel import report_missing
 
@@ -164,10 +168,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"wrote {len(files)} frame(s) to {args.output}", file=sys.stderr)
         return 1 if missing else 0
     from lenslab.jobs.convert import ConvertJob
-    from lenslab.jobs.plan import plan_outputs, skip_existing, sweep_outputs
+    from lenslab.jobs.plan import skip_existing, sweep_outputs
     from lenslab.jobs.runner import connect, run_batch
 
-    pairs = plan_outputs(files, args.output, fmt.extensions[0], roots, fmt=args.to)
     job = ConvertJob.from_options(args, exposure=exposure, **display)
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
