@@ -316,7 +316,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
 
     def summary(where: str) -> str:
-        maps = "" if where else f" with {plans_for(job).built} map(s)"
+        maps = "" if where else f" by the ST map {args.stmap}" if args.stmap else f" with {plans_for(job).built} map(s)"
         return f"warped {{done}} of {{total}} file(s){maps}{where}"
 
     from lenslab.jobs.frame_files import in_sequence_folder
