@@ -4,8 +4,9 @@ clips to one image per frame, and image sequences to a clip.
 Inputs may be files, directories (every image file in them; --recursive: in sub-folders too, the tree
 mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any depth; quote them to
 let lenslab expand them). Outputs go to -o DIR (created if needed), to -o FILE for a single input, or
-next to each input. HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go
-through a tone curve first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
+next to each input. --to names the format; -o FILE alone says it by its extension (-o p3.png: PNG).
+HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go through a tone curve
+first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
 display transform instead (--display, --view). EXR to EXR keeps each channel's pixel type (half colour
 beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input stays 16-bit in PNG,
 PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
@@ -15,6 +16,7 @@ and renamed, so an interrupted run leaves no partial file. A failing input is re
 reason and the others go on; the exit code is 1 if any failed.
 
 examples:
+  lenslab convert forest.exr -o forest.png          (one output file: the format from its extension)
   lenslab convert renders/ --to jpg -o previews/ --tone hable --exposure 1
   lenslab convert 'scans/*.ppm' --to exr --jobs 1
   lenslab convert pano.exr:left --to png -o left.png
@@ -69,9 +71,10 @@ def check_convert_options(args, files, display) -> None:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
-    parser.add_argument("--to", required=True, choices=FORMATS + VIDEO, metavar="FORMAT",
+    parser.add_argument("--to", choices=FORMATS + VIDEO, metavar="FORMAT",
                         help=f"output format: {', '.join(FORMATS)}; or {', '.join(VIDEO)}: every input, in order, "
-                             "as the frames of one clip (-o FILE)")
+                             "as the frames of one clip (-o FILE). Default: the extension of -o FILE (-o p3.png "
+                             "writes PNG); needed with -o DIR or without -o")
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
                              "default: next to each input")
@@ -131,6 +134,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.plan import expand_inputs
 
     check_skip_or_overwrite(args)
+    args.to = args.to or format_from_output(args.output)
     exposure = parse_exposure(args.exposure)
     display = display_options(args)  # bad display names: one usage error before any folder is made
     if args.to not in VIDEO:
@@ -144,6 +148,10 @@ def run(args: argparse.Namespace) -> int:
         check_compression(fmt, args.compression)
     roots: dict[str, str] = {}
     files, missing = expand_inputs(args.inputs, args.recursive, roots)
+    from lenslab.jobs.plan import plan_outputs
+
+    # where each output goes: a usage error (an input written over, two inputs to one output) before any read
+    pairs = plan_outputs(files, args.output, fmt.extensions[0], roots, fmt=args.to) if files and args.to not in VIDEO else []
     check_convert_options(args, files, display["display"])
     from lenslab.jobs.funnel import report_missing
 
@@ -164,10 +172,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"wrote {len(files)} frame(s) to {args.output}", file=sys.stderr)
         return 1 if missing else 0
     from lenslab.jobs.convert import ConvertJob
-    from lenslab.jobs.plan import plan_outputs, skip_existing, sweep_outputs
+    from lenslab.jobs.plan import skip_existing, sweep_outputs
     from lenslab.jobs.runner import connect, run_batch
 
-    pairs = plan_outputs(files, args.output, fmt.extensions[0], roots, fmt=args.to)
     job = ConvertJob.from_options(args, exposure=exposure, **display)
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
@@ -188,6 +195,24 @@ def run(args: argparse.Namespace) -> int:
         "lenslab convert", job, pairs, args, skipped=skipped,
         summary=lambda where: f"converted {{done}} of {{total}} file(s) to {args.to.upper()}{where}"))
     return 1 if status or missing else 0
+
+
+def format_from_output(output: str | None) -> str:
+    """The format an output file name says (``-o p3.png``: png; ``-o clip.mov``: mov, a clip of every input),
+    when ``--to`` is not given; a usage error, before any input is read, when there is no such name (no
+    ``-o``, or ``-o`` a folder) or lenslab does not write what it says."""
+    from lenslab.errors import UsageError
+    from lenslab.jobs.policy import output_format
+
+    if output is None or Path(output).suffix == "" or Path(output).is_dir():
+        where = "-o names a folder" if output is not None else "no -o"
+        raise UsageError(f"say which format to write: --to FORMAT ({', '.join(FORMATS + VIDEO)}), or -o NAME.EXT "
+                         f"for one output file ({where})")
+    ext = Path(output).suffix.lower().lstrip(".")
+    name = ext if ext in VIDEO else output_format(output)  # an unknown extension: a usage error
+    if name not in FORMATS + VIDEO:
+        raise UsageError(f"-o {output}: lenslab does not write {name}; give --to FORMAT ({', '.join(FORMATS)})")
+    return name
 
 
 def check_compression(fmt, value: str | None) -> None:

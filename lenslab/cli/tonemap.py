@@ -125,14 +125,12 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.jobs.display import check_display_outputs
 
         check_display_outputs(display["display"], [target], args.bits)
-    else:
+    if is_batch(args):  # (each input's channels checked once the outputs are planned)
+        return run_many(args, curve.name, params, None if display["display"] else target)
+    if not display["display"]:
         from lenslab.jobs.stages import check_channels_fit
 
-        for name in args.inputs:
-            check_channels_fit(name, target)
-
-    if is_batch(args):
-        return run_many(args, curve.name, params)
+        check_channels_fit(args.inputs[0], target)
     args.input = args.inputs[0]
     from lenslab.jobs.plan import sweep_outputs
 

@@ -21,8 +21,10 @@ def is_batch(args: argparse.Namespace) -> bool:
             or out.is_dir() or out.suffix == "" or scheduler_address(args) is not None)
 
 
-def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
-    """Tone-map every input into the folder ``-o`` (or the one file ``-o`` names); exit code 1 if any failed."""
+def run_many(args: argparse.Namespace, curve: str, params: dict, target=None) -> int:
+    """Tone-map every input into the folder ``-o`` (or the one file ``-o`` names); exit code 1 if any failed.
+    ``target``: the output format record whose channels each input must fit (None: no check, a display's
+    codes are RGB whatever the input), checked once the outputs are planned, before any image is read."""
     from lenslab.cli.display import display_options
     from lenslab.io.registry import get
     from lenslab.jobs.arguments import parse_exposure
@@ -42,6 +44,11 @@ def run_many(args: argparse.Namespace, curve: str, params: dict) -> int:
             print("lenslab tonemap: error: nothing to tone-map", file=sys.stderr)
         return 1
     pairs = plan_outputs(files, args.output, get(args.format or "png").extensions[0], roots, verb="tone-map")
+    if target is not None:
+        from lenslab.jobs.stages import check_channels_fit
+
+        for src, _ in pairs:
+            check_channels_fit(src, target)
     job = TonemapJob.from_options(args, curve=curve, params=params, exposure=exposure, **display_options(args))
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if len(pairs) > 1 or Path(args.output).suffix == "" or Path(args.output).is_dir():

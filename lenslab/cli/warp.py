@@ -193,12 +193,12 @@ def check_options_apply(args, pairs) -> None:
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit
 
+    # from the names, before any header is read for its channels
+    check_display_outputs(getattr(args, "display", None),
+                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, clips) if not v}])
     for (src, dst), video in zip(pairs, videos):
         if not video and not getattr(args, "display", None):  # a display's codes are RGB, whatever the input
             check_channels_fit(src, get(format_for_path(dst, None)))
-
-    check_display_outputs(getattr(args, "display", None),
-                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, clips) if not v}])
 
 
 def check_video_output(pairs, videos) -> None:
@@ -320,7 +320,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
 
     def summary(where: str) -> str:
-        maps = "" if where else f" with {plans_for(job).built} map(s)"
+        maps = "" if where else f" by the ST map {args.stmap}" if args.stmap else f" with {plans_for(job).built} map(s)"
         return f"warped {{done}} of {{total}} file(s){maps}{where}"
 
     from lenslab.jobs.frame_files import in_sequence_folder

@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from lenslab.jobs.frame_files import frame_path
+from lenslab.jobs.frame_files import frame_output
 
 
 def frames_to_files(src: str, dst: str, job) -> str:
@@ -38,7 +38,7 @@ def _frames(src: str, dst: str, job) -> str:
               desc=Path(src).name) as bar:
         for i, frame in read_frames(src, start, stop):
             image, opts = job.develop(frame, meta)
-            path = frame_path(dst, i)
+            path = frame_output(dst, i, src, job.overwrite)
             write(path, image, format=job.to, overwrite=job.overwrite, **opts)
             first = first or str(path)
             bar.update()

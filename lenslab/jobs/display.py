@@ -9,7 +9,9 @@ def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
     an HDR display's (PQ, HLG) codes need 16-bit samples (not JPEG, not ``--bits 8``) and a file that says
     they are PQ or HLG (PNG's cICP chunk, a video's transfer tag: TIFF, PPM and EXR have no such tag); an
     extended-range display (beyond SDR, neither PQ nor HLG: code values above 1.0) is refused for every
-    format; a display's codes are RGB (not PGM). Depends on no image: commands call it before any work."""
+    format; a display's codes are RGB (not PGM) and need a format that holds them (not EXR, Radiance HDR or
+    PFM, which hold scene-linear light: :func:`displays_codes`). Depends on no image: commands call it before
+    any work."""
     from lenslab.errors import FormatError
     from lenslab.io.ocio import is_hdr_display
     from lenslab.io.colour.png_cicp import display_code_points
@@ -30,10 +32,24 @@ def check_display_holds(display: str, fmt, bits: int | None = None) -> None:
         raise FormatError(f"{display}: {fmt.title} has no tag that says its samples are {what}-encoded (readers "
                           f"would take them for sRGB): write PNG (its cICP chunk says Rec.2100 {what}), a video "
                           "clip (its transfer tag), or EXR without --display (linear light)")
+    if not displays_codes(fmt):
+        from lenslab.io.registry import formats
+
+        names = [f.name for f in formats().values() if f.writable and f.kind == "image" and displays_codes(f)
+                 and 3 in f.channels]
+        raise FormatError(f"{display}: a display transform gives display code values and {fmt.title} holds "
+                          f"scene-linear light: write {', '.join(names[:-1])} or {names[-1]}, or leave --display out")
     if 3 not in fmt.channels:
         holds = " or ".join(str(n) for n in fmt.channels)
         raise FormatError(f"{display}: a display's code values are RGB; {fmt.title} holds {holds} channel(s): "
                           "write PPM, PNG or TIFF")
+
+
+def displays_codes(fmt) -> bool:
+    """Whether format record ``fmt`` can hold a display's code values: a display format, a float format written
+    with integer samples (TIFF), or one that stores the values it is given as they are (``raw``); a video
+    clip says its transfer in its tags. EXR, Radiance HDR and PFM hold scene-linear light."""
+    return fmt.kind == "video" or not fmt.hdr or bool({"raw", "sample_type"} & set(fmt.write_options))
 
 
 def check_display_outputs(display: str | None, formats, bits: int | None = None) -> None:

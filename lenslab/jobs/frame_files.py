@@ -24,6 +24,33 @@ def frame_path(dst, index: int) -> Path:
     return d.with_name(f"{d.stem}.{index:06d}{d.suffix}")
 
 
+def frame_output(dst, index: int, src, overwrite: bool) -> Path:
+    """:func:`frame_path`, checked as every output is (:func:`lenslab.jobs.policy.check_output`): an existing
+    frame file is replaced only with ``overwrite``, and the error names that file alone."""
+    from lenslab.jobs.policy import check_output
+
+    return check_output(frame_path(dst, index), [src], overwrite)
+
+
+def names_output(line: str, dst) -> bool:
+    """Whether an error ``line`` is about the output ``dst`` itself, or one of the frame files a clip written
+    to ``dst`` takes (:func:`frame_path`): it starts with that file's name. Such a line names the output alone.
+
+    >>> names_output("out/clip.000042.exr: already exists", "out/clip.exr"), names_output("a.exr: bad", "a.png")
+    (True, False)
+    """
+    first, sep, _ = str(line).partition(": ")
+    d, named = Path(dst), Path(first)
+    if not sep or named.parent != d.parent:
+        return False
+    if first == str(dst):
+        return True
+    found = FRAME_NUMBER.search(d.name)
+    pattern = (re.escape(d.name[:found.start()]) + r"\d+" + re.escape(d.name[found.end():]) if found
+               else re.escape(d.stem) + r"\.\d{6,}" + re.escape(d.suffix))
+    return re.fullmatch(pattern, named.name) is not None
+
+
 def all_or_none(write_frames):
     """Call ``write_frames()`` (which writes each frame with :func:`lenslab.io.write`) so that its files are
     temporaries until the last is written, then renamed (:func:`lenslab.staging.staged`); a failure (a damaged
@@ -75,4 +102,5 @@ def in_sequence_folder(pairs, is_clip, run) -> int:
     return status
 
 
-__all__ = ["FRAME_NUMBER", "frame_path", "all_or_none", "sequence_folder", "in_sequence_folder"]
+__all__ = ["FRAME_NUMBER", "frame_path", "frame_output", "names_output", "all_or_none", "sequence_folder",
+           "in_sequence_folder"]

@@ -67,9 +67,9 @@ def plan_outputs(files: list[str], output: str | None, extension: str | Callable
     its dot, or a function of the input path giving it (a clip stays a clip). ``roots`` (from
     :func:`expand_inputs`): a file found under a folder goes to the same sub-folder of ``-o``, mirroring
     the input tree. ``fmt``: the format the command was told to write (``--to``, ``--format``); a file
-    name ``-o`` of another format is a usage error, and so is an output that is one of the inputs. ``verb``
-    words the message for two inputs that would write one output."""
-    from lenslab.errors import FormatError, UsageError
+    name ``-o`` of another format is a usage error, and so are an output that is one of the inputs and two
+    inputs that would write one output (``verb`` words its message)."""
+    from lenslab.errors import UsageError
     from lenslab.io import split_selector
     from lenslab.jobs.policy import check_output_dir, output_format, refuse_inputs
 
@@ -83,7 +83,7 @@ def plan_outputs(files: list[str], output: str | None, extension: str | Callable
         if named != fmt and not _same_kind(named, fmt):
             raise UsageError(f"-o {out}: the name says {named} but the output format asked is {fmt}; "
                              f"give -o NAME{ext_of(split_selector(files[0])[0])}, or the format the name says")
-    pairs, targets = [], {}
+    pairs = []
     for f in files:
         src, selector = split_selector(f)
         stem = src.stem + (f"_{selector.replace(':', '_')}" if selector else "")
@@ -94,11 +94,15 @@ def plan_outputs(files: list[str], output: str | None, extension: str | Callable
         else:
             sub = Path(os.path.relpath(src.parent, roots[f])) if roots and f in roots else Path(".")
             dst = out / sub / (stem + ext_of(src))
-        if dst in targets:
-            raise FormatError(f"{f} and {targets[dst]} would both be written to {dst}; {verb} them separately")
-        targets[dst] = f
         pairs.append((f, dst))
-    refuse_inputs(targets, (split_selector(f)[0] for f in files))  # a usage error, before any input is read
+    # usage errors, known from the names before any input is read: an output that is an input (also when
+    # two inputs would write it), then two inputs that would write one output
+    refuse_inputs(dict.fromkeys(dst for _, dst in pairs), (split_selector(f)[0] for f in files))
+    targets: dict = {}
+    for f, dst in pairs:
+        if dst in targets:
+            raise UsageError(f"{f} and {targets[dst]} would both be written to {dst}; {verb} them separately")
+        targets[dst] = f
     return pairs
 
 

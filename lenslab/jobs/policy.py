@@ -51,7 +51,16 @@ def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | o
 def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = (), overwrite: bool = False) -> Path:
     """Refuse to write ``path`` when it is one of ``inputs`` (always: :func:`refuse_inputs`, a usage error) or
     exists (unless ``overwrite``: an :class:`OutputError`). Returns ``path`` as a :class:`~pathlib.Path`.
-    Nothing is written."""
+    Nothing is written. Each refusal is the output's own: its line names the output alone (``out.png: already
+    exists; ...``), in one file and in a batch, never the input it was made from beside it."""
+    try:
+        return _check_output(path, inputs, overwrite)
+    except Exception as exc:
+        exc.lenslab_file = str(path)  # (the funnel and a batch's report name this file, and only it)
+        raise
+
+
+def _check_output(path, inputs, overwrite: bool) -> Path:
     refuse_inputs([path], inputs)
     out = Path(path)
     if out.is_dir():

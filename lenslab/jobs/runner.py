@@ -202,9 +202,13 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
         for note in notes:  # repaired values, clamped halves: reported, never hidden
             if not absorb_note(note):  # a worker's slight negatives: in the command's one summary line
                 print(f"{command}: note: {src}: {note}", file=sys.stderr)
+    from lenslab.jobs.frame_files import names_output
+
     failed = [(src, err) for src, _, err, _ in results if err]
-    for src, err in failed:
-        print(f"{command}: error: {err if src in err else f'{src}: {err}'}", file=sys.stderr)
+    for src, dst, err, _ in results:  # an error of the output (it exists, ...) names the output alone
+        if err:
+            print(f"{command}: error: {err if src in err or names_output(err, dst) else f'{src}: {err}'}",
+                  file=sys.stderr)
     if summary is not None:
         print(summary.format(done=len(results) - len(failed), total=len(results) if total is None else total)
               + (f"; {len(failed)} failed" if failed else "") + tail, file=sys.stderr)

@@ -61,11 +61,8 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
 
         if exposure == "auto":
             raise FormatError("--exposure auto goes with a tone curve; give a number of stops with --display")
-        shown, extra = apply_display(expose(image, exposure, alpha=alpha), fmt, {**look.display_options(), "alpha": alpha})
-        if fmt.hdr and not {"raw", "sample_type"} & set(extra):
-            raise FormatError(f"a display transform writes display images (png, tif, jpg, ppm); {fmt.title} "
-                              "holds scene-linear values")
-        return shown, extra
+        # (a format that holds scene-linear light is refused there, before the transform)
+        return apply_display(expose(image, exposure, alpha=alpha), fmt, {**look.display_options(), "alpha": alpha})
     if look.always or not fmt.hdr or integers or fmt.clips_negatives:  # display values (or RGBE's): a wide-gamut
         from lenslab.io.colour.gamut import clip_outside  # file's colours outside Rec.709's gamut are clipped here
 

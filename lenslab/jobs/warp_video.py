@@ -159,7 +159,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     dst and the clip's info) and written as an image of format record ``fmt``, developed as a still image is,
     numbered as in the clip; all or none."""
     from lenslab.errors import FormatError
-    from lenslab.jobs.frame_files import all_or_none, frame_path
+    from lenslab.jobs.frame_files import all_or_none, frame_output
     from lenslab.jobs.warp_output import write_warped
     from lenslab.io.video import read_frames
     from lenslab.warp.mirror import mirror_frames
@@ -176,7 +176,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
         with _frame_bar(show, total, Path(src_path).name) as bar:
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
                 colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
-                write_warped(frame_path(dst_path, i), colour, alpha, meta, fmt, job, dst)
+                write_warped(frame_output(dst_path, i, src_path, job.overwrite), colour, alpha, meta, fmt, job, dst)
                 written += 1
                 bar.update()
         if written == 0:
