@@ -184,4 +184,5 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
     return image
 
 
-__all__ = ["EDGE", "WIDE_GAMUT", "GamutTally", "GamutWarning", "clip_outside", "outside", "profile_gamut", "tallied", "widens"]
+__all__ = ["EDGE", "WIDE_GAMUT", "GamutTally", "GamutWarning", "clip_outside", "outside", "profile_gamut", "tallied",
+           "widens"]
