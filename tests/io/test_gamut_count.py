@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from lenslab.io.colour.gamut import BAND_ROWS, EDGE, clip_outside, outside
+from lenslab.io.colour.gamut import BAND_ROWS, EDGE, clip_outside, negative_pixels, outside
 
 
 def _image(channels: int, seed: int) -> np.ndarray:
@@ -34,6 +34,7 @@ def test_the_count_is_the_definition(channels):
     assert outside(image) == want
     assert outside(image[::-1]) == want  # a view in another memory order
     assert outside(np.asfortranarray(image)) == want
+    assert negative_pixels(image) == int(np.count_nonzero((colours < 0).any(axis=-1)))  # however little
 
 
 @pytest.mark.parametrize("alpha", [False, True])

@@ -127,16 +127,22 @@ def outside(image: np.ndarray) -> int:
     return _weigh(image)[0]
 
 
-def _weigh(image: np.ndarray) -> tuple[int, bool]:
-    """(:func:`outside`'s count, whether any value of ``image`` is negative)."""
-    count, channels, negatives = 0, image.shape[2], False
+def negative_pixels(image: np.ndarray) -> int:
+    """How many pixels of ``image`` (as :func:`outside`) have any colour component below 0, however little:
+    whether a float file holds negatives of its own, before a reader converts its primaries."""
+    return _weigh(image)[1]
+
+
+def _weigh(image: np.ndarray) -> tuple[int, int]:
+    """(:func:`outside`'s count, :func:`negative_pixels`'s count)."""
+    count, channels, negatives = 0, image.shape[2], 0
     for r in range(0, image.shape[0], BAND_ROWS):
         band = image[r:r + BAND_ROWS]
         if band.min() >= 0:  # (NaN compares False: such a band is looked at pixel by pixel)
             continue
-        negatives = True
         signs = (band < 0).view(np.uint8).reshape(-1, channels)  # a new contiguous array: a byte a component
         negative = (signs[:, 0] | signs[:, 1] | signs[:, 2]).reshape(band.shape[:2])
+        negatives += int(np.count_nonzero(negative))
         rows = np.flatnonzero(negative.max(axis=1))  # the rows with a negative, then their pixels with one
         where = np.nonzero(negative[rows])
         colours = band[rows[where[0]], where[1], :3].astype(np.float64)
@@ -184,5 +190,5 @@ def clip_outside(image: np.ndarray, meta: dict, alpha: bool, in_place: bool = Fa
     return image
 
 
-__all__ = ["EDGE", "WIDE_GAMUT", "GamutTally", "GamutWarning", "clip_outside", "outside", "profile_gamut", "tallied",
-           "widens"]
+__all__ = ["EDGE", "WIDE_GAMUT", "GamutTally", "GamutWarning", "clip_outside", "negative_pixels", "outside",
+           "profile_gamut", "tallied", "widens"]
