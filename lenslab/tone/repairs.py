@@ -4,8 +4,11 @@ Tone mapping sets negative values to 0. Most negatives in real files are no erro
 lossy EXR codecs (DWAA/DWAB, B44, PXR24) and the ringing of a resampling filter leave values a little
 below 0 next to black (DWAB: about -4e-4). Those are counted here, in one tally for the whole process,
 and a command reports them in one line at its end (:func:`take_summary`); they are never a Python
-warning. NaN, +inf and negatives below :data:`SLIGHT` are real damage or real negative light (a wrong
-colour space, a subtraction) and stay a :class:`~lenslab.tone.ToneWarning` per image.
+warning. The line counts files (:mod:`lenslab.current_input`: the panels of compare-tones and the frames of a
+clip are their file's, counted once), names the file when there is one, and says what the values are: down to
+``SLIGHT`` a codec's or filter's undershoot, below it the resampling filter's lobes in a warp, else a lossy
+codec's block undershoot. NaN, +inf and negatives beyond the rules below are real damage or real negative
+light (a wrong colour space, a subtraction) and stay a :class:`~lenslab.tone.ToneWarning` per image.
 
 What counts as slight, and why:
 
