@@ -109,9 +109,16 @@ def run(args: argparse.Namespace) -> int:
     if alpha:
         image = image[..., :-1]
         source = None if source is None else source[..., :-1]
+    from contextlib import nullcontext
+
+    from lenslab.current_input import from_input
+    from lenslab.tone.repairs import uncounted
+
     panels = []
     for i, name in enumerate(names):  # the look stage of every job: exposure, then the curve
-        with repairs_reported("lenslab compare-tones", args.input, report=i == 0):  # the input's repairs, once
+        # the input's repairs said once, its slight ones counted once: the panels are one file's
+        with repairs_reported("lenslab compare-tones", args.input, report=i == 0), from_input(args.input), \
+                (nullcontext() if i == 0 else uncounted()):
             out, _ = develop(image, {}, fmt, Look(tone=name, exposure=ev, mode=args.mode, primaries=args.primaries,
                                                   always=True))
         h, w = out.shape[:2]

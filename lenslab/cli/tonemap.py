@@ -161,7 +161,9 @@ def run(args: argparse.Namespace) -> int:
                                      args.quiet or bool(curve.ignores_exposure),
                                      carries_alpha(meta, image.shape[2]) if image.ndim == 3 else False)
     job = TonemapJob.from_options(args, curve=curve.name, params=params, exposure=exposure, **display)
-    with repairs_reported("lenslab tonemap", args.input):
+    from lenslab.current_input import from_input
+
+    with repairs_reported("lenslab tonemap", args.input), from_input(args.input):
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
     if not args.quiet:
         h, w_ = image.shape[:2]

@@ -94,9 +94,9 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 
             how = plan(profile, c - 1 if c in (2, 4) else c, str(path))
             if linear(how):
-                from lenslab.io.colour.gamut import outside, profile_gamut
+                from lenslab.io.colour.gamut import negative_pixels, profile_gamut
 
-                own = outside(image)  # negatives of the file's own: not the gamut's
+                own = negative_pixels(image)  # negatives of the file's own: not the gamut's
                 image = to_rec709(image if image.flags.writeable else image.copy(), how.matrix)
                 attrs["icc"] = how.note
                 gamut = profile_gamut(how) if not own else None

@@ -24,26 +24,31 @@ def _frames(src: str, dst: str, job) -> str:
     from lenslab.errors import FormatError
     from lenslab.io import write
     from lenslab.io.budget import admit_clip
+    from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
     from lenslab.io.video import probe_video, read_frames
+    from lenslab.io.video.colour import gamut_name
 
     admit_clip(src)
     info = probe_video(src)
     start, stop = job.frames or (0, None)
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
-    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
-    first = None
+    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None,
+            WIDE_GAMUT: gamut_name(info.primaries)}  # frames converted from P3 or BT.2020: clipped for display
+    first, written, pixels = None, 0, 0
     total = max(0, (min(stop, info.frames) if stop is not None and info.frames else (stop or info.frames)) - start)
     show = sys.stderr.isatty() and not job.quiet
     with tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
-              desc=Path(src).name) as bar:
+              desc=Path(src).name) as bar, tallied() as gamut:  # colours outside sRGB: one note for the frames
         for i, frame in read_frames(src, start, stop):
             image, opts = job.develop(frame, meta)
             path = frame_output(dst, i, src, job.overwrite)
             write(path, image, format=job.to, overwrite=job.overwrite, **opts)
             first = first or str(path)
+            written, pixels = written + 1, frame.shape[0] * frame.shape[1]
             bar.update()
     if first is None:
         raise FormatError(f"{src}: no frame in the range {start}:{'' if stop is None else stop}")
+    gamut.warn(dst, written, pixels)
     return first
 
 

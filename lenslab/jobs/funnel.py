@@ -160,7 +160,8 @@ def note_printer(prog: str):
 
 
 def _print_repairs(prog: str) -> None:
-    """The command's one line on slight negatives repaired by tone mapping (lenslab.tone.repairs), if any."""
+    """The command's one line on slight negatives set to 0 (tone mapping, an RGBE output; lenslab.tone.repairs), if
+    any."""
     if "lenslab.tone.repairs" not in sys.modules:  # nothing was tone-mapped
         return
     from lenslab.tone.repairs import take_summary

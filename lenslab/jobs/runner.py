@@ -20,9 +20,10 @@ def execute(job: Job, src: str, dst: str, progress=None) -> tuple[str, str, str 
     """Run ``job`` on one file; a failure becomes this file's one-line error, warnings become its notes."""
     from lenslab.cluster.threads import recorded_warnings
     from lenslab.errors import stop_signal
+    from lenslab.current_input import from_input
     from lenslab.jobs.funnel import one_line, user_notes
 
-    with recorded_warnings() as caught:
+    with recorded_warnings() as caught, from_input(src):  # a note that counts files counts this one once
         try:
             job.run(src, dst, progress=progress)
             error = None

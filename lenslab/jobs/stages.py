@@ -78,7 +78,12 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
 
         shown = ", ".join(f.name for f in formats().values() if f.writable and not f.hdr and f.kind == "image")
         raise FormatError(f"--exposure auto applies when writing display formats ({shown})")
-    return expose(image, exposure, in_place=in_place, alpha=alpha), {}
+    exposed = expose(image, exposure, in_place=in_place, alpha=alpha)
+    if fmt.clips_negatives and getattr(exposed, "ndim", 0) == 3:  # the file's own negatives, said as a display
+        from lenslab.tone.mapping import warn_negatives  # output says them (RGBE sets them to 0)
+
+        warn_negatives(exposed[..., :-1] if alpha else exposed, f"{fmt.title} holds no negative values:")
+    return exposed, {}
 
 
 def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False,

@@ -25,9 +25,13 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
     # with alpha, the image developed is a new array of this function's own: the look may work in its memory
-    # a note on colours outside sRGB counts the warped image's pixels, not the input's
-    result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
-                            in_place=keep, of=f"the warped image {dst_path}")
+    from lenslab.current_input import from_input
+
+    # a note on colours outside sRGB counts the warped image's pixels, not the input's; negatives past a
+    # codec's undershoot are the resampling filter's lobes
+    with from_input(resampled=True):
+        result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
+                                in_place=keep, of=f"the warped image {dst_path}")
     opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=camera,
                           channels=result.shape[2])
     write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})

@@ -159,6 +159,8 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     dst and the clip's info) and written as an image of format record ``fmt``, developed as a still image is,
     numbered as in the clip; all or none."""
     from lenslab.errors import FormatError
+    from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
+    from lenslab.io.video.colour import gamut_name
     from lenslab.jobs.frame_files import all_or_none, frame_output
     from lenslab.jobs.warp_output import write_warped
     from lenslab.io.video import read_frames
@@ -167,20 +169,22 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     src, dst, info = cameras
     start, stop, total = frames
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
-    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None}
+    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None,
+            WIDE_GAMUT: gamut_name(info.primaries)}  # frames converted from P3 or BT.2020: clipped for display
     plan = _maps_ahead(cache, src, dst)
     window = None if source_flips else (lambda: plan().source_spans())
 
     def write_frames():
-        written = 0
-        with _frame_bar(show, total, Path(src_path).name) as bar:
+        written, pixels = 0, 0
+        with _frame_bar(show, total, Path(src_path).name) as bar, tallied() as gamut:  # one note on the frames
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
                 colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
                 write_warped(frame_output(dst_path, i, src_path, job.overwrite), colour, alpha, meta, fmt, job, dst)
-                written += 1
+                written, pixels = written + 1, colour.shape[0] * colour.shape[1]
                 bar.update()
         if written == 0:
             raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
+        gamut.warn(str(dst_path), written, pixels)
         _note_softening(job, plan())
 
     all_or_none(write_frames)

@@ -52,10 +52,11 @@ class ExposureIgnoredWarning(UserWarning):
 
 
 
-def warn_repairs(counts: Counts, total: int, image=None, is_slight: bool | None = None) -> None:
+def warn_repairs(counts: Counts, total: int, image=None, is_slight: bool | None = None,
+                 lead: str = "tone mapping repaired") -> None:
     """A ToneWarning for NaN, +inf and real negatives; slight negatives alone (a codec's undershoot,
     :func:`lenslab.tone.repairs.slight`, judged on ``image``, or ``is_slight`` as already judged band by
-    band) go to the command's one-line tally instead."""
+    band) go to the command's one-line tally instead. ``lead``: what repaired them, the note's first words."""
     if not counts.any():
         return
     if is_slight is None:
@@ -73,8 +74,20 @@ def warn_repairs(counts: Counts, total: int, image=None, is_slight: bool | None 
         how = "slightly negative" if counts.lowest >= -SLIGHT else "negative"
         parts.append(f"{counts.negative} {how} value{'s' if counts.negative != 1 else ''}, down to "
                      f"{counts.lowest:.2g}, set to 0")
-    msg = f"tone mapping repaired {', '.join(parts)} (of {total} values)"
+    msg = f"{lead} {', '.join(parts)} (of {total} values)"
     warnings.warn(ToneWarning(msg, counts.nan, counts.posinf, counts.negative, total), stacklevel=3)
+
+
+def warn_negatives(values: np.ndarray, lead: str) -> None:
+    """The note a display output gives for the negatives ``values`` (float, the colour of an image) hold, for
+    an output that sets them to 0 without tone mapping (Radiance RGBE): real negatives a ToneWarning that
+    starts with ``lead``, slight ones the command's tally (:func:`warn_repairs`)."""
+    if not values.size or not values.min() < 0:  # (NaN compares False)
+        return
+    counts = Counts()
+    negative = values < 0
+    counts.negative, counts.lowest = int(np.count_nonzero(negative)), float(values[negative].min())
+    warn_repairs(counts, values.size, image=values, lead=lead)
 
 
 def as_float32(image) -> np.ndarray:

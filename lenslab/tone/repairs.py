@@ -4,8 +4,11 @@ Tone mapping sets negative values to 0. Most negatives in real files are no erro
 lossy EXR codecs (DWAA/DWAB, B44, PXR24) and the ringing of a resampling filter leave values a little
 below 0 next to black (DWAB: about -4e-4). Those are counted here, in one tally for the whole process,
 and a command reports them in one line at its end (:func:`take_summary`); they are never a Python
-warning. NaN, +inf and negatives below :data:`SLIGHT` are real damage or real negative light (a wrong
-colour space, a subtraction) and stay a :class:`~lenslab.tone.ToneWarning` per image.
+warning. The line counts files (:mod:`lenslab.current_input`: the panels of compare-tones and the frames of a
+clip are their file's, counted once), names the file when there is one, and says what the values are: down to
+``SLIGHT`` a codec's or filter's undershoot, below it the resampling filter's lobes in a warp, else a lossy
+codec's block undershoot. NaN, +inf and negatives beyond the rules below are real damage or real negative
+light (a wrong colour space, a subtraction) and stay a :class:`~lenslab.tone.ToneWarning` per image.
 
 What counts as slight, and why:
 
@@ -26,7 +29,10 @@ What counts as slight, and why:
 
 from __future__ import annotations
 
+import contextlib
+import copy
 import threading
+from typing import Iterator
 
 #: negatives down to -SLIGHT are a codec's or filter's undershoot (see the module docstring)
 SLIGHT = 2.0 ** -10
@@ -60,32 +66,90 @@ def slight(image, lowest: float) -> bool:
     return bool((bmin >= -np.maximum(BLOCK_SLIGHT * bmax, SLIGHT)).all())
 
 _lock = threading.Lock()
-_tally = {"values": 0, "images": 0, "lowest": 0.0}
+
+
+def _empty() -> dict:
+    # files: the inputs the images came from (lenslab.inputs), in order; images: images from no named input
+    return {"values": 0, "images": 0, "lowest": 0.0, "files": {}, "lobes": False}
+
+
+_tally = _empty()
 
 
 def add(count: int, lowest: float) -> None:
-    """Count ``count`` slight negatives (the lowest ``lowest``) repaired in one image."""
+    """Count ``count`` slight negatives (the lowest ``lowest``) repaired in one image: under the input file
+    the command is working on (:mod:`lenslab.current_input`; the images of one file, compare-tones' panels or a clip's
+    frames, count as that file once), else as an image of its own."""
+    from lenslab.current_input import CURRENT, RESAMPLED
+
+    source = CURRENT.get()
     with _lock:
-        _tally["values"] += int(count)
-        _tally["images"] += 1
-        _tally["lowest"] = min(_tally["lowest"], float(lowest))
+        _merge(int(count), 0 if source else 1, float(lowest), [source] if source else [],
+               RESAMPLED.get() and lowest < -SLIGHT)
 
 
-def take() -> tuple[int, int, float]:
-    """``(values, images, lowest)`` counted since the last call, and the tally reset."""
+def _merge(values: int, images: int, lowest: float, files, lobes: bool) -> None:
+    _tally["values"] += values
+    _tally["images"] += images
+    _tally["lowest"] = min(_tally["lowest"], lowest)
+    _tally["files"].update(dict.fromkeys(files))
+    _tally["lobes"] = _tally["lobes"] or bool(lobes)
+
+
+def _take() -> dict:
+    global _tally
     with _lock:
-        out = (_tally["values"], _tally["images"], _tally["lowest"])
-        _tally.update(values=0, images=0, lowest=0.0)
+        out, _tally = _tally, _empty()
     return out
 
 
+@contextlib.contextmanager
+def uncounted() -> Iterator[None]:
+    """Within the block, repairs are not added to the tally: the same values of the same file repaired again
+    (compare-tones' second and third panel of one image)."""
+    global _tally
+    with _lock:
+        saved = copy.deepcopy(_tally)
+    try:
+        yield
+    finally:
+        with _lock:
+            _tally = saved
+
+
+def take() -> tuple[int, int, float]:
+    """``(values, images, lowest)`` counted since the last call (images: the files, each once, and the images
+    from no named file), and the tally reset."""
+    t = _take()
+    return t["values"], t["images"] + len(t["files"]), t["lowest"]
+
+
 def take_summary() -> str | None:
-    """One line for a command's end, or None when nothing was repaired (the tally is reset)."""
-    values, images, lowest = take()
+    """One line for a command's end, or None when nothing was repaired (the tally is reset). It names the file
+    when there is one, counts files (not the images made from them) when there are several, and calls the
+    values what they are: down to -SLIGHT a codec's or filter's undershoot; below it, in a resampled image, the
+    resampling filter's negative lobes, else a lossy codec's block undershoot."""
+    t = _take()
+    values, lowest = t["values"], t["lowest"]
     if not values:
         return None
-    return (f"tone mapping set {values} slightly negative value{'s' if values != 1 else ''} (down to "
-            f"{lowest:.2g}, a lossy codec's or filter's undershoot) to 0 in {images} image{'s' if images != 1 else ''}")
+    files, images = list(t["files"]), t["images"]
+    where = []
+    if len(files) == 1 and not images:
+        where.append(files[0])
+    elif files:
+        where.append(f"{len(files)} files")
+    if images:
+        where.append(f"{images} image{'s' if images != 1 else ''}")
+    s = "s" if values != 1 else ""
+    if lowest >= -SLIGHT:
+        what = f"{values} slightly negative value{s} (down to {lowest:.2g}, a lossy codec's or filter's undershoot)"
+    elif t["lobes"]:
+        what = f"{values} negative value{s} from the resampling filter's lobes (down to {lowest:.2g})"
+    else:
+        what = (f"{values} negative value{s} of a lossy codec's 8 x 8 blocks (down to {lowest:.2g}, within "
+                f"{BLOCK_SLIGHT:.1%} of their block's brightest value)")
+    return f"{what} set to 0 in {' and '.join(where)}"
 
 
 #: how a cluster task hands its tally to the command that reports it (a note the command parses back)
@@ -94,17 +158,20 @@ _NOTE = "slight negatives repaired:"
 
 def take_note() -> str | None:
     """This process's tally as a note for another process (a cluster worker's task), and the tally reset."""
-    values, images, lowest = take()
-    return f"{_NOTE}{values}:{images}:{lowest!r}" if values else None
+    import json
+
+    t = _take()
+    return f"{_NOTE}{json.dumps([t['values'], t['images'], t['lowest'], list(t['files']), t['lobes']])}" \
+        if t["values"] else None
 
 
 def absorb_note(note: str) -> bool:
     """Add a worker's :func:`take_note` to this process's tally; False for any other note."""
+    import json
+
     if not note.startswith(_NOTE):
         return False
-    values, images, lowest = note[len(_NOTE):].split(":")
+    values, images, lowest, files, lobes = json.loads(note[len(_NOTE):])
     with _lock:
-        _tally["values"] += int(values)
-        _tally["images"] += int(images)
-        _tally["lowest"] = min(_tally["lowest"], float(lowest))
+        _merge(int(values), int(images), float(lowest), files, lobes)
     return True

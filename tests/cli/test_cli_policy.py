@@ -87,8 +87,8 @@ def test_slight_negatives_of_a_batch_are_one_summary_line(tmp_path, capsys):
                          "-o", str(tmp_path / "out"), "--format", "png", "-q")
     assert code == 0, err
     lines = [ln for ln in err.splitlines() if "negative" in ln]
-    assert lines == ["lenslab tonemap: note: tone mapping set 12 slightly negative values (down to -0.0004, a "
-                     "lossy codec's or filter's undershoot) to 0 in 3 images"]
+    assert lines == ["lenslab tonemap: note: 12 slightly negative values (down to -0.0004, a lossy codec's or "
+                     "filter's undershoot) set to 0 in 3 files"]
 
 
 @pytest.mark.shared_data

@@ -1,5 +1,6 @@
 """The count and the clip of colours outside the gamut, against the definition written here in float64: a pixel
-is outside when one of its three colour components is below 0 (NaN is not), the clip sets those components to
+is outside when one of its three colour components is below -EDGE times the largest magnitude of the three (NaN
+is neither; EDGE is the conversion's rounding, ``lenslab.io.colour.gamut.EDGE``), the clip sets those components to
 0 and leaves alpha (even a negative one, from a hostile file) and NaN as they were. Images taller than a band
 (256 rows), with alpha, with an extra channel of negatives (depth or a normal), and not contiguous."""
 
@@ -10,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from lenslab.io.colour.gamut import BAND_ROWS, clip_outside, outside
+from lenslab.io.colour.gamut import BAND_ROWS, EDGE, clip_outside, negative_pixels, outside
 
 
 def _image(channels: int, seed: int) -> np.ndarray:
@@ -24,11 +25,16 @@ def _image(channels: int, seed: int) -> np.ndarray:
 @pytest.mark.parametrize("channels", [3, 4, 5])
 def test_the_count_is_the_definition(channels):
     image = _image(channels, channels)
-    want = int(np.count_nonzero((image[..., :3].astype(np.float64) < 0).any(axis=-1)))
+    image[5 + BAND_ROWS, 5, :3] = [1.0, -0.5 * EDGE, 0.5]  # within the edge: not outside
+    image[6 + BAND_ROWS, 5, :3] = [1.0, -2.0 * EDGE, 0.5]  # past it: outside
+    colours = image[..., :3].astype(np.float64)
+    low, high = np.nanmin(colours, axis=-1), np.nanmax(colours, axis=-1)
+    want = int(np.count_nonzero(low < -EDGE * np.maximum(high, -low)))
     assert want > 0
     assert outside(image) == want
     assert outside(image[::-1]) == want  # a view in another memory order
     assert outside(np.asfortranarray(image)) == want
+    assert negative_pixels(image) == int(np.count_nonzero((colours < 0).any(axis=-1)))  # however little
 
 
 @pytest.mark.parametrize("alpha", [False, True])

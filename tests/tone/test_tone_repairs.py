@@ -47,7 +47,7 @@ def test_one_summary_line_for_a_batch_and_no_warning(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     lines = [ln for ln in r.stderr.splitlines() if "negative" in ln]
-    assert len(lines) == 1 and "slightly negative" in lines[0] and lines[0].endswith("in 3 images"), r.stderr
+    assert len(lines) == 1 and "slightly negative" in lines[0] and lines[0].endswith("in 3 files"), r.stderr
 
 
 def test_real_negatives_nan_and_inf_are_still_per_image():

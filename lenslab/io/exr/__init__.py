@@ -182,13 +182,13 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     primaries_converted, gamut = False, None
     if rec709 and chroma is not None and out_names[:3] == ["R", "G", "B"] and \
             not np.allclose(np.asarray(chroma, dtype=np.float64), REC709, atol=1e-4):
-        from lenslab.io.colour.gamut import outside, widens
+        from lenslab.io.colour.gamut import negative_pixels, widens
         from lenslab.io.colour.primaries import matrix_from_chromaticities, to_rec709
 
         matrix = matrix_from_chromaticities(chroma)
         # wider primaries, no negative of the file's own: the negatives after the conversion are colours outside
         # Rec.709's gamut
-        gamut = "chromaticities" if widens(matrix) and outside(image) == 0 else None
+        gamut = "chromaticities" if widens(matrix) and negative_pixels(image) == 0 else None
         to_rec709(image, matrix)  # file RGB -> XYZ -> Rec.709, by bands
         primaries_converted = True
 

@@ -144,6 +144,13 @@ def matrix_from_709(primaries: int) -> np.ndarray | None:
     return h273_matrix(primaries, to_709=False)
 
 
+def gamut_name(primaries: int) -> str | None:
+    """What :data:`lenslab.io.colour.gamut.WIDE_GAMUT` says for frames converted from these H.273 primaries
+    (``colour primaries P3-D65``), or None for frames on Rec.709's: the codes are integers, so every negative
+    component of a converted frame is a colour outside the sRGB gamut."""
+    return f"colour primaries {WIDE_PRIMARIES[int(primaries)]}" if is_wide(primaries) else None
+
+
 def is_wide(primaries: int) -> bool:
     """Whether frames of these H.273 primaries are converted to Rec.709 (:data:`WIDE_PRIMARIES`)."""
     return int(primaries) in WIDE_PRIMARIES
@@ -257,4 +264,4 @@ def codes16_to_linear_compiled(codes: np.ndarray, info, window: tuple[int, int, 
 
 
 __all__ = ["to_linear", "from_linear", "codes16_to_linear", "codes16_to_linear_compiled", "linear_to_codes16",
-           "linear_from_codes", "codes_from_linear", "matrix_to_709", "matrix_from_709", "is_wide", "cached", "knots", "display_tags", "DISPLAY_TAGS"]
+           "linear_from_codes", "codes_from_linear", "matrix_to_709", "matrix_from_709", "is_wide", "gamut_name", "cached", "knots", "display_tags", "DISPLAY_TAGS"]
