@@ -49,8 +49,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.set_defaults(mode="per-channel")
     parser.add_argument("--param", action="append", default=[], metavar="K=V",
                         help="a curve parameter, e.g. --param white=8 (repeatable)")
-    parser.add_argument("--primaries", default="sRGB",
-                        help="RGB colourspace of the image for luminance weights (colour-science name, default sRGB)")
+    parser.add_argument("--primaries", default=None,
+                        help="primaries the image's values are on, for the luminance weights of --luminance, "
+                             "--exposure auto and the curves that read luminance (a colour-science name such as "
+                             "'ITU-R BT.2020', default sRGB). For files without a colour tag (PFM, an untagged "
+                             "EXR): a file with an ICC profile, cICP chunk or EXR chromaticities is converted "
+                             "to sRGB's primaries when read, and sRGB's weights apply to it")
     parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
                         help="dither when quantising to 8/16-bit to avoid banding in smooth skies (default on)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
@@ -118,6 +122,9 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.arguments import check_tone_applies
 
     check_tone_applies("--curve", curve_given, display["display"], [])
+    from lenslab.jobs.primaries import applied_primaries, check_primaries
+
+    check_primaries(args.primaries, args.mode, args.exposure, curve, display["display"])
     # a format that cannot hold the display's codes, or the channels an input's header declares: refused
     # before any file is read
     target = get_format(args.format or ("png" if is_batch(args) else output_format(args.output)))
@@ -151,6 +158,8 @@ def run(args: argparse.Namespace) -> int:
         image, meta = io.read(args.input)
     from lenslab.jobs.tonemap import TonemapJob
 
+    with repairs_reported("lenslab tonemap", args.input):  # a file read onto Rec.709: sRGB's weights, said
+        args.primaries = applied_primaries(args.primaries, meta)
     if not display["display"]:
         from lenslab.jobs.stages import resolved_exposure
 

@@ -26,7 +26,7 @@ class TonemapJob(Job):
     params: dict = field(default_factory=dict)
     exposure: float | str = 0.0
     mode: str = "per-channel"
-    primaries: str = "sRGB"
+    primaries: str | None = None
     dither: bool = True
     bits: int | None = None
     display: str | None = None
@@ -64,7 +64,12 @@ class TonemapJob(Job):
         from lenslab.io.exr.extra import warn_dropped
 
         warn_dropped(where, meta.get("extra_channels") or [], fmt.title, TONE_DROPS)
-        out, shown = develop(image, meta, fmt, self.look, in_place=in_place)
+        from dataclasses import replace
+
+        from lenslab.jobs.primaries import applied_primaries
+
+        look = replace(self.look, primaries=applied_primaries(self.primaries, meta))  # sRGB's for a tagged file
+        out, shown = develop(image, meta, fmt, look, in_place=in_place)
         dither = None if self.display else self.dither  # display code values are rounded, never dithered
         opts = encode_options(fmt, {"camera": meta.get("camera")}, {"bits": self.bits, "dither": dither},
                               channels=out.shape[-1])
