@@ -127,7 +127,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from lenslab.cli.display import display_options
+    from lenslab.cli.display import display_options, say_view
     from lenslab.errors import UsageError
     from lenslab.io.registry import get
     from lenslab.jobs.arguments import check_skip_or_overwrite, parse_exposure
@@ -170,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
         files_to_video(files, args.output, options)
         if not args.quiet:
             print(f"wrote {len(files)} frame(s) to {args.output}", file=sys.stderr)
+        say_view(args.output, display, args.quiet)
         return 1 if missing else 0
     from lenslab.jobs.convert import ConvertJob
     from lenslab.jobs.plan import skip_existing, sweep_outputs
@@ -194,6 +195,8 @@ def run(args: argparse.Namespace) -> int:
     status = in_sequence_folder(pairs, is_video, lambda: run_batch(
         "lenslab convert", job, pairs, args, skipped=skipped,
         summary=lambda where: f"converted {{done}} of {{total}} file(s) to {args.to.upper()}{where}"))
+    if not status or len(pairs) > 1:  # something was written through the display: its view, once
+        say_view(args.output or "lenslab convert", display, args.quiet)
     return 1 if status or missing else 0
 
 

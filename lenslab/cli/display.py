@@ -47,3 +47,16 @@ def display_options(args: argparse.Namespace) -> dict:
     except OCIOError as exc:
         raise UsageError(str(exc)) from None
     return opts
+
+
+def say_view(where: str, opts: dict, quiet: bool = False) -> None:
+    """The display and view a command used, said once on standard error as ``WHERE: display D, view V`` (the
+    names the config matched; the view it defaults to when none was given); nothing without ``--display``."""
+    if not opts.get("display") or quiet:
+        return
+    import sys
+
+    from lenslab.io.ocio import processor
+
+    _, (d, v, _) = processor(opts["display"], opts["view"], opts["colorspace"], opts["ocio"])
+    print(f"{where}: display {d}, view {v}", file=sys.stderr)

@@ -176,11 +176,10 @@ def run(args: argparse.Namespace) -> int:
         job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
     if not args.quiet:
         h, w_ = image.shape[:2]
-        if display["display"]:  # the names the config matched, the view it defaults to when none was given
-            from lenslab.io.ocio import processor
+        if display["display"]:
+            from lenslab.cli.display import say_view
 
-            _, (d, v, _) = processor(display["display"], display["view"], display["colorspace"], display["ocio"])
-            print(f"{args.output}: display {d}, view {v}", file=sys.stderr)
+            say_view(args.output, display)
         else:
             how = "a local operator on luminance" if curve.kind == "local" else args.mode  # mode does not apply
             stops = "the exposure has no effect" if curve.ignores_exposure else f"exposure {float(exposure):+.2f} stops"

@@ -61,6 +61,10 @@ def run_many(args: argparse.Namespace, curve: str, params: dict, target=None) ->
         print(f"lenslab tonemap: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
     status = run_batch("lenslab tonemap", job, pairs, args, lambda where: f"tone-mapped {{done}} of {{total}} file(s){where}",
                        skipped)
+    if not status or len(pairs) > 1:  # something was written through the display: its view, once
+        from lenslab.cli.display import say_view
+
+        say_view(args.output, display_options(args), args.quiet)
     return 1 if status or missing else 0
 
 

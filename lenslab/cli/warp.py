@@ -327,4 +327,8 @@ def run(args: argparse.Namespace) -> int:
 
     # a clip to 'frames/%04d.png': the folder made as -o DIR is
     status = in_sequence_folder(pairs, is_video, lambda: run_batch("lenslab warp", job, pairs, args, summary, skipped))
+    if not status or len(pairs) > 1:  # something was written through the display: its view, once
+        from lenslab.cli.display import display_options, say_view
+
+        say_view(args.output or "lenslab warp", display_options(args), args.quiet)
     return 1 if status or missing else 0
