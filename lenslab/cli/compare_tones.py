@@ -34,7 +34,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--panel-width", type=non_negative_int, default=1024,
                         help="shrink panels wider than this many pixels (0: keep full size; default 1024)")
     parser.add_argument("--vertical", action="store_true", help="stack panels top to bottom instead")
-    parser.add_argument("--primaries", default="sRGB", help="colourspace for luminance weights (default sRGB)")
+    parser.add_argument("--primaries", default=None,
+                        help="primaries the image's values are on, for the luminance weights of --luminance, "
+                             "--exposure auto and the curves that read luminance (default sRGB); for files without "
+                             "a colour tag: a file with an ICC profile, cICP chunk or EXR chromaticities is read "
+                             "onto sRGB's primaries, and sRGB's weights apply to it")
     parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
                         help="dither when quantising (default on)")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing output file (never the input)")
@@ -86,12 +90,17 @@ def run(args: argparse.Namespace) -> int:
     if not names:
         raise ToneError(f"--curves is empty; give names from: {', '.join(tone.CURVES)}")
     display = display_panel_options(args)
+    from lenslab.jobs.primaries import applied_primaries, check_primaries
+
+    check_primaries(args.primaries, args.mode, args.exposure, [tone.get_curve(n) for n in names])
     check_output(args.output, [args.input], args.overwrite)
     from lenslab.jobs.policy import output_format
 
     output_format(args.output)  # an unknown extension: one usage error before the image is read
     fmt = get(format_for_path(args.output, None))
     image, meta = io.read(args.input)
+    with repairs_reported("lenslab compare-tones", args.input):  # a file read onto Rec.709: sRGB's weights, said
+        args.primaries = applied_primaries(args.primaries, meta)
     if image.ndim == 2:
         image = image[..., None]
     from lenslab.io import carries_alpha

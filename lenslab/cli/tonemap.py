@@ -124,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
     check_tone_applies("--curve", curve_given, display["display"], [])
     from lenslab.jobs.primaries import applied_primaries, check_primaries
 
-    check_primaries(args.primaries, args.mode, args.exposure, curve, display["display"])
+    check_primaries(args.primaries, args.mode, args.exposure, [curve], display["display"])
     # a format that cannot hold the display's codes, or the channels an input's header declares: refused
     # before any file is read
     target = get_format(args.format or ("png" if is_batch(args) else output_format(args.output)))

@@ -1,4 +1,4 @@
-"""``--primaries`` of ``lenslab tonemap``: the primaries whose luminance weights (the Y row of their RGB -> XYZ
+"""``--primaries`` of ``lenslab tonemap`` and ``lenslab compare-tones``: the primaries whose luminance weights (the Y row of their RGB -> XYZ
 matrix) the exposure and the curve use, for an image whose values are on those primaries.
 
 Every reader converts a file's colour to linear Rec.709 (sRGB's primaries) when the file says what its
@@ -16,11 +16,11 @@ import warnings
 WORKING = "sRGB"
 
 
-def check_primaries(primaries: str | None, mode: str, exposure, curve, display: str | None) -> None:
+def check_primaries(primaries: str | None, mode: str, exposure, curves, display: str | None = None) -> None:
     """A usage error (before any file is read) when ``--primaries`` has nothing to weigh: with ``--display``
-    (the OpenColorIO view maps colour itself), or when neither ``--luminance``, ``--exposure auto`` nor a
-    curve that reads the image's luminance (``curve.kind`` ``image`` or ``local``) is in use; an unknown
-    colourspace name is refused here too."""
+    instead of a curve (the OpenColorIO view maps colour itself), or when neither ``--luminance``,
+    ``--exposure auto`` nor one of ``curves`` that reads the image's luminance (``kind`` ``image`` or
+    ``local``) is in use; an unknown colourspace name is refused here too."""
     from lenslab.errors import ToneError, UsageError
 
     if primaries is None:
@@ -29,9 +29,10 @@ def check_primaries(primaries: str | None, mode: str, exposure, curve, display: 
         raise UsageError("--primaries sets the luminance weights of a tone curve; --display maps colour through "
                          "OpenColorIO and uses none: leave --primaries out")
     auto = str(exposure).strip().lower() == "auto"
-    if mode != "luminance" and not auto and curve.kind not in ("image", "local"):
+    if mode != "luminance" and not auto and all(c.kind not in ("image", "local") for c in curves):
+        named = ", ".join(c.name for c in curves)
         raise UsageError(f"--primaries has no effect here: its luminance weights apply with --luminance, "
-                         f"--exposure auto or a curve that reads luminance (not {curve.name} per channel)")
+                         f"--exposure auto or a curve that reads luminance (not {named} per channel)")
     from lenslab.tone import luminance_weights
 
     try:

@@ -91,3 +91,20 @@ def test_a_file_converted_from_its_chromaticities_gets_srgb_weights_and_one_note
     assert expected == pytest.approx(p3.matrix_RGB_to_XYZ[1] @ file_rgb, rel=1e-9)
     # half output (2^-11) and the float32 conversion on reading (far below)
     assert _luminance_back(out) == pytest.approx(expected, rel=2.0 ** -11 * 5)
+
+
+def test_compare_tones_refuses_primaries_its_curves_do_not_weigh(tmp_path, capsys):
+    assert _code(["compare-tones", str(tmp_path / "x.pfm"), "-o", str(tmp_path / "o.png"),
+                  "--primaries", "Display P3"]) == 2  # clamp, reinhard, hable per channel: nothing weighs
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--primaries" in err[0]
+
+
+def test_compare_tones_weighs_an_untagged_file_by_the_primaries_given(tmp_path, capsys):
+    # --exposure auto on a flat image: key / L stops, L from Display P3's Y row (colour-science)
+    out = tmp_path / "panels.png"
+    assert main(["compare-tones", str(_pfm(tmp_path)), "-o", str(out), "--exposure", "auto",
+                 "--primaries", "Display P3"]) == 0
+    expected = np.log2(0.18 / (colour.RGB_COLOURSPACES["Display P3"].matrix_RGB_to_XYZ[1] @ RGB))
+    said = [line for line in capsys.readouterr().err.splitlines() if "auto exposure" in line]
+    assert len(said) == 1 and f"{expected:+.2f} stops" in said[0]  # printed to 0.01 stop
