@@ -168,16 +168,21 @@ void footprint_t(const float* __restrict__ level0, const float* __restrict__ res
                     members[nm++] = k2;
                     done[k2] = true;
                 }
-                G.start(v0, v1);
-                for (int m = 0; m < nm; ++m) G.add(items[members[m]].w);
                 constexpr int64_t GROUP = NC > 0 ? NC : 4;  // channels integrated at once
+                bool shared = false;  // G holds the shared window (a group with a texel not finite narrows it)
                 for (int64_t c0 = 0; c0 < nc; c0 += GROUP) {
                     const int64_t cn = std::min(GROUP, nc - c0);
+                    if (!shared) {  // every group of channels starts from the members' shared window
+                        G.start(v0, v1);
+                        for (int m = 0; m < nm; ++m) G.add(items[members[m]].w);
+                        shared = true;
+                    }
                     const bool finite = G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
                     L carry{};  // the shared side of the last footprint, integrated from its frame (negated)
                     for (int m = 0; m < nm; ++m) {
                         const Item& o = items[members[m]];
                         if (!finite && nm > 1) {  // a texel not finite: this footprint through its own window alone
+                            shared = false;
                             G.start(o.w.v0, o.w.v0 + o.w.nv);
                             G.add(o.w);
                             G.load(lbuf, lw, lh, nc, c0, cn, b, it.cols);
