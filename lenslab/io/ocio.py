@@ -98,7 +98,9 @@ def check_lut_files(config, source) -> None:
 def _pick(kind: str, name: str, choices: list[str]) -> str:
     """The one of ``choices`` that ``name`` means (case aside): the same name, else the one whose name before
     " - " it is, else the one name that holds it; :class:`OCIOError` when none or several do."""
-    low = name.lower()
+    low = name.strip().lower()
+    if not low:  # an empty name would hold in every name: refuse it rather than fall back to a default
+        raise OCIOError(f"{kind}: the name is empty; the config's are: {'; '.join(choices)}")
     for c in choices:
         if c.lower() == low:
             return c
@@ -116,8 +118,8 @@ def resolve(config, display: str, view: str | None, colorspace: str | None = Non
     """(display, view, colour space) as the config names them; ``view`` None: the display's default."""
     d = _pick("display", display, list(config.getDisplays()))
     views = list(config.getViews(d))
-    v = _pick(f"view of {d!r}", view, views) if view else config.getDefaultView(d)
-    cs_name = colorspace or DEFAULT_COLORSPACE
+    v = config.getDefaultView(d) if view is None else _pick(f"view of {d!r}", view, views)
+    cs_name = DEFAULT_COLORSPACE if colorspace is None else colorspace
     cs = config.getCanonicalName(cs_name) or None
     if not cs:
         cs = _pick("colour space", cs_name, [c.getName() for c in config.getColorSpaces()])
