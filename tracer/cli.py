@@ -193,6 +193,12 @@ def _render(args) -> int:
             check_output(out, inputs, args.overwrite)
     if args.variance_out and same_path(args.variance_out, args.output):
         raise UsageError("--variance-out must name another file than -o")
+    from lenslab.io.registry import hdr_formats
+    from lenslab.jobs.policy import output_format
+
+    output_format(args.output)  # an unknown extension: a usage error before the render, not after it
+    if args.variance_out and output_format(args.variance_out) not in hdr_formats():
+        raise UsageError(f"--variance-out {args.variance_out}: the variance is linear; write EXR or PFM")
     from lenslab.staging import sweep
 
     sweep({Path(out).parent for out in (args.output, args.variance_out) if out})  # temporaries of killed runs
