@@ -105,6 +105,11 @@ class FitError(LenslabError, ValueError):
         self.best = best
 
 
+class FitSpecError(FitError, LensError):
+    """A fit asked for in terms that name nothing: an unknown model or parameter in the spec, ``--free`` or
+    ``--bounds``. A lens spec error, so a usage error (exit 2) when it was typed on the command line."""
+
+
 class UsageError(LenslabError):
     """A bad option, spec or value given on the command line: exit code 2, one line, before any work."""
 

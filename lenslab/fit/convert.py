@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lenslab.errors import FitError
+from lenslab.errors import FitError, FitSpecError
 from lenslab.lenses.core.base import Lens
 from lenslab.fit.start import source_start
 
@@ -138,7 +138,7 @@ def convert_lens(source: Lens, model: str, *, free=None, bounds=None, aim: float
 
     name, given = parse_spec(model)
     if name not in REGISTRY:
-        raise FitError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
+        raise FitSpecError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
     cls = REGISTRY[name]
     spec = dict(given)
     if {"width", "height"} <= {p.name for p in cls.params}:

@@ -19,7 +19,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from lenslab.errors import FitError, LensError
+from lenslab.errors import FitError, FitSpecError, LensError
 from lenslab.lenses import REGISTRY, parse_spec
 from lenslab.lenses.core.base import Lens, Param
 
@@ -47,7 +47,7 @@ def parse_bounds(text: str | None) -> dict[str, tuple[float, float]]:
                 raise ValueError
             out[name.strip()] = (float(lo), float(hi))
         except ValueError:
-            raise FitError(f"bounds {item!r}: expected NAME=LOW:HIGH, for example k1=-0.5:0.5") from None
+            raise FitSpecError(f"bounds {item!r}: expected NAME=LOW:HIGH, for example k1=-0.5:0.5") from None
     return out
 
 
@@ -111,7 +111,7 @@ def model_params(cls: type, given: Mapping[str, Any]) -> list[Param]:
         base = str(given.get("base", next(p.default for p in out if p.name == "base"))).strip().lower()
         base_cls = REGISTRY.get(base)
         if base_cls is None:
-            raise FitError(f"{cls.name}: unknown base model {base!r}; valid models: {', '.join(sorted(REGISTRY))}")
+            raise FitSpecError(f"{cls.name}: unknown base model {base!r}; valid models: {', '.join(sorted(REGISTRY))}")
         names = {p.name for p in out}
         out += [p for p in model_params(base_cls, given) if p.name not in names]
     return out
@@ -134,12 +134,12 @@ def build_space(
     """
     name, given = parse_spec(model)
     if name not in REGISTRY:
-        raise FitError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
+        raise FitSpecError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
     cls = REGISTRY[name]
     params = {p.name: p for p in model_params(cls, given)}
     unknown = sorted(set(given) - set(params))
     if unknown:
-        raise FitError(f"{name}: unknown parameter(s) {', '.join(unknown)}; valid: {', '.join(params) or 'none'}")
+        raise FitSpecError(f"{name}: unknown parameter(s) {', '.join(unknown)}; valid: {', '.join(params) or 'none'}")
     bounds = parse_bounds(bounds) if isinstance(bounds, str) or bounds is None else dict(bounds)
     free_names = parse_names(free)
     converted = {k: params[k].convert(name, v) for k, v in given.items()}
@@ -149,12 +149,12 @@ def build_space(
                            and p.name not in EXTRA_TERMS.get(name, ()))
     for n in free_names:
         if n not in params:
-            raise FitError(f"{name}: cannot fit {n!r}: no such parameter; valid: {', '.join(params)}")
+            raise FitSpecError(f"{name}: cannot fit {n!r}: no such parameter; valid: {', '.join(params)}")
         if params[n].kind is not float:
-            raise FitError(f"{name}: parameter {n} is not a real number; give its value in the model spec instead")
+            raise FitSpecError(f"{name}: parameter {n} is not a real number; give its value in the model spec instead")
     for n in bounds:
         if n not in free_names:
-            raise FitError(f"{name}: bounds given for {n}, which is not fitted; fitted: {', '.join(free_names) or 'none'}")
+            raise FitSpecError(f"{name}: bounds given for {n}, which is not fitted; fitted: {', '.join(free_names) or 'none'}")
     source_values = start_from.param_values() if start_from is not None else {}
     follow = {}
     if start_from is not None:
@@ -179,7 +179,7 @@ def build_space(
                     pass
         lo, hi = bounds.get(n) or p.search_bounds(s)
         if not lo < hi:
-            raise FitError(f"{name}: bounds for {n} are empty ({lo:g} >= {hi:g}); give LOW < HIGH")
+            raise FitSpecError(f"{name}: bounds for {n} are empty ({lo:g} >= {hi:g}); give LOW < HIGH")
         s = min(max(s, lo), hi)
         defaults.append(min(max(d, lo), hi))
         start.append(s)
