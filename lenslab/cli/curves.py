@@ -20,15 +20,17 @@ import math
 import sys
 
 CHART_FORMATS = ("png", "svg", "pdf")
+STOPS = (-126, 127)  # the normal range of float32 in stops: beyond it the samples underflow to 0 or overflow to inf
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="curves.png", help="chart to write (PNG, SVG or PDF; default curves.png)")
-    parser.add_argument("--curves", default="", help="comma-separated subset of curves (default: every curve)")
+    parser.add_argument("--curves", help="comma-separated subset of curves (default: every curve)")
     from lenslab.jobs.arguments import finite_float
 
     parser.add_argument("--stops", type=finite_float, nargs=2, default=(-10.0, 8.0), metavar=("LOW", "HIGH"),
-                        help="input range in stops from 1.0 (default -10 8)")
+                        help=f"input range in stops from 1.0 (default -10 8; with --exposure within {STOPS[0]} "
+                             f"and {STOPS[1]}, the range of 32-bit floats)")
     parser.add_argument("--exposure", type=finite_float, default=0.0, help="exposure in stops applied before the curves")
     parser.add_argument("--list", action="store_true", help="print every curve with its parameters and exit")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing chart")
@@ -57,16 +59,23 @@ def run(args: argparse.Namespace) -> int:
     low, high = args.stops
     if not (math.isfinite(low) and math.isfinite(high) and low < high):
         raise UsageError(f"--stops {low:g} {high:g}: give a finite range with LOW below HIGH, e.g. -10 8")
+    if not (STOPS[0] <= low + args.exposure and high + args.exposure <= STOPS[1]):
+        shift = f" with --exposure {args.exposure:g}" if args.exposure else ""
+        raise UsageError(f"--stops {low:g} {high:g}{shift}: keep the range within {STOPS[0]} and {STOPS[1]} stops, "
+                         "the range of 32-bit floats")
     if not math.isfinite(args.exposure):
         raise UsageError(f"--exposure {args.exposure}: give a finite number of stops")
-    for name in (n for n in args.curves.split(",") if n.strip()):
-        tone.get_curve(name.strip())  # an unknown name is a usage error, before anything is drawn
+    names = [n.strip() for n in (args.curves or "").split(",") if n.strip()]
+    if args.curves is not None and not names:
+        raise UsageError(f"--curves is empty; give names from: {', '.join(tone.CURVES)} (or leave it out for all)")
+    for name in names:
+        tone.get_curve(name)  # an unknown name is a usage error, before anything is drawn
     check_output(args.output, (), args.overwrite)
     from lenslab.tone.plot import plot_curves
 
-    fig = plot_curves(args.curves, args.stops, args.exposure)
+    fig = plot_curves(args.curves or "", args.stops, args.exposure)
     with atomic_write_path(args.output, overwrite=args.overwrite) as tmp:
         fig.savefig(tmp, dpi=110, format=kind)
-    count = len([n for n in args.curves.split(",") if n.strip()]) or len(tone.CURVES)
+    count = len(names) or len(tone.CURVES)
     print(f"{args.output}: {count} curves", file=sys.stderr)
     return 0
