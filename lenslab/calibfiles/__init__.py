@@ -134,7 +134,10 @@ def write_lens(path, lens, fmt: str | None = None, overwrite: bool = False) -> P
     fmt = fmt or default_format(path, lens)
     mod = plugin(fmt)
     with atomic_write_path(path, overwrite=overwrite) as tmp:
-        mod.write(tmp, lens)
+        try:
+            mod.write(tmp, lens)
+        except LensError as exc:  # a model the format has no place for: named by the user's file, not the temporary
+            raise LensError(f"{path}: {exc}") from None
     return path
 
 

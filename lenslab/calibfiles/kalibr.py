@@ -110,17 +110,17 @@ def write(path: Path, lens) -> None:
     if lens.name == "opencv" or kb:
         extra = "p1 p2 s1 s2 s3 s4" if kb else "k3 k4 k5 k6 s1 s2 s3 s4"
         if any(v[k] for k in extra.split()):
-            raise LensError(f"{path}: Kalibr's pinhole {'equidistant' if kb else 'radtan'} model has no "
+            raise LensError(f"Kalibr's pinhole {'equidistant' if kb else 'radtan'} model has no "
                             f"{', '.join(k for k in extra.split() if v[k])}; write OpenCV YAML or lenslab TOML")
         model, dist = "pinhole", ("equidistant" if kb else "radtan")
     elif lens.name == "omnidir":
         if v["s"]:
-            raise LensError(f"{path}: Kalibr's omni model has no skew; write OpenCV YAML or lenslab TOML")
+            raise LensError(f"Kalibr's omni model has no skew; write OpenCV YAML or lenslab TOML")
         model, dist = "omni", "radtan"
     elif lens.name in ("double-sphere", "eucm"):
         model, dist = ("ds" if lens.name == "double-sphere" else "eucm"), "none"
     else:
-        raise LensError(f"{path}: Kalibr has no {lens.name} model; write lenslab TOML")
+        raise LensError(f"Kalibr has no {lens.name} model; write lenslab TOML")
     cam = {
         "camera_model": model,
         "intrinsics": [float(v[k]) for k in INTRINSICS[model].split()],

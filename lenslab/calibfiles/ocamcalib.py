@@ -69,7 +69,7 @@ def read(path: Path, text: str):
 
 def write(path: Path, lens) -> None:
     if lens.name != "ocam":
-        raise LensError(f"{path}: OCamCalib files hold the ocam model only, not {lens.name}")
+        raise LensError(f"OCamCalib files hold the ocam model only, not {lens.name}")
     pol, inv = lens.pol_c, lens.invpol_c
 
     def line(c):

@@ -243,7 +243,6 @@ def write(path: Path, lens) -> None:
     import cv2
 
     v = lens.param_values()
-    K = np.array([[v["fx"], v.get("s", 0.0), v["cx"]], [0.0, v["fy"], v["cy"]], [0.0, 0.0, 1.0]])
     extra = {}
     if lens.name == "opencv":
         D = np.array([v[k] for k in OPENCV_KEYS])
@@ -251,7 +250,7 @@ def write(path: Path, lens) -> None:
         D = D[:n]
     elif lens.name in ("kannala-brandt", "opencv-fisheye"):
         if any(v[k] for k in "p1 p2 s1 s2 s3 s4".split()):
-            raise LensError(f"{path}: OpenCV's fisheye model has no tangential or thin-prism terms; "
+            raise LensError(f"OpenCV's fisheye model has no tangential or thin-prism terms; "
                             "write this camera as COLMAP cameras.txt or lenslab TOML")
         D = np.array([v[k] for k in "k1 k2 k3 k4".split()])
         extra["fisheye_model"] = 1
@@ -259,8 +258,9 @@ def write(path: Path, lens) -> None:
         D = np.array([v[k] for k in "k1 k2 p1 p2".split()])
         extra["xi"] = v["xi"]
     else:
-        raise LensError(f"{path}: OpenCV has no {lens.name} model; write it as Kalibr YAML (--format kalibr) "
+        raise LensError(f"OpenCV has no {lens.name} model; write it as Kalibr YAML (--format kalibr) "
                         "or lenslab TOML")
+    K = np.array([[v["fx"], v.get("s", 0.0), v["cx"]], [0.0, v["fy"], v["cy"]], [0.0, 0.0, 1.0]])
     fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_WRITE)
     try:
         fs.write("image_width", int(lens.width))
