@@ -121,9 +121,11 @@ def _camera(args, scene):
             tables = {k: v for k, v in doc.items() if isinstance(v, dict) and "lens" in v}
             if not tables:
                 raise ValueError(f"{path}: no camera found (expected a [lens] table, or tables of cameras)")
-            name = args.view or next(iter(tables))
+            name = next(iter(tables)) if args.view is None else args.view  # '' names none: never the first
             if name not in tables:
-                raise ValueError(f"{path}: no camera named {name!r}; found {', '.join(tables)}")
+                from lenslab.errors import UsageError
+
+                raise UsageError(f"--view {name!r}: {path} has no camera of that name; it has {', '.join(tables)}")
             doc = tables[name]
         cam = Camera.from_dict(doc)
         if args.size is not None and tuple(args.size) != cam.size:
@@ -140,7 +142,10 @@ def _camera(args, scene):
         if getattr(args, k) is not None:
             pose[k] = getattr(args, k)
     if args.view is not None and args.view not in scene.views:
-        raise ValueError(f"scene {scene.name} has no view {args.view!r}; views: {', '.join(scene.views) or 'none'}")
+        from lenslab.errors import UsageError
+
+        raise UsageError(f"--view {args.view!r}: scene {scene.name} has no view of that name; it has "
+                         f"{', '.join(scene.views) or 'none'}")
     size = args.size or (512, 512)
     if args.camera:
         make_lens(args.camera, size)  # report a bad spec before anything else
