@@ -30,9 +30,24 @@ class ArgumentParser(argparse.ArgumentParser):
         # value, for the option's type to judge, not an unknown option.
         self._negative_number_matcher = re.compile(r"^-\.?\d")
 
-    def error(self, message: str):  # noqa: D401 - argparse's hook
-        print(f"{self.prog}: error: {message} (see '{self.prog} --help')", file=sys.stderr)
+    def error(self, message: str, prog: str | None = None):  # noqa: D401 - argparse's hook
+        prog = prog or self.prog
+        print(f"{prog}: error: {message} (see '{prog} --help')", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
+
+    def parse_known_args(self, args=None, namespace=None):
+        namespace, extras = super().parse_known_args(args, namespace)
+        if extras and not getattr(namespace, "_extras_prog", None):  # the innermost command that was left them
+            namespace._extras_prog = self.prog
+        return namespace, extras
+
+    def parse_args(self, args=None, namespace=None):
+        """As argparse's, with an unknown option blamed on the command it was given to ('lenslab tonemap: error:
+        unrecognized arguments: --tone', pointing at 'lenslab tonemap --help'), not on the whole program."""
+        namespace, extras = self.parse_known_args(args, namespace)
+        if extras:
+            self.error(f"unrecognized arguments: {' '.join(extras)}", getattr(namespace, "_extras_prog", None))
+        return namespace
 
 
 def finite_float(text: str) -> float:
