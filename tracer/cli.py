@@ -13,7 +13,8 @@ import os
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import ArgumentParser, finite_float, image_size, non_negative_int, positive_float, positive_int
+from lenslab.jobs.arguments import (ArgumentParser, finite_float, image_size, non_empty, non_negative_int,
+                                    positive_float, positive_int)
 from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
@@ -48,15 +49,15 @@ def _exposure(text: str):
 
 
 def add_render_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scene", default="cornell",
+    p.add_argument("--scene", default="cornell", type=non_empty,
                    help="built-in scene name (cornell, cornell-point, sky, furnace, plane, arealight) or a scene "
                         "file (.obj with .mtl, .ply, .stl, .toml); default cornell")
     p.add_argument("--handedness", choices=("right", "left"), default="right",
                    help="the frame of a mesh file (.obj, .ply, .stl): 'right' (default; Blender, Maya, Mitsuba "
                         "and most exporters) is mirrored x -> -x on import so the scene renders as those tools "
                         "show it; 'left' keeps a file already in lenslab's left-handed frame")
-    p.add_argument("--env", metavar="EXR", help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
-    p.add_argument("--camera", metavar="SPEC",
+    p.add_argument("--env", metavar="EXR", type=non_empty, help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
+    p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens)")
     p.add_argument("--size", type=image_size, metavar="WxH",

@@ -37,7 +37,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default=None,
                         help="format of the images written into an -o folder (default png); for one output file "
                              "its extension says it, and a --format that differs is refused")
-    parser.add_argument("--curve", default=None,
+    from lenslab.jobs.arguments import non_empty
+
+    parser.add_argument("--curve", default=None, type=non_empty,
                         help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
                         help="exposure in stops applied before the curve, or 'auto' (default 0)")

@@ -39,7 +39,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import Once, finite_float, finite_vector, image_size, int_in
+from lenslab.jobs.arguments import Once, finite_float, finite_vector, image_size, int_in, non_empty
 
 from lenslab.io.registry import writable
 
@@ -62,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
                              "the map's size; --filter, --samples and --antialias apply; see 'lenslab stmap')")
-    parser.add_argument("--from", dest="source", metavar="SPEC", action=Once,
+    parser.add_argument("--from", dest="source", metavar="SPEC", action=Once, type=non_empty,
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,

@@ -50,6 +50,14 @@ class ArgumentParser(argparse.ArgumentParser):
         return namespace
 
 
+def non_empty(text: str) -> str:
+    """argparse ``type=``: a name, spec or file that is not blank; an empty one would silently mean the
+    option's default (``--curve ''`` hable, ``--from ''`` the file's own camera)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("is empty; give a value, or leave the option out for its default")
+    return text
+
+
 def finite_float(text: str) -> float:
     """argparse ``type=``: any finite number (angles such as ``--yaw``); NaN and inf are refused."""
     try:

@@ -15,6 +15,7 @@ import pytest
 
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
+from lenslab.jobs.arguments import non_empty
 
 
 def lenslab(argv: list[str]) -> int:
@@ -37,7 +38,7 @@ def _typed_options():
     for prog, parser in (("lenslab", build_parser()), ("tracer", tracer_parser())):
         for name, sub in _subparsers(parser).items():
             for action in sub._actions:
-                if action.option_strings and callable(action.type) and action.type not in (str, Path):
+                if action.option_strings and callable(action.type) and action.type not in (str, Path, non_empty):
                     rows.append((prog, name, action.option_strings[-1], action.type))
     return rows
 
