@@ -158,7 +158,7 @@ def read_st_map(path: str | os.PathLike) -> np.ndarray:
     Raises
     ------
     lenslab.errors.WarpError
-        An image with one channel.
+        An image with one channel, or one where no pixel points into the source.
     lenslab.errors.FormatError
         A file lenslab cannot read.
 
@@ -178,6 +178,10 @@ def read_st_map(path: str | os.PathLike) -> np.ndarray:
         ok = finite & (img[..., 3] > 0.5)
     else:
         ok = finite & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+    if not ok.any():  # every output pixel would be transparent: not a map of this kind
+        which = "its alpha is 0 (or s, t not finite) everywhere" if img.shape[2] >= 4 else \
+            "no pixel has finite s and t within [0, 1]"
+        raise WarpError(f"{path}: no pixel of this image points into the source ({which}); is it an ST map?")
     st[..., 0] = np.where(ok, s, 0.0)
     st[..., 1] = np.where(ok, t, 0.0)
     st[..., 3] = ok
