@@ -193,6 +193,13 @@ def _render(args) -> int:
     from tracer.load import load_scene
     from tracer.rendering import render
 
+    from tracer.load import check_scene_name
+    from tracer.scene import SceneError
+
+    try:
+        check_scene_name(args.scene)
+    except SceneError as exc:
+        raise UsageError(str(exc)) from None
     inputs = [f for f in (args.env, args.camera_file, args.scene) if f and Path(f).exists()]
     for out in (args.output, args.variance_out):
         if out:

@@ -60,6 +60,16 @@ from tracer.scene import PointLight, Scene, SceneError, View, merge_meshes, poly
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".vtk", ".vtp")
 
 
+def check_scene_name(name: str) -> None:
+    """:class:`SceneError` when ``name`` is neither a built-in scene nor named as a scene file is (a name
+    alone settles it: the command line reports it as a usage error before anything is read)."""
+    from tracer.builtin import BUILTINS
+
+    if name not in BUILTINS and Path(name).suffix.lower() not in MESH_SUFFIXES + (".toml",):
+        raise SceneError(f"{name!r} is neither a built-in scene ({', '.join(BUILTINS)}) nor a scene file "
+                         f"({', '.join(MESH_SUFFIXES + ('.toml',))})")
+
+
 def load_scene(source, **kwargs) -> Scene:
     """A scene from a built-in name (``cornell``, ``cornell-point``, ``sky``, ...) or a file path.
 
@@ -73,13 +83,9 @@ def load_scene(source, **kwargs) -> Scene:
     name = str(source)
     if name in BUILTINS:
         return BUILTINS[name](**kwargs)
+    check_scene_name(name)
     path = Path(name)
     suffix = path.suffix.lower()
-    if suffix not in MESH_SUFFIXES + (".toml",):
-        raise SceneError(
-            f"{name!r} is neither a built-in scene ({', '.join(BUILTINS)}) nor a scene file "
-            f"({', '.join(MESH_SUFFIXES + ('.toml',))})"
-        )
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such scene file")
     if suffix == ".toml":

@@ -1,4 +1,4 @@
-"""``tracer render --view``: a name the scene or the ``--camera-file`` does not have, the empty name included,
+"""``tracer render --view`` and ``--scene``: a name the scene or the ``--camera-file`` does not have, the empty name included,
 is a usage error (exit 2, one line naming the ones there are), before anything is rendered; the empty name
 never falls back to the first camera."""
 
@@ -42,4 +42,13 @@ def test_unknown_view_of_a_built_in_scene(tmp_path, capsys, view):
     assert main([*ARGS, "--scene", "cornell", "--view", view, "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"--view {view!r}: scene cornell has no view" in err[0], err
+    assert not out.exists()
+
+
+def test_a_scene_name_that_is_neither_built_in_nor_a_scene_file_is_a_usage_error(tmp_path, capsys):
+    out = tmp_path / "r.exr"
+    assert main([*ARGS, "--scene", "cornel", "-o", str(out)]) == 2  # a typo, known from the name alone
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'cornel' is neither a built-in scene" in err[0], err
+    assert main([*ARGS, "--scene", str(tmp_path / "missing.obj"), "-o", str(out)]) == 1  # a file that is not there
     assert not out.exists()

@@ -217,8 +217,10 @@ def test_cli_render_writes_exr_with_camera(tmp_path):
 
 
 def test_cli_errors_are_reported(tmp_path, capsys):
-    assert main(["render", "--scene", "nowhere", "-o", str(tmp_path / "x.exr"), "-q"]) == 1
+    assert main(["render", "--scene", "nowhere", "-o", str(tmp_path / "x.exr"), "-q"]) == 2  # no such name: usage
     assert "tracer render: error:" in capsys.readouterr().err
+    assert main(["render", "--scene", str(tmp_path / "gone.obj"), "-o", str(tmp_path / "x.exr"), "-q"]) == 1  # input
+    assert "no such scene file" in capsys.readouterr().err
     assert main(["render", "--camera", "fisheye:fov=-3", "-o", str(tmp_path / "x.exr"), "-q"]) == 2  # a bad spec: usage
     assert not (tmp_path / "x.exr").exists()
 
