@@ -56,7 +56,8 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="the frame of a mesh file (.obj, .ply, .stl): 'right' (default; Blender, Maya, Mitsuba "
                         "and most exporters) is mirrored x -> -x on import so the scene renders as those tools "
                         "show it; 'left' keeps a file already in lenslab's left-handed frame")
-    p.add_argument("--env", metavar="EXR", type=non_empty, help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
+    p.add_argument("--env", metavar="EXR", type=non_empty,
+                   help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
     p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens)")

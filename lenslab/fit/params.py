@@ -154,7 +154,8 @@ def build_space(
             raise FitSpecError(f"{name}: parameter {n} is not a real number; give its value in the model spec instead")
     for n in bounds:
         if n not in free_names:
-            raise FitSpecError(f"{name}: bounds given for {n}, which is not fitted; fitted: {', '.join(free_names) or 'none'}")
+            raise FitSpecError(f"{name}: bounds given for {n}, which is not fitted; "
+                               f"fitted: {', '.join(free_names) or 'none'}")
     source_values = start_from.param_values() if start_from is not None else {}
     follow = {}
     if start_from is not None:

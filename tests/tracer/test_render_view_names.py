@@ -1,6 +1,6 @@
-"""``tracer render --view`` and ``--scene``: a name the scene or the ``--camera-file`` does not have, the empty name included,
-is a usage error (exit 2, one line naming the ones there are), before anything is rendered; the empty name
-never falls back to the first camera."""
+"""``tracer render --view`` and ``--scene``: a name the scene or the ``--camera-file`` does not have, the
+empty name included, is a usage error (exit 2, one line naming the ones there are), before anything is
+rendered; the empty name never falls back to the first camera."""
 
 from __future__ import annotations
 
