@@ -32,7 +32,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import finite_float, finite_vector, image_size, non_negative_int, positive_int
+from lenslab.jobs.arguments import finite_float, finite_vector, image_size, non_empty, non_negative_int, positive_int
 
 # the files a report holds (lenslab.validate.report): an earlier run's are replaced only with --overwrite
 REPORT_FILES = ("results.json", "report.md")
@@ -58,6 +58,8 @@ def _int_list(text: str) -> list[int]:
         vals = [int(v) for v in text.split(",") if v.strip()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of integers") from None
+    if not vals:
+        raise argparse.ArgumentTypeError("is empty; give sample counts such as 1,4,16, or 'none' to skip")
     if any(v < 1 for v in vals):
         raise argparse.ArgumentTypeError("sample counts must be at least 1")
     return vals
@@ -70,7 +72,7 @@ def _vec3(text: str) -> tuple[float, float, float]:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.filters import FILTERS
 
-    parser.add_argument("--scene", default="cornell",
+    parser.add_argument("--scene", default="cornell", type=non_empty,
                         help="tracer scene to render (default cornell; any built-in or scene file of the "
                              "tracer), or 'analytic' for the noise-free analytic environment")
     parser.add_argument("--to", dest="to", default="fisheye:fov=180,mapping=equisolid", metavar="SPEC",
@@ -159,11 +161,21 @@ def run(args: argparse.Namespace) -> int:
     size = args.size
     pano_sizes = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()]
     if not pano_sizes:
-        raise ValidationError("--pano-sizes is empty; give e.g. 1024x512,2048x1024")
+        raise UsageError("--pano-sizes is empty; give e.g. 1024x512,2048x1024")
     try:
         settings = [WarpSetting.parse(s) for s in args.filters.split(",") if s.strip()]
     except ValidationError as exc:  # a bad --filters value: a usage error
         raise UsageError(str(exc)) from None
+    if not settings:
+        raise UsageError("--filters is empty; give e.g. bilinear,antialias,lanczos")
+    if args.scene not in ("analytic", "analytic-sky"):  # a scene name known to be none: before any render
+        from tracer.load import check_scene_name
+        from tracer.scene import SceneError
+
+        try:
+            check_scene_name(args.scene)
+        except SceneError as exc:
+            raise UsageError(str(exc)) from None
     Camera.from_spec(args.to, size)  # a bad lens spec is a usage error, before anything is rendered
     check_output_dir(args.output)
     if Path(args.output).is_dir():
