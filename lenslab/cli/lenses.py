@@ -21,7 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="show the full description of these models (default: list every model)")
     parser.add_argument("--json", action="store_true",
                         help="print the models and parameters as JSON (for scripts)")
-    parser.add_argument("--lensfun", metavar="QUERY",
+    from lenslab.jobs.arguments import non_empty
+
+    parser.add_argument("--lensfun", metavar="QUERY", type=non_empty,
                         help='find real lenses and cameras in the lensfun database, e.g. "samyang 8mm", and show '
                              "what each profile holds (needs lenslab[lensfun])")
     parser.add_argument("--lensfun-db", metavar="DIR", action="append", default=[],

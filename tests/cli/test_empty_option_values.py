@@ -1,5 +1,5 @@
 """An empty value for a name, spec or file option (``--curve ''``, ``--from ''``, ``--camera ''``, ``--env ''``,
-``--scene ''``) is a usage error (exit 2, one line naming the option), never a silent fall-back to the option's
+``--scene ''``, ``--lensfun ''``) is a usage error (exit 2, one line naming the option), never a silent fall-back to the option's
 default: a script whose variable came out empty must not get hable, the file's own camera or a constant sky."""
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ def pano(tmp_path):
     (tracer, [*RENDER, "--camera", "", "-o", "{d}/out.exr"], "--camera"),
     (tracer, [*RENDER, "--scene", "sky", "--env", "", "-o", "{d}/out.exr"], "--env"),
     (tracer, [*RENDER, "--scene", "", "-o", "{d}/out.exr"], "--scene"),
+    (lenslab, ["lenses", "--lensfun", ""], "--lensfun"),  # would list the whole lensfun database
 ])
 def test_empty_value_is_a_usage_error(tmp_path, pano, capsys, main, argv, option):
     argv = [a.format(pano=pano, d=tmp_path) for a in argv]
