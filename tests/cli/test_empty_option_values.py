@@ -1,6 +1,7 @@
-"""An empty value for a name, spec or file option (``--curve ''``, ``--from ''``, ``--camera ''``, ``--env ''``,
-``--scene ''``, ``--lensfun ''``) is a usage error (exit 2, one line naming the option), never a silent fall-back to the option's
-default: a script whose variable came out empty must not get hable, the file's own camera or a constant sky."""
+"""An empty value for a name, spec or file option (``--curve ''``, ``--from ''``, ``--camera ''``,
+``--env ''``, ``--scene ''``, ``--lensfun ''``) is a usage error (exit 2, one line naming the option), never a
+silent fall-back to the option's default: a script whose variable came out empty must not get hable, the
+file's own camera, a constant sky or the whole lensfun database."""
 
 from __future__ import annotations
 
