@@ -16,8 +16,10 @@
       with the CIEDE2000 colour difference before and after.
 
 In a model spec, parameters you give stay fixed and the others are fitted (numbers) or tried in turn
-(choices such as a fisheye's mapping); --free names the fitted ones instead. The exit status is 0 for
-a good fit and 1 when the fit falls short (the report says why).
+(choices such as a fisheye's mapping); --free names the fitted ones instead. `fit lens` and `fit points`
+exit 0 for a good fit and 1 when the fit falls short (the report says why). `fit tone` exits 1 only when
+its search does not converge: a converged fit of two images that do not match still exits 0, so judge
+it by the colour difference it reports.
 """
 
 from __future__ import annotations
