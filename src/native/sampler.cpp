@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <immintrin.h>
 
 #include "sampler.h"
 
@@ -14,6 +15,24 @@ namespace {
 // on memory, not on arithmetic (1024x1024 from 4096x2048 RGB, one thread: 19.6 ms -> 9.7 ms; 8 ahead: 11.9 ms,
 // 64: 10.3 ms). A prefetch changes no value.
 constexpr int64_t PREFETCH = 32;
+
+#if defined(__FMA__)
+// lerp of three channels (the taps at p00 and p01 and their right neighbours) in one SSE vector, each step the same
+// fused multiply-add as lerp's: false (nothing written) where a value is not finite, for lerp's wide path. Each load
+// of four floats stays inside the source: the fourth of a top tap or of p01 is a later tap's first; the last tap is
+// read from one float earlier and shifted.
+inline bool rgb_lerp(const float* flat, uint64_t p00, uint64_t p01, float tx, float ty, float* dst) {
+    const __m128 a = _mm_loadu_ps(flat + p00), c = _mm_loadu_ps(flat + p00 + 3), b = _mm_loadu_ps(flat + p01);
+    const __m128 d0 = _mm_loadu_ps(flat + p01 + 2), d = _mm_shuffle_ps(d0, d0, _MM_SHUFFLE(3, 3, 2, 1));
+    const __m128 x = _mm_set1_ps(tx), y = _mm_set1_ps(ty);
+    const __m128 upper = _mm_fmadd_ps(x, _mm_sub_ps(c, a), a), lower = _mm_fmadd_ps(x, _mm_sub_ps(d, b), b);
+    const __m128 v = _mm_fmadd_ps(y, _mm_sub_ps(lower, upper), upper);
+    if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(v, v), _mm_setzero_ps())) & 7) != 7) return false;
+    _mm_storel_pi(reinterpret_cast<__m64*>(dst), v);
+    _mm_store_ss(dst + 2, _mm_movehl_ps(v, v));
+    return true;
+}
+#endif
 
 // NC > 0: that many channels, known to the compiler (kept in registers); NC == 0: nc at run time
 template <int NC>
@@ -38,8 +57,13 @@ void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const 
             continue;
         }
         uint64_t p00 = uint64_t(o) * step, p01 = p00 + row;
-        lerp(flat, p00, p00 + step, p01, p01 + step, tx[q], ty[q], nc, dst);
         alpha[q] = 1.0f;
+#if defined(__FMA__)
+        if constexpr (NC == 3) {  // the three channels in one vector: lerp's steps, rounded the same
+            if (rgb_lerp(flat, p00, p01, tx[q], ty[q], dst)) continue;
+        }
+#endif
+        lerp(flat, p00, p00 + step, p01, p01 + step, tx[q], ty[q], nc, dst);
     }
 }
 
