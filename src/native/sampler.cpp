@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <immintrin.h>
 
 #include "sampler.h"
 
@@ -14,6 +15,28 @@ namespace {
 // on memory, not on arithmetic (1024x1024 from 4096x2048 RGB, one thread: 19.6 ms -> 9.7 ms; 8 ahead: 11.9 ms,
 // 64: 10.3 ms). A prefetch changes no value.
 constexpr int64_t PREFETCH = 32;
+// the cached-taps sampler, whose pixels cost less since their lerp is one vector, asks further ahead (its warp of a
+// 3840x1920 clip frame into a 1920x1920 fisheye, both threads, least CPU of 40 runs: 22.1 ms at 32, 20.7 at 64, 20.9
+// at 96; 512x512 from 1024x512 unchanged within 2 %)
+constexpr int64_t PREFETCH_TAPS = 64;
+
+#if defined(__FMA__)
+// lerp of three channels (the taps at p00 and p01 and their right neighbours) in one SSE vector, each step the same
+// fused multiply-add as lerp's: false (nothing written) where a value is not finite, for lerp's wide path. Each load
+// of four floats stays inside the source: the fourth of a top tap or of p01 is a later tap's first; the last tap is
+// read from one float earlier and shifted.
+inline bool rgb_lerp(const float* flat, uint64_t p00, uint64_t p01, float tx, float ty, float* dst) {
+    const __m128 a = _mm_loadu_ps(flat + p00), c = _mm_loadu_ps(flat + p00 + 3), b = _mm_loadu_ps(flat + p01);
+    const __m128 d0 = _mm_loadu_ps(flat + p01 + 2), d = _mm_shuffle_ps(d0, d0, _MM_SHUFFLE(3, 3, 2, 1));
+    const __m128 x = _mm_set1_ps(tx), y = _mm_set1_ps(ty);
+    const __m128 upper = _mm_fmadd_ps(x, _mm_sub_ps(c, a), a), lower = _mm_fmadd_ps(x, _mm_sub_ps(d, b), b);
+    const __m128 v = _mm_fmadd_ps(y, _mm_sub_ps(lower, upper), upper);
+    if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(v, v), _mm_setzero_ps())) & 7) != 7) return false;
+    _mm_storel_pi(reinterpret_cast<__m64*>(dst), v);
+    _mm_store_ss(dst + 2, _mm_movehl_ps(v, v));
+    return true;
+}
+#endif
 
 // NC > 0: that many channels, known to the compiler (kept in registers); NC == 0: nc at run time
 template <int NC>
@@ -23,8 +46,8 @@ void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const 
     const int64_t nc = NC > 0 ? NC : nc_;
     const uint64_t row = uint64_t(sw * nc), step = uint64_t(nc);
     for (int64_t q = 0; q < n; ++q) {
-        if (q + PREFETCH < n && off[q + PREFETCH] < TAP_FOLDED) {  // a sample a few ahead: both its tap rows
-            const float* t = flat + uint64_t(off[q + PREFETCH]) * step;
+        if (q + PREFETCH_TAPS < n && off[q + PREFETCH_TAPS] < TAP_FOLDED) {  // a sample a few ahead: both its tap rows
+            const float* t = flat + uint64_t(off[q + PREFETCH_TAPS]) * step;
             __builtin_prefetch(t);
             __builtin_prefetch(t + row);
         }
@@ -38,8 +61,13 @@ void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const 
             continue;
         }
         uint64_t p00 = uint64_t(o) * step, p01 = p00 + row;
-        lerp(flat, p00, p00 + step, p01, p01 + step, tx[q], ty[q], nc, dst);
         alpha[q] = 1.0f;
+#if defined(__FMA__)
+        if constexpr (NC == 3) {  // the three channels in one vector: lerp's steps, rounded the same
+            if (rgb_lerp(flat, p00, p01, tx[q], ty[q], dst)) continue;
+        }
+#endif
+        lerp(flat, p00, p00 + step, p01, p01 + step, tx[q], ty[q], nc, dst);
     }
 }
 

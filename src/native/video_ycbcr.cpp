@@ -85,6 +85,8 @@ void rb_tables(Range r, const double* k, const float* t, float* rb) {
     }
 }
 
+#include "video_decode_x8.h"  // rgb8_row_x8: the decoding's 8-bit rows eight pixels at a time (AVX2)
+
 // Y'CbCr planes -> linear float32 in the window [r0, r1) x [c0, c1) of `out` (rows x cols x 3), in float32. With
 // `k` the Y'CbCr -> R'G'B' matrix (its first column is 1): 65535 E'q = LY[Y] + (k[q][1] LC[Cb] + k[q][2] LC[Cr]),
 // LY and LC the codes' values (code_values), the bracket once per chroma sample; then the transfer function's
@@ -122,7 +124,12 @@ void to_linear(Planes<const T> p, Range r, const double* k, const float* t, cons
                 float* g = chroma.data() - k0;
                 for (int64_t cc = k0; cc < k1; ++cc) g[cc] = kb[1] * LC[ur[cc]] + kr[1] * LC[vr[cc]];
                 float* o = out + j * cols * 3;
-                for (int64_t c = c0; c < c1; ++c) {
+                // eight pixels at a time where the CPU can, the rest one by one
+                for (int64_t c = rgb8_row_x8(reinterpret_cast<const uint8_t*>(yr),
+                                             reinterpret_cast<const uint8_t*>(ur),
+                                             reinterpret_cast<const uint8_t*>(vr), p.hx, g, LY, t, TR, TB, c0, c1, k1,
+                                             o);
+                     c < c1; ++c) {
                     const int64_t y = yr[c], cc = c >> p.hx;
                     o[3 * c] = TR[(int64_t(vr[cc]) << 8) + y];
                     o[3 * c + 1] = lookup(t, LY[y] + g[cc]);
