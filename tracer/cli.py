@@ -191,16 +191,10 @@ def _close_bars() -> None:
 def _render(args) -> int:
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output
-    from tracer.load import load_scene
+    from tracer.load import check_scene_argument, load_scene
     from tracer.rendering import render
 
-    from tracer.load import check_scene_name
-    from tracer.scene import SceneError
-
-    try:
-        check_scene_name(args.scene)
-    except SceneError as exc:
-        raise UsageError(str(exc)) from None
+    check_scene_argument(args.scene)
     inputs = [f for f in (args.env, args.camera_file, args.scene) if f and Path(f).exists()]
     for out in (args.output, args.variance_out):
         if out:

@@ -70,6 +70,16 @@ def check_scene_name(name: str) -> None:
                          f"({', '.join(MESH_SUFFIXES + ('.toml',))})")
 
 
+def check_scene_argument(name: str) -> None:
+    """:func:`check_scene_name` for a command's ``--scene``: a usage error (exit 2) before anything is read."""
+    from lenslab.errors import UsageError
+
+    try:
+        check_scene_name(name)
+    except SceneError as exc:
+        raise UsageError(str(exc)) from None
+
+
 def load_scene(source, **kwargs) -> Scene:
     """A scene from a built-in name (``cornell``, ``cornell-point``, ``sky``, ...) or a file path.
 

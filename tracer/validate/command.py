@@ -169,13 +169,9 @@ def run(args: argparse.Namespace) -> int:
     if not settings:
         raise UsageError("--filters is empty; give e.g. bilinear,antialias,lanczos")
     if args.scene not in ("analytic", "analytic-sky"):  # a scene name known to be none: before any render
-        from tracer.load import check_scene_name
-        from tracer.scene import SceneError
+        from tracer.load import check_scene_argument
 
-        try:
-            check_scene_name(args.scene)
-        except SceneError as exc:
-            raise UsageError(str(exc)) from None
+        check_scene_argument(args.scene)
     Camera.from_spec(args.to, size)  # a bad lens spec is a usage error, before anything is rendered
     check_output_dir(args.output)
     if Path(args.output).is_dir():
