@@ -271,7 +271,7 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None,
-                     alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+                     alpha_channel: bool | None = None, looked=None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an ST map (made by lenslab or any other tool); ``alpha_channel=False``: data
     channels only, none settled as alpha.
 
@@ -298,6 +298,9 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
         Whether the image's last channel is alpha: None decides by the channel count (2 or 4), False
         keeps every channel as data (none clipped to [0, 1] or used as coverage), True makes the last one
         alpha (an image of two channels or more).
+    looked : lenslab.warp.minification.Looked, optional
+        With ``antialias``: what the map's footprints show (whether it shrinks the source anywhere, as
+        :func:`lenslab.warp.minification.shrinks` says).
 
     Returns
     -------
@@ -337,7 +340,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     if samples == 1:
         x, y, ok = source_positions(st, size)
         return warp_with_map(image, np.stack([x, y], axis=-1), ok, filter=filter, antialias=antialias,
-                             progress=progress, alpha_channel=alpha_channel)
+                             progress=progress, alpha_channel=alpha_channel, looked=looked)
     src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
     h, w = st.shape[:2]
     out = np.zeros((h, w, src.shape[2]), dtype=np.float32)

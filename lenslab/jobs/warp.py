@@ -109,12 +109,15 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     if job.stmap:
         from lenslab.stmap import warp_with_st_map
 
-        dst = None
+        from lenslab.warp.minification import Looked
+
+        dst, plan = None, Looked()  # the map's footprints, looked at as a plan's are
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
         named = carries_alpha(meta, image.shape[2])
         colour, alpha = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
-                                                      progress=progress, alpha_channel=named), alpha=named)
+                                                      progress=progress, alpha_channel=named, looked=plan),
+                                    alpha=named)
     else:
         src = source_camera(job.source, meta, image.shape)
         if job.flip or job.source_flip:
@@ -131,10 +134,10 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         plan = cache.plan(src, dst)
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]), plan=plan)
-        if job.antialias:
-            from lenslab.jobs.warp_output import note_softening
+    if job.antialias:
+        from lenslab.jobs.warp_output import note_softening
 
-            note_softening(job, plan)
+        note_softening(job, plan)
     source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped

@@ -18,6 +18,7 @@ from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
 from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands
+from lenslab.warp.minification import watch
 from lenslab.warp.filters import sample
 from lenslab.warp.seam import Border, border_of
 
@@ -30,7 +31,7 @@ BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None = None, filter: str = "bilinear",
                   antialias: bool = False, source: Lens | Camera | None = None,
                   progress: Callable[[int], None] | None = None,
-                  alpha_channel: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  alpha_channel: bool | None = None, looked=None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
     ``alpha_channel=False``: the image holds data channels only (the last of 2 or 4 is not settled as
     alpha; :func:`lenslab.io.carries_alpha`).
@@ -61,6 +62,9 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         Whether the image's last channel is alpha: None decides by the channel count (2 or 4), False
         keeps every channel as data (none clipped to [0, 1] or used as coverage), True makes the last one
         alpha (an image of two channels or more).
+    looked : lenslab.warp.minification.Looked, optional
+        With ``antialias``: the footprints are looked at for it as they are drawn, and
+        :func:`lenslab.warp.minification.shrinks` then says whether the map shrinks its source anywhere.
 
     Returns
     -------
@@ -113,6 +117,8 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
         r0, r1 = rows_
         if antialias:
             band = footprint_of_map(xs, ys, ok, r0, r1, float(src.shape[1]) if border.wrap else 0.0)
+            if looked is not None:
+                watch(looked, band)
             aa.sample_footprint(pyr, band, border, out[r0:r1], alpha[r0:r1])
         else:
             sample(src, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], border, filter,

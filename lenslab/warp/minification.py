@@ -9,7 +9,9 @@ longer than :data:`SHRINK` source pixels in some direction.
 
 The test is exact and cheap: the larger singular value of each footprint's Jacobian, from its sides' lengths and
 cross product in a few float32 passes (2.7 ms for a band of 262,144 footprints, load 4.3); once one band shrinks the
-source, the plan's other bands are not looked at, and a kept band (a batch's, a clip's) is looked at once.
+source, the plan's other bands are not looked at, and a kept band (a batch's, a clip's) is looked at once. A warp
+by a given map (an ST map: :func:`lenslab.warp.warp_with_map`) has no plan: its footprints, from the differences
+between neighbouring map entries, are looked at the same way for a :class:`Looked` it is given.
 """
 
 from __future__ import annotations
@@ -50,6 +52,14 @@ def band_shrinks(foot: np.ndarray, valid: np.ndarray) -> bool:
     return bool(out.any())
 
 
+class Looked:
+    """What a warp by a given map (no plan, no pieces or channels of its own) saw of its footprint bands:
+    :func:`watch` records on it as on a plan, and :func:`shrinks` answers for it."""
+
+    parts = None
+    channels = None
+
+
 def watch(plan, band) -> None:
     """Look at the footprints of ``band`` (a :class:`~lenslab.warp.antialias.FootprintBand` that ``plan`` draws)
     until a band of the plan is found to shrink the source; a kept band is looked at once."""
@@ -73,4 +83,4 @@ def shrinks(plan) -> bool | None:
     return bool(getattr(plan, "_shrinks", False))
 
 
-__all__ = ["SHRINK", "NOTE", "band_shrinks", "watch", "shrinks"]
+__all__ = ["SHRINK", "NOTE", "band_shrinks", "Looked", "watch", "shrinks"]
