@@ -40,12 +40,29 @@ class Interrupted(KeyboardInterrupt):
 _NUMPY_NOTES = NUMPY_NOTES
 
 
+class CommandNote(UserWarning):
+    """A note on the whole command, the same for each of its files (``--antialias`` on a view that shrinks the
+    source nowhere): a batch prints it once, with the first of its files that gave it, whether the files ran on
+    threads of this process or on any number of cluster workers (:func:`command_note`)."""
+
+
+#: how a file's notes carry a :class:`CommandNote` to the command that prints them (a worker's notes are strings)
+_COMMAND_NOTE = "note of the command: "
+
+
 def user_notes(caught) -> list[str]:
     """The distinct messages of recorded warnings a user should read (NumPy's arithmetic notes left out),
-    in the commands' words where a warning carries them (``command_line``)."""
-    notes = (getattr(w.message, "command_line", None) or str(w.message) for w in caught
+    in the commands' words where a warning carries them (``command_line``); a :class:`CommandNote` marked
+    for :func:`command_note`."""
+    notes = ((_COMMAND_NOTE if issubclass(w.category, CommandNote) else "")
+             + (getattr(w.message, "command_line", None) or str(w.message)) for w in caught
              if not (issubclass(w.category, RuntimeWarning) and re.search(_NUMPY_NOTES, str(w.message))))
     return list(dict.fromkeys(notes))
+
+
+def command_note(note: str) -> str | None:
+    """The text of a note of :func:`user_notes` that came from a :class:`CommandNote`, else None."""
+    return note[len(_COMMAND_NOTE):] if note.startswith(_COMMAND_NOTE) else None
 
 
 @contextlib.contextmanager

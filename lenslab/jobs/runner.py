@@ -196,13 +196,23 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
                    tail: str = "") -> list:
     """Print each ``(input, output, error, notes)`` result's notes and failure, then ``summary`` (None:
     none) with ``{done}`` and ``{total}`` (default: the results) filled in, the failures counted and
-    ``tail`` added. Returns the failed ones."""
+    ``tail`` added. A note on the whole command (:class:`~lenslab.jobs.funnel.CommandNote`) is printed once,
+    with the first file that gave it, however many processes gave it. Returns the failed ones."""
+    from lenslab.jobs.funnel import command_note
+
+    told: set = set()
     for src, _, _, notes in results:
         if notes:  # the tone package only for notes to absorb
             from lenslab.tone.repairs import absorb_note
         for note in notes:  # repaired values, clamped halves: reported, never hidden
-            if not absorb_note(note):  # a worker's slight negatives: in the command's one summary line
-                print(f"{command}: note: {src}: {note}", file=sys.stderr)
+            once = command_note(note)
+            if once is None and absorb_note(note):  # a worker's slight negatives: in the command's one summary line
+                continue
+            if once is not None:
+                if once in told:
+                    continue
+                told.add(once)
+            print(f"{command}: note: {src}: {note if once is None else once}", file=sys.stderr)
     from lenslab.jobs.frame_files import names_output
 
     failed = [(src, err) for src, _, err, _ in results if err]

@@ -3,11 +3,6 @@ for the output format, keep or drop alpha, write."""
 
 from __future__ import annotations
 
-import threading
-
-_NOTED: set = set()  # the batches (WarpJob.batch) told that --antialias only softens their view
-_NOTED_LOCK = threading.Lock()
-
 
 def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_alpha: bool = False) -> None:
     """Develop a warped image (premultiplied ``colour`` and its ``alpha``: the source's own, warped like colour,
@@ -38,19 +33,16 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
 
 
 def note_softening(job, plan) -> None:
-    """Once per batch (per process): a note when ``--antialias`` met a view that shrinks its source nowhere
-    (:mod:`lenslab.warp.minification`), where it only softens the image."""
+    """A note when ``--antialias`` met a view that shrinks its source nowhere (:mod:`lenslab.warp.minification`),
+    where it only softens the image: a note on the command, which a batch prints once whatever the number of its
+    files, threads and cluster workers (:class:`~lenslab.jobs.funnel.CommandNote`)."""
     import warnings
 
+    from lenslab.jobs.funnel import CommandNote
     from lenslab.warp.minification import NOTE, shrinks
 
-    if shrinks(plan) is not False:
-        return
-    with _NOTED_LOCK:
-        if getattr(job, "batch", None) in _NOTED:
-            return
-        _NOTED.add(getattr(job, "batch", None))
-    warnings.warn(NOTE, UserWarning, stacklevel=2)
+    if shrinks(plan) is False:
+        warnings.warn(CommandNote(NOTE), stacklevel=2)
 
 
 __all__ = ["write_warped", "note_softening"]
