@@ -15,8 +15,9 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     from lenslab.jobs.stages import Look, develop, encode_options, keeps_alpha
 
     keep = keeps_alpha(fmt, not job.no_alpha)
-    if keep and job.compat == "v360" and not fmt.hdr:  # v360 keeps its input's pixel format (ffmpeg 5.1): an
-        keep = source_alpha  # RGB source, an RGB PNG, black where v360 writes zeros (the colour over black)
+    bits = v360_bits(fmt, meta) if job.compat == "v360" else None
+    if keep and job.compat == "v360" and (not fmt.hdr or bits):  # v360 keeps its input's pixel format (ffmpeg
+        keep = source_alpha  # 5.1): an RGB source, an RGB PNG or TIFF, black where v360 writes zeros (colour over black)
     look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
     # with alpha, the image developed is a new array of this function's own: the look may work in its memory
@@ -27,9 +28,21 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     with from_input(resampled=True):
         result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
                                 in_place=keep, of=f"the warped image {dst_path}")
-    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type}, camera=camera,
-                          channels=result.shape[2])
+    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type, "bits": bits},
+                          camera=camera, channels=result.shape[2])
     write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})
+
+
+def v360_bits(fmt, meta: dict) -> int | None:
+    """With ``--compat v360``, the depth of the source's display codes (8 or 16: a PNG, a JPEG) where the output
+    format holds integer samples of that depth (PNG, TIFF): v360 keeps its input's pixel format, so ffmpeg writes
+    an 8-bit TIFF from an 8-bit PNG and a 16-bit PNG or TIFF from a 16-bit PNG (``tests/warp/test_v360_tiff.py``).
+    None otherwise: a float source stays float (lenslab keeps HDR values, where ffmpeg clamps them to 16 bits)."""
+    bits = meta.get("bit_depth")
+    if meta.get("sample_type") == "uint" and meta.get("display_encoded") and bits in (8, 16) and \
+            bits in fmt.bit_depths and "uint" in fmt.sample_types and {"bits", "sample_type"} & set(fmt.write_options):
+        return int(bits)
+    return None
 
 
 def note_softening(job, plan) -> None:
@@ -45,4 +58,4 @@ def note_softening(job, plan) -> None:
         warnings.warn(CommandNote(NOTE), stacklevel=2)
 
 
-__all__ = ["write_warped", "note_softening"]
+__all__ = ["write_warped", "v360_bits", "note_softening"]
