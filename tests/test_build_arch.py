@@ -39,7 +39,7 @@ def _configure(build: Path, arch: str | None) -> str:
                     "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON", f"-DPython_EXECUTABLE={sys.executable}"],
                    check=True, capture_output=True, text=True)
     commands = json.loads((build / "compile_commands.json").read_text())
-    return next(c["command"] for c in commands if c["file"].endswith("src/native/lens_kernels.cpp")) + " "
+    return next(c["command"] for c in commands if c["file"].endswith("src/native/lens_tile_pixels.cpp")) + " "
 
 
 def test_mvec_follows_the_target_cpu_when_the_build_directory_is_reused(tmp_path):

@@ -1,6 +1,6 @@
 // The lens models' formulas, one direction or plane point at a time: the C++ twins of the NumPy functions in
 // lenslab/lenses/formulas/ (azimuthal.py, lonlat.py, calibrated.py, radial.py), inlined into the fused
-// direction -> pixel kernels of lens_kernels.cpp. The same operations in the same order as the NumPy code
+// kernels of src/native/lens_*.cpp. The same operations in the same order as the NumPy code
 // (tests/lenses/test_native_lens_kernels.py holds each kernel to its NumPy reference).
 #pragma once
 

@@ -1,4 +1,5 @@
-// The lens models' array kernels (lens_kernels.cpp): direction -> pixel of the models that have one compiled,
+// The lens models' array kernels (lens_tile_pixels.cpp, lens_pixels.cpp, lens_cubemap.cpp, lens_dirs.cpp,
+// lens_calibrated.cpp, lens_solved.cpp): direction -> pixel of the models that have one compiled,
 // and the numerically inverted sides of the distortion and calibrated models. Each loops over n elements with
 // no temporaries; `ok` outputs are false (and the positions 0) where the model does not see an element.
 // NumPy references: lenslab/lenses/formulas/reference.py.

@@ -1,4 +1,4 @@
-// The steps every whole-image direction -> pixel kernel shares (lens_kernels.cpp, lens_pixels.cpp): Lens.dir_to_pixel's
+// The steps every whole-image direction -> pixel kernel shares (lens_tile_pixels.cpp, lens_pixels.cpp): Lens.dir_to_pixel's
 // normalisation, Lens.uv_to_pixel with Lens.snap_to_image, and the cleared output of an unseen direction, each the
 // same operations in the same order as the NumPy methods.
 #pragma once

@@ -15,7 +15,7 @@ derivative's numerator is a polynomial in ``r^2`` whose first positive root (or 
 the fold radius. Points at or beyond it are invalid both ways, and so are points where the Jacobian of
 the whole map is not positive (the tangential and prism terms can fold it too).
 
-The inverse (compiled: ``lenslab.cxx_kernels``, ``src/native/lens_kernels.cpp``): the radius is solved by the
+The inverse (compiled: ``lenslab.cxx_kernels``, ``src/native/lens_solved.cpp``): the radius is solved by the
 safeguarded Newton of :func:`lenslab.lenses.formulas.solve.invert_increasing` from a table of the inverse;
 with tangential or prism terms that radial solution starts a 2-D Newton on the whole map, steps halved
 until they stay inside the fold radius, at most :data:`MAX_ITER_2D` iterations, converged when the
