@@ -306,7 +306,7 @@ def main(argv=None) -> int:
         prepare_render()  # BLAS on one thread, freed memory kept: see tracer.process
     parser = build_parser()
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
-    return run_command(f"tracer {args.command}", lambda: args._run(args), debug=getattr(args, "debug", False))
+    return run_command(args._prog, lambda: args._run(args), debug=getattr(args, "debug", False))
 
 
 if __name__ == "__main__":

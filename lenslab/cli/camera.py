@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     import sys
 
     for note in dict.fromkeys(str(w.message) for w in caught):  # which reading was taken, and how to choose
-        print(f"lenslab camera: note: {note}", file=sys.stderr)
+        print(f"{args._prog}: note: {note}", file=sys.stderr)
     if args.action == "show":
         from lenslab.lenses.core.base import format_number
 

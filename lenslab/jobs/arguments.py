@@ -37,6 +37,8 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def parse_known_args(self, args=None, namespace=None):
         namespace, extras = super().parse_known_args(args, namespace)
+        if not getattr(namespace, "_prog", None):  # the innermost command given ('lenslab fit lens'): errors name it
+            namespace._prog = self.prog
         if extras and not getattr(namespace, "_extras_prog", None):  # the innermost command that was left them
             namespace._extras_prog = self.prog
         return namespace, extras
