@@ -13,8 +13,8 @@ import os
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import (ArgumentParser, finite_float, image_size, non_empty, non_negative_int,
-                                    positive_float, positive_int)
+from lenslab.jobs.arguments import (ArgumentParser, add_tone_option, finite_float, image_size, non_empty,
+                                    non_negative_int, positive_float, positive_int)
 from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
@@ -92,9 +92,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                         "strata centres")
     from lenslab.tone import curve_names
 
-    p.add_argument("--tone", default="hable", metavar="CURVE",
-                   help=f"tone curve for display outputs (.png, .jpg, .ppm): {', '.join(curve_names())} "
-                        "(default hable; 'lenslab curves --list' describes them); EXR and PFM keep the linear radiance")
+    add_tone_option(p, "tone", default="hable",
+                    help=f"tone curve for display outputs (.png, .jpg, .ppm): {', '.join(curve_names())} "
+                         "(default hable; 'lenslab curves --list' describes them); EXR and PFM keep the linear radiance")
     p.add_argument("--exposure", type=_exposure, default=0.0, metavar="EV",
                    help="exposure in stops before the tone curve, or 'auto' (display outputs only; default 0)")
     p.add_argument("--threads", type=positive_int, help="worker threads (default: every core)")

@@ -104,10 +104,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     out = parser.add_argument_group("output")
     out.add_argument("--format", choices=OUTPUT_FORMATS, default=None,
                      help="output format when -o is a directory (default exr), else from the file name")
-    out.add_argument("--tone", default=None, metavar="CURVE",
-                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
-                          "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
-                          "(a display transform maps scene light itself)")
+    from lenslab.jobs.arguments import add_tone_option
+
+    add_tone_option(out, "tone", default=None,
+                    help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
+                         "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
+                         "(a display transform maps scene light itself)")
     out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
     out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
     out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")

@@ -125,7 +125,7 @@ class ToneFit:
         # the values the curve takes when given only the same choices (Hable's preset fills A..F)
         defaults = spec.resolve({p.name: self.params[p.name] for p in spec.params
                                  if p.choices is not None and p.name in self.params})
-        parts = [f"--curve {self.curve}", f"--exposure {significant(self.exposure)}"]
+        parts = [f"--tone {self.curve}", f"--exposure {significant(self.exposure)}"]
         for k, v in self.params.items():
             if k in self.free or (v is not None and v != defaults.get(k)):
                 parts.append(f"--param {k}={significant(v)}" if isinstance(v, float) else f"--param {k}={v}")
