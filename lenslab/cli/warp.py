@@ -155,11 +155,11 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import default_size
+    from lenslab.jobs.warp_cameras import default_size, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
-        make_lens(args.to, args.size or default_size(args.to, 256))
+        note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
     from lenslab.lenses.lensfun.exif import is_auto
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata
