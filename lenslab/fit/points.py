@@ -357,7 +357,8 @@ def fit_points(
                                          "direct-l" if global_start == "auto" else global_start))
         res = min(attempts, key=lambda r: r.value)
         cam = cal.camera(res.x, combo)
-        tried.append((cam.lens.spec() if cam is not None else f"{space.model} {combo}", res.value))
+        tried.append((fitted_text(cam.lens, SHARE * scale)[0] if cam is not None else f"{space.model} {combo}",
+                      res.value))
         if best is None or res.value < best[1].value:
             best = (combo, res)
     combo, robust = best

@@ -81,7 +81,8 @@ def test_a_kannala_brandt_fit_prints_the_equisolid_series_and_opencv_agrees(caps
 
 def test_a_points_fit_prints_the_pose_and_lens_it_recovered(tmp_path, capsys):
     """Exact points of fisheye fov 185 turned by yaw 30, pitch -10: the fit recovers them to about 1e-9 and
-    prints fov=185, yaw=30, pitch=-10, roll=0; the printed camera puts every point within a tenth of --scale."""
+    prints fov=185, yaw=30, pitch=-10, roll=0 (and the mappings it tried in 6 digits); the printed camera puts
+    every point within a tenth of --scale."""
     truth = Camera.from_spec("fisheye:fov=185,mapping=equisolid", (400, 400), yaw=30, pitch=-10)
     rng = np.random.default_rng(7)
     xy = rng.uniform(40, 360, (40, 2))
@@ -90,11 +91,12 @@ def test_a_points_fit_prints_the_pose_and_lens_it_recovered(tmp_path, capsys):
     path = tmp_path / "points.csv"
     path.write_text("x,y,dx,dy,dz\n" + "".join(f"{a:.17g},{b:.17g},{p:.17g},{q:.17g},{r:.17g}\n"
                                                for (a, b), (p, q, r) in zip(xy, d)))
-    code = main(["fit", "points", str(path), "--model", "fisheye:mapping=equisolid", "--size", "400x400", "--pose",
-                 "--brief"])
+    code = main(["fit", "points", str(path), "--model", "fisheye", "--size", "400x400", "--pose", "--brief"])
     out = capsys.readouterr().out
     assert code == 0, out
     assert fitted_line(out) == "fisheye:fov=185,mapping=equisolid"
+    tried = re.findall(r"(fisheye:\S+) -> robust cost", out)  # every mapping tried, in the same digits
+    assert len(tried) > 1 and all(digits_of(parse_spec(t)[1]["fov"]) <= 6 for t in tried), tried
     pose = dict(re.findall(r"(yaw|pitch|roll)=(\S+)", re.search(r"^pose:.*$", out, re.M).group(0)))
     assert {k: float(v) for k, v in pose.items()} == {"yaw": 30.0, "pitch": -10.0, "roll": 0.0}, pose
     pasted = Camera.from_spec(fitted_line(out), (400, 400), **{k: float(v) for k, v in pose.items()})
