@@ -47,9 +47,14 @@ def fitted_text(lens: Lens, budget: float, ypr: Sequence[float] | None = None) -
     significant digits (at least :data:`DIGITS`) for which the camera read back from the text places every
     pixel centre of a grid within ``budget`` px of the fitted one, with 0 for each value that matters less
     than that; the exact values (17 digits) when no rounding keeps within ``budget``."""
-    moved = _Check(lens, budget, ypr)
     exact = lens.spec()
     angles = [format_number(float(a)) for a in ypr] if ypr is not None else []
+    try:
+        moved = _Check(lens, budget, ypr)
+    except NotImplementedError:  # a model without an inverse: nothing to measure a rounding by
+        return exact, tuple(angles)
+    if not len(moved.xy):  # no pixel the fitted camera maps and finds again
+        return exact, tuple(angles)
     for digits in range(DIGITS, 17):
         text, turn = rounded_spec(exact, digits), [significant(a, digits) for a in angles]
         if moved(text, turn):

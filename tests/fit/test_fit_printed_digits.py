@@ -147,3 +147,12 @@ def test_the_tone_fit_prints_options_tonemap_reads_back(tmp_path, capsys):
         images.append(cv2.imread(str(out), cv2.IMREAD_UNCHANGED))  # the codes as written (OpenCV reads them)
     assert images[0].dtype == images[1].dtype == np.uint16
     assert np.abs(images[0].astype(np.int64) - images[1]).max() <= 1  # one 16-bit code
+
+
+def test_a_camera_with_nothing_to_measure_is_printed_exactly():
+    """Where no pixel centre can be checked (a budget below what the camera's own round trip keeps), no rounding
+    is taken on trust: the exact values."""
+    lens = make_lens("perspective:fov=60.123456789", (64, 48))
+    assert fitted_text(lens, -1.0) == ("perspective:fov=60.123456789,vfov=0", ())
+    assert fitted_text(lens, -1.0, (10.5, 0.1234567891, 0)) == ("perspective:fov=60.123456789,vfov=0",
+                                                                ("10.5", "0.1234567891", "0"))
