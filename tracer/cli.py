@@ -13,8 +13,8 @@ import os
 import sys
 from pathlib import Path
 
-from lenslab.jobs.arguments import (ArgumentParser, finite_float, image_size, non_empty, non_negative_int,
-                                    positive_float, positive_int)
+from lenslab.jobs.arguments import (ArgumentParser, add_tone_option, finite_float, image_size, non_empty,
+                                    non_negative_int, positive_float, positive_int)
 from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
@@ -62,7 +62,8 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens)")
     p.add_argument("--size", type=image_size, metavar="WxH",
-                   help="image size in pixels (default 512x512, or the size stored in --camera-file)")
+                   help="image size in pixels (default 512x512, or the size stored in --camera-file; a cube map: "
+                        "512 rows of square faces, 768x512 for 3x2)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",
@@ -92,9 +93,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                         "strata centres")
     from lenslab.tone import curve_names
 
-    p.add_argument("--tone", default="hable", metavar="CURVE",
-                   help=f"tone curve for display outputs (.png, .jpg, .ppm): {', '.join(curve_names())} "
-                        "(default hable; 'lenslab curves --list' describes them); EXR and PFM keep the linear radiance")
+    add_tone_option(p, "tone", default="hable",
+                    help=f"tone curve for display outputs (.png, .jpg, .ppm): {', '.join(curve_names())} "
+                         "(default hable; 'lenslab curves --list' describes them); EXR and PFM keep the linear radiance")
     p.add_argument("--exposure", type=_exposure, default=0.0, metavar="EV",
                    help="exposure in stops before the tone curve, or 'auto' (display outputs only; default 0)")
     p.add_argument("--threads", type=positive_int, help="worker threads (default: every core)")
@@ -151,7 +152,11 @@ def _camera(args, scene):
     size = args.size or (512, 512)
     if args.camera:
         make_lens(args.camera, size)  # report a bad spec before anything else
-    return scene.camera(args.camera, size, view=args.view, **pose)
+    camera = scene.camera(args.camera, size, view=args.view, **pose)
+    if args.size is None and camera.lens.size_note() and hasattr(camera.lens, "frame_size"):
+        # the default size suits the lens's layout (a 3x2 cube map: 768x512, square faces), as warp's does
+        camera = Camera(camera.lens.with_size(*camera.lens.frame_size(size[1])), camera.pose)
+    return camera
 
 
 def run_render(args) -> int:
@@ -228,6 +233,9 @@ def _render(args) -> int:
         print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
               file=sys.stderr)
     camera = _camera(args, scene)
+    from lenslab.jobs.warp_cameras import note_size
+
+    note_size(camera.lens)  # a size off the lens's layout (a cube map's faces not square): one note
     from tracer.tiles import render_on_cluster
 
     if args.handedness != "right" and (args.scheduler or args.scheduler_file or os.environ.get("DASK_SCHEDULER_ADDRESS")):
@@ -306,7 +314,7 @@ def main(argv=None) -> int:
         prepare_render()  # BLAS on one thread, freed memory kept: see tracer.process
     parser = build_parser()
     args = parser.parse_args(argv)  # a usage error: one line on stderr and SystemExit(2)
-    return run_command(f"tracer {args.command}", lambda: args._run(args), debug=getattr(args, "debug", False))
+    return run_command(args._prog, lambda: args._run(args), debug=getattr(args, "debug", False))
 
 
 if __name__ == "__main__":

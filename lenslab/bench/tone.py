@@ -22,7 +22,9 @@ AIM_RATIO = 4.0  # times numpy.clip(image, 0, 1) on the same array
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="use a 1024 x 512 image (a few seconds in all)")
-    parser.add_argument("--curves", default="", help="comma-separated curve names (default: every curve)")
+    from lenslab.jobs.arguments import add_tones_option
+
+    add_tones_option(parser, default="", help="comma-separated curve names (default: every curve)")
     parser.add_argument("--repeat", type=int, default=5, help="best of N runs per figure (default 5)")
     parser.add_argument("--no-local", action="store_true", help="skip the slow OpenCV local operators")
     parser.add_argument("--threads", type=int, default=None,

@@ -124,18 +124,24 @@ def run(args: argparse.Namespace) -> int:
 
     import warnings
 
-    if args.action == "convert":  # the file read as the output: a usage error before it is read
+    if args.action == "convert":  # usage errors, found before the camera is read
         from lenslab.calibfiles import split_pick
         from lenslab.jobs.policy import refuse_inputs
 
-        refuse_inputs([args.output], [split_pick(args.camera)[0]])
+        if not args.model and (args.free or args.residual_map or args.aim != 0.05):
+            from lenslab.errors import UsageError
+
+            raise UsageError("--free, --aim and --residual-map go with --model MODEL")
+        # the file read named as an output (OUT or the residual map)
+        refuse_inputs([args.output] + ([args.residual_map] if args.residual_map else []),
+                      [split_pick(args.camera)[0]])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         lens = load(args.camera, args.size)
     import sys
 
     for note in dict.fromkeys(str(w.message) for w in caught):  # which reading was taken, and how to choose
-        print(f"lenslab camera: note: {note}", file=sys.stderr)
+        print(f"{args._prog}: note: {note}", file=sys.stderr)
     if args.action == "show":
         from lenslab.lenses.core.base import format_number
 
@@ -150,10 +156,6 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.calibfiles import split_pick, write_lens
     from lenslab.jobs.policy import check_output
 
-    if not args.model and (args.free or args.residual_map or args.aim != 0.05):
-        from lenslab.errors import UsageError
-
-        raise UsageError("--free, --aim and --residual-map go with --model MODEL")
     src, _ = split_pick(args.camera)
     out = check_output(args.output, [src] if src.exists() else [], args.overwrite)
     if args.model:

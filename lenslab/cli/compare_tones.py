@@ -21,9 +21,11 @@ from lenslab.jobs.arguments import non_negative_int
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="HDR image to read")
     parser.add_argument("-o", "--output", required=True, help="strip image to write (JPG, PNG, ...)")
-    parser.add_argument("--curves", default="clamp,reinhard,hable",
-                        help="comma-separated curve names, left to right (default clamp,reinhard,hable: no curve, the "
-                             "classic photographic curve and a filmic one)")
+    from lenslab.jobs.arguments import add_tones_option
+
+    add_tones_option(parser, default="clamp,reinhard,hable",
+                     help="comma-separated curve names, left to right (default clamp,reinhard,hable: no curve, the "
+                          "classic photographic curve and a filmic one)")
     parser.add_argument("--exposure", default="0", help="exposure in stops for every panel, or 'auto' (default 0)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",

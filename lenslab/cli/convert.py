@@ -78,10 +78,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
                              "default: next to each input")
-    parser.add_argument("--tone", default=None, metavar="CURVE",
-                        help="tone curve for HDR -> display formats (default: hable; clamp keeps the values "
-                             "as they are, clipped to 1); refused for outputs that keep linear light and with "
-                             "--display")
+    from lenslab.jobs.arguments import add_tone_option
+
+    add_tone_option(parser, "tone", default=None,
+                    help="tone curve for HDR -> display formats (default: hable; clamp keeps the values "
+                         "as they are, clipped to 1); refused for outputs that keep linear light and with "
+                         "--display")
     parser.add_argument("--exposure", default="0", metavar="EV",
                         help="exposure in stops applied before the tone curve, or 'auto' (default: 0)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")

@@ -25,7 +25,9 @@ STOPS = (-126, 127)  # the normal range of float32 in stops: beyond it the sampl
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="curves.png", help="chart to write (PNG, SVG or PDF; default curves.png)")
-    parser.add_argument("--curves", help="comma-separated subset of curves (default: every curve)")
+    from lenslab.jobs.arguments import add_tones_option
+
+    add_tones_option(parser, help="comma-separated subset of curves (default: every curve)")
     from lenslab.jobs.arguments import finite_float
 
     parser.add_argument("--stops", type=finite_float, nargs=2, default=(-10.0, 8.0), metavar=("LOW", "HIGH"),

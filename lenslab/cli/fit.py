@@ -11,7 +11,7 @@
       it sees), or src_x,src_y,x,y (the same feature in a known --source camera and in the unknown one).
       A robust loss keeps a few wrong points from spoiling the fit; every point's residual is listed.
 
-  lenslab fit tone HDR LDR --curve hable
+  lenslab fit tone HDR LDR --tone hable
       the exposure and curve parameters that make the tone-mapped HDR image reproduce the LDR one,
       with the CIEDE2000 colour difference before and after.
 
@@ -88,7 +88,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        description="Fit exposure and curve parameters so that the tone-mapped HDR reproduces the LDR.")
     p.add_argument("hdr", metavar="HDR", help="scene-linear image (EXR, PFM, ...)")
     p.add_argument("ldr", metavar="LDR", help="display image of the same view and size (JPG, PNG, PPM, ...)")
-    p.add_argument("--curve", default="hable", help="tone curve to fit (default hable; see 'lenslab curves')")
+    from lenslab.jobs.arguments import add_tone_option
+
+    add_tone_option(p, "curve", default="hable", help="tone curve to fit (default hable; see 'lenslab curves')")
     p.add_argument("--mode", default="per-channel", choices=("per-channel", "luminance"),
                    help="apply the curve per channel or on luminance (default per-channel)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",

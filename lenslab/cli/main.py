@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "_module", None) is None:
         parser.print_help()
         return EXIT_USAGE
-    return run_command(f"lenslab {args.command}", lambda: args._module.run(args), debug=getattr(args, "debug", False))
+    return run_command(args._prog, lambda: args._module.run(args), debug=getattr(args, "debug", False))
 
 
 def console() -> None:

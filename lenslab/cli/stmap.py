@@ -56,6 +56,9 @@ def run(args: argparse.Namespace) -> int:
     src_size = args.source_size or size
     src = Camera.from_spec(args.source, src_size)
     dst = Camera(make_lens(args.to, size), Pose.from_ypr(args.yaw, args.pitch, args.roll))
+    from lenslab.jobs.warp_cameras import note_size
+
+    note_size(dst.lens)  # a cube map at a size off its layout: one note
     show = not args.quiet and sys.stderr.isatty()
     with tqdm(total=size[1], unit="row", disable=not show, file=sys.stderr, leave=False) as bar:
         st = st_map(src, dst, progress=bar.update)

@@ -9,8 +9,8 @@ LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (di
 
 Examples:
   lenslab tonemap pano.exr -o pano.jpg
-  lenslab tonemap pano.exr -o pano.png --curve aces --exposure auto --luminance
-  lenslab tonemap pano.exr -o pano.jpg --curve hable --param preset=gdc --param white=8
+  lenslab tonemap pano.exr -o pano.png --tone aces --exposure auto --luminance
+  lenslab tonemap pano.exr -o pano.jpg --tone hable --param preset=gdc --param white=8
   lenslab tonemap 'renders/*.exr' -o previews/ --format jpg --exposure auto
   lenslab tonemap shots/ -o previews/ --scheduler tcp://host:8786   (one task per file on a Dask cluster)
   lenslab curves --list        (every curve with its parameters)
@@ -37,10 +37,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default=None,
                         help="format of the images written into an -o folder (default png); for one output file "
                              "its extension says it, and a --format that differs is refused")
-    from lenslab.jobs.arguments import non_empty
+    from lenslab.jobs.arguments import add_tone_option, non_empty
 
-    parser.add_argument("--curve", default=None, type=non_empty,
-                        help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
+    add_tone_option(parser, "curve", default=None, type=non_empty,
+                    help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
                         help="exposure in stops applied before the curve, or 'auto' (default 0)")
     group = parser.add_mutually_exclusive_group()
@@ -67,7 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.cli.display import add_display_arguments
     from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options
 
-    add_display_arguments(parser, instead_of="--curve")
+    add_display_arguments(parser)
     add_jobs_option(parser, "files to tone-map (with several inputs)")
     add_scheduler_options(parser)
 
@@ -123,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
     display = display_options(args)  # bad display names: one usage error before any file is read
     from lenslab.jobs.arguments import check_tone_applies
 
-    check_tone_applies("--curve", curve_given, display["display"], [])
+    check_tone_applies("--tone", curve_given, display["display"], [])
     from lenslab.jobs.primaries import applied_primaries, check_primaries
 
     check_primaries(args.primaries, args.mode, args.exposure, [curve], display["display"])

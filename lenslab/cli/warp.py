@@ -104,10 +104,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     out = parser.add_argument_group("output")
     out.add_argument("--format", choices=OUTPUT_FORMATS, default=None,
                      help="output format when -o is a directory (default exr), else from the file name")
-    out.add_argument("--tone", default=None, metavar="CURVE",
-                     help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
-                          "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
-                          "(a display transform maps scene light itself)")
+    from lenslab.jobs.arguments import add_tone_option
+
+    add_tone_option(out, "tone", default=None,
+                    help="tone curve for HDR input written to PNG/JPG/PPM (default hable); refused with an "
+                         "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
+                         "(a display transform maps scene light itself)")
     out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
     out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
     out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")
@@ -153,11 +155,11 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import default_size
+    from lenslab.jobs.warp_cameras import default_size, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
-        make_lens(args.to, args.size or default_size(args.to, 256))
+        note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
     from lenslab.lenses.lensfun.exif import is_auto
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata

@@ -17,6 +17,7 @@ import numpy as np
 
 from lenslab.errors import FitError, FitSpecError
 from lenslab.lenses.core.base import Lens
+from lenslab.fit.digits import SHARE, fitted_text
 from lenslab.fit.start import source_start
 
 #: the aim of a conversion: RMS residual over the shared field, px
@@ -85,7 +86,7 @@ class Conversion:
         f = self.fit
         lines = [f"source:   {f.source.spec()} ({f.source.width}x{f.source.height})"]
         if f.lens is not None:
-            lines.append(f"target:   {f.lens.spec()}")
+            lines.append(f"target:   {fitted_text(f.lens, SHARE * self.aim)[0]}")
         lines.append(f"free:     {', '.join(f.free) or 'none'}")
         lines.append(f"field:    {100 * self.shared:.2f}% of the source's pixel centres shared "
                      f"({len(self.grid)} sampled)")

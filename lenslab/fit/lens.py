@@ -25,6 +25,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from lenslab.errors import FitError
+from lenslab.fit.digits import SHARE, fitted_text
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
 from lenslab.fit.problem import (FIT_GRID, REPORT_GRID, FitProblem, Residuals, can_see,  # noqa: F401
@@ -117,10 +118,15 @@ class LensFit:
             parts.append("the optimiser did not converge")
         return "; ".join(parts) + ": try another model, free more parameters, or widen the bounds"
 
+    def printed_spec(self) -> str:
+        """The fitted spec with the digits the fit determines (:func:`lenslab.fit.digits.fitted_text`): pasted
+        back, it moves no pixel by more than a tenth of the tolerance."""
+        return fitted_text(self.lens, SHARE * self.tolerance)[0]
+
     def report(self) -> list[str]:
         lines = [f"source:   {self.source.spec()} at {self.source.width}x{self.source.height}"]
         if self.lens is not None:
-            lines.append(f"fitted:   {self.lens.spec()}")
+            lines.append(f"fitted:   {self.printed_spec()}")
         lines.append(f"free:     {', '.join(self.free) or 'none'}")
         x, y = self.max_at
         lines.append(f"residual: RMS {self.rms:.4g} px, max {self.max:.4g} px at pixel ({x:.1f}, {y:.1f}) "
@@ -242,7 +248,7 @@ def fit_lens(
             refined.stages, refined.evaluations = stages, res.evaluations + refined.evaluations
             res = refined
         lens = ps.try_make(res.x, combo)
-        tried.append((lens.spec() if lens is not None else f"{ps.model} {combo}", float(np.sqrt(res.value))))
+        tried.append((fitted_text(lens, SHARE * tolerance)[0] if lens is not None else f"{ps.model} {combo}", float(np.sqrt(res.value))))
         if res.value < best[0]:
             best = (res.value, combo, res)
     _, combo, res = best

@@ -25,6 +25,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from lenslab.errors import FitError
+from lenslab.fit.digits import SHARE, fitted_text
 from lenslab.fit.problem import project
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import ParamSpace, build_space
@@ -202,9 +203,11 @@ class PointsFit:
     def report(self, per_point: bool = True) -> list[str]:
         yaw, pitch, roll = self.camera.pose.ypr
         n, k = len(self.inlier), int(self.inlier.sum())
-        lines = [f"fitted:   {self.lens.spec()} at {self.lens.width}x{self.lens.height}"]
-        if any(p in self.free for p in POSE_NAMES):
-            lines.append(f"pose:     yaw={yaw:.6g} pitch={pitch:.6g} roll={roll:.6g}")
+        posed = any(p in self.free for p in POSE_NAMES)
+        spec, angles = fitted_text(self.lens, SHARE * self.scale, (yaw, pitch, roll) if posed else None)
+        lines = [f"fitted:   {spec} at {self.lens.width}x{self.lens.height}"]
+        if posed:
+            lines.append("pose:     yaw={} pitch={} roll={}".format(*angles))
         lines.append(f"free:     {', '.join(self.free)}")
         lines.append(f"points:   {n}, inliers {k}, outliers {n - k} (residual above {self.threshold:g} px)")
         lines.append(f"residual: inliers RMS {self.rms:.4g} px, max {self.max:.4g} px "
@@ -354,7 +357,8 @@ def fit_points(
                                          "direct-l" if global_start == "auto" else global_start))
         res = min(attempts, key=lambda r: r.value)
         cam = cal.camera(res.x, combo)
-        tried.append((cam.lens.spec() if cam is not None else f"{space.model} {combo}", res.value))
+        tried.append((fitted_text(cam.lens, SHARE * scale)[0] if cam is not None else f"{space.model} {combo}",
+                      res.value))
         if best is None or res.value < best[1].value:
             best = (combo, res)
     combo, robust = best

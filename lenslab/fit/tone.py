@@ -28,6 +28,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from lenslab.errors import FitError, ToneError
+from lenslab.fit.digits import significant
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import parse_bounds, parse_names
 
@@ -124,16 +125,16 @@ class ToneFit:
         # the values the curve takes when given only the same choices (Hable's preset fills A..F)
         defaults = spec.resolve({p.name: self.params[p.name] for p in spec.params
                                  if p.choices is not None and p.name in self.params})
-        parts = [f"--curve {self.curve}", f"--exposure {self.exposure:.6g}"]
+        parts = [f"--tone {self.curve}", f"--exposure {significant(self.exposure)}"]
         for k, v in self.params.items():
             if k in self.free or (v is not None and v != defaults.get(k)):
-                parts.append(f"--param {k}={v:.6g}" if isinstance(v, float) else f"--param {k}={v}")
+                parts.append(f"--param {k}={significant(v)}" if isinstance(v, float) else f"--param {k}={v}")
         if self.mode != "per-channel":
             parts.append(f"--{self.mode}")
         return " ".join(parts)
 
     def report(self) -> list[str]:
-        fitted = ", ".join(f"{k}={v:.6g}" for k, v in [("exposure", self.exposure)] + list(self.params.items())
+        fitted = ", ".join(f"{k}={significant(v)}" for k, v in [("exposure", self.exposure)] + list(self.params.items())
                            if k == "exposure" and "exposure" in self.free or k in self.free)
         de_b, de_a = self.delta_e_before, self.delta_e_after
         lines = [f"curve:    {self.curve} ({self.mode})",

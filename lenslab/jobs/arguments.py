@@ -37,22 +37,43 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def parse_known_args(self, args=None, namespace=None):
         namespace, extras = super().parse_known_args(args, namespace)
+        if not getattr(namespace, "_prog", None):  # the innermost command given ('lenslab fit lens'): errors name it
+            namespace._prog = self.prog
         if extras and not getattr(namespace, "_extras_prog", None):  # the innermost command that was left them
             namespace._extras_prog = self.prog
         return namespace, extras
 
     def parse_args(self, args=None, namespace=None):
         """As argparse's, with an unknown option blamed on the command it was given to ('lenslab tonemap: error:
-        unrecognized arguments: --tone', pointing at 'lenslab tonemap --help'), not on the whole program."""
+        unrecognized arguments: --bogus', pointing at 'lenslab tonemap --help'), not on the whole program."""
         namespace, extras = self.parse_known_args(args, namespace)
         if extras:
             self.error(f"unrecognized arguments: {' '.join(extras)}", getattr(namespace, "_extras_prog", None))
         return namespace
 
 
+#: the spellings of the option that names one tone curve (``--tone hable``): the first is the one ``--help`` and the
+#: messages use; the others are accepted on every such command, so a script written for one command works for all
+TONE_OPTION = ("--tone", "--curve")
+#: the spellings of an option that names several curves (``--curves hable,aces``): one curve is a list of one
+TONES_OPTION = ("--curves", "--tone", "--curve")
+
+
+def add_tone_option(parser, dest: str, **kwargs):
+    """Declare a command's tone-curve option under every spelling of :data:`TONE_OPTION`, into ``args.<dest>``."""
+    kwargs.setdefault("metavar", "CURVE")
+    return parser.add_argument(*TONE_OPTION, dest=dest, **kwargs)
+
+
+def add_tones_option(parser, dest: str = "curves", **kwargs):
+    """Declare a command's option of comma-separated curve names under every spelling of :data:`TONES_OPTION`."""
+    kwargs.setdefault("metavar", "CURVES")
+    return parser.add_argument(*TONES_OPTION, dest=dest, **kwargs)
+
+
 def non_empty(text: str) -> str:
     """argparse ``type=``: a name, spec or file that is not blank; an empty one would silently mean the
-    option's default (``--curve ''`` hable, ``--from ''`` the file's own camera)."""
+    option's default (``--tone ''`` hable, ``--from ''`` the file's own camera)."""
     if not text.strip():
         raise argparse.ArgumentTypeError("is empty; give a value, or leave the option out for its default")
     return text

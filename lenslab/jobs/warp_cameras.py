@@ -64,15 +64,25 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     if name == "equirect":
         return 2 * src_h, src_h
-    if name == "cubemap":
-        face = max(1, src_h // 2)
-        return 3 * face, 2 * face
     from lenslab.lenses.registry import lens_class
+
+    if hasattr(lens_class(name), "frame_size"):  # a layout of faces (a cube map): square faces of whole pixels
+        return make_lens(spec, (src_h, src_h)).frame_size(src_h)
 
     aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
     if aspect:
         return max(1, round(src_h * aspect)), src_h
     return src_h, src_h
+
+
+def note_size(lens) -> None:
+    """The lens's note on the image size it was given (:meth:`~lenslab.lenses.core.base.Lens.size_note`, e.g. a cube
+    map whose faces are not square), as a warning: the command prints it once as its note."""
+    note = lens.size_note()
+    if note:
+        import warnings
+
+        warnings.warn(note, UserWarning, stacklevel=2)
 
 
 def output_camera(args, src, size: tuple[int, int]):

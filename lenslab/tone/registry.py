@@ -2,7 +2,7 @@
 
 A curve module registers itself with :func:`register`; :data:`CURVES` (a :class:`lenslab.registry.Registry`)
 finds every such module of :mod:`lenslab.tone` on first use, so a new curve is one module. The command
-line (``--curve``, ``lenslab curves --list``), the chart, the fits, the docs and the tests all read it. An unknown name or a bad
+line (``--tone``, ``lenslab curves --list``), the chart, the fits, the docs and the tests all read it. An unknown name or a bad
 parameter raises :class:`lenslab.errors.ToneError` listing what is valid.
 """
 

@@ -293,7 +293,7 @@ def test_camera_command_converts_kalibr_to_a_yaml_cv2_reads(tmp_path, capsys):
     # the input named as the output: a usage error, known from the names (exit 2), as in every command
     assert main(["camera", "convert", str(out), "-o", str(out), "--overwrite"]) == 2
     assert capsys.readouterr().err.strip().splitlines() == [
-        f"lenslab camera: error: {out}: is an input of this command; it is never written over, even with "
+        f"lenslab camera convert: error: {out}: is an input of this command; it is never written over, even with "
         "--overwrite: choose another output name"]
     # COLMAP has no double-sphere: a bad choice of output, a usage error (2)
     assert main(["camera", "convert", f"{src}#cam3", "-o", str(tmp_path / "ds.txt")]) == 2

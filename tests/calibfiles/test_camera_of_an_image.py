@@ -44,5 +44,5 @@ def test_a_model_the_format_cannot_hold_names_the_output(tmp_path, capsys, name,
     out = tmp_path / name
     assert main(["camera", "convert", "fisheye:fov=180", "--size", "64x64", "-o", str(out), *extra]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"lenslab camera: error: {out}: {words}"), err
+    assert len(err) == 1 and err[0].startswith(f"lenslab camera convert: error: {out}: {words}"), err
     assert ".tmp" not in err[0] and list(tmp_path.iterdir()) == []

@@ -196,7 +196,6 @@ def test_one_file_named_as_its_own_output_is_refused_before_it_is_read(tmp_path,
     named = [option, str(src)] if option else [str(src)]
     code, _, err = run(_commands()[name], [*extra, *named, "-o", str(src), "--overwrite"])
     assert code == 2, err
-    prog = " ".join(name.split()[:2])  # the funnel names the command ("lenslab camera", not its action)
-    assert err.strip().splitlines() == [f"{prog}: error: {src}: is an input of this command; it is never written "
+    assert err.strip().splitlines() == [f"{name}: error: {src}: is an input of this command; it is never written "
                                         "over, even with --overwrite: choose another output name"], err
     assert src.read_bytes() == KEEP

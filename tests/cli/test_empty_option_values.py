@@ -21,7 +21,7 @@ def pano(tmp_path):
 
 
 @pytest.mark.parametrize("main, argv, option", [
-    (lenslab, ["tonemap", "{pano}", "-o", "{d}/out.png", "--curve", ""], "--curve"),
+    (lenslab, ["tonemap", "{pano}", "-o", "{d}/out.png", "--curve", ""], "--tone/--curve"),  # argparse names both
     (lenslab, ["warp", "{pano}", "--to", "fisheye", "--from", " ", "-o", "{d}/out.exr"], "--from"),
     (tracer, [*RENDER, "--camera", "", "-o", "{d}/out.exr"], "--camera"),
     (tracer, [*RENDER, "--scene", "sky", "--env", "", "-o", "{d}/out.exr"], "--env"),

@@ -10,7 +10,7 @@ from tracer.cli import main as tracer
 
 
 @pytest.mark.parametrize("main, argv, prog", [
-    (lenslab, ["tonemap", "in.exr", "-o", "out.png", "--tone", "hable"], "lenslab tonemap"),
+    (lenslab, ["tonemap", "in.exr", "-o", "out.png", "--gamma", "2.2"], "lenslab tonemap"),
     (lenslab, ["convert", "in.exr", "--to", "png", "--colour", "x"], "lenslab convert"),
     (lenslab, ["fit", "lens", "--from", "fisheye", "--model", "fisheye", "--bogus"], "lenslab fit lens"),
     (lenslab, ["camera", "show", "cam.yaml", "--bogus"], "lenslab camera show"),

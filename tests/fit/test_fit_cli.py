@@ -27,7 +27,7 @@ def test_an_impossible_lens_fit_exits_1_and_says_why(capsys):
     cap = capsys.readouterr()
     assert code == 1
     assert "NOT A GOOD FIT" in cap.out and "does not see" in cap.out
-    assert cap.err.startswith("lenslab fit: error: no good fit")
+    assert cap.err.startswith("lenslab fit lens: error: no good fit")
 
 
 def test_a_bad_size_is_a_usage_error(capsys):

@@ -24,7 +24,7 @@ def test_fit_lens_names_nothing_usage_error(capsys, extra, words):
     out, err = capsys.readouterr()
     assert out == ""  # no fit ran, no report
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("lenslab fit") and words in lines[0], lines
+    assert len(lines) == 1 and lines[0].startswith("lenslab fit lens: error: ") and words in lines[0], lines
 
 
 def test_camera_convert_to_an_unknown_model_is_a_usage_error(tmp_path, capsys):

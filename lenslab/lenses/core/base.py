@@ -179,6 +179,11 @@ class Lens:
         per pixel, from the G lens. Extra channels beyond three follow G."""
         return None
 
+    def size_note(self) -> str | None:
+        """One line on what this image size does to the model (a cube map whose faces are not square whole
+        pixels), for the commands to print as a note; None (the default) when any size suits it."""
+        return None
+
     def falloff(self, xy) -> np.ndarray | None:
         """Relative illumination (vignetting, 1 on the axis) at continuous pixel positions ``(..., 2)``,
         float64 ``(...)``, or None (the default: 1 everywhere). As a destination the output is

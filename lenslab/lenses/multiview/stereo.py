@@ -92,6 +92,10 @@ class Stereo(Lens):
             out.setdefault(k, v)
         return out
 
+    def size_note(self) -> str | None:
+        note = self.base_lens.size_note()  # (each eye is the base at half the image)
+        return note and f"stereo:layout={self.layout}, each eye: {note}"
+
     def spec(self) -> str:
         _, _, base_params = self.base_lens.spec().partition(":")
         return f"stereo:layout={self.layout},base={self.base}" + ("," + base_params if base_params else "")

@@ -120,6 +120,22 @@ class Cubemap(Lens):
     def face_size(self) -> tuple[float, float]:
         return self.width / self.cols, self.height / self.rows
 
+    def frame_size(self, height: int) -> tuple[int, int]:
+        """The image size of about ``height`` rows whose faces are square and of whole pixels (a default size)."""
+        face = max(1, int(height) // self.rows)
+        return self.cols * face, self.rows * face
+
+    def size_note(self) -> str | None:
+        """At a size off the layout's aspect (a 3x2 map at 1000x1000) the faces are not square, or not of whole
+        pixels: each face's 90 degrees are stretched across it, and no face can be cut out as an image."""
+        ew, eh = self.face_size
+        if ew == eh and float(ew).is_integer():
+            return None
+        w, h = self.frame_size(self.height)
+        return (f"cubemap:layout={self.layout} at {self.width}x{self.height} has faces of {ew:.6g}x{eh:.6g} pixels, "
+                f"not square faces of whole pixels; made at {self.width}x{self.height} as asked, each face's 90 "
+                f"degrees stretched to fit (square faces: {self.cols}:{self.rows}, e.g. {w}x{h})")
+
     def pixel_to_dir(self, xy):
         with np.errstate(all="ignore"):  # non-finite or absurd pixels are flagged, not warned about
             return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"))
