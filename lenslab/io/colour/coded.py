@@ -65,6 +65,8 @@ def decode(codes: np.ndarray, maxval: int, where: str, attributes: dict, *, prof
 
         image = icc_decode(codes, maxval, how, where)
         gamut = profile_gamut(how)
+    elif coded is not None and not raw:  # code values in float64: PQ's slope would magnify a float32 rounding
+        image = codes / float(maxval)
     else:
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
