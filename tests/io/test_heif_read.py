@@ -203,3 +203,89 @@ def test_info_describes_size_depth_colour_alpha_and_images(tmp_path, capsys):
     assert main(["info", str(path)]) == 0
     text = capsys.readouterr().out
     assert "HEIF 24 x 16, 4 channel(s) R,G,B,A, uint 10-bit" in text and "HLG" in text
+
+
+def test_premultiplied_alpha_in_the_file_becomes_premultiplied_linear_light(tmp_path):
+    """A ``prem`` file holds colour codes premultiplied by alpha; lenslab divides them back to straight codes
+    (rounded to a code: half a code of straight colour, at most 0.5 / 255 * 2.27 = 4.5e-3 of straight linear
+    light where sRGB is steepest, times alpha once premultiplied) before decoding."""
+    codes = _random((16, 24, 4), seed=8)
+    codes[..., :3] = np.minimum(codes[..., :3], codes[..., 3:])  # colour never above alpha: premultiplied codes
+    path = tmp_path / "prem.heic"
+    pillow_heif.from_bytes("RGBa", (24, 16), codes.tobytes()).save(str(path), quality=-1, chroma=444)
+    heif = pillow_heif.open_heif(str(path))
+    assert heif.premultiplied_alpha
+    got = np.asarray(heif).astype(np.float64)
+    a = got[..., 3:] / 255.0
+    straight = np.divide(got[..., :3] / 255.0, a, out=np.zeros_like(got[..., :3]), where=a > 0)
+    img, meta = lio.read(path)
+    np.testing.assert_allclose(img[..., 3:], a, rtol=1e-6)
+    err = np.abs(img[..., :3] - colour.models.eotf_sRGB(np.clip(straight, 0, 1)) * a)
+    assert np.all(err <= 4.5e-3 * a + 1e-6), float((err - 4.5e-3 * a).max())
+    assert "premultiplied in the file" in meta["attributes"]["alpha"]
+
+
+def test_grey_10_bit_and_tiled_grid_files_read_at_their_size_and_depth(tmp_path):
+    grey = _random((16, 24, 1), np.uint16, seed=9)[..., 0]
+    path = tmp_path / "grey.heic"
+    pillow_heif.from_bytes("L;16", (24, 16), grey.tobytes()).save(str(path), quality=-1)
+    codes, bits = decoded(path)
+    img, meta = lio.read(path)
+    assert bits == 10 and meta["channels"] == ["Y"] and img.shape == (16, 24, 1)
+    np.testing.assert_allclose(img[..., 0], srgb(codes, 1023), rtol=1e-6, atol=1e-9)
+    before = pillow_heif.options.GRID_TILE_SIZE
+    pillow_heif.options.GRID_TILE_SIZE = 64  # as phones write large photos: a grid of tiles
+    try:
+        write_heic(tmp_path / "grid.heic", _random((100, 150, 3), seed=10))
+    finally:
+        pillow_heif.options.GRID_TILE_SIZE = before
+    heif = pillow_heif.open_heif(str(tmp_path / "grid.heic"))
+    assert heif.info["tiling"]["num_columns"] == 3
+    img, _ = lio.read(tmp_path / "grid.heic")
+    np.testing.assert_allclose(img, srgb(np.asarray(heif).astype(np.int64)), rtol=1e-6, atol=1e-9)
+
+
+def test_a_selected_image_is_budgeted_before_it_is_decoded(tmp_path):
+    """The budget reads the primary image's size; another image picked by index is held to the same rule: a
+    4096 x 4096 black image in a 5 kB file (201 MB of float32) is refused in one line, the small primary read."""
+    path = tmp_path / "hidden.heic"
+    heif = pillow_heif.from_bytes("RGB", (8, 6), np.zeros((6, 8, 3), np.uint8).tobytes())
+    heif.add_frombytes("RGB", (4096, 4096), bytes(4096 * 4096 * 3))
+    heif.save(str(path), quality=50, primary_index=0, enc_params={"preset": "ultrafast"})
+    assert path.stat().st_size < 1 << 20
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert lio.read(path)[0].shape == (6, 8, 3)
+    with pytest.raises(lio.FormatError, match="4096 x 4096 pixels .* decompression bomb"):
+        lio.read(f"{path}:1")
+
+
+class _Image:
+    def __init__(self, info):
+        self.info, self.size = info, (8, 6)
+
+
+class _File(list):
+    primary_index = 0
+
+
+def test_depth_images_gain_maps_and_other_auxiliary_images_are_named_and_ignored(tmp_path):
+    """pillow-heif lists them in ``info`` (``depth_images``; ``aux`` by libheif's auxiliary type: Apple's HDR
+    gain map is ``urn:com:apple:photo:2020:aux:hdrgainmap``, its portrait matte
+    ``urn:com:apple:photo:2018:aux:portraiteffectsmatte``); the encoder here cannot write them, so the listing is
+    given as pillow-heif gives it for an iPhone photo."""
+    from lenslab.io.heif import _notes
+    from lenslab.io.ldr import GainMapWarning
+
+    info = {"depth_images": [object()], "thumbnails": [1],
+            "aux": {"urn:com:apple:photo:2020:aux:hdrgainmap": [51],
+                    "urn:com:apple:photo:2018:aux:portraiteffectsmatte": [52]}}
+    attributes: dict = {}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _notes(tmp_path / "iphone.heic", _File([_Image(info)]), 0, None, info, attributes, raw=False)
+    assert attributes["depth"] == "1 depth image(s) present and ignored"
+    assert "hdrgainmap" in attributes["gain_map"] and "ignored" in attributes["gain_map"]
+    assert attributes["auxiliary"] == ("auxiliary image(s) present and ignored: "
+                                       "urn:com:apple:photo:2018:aux:portraiteffectsmatte")
+    assert [w.category for w in caught] == [GainMapWarning]
