@@ -126,3 +126,9 @@ def test_convert_and_warp_take_a_heic(tmp_path):
         rgb = np.asarray(view["RGB"].pixels if "RGB" in view else view["RGBA"].pixels[..., :3], np.float64)
     # a flat panorama looks flat in every direction: each output pixel is its colour (half floats)
     np.testing.assert_allclose(rgb, np.broadcast_to(want.mean(axis=(0, 1)), rgb.shape), rtol=2e-3)
+
+
+def test_a_selector_on_a_format_without_images_to_pick_names_the_formats_that_take_one(tmp_path):
+    pfm = lio.write(tmp_path / "a.pfm", np.zeros((2, 2, 3), np.float32))
+    with pytest.raises(lio.FormatError, match="only applies to EXR and HEIF files"):
+        lio.read(f"{pfm}:1")
