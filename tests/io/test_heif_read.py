@@ -142,16 +142,22 @@ def test_nclx_display_p3_srgb_codes_are_converted_to_rec709(tmp_path):
     assert "P3-D65" in meta["attributes"]["note"] and meta["wide_gamut"] == "nclx primaries P3-D65"
 
 
-def test_an_embedded_icc_profile_is_applied_as_in_png(tmp_path):
+@pytest.mark.parametrize("bits", [8, 10])
+def test_an_embedded_icc_profile_is_applied_as_in_png(tmp_path, bits):
     if not A98.is_file():
         pytest.skip(f"{A98} is absent (Debian's libgs-common, which .ci/run installs)")
     icc = A98.read_bytes()
-    path = write_heic(tmp_path / "a98.heic", _random((16, 24, 3), seed=5), icc=icc)
-    codes, _ = decoded(path)
+    dtype = np.uint8 if bits == 8 else np.uint16
+    path = write_heic(tmp_path / "a98.heic", _random((16, 24, 3), dtype, seed=5), bits, icc=icc)
+    codes, depth = decoded(path)
     img, meta = lio.read(path)
+    assert depth == bits and meta["bit_depth"] == bits
     assert "applied" in meta["attributes"]["icc"] and "not applied" not in meta["attributes"]["icc"]
-    want = (codes / 255.0) ** (563 / 256) @ to_709("Adobe RGB (1998)").T  # the profile's curv: gamma 563/256
+    e = codes / float((1 << bits) - 1)
+    want = e ** (563 / 256) @ to_709("Adobe RGB (1998)").T  # the profile's curv: gamma 563/256
     np.testing.assert_allclose(img, want, rtol=0, atol=1e-4)
+    if bits != 8:
+        return
     from PIL import Image, ImageCms
 
     t = ImageCms.buildTransform(ImageCms.ImageCmsProfile(io.BytesIO(icc)), ImageCms.createProfile("sRGB"), "RGB",
