@@ -189,7 +189,8 @@ def read_heif(path, selector: str | None = None, raw: bool = False, parsed=None)
             profile = bytes(profile)
     codes = _decode(path, image)
     if codes.shape[2] != channels:
-        raise FormatError(f"{path}: libheif gave {codes.shape[2]} channels for mode {image.mode!r}; the file is damaged")
+        raise FormatError(f"{path}: libheif gave {codes.shape[2]} channels for mode {image.mode!r}; the file is "
+                          "damaged")
     maxval = (1 << bits) - 1
     if int(codes.max(initial=0)) > maxval:
         raise FormatError(f"{path}: the decoded codes pass the {bits}-bit range; the file is damaged")
