@@ -11,7 +11,7 @@ first time they are needed and kept as ``.npy`` files in the user's cache direct
 (``$LENSLAB_CACHE_DIR``, else ``$XDG_CACHE_HOME/lenslab``, else ``~/.cache/lenslab``; where nothing
 can be written the tables are built in memory each time):
 
-- :func:`decode_table` (maxval 255 or 65535 cached): every code value's linear light, as float32;
+- :func:`decode_table` (maxval 255, 1023, 4095 or 65535 cached): every code value's linear light, as float32;
 - :func:`thresholds`: the linear values where the rounded 8- or 16-bit code steps up (exact table
   encoding, :mod:`lenslab.io.encode`);
 - :func:`encode`: linear light to code values in float32 by linear interpolation in a table of 65537
@@ -95,7 +95,7 @@ def decode_table(maxval: int) -> np.ndarray:
 
     def build():
         return eotf(np.arange(maxval + 1, dtype=np.float64) / maxval)
-    if maxval not in (255, 65535):
+    if maxval not in (255, 1023, 4095, 65535):  # 8 and 16 bits, and the 10 and 12 bits of HEIF photos
         return build().astype(np.float32)
     return cached_table(f"decode-{maxval}", maxval + 1, np.float32, build)
 

@@ -1,7 +1,7 @@
 """Decompression bombs: valid files under 1 MB of one flat colour that decode to hundreds of MB, one
 for each way a registered format compresses (PNG and TIFF Deflate, EXR ZIP, PIZ and DWAA, JPEG,
-Radiance run lengths, an H.264 clip), each written by the format's own library (zlib, tifffile,
-OpenEXR, OpenCV, PyAV) or by its specification's rules. Every one must be refused before its pixels
+Radiance run lengths, an H.264 clip, an HEVC HEIC), each written by the format's own library (zlib, tifffile,
+OpenEXR, OpenCV, PyAV, pillow-heif) or by its specification's rules. Every one must be refused before its pixels
 are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 128 MiB).
 
 The builders hand their libraries all-zero arrays (``np.zeros``: pages the kernel maps only when
@@ -84,6 +84,14 @@ def _video(path: Path, side: int = 6144) -> None:
             clip.mux(packet)
 
 
+def _heif(path: Path, side: int = 4096) -> None:
+    """One black 8-bit HEIC image (pillow-heif, x265 at its fastest preset): 4 kB."""
+    import pillow_heif
+
+    pillow_heif.from_bytes("RGB", (side, side), bytes(side * side * 3)).save(
+        str(path), quality=50, enc_params={"preset": "ultrafast"})
+
+
 #: format name -> [(file name, builder, (width, height) it declares)]
 BOMBS = {
     "png": [("bomb.png", _png, (8192, 8192))],
@@ -92,6 +100,7 @@ BOMBS = {
     "jpg": [("bomb.jpg", _jpeg, (6144, 6144))],
     "hdr": [("bomb.hdr", _hdr, (3800, 3800))],
     "video": [("bomb.mp4", _video, (6144, 6144))],
+    "heif": [("bomb.heic", _heif, (4096, 4096))],
 }
 
 

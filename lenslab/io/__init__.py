@@ -1,5 +1,5 @@
 """Image files in and out: every format of :mod:`lenslab.io.registry` (EXR, Radiance HDR, TIFF, PFM,
-PPM/PGM/PBM, JPG, PNG; ``lenslab info --formats`` lists them with what each holds).
+PPM/PGM/PBM, JPG, PNG; HEIF/HEIC read only; ``lenslab info --formats`` lists them with what each holds).
 
 ``read(path) -> (image, meta)``: ``image`` is float32 ``H x W x C`` in linear light (LDR formats are
 decoded from sRGB; ``raw=True`` gives code values scaled to [0, 1] instead). The format comes from the
@@ -8,7 +8,7 @@ file's magic bytes, never its name. ``meta`` holds ``format``, ``bit_depth``, ``
 and ``camera`` (a :class:`lenslab.lenses.Camera` if the file stores one, else None).
 
 EXR selectors: ``"file.exr:left"`` (a layer), ``"file.exr:2"`` or ``"file.exr:rgba_left"`` (a part),
-``"file.exr:2:left"`` (both). Read options: ``data_window=True`` keeps an EXR's stored data window
+``"file.exr:2:left"`` (both); HEIF: ``"photo.heic:1"`` (a top-level image by its index; the primary without). Read options: ``data_window=True`` keeps an EXR's stored data window
 instead of placing it in the display window; ``rec709=False`` keeps an EXR's own primaries. PFM's
 scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes beyond
 :data:`lenslab.inputs.limits.MAX_PIXELS` are refused before any allocation.
@@ -176,7 +176,10 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     file, selector = split_selector(path)
     fmt = get(sniff(file))
     if selector is not None and not fmt.selectors:
-        raise FormatError(f"{file}: a ':{selector}' selector only applies to EXR files (this is {fmt.title})")
+        from lenslab.io import registry  # (the name formats here is also the plugins' package)
+
+        takers = " and ".join(f.name.upper() for f in registry.formats().values() if f.selectors)
+        raise FormatError(f"{file}: a ':{selector}' selector only applies to {takers} files (this is {fmt.title})")
     given = {"raw": raw, "data_window": data_window, "rec709": rec709, "extra_channels": extra_channels}
     from lenslab.io.budget import admit
 

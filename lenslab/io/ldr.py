@@ -16,7 +16,6 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
-from lenslab.io.alpha import premultiply
 
 
 def _png_size(data: bytes) -> tuple[int, int] | None:
@@ -70,17 +69,13 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         warning = GainMapWarning(f"{path}: {attributes['gain_map']}")
         warning.command_line = attributes["gain_map"]
         warnings.warn(warning, stacklevel=3)
-    coded = wide = None
+    points = None  # a PNG's cICP code points (lenslab.io.colour.coded decodes by them)
     if fmt == "png":
-        from lenslab.io.colour.png_cicp import SRGB_TRANSFERS, chunk_before_data, describe, read_cicp
+        from lenslab.io.colour.png_cicp import chunk_before_data, describe, read_cicp
 
         points = read_cicp(data)
         if points is not None:
             attributes["cICP"] = describe(points)
-            if points[1] not in SRGB_TRANSFERS:  # PQ, HLG, linear...: the codes are not sRGB
-                coded = points
-            else:  # sRGB codes, on primaries that may not be Rec.709's (Display P3)
-                wide = points[0]
     profile = None  # an ICC profile, applied where no cICP chunk speaks (PNG 3rd edition: cICP wins)
     if not raw and (fmt == "jpg" or points is None):
         from lenslab.io.colour.icc_chunks import jpeg_profile, png_profile
@@ -117,36 +112,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         maxval, bits = 65535, 16
     else:
         raise FormatError(f"{path}: {fmt.upper()} with {codes.dtype} samples is not supported; use 8 or 16 bits")
-    from lenslab.io.encode import decode_codes
+    from lenslab.io.colour.coded import decode
 
-    how = None
-    if profile is not None:
-        from lenslab.io.colour.icc import decode, plan
-
-        how = plan(profile, 4 if inks else c - 1 if c in (2, 4) else c, str(path))
-        attributes["icc"] = how.note
-    gamut = None  # the wide primaries integer codes were converted from (lenslab.io.colour.gamut)
-    if how is not None and how.curves:  # a matrix/TRC or grey profile: its curves, its colorants
-        image = decode(codes, maxval, how, str(path))
-        from lenslab.io.colour.gamut import profile_gamut
-
-        gamut = profile_gamut(how)
-    else:
-        image = decode_codes(codes, maxval, raw or coded is not None)
-    linear = False
-    if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
-        from lenslab.io.colour.png_cicp import H273_NAMES, to_linear_light
-
-        image, attributes["note"] = to_linear_light(image, coded)
-        linear = coded[1] in (16, 18)
-        gamut = f"cICP primaries {H273_NAMES[coded[0]]}" if linear and c in (3, 4) and coded[0] in H273_NAMES else None
-    elif not raw and wide is not None and c in (3, 4):  # sRGB codes on P3-D65 (or BT.2020) primaries
-        from lenslab.io.colour.png_cicp import H273_NAMES, wide_to_709
-
-        attributes["note"] = wide_to_709(image, wide)
-        gamut = f"cICP primaries {H273_NAMES[wide]}" if wide in H273_NAMES else None
-    if not raw and (coded is None or linear):  # PNG colour is straight (its specification); memory holds
-        premultiply(image)                      # premultiplied colour
+    image, linear, gamut = decode(codes, maxval, str(path), attributes, profile=profile, points=points,
+                                  raw=raw, inks=inks)
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,

@@ -2,9 +2,10 @@
 channels an outside library wrote into it and reads back from it.
 
 Parametrized from the format registry (:func:`lenslab.io.registry.formats`): a readable format with no
-outside writer below fails here until one is added. The files are written by OpenEXR, tifffile, OpenCV
-and PyAV (never by lenslab), and their size and channels are read back by the same library: OpenEXR's
-header, tifffile's page, ``cv2.imread(..., IMREAD_UNCHANGED)``, PyAV's stream and decoded frame.
+outside writer below fails here until one is added. The files are written by OpenEXR, tifffile, OpenCV,
+PyAV and pillow-heif (never by lenslab), and their size and channels are read back by the same library: OpenEXR's
+header, tifffile's page, ``cv2.imread(..., IMREAD_UNCHANGED)``, PyAV's stream and decoded frame, pillow-heif's
+image.
 """
 
 from __future__ import annotations
@@ -64,6 +65,14 @@ def _video(path):
         return frame.width, frame.height, frame.to_ndarray(format="rgb24").shape[2]
 
 
+def _heif(path):
+    import pillow_heif
+
+    pillow_heif.from_bytes("RGBA", (W, H), np.zeros((H, W, 4), np.uint8).tobytes()).save(str(path), quality=90)
+    back = pillow_heif.open_heif(str(path))
+    return back.size[0], back.size[1], np.asarray(back).shape[2]
+
+
 #: format name -> (file extension, writer returning the outside library's (width, height, channels))
 MAKERS = {
     "exr": (".exr", _exr),
@@ -76,6 +85,7 @@ MAKERS = {
     "pfm": (".pfm", _opencv(np.ones((H, W, 3), np.float32))),
     "hdr": (".hdr", _opencv(np.ones((H, W, 3), np.float32))),
     "video": (".mkv", _video),
+    "heif": (".heic", _heif),
 }
 READABLE = [f.name for f in formats().values() if f.readable]
 

@@ -37,6 +37,13 @@ def _video_seed(path):
             c.mux(packet)
 
 
+def _heif_seed(path):
+    import pillow_heif
+
+    img = (np.random.default_rng(2).random((24, 40, 4)) * 255).astype(np.uint8)
+    pillow_heif.from_bytes("RGBA", (40, 24), img.tobytes()).save(str(path), quality=80)
+
+
 def image_seeds(folder) -> dict[str, bytes]:
     """A small valid file of every readable format, by format name."""
     img = np.random.default_rng(1).random((24, 40, 3), dtype=np.float32) * 4
@@ -52,6 +59,8 @@ def image_seeds(folder) -> dict[str, bytes]:
             lio.write(path, img[..., :1] if 3 not in fmt.channels else img, format=name, **icc)
         elif fmt.kind == "video":
             _video_seed(path)
+        elif name == "heif":
+            _heif_seed(path)
         else:
             path.write_bytes(SEEDS[name])
         out[name] = path.read_bytes()

@@ -93,7 +93,8 @@ def test_a_pq_png_on_bt2020_goes_through_it_as_colour_science_decodes_it(tmp_pat
     image, _ = lio.read(tagged)
     assert len(applied) == 1
     stored, _ = lio.read(plain, raw=True)  # the 16-bit codes / 65535, as written
-    light = colour.eotf(stored.astype(np.float64), "ST 2084") / 203.0  # 1.0 = 203 cd/m2 (ITU-R BT.2408)
+    stored = np.round(stored.astype(np.float64) * 65535) / 65535  # each code's value exact, in float64
+    light = colour.eotf(stored, "ST 2084") / 203.0  # 1.0 = 203 cd/m2 (ITU-R BT.2408)
     expected = colour.RGB_to_RGB(light, colour.RGB_COLOURSPACES["ITU-R BT.2020"], BT709)
     # float64 throughout, rounded once to float32 at the end: 2 ulp of float32, plus 1e-9 for the
     # two float64 evaluations of the PQ curve (a 10000 cd/m2 code is 49 times the reference white)

@@ -91,9 +91,10 @@ def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
     return tuple(data) if data is not None and len(data) == 4 else None
 
 
-def to_linear_light(codes, points):
-    """(image, note) for ``codes`` (H x W x C code values in [0, 1], alpha last for C = 2, 4) of a PNG with
-    cICP ``points`` whose transfer is not sRGB: PQ and HLG as linear Rec.709 light, anything else unchanged."""
+def to_linear_light(codes, points, source: str = "the PNG's cICP chunk"):
+    """(image, note) for ``codes`` (H x W x C code values in [0, 1], alpha last for C = 2, 4) of a file whose
+    code ``points`` (named ``source`` in the note) have a transfer that is not sRGB: PQ and HLG as linear
+    Rec.709 light, anything else unchanged."""
     from fractions import Fraction
 
     import numpy as np
@@ -101,7 +102,7 @@ def to_linear_light(codes, points):
     primaries, transfer, matrix, full = points
     c = codes.shape[2]
     if transfer not in (16, 18):
-        return codes, f"the PNG's cICP chunk says {describe(points)}: read as its code values, not decoded"
+        return codes, f"{source} says {describe(points)}: read as its code values, not decoded"
     from lenslab.io.video import REFERENCE_WHITE, VideoInfo, to_linear
 
     colour = c - 1 if c in (2, 4) else c
@@ -111,14 +112,14 @@ def to_linear_light(codes, points):
     out[..., :colour] = to_linear(codes[..., :colour], info)
     what = "PQ" if transfer == 16 else "HLG"
     return np.ascontiguousarray(out, dtype=np.float32), (
-        f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 (the PNG's cICP chunk)")
+        f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 ({source})")
 
 
 #: the names notes give the H.273 primaries converted to Rec.709
 H273_NAMES = {12: "P3-D65", 9: "BT.2020"}
 
 
-def wide_to_709(image, primaries: int) -> str:
+def wide_to_709(image, primaries: int, source: str = "the PNG's cICP chunk") -> str:
     """Linear light decoded from sRGB codes on H.273 ``primaries`` (H x W x C float32, straight colour, alpha
     last for C = 4) -> Rec.709 primaries in place, by colour-science's matrix
     (:func:`lenslab.io.colour.primaries.h273_matrix`); the note a reader shows. Rec.709 primaries, and
@@ -127,10 +128,10 @@ def wide_to_709(image, primaries: int) -> str:
 
     matrix = h273_matrix(primaries)
     if matrix is None:
-        return f"the PNG's cICP chunk says primaries {primaries}: read as Rec.709"
+        return f"{source} says primaries {primaries}: read as Rec.709"
     to_rec709(image, matrix)
     name = H273_NAMES.get(int(primaries), f"primaries {primaries}")
-    return f"sRGB codes on {name} primaries (the PNG's cICP chunk), converted to Rec.709"
+    return f"sRGB codes on {name} primaries ({source}), converted to Rec.709"
 
 
 def describe(points) -> str:

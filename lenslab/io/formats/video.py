@@ -8,7 +8,9 @@ from lenslab.io.plugin import Format
 
 
 def _magic(head: bytes) -> bool:
-    return head[4:8] == b"ftyp" or head.startswith(b"\x1a\x45\xdf\xa3")
+    from lenslab.io.formats.heif import is_heif  # an ISO base media file too: HEIF still images are not clips
+
+    return (head[4:8] == b"ftyp" and not is_heif(head)) or head.startswith(b"\x1a\x45\xdf\xa3")
 
 
 def _read(path, selector=None):
