@@ -28,6 +28,7 @@ from lenslab.errors import WarpError
 
 if TYPE_CHECKING:
     from lenslab.lenses import Camera
+    from lenslab.warp.minification import Looked
 
 #: a link between neighbouring map entries is a jump (a seam, a face edge), never interpolated across,
 #: when it is longer than JUMP_RATIO times the shorter of the links beside it plus JUMP_SLACK source px
@@ -271,7 +272,7 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None,
-                     alpha_channel: bool | None = None, looked=None) -> tuple[np.ndarray, np.ndarray]:
+                     alpha_channel: bool | None = None, looked: Looked | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an ST map (made by lenslab or any other tool); ``alpha_channel=False``: data
     channels only, none settled as alpha.
 

@@ -24,6 +24,7 @@ from lenslab.warp.seam import Border, border_of
 
 if TYPE_CHECKING:
     from lenslab.lenses import Camera, Lens
+    from lenslab.warp.minification import Looked
 
 BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 
@@ -31,7 +32,7 @@ BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None = None, filter: str = "bilinear",
                   antialias: bool = False, source: Lens | Camera | None = None,
                   progress: Callable[[int], None] | None = None,
-                  alpha_channel: bool | None = None, looked=None) -> tuple[np.ndarray, np.ndarray]:
+                  alpha_channel: bool | None = None, looked: Looked | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
     ``alpha_channel=False``: the image holds data channels only (the last of 2 or 4 is not settled as
     alpha; :func:`lenslab.io.carries_alpha`).
