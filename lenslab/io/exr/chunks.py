@@ -111,6 +111,8 @@ def _headers(f, size) -> tuple[list[dict], int]:
                 part["compression"] = value[0]
             elif (name, kind) == (b"tiles", b"tiledesc") and n == 9:
                 part["tiles"] = struct.unpack("<IIB", value)
+            elif (name, kind) == (b"chunkCount", b"int") and n == 4:
+                part["chunkCount"] = struct.unpack("<i", value)[0]
             elif name == b"type" and kind == b"string":
                 part["tiled"] = value.startswith(b"tiled")
                 part["deep"] = value.startswith(b"deep")
@@ -268,5 +270,12 @@ def declare_exr(path, data_window: bool = False, **_):
         if not part.get("deep"):
             leader = (20 if part.get("tiled") else 8) + (4 if len(parts) > 1 else 0)
             table += _chunks(part) * (8 + leader)
-    return Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
-                    what="chunk tables and chunk leaders", hint=hint, parsed=layout)
+    declared = Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
+                        what="chunk tables and chunk leaders", hint=hint, parsed=layout)
+    if any(part.get("deep") for part in parts):  # the flat image first, then the samples its tables count
+        from lenslab.io.budget import check
+        from lenslab.io.exr.deep_counts import check_deep
+
+        check(path, declared, size)
+        check_deep(path, layout)
+    return declared

@@ -1,0 +1,190 @@
+"""The sample counts of a deep EXR, from its own bytes, before OpenEXR allocates a sample.
+
+A deep scanline chunk is ``[part number]`` (multi-part files), the chunk's first line ``y``, the packed size
+of its pixel offset table, the packed and unpacked sizes of its sample data (int32, then three uint64), the
+pixel offset table (for each line, one int32 per pixel: the samples of that pixel and all to its left), then
+the sample data (OpenEXR, "The OpenEXR File Layout": deep scan line layout). The tables are compressed as
+the part says: none, RLE or ZIP (a zlib stream of the bytes split into even and odd halves, each byte stored
+as its difference to the one before plus 128); a table as long packed as unpacked is stored raw.
+
+:func:`deep_counts` reads every chunk's table (decompressed to at most its declared size) and gives each
+deep part's total samples, largest count in one pixel and pixels with samples; :func:`check_deep` holds the
+total against the input budget (:mod:`lenslab.io.budget`): what OpenEXR's Python bindings and the flattening
+allocate for it, against the file's bytes, with the same limits as a flat image's decoded size.
+"""
+
+from __future__ import annotations
+
+import struct
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from lenslab.errors import FormatError
+
+#: compressions whose offset tables lenslab decodes (codes of the ``compression`` attribute): the ones the
+#: OpenEXR file layout allows for deep data, with their scanlines per chunk
+DEEP_LINES = {0: 1, 1: 1, 2: 1, 3: 16}
+_NAMES = {0: "none", 1: "rle", 2: "zips", 3: "zip"}
+#: bytes the bindings hold per pixel and per array they make for a pixel with samples (a NumPy array
+#: object), and per sample the flattening's working arrays hold per channel (float64, a few at once)
+POINTER_BYTES, ARRAY_BYTES, WORK_BYTES = 8, 112, 48
+#: bytes a stored sample takes, by pixel type
+TYPE_BYTES = {"HALF": 2, "FLOAT": 4, "UINT": 4}
+
+
+@dataclass(frozen=True)
+class DeepCounts:
+    """One deep part's samples: ``total``, ``max_per_pixel``, ``pixels`` with at least one sample."""
+
+    total: int
+    max_per_pixel: int
+    pixels: int
+
+
+def _unpack_rle(data: bytes, size: int) -> bytes:
+    out = bytearray()
+    i = 0
+    while i < len(data) and len(out) <= size:
+        n = struct.unpack_from("b", data, i)[0]
+        if n < 0:
+            out += data[i + 1:i + 1 - n]
+            i += 1 - n
+        else:
+            out += data[i + 1:i + 2] * (n + 1)
+            i += 2
+    return bytes(out)
+
+
+def _table(path, packed: bytes, size: int, compression: int) -> np.ndarray:
+    """The unpacked offset table (``size`` bytes) as little-endian int32."""
+    if compression == 0 or len(packed) == size:
+        raw = packed
+    else:
+        if compression == 1:
+            raw = _unpack_rle(packed, size)
+        else:
+            try:
+                d = zlib.decompressobj()
+                raw = d.decompress(packed, size + 1)
+            except zlib.error:
+                raw = b""
+        if len(raw) == size and size:
+            t = np.cumsum(np.frombuffer(raw, np.uint8).astype(np.int64) - np.r_[0, np.full(size - 1, 128)])
+            t = (t & 0xFF).astype(np.uint8)
+            half = (size + 1) // 2
+            out = np.empty(size, np.uint8)
+            out[0::2], out[1::2] = t[:half], t[half:]
+            raw = out.tobytes()
+    if len(raw) != size:
+        raise FormatError(f"{path}: a deep sample count table does not unpack to its {size} bytes; the file is "
+                          "damaged")
+    return np.frombuffer(raw, "<i4")
+
+
+def deep_counts(path, layout) -> dict[int, DeepCounts]:
+    """Every deep part's :class:`DeepCounts` (by part index) from its chunks' offset tables; a deep part
+    lenslab cannot count (tiled, or a compression outside ``DEEP_LINES``), a chunk outside the file or a
+    table that does not add up are a :class:`FormatError` of one line."""
+    parts, size, multi = layout.parts, layout.size, layout.multipart
+    out: dict[int, DeepCounts] = {}
+    if not any(p.get("deep") for p in parts):
+        return out
+    with open(path, "rb") as f:
+        table_at = layout.header_end
+        tables = []
+        for i, part in enumerate(parts):
+            x0, y0, x1, y1 = part["dataWindow"]
+            comp = part.get("compression", 0)
+            lines = DEEP_LINES.get(comp, 1)
+            chunks = part.get("chunkCount") if multi else None
+            chunks = -(-(y1 - y0 + 1) // lines) if chunks is None or not part.get("deep") else chunks
+            tables.append((table_at, chunks))
+            table_at += 8 * max(chunks, 0)
+        if table_at > size:
+            raise FormatError(f"{path}: the chunk tables end at byte {table_at} but the file has {size} bytes; the "
+                              "file is truncated")
+        for i, part in enumerate(parts):
+            if not part.get("deep"):
+                continue
+            name = part.get("name") or f"#{i}"
+            comp = part.get("compression", -1)
+            if part.get("tiled"):
+                raise FormatError(f"{path}: part {i} ({name!r}) is a deep tiled image; lenslab reads deep scanline "
+                                  "images only: convert it to deep scanlines or flatten it first")
+            if comp not in DEEP_LINES:
+                raise FormatError(f"{path}: part {i} ({name!r}) is a deep image compressed with code {comp}; lenslab "
+                                  f"counts deep samples compressed as {', '.join(_NAMES.values())} only, before reading "
+                                  "them: rewrite it with one of those")
+            x0, y0, x1, y1 = part["dataWindow"]
+            w, lines = x1 - x0 + 1, DEEP_LINES[comp]
+            per_sample = sum(TYPE_BYTES.get(t, 4) for t in part.get("channel_types", {}).values())
+            at, chunks = tables[i]
+            f.seek(at)
+            offsets = np.frombuffer(f.read(8 * chunks), "<u8")
+            total = peak = pixels = 0
+            for off in offsets.tolist():
+                leader = (4 if multi else 0) + 28
+                if off + leader > size:
+                    raise FormatError(f"{path}: a chunk of part {i} starts at byte {off}, past the end of the file "
+                                      f"({size} bytes); the file is truncated or damaged")
+                f.seek(off)
+                head = f.read(leader)
+                if multi and struct.unpack_from("<i", head)[0] != i:
+                    raise FormatError(f"{path}: a chunk of part {i} is marked as part "
+                                      f"{struct.unpack_from('<i', head)[0]}; the file is damaged")
+                y, packed_table, packed_data, unpacked = struct.unpack_from("<iQQQ", head, leader - 28)
+                n = min(lines, y1 - y + 1)
+                if not y0 <= y <= y1 or (y - y0) % lines or off + leader + packed_table + packed_data > size:
+                    raise FormatError(f"{path}: a deep chunk of part {i} (line {y}) lies outside the data window or "
+                                      f"runs past the end of the file ({size} bytes); the file is damaged")
+                table = _table(path, f.read(packed_table), 4 * w * n, comp).reshape(n, w).astype(np.int64)
+                counts = np.diff(table, axis=1, prepend=0)
+                if (counts < 0).any():
+                    raise FormatError(f"{path}: a deep sample count table of part {i} (line {y}) decreases; the file "
+                                      "is damaged")
+                in_chunk = int(table[:, -1].sum())
+                if unpacked != in_chunk * per_sample:
+                    raise FormatError(f"{path}: a deep chunk of part {i} (line {y}) declares {unpacked} bytes of "
+                                      f"samples but its table counts {in_chunk} samples of {per_sample} bytes; the "
+                                      "file is damaged")
+                total += in_chunk
+                peak = max(peak, int(counts.max(initial=0)))
+                pixels += int(np.count_nonzero(counts))
+            out[i] = DeepCounts(total, peak, pixels)
+    return out
+
+
+def deep_bytes(part: dict, counts: DeepCounts) -> int:
+    """What reading and flattening a deep part holds at once: the bindings' arrays (a pointer per pixel and
+    channel group, an array object per pixel with samples, the samples at their stored type) and the
+    flattening's float64 working arrays."""
+    x0, y0, x1, y1 = part["dataWindow"]
+    chans = max(1, len(part.get("channel_types", {})))
+    per_sample = sum(TYPE_BYTES.get(t, 4) for t in part.get("channel_types", {}).values())
+    return ((x1 - x0 + 1) * (y1 - y0 + 1) * chans * POINTER_BYTES + counts.pixels * chans * ARRAY_BYTES
+            + counts.total * (per_sample + chans * WORK_BYTES))
+
+
+def check_deep(path, layout) -> dict[int, DeepCounts]:
+    """Refuse (:class:`lenslab.io.budget.BudgetError`, one line) a file whose deep samples would take more
+    memory than the input budget admits for its bytes (OpenEXR decodes every part of the file at once, so
+    every deep part counts); else every deep part's :class:`DeepCounts`."""
+    from lenslab.io import budget
+
+    counts = deep_counts(path, layout)
+    if not counts:
+        return counts
+    need = sum(deep_bytes(layout.parts[i], c) for i, c in counts.items())
+    total = sum(c.total for c in counts.values())
+    size = layout.size
+    what = (f"{path}: its deep sample count tables hold {total} samples in {sum(c.pixels for c in counts.values())} "
+            f"pixels ({budget._mb(need)} to read and flatten) in a file of {budget._mb(size)}")
+    if need > budget.BASE_BYTES and size < budget.SMALL_FILE:
+        raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget._mb(budget.BASE_BYTES)}; "
+                                 f"refused as a decompression bomb (a genuine deep image: set LENSLAB_BASE_BYTES={need})")
+    if need > budget.BASE_BYTES and need > budget.MAX_RATIO * size:
+        raise budget.BudgetError(f"{what}, more than {budget.MAX_RATIO} times its size; refused as a decompression "
+                                 "bomb (LENSLAB_MAX_RATIO raises the limit for a genuine deep image)")
+    return counts
