@@ -156,7 +156,8 @@ def flatten(pixel: np.ndarray, z: np.ndarray, zback: np.ndarray | None, alpha: n
     z = np.asarray(z, np.float64)
     zb = z if zback is None else np.asarray(zback, np.float64)
     a = np.asarray(alpha, np.float64)
-    c = np.asarray(values, np.float64).reshape(len(a), -1)
+    c = np.asarray(values, np.float64)
+    c = c.reshape(len(a), c.shape[1] if c.ndim == 2 else 1)
     keep = ~np.isnan(z)
     info = {"dropped_nan_z": int(np.count_nonzero(~keep))}
     if not keep.all():
