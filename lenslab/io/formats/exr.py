@@ -100,4 +100,5 @@ FORMATS = (Format(
     selectors=True, camera=True,
     compressions=("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                   "htj2k32"),
-    note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709"),)
+    note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709; deep "
+         "scanline parts flattened (sorted by depth, composited with over)"),)
