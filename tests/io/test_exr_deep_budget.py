@@ -85,3 +85,20 @@ def test_a_chunk_whose_sizes_disagree_with_its_table_is_damaged(tmp_path):
     assert done.stderr.strip().splitlines() == [
         f"lenslab info: error: {src}: a deep chunk of part 0 (line 0) declares {12 * N} bytes of samples but its "
         f"table counts {2 * N} samples of 12 bytes; the file is damaged"]
+
+
+def test_a_huge_data_window_in_a_small_image_is_refused_before_its_tables_are_read(tmp_path):
+    """OpenEXR's bindings make a pointer for every pixel and channel of a deep data window, samples or not:
+    a 64 x 64 image whose data window is declared 40000 x 64 is refused from the header alone."""
+    src = deep_file(tmp_path / "wide.exr", np.ones((N, N), np.int64))
+    data = bytearray(src.read_bytes())
+    at = data.index(b"dataWindow\0box2i\0") + len(b"dataWindow\0box2i\0") + 4
+    assert struct.unpack_from("<iiii", data, at) == (0, 0, N - 1, N - 1)
+    struct.pack_into("<iiii", data, at, 0, 0, 40_000 - 1, N - 1)
+    src.write_bytes(bytes(data))
+    done = run([sys.executable, "-m", "lenslab", "info", str(src)])
+    assert done.returncode == 1
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"lenslab info: error: {src}: its deep data windows take 102 MB "
+                                                   "to read in a file of"), lines
+    assert done.peak_mb is None or done.peak_mb < 200

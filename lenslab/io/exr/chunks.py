@@ -5,7 +5,8 @@ C core, before the Python bindings raise an exception whose text says nothing of
 layout first gives one line instead: the header's attributes (name, type, size, value) up to the empty
 name, then the offset table (one uint64 per chunk), then each chunk's leader (its first scanline and
 packed size, two int32), all little-endian (OpenEXR, "The OpenEXR File Layout"). Only single-part
-scanline files are checked this way; tiled, multi-part and deep files are left to the library.
+scanline files are checked this way; tiled and multi-part files are left to the library, and deep files'
+chunks are read by :mod:`lenslab.io.exr.deep_counts`, which counts their samples for the budget.
 
 A read parses the header once (:func:`parse_header`): the byte budget (:func:`declare_exr`) gives its
 :class:`Layout` to the reader, which checks the chunks and reads the channels' stored types from it; a

@@ -43,15 +43,18 @@ def _gather(path, chans: dict, wanted: set[str], w: int, h: int) -> tuple[np.nda
         if pix is None or pix.dtype != object or pix.shape != (h, w):
             raise FormatError(f"{path}: deep channel {clip(key)} does not match the data window {w} x {h}; the file "
                               "is damaged")
-        layer, _, letters = key.rpartition(".")
-        names = [key]
-        if len(letters) > 1 and set(letters) <= set("RGBA"):  # a group the bindings interleave: RGB, RGBA
-            names = [f"{layer}.{c}" if layer else c for c in letters]
-        if not wanted & set(names):
-            continue
         flat = pix.reshape(-1)
         has = np.fromiter(map(operator.is_not, flat, itertools.repeat(None)), bool, flat.size)
         present = flat[has]
+        layer, _, letters = key.rpartition(".")
+        names = [key]
+        if present.size and present[0].ndim == 2:  # a group the bindings interleave (RGB, RGBA): one per letter
+            names = [f"{layer}.{c}" if layer else c for c in letters]
+            if len(names) != present[0].shape[1]:
+                raise FormatError(f"{path}: OpenEXR gave {present[0].shape[1]} channels as {clip(key)}; lenslab "
+                                  "cannot tell them apart")
+        if not wanted & set(names):
+            continue
         n = np.zeros(flat.size, np.int64)
         n[has] = np.fromiter(map(len, present), np.int64, present.size)
         if counts is None:

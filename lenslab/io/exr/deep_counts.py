@@ -99,7 +99,11 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
             comp = part.get("compression", 0)
             lines = DEEP_LINES.get(comp, 1)
             chunks = part.get("chunkCount") if multi else None
-            chunks = -(-(y1 - y0 + 1) // lines) if chunks is None or not part.get("deep") else chunks
+            expected = -(-(y1 - y0 + 1) // lines)
+            chunks = expected if chunks is None or not part.get("deep") else max(chunks, 0)
+            if part.get("deep") and not part.get("tiled") and chunks != expected:
+                raise FormatError(f"{path}: part {i} declares {chunks} chunks where its {y1 - y0 + 1} lines need "
+                                  f"{expected}; the file is damaged")
             tables.append((table_at, chunks))
             table_at += 8 * max(chunks, 0)
         if table_at > size:
@@ -124,7 +128,7 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
             f.seek(at)
             offsets = np.frombuffer(f.read(8 * chunks), "<u8")
             total = peak = pixels = 0
-            for off in offsets.tolist():
+            for k, off in enumerate(offsets.tolist()):
                 leader = (4 if multi else 0) + 28
                 if off + leader > size:
                     raise FormatError(f"{path}: a chunk of part {i} starts at byte {off}, past the end of the file "
@@ -136,7 +140,7 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
                                       f"{struct.unpack_from('<i', head)[0]}; the file is damaged")
                 y, packed_table, packed_data, unpacked = struct.unpack_from("<iQQQ", head, leader - 28)
                 n = min(lines, y1 - y + 1)
-                if not y0 <= y <= y1 or (y - y0) % lines or off + leader + packed_table + packed_data > size:
+                if y != y0 + k * lines or off + leader + packed_table + packed_data > size:  # (the table is by y)
                     raise FormatError(f"{path}: a deep chunk of part {i} (line {y}) lies outside the data window or "
                                       f"runs past the end of the file ({size} bytes); the file is damaged")
                 table = _table(path, f.read(packed_table), 4 * w * n, comp).reshape(n, w).astype(np.int64)
@@ -171,20 +175,35 @@ def check_deep(path, layout) -> dict[int, DeepCounts]:
     """Refuse (:class:`lenslab.io.budget.BudgetError`, one line) a file whose deep samples would take more
     memory than the input budget admits for its bytes (OpenEXR decodes every part of the file at once, so
     every deep part counts); else every deep part's :class:`DeepCounts`."""
+    from lenslab.inputs.limits import check_size
     from lenslab.io import budget
 
+    deep = [p for p in layout.parts if p.get("deep")]
+    windows = 0  # what the data windows alone take, before a table is decoded: a pointer a pixel and channel
+    for part in deep:
+        x0, y0, x1, y1 = part["dataWindow"]
+        check_size(path, x1 - x0 + 1, y1 - y0 + 1)
+        windows += deep_bytes(part, DeepCounts(0, 0, 0))
+    if windows:
+        _refuse(path, windows, f"its deep data windows take {budget._mb(windows)} to read", layout.size)
     counts = deep_counts(path, layout)
     if not counts:
         return counts
     need = sum(deep_bytes(layout.parts[i], c) for i, c in counts.items())
     total = sum(c.total for c in counts.values())
-    size = layout.size
-    what = (f"{path}: its deep sample count tables hold {total} samples in {sum(c.pixels for c in counts.values())} "
-            f"pixels ({budget._mb(need)} to read and flatten) in a file of {budget._mb(size)}")
+    _refuse(path, need, f"its deep sample count tables hold {total} samples in "
+            f"{sum(c.pixels for c in counts.values())} pixels ({budget._mb(need)} to read and flatten)", layout.size)
+    return counts
+
+
+def _refuse(path, need: int, said: str, size: int) -> None:
+    """The input budget's two rules on ``need`` bytes from a file of ``size``."""
+    from lenslab.io import budget
+
+    what = f"{path}: {said} in a file of {budget._mb(size)}"
     if need > budget.BASE_BYTES and size < budget.SMALL_FILE:
         raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget._mb(budget.BASE_BYTES)}; "
                                  f"refused as a decompression bomb (a genuine deep image: set LENSLAB_BASE_BYTES={need})")
     if need > budget.BASE_BYTES and need > budget.MAX_RATIO * size:
         raise budget.BudgetError(f"{what}, more than {budget.MAX_RATIO} times its size; refused as a decompression "
                                  "bomb (LENSLAB_MAX_RATIO raises the limit for a genuine deep image)")
-    return counts
