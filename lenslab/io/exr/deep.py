@@ -36,7 +36,7 @@ def _alpha_of(short: str, present: set[str]) -> str | None:
 def _gather(path, chans: dict, wanted: set[str], w: int, h: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """(sample count of each pixel, flat, row-major) and {channel name: (N,) samples} of the ``wanted``
     channels, from the bindings' per-pixel arrays (channel groups such as ``RGBA`` split by name)."""
-    counts = None
+    counts = has = None
     samples: dict[str, np.ndarray] = {}
     for key, ch in chans.items():
         pix = ch.pixels
@@ -44,7 +44,8 @@ def _gather(path, chans: dict, wanted: set[str], w: int, h: int) -> tuple[np.nda
             raise FormatError(f"{path}: deep channel {clip(key)} does not match the data window {w} x {h}; the file "
                               "is damaged")
         flat = pix.reshape(-1)
-        has = np.fromiter(map(operator.is_not, flat, itertools.repeat(None)), bool, flat.size)
+        if has is None:  # the pixels with samples and their counts: one table for every channel, as in the file
+            has = np.fromiter(map(operator.is_not, flat, itertools.repeat(None)), bool, flat.size)
         present = flat[has]
         layer, _, letters = key.rpartition(".")
         names = [key]
@@ -55,14 +56,16 @@ def _gather(path, chans: dict, wanted: set[str], w: int, h: int) -> tuple[np.nda
                                   "cannot tell them apart")
         if not wanted & set(names):
             continue
-        n = np.zeros(flat.size, np.int64)
-        n[has] = np.fromiter(map(len, present), np.int64, present.size)
         if counts is None:
-            counts = n
-        elif not np.array_equal(counts, n):
+            counts = np.zeros(flat.size, np.int64)
+            counts[has] = np.fromiter(map(len, present), np.int64, present.size)
+        try:
+            data = np.concatenate(list(present)) if present.size else np.zeros((0, len(names)), np.float32)
+        except (TypeError, ValueError):  # a pixel without samples in this channel but with some in another
+            data = None
+        if data is None or len(data) != counts.sum():
             raise FormatError(f"{path}: deep channel {clip(key)} has other sample counts than the part's other "
                               "channels; the file is damaged")
-        data = np.concatenate(list(present)) if present.size else np.zeros((0, len(names)), np.float32)
         data = data.reshape(len(data), len(names))
         for i, name in enumerate(names):
             if name in wanted:

@@ -37,17 +37,12 @@ from __future__ import annotations
 import numpy as np
 
 
-def segment_scan(op: np.ufunc, values: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """Inclusive scan of ``op`` (``np.add``, ``np.multiply``) within each segment of ``values`` (sorted by
-    segment; ``counts[s]`` elements in segment ``s``; extra axes scanned independently), exact per segment
-    (no running value carried from one segment into the next). Segments are grouped by size class (powers of
-    two) and padded with ``op``'s identity: memory at most twice ``values``'."""
-    out = np.empty_like(values)
+def _by_size(counts: np.ndarray):
+    """For segments of ``counts`` elements (laid out one after another), grouped by size class (at most a
+    power of two): (elements, their row and column in a padded block, the block's shape) per class."""
     counts = np.asarray(counts, np.int64)
-    if values.shape[0] == 0:
-        return out
     seg = np.repeat(np.arange(counts.size), counts)
-    rank = np.arange(values.shape[0]) - (np.cumsum(counts) - counts)[seg]
+    rank = np.arange(seg.size) - (np.cumsum(counts) - counts)[seg]
     level = np.frexp(np.maximum(counts - 1, 0).astype(np.float64))[1]  # 2**level >= count
     elem_level = level[seg]
     for lv in np.unique(elem_level):
@@ -55,12 +50,40 @@ def segment_scan(op: np.ufunc, values: np.ndarray, counts: np.ndarray) -> np.nda
         row = np.empty(counts.size, np.int64)
         row[segs] = np.arange(segs.size)
         elems = np.flatnonzero(elem_level == lv)
-        r, c = row[seg[elems]], rank[elems]
-        pad = np.full((segs.size, 1 << int(lv)) + values.shape[1:], op.identity, values.dtype)
+        yield elems, row[seg[elems]], rank[elems], (segs.size, 1 << int(lv))
+
+
+def segment_scan(op: np.ufunc, values: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Inclusive scan of ``op`` (``np.add``, ``np.multiply``) within each segment of ``values`` (sorted by
+    segment; ``counts[s]`` elements in segment ``s``; extra axes scanned independently), exact per segment
+    (no running value carried from one segment into the next). Segments are grouped by size class (powers of
+    two) and padded with ``op``'s identity: memory at most twice ``values``'."""
+    out = np.empty_like(values)
+    for elems, r, c, shape in _by_size(counts):
+        if shape[1] == 1:  # segments of one element: the scan is the element
+            out[elems] = values[elems]
+            continue
+        pad = np.full(shape + values.shape[1:], op.identity, values.dtype)
         pad[r, c] = values[elems]
         op.accumulate(pad, axis=1, out=pad)
         out[elems] = pad[r, c]
     return out
+
+
+def segment_argsort(keys: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The order that sorts ``keys`` (no NaN) within each segment, stably, segments kept in place: the
+    order ``np.lexsort((keys, segment))`` gives for segments laid out one after another, by size class."""
+    order = np.arange(keys.size)
+    for elems, r, c, shape in _by_size(counts):
+        if shape[1] == 1:
+            continue
+        pad = np.full(shape, np.inf)
+        pad[r, c] = keys[elems]
+        at = np.argsort(pad, axis=1, kind="stable")  # (the padding, +inf, after every key, +inf included)
+        start = np.empty(shape[0], np.int64)
+        start[r[c == 0]] = elems[c == 0]
+        order[elems] = start[r] + at[r, c]
+    return order
 
 
 def _merge_groups(ids: np.ndarray, ngroups: int, a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -169,14 +192,23 @@ def flatten(pixel: np.ndarray, z: np.ndarray, zback: np.ndarray | None, alpha: n
     vol = (zb > z) & np.isfinite(z) & np.isfinite(zb)
     pts = ~vol
     # point samples: sorted by pixel then depth; those at the same depth of a pixel merge
-    p_pix, p_z = pixel[pts], z[pts]
-    order = np.lexsort((p_z, p_pix))
-    p_pix, p_z, p_a, p_c = p_pix[order], p_z[order], a[pts][order], c[pts][order]
+    p_pix, p_z, p_a, p_c = (pixel, z, a, c) if pts.all() else (pixel[pts], z[pts], a[pts], c[pts])
+    step = np.diff(p_pix)
+    order = None  # already sorted (as renderers often write them)
+    if (step < 0).any():  # samples given in any pixel order
+        order = np.lexsort((p_z, p_pix))
+    elif not ((step > 0) | (p_z[1:] >= p_z[:-1])).all():  # each pixel's samples together, as a file holds them
+        order = segment_argsort(p_z, np.bincount(p_pix, minlength=npix))
+    if order is not None:
+        p_pix, p_z, p_a, p_c = p_pix[order], p_z[order], p_a[order], p_c[order]
     start = np.ones(p_pix.size, bool)
     start[1:] = (p_pix[1:] != p_pix[:-1]) | (p_z[1:] != p_z[:-1])
-    ids = np.cumsum(start) - 1
-    g_a, g_c = _merge_groups(ids, int(start.sum()), p_a, p_c)
-    l_pix, l_z, l_a, l_c, l_order = p_pix[start], p_z[start], g_a, g_c, np.zeros(g_a.size, np.int8)
+    if start.all():  # no two samples of a pixel at one depth
+        l_pix, l_z, l_a, l_c = p_pix, p_z, p_a, p_c
+    else:
+        l_a, l_c = _merge_groups(np.cumsum(start) - 1, int(start.sum()), p_a, p_c)
+        l_pix, l_z = p_pix[start], p_z[start]
+    l_order = np.zeros(l_a.size, np.int8)
     if vol.any():
         has_vol = np.zeros(npix, bool)
         has_vol[pixel[vol]] = True
