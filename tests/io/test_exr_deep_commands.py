@@ -94,3 +94,20 @@ def test_warp_and_convert_take_a_deep_file(trunks, tmp_path):
     assert 0 < warped[..., 3].max() <= 1 and np.isfinite(warped).all()
     # the same warp of inputs one half rounding apart (values <= 0.4), each output rounded to half once: 2**-11
     np.testing.assert_allclose(warped, lio.read(tmp_path / "wc.exr")[0], rtol=0, atol=2.0 ** -11)
+
+
+def test_a_deep_file_lenslab_cannot_count_is_refused_in_one_line(tmp_path):
+    """ZSTD-compressed deep samples (OpenEXR 3.4 writes them): their count tables cannot be read before
+    OpenEXR allocates the samples, so the file is refused, naming the compression (as OpenEXR names it)."""
+    chans = {n: np.empty((2, 3), dtype=object) for n in ("A", "R", "G", "B", "Z")}
+    for n in chans:
+        chans[n][0, 1] = np.array([0.5], np.float32 if n == "Z" else np.float16)
+    path = tmp_path / "zstd.exr"
+    OpenEXR.File({"compression": OpenEXR.ZSTD_COMPRESSION, "type": OpenEXR.deepscanline, "name": "beauty"},
+                 chans).write(str(path))
+    assert OpenEXR.File(str(path)).parts[0].header["compression"] == OpenEXR.ZSTD_COMPRESSION
+    done = lenslab("info", path)
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines() == [
+        f"lenslab info: error: {path}: part 0 ('beauty') is a deep image compressed as zstd; lenslab counts deep "
+        "samples compressed as none, rle, zips, zip only, before reading them: rewrite it with one of those"]

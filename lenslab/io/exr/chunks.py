@@ -112,6 +112,8 @@ def _headers(f, size) -> tuple[list[dict], int]:
                 part["compression"] = value[0]
             elif (name, kind) == (b"tiles", b"tiledesc") and n == 9:
                 part["tiles"] = struct.unpack("<IIB", value)
+            elif (name, kind) == (b"name", b"string"):
+                part["name"] = value[:256].decode("utf-8", "replace")
             elif (name, kind) == (b"chunkCount", b"int") and n == 4:
                 part["chunkCount"] = struct.unpack("<i", value)[0]
             elif name == b"type" and kind == b"string":

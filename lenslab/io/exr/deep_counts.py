@@ -26,7 +26,7 @@ from lenslab.errors import FormatError
 #: compressions whose offset tables lenslab decodes (codes of the ``compression`` attribute): the ones the
 #: OpenEXR file layout allows for deep data, with their scanlines per chunk
 DEEP_LINES = {0: 1, 1: 1, 2: 1, 3: 16}
-_NAMES = {0: "none", 1: "rle", 2: "zips", 3: "zip"}
+_NAMES = {0: "none", 1: "rle", 2: "zips", 3: "zip"}  # (the names lenslab's EXR writer takes)
 #: bytes the bindings hold per pixel and per array they make for a pixel with samples (a NumPy array
 #: object), and per sample the flattening's working arrays hold per channel (float64, a few at once)
 POINTER_BYTES, ARRAY_BYTES, WORK_BYTES = 8, 112, 48
@@ -83,6 +83,15 @@ def _table(path, packed: bytes, size: int, compression: int) -> np.ndarray:
     return np.frombuffer(raw, "<i4")
 
 
+def _compression(code: int) -> str:
+    try:
+        import OpenEXR
+
+        return OpenEXR.Compression(code).name.replace("_COMPRESSION", "").lower()
+    except (ImportError, ValueError, AttributeError):
+        return f"code {code}"
+
+
 def deep_counts(path, layout) -> dict[int, DeepCounts]:
     """Every deep part's :class:`DeepCounts` (by part index) from its chunks' offset tables; a deep part
     lenslab cannot count (tiled, or a compression outside ``DEEP_LINES``), a chunk outside the file or a
@@ -112,15 +121,15 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
         for i, part in enumerate(parts):
             if not part.get("deep"):
                 continue
-            name = part.get("name") or f"#{i}"
+            name = f"part {i}" + (f" ({part['name']!r})" if part.get("name") else "")
             comp = part.get("compression", -1)
             if part.get("tiled"):
-                raise FormatError(f"{path}: part {i} ({name!r}) is a deep tiled image; lenslab reads deep scanline "
-                                  "images only: convert it to deep scanlines or flatten it first")
+                raise FormatError(f"{path}: {name} is a deep tiled image; lenslab reads deep scanline images only: "
+                                  "convert it to deep scanlines or flatten it first")
             if comp not in DEEP_LINES:
-                raise FormatError(f"{path}: part {i} ({name!r}) is a deep image compressed with code {comp}; lenslab "
-                                  f"counts deep samples compressed as {', '.join(_NAMES.values())} only, before reading "
-                                  "them: rewrite it with one of those")
+                raise FormatError(f"{path}: {name} is a deep image compressed as {_compression(comp)}; lenslab counts "
+                                  f"deep samples compressed as {', '.join(_NAMES.values())} only, before reading them: "
+                                  "rewrite it with one of those")
             x0, y0, x1, y1 = part["dataWindow"]
             w, lines = x1 - x0 + 1, DEEP_LINES[comp]
             per_sample = sum(TYPE_BYTES.get(t, 4) for t in part.get("channel_types", {}).values())
