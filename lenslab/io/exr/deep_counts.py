@@ -87,9 +87,10 @@ def _compression(code: int) -> str:
     try:
         import OpenEXR
 
-        return OpenEXR.Compression(code).name.replace("_COMPRESSION", "").lower()
-    except (ImportError, ValueError, AttributeError):
-        return f"code {code}"
+        name = OpenEXR.Compression(code).name
+    except (ImportError, ValueError, AttributeError, TypeError):  # (a code the bindings do not know)
+        name = ""
+    return name.replace("_COMPRESSION", "").lower() if name.endswith("_COMPRESSION") else f"code {code}"
 
 
 def deep_counts(path, layout) -> dict[int, DeepCounts]:
