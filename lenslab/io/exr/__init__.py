@@ -173,7 +173,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         if converted:
             raise FormatError(f"{path}: part {index} is a deep luminance-chroma image; lenslab flattens deep RGB, "
                               "grey and data channels only")
-        image, pixel_types, planes, deep_info = read_deep(path, index, header, names, short, order, window, THREADS,
+        image, pixel_types, planes, deep_info = read_deep(path, index, names, short, order, window, THREADS,
                                                           wanted, layout.parts[index].get("channel_types", {}))
         if not data_window and window != display:
             image = placed(image, window, display)

@@ -75,7 +75,7 @@ def _gather(path, chans: dict, wanted: set[str], w: int, h: int) -> tuple[np.nda
     return counts, samples
 
 
-def read_deep(path, index: int, header: dict, names: list[str], short: dict[str, str], order: list[str | None],
+def read_deep(path, index: int, names: list[str], short: dict[str, str], order: list[str | None],
               window: tuple[int, int, int, int], threads: int, extra: list[str], types: dict[str, str]):
     """Part ``index`` flattened, in its data window: float32 ``H x W x C`` with channel ``order[i]`` (short
     names of ``short``; None: 0) in channel ``i``; the extra planes asked for (``extra``, full names: ``Z``
@@ -90,7 +90,6 @@ def read_deep(path, index: int, header: dict, names: list[str], short: dict[str,
     if "Z" not in names:
         raise FormatError(f"{path}: part {index} is a deep image without a Z channel; its samples have no depth to "
                           "be sorted by (OpenEXR requires Z in a deep image)")
-    short_names = set(short)
     image_names = [short[c] for c in order if c is not None]
     colour = [n for n in image_names + [e for e in extra if e not in DEPTH] if not _is_alpha(n)]
     alphas = {}

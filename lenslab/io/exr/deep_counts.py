@@ -213,7 +213,8 @@ def _refuse(path, need: int, said: str, size: int) -> None:
     what = f"{path}: {said} in a file of {budget._mb(size)}"
     if need > budget.BASE_BYTES and size < budget.SMALL_FILE:
         raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget._mb(budget.BASE_BYTES)}; "
-                                 f"refused as a decompression bomb (a genuine deep image: set LENSLAB_BASE_BYTES={need})")
+                                 "refused as a decompression bomb (a genuine deep image: set "
+                                 f"LENSLAB_BASE_BYTES={need})")
     if need > budget.BASE_BYTES and need > budget.MAX_RATIO * size:
         raise budget.BudgetError(f"{what}, more than {budget.MAX_RATIO} times its size; refused as a decompression "
                                  "bomb (LENSLAB_MAX_RATIO raises the limit for a genuine deep image)")
