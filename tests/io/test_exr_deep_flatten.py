@@ -10,9 +10,10 @@ alpha outside [0, 1] is clamped (and counted in ``meta["deep"]``).
 
 Volume samples (``ZBack > Z``) are checked against the document's definition of merging overlapping volumes:
 splitting every sample into many thin slices (alpha ``1 - (1 - a)**r``, colour ``c * alpha' / a``),
-interleaving them and compositing with "over". With M slices per interval the slices' order inside one
-slice is the only error: at most ``U**2 / M`` for the interval's total optical depth U (here < 4): 1e-3 at
-M = 20000.
+interleaving them and compositing with "over". With M slices per interval the order of two samples' pieces
+inside one slice is the only error: their alphas' product, about ``u_i u_j / M**2`` a slice for optical
+depths ``u = -log(1 - a)``, so ``u_i u_j / M`` over the interval: below 1e-4 here (u < 1.4, M = 20000; the
+differences measured are at most 4.6e-6 and halve when M doubles).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 import lenslab.io as lio
 from lenslab.io.exr.flatten import flatten
@@ -32,21 +33,23 @@ F32 = 2.0 ** -23  # one float32 rounding of the float64 result
 
 
 def merge_group(alphas, colours):
-    """The document's merge of samples at one depth (alpha, colour list), pairwise left to right; where
-    opaque samples are among them: alpha 1 and the mean of their colours."""
+    """The document's merge of samples at one depth (alpha, colour list), pairwise left to right, as its
+    example code computes it (``a1 + a2 - a1 a2``, ``log1p``: exact for tiny alphas). A merged sample
+    carries its optical depth ``u = -log(1 - alpha)``, ``u1 + u2`` by the document's definition, rather than
+    taking it back from an alpha rounded to 1. Where opaque samples are among them: alpha 1 and the mean of
+    their colours."""
     opaque = [i for i, a in enumerate(alphas) if a == 1]
     if opaque:
         return 1.0, [sum(colours[i][k] for i in opaque) / len(opaque) for k in range(len(colours[0]))]
-    a1, c1 = alphas[0], list(colours[0])
+    a1, c1, u1 = alphas[0], list(colours[0]), -math.log1p(-alphas[0])
     for a2, c2 in zip(alphas[1:], colours[1:]):
-        am = 1 - (1 - a1) * (1 - a2)
-        u1 = -math.log1p(-a1) if a1 > 0 else 0.0
-        u2 = -math.log1p(-a2) if a2 > 0 else 0.0
+        u2 = -math.log1p(-a2)
+        am = a1 + a2 - a1 * a2
         v1 = u1 / a1 if a1 > 0 else 1.0
         v2 = u2 / a2 if a2 > 0 else 1.0
         w = am / (u1 + u2) if u1 + u2 != 0 else 1.0
         c1 = [w * (x * v1 + y * v2) for x, y in zip(c1, c2)]
-        a1 = am
+        a1, u1 = am, u1 + u2
     return a1, c1
 
 
@@ -170,6 +173,7 @@ point = st.tuples(st.sampled_from([0.5, 1.0, 2.0]) | st.floats(0, 100), st.sampl
 
 
 @given(st.lists(st.lists(point, max_size=7), min_size=1, max_size=5))
+@example([[(0.5, 0.0, 0.0, 0.0), (0.5, 2.2250738585e-313, 0.0, 0.0), (0.5, 0.0, 0.0, 1.0)]])  # a tiny alpha
 def test_flatten_is_the_document_s_for_any_order_and_ties(pixel_samples):
     pix = np.array([p for p, s in enumerate(pixel_samples) for _ in s], np.int64)
     rows = [v for s in pixel_samples for v in s]
@@ -226,7 +230,7 @@ def test_volume_samples_are_the_limit_of_thin_interleaved_slices(tmp_path):
     for (y, x), samples in VOLUMES.items():
         s = [(z, zb, float(np.float16(a)), float(np.float16(c))) for z, zb, a, c in samples]
         a, c = sliced(s, 20000)
-        np.testing.assert_allclose(image[y, x], [c, c, c, a], atol=1e-3, err_msg=f"pixel {(y, x)}: {samples}")
+        np.testing.assert_allclose(image[y, x], [c, c, c, a], atol=1e-4, err_msg=f"pixel {(y, x)}: {samples}")
     h = lambda *v: [float(np.float16(x)) for x in v]  # noqa: E731 (the values as the file stores them)
     np.testing.assert_allclose(image[0, 0], np.float32(h(0.3, 0.3, 0.3, 0.6)), rtol=4 * F32)  # alone: as stored
     a, c = merge_group(h(0.6, 0.3), [h(0.3), h(0.2)])  # coinciding volumes: the merge formula

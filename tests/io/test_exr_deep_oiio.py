@@ -30,8 +30,9 @@ CASES = [("LowResLeftView", 0), ("Stereo", 0), ("Stereo", 1)]
 
 
 def merged(a1, c1, a2, c2):
-    """The document's merge of two coinciding samples (alpha, colour), float64."""
-    am = 1 - (1 - a1) * (1 - a2)
+    """The document's merge of two coinciding samples (alpha, colour), float64, as its example code
+    computes it."""
+    am = a1 + a2 - a1 * a2
     if a1 == 1 and a2 == 1:
         return am, (c1 + c2) / 2
     if a1 == 1:

@@ -108,12 +108,13 @@ def _merge_groups(ids: np.ndarray, ngroups: int, a: np.ndarray, c: np.ndarray) -
     k = c.shape[1]
     osum = np.stack([np.bincount(gi, np.where(opaque, cm[:, j], 0), minlength=ngroups) for j in range(k)], 1)
     vsum = np.stack([np.bincount(gi, np.where(opaque, 0, cm[:, j] * v), minlength=ngroups) for j in range(k)], 1)
-    trans = np.ones(ngroups)
-    np.multiply.at(trans, gi, 1 - am)
-    ga = 1 - trans
+    unknown = np.bincount(gi, np.isnan(am), minlength=ngroups) > 0
+    # 1 - prod(1 - a) as -expm1(-sum u): not 1 - (1 - a) rounded to 0 for tiny alphas (the document's
+    # example code avoids that rounding for two samples with a1 + a2 - a1 a2)
+    ga = np.where(unknown, np.nan, np.where(nop > 0, 1.0, -np.expm1(-usum)))
     w = np.where(usum > 0, ga / np.where(usum > 0, usum, 1), 1.0)
     gc = np.where((nop > 0)[:, None], osum / np.maximum(nop, 1)[:, None], vsum * w[:, None])
-    gc = np.where(np.isnan(ga)[:, None], np.nan, gc)
+    gc = np.where(unknown[:, None], np.nan, gc)
     alpha[many], colour[many] = ga[many], gc[many]
     return alpha, colour
 
@@ -174,7 +175,17 @@ def flatten(pixel: np.ndarray, z: np.ndarray, zback: np.ndarray | None, alpha: n
     ``pixel`` (N,) int: each sample's pixel in ``range(npix)``; ``z``, ``zback`` (N,) depths (``zback`` None:
     every sample is a point); ``alpha`` (N,); ``values`` (N, K): the channels associated with that alpha.
     Returns float64 ``alpha`` (npix,), ``values`` (npix, K), ``front`` (npix,): the front depth of the
-    nearest layer with alpha > 0 (+inf where none), and counts ``{"dropped_nan_z", "alpha_clamped"}``."""
+    nearest layer with alpha > 0 (+inf where none), and counts ``{"dropped_nan_z", "alpha_clamped"}``.
+
+    >>> a, c, front, _ = flatten([0, 0], [2.0, 1.0], None, [0.5, 0.5], [[1.0], [2.0]], 2)
+    >>> a.tolist(), c[:, 0].tolist(), front.tolist()  # 2 over 1: 2 + (1 - 0.5) * 1; the empty pixel 0
+    ([0.75, 0.0], [2.5, 0.0], [1.0, inf])
+    """
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # NaN and inf are handled as said
+        return _flatten(pixel, z, zback, alpha, values, npix)
+
+
+def _flatten(pixel, z, zback, alpha, values, npix):
     pixel = np.asarray(pixel, np.int64)
     z = np.asarray(z, np.float64)
     zb = z if zback is None else np.asarray(zback, np.float64)
