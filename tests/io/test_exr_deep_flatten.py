@@ -13,12 +13,15 @@ splitting every sample into many thin slices (alpha ``1 - (1 - a)**r``, colour `
 interleaving them and compositing with "over". With M slices per interval the order of two samples' pieces
 inside one slice is the only error: their alphas' product, about ``u_i u_j / M**2`` a slice for optical
 depths ``u = -log(1 - a)``, so ``u_i u_j / M`` over the interval: below 1e-4 here (u < 1.4, M = 20000; the
-differences measured are at most 4.6e-6 and halve when M doubles).
+differences measured are at most 4.6e-6 and halve when M doubles). And any mix of point and volume samples
+(hypothesis) against the document's procedure written out one piece at a time: split (its example code),
+merge, sort, composite, to float64 rounding.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -237,3 +240,58 @@ def test_volume_samples_are_the_limit_of_thin_interleaved_slices(tmp_path):
     np.testing.assert_allclose(image[0, 3], np.float32([c[0], c[0], c[0], a]), rtol=4 * F32)
     # a volume of alpha 0.75 split in half by an opaque point: 0.5 of its light, then the point's
     np.testing.assert_allclose(image[0, 2], np.float32([4.0, 4.0, 4.0, 1.0]), rtol=4 * F32)
+
+
+def tidy_reference(samples):
+    """One pixel's samples [(z, zback, a, c)] flattened by the document's procedure, written out: each volume
+    sample split at every depth where another sample starts or ends inside it (the document's split, as
+    its example code computes it: alpha ``-expm1(x log1p(-a))`` = ``1 - (1 - a)**x``, colour
+    ``c * alpha' / a``; ``a x`` and ``c x`` for alphas below the smallest normal number), pieces with the
+    same front and back merged, sorted by front then back, composited front to back with over."""
+    bounds = sorted({v for z, zb, _, _ in samples for v in (z, zb) if not math.isnan(v)})
+    pieces = {}
+    for z, zb, a, c in samples:
+        if math.isnan(z):
+            continue
+        a = min(max(a, 0.0), 1.0)
+        if not (zb > z and math.isfinite(z) and math.isfinite(zb)):
+            pieces.setdefault((z, z), []).append((a, c))
+            continue
+        cuts = [z] + [b for b in bounds if z < b < zb] + [zb]
+        for lo, hi in zip(cuts[:-1], cuts[1:]):
+            x = (hi - lo) / (zb - z)
+            if a == 1:
+                ap, cp = 1.0, c
+            elif a > sys.float_info.min:
+                ap = -math.expm1(x * math.log1p(-a))
+                cp = ap / a * c
+            else:
+                ap, cp = a * x, c * x
+            pieces.setdefault((lo, hi), []).append((ap, cp))
+    t, out_a, out_c = 1.0, 0.0, 0.0
+    for key in sorted(pieces):
+        alphas, colours = [p[0] for p in pieces[key]], [[p[1]] for p in pieces[key]]
+        a, c = (alphas[0], colours[0]) if len(alphas) == 1 else merge_group(alphas, colours)
+        if t == 0:
+            break
+        out_c += t * c[0]
+        t *= 1 - a
+    return 1 - t, out_c
+
+
+depth = st.sampled_from([0.0, 0.5, 1.0, 2.0, 3.5])
+sample = st.tuples(depth, st.sampled_from([0.0, 0.0, 0.25, 1.0, 1.5]), st.sampled_from([0.0, 1.0, 1e-300]) |
+                   st.floats(0, 1), st.floats(0, 2))
+
+
+@given(st.lists(st.lists(sample, min_size=1, max_size=6), min_size=1, max_size=4))
+def test_points_and_volumes_flatten_as_the_document_s_procedure_written_out(pixel_samples):
+    """Any mix of point and volume samples, overlapping in part, in full or not at all, opaque or not:
+    the sweep over each pixel's depths gives what splitting, merging and compositing one piece at a time
+    gives, to float64 rounding."""
+    rows = [(p, z, z + length, a, c) for p, s in enumerate(pixel_samples) for z, length, a, c in s]
+    arr = np.array(rows, np.float64)
+    a, c, _, _ = flatten(arr[:, 0].astype(np.int64), arr[:, 1], arr[:, 2], arr[:, 3], arr[:, 4:], len(pixel_samples))
+    for p, s in enumerate(pixel_samples):
+        ra, rc = tidy_reference([(z, z + length, al, co) for z, length, al, co in s])
+        np.testing.assert_allclose([c[p, 0], a[p]], [rc, ra], rtol=1e-9, atol=1e-12)
