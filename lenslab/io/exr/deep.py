@@ -108,8 +108,8 @@ def read_deep(path, index: int, names: list[str], short: dict[str, str], order: 
         if _is_alpha(n) and n not in groups:
             groups[n] = []
     wanted = set(groups) | {c for cs in groups.values() for c in cs} | {"Z"} | ({"ZBack"} & set(names))
-    chans = part_channels(path, index, threads, separate=False)
-    counts, samples = _gather(path, chans, wanted, w, h)
+    counts, samples = _gather(path, part_channels(path, index, threads, separate=False), wanted, w, h)
+    # (OpenEXR's arrays for every pixel are gone here, before the flattening's own arrays are made)
     pixel = np.repeat(np.arange(w * h, dtype=np.int64), counts)
     z = samples["Z"]
     zback = samples.get("ZBack")

@@ -28,7 +28,10 @@ from lenslab.errors import FormatError
 DEEP_LINES = {0: 1, 1: 1, 2: 1, 3: 16}
 _NAMES = {0: "none", 1: "rle", 2: "zips", 3: "zip"}  # (the names lenslab's EXR writer takes)
 #: bytes the bindings hold per pixel and per array they make for a pixel with samples (a NumPy array
-#: object), and per sample the flattening's working arrays hold per channel (float64, a few at once)
+#: object), and per sample the flattening's working arrays hold per channel (float64, a few at once).
+#: Measured against ``lenslab info``'s peak resident memory beyond its start (about 80 MB): 2.1 million
+#: samples in 466 195 of 1024 x 512 pixels, RGBA half + Z, estimated 810 MB, peak 700 MB; OpenEXR's stereo
+#: Trunks.exr (both parts decoded) 402 MB, peak 240 MB
 POINTER_BYTES, ARRAY_BYTES, WORK_BYTES = 8, 112, 48
 #: bytes a stored sample takes, by pixel type
 TYPE_BYTES = {"HALF": 2, "FLOAT": 4, "UINT": 4}
