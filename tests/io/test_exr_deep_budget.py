@@ -20,7 +20,7 @@ OpenEXR = pytest.importorskip("OpenEXR")
 N = 64
 
 
-def deep_file(path, counts, compression="NO_COMPRESSION", seed=0):
+def deep_file(path, counts, compression="NO_COMPRESSION", seed=0, tiles=None):
     rng = np.random.default_rng(seed)
     h, w = counts.shape
     chans = {n: np.empty((h, w), dtype=object) for n in ("R", "G", "B", "A", "Z")}
@@ -30,15 +30,20 @@ def deep_file(path, counts, compression="NO_COMPRESSION", seed=0):
             for c in "RGBA":
                 chans[c][y, x] = rng.uniform(0, 1, n).astype(np.float16)
     header = {"compression": getattr(OpenEXR, compression), "type": OpenEXR.deepscanline}
+    if tiles is not None:
+        header["type"] = OpenEXR.deeptile
+        header["tiles"] = OpenEXR.TileDescription()
+        header["tiles"].xSize, header["tiles"].ySize = tiles
     OpenEXR.File(header, chans).write(str(path))
     return path
 
 
 @pytest.mark.parametrize("compression", ["NO_COMPRESSION", "RLE_COMPRESSION", "ZIPS_COMPRESSION"])
-def test_the_counts_are_openexr_s(tmp_path, compression):
+@pytest.mark.parametrize("tiles", [None, (8, 5)], ids=["scanlines", "tiles"])
+def test_the_counts_are_openexr_s(tmp_path, compression, tiles):
     counts = np.random.default_rng(3).integers(0, 5, (13, 21))
     counts[2] = 0  # a line without samples
-    path = deep_file(tmp_path / "d.exr", counts, compression)
+    path = deep_file(tmp_path / "d.exr", counts, compression, tiles=tiles)
     got = deep_counts(path, parse_header(path))[0]
     pixels = OpenEXR.File(str(path), separate_channels=True).parts[0].channels["Z"].pixels
     lens = np.array([[0 if p is None else len(p) for p in row] for row in pixels])

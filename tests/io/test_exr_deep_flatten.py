@@ -80,8 +80,9 @@ def reference(zs, alphas, colours):
     return 1 - t, out, front
 
 
-def deep_file(path, pixels, zback=None):
-    """A deep scanline file (RGBA half, Z float, ZBack float if given) from {(y, x): [(z, a, r, g, b), ...]}."""
+def deep_file(path, pixels, zback=None, tiles=None):
+    """A deep scanline file (RGBA half, Z float, ZBack float if given) from {(y, x): [(z, a, r, g, b), ...]};
+    ``tiles`` (x size, y size): a deep tiled file."""
     chans = {n: np.empty((H, W), dtype=object) for n in ("R", "G", "B", "A", "Z")}
     if zback is not None:
         chans["ZBack"] = np.empty((H, W), dtype=object)
@@ -95,6 +96,10 @@ def deep_file(path, pixels, zback=None):
         if zback is not None:
             chans["ZBack"][y, x] = np.array(zback[(y, x)], np.float32)
     header = {"compression": OpenEXR.ZIPS_COMPRESSION, "type": OpenEXR.deepscanline}
+    if tiles is not None:
+        header["type"] = OpenEXR.deeptile
+        header["tiles"] = OpenEXR.TileDescription()
+        header["tiles"].xSize, header["tiles"].ySize = tiles
     OpenEXR.File(header, chans).write(str(path))
     return path
 
@@ -151,6 +156,14 @@ def test_every_pixel_is_the_document_s_flatten(synthetic):
         np.testing.assert_allclose(image[y, x], np.array([*c, a], np.float32), rtol=4 * F32, atol=1e-30,
                                    equal_nan=True, err_msg=f"pixel {(y, x)}: {samples}")
         assert z_plane[y, x] == np.float32(front) or (math.isinf(front) and np.isposinf(z_plane[y, x]))
+
+
+def test_a_deep_tiled_file_reads_as_the_scanline_one(synthetic, tmp_path):
+    pixels, image, meta = synthetic
+    tiled, tmeta = lio.read(deep_file(tmp_path / "tiled.exr", pixels, tiles=(4, 3)), extra_channels=True)
+    assert tmeta["storage"] == "deeptile" and tmeta["deep"] == meta["deep"]
+    np.testing.assert_array_equal(tiled, image)
+    np.testing.assert_array_equal(tmeta["extra_planes"]["Z"], meta["extra_planes"]["Z"])
 
 
 def test_the_decided_values_at_the_edges(synthetic):

@@ -1,4 +1,4 @@
-"""Byte mutations of small deep EXR files (one part uncompressed, RLE or ZIP; two deep parts): the header,
+"""Byte mutations of small deep EXR files (one part uncompressed, RLE or ZIP; two deep parts; deep tiles): the header,
 the offset tables, the chunk leaders and the sample count tables. Each mutated file, read in a subprocess
 under an address-space limit, gives an image or a one-line lenslab error: never another exception, a crash,
 a hang or an allocation the budget did not admit."""
@@ -41,6 +41,12 @@ def seeds(folder) -> list[bytes]:
              for k, v in enumerate(("left", "right"))]
     path = folder / "seed-stereo.exr"
     OpenEXR.File(parts).write(str(path))
+    out.append(path.read_bytes())
+    tiles = OpenEXR.TileDescription()
+    tiles.xSize, tiles.ySize = 4, 3
+    path = folder / "seed-tiles.exr"
+    OpenEXR.File({"compression": OpenEXR.NO_COMPRESSION, "type": OpenEXR.deeptile, "tiles": tiles},
+                 channels(7, 9, 5)).write(str(path))
     return out + [path.read_bytes()]
 
 

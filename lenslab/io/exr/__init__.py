@@ -21,7 +21,7 @@ Reading
   (``rec709=False`` keeps the file's primaries).
 - The data window is placed in the display window (outside it: 0, alpha 0) unless
   ``data_window=True`` keeps the stored pixels as they are.
-- Tiled and mip-mapped files read at their full-resolution level. A deep (scanline) part is flattened as a
+- Tiled and mip-mapped files read at their full-resolution level. A deep part (scanlines or tiles) is flattened as a
   compositor flattens it (:mod:`lenslab.io.exr.deep`): one premultiplied RGBA pixel per pixel, ``Z`` the
   nearest sample's depth; ``meta["deep"]`` counts its samples.
 - The first part's full-resolution channels are read a band of whole chunks at a time into the float32

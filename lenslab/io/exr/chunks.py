@@ -119,6 +119,7 @@ def _headers(f, size) -> tuple[list[dict], int]:
             elif name == b"type" and kind == b"string":
                 part["tiled"] = value.startswith(b"tiled")
                 part["deep"] = value.startswith(b"deep")
+                part["deep_tiled"] = value.startswith(b"deeptile")
         if first and multi:
             break  # the empty header that ends a multi-part file's headers
         parts.append(part)

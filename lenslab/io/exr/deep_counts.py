@@ -3,7 +3,8 @@
 A deep scanline chunk is ``[part number]`` (multi-part files), the chunk's first line ``y``, the packed size
 of its pixel offset table, the packed and unpacked sizes of its sample data (int32, then three uint64), the
 pixel offset table (for each line, one int32 per pixel: the samples of that pixel and all to its left), then
-the sample data (OpenEXR, "The OpenEXR File Layout": deep scan line layout). The tables are compressed as
+the sample data (OpenEXR, "The OpenEXR File Layout": deep scan line layout). A deep tile's chunk has the
+tile's x, y and levels (four int32) in place of ``y``, and a table of the tile's lines. The tables are compressed as
 the part says: none, RLE or ZIP (a zlib stream of the bytes split into even and odd halves, each byte stored
 as its difference to the one before plus 128); a table as long packed as unpacked is stored raw.
 
@@ -22,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lenslab.errors import FormatError
+from lenslab.inputs.limits import check_size
 
 #: compressions whose offset tables lenslab decodes (codes of the ``compression`` attribute): the ones the
 #: OpenEXR file layout allows for deep data, with their scanlines per chunk
@@ -61,9 +63,10 @@ def _unpack_rle(data: bytes, size: int) -> bytes:
 
 
 def _table(path, packed: bytes, size: int, compression: int) -> np.ndarray:
-    """The unpacked offset table (``size`` bytes) as little-endian int32."""
+    """The unpacked offset table (``size`` bytes) as little-endian int32. (An uncompressed deep tile at the
+    image's edge may hold a whole tile's table, as OpenEXR writes it: its first ``size`` bytes count.)"""
     if compression == 0 or len(packed) == size:
-        raw = packed
+        raw = packed[:size]
     else:
         if compression == 1:
             raw = _unpack_rle(packed, size)
@@ -96,6 +99,25 @@ def _compression(code: int) -> str:
     return name.replace("_COMPRESSION", "").lower() if name.endswith("_COMPRESSION") else f"code {code}"
 
 
+def _chunk_boxes(path, name: str, part: dict) -> tuple[list[tuple], str]:
+    """Each chunk slot's expected key (its first line, or its tile's x, y and level 0, 0) and the width and
+    height of its table, in the offset table's order (by y, then x), and the leader's layout after the part
+    number."""
+    x0, y0, x1, y1 = part["dataWindow"]
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    if not part.get("deep_tiled"):
+        lines = DEEP_LINES[part.get("compression", 0)]
+        return [((y0 + y,), w, min(lines, h - y)) for y in range(0, h, lines)], "<iQQQ"
+    tx, ty, mode = part.get("tiles") or (0, 0, 0)
+    if tx <= 0 or ty <= 0 or mode & 0x0F:
+        raise FormatError(f"{path}: {name} is a deep tiled image " + (
+            "with mip-map levels; lenslab reads deep tiles of one level only" if tx > 0 and ty > 0 else
+            "whose tile size is not positive; the file is damaged"))
+    check_size(path, -(-w // tx), -(-h // ty))
+    return [((i, j, 0, 0), min(tx, w - i * tx), min(ty, h - j * ty)) for j in range(-(-h // ty))
+            for i in range(-(-w // tx))], "<iiiiQQQ"
+
+
 def deep_counts(path, layout) -> dict[int, DeepCounts]:
     """Every deep part's :class:`DeepCounts` (by part index) from its chunks' offset tables; a deep part
     lenslab cannot count (tiled, or a compression outside ``DEEP_LINES``), a chunk outside the file or a
@@ -112,10 +134,16 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
             comp = part.get("compression", 0)
             lines = DEEP_LINES.get(comp, 1)
             chunks = part.get("chunkCount") if multi else None
-            expected = -(-(y1 - y0 + 1) // lines)
+            if part.get("deep") and part.get("compression", -1) in DEEP_LINES:
+                name = f"part {i}" + (f" ({part['name']!r})" if part.get("name") else "")
+                expected = len(_chunk_boxes(path, name, part)[0])
+            elif part.get("tiled") and "tiles" in part:  # (a flat tiled part's table, of one level at least)
+                expected = -(-(x1 - x0 + 1) // max(part["tiles"][0], 1)) * -(-(y1 - y0 + 1) // max(part["tiles"][1], 1))
+            else:
+                expected = -(-(y1 - y0 + 1) // lines)
             chunks = expected if chunks is None or not part.get("deep") else max(chunks, 0)
-            if part.get("deep") and not part.get("tiled") and chunks != expected:
-                raise FormatError(f"{path}: part {i} declares {chunks} chunks where its {y1 - y0 + 1} lines need "
+            if part.get("deep") and chunks != expected:
+                raise FormatError(f"{path}: part {i} declares {chunks} chunks where its data window needs "
                                   f"{expected}; the file is damaged")
             tables.append((table_at, chunks))
             table_at += 8 * max(chunks, 0)
@@ -127,22 +155,20 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
                 continue
             name = f"part {i}" + (f" ({part['name']!r})" if part.get("name") else "")
             comp = part.get("compression", -1)
-            if part.get("tiled"):
-                raise FormatError(f"{path}: {name} is a deep tiled image; lenslab reads deep scanline images only: "
-                                  "convert it to deep scanlines or flatten it first")
             if comp not in DEEP_LINES:
                 raise FormatError(f"{path}: {name} is a deep image compressed as {_compression(comp)}; lenslab counts "
                                   f"deep samples compressed as {', '.join(_NAMES.values())} only, before reading them: "
                                   "rewrite it with one of those")
-            x0, y0, x1, y1 = part["dataWindow"]
-            w, lines = x1 - x0 + 1, DEEP_LINES[comp]
+            boxes, layout_of = _chunk_boxes(path, name, part)
             per_sample = sum(TYPE_BYTES.get(t, 4) for t in part.get("channel_types", {}).values())
             at, chunks = tables[i]
             f.seek(at)
             offsets = np.frombuffer(f.read(8 * chunks), "<u8")
             total = peak = pixels = 0
-            for k, off in enumerate(offsets.tolist()):
-                leader = (4 if multi else 0) + 28
+            keys = len(layout_of) - 4  # the chunk's line, or its tile's x, y and levels
+            for (key, w, n), off in zip(boxes, offsets.tolist()):
+                where = f"line {key[0]}" if keys == 1 else f"tile {key[0]}, {key[1]}"
+                leader = (4 if multi else 0) + struct.calcsize(layout_of)
                 if off + leader > size:
                     raise FormatError(f"{path}: a chunk of part {i} starts at byte {off}, past the end of the file "
                                       f"({size} bytes); the file is truncated or damaged")
@@ -151,19 +177,18 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
                 if multi and struct.unpack_from("<i", head)[0] != i:
                     raise FormatError(f"{path}: a chunk of part {i} is marked as part "
                                       f"{struct.unpack_from('<i', head)[0]}; the file is damaged")
-                y, packed_table, packed_data, unpacked = struct.unpack_from("<iQQQ", head, leader - 28)
-                n = min(lines, y1 - y + 1)
-                if y != y0 + k * lines or off + leader + packed_table + packed_data > size:  # (the table is by y)
-                    raise FormatError(f"{path}: a deep chunk of part {i} (line {y}) lies outside the data window or "
-                                      f"runs past the end of the file ({size} bytes); the file is damaged")
+                *found, packed_table, packed_data, unpacked = struct.unpack_from(layout_of, head, 4 if multi else 0)
+                if tuple(found) != key or off + leader + packed_table + packed_data > size:  # (tables are by y, x)
+                    raise FormatError(f"{path}: the deep chunk of part {i} for {where} is another chunk, or runs "
+                                      f"past the end of the file ({size} bytes); the file is damaged")
                 table = _table(path, f.read(packed_table), 4 * w * n, comp).reshape(n, w).astype(np.int64)
-                counts = np.diff(table, axis=1, prepend=0)
+                counts = np.diff(table, axis=1, prepend=0)  # (each row of a table counts from 0)
                 if (counts < 0).any():
-                    raise FormatError(f"{path}: a deep sample count table of part {i} (line {y}) decreases; the file "
+                    raise FormatError(f"{path}: a deep sample count table of part {i} ({where}) decreases; the file "
                                       "is damaged")
                 in_chunk = int(table[:, -1].sum())
                 if unpacked != in_chunk * per_sample:
-                    raise FormatError(f"{path}: a deep chunk of part {i} (line {y}) declares {unpacked} bytes of "
+                    raise FormatError(f"{path}: a deep chunk of part {i} ({where}) declares {unpacked} bytes of "
                                       f"samples but its table counts {in_chunk} samples of {per_sample} bytes; the "
                                       "file is damaged")
                 total += in_chunk
@@ -188,7 +213,6 @@ def check_deep(path, layout) -> dict[int, DeepCounts]:
     """Refuse (:class:`lenslab.io.budget.BudgetError`, one line) a file whose deep samples would take more
     memory than the input budget admits for its bytes (OpenEXR decodes every part of the file at once, so
     every deep part counts); else every deep part's :class:`DeepCounts`."""
-    from lenslab.inputs.limits import check_size
     from lenslab.io import budget
 
     deep = [p for p in layout.parts if p.get("deep")]

@@ -37,7 +37,8 @@ def _window(w) -> list[int]:
 
 def _probe(path) -> dict:
     """Every part: storage, compression, windows, line order, channels (pixel type, sampling), layers,
-    attributes, and a deep part's sample counts (``deep_samples``: total, most in one pixel, pixels with any). Channel types come from lenslab's own reading of the header (no pixel is decoded; OpenEXR's
+    attributes, and a deep part's sample counts (``deep_samples``: total, most in one pixel, pixels with
+    any). Channel types come from lenslab's own reading of the header (no pixel is decoded; OpenEXR's
     header-only reading does not give them)."""
     import OpenEXR
 
@@ -101,4 +102,4 @@ FORMATS = (Format(
     compressions=("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                   "htj2k32"),
     note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709; deep "
-         "scanline parts flattened (sorted by depth, composited with over)"),)
+         "parts flattened (sorted by depth, composited with over)"),)
