@@ -2,9 +2,10 @@
 offset; ``v2/Stereo/Trunks.exr``: two deep parts, rgba.left and rgba.right) read flattened, against
 OpenImageIO's ``ImageBufAlgo.flatten`` of the same part.
 
-OpenImageIO sorts each pixel's samples by Z and composites them with "over" in float32, stopping at an
-opaque sum; it does not merge samples at the same depth, which OpenEXR's "Interpreting OpenEXR Deep Pixels"
-requires before flattening (its "Merging Overlapping Samples"). So: pixels without two samples at one depth
+OpenImageIO composites each pixel's samples with "over" in float32, stopping at an opaque sum, in the order
+the file stores them (3.2.2 does not sort them; the Trunks files store every pixel front to back, which the
+fixture checks, so that order is depth order here); it does not merge samples at the same depth, which
+OpenEXR's "Interpreting OpenEXR Deep Pixels" requires before flattening (its "Merging Overlapping Samples"). So: pixels without two samples at one depth
 must equal OpenImageIO's; pixels with such samples are checked against that merge formula, transcribed here
 in float64 from the document, followed by "over".
 
@@ -87,6 +88,7 @@ def case(request, shared_data):
     for (y, x), zz in np.ndenumerate(z):
         if zz is not None and len(np.unique(zz)) < len(zz):
             tied[y, x] = True
+        assert zz is None or (np.diff(zz) >= 0).all()  # stored front to back: OpenImageIO's order is depth order
     return path, part, image, meta, ref, samples, tied
 
 
