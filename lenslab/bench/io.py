@@ -18,9 +18,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=3, help="timed runs per figure; the best counts (default 3)")
     parser.add_argument("--images", type=int, default=16, help="EXRs in the convert benchmark (default 16)")
     parser.add_argument("--dir", default=None, help="scratch directory (default: a temporary one)")
-    parser.add_argument("--only", choices=("formats", "codecs", "convert"), default=None,
+    parser.add_argument("--only", choices=("formats", "codecs", "convert", "deep"), default=None,
                         help="run only the per-format figures, the .hdr/TIFF figures against OpenCV and tifffile, "
-                             "or the convert figures")
+                             "the convert figures, or deep EXR reading against OpenEXR's decoding")
 
 
 def _test_image(w: int, h: int):
@@ -74,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
             _codecs(d, img, rep)
         if args.only in (None, "convert"):
             _convert(d, args, cw, ch, rep)
+        if args.only in (None, "deep"):
+            from lenslab.bench.deep import deep_figures
+
+            deep_figures(d, rep)
     return 0
 
 

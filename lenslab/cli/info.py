@@ -75,7 +75,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         "camera": camera.to_dict() if camera is not None else None,
     }
     for key in ("part", "part_name", "layer", "data_window", "display_window", "ignored_channels", "extra_channels",
-                "luminance_chroma", "primaries_converted_to_rec709", "view", "other_views"):
+                "luminance_chroma", "primaries_converted_to_rec709", "view", "other_views", "deep"):
         if key in meta:
             out[key] = meta[key]
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
@@ -105,6 +105,10 @@ def _structure_lines(d: dict) -> list[str]:
                                                           f" {c['sampling'][0]}x{c['sampling'][1]}-sampled")
                           for c in p["channels"])
         lines.append(f"    channels: {chans}")
+        if p.get("deep_samples"):
+            n = p["deep_samples"]
+            lines.append(f"    deep: {n['total']} samples in {n['pixels']} pixels, at most {n['max_per_pixel']} in one "
+                         "pixel")
         if p["layers"]:
             lines.append(f"    layers: {', '.join(p['layers'])}")
         for k, v in p["attributes"].items():
@@ -154,6 +158,10 @@ def _text(d: dict) -> str:
              f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"]
     if d.get("layer"):
         lines.append(f"  layer {d['layer']} of part {d['part']}")
+    if d.get("deep"):  # a deep part: what the image was made from
+        deep = d["deep"]
+        lines.append(f"  flattened from {deep['samples']} deep samples (at most {deep['max_per_pixel']} in one pixel): "
+                     "sorted by depth, composited front to back with over")
     if d.get("luminance_chroma"):
         lines.append("  luminance/chroma (Y, RY, BY) converted to RGB")
     if d.get("primaries_converted_to_rec709"):

@@ -23,8 +23,6 @@ REFUSED = {  # file -> what the refusal must say
     "oiio-testsuite-pnm/bad-4552.pgm": "truncated",
     "oiio-testsuite-pnm/bad-4553.pgm": "digits",
     "oiio-testsuite-pnm/bomb-65000.pgm": "beyond the limit",
-    "openexr-images/v2/LowResLeftView/Trunks.exr": "deep image",
-    "openexr-images/v2/Stereo/Trunks.exr": "deep image",
 }
 # where the collection is absent, one placeholder case lets the shared_data fixture do the skipping
 ALL = sorted(str(p.relative_to(HERE)) for p in HERE.rglob("*")

@@ -21,7 +21,9 @@ Reading
   (``rec709=False`` keeps the file's primaries).
 - The data window is placed in the display window (outside it: 0, alpha 0) unless
   ``data_window=True`` keeps the stored pixels as they are.
-- Tiled and mip-mapped files read at their full-resolution level. Deep files are refused.
+- Tiled and mip-mapped files read at their full-resolution level. A deep part (scanlines or tiles) is flattened as a
+  compositor flattens it (:mod:`lenslab.io.exr.deep`): one premultiplied RGBA pixel per pixel, ``Z`` the
+  nearest sample's depth; ``meta["deep"]`` counts its samples.
 - The first part's full-resolution channels are read a band of whole chunks at a time into the float32
   image (:mod:`lenslab.io.exr.bands`): no copy of the image at its stored type beside it. Other parts,
   subsampled and luminance-chroma channels take OpenEXR's whole-file read (:mod:`lenslab.io.exr.whole`).
@@ -127,9 +129,7 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     index, layer = find_part(path, parts, part_sel, layer_sel)
     hpart = parts[index]
     storage = plain_value(hpart.type())
-    if "deep" in str(storage).lower():  # refused before the note that the part is read: one line, the error
-        raise FormatError(f"{path}: part {index} ({clip(hpart.name())}) is a deep image (several samples per "
-                          "pixel); lenslab reads flat images only: flatten it first (e.g. with a compositor)")
+    deep = "deep" in str(storage).lower()  # flattened as a compositor does (lenslab.io.exr.deep)
     if not selector and len(parts) > 1:
         _first_part_note(path, parts)
     for p in parts:
@@ -160,12 +160,25 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     from lenslab.io.exr import bands
     from lenslab.io.exr.extra import extra_names, extra_planes
 
-    others = extra_names(names, used)
+    others = [n for n in extra_names(names, used) if not (deep and n == "ZBack")]  # (deep: Z is the front depth)
     other_views = [n for n in others if view is not None and view_of(n, all_views) != view]
     others = [n for n in others if n not in other_views]
     wanted = others if extra_channels else []  # the extra planes come from the image's own decoding
     image_names = [short[c] for c in order if c is not None]
-    if not converted and bands.can_read(index, image_names + wanted, sampling):
+    deep_info = None
+    if deep:
+        from lenslab.io.exr.deep import read_deep
+        from lenslab.io.exr.whole import placed
+
+        if converted:
+            raise FormatError(f"{path}: part {index} is a deep luminance-chroma image; lenslab flattens deep RGB, "
+                              "grey and data channels only")
+        image, pixel_types, planes, deep_info = read_deep(path, index, names, short, order, window, THREADS,
+                                                          wanted, layout.parts[index].get("channel_types", {}))
+        if not data_window and window != display:
+            image = placed(image, window, display)
+            planes = {n: placed(p, window, display) for n, p in planes.items()}
+    elif not converted and bands.can_read(index, image_names + wanted, sampling):
         image, pixel_types, planes = bands.read_image(path, header, short, order, window, display, data_window,
                                                       THREADS, layout.parts[0].get("channel_types", {}), wanted)
     else:
@@ -227,6 +240,8 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
         "display_window": [X0, Y0, X1, Y1],
         "origin": [x0, y0] if data_window else [X0, Y0],
         "storage": storage,
+        # a deep part: its samples (total, most in one pixel) and what flattening them counted
+        "deep": deep_info,
         # the part's header as OpenEXR read it (raw values): what an EXR writer keeps of it
         # (:func:`lenslab.io.exr.keep.kept_header`) without reading the file again
         "exr_header": PartHeader(header),

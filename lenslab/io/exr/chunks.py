@@ -5,7 +5,8 @@ C core, before the Python bindings raise an exception whose text says nothing of
 layout first gives one line instead: the header's attributes (name, type, size, value) up to the empty
 name, then the offset table (one uint64 per chunk), then each chunk's leader (its first scanline and
 packed size, two int32), all little-endian (OpenEXR, "The OpenEXR File Layout"). Only single-part
-scanline files are checked this way; tiled, multi-part and deep files are left to the library.
+scanline files are checked this way; tiled and multi-part files are left to the library, and deep files'
+chunks are read by :mod:`lenslab.io.exr.deep_counts`, which counts their samples for the budget.
 
 A read parses the header once (:func:`parse_header`): the byte budget (:func:`declare_exr`) gives its
 :class:`Layout` to the reader, which checks the chunks and reads the channels' stored types from it; a
@@ -111,9 +112,14 @@ def _headers(f, size) -> tuple[list[dict], int]:
                 part["compression"] = value[0]
             elif (name, kind) == (b"tiles", b"tiledesc") and n == 9:
                 part["tiles"] = struct.unpack("<IIB", value)
+            elif (name, kind) == (b"name", b"string"):
+                part["name"] = value[:256].decode("utf-8", "replace")
+            elif (name, kind) == (b"chunkCount", b"int") and n == 4:
+                part["chunkCount"] = struct.unpack("<i", value)[0]
             elif name == b"type" and kind == b"string":
                 part["tiled"] = value.startswith(b"tiled")
                 part["deep"] = value.startswith(b"deep")
+                part["deep_tiled"] = value.startswith(b"deeptile")
         if first and multi:
             break  # the empty header that ends a multi-part file's headers
         parts.append(part)
@@ -268,5 +274,12 @@ def declare_exr(path, data_window: bool = False, **_):
         if not part.get("deep"):
             leader = (20 if part.get("tiled") else 8) + (4 if len(parts) > 1 else 0)
             table += _chunks(part) * (8 + leader)
-    return Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
-                    what="chunk tables and chunk leaders", hint=hint, parsed=layout)
+    declared = Declared(best.width, best.height, best.channels, min_bytes=table, held=size - header_end,
+                        what="chunk tables and chunk leaders", hint=hint, parsed=layout)
+    if any(part.get("deep") for part in parts):  # the flat image first, then the samples its tables count
+        from lenslab.io.budget import check
+        from lenslab.io.exr.deep_counts import check_deep
+
+        check(path, declared, size)
+        check_deep(path, layout)
+    return declared

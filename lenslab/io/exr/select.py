@@ -17,7 +17,8 @@ def split_part_layer(selector: str | None) -> tuple[str | None, str | None]:
 
 
 def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
-    """(part index, layer) for the selector; a lone selector is a part index, a part name or a layer."""
+    """(part index, layer) for the selector; a lone selector is a part index, a part name, a layer or view of
+    a part, or the view of the only part that carries it (the ``view`` attribute of a multi-part file's part)."""
     names = [p.name() for p in parts]
     if part_sel is None:
         return 0, layer_sel
@@ -33,6 +34,10 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
         for i, p in enumerate(parts):
             if any(c.startswith(part_sel + ".") for c in channel_names(p)) or part_sel in views(p.header):
                 return i, part_sel
+        # the one part of a multi-part stereo file whose ``view`` attribute is the name (rgba.left: left)
+        viewed = [i for i, p in enumerate(parts) if isinstance(p.header, dict) and p.header.get("view") == part_sel]
+        if len(viewed) == 1:
+            return viewed[0], None
     layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
     known = list(dict.fromkeys(v for p in parts for v in views(p.header)))  # a selector takes a view too
     named = ", ".join(repr(n) for n in names if n) or f"{len(parts)}, unnamed"

@@ -36,8 +36,9 @@ def _window(w) -> list[int]:
 
 
 def _probe(path) -> dict:
-    """Every part: storage, compression, windows, line order, channels (pixel type, sampling), layers and
-    attributes. Channel types come from lenslab's own reading of the header (no pixel is decoded; OpenEXR's
+    """Every part: storage, compression, windows, line order, channels (pixel type, sampling), layers,
+    attributes, and a deep part's sample counts (``deep_samples``: total, most in one pixel, pixels with
+    any). Channel types come from lenslab's own reading of the header (no pixel is decoded; OpenEXR's
     header-only reading does not give them)."""
     import OpenEXR
 
@@ -45,9 +46,13 @@ def _probe(path) -> dict:
     from lenslab.io.exr.chunks import parse_header
     from lenslab.library_output import library_call
 
+    from lenslab.io.exr.deep_counts import deep_counts
+
     head = library_call(path, lambda: OpenEXR.File(str(path), header_only=True), "OpenEXR cannot read the header")
-    types = {(i, name): kind.lower() for i, part in enumerate(parse_header(path).parts)
+    layout = parse_header(path)
+    types = {(i, name): kind.lower() for i, part in enumerate(layout.parts)
              for name, kind in part.get("channel_types", {}).items()}
+    samples = deep_counts(path, layout)  # each deep part's sample counts, from its tables
     parts = []
     for i, part in enumerate(head.parts):
         h = part.header
@@ -68,6 +73,9 @@ def _probe(path) -> dict:
                            if k not in ("channels", "compression", "dataWindow", "displayWindow", "lineOrder",
                                         "name", "type")},
         })
+        if i in samples:
+            parts[-1]["deep_samples"] = {"total": samples[i].total, "max_per_pixel": samples[i].max_per_pixel,
+                                         "pixels": samples[i].pixels}
         if "tiles" in h:  # in the words convert's note uses, not the bindings' repr
             from lenslab.io.exr.keep import tiling
 
@@ -93,4 +101,5 @@ FORMATS = (Format(
     selectors=True, camera=True,
     compressions=("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                   "htj2k32"),
-    note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709"),)
+    note="multi-part and layered files; luminance/chroma and other primaries converted to Rec.709; deep "
+         "parts flattened (sorted by depth, composited with over)"),)
