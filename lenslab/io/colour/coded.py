@@ -7,7 +7,8 @@ and ``cICP`` chunks, JPEG with its ``APP2`` profile, HEIF with its ``colr`` prop
   colorants (:mod:`lenslab.io.colour.icc`).
 - Otherwise the code points (primaries, transfer, matrix, full range): PQ and HLG become linear light as a
   PQ or HLG video does (:func:`lenslab.io.colour.png_cicp.to_linear_light`, 1.0 = 203 cd/m²); sRGB and
-  BT.709 transfers are sRGB-decoded, then converted from P3-D65 or BT.2020 primaries to Rec.709
+  BT.709 transfers (BT.601's and BT.2020's are the same curve: :data:`~lenslab.io.colour.png_cicp.SRGB_TRANSFERS`)
+  are sRGB-decoded, then converted from P3-D65 or BT.2020 primaries to Rec.709
   (:func:`lenslab.io.colour.png_cicp.wide_to_709`); any other transfer is left as its code values, with a note.
 - Without either: sRGB (:func:`lenslab.io.encode.decode_codes`).
 

@@ -8,9 +8,9 @@ Rec.709). The chunk is four bytes and must come before ``PLTE`` and ``IDAT``: it
 
 Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
 FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries and P3-D65
-primaries converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are, then
-converted from P3-D65 or BT.2020 primaries to Rec.709 by colour-science's matrix; any other transfer is left
-as code values, with a note.
+primaries converted); sRGB and BT.709 transfers (BT.601's and BT.2020's are the same curve) are decoded as
+sRGB, as PNGs without the chunk are, then converted from P3-D65 or BT.2020 primaries to Rec.709 by
+colour-science's matrix; any other transfer is left as code values, with a note.
 """
 
 from __future__ import annotations
@@ -22,9 +22,11 @@ PQ = (9, 16, 0, 1)
 HLG = (9, 18, 0, 1)
 BT709 = 1  # H.273 colour primaries of Rec.709 and sRGB
 #: H.273 transfer characteristics a reader here names (others are reported by number)
-TRANSFERS = {1: "BT.709", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
+TRANSFERS = {1: "BT.709", 6: "BT.601", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
              16: "PQ (SMPTE ST 2084)", 18: "HLG (ARIB STD-B67)"}
-SRGB_TRANSFERS = (1, 13)  # what lenslab's sRGB decoding stands for (BT.709's curve is its usual stand-in)
+#: what lenslab's sRGB decoding stands for: sRGB (13) and BT.709's curve (its usual stand-in), which H.273 gives
+#: BT.709 (1), BT.601 (6) and BT.2020 at 10 and 12 bits (14, 15) alike
+SRGB_TRANSFERS = (1, 6, 13, 14, 15)
 
 
 def display_code_points(display: str) -> tuple[int, int, int, int] | None:
