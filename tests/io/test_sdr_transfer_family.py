@@ -2,7 +2,8 @@
 characteristics 1 (BT.709), 6 (BT.601), 14 and 15 (BT.2020 at 10 and 12 bits) the same formula, so a PNG's
 ``cICP`` chunk or a HEIF's ``nclx`` naming 6, 14 or 15 is decoded as one naming 1 is: lenslab's sRGB decoding
 (its stand-in for BT.709's curve, :data:`lenslab.io.colour.png_cicp.SRGB_TRANSFERS`), then BT.2020 or P3-D65
-primaries converted to Rec.709, never left as code values taken for linear light.
+primaries converted to Rec.709, never left as code values taken for linear light. A HEIF ``nclx`` whose
+transfer is unspecified (2) is read as sRGB, MIAF's default.
 
 Expected values: colour-science in float64, its sRGB EOTF on the file's codes (cv2's for the PNG written here,
 pillow-heif's decoding for the HEIC) and its BT.2020 -> BT.709 matrix. Tolerance: only float32 rounding
@@ -65,3 +66,22 @@ def test_a_heif_nclx_of_the_bt709_family_is_decoded_as_bt709(tmp_path, transfer,
     assert f"transfer {transfer}" in meta["attributes"]["nclx"] and meta["display_encoded"] is True
     assert "not decoded" not in meta["attributes"].get("note", "")
     assert (meta.get("wide_gamut") == "nclx primaries BT.2020") is (primaries == 9)
+
+
+@pytest.mark.parametrize("primaries", [2, 9], ids=["unspecified", "bt2020"])
+def test_a_heif_nclx_with_an_unspecified_transfer_reads_as_srgb(tmp_path, primaries):
+    """An ``nclx`` whose transfer is unspecified (2) says nothing of the curve: a HEIF is then sRGB (MIAF's default
+    for a file without colour information, and lenslab's rule for an RGB video stream without a transfer tag),
+    not code values taken for linear light."""
+    pillow_heif = pytest.importorskip("pillow_heif")
+    codes = _codes()
+    heif = pillow_heif.from_bytes("RGB", (codes.shape[1], codes.shape[0]), codes.tobytes())
+    heif.info["nclx_profile"] = {"color_primaries": primaries, "transfer_characteristics": 2,
+                                 "matrix_coefficients": 6, "full_range_flag": 1}
+    path = tmp_path / "unspecified.heic"
+    heif.save(str(path), quality=-1, chroma=444)
+    got = np.asarray(pillow_heif.open_heif(str(path), convert_hdr_to_8bit=False, hdr_to_16bit=False))
+    img, meta = lio.read(path)
+    np.testing.assert_allclose(img, _want(got, 1 if primaries == 2 else primaries), rtol=1e-6, atol=3e-7)
+    assert "transfer 2" in meta["attributes"]["nclx"] and "sRGB" in meta["attributes"]["nclx"]
+    assert meta["display_encoded"] is True and "not decoded" not in meta["attributes"].get("note", "")
