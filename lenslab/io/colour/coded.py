@@ -67,14 +67,14 @@ def decode(codes: np.ndarray, maxval: int, where: str, attributes: dict, *, prof
         image = icc_decode(codes, maxval, how, where)
         gamut = profile_gamut(how)
     elif coded is not None and not raw:  # code values in float64: PQ's slope would magnify a float32 rounding
-        image = codes / float(maxval)
+        image = codes  # (to_linear_light takes them over maxval, a band at a time)
     else:
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
     if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
         from lenslab.io.colour.png_cicp import H273_NAMES, to_linear_light
 
-        image, attributes["note"] = to_linear_light(image, coded, source)
+        image, attributes["note"] = to_linear_light(image, coded, source, maxval=maxval)
         linear = coded[1] in (16, 18)
         gamut = f"{_short(source)} primaries {H273_NAMES[coded[0]]}" if (
             linear and c in (3, 4) and coded[0] in H273_NAMES) else None
