@@ -8,8 +8,8 @@ next to each input. --to names the format; -o FILE alone says it by its extensio
 HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go through a tone curve
 first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
 display transform instead (--display, --view). EXR to EXR keeps each channel's pixel type (half colour
-beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input stays 16-bit in PNG,
-PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
+beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input (or a 10- or 12-bit HEIC)
+stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its
@@ -89,9 +89,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--quality", type=int_in(0, 100), default=95, metavar="Q", help="JPG quality 0..100 (default 95)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
-                        help="PNG/PPM/PGM bits per sample (default: 16 for a 16-bit input, else 8); TIFF: 8- or "
-                             "16-bit display-encoded integers instead of floats (default: 16-bit integers for a "
-                             "16-bit input, else floats)")
+                        help="PNG/PPM/PGM bits per sample (default: 16 for an input of 9 to 16 bits, else 8); TIFF: "
+                             "8- or 16-bit display-encoded integers instead of floats (default: 16-bit integers "
+                             "for an input of 9 to 16 bits, else floats)")
     parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
                         help="EXR/TIFF float type of the colour and alpha (default: each channel's stored type "
                              "for EXR to EXR, else half for EXR, float for TIFF); other EXR channels keep theirs")

@@ -13,8 +13,8 @@ libde265; the ``lenslab[heif]`` extra, imported only when a HEIF file is read).
   ``prof``/``rICC``; pillow-heif exposes it in place of an ``nclx`` when a file holds both) is applied as in
   a PNG; else the ``nclx`` code points: PQ and HLG to linear light as lenslab's video path does (1.0 =
   203 cd/m², BT.2020 and P3-D65 primaries converted to Rec.709), sRGB and BT.709 transfers sRGB-decoded,
-  wide primaries converted; a file without colour information is sRGB (MIAF's default: primaries 1,
-  transfer 13, full range).
+  wide primaries converted; a file without colour information, or whose ``nclx`` leaves the transfer
+  unspecified, is sRGB (MIAF's default: primaries 1, transfer 13, full range).
 - **Alpha** (an alpha auxiliary image): coverage, code / maxval; straight colour in the file (premultiplied
   when its ``prem`` reference says so) becomes premultiplied colour in memory (:mod:`lenslab.io.alpha`).
 - **Ignored, with a note**: depth images, gain maps (Apple's HDR gain map and other auxiliary images:
@@ -36,6 +36,8 @@ from lenslab.errors import FormatError, cause
 #: what the notes name as the source of H.273 code points
 NCLX = "the HEIF's nclx colour information"
 EXTRA = "pip install 'lenslab[heif]'"
+#: H.273 transfer characteristics that name no curve (reserved, unspecified): read as MIAF's default, sRGB
+UNSPECIFIED = (0, 2)
 
 
 def _library(path):
@@ -175,6 +177,9 @@ def read_heif(path, selector: str | None = None, raw: bool = False, parsed=None)
         from lenslab.io.colour.png_cicp import describe
 
         attributes["nclx"] = describe(points)
+        if points[1] in UNSPECIFIED:  # no curve named: sRGB, as a file without colour information is
+            points = (points[0], 13, *points[2:])
+            attributes["nclx"] += "; the transfer unspecified: read as sRGB (MIAF's default)"
     else:
         attributes["nclx"] = "none: sRGB (MIAF's default, primaries 1, transfer 13, full range)"
     profile = info.get("icc_profile") or None

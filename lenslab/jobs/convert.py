@@ -112,11 +112,12 @@ class ConvertJob(Job):
 
 
 def kept_bits(fmt, meta: dict) -> int | None:
-    """16 where the input holds 16-bit integers and format record ``fmt`` writes 16-bit integers (PNG, PPM/PGM,
-    TIFF): the input's precision is kept, as EXR to EXR keeps its pixel type; else None (the format's
-    default). ``--bits`` overrides it."""
+    """16 where the input holds integers of 9 to 16 bits (a 16-bit PNG, a 10- or 12-bit HEIC) and format record
+    ``fmt`` writes 16-bit integers (PNG, PPM/PGM, TIFF): the input's precision is kept, as EXR to EXR keeps its
+    pixel type; else None (the format's default). ``--bits`` overrides it."""
     integers = {"bits", "sample_type"} & set(fmt.write_options)
-    if meta.get("sample_type") == "uint" and meta.get("bit_depth") == 16 and 16 in fmt.bit_depths and integers:
+    deep = 8 < (meta.get("bit_depth") or 8) <= 16
+    if meta.get("sample_type") == "uint" and deep and 16 in fmt.bit_depths and integers:
         return 16
     return None
 

@@ -37,8 +37,8 @@ def _ftyp(major: bytes, *compatible: bytes) -> bytes:
 
 
 @pytest.mark.parametrize("major,compatible", [(b"heic", (b"mif1", b"heic")), (b"heix", (b"mif1", b"heix")),
-                                              (b"mif1", (b"mif1", b"heic")), (b"msf1", (b"msf1", b"hevc")),
-                                              (b"hevc", (b"msf1", b"hevc"))])
+                                              (b"mif1", (b"mif1", b"heic")), (b"msf1", (b"mif1", b"msf1", b"hevc")),
+                                              (b"hevc", (b"mif1", b"heic", b"hevc"))])  # (a still beside a sequence)
 def test_heif_brands_are_recognised(major, compatible):
     assert sniff_bytes((_ftyp(major, *compatible) + bytes(32))[:32]) == "heif"
 

@@ -7,7 +7,8 @@ and ``cICP`` chunks, JPEG with its ``APP2`` profile, HEIF with its ``colr`` prop
   colorants (:mod:`lenslab.io.colour.icc`).
 - Otherwise the code points (primaries, transfer, matrix, full range): PQ and HLG become linear light as a
   PQ or HLG video does (:func:`lenslab.io.colour.png_cicp.to_linear_light`, 1.0 = 203 cd/m²); sRGB and
-  BT.709 transfers are sRGB-decoded, then converted from P3-D65 or BT.2020 primaries to Rec.709
+  BT.709 transfers (BT.601's and BT.2020's are the same curve: :data:`~lenslab.io.colour.png_cicp.SRGB_TRANSFERS`)
+  are sRGB-decoded, then converted from P3-D65 or BT.2020 primaries to Rec.709
   (:func:`lenslab.io.colour.png_cicp.wide_to_709`); any other transfer is left as its code values, with a note.
 - Without either: sRGB (:func:`lenslab.io.encode.decode_codes`).
 
@@ -66,14 +67,14 @@ def decode(codes: np.ndarray, maxval: int, where: str, attributes: dict, *, prof
         image = icc_decode(codes, maxval, how, where)
         gamut = profile_gamut(how)
     elif coded is not None and not raw:  # code values in float64: PQ's slope would magnify a float32 rounding
-        image = codes / float(maxval)
+        image = codes  # (to_linear_light takes them over maxval, a band at a time)
     else:
         image = decode_codes(codes, maxval, raw or coded is not None)
     linear = False
     if coded is not None and not raw:  # PQ, HLG: linear light as their video is; other transfers: codes
         from lenslab.io.colour.png_cicp import H273_NAMES, to_linear_light
 
-        image, attributes["note"] = to_linear_light(image, coded, source)
+        image, attributes["note"] = to_linear_light(image, coded, source, maxval=maxval)
         linear = coded[1] in (16, 18)
         gamut = f"{_short(source)} primaries {H273_NAMES[coded[0]]}" if (
             linear and c in (3, 4) and coded[0] in H273_NAMES) else None

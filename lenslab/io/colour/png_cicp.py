@@ -8,9 +8,9 @@ Rec.709). The chunk is four bytes and must come before ``PLTE`` and ``IDAT``: it
 
 Reading: a PQ or HLG PNG becomes linear Rec.709 light as a PQ or HLG video does (H.273's code points are
 FFmpeg's, so :func:`lenslab.io.video.to_linear` decodes both: 1.0 = 203 cd/m², BT.2020 primaries and P3-D65
-primaries converted); sRGB and BT.709 transfers are decoded as sRGB, as PNGs without the chunk are, then
-converted from P3-D65 or BT.2020 primaries to Rec.709 by colour-science's matrix; any other transfer is left
-as code values, with a note.
+primaries converted); sRGB and BT.709 transfers (BT.601's and BT.2020's are the same curve) are decoded as
+sRGB, as PNGs without the chunk are, then converted from P3-D65 or BT.2020 primaries to Rec.709 by
+colour-science's matrix; any other transfer is left as code values, with a note.
 """
 
 from __future__ import annotations
@@ -22,9 +22,11 @@ PQ = (9, 16, 0, 1)
 HLG = (9, 18, 0, 1)
 BT709 = 1  # H.273 colour primaries of Rec.709 and sRGB
 #: H.273 transfer characteristics a reader here names (others are reported by number)
-TRANSFERS = {1: "BT.709", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
+TRANSFERS = {1: "BT.709", 6: "BT.601", 8: "linear", 13: "sRGB", 14: "BT.2020 (10-bit)", 15: "BT.2020 (12-bit)",
              16: "PQ (SMPTE ST 2084)", 18: "HLG (ARIB STD-B67)"}
-SRGB_TRANSFERS = (1, 13)  # what lenslab's sRGB decoding stands for (BT.709's curve is its usual stand-in)
+#: what lenslab's sRGB decoding stands for: sRGB (13) and BT.709's curve (its usual stand-in), which H.273 gives
+#: BT.709 (1), BT.601 (6) and BT.2020 at 10 and 12 bits (14, 15) alike
+SRGB_TRANSFERS = (1, 6, 13, 14, 15)
 
 
 def display_code_points(display: str) -> tuple[int, int, int, int] | None:
@@ -91,28 +93,38 @@ def read_cicp(png: bytes) -> tuple[int, int, int, int] | None:
     return tuple(data) if data is not None and len(data) == 4 else None
 
 
-def to_linear_light(codes, points, source: str = "the PNG's cICP chunk"):
-    """(image, note) for ``codes`` (H x W x C code values in [0, 1], alpha last for C = 2, 4) of a file whose
-    code ``points`` (named ``source`` in the note) have a transfer that is not sRGB: PQ and HLG as linear
-    Rec.709 light, anything else unchanged."""
+#: pixels of a band that goes through colour-science's curves at once (they work in float64, with temporaries)
+BAND_PIXELS = 1 << 14
+
+
+def to_linear_light(codes, points, source: str = "the PNG's cICP chunk", maxval: int | None = None):
+    """(image, note) for ``codes`` (H x W x C code values in [0, 1], or integer codes over ``maxval``; alpha last for
+    C = 2, 4) of a file whose code ``points`` (named ``source`` in the note) have a transfer that is not sRGB: PQ
+    and HLG as linear Rec.709 light (float32), anything else unchanged (integer codes: over ``maxval``). Integer
+    codes go to the curve in float64 a band of rows at a time, so the read holds no float64 image."""
     from fractions import Fraction
 
     import numpy as np
 
     primaries, transfer, matrix, full = points
+    scale = 1.0 if maxval is None else float(maxval)
     c = codes.shape[2]
     if transfer not in (16, 18):
-        return codes, f"{source} says {describe(points)}: read as its code values, not decoded"
+        note = f"{source} says {describe(points)}: read as its code values, not decoded"
+        return (codes if maxval is None else (codes / scale).astype(np.float32)), note
     from lenslab.io.video import REFERENCE_WHITE, VideoInfo, to_linear
 
     colour = c - 1 if c in (2, 4) else c
     info = VideoInfo(codes.shape[1], codes.shape[0], Fraction(1), 1, "png", "rgb48", primaries=primaries if colour == 3
                      else 2, transfer=transfer, matrix=matrix, range=full)  # grey: no primaries to convert
-    out = codes.copy()
-    out[..., :colour] = to_linear(codes[..., :colour], info)
+    out = np.empty(codes.shape, np.float32)
+    if colour < c:
+        out[..., colour:] = codes[..., colour:] / scale
+    rows = max(1, BAND_PIXELS // max(1, codes.shape[1]))
+    for r0 in range(0, codes.shape[0], rows):  # (each pixel's light depends on its own codes alone)
+        out[r0:r0 + rows, :, :colour] = to_linear(codes[r0:r0 + rows, :, :colour] / scale, info)
     what = "PQ" if transfer == 16 else "HLG"
-    return np.ascontiguousarray(out, dtype=np.float32), (
-        f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 ({source})")
+    return out, f"{what} decoded to linear Rec.709 light, 1.0 = {REFERENCE_WHITE:g} cd/m2 ({source})"
 
 
 #: the names notes give the H.273 primaries converted to Rec.709

@@ -6,30 +6,36 @@ from __future__ import annotations
 from lenslab.io.plugin import Format, header_only
 
 
-#: ftyp brands of HEVC-coded HEIF files (HEIC) and of HEIF in general (``mif1`` images, ``msf1`` sequences)
-HEVC_BRANDS = (b"heic", b"heix", b"heim", b"heis", b"hevc", b"hevx", b"hevm", b"hevs")
+#: ftyp brands of HEIF still images (image items): HEIF's own and HEVC-coded HEIF's (HEIC)
+IMAGE_BRANDS = (b"mif1", b"mif2", b"heic", b"heix", b"heim", b"heis")
+#: brands of HEIF image sequences (a track of frames, read as the clip it is: :mod:`lenslab.io.formats.video`)
+SEQUENCE_BRANDS = (b"msf1", b"hevc", b"hevx", b"hevm", b"hevs")
 #: brands of AV1-coded HEIF (AVIF), which the pillow-heif wheel does not decode
 AVIF_BRANDS = (b"avif", b"avis")
 
 
 def is_heif(head: bytes) -> bool:
     """True if ``head`` (a file's first bytes) starts an ISO base media file whose ``ftyp`` box names a HEIF
-    brand as its major brand: an HEVC brand, or ``mif1``/``msf1`` without an AVIF brand among the compatible
-    brands in ``head``.
+    brand as its major brand and a still image among its brands: an HEVC image brand (``heic``...), or another
+    HEIF brand (``mif1``; a sequence brand, ``msf1`` or ``hevc``, beside an image brand in ``head``) without an
+    AVIF brand. A sequence brand alone is an image sequence, which holds no still image: a clip.
 
     >>> is_heif(b"\\x00\\x00\\x00\\x18ftypheic\\x00\\x00\\x00\\x00mif1heic"), is_heif(b"\\x00\\x00\\x00\\x18ftypisom")
     (True, False)
     >>> is_heif(b"\\x00\\x00\\x00\\x1cftypmif1\\x00\\x00\\x00\\x00mif1avifmiaf")  # AVIF
     False
+    >>> is_heif(b"\\x00\\x00\\x00\\x18ftypmsf1\\x00\\x00\\x00\\x00msf1hevc")  # an image sequence
+    False
     """
     if len(head) < 12 or head[4:8] != b"ftyp":
         return False
     major = head[8:12]
-    if major in HEVC_BRANDS:
-        return True
     size = int.from_bytes(head[:4], "big")
-    compatible = [head[i:i + 4] for i in range(16, min(size, len(head)) - 3, 4)]
-    return major in (b"mif1", b"msf1") and not any(b in AVIF_BRANDS for b in compatible)
+    brands = [major] + [head[i:i + 4] for i in range(16, min(size, len(head)) - 3, 4)]
+    if not any(b in IMAGE_BRANDS for b in brands):  # no still image: not HEIF, or an image sequence
+        return False
+    return major in IMAGE_BRANDS[2:] or (major in IMAGE_BRANDS + SEQUENCE_BRANDS
+                                          and not any(b in AVIF_BRANDS for b in brands))
 
 
 def _read(path, selector=None, raw=False, parsed=None):
