@@ -63,7 +63,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                         "(default: the scene's own camera lens)")
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default 512x512, or the size stored in --camera-file; a cube map: "
-                        "512 rows of square faces, 768x512 for 3x2)")
+                        "about 512 rows of square faces of whole pixels, 768x512 for 3x2)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",

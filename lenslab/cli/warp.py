@@ -66,7 +66,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
-                        help="output size in pixels; default: the source's height squared (2:1 for equirect)")
+                        help="output size in pixels; default: as many rows as the source, in the output lens's own frame "
+                             "shape (square for most lenses, 2:1 for equirect, square faces of whole pixels for a "
+                             "cube map); a camera file: the size it was calibrated at")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
