@@ -103,7 +103,8 @@ def check(path, declared: Declared, file_bytes: int) -> None:
     if need > BASE_BYTES and file_bytes < SMALL_FILE:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
                           f"{_mb(file_bytes)}; a file under 1 MB may decode to at most {_mb(BASE_BYTES)}; refused as "
-                          f"a decompression bomb{declared.hint} (a genuine flat image: set LENSLAB_BASE_BYTES={need})")
+                          f"a decompression bomb{declared.hint} (a genuine image, e.g. a photo that compresses well: set "
+                          f"LENSLAB_BASE_BYTES={need})")
     if need > BASE_BYTES and need > MAX_RATIO * file_bytes:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
                           f"{_mb(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "
