@@ -164,17 +164,20 @@ def _run_points(args, FitError) -> int:
 
 def _run_tone(args, FitError) -> int:
     from lenslab import io
-    from lenslab.fit.tone import fit_tone
+    from lenslab.errors import FitSpecError
+    from lenslab.fit.params import parse_bounds
+    from lenslab.fit.tone import fit_tone, tone_variables
 
     fixed = {}
     for item in args.param:
         name, eq, value = item.partition("=")
         if not eq or not name.strip():
-            raise FitError(f"--param {item!r}: expected NAME=VALUE, for example white=8")
+            raise FitSpecError(f"--param {item!r}: expected NAME=VALUE, for example white=8")
         try:
             fixed[name.strip()] = float(value)
         except ValueError:
             fixed[name.strip()] = value.strip()
+    tone_variables(args.curve, args.free, parse_bounds(args.bounds), fixed)  # names checked before any read
     hdr, _ = io.read(args.hdr)
     ldr, _ = io.read(args.ldr)
     result = fit_tone(hdr, ldr, args.curve, mode=args.mode, free=args.free, fixed=fixed, bounds=args.bounds,
