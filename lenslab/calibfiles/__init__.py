@@ -100,7 +100,9 @@ def read_lens(spec: str, size: tuple[int, int] | None = None):
     if pick is not None:
         found = [lens for cid, lens in cams if cid == pick]
         if not found:
-            raise CameraFileError(f"{path}: no camera {pick!r}; it holds {', '.join(cid for cid, _ in cams)}")
+            ids = [cid for cid, _ in cams]
+            raise CameraFileError(f"{path}: no camera {pick!r}; its camera ID{'s' if len(ids) > 1 else ''}: "
+                                  f"{', '.join(ids)}")
         lens = found[0]
     elif len(cams) == 1:
         lens = cams[0][1]
