@@ -56,7 +56,8 @@ def check_convert_options(args, files, display) -> None:
     else:
         fmt = get(args.to)  # integer samples asked of a float format (TIFF --bits) hold display codes
         holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
-        linear = [(fmt.title, "it holds linear light")] if holds else []
+        codes = " (with --bits 8 or 16, display codes)" if "sample_type" in fmt.write_options else ""
+        linear = [(fmt.title, f"it holds linear light{codes}")] if holds else []
     check_tone_applies("--tone", given, display, linear)
     if args.to not in VIDEO:
         from lenslab.jobs.display import check_display_outputs
