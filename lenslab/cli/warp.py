@@ -66,7 +66,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
-                        help="output size in pixels; default: the source's height squared (2:1 for equirect)")
+                        help="output size in pixels; default: the source's rows in the output lens's own shape "
+                             "(square for a fisheye or perspective view, 2:1 for equirect, 3:2 for a 3x2 cube map of "
+                             "square faces; each eye of a stereo frame)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
