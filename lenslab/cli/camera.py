@@ -67,7 +67,7 @@ def load(spec: str, size: tuple[int, int] | None):
     from lenslab.calibfiles import is_camera_file
 
     if is_camera_file(spec):
-        return _image_lens(spec) or make_lens(spec, size)
+        return make_lens(spec, size)  # a calibration file, or an image that records its camera
     name, values = parse_spec(spec)
     if size is None:
         if "width" not in values or "height" not in values:
@@ -76,29 +76,6 @@ def load(spec: str, size: tuple[int, int] | None):
             raise LensError(f"{spec}: give the calibration size as width=...,height=... (or --size WxH)")
         size = (int(float(values["width"])), int(float(values["height"])))
     return make_lens(spec, size)
-
-
-def _image_lens(spec: str):
-    """The lens an image file records (EXR written by lenslab or tracer), None when ``spec`` is no image; an
-    image without a camera is a failed input that says where a camera comes from."""
-    from pathlib import Path
-
-    from lenslab.errors import InputError, LenslabError
-    from lenslab.io import read
-    from lenslab.io.registry import get, sniff
-
-    path = Path(spec)
-    try:
-        fmt = sniff(path) if path.is_file() else None
-    except (LenslabError, OSError):  # not an image: a calibration file
-        return None
-    if fmt is None:
-        return None
-    camera = read(path)[1].get("camera")
-    if camera is None:
-        raise InputError(f"{path}: this {get(fmt).title} image records no camera; give a calibration file or a "
-                         "lens spec (EXR files written by lenslab and tracer carry theirs)")
-    return camera.lens
 
 
 def field_of_view(lens) -> tuple[float, float]:
