@@ -1,7 +1,7 @@
 """An image that records its camera (an EXR written by tracer or lenslab) is a camera wherever lenslab takes
 a camera file, as ``lenslab camera show`` takes it and ``lenslab camera --help`` promises ("the same files
 work wherever lenslab takes a lens: warp --from/--to, fit, tracer"): ``warp --to``, ``fit lens --from``,
-at the size asked. An image without a camera is one line naming what to give."""
+``tracer render --camera``, at the size asked. An image without a camera is one line naming what to give."""
 
 from __future__ import annotations
 
@@ -56,6 +56,12 @@ def test_fit_lens_from_a_render(render, capsys):
     assert "fitted:   fisheye:fov=150" in capsys.readouterr().out
 
 
+def test_tracer_renders_through_the_camera_of_a_render(render, tmp_path):
+    out = tmp_path / "again.exr"
+    assert tracer(["render", "--scene", "furnace", "--camera", str(render), "--spp", "1", "-q", "-o", str(out)]) == 0
+    assert tuple(lenslab.read(out)[1]["size"]) == (48, 32)
+
+
 def test_an_image_without_a_camera_says_so(tmp_path, capsys):
     png = tmp_path / "plain.png"
     lenslab.write(png, np.ones((4, 8, 3), np.float32) * 0.5)
@@ -64,3 +70,18 @@ def test_an_image_without_a_camera_says_so(tmp_path, capsys):
     assert main(["warp", str(src), "--to", str(png), "-o", str(tmp_path / "v.exr")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "records no camera" in err[0] and "UTF-8" not in err[0], err
+
+
+@pytest.mark.parametrize("make", ["yaml", "spec"])
+def test_tracer_renders_a_calibrated_camera_at_its_own_size(tmp_path, make):
+    # OpenCV's camera of a 64 x 48 image: rendered at 64 x 48 with fx = fy = 50 as calibrated, not squeezed
+    # into 512 x 512 (fx 400, fy 533: another camera)
+    spec = "opencv:fx=50,fy=50,cx=31.5,cy=23.5,k1=-0.1,width=64,height=48"
+    if make == "yaml":
+        cam = tmp_path / "calib.yaml"
+        assert main(["camera", "convert", spec, "-o", str(cam)]) == 0
+        spec = str(cam)
+    out = tmp_path / "r.exr"
+    assert tracer(["render", "--scene", "furnace", "--camera", spec, "--spp", "1", "-q", "-o", str(out)]) == 0
+    lens = lenslab.read(out)[1]["camera"].lens
+    assert (lens.width, lens.height) == (64, 48) and (lens.fx, lens.fy) == (50.0, 50.0)
