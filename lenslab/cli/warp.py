@@ -284,6 +284,8 @@ def run(args: argparse.Namespace) -> int:
                  if on]
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
+        if args.antialias and args.samples != 1:
+            raise UsageError("with an ST map, give either --antialias or --samples, not both")
         st_map(args.stmap)  # read now: a bad map is one error before any file
     from lenslab.filters import check_filter_with_antialias
 
