@@ -49,6 +49,7 @@ def check_convert_options(args, files, display) -> None:
     from lenslab.jobs.warp_video import is_video
 
     given, args.tone = args.tone is not None, args.tone or "hable"
+    args.tone_given = given
     if args.frames is not None:
         check_frames_apply(args.frames, [f for f in files if not is_video(f)])
     if args.to in VIDEO:

@@ -182,6 +182,7 @@ def check_options_apply(args, pairs) -> None:
     from lenslab.jobs.warp_video import is_video
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
+    args.tone_given = tone_given
     videos = [is_video(src) for src, _ in pairs]
     check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
