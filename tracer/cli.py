@@ -280,13 +280,14 @@ def _render(args) -> int:
         stopped = {"time": ", stopped by --time-budget", "error": ", stopped by --target-error"}
         print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp"
               f"{stopped.get(result.stopped_by, '')}, {result.seconds:.2f} s, {rate / 1e6:.3f} Msamples/s, "
-              f"noise {_percent(result.relative_error)} (RMS standard error of the pixel means, relative to "
-              f"the image's mean value)", file=sys.stderr)
+              f"noise {_noise(result.relative_error)}", file=sys.stderr)
     return 0
 
 
-def _percent(x: float) -> str:
-    return "unknown (fewer than 2 samples per pixel)" if x == float("inf") else f"{100 * x:.3g}%"
+def _noise(x: float) -> str:
+    if x == float("inf"):
+        return "unknown (fewer than 2 samples per pixel)"
+    return f"{100 * x:.3g}% (RMS standard error of the pixel means, relative to the image's mean value)"
 
 
 def same_path(a, b) -> bool:
