@@ -149,7 +149,8 @@ def read_st_map(path: str | os.PathLike) -> np.ndarray:
     path : str or os.PathLike
         A float image (EXR, or any float format lenslab reads) with s and t in its first two channels
         and, if present, validity in the fourth (``A > 1/2``). Without alpha, every pixel whose ``s, t``
-        is finite and inside [0, 1] counts.
+        is finite and inside [0, 1] counts. A map of integer codes (8- or 16-bit PNG, TIFF, PPM) holds
+        coordinates, not colours: its codes over their maximum, never sRGB-decoded.
 
     Returns
     -------
@@ -169,7 +170,7 @@ def read_st_map(path: str | os.PathLike) -> np.ndarray:
     """
     from lenslab.io import read
 
-    img, meta = read(path, rec709=False)
+    img, meta = read(path, rec709=False, raw=True)
     if img.shape[2] < 2:
         raise WarpError(f"{path}: an ST map needs s and t in its first two channels; this image has one")
     st = np.zeros(img.shape[:2] + (4,), dtype=np.float32)

@@ -65,17 +65,19 @@ mi.util.write_bitmap(sys.argv[4], mi.render(mi.load_dict(scene)))
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", type=int, default=256, help="image side for the path-tracing figure (default 256)")
-    p.add_argument("--spp", type=int, default=16, help="samples per pixel for the path-tracing figure (default 16)")
+    from lenslab.jobs.arguments import positive_int
+
+    p.add_argument("--size", type=positive_int, default=256, help="image side for the path-tracing figure (default 256)")
+    p.add_argument("--spp", type=positive_int, default=16, help="samples per pixel for the path-tracing figure (default 16)")
     p.add_argument("--max-depth", type=int, default=8, help="maximum bounces (default 8)")
     p.add_argument("--rr-depth", type=int, default=5,
                    help="bounces before Russian roulette (default 5, Mitsuba's default, for a like-for-like figure)")
-    p.add_argument("--repeat", type=int, default=7, help="timing repeats; the best is kept (default 7)")
-    p.add_argument("--threads", type=int, help="threads for the 'all threads' figures (default: every core)")
+    p.add_argument("--repeat", type=positive_int, default=7, help="timing repeats; the best is kept (default 7)")
+    p.add_argument("--threads", type=positive_int, help="threads for the 'all threads' figures (default: every core)")
     p.add_argument("--vs-mitsuba", action="store_true",
                    help="also time the whole 'tracer render' of the Cornell box at --size and 64 spp against Mitsuba 3 "
                         "scalar_rgb rendering its own Cornell box (needs 'import mitsuba'; skipped with a note without it)")
-    p.add_argument("--runs", type=int, default=5, help="whole-process runs of each renderer for --vs-mitsuba (default 5)")
+    p.add_argument("--runs", type=positive_int, default=5, help="whole-process runs of each renderer for --vs-mitsuba (default 5)")
     p.add_argument("--mitsuba-only", action="store_true", help="only the --vs-mitsuba figures")
     p.add_argument("--validate", action="store_true",
                    help="also measure the warp against the direct trace: a 4096x2048 panorama of the Cornell box "

@@ -62,8 +62,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens)")
     p.add_argument("--size", type=image_size, metavar="WxH",
-                   help="image size in pixels (default 512x512, or the size stored in --camera-file; a cube map: "
-                        "about 512 rows of square faces of whole pixels, 768x512 for 3x2)")
+                   help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
+                        "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
+                        "else 512x512; a cube map: about 512 rows of square faces of whole pixels, 768x512 for 3x2)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",
@@ -149,14 +150,32 @@ def _camera(args, scene):
 
         raise UsageError(f"--view {args.view!r}: scene {scene.name} has no view of that name; it has "
                          f"{', '.join(scene.views) or 'none'}")
-    size = args.size or (512, 512)
+    own = _calibrated_size(args.camera) if args.size is None else None
+    size = args.size or own or (512, 512)
     if args.camera:
         make_lens(args.camera, size)  # report a bad spec before anything else
     camera = scene.camera(args.camera, size, view=args.view, **pose)
-    if args.size is None and camera.lens.size_note() and hasattr(camera.lens, "frame_size"):
+    if args.size is None and own is None and camera.lens.size_note() and hasattr(camera.lens, "frame_size"):
         # the default size suits the lens's layout (a 3x2 cube map: 768x512, square faces), as warp's does
         camera = Camera(camera.lens.with_size(*camera.lens.frame_size(size[1])), camera.pose)
     return camera
+
+
+def _calibrated_size(spec: str | None) -> tuple[int, int] | None:
+    """The image size a camera was calibrated at: a camera file's (or an image's recorded camera), a spec's
+    ``width=`` and ``height=``; None for a model spec without one."""
+    from lenslab.calibfiles import is_camera_file
+    from lenslab.lenses import make_lens, parse_spec
+
+    if not spec:
+        return None
+    if is_camera_file(spec):
+        lens = make_lens(spec)
+        return lens.width, lens.height
+    values = parse_spec(spec)[1]
+    if values.get("width") and values.get("height"):
+        return int(float(values["width"])), int(float(values["height"]))
+    return None
 
 
 def run_render(args) -> int:
@@ -261,13 +280,14 @@ def _render(args) -> int:
         stopped = {"time": ", stopped by --time-budget", "error": ", stopped by --target-error"}
         print(f"{args.output}: {camera.width}x{camera.height} {camera.lens.spec()}, {result.spp} spp"
               f"{stopped.get(result.stopped_by, '')}, {result.seconds:.2f} s, {rate / 1e6:.3f} Msamples/s, "
-              f"noise {_percent(result.relative_error)} (RMS standard error of the pixel means, relative to "
-              f"the image's mean value)", file=sys.stderr)
+              f"noise {_noise(result.relative_error)}", file=sys.stderr)
     return 0
 
 
-def _percent(x: float) -> str:
-    return "unknown (fewer than 2 samples per pixel)" if x == float("inf") else f"{100 * x:.3g}%"
+def _noise(x: float) -> str:
+    if x == float("inf"):
+        return "unknown (fewer than 2 samples per pixel)"
+    return f"{100 * x:.3g}% (RMS standard error of the pixel means, relative to the image's mean value)"
 
 
 def same_path(a, b) -> bool:

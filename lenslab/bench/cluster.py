@@ -42,11 +42,13 @@ AIM_OVERHEAD_MS = 20.0  # scheduling cost of one task
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.jobs.arguments import positive_int
+
     parser.add_argument("--quick", action="store_true",
                         help="16 frames of 1024x512, and the panorama at 4 spp (a few minutes)")
-    parser.add_argument("--frames", type=int, default=None, help="number of frames (default 32; 16 with --quick)")
+    parser.add_argument("--frames", type=positive_int, default=None, help="number of frames (default 32; 16 with --quick)")
     parser.add_argument("--skip-trace", action="store_true", help="the warp and convert batches only")
-    parser.add_argument("--repeat", type=int, default=3,
+    parser.add_argument("--repeat", type=positive_int, default=3,
                         help="runs of each warp and convert batch and of each trace, interleaved; the medians "
                              "count (default 3)")
 

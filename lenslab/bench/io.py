@@ -13,10 +13,12 @@ from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.jobs.arguments import positive_int
+
     parser.add_argument("--quick", action="store_true",
                         help="small images (1024 x 512 and 512 x 256) for a fast smoke run")
-    parser.add_argument("--repeat", type=int, default=3, help="timed runs per figure; the best counts (default 3)")
-    parser.add_argument("--images", type=int, default=16, help="EXRs in the convert benchmark (default 16)")
+    parser.add_argument("--repeat", type=positive_int, default=3, help="timed runs per figure; the best counts (default 3)")
+    parser.add_argument("--images", type=positive_int, default=16, help="EXRs in the convert benchmark (default 16)")
     parser.add_argument("--dir", default=None, help="scratch directory (default: a temporary one)")
     parser.add_argument("--only", choices=("formats", "codecs", "convert", "deep"), default=None,
                         help="run only the per-format figures, the .hdr/TIFF figures against OpenCV and tifffile, "

@@ -65,8 +65,10 @@ SOLVED = {("pincushion", "d2p"), ("barrel", "d2p"), ("distortion", "d2p"), ("bro
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--size", type=int, default=2048, help="grid side in pixels (default 2048)")
-    parser.add_argument("--repeat", type=int, default=3, help="best of N runs per figure (default 3)")
+    from lenslab.jobs.arguments import positive_int
+
+    parser.add_argument("--size", type=positive_int, default=2048, help="grid side in pixels (default 2048)")
+    parser.add_argument("--repeat", type=positive_int, default=3, help="best of N runs per figure (default 3)")
     parser.add_argument("--models", default="", help="semicolon-separated lens specs (default: one or more per model)")
 
 

@@ -42,7 +42,9 @@ lio.write(path, img, **opts)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--side", type=int, default=8192, help="side of the large valid images (default 8192)")
+    from lenslab.jobs.arguments import positive_int
+
+    parser.add_argument("--side", type=positive_int, default=8192, help="side of the large valid images (default 8192)")
     parser.add_argument("--no-valid", dest="valid", action="store_false",
                         help="measure the hostile corpus only (no large images)")
 

@@ -52,7 +52,9 @@ COMMANDS = {
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--repeat", type=int, default=7, help="runs per command; the median is reported (default 7)")
+    from lenslab.jobs.arguments import positive_int
+
+    parser.add_argument("--repeat", type=positive_int, default=7, help="runs per command; the median is reported (default 7)")
     parser.add_argument("--commands", default=",".join(COMMANDS),
                         help=f"comma-separated commands to time (default {','.join(COMMANDS)})")
     parser.add_argument("--no-first-compile", dest="first_compile", action="store_false",

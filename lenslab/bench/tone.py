@@ -21,13 +21,14 @@ AIM_RATIO = 4.0  # times numpy.clip(image, 0, 1) on the same array
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.jobs.arguments import add_tones_option, positive_int
+
     parser.add_argument("--quick", action="store_true", help="use a 1024 x 512 image (a few seconds in all)")
-    from lenslab.jobs.arguments import add_tones_option
 
     add_tones_option(parser, default="", help="comma-separated curve names (default: every curve)")
-    parser.add_argument("--repeat", type=int, default=5, help="best of N runs per figure (default 5)")
+    parser.add_argument("--repeat", type=positive_int, default=5, help="best of N runs per figure (default 5)")
     parser.add_argument("--no-local", action="store_true", help="skip the slow OpenCV local operators")
-    parser.add_argument("--threads", type=int, default=None,
+    parser.add_argument("--threads", type=positive_int, default=None,
                         help="threads tonemap may use (default: every core, as the commands do); "
                              "numpy.clip runs on one either way")
 

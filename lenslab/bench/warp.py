@@ -27,7 +27,9 @@ DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "hdri"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--repeat", type=int, default=5, help="timed runs per case (the best counts; default 5)")
+    from lenslab.jobs.arguments import positive_int
+
+    parser.add_argument("--repeat", type=positive_int, default=5, help="timed runs per case (the best counts; default 5)")
     parser.add_argument("--data", type=Path, default=DATA,
                         help="folder of the real panoramas (*.exr; default: ../shared/data/hdri)")
     parser.add_argument("--dst", default="fisheye:fov=180", help="output lens spec (default fisheye:fov=180)")

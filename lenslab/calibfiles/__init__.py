@@ -85,9 +85,32 @@ def read_text(path: Path) -> str:
         raise CameraFileError(str(exc)) from None
 
 
+def image_lens(path: Path):
+    """The lens an image file records (an EXR written by lenslab or tracer), None when ``path`` is no image; an
+    image without a camera is a :class:`CameraFileError` that says where a camera comes from."""
+    from lenslab.io.registry import get, sniff
+
+    try:
+        fmt = sniff(path) if path.is_file() else None
+    except (LenslabError, OSError):  # not an image: a calibration file
+        return None
+    if fmt is None:
+        return None
+    from lenslab.io import read
+
+    camera = read(path)[1].get("camera")
+    if camera is None:
+        raise CameraFileError(f"{path}: this {get(fmt).title} image records no camera; give a calibration file or "
+                              "a lens spec (EXR files written by lenslab and tracer carry theirs)")
+    return camera.lens
+
+
 def read_lenses(spec: str) -> tuple[str, list[tuple[str, object]]]:
-    """The format and every camera of a file as ``(id, lens)`` pairs."""
+    """The format and every camera of a file as ``(id, lens)`` pairs (an image's recorded camera is ``0``)."""
     path, _ = split_pick(spec)
+    lens = image_lens(path)
+    if lens is not None:
+        return "image", [("0", lens)]
     text = read_text(path)
     fmt = sniff(path, text)
     return fmt, plugin(fmt).read(path, text)
@@ -100,7 +123,9 @@ def read_lens(spec: str, size: tuple[int, int] | None = None):
     if pick is not None:
         found = [lens for cid, lens in cams if cid == pick]
         if not found:
-            raise CameraFileError(f"{path}: no camera {pick!r}; it holds {', '.join(cid for cid, _ in cams)}")
+            ids = [cid for cid, _ in cams]
+            raise CameraFileError(f"{path}: no camera {pick!r}; its camera ID{'s' if len(ids) > 1 else ''}: "
+                                  f"{', '.join(ids)}")
         lens = found[0]
     elif len(cams) == 1:
         lens = cams[0][1]

@@ -30,11 +30,13 @@ FORMAT_CHOICES = tuple(CALIBRATION_FORMATS)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.jobs.arguments import image_size
+
     sub = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
     show = sub.add_parser("show", help="print the camera model, its parameters and field of view",
                           description="Print the camera model of a calibration file or spec.")
     show.add_argument("camera", metavar="CAMERA", help="calibration file (FILE or FILE#ID) or lens spec")
-    show.add_argument("--size", metavar="WxH", help="show the camera scaled to this image size")
+    show.add_argument("--size", type=image_size, metavar="WxH", help="show the camera scaled to this image size")
     conv = sub.add_parser("convert", help="write a camera in another calibration format, or another model",
                           description="Convert a camera between OpenCV, Kalibr, COLMAP, OCamCalib and lenslab files; "
                           "with --model, re-express it in another camera model, fitted over the field both share "
@@ -44,7 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help="file to write; the format follows its name: .yaml/.json OpenCV (Kalibr for "
                            "double-sphere and eucm), .txt COLMAP (OCamCalib for ocam), .toml lenslab")
     conv.add_argument("--format", choices=FORMAT_CHOICES, help="write this format whatever the name says")
-    conv.add_argument("--size", metavar="WxH", help="scale the intrinsics to this image size first")
+    conv.add_argument("--size", type=image_size, metavar="WxH", help="scale the intrinsics to this image size first")
     conv.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
     conv.add_argument("--model", metavar="MODEL", help="re-express the camera in this model (a spec: values given "
                       "stay fixed), fitted over the field both share, e.g. kannala-brandt or eucm")
@@ -57,17 +59,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       "of the source as a float image (EXR, PFM, TIFF); not shared: NaN")
 
 
-def load(spec: str, size_text: str | None):
-    from lenslab.cli.warp import parse_size
+def load(spec: str, size: tuple[int, int] | None):
     from lenslab.errors import LensError
     from lenslab.lenses import make_lens
     from lenslab.lenses.registry import lens_class, parse_spec
 
-    size = parse_size(size_text) if size_text else None
     from lenslab.calibfiles import is_camera_file
 
     if is_camera_file(spec):
-        return _image_lens(spec) or make_lens(spec, size)
+        return make_lens(spec, size)  # a calibration file, or an image that records its camera
     name, values = parse_spec(spec)
     if size is None:
         if "width" not in values or "height" not in values:
@@ -76,29 +76,6 @@ def load(spec: str, size_text: str | None):
             raise LensError(f"{spec}: give the calibration size as width=...,height=... (or --size WxH)")
         size = (int(float(values["width"])), int(float(values["height"])))
     return make_lens(spec, size)
-
-
-def _image_lens(spec: str):
-    """The lens an image file records (EXR written by lenslab or tracer), None when ``spec`` is no image; an
-    image without a camera is a failed input that says where a camera comes from."""
-    from pathlib import Path
-
-    from lenslab.errors import InputError, LenslabError
-    from lenslab.io import read
-    from lenslab.io.registry import get, sniff
-
-    path = Path(spec)
-    try:
-        fmt = sniff(path) if path.is_file() else None
-    except (LenslabError, OSError):  # not an image: a calibration file
-        return None
-    if fmt is None:
-        return None
-    camera = read(path)[1].get("camera")
-    if camera is None:
-        raise InputError(f"{path}: this {get(fmt).title} image records no camera; give a calibration file or a "
-                         "lens spec (EXR files written by lenslab and tracer carry theirs)")
-    return camera.lens
 
 
 def field_of_view(lens) -> tuple[float, float]:

@@ -49,6 +49,7 @@ def check_convert_options(args, files, display) -> None:
     from lenslab.jobs.warp_video import is_video
 
     given, args.tone = args.tone is not None, args.tone or "hable"
+    args.tone_given = given
     if args.frames is not None:
         check_frames_apply(args.frames, [f for f in files if not is_video(f)])
     if args.to in VIDEO:
@@ -56,7 +57,8 @@ def check_convert_options(args, files, display) -> None:
     else:
         fmt = get(args.to)  # integer samples asked of a float format (TIFF --bits) hold display codes
         holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
-        linear = [(fmt.title, "it holds linear light")] if holds else []
+        codes = " (with --bits 8 or 16, display codes)" if "sample_type" in fmt.write_options else ""
+        linear = [(fmt.title, f"it holds linear light{codes}")] if holds else []
     check_tone_applies("--tone", given, display, linear)
     if args.to not in VIDEO:
         from lenslab.jobs.display import check_display_outputs

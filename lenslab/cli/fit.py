@@ -50,6 +50,8 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from lenslab.jobs.arguments import positive_float, positive_int
+
     sub = parser.add_subparsers(dest="fit_kind", metavar="KIND")
     sub.required = True
 
@@ -63,7 +65,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                    help="residual minimised: direction (angle between the rays, in pixels through the fitted "
                    "lens's local scale; forward maps only) or pixel (where the fitted lens puts the source's "
                    "ray; uses its inverse). Default: direction")
-    p.add_argument("--tolerance", type=float, default=0.5, metavar="PX",
+    p.add_argument("--tolerance", type=positive_float, default=0.5, metavar="PX",
                    help="largest residual (pixels) accepted as a good fit (default 0.5)")
     _common(p)
 
@@ -77,9 +79,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument("--pose", action="store_true", help="also fit yaw, pitch and roll (directions are world directions)")
     p.add_argument("--loss", default="cauchy", choices=("cauchy", "huber", "soft_l1", "arctan", "linear"),
                    help="robust loss for the first pass (default cauchy: far outliers pull with almost no force)")
-    p.add_argument("--scale", type=float, default=1.0, metavar="PX",
+    p.add_argument("--scale", type=positive_float, default=1.0, metavar="PX",
                    help="residual (pixels) where the loss turns robust; about the measuring precision (default 1)")
-    p.add_argument("--outlier", type=float, metavar="PX", help="residual above which a point is an outlier and left "
+    p.add_argument("--outlier", type=positive_float, metavar="PX", help="residual above which a point is an outlier and left "
                    "out of the final least-squares pass (default 3 x --scale)")
     p.add_argument("--brief", action="store_true", help="do not list every point's residual")
     _common(p)
@@ -95,7 +97,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                    help="apply the curve per channel or on luminance (default per-channel)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="hold a curve parameter (or exposure) at a value; repeatable")
-    p.add_argument("--max-pixels", type=int, default=1 << 16, metavar="N",
+    p.add_argument("--max-pixels", type=positive_int, default=1 << 16, metavar="N",
                    help="pixels the fit looks at, evenly spread (default 65536)")
     p.add_argument("--free", metavar="NAMES", help="comma-separated names to fit, exposure included (default: "
                    "exposure and the curve's own numeric parameters, except those that duplicate exposure)")
@@ -164,17 +166,20 @@ def _run_points(args, FitError) -> int:
 
 def _run_tone(args, FitError) -> int:
     from lenslab import io
-    from lenslab.fit.tone import fit_tone
+    from lenslab.errors import FitSpecError
+    from lenslab.fit.params import parse_bounds
+    from lenslab.fit.tone import fit_tone, tone_variables
 
     fixed = {}
     for item in args.param:
         name, eq, value = item.partition("=")
         if not eq or not name.strip():
-            raise FitError(f"--param {item!r}: expected NAME=VALUE, for example white=8")
+            raise FitSpecError(f"--param {item!r}: expected NAME=VALUE, for example white=8")
         try:
             fixed[name.strip()] = float(value)
         except ValueError:
             fixed[name.strip()] = value.strip()
+    tone_variables(args.curve, args.free, parse_bounds(args.bounds), fixed)  # names checked before any read
     hdr, _ = io.read(args.hdr)
     ldr, _ = io.read(args.ldr)
     result = fit_tone(hdr, ldr, args.curve, mode=args.mode, free=args.free, fixed=fixed, bounds=args.bounds,

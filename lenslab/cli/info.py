@@ -143,12 +143,14 @@ def formats_text() -> str:
     """The table printed by ``lenslab info --formats``, from the format plugins."""
     from lenslab.io.registry import formats
 
-    lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<34s} {'extensions':<24s} notes"]
-    for f in formats().values():
-        holds = ("linear HDR" if f.hdr else "display-encoded") + (", alpha" if f.alpha else "") + \
-            f", {'/'.join(str(b) for b in f.bit_depths)}-bit"
+    rows = [(f, ("linear HDR" if f.hdr else "display-encoded") + (", alpha" if f.alpha else "")
+             + f", {'/'.join(str(b) for b in f.bit_depths)}-bit", " ".join(f.extensions)) for f in formats().values()]
+    wh = max([len("holds")] + [len(h) for _, h, _ in rows])  # columns as wide as their longest entry
+    we = max([len("extensions")] + [len(e) for _, _, e in rows])
+    lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<{wh}s} {'extensions':<{we}s} notes"]
+    for f, holds, ext in rows:
         lines.append(f"{f.name:<7s} {'yes' if f.readable else '-':<5s} {'yes' if f.writable else '-':<6s} "
-                     f"{holds:<34s} {' '.join(f.extensions):<24s} {f.note}")
+                     f"{holds:<{wh}s} {ext:<{we}s} {f.note}".rstrip())
     return "\n".join(lines)
 
 

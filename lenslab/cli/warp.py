@@ -66,9 +66,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
-                        help="output size in pixels; default: as many rows as the source, in the output lens's own frame "
-                             "shape (square for most lenses, 2:1 for equirect, square faces of whole pixels for a "
-                             "cube map); a camera file: the size it was calibrated at")
+                        help="output size in pixels; default: the source's rows in the output lens's own shape "
+                             "(square for a fisheye or perspective view, 2:1 for equirect, 3:2 for a 3x2 cube map of "
+                             "square faces; each eye of a stereo frame; a camera file: the size it was calibrated at)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
@@ -182,6 +182,7 @@ def check_options_apply(args, pairs) -> None:
     from lenslab.jobs.warp_video import is_video
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
+    args.tone_given = tone_given
     videos = [is_video(src) for src, _ in pairs]
     check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
@@ -284,6 +285,8 @@ def run(args: argparse.Namespace) -> int:
                  if on]
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")
+        if args.antialias and args.samples != 1:
+            raise UsageError("with an ST map, give either --antialias or --samples, not both")
         st_map(args.stmap)  # read now: a bad map is one error before any file
     from lenslab.filters import check_filter_with_antialias
 

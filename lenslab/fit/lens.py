@@ -260,11 +260,19 @@ def fit_lens(
                    (ps.lower, ps.upper))
 
 
+#: what the starts of :func:`_search` are, in order (the source's own values, then the model's defaults)
+START_NAMES = ("the source's values", "the model's defaults")
+
+
 def _search(f, ps: ParamSpace, starts, method: str, global_start: str | None, tolerance: float):
     """Local searches from each start; a global start as asked (or, for "auto", when they fall short)."""
     candidates = []
     if global_start in (None, "auto") or not ps.names:
         candidates += [_attempt(f, ps, s0, method, None) for s0 in starts]
+        if len(starts) > 1:  # say which start each local search began from: their bests differ
+            for c, where in zip(candidates, START_NAMES):
+                for stage in c.stages:
+                    stage.algorithm = f"{stage.algorithm} from {where}"
     if global_start is not None and ps.names:  # (nothing free: the one evaluation is the answer)
         ok_local = any(c.value <= _tol_value(tolerance) for c in candidates)
         if global_start != "auto" or not ok_local:

@@ -113,14 +113,14 @@ def read_points(path: str | Path, source: Camera | None = None) -> PointSet:
     text = read_side_text(path, "points file", 64 << 20)  # a regular file of bounded size
     rows = [(i + 1, [c.strip() for c in r]) for i, r in enumerate(csv.reader(io.StringIO(text, newline="")))
             if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
-    if not rows:
-        raise FitError(f"{path}: no points; give one CSV row per point (x,y,dx,dy,dz)")
     header = None
     try:
-        float(rows[0][1][0])
+        float(rows[0][1][0]) if rows else None
     except ValueError:
         header = [h.lower() for h in rows[0][1]]
         rows = rows[1:]
+    if not rows:
+        raise FitError(f"{path}: no points; give one CSV row per point (x,y,dx,dy,dz)")
     data = [(line, _floats(r, line, path)) for line, r in rows]
     ncol = {len(r) for _, r in data}
     if len(ncol) != 1:

@@ -27,7 +27,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from lenslab.errors import FitError, ToneError
+from lenslab.errors import FitError, FitSpecError, ToneError
 from lenslab.fit.digits import significant
 from lenslab.fit.optimize import OptimizeResult, minimize
 from lenslab.fit.params import parse_bounds, parse_names
@@ -178,13 +178,31 @@ def _variables(curve, free: Sequence[str] | None, bounds: dict, fixed: dict) -> 
             continue
         if n not in params or params[n].choices is not None:
             numeric = [p.name for p in spec.params if p.choices is None]
-            raise FitError(f"curve {spec.name!r} has no numeric parameter {n!r}; its parameters: "
+            raise FitSpecError(f"curve {spec.name!r} has no numeric parameter {n!r}; its parameters: "
                            f"exposure, {', '.join(numeric)}")
         start = float(resolved[n])  # a value derived from others (Hable's A..F) is resolved too
         lo, hi = bounds[n] if n in bounds else params[n].search_bounds(start)
         log = lo > 0 and hi / lo > 8.0
         out.append(Variable(n, min(max(start, lo), hi), lo, hi, log))
     return out
+
+
+def tone_variables(curve: str, free, bounds: Mapping[str, tuple[float, float]], fixed: Mapping[str, float]):
+    """The curve's record and the variables a tone fit moves, checked before any image is read: a curve,
+    parameter, ``free`` name or ``bounds`` that names nothing raises :class:`~lenslab.errors.FitSpecError`
+    (a usage error when typed on the command line)."""
+    from lenslab import tone
+
+    try:
+        spec = tone.get_curve(curve)
+        variables = _variables(spec.name, parse_names(free), dict(bounds), dict(fixed))
+    except ToneError as exc:
+        raise FitSpecError(str(exc)) from None
+    names = tuple(v.name for v in variables)
+    for n in bounds:
+        if n not in names:
+            raise FitSpecError(f"bounds given for {n}, which is not fitted; fitted: {', '.join(names) or 'none'}")
+    return spec, variables
 
 
 def fit_tone(
@@ -251,19 +269,12 @@ def fit_tone(
     t0 = time.perf_counter()
     fixed = dict(fixed or {})
     bounds = parse_bounds(bounds) if isinstance(bounds, str) or bounds is None else dict(bounds)
+    spec, variables = tone_variables(curve, free, bounds, fixed)
+    names = tuple(v.name for v in variables)
     a, b = _rgb(hdr), _rgb(ldr)
     if a.shape[:2] != b.shape[:2]:
         raise FitError(f"the HDR image is {a.shape[1]}x{a.shape[0]} but the LDR one is {b.shape[1]}x{b.shape[0]}; "
                        "give two images of the same view and size (resize or crop one first)")
-    try:
-        spec = tone.get_curve(curve)
-        variables = _variables(spec.name, parse_names(free), bounds, fixed)
-    except ToneError as exc:
-        raise FitError(str(exc)) from None
-    names = tuple(v.name for v in variables)
-    for n in bounds:
-        if n not in names:
-            raise FitError(f"bounds given for {n}, which is not fitted; fitted: {', '.join(names) or 'none'}")
     idx = sample_indices(a.shape[0], a.shape[1], max_pixels)
     x = a.reshape(-1, 3)[idx].astype(np.float32)[:, None, :]  # (n, 1, 3): an image of one column
     target_lin = np.clip(b.reshape(-1, 3)[idx], 0.0, 1.0)

@@ -20,6 +20,7 @@ class ConvertJob(Job):
 
     to: str = "exr"
     tone: str = "hable"
+    tone_given: bool = False
     exposure: float | str = 0.0
     quality: int | None = 95
     bits: int | None = None
@@ -37,7 +38,7 @@ class ConvertJob(Job):
     def look(self):
         from lenslab.jobs.stages import Look
 
-        return Look(tone=self.tone, exposure=self.exposure, display=self.display, view=self.view,
+        return Look(tone=self.tone, tone_given=self.tone_given, exposure=self.exposure, display=self.display, view=self.view,
                     colorspace=self.colorspace, ocio=self.ocio, bits=self.bits)
 
     @property

@@ -209,9 +209,21 @@ def one_line(exc: BaseException, limit: int = 400) -> str:
         text = " ".join((str(exc).strip() or type(exc).__name__).split("\n")[0].split())
         if not isinstance(exc, (LenslabError, OSError, ValueError)) or isinstance(exc, (RecursionError,)):
             text = f"{type(exc).__name__}: {text}" if text != type(exc).__name__ else text
-    if file and file not in text:
-        text = f"{file}: {text}"
+    if file:
+        text = naming(file, text)
     return cut(text, limit)
+
+
+def naming(file: str, text: str) -> str:
+    """``text`` naming ``file`` once: as it is when it names the file, else led by it; a message led by the
+    file's path without the selector typed after it (``f.exr: part 5 ...`` for ``f.exr:5``) is led by what was
+    typed instead of naming the file twice (a file that is not there keeps its path said)."""
+    if file in text:
+        return text
+    head = text.split(": ", 1)[0]
+    if head and file.startswith(head + ":") and os.path.isfile(head):
+        return file + text[len(head):]
+    return f"{file}: {text}"
 
 
 _NAME = re.compile(r"[\w.+/'\"-]+(?: [\w.+/'\"-]+)?")  # a valid name as messages list them (one or two words)

@@ -214,12 +214,12 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
                 told.add(once)
             print(f"{command}: note: {src}: {note if once is None else once}", file=sys.stderr)
     from lenslab.jobs.frame_files import names_output
+    from lenslab.jobs.funnel import naming
 
     failed = [(src, err) for src, _, err, _ in results if err]
     for src, dst, err, _ in results:  # an error of the output (it exists, ...) names the output alone
         if err:
-            print(f"{command}: error: {err if src in err or names_output(err, dst) else f'{src}: {err}'}",
-                  file=sys.stderr)
+            print(f"{command}: error: {err if names_output(err, dst) else naming(src, err)}", file=sys.stderr)
     if summary is not None:
         print(summary.format(done=len(results) - len(failed), total=len(results) if total is None else total)
               + (f"; {len(failed)} failed" if failed else "") + tail, file=sys.stderr)

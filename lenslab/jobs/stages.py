@@ -34,6 +34,7 @@ class Look:
     ocio: str | None = None
     bits: int | None = None
     always: bool = False
+    tone_given: bool = False  # the user typed the curve: said when a display source does not take it
 
     def display_options(self) -> dict:
         return {"display": self.display, "view": self.view, "colorspace": self.colorspace, "ocio": self.ocio,
@@ -73,6 +74,13 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
 
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
                        in_place=in_place, alpha_channel=alpha, **dict(look.params)), {}
+    if look.tone_given and (not fmt.hdr or integers) and meta.get("display_encoded"):
+        import warnings
+
+        from lenslab.jobs.funnel import CommandNote
+
+        warnings.warn(CommandNote(f"--tone {look.tone} not applied: the source holds display values already (a "
+                                  "tone curve maps HDR scene light; --exposure still applies)"), stacklevel=2)
     if exposure == "auto":
         from lenslab.io.registry import formats
 

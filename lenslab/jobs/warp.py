@@ -46,6 +46,7 @@ class WarpJob(Job):
     exact_map: bool = False
     format: str | None = None
     tone: str = "hable"
+    tone_given: bool = False
     exposure: float | str = 0.0
     pixel_type: str = "half"
     no_alpha: bool = False

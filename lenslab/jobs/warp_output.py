@@ -18,7 +18,7 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     bits = v360_bits(fmt, meta) if job.compat == "v360" else None
     if keep and job.compat == "v360" and (not fmt.hdr or bits):  # v360 keeps its input's pixel format (ffmpeg
         keep = source_alpha  # 5.1): an RGB source, an RGB PNG or TIFF, black where v360 writes zeros (colour over black)
-    look = Look(tone=job.tone, exposure=job.exposure, display=job.display, view=job.view,
+    look = Look(tone=job.tone, tone_given=job.tone_given, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
     # with alpha, the image developed is a new array of this function's own: the look may work in its memory
     from lenslab.current_input import from_input
