@@ -76,7 +76,8 @@ class Declared:
         return self.width * self.height * max(1, min(self.channels, 4)) * 4
 
 
-def _mb(n: int) -> str:
+def size_text(n: int) -> str:
+    """A byte count as a user reads it: 146 MB, or 300 bytes below 0.1 MB."""
     return f"{n / 1e6:.3g} MB" if n >= 1e5 else f"{n} bytes"
 
 
@@ -98,16 +99,15 @@ def check(path, declared: Declared, file_bytes: int) -> None:
     need = declared.float_bytes
     if held < declared.min_bytes and need > SMALL_BYTES:  # (a small image: the reader says where it breaks)
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels, which need at least "
-                          f"{_mb(declared.min_bytes)} of {declared.what}; the file holds {_mb(held)}; it is truncated, "
+                          f"{size_text(declared.min_bytes)} of {declared.what}; the file holds {size_text(held)}; it is truncated, "
                           "damaged or hostile")
     if need > BASE_BYTES and file_bytes < SMALL_FILE:
-        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
-                          f"{_mb(file_bytes)}; a file under 1 MB may decode to at most {_mb(BASE_BYTES)}; refused as "
-                          f"a decompression bomb{declared.hint} (a genuine image, e.g. a photo that compresses well: set "
-                          f"LENSLAB_BASE_BYTES={need})")
+        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({size_text(need)} decoded) from a file of "
+                          f"{size_text(file_bytes)}; a file under 1 MB may decode to at most {size_text(BASE_BYTES)}; refused as "
+                          f"a decompression bomb{declared.hint} (a genuine image: set LENSLAB_BASE_BYTES={need})")
     if need > BASE_BYTES and need > MAX_RATIO * file_bytes:
-        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({_mb(need)} decoded) from a file of "
-                          f"{_mb(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "
+        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({size_text(need)} decoded) from a file of "
+                          f"{size_text(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "
                           f"bomb{declared.hint} (LENSLAB_MAX_RATIO raises the limit for a genuine flat image)")
 
 

@@ -222,14 +222,14 @@ def check_deep(path, layout) -> dict[int, DeepCounts]:
         check_size(path, x1 - x0 + 1, y1 - y0 + 1)
         windows += deep_bytes(part, DeepCounts(0, 0, 0))
     if windows:
-        _refuse(path, windows, f"its deep data windows take {budget._mb(windows)} to read", layout.size)
+        _refuse(path, windows, f"its deep data windows take {budget.size_text(windows)} to read", layout.size)
     counts = deep_counts(path, layout)
     if not counts:
         return counts
     need = sum(deep_bytes(layout.parts[i], c) for i, c in counts.items())
     total = sum(c.total for c in counts.values())
     _refuse(path, need, f"its deep sample count tables hold {total} samples in "
-            f"{sum(c.pixels for c in counts.values())} pixels ({budget._mb(need)} to read and flatten)", layout.size)
+            f"{sum(c.pixels for c in counts.values())} pixels ({budget.size_text(need)} to read and flatten)", layout.size)
     return counts
 
 
@@ -237,9 +237,9 @@ def _refuse(path, need: int, said: str, size: int) -> None:
     """The input budget's two rules on ``need`` bytes from a file of ``size``."""
     from lenslab.io import budget
 
-    what = f"{path}: {said} in a file of {budget._mb(size)}"
+    what = f"{path}: {said} in a file of {budget.size_text(size)}"
     if need > budget.BASE_BYTES and size < budget.SMALL_FILE:
-        raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget._mb(budget.BASE_BYTES)}; "
+        raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget.size_text(budget.BASE_BYTES)}; "
                                  "refused as a decompression bomb (a genuine deep image: set "
                                  f"LENSLAB_BASE_BYTES={need})")
     if need > budget.BASE_BYTES and need > budget.MAX_RATIO * size:
