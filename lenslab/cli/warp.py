@@ -324,8 +324,6 @@ def run(args: argparse.Namespace) -> int:
         make_output_dir(args.output)
     sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
-    if skipped and not args.quiet:
-        print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
 
     def summary(where: str) -> str:
         maps = "" if where else f" by the ST map {args.stmap}" if args.stmap else f" with {plans_for(job).built} map(s)"
