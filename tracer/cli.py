@@ -64,7 +64,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
-                        "else 512x512; a cube map: about 512 rows of square faces of whole pixels, 768x512 for 3x2)")
+                        "else 512x512; a cube map: square faces of 256 pixels in its layout, 768x512 for 3x2)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",
@@ -155,9 +155,9 @@ def _camera(args, scene):
     if args.camera:
         make_lens(args.camera, size)  # report a bad spec before anything else
     camera = scene.camera(args.camera, size, view=args.view, **pose)
-    if args.size is None and own is None and camera.lens.size_note() and hasattr(camera.lens, "frame_size"):
-        # the default size suits the lens's layout (a 3x2 cube map: 768x512, square faces), as warp's does
-        camera = Camera(camera.lens.with_size(*camera.lens.frame_size(size[1])), camera.pose)
+    if args.size is None and own is None and hasattr(camera.lens, "default_frame"):
+        # the default size suits the lens's layout (a cube map: square faces of 256 pixels), as warp's does
+        camera = Camera(camera.lens.with_size(*camera.lens.default_frame(size[1])), camera.pose)
     return camera
 
 

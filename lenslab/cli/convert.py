@@ -190,8 +190,6 @@ def run(args: argparse.Namespace) -> int:
             folder.mkdir(parents=True, exist_ok=True)  # the mirrored sub-folders
     sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
-    if skipped and not args.quiet:
-        print(f"lenslab convert: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
     from lenslab.jobs.frame_files import in_sequence_folder
     from lenslab.jobs.warp_video import is_video
 

@@ -18,8 +18,8 @@
 In a model spec, parameters you give stay fixed and the others are fitted (numbers) or tried in turn
 (choices such as a fisheye's mapping); --free names the fitted ones instead. `fit lens` and `fit points`
 exit 0 for a good fit and 1 when the fit falls short (the report says why). `fit tone` exits 1 only when
-its search does not converge: a converged fit of two images that do not match still exits 0, so judge
-it by the colour difference it reports.
+its search does not converge: a converged fit of two images that do not match still exits 0, with a
+note when the mean CIEDE2000 left is above 10; judge it by the colour difference it reports.
 """
 
 from __future__ import annotations

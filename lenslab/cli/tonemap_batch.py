@@ -57,8 +57,6 @@ def run_many(args: argparse.Namespace, curve: str, params: dict, target=None) ->
             folder.mkdir(parents=True, exist_ok=True)  # the sub-folders a pattern's matches mirror
     sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
-    if skipped and not args.quiet:
-        print(f"lenslab tonemap: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
     status = run_batch("lenslab tonemap", job, pairs, args, lambda where: f"tone-mapped {{done}} of {{total}} file(s){where}",
                        skipped)
     if not status or len(pairs) > 1:  # something was written through the display: its view, once

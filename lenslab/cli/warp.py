@@ -67,8 +67,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's rows in the output lens's own shape "
-                             "(square for a fisheye or perspective view, 2:1 for equirect, 3:2 for a 3x2 cube map of "
-                             "square faces; each eye of a stereo frame; a camera file: the size it was calibrated at)")
+                             "(square for a fisheye or perspective view, 2:1 for equirect; a cube map: square faces of "
+                             "half the source's rows, 3:2 for a 3x2 cube map; each eye of a stereo frame; a camera "
+                             "file: the size it was calibrated at)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
@@ -323,8 +324,6 @@ def run(args: argparse.Namespace) -> int:
         make_output_dir(args.output)
     sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
-    if skipped and not args.quiet:
-        print(f"lenslab warp: {skipped} output(s) already there, left alone (--skip-existing)", file=sys.stderr)
 
     def summary(where: str) -> str:
         maps = "" if where else f" by the ST map {args.stmap}" if args.stmap else f" with {plans_for(job).built} map(s)"

@@ -207,7 +207,7 @@ class PointsFit:
         spec, angles = fitted_text(self.lens, SHARE * self.scale, (yaw, pitch, roll) if posed else None)
         lines = [f"fitted:   {spec} at {self.lens.width}x{self.lens.height}"]
         if posed:
-            lines.append("pose:     yaw={} pitch={} roll={}".format(*angles))
+            lines.append("pose:     yaw={0} pitch={1} roll={2} (as options: --yaw {0} --pitch {1} --roll {2})".format(*angles))
         lines.append(f"free:     {', '.join(self.free)}")
         lines.append(f"points:   {n}, inliers {k}, outliers {n - k} (residual above {self.threshold:g} px)")
         lines.append(f"residual: inliers RMS {self.rms:.4g} px, max {self.max:.4g} px "

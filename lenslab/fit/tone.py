@@ -317,9 +317,19 @@ def fit_tone(
     if clipped > 0.5:
         notes.append(f"{100 * clipped:.0f}% of the LDR values are clipped to black or white: they carry "
                      "little information about the curve")
+    de_after = _stats(ciede2000(after_img, target_lin))
+    if de_after["mean"] > MATCHED_DE:
+        notes.append(f"the mean CIEDE2000 after the fit is {de_after['mean']:.3g}, far beyond what a tone curve "
+                     f"leaves between two pictures of one view (above {MATCHED_DE:g}): check that the two images "
+                     "show the same view, aligned, and that the LDR one is sRGB-encoded")
     return ToneFit(spec.name, mode, exposure, params, names, rms_before, rms_after,
-                   _stats(ciede2000(before_img, target_lin)), _stats(ciede2000(after_img, target_lin)),
-                   res, len(idx), time.perf_counter() - t0, notes)
+                   _stats(ciede2000(before_img, target_lin)), de_after, res, len(idx), time.perf_counter() - t0,
+                   notes)
+
+
+#: a mean CIEDE2000 above this after the fit gets a note: about 1 is a just noticeable difference, so after
+#: the best curve the two images still differ plainly (a camera's JPEG of the same view leaves a few)
+MATCHED_DE = 10.0
 
 
 def _run(objective, start, lower, upper, names, global_start) -> OptimizeResult:

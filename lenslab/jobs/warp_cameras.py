@@ -66,8 +66,8 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
         return 2 * src_h, src_h
     from lenslab.lenses.registry import lens_class
 
-    if hasattr(lens_class(name), "frame_size"):  # a layout of faces (a cube map): square faces of whole pixels
-        return make_lens(spec, (src_h, src_h)).frame_size(src_h)
+    if hasattr(lens_class(name), "default_frame"):  # a layout of faces (a cube map): square faces of whole pixels
+        return make_lens(spec, (src_h, src_h)).default_frame(src_h)
 
     aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
     if aspect:

@@ -99,6 +99,8 @@ def test_a_points_fit_prints_the_pose_and_lens_it_recovered(tmp_path, capsys):
     assert len(tried) > 1 and all(digits_of(parse_spec(t)[1]["fov"]) <= 6 for t in tried), tried
     pose = dict(re.findall(r"(yaw|pitch|roll)=(\S+)", re.search(r"^pose:.*$", out, re.M).group(0)))
     assert {k: float(v) for k, v in pose.items()} == {"yaw": 30.0, "pitch": -10.0, "roll": 0.0}, pose
+    line = re.search(r"^pose:.*$", out, re.M).group(0)  # and as the options warp and tracer render take
+    assert dict(re.findall(r"--(yaw|pitch|roll) ([^ )]+)", line)) == pose, line
     pasted = Camera.from_spec(fitted_line(out), (400, 400), **{k: float(v) for k, v in pose.items()})
     back, seen = pasted.world_to_pixel(d)
     assert seen.all() and np.hypot(*(back - xy).T).max() < 0.1  # --scale 1 px: a tenth of it

@@ -76,20 +76,21 @@ def test_square_whole_faces_get_no_note(pano, tmp_path, capsys, spec, size):
         assert code == 0 and notes(err, prog) == [], err
 
 
-@pytest.mark.parametrize("spec, want", [("cubemap", (48, 32)), ("cubemap:layout=6x1", (192, 32)),
-                                        ("cubemap:layout=1x6", (5, 30)), ("cubemap:layout=4x3", (40, 30))])
+@pytest.mark.parametrize("spec, want", [("cubemap", (48, 32)), ("cubemap:layout=6x1", (96, 16)),
+                                        ("cubemap:layout=1x6", (16, 96)), ("cubemap:layout=4x3", (64, 48))])
 def test_warp_defaults_to_square_faces_of_the_layout(pano, tmp_path, capsys, spec, want):
-    """The default size keeps the source's 32 rows, as far as whole square faces allow: face = 32 // rows."""
+    """The default faces are 16 pixels in every layout: the source's 32 rows span 180 degrees, a face 90."""
     out = tmp_path / "c.exr"
     code, err = run(lenslab, ["warp", str(pano), "--to", spec, "-o", str(out), "-q"], capsys)
     assert code == 0 and err == []
     assert exr_size(out) == want
 
 
-def test_tracer_defaults_to_square_faces(tmp_path, capsys):
-    """512 rows, as the 512x512 default has, in faces of 256: 768x512 for the 3x2 layout."""
+@pytest.mark.parametrize("spec, want", [("cubemap", (768, 512)), ("cubemap:layout=6x1", (1536, 256))])
+def test_tracer_defaults_to_square_faces(tmp_path, capsys, spec, want):
+    """The 512x512 default's 512 rows span 180 degrees: faces of 256 in every layout (768x512 for 3x2)."""
     out = tmp_path / "t.exr"
-    code, err = run(tracer, ["render", "--scene", "sky", "--camera", "cubemap", "--spp", "1", "-q", "-o", str(out)],
+    code, err = run(tracer, ["render", "--scene", "sky", "--camera", spec, "--spp", "1", "-q", "-o", str(out)],
                     capsys)
     assert code == 0 and err == []
-    assert exr_size(out) == (768, 512)
+    assert exr_size(out) == want

@@ -125,6 +125,14 @@ class Cubemap(Lens):
         face = max(1, int(height) // self.rows)
         return self.cols * face, self.rows * face
 
+    def default_frame(self, rows: int) -> tuple[int, int]:
+        """The size made without ``--size`` from a source of ``rows`` rows: square faces of ``rows // 2`` pixels
+        in this layout, whatever it is (768x512 for 3x2, 1536x256 for 6x1 from 512 rows). The other lenses'
+        default of ``rows`` rows spans 180 degrees (a 180-degree fisheye), so a face's 90 degrees get half of it:
+        every layout samples the view alike."""
+        face = max(1, int(rows) // 2)
+        return self.cols * face, self.rows * face
+
     def size_note(self) -> str | None:
         """At a size off the layout's aspect (a 3x2 map at 1000x1000) the faces are not square, or not of whole
         pixels: each face's 90 degrees are stretched across it, and no face can be cut out as an image."""
