@@ -149,5 +149,9 @@ def format_for_path(path: str | os.PathLike, format: str | None = None) -> str:
         if fmt.writable and ext in fmt.extensions:
             return fmt.name
     exts = ", ".join(formats()[n].extensions[0] for n in writable())
+    for fmt in formats().values():  # a format lenslab reads only (HEIC): said as such
+        if ext and ext in fmt.extensions:
+            raise FormatError(f"{path}: lenslab reads {fmt.title} but does not write it; end the name with one of "
+                              f"{exts}")
     what = f"the extension {ext!r}" if ext else "a name without an extension"
     raise FormatError(f"{path}: cannot tell the output format from {what}; end the name with one of {exts}")
