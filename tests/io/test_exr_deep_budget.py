@@ -15,6 +15,7 @@ import pytest
 from lenslab.io.exr.chunks import parse_header
 from lenslab.io.exr.deep_counts import deep_counts
 from tests.hostile_run import run
+from tests.io.deep_files import deep_header
 
 OpenEXR = pytest.importorskip("OpenEXR")
 N = 64
@@ -29,12 +30,7 @@ def deep_file(path, counts, compression="NO_COMPRESSION", seed=0, tiles=None):
             chans["Z"][y, x] = rng.uniform(1, 9, n).astype(np.float32)
             for c in "RGBA":
                 chans[c][y, x] = rng.uniform(0, 1, n).astype(np.float16)
-    header = {"compression": getattr(OpenEXR, compression), "type": OpenEXR.deepscanline}
-    if tiles is not None:
-        header["type"] = OpenEXR.deeptile
-        header["tiles"] = OpenEXR.TileDescription()
-        header["tiles"].xSize, header["tiles"].ySize = tiles
-    OpenEXR.File(header, chans).write(str(path))
+    OpenEXR.File(deep_header(getattr(OpenEXR, compression), tiles), chans).write(str(path))
     return path
 
 

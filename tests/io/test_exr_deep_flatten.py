@@ -29,6 +29,7 @@ from hypothesis import example, given, settings, strategies as st
 
 import lenslab.io as lio
 from lenslab.io.exr.flatten import flatten
+from tests.io.deep_files import deep_header
 
 OpenEXR = pytest.importorskip("OpenEXR")
 H, W = 9, 11
@@ -95,12 +96,7 @@ def deep_file(path, pixels, zback=None, tiles=None):
             chans[n][y, x] = s[:, 1 + i].astype(np.float16)
         if zback is not None:
             chans["ZBack"][y, x] = np.array(zback[(y, x)], np.float32)
-    header = {"compression": OpenEXR.ZIPS_COMPRESSION, "type": OpenEXR.deepscanline}
-    if tiles is not None:
-        header["type"] = OpenEXR.deeptile
-        header["tiles"] = OpenEXR.TileDescription()
-        header["tiles"].xSize, header["tiles"].ySize = tiles
-    OpenEXR.File(header, chans).write(str(path))
+    OpenEXR.File(deep_header(OpenEXR.ZIPS_COMPRESSION, tiles), chans).write(str(path))
     return path
 
 
