@@ -178,7 +178,8 @@ def check_once(args) -> None:
 
 def check_options_apply(args, pairs) -> None:
     """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
-    from lenslab.io.registry import format_for_path, get
+    from lenslab.io.registry import get
+    from lenslab.jobs.policy import output_format  # a name lenslab does not write: a usage error
     from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
     from lenslab.jobs.warp_video import is_video
 
@@ -193,18 +194,18 @@ def check_options_apply(args, pairs) -> None:
     # a clip to a clip (or to a name the warp refuses); a clip to image files is developed as still images are
     clips = [v and image_format(dst) is None for (_, dst), v in zip(pairs, videos)]
     linear = [(dst, "a video keeps linear light through its transfer") if v
-              else (dst, f"{get(format_for_path(dst, None)).title} holds linear light")
-              for (_, dst), v in zip(pairs, clips) if v or get(format_for_path(dst, None)).hdr]
+              else (dst, f"{get(output_format(dst)).title} holds linear light")
+              for (_, dst), v in zip(pairs, clips) if v or get(output_format(dst)).hdr]
     check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit
 
     # from the names, before any header is read for its channels
     check_display_outputs(getattr(args, "display", None),
-                          [get(name) for name in {format_for_path(dst, None) for (_, dst), v in zip(pairs, clips) if not v}])
+                          [get(name) for name in {output_format(dst) for (_, dst), v in zip(pairs, clips) if not v}])
     for (src, dst), video in zip(pairs, videos):
         if not video and not getattr(args, "display", None):  # a display's codes are RGB, whatever the input
-            check_channels_fit(src, get(format_for_path(dst, None)))
+            check_channels_fit(src, get(output_format(dst)))
 
 
 def check_video_output(pairs, videos) -> None:

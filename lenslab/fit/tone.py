@@ -265,6 +265,7 @@ def fit_tone(
     (1.0, ('exposure',), True)
     """
     from lenslab import tone
+    from lenslab.tone.repairs import uncounted
 
     t0 = time.perf_counter()
     fixed = dict(fixed or {})
@@ -302,11 +303,12 @@ def fit_tone(
     start = [v.to_opt(v.start) for v in variables]
     lower = [v.to_opt(v.lo) for v in variables]
     upper = [v.to_opt(v.hi) for v in variables]
-    before_img = render({})
+    before_img = render({})  # the one render whose repairs of the HDR values (slight negatives) are counted
     rms_before = float(np.sqrt(np.mean((srgb_encode(before_img) - target) ** 2)))
-    res = _run(objective, start, lower, upper, names, global_start)
-    fitted = values_of(res.x)
-    after_img = render(fitted)
+    with uncounted():  # every later render repairs the same values again
+        res = _run(objective, start, lower, upper, names, global_start)
+        fitted = values_of(res.x)
+        after_img = render(fitted)
     rms_after = float(np.sqrt(np.mean((srgb_encode(after_img) - target) ** 2)))
     params = spec.resolve({**base_params, **{k: v for k, v in fitted.items() if k != "exposure"}})
     exposure = float(fitted.get("exposure", fixed.get("exposure", 0.0)))
