@@ -76,6 +76,7 @@ def test_compat_v360_png_from_a_16_bit_png_is_16_bit_as_ffmpegs(tmp_path):
 
     codes = _source(16, 3)
     ff, ll = _both(tmp_path, codes, "png", read=lambda p: cv2.imread(str(p), cv2.IMREAD_UNCHANGED)[..., ::-1])
+    assert ff.dtype == ll.dtype == np.uint16  # ffmpeg keeps the 16-bit source's depth, and so does lenslab
     _same(ff, ll, codes, 16, 3)
 
 
