@@ -1,8 +1,11 @@
 """Decompression bombs: valid files under 1 MB of one flat colour that decode to hundreds of MB, one
 for each way a registered format compresses (PNG and TIFF Deflate, EXR ZIP, PIZ and DWAA, JPEG,
-Radiance run lengths, an H.264 clip, an HEVC HEIC), each written by the format's own library (zlib, tifffile,
-OpenEXR, OpenCV, PyAV, pillow-heif) or by its specification's rules. Every one must be refused before its pixels
-are decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most 128 MiB).
+an H.264 clip, an HEVC HEIC), each written by the format's own library (zlib, tifffile, OpenEXR, OpenCV,
+PyAV, pillow-heif) or by its specification's rules. Every one must be refused before its pixels are
+decoded (:mod:`lenslab.io.budget`: a file under 1 MiB decodes to at most the larger of 96 MiB and
+:data:`lenslab.io.budget.SMALL_RATIO` times its bytes). And the files at the budget's edges, which it
+admits: :func:`write_edge` (the largest image any file may decode to) and :func:`write_ratio_edge` (the
+largest a file of a given size may decode to, padded to that size).
 
 The builders hand their libraries all-zero arrays (``np.zeros``: pages the kernel maps only when
 written), so making the corpus costs a few seconds and little memory.
@@ -17,6 +20,11 @@ from pathlib import Path
 #: formats whose files hold every sample raw (PFM, PPM, PGM, PBM): a file's bytes bound what it decodes
 #: to (at most 12 float bytes per byte held, 96 for PBM's bits), so no file under 1 MB can be a bomb
 RAW = ("pfm", "ppm", "pgm", "pbm")
+#: formats whose best compression stays below :data:`lenslab.io.budget.SMALL_RATIO`: Radiance run
+#: lengths code at most 127 pixels of a component in 2 bytes, 4 components, 12 float bytes a pixel
+#: (127 * 12 / 8 = 190 float bytes per byte; :func:`flat_hdr` of 3800 x 3800 is 0.93 MB for 173 MB),
+#: so the budget admits every such file and bounds what it costs by its bytes
+BOUNDED = ("hdr",)
 
 
 def _png(path: Path, side: int = 8192) -> None:
@@ -61,7 +69,7 @@ def _jpeg(path: Path, side: int = 6144) -> None:
     path.write_bytes(data.tobytes())
 
 
-def _hdr(path: Path, side: int = 3800) -> None:
+def flat_hdr(path: Path, side: int = 3800) -> None:
     """Radiance run-length scanlines (new style: each of the four components as runs of 127), the
     most compact encoding writers make: 0.93 MB for 3800 x 3800."""
     runs = [127] * (side // 127) + ([side % 127] if side % 127 else [])
@@ -98,37 +106,89 @@ BOMBS = {
     "tiff": [("bomb.tif", _tiff, (8192, 8192))],
     "exr": [(f"bomb-{c.lower()}.exr", _exr(c), (6144, 6144)) for c in ("ZIP", "PIZ", "DWAA")],
     "jpg": [("bomb.jpg", _jpeg, (6144, 6144))],
-    "hdr": [("bomb.hdr", _hdr, (3800, 3800))],
     "video": [("bomb.mp4", _video, (6144, 6144))],
     "heif": [("bomb.heic", _heif, (4096, 4096))],
 }
 
 
-def edge_size() -> tuple[int, int]:
-    """(width, height) of the largest 2:1 RGBA image (an equirect panorama, which ``lenslab warp`` takes
-    without ``--from``) whose float32 decoding stays within :data:`lenslab.io.budget.BASE_BYTES`: the
-    largest panorama a file under 1 MB may decode to."""
+def edge_size(budget: int | None = None, channels: int = 4) -> tuple[int, int]:
+    """(width, height) of the largest 2:1 image of ``channels`` (an equirect panorama, which ``lenslab
+    warp`` takes without ``--from``) whose float32 decoding stays within ``budget`` bytes (default
+    :data:`lenslab.io.budget.BASE_BYTES`: the largest panorama any file may decode to)."""
     from math import isqrt
 
     from lenslab.io.budget import BASE_BYTES
 
-    height = max(1, isqrt(BASE_BYTES // 32))  # RGBA float32: 2 * height * height * 16 bytes
+    budget = BASE_BYTES if budget is None else budget
+    height = max(1, isqrt(budget // (8 * channels)))  # float32: 2 * height * height * channels * 4 bytes
     return 2 * height, height
 
 
 def write_edge(path) -> Path:
     """A flat 2:1 RGBA half EXR (OpenEXR, ZIP) of :func:`edge_size`: tens of kB that decode to the budget
-    :data:`lenslab.io.budget.BASE_BYTES` of float32, the most a file under 1 MB is allowed."""
+    :data:`lenslab.io.budget.BASE_BYTES` of float32, the most any small file is allowed."""
     _exr_rgba(Path(path), *edge_size())
     return Path(path)
 
 
-def _exr_rgba(path: Path, width: int, height: int) -> None:
+#: formats of :func:`write_ratio_edge`: {name: (channels decoded, extension)}
+EDGE_FORMATS = {"exr": (4, ".exr"), "jpg": (3, ".jpg"), "heif": (3, ".heic")}
+
+
+def write_ratio_edge(path, file_bytes: int, fmt: str = "exr") -> tuple[int, int]:
+    """A file of exactly ``file_bytes`` bytes (a flat image padded with metadata the readers skip: an EXR
+    string attribute, JPEG ``COM`` segments, HEIF XMP) that declares the largest 2:1 image the budget
+    admits from it (:func:`lenslab.io.budget.allowed`): a flat RGBA half EXR, a flat JPEG (OpenCV) or
+    a flat HEIC (pillow-heif). A hostile file at the edge of the rule looks like this. Its (width, height)."""
+    from lenslab.io.budget import allowed
+
+    path = Path(path)
+    channels = EDGE_FORMATS[fmt][0]
+    w, h = edge_size(allowed(file_bytes), channels)
+    write = {"exr": _exr_rgba, "jpg": _jpeg_padded, "heif": _heif_padded}[fmt]
+    pad = 0
+    for _ in range(4):  # each writer adds a few bytes of its own around the padding: found, then taken off
+        write(path, w, h, pad)
+        pad += file_bytes - path.stat().st_size
+        if pad < 0:
+            raise ValueError(f"a flat {w} x {h} {fmt} takes more than {file_bytes} bytes")
+        if path.stat().st_size == file_bytes:
+            break
+    assert path.stat().st_size == file_bytes, (path, path.stat().st_size, file_bytes)
+    return w, h
+
+
+def _exr_rgba(path: Path, width: int, height: int, pad: int = 0) -> None:
     import numpy as np
     import OpenEXR
 
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    if pad:
+        header["padding"] = "x" * pad
     OpenEXR.File(header, {"RGBA": np.zeros((height, width, 4), np.float16)}).write(str(path))
+
+
+def _jpeg_padded(path: Path, width: int, height: int, pad: int = 0) -> None:
+    import cv2
+    import numpy as np
+
+    ok, data = cv2.imencode(".jpg", np.zeros((height, width, 3), np.uint8))
+    data = data.tobytes()
+    segments = []
+    while pad > 0:
+        n = max(min(pad, 65535 + 2) - 4, 0)  # a COM segment: marker, 2-byte length (which counts itself), text
+        segments.append(b"\xff\xfe" + (n + 2).to_bytes(2, "big") + b"x" * n)
+        pad -= n + 4
+    path.write_bytes(data[:2] + b"".join(segments) + data[2:])
+
+
+def _heif_padded(path: Path, width: int, height: int, pad: int = 0) -> None:
+    import pillow_heif
+
+    image = pillow_heif.from_bytes("RGB", (width, height), bytes(width * height * 3))
+    if pad:
+        image.info["xmp"] = b"<x>" + b" " * pad + b"</x>"
+    image.save(str(path), quality=50, enc_params={"preset": "ultrafast"})
 
 
 def write_bombs(folder) -> dict[str, tuple[int, int]]:
@@ -142,4 +202,5 @@ def write_bombs(folder) -> dict[str, tuple[int, int]]:
     return made
 
 
-__all__ = ["BOMBS", "RAW", "edge_size", "write_bombs", "write_edge"]
+__all__ = ["BOMBS", "BOUNDED", "EDGE_FORMATS", "RAW", "edge_size", "flat_hdr", "write_bombs", "write_edge",
+           "write_ratio_edge"]

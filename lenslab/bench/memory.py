@@ -3,7 +3,7 @@ child: peak RSS), on hostile files and on large valid ones.
 
 Aims:
 
-- no input under 1 MB makes any command allocate more than 200 MB: every file of the hostile corpus
+- no hostile input under 1 MB makes any command allocate more than 200 MB: every file of the hostile corpus
   (``lenslab.bench.hostile``: headers declaring 20000 x 20000 pixels in a few hundred bytes, page loops,
   alias bombs, deep nesting...) goes through the command that must refuse it; the figure is its peak
   beyond the baseline, the peak of ``lenslab info --formats`` (the interpreter and the modules every
@@ -81,30 +81,59 @@ def read_peak_mb(peak_file) -> float:
         return float("nan")
 
 
-def edge_at_budget(lenslab: list[str], folder: Path, base: float) -> None:
-    """The largest image a file under 1 MB may decode to (:data:`lenslab.io.budget.BASE_BYTES` of float32:
-    a flat 2:1 RGBA half EXR of :func:`lenslab.bench.bombs.edge_size`, tens of kB) is admitted: each
-    command's peak on it beyond the baseline, against the same 200 MB aim."""
-    from lenslab.bench.bombs import edge_size, write_edge
-    from lenslab.bench.results import figure, mark
-    from lenslab.io.budget import BASE_BYTES
+#: file sizes of the ratio edge measured: a file of this many bytes declaring all the budget admits
+EDGE_FILES = (512 << 10, 1 << 20)
 
-    path = write_edge(folder / "edge.exr")
-    steps = {"convert_exr": ["convert", str(path), "--to", "exr", "-o", str(folder / "e.exr"), "--overwrite"],
-             "convert_png": ["convert", str(path), "--to", "png", "-o", str(folder / "e.png"), "--overwrite"],
-             "warp": ["warp", str(path), "-o", str(folder / "w.exr"), "--to", "fisheye:fov=180", "--size",
-                      "1024x1024", "--overwrite"],
-             "tonemap": ["tonemap", str(path), "-o", str(folder / "t.png"), "--overwrite"]}
-    kb = path.stat().st_size / 1e3
-    w, h = edge_size()
-    print(f"a {kb:.0f} kB flat {w} x {h} RGBA EXR decoding to {w * h * 16 / 1e6:.0f} MB (the budget for files under "
-          f"1 MB: {BASE_BYTES / 1e6:.0f} MB):")
-    for step, argv in steps.items():
+
+def _edge_steps(path: Path, folder: Path) -> dict[str, list[str]]:
+    return {"convert_exr": ["convert", str(path), "--to", "exr", "-o", str(folder / "e.exr"), "--overwrite"],
+            "convert_png": ["convert", str(path), "--to", "png", "-o", str(folder / "e.png"), "--overwrite"],
+            "warp": ["warp", str(path), "-o", str(folder / "w.exr"), "--to", "fisheye:fov=180", "--size",
+                     "1024x1024", "--overwrite"],
+            "tonemap": ["tonemap", str(path), "-o", str(folder / "t.png"), "--overwrite"]}
+
+
+def _measure_edge(lenslab: list[str], path: Path, folder: Path, base: float, key: str, what: str,
+                  decoded: int) -> None:
+    from lenslab.bench.results import figure, mark
+
+    for step, argv in _edge_steps(path, folder).items():
         mb, status = peak_mb(lenslab + argv)
         extra = max(mb - base, 0.0)
-        ok = figure(f"memory.edge_{step}", f"{step} a {kb:.0f} kB {w}x{h} file at the small-file budget: "
-                    "peak beyond the baseline", extra, "MB", aim=AIM_HOSTILE_MB, note=f"exit {status}")
-        print(f"  {step:12s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  {mark(ok)}")
+        ok = figure(f"memory.{key}{step}", f"{step} {what}: peak beyond the baseline", extra, "MB",
+                    aim=AIM_HOSTILE_MB, note=f"exit {status}; {extra / (decoded / 1e6):.2f} x the decoded image")
+        print(f"  {step:12s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  "
+              f"({extra / (decoded / 1e6):.2f} x decoded)  {mark(ok)}")
+
+
+def edge_at_budget(lenslab: list[str], folder: Path, base: float) -> None:
+    """The files at the budget's edges, which it admits, through each command, against the 200 MB aim:
+    the largest image any file may decode to (:data:`lenslab.io.budget.BASE_BYTES` of float32: a flat
+    2:1 RGBA half EXR of :func:`lenslab.bench.bombs.edge_size`, tens of kB; ``memory.edge_*``), and for
+    each size of :data:`EDGE_FILES` the largest a file of that size may decode to
+    (:func:`lenslab.io.budget.allowed`: a flat EXR, JPEG and HEIC padded to that size by
+    :func:`lenslab.bench.bombs.write_ratio_edge`; ``memory.edge_{format}_{KiB}k_*``)."""
+    from lenslab.bench.bombs import EDGE_FORMATS, edge_size, write_edge, write_ratio_edge
+    from lenslab.io.budget import BASE_BYTES, SMALL_RATIO, allowed
+
+    path = write_edge(folder / "edge.exr")
+    kb = path.stat().st_size / 1e3
+    w, h = edge_size()
+    print(f"a {kb:.0f} kB flat {w} x {h} RGBA EXR decoding to {w * h * 16 / 1e6:.0f} MB (what any file may decode "
+          f"to: {BASE_BYTES / 1e6:.0f} MB):")
+    _measure_edge(lenslab, path, folder, base, "edge_", f"a {kb:.0f} kB {w}x{h} file at the base budget",
+                  w * h * 16)
+    path.unlink()
+    for size in EDGE_FILES:
+        for fmt, (channels, ext) in EDGE_FORMATS.items():
+            path = folder / f"edge-{size}{ext}"
+            w, h = write_ratio_edge(path, size, fmt)
+            decoded = w * h * channels * 4
+            print(f"a {size / 1e6:.2f} MB flat {w} x {h} {fmt} decoding to {decoded / 1e6:.0f} MB (what a file of its "
+                  f"size may decode to: {allowed(size) / 1e6:.0f} MB, {SMALL_RATIO} times its bytes):")
+            _measure_edge(lenslab, path, folder, base, f"edge_{fmt}_{size >> 10}k_",
+                          f"a {size / 1e6:.2f} MB {w}x{h} {fmt} at the ratio budget", decoded)
+            path.unlink()
 
 
 def peak_mb(argv: list[str], cwd=None) -> tuple[float, int]:

@@ -9,17 +9,39 @@ one line naming the file and before any pixel memory exists:
 
 - a size beyond :data:`lenslab.inputs.limits.MAX_PIXELS` (the same cap as ``--size``);
 - fewer bytes than the declared image needs (a 302-byte TIFF declaring 20000 x 20000 floats);
-- a decoded float image larger than :data:`BASE_BYTES` (96 MiB) from a file under :data:`SMALL_FILE`
-  (1 MiB), however well it compresses. 96 MiB is exactly a 4096 x 2048 RGB panorama in float32: the
-  panoramas people share on the web (a 4096 x 2048 JPEG or PNG under 1 MB) are read, and every command
-  on an image at this limit peaks within 200 MB beyond its start (``lenslab bench memory``, the
-  ``memory.edge_*`` figures: a flat RGBA image of the budget). A 4096 x 2048 RGBA image (128 MiB) from a
-  file under 1 MB is refused: a command reads it into one float image of its size, and a warp holds
-  that source, its output and its maps, which passes 200 MB. Genuine flat images beyond the limit are
-  refused too (a flat 6144 x 3072 RGB float EXR, ZIP, decodes to 226 MB); ``LENSLAB_BASE_BYTES`` admits them;
-- a decoded float image larger than :data:`MAX_RATIO` (4096) times the file's bytes, once it passes
-  :data:`BASE_BYTES`. 4096 is above what Deflate's 1032:1 gives a flat 16-bit or half-float image,
-  which lenslab's own EXR and PNG writers reach on a flat colour; ``LENSLAB_MAX_RATIO`` changes it.
+- a decoded float image larger than :func:`allowed` of the file's bytes ``b``:
+  ``max(BASE_BYTES, SMALL_RATIO * min(b, SMALL_FILE) + MAX_RATIO * max(b - SMALL_FILE, 0))``, i.e. any
+  file may decode to :data:`BASE_BYTES` (96 MiB: a 4096 x 2048 RGB panorama in float32), each of its first
+  :data:`SMALL_FILE` (1 MiB) bytes to :data:`SMALL_RATIO` (512) bytes of float32, each byte beyond to
+  :data:`MAX_RATIO` (4096). The rule is continuous and increasing in ``b`` (one more byte buys at most
+  4096 bytes), so no file size admits gigabytes more than one byte less. The refusal names the
+  ``LENSLAB_BASE_BYTES`` value that admits the file; ``LENSLAB_MAX_RATIO`` changes the ratio beyond 1 MiB.
+
+:data:`SMALL_RATIO` is measured (``tools/budget_ratios.py``: decoded float bytes per file byte, as the
+``declare`` hooks see them). Genuine images: 70-degree views of the eight real 1024 x 512 panoramas
+(``lenslab warp``, exposure auto, 3 yaws each), saved by Pillow as JPEG at qualities 70 to 95 (4:2:0), PNG
+and HEIC (pillow-heif's default quality). A 70-degree view spans 199 of a panorama's pixels, so the ratio
+grows with the view's size, which softens it: at 256 x 192 (the panorama's own detail, as in a sharp
+photo) JPEG reaches at most 211 (q70; 117 at q90), HEIC 358, PNG 17; at 512 x 384 JPEG 301, HEIC 564; at
+1024 x 768 (5 times softer) JPEG 420 (q70; 233 at q90), HEIC 902; at 4000 x 3000 (20 times: softer than
+any photo) JPEG 608 (q70; 404 at q90, 254 at q95), HEIC 1579. Phone photos that the 96 MiB rule refused:
+a 12 MP JPEG of 0.85 MB is 172, a 12 MP HEIC of 0.79 MB 185. The real files of ../shared/data/formats: at
+most 330 (an EXR). Flat colour, the most a format's files reach (12 MP, each at its smallest settings):
+JPEG baseline 4:2:0 (OpenCV, Pillow) 766, optimized or progressive 2031 to 2040, PNG 3032 to 3437, TIFF
+Deflate 3579 (LZW 642), EXR ZIP 1772, PXR24 1434, PIZ 576, DWAA 6804, HEIC 18488 to 18646. Below 512
+whatever their content: Radiance run lengths 186 (at most 190 by the format's rules), EXR RLE 121, a
+baseline 4:4:4 JPEG 438. So 512 admits every view at the panoramas' own detail (by 1.43 times the
+highest, a HEIC), every JPEG view up to 5 times softer, and the phone photos above by 2.8 times; it
+refuses the flat baseline JPEG by 1.5 times, progressive JPEG by 4, EXR ZIP by 3.5, PNG and TIFF
+Deflate by 6 and more, HEIC by 36. It refuses HEIC views softer than the panoramas' detail (2 of 24 at
+512 x 384, 13 of 24 at 1024 x 768, all at 4000 x 3000) and the lowest-quality JPEGs of the 4000 x 3000 views
+(2 of 8 at q70, 1 at q80): smooth, dark or plain pictures whose ratio no flat file's beats by much.
+
+What it costs: any file at most what a file of :data:`BASE_BYTES` costs (every command within 200 MB
+beyond its start, ``lenslab bench memory``'s ``memory.edge_*``); a file of ``b`` bytes up to 512 b of
+float32 (268 MB for 0.5 MiB, 537 MB for 1 MiB), which each command holds about MEMFIGURE times over
+(``memory.edge_{format}_{KiB}k_*``: flat EXR, JPEG and HEIC files padded to the edge). Where a file
+passes :func:`allowed` only because it is genuine and large, ``LENSLAB_BASE_BYTES`` admits it.
 
 A format without a ``declare`` hook gets only the pixel cap its reader applies: every plugin should
 declare.
@@ -39,9 +61,11 @@ from lenslab.inputs.limits import env_int
 #: a decoded float image up to this size is admitted whatever its file's size: what every command holds
 #: within 200 MB beyond its start with a margin (``lenslab bench memory``, ``memory.edge_*``)
 BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 96 << 20)
-#: beyond BASE_BYTES, the decoded float image may be at most this many times the file's bytes
+#: each of a file's first SMALL_FILE bytes may decode to this many bytes of float32
+SMALL_RATIO = 512
+#: each byte of a file beyond its first SMALL_FILE may decode to this many bytes of float32
 MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
-#: a file smaller than this never decodes to more than BASE_BYTES
+#: where the ratio of decoded float bytes per file byte steps from SMALL_RATIO to MAX_RATIO
 SMALL_FILE = 1 << 20
 
 
@@ -101,14 +125,28 @@ def check(path, declared: Declared, file_bytes: int) -> None:
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels, which need at least "
                           f"{size_text(declared.min_bytes)} of {declared.what}; the file holds {size_text(held)}; it is truncated, "
                           "damaged or hostile")
-    if need > BASE_BYTES and file_bytes < SMALL_FILE:
+    if need > allowed(file_bytes):
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({size_text(need)} decoded) from a file of "
-                          f"{size_text(file_bytes)}; a file under 1 MB may decode to at most {size_text(BASE_BYTES)}; refused as "
-                          f"a decompression bomb{declared.hint} (a genuine image: set LENSLAB_BASE_BYTES={need})")
-    if need > BASE_BYTES and need > MAX_RATIO * file_bytes:
-        raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({size_text(need)} decoded) from a file of "
-                          f"{size_text(file_bytes)}, more than {MAX_RATIO} times its size; refused as a decompression "
-                          f"bomb{declared.hint} (LENSLAB_MAX_RATIO raises the limit for a genuine flat image)")
+                          f"{size_text(file_bytes)}, which may decode to at most {size_text(allowed(file_bytes))} "
+                          f"({rule_text(file_bytes)}); refused as a decompression bomb{declared.hint} "
+                          f"(a genuine image: set LENSLAB_BASE_BYTES={need})")
+
+
+def allowed(file_bytes: int) -> int:
+    """The most bytes of decoded float32 a file of ``file_bytes`` may declare: the larger of
+    :data:`BASE_BYTES` and :data:`SMALL_RATIO` per byte of its first :data:`SMALL_FILE` bytes plus
+    :data:`MAX_RATIO` per byte beyond them (continuous and increasing in ``file_bytes``)."""
+    first = min(max(file_bytes, 0), SMALL_FILE)
+    return max(BASE_BYTES, SMALL_RATIO * first + MAX_RATIO * (max(file_bytes, 0) - first))
+
+
+def rule_text(file_bytes: int) -> str:
+    """Which part of :func:`allowed` gives a file of ``file_bytes`` its budget, as a user reads it."""
+    if allowed(file_bytes) == BASE_BYTES:
+        return f"any file may decode to {size_text(BASE_BYTES)}"
+    if file_bytes <= SMALL_FILE:
+        return f"{SMALL_RATIO} times its size"
+    return f"{SMALL_RATIO} times its first 1 MiB and {MAX_RATIO} times the rest"
 
 
 def admit(path, fmt, **options) -> Declared | None:

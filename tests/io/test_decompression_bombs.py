@@ -12,14 +12,15 @@ import sys
 import numpy as np
 import pytest
 
-from lenslab.bench.bombs import BOMBS, RAW, write_bombs
+from lenslab.bench.bombs import BOMBS, BOUNDED, RAW, write_bombs
 from lenslab.io.registry import formats
 from tests.hostile_run import run
 
 oiio = pytest.importorskip("OpenImageIO")
 
-#: lenslab.io.budget: a file under 1 MiB decodes to at most 96 MiB of float32 (a 4096 x 2048 RGB panorama)
-SMALL_FILE, BASE_BYTES = 1 << 20, 96 << 20
+#: lenslab.io.budget: a file under 1 MiB decodes to at most the larger of 96 MiB of float32 (a 4096 x 2048 RGB
+#: panorama) and 512 times its bytes
+SMALL_FILE, BASE_BYTES, SMALL_RATIO = 1 << 20, 96 << 20, 512
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +31,7 @@ def bombs(tmp_path_factory):
 
 def test_every_registered_format_that_compresses_has_a_bomb():
     readable = {f.name for f in formats().values() if f.read is not None}
-    assert readable == set(BOMBS) | set(RAW)
+    assert readable == set(BOMBS) | set(RAW) | set(BOUNDED)
 
 
 def _outside_size(path):
@@ -55,17 +56,21 @@ def test_each_bomb_is_a_valid_file_under_1_mb_that_decodes_beyond_the_limit(bomb
         path = folder / name
         assert path.stat().st_size < SMALL_FILE, name
         assert _outside_size(path) == size, name
-        assert size[0] * size[1] * 3 * 4 > BASE_BYTES, name  # float32 RGB
+        assert size[0] * size[1] * 3 * 4 > max(BASE_BYTES, SMALL_RATIO * path.stat().st_size), name  # float32 RGB
 
 
-def test_the_radiance_bomb_decodes_with_the_limit_raised(bombs, tmp_path):
-    """LENSLAB_BASE_BYTES (named in the refusal) admits a genuine flat image: the 0.93 MB Radiance file
-    (3800 x 3800, 173 MB decoded) converts, and OpenImageIO reads black in the EXR written."""
-    folder, _ = bombs
+def test_the_flattest_radiance_file_is_read_within_its_bytes(tmp_path):
+    """Radiance run lengths code at most 127 pixels of a component in 2 bytes: a 3800 x 3800 file of runs
+    of black is 0.93 MB (3800 * (4 + 4 * 30 * 2) bytes of scanlines) for 173 MB of float, 186 times its
+    bytes, under the 512 the budget allows; no Radiance file can be a bomb. It converts, and OpenImageIO
+    reads black in the EXR written."""
+    from lenslab.bench.bombs import flat_hdr
+
+    src = tmp_path / "flat.hdr"
+    flat_hdr(src)
+    assert src.stat().st_size == len(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 3800 +X 3800\n") + 3800 * (4 + 4 * 30 * 2)
     out = tmp_path / "out.exr"
-    env = dict(os.environ, LENSLAB_BASE_BYTES=str(200 << 20))
-    done = run([sys.executable, "-m", "lenslab", "convert", str(folder / "bomb.hdr"), "--to", "exr", "-o", str(out),
-                "-q"], env=env)
+    done = run([sys.executable, "-m", "lenslab", "convert", str(src), "--to", "exr", "-o", str(out), "-q"])
     assert done.returncode == 0, done.stderr
     inp = oiio.ImageInput.open(str(out))
     spec = inp.spec()
@@ -96,9 +101,9 @@ def test_the_edge_file_decodes_to_the_budget_and_is_admitted(tmp_path):
 
 
 def test_a_flat_6k_float_exr_is_refused_and_admitted_as_the_refusal_says(tmp_path):
-    """A flat 6144 x 3072 RGB float EXR written by OpenEXR (ZIP: a few hundred kB) decodes to 226 MB, over
-    the budget of a file under 1 MB: refused in one line that names the LENSLAB_BASE_BYTES value that
-    admits it; with that value it converts and OpenImageIO reads its colour back."""
+    """A flat 6144 x 3072 RGB float EXR written by OpenEXR (ZIP: 235 kB) decodes to 226 MB, over the
+    budget of its file (512 times its bytes, 120 MB): refused in one line that names the LENSLAB_BASE_BYTES
+    value that admits it; with that value it converts and OpenImageIO reads its colour back."""
     import OpenEXR
 
     src = tmp_path / "flat.exr"
@@ -111,7 +116,10 @@ def test_a_flat_6k_float_exr_is_refused_and_admitted_as_the_refusal_says(tmp_pat
     done = run(argv)
     assert done.returncode == 1 and not out.exists()
     lines = done.stderr.strip().splitlines()
-    assert len(lines) == 1 and f"LENSLAB_BASE_BYTES={need}" in lines[0] and "101 MB" in lines[0], done.stderr
+    allowed = SMALL_RATIO * src.stat().st_size
+    assert need > allowed > BASE_BYTES
+    assert len(lines) == 1 and f"LENSLAB_BASE_BYTES={need}" in lines[0], done.stderr
+    assert f"at most {allowed / 1e6:.3g} MB" in lines[0], done.stderr
     done = run(argv, env=dict(os.environ, LENSLAB_BASE_BYTES=str(need)))
     assert done.returncode == 0, done.stderr
     inp = oiio.ImageInput.open(str(out))

@@ -234,14 +234,10 @@ def check_deep(path, layout) -> dict[int, DeepCounts]:
 
 
 def _refuse(path, need: int, said: str, size: int) -> None:
-    """The input budget's two rules on ``need`` bytes from a file of ``size``."""
+    """The input budget (:func:`lenslab.io.budget.allowed`) on ``need`` bytes from a file of ``size``."""
     from lenslab.io import budget
 
-    what = f"{path}: {said} in a file of {budget.size_text(size)}"
-    if need > budget.BASE_BYTES and size < budget.SMALL_FILE:
-        raise budget.BudgetError(f"{what}; a file under 1 MB may decode to at most {budget.size_text(budget.BASE_BYTES)}; "
-                                 "refused as a decompression bomb (a genuine deep image: set "
-                                 f"LENSLAB_BASE_BYTES={need})")
-    if need > budget.BASE_BYTES and need > budget.MAX_RATIO * size:
-        raise budget.BudgetError(f"{what}, more than {budget.MAX_RATIO} times its size; refused as a decompression "
-                                 "bomb (LENSLAB_MAX_RATIO raises the limit for a genuine deep image)")
+    if need > budget.allowed(size):
+        raise budget.BudgetError(f"{path}: {said} in a file of {budget.size_text(size)}, which may decode to at most "
+                                 f"{budget.size_text(budget.allowed(size))} ({budget.rule_text(size)}); refused as a "
+                                 f"decompression bomb (a genuine deep image: set LENSLAB_BASE_BYTES={need})")
