@@ -15,7 +15,9 @@ one line naming the file and before any pixel memory exists:
   :data:`SMALL_FILE` (1 MiB) bytes to :data:`SMALL_RATIO` (512) bytes of float32, each byte beyond to
   :data:`MAX_RATIO` (4096). The rule is continuous and increasing in ``b`` (one more byte buys at most
   4096 bytes), so no file size admits gigabytes more than one byte less. The refusal names the
-  ``LENSLAB_BASE_BYTES`` value that admits the file; ``LENSLAB_MAX_RATIO`` changes the ratio beyond 1 MiB.
+  ``LENSLAB_BASE_BYTES`` value that admits the file; ``LENSLAB_SMALL_RATIO`` and ``LENSLAB_MAX_RATIO``
+  change the two ratios (``LENSLAB_SMALL_RATIO=1``: 96 MiB for every file under 1 MiB, as a machine that
+  must hold each command within 200 MB of its start needs).
 
 :data:`SMALL_RATIO` is measured (``tools/budget_ratios.py``: decoded float bytes per file byte, as the
 ``declare`` hooks see them). Genuine images: 70-degree views of the eight real 1024 x 512 panoramas
@@ -32,16 +34,17 @@ Deflate 3579 (LZW 642), EXR ZIP 1772, PXR24 1434, PIZ 576, DWAA 6804, HEIC 18488
 whatever their content: Radiance run lengths 186 (at most 190 by the format's rules), EXR RLE 121, a
 baseline 4:4:4 JPEG 438. So 512 admits every view at the panoramas' own detail (by 1.43 times the
 highest, a HEIC), every JPEG view up to 5 times softer, and the phone photos above by 2.8 times; it
-refuses the flat baseline JPEG by 1.5 times, progressive JPEG by 4, EXR ZIP by 3.5, PNG and TIFF
-Deflate by 6 and more, HEIC by 36. It refuses HEIC views softer than the panoramas' detail (2 of 24 at
+refuses the flat baseline JPEG by 1.5 times, progressive JPEG by 4, EXR ZIP by 3.5 (PIZ by 1.1), PNG and TIFF
+Deflate by 5.9 and more, HEIC by 36. It refuses HEIC views softer than the panoramas' detail (2 of 24 at
 512 x 384, 13 of 24 at 1024 x 768, all at 4000 x 3000) and the lowest-quality JPEGs of the 4000 x 3000 views
 (2 of 8 at q70, 1 at q80): smooth, dark or plain pictures whose ratio no flat file's beats by much.
 
-What it costs: any file at most what a file of :data:`BASE_BYTES` costs (every command within 200 MB
-beyond its start, ``lenslab bench memory``'s ``memory.edge_*``); a file of ``b`` bytes up to 512 b of
-float32 (268 MB for 0.5 MiB, 537 MB for 1 MiB), which each command holds about MEMFIGURE times over
-(``memory.edge_{format}_{KiB}k_*``: flat EXR, JPEG and HEIC files padded to the edge). Where a file
-passes :func:`allowed` only because it is genuine and large, ``LENSLAB_BASE_BYTES`` admits it.
+What it costs (``lenslab bench memory``, peak resident memory beyond a command's start): an image within
+:data:`BASE_BYTES`, from any file, within 200 MB (190 MB measured, a warp: ``memory.edge_*``); a larger
+one, from a file of ``b`` bytes under 1 MiB, up to 512 ``b`` of float32 (268 MB for 0.5 MiB, 537 MB for
+1 MiB), which each command holds 1.07 to 1.39 times over (``memory.edge_{format}_{KiB}k_*``: flat EXR,
+JPEG and HEIC files padded to the edge): 303 to 374 MB for a file of 0.5 MiB, 576 to 710 MB for 1 MiB.
+So every command passes 200 MB on a 0.5 MiB file at the edge.
 
 A format without a ``declare`` hook gets only the pixel cap its reader applies: every plugin should
 declare.
@@ -61,8 +64,8 @@ from lenslab.inputs.limits import env_int
 #: a decoded float image up to this size is admitted whatever its file's size: what every command holds
 #: within 200 MB beyond its start with a margin (``lenslab bench memory``, ``memory.edge_*``)
 BASE_BYTES = env_int("LENSLAB_BASE_BYTES", 96 << 20)
-#: each of a file's first SMALL_FILE bytes may decode to this many bytes of float32
-SMALL_RATIO = 512
+#: each of a file's first SMALL_FILE bytes may decode to this many bytes of float32 (measured: see above)
+SMALL_RATIO = env_int("LENSLAB_SMALL_RATIO", 512)
 #: each byte of a file beyond its first SMALL_FILE may decode to this many bytes of float32
 MAX_RATIO = env_int("LENSLAB_MAX_RATIO", 4096)
 #: where the ratio of decoded float bytes per file byte steps from SMALL_RATIO to MAX_RATIO

@@ -62,3 +62,17 @@ def test_a_declared_image_at_the_edge_is_admitted_and_one_row_more_refused(b):
         check("f", Declared(4096, rows + 1, channels=1), b)
     message = str(caught.value)
     assert "\n" not in message and f"LENSLAB_BASE_BYTES={4 * 4096 * (rows + 1)}" in message
+
+
+def test_lenslab_small_ratio_sets_r():
+    """LENSLAB_SMALL_RATIO=1: every file under 1 MiB decodes to at most 96 MiB again (each byte of the first
+    MiB buys 1 byte), and the rule stays continuous at 1 MiB: 1 MiB + 4096 per byte beyond."""
+    import os
+    import subprocess
+    import sys
+
+    code = "from lenslab.io.budget import allowed; print(allowed(850_000), allowed(1 << 20), allowed((1 << 20) + 10))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, LENSLAB_SMALL_RATIO="1"))
+    assert done.returncode == 0, done.stderr
+    assert [int(v) for v in done.stdout.split()] == [BASE, BASE, max(BASE, KNEE + 10 * BEYOND)]
