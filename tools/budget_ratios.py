@@ -1,16 +1,18 @@
 """Measure what the input budget's ratio R (lenslab.io.budget.SMALL_RATIO) must lie between: the decoded
 float bytes per file byte of genuine images, and of the flattest files each format makes.
 
-    python tools/budget_ratios.py [--hdri /work/shared/data/hdri] [--formats /work/shared/data/formats]
-                                  [--views 2] [--json out.json]
+    python tools/budget_ratios.py [--hdri ../shared/data/hdri] [--formats ../shared/data/formats]
+                                  [--views 3] [--json out.json]
 
-Genuine: 4000 x 3000 perspective views (70 degrees across, a phone's main camera) warped by ``lenslab warp``
-from every panorama in --hdri (exposure auto, the default tone curve, 8-bit PNG), saved as JPEG at
-qualities 70 to 95 (Pillow's libjpeg, 4:2:0 as phones write), PNG (Pillow, zlib level 6) and HEIC
-(pillow-heif at its default quality); the same views with the noise of a phone sensor (Gaussian, 1.5
-code values); and every file under --formats. Hostile: flat-colour 4032 x 3024 files of every format
-that compresses, each at the settings that make it smallest. The ratio is the budget's own view of a
-file: ``Declared.float_bytes`` from the format's ``declare`` hook over the file's bytes.
+Genuine: perspective views (70 degrees across, a phone's main camera) of 256 x 192 to 4000 x 3000 (see
+:data:`SIZES`) warped by ``lenslab warp`` from every panorama in --hdri (exposure auto, the default tone
+curve, 8-bit PNG), saved as JPEG at qualities 70 to 95 (Pillow's libjpeg, 4:2:0 as phones write), PNG
+(Pillow, zlib level 6) and HEIC (pillow-heif at its default quality); the same views with the noise of a
+phone sensor (Gaussian, 1.5 code values); and every file under --formats (those named bad-* or bomb-*
+are counted as hostile). Hostile: flat-colour 4032 x 3024 files of every format that compresses, each at
+the settings that make it smallest. The ratio is the budget's own view of a file:
+``Declared.float_bytes`` from the format's ``declare`` hook over the file's bytes. One run with
+``--views 3`` takes about 5 minutes of CPU.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import tempfile
 from pathlib import Path
 
 W, H = 4032, 3024  # a 12-megapixel phone photo
+#: the panoramas and format files beside the repository (../shared/data)
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
 
 def ratio(path: Path, header: int = 0) -> float:
@@ -150,8 +154,8 @@ def hostile(folder: Path) -> dict[str, float]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hdri", type=Path, default=Path("/work/shared/data/hdri"))
-    parser.add_argument("--formats", type=Path, default=Path("/work/shared/data/formats"))
+    parser.add_argument("--hdri", type=Path, default=DATA / "hdri")
+    parser.add_argument("--formats", type=Path, default=DATA / "formats")
     parser.add_argument("--views", type=int, default=3, help="views per panorama (yaws spread evenly; 0: none)")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()

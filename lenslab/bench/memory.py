@@ -3,11 +3,15 @@ child: peak RSS), on hostile files and on large valid ones.
 
 Aims:
 
-- no hostile input under 1 MB makes any command allocate more than 200 MB: every file of the hostile corpus
+- no file of the hostile corpus, each refused, makes its command allocate more than 200 MB: every file
   (``lenslab.bench.hostile``: headers declaring 20000 x 20000 pixels in a few hundred bytes, page loops,
   alias bombs, deep nesting...) goes through the command that must refuse it; the figure is its peak
   beyond the baseline, the peak of ``lenslab info --formats`` (the interpreter and the modules every
   command loads), measured in the same run;
+- the files the input budget admits at its edges (:func:`edge_at_budget`) go through convert, warp and
+  tonemap, against the same 200 MB: the largest image any file may decode to (96 MiB of float32) meets
+  it; the largest a file of 0.5 or 1 MiB may decode to (512 times its bytes: 268 and 537 MB) passes
+  it, and the figures say by how much;
 - reading, converting and warping a valid SIDE x SIDE image (8192 by default) as Radiance ``.hdr``
   (run-length encoded), float TIFF, EXR and 16-bit PNG peak at most 1.5 times the decoded float image
   (SIDE * SIDE * 3 * 4 bytes) plus 200 MB. Read: ``lenslab.io.read``; convert: to EXR; warp: into a
