@@ -21,7 +21,8 @@ libde265; the ``lenslab[heif]`` extra, imported only when a HEIF file is read).
   :class:`lenslab.io.ldr.GainMapWarning`, as for an Ultra HDR JPEG), thumbnails, EXIF and XMP.
 - **Budget**: the declared size of the image to read against the file's bytes
   (:func:`lenslab.io.budget.check`) before any pixel is decoded. HEVC codes a flat picture in a few bytes per
-  64 x 64 block, so no floor of bytes per pixel is claimed; the small-file and ratio rules apply.
+  64 x 64 block, so no floor of bytes per pixel is claimed; the rule on the file's bytes applies
+  (:func:`lenslab.io.budget.allowed`).
 """
 
 from __future__ import annotations
