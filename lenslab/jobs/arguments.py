@@ -25,6 +25,9 @@ class ArgumentParser(argparse.ArgumentParser):
     """
 
     def __init__(self, *args, **kwargs):
+        # No prefix matching: '--to' is never read as '--tone', nor '--only' as '--only-threads'. The commands'
+        # subparsers are made of this class too, so none of them matches prefixes either.
+        kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
         # No option starts with a digit: "-100x100" or "-3e-5" after an option is its (bad or negative)
         # value, for the option's type to judge, not an unknown option.
@@ -41,14 +44,28 @@ class ArgumentParser(argparse.ArgumentParser):
             namespace._prog = self.prog
         if extras and not getattr(namespace, "_extras_prog", None):  # the innermost command that was left them
             namespace._extras_prog = self.prog
+            namespace._extras_hint = self.options_meant(extras)
         return namespace, extras
+
+    def options_meant(self, words: list[str]) -> str:
+        """For unknown options that begin an option of this parser ('--to' of '--tone'), the options meant."""
+        hints = []
+        for word in words:
+            word = word.partition("=")[0]
+            whole = sorted(o for o in self._option_string_actions if o.startswith(word) and o != word)
+            if word.startswith("--") and whole:
+                hints.append(f"{word} is not an option (options are never abbreviated): did you mean "
+                             f"{' or '.join(whole)}?")
+        return "; ".join(hints)
 
     def parse_args(self, args=None, namespace=None):
         """As argparse's, with an unknown option blamed on the command it was given to ('lenslab tonemap: error:
         unrecognized arguments: --bogus', pointing at 'lenslab tonemap --help'), not on the whole program."""
         namespace, extras = self.parse_known_args(args, namespace)
         if extras:
-            self.error(f"unrecognized arguments: {' '.join(extras)}", getattr(namespace, "_extras_prog", None))
+            hint = getattr(namespace, "_extras_hint", "")
+            self.error(f"unrecognized arguments: {' '.join(extras)}" + (f"; {hint}" if hint else ""),
+                       getattr(namespace, "_extras_prog", None))
         return namespace
 
 
