@@ -79,13 +79,32 @@ TONES_OPTION = ("--curves", "--tone", "--curve")
 def add_tone_option(parser, dest: str, **kwargs):
     """Declare a command's tone-curve option under every spelling of :data:`TONE_OPTION`, into ``args.<dest>``."""
     kwargs.setdefault("metavar", "CURVE")
-    return parser.add_argument(*TONE_OPTION, dest=dest, **kwargs)
+    return parser.add_argument(*TONE_OPTION, dest=dest, action=OneCurve, **kwargs)
 
 
 def add_tones_option(parser, dest: str = "curves", **kwargs):
     """Declare a command's option of comma-separated curve names under every spelling of :data:`TONES_OPTION`."""
     kwargs.setdefault("metavar", "CURVES")
-    return parser.add_argument(*TONES_OPTION, dest=dest, **kwargs)
+    return parser.add_argument(*TONES_OPTION, dest=dest, action=OneCurve, **kwargs)
+
+
+class OneCurve(argparse._StoreAction):
+    """The curve option's value, given under any of its spellings: ``--tone hable --curve aces`` would keep the
+    last silently, so two that name different curves are a usage error naming both (the same curves, in any
+    case, with ``_`` or ``-``, are taken once)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_curves_given", {})
+        before = given.get(self.dest)
+        if before is not None and _curve_key(before[1]) != _curve_key(values):
+            parser.error(f"{before[0]} {before[1]} and {option_string} {values} name different curves; give one")
+        given[self.dest] = (option_string, values)
+        setattr(namespace, self.dest, values)
+
+
+def _curve_key(value) -> list[str]:
+    """Curve names as the tone registry compares them: case-insensitive, ``_`` as ``-``, a list by its commas."""
+    return [name.strip().lower().replace("_", "-") for name in str(value).split(",")]
 
 
 def non_empty(text: str) -> str:
