@@ -49,7 +49,15 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
                     "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
 
 
+def source_rows(lens) -> int:
+    """The rows of 180 degrees at the source's angular resolution (:meth:`~lenslab.lenses.core.base.Lens.
+    pixels_per_degree`), from which :func:`default_size` makes the output's size: an equirect's rows, twice a
+    cube map's faces in any layout."""
+    return max(1, round(180.0 * lens.pixels_per_degree()))
+
+
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
+    """The output's size without --size: ``src_h`` rows of 180 degrees (:func:`source_rows`) in the lens's shape."""
     from lenslab.calibfiles import is_camera_file
     from lenslab.lenses.registry import make_lens, parse_spec
 
