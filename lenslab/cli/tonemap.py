@@ -176,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.current_input import from_input
 
     with repairs_reported("lenslab tonemap", args.input), from_input(args.input):
-        job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
+        job.write(args.output, image, meta, source=args.input)  # the batch's stages: the look, then the encode stage
     if not args.quiet:
         h, w_ = image.shape[:2]
         if display["display"]:
