@@ -22,20 +22,13 @@ from gallery.__main__ import build_parser as gallery_parser
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
 from tracer.cli import build_parser as tracer_parser
+from tests.cli.parser_tree import loosened, parsers
 
 REPO = Path(__file__).resolve().parents[2]
 PROGRAMS = {"lenslab": build_parser, "tracer": tracer_parser, "python -m gallery": gallery_parser}
 
 
-def _parsers(parser: argparse.ArgumentParser):
-    yield parser
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                yield from _parsers(sub)
-
-
-ALL = [p for make in PROGRAMS.values() for p in _parsers(make())]
+ALL = [p for make in PROGRAMS.values() for p in parsers(make())]
 
 
 def _exit(parse, argv) -> tuple[int, str]:
@@ -66,11 +59,7 @@ def test_a_prefix_of_an_option_is_not_that_option(prog):
     """Each long option cut by its last letter (when that is no option of the parser itself) is left over by
     argparse's own ``parse_known_args`` instead of being read as the option, and the error names the option
     meant. (The parser's required arguments are made optional here, so that the word alone is parsed.)"""
-    parser = next(p for make in PROGRAMS.values() for p in _parsers(make()) if p.prog == prog)
-    for action in parser._actions:
-        action.required = False
-    for group in parser._mutually_exclusive_groups:
-        group.required = False
+    parser = loosened(next(p for make in PROGRAMS.values() for p in parsers(make()) if p.prog == prog))
     options = parser._option_string_actions
     cut = sorted({o[:-1] for o in options if o.startswith("--") and len(o) > 4 and o[:-1] not in options})
     for word in cut:

@@ -5,7 +5,6 @@ the same curve under two spellings is taken. The options are found in the parser
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import io
 import itertools
@@ -16,22 +15,15 @@ import pytest
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
 from tracer.cli import build_parser as tracer_parser
+from tests.cli.parser_tree import loosened, parsers
 
 TONE_SPELLINGS = {"--tone", "--curve", "--curves", "--tones"}
-
-
-def _parsers(parser: argparse.ArgumentParser):
-    yield parser
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                yield from _parsers(sub)
 
 
 def _tone_actions():
     rows = []
     for make in (build_parser, tracer_parser):
-        for parser in _parsers(make()):
+        for parser in parsers(make()):
             for action in parser._actions:
                 spellings = [o for o in action.option_strings if o in TONE_SPELLINGS]
                 if len(spellings) > 1:
@@ -40,15 +32,6 @@ def _tone_actions():
 
 
 ROWS = _tone_actions()
-
-
-def _loose(parser):
-    """The parser with its required arguments made optional, so that the tone options alone are parsed."""
-    for action in parser._actions:
-        action.required = False
-    for group in parser._mutually_exclusive_groups:
-        group.required = False
-    return parser
 
 
 def _parse(parser, argv):
@@ -68,7 +51,7 @@ def test_every_command_with_a_curve_option_is_found():
 
 @pytest.mark.parametrize("prog,parser,spellings", ROWS, ids=[r[0] for r in ROWS])
 def test_two_spellings_naming_different_curves_are_refused(prog, parser, spellings):
-    parser = _loose(parser)
+    parser = loosened(parser)
     for first, second in itertools.permutations(spellings, 2):
         code, _, err = _parse(parser, [first, "hable", second, "aces"])
         assert code == 2, (first, second)
@@ -78,7 +61,7 @@ def test_two_spellings_naming_different_curves_are_refused(prog, parser, spellin
 @pytest.mark.parametrize("prog,parser,spellings", ROWS, ids=[r[0] for r in ROWS])
 def test_the_same_curve_under_two_spellings_is_taken(prog, parser, spellings):
     """Curve names compare as the tone registry compares them: in any case, ``_`` for ``-``."""
-    parser = _loose(parser)
+    parser = loosened(parser)
     dest = parser._option_string_actions[spellings[0]].dest
     for first, second in itertools.permutations(spellings, 2):
         code, args, err = _parse(parser, [first, "pbr_neutral", second, "PBR-Neutral"])
@@ -87,7 +70,7 @@ def test_the_same_curve_under_two_spellings_is_taken(prog, parser, spellings):
 
 
 def test_lists_that_differ_are_refused_and_equal_lists_taken():
-    parser = _loose(next(p for prog, p, _ in ROWS if prog == "lenslab compare-tones"))
+    parser = loosened(next(p for prog, p, _ in ROWS if prog == "lenslab compare-tones"))
     assert _parse(parser, ["--curves", "hable,aces", "--tone", "aces"])[0] == 2
     code, args, _ = _parse(parser, ["--curves", "hable,aces", "--curve", "Hable, ACES"])
     assert code == 0 and args.curves == "Hable, ACES"
