@@ -10,7 +10,7 @@ import pytest
 from lenslab.cli.main import build_parser, main
 from lenslab.io import read, write
 from tracer.cli import build_parser as tracer_parser
-from tests.cli.parser_tree import parsers
+from tests.commands.parser_tree import parsers
 
 ONE = ("--tone", "--curve")
 SEVERAL = ("--curves", "--tone", "--curve")

@@ -15,7 +15,7 @@ import pytest
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
 from tracer.cli import build_parser as tracer_parser
-from tests.cli.parser_tree import loosened, parsers
+from tests.commands.parser_tree import loosened, parsers
 
 TONE_SPELLINGS = {"--tone", "--curve", "--curves", "--tones"}
 

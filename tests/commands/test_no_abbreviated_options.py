@@ -22,7 +22,7 @@ from gallery.__main__ import build_parser as gallery_parser
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
 from tracer.cli import build_parser as tracer_parser
-from tests.cli.parser_tree import loosened, parsers
+from tests.commands.parser_tree import loosened, parsers
 
 REPO = Path(__file__).resolve().parents[2]
 PROGRAMS = {"lenslab": build_parser, "tracer": tracer_parser, "python -m gallery": gallery_parser}
