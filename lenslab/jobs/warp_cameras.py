@@ -135,12 +135,13 @@ def output_camera(args, src, size: tuple[int, int], source_recorded: bool = Fals
 
     from lenslab.lenses import Camera, Pose, make_lens
 
-    lens = make_lens(args.to, size)
     view = recorded_view(args.to)
-    if view is not None:
+    if view is not None:  # (the image read once for its lens and its pose)
+        lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
         eye = view.pose.eye if source_recorded else src.pose.eye
         eye = parse_vector(args.eye, "--eye") if args.eye else tuple(eye)
         return Camera(lens, Pose(view.pose.rotation, np.asarray(eye, dtype=np.float64)))
+    lens = make_lens(args.to, size)
     eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
     if args.look_at:
         d = np.asarray(parse_vector(args.look_at, "--look-at"), dtype=np.float64)
