@@ -88,6 +88,12 @@ def read_text(path: Path) -> str:
 def image_lens(path: Path):
     """The lens an image file records (an EXR written by lenslab or tracer), None when ``path`` is no image; an
     image without a camera is a :class:`CameraFileError` that says where a camera comes from."""
+    camera = image_camera(path)
+    return None if camera is None else camera.lens
+
+
+def image_camera(path: Path):
+    """The camera (lens and pose) an image file records, as :func:`image_lens` reads it."""
     from lenslab.io.registry import get, sniff
 
     try:
@@ -102,7 +108,7 @@ def image_lens(path: Path):
     if camera is None:
         raise CameraFileError(f"{path}: this {get(fmt).title} image records no camera; give a calibration file or "
                               "a lens spec (EXR files written by lenslab and tracer carry theirs)")
-    return camera.lens
+    return camera
 
 
 def read_lenses(spec: str) -> tuple[str, list[tuple[str, object]]]:

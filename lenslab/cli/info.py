@@ -45,7 +45,15 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     fmt = get(sniff(file))
     if fmt.kind == "video":  # many frames: the streams are what it holds
         return {"file": str(path), "format": fmt.name, "video": fmt.probe(file)}
-    image, meta = read(path, raw=raw, data_window=data_window)
+    import warnings
+
+    from lenslab.io.exr import MultiPartWarning
+    from lenslab.io.ldr import GainMapWarning
+
+    with warnings.catch_warnings():  # notes of what info lists itself: the parts of a file, a gain map
+        warnings.simplefilter("ignore", MultiPartWarning)
+        warnings.simplefilter("ignore", GainMapWarning)
+        image, meta = read(path, raw=raw, data_window=data_window)
     stats = []
     for i, name in enumerate(meta["channels"]):
         ch = image[..., i]
@@ -97,8 +105,7 @@ def _structure_lines(d: dict) -> list[str]:
     st = d.get("structure") or {}
     lines = []
     for p in st.get("parts", []):
-        name = f" ({p['name']})" if p["name"] else ""
-        lines.append(f"  part {p['index']}{name}: "
+        lines.append(f"  part {p['index']} ({p['name'] or 'unnamed'}): "
                      f"{p['storage']}, {p['compression']} compression, data window {p['data_window']}, display "
                      f"window {p['display_window']}, {p['line_order']}")
         chans = ", ".join(c["name"] + " " + c["type"] + ("" if c["sampling"] == [1, 1] else
@@ -155,11 +162,20 @@ def formats_text() -> str:
 
 
 def _text(d: dict) -> str:
+    from pathlib import Path
+
+    from lenslab.io import split_selector
+
     lines = [f"{d['file']}: {d['format'].upper()} {d['width']} x {d['height']}, {len(d['channels'])} channel(s) "
              f"{','.join(d['channels'])}, {d['sample_type']} {d['bit_depth']}-bit"
              f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"]
     if d.get("layer"):
         lines.append(f"  layer {d['layer']} of part {d['part']}")
+    parts = (d.get("structure") or {}).get("parts", [])
+    if len(parts) > 1:  # which of the parts listed below the statistics are of
+        name = Path(split_selector(d["file"])[0]).name
+        lines.append(f"  statistics of part {d['part']} ({d.get('part_name') or 'unnamed'}) of the {len(parts)} "
+                     f"listed below; pick another as {name}:NAME or {name}:INDEX")
     if d.get("deep"):  # a deep part: what the image was made from
         deep = d["deep"]
         lines.append(f"  flattened from {deep['samples']} deep samples (at most {deep['max_per_pixel']} in one pixel): "

@@ -55,7 +55,12 @@ def run(args: argparse.Namespace) -> int:
     size = args.size
     src_size = args.source_size or size
     src = Camera.from_spec(args.source, src_size)
-    dst = Camera(make_lens(args.to, size), Pose.from_ypr(args.yaw, args.pitch, args.roll))
+    from lenslab.jobs.warp_cameras import check_view_pose
+
+    view = check_view_pose(args.to, [flag for flag, on in (("--yaw", args.yaw), ("--pitch", args.pitch),
+                                                           ("--roll", args.roll)) if on])
+    dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else
+                 Pose.from_ypr(args.yaw, args.pitch, args.roll))  # --to IMAGE: the view it records, turned as it is
     from lenslab.jobs.warp_cameras import note_size
 
     note_size(dst.lens)  # a cube map at a size off its layout: one note

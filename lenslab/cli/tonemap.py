@@ -34,9 +34,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(created if missing) that gets one image per input in --format")
     from lenslab.cli.convert import FORMATS
 
-    parser.add_argument("--format", choices=FORMATS, default=None,
-                        help="format of the images written into an -o folder (default png); for one output file "
-                             "its extension says it, and a --format that differs is refused")
+    parser.add_argument("--format", "--to", dest="format", choices=FORMATS, default=None, metavar="FORMAT",
+                        help=f"format of the images written into an -o folder: {', '.join(FORMATS)} (default png; "
+                             "--to, as convert names it, is the same option); for one output file its extension "
+                             "says it, and a --format that differs is refused")
     from lenslab.jobs.arguments import add_tone_option, non_empty
 
     add_tone_option(parser, "curve", default=None, type=non_empty,
@@ -175,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.current_input import from_input
 
     with repairs_reported("lenslab tonemap", args.input), from_input(args.input):
-        job.write(args.output, image, meta)  # the batch's stages: the look, then the encode stage
+        job.write(args.output, image, meta, source=args.input)  # the batch's stages: the look, then the encode stage
     if not args.quiet:
         h, w_ = image.shape[:2]
         if display["display"]:

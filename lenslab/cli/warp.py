@@ -57,7 +57,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "file per frame), or directory (created if missing)")
     parser.add_argument("--to", metavar="SPEC", action=Once,
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
-                             "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'); or give --stmap")
+                             "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'), a calibration file; or an image that "
+                             "records its camera (an EXR of 'tracer render'): the same view as that image, its lens, "
+                             "orientation and size (its eye too when the source records its own camera), so "
+                             "--yaw/--pitch/--roll/--look-at are refused with it; or give --stmap")
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
@@ -66,10 +69,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
-                        help="output size in pixels; default: the source's rows in the output lens's own shape "
-                             "(square for a fisheye or perspective view, 2:1 for equirect; a cube map: square faces of "
-                             "half the source's rows, 3:2 for a 3x2 cube map; each eye of a stereo frame; a camera "
-                             "file: the size it was calibrated at)")
+                        help="output size in pixels; default: the source's angular resolution in the output lens's "
+                             "own shape, 180 degrees in as many rows as the source gives them (an equirect's rows, twice "
+                             "a cube map's faces in any layout, an eye's of a stereo frame): square for a fisheye or "
+                             "perspective view, 2:1 for equirect; a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
+                             "cube map; each eye of a stereo frame; a camera file: the size it was calibrated at")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
@@ -158,11 +162,13 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import default_size, note_size
+    from lenslab.jobs.warp_cameras import check_view_pose, default_size, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
         note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
+        check_view_pose(args.to, [flag for flag, on in (("--yaw", args.yaw), ("--pitch", args.pitch),
+                                                        ("--roll", args.roll), ("--look-at", args.look_at)) if on])
     from lenslab.lenses.lensfun.exif import is_auto
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata

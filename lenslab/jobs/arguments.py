@@ -25,6 +25,9 @@ class ArgumentParser(argparse.ArgumentParser):
     """
 
     def __init__(self, *args, **kwargs):
+        # No prefix matching: '--to' is never read as '--tone', nor '--only' as '--only-threads'. The commands'
+        # subparsers are made of this class too, so none of them matches prefixes either.
+        kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
         # No option starts with a digit: "-100x100" or "-3e-5" after an option is its (bad or negative)
         # value, for the option's type to judge, not an unknown option.
@@ -41,14 +44,28 @@ class ArgumentParser(argparse.ArgumentParser):
             namespace._prog = self.prog
         if extras and not getattr(namespace, "_extras_prog", None):  # the innermost command that was left them
             namespace._extras_prog = self.prog
+            namespace._extras_hint = self.options_meant(extras)
         return namespace, extras
+
+    def options_meant(self, words: list[str]) -> str:
+        """For unknown options that begin an option of this parser ('--to' of '--tone'), the options meant."""
+        hints = []
+        for word in words:
+            word = word.partition("=")[0]
+            whole = sorted(o for o in self._option_string_actions if o.startswith(word) and o != word)
+            if word.startswith("--") and whole:
+                hints.append(f"{word} is not an option (options are never abbreviated): did you mean "
+                             f"{' or '.join(whole)}?")
+        return "; ".join(hints)
 
     def parse_args(self, args=None, namespace=None):
         """As argparse's, with an unknown option blamed on the command it was given to ('lenslab tonemap: error:
         unrecognized arguments: --bogus', pointing at 'lenslab tonemap --help'), not on the whole program."""
         namespace, extras = self.parse_known_args(args, namespace)
         if extras:
-            self.error(f"unrecognized arguments: {' '.join(extras)}", getattr(namespace, "_extras_prog", None))
+            hint = getattr(namespace, "_extras_hint", "")
+            self.error(f"unrecognized arguments: {' '.join(extras)}" + (f"; {hint}" if hint else ""),
+                       getattr(namespace, "_extras_prog", None))
         return namespace
 
 
@@ -62,13 +79,32 @@ TONES_OPTION = ("--curves", "--tone", "--curve")
 def add_tone_option(parser, dest: str, **kwargs):
     """Declare a command's tone-curve option under every spelling of :data:`TONE_OPTION`, into ``args.<dest>``."""
     kwargs.setdefault("metavar", "CURVE")
-    return parser.add_argument(*TONE_OPTION, dest=dest, **kwargs)
+    return parser.add_argument(*TONE_OPTION, dest=dest, action=OneCurve, **kwargs)
 
 
 def add_tones_option(parser, dest: str = "curves", **kwargs):
     """Declare a command's option of comma-separated curve names under every spelling of :data:`TONES_OPTION`."""
     kwargs.setdefault("metavar", "CURVES")
-    return parser.add_argument(*TONES_OPTION, dest=dest, **kwargs)
+    return parser.add_argument(*TONES_OPTION, dest=dest, action=OneCurve, **kwargs)
+
+
+class OneCurve(argparse._StoreAction):
+    """The curve option's value, given under any of its spellings: ``--tone hable --curve aces`` would keep the
+    last silently, so two that name different curves are a usage error naming both (the same curves, in any
+    case, with ``_`` or ``-``, are taken once)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_curves_given", {})
+        before = given.get(self.dest)
+        if before is not None and _curve_key(before[1]) != _curve_key(values):
+            parser.error(f"{before[0]} {before[1]} and {option_string} {values} name different curves; give one")
+        given[self.dest] = (option_string, values)
+        setattr(namespace, self.dest, values)
+
+
+def _curve_key(value) -> list[str]:
+    """Curve names as the tone registry compares them: case-insensitive, ``_`` as ``-``, a list by its commas."""
+    return [name.strip().lower().replace("_", "-") for name in str(value).split(",")]
 
 
 def non_empty(text: str) -> str:

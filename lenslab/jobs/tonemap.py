@@ -49,16 +49,17 @@ class TonemapJob(Job):
 
         check_output(dst, [io.split_selector(src)[0]], self.overwrite)
         image, meta = io.read(src)
-        self.write(dst, check_image(image, src), meta)
+        self.write(dst, check_image(image, src), meta, source=src)
 
-    def write(self, dst: str, image, meta: dict, in_place: bool = True) -> None:
+    def write(self, dst: str, image, meta: dict, in_place: bool = True, source: str | None = None) -> None:
         """Develop ``image`` (scene-linear, read with ``meta``) and write it to ``dst``. ``in_place``: the
-        image is given up (the curve may write in its memory; its shape stays)."""
+        image is given up (the curve may write in its memory; its shape stays). ``source``: the input as the
+        user named it (``Trunks.exr:left``), for the notes (default: the file read)."""
         from lenslab import io
         from lenslab.io.registry import format_for_path, get
         from lenslab.jobs.stages import check_data_channels, develop, encode_options
 
-        where = meta.get("path", "the image")
+        where = source or meta.get("path", "the image")
         check_data_channels(where, meta, image.shape[-1] if image.ndim == 3 else 1)
         fmt = get(format_for_path(dst, None))
         from lenslab.io.exr.extra import warn_dropped

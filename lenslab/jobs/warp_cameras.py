@@ -49,7 +49,15 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
                     "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
 
 
+def source_rows(lens) -> int:
+    """The rows of 180 degrees at the source's angular resolution (:meth:`~lenslab.lenses.core.base.Lens.
+    pixels_per_degree`), from which :func:`default_size` makes the output's size: an equirect's rows, twice a
+    cube map's faces in any layout."""
+    return max(1, round(180.0 * lens.pixels_per_degree()))
+
+
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
+    """The output's size without --size: ``src_h`` rows of 180 degrees (:func:`source_rows`) in the lens's shape."""
     from lenslab.calibfiles import is_camera_file
     from lenslab.lenses.registry import make_lens, parse_spec
 
@@ -85,13 +93,54 @@ def note_size(lens) -> None:
         warnings.warn(note, UserWarning, stacklevel=2)
 
 
-def output_camera(args, src, size: tuple[int, int]):
+def recorded_view(spec):
+    """The camera, lens and pose, that an image named as a lens records (``--to render.exr``: an EXR that
+    ``tracer render`` or ``lenslab warp`` wrote), or None for a lens spec or a calibration file."""
+    from lenslab.calibfiles import image_camera, is_camera_file, split_pick
+
+    if not spec or not is_camera_file(spec):
+        return None
+    return image_camera(split_pick(spec)[0])
+
+
+def check_view_pose(spec, pose_options: list[str]):
+    """``--to IMAGE`` takes the view the image records, its orientation too: options that would turn it are a
+    usage error (which way they meant, the render's or the world's, cannot be told). Returns the view or None."""
+    view = recorded_view(spec)
+    if view is not None and pose_options:
+        from lenslab.errors import UsageError
+
+        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+        raise UsageError(f"{'/'.join(pose_options)}: --to {spec} takes the view that file records, its lens and its "
+                         f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
+                         f"another way, give it as a spec: --to {view.lens.spec()}")
+    return view
+
+
+def records_pose(src, meta: dict) -> bool:
+    """Whether the source camera's pose is the one its file records (no --from replaced the file's camera)."""
+    camera = meta.get("camera")
+    return camera is not None and src.pose is camera.pose
+
+
+def output_camera(args, src, size: tuple[int, int], source_recorded: bool = False):
     """The output camera: its lens at ``size``, its pose in the world frame (the source's pose, if its
-    file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise."""
+    file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise.
+
+    ``--to IMAGE`` (an image that records its camera) is the view of that image: its lens and orientation, and
+    its eye when the source records its own camera too (``source_recorded``: both are placed in one world; a
+    source rendered elsewhere is then refused for parallax); a source that records no place (a photographed
+    panorama) is taken as seen from the image's eye."""
     import numpy as np
 
     from lenslab.lenses import Camera, Pose, make_lens
 
+    view = recorded_view(args.to)
+    if view is not None:  # (the image read once for its lens and its pose)
+        lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
+        eye = view.pose.eye if source_recorded else src.pose.eye
+        eye = parse_vector(args.eye, "--eye") if args.eye else tuple(eye)
+        return Camera(lens, Pose(view.pose.rotation, np.asarray(eye, dtype=np.float64)))
     lens = make_lens(args.to, size)
     eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)
     if args.look_at:

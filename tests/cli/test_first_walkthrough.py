@@ -94,7 +94,7 @@ def multipart_exr(path):
     return path
 
 
-@pytest.mark.parametrize("command", [["info", "{m}"], ["tonemap", "{m}", "-o", "{d}/t.png", "-q"],
+@pytest.mark.parametrize("command", [["tonemap", "{m}", "-o", "{d}/t.png", "-q"],  # (info lists the parts instead)
                                      ["diff", "{m}", "{m}", "-q"],
                                      ["warp", "{m}", "-o", "{d}/w.exr", "--to", "fisheye", "--size", "8x8", "-q"],
                                      ["convert", "{m}", "--to", "pfm", "-o", "{d}/c.pfm", "-q"]])

@@ -4,14 +4,13 @@ accepted. A script written for one command works for every other, and ``--help``
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 import pytest
 
 from lenslab.cli.main import build_parser, main
 from lenslab.io import read, write
 from tracer.cli import build_parser as tracer_parser
+from tests.commands.parser_tree import parsers
 
 ONE = ("--tone", "--curve")
 SEVERAL = ("--curves", "--tone", "--curve")
@@ -23,17 +22,9 @@ EXPECTED = {
 }
 
 
-def _parsers(parser: argparse.ArgumentParser):
-    yield parser
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                yield from _parsers(sub)
-
-
 def _tone_options() -> dict[str, tuple[str, ...]]:
     found = {}
-    for parser in [*_parsers(build_parser()), *_parsers(tracer_parser())]:
+    for parser in [*parsers(build_parser()), *parsers(tracer_parser())]:
         for action in parser._actions:
             if {"--tone", "--tones", "--curve", "--curves"} & set(action.option_strings):
                 found[parser.prog] = tuple(action.option_strings)

@@ -1,6 +1,6 @@
 """``lenslab warp --help`` says what size a warp without ``--size`` makes, and it is the size made: the
-source's rows in the output lens's own shape (a square fisheye, a 2:1 equirect, a 3:2 cube map of square
-faces), each eye of a stereo frame at that height."""
+source's angular resolution (an equirect's rows over 180 degrees) in the output lens's own shape (a square
+fisheye, a 2:1 equirect, a 3:2 cube map of square faces), each eye of a stereo frame at that height."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ def test_help_names_the_shapes(capsys):
     with pytest.raises(SystemExit):
         main(["warp", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert "default: the source's rows in the output lens's own shape" in text
+    assert "default: the source's angular resolution in the output lens's own shape" in text
     assert "3:2 for a 3x2 cube map" in text
 
 

@@ -45,8 +45,8 @@ from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, upsample, yca_to_rgb  # noqa: F401
 from lenslab.io.exr.keep import PartHeader
-from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, select_channels,
-                                   split_part_layer, view_of, views, without_view)
+from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, part_label, parts_listing,
+                                   select_channels, split_part_layer, view_of, views, without_view)
 from lenslab.library_output import library_call, quiet_library
 
 HALF_MAX = 65504.0
@@ -81,11 +81,9 @@ class MultiPartWarning(UserWarning):
 
 
 def _first_part_note(path, parts) -> None:
-    names = [p.name() or f"#{i}" for i, p in enumerate(parts)]
-    shown = ", ".join(f"{i}: {clip(n)}" for i, n in enumerate(names[:8])) + (
-        f" and {len(names) - 8} more" if len(names) > 8 else "")
+    names = [p.name() for p in parts]
     rest = len(parts) - 1
-    note = (f"has {len(parts)} parts ({shown}); read part 0 ({clip(names[0])}) only: the other "
+    note = (f"has {len(parts)} parts ({parts_listing(names)}); read {part_label(0, names[0])} only: the other "
             f"{f'{rest} parts are' if rest > 1 else 'part is'} neither read nor written; pick another as "
             f"{Path(path).name}:NAME or {Path(path).name}:INDEX")
     warning = MultiPartWarning(f"{path}: {note}")

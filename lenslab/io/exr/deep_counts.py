@@ -24,6 +24,7 @@ import numpy as np
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
+from lenslab.io.exr.select import part_label
 
 #: compressions whose offset tables lenslab decodes (codes of the ``compression`` attribute): the ones the
 #: OpenEXR file layout allows for deep data, with their scanlines per chunk
@@ -135,7 +136,7 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
             lines = DEEP_LINES.get(comp, 1)
             chunks = part.get("chunkCount") if multi else None
             if part.get("deep") and part.get("compression", -1) in DEEP_LINES:
-                name = f"part {i}" + (f" ({part['name']!r})" if part.get("name") else "")
+                name = part_label(i, part.get("name"))
                 expected = len(_chunk_boxes(path, name, part)[0])
             elif part.get("tiled") and "tiles" in part:  # (a flat tiled part's table, of one level at least)
                 expected = -(-(x1 - x0 + 1) // max(part["tiles"][0], 1)) * -(-(y1 - y0 + 1) // max(part["tiles"][1], 1))
@@ -153,7 +154,7 @@ def deep_counts(path, layout) -> dict[int, DeepCounts]:
         for i, part in enumerate(parts):
             if not part.get("deep"):
                 continue
-            name = f"part {i}" + (f" ({part['name']!r})" if part.get("name") else "")
+            name = part_label(i, part.get("name"))
             comp = part.get("compression", -1)
             if comp not in DEEP_LINES:
                 raise FormatError(f"{path}: {name} is a deep image compressed as {_compression(comp)}; lenslab counts "

@@ -7,6 +7,22 @@ from __future__ import annotations
 from lenslab.errors import FormatError, clip
 
 
+def part_name(name) -> str:
+    """A part's name as users read it in notes and errors: quoted, or ``unnamed`` (a single-part file's part)."""
+    return clip(name) if name else "unnamed"
+
+
+def part_label(index: int, name) -> str:
+    """``part 2 ('rgba_left')``, ``part 0 (unnamed)``."""
+    return f"part {index} ({part_name(name)})"
+
+
+def parts_listing(names, limit: int = 8) -> str:
+    """``0: 'rgba_right', 1: 'depth_left' and 8 more``: the parts of a file, as its notes and errors list them."""
+    return ", ".join(f"{i}: {part_name(n)}" for i, n in enumerate(names[:limit])) + (
+        f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
 def split_part_layer(selector: str | None) -> tuple[str | None, str | None]:
     if not selector:
         return None, None
@@ -26,7 +42,7 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
         i = int(part_sel)
         if i >= len(parts):
             raise FormatError(f"{path}: part {i} does not exist; the file has {len(parts)} part(s) "
-                              f"({', '.join(repr(n) for n in names)})")
+                              f"({parts_listing(names)})")
         return i, layer_sel
     if part_sel in names:
         return names.index(part_sel), layer_sel
@@ -40,8 +56,7 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
             return viewed[0], None
     layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
     known = list(dict.fromkeys(v for p in parts for v in views(p.header)))  # a selector takes a view too
-    named = ", ".join(repr(n) for n in names if n) or f"{len(parts)}, unnamed"
-    raise FormatError(f"{path}: no part, layer or view named {part_sel!r}; parts: {named}; layers: "
+    raise FormatError(f"{path}: no part, layer or view named {part_sel!r}; parts: {parts_listing(names)}; layers: "
                       f"{', '.join(layers) or 'none'}" + (f"; views: {', '.join(known)}" if known else ""))
 
 

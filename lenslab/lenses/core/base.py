@@ -148,6 +148,13 @@ class Lens:
         pixels), for the commands to print as a note; None (the default) when any size suits it."""
         return None
 
+    def pixels_per_degree(self) -> float:
+        """Angular resolution of the image as a source: pixels per degree down its columns, from which a view made
+        of it without a given size takes its size (180 degrees at this resolution fill a default view's rows).
+        Default: the rows over 180 degrees, an equirect's and a 180-degree fisheye's; a lens whose rows span
+        something else says so (a cube map: each face's rows over its 90 degrees)."""
+        return self.height / 180.0
+
     def falloff(self, xy) -> np.ndarray | None:
         """Relative illumination (vignetting, 1 on the axis) at continuous pixel positions ``(..., 2)``,
         float64 ``(...)``, or None (the default: 1 everywhere). As a destination the output is

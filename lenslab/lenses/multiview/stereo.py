@@ -92,6 +92,9 @@ class Stereo(Lens):
             out.setdefault(k, v)
         return out
 
+    def pixels_per_degree(self) -> float:
+        return self.base_lens.pixels_per_degree()  # (an eye's: one above the other, each has half the rows)
+
     def size_note(self) -> str | None:
         note = self.base_lens.size_note()  # (each eye is the base at half the image)
         return note and f"stereo:layout={self.layout}, each eye: {note}"

@@ -133,6 +133,11 @@ class Cubemap(Lens):
         face = max(1, int(rows) // 2)
         return self.cols * face, self.rows * face
 
+    def pixels_per_degree(self) -> float:
+        """A face's rows over its 90 degrees, whatever the layout: 256-pixel faces give 512 rows of 180 degrees
+        as a 6x1 strip, a 1x6 column and a 3x2 map alike."""
+        return self.face_size[1] / 90.0
+
     def size_note(self) -> str | None:
         """At a size off the layout's aspect (a 3x2 map at 1000x1000) the faces are not square, or not of whole
         pixels: each face's 90 degrees are stretched across it, and no face can be cut out as an image."""
