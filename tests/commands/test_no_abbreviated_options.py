@@ -142,7 +142,10 @@ def _commands(lines) -> list[str]:
 
 
 def _pages():
-    return [REPO / "README.md", *sorted((REPO / "docs").rglob("*.md"))]
+    # docs/examples/ is what mkdocs-gallery writes from examples/ (ignored by git, absent from a clean clone):
+    # the pages written by hand, not a build's output
+    generated = REPO / "docs" / "examples"
+    return [REPO / "README.md", *sorted(p for p in (REPO / "docs").rglob("*.md") if generated not in p.parents)]
 
 
 def _doc_commands():
