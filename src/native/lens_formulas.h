@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace lenslab::lens {
 
@@ -19,6 +22,31 @@ enum Kind : int64_t {
     MERCATOR = 13,
 };
 constexpr int64_t PINHOLE = RECTILINEAR;
+
+// A fisheye mapping code (EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC) as a compile-time constant: body runs
+// with std::integral_constant<int64_t, code>, so that a kernel's loop is compiled once per mapping; another code is
+// a std::invalid_argument "<what>: not a fisheye mapping code"
+template <class Body>
+inline void with_fisheye_kind(int64_t code, const char* what, Body&& body) {
+    switch (code) {
+        case EQUIDISTANT: body(std::integral_constant<int64_t, EQUIDISTANT>{}); break;
+        case EQUISOLID: body(std::integral_constant<int64_t, EQUISOLID>{}); break;
+        case STEREOGRAPHIC: body(std::integral_constant<int64_t, STEREOGRAPHIC>{}); break;
+        case ORTHOGRAPHIC: body(std::integral_constant<int64_t, ORTHOGRAPHIC>{}); break;
+        default: throw std::invalid_argument(std::string(what) + ": not a fisheye mapping code");
+    }
+}
+
+// The same for a cylinder code (CYLINDRICAL, EQUAL_AREA_CYLINDRICAL, MERCATOR): "<what>: not a cylinder code"
+template <class Body>
+inline void with_cylinder_kind(int64_t code, const char* what, Body&& body) {
+    switch (code) {
+        case CYLINDRICAL: body(std::integral_constant<int64_t, CYLINDRICAL>{}); break;
+        case EQUAL_AREA_CYLINDRICAL: body(std::integral_constant<int64_t, EQUAL_AREA_CYLINDRICAL>{}); break;
+        case MERCATOR: body(std::integral_constant<int64_t, MERCATOR>{}); break;
+        default: throw std::invalid_argument(std::string(what) + ": not a cylinder code");
+    }
+}
 constexpr double THOBY_K1 = 1.47, THOBY_K2 = 0.713;
 
 struct P2 { double x, y; bool ok; };
