@@ -23,29 +23,23 @@ enum Kind : int64_t {
 };
 constexpr int64_t PINHOLE = RECTILINEAR;
 
-// A fisheye mapping code (EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC) as a compile-time constant: body runs
-// with std::integral_constant<int64_t, code>, so that a kernel's loop is compiled once per mapping; another code is
-// a std::invalid_argument "<what>: not a fisheye mapping code"
-template <class Body>
-inline void with_fisheye_kind(int64_t code, const char* what, Body&& body) {
-    switch (code) {
-        case EQUIDISTANT: body(std::integral_constant<int64_t, EQUIDISTANT>{}); break;
-        case EQUISOLID: body(std::integral_constant<int64_t, EQUISOLID>{}); break;
-        case STEREOGRAPHIC: body(std::integral_constant<int64_t, STEREOGRAPHIC>{}); break;
-        case ORTHOGRAPHIC: body(std::integral_constant<int64_t, ORTHOGRAPHIC>{}); break;
-        default: throw std::invalid_argument(std::string(what) + ": not a fisheye mapping code");
-    }
+// A mapping code as a compile-time constant: body runs with std::integral_constant<int64_t, K> for the K of KINDS
+// equal to code, so that a kernel's loop is compiled once per mapping; another code is a std::invalid_argument
+// "<what>: not a <family> code"
+template <int64_t... KINDS, class Body>
+inline void with_kind(int64_t code, const char* what, const char* family, Body&& body) {
+    if (!((code == KINDS && (body(std::integral_constant<int64_t, KINDS>{}), true)) || ...))
+        throw std::invalid_argument(std::string(what) + ": not a " + family + " code");
 }
 
-// The same for a cylinder code (CYLINDRICAL, EQUAL_AREA_CYLINDRICAL, MERCATOR): "<what>: not a cylinder code"
+// the fisheye mappings (EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC) and the cylinders
+template <class Body>
+inline void with_fisheye_kind(int64_t code, const char* what, Body&& body) {
+    with_kind<EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC>(code, what, "fisheye mapping", body);
+}
 template <class Body>
 inline void with_cylinder_kind(int64_t code, const char* what, Body&& body) {
-    switch (code) {
-        case CYLINDRICAL: body(std::integral_constant<int64_t, CYLINDRICAL>{}); break;
-        case EQUAL_AREA_CYLINDRICAL: body(std::integral_constant<int64_t, EQUAL_AREA_CYLINDRICAL>{}); break;
-        case MERCATOR: body(std::integral_constant<int64_t, MERCATOR>{}); break;
-        default: throw std::invalid_argument(std::string(what) + ": not a cylinder code");
-    }
+    with_kind<CYLINDRICAL, EQUAL_AREA_CYLINDRICAL, MERCATOR>(code, what, "cylinder", body);
 }
 constexpr double THOBY_K1 = 1.47, THOBY_K2 = 0.713;
 
