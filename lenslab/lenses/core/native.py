@@ -11,6 +11,9 @@ fisheye models. Each has a NumPy reference in :mod:`lenslab.lenses.formulas.refe
 Pixel -> direction of the fisheye, the little planet, the cylinders, Pannini, the perspective and the equi-angular
 cube map (their :class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs, so the
 warp's exact map does): ``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
+
+Every model calls them the same way: :func:`run_rows` passes the points as float64 rows and shapes the outputs back,
+and :func:`dir_to_pixel_through` and :func:`pixel_to_dir_through` choose between a model's kernel and its NumPy steps.
 """
 
 from __future__ import annotations
