@@ -37,12 +37,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default=None,
                         help="format of the images written into an -o folder (default png); for one output file "
                              "its extension says it, and a --format that differs is refused")
-    from lenslab.jobs.arguments import add_tone_mode_option, add_tone_option, non_empty
+    from lenslab.jobs.arguments import add_tone_option, non_empty
 
     add_tone_option(parser, "curve", default=None, type=non_empty,
                     help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
                         help="exposure in stops applied before the curve, or 'auto' (default 0)")
+    from lenslab.jobs.arguments import add_tone_mode_option
+
     add_tone_mode_option(parser, "apply the curve to R, G and B separately (default; bright colours go to white)",
                          "apply the curve to luminance and scale RGB by it (keeps hue and saturation)")
     parser.add_argument("--param", action="append", default=[], metavar="K=V",
