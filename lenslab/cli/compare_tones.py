@@ -21,18 +21,13 @@ from lenslab.jobs.arguments import non_negative_int
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="HDR image to read")
     parser.add_argument("-o", "--output", required=True, help="strip image to write (JPG, PNG, ...)")
-    from lenslab.jobs.arguments import add_tones_option
+    from lenslab.jobs.arguments import add_tone_mode_option, add_tones_option
 
     add_tones_option(parser, default="clamp,reinhard,hable",
                      help="comma-separated curve names, left to right (default clamp,reinhard,hable: no curve, the "
                           "classic photographic curve and a filmic one)")
     parser.add_argument("--exposure", default="0", help="exposure in stops for every panel, or 'auto' (default 0)")
-    group = parser.add_mutually_exclusive_group()
-    group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",
-                       help="curves act on each channel (default)")
-    group.add_argument("--luminance", dest="mode", action="store_const", const="luminance",
-                       help="curves act on luminance (keeps hue)")
-    parser.set_defaults(mode="per-channel")
+    add_tone_mode_option(parser, "curves act on each channel (default)", "curves act on luminance (keeps hue)")
     parser.add_argument("--panel-width", type=non_negative_int, default=1024,
                         help="shrink panels wider than this many pixels (0: keep full size; default 1024)")
     parser.add_argument("--vertical", action="store_true", help="stack panels top to bottom instead")

@@ -44,12 +44,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="tone curve (default hable, the Uncharted 2 filmic curve); 'lenslab curves --list' shows all")
     parser.add_argument("--exposure", default="0",
                         help="exposure in stops applied before the curve, or 'auto' (default 0)")
-    group = parser.add_mutually_exclusive_group()
-    group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel",
-                       help="apply the curve to R, G and B separately (default; bright colours go to white)")
-    group.add_argument("--luminance", dest="mode", action="store_const", const="luminance",
-                       help="apply the curve to luminance and scale RGB by it (keeps hue and saturation)")
-    parser.set_defaults(mode="per-channel")
+    from lenslab.jobs.arguments import add_tone_mode_option
+
+    add_tone_mode_option(parser, "apply the curve to R, G and B separately (default; bright colours go to white)",
+                         "apply the curve to luminance and scale RGB by it (keeps hue and saturation)")
     parser.add_argument("--param", action="append", default=[], metavar="K=V",
                         help="a curve parameter, e.g. --param white=8 (repeatable)")
     parser.add_argument("--primaries", default=None,

@@ -10,6 +10,7 @@ stream of ``height * (1 + row bytes)`` bytes, and Deflate expands at most 1032 t
 from __future__ import annotations
 
 import os
+from functools import partial
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
@@ -98,3 +99,21 @@ def declare_png(path, **_):
     raw = row * h  # (an interlaced image holds a little more)
     return Declared(w, h, _PNG_CHANNELS[colour], min_bytes=raw // PNG_MAX_RATIO, held=idat,
                     what="compressed IDAT data")
+
+
+# -- the JPG and PNG plugins' hooks (lenslab.io.formats.jpg, .png): the codec, lenslab.io.ldr, loads on first use --
+def _read(path, selector=None, raw=False, *, kind):
+    from lenslab.io.ldr import read_ldr
+
+    return read_ldr(path, kind, raw=raw)
+
+
+def _write(tmp, image, *, kind, **options):
+    from lenslab.io.ldr import encode_ldr
+
+    tmp.write_bytes(encode_ldr(image, kind, **options))
+
+
+def plugin_hooks(kind: str):
+    """``(read, write, declare)`` of the ``"jpg"`` or ``"png"`` plugin (:class:`lenslab.io.plugin.Format`'s hooks)."""
+    return partial(_read, kind=kind), partial(_write, kind=kind), {"jpg": declare_jpg, "png": declare_png}[kind]

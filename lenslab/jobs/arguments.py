@@ -107,6 +107,15 @@ def _curve_key(value) -> list[str]:
     return [name.strip().lower().replace("_", "-") for name in str(value).split(",")]
 
 
+def add_tone_mode_option(parser, per_channel_help: str, luminance_help: str) -> None:
+    """Declare ``--per-channel`` (the default) and ``--luminance``, one or the other, into ``args.mode`` as
+    :func:`lenslab.tone.tonemap` takes it; each command words their help for what it does with the curve."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--per-channel", dest="mode", action="store_const", const="per-channel", help=per_channel_help)
+    group.add_argument("--luminance", dest="mode", action="store_const", const="luminance", help=luminance_help)
+    parser.set_defaults(mode="per-channel")
+
+
 def non_empty(text: str) -> str:
     """argparse ``type=``: a name, spec or file that is not blank; an empty one would silently mean the
     option's default (``--tone ''`` hable, ``--from ''`` the file's own camera)."""

@@ -264,11 +264,7 @@ namespace nb = nanobind;
 
 void register_footprint(nb::module_& m) {
     using namespace lenslab;
-    using bind::need;
-    using InF = bind::In<float>;
-    using InI = bind::In<int64_t>;
-    using InB = bind::In<bool>;
-    using OutF = bind::Out<float>;
+    using namespace lenslab::bind;
     m.def("footprint", [](InF level0, InF rest, InI shapes, InI offsets, InF xs, InF ys, InB valid, InF foot,
                               bool wrap, bool top, bool bottom, double max_taps, OutF out, OutF alpha) {
         size_t npix = alpha.size();

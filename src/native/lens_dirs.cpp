@@ -213,12 +213,8 @@ void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool*
 
 // cylinder pixels -> unit directions (0 and false where the lens has no ray)
 void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
-    switch (int64_t(p[3])) {
-        case CYLINDRICAL: cylinder_loop<CYLINDRICAL>(xy, n, p, d, ok); break;
-        case EQUAL_AREA_CYLINDRICAL: cylinder_loop<EQUAL_AREA_CYLINDRICAL>(xy, n, p, d, ok); break;
-        case MERCATOR: cylinder_loop<MERCATOR>(xy, n, p, d, ok); break;
-        default: throw std::invalid_argument("cylinder_dirs: not a cylinder code");
-    }
+    with_cylinder_kind(int64_t(p[3]), "cylinder_dirs",
+                       [&](auto k) { cylinder_loop<decltype(k)::value>(xy, n, p, d, ok); });
 }
 
 // perspective pixels -> unit directions (Perspective.uv_to_dir: every finite pixel has a ray). p = W, H, H / W, t, tv
@@ -246,13 +242,8 @@ void perspective_dirs(const double* xy, int64_t n, const double* p, double* d, b
 
 // fisheye pixels -> unit directions (0 and false where the lens has no ray)
 void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
-    switch (int64_t(p[3])) {
-        case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(xy, n, p, d, ok); break;
-        case EQUISOLID: fisheye_loop<EQUISOLID>(xy, n, p, d, ok); break;
-        case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(xy, n, p, d, ok); break;
-        case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(xy, n, p, d, ok); break;
-        default: throw std::invalid_argument("fisheye_dirs: not a fisheye mapping code");
-    }
+    with_fisheye_kind(int64_t(p[3]), "fisheye_dirs",
+                      [&](auto k) { fisheye_loop<decltype(k)::value>(xy, n, p, d, ok); });
 }
 
 // a fisheye turned in the camera (the little planet): fisheye_dirs, then d M with M (row-major) after the fisheye's

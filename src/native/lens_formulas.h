@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace lenslab::lens {
 
@@ -19,6 +22,25 @@ enum Kind : int64_t {
     MERCATOR = 13,
 };
 constexpr int64_t PINHOLE = RECTILINEAR;
+
+// A mapping code as a compile-time constant: body runs with std::integral_constant<int64_t, K> for the K of KINDS
+// equal to code, so that a kernel's loop is compiled once per mapping; another code is a std::invalid_argument
+// "<what>: not a <family> code"
+template <int64_t... KINDS, class Body>
+inline void with_kind(int64_t code, const char* what, const char* family, Body&& body) {
+    if (!((code == KINDS && (body(std::integral_constant<int64_t, KINDS>{}), true)) || ...))
+        throw std::invalid_argument(std::string(what) + ": not a " + family + " code");
+}
+
+// the fisheye mappings (EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC) and the cylinders
+template <class Body>
+inline void with_fisheye_kind(int64_t code, const char* what, Body&& body) {
+    with_kind<EQUIDISTANT, EQUISOLID, STEREOGRAPHIC, ORTHOGRAPHIC>(code, what, "fisheye mapping", body);
+}
+template <class Body>
+inline void with_cylinder_kind(int64_t code, const char* what, Body&& body) {
+    with_kind<CYLINDRICAL, EQUAL_AREA_CYLINDRICAL, MERCATOR>(code, what, "cylinder", body);
+}
 constexpr double THOBY_K1 = 1.47, THOBY_K2 = 0.713;
 
 struct P2 { double x, y; bool ok; };

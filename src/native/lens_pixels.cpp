@@ -302,32 +302,18 @@ void swirl_pixels(const double* d, int64_t n, const double* p, double* xy, bool*
 }
 
 void fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
-    switch (int64_t(p[3])) {
-        case EQUIDISTANT: fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;
-        case EQUISOLID: fisheye_loop<EQUISOLID>(d, n, p, xy, ok); break;
-        case STEREOGRAPHIC: fisheye_loop<STEREOGRAPHIC>(d, n, p, xy, ok); break;
-        case ORTHOGRAPHIC: fisheye_loop<ORTHOGRAPHIC>(d, n, p, xy, ok); break;
-        default: throw std::invalid_argument("fisheye_pixels: not a fisheye mapping code");
-    }
+    with_fisheye_kind(int64_t(p[3]), "fisheye_pixels",
+                      [&](auto k) { fisheye_loop<decltype(k)::value>(d, n, p, xy, ok); });
 }
 
 void dual_fisheye_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
-    switch (int64_t(p[3])) {
-        case EQUIDISTANT: dual_fisheye_loop<EQUIDISTANT>(d, n, p, xy, ok); break;
-        case EQUISOLID: dual_fisheye_loop<EQUISOLID>(d, n, p, xy, ok); break;
-        case STEREOGRAPHIC: dual_fisheye_loop<STEREOGRAPHIC>(d, n, p, xy, ok); break;
-        case ORTHOGRAPHIC: dual_fisheye_loop<ORTHOGRAPHIC>(d, n, p, xy, ok); break;
-        default: throw std::invalid_argument("dual_fisheye_pixels: not a fisheye mapping code");
-    }
+    with_fisheye_kind(int64_t(p[3]), "dual_fisheye_pixels",
+                      [&](auto k) { dual_fisheye_loop<decltype(k)::value>(d, n, p, xy, ok); });
 }
 
 void cylinder_pixels(const double* d, int64_t n, const double* p, double* xy, bool* ok) {
-    switch (int64_t(p[3])) {
-        case CYLINDRICAL: cylinder_loop<CYLINDRICAL>(d, n, p, xy, ok); break;
-        case EQUAL_AREA_CYLINDRICAL: cylinder_loop<EQUAL_AREA_CYLINDRICAL>(d, n, p, xy, ok); break;
-        case MERCATOR: cylinder_loop<MERCATOR>(d, n, p, xy, ok); break;
-        default: throw std::invalid_argument("cylinder_pixels: not a cylinder code");
-    }
+    with_cylinder_kind(int64_t(p[3]), "cylinder_pixels",
+                       [&](auto k) { cylinder_loop<decltype(k)::value>(d, n, p, xy, ok); });
 }
 
 // Perspective.dir_to_uv, then Brown.unbend (u, v) (1 + s (k1 + k2 s)) with s = u^2 + v^2 and its fold test, then the

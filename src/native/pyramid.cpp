@@ -134,10 +134,7 @@ namespace nb = nanobind;
 
 void register_pyramid(nb::module_& m) {
     using namespace lenslab;
-    using bind::need;
-    using InF = bind::In<float>;
-    using InI = bind::In<int64_t>;
-    using InB = bind::In<bool>;
+    using namespace lenslab::bind;
 
     m.def("level_rows", [](InI shapes, InF ys, InB valid, InF foot, double max_taps, bind::Out<int64_t> rows,
                            std::optional<InI> idx) {

@@ -6,25 +6,11 @@ map is ignored and ``meta["attributes"]["gain_map"]`` says so (``lenslab info`` 
 
 from __future__ import annotations
 
+from lenslab.io.ldr_layout import plugin_hooks
 from lenslab.io.plugin import Format, header_only
 
 
-def _read(path, selector=None, raw=False):
-    from lenslab.io.ldr import read_ldr
-
-    return read_ldr(path, "jpg", raw=raw)
-
-
-def _write(tmp, image, **options):
-    from lenslab.io.ldr import encode_ldr
-
-    tmp.write_bytes(encode_ldr(image, "jpg", **options))
-
-
-def _declare(path, **options):
-    from lenslab.io.ldr_layout import declare_jpg
-
-    return declare_jpg(path, **options)
+_read, _write, _declare = plugin_hooks("jpg")
 
 FORMATS = (Format(
     name="jpg", title="JPEG", extensions=(".jpg", ".jpeg", ".jpe", ".jfif"),

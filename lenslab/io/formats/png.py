@@ -3,25 +3,11 @@
 
 from __future__ import annotations
 
+from lenslab.io.ldr_layout import plugin_hooks
 from lenslab.io.plugin import Format, header_only
 
 
-def _read(path, selector=None, raw=False):
-    from lenslab.io.ldr import read_ldr
-
-    return read_ldr(path, "png", raw=raw)
-
-
-def _write(tmp, image, **options):
-    from lenslab.io.ldr import encode_ldr
-
-    tmp.write_bytes(encode_ldr(image, "png", **options))
-
-
-def _declare(path, **options):
-    from lenslab.io.ldr_layout import declare_png
-
-    return declare_png(path, **options)
+_read, _write, _declare = plugin_hooks("png")
 
 FORMATS = (Format(
     name="png", title="PNG", extensions=(".png",), magic=lambda head: head.startswith(b"\x89PNG\r\n\x1a\n"),

@@ -135,15 +135,11 @@ class Calibrated(Lens):
 
     # -- lenslab's interface ---------------------------------------------------------------------
     def pixel_to_dir(self, xy):
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
         from lenslab.lenses.calibrated.polydistort import MAX_ITER_2D, TOL_2D
         from lenslab.lenses.formulas.solve import kernel_settings
 
         xy = as_points(xy, 2, "pixel coordinates")
-        shape = xy.shape[:-1]
-        flat = np.ascontiguousarray(xy.reshape(-1, 2), dtype=FLOAT)
-        d = np.empty((flat.shape[0], 3), dtype=FLOAT)
-        ok = np.empty(flat.shape[0], dtype=np.bool_)
         dist = self.distortion
         if dist is None:  # a model without distortion: the solve's arguments are unused
             from lenslab.lenses.calibrated.polydistort import PolyDistortion
@@ -151,14 +147,17 @@ class Calibrated(Lens):
             dist = PolyDistortion()
             dist.prepare(1.0)
         table, step = dist.table
-        worst = lens_kernels().calibrated_unproject(
-            flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), dist.a, dist.b, dist.p1,
-            dist.p2, dist.s, self.distortion is not None and not dist.identity, not dist.radial_only, dist.fold,
-            dist.hi, dist.f_hi, dist.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D,
-            self.fx, self.fy, self.skew, self.cx, self.cy, d, ok)
-        if self.distortion is not None:
-            self.distortion.max_iterations = worst
-        return d.reshape(shape + (3,)), ok.reshape(shape)
+
+        def fill(flat, d, ok):
+            worst = lens_kernels().calibrated_unproject(
+                flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), dist.a, dist.b, dist.p1,
+                dist.p2, dist.s, self.distortion is not None and not dist.identity, not dist.radial_only, dist.fold,
+                dist.hi, dist.f_hi, dist.strict, table, step, *kernel_settings(), TOL_2D, MAX_ITER_2D,
+                self.fx, self.fy, self.skew, self.cx, self.cy, d, ok)
+            if self.distortion is not None:
+                self.distortion.max_iterations = worst
+
+        return run_rows(xy, 3, fill)
 
     #: the compiled projection (a code of lenslab.lenses.formulas.kinds) of the model's dir_to_pixel
     kernel_kind: ClassVar[int | None] = None
@@ -168,22 +167,18 @@ class Calibrated(Lens):
         return ()
 
     def dir_to_pixel(self, dirs):
-        d = as_points(dirs, 3, "directions")
-        shape = d.shape[:-1]
-        flat = np.ascontiguousarray(d.reshape(-1, 3), dtype=FLOAT)
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
-        xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
-        ok = np.empty(flat.shape[0], dtype=np.bool_)
+        d = as_points(dirs, 3, "directions")
         dist = self.distortion
         none = dist is None or dist.identity
         a, b, s = (np.zeros(4), np.zeros(3), np.zeros(4)) if dist is None else (dist.a, dist.b, dist.s)
-        lens_kernels().calibrated_project(flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), a, b,
-                       0.0 if dist is None else dist.p1, 0.0 if dist is None else dist.p2, s,
-                       not none, bool(dist is not None and not dist.radial_only),
-                       np.inf if dist is None else dist.fold, self.fx, self.fy, self.skew, self.cx, self.cy,
-                       float(self.width), float(self.height), self.edge_slack, xy, ok)
-        return xy.reshape(shape + (2,)), ok.reshape(shape)
+        return run_rows(d, 2, lambda flat, xy, ok: lens_kernels().calibrated_project(
+            flat, self.kernel_kind, np.array(self.kernel_params() + (0.0,), dtype=FLOAT), a, b,
+            0.0 if dist is None else dist.p1, 0.0 if dist is None else dist.p2, s,
+            not none, bool(dist is not None and not dist.radial_only),
+            np.inf if dist is None else dist.fold, self.fx, self.fy, self.skew, self.cx, self.cy,
+            float(self.width), float(self.height), self.edge_slack, xy, ok))
 
     @property
     def solver_iterations(self) -> dict[str, int]:

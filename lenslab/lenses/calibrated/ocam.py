@@ -137,18 +137,17 @@ class OCam(Calibrated):
         return d.reshape(shape + (3,)), ok.reshape(shape)
 
     def dir_to_pixel(self, dirs):
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
         d = as_points(dirs, 3, "directions")
-        shape = d.shape[:-1]
-        flat = np.ascontiguousarray(d.reshape(-1, 3), dtype=FLOAT)
         if getattr(self, "_table", None) is None:
             self._table = inverse_table(self._angle, self.rho_hi)
         table, step = self._table
         strict = bool(np.isfinite(self.rho_fold) and self.rho_hi == self.rho_fold)
-        xy = np.empty((flat.shape[0], 2), dtype=FLOAT)
-        ok = np.empty(flat.shape[0], dtype=np.bool_)
-        self.max_iterations = lens_kernels().ocam_project(
-            flat, self.pol_c * self.rho_hi ** (np.arange(self.pol_c.size) - 1.0), self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
-            self.c, self.d, self.e, self.xc, self.yc, float(self.width), float(self.height), self.edge_slack, xy, ok)
-        return xy.reshape(shape + (2,)), ok.reshape(shape)
+
+        def fill(flat, xy, ok):
+            self.max_iterations = lens_kernels().ocam_project(
+                flat, self.pol_c * self.rho_hi ** (np.arange(self.pol_c.size) - 1.0), self.rho_hi, self._angle_hi, strict, table, step, *kernel_settings(),
+                self.c, self.d, self.e, self.xc, self.yc, float(self.width), float(self.height), self.edge_slack, xy, ok)
+
+        return run_rows(d, 2, fill)

@@ -239,13 +239,9 @@ class Lens:
         valid : numpy.ndarray
             bool ``(...)``: whether the lens has a ray there (e.g. inside a fisheye's circle).
         """
-        xy = as_points(xy, 2, "pixel coordinates")
-        kern = self.dir_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import unproject_kernel
+        from lenslab.lenses.core.native import pixel_to_dir_through
 
-            return unproject_kernel(kern, xy)
-        return self._uv_pixel_to_dir(xy)
+        return pixel_to_dir_through(self, xy, self._uv_pixel_to_dir)
 
     def _uv_pixel_to_dir(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pixels (float64 ``(..., 2)``) -> directions through :meth:`pixel_to_uv` and :meth:`uv_to_dir`."""
@@ -271,18 +267,18 @@ class Lens:
             bool ``(...)``: False where the model cannot see the direction or where it falls outside
             the image.
         """
-        d = as_points(dirs, 3, "directions")
-        kern = self.pixel_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import project_kernel
+        from lenslab.lenses.core.native import dir_to_pixel_through
 
-            return project_kernel(kern, d)
-        with np.errstate(all="ignore"):
-            n2 = np.einsum("...i,...i->...", d, d)
-            nonzero = (n2 > 0) & np.isfinite(n2)
-            d = d / np.sqrt(n2)[..., None]
-            if not nonzero.all():
-                d[~nonzero] = (0.0, 0.0, 1.0)  # any unit vector; flagged invalid below
+        return dir_to_pixel_through(self, dirs, self._any_dir_to_pixel)
+
+    def _any_dir_to_pixel(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Directions of any length (float64 ``(..., 3)``) -> pixels: normalised, then :meth:`_uv_dir_to_pixel`;
+        zero and non-finite directions are invalid."""
+        n2 = np.einsum("...i,...i->...", d, d)
+        nonzero = (n2 > 0) & np.isfinite(n2)
+        d = d / np.sqrt(n2)[..., None]
+        if not nonzero.all():
+            d[~nonzero] = (0.0, 0.0, 1.0)  # any unit vector; flagged invalid below
         xy, valid = self._uv_dir_to_pixel(d)
         if not nonzero.all():
             valid &= nonzero

@@ -69,16 +69,13 @@ class Brown(Wrapped):
     def bend(self, uv):
         """Undistorted ``(u, v) r_u / r_d`` (limit 1 at the centre): the compiled solve of
         ``r_d = g(r_u)`` fused with the range test (a safeguarded Newton from a table of the inverse)."""
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
         if getattr(self, "_table", None) is None:
             self._table = inverse_table(self.radius_map, min(self.ru_fold, self.ru_hi))
         table, step = self._table
-        flat = np.ascontiguousarray(uv, dtype=FLOAT).reshape(-1, 2)
-        out = np.empty(flat.shape, dtype=FLOAT)
-        valid = np.empty(flat.shape[0], dtype=np.bool_)
-        lens_kernels().brown_bend(flat, self.k1, self.k2, self.ru_hi, self.rd_fold, table, step, *kernel_settings(), out, valid)
-        return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
+        return run_rows(uv, 2, lambda flat, out, valid: lens_kernels().brown_bend(
+            flat, self.k1, self.k2, self.ru_hi, self.rd_fold, table, step, *kernel_settings(), out, valid))
 
     def pixel_kernel(self):
         """The compiled ``dir -> pixel`` of a Brown-distorted pinhole (``brown_pixels``: the NumPy steps of the

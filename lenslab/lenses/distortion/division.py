@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import FLOAT, Param, ReferencePoint
+from lenslab.lenses.core.base import Param, ReferencePoint
 from lenslab.lenses.registry import register
 from lenslab.lenses.formulas.solve import DIVISION, DIVISION_RECIPROCAL, inverse_table, kernel_settings
 from lenslab.lenses.core.wrapped import Wrapped
@@ -122,15 +122,11 @@ class Distortion(Wrapped):
     def unbend(self, uv):
         """Image ``(u, v)`` of undistorted points: the compiled solve of ``r_u = f(r_d)``, fused with the
         range test and rescaling (a safeguarded Newton from a table of the inverse)."""
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
         hi, f_hi, strict, pole, table, step = self._kernel_args()
-        flat = np.ascontiguousarray(uv, dtype=FLOAT).reshape(-1, 2)
-        out = np.empty(flat.shape, dtype=FLOAT)
-        valid = np.empty(flat.shape[0], dtype=np.bool_)
-        lens_kernels().division_unbend(flat, self.k1, self.k2, hi, f_hi, strict, pole, table, step, *kernel_settings(),
-                        out, valid)
-        return out.reshape(uv.shape), valid.reshape(uv.shape[:-1])
+        return run_rows(uv, 2, lambda flat, out, valid: lens_kernels().division_unbend(
+            flat, self.k1, self.k2, hi, f_hi, strict, pole, table, step, *kernel_settings(), out, valid))
 
 
 @register

@@ -234,19 +234,16 @@ class LensfunLens(Lens):
 
     def dir_to_pixel_unbounded(self, dirs):
         """Pixels of directions, not tested against the image bounds (compiled: one pass)."""
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
         d = as_points(dirs, 3, "directions")
-        flat = np.ascontiguousarray(d.reshape(-1, 3))
-        out = np.empty((flat.shape[0], 2), dtype=np.float64)
-        valid = np.empty(flat.shape[0], dtype=bool)
         if self.dist is not None:
             coeffs, r_lim = self.dist.coeffs, min(self.dist.r_max, R_LIMIT)
         else:
             coeffs, r_lim = np.ones(1), np.inf
-        lens_kernels().lensfun_dir_to_pixel(flat, kinds.LENSFUN[self.profile.type], self.f, np.ascontiguousarray(coeffs, dtype=np.float64),
-                     float(r_lim), float(self.centre[0]), float(self.centre[1]), float(self.norm), out, valid)
-        return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+        return run_rows(d, 2, lambda flat, out, valid: lens_kernels().lensfun_dir_to_pixel(
+            flat, kinds.LENSFUN[self.profile.type], self.f, np.ascontiguousarray(coeffs, dtype=np.float64), float(r_lim),
+            float(self.centre[0]), float(self.centre[1]), float(self.norm), out, valid))
 
     def dir_to_pixel(self, dirs):
         xy, valid = self.dir_to_pixel_unbounded(dirs)

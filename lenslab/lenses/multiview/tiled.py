@@ -250,12 +250,13 @@ class Tiled(Lens):
         return PixelKernel(k.tiled_pixels, np.concatenate([[len(records)]] + records).astype(FLOAT))
 
     def dir_to_pixel(self, dirs):
-        kern = self.pixel_kernel()
-        if kern is not None:
-            from lenslab.lenses.core.native import project_kernel
+        from lenslab.lenses.core.native import dir_to_pixel_through
 
-            return project_kernel(kern, as_points(dirs, 3, "directions"))
-        d = normalize(as_points(dirs, 3, "directions"))
+        return dir_to_pixel_through(self, dirs, self._dir_to_pixel)
+
+    def _dir_to_pixel(self, dirs):
+        """The NumPy steps of :meth:`dir_to_pixel` (float64 directions of any length), tile by tile."""
+        d = normalize(dirs)
         flat = d.reshape(-1, 3)
         xy = np.zeros((flat.shape[0], 2), dtype=FLOAT)
         # zero vectors (and so non-finite input) are never seen; three column tests beat np.any's reduction

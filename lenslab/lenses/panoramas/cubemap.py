@@ -198,14 +198,9 @@ class Cubemap(Lens):
             [[self.width, self.height, ew, eh, self.edge_slack, BORDER_NUDGE], faces.ravel()]).astype(FLOAT))
 
     def dir_to_pixel(self, dirs):
-        d = as_points(dirs, 3, "directions")
-        kern = self.pixel_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import project_kernel
+        from lenslab.lenses.core.native import dir_to_pixel_through
 
-            return project_kernel(kern, d)
-        with np.errstate(all="ignore"):
-            return self._dir_to_pixel(d)
+        return dir_to_pixel_through(self, dirs, self._dir_to_pixel)
 
     def _dir_to_pixel(self, d):
         dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]

@@ -102,48 +102,47 @@ class DualFisheye(Lens):
         from lenslab.lenses.core.native import kernel_holds, lens_kernels
 
         fish = self._lens
-        if not kernel_holds(self, DualFisheye) or type(fish) is not Fisheye:
+        if not kernel_holds(self, DualFisheye, ("_dir_to_pixel",)) or type(fish) is not Fisheye:
             return None
         return PixelKernel(lens_kernels().dual_fisheye_pixels, np.array(
             [self.width, self.height, self.half, fish.kind, fish.plane_scale, fish.s_max * (1.0 + RIM_SLACK),
              self._front_x0, self.edge_slack, self.half / self.height, self.half * (1.0 - 1e-15)], dtype=FLOAT))
 
     def dir_to_pixel(self, dirs):
-        from lenslab.lenses.core.base import as_points, clean
+        from lenslab.lenses.core.native import dir_to_pixel_through
 
-        d = as_points(dirs, 3, "directions")
-        kern = self.pixel_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import project_kernel
+        return dir_to_pixel_through(self, dirs, self._dir_to_pixel)
 
-            return project_kernel(kern, d)
-        with np.errstate(all="ignore"):
-            n = np.sqrt(np.einsum("...i,...i->...", d, d))
-            good = (n > 0) & np.isfinite(n)
-            local = d / np.where(good, n, 1.0)[..., None]
-            back = local[..., 2] < 0
-            # into the back lens's frame, in place: x and z change sign (a multiply by -1 is exact)
-            flip = np.where(back, -1.0, 1.0)
-            local[..., 0] *= flip
-            local[..., 2] *= flip
-            uv, ok = self._lens.dir_to_uv(local)
-            x0 = flip  # the left edge of each direction's half, in the flip array's place
-            x0 *= 0.5 * self.half - self._front_x0  # back: half - front x0, front: front x0
-            x0 -= 0.5 * self.half
-            np.negative(x0, out=x0)
-            xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
-            x, y = xy[..., 0], xy[..., 1]
-            np.add(uv[..., 0], 1.0, out=x)
-            x *= 0.5
-            x *= self.half
-            x += x0
-            np.multiply(uv[..., 1], self.half / self.height, out=y)
-            np.subtract(1.0, y, out=y)
-            y *= 0.5
-            y *= self.height
-            # a point on the shared edge belongs to the right half: keep the left lens's points off it
-            np.copyto(x, np.minimum(x, self.half * (1.0 - 1e-15)), where=x0 == 0.0)
-            ok &= good & self.snap_to_image(xy)
+    def _dir_to_pixel(self, d):
+        """The NumPy steps of :meth:`dir_to_pixel` (float64 directions of any length)."""
+        from lenslab.lenses.core.base import clean
+
+        n = np.sqrt(np.einsum("...i,...i->...", d, d))
+        good = (n > 0) & np.isfinite(n)
+        local = d / np.where(good, n, 1.0)[..., None]
+        back = local[..., 2] < 0
+        # into the back lens's frame, in place: x and z change sign (a multiply by -1 is exact)
+        flip = np.where(back, -1.0, 1.0)
+        local[..., 0] *= flip
+        local[..., 2] *= flip
+        uv, ok = self._lens.dir_to_uv(local)
+        x0 = flip  # the left edge of each direction's half, in the flip array's place
+        x0 *= 0.5 * self.half - self._front_x0  # back: half - front x0, front: front x0
+        x0 -= 0.5 * self.half
+        np.negative(x0, out=x0)
+        xy = np.empty(d.shape[:-1] + (2,), dtype=FLOAT)
+        x, y = xy[..., 0], xy[..., 1]
+        np.add(uv[..., 0], 1.0, out=x)
+        x *= 0.5
+        x *= self.half
+        x += x0
+        np.multiply(uv[..., 1], self.half / self.height, out=y)
+        np.subtract(1.0, y, out=y)
+        y *= 0.5
+        y *= self.height
+        # a point on the shared edge belongs to the right half: keep the left lens's points off it
+        np.copyto(x, np.minimum(x, self.half * (1.0 - 1e-15)), where=x0 == 0.0)
+        ok &= good & self.snap_to_image(xy)
         return clean(xy, ok, inplace=True)
 
     def blend_views(self, dirs):

@@ -110,14 +110,9 @@ class EquiAngularCubemap(Lens):
              np.array(EAC_AXES, dtype=FLOAT).ravel()]).astype(FLOAT))
 
     def pixel_to_dir(self, xy):
-        xy = as_points(xy, 2, "pixel coordinates")
-        kern = self.dir_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import unproject_kernel
+        from lenslab.lenses.core.native import pixel_to_dir_through
 
-            return unproject_kernel(kern, xy)
-        with np.errstate(all="ignore"):
-            return self._pixel_to_dir(xy)
+        return pixel_to_dir_through(self, xy, self._pixel_to_dir)
 
     def v360_pixel_to_dir(self, xy):
         """The rays v360 gives this output's pixels: the padding continues its face's plane, linearly (the
@@ -164,14 +159,9 @@ class EquiAngularCubemap(Lens):
             [[self.width, self.height, self.pu, self.pv, self.edge_slack, fx_max, fy_max], faces.ravel()]).astype(FLOAT))
 
     def dir_to_pixel(self, dirs):
-        d = as_points(dirs, 3, "directions")
-        kern = self.pixel_kernel()
-        if kern is not None:  # the same steps, compiled, in one pass
-            from lenslab.lenses.core.native import project_kernel
+        from lenslab.lenses.core.native import dir_to_pixel_through
 
-            return project_kernel(kern, d)
-        with np.errstate(all="ignore"):
-            return self._dir_to_pixel(d)
+        return dir_to_pixel_through(self, dirs, self._dir_to_pixel)
 
     def _dir_to_pixel(self, d):
         a = np.abs(d)

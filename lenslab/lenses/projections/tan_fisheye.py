@@ -97,18 +97,14 @@ class TanFisheye(Lens):
 
     def dir_to_uv(self, d):
         """Solve ``psi(r) = theta`` per direction: compiled bracketed Newton from a table guess."""
-        from lenslab.lenses.core.native import lens_kernels
+        from lenslab.lenses.core.native import lens_kernels, run_rows
 
         if getattr(self, "_table", None) is None:
             self._table = inverse_table(self.psi, self.r_max, sqrt_map=True)
         table, step = self._table
-        flat = np.ascontiguousarray(d, dtype=FLOAT).reshape(-1, 3)
-        out = np.empty((flat.shape[0], 2), dtype=FLOAT)
-        valid = np.empty(flat.shape[0], dtype=np.bool_)
         psi_max = self.max_angle if self.folds else self.max_angle * (1.0 + 1e-12)
-        lens_kernels().tan_fisheye_dir_to_uv(flat, self.F, self.r_max, psi_max, self.folds, table, step, *kernel_settings(), out,
-                              valid)
-        return out.reshape(d.shape[:-1] + (2,)), valid.reshape(d.shape[:-1])
+        return run_rows(d, 2, lambda flat, out, valid: lens_kernels().tan_fisheye_dir_to_uv(
+            flat, self.F, self.r_max, psi_max, self.folds, table, step, *kernel_settings(), out, valid))
 
 
 #: the class's former name
