@@ -178,7 +178,8 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     if selector is not None and not fmt.selectors:
         from lenslab.io import registry  # (the name formats here is also the plugins' package)
 
-        takers = " and ".join(f.name.upper() for f in registry.formats().values() if f.selectors)
+        names = [f.name.upper() for f in registry.formats().values() if f.selectors]
+        takers = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
         raise FormatError(f"{file}: a ':{selector}' selector only applies to {takers} files (this is {fmt.title})")
     given = {"raw": raw, "data_window": data_window, "rec709": rec709, "extra_channels": extra_channels}
     from lenslab.io.budget import admit

@@ -94,13 +94,15 @@ class Declared:
     what: str = "pixel data"
     #: appended to a refusal of the ratio rule (how to read less)
     hint: str = ""
+    #: float bytes a read decodes beside the image (an Ultra HDR JPEG's gain map), counted with it
+    extra_bytes: int = 0
     #: what the hook parsed of the header, which :func:`lenslab.io.read` gives the format's reader back
     #: (``parsed=``) so that a read parses the header once; None: nothing to give
     parsed: object = field(default=None, compare=False, repr=False)
 
     @property
     def float_bytes(self) -> int:
-        return self.width * self.height * max(1, min(self.channels, 4)) * 4
+        return self.width * self.height * max(1, min(self.channels, 4)) * 4 + self.extra_bytes
 
 
 def size_text(n: int) -> str:

@@ -3,8 +3,9 @@
 OpenCV works in BGR order; images here are RGB. PNG alpha is straight (the PNG specification): the
 colour is unpremultiplied before it is encoded and premultiplied after it is decoded, so memory holds
 premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
-they are. JPG EXIF orientation is not applied (pixels are returned as stored). A JPG that carries extra images (UltraHDR gain maps, MPF) reads as its primary,
-standard-dynamic-range image. An embedded ICC profile (PNG ``iCCP``, JPEG ``APP2``) is applied as
+they are. JPG EXIF orientation is not applied (pixels are returned as stored). An Ultra HDR JPEG (a gain map in an
+MPF secondary image) reads as its HDR rendition, the gain map applied to the base image (:mod:`lenslab.io.gainmap`);
+``selector="sdr"`` (``photo.jpg:sdr``) or ``raw=True`` reads the base image alone. An embedded ICC profile (PNG ``iCCP``, JPEG ``APP2``) is applied as
 :mod:`lenslab.io.colour.icc` says, unless a PNG's ``cICP`` chunk speaks (it takes precedence).
 """
 
@@ -50,9 +51,10 @@ def _jpg_frame(data: bytes) -> tuple[int, int, int] | None:
     return None
 
 
-def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]:
+def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = None) -> tuple[np.ndarray, dict]:
     import cv2
 
+    sdr = fmt == "jpg" and _wants_sdr(path, selector)
     data = path.read_bytes()
     size = _png_size(data) if fmt == "png" else _jpg_size(data)
     if size is None:
@@ -62,8 +64,8 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
         raise FormatError(f"{path}: the JPG has no end-of-image marker; it is truncated")
     if fmt == "png" and b"IEND" not in data[-32:]:
         raise FormatError(f"{path}: the PNG has no IEND chunk at its end; it is truncated")
-    attributes = _gain_map_note(data) if fmt == "jpg" else {}
-    if "gain_map" in attributes and not raw:  # a command's user is told too, not only lenslab info's
+    gain, attributes = _gain_map(data, path, raw, sdr) if fmt == "jpg" else (None, {})
+    if "gain_map" in attributes and gain is None and not raw and not sdr:  # a command's user is told too, not only lenslab info's
         import warnings
 
         warning = GainMapWarning(f"{path}: {attributes['gain_map']}")
@@ -116,6 +118,10 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
 
     image, linear, gamut = decode(codes, maxval, str(path), attributes, profile=profile, points=points,
                                   raw=raw, inks=inks)
+    if gain is not None:  # linear light, SDR white 1.0: the HDR rendition
+        from lenslab.io.gainmap.apply import apply_gain
+
+        image, linear = apply_gain(np.ascontiguousarray(image, dtype=np.float32), gain.codes, gain.meta), True
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,
@@ -133,15 +139,35 @@ def read_ldr(path: Path, fmt: str, raw: bool = False) -> tuple[np.ndarray, dict]
 
 
 class GainMapWarning(UserWarning):
-    """An Ultra HDR JPEG was read as its SDR base image: its gain map (the HDR rendition) is not applied."""
+    """An image with a gain map was read as its SDR base image: its gain map (the HDR rendition) is not applied."""
 
 
-def _gain_map_note(data: bytes) -> dict:
-    """Ultra HDR / Adobe gain-map JPEGs: say that the gain map is present and not applied."""
-    if b"hdrgm:" not in data and b"urn:iso:std:iso:ts:21496" not in data:
-        return {}
-    return {"gain_map": "Ultra HDR gain map present and ignored: this is the SDR base image (display-referred, "
-                        "not the HDR rendition)"}
+def _wants_sdr(path, selector: str | None) -> bool:
+    """Whether a JPEG's selector asks for its SDR base image (``:sdr``); ``:hdr`` or none: its HDR rendition."""
+    from lenslab.io.gainmap import HDR, SDR
+
+    if selector not in (None, SDR, HDR):
+        raise FormatError(f"{path}: a JPEG takes the selector ':{SDR}' (an Ultra HDR JPEG's SDR base image) or "
+                          f"':{HDR}' (its HDR rendition, the default), not ':{selector}'")
+    return selector == SDR
+
+
+def _gain_map(data: bytes, path, raw: bool, sdr: bool) -> tuple:
+    """(the gain map to apply or None, the attributes that say which rendition is read and why)."""
+    from lenslab.io import gainmap
+
+    if not gainmap.present(data):
+        return None, {}
+    if raw or sdr:
+        why = "raw code values" if raw else f"the ':{gainmap.SDR}' selector"
+        return None, {"rendition": f"SDR base image ({why}); the gain map is not applied"}
+    frame = _jpg_frame(data) or (0, 0, 3)
+    try:
+        gain = gainmap.prepare(data, (frame[0], frame[1], 1 if frame[2] == 1 else 3))
+    except gainmap.Skipped as exc:
+        return None, {"gain_map": f"Ultra HDR gain map present and ignored ({exc}): this is the SDR base image "
+                                  "(display-referred, not the HDR rendition)"}
+    return gain, {"rendition": gainmap.rendition_note(gain), "gain_map": gain.describe()}
 
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,

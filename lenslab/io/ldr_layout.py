@@ -58,10 +58,27 @@ def declare_jpg(path, **_):
                                   "marker is not supported)")
             blocks = -(-w // 8) * -(-h // 8)
             return Declared(w, h, 3 if comps >= 3 else 1, min_bytes=0 if arithmetic else blocks // 8,
-                            held=size - (pos + 2 + length), what="scan data (one bit per 8 x 8 block)")
+                            held=size - (pos + 2 + length), what="scan data (one bit per 8 x 8 block)",
+                            extra_bytes=_gain_map_bytes(path, data, size, w, h))
         pos += 2 + length
     raise FormatError(f"{path}: the JPG has no frame header and scan in its first {min(n, _HEAD)} bytes; the "
                       "header is missing or damaged")
+
+
+def _gain_map_bytes(path, head: bytes, size: int, width: int, height: int) -> int:
+    """The float bytes of an Ultra HDR gain map the MPF index points to (0 for none, or one larger than the
+    base image, which the reader does not decode: :mod:`lenslab.io.gainmap`)."""
+    from lenslab.io.gainmap import declared
+
+    def read_at(offset: int, n: int) -> bytes:
+        with open(path, "rb") as f:
+            f.seek(offset)
+            return f.read(n)
+
+    found = declared(head, size, read_at)
+    if found is None or found[0] > width or found[1] > height:
+        return 0
+    return found[0] * found[1] * found[2] * 4
 
 
 def declare_png(path, **_):
@@ -105,7 +122,7 @@ def declare_png(path, **_):
 def _read(path, selector=None, raw=False, *, kind):
     from lenslab.io.ldr import read_ldr
 
-    return read_ldr(path, kind, raw=raw)
+    return read_ldr(path, kind, raw=raw, selector=selector)
 
 
 def _write(tmp, image, *, kind, **options):

@@ -50,7 +50,8 @@ def test_tiff_pages_and_ultrahdr_note(tmp_path, shared_data, capsys):
     pages = d["structure"]["pages"]
     assert [p["dtype"] for p in pages] == ["float32", "uint16"] and pages[0]["shape"] == [3, 5, 3]
     (u,) = _info(capsys, str(shared_data / "formats/oiio-images/ultrahdr_sky.jpg"))
-    assert "gain map present and ignored" in u["attributes"]["gain_map"]
+    assert u["attributes"]["rendition"].startswith("HDR")  # the gain map applied (2.205275 stops, its XMP)
+    assert "GainMapMax 2.205 (log2)" in u["attributes"]["gain_map"] and u["stats"][1]["max"] > 4.0
 
 
 def test_format_table(capsys):

@@ -130,5 +130,5 @@ def test_convert_and_warp_take_a_heic(tmp_path):
 
 def test_a_selector_on_a_format_without_images_to_pick_names_the_formats_that_take_one(tmp_path):
     pfm = lio.write(tmp_path / "a.pfm", np.zeros((2, 2, 3), np.float32))
-    with pytest.raises(lio.FormatError, match="only applies to EXR and HEIF files"):
+    with pytest.raises(lio.FormatError, match="only applies to EXR, HEIF and JPG files"):
         lio.read(f"{pfm}:1")

@@ -97,14 +97,17 @@ def test_auto_exposure_with_a_display_is_a_usage_error(tmp_path, command):
     assert not (tmp_path / "out.png").exists()
 
 
-def test_converting_an_ultra_hdr_jpeg_says_its_gain_map_is_not_applied(tmp_path):
-    """The phone's Ultra HDR JPEG: a user converting it to EXR is told they get the SDR base image (the
-    gain map's XMP namespace, ``hdrgm``, is Adobe's gain-map specification's, which Google's Ultra HDR uses)."""
+def test_converting_an_ultra_hdr_jpeg_gives_its_hdr_rendition(tmp_path):
+    """The phone's Ultra HDR JPEG (its gain map's XMP namespace, ``hdrgm``, is Adobe's gain-map specification's,
+    which Google's Ultra HDR uses): converted to EXR, it is the HDR photo, brighter than SDR white by up to
+    2^2.205275 (the file's hdrgm:GainMapMax), with no note; ':sdr' converts the SDR base image."""
     sky = Path(__file__).resolve().parents[3] / "shared" / "data" / "formats" / "oiio-images" / "ultrahdr_sky.jpg"
     if not sky.is_file():
         pytest.skip("../shared/data/formats is absent")
-    assert b"hdrgm:" in sky.read_bytes()
+    assert b'hdrgm:GainMapMax="2.205275"' in sky.read_bytes()
     done = _lenslab("convert", str(sky), "--to", "exr", "-o", str(tmp_path / "sky.exr"), cwd=tmp_path)
     assert done.returncode == 0, done.stderr
-    notes = [line for line in done.stderr.splitlines() if "note:" in line]
-    assert len(notes) == 1 and "gain map present and ignored" in notes[0] and "SDR base image" in notes[0]
+    assert not [line for line in done.stderr.splitlines() if "note:" in line and "gain map" in line]
+    hdr, _ = lio.read(tmp_path / "sky.exr")
+    sdr, _ = lio.read(f"{sky}:sdr")
+    assert sdr.max() < 1.05 and 4.0 < hdr.max() <= 2 ** 2.205275 * sdr.max() * 1.001

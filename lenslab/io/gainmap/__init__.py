@@ -1,0 +1,137 @@
+"""Ultra HDR JPEGs: an SDR base image, and a gain map that turns it into the HDR photo it was taken as.
+
+Sections followed: Google's Ultra HDR Image Format v1.0 (developer.android.com/media/platform/hdr-image-format):
+"Gain map container" (the MPF index of the secondary image, the ``hdrgm`` XMP of the gain map image),
+"Gain map metadata", "Decode" (gain map sampling and application, weight factor); Adobe's Gain Map
+Specification 1.0: "Gain Map Metadata", "Applying the Gain Map" (per-channel values, ``BaseRenditionIsHDR``).
+
+- **Found** through the primary image's MPF index (:func:`lenslab.io.gainmap.container.mpf_images`): the first
+  secondary JPEG whose XMP holds ``hdrgm`` values (the primary's XMP, where the gain map's has none).
+- **Metadata**: :mod:`lenslab.io.gainmap.metadata`. **Applied** at full headroom: :mod:`lenslab.io.gainmap.apply`.
+- **Not read**: the ISO 21496-1 binary metadata (``APP2`` ``urn:iso:std:iso:ts:21496:-1``): where a file
+  carries only that, the base image is read with a note; gain maps found by the GContainer item lengths
+  alone (no MPF index); extended XMP. A base rendition that is itself HDR (``BaseRenditionIsHDR``) is read
+  as it is, with a note (its gain map maps it down to SDR).
+- **Refused** (the base image is read, with a note that says why): an MPF index pointing outside the file, a
+  gain map cut short or that OpenCV cannot decode, larger than the base in either direction, of other than 1 or
+  3 channels, with absurd metadata (:class:`lenslab.io.gainmap.metadata.MetadataError`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lenslab.io.gainmap.container import ISO_SIGNATURE, ContainerError, frame, mpf_images, payloads, xmp
+from lenslab.io.gainmap.metadata import GainMapMetadata, MetadataError, has_hdrgm, parse
+
+#: the selector that reads the SDR base image (``photo.jpg:sdr``), and the one naming the default
+SDR, HDR = "sdr", "hdr"
+ISO_NOTE = "ISO 21496-1 gain map metadata present and not read"
+
+
+class Skipped(ValueError):
+    """A gain map that is not applied: why, in words (the base image is read)."""
+
+
+@dataclass
+class GainMap:
+    """A gain map ready to apply: its samples (``h x w x c`` uint8) and metadata."""
+
+    codes: np.ndarray
+    meta: GainMapMetadata
+    iso: bool = False
+
+    def describe(self) -> str:
+        h, w, c = self.codes.shape
+        return f"{w} x {h}, {c} channel(s); {self.meta.describe()}" + (f"; {ISO_NOTE}" if self.iso else "")
+
+
+def present(data: bytes) -> bool:
+    """Whether the file names a gain map at all (Ultra HDR / Adobe ``hdrgm`` XMP, or ISO 21496-1)."""
+    return b"hdrgm:" in data or ISO_SIGNATURE[:-1] in data
+
+
+def _secondary(data: bytes, images) -> tuple[int, int, GainMapMetadata | None, bool]:
+    """The gain map image's (offset, size, metadata or None if only ISO 21496-1 speaks, iso present)."""
+    primary = xmp(data)
+    iso = bool(payloads(data, 0xE2, ISO_SIGNATURE))
+    for at, size in images[1:]:
+        own = xmp(data, at) if data[at:at + 2] == b"\xff\xd8" else None
+        iso = iso or bool(data[at:at + 2] == b"\xff\xd8" and payloads(data, 0xE2, ISO_SIGNATURE, at))
+        if has_hdrgm(own):
+            return at, size, parse(own), iso
+        if has_hdrgm(primary) and b"GainMapMax" in primary:
+            return at, size, parse(primary), iso
+    if iso and len(images) > 1:
+        at, size = images[1]
+        return at, size, None, True
+    raise Skipped("no secondary image of its MPF index carries gain map metadata")
+
+
+def declared(data: bytes, total: int, read_at) -> tuple[int, int, int] | None:
+    """``(w, h, c)`` of the gain map the MPF index of a JPEG's head ``data`` (of a file of ``total`` bytes)
+    points to, reading the gain map's head by ``read_at(offset, size)``; None where there is none to decode."""
+    try:
+        images = mpf_images(data, total)
+    except ContainerError:
+        return None
+    if not images or len(images) < 2 or not present(data):
+        return None
+    found = []
+    for at, size in images[1:]:
+        head = read_at(at, min(size, 1 << 16))
+        try:
+            f = frame(head)
+        except ContainerError:
+            f = None
+        if f is not None:
+            found.append((f[0], f[1], 3 if f[2] >= 3 else 1))
+    return max(found, key=lambda s: s[0] * s[1] * s[2]) if found else None
+
+
+def prepare(data: bytes, base: tuple[int, int, int]) -> GainMap:
+    """The gain map of a JPEG file's bytes whose base image is ``base`` = (W, H, channels), decoded and
+    checked; :class:`Skipped` with the reason where it cannot be applied."""
+    import cv2
+
+    try:
+        images = mpf_images(data)
+        if not images or len(images) < 2:
+            raise Skipped("the file has no MPF index of a second image; the gain map is not found")
+        at, size, meta, iso = _secondary(data, images)
+    except (ContainerError, MetadataError) as exc:
+        raise Skipped(str(exc)) from None
+    if meta is None:
+        raise Skipped(f"{ISO_NOTE} (lenslab reads the Ultra HDR / Adobe hdrgm XMP only)")
+    if meta.base_is_hdr:
+        raise Skipped("its base rendition is the HDR one (BaseRenditionIsHDR): read as it is, the gain map (to SDR) "
+                      "not applied")
+    blob = data[at:at + size]
+    try:
+        f = frame(blob)
+    except ContainerError as exc:
+        raise Skipped(f"its gain map image is damaged: {exc}") from None
+    if f is None:
+        raise Skipped("its gain map image has no frame header and scan; it is damaged")
+    w, h, comps, arithmetic, scan = f
+    width, height, channels = base
+    if not (0 < w <= width and 0 < h <= height) or comps not in (1, 3):
+        raise Skipped(f"its gain map declares {w} x {h} pixels of {comps} component(s); a gain map is 1 or 3 "
+                      f"channels no larger than the base's {width} x {height}")
+    if channels == 1 and (comps == 3 or len({*meta.gain_map_min}) > 1 or len({*meta.gain_map_max}) > 1):
+        raise Skipped("its base image is grey and its gain map or metadata differ by colour channel")
+    blocks = -(-w // 8) * -(-h // 8)
+    if blob.rfind(b"\xff\xd9") < scan or (not arithmetic and size - scan < blocks // 8):
+        raise Skipped("its gain map image is cut short (truncated)")
+    codes = cv2.imdecode(np.frombuffer(blob, np.uint8), cv2.IMREAD_UNCHANGED)
+    if codes is None or codes.dtype != np.uint8 or codes.shape[:2] != (h, w):
+        raise Skipped("OpenCV cannot decode its gain map image; it is damaged")
+    codes = codes[..., None] if codes.ndim == 2 else np.ascontiguousarray(codes[..., 2::-1])
+    return GainMap(codes, meta, iso)
+
+
+def rendition_note(gain: GainMap) -> str:
+    return (f"HDR: the SDR base image with its gain map applied at full headroom "
+            f"({gain.meta.headroom_stops:.3g} stops); 'FILE:sdr' reads the SDR base image")

@@ -1,0 +1,68 @@
+"""The gain map applied to the base image: the HDR rendition at full headroom (weight 1).
+
+Ultra HDR v1, "Decode" ("Gain map sampling", "Apply the gain map") and Adobe's gain map specification,
+"Applying the Gain Map": with ``r`` the gain map sample scaled to 0..1 (code / 255) at a base pixel,
+
+    log_boost = GainMapMin * (1 - r^(1/Gamma)) + GainMapMax * r^(1/Gamma)          (log2, per channel)
+    HDR = (SDR + OffsetSDR) * 2^(log_boost * weight) - OffsetHDR
+
+with ``SDR`` the base's linear light (SDR white = 1.0) and ``weight`` = 1, the rendition for a display of
+``HDRCapacityMax`` stops of headroom or more. A gain map smaller than the base is sampled bilinearly at the
+base's pixel centres, the two images covering the same extent: base pixel ``x`` (centre ``x + 0.5``) is at
+``(x + 0.5) * w / W - 0.5`` in gain-map pixels (``w``, ``W`` the two widths; rows the same way), clamped to
+the outermost gain-map pixel centres (docs/conventions.md, pixel centres at ``+ 0.5``).
+
+The work goes in bands of :data:`BAND` rows, in float32 (a boost of 2^64, :data:`lenslab.io.gainmap.metadata.MAX_STOPS`,
+stays far within float32's range; its relative rounding, 6e-8 a step, is 2^-24 of a value): beside the image,
+only the gain map (float32, its own size) and one band's samples are held.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lenslab.io.gainmap.metadata import GainMapMetadata
+
+#: base rows worked at once
+BAND = 128
+
+
+def _taps(n_out: int, n_in: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Left taps, right taps and right weights (float32) of ``n_out`` pixel centres sampled from ``n_in``."""
+    u = (np.arange(n_out, dtype=np.float64) + 0.5) * (n_in / n_out) - 0.5
+    u = np.clip(u, 0.0, n_in - 1.0)
+    left = np.minimum(np.floor(u).astype(np.intp), max(n_in - 2, 0))
+    right = np.minimum(left + 1, n_in - 1)
+    return left, right, (u - left).astype(np.float32)
+
+
+def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxval: int = 255) -> np.ndarray:
+    """Make ``image`` (float32 ``H x W x C``, C 1 or 3, linear, SDR white 1.0) its HDR rendition in place.
+
+    ``codes``: the gain map's samples (``h x w x c``, c 1 or 3, unsigned integers up to ``maxval``), ``h <= H``
+    and ``w <= W``. A one-channel base takes a one-channel map with the same metadata for every channel."""
+    height, width, channels = image.shape
+    gain = codes.astype(np.float32) * np.float32(1.0 / maxval)
+    if gain.ndim == 2:
+        gain = gain[..., None]
+    lo = np.asarray(meta.gain_map_min, np.float32)[:channels]
+    span = np.asarray(meta.gain_map_max, np.float32)[:channels] - lo
+    inverse_gamma = 1.0 / np.asarray(meta.gamma, np.float64)[:channels]
+    off_sdr = np.asarray(meta.offset_sdr, np.float32)[:channels]
+    off_hdr = np.asarray(meta.offset_hdr, np.float32)[:channels]
+    x0, x1, tx = _taps(width, gain.shape[1])
+    y0, y1, ty = _taps(height, gain.shape[0])
+    tx = tx[:, None]
+    for top in range(0, height, BAND):
+        rows = slice(top, min(top + BAND, height))
+        s = ty[rows, None, None]
+        band = gain[y0[rows]] * (1 - s) + gain[y1[rows]] * s  # (rows, w, c)
+        r = band[:, x0] * (1 - tx) + band[:, x1] * tx  # (rows, W, c)
+        if not np.all(inverse_gamma == 1.0):
+            r = r ** inverse_gamma.astype(np.float32)
+        boost = np.exp2(lo + span * r)
+        out = image[rows]
+        out += off_sdr
+        out *= boost
+        out -= off_hdr
+    return image

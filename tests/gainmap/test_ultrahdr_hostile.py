@@ -1,0 +1,129 @@
+"""Damaged and hostile Ultra HDR JPEGs: the base image is read with a one-line note that says why the gain map is
+not applied (never a crash or an allocation the file cannot justify), and the input budget counts the gain map."""
+
+from __future__ import annotations
+
+import struct
+import warnings
+
+import numpy as np
+import pytest
+
+import lenslab.io as lio
+from lenslab.io.budget import BASE_BYTES, BudgetError, admit
+from lenslab.io.ldr import GainMapWarning
+from lenslab.io.registry import get
+from tests.gainmap.files import XMP_SIG, jpeg, ultrahdr
+
+GOOD = {"GainMapMin": 0, "GainMapMax": 2, "HDRCapacityMax": 2}
+
+
+def _base() -> bytes:
+    return jpeg(np.tile(np.arange(0, 256, 8, dtype=np.uint8)[None, :, None], (16, 1, 3)))  # 16 x 32
+
+
+def _read_noted(path) -> tuple[np.ndarray, str]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        image, meta = lio.read(path)
+    notes = [str(w.message) for w in caught if issubclass(w.category, GainMapWarning)]
+    assert len(notes) == 1 and "\n" not in notes[0], notes
+    base, _ = lio.read(f"{path}:sdr")
+    np.testing.assert_array_equal(image, base)  # the SDR base image, as ':sdr' reads it
+    assert meta["attributes"]["gain_map"] in notes[0]
+    return image, meta["attributes"]["gain_map"]
+
+
+def _sof_patched(blob: bytes, width: int, height: int) -> bytes:
+    at = blob.index(b"\xff\xc0")
+    return blob[:at + 5] + struct.pack(">HH", height, width) + blob[at + 9:]
+
+
+@pytest.mark.parametrize("case, words", [
+    ("offset outside", "outside the file"),
+    ("cut tail", "outside the file"),
+    ("gain map cut short", "cut short"),
+    ("NaN", "not finite"),
+    ("max below min", "below its GainMapMin"),
+    ("gamma 0", "Gamma is 0"),
+    ("gamma negative", "Gamma is -1"),
+    ("gain map larger than the base", "no larger than the base"),
+    ("gain map declaring 65000 x 65000", "65000 x 65000"),
+    ("version 2", "version '2.0'"),
+    ("boost of 2^1000", "beyond 2^64"),
+    ("no GainMapMax", "lacks GainMapMax"),
+])
+def test_a_hostile_gain_map_leaves_the_base_with_a_note(tmp_path, case, words):
+    noise = np.random.default_rng(1).integers(0, 256, (8, 16))
+    gain, meta, shift = jpeg(noise), dict(GOOD), 0
+    if case == "offset outside":
+        shift = 10 ** 6
+    elif case == "NaN":
+        meta["GainMapMax"] = "nan"
+    elif case == "max below min":
+        meta.update(GainMapMin=1.5, GainMapMax=0.5)
+    elif case == "gamma 0":
+        meta["Gamma"] = 0
+    elif case == "gamma negative":
+        meta["Gamma"] = -1
+    elif case == "gain map larger than the base":
+        gain = jpeg(np.full((32, 64), 128))
+    elif case == "gain map declaring 65000 x 65000":
+        gain = _sof_patched(gain, 65000, 65000)
+    elif case == "version 2":
+        meta["Version"] = "2.0"
+    elif case == "boost of 2^1000":
+        meta["GainMapMax"] = 1000
+    elif case == "no GainMapMax":
+        del meta["GainMapMax"]
+    elif case == "gain map cut short":
+        gain = gain[:-40]  # within its scan: the last 40 bytes of its coded data and its end-of-image marker
+    blob = ultrahdr(_base(), gain, meta, offset_shift=shift)
+    if case == "cut tail":
+        blob = blob[:-40]
+    path = tmp_path / "hostile.jpg"
+    path.write_bytes(blob)
+    _, note = _read_noted(path)
+    assert words in note and "this is the SDR base image" in note
+    declared = admit(path, get("jpg"))
+    if case in ("gain map larger than the base", "gain map declaring 65000 x 65000"):
+        assert declared.extra_bytes == 0  # never decoded, so not counted
+
+
+def test_a_damaged_mpf_index_and_damaged_xmp_are_notes(tmp_path):
+    blob = ultrahdr(_base(), jpeg(np.full((8, 16), 128)), GOOD)
+    at = blob.index(b"MPF\x00") + 4
+    path = tmp_path / "mpf.jpg"
+    path.write_bytes(blob[:at] + b"XX*\x00" + blob[at + 4:])
+    assert "no TIFF header" in _read_noted(path)[1]
+    xmp_at = blob.rindex(XMP_SIG) + len(XMP_SIG)
+    path.write_bytes(blob[:xmp_at] + b"<x:xmpmeta" + blob[xmp_at + 10:].replace(b"</x:xmpmeta>", b"</x:xmpmetb>"))
+    assert "cannot be parsed" in _read_noted(path)[1]
+
+
+def test_iso_21496_metadata_alone_is_named_as_not_read(tmp_path):
+    """A gain map whose metadata is only the ISO 21496-1 APP2 block (its URN, then the binary fields)."""
+    path = tmp_path / "iso.jpg"
+    path.write_bytes(ultrahdr(_base(), jpeg(np.full((8, 16), 128)), None, iso=b"\x00\x00\x00\x00"))
+    assert "ISO 21496-1" in _read_noted(path)[1]
+
+
+def test_the_budget_counts_the_gain_maps_pixels(tmp_path):
+    path = tmp_path / "counted.jpg"
+    path.write_bytes(ultrahdr(_base(), jpeg(np.full((10, 16, 3), 90)), GOOD))
+    assert admit(path, get("jpg")).extra_bytes == 16 * 10 * 3 * 4  # float32 RGB of the 16 x 10 gain map
+
+
+def test_a_gain_map_that_tips_a_small_file_past_the_budget_is_refused(tmp_path):
+    """A flat 4096 x 2048 RGB base decodes to exactly BASE_BYTES (96 MiB) and is admitted from a small file; its
+    1024 x 512 gain map adds 2 MiB of float32: refused before any pixel is decoded."""
+    assert 4096 * 2048 * 3 * 4 == BASE_BYTES == 96 << 20
+    base = jpeg(np.full((2048, 4096, 3), 100), 90)
+    alone = tmp_path / "alone.jpg"
+    alone.write_bytes(base)
+    assert admit(alone, get("jpg")).float_bytes == BASE_BYTES
+    path = tmp_path / "tipped.jpg"
+    path.write_bytes(ultrahdr(base, jpeg(np.full((512, 1024), 128), 90), GOOD))
+    assert path.stat().st_size < 1 << 20
+    with pytest.raises(BudgetError, match="decompression bomb"):
+        lio.read(path)
