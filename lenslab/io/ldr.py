@@ -119,9 +119,16 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
     image, linear, gamut = decode(codes, maxval, str(path), attributes, profile=profile, points=points,
                                   raw=raw, inks=inks)
     if gain is not None:  # linear light, SDR white 1.0: the HDR rendition
-        from lenslab.io.gainmap.apply import apply_gain
+        from lenslab.io.gainmap.apply import apply_gain, per_channel
 
-        image, linear = apply_gain(np.ascontiguousarray(image, dtype=np.float32), gain.codes, gain.meta), True
+        matrix = None
+        if profile is not None and per_channel(gain.codes, gain.meta):  # applied in the base's own primaries
+            from lenslab.io.colour.icc import plan
+
+            how = plan(profile, c, str(path))
+            matrix = how.matrix if how.kind == "matrix" else None
+        image = apply_gain(np.ascontiguousarray(image, dtype=np.float32), gain.codes, gain.meta, to_rec709=matrix)
+        linear = True
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,

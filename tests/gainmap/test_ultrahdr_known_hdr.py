@@ -126,3 +126,33 @@ def test_info_names_the_rendition_and_the_headroom(tmp_path):
     text = _text(describe(str(path)))
     assert "rendition: HDR" in text and "headroom 2.5 stops (5.66x SDR white)" in text  # 2^2.5 = 5.657
     assert "rendition: SDR base image" in _text(describe(f"{path}:sdr"))
+
+
+def test_an_rgb_gain_map_applies_in_the_base_images_own_primaries(tmp_path):
+    """A Display P3 base with an RGB gain map: the specifications apply the gain to the base's own linear RGB
+    (P3), before any conversion; transcribed with colour-science's P3 -> Rec.709 matrix."""
+    import colour
+
+    from lenslab.io.colour.icc_build import profile
+
+    rng = np.random.default_rng(11)
+    base_codes = np.round(rng.uniform(0, 255, (16, 24, 3))).astype(np.uint8)
+    buf = io.BytesIO()
+    Image.fromarray(base_codes).save(buf, "JPEG", quality=95, subsampling=0, icc_profile=profile("Display P3"))
+    gain_blob = jpeg(np.round(rng.uniform(0, 255, (8, 12, 3))))
+    meta = {"GainMapMin": [0.0, 0.0, 0.0], "GainMapMax": [3.0, 0.5, 2.0], "OffsetSDR": 0, "OffsetHDR": 0,
+            "HDRCapacityMax": 3.0}
+    path = tmp_path / "p3.jpg"
+    path.write_bytes(ultrahdr(buf.getvalue(), gain_blob, meta))
+    p3, srgb = colour.RGB_COLOURSPACES["Display P3"], colour.RGB_COLOURSPACES["sRGB"]
+    sdr_p3 = srgb_decode(_pillow(buf.getvalue()) / 255.0)
+    r = bilinear_at_centres(_pillow(gain_blob) / 255.0, 16, 24)
+    want = colour.RGB_to_RGB(apply_formula(sdr_p3, r, 0.0, meta["GainMapMax"], 1.0, 0.0, 0.0), p3, srgb)
+    ours, _ = lio.read(path)
+    sdr, _ = lio.read(f"{path}:sdr")
+    # lenslab's P3 decode (the profile's s15Fixed16 colorants) against colour-science's ideal matrix, times the
+    # largest gain (2^3), bounds the difference; float32 adds a few 6e-8 relative steps
+    tolerance = np.abs(sdr - colour.RGB_to_RGB(sdr_p3, p3, srgb)).max() * 8 + 1e-6 * np.abs(want).max()
+    assert np.abs(ours - want).max() <= tolerance, (np.abs(ours - want).max(), tolerance)
+    in_709 = apply_formula(colour.RGB_to_RGB(sdr_p3, p3, srgb), r, 0.0, meta["GainMapMax"], 1.0, 0.0, 0.0)
+    assert np.abs(in_709 - want).max() > 100 * tolerance  # applied after the conversion, it would be wrong

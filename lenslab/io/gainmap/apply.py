@@ -36,11 +36,27 @@ def _taps(n_out: int, n_in: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return left, right, (u - left).astype(np.float32)
 
 
-def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxval: int = 255) -> np.ndarray:
+def per_channel(codes: np.ndarray, meta: GainMapMetadata) -> bool:
+    """Whether the gain differs by colour channel (an RGB map, or metadata per channel): then it applies in the
+    base's own primaries, not in Rec.709's."""
+    return codes.shape[2] == 3 or any(len(set(v)) > 1 for v in (meta.gain_map_min, meta.gain_map_max, meta.gamma,
+                                                                 meta.offset_sdr, meta.offset_hdr))
+
+
+def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxval: int = 255,
+               to_rec709: np.ndarray | None = None) -> np.ndarray:
     """Make ``image`` (float32 ``H x W x C``, C 1 or 3, linear, SDR white 1.0) its HDR rendition in place.
 
     ``codes``: the gain map's samples (``h x w x c``, c 1 or 3, unsigned integers up to ``maxval``), ``h <= H``
-    and ``w <= W``. A one-channel base takes a one-channel map with the same metadata for every channel."""
+    and ``w <= W``. A one-channel base takes a one-channel map with the same metadata for every channel.
+    ``to_rec709``: the 3 x 3 matrix that took the base's own linear RGB to ``image``'s Rec.709 (its ICC
+    profile's); a gain that differs by channel (:func:`per_channel`) is applied to the base's own RGB, as the
+    specifications define it. A gain common to the channels commutes with a matrix that keeps white
+    (``M (1, 1, 1) = (1, 1, 1)``: relative colorimetric) and is applied to Rec.709 directly."""
+    back = None
+    if to_rec709 is not None and image.shape[2] == 3 and per_channel(codes, meta):
+        to_rec709 = np.asarray(to_rec709, np.float64)
+        back = (np.linalg.inv(to_rec709).T.astype(np.float32), to_rec709.T.astype(np.float32))
     height, width, channels = image.shape
     gain = codes.astype(np.float32) * np.float32(1.0 / maxval)
     if gain.ndim == 2:
@@ -61,8 +77,10 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
         if not np.all(inverse_gamma == 1.0):
             r = r ** inverse_gamma.astype(np.float32)
         boost = np.exp2(lo + span * r)
-        out = image[rows]
+        out = image[rows] if back is None else image[rows] @ back[0]
         out += off_sdr
         out *= boost
         out -= off_hdr
+        if back is not None:
+            image[rows] = out @ back[1]
     return image
