@@ -57,30 +57,37 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
     if to_rec709 is not None and image.shape[2] == 3 and per_channel(codes, meta):
         to_rec709 = np.asarray(to_rec709, np.float64)
         back = (np.linalg.inv(to_rec709).T.astype(np.float32), to_rec709.T.astype(np.float32))
+    import cv2
+
     height, width, channels = image.shape
     gain = codes.astype(np.float32) * np.float32(1.0 / maxval)
     if gain.ndim == 2:
         gain = gain[..., None]
-    lo = np.asarray(meta.gain_map_min, np.float32)[:channels]
-    span = np.asarray(meta.gain_map_max, np.float32)[:channels] - lo
-    inverse_gamma = 1.0 / np.asarray(meta.gamma, np.float64)[:channels]
-    off_sdr = np.asarray(meta.offset_sdr, np.float32)[:channels]
-    off_hdr = np.asarray(meta.offset_hdr, np.float32)[:channels]
-    x0, x1, tx = _taps(width, gain.shape[1])
+    n = channels if per_channel(codes, meta) else 1  # a gain common to the channels is worked out once
+
+    def values(v, dtype=np.float32):
+        return np.asarray(v, dtype)[:n]
+
+    lo, inverse_gamma = values(meta.gain_map_min), 1.0 / values(meta.gamma, np.float64)
+    span = values(meta.gain_map_max) - lo
+    off_sdr, off_hdr = values(meta.offset_sdr), values(meta.offset_hdr)
     y0, y1, ty = _taps(height, gain.shape[0])
-    tx = tx[:, None]
     for top in range(0, height, BAND):
         rows = slice(top, min(top + BAND, height))
         s = ty[rows, None, None]
-        band = gain[y0[rows]] * (1 - s) + gain[y1[rows]] * s  # (rows, w, c)
-        r = band[:, x0] * (1 - tx) + band[:, x1] * tx  # (rows, W, c)
+        band = gain[y0[rows]] * (1 - s) + gain[y1[rows]] * s  # (rows, w, c): the rows at the base's centres
+        # along each row, OpenCV's bilinear resize samples at (x + 0.5) * w / W - 0.5, edges clamped: the same
+        # pixel centres (the rows' scale is 1: each row kept as it is)
+        r = cv2.resize(band, (width, band.shape[0]), interpolation=cv2.INTER_LINEAR).reshape(band.shape[0], width, -1)
         if not np.all(inverse_gamma == 1.0):
             r = r ** inverse_gamma.astype(np.float32)
         boost = np.exp2(lo + span * r)
         out = image[rows] if back is None else image[rows] @ back[0]
-        out += off_sdr
+        if off_sdr.any():
+            out += off_sdr
         out *= boost
-        out -= off_hdr
+        if off_hdr.any():
+            out -= off_hdr
         if back is not None:
             image[rows] = out @ back[1]
     return image
