@@ -2,10 +2,11 @@
 finite values), counts of NaN, infinite and negative values, and the lens model if the file carries
 a camera (EXR files written by lenslab do). Then the file's structure: every EXR part with its
 storage, compression, data and display windows, layers, channels (pixel type and sampling) and
-attributes; TIFF pages; the Radiance header; the streams of a video; whether a JPEG's Ultra HDR gain
-map was ignored.
+attributes; TIFF pages; the Radiance header; the streams of a video; which rendition of an Ultra HDR
+JPEG is read (HDR, or the SDR base with 'file.jpg:sdr') and its gain map's metadata (headroom in stops).
 
-EXR selectors work here too: 'file.exr:left' (a layer), 'file.exr:2' or 'file.exr:NAME' (a part).
+EXR selectors work here too: 'file.exr:left' (a layer), 'file.exr:2' or 'file.exr:NAME' (a part); 'photo.jpg:sdr'
+reads an Ultra HDR JPEG's SDR base image.
 'lenslab info --formats' lists every format lenslab reads and writes, with what each holds.
 
 examples:

@@ -8,7 +8,8 @@ file's magic bytes, never its name. ``meta`` holds ``format``, ``bit_depth``, ``
 and ``camera`` (a :class:`lenslab.lenses.Camera` if the file stores one, else None).
 
 EXR selectors: ``"file.exr:left"`` (a layer), ``"file.exr:2"`` or ``"file.exr:rgba_left"`` (a part),
-``"file.exr:2:left"`` (both); HEIF: ``"photo.heic:1"`` (a top-level image by its index; the primary without). Read options: ``data_window=True`` keeps an EXR's stored data window
+``"file.exr:2:left"`` (both); HEIF: ``"photo.heic:1"`` (a top-level image by its index; the primary without); JPEG: ``"photo.jpg:sdr"`` (an Ultra
+HDR JPEG's SDR base image; without it, its HDR rendition: :mod:`lenslab.io.gainmap`). Read options: ``data_window=True`` keeps an EXR's stored data window
 instead of placing it in the display window; ``rec709=False`` keeps an EXR's own primaries. PFM's
 scale is reported in ``meta["attributes"]["scale"]`` and never applied. Sizes beyond
 :data:`lenslab.inputs.limits.MAX_PIXELS` are refused before any allocation.
@@ -136,7 +137,8 @@ def read(path: str | os.PathLike, *, raw: bool = False, data_window: bool = Fals
     Parameters
     ----------
     path : str or os.PathLike
-        The file. EXR selectors pick a layer or part: ``"f.exr:left"``, ``"f.exr:2"``, ``"f.exr:2:left"``.
+        The file. EXR selectors pick a layer or part: ``"f.exr:left"``, ``"f.exr:2"``, ``"f.exr:2:left"``;
+        ``"photo.jpg:sdr"`` an Ultra HDR JPEG's SDR base image (its HDR rendition without).
     raw : bool
         LDR formats: code values scaled to [0, 1] instead of decoding sRGB to linear light.
     data_window : bool

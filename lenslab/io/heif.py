@@ -18,7 +18,7 @@ libde265; the ``lenslab[heif]`` extra, imported only when a HEIF file is read).
 - **Alpha** (an alpha auxiliary image): coverage, code / maxval; straight colour in the file (premultiplied
   when its ``prem`` reference says so) becomes premultiplied colour in memory (:mod:`lenslab.io.alpha`).
 - **Ignored, with a note**: depth images, gain maps (Apple's HDR gain map and other auxiliary images:
-  :class:`lenslab.io.ldr.GainMapWarning`, as for an Ultra HDR JPEG), thumbnails, EXIF and XMP.
+  :class:`lenslab.io.ldr.GainMapWarning`, as for an Ultra HDR JPEG whose gain map cannot be applied), thumbnails, EXIF and XMP.
 - **Budget**: the declared size of the image to read against the file's bytes
   (:func:`lenslab.io.budget.check`) before any pixel is decoded. HEVC codes a flat picture in a few bytes per
   64 x 64 block, so no floor of bytes per pixel is claimed; the rule on the file's bytes applies

@@ -7,7 +7,8 @@ Each value is one real, or an ``rdf:Seq`` of three (red, green, blue). ``GainMap
 ``GainMapMin`` 0, ``Gamma`` 1, ``OffsetSDR`` and ``OffsetHDR`` 1/64, ``HDRCapacityMin`` 0,
 ``BaseRenditionIsHDR`` False; ``GainMapMax`` and ``HDRCapacityMax`` are required, and ``Version`` must be
 ``1.0``. A value that is not finite, a ``Gamma`` <= 0, ``GainMapMax`` < ``GainMapMin``, ``HDRCapacityMax``
-< ``HDRCapacityMin`` or a boost beyond :data:`MAX_STOPS` is refused (:class:`MetadataError`).
+< ``HDRCapacityMin``, a boost beyond :data:`MAX_STOPS` or an offset beyond +-1 (SDR white; the
+specifications' default is 1/64) is refused (:class:`MetadataError`).
 """
 
 from __future__ import annotations
