@@ -172,7 +172,8 @@ def _gain_map(data: bytes, path, raw: bool, sdr: bool) -> tuple:
     try:
         gain = gainmap.prepare(data, (frame[0], frame[1], 1 if frame[2] == 1 else 3))
     except gainmap.Skipped as exc:
-        return None, {"gain_map": f"Ultra HDR gain map present and ignored ({exc}): this is the SDR base image "
+        return None, {"rendition": "SDR base image: its gain map cannot be applied (see gain_map)",
+                      "gain_map": f"Ultra HDR gain map present and ignored ({exc}): this is the SDR base image "
                                   "(display-referred, not the HDR rendition)"}
     return gain, {"rendition": gainmap.rendition_note(gain), "gain_map": gain.describe()}
 

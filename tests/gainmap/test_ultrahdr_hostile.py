@@ -30,7 +30,7 @@ def _read_noted(path) -> tuple[np.ndarray, str]:
     assert len(notes) == 1 and "\n" not in notes[0], notes
     base, _ = lio.read(f"{path}:sdr")
     np.testing.assert_array_equal(image, base)  # the SDR base image, as ':sdr' reads it
-    assert meta["attributes"]["gain_map"] in notes[0]
+    assert meta["attributes"]["gain_map"] in notes[0] and meta["attributes"]["rendition"].startswith("SDR base image")
     return image, meta["attributes"]["gain_map"]
 
 
@@ -41,6 +41,7 @@ def _sof_patched(blob: bytes, width: int, height: int) -> bytes:
 
 @pytest.mark.parametrize("case, words", [
     ("offset outside", "outside the file"),
+    ("offset into the base image", "where no JPEG image starts"),
     ("cut tail", "outside the file"),
     ("gain map cut short", "cut short"),
     ("NaN", "not finite"),
@@ -58,6 +59,8 @@ def test_a_hostile_gain_map_leaves_the_base_with_a_note(tmp_path, case, words):
     gain, meta, shift = jpeg(noise), dict(GOOD), 0
     if case == "offset outside":
         shift = 10 ** 6
+    elif case == "offset into the base image":
+        shift = -300
     elif case == "NaN":
         meta["GainMapMax"] = "nan"
     elif case == "max below min":

@@ -57,9 +57,13 @@ def _secondary(data: bytes, images) -> tuple[int, int, GainMapMetadata | None, b
     """The gain map image's (offset, size, metadata or None if only ISO 21496-1 speaks, iso present)."""
     primary = xmp(data)
     iso = bool(payloads(data, 0xE2, ISO_SIGNATURE))
-    for at, size in images[1:]:
-        own = xmp(data, at) if data[at:at + 2] == b"\xff\xd8" else None
-        iso = iso or bool(data[at:at + 2] == b"\xff\xd8" and payloads(data, 0xE2, ISO_SIGNATURE, at))
+    missing = ""
+    for k, (at, size) in enumerate(images[1:], 2):
+        if data[at:at + 2] != b"\xff\xd8":
+            missing = f"its MPF index puts picture {k} at byte {at}, where no JPEG image starts"
+            continue
+        own = xmp(data, at)
+        iso = iso or bool(payloads(data, 0xE2, ISO_SIGNATURE, at))
         if has_hdrgm(own):
             return at, size, parse(own), iso
         if has_hdrgm(primary) and b"GainMapMax" in primary:
@@ -67,7 +71,7 @@ def _secondary(data: bytes, images) -> tuple[int, int, GainMapMetadata | None, b
     if iso and len(images) > 1:
         at, size = images[1]
         return at, size, None, True
-    raise Skipped("no secondary image of its MPF index carries gain map metadata")
+    raise Skipped(missing or "no secondary image of its MPF index carries gain map metadata")
 
 
 def declared(data: bytes, total: int, read_at) -> tuple[int, int, int] | None:
