@@ -8,8 +8,11 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import lenslab.io as lio
+from lenslab.errors import FormatError
 from lenslab.io.budget import BASE_BYTES, BudgetError, admit
 from lenslab.io.ldr import GainMapWarning
 from lenslab.io.registry import get
@@ -130,3 +133,31 @@ def test_a_gain_map_that_tips_a_small_file_past_the_budget_is_refused(tmp_path):
     assert path.stat().st_size < 1 << 20
     with pytest.raises(BudgetError, match="decompression bomb"):
         lio.read(path)
+
+
+_GOOD_FILE = ultrahdr(jpeg(np.random.default_rng(2).integers(0, 256, (24, 40, 3))),
+                      jpeg(np.random.default_rng(3).integers(0, 256, (12, 20, 3))),
+                      {"GainMapMin": [0, 0.1, 0.2], "GainMapMax": [2, 2.5, 3], "Gamma": [1, 2, 0.5], "HDRCapacityMax": 3})
+
+
+@settings(max_examples=120, deadline=None, derandomize=True)
+@given(st.lists(st.tuples(st.integers(0, len(_GOOD_FILE) - 1), st.integers(0, 255)), min_size=1, max_size=4),
+       st.integers(16, len(_GOOD_FILE)))
+def test_any_damage_reads_or_is_refused_in_one_line(tmp_path_factory, changes, keep):
+    """Bytes changed anywhere (the MPF index, the XMP, either image) and the file cut anywhere: the read gives a
+    finite float32 image or a FormatError, never another exception."""
+    blob = bytearray(_GOOD_FILE)
+    for at, value in changes:
+        blob[at] = value
+    path = tmp_path_factory.mktemp("damage") / "d.jpg"
+    path.write_bytes(bytes(blob[:keep]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            image, meta = lio.read(path)
+        except FormatError as exc:
+            assert "\n" not in str(exc)
+            return
+    assert image.dtype == np.float32 and np.isfinite(image).all()
+    # (a change that hits both "hdrgm:" names leaves a plain JPEG: no rendition to name)
+    assert meta["attributes"].get("rendition", "plain").split(":")[0] in ("HDR", "SDR base image", "plain")
