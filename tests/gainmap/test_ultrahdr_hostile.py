@@ -56,6 +56,10 @@ def _sof_patched(blob: bytes, width: int, height: int) -> bytes:
     ("version 2", "version '2.0'"),
     ("boost of 2^1000", "beyond 2^64"),
     ("no GainMapMax", "lacks GainMapMax"),
+    ("capacities reversed", "are not 0 <= min <= max"),
+    ("offset of 5", "beyond +-1"),
+    ("base is HDR", "BaseRenditionIsHDR"),
+    ("grey base, RGB gain map", "base image is grey"),
 ])
 def test_a_hostile_gain_map_leaves_the_base_with_a_note(tmp_path, case, words):
     noise = np.random.default_rng(1).integers(0, 256, (8, 16))
@@ -82,9 +86,18 @@ def test_a_hostile_gain_map_leaves_the_base_with_a_note(tmp_path, case, words):
         meta["GainMapMax"] = 1000
     elif case == "no GainMapMax":
         del meta["GainMapMax"]
+    elif case == "capacities reversed":
+        meta.update(HDRCapacityMin=2, HDRCapacityMax=1)
+    elif case == "offset of 5":
+        meta["OffsetSDR"] = 5
+    elif case == "base is HDR":
+        meta["BaseRenditionIsHDR"] = "True"
+    elif case == "grey base, RGB gain map":
+        gain = jpeg(np.stack([noise] * 3, axis=2))
     elif case == "gain map cut short":
         gain = gain[:-40]  # within its scan: the last 40 bytes of its coded data and its end-of-image marker
-    blob = ultrahdr(_base(), gain, meta, offset_shift=shift)
+    base = jpeg(np.full((16, 32), 77)) if case == "grey base, RGB gain map" else _base()
+    blob = ultrahdr(base, gain, meta, offset_shift=shift)
     if case == "cut tail":
         blob = blob[:-40]
     path = tmp_path / "hostile.jpg"
@@ -112,6 +125,15 @@ def test_iso_21496_metadata_alone_is_named_as_not_read(tmp_path):
     path = tmp_path / "iso.jpg"
     path.write_bytes(ultrahdr(_base(), jpeg(np.full((8, 16), 128)), None, iso=b"\x00\x00\x00\x00"))
     assert "ISO 21496-1" in _read_noted(path)[1]
+
+
+def test_iso_21496_metadata_beside_the_xmp_is_named_as_not_read(tmp_path):
+    path = tmp_path / "both.jpg"
+    path.write_bytes(ultrahdr(_base(), jpeg(np.full((8, 16), 255)), GOOD, iso=b"\x00\x00\x00\x00"))
+    image, meta = lio.read(path)  # the XMP's values: white boosted by 2^2
+    assert "ISO 21496-1 gain map metadata present and not read" in meta["attributes"]["gain_map"]
+    sdr, _ = lio.read(f"{path}:sdr")  # a flat gain map of code 255: a boost of 2^2 everywhere, default offsets 1/64
+    np.testing.assert_allclose(image, (sdr + 1 / 64) * 4.0 - 1 / 64, rtol=1e-6, atol=1e-7)
 
 
 def test_the_budget_counts_the_gain_maps_pixels(tmp_path):
