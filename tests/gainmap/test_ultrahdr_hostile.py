@@ -159,7 +159,8 @@ def test_a_gain_map_that_tips_a_small_file_past_the_budget_is_refused(tmp_path):
 
 _GOOD_FILE = ultrahdr(jpeg(np.random.default_rng(2).integers(0, 256, (24, 40, 3))),
                       jpeg(np.random.default_rng(3).integers(0, 256, (12, 20, 3))),
-                      {"GainMapMin": [0, 0.1, 0.2], "GainMapMax": [2, 2.5, 3], "Gamma": [1, 2, 0.5], "HDRCapacityMax": 3})
+                      {"GainMapMin": [0, 0.1, 0.2], "GainMapMax": [2, 2.5, 3], "Gamma": [1, 2, 0.5],
+                       "HDRCapacityMax": 3})
 
 
 @settings(max_examples=120, deadline=None, derandomize=True)
