@@ -172,6 +172,8 @@ def _gain_map(data: bytes, path, raw: bool, sdr: bool) -> tuple:
     try:
         gain = gainmap.prepare(data, (frame[0], frame[1], 1 if frame[2] == 1 else 3))
     except gainmap.Skipped as exc:
+        if exc.hdr_base:
+            return None, {"rendition": "HDR base image", "gain_map": f"Ultra HDR gain map present: {exc}"}
         return None, {"rendition": "SDR base image: its gain map cannot be applied (see gain_map)",
                       "gain_map": f"Ultra HDR gain map present and ignored ({exc}): this is the SDR base image "
                                   "(display-referred, not the HDR rendition)"}

@@ -32,7 +32,12 @@ ISO_NOTE = "ISO 21496-1 gain map metadata present and not read"
 
 
 class Skipped(ValueError):
-    """A gain map that is not applied: why, in words (the base image is read)."""
+    """A gain map that is not applied: why, in words (the base image is read). ``hdr_base``: the base image is
+    the HDR rendition already (``BaseRenditionIsHDR``)."""
+
+    def __init__(self, why: str, hdr_base: bool = False):
+        super().__init__(why)
+        self.hdr_base = hdr_base
 
 
 @dataclass
@@ -110,8 +115,8 @@ def prepare(data: bytes, base: tuple[int, int, int]) -> GainMap:
     if meta is None:
         raise Skipped(f"{ISO_NOTE} (lenslab reads the Ultra HDR / Adobe hdrgm XMP only)")
     if meta.base_is_hdr:
-        raise Skipped("its base rendition is the HDR one (BaseRenditionIsHDR): read as it is, the gain map (to SDR) "
-                      "not applied")
+        raise Skipped("its base image is the HDR rendition (BaseRenditionIsHDR): read as it is; its gain map, which "
+                      "maps it to SDR, is not applied", hdr_base=True)
     blob = data[at:at + size]
     try:
         f = frame(blob)
