@@ -8,6 +8,7 @@ import io
 
 import colour
 import numpy as np
+import pytest
 from PIL import Image, JpegImagePlugin
 
 import lenslab.io as lio
@@ -49,3 +50,30 @@ def test_the_sky_reads_as_its_hdr_rendition(shared_data):
     assert np.abs(got_sdr - sdr).max() < 2e-3  # the two SDR decodes agree to a fraction of a code
     assert abs(ours.max() - 2 ** GAIN_MAP_MAX * ours_sdr.max()) < 0.05 * ours.max()  # white boosted 4.61x
     assert "headroom 2.21 stops" in meta["attributes"]["gain_map"]
+
+
+def test_the_skys_gain_is_libultrahdrs_where_the_gain_map_is_flat(shared_data):
+    """Google's libultrahdr (imagecodecs' ``ultrahdr_decode``) on the same photo. It samples the gain map at
+    ``x * w / W`` (corners aligned), lenslab at the pixel centres: where a gain map pixel and its 8 neighbours
+    hold one code, both sample that code. There the gains (HDR over SDR; the file's offsets are 0) agree within
+    libultrahdr's float16 output (2^-11 relative for each of its HDR and SDR values) and one entry of its
+    1024-entry gain table (GainMapMax / 1023 stops); its own Y'CbCr conversion of the base cancels in the ratio."""
+    imagecodecs = pytest.importorskip("imagecodecs")
+    if not imagecodecs.ULTRAHDR.available:
+        pytest.skip("this imagecodecs was built without libultrahdr")
+    path = shared_data / "formats/oiio-images/ultrahdr_sky.jpg"
+    blob = path.read_bytes()
+    hdr = imagecodecs.ultrahdr_decode(blob)[::STEP, ::STEP, :3].astype(np.float64)
+    sdr = imagecodecs.ultrahdr_decode(blob, boost=1.0)[::STEP, ::STEP, :3].astype(np.float64)
+    ours, _ = lio.read(path)
+    ours_sdr, _ = lio.read(f"{path}:sdr")
+    ours, ours_sdr = ours[::STEP, ::STEP], ours_sdr[::STEP, ::STEP]
+    _, gain, _ = _pillow_parts(path)
+    windows = np.lib.stride_tricks.sliding_window_view(np.pad(gain[..., 0], 1, mode="edge"), (3, 3))
+    flat = windows.max(axis=(2, 3)) == windows.min(axis=(2, 3))
+    rows, cols = np.arange(0, 3072, STEP) // 4, np.arange(0, 4080, STEP) // 4  # the gain map is 4x smaller
+    keep = flat[rows][:, cols] & (sdr.min(axis=2) > 0.01) & (ours_sdr.min(axis=2) > 0.01)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        diff = np.abs(np.log2(hdr / sdr) - np.log2(ours / ours_sdr))[keep]
+    tolerance = 2 * np.log2(1 + 2.0 ** -11) + GAIN_MAP_MAX / 1023
+    assert keep.mean() > 0.3 and diff.max() <= tolerance, (keep.mean(), diff.max())
