@@ -15,12 +15,12 @@ from PIL import Image
 XMP_SIG = b"http://ns.adobe.com/xap/1.0/\x00"
 
 
-def jpeg(codes: np.ndarray, quality: int = 100) -> bytes:
-    """8-bit codes (H x W or H x W x 3) as a baseline JPEG, 4:4:4."""
+def jpeg(codes: np.ndarray, quality: int = 100, subsampling: int = 0) -> bytes:
+    """8-bit codes (H x W or H x W x 3) as a baseline JPEG, 4:4:4 (Pillow's ``subsampling`` 0; 2 is 4:2:0)."""
     a = np.asarray(codes, np.uint8)
     im = Image.fromarray(a[..., 0] if a.ndim == 3 and a.shape[2] == 1 else a)
     buf = io.BytesIO()
-    im.save(buf, "JPEG", quality=quality, subsampling=0)
+    im.save(buf, "JPEG", quality=quality, subsampling=subsampling)
     return buf.getvalue()
 
 
