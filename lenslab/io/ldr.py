@@ -5,6 +5,7 @@ colour is unpremultiplied before it is encoded and premultiplied after it is dec
 premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
 they are. JPG EXIF orientation is not applied (pixels are returned as stored). An Ultra HDR JPEG (a gain map in an
 MPF secondary image) reads as its HDR rendition, the gain map applied to the base image (:mod:`lenslab.io.gainmap`);
+``selector="sdr"`` (``photo.jpg:sdr``) or ``raw=True`` reads the base image alone. An embedded ICC profile (PNG
 ``iCCP``, JPEG ``APP2``) is applied as :mod:`lenslab.io.colour.icc` says, unless a PNG's ``cICP`` chunk speaks
 (it takes precedence).
 """
