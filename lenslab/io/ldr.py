@@ -175,7 +175,7 @@ def _gain_map(data: bytes, path, raw: bool, sdr: bool) -> tuple:
     except gainmap.Skipped as exc:
         if exc.hdr_base:
             return None, {"rendition": "HDR base image", "gain_map": f"Ultra HDR gain map present: {exc}"}
-        return None, {"rendition": "SDR base image: its gain map cannot be applied (see gain_map)",
+        return None, {"rendition": "SDR base image: the HDR rendition cannot be made (see gain_map)",
                       "gain_map": f"Ultra HDR gain map present and ignored ({exc}): this is the SDR base image "
                                   "(display-referred, not the HDR rendition)"}
     return gain, {"rendition": gainmap.rendition_note(gain), "gain_map": gain.describe()}

@@ -28,7 +28,7 @@ from lenslab.io.gainmap.metadata import GainMapMetadata, MetadataError, has_hdrg
 
 #: the selector that reads the SDR base image (``photo.jpg:sdr``), and the one naming the default
 SDR, HDR = "sdr", "hdr"
-ISO_NOTE = "ISO 21496-1 gain map metadata present and not read"
+ISO_NOTE = "ISO 21496-1 metadata present and not read"
 
 
 class Skipped(ValueError):
@@ -76,7 +76,7 @@ def _secondary(data: bytes, images) -> tuple[int, int, GainMapMetadata | None, b
     if iso and len(images) > 1:
         at, size = images[1]
         return at, size, None, True
-    raise Skipped(missing or "no secondary image of its MPF index carries gain map metadata")
+    raise Skipped(missing or "no secondary image of its MPF index carries hdrgm metadata")
 
 
 def declared(data: bytes, total: int, read_at) -> tuple[int, int, int] | None:
@@ -108,35 +108,35 @@ def prepare(data: bytes, base: tuple[int, int, int]) -> GainMap:
     try:
         images = mpf_images(data)
         if not images or len(images) < 2:
-            raise Skipped("the file has no MPF index of a second image; the gain map is not found")
+            raise Skipped("the file has no MPF index of a second image to hold it")
         at, size, meta, iso = _secondary(data, images)
     except (ContainerError, MetadataError) as exc:
         raise Skipped(str(exc)) from None
     if meta is None:
         raise Skipped(f"{ISO_NOTE} (lenslab reads the Ultra HDR / Adobe hdrgm XMP only)")
     if meta.base_is_hdr:
-        raise Skipped("its base image is the HDR rendition (BaseRenditionIsHDR): read as it is; its gain map, which "
-                      "maps it to SDR, is not applied", hdr_base=True)
+        raise Skipped("its base image is the HDR rendition (BaseRenditionIsHDR): read as it is; the map to SDR is "
+                      "not applied", hdr_base=True)
     blob = data[at:at + size]
     try:
         f = frame(blob)
     except ContainerError as exc:
-        raise Skipped(f"its gain map image is damaged: {exc}") from None
+        raise Skipped(f"its image is damaged: {exc}") from None
     if f is None:
-        raise Skipped("its gain map image has no frame header and scan; it is damaged")
+        raise Skipped("its image has no frame header and scan; it is damaged")
     w, h, comps, arithmetic, scan = f
     width, height, channels = base
     if not (0 < w <= width and 0 < h <= height) or comps not in (1, 3):
-        raise Skipped(f"its gain map declares {w} x {h} pixels of {comps} component(s); a gain map is 1 or 3 "
-                      f"channels no larger than the base's {width} x {height}")
+        raise Skipped(f"it declares {w} x {h} pixels of {comps} component(s); it must have 1 or 3 channels and be "
+                      f"no larger than the base's {width} x {height}")
     if channels == 1 and (comps == 3 or len({*meta.gain_map_min}) > 1 or len({*meta.gain_map_max}) > 1):
-        raise Skipped("its base image is grey and its gain map or metadata differ by colour channel")
+        raise Skipped("its base image is grey and its samples or metadata differ by colour channel")
     blocks = -(-w // 8) * -(-h // 8)
     if blob.rfind(b"\xff\xd9") < scan or (not arithmetic and size - scan < blocks // 8):
-        raise Skipped("its gain map image is cut short (truncated)")
+        raise Skipped("its image is cut short (truncated)")
     codes = cv2.imdecode(np.frombuffer(blob, np.uint8), cv2.IMREAD_UNCHANGED)
     if codes is None or codes.dtype != np.uint8 or codes.shape[:2] != (h, w):
-        raise Skipped("OpenCV cannot decode its gain map image; it is damaged")
+        raise Skipped("OpenCV cannot decode its image; it is damaged")
     codes = codes[..., None] if codes.ndim == 2 else np.ascontiguousarray(codes[..., 2::-1])
     return GainMap(codes, meta, iso)
 

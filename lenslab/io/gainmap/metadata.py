@@ -71,7 +71,7 @@ def _fields(packet: bytes) -> dict[str, list[str]]:
     try:
         root = ElementTree.fromstring(text)
     except Exception as exc:  # defusedxml's refusals and ParseError alike: the XMP is damaged
-        raise MetadataError(f"its gain map XMP cannot be parsed ({type(exc).__name__})") from None
+        raise MetadataError(f"its XMP cannot be parsed ({type(exc).__name__})") from None
     out: dict[str, list[str]] = {}
     for desc in root.iter(f"{{{RDF}}}Description"):
         for key, value in desc.attrib.items():
@@ -86,13 +86,13 @@ def _fields(packet: bytes) -> dict[str, list[str]]:
 
 def _number(name: str, values: list[str], per_channel: bool) -> tuple[float, ...]:
     if len(values) not in ((1, 3) if per_channel else (1,)):
-        raise MetadataError(f"its gain map's {name} has {len(values)} values")
+        raise MetadataError(f"its {name} has {len(values)} values")
     try:
         out = tuple(float(v) for v in values)
     except ValueError:
-        raise MetadataError(f"its gain map's {name} is not a number: {values[0][:40]!r}") from None
+        raise MetadataError(f"its {name} is not a number: {values[0][:40]!r}") from None
     if not all(math.isfinite(x) for x in out):
-        raise MetadataError(f"its gain map's {name} is not finite ({', '.join(values)})")
+        raise MetadataError(f"its {name} is not finite ({', '.join(values)})")
     return out * 3 if len(out) == 1 and per_channel else out
 
 
@@ -102,10 +102,10 @@ def parse(packet: bytes) -> GainMapMetadata:
     fields = _fields(packet)
     version = (fields.get("Version") or [""])[0]
     if version != "1.0":
-        raise MetadataError(f"its gain map metadata has version {version[:20]!r}; lenslab reads version 1.0")
+        raise MetadataError(f"its metadata has version {version[:20]!r}; lenslab reads version 1.0")
     missing = [k for k in _REQUIRED if k not in fields]
     if missing:
-        raise MetadataError(f"its gain map metadata lacks {' and '.join(missing)}")
+        raise MetadataError(f"its metadata lacks {' and '.join(missing)}")
     got = {}
     for name in (*_PER_CHANNEL, "HDRCapacityMin", "HDRCapacityMax"):
         per = name in _PER_CHANNEL
@@ -113,7 +113,7 @@ def parse(packet: bytes) -> GainMapMetadata:
             ((_DEFAULTS[name],) * 3 if per else (_DEFAULTS[name],))
     base_hdr = (fields.get("BaseRenditionIsHDR") or ["False"])[0].strip().lower()
     if base_hdr not in ("true", "false"):
-        raise MetadataError(f"its gain map's BaseRenditionIsHDR is {base_hdr[:20]!r}, not True or False")
+        raise MetadataError(f"its BaseRenditionIsHDR is {base_hdr[:20]!r}, not True or False")
     meta = GainMapMetadata(got["GainMapMin"], got["GainMapMax"], got["Gamma"], got["OffsetSDR"], got["OffsetHDR"],
                            got["HDRCapacityMin"][0], got["HDRCapacityMax"][0], base_hdr == "true")
     check(meta)
@@ -124,14 +124,14 @@ def check(meta: GainMapMetadata) -> None:
     """Refuse metadata no gain map can mean (:class:`MetadataError`)."""
     for lo, hi in zip(meta.gain_map_min, meta.gain_map_max):
         if hi < lo:
-            raise MetadataError(f"its gain map's GainMapMax {hi:g} is below its GainMapMin {lo:g}")
+            raise MetadataError(f"its GainMapMax {hi:g} is below its GainMapMin {lo:g}")
         if max(abs(lo), abs(hi)) > MAX_STOPS:
-            raise MetadataError(f"its gain map boosts by 2^{max(abs(lo), abs(hi)):g}, beyond 2^{MAX_STOPS:g}")
+            raise MetadataError(f"it boosts by 2^{max(abs(lo), abs(hi)):g}, beyond 2^{MAX_STOPS:g}")
     if min(meta.gamma) <= 0:
-        raise MetadataError(f"its gain map's Gamma is {min(meta.gamma):g}; it must be above 0")
+        raise MetadataError(f"its Gamma is {min(meta.gamma):g}; it must be above 0")
     if meta.hdr_capacity_max < meta.hdr_capacity_min or meta.hdr_capacity_min < 0 or \
             meta.hdr_capacity_max > MAX_STOPS:
-        raise MetadataError(f"its gain map's HDRCapacityMin {meta.hdr_capacity_min:g} and HDRCapacityMax "
+        raise MetadataError(f"its HDRCapacityMin {meta.hdr_capacity_min:g} and HDRCapacityMax "
                             f"{meta.hdr_capacity_max:g} are not 0 <= min <= max <= {MAX_STOPS:g}")
     if max(abs(o) for o in meta.offset_sdr + meta.offset_hdr) > 1.0:
-        raise MetadataError("its gain map's OffsetSDR or OffsetHDR is beyond +-1 (SDR white)")
+        raise MetadataError("its OffsetSDR or OffsetHDR is beyond +-1 (SDR white)")
