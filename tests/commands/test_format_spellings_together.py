@@ -14,18 +14,10 @@ import pytest
 from lenslab.cli.main import build_parser, main
 from lenslab.io import write
 from tests.commands.parser_tree import loosened, parsers
+from tests.commands.test_tone_spellings_together import _parse
 
 ROWS = [(parser.prog, parser, action.dest) for parser in parsers(build_parser()) for action in parser._actions
         if {"--to", "--format"} <= set(action.option_strings)]
-
-
-def _parse(parser, argv):
-    err = io.StringIO()
-    try:
-        with contextlib.redirect_stderr(err):
-            return 0, parser.parse_args(argv), err.getvalue()
-    except SystemExit as stop:
-        return int(stop.code), None, err.getvalue()
 
 
 def test_the_commands_with_both_spellings_are_found():
