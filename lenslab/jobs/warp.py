@@ -128,7 +128,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             image = mirror_frames(image, src.lens, parse_flips(job.source_flip, "hv", "--source-flip"))
             src = mirror_source_pose(src, parse_flips(job.flip))
         size = job.size or default_size(job.to, source_rows(src.lens))
-        src = place_source(job.to, src, records_place(src, meta))
+        src = place_source(job.to, src, records_place(src, meta), job.eye)
         dst = output_camera(job, src, size)
         if job.autoscale:
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)

@@ -127,10 +127,10 @@ def records_place(src, meta: dict) -> bool:
     return camera is not None and src.pose is camera.pose and bool(np.any(np.asarray(camera.pose.eye) != 0))
 
 
-def place_source(spec, src, placed: bool):
+def place_source(spec, src, placed: bool, eye=None):
     """``--to IMAGE`` (an image that records its camera) from a source that records no place (``placed`` False:
-    a photographed panorama, or one lenslab made of it): the source as seen from the image's eye, the light
-    arriving there. Any other source as it is."""
+    a photographed panorama, or one lenslab made of it): the source as seen from the view's eye (``eye``, the
+    text of --eye, else the image's), the light arriving there. Any other source as it is."""
     view = recorded_view(spec)
     if view is None or placed:
         return src
@@ -138,7 +138,8 @@ def place_source(spec, src, placed: bool):
 
     from lenslab.lenses import Camera, Pose
 
-    return Camera(src.lens, Pose(src.pose.rotation, np.asarray(view.pose.eye, dtype=np.float64)))
+    at = parse_vector(eye, "--eye") if eye else view.pose.eye
+    return Camera(src.lens, Pose(src.pose.rotation, np.asarray(at, dtype=np.float64)))
 
 
 def output_camera(args, src, size: tuple[int, int]):

@@ -82,7 +82,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     source_flips = parse_flips(getattr(args, "source_flip", None), "hv", "--source-flip")
     src = mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
     size = args.size or default_size(args.to, source_rows(src.lens))
-    src = place_source(args.to, src, False)  # (a video records no camera)
+    src = place_source(args.to, src, False, args.eye)  # (a video records no camera)
     dst = output_camera(args, src, size)
     if args.autoscale:
         dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)

@@ -44,3 +44,12 @@ def test_a_panorama_lenslab_made_of_a_photograph_is_warped_to_the_render(tmp_pat
     _assert_the_render_s_view(out, render)
     again = tmp_path / "again.exr"  # the view, the same view as the render, warped to the render again
     assert main(["warp", str(out), "--to", str(render), "-o", str(again), "-q"]) == 0
+
+
+def test_a_photographed_panorama_is_seen_from_the_eye_given(tmp_path, render):
+    """``--eye`` places the view elsewhere; a panorama that records no place is the light arriving there too."""
+    out = tmp_path / "view.exr"
+    assert main(["warp", str(_direction_pano(tmp_path / "pano.exr")), "--to", str(render), "--eye", "1,2,3",
+                 "-o", str(out), "-q", "--pixel-type", "float"]) == 0
+    np.testing.assert_allclose(_centre_direction(out), _rotation(YAW, PITCH, ROLL)[:, 2], atol=0.01)
+    np.testing.assert_allclose(read(out)[1]["camera"].pose.eye, [1.0, 2.0, 3.0], atol=0)
