@@ -73,7 +73,9 @@ def check_convert_options(args, files, display) -> None:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT", help="image files, directories or glob patterns")
-    parser.add_argument("--to", "--format", dest="to", choices=FORMATS + VIDEO, metavar="FORMAT",
+    from lenslab.jobs.arguments import OneFormat
+
+    parser.add_argument("--to", "--format", dest="to", choices=FORMATS + VIDEO, metavar="FORMAT", action=OneFormat,
                         help=f"output format: {', '.join(FORMATS)}; or {', '.join(VIDEO)}: every input, in order, "
                              "as the frames of one clip (-o FILE). Default: the extension of -o FILE (-o p3.png "
                              "writes PNG); needed with -o DIR or without -o")

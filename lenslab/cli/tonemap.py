@@ -33,8 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="image to write (format from the extension) for one input; for several, a folder "
                              "(created if missing) that gets one image per input in --format")
     from lenslab.cli.convert import FORMATS
+    from lenslab.jobs.arguments import OneFormat
 
     parser.add_argument("--format", "--to", dest="format", choices=FORMATS, default=None, metavar="FORMAT",
+                        action=OneFormat,
                         help=f"format of the images written into an -o folder: {', '.join(FORMATS)} (default png; "
                              "--to, as convert names it, is the same option); for one output file its extension "
                              "says it, and a --format that differs is refused")

@@ -59,7 +59,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output lens, e.g. fisheye:fov=180, perspective:fov=90, equirect, cubemap, "
                              "tiled:2x2,tiles=cams.toml (see 'lenslab lenses'), a calibration file; or an image that "
                              "records its camera (an EXR of 'tracer render'): the same view as that image, its lens, "
-                             "orientation and size (its eye too when the source records its own camera), so "
+                             "orientation, size and eye (a source that records its camera at another eye is "
+                             "refused for parallax), so "
                              "--yaw/--pitch/--roll/--look-at are refused with it; or give --stmap")
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "

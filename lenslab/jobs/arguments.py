@@ -93,13 +93,30 @@ class OneCurve(argparse._StoreAction):
     last silently, so two that name different curves are a usage error naming both (the same curves, in any
     case, with ``_`` or ``-``, are taken once)."""
 
+    what = "curves"
+
+    @staticmethod
+    def key(value):
+        return _curve_key(value)
+
     def __call__(self, parser, namespace, values, option_string=None):
         given = namespace.__dict__.setdefault("_curves_given", {})
         before = given.get(self.dest)
-        if before is not None and _curve_key(before[1]) != _curve_key(values):
-            parser.error(f"{before[0]} {before[1]} and {option_string} {values} name different curves; give one")
+        if before is not None and self.key(before[1]) != self.key(values):
+            parser.error(f"{before[0]} {before[1]} and {option_string} {values} name different {self.what}; give one")
         given[self.dest] = (option_string, values)
         setattr(namespace, self.dest, values)
+
+
+class OneFormat(OneCurve):
+    """An output-format option with two spellings (``--to``, ``--format``): ``--to jpg --format png`` is a usage
+    error naming both, as two curves are; the same format twice is taken."""
+
+    what = "formats"
+
+    @staticmethod
+    def key(value):
+        return str(value).lower()
 
 
 def _curve_key(value) -> list[str]:

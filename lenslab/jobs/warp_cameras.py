@@ -117,20 +117,38 @@ def check_view_pose(spec, pose_options: list[str]):
     return view
 
 
-def records_pose(src, meta: dict) -> bool:
-    """Whether the source camera's pose is the one its file records (no --from replaced the file's camera)."""
+def records_place(src, meta: dict) -> bool:
+    """Whether the source camera's pose is the one its file records (no --from replaced the file's camera) and
+    places it in a world: lenslab records every output's camera, a photographed panorama's at the origin, so
+    an eye at the origin places nothing."""
+    import numpy as np
+
     camera = meta.get("camera")
-    return camera is not None and src.pose is camera.pose
+    return camera is not None and src.pose is camera.pose and bool(np.any(np.asarray(camera.pose.eye) != 0))
 
 
-def output_camera(args, src, size: tuple[int, int], source_recorded: bool = False):
+def place_source(spec, src, placed: bool, eye=None):
+    """``--to IMAGE`` (an image that records its camera) from a source that records no place (``placed`` False:
+    a photographed panorama, or one lenslab made of it): the source as seen from the view's eye (``eye``, the
+    text of --eye, else the image's), the light arriving there. Any other source as it is."""
+    view = recorded_view(spec)
+    if view is None or placed:
+        return src
+    import numpy as np
+
+    from lenslab.lenses import Camera, Pose
+
+    at = parse_vector(eye, "--eye") if eye else view.pose.eye
+    return Camera(src.lens, Pose(src.pose.rotation, np.asarray(at, dtype=np.float64)))
+
+
+def output_camera(args, src, size: tuple[int, int]):
     """The output camera: its lens at ``size``, its pose in the world frame (the source's pose, if its
     file records one, is accounted for by the warp), its eye at the source's unless --eye says otherwise.
 
-    ``--to IMAGE`` (an image that records its camera) is the view of that image: its lens and orientation, and
-    its eye when the source records its own camera too (``source_recorded``: both are placed in one world; a
-    source rendered elsewhere is then refused for parallax); a source that records no place (a photographed
-    panorama) is taken as seen from the image's eye."""
+    ``--to IMAGE`` (an image that records its camera) is the view of that image: its lens, orientation and eye
+    (a source placed in the same world elsewhere is then refused for parallax; one that records no place is
+    taken as seen from the image's eye by :func:`place_source`)."""
     import numpy as np
 
     from lenslab.lenses import Camera, Pose, make_lens
@@ -138,8 +156,7 @@ def output_camera(args, src, size: tuple[int, int], source_recorded: bool = Fals
     view = recorded_view(args.to)
     if view is not None:  # (the image read once for its lens and its pose)
         lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
-        eye = view.pose.eye if source_recorded else src.pose.eye
-        eye = parse_vector(args.eye, "--eye") if args.eye else tuple(eye)
+        eye = parse_vector(args.eye, "--eye") if args.eye else tuple(view.pose.eye)
         return Camera(lens, Pose(view.pose.rotation, np.asarray(eye, dtype=np.float64)))
     lens = make_lens(args.to, size)
     eye = parse_vector(args.eye, "--eye") if args.eye else tuple(src.pose.eye)

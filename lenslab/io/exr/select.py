@@ -17,8 +17,13 @@ def part_label(index: int, name) -> str:
     return f"part {index} ({part_name(name)})"
 
 
+#: parts an error names: every part of a real file (the names the user may type), a bound for a hostile one
+ERROR_PARTS = 100
+
+
 def parts_listing(names, limit: int = 8) -> str:
-    """``0: 'rgba_right', 1: 'depth_left' and 8 more``: the parts of a file, as its notes and errors list them."""
+    """``0: 'rgba_right', 1: 'depth_left' and 8 more``: the parts of a file, as its notes list them (errors
+    give :data:`ERROR_PARTS`)."""
     return ", ".join(f"{i}: {part_name(n)}" for i, n in enumerate(names[:limit])) + (
         f" and {len(names) - limit} more" if len(names) > limit else "")
 
@@ -42,7 +47,7 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
         i = int(part_sel)
         if i >= len(parts):
             raise FormatError(f"{path}: part {i} does not exist; the file has {len(parts)} part(s) "
-                              f"({parts_listing(names)})")
+                              f"({parts_listing(names, ERROR_PARTS)})")
         return i, layer_sel
     if part_sel in names:
         return names.index(part_sel), layer_sel
@@ -56,7 +61,7 @@ def find_part(path, parts, part_sel: str | None, layer_sel: str | None):
             return viewed[0], None
     layers = sorted({c.rsplit(".", 1)[0] for p in parts for c in channel_names(p) if "." in c})
     known = list(dict.fromkeys(v for p in parts for v in views(p.header)))  # a selector takes a view too
-    raise FormatError(f"{path}: no part, layer or view named {part_sel!r}; parts: {parts_listing(names)}; layers: "
+    raise FormatError(f"{path}: no part, layer or view named {part_sel!r}; parts: {parts_listing(names, ERROR_PARTS)}; layers: "
                       f"{', '.join(layers) or 'none'}" + (f"; views: {', '.join(known)}" if known else ""))
 
 

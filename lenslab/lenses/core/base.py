@@ -152,7 +152,7 @@ class Lens:
         """Angular resolution of the image as a source: pixels per degree down its columns, from which a view made
         of it without a given size takes its size (180 degrees at this resolution fill a default view's rows).
         Default: the rows over 180 degrees, an equirect's and a 180-degree fisheye's; a lens whose rows span
-        something else says so (a cube map: each face's rows over its 90 degrees)."""
+        something else says so (a cube map: each face's rows over its 90 degrees; an equirect band: its latitudes)."""
         return self.height / 180.0
 
     def falloff(self, xy) -> np.ndarray | None:

@@ -59,6 +59,10 @@ class Equirect(Lens):
         if not self.lat_min < self.lat_max:
             raise LensError(f"equirect: lat_min ({self.lat_min}) must be below lat_max ({self.lat_max})")
 
+    def pixels_per_degree(self) -> float:
+        """Its rows over the latitudes they span (180 degrees for the full sphere; 90 for a band of -45 to 45)."""
+        return self.height / (self.lat_max - self.lat_min)
+
     @property
     def full_sphere(self) -> bool:
         return (self.lon_min, self.lon_max, self.lat_min, self.lat_max) == (-180.0, 180.0, -90.0, 90.0)
