@@ -13,6 +13,12 @@ from dataclasses import dataclass, field
 from lenslab.io.alpha import alpha_last, expose, has_alpha  # noqa: F401  (the look's exposure: colour, never alpha)
 
 
+class DisplaySourceWarning(UserWarning):
+    """``lenslab tonemap`` (a look applied ``always``) given a display image (an 8-bit JPG or PNG, an SDR clip):
+    the curve maps scene light to the display, and applied to display values it changes the picture (hable
+    darkens it)."""
+
+
 @dataclass(frozen=True)
 class Look:
     """How scene-linear values become what a display file stores.
@@ -71,6 +77,16 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
         in_place, image = in_place or clipped is not image, clipped  # a clipped copy is the curve's to work in
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap
+
+        if look.always and meta.get("display_encoded") and look.tone != "clamp":  # (tonemap of a JPG, a PNG)
+            import warnings
+
+            note = (f"holds display values already (an SDR image): the {look.tone} curve, made for scene light, "
+                    "maps them a second time and changes its brightness and contrast ('lenslab convert' re-encodes it "
+                    "without a curve; --tone clamp keeps its values)")
+            warning = DisplaySourceWarning(f"{meta.get('path', of or 'the image')}: {note}")
+            warning.command_line = note  # (a batch names the file itself)
+            warnings.warn(warning, stacklevel=2)
 
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
                        in_place=in_place, alpha_channel=alpha, **dict(look.params)), {}
