@@ -86,7 +86,12 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
 
     # colours outside the sRGB gamut: counted over every frame, one note for the clip
     rate = options.get("rate") or _first_rate(files) or 24
-    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp, tallied() as gamut:
+    import warnings
+
+    from lenslab.jobs.stages import AutoExposureNote
+
+    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp, tallied() as gamut, warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=AutoExposureNote)  # (a line per frame would bury the others)
         writer = None
         try:
             for f, image, meta in tqdm(_inputs_frames(files, options.get("frames")), unit="frame",

@@ -88,6 +88,8 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
             warning.command_line = note  # (a batch names the file itself)
             warnings.warn(warning, stacklevel=2)
 
+        if exposure == "auto" and meta.get("format") != "video":  # the stops found, said as tonemap says them
+            exposure = _said_auto_exposure(image, meta, look, alpha, of)
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
                        in_place=in_place, alpha_channel=alpha, **dict(look.params)), {}
     if look.tone_given and (not fmt.hdr or integers) and meta.get("display_encoded"):
@@ -108,6 +110,24 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
 
         warn_negatives(exposed[..., :-1] if alpha else exposed, f"{fmt.title} holds no negative values:")
     return exposed, {}
+
+
+class AutoExposureNote(UserWarning):
+    """The stops ``--exposure auto`` found for one image (convert, warp), so that a batch can be repeated, or a
+    clip's frames given one exposure, with ``--exposure`` set to them. ``command_line``: without the path."""
+
+
+def _said_auto_exposure(image, meta: dict, look, alpha: bool, of: str | None) -> float:
+    import warnings
+
+    from lenslab.tone import auto_exposure
+
+    ev = auto_exposure(image, primaries=look.primaries, alpha_channel=alpha)
+    note = f"auto exposure {ev:+.2f} stops"
+    warning = AutoExposureNote(f"{meta.get('path', of or 'the image')}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=3)
+    return ev
 
 
 def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False,

@@ -8,18 +8,10 @@ import numpy as np
 import pytest
 
 from lenslab.cli.main import main
+from tests.tone.test_tone_reference import _hable_blog  # Hable's formula, his blog post's constants
 
 Image = pytest.importorskip("PIL.Image")
 colour = pytest.importorskip("colour")
-
-
-def _hable(x):  # John Hable's filmic curve (his 2010 blog post's constants), exposure bias 2, white 11.2
-    a, b, c, d, e, f = 0.15, 0.50, 0.10, 0.20, 0.02, 0.30
-
-    def g(v):
-        return (v * (a * v + c * b) + d * e) / (v * (a * v + b) + d * f) - e / f
-
-    return g(2.0 * x) / g(11.2)
 
 
 def _notes(err: str) -> list[str]:
@@ -34,7 +26,7 @@ def test_a_png_tone_mapped_gets_the_note_and_the_curve(tmp_path, capsys):
     notes = _notes(capsys.readouterr().err)
     assert len(notes) == 1 and notes[0].startswith(f"lenslab tonemap: note: {src}: holds display values already")
     linear = colour.models.eotf_sRGB(200 / 255)
-    want = round(float(colour.models.eotf_inverse_sRGB(_hable(linear))) * 255)
+    want = round(float(colour.models.eotf_inverse_sRGB(_hable_blog(linear))) * 255)
     assert want < 190  # darker than the photo's 200
     assert np.asarray(Image.open(out))[0, 0, 0] == want
 
