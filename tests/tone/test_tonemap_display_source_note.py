@@ -1,6 +1,6 @@
 """``lenslab tonemap`` of a display image (an 8-bit PNG written by Pillow) applies the curve, as asked, and says in
 one note that the image holds display values already: Hable's curve on them gives a darker picture (the value is
-checked against the curve transcribed here from Hable's published formula), where a user expects the photo."""
+checked against Hable's published formula, transcribed in the tone tests), where a user expects the photo."""
 
 from __future__ import annotations
 
