@@ -3,6 +3,8 @@
   tracer render --scene cornell --camera fisheye:fov=180 --size 512x512 --spp 64 -o out.exr
   tracer bench                         ray-cast and path-tracing throughput, as ratios
   tracer scenes                        the built-in scenes
+
+A warp checked against a direct render of the same view: lenslab validate (it renders with this tracer).
 """
 
 from __future__ import annotations

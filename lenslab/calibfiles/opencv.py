@@ -248,6 +248,8 @@ def write(path: Path, lens) -> None:
         D = np.array([v[k] for k in OPENCV_KEYS])
         n = 12 if D[8:].any() else 8 if D[5:8].any() else 5 if D[4] else 4
         D = D[:n]
+        if n == 4:  # four numbers are a fisheye's too: the file says which, as ROS does, and reads back without a note
+            extra["distortion_model"] = "plumb_bob"
     elif lens.name in ("kannala-brandt", "opencv-fisheye"):
         if any(v[k] for k in "p1 p2 s1 s2 s3 s4".split()):
             raise LensError(f"OpenCV's fisheye model has no tangential or thin-prism terms; "

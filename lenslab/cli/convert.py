@@ -1,5 +1,5 @@
 """Convert images between EXR, Radiance HDR, TIFF, PFM, PPM/PGM, JPG and PNG, many at a time; video
-clips to one image per frame, and image sequences to a clip.
+clips to one image per frame, and image sequences (or clips) to a clip.
 
 Inputs may be files, directories (every image file in them; --recursive: in sub-folders too, the tree
 mirrored under -o) and glob patterns ('renders/*.exr', 'shots/**/*.exr' at any depth; quote them to
@@ -24,6 +24,7 @@ examples:
   lenslab convert pano.exr --to png --display Rec.2100-PQ --view 'HDR 1000 nits (Rec.2020)' -o pq.png
   lenslab convert clip.mp4 --to exr -o frames/ --frames 0:48     (frames/clip.000000.exr ...)
   lenslab convert 'frames/*.exr' --to mov -o clip.mov --rate 25
+  lenslab convert clip.mp4 -o clip.mkv                 (every frame, re-encoded, at the clip's own rate)
 """
 
 from __future__ import annotations
@@ -76,8 +77,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.jobs.arguments import OneFormat
 
     parser.add_argument("--to", "--format", dest="to", choices=FORMATS + VIDEO, metavar="FORMAT", action=OneFormat,
-                        help=f"output format: {', '.join(FORMATS)}; or {', '.join(VIDEO)}: every input, in order, "
-                             "as the frames of one clip (-o FILE). Default: the extension of -o FILE (-o p3.png "
+                        help=f"output format: {', '.join(FORMATS)}; or {', '.join(VIDEO)}: every input (every frame of a clip), "
+                             "in order, as the frames of one clip (-o FILE). Default: the extension of -o FILE (-o p3.png "
                              "writes PNG); needed with -o DIR or without -o")
     parser.add_argument("-o", "--output", metavar="DIR_OR_FILE",
                         help="output directory (created if missing), or a file name when there is one input; "
@@ -112,8 +113,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from lenslab.io.video.codecs import CODECS
     from lenslab.jobs.arguments import float_in
 
-    parser.add_argument("--rate", type=float_in(0, 1000), default=24.0, metavar="FPS",
-                        help="frames per second of a clip made from images (default 24)")
+    parser.add_argument("--rate", type=float_in(0, 1000), default=None, metavar="FPS",
+                        help="frames per second of a clip (default: the rate of the first input clip, else 24)")
     parser.add_argument("--transfer", choices=("bt709", "pq", "hlg"), default="bt709",
                         help="a clip made from images: bt709 SDR (tone-mapped, default), or pq / hlg HDR "
                              "(BT.2020, 10-bit, linear 1.0 = 203 cd/m2)")
@@ -172,10 +173,11 @@ def run(args: argparse.Namespace) -> int:
         if not args.output or Path(args.output).suffix.lower() != "." + args.to:
             raise UsageError(f"--to {args.to}: name the clip with -o NAME.{args.to}")
         options = {"tone": args.tone, "exposure": exposure, "overwrite": args.overwrite, "rate": args.rate,
-                   "transfer": args.transfer, "codec": args.codec, "quiet": args.quiet, **display}
-        files_to_video(files, args.output, options)
+                   "transfer": args.transfer, "codec": args.codec, "quiet": args.quiet, "frames": args.frames,
+                   **display}
+        written = files_to_video(files, args.output, options)  # a clip among the inputs: every frame of it
         if not args.quiet:
-            print(f"wrote {len(files)} frame(s) to {args.output}", file=sys.stderr)
+            print(f"wrote {written} frame(s) to {args.output}", file=sys.stderr)
         say_view(args.output, display, args.quiet)
         return 1 if missing else 0
     from lenslab.jobs.convert import ConvertJob

@@ -102,6 +102,16 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     return out
 
 
+def _pose_words(camera: dict) -> str:
+    """``yaw 30, pitch -10, roll 0 degrees; eye (0, 1.5, 0)`` of a camera's :meth:`~lenslab.Camera.to_dict`."""
+    def num(v: float) -> str:
+        return f"{float(v) + 0.0:.6g}"  # (+ 0.0: no "-0")
+
+    turn = (f"yaw {num(camera['yaw'])}, pitch {num(camera['pitch'])}, roll {num(camera['roll'])} degrees"
+            if "yaw" in camera else "rotation " + str([[float(num(v)) for v in row] for row in camera["rotation"]]))
+    return f"{turn}; eye ({', '.join(num(v) for v in camera['eye'])})"
+
+
 def _structure_lines(d: dict) -> list[str]:
     st = d.get("structure") or {}
     lines = []
@@ -204,6 +214,8 @@ def _text(d: dict) -> str:
         lines.append(f"  {s['channel']:<8s} {num(s['min'])} {num(s['mean'])} {num(s['max'])} "
                      f"{s['nan']:8d} {s['inf']:8d} {s['negative']:9d}")
     lines.append(f"  lens: {d['lens']}" if d["lens"] else "  lens: none stored")
+    if d.get("camera"):  # where the stored camera looks (a warp from this file starts from it)
+        lines.append(f"  pose: {_pose_words(d['camera'])}")
     found = d.get("lens_metadata")
     if found:
         lines.append(f"  lens in metadata: {found['found']}")

@@ -150,6 +150,9 @@ def format_for_path(path: str | os.PathLike, format: str | None = None) -> str:
             return fmt.name
     exts = ", ".join(formats()[n].extensions[0] for n in writable())
     for fmt in formats().values():  # a format lenslab reads only (HEIC): said as such
+        if ext and ext in fmt.extensions and fmt.kind == "video":  # clips are written by convert and warp alone
+            raise FormatError(f"{path}: a clip is written by 'lenslab convert' (images or clips to -o {path}) and "
+                              f"'lenslab warp', not as one image; name an image file, ending with one of {exts}")
         if ext and ext in fmt.extensions:
             raise FormatError(f"{path}: lenslab reads {fmt.title} but does not write it; end the name with one of "
                               f"{exts}")

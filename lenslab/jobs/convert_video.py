@@ -24,16 +24,13 @@ def _frames(src: str, dst: str, job) -> str:
     from lenslab.errors import FormatError
     from lenslab.io import write
     from lenslab.io.budget import admit_clip
-    from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
+    from lenslab.io.colour.gamut import tallied
     from lenslab.io.video import probe_video, read_frames
-    from lenslab.io.video.colour import gamut_name
 
     admit_clip(src)
     info = probe_video(src)
     start, stop = job.frames or (0, None)
-    # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
-    meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None,
-            WIDE_GAMUT: gamut_name(info.primaries)}  # frames converted from P3 or BT.2020: clipped for display
+    meta = _clip_meta(info)
     first, written, pixels = None, 0, 0
     total = max(0, (min(stop, info.frames) if stop is not None and info.frames else (stop or info.frames)) - start)
     show = sys.stderr.isatty() and not job.quiet
@@ -56,10 +53,13 @@ def _frames(src: str, dst: str, job) -> str:
 TRANSFERS = {"bt709": (1, 1, 1), "pq": (9, 16, 9), "hlg": (9, 18, 9)}
 
 
-def files_to_video(files: list[str], dst: str, options: dict) -> str:
-    """Encode image files (in the order given) as one clip at ``options["rate"]`` frames per second.
+def files_to_video(files: list[str], dst: str, options: dict) -> int:
+    """Encode image files and clips (in the order given) as one clip at ``options["rate"]`` frames per second
+    (None: the rate of the first input clip, else 24); returns the number of frames written.
 
-    ``bt709``: SDR, the tone curve (or ``--display``) first as for any display output; ``pq``/``hlg``:
+    A clip among the inputs gives every one of its frames (those of ``options["frames"]``, ``(start, stop)``, when
+    given), so a clip converted to a clip is re-encoded whole. ``bt709``: SDR, the tone curve (or ``--display``)
+    first as for any display output (an SDR clip's frames hold display light already: no curve); ``pq``/``hlg``:
     linear light as it is (1.0 = 203 cd/m^2), BT.2020, 10-bit. Colours of wide-gamut frames outside the sRGB
     gamut are clipped per channel and counted over the clip, in one note.
     """
@@ -69,7 +69,6 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
 
     from lenslab.jobs.policy import check_output
     from lenslab.errors import FormatError
-    from lenslab.io import read
     from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VideoInfo, VideoWriter
 
@@ -86,19 +85,24 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
     from lenslab.io.colour.gamut import tallied
 
     # colours outside the sRGB gamut: counted over every frame, one note for the clip
-    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp, tallied() as gamut:
+    rate = options.get("rate") or _first_rate(files) or 24
+    import warnings
+
+    from lenslab.jobs.stages import AutoExposureNote
+
+    with atomic_write_path(dst, overwrite=options["overwrite"]) as tmp, tallied() as gamut, warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=AutoExposureNote)  # (a line per frame would bury the others)
         writer = None
         try:
-            for f in tqdm(files, unit="frame", disable=not show, file=sys.stderr, leave=False):
-                image, meta = read(f)
+            for f, image, meta in tqdm(_inputs_frames(files, options.get("frames")), unit="frame",
+                                       disable=not show, file=sys.stderr, leave=False):
                 if not hdr:  # SDR: the look of any display output (the tone curve, or --display)
                     image, _ = develop(image, meta, clip, look)
                 if image.shape[2] == 1:
                     image = image.repeat(3, axis=2)
                 if writer is None:
                     h, w = image.shape[:2]
-                    info = VideoInfo(w, h, Fraction(str(options.get("rate") or 24)), len(files), "", "",
-                                     primaries, transfer, matrix, 1)
+                    info = VideoInfo(w, h, Fraction(str(rate)), len(files), "", "", primaries, transfer, matrix, 1)
                     writer = VideoWriter(tmp, info, codec=options.get("codec"))
                     from lenslab.io.video.codecs import open_encoder
 
@@ -114,6 +118,56 @@ def files_to_video(files: list[str], dst: str, options: dict) -> str:
         finally:
             if writer is not None:
                 writer.close()
-    if writer is not None:
-        gamut.warn(dst, len(files), writer.info.width * writer.info.height)
-    return dst
+    if writer is None:
+        return 0
+    gamut.warn(dst, writer.count, writer.info.width * writer.info.height)
+    return writer.count
+
+
+def _first_rate(files: list[str]):
+    """The frame rate of the first clip among ``files`` (a Fraction), or None when they are all still images."""
+    from lenslab.jobs.warp_video import is_video
+
+    clip = next((f for f in files if is_video(f)), None)
+    if clip is None:
+        return None
+    from lenslab.io.video import probe_video
+
+    return probe_video(clip).rate or None
+
+
+def _inputs_frames(files: list[str], frames=None):
+    """``(path, linear image, meta)`` of every frame a clip made of ``files`` gets: an image file's one, each
+    frame of a clip (within ``frames``, ``(start, stop)``), read as :func:`frames_to_files` reads them."""
+    from lenslab.io import read
+    from lenslab.jobs.warp_video import is_video
+
+    for f in files:
+        if not is_video(f):
+            image, meta = read(f)
+            yield f, image, meta
+            continue
+        from lenslab.errors import FormatError
+        from lenslab.io.budget import admit_clip
+        from lenslab.io.video import probe_video, read_frames
+
+        admit_clip(f)
+        meta = _clip_meta(probe_video(f))
+        start, stop = frames or (0, None)
+        count = 0
+        for _, frame in read_frames(f, start, stop):
+            count += 1
+            yield f, frame, meta
+        if not count:
+            raise FormatError(f"{f}: no frame in the range {start}:{'' if stop is None else stop}")
+
+
+def _clip_meta(info) -> dict:
+    """What a decoded frame of a clip is (``info``: its :class:`~lenslab.io.video.clips.VideoInfo`): SDR frames hold
+    display light already (no tone curve for display outputs); PQ/HLG frames are HDR; colours of a P3 or BT.2020
+    clip are clipped for display."""
+    from lenslab.io.colour.gamut import WIDE_GAMUT
+    from lenslab.io.video.colour import gamut_name
+
+    return {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None,
+            WIDE_GAMUT: gamut_name(info.primaries)}

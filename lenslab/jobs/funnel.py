@@ -118,6 +118,7 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
         warnings.filterwarnings("ignore", message=_NUMPY_NOTES, category=RuntimeWarning)
         warnings.showwarning = note_printer(prog)
         _forget_repairs()  # the command reports its own repairs, not those of earlier calls in this process
+        _SAID.clear()
         RECEIVED_SIGNALS.clear()
         try:
             code = int(func() or 0)
@@ -163,6 +164,16 @@ def report_missing(prog: str, missing) -> None:
         print(f"{prog}: error: {cut(f'{pat}: {reason}')}", file=sys.stderr)
 
 
+#: the words of the notes the command printed as they came (:func:`note_printer`)
+_SAID: set[str] = set()
+
+
+def said(note: str) -> bool:
+    """Whether the command printed ``note`` already, as it came (a camera file's note, given once as the options
+    were read): the files that give it again do not repeat it."""
+    return " ".join(note.split()) in _SAID
+
+
 def note_printer(prog: str):
     """``warnings.showwarning`` of a command: a warning that reaches the terminal (a file's note, such as
     the parts of a multi-part EXR) is one line, ``PROG: note: MESSAGE``, never Python's warning with its
@@ -171,6 +182,7 @@ def note_printer(prog: str):
 
     def show(message, category, filename, lineno, file=None, line=None):
         text = " ".join(str(message).split()) or category.__name__
+        _SAID.add(text)
         print(f"{prog}: note: {cut(text)}", file=sys.stderr)
 
     return show

@@ -198,7 +198,7 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
     none) with ``{done}`` and ``{total}`` (default: the results) filled in, the failures counted and
     ``tail`` added. A note on the whole command (:class:`~lenslab.jobs.funnel.CommandNote`) is printed once,
     with the first file that gave it, however many processes gave it. Returns the failed ones."""
-    from lenslab.jobs.funnel import command_note
+    from lenslab.jobs.funnel import command_note, said
 
     told: set = set()
     for src, _, _, notes in results:
@@ -206,6 +206,8 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
             from lenslab.tone.repairs import absorb_note
         for note in notes:  # repaired values, clamped halves: reported, never hidden
             once = command_note(note)
+            if said(note):  # printed once already, as the command read its options (a camera file's note)
+                continue
             if once is None and absorb_note(note):  # a worker's slight negatives: in the command's one summary line
                 continue
             if once is not None:

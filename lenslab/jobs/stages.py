@@ -13,6 +13,12 @@ from dataclasses import dataclass, field
 from lenslab.io.alpha import alpha_last, expose, has_alpha  # noqa: F401  (the look's exposure: colour, never alpha)
 
 
+class DisplaySourceWarning(UserWarning):
+    """``lenslab tonemap`` (a look applied ``always``) given a display image (an 8-bit JPG or PNG, an SDR clip):
+    the curve maps scene light to the display, and applied to display values it changes the picture (hable
+    darkens it)."""
+
+
 @dataclass(frozen=True)
 class Look:
     """How scene-linear values become what a display file stores.
@@ -72,6 +78,18 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
     if look.always or ((not fmt.hdr or integers) and (not meta.get("display_encoded") or exposure == "auto")):
         from lenslab.tone import tonemap
 
+        if look.always and meta.get("display_encoded") and look.tone != "clamp":  # (tonemap of a JPG, a PNG)
+            import warnings
+
+            note = (f"holds display values already (an SDR image): the {look.tone} curve, made for scene light, "
+                    "maps them a second time and changes its brightness and contrast ('lenslab convert' re-encodes it "
+                    "without a curve; --tone clamp keeps its values)")
+            warning = DisplaySourceWarning(f"{meta.get('path', of or 'the image')}: {note}")
+            warning.command_line = note  # (a batch names the file itself)
+            warnings.warn(warning, stacklevel=2)
+
+        if exposure == "auto" and meta.get("format") != "video":  # the stops found, said as tonemap says them
+            exposure = _said_auto_exposure(image, meta, look, alpha, of)
         return tonemap(image, curve=look.tone, exposure=exposure, mode=look.mode, primaries=look.primaries,
                        in_place=in_place, alpha_channel=alpha, **dict(look.params)), {}
     if look.tone_given and (not fmt.hdr or integers) and meta.get("display_encoded"):
@@ -92,6 +110,24 @@ def develop(image, meta: dict, fmt, look: Look, in_place: bool = False, of: str 
 
         warn_negatives(exposed[..., :-1] if alpha else exposed, f"{fmt.title} holds no negative values:")
     return exposed, {}
+
+
+class AutoExposureNote(UserWarning):
+    """The stops ``--exposure auto`` found for one image (convert, warp), so that a batch can be repeated, or a
+    clip's frames given one exposure, with ``--exposure`` set to them. ``command_line``: without the path."""
+
+
+def _said_auto_exposure(image, meta: dict, look, alpha: bool, of: str | None) -> float:
+    import warnings
+
+    from lenslab.tone import auto_exposure
+
+    ev = auto_exposure(image, primaries=look.primaries, alpha_channel=alpha)
+    note = f"auto exposure {ev:+.2f} stops"
+    warning = AutoExposureNote(f"{meta.get('path', of or 'the image')}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=3)
+    return ev
 
 
 def resolved_exposure(image, exposure, primaries=None, where: str = "", quiet: bool = False,

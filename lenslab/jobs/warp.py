@@ -107,7 +107,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
 
     # depth, normals, motion vectors are measured in the source camera's frame: resampled into another lens
     # they would keep the numbers and lose their meaning
-    warn_dropped(src_path, meta.get("extra_channels") or [], fmt.title, WARP_DROPS)
+    views = _other_views(src_path, meta, fmt.title)
+    warn_dropped(src_path, *views)
+    warn_dropped(src_path, [n for n in meta.get("extra_channels") or [] if n not in views[0]], fmt.title, WARP_DROPS)
     if job.stmap:
         from lenslab.stmap import warp_with_st_map
 
@@ -146,6 +148,24 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.jobs.warp_output import write_warped
 
     write_warped(dst_path, colour, alpha, meta, fmt, job, dst, source_alpha)
+
+
+def _other_views(src_path: str, meta: dict, target: str = "") -> tuple[list[str], str, str]:
+    """The channels of a multi-view EXR's other views, beside the default view a warp reads without a selector
+    (``left.R``... of a stereo file): the names, the output's title and why they are not written (another view's
+    colour, warped from its own name, not data of this view's camera)."""
+    views = [str(v) for v in (meta.get("attributes") or {}).get("multiView") or []]
+    if not views or meta.get("view") is not None:
+        return [], target, ""
+    from lenslab.io.exr.select import view_of
+
+    names = [n for n in meta.get("extra_channels") or [] if view_of(n, views) != views[0]]
+    rest = sorted({view_of(n, views) for n in names})
+    from lenslab.io import split_selector
+
+    name = Path(split_selector(str(src_path))[0]).name
+    return names, target, (f"they belong to the other view(s) {', '.join(rest)} (the file's default view, "
+                           f"{views[0]}, is warped); warp a view by its name, e.g. {name}:{rest[0] if rest else ''}")
 
 
 def plans_for(job: WarpJob):

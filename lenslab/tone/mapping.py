@@ -82,10 +82,13 @@ def warn_negatives(values: np.ndarray, lead: str) -> None:
     """The note a display output gives for the negatives ``values`` (float, the colour of an image) hold, for
     an output that sets them to 0 without tone mapping (Radiance RGBE): real negatives a ToneWarning that
     starts with ``lead``, slight ones the command's tally (:func:`warn_repairs`)."""
-    if not values.size or not values.min() < 0:  # (NaN compares False)
+    if not values.size or not np.fmin.reduce(values, axis=None) < 0:  # fmin passes NaN by: a NaN hides no negative
         return
     counts = Counts()
     negative = values < 0
+    negative &= values != -np.inf  # -inf is the writer's note on non-finite samples
+    if not negative.any():
+        return
     counts.negative, counts.lowest = int(np.count_nonzero(negative)), float(values[negative].min())
     warn_repairs(counts, values.size, image=values, lead=lead)
 

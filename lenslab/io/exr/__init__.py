@@ -149,6 +149,10 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     keys = set(short)
     order, out_names, ignored, converted = select_channels(keys)
     window, display = (x0, y0, x1, y1), (X0, Y0, X1, Y1)
+    if not data_window:
+        from lenslab.io.exr.whole import note_data_outside
+
+        note_data_outside(path, window, display)
     if chroma is not None and (converted or rec709 and out_names[:3] == ["R", "G", "B"]):
         from lenslab.io.colour.primaries import check_chromaticities
 

@@ -91,3 +91,23 @@ def placed(image: np.ndarray, window, display) -> np.ndarray:
     if ix0 <= ix1 and iy0 <= iy1:
         out[iy0 - Y0:iy1 - Y0 + 1, ix0 - X0:ix1 - X0 + 1] = image[iy0 - y0:iy1 - y0 + 1, ix0 - x0:ix1 - x0 + 1]
     return out
+
+
+class DataOutsideDisplayWarning(UserWarning):
+    """An EXR whose data window lies wholly outside its display window, read as the display window (as a compositor
+    shows it): the image holds none of the stored pixels. ``command_line``: the note without the path."""
+
+
+def note_data_outside(path, window, display) -> None:
+    """Say that the display window of ``path`` shows none of its data window (both ``(x0, y0, x1, y1)``), if so."""
+    x0, y0, x1, y1 = window
+    X0, Y0, X1, Y1 = display
+    if x1 >= X0 and x0 <= X1 and y1 >= Y0 and y0 <= Y1:
+        return
+    import warnings
+
+    note = (f"the data window {list(window)} lies wholly outside the display window {list(display)}: the image (its "
+            "display window) holds none of the stored pixels, only 0; 'lenslab convert --data-window' writes them")
+    warning = DataOutsideDisplayWarning(f"{path}: {note}")
+    warning.command_line = note
+    warnings.warn(warning, stacklevel=3)

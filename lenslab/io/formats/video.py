@@ -13,19 +13,34 @@ def _magic(head: bytes) -> bool:
     return (head[4:8] == b"ftyp" and not is_heif(head)) or head.startswith(b"\x1a\x45\xdf\xa3")
 
 
+class FirstFrameWarning(UserWarning):
+    """A clip of several frames read as one image (``lenslab tonemap clip.mp4``, ``lenslab diff``): its first frame is
+    the image, and the note says so and names the commands that take every frame. ``command_line``: without the
+    path."""
+
+
 def _read(path, selector=None):
     from lenslab.io.video import probe_video, read_frames
 
     info = probe_video(path)
-    for _, frame in read_frames(path, 0, 1):
-        meta = {"format": "video", "bit_depth": 10 if "10" in info.pixel_format else 8, "sample_type": "uint",
-                "channels": ["R", "G", "B"], "display_encoded": True,
-                "attributes": {"codec": info.codec, "frames": info.frames, "frame_rate": str(info.rate),
-                               "transfer": info.curve, "note": "the first frame"}}
-        return frame, meta
-    from lenslab.errors import FormatError
+    frames = [frame for _, frame in read_frames(path, 0, 1 if info.frames == 1 else 2)]  # a second: a clip of several
+    if not frames:
+        from lenslab.errors import FormatError
 
-    raise FormatError(f"{path}: the video holds no frame")
+        raise FormatError(f"{path}: the video holds no frame")
+    if len(frames) > 1:
+        import warnings
+
+        count = f"a clip of {info.frames} frames" if info.frames > 1 else "a clip of several frames"
+        note = f"{count}: its first frame read, as one image ('lenslab convert' and 'lenslab warp' take every frame)"
+        warning = FirstFrameWarning(f"{path}: {note}")
+        warning.command_line = note
+        warnings.warn(warning, stacklevel=3)
+    meta = {"format": "video", "bit_depth": 10 if "10" in info.pixel_format else 8, "sample_type": "uint",
+            "channels": ["R", "G", "B"], "display_encoded": True,
+            "attributes": {"codec": info.codec, "frames": info.frames, "frame_rate": str(info.rate),
+                           "transfer": info.curve, "note": "the first frame"}}
+    return frames[0], meta
 
 
 def _declare(path, **_):
