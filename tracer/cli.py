@@ -60,7 +60,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
     p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
-                        "(default: the scene's own camera lens)")
+                        "(default: the scene's own camera lens); an EXR that records its camera (a tracer render, a "
+                        "lenslab warp) renders that view again: its lens, orientation, eye and size (pose options "
+                        "are refused with it)")
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
@@ -135,6 +137,9 @@ def _camera(args, scene):
         if args.size is not None and tuple(args.size) != cam.size:
             cam = Camera(cam.lens.with_size(*args.size), cam.pose)
         return cam
+    recorded = _recorded_view(args)
+    if recorded is not None:
+        return recorded
     pose = {}
     if args.eye is not None:
         pose["eye"] = args.eye
@@ -159,6 +164,33 @@ def _camera(args, scene):
         # the default size suits the lens's layout (a cube map: square faces of 256 pixels), as warp's does
         camera = Camera(camera.lens.with_size(*camera.lens.default_frame(size[1])), camera.pose)
     return camera
+
+
+def _recorded_view(args):
+    """``--camera render.exr`` (an image whose header records its camera, as tracer and lenslab warp write it): the
+    view of that render, its lens, orientation and eye, at its size unless --size is given; None for a lens spec or
+    a calibration file. Pose options with it are a usage error, as with ``lenslab warp --to render.exr``."""
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(args.camera)
+    if view is None:
+        return None
+    given = [flag for flag, value in (("--view", args.view), ("--eye", args.eye), ("--look-at", args.look_at),
+                                      ("--up", args.up), ("--yaw", args.yaw), ("--pitch", args.pitch),
+                                      ("--roll", args.roll)) if value is not None]
+    if given:
+        from lenslab.errors import UsageError
+
+        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+        eye = ",".join(f"{v:g}" for v in view.pose.eye)
+        raise UsageError(f"{'/'.join(given)}: --camera {args.camera} takes the view that file records, its lens, "
+                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}) and its eye ({eye}); to "
+                         f"place that lens another way, give it as a spec: --camera {view.lens.spec()}")
+    if args.size is not None and tuple(args.size) != view.size:
+        from lenslab.lenses import Camera
+
+        return Camera(view.lens.with_size(*args.size), view.pose)
+    return view
 
 
 def _calibrated_size(spec: str | None) -> tuple[int, int] | None:
@@ -219,7 +251,7 @@ def _render(args) -> int:
     from tracer.rendering import render
 
     check_scene_argument(args.scene)
-    inputs = [f for f in (args.env, args.camera_file, args.scene) if f and Path(f).exists()]
+    inputs = [f for f in (args.env, args.camera_file, args.camera, args.scene) if f and Path(f).exists()]
     for out in (args.output, args.variance_out):
         if out:
             check_output(out, inputs, args.overwrite)
