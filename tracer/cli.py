@@ -61,8 +61,8 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens); an EXR that records its camera (a tracer render, a "
-                        "lenslab warp) renders that view again: its lens, orientation, eye and size (pose options "
-                        "are refused with it)")
+                        "lenslab warp) renders that view again: its lens, orientation, eye (unless --eye) and size "
+                        "(unless --size); --yaw, --pitch, --roll, --look-at, --up and --view are refused with it")
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
@@ -137,7 +137,7 @@ def _camera(args, scene):
         if args.size is not None and tuple(args.size) != cam.size:
             cam = Camera(cam.lens.with_size(*args.size), cam.pose)
         return cam
-    recorded = _recorded_view(args)
+    recorded = _recorded_view(args, scene)
     if recorded is not None:
         return recorded
     pose = {}
@@ -166,31 +166,36 @@ def _camera(args, scene):
     return camera
 
 
-def _recorded_view(args):
+def _recorded_view(args, scene):
     """``--camera render.exr`` (an image whose header records its camera, as tracer and lenslab warp write it): the
-    view of that render, its lens, orientation and eye, at its size unless --size is given; None for a lens spec or
-    a calibration file. Pose options with it are a usage error, as with ``lenslab warp --to render.exr``."""
+    view of that render, its lens, orientation and eye (or ``--eye``; the scene view's when the file records its
+    camera at the origin, which places nothing: a panorama lenslab made of a photograph), at its size unless --size
+    is given; None for a lens spec or a calibration file. Options that would turn it are a usage error, as with ``lenslab warp --to
+    render.exr``: whether they turn the render's view or the world's cannot be told."""
     from lenslab.jobs.warp_cameras import recorded_view
 
     view = recorded_view(args.camera)
     if view is None:
         return None
-    given = [flag for flag, value in (("--view", args.view), ("--eye", args.eye), ("--look-at", args.look_at),
-                                      ("--up", args.up), ("--yaw", args.yaw), ("--pitch", args.pitch),
-                                      ("--roll", args.roll)) if value is not None]
-    if given:
+    turns = [flag for flag, value in (("--view", args.view), ("--look-at", args.look_at), ("--up", args.up),
+                                      ("--yaw", args.yaw), ("--pitch", args.pitch), ("--roll", args.roll))
+             if value is not None]
+    if turns:
         from lenslab.errors import UsageError
 
         yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
-        eye = ",".join(f"{v:g}" for v in view.pose.eye)
-        raise UsageError(f"{'/'.join(given)}: --camera {args.camera} takes the view that file records, its lens, "
-                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}) and its eye ({eye}); to "
-                         f"place that lens another way, give it as a spec: --camera {view.lens.spec()}")
-    if args.size is not None and tuple(args.size) != view.size:
-        from lenslab.lenses import Camera
+        raise UsageError(f"{'/'.join(turns)}: --camera {args.camera} takes the view that file records, its lens and "
+                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
+                         f"another way, give it as a spec: --camera {view.lens.spec()}")
+    import numpy as np
 
-        return Camera(view.lens.with_size(*args.size), view.pose)
-    return view
+    from lenslab.lenses import Camera, Pose
+
+    lens = view.lens if args.size is None or tuple(args.size) == view.size else view.lens.with_size(*args.size)
+    eye = view.pose.eye if args.eye is None else np.asarray(args.eye, dtype=np.float64)
+    if args.eye is None and not np.any(eye):
+        eye = scene.camera(None, (lens.width, lens.height)).pose.eye
+    return Camera(lens, Pose(view.pose.rotation, eye))
 
 
 def _calibrated_size(spec: str | None) -> tuple[int, int] | None:

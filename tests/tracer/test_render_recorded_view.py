@@ -2,8 +2,8 @@
 takes it: the lens, the orientation, the eye and the size written into its header (it used to take the lens
 only, posed at the scene's own view). A render at yaw 30, pitch -15, roll 5 from an eye inside the box, made
 again from its own file at the same seed, is the same image bit for bit (the tracer is deterministic at a seed:
-its samples come from the seed and the pixel alone). Pose options with such a file are refused (exit 2), naming
-the lens spec to give instead.
+its samples come from the seed and the pixel alone). As with ``lenslab warp --to render.exr``, ``--eye`` moves
+that view and options that would turn it are refused (exit 2), naming the lens spec to give instead.
 """
 
 from __future__ import annotations
@@ -53,8 +53,17 @@ def test_size_still_resizes_the_recorded_view(first, tmp_path):
     np.testing.assert_allclose(camera.pose.ypr, YPR, atol=1e-9)
 
 
-@pytest.mark.parametrize("option", [["--yaw", "10"], ["--pitch", "0"], ["--roll", "1"], ["--eye", "0,0,0"],
-                                    ["--look-at", "0,0,1"], ["--up", "0,1,0"], ["--view", "default"]])
+def test_eye_moves_the_recorded_view(first, tmp_path):
+    out = tmp_path / "moved.exr"
+    assert main([*ARGS, "--camera", str(first), "--eye", "0.1,0.2,0.3", "-o", str(out)]) == 0
+    camera = read(out)[1]["camera"]
+    np.testing.assert_allclose(camera.pose.ypr, YPR, atol=1e-9)
+    np.testing.assert_allclose(camera.pose.eye, (0.1, 0.2, 0.3), atol=0)
+    assert not np.array_equal(read(out)[0], read(first)[0])  # another place in the box sees another image
+
+
+@pytest.mark.parametrize("option", [["--yaw", "10"], ["--pitch", "0"], ["--roll", "1"], ["--look-at", "0,0,1"],
+                                    ["--up", "0,1,0"], ["--view", "default"]])
 def test_pose_options_with_a_recorded_view_are_refused(first, tmp_path, capsys, option):
     out = tmp_path / "r.exr"
     assert main([*ARGS, "--camera", str(first), *option, "-o", str(out)]) == 2
@@ -62,3 +71,24 @@ def test_pose_options_with_a_recorded_view_are_refused(first, tmp_path, capsys, 
     assert len(err) == 1 and option[0] in err[0], err
     assert "yaw 30, pitch -15, roll 5" in err[0] and "--camera fisheye:" in err[0], err
     assert not out.exists()
+
+
+def test_a_view_recorded_at_the_origin_is_seen_from_the_scene_s_eye(tmp_path):
+    """lenslab records a view made of a photographed panorama at the origin, which places nothing (as ``lenslab warp
+    --to`` reads it): the tracer takes that view's lens and orientation from the scene view's eye, the Cornell box's
+    camera position (0.278, 0.273, 0.001) published with the scene."""
+    from lenslab.cli.main import main as lenslab_main
+    from lenslab.io import write
+
+    pano = tmp_path / "photo.exr"
+    write(pano, np.full((32, 64, 3), 0.5, np.float32))
+    view = tmp_path / "view.exr"
+    assert lenslab_main(["warp", str(pano), "-o", str(view), "--to", "perspective:fov=70", "--size", "24x16",
+                         "--yaw", "30", "--pitch", "-15", "--roll", "5", "-q"]) == 0
+    assert not np.any(read(view)[1]["camera"].pose.eye)
+    out = tmp_path / "traced.exr"
+    assert main([*ARGS, "--camera", str(view), "-o", str(out)]) == 0
+    camera = read(out)[1]["camera"]
+    np.testing.assert_allclose(camera.pose.ypr, YPR, atol=1e-9)
+    np.testing.assert_allclose(camera.pose.eye, (0.278, 0.273, 0.001), atol=1e-12)
+    assert camera.size == (24, 16)
