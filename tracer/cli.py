@@ -62,7 +62,9 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="HDR equirect panorama lighting the 'sky' scene (default: a constant sky)")
     p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
-                        "(default: the scene's own camera lens)")
+                        "(default: the scene's own camera lens); an EXR that records its camera (a tracer render, a "
+                        "lenslab warp) renders that view again: its lens, orientation, eye (unless --eye) and size "
+                        "(unless --size); --yaw, --pitch, --roll, --look-at, --up and --view are refused with it")
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
@@ -137,6 +139,9 @@ def _camera(args, scene):
         if args.size is not None and tuple(args.size) != cam.size:
             cam = Camera(cam.lens.with_size(*args.size), cam.pose)
         return cam
+    recorded = _recorded_view(args, scene)
+    if recorded is not None:
+        return recorded
     pose = {}
     if args.eye is not None:
         pose["eye"] = args.eye
@@ -161,6 +166,38 @@ def _camera(args, scene):
         # the default size suits the lens's layout (a cube map: square faces of 256 pixels), as warp's does
         camera = Camera(camera.lens.with_size(*camera.lens.default_frame(size[1])), camera.pose)
     return camera
+
+
+def _recorded_view(args, scene):
+    """``--camera render.exr`` (an image whose header records its camera, as tracer and lenslab warp write it): the
+    view of that render, its lens, orientation and eye (or ``--eye``; the scene view's when the file records its
+    camera at the origin, which places nothing: a panorama lenslab made of a photograph), at its size unless --size
+    is given; None for a lens spec or a calibration file. Options that would turn it are a usage error, as with ``lenslab warp --to
+    render.exr``: whether they turn the render's view or the world's cannot be told."""
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(args.camera)
+    if view is None:
+        return None
+    turns = [flag for flag, value in (("--view", args.view), ("--look-at", args.look_at), ("--up", args.up),
+                                      ("--yaw", args.yaw), ("--pitch", args.pitch), ("--roll", args.roll))
+             if value is not None]
+    if turns:
+        from lenslab.errors import UsageError
+
+        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+        raise UsageError(f"{'/'.join(turns)}: --camera {args.camera} takes the view that file records, its lens and "
+                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
+                         f"another way, give it as a spec: --camera {view.lens.spec()}")
+    import numpy as np
+
+    from lenslab.lenses import Camera, Pose
+
+    lens = view.lens if args.size is None or tuple(args.size) == view.size else view.lens.with_size(*args.size)
+    eye = view.pose.eye if args.eye is None else np.asarray(args.eye, dtype=np.float64)
+    if args.eye is None and not np.any(eye):
+        eye = scene.camera(None, (lens.width, lens.height)).pose.eye
+    return Camera(lens, Pose(view.pose.rotation, eye))
 
 
 def _calibrated_size(spec: str | None) -> tuple[int, int] | None:
@@ -221,7 +258,7 @@ def _render(args) -> int:
     from tracer.rendering import render
 
     check_scene_argument(args.scene)
-    inputs = [f for f in (args.env, args.camera_file, args.scene) if f and Path(f).exists()]
+    inputs = [f for f in (args.env, args.camera_file, args.camera, args.scene) if f and Path(f).exists()]
     for out in (args.output, args.variance_out):
         if out:
             check_output(out, inputs, args.overwrite)

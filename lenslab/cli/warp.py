@@ -72,7 +72,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's angular resolution in the output lens's "
                              "own shape, 180 degrees in as many rows as the source gives them (an equirect's rows, twice "
-                             "a cube map's faces in any layout, an eye's of a stereo frame): square for a fisheye or "
+                             "a cube map's faces or a grid's 90-degree tiles in any layout, an eye's of a stereo frame, a "
+                             "perspective view's rows over its vertical field): square for a fisheye or "
                              "perspective view, 2:1 for equirect; a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
                              "cube map; each eye of a stereo frame; a camera file: the size it was calibrated at")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")

@@ -151,9 +151,11 @@ class Lens:
     def pixels_per_degree(self) -> float:
         """Angular resolution of the image as a source: pixels per degree down its columns, from which a view made
         of it without a given size takes its size (180 degrees at this resolution fill a default view's rows).
-        Default: the rows over 180 degrees, an equirect's and a 180-degree fisheye's; a lens whose rows span
-        something else says so (a cube map: each face's rows over its 90 degrees; an equirect band: its latitudes)."""
-        return self.height / 180.0
+        Default: the rows of the first piece over the angle its middle column spans where it has rays (the mean
+        where the resolution varies: :mod:`lenslab.lenses.core.resolution`); an equirect's rows over its latitudes."""
+        from lenslab.lenses.core.resolution import column_pixels_per_degree
+
+        return column_pixels_per_degree(self)
 
     def falloff(self, xy) -> np.ndarray | None:
         """Relative illumination (vignetting, 1 on the axis) at continuous pixel positions ``(..., 2)``,

@@ -293,6 +293,12 @@ class Tiled(Lens):
                            lens=None if t is None else t.lens, pose=None if t is None else t.pose)
                      for k, t in enumerate(self.tile_list))
 
+    def pixels_per_degree(self) -> float:
+        """The first tile with a camera's: its lens's rows over its field (a 90-degree perspective tile of 256 rows:
+        256 / 90), whatever the grid; the rows over 180 degrees for a grid with no camera."""
+        lens = next((t.lens for t in self.tile_list if t is not None), None)
+        return self.height / 180.0 if lens is None else lens.pixels_per_degree()
+
     def pixel_origin(self, xy) -> np.ndarray:
         """Each pixel's eye point: its tile's eye (plus the tile lens's own offsets), tiled-camera frame."""
         xy = as_points(xy, 2, "pixel coordinates")

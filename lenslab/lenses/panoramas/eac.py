@@ -97,6 +97,10 @@ class EquiAngularCubemap(Lens):
         rects = [(self.pad + (k % 3) * fw, self.pad + (k // 3) * self.height / 2.0, fw, fh) for k in range(6)]
         return cube_pieces(rects, EAC_AXES)
 
+    def pixels_per_degree(self) -> float:
+        """A face's rows without the padding over its 90 degrees (even in angle across the face): ``H/2 - 2 pad``."""
+        return self.height * (0.5 - 2.0 * self.pv) / 90.0
+
     def dir_kernel(self):
         """The compiled ``pixel -> dir`` (``eac_dirs``: the steps of :meth:`_pixel_to_dir`, its tangents as sine over
         cosine to a few ulps), or None for a subclass that changed one of those steps."""

@@ -59,6 +59,10 @@ class TruncatedSquarePyramid(Lens):
     v360_read = "shift"
     frame_aspect = 2.0
 
+    def pixels_per_degree(self) -> float:
+        """The front face's rows over its 90 degrees (the face fills the frame's height; the back is smaller)."""
+        return self.height / 90.0
+
     def pixel_to_dir(self, xy):
         xy = as_points(xy, 2, "pixel coordinates")
         with np.errstate(all="ignore"):
