@@ -90,8 +90,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.jobs.policy import check_output
     from lenslab.io.alpha import split_alpha
     from lenslab.jobs.stages import check_image
-    from lenslab.jobs.warp_cameras import (autoscale_camera, default_size, output_camera, place_source,
-                                            records_place, source_camera, source_rows)
+    from lenslab.jobs.warp_cameras import (autoscale_camera, default_output_size, output_camera, place_source,
+                                            records_place, source_camera)
     from lenslab.jobs.warp_video import is_video, warp_video
 
     if is_video(src_path):  # every frame with one map, to a video
@@ -129,7 +129,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
 
             image = mirror_frames(image, src.lens, parse_flips(job.source_flip, "hv", "--source-flip"))
             src = mirror_source_pose(src, parse_flips(job.flip))
-        size = job.size or default_size(job.to, source_rows(src.lens))
+        size = job.size or default_output_size(job.to, src.lens)
         src = place_source(job.to, src, records_place(src, meta), job.eye)
         dst = output_camera(job, src, size)
         if job.autoscale:

@@ -56,6 +56,31 @@ def source_rows(lens) -> int:
     return max(1, round(180.0 * lens.pixels_per_degree()))
 
 
+#: an output without --size holds at most this many times the source's pixels: a whole sphere from a 180-degree
+#: fisheye, or a 360 x 90 degree strip of tiles, at their own pixels per degree, takes twice their pixels; a
+#: 60-degree photo of 4000 x 3000 into a whole equirect at its own 64 pixels per degree would take 266 million
+DEFAULT_PIXELS_FACTOR = 2.0
+
+
+def default_output_size(spec: str, lens) -> tuple[int, int]:
+    """The output's size without --size: the source ``lens``'s pixels per degree (:func:`default_size` of
+    :func:`source_rows`), at most :data:`DEFAULT_PIXELS_FACTOR` times its pixels. A size limited so is said
+    in a note that gives the --size keeping the source's resolution."""
+    rows = source_rows(lens)
+    full = default_size(spec, rows)
+    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
+    if full[0] * full[1] <= limit:
+        return full
+    import math
+    import warnings
+
+    size = default_size(spec, max(1, math.floor(rows * math.sqrt(limit / (full[0] * full[1])))))
+    warnings.warn(f"without --size the output is {size[0]} x {size[1]}, at most {DEFAULT_PIXELS_FACTOR:g} times the "
+                  f"source's pixels; --size {full[0]}x{full[1]} keeps the source's {lens.pixels_per_degree():.3g} "
+                  "pixels per degree", UserWarning, stacklevel=2)
+    return size
+
+
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
     """The output's size without --size: ``src_h`` rows of 180 degrees (:func:`source_rows`) in the lens's shape."""
     from lenslab.calibfiles import is_camera_file

@@ -54,8 +54,8 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     import numpy as np
 
     from lenslab.jobs.policy import check_output
-    from lenslab.jobs.warp_cameras import (autoscale_camera, default_size, output_camera, place_source,
-                                            source_camera, source_rows)
+    from lenslab.jobs.warp_cameras import (autoscale_camera, default_output_size, output_camera, place_source,
+                                            source_camera)
     from lenslab.errors import FormatError
     from lenslab.atomic import atomic_write_path
     from lenslab.io.video import VIDEO_EXTENSIONS, VideoWriter, probe_video, read_frames
@@ -81,7 +81,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
 
     source_flips = parse_flips(getattr(args, "source_flip", None), "hv", "--source-flip")
     src = mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
-    size = args.size or default_size(args.to, source_rows(src.lens))
+    size = args.size or default_output_size(args.to, src.lens)
     src = place_source(args.to, src, False, args.eye)  # (a video records no camera)
     dst = output_camera(args, src, size)
     if args.autoscale:
