@@ -10,7 +10,6 @@ stream of ``height * (1 + row bytes)`` bytes, and Deflate expands at most 1032 t
 from __future__ import annotations
 
 import os
-from functools import partial
 
 from lenslab.errors import FormatError
 from lenslab.inputs.limits import check_size
@@ -129,8 +128,3 @@ def _write(tmp, image, *, kind, **options):
     from lenslab.io.ldr import encode_ldr
 
     tmp.write_bytes(encode_ldr(image, kind, **options))
-
-
-def plugin_hooks(kind: str):
-    """``(read, write, declare)`` of the ``"jpg"`` or ``"png"`` plugin (:class:`lenslab.io.plugin.Format`'s hooks)."""
-    return partial(_read, kind=kind), partial(_write, kind=kind), {"jpg": declare_jpg, "png": declare_png}[kind]

@@ -100,3 +100,20 @@ def header_only(path) -> dict:
     channels, depth and attributes): nothing more to describe, so ``lenslab info`` shows the reader's
     attributes."""
     return {}
+
+
+def _call(module: str, name: str, *args, **kwargs):
+    """``module.name(*args, **kwargs)``, the module imported at the call."""
+    from importlib import import_module
+
+    return getattr(import_module(module), name)(*args, **kwargs)
+
+
+def ldr_hooks(kind: str) -> tuple:
+    """``(read, write, declare)`` of the ``"jpg"`` or ``"png"`` plugin: :mod:`lenslab.io.ldr_layout`'s, imported at
+    the first call, so that loading the registry loads no codec (a video warp reads no image); they pickle."""
+    from functools import partial
+
+    module = "lenslab.io.ldr_layout"
+    return (partial(_call, module, "_read", kind=kind), partial(_call, module, "_write", kind=kind),
+            partial(_call, module, f"declare_{kind}"))

@@ -7,11 +7,10 @@ says which, and ``["gain_map"]`` the gain map's metadata or why it was not appli
 
 from __future__ import annotations
 
-from lenslab.io.ldr_layout import plugin_hooks
-from lenslab.io.plugin import Format, header_only
+from lenslab.io.plugin import Format, header_only, ldr_hooks
 
 
-_read, _write, _declare = plugin_hooks("jpg")
+_read, _write, _declare = ldr_hooks("jpg")
 
 FORMATS = (Format(
     name="jpg", title="JPEG", extensions=(".jpg", ".jpeg", ".jpe", ".jfif"),

@@ -3,11 +3,10 @@
 
 from __future__ import annotations
 
-from lenslab.io.ldr_layout import plugin_hooks
-from lenslab.io.plugin import Format, header_only
+from lenslab.io.plugin import Format, header_only, ldr_hooks
 
 
-_read, _write, _declare = plugin_hooks("png")
+_read, _write, _declare = ldr_hooks("png")
 
 FORMATS = (Format(
     name="png", title="PNG", extensions=(".png",), magic=lambda head: head.startswith(b"\x89PNG\r\n\x1a\n"),
