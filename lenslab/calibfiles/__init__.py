@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from lenslab.errors import LenslabError, LensError
+from lenslab.errors import LenslabError, LensError, UsageError
 from lenslab.lens_sources import add_source
 from lenslab.registry import Registry
 
@@ -21,6 +21,10 @@ from lenslab.registry import Registry
 class CameraFileError(LenslabError, ValueError):
     """A camera file is missing, unreadable, or lacks or misuses a key (the message names the file and
     the key). A failed input, not a usage error: commands exit with status 1."""
+
+
+class NoCameraError(CameraFileError, UsageError):
+    """An image named where a camera is expected records none: it cannot be a lens, a usage mistake (exit 2)."""
 
 #: format name -> plugin module (in lenslab.calibfiles); the order is the order of sniffing (an OpenCV
 #: FileStorage file is tested before a Kalibr camchain, which is YAML too)
@@ -57,7 +61,14 @@ def is_camera_file(spec) -> bool:
         exists = False
     if not exists and spec.partition(":")[0].strip().lower() in REGISTRY:
         return False  # a model spec such as fisheye:fov=180
-    return exists or (":" not in spec and path.suffix.lower() in SUFFIXES)
+    return exists or (":" not in spec and (path.suffix.lower() in SUFFIXES or _names_a_file(path)))
+
+
+def _names_a_file(path: Path) -> bool:
+    """A name no lens model has, that only a file can have: with a folder (``dir/cam``) or an image's extension."""
+    from lenslab.io.registry import input_extensions
+
+    return len(path.parts) > 1 or path.suffix.lower() in input_extensions()
 
 
 def sniff(path: Path, text: str) -> str:
@@ -80,7 +91,7 @@ def read_text(path: Path) -> str:
     try:
         return read_side_text(path, "camera file", MAX_CAMERA_FILE)
     except FileNotFoundError:
-        raise CameraFileError(f"{path}: no such camera file") from None
+        raise CameraFileError(f"{path}: no such file or directory") from None
     except InputError as exc:
         raise CameraFileError(str(exc)) from None
 
@@ -106,8 +117,9 @@ def image_camera(path: Path):
 
     camera = read(path)[1].get("camera")
     if camera is None:
-        raise CameraFileError(f"{path}: this {get(fmt).title} image records no camera; give a calibration file or "
-                              "a lens spec (EXR files written by lenslab and tracer carry theirs)")
+        raise NoCameraError(f"{path}: this {get(fmt).title} image records no camera, so it cannot be a lens; give a "
+                            "lens spec (e.g. equirect, fisheye:fov=180) or a calibration file instead (EXR files "
+                            "written by lenslab and tracer carry their camera)")
     return camera
 
 

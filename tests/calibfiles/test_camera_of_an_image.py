@@ -1,7 +1,7 @@
 """``lenslab camera show/convert`` take an image that records its camera (EXR from tracer or lenslab) as the
-calibration files do; an image without one is a failed input (exit 1, one line). A model a calibration format
-has no place for is refused in one line naming the user's output file (never a temporary name), exit 2, with
-nothing written."""
+calibration files do; an image without one cannot be a camera: a usage mistake (exit 2, one line). A model a
+calibration format has no place for is refused in one line naming the user's output file (never a temporary
+name), exit 2, with nothing written."""
 
 from __future__ import annotations
 
@@ -26,13 +26,13 @@ def test_show_reads_the_camera_a_render_records(tmp_path, capsys):
     assert "  fov      150" in out and "  mapping  equisolid" in out
 
 
-def test_an_image_without_a_camera_is_a_failed_input(tmp_path, capsys):
+def test_an_image_without_a_camera_is_a_usage_mistake(tmp_path, capsys):
     exr = tmp_path / "plain.exr"  # written by OpenImageIO: no lenslab camera in its header
     out = oiio.ImageOutput.create(str(exr))
     out.open(str(exr), oiio.ImageSpec(8, 4, 3, oiio.HALF))
     out.write_image(np.ones((4, 8, 3), np.float32))
     out.close()
-    assert main(["camera", "show", str(exr)]) == 1
+    assert main(["camera", "show", str(exr)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "records no camera" in err[0], err
 

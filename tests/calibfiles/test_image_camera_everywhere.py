@@ -67,7 +67,7 @@ def test_an_image_without_a_camera_says_so(tmp_path, capsys):
     lenslab.write(png, np.ones((4, 8, 3), np.float32) * 0.5)
     src = tmp_path / "pano.exr"
     lenslab.write(src, np.ones((32, 64, 3), np.float32))
-    assert main(["warp", str(src), "--to", str(png), "-o", str(tmp_path / "v.exr")]) == 1
+    assert main(["warp", str(src), "--to", str(png), "-o", str(tmp_path / "v.exr")]) == 2  # not a lens: usage
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "records no camera" in err[0] and "UTF-8" not in err[0], err
 
