@@ -153,8 +153,9 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.output, [args.input], args.overwrite)
     named = output_format(args.output)  # an unknown extension: one usage error before the image is read
     if args.format and get_format(args.format).name != named:
+        typed = getattr(args, "_curves_given", {}).get("format", ("--format",))[0]  # --format or --to
         raise UsageError(f"-o {args.output}: the name says {named} but the output format asked is {args.format}; "
-                         "give a name with the format's extension, or leave --format out")
+                         f"give a name with the format's extension, or leave {typed} out")
     from lenslab.jobs.funnel import working_on
 
     with working_on(args.input):

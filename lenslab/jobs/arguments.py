@@ -35,10 +35,15 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def error(self, message: str, prog: str | None = None):  # noqa: D401 - argparse's hook
         prog = prog or self.prog
+        unknown = self.unknown_options() if message.startswith("the following arguments are required") else []
+        if unknown:  # a misspelt option first: the arguments said missing may be what it was meant to give
+            hint = self.options_meant(unknown)
+            message = f"unrecognized arguments: {' '.join(unknown)}" + (f"; {hint}" if hint else "")
         print(f"{prog}: error: {message} (see '{prog} --help')", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
 
     def parse_known_args(self, args=None, namespace=None):
+        self._words = list(sys.argv[1:] if args is None else args)  # for error(): the options it does not know
         namespace, extras = super().parse_known_args(args, namespace)
         if not getattr(namespace, "_prog", None):  # the innermost command given ('lenslab fit lens'): errors name it
             namespace._prog = self.prog
@@ -46,6 +51,18 @@ class ArgumentParser(argparse.ArgumentParser):
             namespace._extras_prog = self.prog
             namespace._extras_hint = self.options_meant(extras)
         return namespace, extras
+
+    def unknown_options(self) -> list[str]:
+        """The words being parsed that are options this parser does not have (none for a parser of subcommands,
+        whose words after the command are its subcommand's)."""
+        if self._subparsers is not None:
+            return []
+        words = getattr(self, "_words", [])
+        words = words[:words.index("--")] if "--" in words else words
+        known = self._option_string_actions
+        return [w for w in words if w[:1] in self.prefix_chars and len(w) > 1 and " " not in w
+                and not self._negative_number_matcher.match(w) and w.partition("=")[0] not in known
+                and not (w[1] not in self.prefix_chars and w[:2] in known)]  # (-ofile: -o with its value)
 
     def options_meant(self, words: list[str]) -> str:
         """For unknown options that begin an option of this parser ('--to' of '--tone'), the options meant."""
