@@ -18,6 +18,14 @@ from lenslab.io import write
 from tracer.cli import main as tracer
 
 
+def usage_lines(main, argv, capsys) -> list[str]:
+    """The lines on standard error of a command line that argparse refuses (exit 2)."""
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    return capsys.readouterr().err.strip().splitlines()
+
+
 @pytest.mark.parametrize("option", ["--format", "--to"])
 def test_tonemap_names_the_format_option_as_typed(tmp_path, capsys, option):
     src = tmp_path / "city.exr"
@@ -41,11 +49,7 @@ def test_tonemap_names_the_format_option_as_typed(tmp_path, capsys, option):
 ])
 def test_an_unknown_option_is_said_before_missing_arguments(tmp_path, monkeypatch, capsys, main, argv, prog):
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(SystemExit) as exc:
-        main(argv)
-    assert exc.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == [f"{prog}: error: unrecognized arguments: --hel; --hel is not an option (options are never "
+    assert usage_lines(main, argv, capsys) == [f"{prog}: error: unrecognized arguments: --hel; --hel is not an option (options are never "
                    f"abbreviated): did you mean --help? (see '{prog} --help')"]
     assert list(tmp_path.iterdir()) == []
 
@@ -56,9 +60,5 @@ def test_an_unknown_option_is_said_before_missing_arguments(tmp_path, monkeypatc
 ])
 def test_missing_arguments_are_said_when_no_option_is_unknown(tmp_path, monkeypatch, capsys, argv, missing):
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(SystemExit) as exc:
-        lenslab(argv)
-    assert exc.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == [f"lenslab warp: error: the following arguments are required: {missing} "
+    assert usage_lines(lenslab, argv, capsys) == [f"lenslab warp: error: the following arguments are required: {missing} "
                    "(see 'lenslab warp --help')"]
