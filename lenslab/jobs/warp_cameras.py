@@ -65,19 +65,32 @@ DEFAULT_PIXELS_FACTOR = 2.0
 def default_output_size(spec: str, lens) -> tuple[int, int]:
     """The output's size without --size: the source ``lens``'s pixels per degree (:func:`default_size` of
     :func:`source_rows`), at most :data:`DEFAULT_PIXELS_FACTOR` times its pixels. A size limited so is said
-    in a note that gives the --size keeping the source's resolution."""
-    rows = source_rows(lens)
-    full = default_size(spec, rows)
-    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
-    if full[0] * full[1] <= limit:
-        return full
+    in a note that gives the --size keeping the source's resolution, or, where that size is more than an image
+    can be (a band of a hundredth of a degree), says so."""
     import math
     import warnings
 
-    size = default_size(spec, max(1, math.floor(rows * math.sqrt(limit / (full[0] * full[1])))))
+    from lenslab.errors import LensError
+    from lenslab.lenses.core.base import check_size
+
+    rows, full, valid = source_rows(lens), None, False
+    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
+    try:
+        full = default_size(spec, rows)
+        valid = bool(check_size(*full))
+    except LensError:  # a cube map's frame cannot even be made at that many rows
+        default_size(spec, 256)  # (a spec at fault says so)
+    if valid and full[0] * full[1] <= limit:
+        return full
+    base = rows if full else 256  # (else the lens's shape at 256 rows: its pixels grow as the square of its rows)
+    w, h = full or default_size(spec, base)
+    size = default_size(spec, max(1, min(rows, math.floor(base * math.sqrt(limit / (w * h))))))
+    ppd = f"the source's {lens.pixels_per_degree():.3g} pixels per degree"
+    keep = (f"--size {full[0]}x{full[1]} keeps {ppd}" if valid else
+            f"{ppd} would make it{f' {w} x {h},' if full else ''} more than an image can be: give --size WxH for "
+            "another size")
     warnings.warn(f"without --size the output is {size[0]} x {size[1]}, at most {DEFAULT_PIXELS_FACTOR:g} times the "
-                  f"source's pixels; --size {full[0]}x{full[1]} keeps the source's {lens.pixels_per_degree():.3g} "
-                  "pixels per degree", UserWarning, stacklevel=2)
+                  f"source's pixels; {keep}", UserWarning, stacklevel=2)
     return size
 
 
