@@ -132,8 +132,8 @@ def check(path, declared: Declared, file_bytes: int) -> None:
                           "damaged or hostile")
     if need > allowed(file_bytes):
         raise BudgetError(f"{path}: the header declares {w} x {h} pixels ({size_text(need)} decoded) from a file of "
-                          f"{size_text(file_bytes)}, which may decode to at most {size_text(allowed(file_bytes))} "
-                          f"({rule_text(file_bytes)}); refused as a decompression bomb{declared.hint} "
+                          f"{size_text(file_bytes)}, which may decode to at most {size_text(allowed(file_bytes))}"
+                          f"{rule_text(file_bytes)}; refused as a decompression bomb{declared.hint} "
                           f"(a genuine image: set LENSLAB_BASE_BYTES={need})")
 
 
@@ -146,12 +146,13 @@ def allowed(file_bytes: int) -> int:
 
 
 def rule_text(file_bytes: int) -> str:
-    """Which part of :func:`allowed` gives a file of ``file_bytes`` its budget, as a user reads it."""
+    """Which part of :func:`allowed` gives a file of ``file_bytes`` its budget, as a user reads it, in brackets
+    after the budget; empty where it is the budget of any file."""
     if allowed(file_bytes) == BASE_BYTES:
-        return f"any file may decode to {size_text(BASE_BYTES)}"
+        return ""
     if file_bytes <= SMALL_FILE:
-        return f"{SMALL_RATIO} times its size"
-    return f"{SMALL_RATIO} times its first 1 MiB and {MAX_RATIO} times the rest"
+        return f" ({SMALL_RATIO} times its size)"
+    return f" ({SMALL_RATIO} times its first 1 MiB and {MAX_RATIO} times the rest)"
 
 
 def admit(path, fmt, **options) -> Declared | None:

@@ -240,5 +240,5 @@ def _refuse(path, need: int, said: str, size: int) -> None:
 
     if need > budget.allowed(size):
         raise budget.BudgetError(f"{path}: {said} in a file of {budget.size_text(size)}, which may decode to at most "
-                                 f"{budget.size_text(budget.allowed(size))} ({budget.rule_text(size)}); refused as a "
+                                 f"{budget.size_text(budget.allowed(size))}{budget.rule_text(size)}; refused as a "
                                  f"decompression bomb (a genuine deep image: set LENSLAB_BASE_BYTES={need})")
