@@ -53,7 +53,7 @@ def first_positive_root(coeffs, s_max: float = np.inf) -> float:
     if bad.size == 0:
         return np.inf
     lo, hi = float(grid[bad[0] - 1]), float(grid[bad[0]])
-    terms = [float(v) for v in c[::-1]]  # highest first: Horner's rule in Python floats, as polyval does it
+    terms = c[::-1].tolist()  # highest first: Horner's rule in Python floats, as polyval does it
 
     def value(x: float) -> float:
         v = terms[0] + x * 0.0
@@ -103,12 +103,14 @@ class PolyDistortion:
     def _fold_radius(self) -> float:
         """First radius where ``d(r R)/dr`` reaches 0 or the denominator vanishes."""
         n = np.r_[1.0, self.a]
+        s_max = self.limit * self.limit
+        if not self.b.any():  # no denominator: N + 2 s N', the same coefficients polymul and polyadd give
+            return float(np.sqrt(first_positive_root(n + 2.0 * (np.arange(n.size, dtype=FLOAT) * n), s_max)))
         d = np.r_[1.0, self.b]
         s_poly = np.array([0.0, 1.0])
         # d/dr [r N(s)/D(s)] with s = r^2 has numerator (N + 2 s N') D - 2 s N D'
         num = P.polysub(P.polymul(P.polyadd(n, 2.0 * P.polymul(s_poly, P.polyder(n))), d),
                         2.0 * P.polymul(s_poly, P.polymul(n, P.polyder(d))))
-        s_max = self.limit * self.limit
         s_fold = min(first_positive_root(num, s_max), first_positive_root(d, s_max))
         return float(np.sqrt(s_fold))
 
