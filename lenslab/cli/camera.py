@@ -157,7 +157,19 @@ def _convert_model(args, lens, inputs):
 
         raise UsageError(f"--aim {args.aim:g}: give a positive number of pixels")
     resmap = check_output(args.residual_map, inputs + [args.output], args.overwrite) if args.residual_map else None
-    conv = convert_lens(lens, args.model, free=args.free, aim=args.aim)
+    import sys
+
+    from lenslab.jobs.progress import RowBar
+
+    # a fit takes seconds: on a terminal, one line says so once it has taken longer than a second
+    said = RowBar(args.camera, sys.stderr) if sys.stderr.isatty() else None
+    if said is not None:
+        said.status(f"fitting the {args.model} model over the field both cameras share")
+    try:
+        conv = convert_lens(lens, args.model, free=args.free, aim=args.aim)
+    finally:
+        if said is not None:
+            said.close()
     print("\n".join(conv.report()))
     if resmap is not None:
         io.write(resmap, conv.image((lens.width, lens.height)), overwrite=args.overwrite)

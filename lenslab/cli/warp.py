@@ -325,6 +325,13 @@ def run(args: argparse.Namespace) -> int:
     check_options_apply(args, pairs)
     from lenslab.jobs.warp_video import is_video
 
+    if args.size and not args.autoscale:  # a size a clip's encoder refuses: a usage error before any frame
+        from lenslab.io.video.codecs import VIDEO_EXTENSIONS, check_clip_size
+
+        for src, dst in pairs:
+            if Path(dst).suffix.lower() in VIDEO_EXTENSIONS and is_video(src):
+                check_clip_size(tuple(args.size), dst, args.codec)
+
     # one still image: no later image reuses its maps, which are then not kept
     job = WarpJob.from_options(args, keep_maps=len(pairs) > 1 or any(is_video(src) for src, _ in pairs))
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made

@@ -88,7 +88,11 @@ class ConvertJob(Job):
             warn_dropped(src, meta["other_views"], fmt.title, f"they belong to the other view(s) {', '.join(rest)}; "
                                                               f"view {meta['view']} is written alone, as a plain image")
         # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
-        image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
+        codes = map_codes(fmt, meta, self.bits)
+        if codes is not None:  # an ST map holds coordinates, not colours: written as raw codes
+            image, write_opts = check_image(image, src), codes
+        else:
+            image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
         if "in_place" in fmt.write_options:
             write_opts["in_place"] = True
         if keeps_extra and meta.get("extra_planes"):
@@ -112,6 +116,22 @@ class ConvertJob(Job):
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 
+def map_codes(fmt, meta: dict, bits: int | None) -> dict | None:
+    """The write options of an ST map (an EXR whose header holds ``lenslab:stmap``, as ``lenslab stmap``
+    writes it) going to integer samples (PNG, PPM, JPG; TIFF with ``bits``): its s, t and A as raw codes over
+    their maximum (16-bit unless ``bits`` says 8, where the format holds 16), neither tone-mapped nor
+    sRGB-encoded, the way OpenCV, tifffile and Nuke (colourspace raw) store maps and
+    :func:`lenslab.stmap.read_st_map` reads them; None for any other image, or a float output."""
+    if "lenslab:stmap" not in (meta.get("attributes") or {}) or "raw" not in fmt.write_options:
+        return None
+    if fmt.hdr and not bits:  # a float TIFF: the values as they are
+        return None
+    bits = bits or (16 if 16 in fmt.bit_depths else 8)
+    if "sample_type" in fmt.write_options:
+        return {"raw": True, "sample_type": f"uint{bits}"}
+    return {"raw": True, **({"bits": bits} if "bits" in fmt.write_options else {})}
+
+
 def kept_bits(fmt, meta: dict) -> int | None:
     """16 where the input holds integers of 9 to 16 bits (a 16-bit PNG, a 10- or 12-bit HEIC) and format record
     ``fmt`` writes 16-bit integers (PNG, PPM/PGM, TIFF): the input's precision is kept, as EXR to EXR keeps its
@@ -123,4 +143,4 @@ def kept_bits(fmt, meta: dict) -> int | None:
     return None
 
 
-__all__ = ["ConvertJob", "kept_bits"]
+__all__ = ["ConvertJob", "kept_bits", "map_codes"]

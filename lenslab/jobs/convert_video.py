@@ -86,6 +86,7 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
 
     # colours outside the sRGB gamut: counted over every frame, one note for the clip
     rate = options.get("rate") or _first_rate(files) or 24
+    audio = _audio_kept(files, options.get("frames"))
     import warnings
 
     from lenslab.jobs.stages import AutoExposureNote
@@ -103,7 +104,7 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
                 if writer is None:
                     h, w = image.shape[:2]
                     info = VideoInfo(w, h, Fraction(str(rate)), len(files), "", "", primaries, transfer, matrix, 1)
-                    writer = VideoWriter(tmp, info, codec=options.get("codec"))
+                    writer = VideoWriter(tmp, info, codec=options.get("codec"), audio_from=audio)
                     from lenslab.io.video.codecs import open_encoder
 
                     try:  # a size the encoder refuses: one line now (it closes the writer's container)
@@ -122,6 +123,28 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
         return 0
     gamut.warn(dst, writer.count, writer.info.width * writer.info.height)
     return writer.count
+
+
+def _audio_kept(files: list[str], frames) -> str | None:
+    """The clip whose audio packets are copied into the output: the one input, when it is a clip with audio
+    written whole (as ``lenslab warp`` keeps it); None otherwise, with a note when a clip's audio is left out."""
+    from lenslab.jobs.warp_video import is_video
+
+    clips = [f for f in files if is_video(f)]
+    if not clips:
+        return None
+    from lenslab.io.video import probe_video
+
+    heard = [f for f in clips if probe_video(f).audio]
+    if not heard:
+        return None
+    if len(files) == 1 and (frames is None or tuple(frames) == (0, None)):
+        return heard[0]
+    import warnings
+
+    warnings.warn(f"{heard[0]}: the audio was left out: it is kept only when one whole clip is converted",
+                  UserWarning, stacklevel=3)
+    return None
 
 
 def _first_rate(files: list[str]):

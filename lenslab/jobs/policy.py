@@ -70,7 +70,27 @@ def _check_output(path, inputs, overwrite: bool) -> Path:
     refuse_special(out)
     if not out.parent.is_dir() and str(out.parent) not in ("", "."):
         raise OutputError(f"{out}: the folder {out.parent} does not exist")
+    check_writable(out)
     return out
+
+
+def check_writable(out: Path) -> None:
+    """An :class:`OutputError` naming ``out`` when its folder does not let a file be made in it (read-only, no
+    permission, a virtual file system such as /proc): a file of the temporaries' pattern is created there and
+    removed at once, so the refusal comes before any input is read, never at the rename of a finished image."""
+    from lenslab.atomic import TEMPORARY_TAG, owner
+
+    folder = out.parent
+    probe = folder / f".{out.stem}{TEMPORARY_TAG}{owner()}-{os.urandom(4).hex()}{out.suffix}"
+    try:
+        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+    except OSError as exc:
+        raise OutputError(f"{out}: cannot be written: no file can be made in the folder "
+                          f"{folder if str(folder) else '.'} ({exc.strerror or exc})") from None
+    try:
+        os.unlink(probe)
+    except OSError:
+        pass
 
 
 def check_output_dir(path: str | os.PathLike, inputs: int | None = None) -> Path:

@@ -70,7 +70,7 @@ def test_warp_to_an_odd_size_is_one_error_line_and_no_file(tmp_path, capsys):
     _clip(clip)
     out = tmp_path / "fish.mp4"
     assert main(["warp", str(clip), "-o", str(out), "--to", "fisheye:fov=180", "--from", "equirect",
-                 "--size", "63x63", "-q"]) == 1
+                 "--size", "63x63", "-q"]) == 2  # the size is on the command line: a usage error
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "63 x 63" in err[0] and "even width and height" in err[0], err
+    assert len(err) == 1 and "--size 63x63" in err[0] and "even width and height" in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4"]  # no output, no temporary

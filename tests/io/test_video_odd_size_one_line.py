@@ -1,4 +1,4 @@
-"""A warp to an H.265 clip of an odd size fails in one line, before any frame: x265 refuses 4:2:0 frames of
+"""A warp to an H.264 or H.265 clip of an odd --size is a usage error (exit 2) in one line, before any frame: x265 refuses 4:2:0 frames of
 an odd width or height (checked on PyAV directly first: FFmpeg's own refusal), and it used to print its own two
 ``x265 [error]`` lines on standard error before lenslab's. Run as a command, since x265 writes to the process's
 standard error itself."""
@@ -32,12 +32,14 @@ def test_an_odd_size_is_one_error_line(tmp_path, codec, size):
     run = subprocess.run([sys.executable, "-m", "lenslab", "warp", str(clip), "-o", str(tmp_path / "fish.mp4"),
                           "--from", "equirect", "--to", "fisheye:fov=180", "--size", size, "--codec", codec],
                          capture_output=True, text=True)
-    assert run.returncode == 1
-    w, h = size.split("x")
+    # the size is on the command line: a usage error (exit 2), before any frame is decoded
+    assert run.returncode == 2
+    w, h = (int(v) for v in size.split("x"))
     encoder = {"h264": "libx264", "h265": "libx265"}[codec]
     assert run.stderr.strip().splitlines() == [
-        f"lenslab warp: error: {clip}: the {encoder} encoder cannot encode {w} x {h} frames in "
-        f"{'yuv420p10le' if codec == 'h265' else 'yuv420p'}: its 4:2:0 chroma needs an even width and height"]
+        f"lenslab warp: error: --size {size}: the {encoder} encoder of this clip writes 4:2:0 "
+        f"({'yuv420p10le' if codec == 'h265' else 'yuv420p'}), whose chroma needs an even width and height; "
+        f"give --size {w + w % 2}x{h + h % 2}, or --codec ffv1 (4:4:4)"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4"]  # no output, no temporary
 
 
@@ -64,3 +66,28 @@ def test_frames_of_an_odd_size_to_a_clip_are_one_error_line(tmp_path, codec):
         f"lenslab convert: error: {frames / 'f0.exr'}: the {encoder} encoder cannot encode 33 x 31 frames in {pix}: "
         "its 4:2:0 chroma needs an even width and height"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames"]  # no clip, no temporary
+
+
+def test_an_odd_size_to_the_default_codec_is_a_usage_error_before_any_frame(tmp_path, monkeypatch, capsys):
+    """`lenslab warp pano.mp4 -o f.mp4 --size 513x513`: .mp4's default encoder, x264, refuses 513 x 513 in 4:2:0
+    and opens for the even size suggested (FFmpeg's answers, through PyAV); lenslab says so with exit 2 before it
+    probes or decodes the clip."""
+    import lenslab.io.video as video
+    from lenslab.cli.main import main
+
+    assert not encoder_opens("libx264", "yuv420p", 513, 513, str(tmp_path / "probe.mp4"))
+    assert encoder_opens("libx264", "yuv420p", 514, 514, str(tmp_path / "probe.mp4"))
+    (tmp_path / "probe.mp4").unlink(missing_ok=True)
+    clip = tmp_path / "pano.mp4"
+    _clip(clip)
+
+    def untouched(*args, **kwargs):
+        raise AssertionError("the clip was opened")
+
+    monkeypatch.setattr(video, "read_frames", untouched)
+    monkeypatch.setattr(video, "probe_video", untouched)
+    assert main(["warp", str(clip), "-o", str(tmp_path / "f.mp4"), "--to", "fisheye:fov=180",
+                 "--size", "513x513"]) == 2
+    err = capsys.readouterr().err
+    assert "--size 513x513" in err and "--size 514x514" in err and "the clip was opened" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pano.mp4"]

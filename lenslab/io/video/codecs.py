@@ -21,6 +21,23 @@ X265_MIN_SIDE = 16
 X265_CUTREE_SIDE = 64
 
 
+def check_clip_size(size: tuple[int, int], path, codec: str | None) -> None:
+    """A :class:`~lenslab.errors.UsageError` for an output size given on the command line that the clip's encoder
+    refuses (an odd side in 4:2:0, which x264 and x265 cannot encode), before any frame is decoded; ``codec``:
+    ``--codec``, None for the default of ``path``'s extension (H.264 or H.265 in .mp4, both 4:2:0)."""
+    from pathlib import Path
+
+    from lenslab.errors import UsageError
+
+    w, h = size
+    for name in [codec] if codec else DEFAULT_CODEC.get(Path(path).suffix.lower(), ()):
+        encoder, pix_fmt, _ = CODECS[name]
+        if encoder in ODD_4_2_0_REFUSED and pix_fmt.startswith("yuv420") and (w % 2 or h % 2):
+            raise UsageError(f"--size {w}x{h}: the {encoder} encoder of this clip writes 4:2:0 ({pix_fmt}), whose "
+                             f"chroma needs an even width and height; give --size {w + w % 2}x{h + h % 2}, or "
+                             "--codec ffv1 (4:4:4)")
+
+
 def x265_params(width: int, height: int) -> str:
     """The ``x265-params`` lenslab gives libx265 for ``width`` x ``height`` frames.
 

@@ -146,7 +146,7 @@ class Calibrated(Lens):
 
             dist = PolyDistortion()
             dist.prepare(1.0)
-        table, step = dist.table
+        table, step = dist.ready().table
 
         def fill(flat, d, ok):
             worst = lens_kernels().calibrated_unproject(

@@ -27,6 +27,8 @@ so every pixel the forward map reaches is inverted. Points that do not converge 
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.polynomial import polynomial as P
 
@@ -44,25 +46,40 @@ def first_positive_root(coeffs, s_max: float = np.inf) -> float:
     infinite) and bisection to the last bit: robust where eigenvalue root finders are not (a
     negligible leading coefficient throws ``polyroots`` off)."""
     c = np.asarray(coeffs, dtype=FLOAT)
-    top = min(float(s_max), 1e6)
-    grid = np.linspace(0.0, min(top, 10.0), 4001)
-    if top > 10.0:
-        grid = np.concatenate([grid, np.geomspace(10.0, top, 2001)[1:]])
+    grid = _root_grid(min(float(s_max), 1e6))
     vals = P.polyval(grid, c)
     sign0 = np.sign(vals[0]) or 1.0
     bad = np.flatnonzero(np.sign(vals) != sign0)
     if bad.size == 0:
         return np.inf
     lo, hi = float(grid[bad[0] - 1]), float(grid[bad[0]])
+    terms = c[::-1].tolist()  # highest first: Horner's rule in Python floats, as polyval does it
+
+    def value(x: float) -> float:
+        v = terms[0] + x * 0.0
+        for t in terms[1:]:
+            v = t + v * x
+        return v
+
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        if np.sign(P.polyval(mid, c)) == sign0:
+        if np.sign(value(mid)) == sign0:
             lo = mid
         else:
             hi = mid
     return hi
+
+
+@functools.lru_cache(maxsize=32)
+def _root_grid(top: float) -> np.ndarray:
+    """The samples of :func:`first_positive_root` up to ``top`` (read-only; made once per bound)."""
+    grid = np.linspace(0.0, min(top, 10.0), 4001)
+    if top > 10.0:
+        grid = np.concatenate([grid, np.geomspace(10.0, top, 2001)[1:]])
+    grid.flags.writeable = False
+    return grid
 
 
 class PolyDistortion:
@@ -80,18 +97,20 @@ class PolyDistortion:
         self.limit = float(limit)
         self.fold = min(self._fold_radius(), self.limit)  # undistorted radius bound (may be inf)
         self.max_iterations = 0  # largest iteration count of the last inverse (for the benchmark)
-        self.table = None
+        self.table, self.rd_max = None, 1.0  # (the inverse: made on first use, see prepare)
 
     # -- the radial map -------------------------------------------------------------------------
     def _fold_radius(self) -> float:
         """First radius where ``d(r R)/dr`` reaches 0 or the denominator vanishes."""
         n = np.r_[1.0, self.a]
+        s_max = self.limit * self.limit
+        if not self.b.any():  # no denominator: N + 2 s N', the same coefficients polymul and polyadd give
+            return float(np.sqrt(first_positive_root(n + 2.0 * (np.arange(n.size, dtype=FLOAT) * n), s_max)))
         d = np.r_[1.0, self.b]
         s_poly = np.array([0.0, 1.0])
         # d/dr [r N(s)/D(s)] with s = r^2 has numerator (N + 2 s N') D - 2 s N D'
         num = P.polysub(P.polymul(P.polyadd(n, 2.0 * P.polymul(s_poly, P.polyder(n))), d),
                         2.0 * P.polymul(s_poly, P.polymul(n, P.polyder(d))))
-        s_max = self.limit * self.limit
         s_fold = min(first_positive_root(num, s_max), first_positive_root(d, s_max))
         return float(np.sqrt(s_fold))
 
@@ -130,7 +149,17 @@ class PolyDistortion:
     # -- inverse ---------------------------------------------------------------------------------
     def prepare(self, rd_max: float) -> None:
         """Set up the inverse for distorted radii up to ``rd_max`` (the image's farthest corner, with a
-        margin): the bracket of the radial solve and its table of starting guesses."""
+        margin): the bracket of the radial solve and its table of starting guesses, made on first use
+        (:meth:`ready`), so a lens only projected (a fit's evaluations in pixel space) never makes them."""
+        self.rd_max, self.table = float(rd_max), None
+
+    def ready(self) -> "PolyDistortion":
+        """This distortion with its inverse set up (see :meth:`prepare`)."""
+        if self.table is None:
+            self._make_inverse(self.rd_max)
+        return self
+
+    def _make_inverse(self, rd_max: float) -> None:
         hi = self.fold
         if not np.isfinite(hi):  # no fold: a bracket wide enough for every radius in the image
             hi = max(float(rd_max), 1e-3)
@@ -139,4 +168,4 @@ class PolyDistortion:
         self.hi = hi
         self.f_hi = float(self.radius_map(np.array([hi]))[0][0])
         self.strict = bool(np.isfinite(self.fold))
-        self.table = inverse_table(self.radius_map, hi)
+        self.table = inverse_table(self.radius_map, hi)  # (last: a table set means the rest is)

@@ -317,11 +317,18 @@ class Lens:
     def param_values(self) -> dict[str, Any]:
         return {p.name: getattr(self, p.name) for p in self.params}
 
+    #: parameters left out of :meth:`spec` at these values, which mean "derived from the others" (``vfov=0``:
+    #: square pixels), so a printed spec is one a user would type
+    quiet_defaults: dict[str, Any] = {}
+
     def spec(self) -> str:
-        """Canonical spec string, e.g. ``fisheye:fov=180,mapping=equisolid`` (size not included)."""
+        """Canonical spec string, e.g. ``fisheye:fov=180,mapping=equisolid`` (size not included; parameters at
+        their :attr:`quiet_defaults` left out). It parses back to the same lens."""
         parts = []
         for p in self.params:
             val = getattr(self, p.name)
+            if p.name in self.quiet_defaults and val == self.quiet_defaults[p.name]:
+                continue
             parts.append(f"{p.name}={format_number(val)}" if isinstance(val, float) else f"{p.name}={val}")
         return self.name + (":" + ",".join(parts) if parts else "")
 

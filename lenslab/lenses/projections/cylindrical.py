@@ -60,8 +60,7 @@ class _Cylinder(Lens):
         else:
             self.Fv = self.F
 
-    def spec(self) -> str:
-        return super().spec().replace(",vfov=0", "")
+    quiet_defaults = {"vfov": 0.0}  # 0: square pixels from fov
 
     #: the frame the model fills at fov 360 with square pixels, width / height (lenslab warp's default size)
     frame_aspect = 2.0

@@ -130,11 +130,9 @@ class Fisheye(Lens):
         self.plane_scale = float(azimuthal.radius_of_angle(self.kind, self.F))
 
     def spec(self) -> str:
-        text = super().spec()
+        text = super().spec()  # (its quiet_defaults left out)
         name, _, rest = text.partition(":")
-        keep = [p for p in rest.split(",")
-                if not (p.partition("=")[0] in self.quiet_defaults
-                        and getattr(self, p.partition("=")[0]) == self.quiet_defaults[p.partition("=")[0]])]
+        keep = rest.split(",")
         if self.vfov > 0 or self.dfov > 0:
             keep = [p for p in keep if not p.startswith("fov=")]
         return name + ":" + ",".join(keep)

@@ -57,11 +57,14 @@ class Perspective(Lens):
         if self.dfov > 0 and (self.vfov > 0 or self.fov != 90.0):
             raise LensError("perspective: give dfov alone (square pixels), not with fov or vfov")
 
+    quiet_defaults = {"vfov": 0.0, "dfov": 0.0}  # 0: derived from fov (square pixels)
+
     def spec(self) -> str:
-        text = super().spec()
         if self.dfov > 0:
-            return f"{self.name}:dfov={self.dfov:g}"
-        return text.replace(",dfov=0", "")
+            from lenslab.lenses.core.base import format_number
+
+            return f"{self.name}:dfov={format_number(self.dfov)}"
+        return super().spec()
 
     @property
     def t(self) -> float:
