@@ -15,28 +15,65 @@ namespace lenslab {
 namespace {
 
 constexpr double PI = 3.141592653589793;
+constexpr double HALF_SQRT3 = 0.8660254037844386;  // sin(pi / 3)
+// cos and sin of k pi / 3, k = -3..3: the rotations that turn sin(pi g / 3) into sin(pi (g + k) / 3)
+constexpr double ROT_COS[7] = {-1.0, -0.5, 0.5, 1.0, 0.5, -0.5, -1.0};
+constexpr double ROT_SIN[7] = {0.0, -HALF_SQRT3, -HALF_SQRT3, 0.0, HALF_SQRT3, HALF_SQRT3, 0.0};
 
-inline double weight(int kind, double t) {
+inline double weight(int kind, double t) {  // tent and Catmull-Rom at offset t
     const double a = std::fabs(t);
     if (kind == 1) return 1.0 - a > 0.0 ? 1.0 - a : 0.0;
-    if (kind == 2) {
-        if (a < 1.0) return (1.5 * a - 2.5) * a * a + 1.0;
-        if (a < 2.0) return ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0;
-        return 0.0;
-    }
-    if (a == 0.0) return 1.0;
-    if (a >= 3.0) return 0.0;
-    const double pa = PI * a;
-    return 3.0 * std::sin(pa) * std::sin(pa / 3.0) / (pa * pa);
-}
-
-inline int64_t piece_at(double x, double y, const Pieces& pc) {
-    const double fc = std::floor((x + 0.5) / double(pc.cw)), fr = std::floor((y + 0.5) / double(pc.ch));
-    if (!(fc >= 0.0 && fr >= 0.0 && fc < double(pc.gc) && fr < double(pc.gr))) return -1;
-    return pc.grid[int64_t(fr) * pc.gc + int64_t(fc)];
+    if (a < 1.0) return (1.5 * a - 2.5) * a * a + 1.0;
+    if (a < 2.0) return ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0;
+    return 0.0;
 }
 
 }  // namespace
+
+// The Lanczos-3 weights of taps i0 - 2 .. i0 + 3 (i0 = floor(x)) from one sine and cosine: with g = x - round(x)
+// (|g| <= 1/2, exact) and the tap at offset d = g + k, sin(pi d) = (-1)^k sin(pi g) = (-1)^k s (3 - 4 s^2) for
+// s = sin(pi g / 3) (no cancellation: |s| <= 1/2), and sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3). The
+// weight 3 sin(pi d) sin(pi d / 3) / (pi d)^2 is 1 at d = 0 and 0 at |d| >= 3. Branch-free over the taps (the
+// compiler divides them in one vector).
+void lanczos_weights(double x, double* w) {
+    const double i0 = std::floor(x), n = std::floor(x + 0.5);
+    const double g = x - n;
+    if (std::fabs(g) < 1e-150) {  // (pi g)^2 would underflow: the weights are the tap's own to within 1e-150
+        for (int t = 0; t < 6; ++t) w[t] = 0.0;
+        w[int(n - i0) + 2] = 1.0;
+        return;
+    }
+    double s, c;
+    ::sincos(PI * g / 3.0, &s, &c);
+    const double sp = s * (3.0 - 4.0 * s * s);
+    const int r0 = int(n - i0) + 5;  // k + 3 of tap 0 (tap t: k = n - i0 + 2 - t, -3..3)
+    double num[6], den[6], d[6];
+    for (int t = 0; t < 6; ++t) {
+        const int r = r0 - t;
+        d[t] = x - (i0 - 2.0 + double(t));
+        const double pd = PI * d[t];
+        const double sd = (r & 1) ? sp : -sp;  // (-1)^k sin(pi g)
+        num[t] = 3.0 * sd * (s * ROT_COS[r] + c * ROT_SIN[r]);
+        den[t] = pd * pd;
+    }
+    for (int t = 0; t < 6; ++t) {
+        const double v = num[t] / den[t];
+        w[t] = d[t] == 0.0 ? 1.0 : (std::fabs(d[t]) >= 3.0 ? 0.0 : v);
+    }
+}
+
+// The 2 kind weights of one axis at position x (kind 1 tent, 2 Catmull-Rom, 3 Lanczos-3), each divided by their
+// sum (float64, one rounding each: w / sum).
+void axis_weights(int kind, double x, double* w) {
+    const int rad = kind;
+    const double i0 = std::floor(x);
+    if (kind == 3) lanczos_weights(x, w);
+    else
+        for (int t = 0; t < 2 * rad; ++t) w[t] = weight(kind, x - (i0 - double(rad - 1 - t)));
+    double sum = 0.0;
+    for (int t = 0; t < 2 * rad; ++t) sum += w[t];
+    for (int t = 0; t < 2 * rad; ++t) w[t] /= sum;
+}
 
 void fold_piece(int64_t& i, int64_t& j, int64_t p, const int64_t* table) {
     const int64_t* tp = table + p * 16;
@@ -74,13 +111,54 @@ void fold_piece(int64_t& i, int64_t& j, int64_t p, const int64_t* table) {
     else { i = tq[0] + s; j = tq[1] + qh - 1 - k; }
 }
 
+namespace {
+
+inline int64_t piece_at(double x, double y, const Pieces& pc) {
+    const double fc = std::floor((x + 0.5) / double(pc.cw)), fr = std::floor((y + 0.5) / double(pc.ch));
+    if (!(fc >= 0.0 && fr >= 0.0 && fc < double(pc.gc) && fr < double(pc.gr))) return -1;
+    return pc.grid[int64_t(fr) * pc.gc + int64_t(fc)];
+}
+
+// samples ahead whose tap rows are asked of the memory (as the bilinear samplers do, sampler.cpp)
+constexpr int64_t PREFETCH = 16;
+
+// One sample's value added to acc, all taps inside the image (rows read in place, no folding): each row's taps
+// weighted by wx, the rows by wy (normalised weights), in the reference's order; a tap of weight 0 is not read.
+template <int R, int NC>
+inline void add_inside(const float* src, int64_t sw, int64_t nc, int64_t i0, int64_t j0, const double* wx,
+                       const double* wy, double* acc) {
+    const int64_t cn = NC > 0 ? NC : nc;
+    double v[NC > 0 ? NC : 4], rs[NC > 0 ? NC : 4];
+    bool zx = false;
+    for (int t = 0; t < 2 * R; ++t) zx |= wx[t] == 0.0;
+    const float* row = src + ((j0 - R + 1) * sw + (i0 - R + 1)) * cn;
+    for (int64_t c0 = 0; c0 < cn; c0 += (NC > 0 ? NC : 4)) {  // channels four at a time (NC: all at once)
+        const int64_t m = NC > 0 ? NC : std::min<int64_t>(4, cn - c0);
+        for (int64_t c = 0; c < m; ++c) v[c] = 0.0;
+        const float* rw = row + c0;
+        for (int tj = 0; tj < 2 * R; ++tj, rw += sw * cn) {
+            if (wy[tj] == 0.0) continue;
+            for (int64_t c = 0; c < m; ++c) rs[c] = 0.0;
+            for (int ti = 0; ti < 2 * R; ++ti) {
+                if (zx && wx[ti] == 0.0) continue;
+                const float* px = rw + ti * cn;
+                for (int64_t c = 0; c < m; ++c) rs[c] += wx[ti] * double(px[c]);
+            }
+            for (int64_t c = 0; c < m; ++c) v[c] += wy[tj] * rs[c];
+        }
+        for (int64_t c = 0; c < m; ++c) acc[c0 + c] += v[c];
+    }
+}
+
+}  // namespace
+
 void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
                const bool* valid, int64_t npix, int64_t ns, bool wrap, bool top, bool bottom, const Pieces& pc,
                int kind, float* out, float* alpha) {
     const double inv = 1.0 / double(ns);
     const int rad = std::max(kind, 1);
-    std::vector<double> acc(static_cast<size_t>(nc));
-    double wx[6], wy[6];
+    std::vector<double> acc(static_cast<size_t>(nc)), val(acc), rsum(acc);
+    double wx[6], wy[6];  // one axis's weights, computed once per sample
     auto fold = [&](int64_t& i, int64_t& j, int64_t piece) {
         if (piece >= 0) fold_piece(i, j, piece, pc.table);
         else fold_index(i, j, sw, sh, wrap, top, bottom);
@@ -89,6 +167,14 @@ void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float
         std::fill(acc.begin(), acc.end(), 0.0);
         int64_t hits = 0;
         for (int64_t k = q * ns; k < (q + 1) * ns; ++k) {
+            if (k + PREFETCH < npix * ns) {  // a sample a few ahead: its tap rows
+                const int64_t i = int64_t(int32_t(xs[k + PREFETCH])) - rad + 1;
+                const int64_t j = int64_t(int32_t(ys[k + PREFETCH])) - rad + 1;
+                if (i >= 0 && j >= 0 && i + 2 * rad <= sw && j + 2 * rad <= sh) {
+                    const float* t = src + (j * sw + i) * nc;
+                    for (int r = 0; r < 2 * rad; ++r, t += sw * nc) __builtin_prefetch(t);
+                }
+            }
             if (!valid[k]) continue;
             ++hits;
             const double x = double(clamp_pos(xs[k])), y = double(clamp_pos(ys[k]));  // NaN: -2^40
@@ -101,25 +187,36 @@ void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float
                 continue;
             }
             const int64_t i0 = int64_t(std::floor(x)), j0 = int64_t(std::floor(y));
-            double sx = 0.0, sy = 0.0;
-            for (int t = 0; t < 2 * rad; ++t) {
-                wx[t] = weight(kind, x - double(i0 - rad + 1 + t));
-                wy[t] = weight(kind, y - double(j0 - rad + 1 + t));
-                sx += wx[t];
-                sy += wy[t];
+            axis_weights(kind, x, wx);
+            axis_weights(kind, y, wy);
+            if (piece < 0 && i0 - rad + 1 >= 0 && j0 - rad + 1 >= 0 && i0 + rad < sw && j0 + rad < sh) {
+                double* a = acc.data();
+                if (kind == 3) {
+                    if (nc == 3) add_inside<3, 3>(src, sw, nc, i0, j0, wx, wy, a);
+                    else add_inside<3, 0>(src, sw, nc, i0, j0, wx, wy, a);
+                } else if (kind == 2) {
+                    if (nc == 3) add_inside<2, 3>(src, sw, nc, i0, j0, wx, wy, a);
+                    else add_inside<2, 0>(src, sw, nc, i0, j0, wx, wy, a);
+                } else {
+                    if (nc == 3) add_inside<1, 3>(src, sw, nc, i0, j0, wx, wy, a);
+                    else add_inside<1, 0>(src, sw, nc, i0, j0, wx, wy, a);
+                }
+                continue;
             }
-            for (int tj = 0; tj < 2 * rad; ++tj) {
+            std::fill(val.begin(), val.end(), 0.0);
+            for (int tj = 0; tj < 2 * rad; ++tj) {  // the same sums, each tap folded
                 if (wy[tj] == 0.0) continue;
+                std::fill(rsum.begin(), rsum.end(), 0.0);
                 for (int ti = 0; ti < 2 * rad; ++ti) {
-                    double ww = wx[ti] * wy[tj];
-                    if (ww == 0.0) continue;
-                    ww /= sx * sy;
+                    if (wx[ti] == 0.0) continue;
                     int64_t ii = i0 - rad + 1 + ti, jj = j0 - rad + 1 + tj;
                     fold(ii, jj, piece);
                     const float* px = src + (jj * sw + ii) * nc;
-                    for (int64_t c = 0; c < nc; ++c) acc[size_t(c)] += ww * double(px[c]);
+                    for (int64_t c = 0; c < nc; ++c) rsum[size_t(c)] += wx[ti] * double(px[c]);
                 }
+                for (int64_t c = 0; c < nc; ++c) val[size_t(c)] += wy[tj] * rsum[size_t(c)];
             }
+            for (int64_t c = 0; c < nc; ++c) acc[size_t(c)] += val[size_t(c)];
         }
         for (int64_t c = 0; c < nc; ++c) {  // negative lobes overshoot: a finite source stays finite
             const double v = acc[size_t(c)] * inv;

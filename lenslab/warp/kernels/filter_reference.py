@@ -3,7 +3,7 @@
 
 Vectorised over pixels, every float64 step in the kernel's order (the kernel is built without fused
 multiply-adds), so nearest, tent and Catmull-Rom give the kernel's bits; Lanczos differs only where
-NumPy's sine and the C library's round differently.
+NumPy's sine and cosine and the C library's ``sincos`` round differently.
 """
 
 from __future__ import annotations
@@ -14,17 +14,47 @@ from lenslab.warp.seam import fold_taps
 
 
 def weight(kind: int, t: np.ndarray) -> np.ndarray:
-    """The filter weight at offsets ``t`` (float64): 1 tent, 2 Catmull-Rom, 3 Lanczos-3."""
+    """The tent (kind 1) or Catmull-Rom (kind 2) weight at offsets ``t`` (float64)."""
     a = np.abs(t)
     if kind == 1:
         return np.maximum(0.0, 1.0 - a)
-    if kind == 2:
-        return np.where(a < 1.0, (1.5 * a - 2.5) * a * a + 1.0,
-                        np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
-    pa = np.pi * a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lanczos = 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
-    return np.where(a == 0.0, 1.0, np.where(a >= 3.0, 0.0, lanczos))
+    return np.where(a < 1.0, (1.5 * a - 2.5) * a * a + 1.0,
+                    np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
+
+
+def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
+    """The Lanczos-3 weights of taps ``floor(x) - 2 .. floor(x) + 3`` at positions ``x`` (float64), from one sine
+    and cosine of ``pi g / 3``, ``g = x - round(x)``: the tap at ``d = g + k`` has ``sin(pi d) = (-1)^k s (3 -
+    4 s^2)`` and ``sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3)``; 1 at ``d = 0``, 0 at ``|d| >= 3``."""
+    i0, n = np.floor(x), np.floor(x + 0.5)
+    g = x - n
+    s, c = np.sin(np.pi * g / 3.0), np.cos(np.pi * g / 3.0)
+    sp = s * (3.0 - 4.0 * s * s)
+    half = 0.8660254037844386
+    cos_k = np.array([-1.0, -0.5, 0.5, 1.0, 0.5, -0.5, -1.0])  # k = -3..3
+    sin_k = np.array([0.0, -half, -half, 0.0, half, half, 0.0])
+    out = []
+    for t in range(6):
+        r = (n - i0).astype(np.int64) + 5 - t  # k + 3
+        d = x - (i0 - 2.0 + float(t))
+        pd = np.pi * d
+        sd = np.where((r & 1) == 1, sp, -sp)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = 3.0 * sd * (s * cos_k[r] + c * sin_k[r]) / (pd * pd)
+        own = np.abs(g) < 1e-150  # (pi g)^2 would underflow: the tap's own weight, 1, and 0 elsewhere
+        out.append(np.where(own, np.where(r == 3, 1.0, 0.0), np.where(d == 0.0, 1.0, np.where(np.abs(d) >= 3.0, 0.0, v))))
+    return out
+
+
+def axis_weights(kind: int, x: np.ndarray) -> list[np.ndarray]:
+    """The ``2 kind`` weights of one axis at positions ``x`` (taps from ``floor(x) - kind + 1``), each divided by
+    their sum (the sum taken in tap order)."""
+    i0 = np.floor(x)
+    w = lanczos_weights(x) if kind == 3 else [weight(kind, x - (i0 - float(kind - 1 - t))) for t in range(2 * kind)]
+    total = 0.0
+    for t in range(2 * kind):
+        total = total + w[t]
+    return [wt / total for wt in w]
 
 
 def piece_at(x, y, grid: np.ndarray, cell: tuple[int, int]) -> np.ndarray:
@@ -88,17 +118,15 @@ def separable(src: np.ndarray, xs, ys, valid, border, kind: int):
             acc = acc + np.where(vk[:, None], read(np.floor(xk + 0.5), np.floor(yk + 0.5)), 0.0)
             continue
         i0, j0 = np.floor(xk), np.floor(yk)
-        wx = [weight(kind, xk - (i0 - rad + 1 + t)) for t in range(2 * rad)]
-        wy = [weight(kind, yk - (j0 - rad + 1 + t)) for t in range(2 * rad)]
-        sx = sy = 0.0
-        for t in range(2 * rad):
-            sx = sx + wx[t]
-            sy = sy + wy[t]
-        for tj in range(2 * rad):
+        wx, wy = axis_weights(kind, xk), axis_weights(kind, yk)
+        val = np.zeros_like(acc)
+        for tj in range(2 * rad):  # each row's taps weighted by wx, then the rows by wy; taps of weight 0 not read
+            row = np.zeros_like(acc)
             for ti in range(2 * rad):
-                ww = wx[ti] * wy[tj] / (sx * sy)
-                term = ww[:, None] * read(i0 - rad + 1 + ti, j0 - rad + 1 + tj)
-                acc = acc + np.where((vk & (wx[ti] * wy[tj] != 0.0))[:, None], term, 0.0)
+                term = wx[ti][:, None] * read(i0 - rad + 1 + ti, j0 - rad + 1 + tj)
+                row = row + np.where((wx[ti] != 0.0)[:, None], term, 0.0)
+            val = val + np.where((wy[tj] != 0.0)[:, None], wy[tj][:, None] * row, 0.0)
+        acc = acc + np.where(vk[:, None], val, 0.0)
     big = float(np.finfo(np.float32).max)
     mean = acc * (1.0 / ns)
     return np.clip(mean, -big, big).astype(np.float32), (v.sum(axis=1) * (1.0 / ns)).astype(np.float32)
