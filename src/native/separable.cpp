@@ -30,15 +30,16 @@ inline double weight(int kind, double t) {  // tent and Catmull-Rom at offset t
 
 }  // namespace
 
-// The Lanczos-3 weights of taps i0 - 2 .. i0 + 3 (i0 = floor(x)) from one sine and cosine: with g = x - round(x)
-// (|g| <= 1/2, exact) and the tap at offset d = g + k, sin(pi d) = (-1)^k sin(pi g) = (-1)^k s (3 - 4 s^2) for
-// s = sin(pi g / 3) (no cancellation: |s| <= 1/2), and sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3). The
-// weight 3 sin(pi d) sin(pi d / 3) / (pi d)^2 is 1 at d = 0 and 0 at |d| >= 3. Branch-free over the taps (the
-// compiler divides them in one vector).
+// The Lanczos-3 weights of taps i0 - 2 .. i0 + 3 (i0 = floor(x)), unnormalised, from one sine and cosine: with
+// g = x - round(x) (|g| <= 1/2, exact) and the tap at offset d = g + k, sin(pi d) = (-1)^k sin(pi g) = (-1)^k
+// s (3 - 4 s^2) for s = sin(pi g / 3) (no cancellation: |s| <= 1/2), and sin(pi d / 3) = s cos(k pi / 3) +
+// c sin(k pi / 3). The window 3 sin(pi d) sin(pi d / 3) / (pi d)^2 is returned times 3 prod_s (pi d_s)^2 / 3
+// (a factor the normalisation takes out): sin(pi d) sin(pi d / 3) prod_{s != t} (pi d_s)^2, no division. At
+// |g| < 1e-60 (never for a float32 position but 0) the weights are the tap's own, to within 1e-60.
 void lanczos_weights(double x, double* w) {
     const double i0 = std::floor(x), n = std::floor(x + 0.5);
     const double g = x - n;
-    if (std::fabs(g) < 1e-150) {  // (pi g)^2 would underflow: the weights are the tap's own to within 1e-150
+    if (std::fabs(g) < 1e-60) {
         for (int t = 0; t < 6; ++t) w[t] = 0.0;
         w[int(n - i0) + 2] = 1.0;
         return;
@@ -47,18 +48,19 @@ void lanczos_weights(double x, double* w) {
     ::sincos(PI * g / 3.0, &s, &c);
     const double sp = s * (3.0 - 4.0 * s * s);
     const int r0 = int(n - i0) + 5;  // k + 3 of tap 0 (tap t: k = n - i0 + 2 - t, -3..3)
-    double num[6], den[6], d[6];
+    double den[6], pre[6], suf[6];
     for (int t = 0; t < 6; ++t) {
-        const int r = r0 - t;
-        d[t] = x - (i0 - 2.0 + double(t));
-        const double pd = PI * d[t];
-        const double sd = (r & 1) ? sp : -sp;  // (-1)^k sin(pi g)
-        num[t] = 3.0 * sd * (s * ROT_COS[r] + c * ROT_SIN[r]);
+        const double pd = PI * (x - (i0 - 2.0 + double(t)));
         den[t] = pd * pd;
     }
+    pre[0] = 1.0;
+    suf[5] = 1.0;
+    for (int t = 1; t < 6; ++t) pre[t] = pre[t - 1] * den[t - 1];
+    for (int t = 4; t >= 0; --t) suf[t] = suf[t + 1] * den[t + 1];
     for (int t = 0; t < 6; ++t) {
-        const double v = num[t] / den[t];
-        w[t] = d[t] == 0.0 ? 1.0 : (std::fabs(d[t]) >= 3.0 ? 0.0 : v);
+        const int r = r0 - t;
+        const double sd = (r & 1) ? sp : -sp;  // (-1)^k sin(pi g)
+        w[t] = sd * (s * ROT_COS[r] + c * ROT_SIN[r]) * (pre[t] * suf[t]);
     }
 }
 

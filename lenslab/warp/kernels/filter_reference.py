@@ -23,9 +23,10 @@ def weight(kind: int, t: np.ndarray) -> np.ndarray:
 
 
 def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
-    """The Lanczos-3 weights of taps ``floor(x) - 2 .. floor(x) + 3`` at positions ``x`` (float64), from one sine
-    and cosine of ``pi g / 3``, ``g = x - round(x)``: the tap at ``d = g + k`` has ``sin(pi d) = (-1)^k s (3 -
-    4 s^2)`` and ``sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3)``; 1 at ``d = 0``, 0 at ``|d| >= 3``."""
+    """The Lanczos-3 weights of taps ``floor(x) - 2 .. floor(x) + 3`` at positions ``x`` (float64), unnormalised,
+    from one sine and cosine of ``pi g / 3``, ``g = x - round(x)``: the tap at ``d = g + k`` has ``sin(pi d) =
+    (-1)^k s (3 - 4 s^2)`` and ``sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3)``; the window times ``prod_s
+    (pi d_s)^2 / 3`` (the normalisation takes it out): no division. The tap's own weight where ``|g| < 1e-60``."""
     i0, n = np.floor(x), np.floor(x + 0.5)
     g = x - n
     s, c = np.sin(np.pi * g / 3.0), np.cos(np.pi * g / 3.0)
@@ -33,16 +34,19 @@ def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
     half = 0.8660254037844386
     cos_k = np.array([-1.0, -0.5, 0.5, 1.0, 0.5, -0.5, -1.0])  # k = -3..3
     sin_k = np.array([0.0, -half, -half, 0.0, half, half, 0.0])
+    den = [(np.pi * (x - (i0 - 2.0 + float(t)))) ** 2 for t in range(6)]
+    pre, suf = [np.ones_like(x)] * 6, [np.ones_like(x)] * 6
+    for t in range(1, 6):
+        pre[t] = pre[t - 1] * den[t - 1]
+    for t in range(4, -1, -1):
+        suf[t] = suf[t + 1] * den[t + 1]
+    own = np.abs(g) < 1e-60
     out = []
     for t in range(6):
         r = (n - i0).astype(np.int64) + 5 - t  # k + 3
-        d = x - (i0 - 2.0 + float(t))
-        pd = np.pi * d
         sd = np.where((r & 1) == 1, sp, -sp)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            v = 3.0 * sd * (s * cos_k[r] + c * sin_k[r]) / (pd * pd)
-        own = np.abs(g) < 1e-150  # (pi g)^2 would underflow: the tap's own weight, 1, and 0 elsewhere
-        out.append(np.where(own, np.where(r == 3, 1.0, 0.0), np.where(d == 0.0, 1.0, np.where(np.abs(d) >= 3.0, 0.0, v))))
+        v = sd * (s * cos_k[r] + c * sin_k[r]) * (pre[t] * suf[t])
+        out.append(np.where(own, np.where(r == 3, 1.0, 0.0), v))
     return out
 
 
