@@ -64,17 +64,28 @@ void lanczos_weights(double x, double* w) {
     }
 }
 
-// The 2 kind weights of one axis at position x (kind 1 tent, 2 Catmull-Rom, 3 Lanczos-3), each divided by their
-// sum (float64, one rounding each: w / sum).
-void axis_weights(int kind, double x, double* w) {
-    const int rad = kind;
+namespace {
+
+// The 2 K weights of one axis at position x (K 1 tent, 2 Catmull-Rom, 3 Lanczos-3), each times the reciprocal
+// of their sum (float64: the sum in tap order, then w * (1 / sum)).
+template <int K>
+inline void weights_of(double x, double* w) {
     const double i0 = std::floor(x);
-    if (kind == 3) lanczos_weights(x, w);
+    if (K == 3) lanczos_weights(x, w);
     else
-        for (int t = 0; t < 2 * rad; ++t) w[t] = weight(kind, x - (i0 - double(rad - 1 - t)));
+        for (int t = 0; t < 2 * K; ++t) w[t] = weight(K, x - (i0 - double(K - 1 - t)));
     double sum = 0.0;
-    for (int t = 0; t < 2 * rad; ++t) sum += w[t];
-    for (int t = 0; t < 2 * rad; ++t) w[t] /= sum;
+    for (int t = 0; t < 2 * K; ++t) sum += w[t];
+    const double inv = 1.0 / sum;
+    for (int t = 0; t < 2 * K; ++t) w[t] *= inv;
+}
+
+}  // namespace
+
+void axis_weights(int kind, double x, double* w) {
+    if (kind == 3) weights_of<3>(x, w);
+    else if (kind == 2) weights_of<2>(x, w);
+    else weights_of<1>(x, w);
 }
 
 void fold_piece(int64_t& i, int64_t& j, int64_t p, const int64_t* table) {
@@ -189,8 +200,9 @@ void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float
                 continue;
             }
             const int64_t i0 = int64_t(std::floor(x)), j0 = int64_t(std::floor(y));
-            axis_weights(kind, x, wx);
-            axis_weights(kind, y, wy);
+            if (kind == 3) { weights_of<3>(x, wx); weights_of<3>(y, wy); }
+            else if (kind == 2) { weights_of<2>(x, wx); weights_of<2>(y, wy); }
+            else { weights_of<1>(x, wx); weights_of<1>(y, wy); }
             if (piece < 0 && i0 - rad + 1 >= 0 && j0 - rad + 1 >= 0 && i0 + rad < sw && j0 + rad < sh) {
                 double* a = acc.data();
                 if (kind == 3) {

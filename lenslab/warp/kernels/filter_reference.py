@@ -51,14 +51,15 @@ def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
 
 
 def axis_weights(kind: int, x: np.ndarray) -> list[np.ndarray]:
-    """The ``2 kind`` weights of one axis at positions ``x`` (taps from ``floor(x) - kind + 1``), each divided by
-    their sum (the sum taken in tap order)."""
+    """The ``2 kind`` weights of one axis at positions ``x`` (taps from ``floor(x) - kind + 1``), each times the
+    reciprocal of their sum (the sum taken in tap order)."""
     i0 = np.floor(x)
     w = lanczos_weights(x) if kind == 3 else [weight(kind, x - (i0 - float(kind - 1 - t))) for t in range(2 * kind)]
     total = 0.0
     for t in range(2 * kind):
         total = total + w[t]
-    return [wt / total for wt in w]
+    inv = 1.0 / total
+    return [wt * inv for wt in w]
 
 
 def piece_at(x, y, grid: np.ndarray, cell: tuple[int, int]) -> np.ndarray:
