@@ -2,8 +2,7 @@
 :func:`lenslab.warp.seam.fold_piece`; ``src/native/separable.cpp``), for the tests.
 
 Vectorised over pixels, every float64 step in the kernel's order (the kernel is built without fused
-multiply-adds), so nearest, tent and Catmull-Rom give the kernel's bits; Lanczos differs only where
-NumPy's sine and cosine and the C library's ``sincos`` round differently.
+multiply-adds), so every filter gives the kernel's bits (Lanczos' sine and cosine are the same polynomial in both).
 """
 
 from __future__ import annotations
@@ -22,6 +21,23 @@ def weight(kind: int, t: np.ndarray) -> np.ndarray:
                     np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
 
 
+SIN_C = [1.0, -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0, -1.0 / 39916800.0, 1.0 / 6227020800.0,
+         -1.0 / 1307674368000.0]  # (-1)^i / (2 i + 1)!
+COS_C = [1.0, -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0, 1.0 / 479001600.0,
+         -1.0 / 87178291200.0, 1.0 / 20922789888000.0]  # (-1)^i / (2 i)!
+
+
+def small_sincos(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``sin z, cos z`` for ``|z| <= pi / 6`` (float64): Taylor series to ``z^15`` and ``z^16`` by Horner's rule."""
+    z2 = z * z
+    ps, pc = np.full_like(z, SIN_C[7]), np.full_like(z, COS_C[8])
+    for i in range(6, -1, -1):
+        ps = ps * z2 + SIN_C[i]
+    for i in range(7, -1, -1):
+        pc = pc * z2 + COS_C[i]
+    return z * ps, pc
+
+
 def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
     """The Lanczos-3 weights of taps ``floor(x) - 2 .. floor(x) + 3`` at positions ``x`` (float64), unnormalised,
     from one sine and cosine of ``pi g / 3``, ``g = x - round(x)``: the tap at ``d = g + k`` has ``sin(pi d) =
@@ -29,7 +45,7 @@ def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
     (pi d_s)^2 / 3`` (the normalisation takes it out): no division. The tap's own weight where ``|g| < 1e-60``."""
     i0, n = np.floor(x), np.floor(x + 0.5)
     g = x - n
-    s, c = np.sin(np.pi * g / 3.0), np.cos(np.pi * g / 3.0)
+    s, c = small_sincos(np.pi * g / 3.0)
     sp = s * (3.0 - 4.0 * s * s)
     half = 0.8660254037844386
     cos_k = np.array([-1.0, -0.5, 0.5, 1.0, 0.5, -0.5, -1.0])  # k = -3..3
