@@ -24,20 +24,9 @@ from lenslab import cxx_kernels
 from lenslab.warp.filters import sample
 from lenslab.warp.kernels import filter_reference as fref
 from lenslab.warp.seam import Border
+from tests.warp.test_native_map_kernels import keys, lanczos3  # the definitions, transcribed in float64
 
 W, H = 8192, 4096  # an 8K panorama's columns and rows: positions of its seam and poles
-
-
-def lanczos3(t):
-    """sinc(t) sinc(t / 3) on |t| < 3 (np.sinc(t) = sin(pi t) / (pi t), 1 at 0)."""
-    return np.where(np.abs(t) < 3.0, np.sinc(t) * np.sinc(t / 3.0), 0.0)
-
-
-def keys(t, a=-0.5):
-    """Keys' cubic convolution kernel (1981); a = -1/2 is Catmull-Rom."""
-    t = np.abs(t)
-    return np.where(t <= 1, (a + 2) * t ** 3 - (a + 3) * t ** 2 + 1,
-                    np.where(t < 2, a * t ** 3 - 5 * a * t ** 2 + 8 * a * t - 4 * a, 0.0))
 
 
 def defined(kern, rad, x):
