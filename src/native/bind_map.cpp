@@ -183,5 +183,5 @@ void bind_map_kernels(nb::module_& m) {
     m.def("axis_weights", [](int kind, In<double> xs, Out<double> w) {
         need(kind >= 1 && kind <= 3 && w.size() == xs.size() * size_t(2 * kind), "kind 1 to 3; w (n, 2 kind)");
         for (size_t q = 0; q < xs.size(); ++q) axis_weights(kind, xs.data()[q], w.data() + q * size_t(2 * kind));
-    }, nb::arg("kind"), nb::arg("xs"), nb::arg("w").noconvert());
+    }, nb::arg("kind"), nb::arg("xs"), nb::arg("w").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 }
