@@ -39,6 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--skip-threads", action="store_true", help="leave out the two-thread figures (slow)")
     parser.add_argument("--only-threads", action="store_true",
                         help="the two-thread figures alone (with the machine's own two-thread ceiling)")
+    parser.add_argument("--only-filters", action="store_true",
+                        help="Lanczos and bicubic one-shot warps against cv2.remap's, one thread (a few seconds)")
     parser.add_argument("--skip-accuracy", action="store_true",
                         help="leave out the accuracy on the real panoramas (slow: a float64 reference for each)")
 
@@ -287,7 +289,22 @@ def big(args) -> None:
               f"{extra:.0f} MiB   aim <= 300  {mark(ok)}")
 
 
+def _source(args):
+    """The speed cases' 4096x2048 float32 RGB source: forest.exr enlarged, or smooth noise without the data."""
+    import cv2
+    import numpy as np
+
+    path = args.data / "forest.exr"
+    small = _read(path) if path.is_file() else np.random.default_rng(0).random((64, 128, 3)).astype(np.float32)
+    return np.ascontiguousarray(cv2.resize(small, (4096, 2048), interpolation=cv2.INTER_CUBIC), np.float32)
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.only_filters:
+        from lenslab.bench.warp_filters import filter_speed
+
+        filter_speed(args, lambda: _source(args))
+        return 0
     if args.only_threads:
         thread_scaling(args)
         return 0

@@ -180,4 +180,8 @@ void bind_map_kernels(nb::module_& m) {
     }, nb::arg("src"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("wrap"), nb::arg("top"),
        nb::arg("bottom"), nb::arg("table"), nb::arg("grid"), nb::arg("cw"), nb::arg("ch"), nb::arg("kind"),
        nb::arg("out").noconvert(), nb::arg("alpha").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+    m.def("axis_weights", [](int kind, In<double> xs, Out<double> w) {
+        need(kind >= 1 && kind <= 3 && w.size() == xs.size() * size_t(2 * kind), "kind 1 to 3; w (n, 2 kind)");
+        for (size_t q = 0; q < xs.size(); ++q) axis_weights(kind, xs.data()[q], w.data() + q * size_t(2 * kind));
+    }, nb::arg("kind"), nb::arg("xs"), nb::arg("w").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 }

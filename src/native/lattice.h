@@ -66,6 +66,9 @@ struct Pieces {
 
 // The separable samplers (lenslab.warp.filters: kind 0 nearest, 1 tent, 2 Catmull-Rom, 3 Lanczos-3) over npix
 // pixels of ns samples; src (sh, sw, nc) float32; out (npix, nc), alpha (npix,).
+// One axis's 2 kind weights at position x (taps floor(x) - kind + 1 ..), each times the reciprocal of their sum
+// (kind 1 tent, 2 Catmull-Rom, 3 Lanczos-3; separable.cpp).
+void axis_weights(int kind, double x, double* w);
 void separable(const float* src, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
                const bool* valid, int64_t npix, int64_t ns, bool wrap, bool top, bool bottom, const Pieces& pc,
                int kind, float* out, float* alpha);

@@ -4,9 +4,8 @@ the code: the Catmull-Rom spline and the Lanczos window transcribed here in floa
 nodes must continue exactly, and OpenCV's remap and copyMakeBorder.
 
 Bounds: these kernels are built without fused multiply-adds and run the references' float64 steps in the
-same order, so the references hold them bit for bit (``assert_array_equal``), but for Lanczos, whose sines
-come from the C library in the kernel and from NumPy in the reference (1e-15 relative measured; 2 float32
-ulp of the output allowed). Against the transcribed formulas the order of operations differs: a few float64
+same order, so the references hold them bit for bit (``assert_array_equal``), Lanczos too: its sine and cosine
+are the same Taylor polynomial in both, not the C library's and NumPy's. Against the transcribed formulas the order of operations differs: a few float64
 ulp of the values (1e-12 relative).
 """
 
@@ -200,10 +199,7 @@ def test_separable_samplers_match_the_reference(border, name, kind, samples):
         sample(src, xs, ys, valid, border, name, out, alpha)
     want, want_alpha = fref.separable(src, xs, ys, valid, border, kind)
     np.testing.assert_array_equal(alpha.reshape(-1), want_alpha)
-    if kind == 3:
-        np.testing.assert_allclose(out.reshape(-1, 3), want, rtol=2 * EPS32, atol=2 * EPS32 * 4.0)
-    else:
-        np.testing.assert_array_equal(out.reshape(-1, 3), want)
+    np.testing.assert_array_equal(out.reshape(-1, 3), want)
 
 
 @pytest.mark.parametrize("name", ["nearest", "bicubic", "lanczos"])

@@ -2,8 +2,7 @@
 :func:`lenslab.warp.seam.fold_piece`; ``src/native/separable.cpp``), for the tests.
 
 Vectorised over pixels, every float64 step in the kernel's order (the kernel is built without fused
-multiply-adds), so nearest, tent and Catmull-Rom give the kernel's bits; Lanczos differs only where
-NumPy's sine and the C library's round differently.
+multiply-adds), so every filter gives the kernel's bits (Lanczos' sine and cosine are the same polynomial in both).
 """
 
 from __future__ import annotations
@@ -14,17 +13,69 @@ from lenslab.warp.seam import fold_taps
 
 
 def weight(kind: int, t: np.ndarray) -> np.ndarray:
-    """The filter weight at offsets ``t`` (float64): 1 tent, 2 Catmull-Rom, 3 Lanczos-3."""
+    """The tent (kind 1) or Catmull-Rom (kind 2) weight at offsets ``t`` (float64)."""
     a = np.abs(t)
     if kind == 1:
         return np.maximum(0.0, 1.0 - a)
-    if kind == 2:
-        return np.where(a < 1.0, (1.5 * a - 2.5) * a * a + 1.0,
-                        np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
-    pa = np.pi * a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lanczos = 3.0 * np.sin(pa) * np.sin(pa / 3.0) / (pa * pa)
-    return np.where(a == 0.0, 1.0, np.where(a >= 3.0, 0.0, lanczos))
+    return np.where(a < 1.0, (1.5 * a - 2.5) * a * a + 1.0,
+                    np.where(a < 2.0, ((-0.5 * a + 2.5) * a - 4.0) * a + 2.0, 0.0))
+
+
+SIN_C = [1.0, -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0, -1.0 / 39916800.0, 1.0 / 6227020800.0,
+         -1.0 / 1307674368000.0]  # (-1)^i / (2 i + 1)!
+COS_C = [1.0, -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0, 1.0 / 479001600.0,
+         -1.0 / 87178291200.0, 1.0 / 20922789888000.0]  # (-1)^i / (2 i)!
+
+
+def small_sincos(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``sin z, cos z`` for ``|z| <= pi / 6`` (float64): Taylor series to ``z^15`` and ``z^16`` by Horner's rule."""
+    z2 = z * z
+    ps, pc = np.full_like(z, SIN_C[7]), np.full_like(z, COS_C[8])
+    for i in range(6, -1, -1):
+        ps = ps * z2 + SIN_C[i]
+    for i in range(7, -1, -1):
+        pc = pc * z2 + COS_C[i]
+    return z * ps, pc
+
+
+def lanczos_weights(x: np.ndarray) -> list[np.ndarray]:
+    """The Lanczos-3 weights of taps ``floor(x) - 2 .. floor(x) + 3`` at positions ``x`` (float64), unnormalised,
+    from one sine and cosine of ``pi g / 3``, ``g = x - round(x)``: the tap at ``d = g + k`` has ``sin(pi d) =
+    (-1)^k s (3 - 4 s^2)`` and ``sin(pi d / 3) = s cos(k pi / 3) + c sin(k pi / 3)``; the window times ``prod_s
+    (pi d_s)^2 / 3`` (the normalisation takes it out): no division. The tap's own weight where ``|g| < 1e-60``."""
+    i0, n = np.floor(x), np.floor(x + 0.5)
+    g = x - n
+    s, c = small_sincos(np.pi * g / 3.0)
+    sp = s * (3.0 - 4.0 * s * s)
+    half = 0.8660254037844386
+    cos_k = np.array([-1.0, -0.5, 0.5, 1.0, 0.5, -0.5, -1.0])  # k = -3..3
+    sin_k = np.array([0.0, -half, -half, 0.0, half, half, 0.0])
+    den = [(np.pi * (x - (i0 - 2.0 + float(t)))) ** 2 for t in range(6)]
+    pre, suf = [np.ones_like(x)] * 6, [np.ones_like(x)] * 6
+    for t in range(1, 6):
+        pre[t] = pre[t - 1] * den[t - 1]
+    for t in range(4, -1, -1):
+        suf[t] = suf[t + 1] * den[t + 1]
+    own = np.abs(g) < 1e-60
+    out = []
+    for t in range(6):
+        r = (n - i0).astype(np.int64) + 5 - t  # k + 3
+        sd = np.where((r & 1) == 1, sp, -sp)
+        v = sd * (s * cos_k[r] + c * sin_k[r]) * (pre[t] * suf[t])
+        out.append(np.where(own, np.where(r == 3, 1.0, 0.0), v))
+    return out
+
+
+def axis_weights(kind: int, x: np.ndarray) -> list[np.ndarray]:
+    """The ``2 kind`` weights of one axis at positions ``x`` (taps from ``floor(x) - kind + 1``), each times the
+    reciprocal of their sum (the sum taken in tap order)."""
+    i0 = np.floor(x)
+    w = lanczos_weights(x) if kind == 3 else [weight(kind, x - (i0 - float(kind - 1 - t))) for t in range(2 * kind)]
+    total = 0.0
+    for t in range(2 * kind):
+        total = total + w[t]
+    inv = 1.0 / total
+    return [wt * inv for wt in w]
 
 
 def piece_at(x, y, grid: np.ndarray, cell: tuple[int, int]) -> np.ndarray:
@@ -88,17 +139,15 @@ def separable(src: np.ndarray, xs, ys, valid, border, kind: int):
             acc = acc + np.where(vk[:, None], read(np.floor(xk + 0.5), np.floor(yk + 0.5)), 0.0)
             continue
         i0, j0 = np.floor(xk), np.floor(yk)
-        wx = [weight(kind, xk - (i0 - rad + 1 + t)) for t in range(2 * rad)]
-        wy = [weight(kind, yk - (j0 - rad + 1 + t)) for t in range(2 * rad)]
-        sx = sy = 0.0
-        for t in range(2 * rad):
-            sx = sx + wx[t]
-            sy = sy + wy[t]
-        for tj in range(2 * rad):
+        wx, wy = axis_weights(kind, xk), axis_weights(kind, yk)
+        val = np.zeros_like(acc)
+        for tj in range(2 * rad):  # each row's taps weighted by wx, then the rows by wy; taps of weight 0 not read
+            row = np.zeros_like(acc)
             for ti in range(2 * rad):
-                ww = wx[ti] * wy[tj] / (sx * sy)
-                term = ww[:, None] * read(i0 - rad + 1 + ti, j0 - rad + 1 + tj)
-                acc = acc + np.where((vk & (wx[ti] * wy[tj] != 0.0))[:, None], term, 0.0)
+                term = wx[ti][:, None] * read(i0 - rad + 1 + ti, j0 - rad + 1 + tj)
+                row = row + np.where((wx[ti] != 0.0)[:, None], term, 0.0)
+            val = val + np.where((wy[tj] != 0.0)[:, None], wy[tj][:, None] * row, 0.0)
+        acc = acc + np.where(vk[:, None], val, 0.0)
     big = float(np.finfo(np.float32).max)
     mean = acc * (1.0 / ns)
     return np.clip(mean, -big, big).astype(np.float32), (v.sum(axis=1) * (1.0 / ns)).astype(np.float32)
