@@ -40,7 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--only-threads", action="store_true",
                         help="the two-thread figures alone (with the machine's own two-thread ceiling)")
     parser.add_argument("--only-filters", action="store_true",
-                        help="Lanczos and bicubic one-shot warps against cv2.remap's, one thread (a few seconds)")
+                        help="only the Lanczos and bicubic one-shot warps against cv2.remap's, one thread (a few seconds; a whole run includes them)")
     parser.add_argument("--skip-accuracy", action="store_true",
                         help="leave out the accuracy on the real panoramas (slow: a float64 reference for each)")
 
@@ -310,6 +310,9 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if not args.skip_speed:
         speed(args)
+        from lenslab.bench.warp_filters import filter_speed
+
+        filter_speed(args, lambda: _source(args))
         if not args.skip_threads:
             thread_scaling(args)
     if not args.skip_accuracy:
