@@ -40,7 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--only-threads", action="store_true",
                         help="the two-thread figures alone (with the machine's own two-thread ceiling)")
     parser.add_argument("--only-filters", action="store_true",
-                        help="only the Lanczos and bicubic one-shot warps against cv2.remap's, one thread (a few seconds; a whole run includes them)")
+                        help="only the Lanczos and bicubic one-shot warps against cv2.remap's, one thread (a few "
+                             "seconds; a whole run includes them)")
     parser.add_argument("--skip-accuracy", action="store_true",
                         help="leave out the accuracy on the real panoramas (slow: a float64 reference for each)")
 
