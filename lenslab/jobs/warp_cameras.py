@@ -114,10 +114,12 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
                 max(1, round(src_h * (lens.lat_max - lens.lat_min) / 180.0)))
     from lenslab.lenses.registry import lens_class
 
-    if hasattr(lens_class(name), "default_frame"):  # a layout of faces (a cube map): square faces of whole pixels
-        return make_lens(spec, (src_h, src_h)).default_frame(src_h)
+    cls = lens_class(name)
+    if hasattr(cls, "default_frame"):  # a layout of faces or tiles: square pieces of whole pixels
+        probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
+        return make_lens(spec, probe).default_frame(src_h)
 
-    aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
+    aspect = getattr(cls, "frame_aspect", None)  # the frame a model fills (width / height)
     if aspect:
         return max(1, round(src_h * aspect)), src_h
     return src_h, src_h
