@@ -73,7 +73,7 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     from lenslab.errors import LensError
     from lenslab.lenses.core.base import check_size
 
-    rows, full, valid = source_rows(lens), None, False
+    rows, full, valid = target_rows(spec, source_rows(lens)), None, False
     limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
     try:
         full = default_size(spec, rows)
@@ -92,6 +92,26 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     warnings.warn(f"without --size the output is {size[0]} x {size[1]}, at most {DEFAULT_PIXELS_FACTOR:g} times the "
                   f"source's pixels; {keep}", UserWarning, stacklevel=2)
     return size
+
+
+def target_rows(spec: str, rows: int) -> int:
+    """The rows to give :func:`default_size` so that the output lens ``spec`` has the resolution of ``rows`` rows over
+    180 degrees, measured as a source's is (:meth:`~lenslab.lenses.core.base.Lens.pixels_per_degree`: its first
+    piece's rows over the degrees its middle column spans): ``rows`` for a 180-degree fisheye, a whole equirect or
+    a cube map; half for a 90-degree perspective view or fisheye, 2/3 for a 120-degree one."""
+    import math
+
+    from lenslab.errors import LensError
+    from lenslab.lenses.registry import make_lens
+
+    probe = 3600  # (10 rows a degree: a field of whole degrees takes whole rows)
+    try:
+        ppd = make_lens(spec, default_size(spec, probe)).pixels_per_degree()
+    except (LensError, ValueError, ZeroDivisionError):  # (a spec at fault says so where its size is made)
+        return rows
+    if not (math.isfinite(ppd) and ppd > 0):
+        return rows
+    return max(1, round(rows * probe / (180.0 * ppd)))
 
 
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
