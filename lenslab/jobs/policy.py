@@ -69,6 +69,9 @@ def _check_output(path, inputs, overwrite: bool) -> Path:
         raise OutputError(f"{out}: already exists; give --overwrite to replace it")
     refuse_special(out)
     if not out.parent.is_dir() and str(out.parent) not in ("", "."):
+        made = next((p for p in out.parents if os.path.lexists(p)), None)  # the nearest folder there is, or a file
+        if made is not None and not made.is_dir():
+            raise OutputError(f"{out}: {made} is a file, not a folder")
         raise OutputError(f"{out}: the folder {out.parent} does not exist")
     check_writable(out)
     return out
