@@ -190,7 +190,7 @@ def check_options_apply(args, pairs) -> None:
     """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
     from lenslab.io.registry import get
     from lenslab.jobs.policy import output_format  # a name lenslab does not write: a usage error
-    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
+    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies, typed
     from lenslab.jobs.warp_video import is_video
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
@@ -206,7 +206,7 @@ def check_options_apply(args, pairs) -> None:
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(output_format(dst)).title} holds linear light")
               for (_, dst), v in zip(pairs, clips) if v or get(output_format(dst)).hdr]
-    check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
+    check_tone_applies(typed(args, "tone", "--tone"), tone_given, getattr(args, "display", None), linear)
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit
 

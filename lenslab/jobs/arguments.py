@@ -299,6 +299,12 @@ class Once(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+def typed(args, dest: str, default: str) -> str:
+    """The spelling under which a curve or format option ``dest`` was given (``--curve`` or ``--tone``), for the
+    messages about it; ``default`` where it was not given."""
+    return args.__dict__.get("_curves_given", {}).get(dest, (default,))[0]
+
+
 def check_tone_applies(flag: str, given: bool, display: str | None, outputs) -> None:
     """A tone curve named on the command line (``given``) must have something to do: refused with
     ``--display`` (an OpenColorIO view maps scene light itself) and for outputs that keep linear light.
