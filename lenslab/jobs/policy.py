@@ -135,7 +135,10 @@ def make_output_dir(path: str | os.PathLike, made: list | None = None) -> Path:
     be; ``made``: a list the folders created are added to, deepest first (for :func:`remove_made_dirs`)."""
     out = check_output_dir(path)
     new = [p for p in (out, *out.parents) if not p.exists()]
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # (a read-only or virtual file system): one line that says what could not be done
+        raise OutputError(f"{out}: the folder cannot be made ({exc.strerror or exc})") from None
     if made is not None:
         made.extend(new)
     return out
