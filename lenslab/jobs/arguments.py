@@ -73,6 +73,12 @@ class ArgumentParser(argparse.ArgumentParser):
             if word.startswith("--") and whole:
                 hints.append(f"{word} is not an option (options are never abbreviated): did you mean "
                              f"{' or '.join(whole)}?")
+            elif word.startswith("--"):  # a misspelling (--src-size, --szie): the closest option, if one is close
+                from difflib import get_close_matches
+
+                close = get_close_matches(word, [o for o in self._option_string_actions if o.startswith("--")], 1, 0.75)
+                if close:
+                    hints.append(f"{word} is not an option: did you mean {close[0]}?")
         return "; ".join(hints)
 
     def parse_args(self, args=None, namespace=None):
