@@ -50,6 +50,19 @@ OUTPUT_FORMATS = writable()
 MAX_SAMPLES = 4096
 
 
+
+def _autoscale_mode(value: str) -> str:
+    """--autoscale's MODE; a word that is no mode is refused, and one that names a file (the input, given after an
+    --autoscale put before the inputs) says where --autoscale goes."""
+    import argparse
+    import os
+
+    if value in ("fill", "cover"):
+        return value
+    hint = ("; --autoscale takes an optional MODE, so it took the next word: put --autoscale after the input files"
+            if os.path.sep in value or "." in value or os.path.exists(value) else "")
+    raise argparse.ArgumentTypeError(f"invalid choice: {value!r} (choose from 'fill', 'cover'){hint}")
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
@@ -128,7 +141,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--allow-parallax", action="store_true",
                         help="warp views whose eye differs from the source's anyway (warns: parallax is not "
                              "reproduced)")
-    parser.add_argument("--autoscale", nargs="?", const="fill", choices=("fill", "cover"), default=None,
+    parser.add_argument("--autoscale", nargs="?", const="fill", type=_autoscale_mode, default=None,
                         metavar="MODE",
                         help="scale the output lens's field of view: 'fill' (the default mode) takes the widest "
                              "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
