@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from lenslab.jobs.frame_files import frame_output
+from lenslab.jobs.frame_files import frame_output, note_frames
 
 
 def frames_to_files(src: str, dst: str, job) -> str:
@@ -46,10 +46,7 @@ def _frames(src: str, dst: str, job) -> str:
     if first is None:
         raise FormatError(f"{src}: no frame in the range {start}:{'' if stop is None else stop}")
     gamut.warn(dst, written, pixels)
-    if written > 1:  # the files are not the one the output's name says
-        import warnings
-
-        warnings.warn(f"{written} frames written: {first} to {last}", UserWarning, stacklevel=2)
+    note_frames(written, first, last)
     return first
 
 
