@@ -90,7 +90,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the source, a 90-degree fisheye or perspective view half as many; square for a fisheye or "
                              "perspective view, 2:1 for a whole equirect (square pixels over its ranges for part of one); a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
                              "cube map; a tiled grid: square tiles, a 90-degree tile half those rows; each eye of a stereo frame; a camera file: the size it was calibrated at; never "
-                             "more than twice the source's pixels (a note then gives the size that keeps them)")
+                             "more than twice the source's pixels, an eye of a stereo frame (a note then gives the size "
+                             "that keeps them)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")

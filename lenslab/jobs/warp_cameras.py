@@ -74,7 +74,8 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     from lenslab.lenses.core.base import check_size
 
     rows, full, valid = target_rows(spec, source_rows(lens)), None, False
-    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
+    eyes = _eyes(spec) / _eyes(lens)  # a stereo frame of a mono source: two views, each may take the limit
+    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height * eyes
     try:
         full = default_size(spec, rows)
         valid = bool(check_size(*full))
@@ -89,9 +90,24 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     keep = (f"--size {full[0]}x{full[1]} keeps {ppd}" if valid else
             f"{ppd} would make it{f' {w} x {h},' if full else ''} more than an image can be: give --size WxH for "
             "another size")
+    each = " per eye" if eyes > 1 else ""
     warnings.warn(f"without --size the output is {size[0]} x {size[1]}, at most {DEFAULT_PIXELS_FACTOR:g} times the "
-                  f"source's pixels; {keep}", UserWarning, stacklevel=2)
+                  f"source's pixels{each}; {keep}", UserWarning, stacklevel=2)
     return size
+
+
+def _eyes(lens) -> int:
+    """The eyes a lens (or a spec, made at a probe size) shows: 2 for a stereo frame's pieces, else 1."""
+    from lenslab.errors import LensError
+
+    if isinstance(lens, str):
+        from lenslab.lenses.registry import make_lens
+
+        try:
+            lens = make_lens(lens, default_size(lens, 3600))
+        except (LensError, ValueError):
+            return 1
+    return max(1, len({p.eye for p in (lens.pieces() or ())} - {None}))
 
 
 def target_rows(spec: str, rows: int) -> int:
