@@ -103,6 +103,13 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     return out
 
 
+def _gain_applied(d: dict) -> bool:
+    """Whether an 8-bit file was read as its HDR rendition (an Ultra HDR JPEG's gain map applied)."""
+    from lenslab.io.gainmap import HDR_RENDITION
+
+    return str((d.get("attributes") or {}).get("rendition", "")).startswith(HDR_RENDITION)
+
+
 def _recorded_tiles(lens) -> list[str] | None:
     """Each tile of a grid whose spec does not name its tiles (tiles recorded in the file, not the default tiles
     nor a tiles file): its lens and pose; None for any other lens."""
@@ -194,7 +201,8 @@ def _text(d: dict) -> str:
 
     lines = [f"{d['file']}: {d['format'].upper()} {d['width']} x {d['height']}, {len(d['channels'])} channel(s) "
              f"{','.join(d['channels'])}, {d['sample_type']} {d['bit_depth']}-bit"
-             f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"]
+             f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"
+             f"{', its gain map applied: linear HDR light' if _gain_applied(d) else ''}"]
     if d.get("layer"):
         lines.append(f"  layer {d['layer']} of part {d['part']}")
     parts = (d.get("structure") or {}).get("parts", [])
