@@ -202,7 +202,7 @@ def _text(d: dict) -> str:
     lines = [f"{d['file']}: {d['format'].upper()} {d['width']} x {d['height']}, {len(d['channels'])} channel(s) "
              f"{','.join(d['channels'])}, {d['sample_type']} {d['bit_depth']}-bit"
              f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"
-             f"{', its gain map applied: linear HDR light' if _gain_applied(d) else ''}"]
+             f"{', read as its HDR rendition: linear light' if _gain_applied(d) else ''}"]
     if d.get("layer"):
         lines.append(f"  layer {d['layer']} of part {d['part']}")
     parts = (d.get("structure") or {}).get("parts", [])

@@ -17,6 +17,6 @@ def test_the_first_line_says_hdr(tmp_path, capsys):
     capsys.readouterr()
     assert main(["info", str(path)]) == 0
     first = capsys.readouterr().out.splitlines()[0]
-    assert first.endswith("uint 8-bit, its gain map applied: linear HDR light"), first
+    assert first.endswith("uint 8-bit, read as its HDR rendition: linear light"), first
     assert main(["info", f"{path}:sdr"]) == 0
     assert capsys.readouterr().out.splitlines()[0].endswith("uint 8-bit, sRGB-decoded to linear")
