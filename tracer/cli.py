@@ -68,7 +68,8 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
-                        "else 512x512; a cube map: square faces of 256 pixels in its layout, 768x512 for 3x2)")
+                        "else 512x512; a cube map or a tiled grid: square faces or tiles of 256 pixels in its layout, "
+                        "768x512 for a 3x2 cube map; an equirect: square pixels, 1024x512 for the whole sphere)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",

@@ -144,14 +144,10 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
         layout = values.pop("layout", "sbs")
         w, h = default_size(base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1), src_h)
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
-    if name == "equirect":  # square pixels over its ranges, 180 degrees in src_h rows (2:1 for the whole sphere)
-        lens = make_lens(spec, (360, 180))  # (its ranges; at any size)
-        return (max(1, round(src_h * (lens.lon_max - lens.lon_min) / 180.0)),
-                max(1, round(src_h * (lens.lat_max - lens.lat_min) / 180.0)))
     from lenslab.lenses.registry import lens_class
 
     cls = lens_class(name)
-    if hasattr(cls, "default_frame"):  # a layout of faces or tiles: square pieces of whole pixels
+    if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)
 
