@@ -46,7 +46,7 @@ VIDEO = tuple(dict.fromkeys(e.lstrip(".") for f in formats().values() if f.kind 
 def check_convert_options(args, files, display) -> None:
     """--tone and --frames where they cannot apply: usage errors (see lenslab.jobs.arguments)."""
     from lenslab.io.registry import get
-    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
+    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies, typed
     from lenslab.jobs.warp_video import is_video
 
     given, args.tone = args.tone is not None, args.tone or "hable"
@@ -60,7 +60,7 @@ def check_convert_options(args, files, display) -> None:
         holds = fmt.hdr and not (args.bits and "sample_type" in fmt.write_options)
         codes = " (with --bits 8 or 16, display codes)" if "sample_type" in fmt.write_options else ""
         linear = [(fmt.title, f"it holds linear light{codes}")] if holds else []
-    check_tone_applies("--tone", given, display, linear)
+    check_tone_applies(typed(args, "tone", "--tone"), given, display, linear)
     if args.to not in VIDEO:
         from lenslab.jobs.display import check_display_outputs
 

@@ -82,6 +82,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         "stats": stats,
         "lens": camera.lens.spec() if camera is not None else None,
         "camera": camera.to_dict() if camera is not None else None,
+        "lens_tiles": _recorded_tiles(camera.lens) if camera is not None else None,
     }
     for key in ("part", "part_name", "layer", "data_window", "display_window", "ignored_channels", "extra_channels",
                 "luminance_chroma", "primaries_converted_to_rec709", "view", "other_views", "deep"):
@@ -100,6 +101,27 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     out["attributes"] = attrs
     out["structure"] = probe(file, fmt.name)
     return out
+
+
+def _gain_applied(d: dict) -> bool:
+    """Whether an 8-bit file was read as its HDR rendition (an Ultra HDR JPEG's gain map applied)."""
+    from lenslab.io.gainmap import HDR_RENDITION
+
+    return str((d.get("attributes") or {}).get("rendition", "")).startswith(HDR_RENDITION)
+
+
+def _recorded_tiles(lens) -> list[str] | None:
+    """Each tile of a grid whose spec does not name its tiles (tiles recorded in the file, not the default tiles
+    nor a tiles file): its lens and pose; None for any other lens."""
+    tiles = getattr(lens, "tile_list", None)
+    if tiles is None or getattr(lens, "tiles_path", ""):
+        return None
+    from lenslab.lenses.registry import make_lens
+
+    if make_lens(lens.spec(), (lens.width, lens.height)) == lens:
+        return None
+    return [f"{k}: " + ("no camera" if t is None else f"{t.lens.spec()}; {_pose_words(t.pose.to_dict())}")
+            for k, t in enumerate(tiles)]
 
 
 def _pose_words(camera: dict) -> str:
@@ -179,7 +201,8 @@ def _text(d: dict) -> str:
 
     lines = [f"{d['file']}: {d['format'].upper()} {d['width']} x {d['height']}, {len(d['channels'])} channel(s) "
              f"{','.join(d['channels'])}, {d['sample_type']} {d['bit_depth']}-bit"
-             f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"]
+             f"{', sRGB-decoded to linear' if d['display_encoded'] else ''}"
+             f"{', read as its HDR rendition: linear light' if _gain_applied(d) else ''}"]
     if d.get("layer"):
         lines.append(f"  layer {d['layer']} of part {d['part']}")
     parts = (d.get("structure") or {}).get("parts", [])
@@ -216,6 +239,10 @@ def _text(d: dict) -> str:
     lines.append(f"  lens: {d['lens']}" if d["lens"] else "  lens: none stored")
     if d.get("camera"):  # where the stored camera looks (a warp from this file starts from it)
         lines.append(f"  pose: {_pose_words(d['camera'])}")
+    if d.get("lens_tiles"):  # the spec alone would be the default tiles: another lens
+        lines.append("  tiles, recorded in the file (the spec alone means other tiles: give the file itself as the "
+                     "lens, --from/--to FILE):")
+        lines += [f"    {words}" for words in d["lens_tiles"]]
     found = d.get("lens_metadata")
     if found:
         lines.append(f"  lens in metadata: {found['found']}")

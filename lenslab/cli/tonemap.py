@@ -122,9 +122,9 @@ def run(args: argparse.Namespace) -> int:
     curve.resolve(params)  # fail before reading a large file
     from lenslab.cli.display import display_options
     display = display_options(args)  # bad display names: one usage error before any file is read
-    from lenslab.jobs.arguments import check_tone_applies
+    from lenslab.jobs.arguments import check_tone_applies, typed
 
-    check_tone_applies("--tone", curve_given, display["display"], [])
+    check_tone_applies(typed(args, "curve", "--tone"), curve_given, display["display"], [])
     from lenslab.jobs.primaries import applied_primaries, check_primaries
 
     check_primaries(args.primaries, args.mode, args.exposure, [curve], display["display"])

@@ -50,6 +50,19 @@ OUTPUT_FORMATS = writable()
 MAX_SAMPLES = 4096
 
 
+
+def _autoscale_mode(value: str) -> str:
+    """--autoscale's MODE; a word that is no mode is refused, and one that names a file (the input, given after an
+    --autoscale put before the inputs) says where --autoscale goes."""
+    import argparse
+    import os
+
+    if value in ("fill", "cover"):
+        return value
+    hint = ("; --autoscale takes an optional MODE, so it took the next word: put --autoscale after the input files"
+            if os.path.sep in value or "." in value or os.path.exists(value) else "")
+    raise argparse.ArgumentTypeError(f"invalid choice: {value!r} (choose from 'fill', 'cover'){hint}")
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN", help="image files, directories or glob patterns")
     parser.add_argument("-o", "--output", required=True, metavar="OUT",
@@ -71,12 +84,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "image is twice as wide as tall")
     parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's angular resolution in the output lens's "
-                             "own shape, 180 degrees in as many rows as the source gives them (an equirect's rows, twice "
-                             "a cube map's faces or a grid's 90-degree tiles in any layout, an eye's of a stereo frame, a "
-                             "perspective view's rows over its vertical field): square for a fisheye or "
-                             "perspective view, 2:1 for equirect; a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
-                             "cube map; each eye of a stereo frame; a camera file: the size it was calibrated at; never "
-                             "more than twice the source's pixels (a note then gives the size that keeps them)")
+                             "own shape, its field at the pixels per degree the source has (an equirect's rows over 180 degrees, "
+                             "a cube map's faces or a grid's tiles over 90, an eye's of a stereo frame, a perspective "
+                             "view's rows over its vertical field): a 180-degree fisheye as many rows as 180 degrees of "
+                             "the source, a 90-degree fisheye or perspective view half as many; square for a fisheye or "
+                             "perspective view, 2:1 for a whole equirect (square pixels over its ranges for part of one); a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
+                             "cube map; a tiled grid: square tiles, a 90-degree tile half those rows; each eye of a stereo frame; a camera file: the size it was calibrated at; never "
+                             "more than twice the source's pixels, an eye of a stereo frame (a note then gives the size "
+                             "that keeps them)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
     pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
     pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
@@ -127,7 +142,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--allow-parallax", action="store_true",
                         help="warp views whose eye differs from the source's anyway (warns: parallax is not "
                              "reproduced)")
-    parser.add_argument("--autoscale", nargs="?", const="fill", choices=("fill", "cover"), default=None,
+    parser.add_argument("--autoscale", nargs="?", const="fill", type=_autoscale_mode, default=None,
                         metavar="MODE",
                         help="scale the output lens's field of view: 'fill' (the default mode) takes the widest "
                              "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
@@ -189,7 +204,7 @@ def check_options_apply(args, pairs) -> None:
     """Options that cannot apply to these inputs and outputs are usage errors, never silently ignored."""
     from lenslab.io.registry import get
     from lenslab.jobs.policy import output_format  # a name lenslab does not write: a usage error
-    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies
+    from lenslab.jobs.arguments import check_frames_apply, check_tone_applies, typed
     from lenslab.jobs.warp_video import is_video
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
@@ -205,7 +220,7 @@ def check_options_apply(args, pairs) -> None:
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(output_format(dst)).title} holds linear light")
               for (_, dst), v in zip(pairs, clips) if v or get(output_format(dst)).hdr]
-    check_tone_applies("--tone", tone_given, getattr(args, "display", None), linear)
+    check_tone_applies(typed(args, "tone", "--tone"), tone_given, getattr(args, "display", None), linear)
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit
 

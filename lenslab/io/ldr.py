@@ -3,7 +3,8 @@
 OpenCV works in BGR order; images here are RGB. PNG alpha is straight (the PNG specification): the
 colour is unpremultiplied before it is encoded and premultiplied after it is decoded, so memory holds
 premultiplied colour (:mod:`lenslab.io.alpha`); ``raw=True`` reads and writes the stored values as
-they are. JPG EXIF orientation is not applied (pixels are returned as stored). An Ultra HDR JPEG (a gain map in an
+they are. A JPG's EXIF orientation is applied (:mod:`lenslab.io.exif_orientation`: the image as viewers show it,
+``meta["attributes"]["orientation"]`` says how it was turned). An Ultra HDR JPEG (a gain map in an
 MPF secondary image) reads as its HDR rendition, the gain map applied to the base image (:mod:`lenslab.io.gainmap`);
 ``selector="sdr"`` (``photo.jpg:sdr``) or ``raw=True`` reads the base image alone. An embedded ICC profile (PNG
 ``iCCP``, JPEG ``APP2``) is applied as :mod:`lenslab.io.colour.icc` says, unless a PNG's ``cICP`` chunk speaks
@@ -96,6 +97,11 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
 
         grey_alpha = is_grey_alpha(data)
     inks = fmt == "jpg" and (_jpg_frame(data) or (0, 0, 3))[2] == 4  # CMYK: OpenCV decodes it to RGB
+    orientation = 1
+    if fmt == "jpg":
+        from lenslab.io.exif_orientation import jpeg_orientation
+
+        orientation = jpeg_orientation(data)
     codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
     del data  # the file's bytes are not kept while the floats are made
     if codes is None:
@@ -130,6 +136,11 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
             matrix = how.matrix if how.kind == "matrix" else None
         image = apply_gain(np.ascontiguousarray(image, dtype=np.float32), gain.codes, gain.meta, to_rec709=matrix)
         linear = True
+    if orientation != 1:  # the image as shown (the gain map was applied in the stored frame, as it was coded)
+        from lenslab.io.exif_orientation import TURNS, turn
+
+        image = turn(image, orientation)
+        attributes["orientation"] = f"EXIF orientation {orientation}: the stored image {TURNS[orientation]}, as shown"
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {
         "format": fmt,

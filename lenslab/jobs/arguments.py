@@ -73,6 +73,12 @@ class ArgumentParser(argparse.ArgumentParser):
             if word.startswith("--") and whole:
                 hints.append(f"{word} is not an option (options are never abbreviated): did you mean "
                              f"{' or '.join(whole)}?")
+            elif word.startswith("--"):  # a misspelling (--src-size, --szie): the closest option, if one is close
+                from difflib import get_close_matches
+
+                close = get_close_matches(word, [o for o in self._option_string_actions if o.startswith("--")], 1, 0.75)
+                if close:
+                    hints.append(f"{word} is not an option: did you mean {close[0]}?")
         return "; ".join(hints)
 
     def parse_args(self, args=None, namespace=None):
@@ -297,6 +303,12 @@ class Once(argparse.Action):
             parser.error(f"{option_string} given twice; give it once")
         seen.add(self.dest)
         setattr(namespace, self.dest, values)
+
+
+def typed(args, dest: str, default: str) -> str:
+    """The spelling under which a curve or format option ``dest`` was given (``--curve`` or ``--tone``), for the
+    messages about it; ``default`` where it was not given."""
+    return args.__dict__.get("_curves_given", {}).get(dest, (default,))[0]
 
 
 def check_tone_applies(flag: str, given: bool, display: str | None, outputs) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from lenslab.jobs.frame_files import frame_output
+from lenslab.jobs.frame_files import frame_output, note_frames
 
 
 def frames_to_files(src: str, dst: str, job) -> str:
@@ -31,7 +31,7 @@ def _frames(src: str, dst: str, job) -> str:
     info = probe_video(src)
     start, stop = job.frames or (0, None)
     meta = _clip_meta(info)
-    first, written, pixels = None, 0, 0
+    first, last, written, pixels = None, None, 0, 0
     total = max(0, (min(stop, info.frames) if stop is not None and info.frames else (stop or info.frames)) - start)
     show = sys.stderr.isatty() and not job.quiet
     with tqdm(total=total or None, unit="frame", disable=not show, file=sys.stderr, leave=False,
@@ -40,12 +40,13 @@ def _frames(src: str, dst: str, job) -> str:
             image, opts = job.develop(frame, meta)
             path = frame_output(dst, i, src, job.overwrite)
             write(path, image, format=job.to, overwrite=job.overwrite, **opts)
-            first = first or str(path)
+            first, last = first or str(path), str(path)
             written, pixels = written + 1, frame.shape[0] * frame.shape[1]
             bar.update()
     if first is None:
         raise FormatError(f"{src}: no frame in the range {start}:{'' if stop is None else stop}")
     gamut.warn(dst, written, pixels)
+    note_frames(written, first, last)
     return first
 
 

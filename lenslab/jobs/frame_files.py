@@ -83,6 +83,15 @@ def sequence_folder(pairs, is_clip) -> Path | None:
     return folder
 
 
+def note_frames(written: int, first, last) -> None:
+    """The note of a clip written as images (``-o f.exr``: f.000000.exr ...): how many, the first and the last,
+    which are not the one file the output's name says."""
+    if written > 1:
+        import warnings
+
+        warnings.warn(f"{written} frames written: {first} to {last}", UserWarning, stacklevel=3)
+
+
 def in_sequence_folder(pairs, is_clip, run) -> int:
     """``run()`` (a batch: its exit status) with the :func:`sequence_folder` of ``pairs`` made first, as
     ``-o DIR`` is made (every check of the command has passed), and removed again, with the parents it
@@ -103,4 +112,4 @@ def in_sequence_folder(pairs, is_clip, run) -> int:
 
 
 __all__ = ["FRAME_NUMBER", "frame_path", "frame_output", "names_output", "all_or_none", "sequence_folder",
-           "in_sequence_folder"]
+           "note_frames", "in_sequence_folder"]

@@ -69,6 +69,9 @@ def _check_output(path, inputs, overwrite: bool) -> Path:
         raise OutputError(f"{out}: already exists; give --overwrite to replace it")
     refuse_special(out)
     if not out.parent.is_dir() and str(out.parent) not in ("", "."):
+        made = next((p for p in out.parents if os.path.lexists(p)), None)  # the nearest folder there is, or a file
+        if made is not None and not made.is_dir():
+            raise OutputError(f"{out}: {made} is a file, not a folder")
         raise OutputError(f"{out}: the folder {out.parent} does not exist")
     check_writable(out)
     return out
@@ -132,7 +135,10 @@ def make_output_dir(path: str | os.PathLike, made: list | None = None) -> Path:
     be; ``made``: a list the folders created are added to, deepest first (for :func:`remove_made_dirs`)."""
     out = check_output_dir(path)
     new = [p for p in (out, *out.parents) if not p.exists()]
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # (a read-only or virtual file system): one line that says what could not be done
+        raise OutputError(f"{out}: the folder cannot be made ({exc.strerror or exc})") from None
     if made is not None:
         made.extend(new)
     return out

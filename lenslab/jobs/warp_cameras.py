@@ -73,8 +73,9 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     from lenslab.errors import LensError
     from lenslab.lenses.core.base import check_size
 
-    rows, full, valid = source_rows(lens), None, False
-    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height
+    rows, full, valid = target_rows(spec, source_rows(lens)), None, False
+    eyes = _eyes(spec) / _eyes(lens)  # a stereo frame of a mono source: two views, each may take the limit
+    limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height * eyes
     try:
         full = default_size(spec, rows)
         valid = bool(check_size(*full))
@@ -89,9 +90,44 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     keep = (f"--size {full[0]}x{full[1]} keeps {ppd}" if valid else
             f"{ppd} would make it{f' {w} x {h},' if full else ''} more than an image can be: give --size WxH for "
             "another size")
+    each = " per eye" if eyes > 1 else ""
     warnings.warn(f"without --size the output is {size[0]} x {size[1]}, at most {DEFAULT_PIXELS_FACTOR:g} times the "
-                  f"source's pixels; {keep}", UserWarning, stacklevel=2)
+                  f"source's pixels{each}; {keep}", UserWarning, stacklevel=2)
     return size
+
+
+def _eyes(lens) -> int:
+    """The eyes a lens (or a spec, made at a probe size) shows: 2 for a stereo frame's pieces, else 1."""
+    from lenslab.errors import LensError
+
+    if isinstance(lens, str):
+        from lenslab.lenses.registry import make_lens
+
+        try:
+            lens = make_lens(lens, default_size(lens, 3600))
+        except (LensError, ValueError):
+            return 1
+    return max(1, len({p.eye for p in (lens.pieces() or ())} - {None}))
+
+
+def target_rows(spec: str, rows: int) -> int:
+    """The rows to give :func:`default_size` so that the output lens ``spec`` has the resolution of ``rows`` rows over
+    180 degrees, measured as a source's is (:meth:`~lenslab.lenses.core.base.Lens.pixels_per_degree`: its first
+    piece's rows over the degrees its middle column spans): ``rows`` for a 180-degree fisheye, a whole equirect or
+    a cube map; half for a 90-degree perspective view or fisheye, 2/3 for a 120-degree one."""
+    import math
+
+    from lenslab.errors import LensError
+    from lenslab.lenses.registry import make_lens
+
+    probe = 3600  # (10 rows a degree: a field of whole degrees takes whole rows)
+    try:
+        ppd = make_lens(spec, default_size(spec, probe)).pixels_per_degree()
+    except (LensError, ValueError, ZeroDivisionError):  # (a spec at fault says so where its size is made)
+        return rows
+    if not (math.isfinite(ppd) and ppd > 0):
+        return rows
+    return max(1, round(rows * probe / (180.0 * ppd)))
 
 
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
@@ -108,14 +144,14 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
         layout = values.pop("layout", "sbs")
         w, h = default_size(base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1), src_h)
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
-    if name == "equirect":
-        return 2 * src_h, src_h
     from lenslab.lenses.registry import lens_class
 
-    if hasattr(lens_class(name), "default_frame"):  # a layout of faces (a cube map): square faces of whole pixels
-        return make_lens(spec, (src_h, src_h)).default_frame(src_h)
+    cls = lens_class(name)
+    if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
+        probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
+        return make_lens(spec, probe).default_frame(src_h)
 
-    aspect = getattr(lens_class(name), "frame_aspect", None)  # the frame a model fills (width / height)
+    aspect = getattr(cls, "frame_aspect", None)  # the frame a model fills (width / height)
     if aspect:
         return max(1, round(src_h * aspect)), src_h
     return src_h, src_h

@@ -163,7 +163,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     from lenslab.errors import FormatError
     from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
     from lenslab.io.video.colour import gamut_name
-    from lenslab.jobs.frame_files import all_or_none, frame_output
+    from lenslab.jobs.frame_files import all_or_none, frame_output, note_frames
     from lenslab.jobs.warp_output import write_warped
     from lenslab.io.video import read_frames
     from lenslab.warp.mirror import mirror_frames
@@ -177,16 +177,18 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     window = None if source_flips else (lambda: plan().source_spans())
 
     def write_frames():
-        written, pixels = 0, 0
+        written, pixels, first, last = 0, 0, None, None
         with _frame_bar(show, total, Path(src_path).name) as bar, tallied() as gamut:  # one note on the frames
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
                 colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
-                write_warped(frame_output(dst_path, i, src_path, job.overwrite), colour, alpha, meta, fmt, job, dst)
-                written, pixels = written + 1, colour.shape[0] * colour.shape[1]
+                last = frame_output(dst_path, i, src_path, job.overwrite)
+                write_warped(last, colour, alpha, meta, fmt, job, dst)
+                written, pixels, first = written + 1, colour.shape[0] * colour.shape[1], first or last
                 bar.update()
         if written == 0:
             raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")
         gamut.warn(str(dst_path), written, pixels)
+        note_frames(written, first, last)
         _note_softening(job, plan())
 
     all_or_none(write_frames)

@@ -53,7 +53,7 @@ def test_tone_on_a_display_output_is_applied(tmp_path, pano):
     (["convert", "{p}", "--to", "png", "-o", "{d}/c.png", "--tone", "aces", "--display", "sRGB"],
      "--tone and --display"),
     (["convert", "{p}", "--to", "png", "-o", "{d}/c.png", "--frames", "0:2"], "--frames picks frames of a video"),
-    (["tonemap", "{p}", "-o", "{d}/t.png", "--curve", "aces", "--display", "sRGB"], "--tone and --display"),
+    (["tonemap", "{p}", "-o", "{d}/t.png", "--curve", "aces", "--display", "sRGB"], "--curve and --display"),  # named as typed
 ])
 def test_convert_and_tonemap_refuse_the_same(tmp_path, pano, argv, says):
     args = [a.format(p=pano, d=tmp_path) for a in argv]

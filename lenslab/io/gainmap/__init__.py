@@ -141,6 +141,10 @@ def prepare(data: bytes, base: tuple[int, int, int]) -> GainMap:
     return GainMap(codes, meta, iso)
 
 
+#: how the ``rendition`` attribute of a file read as its HDR rendition begins (``lenslab info`` looks for it)
+HDR_RENDITION = "HDR: the SDR base image with its gain map applied"
+
+
 def rendition_note(gain: GainMap) -> str:
-    return (f"HDR: the SDR base image with its gain map applied at full headroom "
+    return (f"{HDR_RENDITION} at full headroom "
             f"({gain.meta.headroom_stops:.3g} stops); 'FILE:sdr' reads the SDR base image")

@@ -142,6 +142,7 @@ class Optics(Lens):
                        'its base lens (green): equidistant a = r fov/2'),
     )
     summary = "chromatic aberration (TCA) and vignetting on any base lens"
+    quiet_defaults = {"tca": "", "vignetting": "none"}  # no effect asked for: left out of the printed spec
     params = (
         Param("base", "perspective", "lens model the effects are put on (its parameters pass through)"),
         Param("tca", "", "red/blue radial scale: kr/kb or vr/vb/cr/cb/br/bb (empty: none)"),

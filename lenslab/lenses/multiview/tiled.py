@@ -293,6 +293,21 @@ class Tiled(Lens):
                            lens=None if t is None else t.lens, pose=None if t is None else t.pose)
                      for k, t in enumerate(self.tile_list))
 
+    @staticmethod
+    def probe_size(values: dict) -> tuple[int, int]:
+        """A size the grid of the spec ``values`` splits into whole tiles (to make it and ask its :meth:`default_frame`)."""
+        cols, rows = parse_grid(values.get("grid", "2x2"))
+        return 256 * cols, 256 * rows
+
+    def default_frame(self, rows: int) -> tuple[int, int]:
+        """The size made without ``--size`` from a source of ``rows`` rows over 180 degrees: square tiles of whole
+        pixels, each the first camera's field at that resolution (a 90-degree perspective tile ``rows // 2``
+        pixels, as a cube face; a 190-degree fisheye ``rows * 190 // 180``), in this grid."""
+        lens = next((t.lens for t in self.tile_list if t is not None), None)
+        field = 90.0 if lens is None else lens.height / lens.pixels_per_degree()  # degrees down its middle column
+        tile = max(1, int(rows * field / 180.0 + 1e-9))
+        return self.cols * tile, self.rows * tile
+
     def pixels_per_degree(self) -> float:
         """The first tile with a camera's: its lens's rows over its field (a 90-degree perspective tile of 256 rows:
         256 / 90), whatever the grid; the rows over 180 degrees for a grid with no camera."""

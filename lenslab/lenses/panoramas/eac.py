@@ -97,6 +97,12 @@ class EquiAngularCubemap(Lens):
         rects = [(self.pad + (k % 3) * fw, self.pad + (k // 3) * self.height / 2.0, fw, fh) for k in range(6)]
         return cube_pieces(rects, EAC_AXES)
 
+    def default_frame(self, rows: int) -> tuple[int, int]:
+        """The size made without ``--size`` from a source of ``rows`` rows over 180 degrees: square faces of
+        ``rows // 2`` pixels (90 degrees, as a cube map's), with the padding round each row of faces."""
+        face, pad = max(1, int(rows) // 2), float(self.pad)
+        return 3 * face + round(2 * pad), 2 * face + round(4 * pad)
+
     def pixels_per_degree(self) -> float:
         """A face's rows without the padding over its 90 degrees (even in angle across the face): ``H/2 - 2 pad``."""
         return self.height * (0.5 - 2.0 * self.pv) / 90.0

@@ -59,6 +59,17 @@ class Equirect(Lens):
         if not self.lat_min < self.lat_max:
             raise LensError(f"equirect: lat_min ({self.lat_min}) must be below lat_max ({self.lat_max})")
 
+    @staticmethod
+    def probe_size(values: dict) -> tuple[int, int]:
+        """A size to make it at before its :meth:`default_frame` is asked (any size holds its ranges)."""
+        return 360, 180
+
+    def default_frame(self, rows: int) -> tuple[int, int]:
+        """The size made without ``--size`` from ``rows`` rows over 180 degrees: square pixels over its ranges
+        (1024 x 512 for the whole sphere from 512 rows, 1024 x 256 for latitudes -45 to 45)."""
+        return (max(1, round(rows * (self.lon_max - self.lon_min) / 180.0)),
+                max(1, round(rows * (self.lat_max - self.lat_min) / 180.0)))
+
     def pixels_per_degree(self) -> float:
         """Its rows over the latitudes they span (180 degrees for the full sphere; 90 for a band of -45 to 45)."""
         return self.height / (self.lat_max - self.lat_min)

@@ -1,0 +1,65 @@
+"""A JPEG's EXIF orientation: the ``Orientation`` tag (0x0112) of the first IFD of its ``APP1`` Exif segment, and the
+turn that shows the image as the camera meant it (a phone held upright stores its photo on its side with
+``Orientation`` 6). OpenCV's ``imread``, Pillow's ``ImageOps.exif_transpose``, every viewer, and libheif for a HEIC's
+``irot``/``imir``, show the image so turned; lenslab reads a JPEG so too.
+
+Only the segments before the image data are looked at; a missing, damaged or out-of-range tag is 1 (as stored).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: what each value other than 1 does to the stored image to show it (EXIF 2.3, "Orientation")
+TURNS = {2: "mirrored left to right", 3: "turned 180 degrees", 4: "mirrored top to bottom",
+         5: "mirrored across its main diagonal", 6: "turned 90 degrees clockwise",
+         7: "mirrored across its other diagonal", 8: "turned 90 degrees anticlockwise"}
+
+
+def jpeg_orientation(data: bytes) -> int:
+    """The EXIF ``Orientation`` (1 to 8) of the JPEG ``data``; 1 where none is recorded or it cannot be read."""
+    pos, n = 2, len(data)
+    while pos + 4 <= n and data[pos] == 0xFF:
+        marker = data[pos + 1]
+        if marker == 0xFF:
+            pos += 1
+            continue
+        if marker in (0xD9, 0xDA):  # end of image, start of scan: no header segment follows
+            break
+        if marker == 0x01 or 0xD0 <= marker <= 0xD7:
+            pos += 2
+            continue
+        length = int.from_bytes(data[pos + 2:pos + 4], "big")
+        if length < 2:
+            break
+        if marker == 0xE1 and data[pos + 4:pos + 10] == b"Exif\x00\x00":
+            return _tiff_orientation(data[pos + 10:pos + 2 + length])
+        pos += 2 + length
+    return 1
+
+
+def _tiff_orientation(tiff: bytes) -> int:
+    """The ``Orientation`` SHORT of the first IFD of an Exif segment's TIFF structure, or 1."""
+    order = {b"II": "little", b"MM": "big"}.get(tiff[:2])
+    if order is None or len(tiff) < 8 or int.from_bytes(tiff[2:4], order) != 42:
+        return 1
+    ifd = int.from_bytes(tiff[4:8], order)
+    if ifd + 2 > len(tiff):
+        return 1
+    for k in range(int.from_bytes(tiff[ifd:ifd + 2], order)):
+        entry = ifd + 2 + 12 * k
+        if entry + 12 > len(tiff):
+            break
+        if int.from_bytes(tiff[entry:entry + 2], order) == 0x0112 and int.from_bytes(tiff[entry + 2:entry + 4],
+                                                                                      order) == 3:
+            value = int.from_bytes(tiff[entry + 8:entry + 10], order)
+            return value if 1 <= value <= 8 else 1
+    return 1
+
+
+def turn(image: np.ndarray, orientation: int) -> np.ndarray:
+    """The stored ``(H, W, C)`` image as shown for an EXIF ``orientation`` (a view of it, not a copy)."""
+    if orientation in (5, 6, 7, 8):
+        image = image.transpose(1, 0, 2)
+    rows, cols = {2: (1, -1), 3: (-1, -1), 4: (-1, 1), 6: (1, -1), 7: (-1, -1), 8: (-1, 1)}.get(orientation, (1, 1))
+    return image[::rows, ::cols]
