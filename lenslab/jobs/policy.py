@@ -82,18 +82,20 @@ def check_writable(out: Path) -> None:
     permission, a virtual file system such as /proc): a file of the temporaries' pattern is created there and
     removed at once, so the refusal comes before any input is read, never at the rename of a finished image."""
     from lenslab.atomic import TEMPORARY_TAG, owner
+    from lenslab.errors import stop_signals_held
 
     folder = out.parent
     probe = folder / f".{out.stem}{TEMPORARY_TAG}{owner()}-{os.urandom(4).hex()}{out.suffix}"
-    try:
-        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
-    except OSError as exc:
-        raise OutputError(f"{out}: cannot be written: no file can be made in the folder "
-                          f"{folder if str(folder) else '.'} ({exc.strerror or exc})") from None
-    try:
-        os.unlink(probe)
-    except OSError:
-        pass
+    with stop_signals_held():  # a Ctrl-C or SIGTERM landing between the two steps is raised after the removal
+        try:
+            os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        except OSError as exc:
+            raise OutputError(f"{out}: cannot be written: no file can be made in the folder "
+                              f"{folder if str(folder) else '.'} ({exc.strerror or exc})") from None
+        try:
+            os.unlink(probe)
+        except OSError:
+            pass
 
 
 def check_output_dir(path: str | os.PathLike, inputs: int | None = None) -> Path:

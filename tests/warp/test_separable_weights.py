@@ -111,4 +111,4 @@ def test_taps_across_the_seam_and_over_the_poles(name, kern, rad):
                     jj, ii = 2 * h - 1 - jj, ii + w // 2
                 want += wx[ti] * wy[tj] * float(src[jj, ii % w, 0])
         # float64 sums in another order, then the output's float32 rounding (values below 1.5)
-        assert out[0, q, 0] == pytest.approx(want, rel=0, abs=2 * np.finfo(np.float32).eps)
+        assert out[0, q, 0] == pytest.approx(want, rel=0, abs=2 * float(np.finfo(np.float32).eps))
