@@ -49,6 +49,22 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
                     "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
 
 
+def stored_frame(image, meta: dict, src):
+    """``image`` and ``src`` in the stored frame of a photo read turned as its EXIF orientation says
+    (:mod:`lenslab.io.exif_orientation`) where the source lens describes the sensor's pixels as stored
+    (:attr:`~lenslab.lenses.core.base.Lens.sensor_frame`: a calibration, a lensfun profile); else as they are."""
+    orientation = meta.get("exif_orientation", 1)
+    if orientation == 1 or not src.lens.sensor_frame:
+        return image, src
+    import numpy as np
+
+    from lenslab.io.exif_orientation import turn
+    from lenslab.lenses import Camera
+
+    image = np.ascontiguousarray(turn(image, {6: 8, 8: 6}.get(orientation, orientation)))  # the inverse turn
+    return image, Camera(src.lens.with_size(image.shape[1], image.shape[0]), src.pose)
+
+
 def source_rows(lens) -> int:
     """The rows of 180 degrees at the source's angular resolution (:meth:`~lenslab.lenses.core.base.Lens.
     pixels_per_degree`), from which :func:`default_size` makes the output's size: an equirect's rows, twice a
