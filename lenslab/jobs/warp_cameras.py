@@ -52,7 +52,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 def stored_frame(image, meta: dict, src):
     """``image`` and ``src`` in the stored frame of a photo read turned as its EXIF orientation says
     (:mod:`lenslab.io.exif_orientation`) where the source lens describes the sensor's pixels as stored
-    (:attr:`~lenslab.lenses.core.base.Lens.sensor_frame`: a calibration, a lensfun profile); else as they are."""
+    (:attr:`~lenslab.lenses.core.base.Lens.sensor_frame`: a calibration, a camera file); else as they are."""
     orientation = meta.get("exif_orientation", 1)
     if orientation == 1 or not src.lens.sensor_frame:
         return image, src

@@ -1,5 +1,5 @@
 """A photo stored on its side with an EXIF ``Orientation`` (a phone held upright) reads as shown, but a calibrated
-camera (an OpenCV calibration, a camera file, a lensfun profile) describes the sensor's pixels as the camera stored
+camera (an OpenCV calibration, a camera file) describes the sensor's pixels as the camera stored
 them: warping from it uses the stored frame, so the calibration is neither stretched to the turned size nor
 mirrored. The oracle is OpenCV's ``IMREAD_UNCHANGED`` decode, which leaves the tag unapplied: a warp from the camera
 to itself at its calibration size gives back the stored codes."""

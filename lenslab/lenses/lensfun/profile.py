@@ -151,7 +151,6 @@ class LensfunLens(Lens):
     """
 
     name = "lensfun"
-    sensor_frame = True  # lensfun profiles the sensor as the camera stores its images (its centre offset too)
     #: specs and image sizes the conformance tests run on (round trips, extremes)
     examples = (
         ('lensfun:lens=Canon EF 8-15mm f/4L Fisheye USM,crop=1,focal=10', (8192, 5461)),
