@@ -86,7 +86,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output size in pixels; default: the source's angular resolution in the output lens's "
                              "own shape, its field at the pixels per degree the source has (an equirect's rows over 180 degrees, "
                              "a cube map's faces or a grid's tiles over 90, an eye's of a stereo frame, a perspective "
-                             "view's rows over its vertical field): a 180-degree fisheye as many rows as 180 degrees of "
+                             "view's rows over its vertical field; along its middle row where that is coarser, as a cylindrical panorama's 360 degrees): a 180-degree fisheye as many rows as 180 degrees of "
                              "the source, a 90-degree fisheye or perspective view half as many; square for a fisheye or "
                              "perspective view, 2:1 for a whole equirect (square pixels over its ranges for part of one); a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
                              "cube map; a tiled grid: square tiles, a 90-degree tile half those rows; each eye of a stereo frame; a camera file: the size it was calibrated at; never "

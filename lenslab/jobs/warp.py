@@ -91,7 +91,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.io.alpha import split_alpha
     from lenslab.jobs.stages import check_image
     from lenslab.jobs.warp_cameras import (autoscale_camera, default_output_size, output_camera, place_source,
-                                            records_place, source_camera)
+                                            records_place, source_camera, stored_frame)
     from lenslab.jobs.warp_video import is_video, warp_video
 
     if is_video(src_path):  # every frame with one map, to a video
@@ -124,6 +124,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
                                     alpha=named)
     else:
         src = source_camera(job.source, meta, image.shape)
+        image, src = stored_frame(image, meta, src)
         if job.flip or job.source_flip:
             from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
 

@@ -49,6 +49,22 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
                     "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
 
 
+def stored_frame(image, meta: dict, src):
+    """``image`` and ``src`` in the stored frame of a photo read turned as its EXIF orientation says
+    (:mod:`lenslab.io.exif_orientation`) where the source lens describes the sensor's pixels as stored
+    (:attr:`~lenslab.lenses.core.base.Lens.sensor_frame`: a calibration, a camera file); else as they are."""
+    orientation = meta.get("exif_orientation", 1)
+    if orientation == 1 or not src.lens.sensor_frame:
+        return image, src
+    import numpy as np
+
+    from lenslab.io.exif_orientation import turn
+    from lenslab.lenses import Camera
+
+    image = np.ascontiguousarray(turn(image, {6: 8, 8: 6}.get(orientation, orientation)))  # the inverse turn
+    return image, Camera(src.lens.with_size(image.shape[1], image.shape[0]), src.pose)
+
+
 def source_rows(lens) -> int:
     """The rows of 180 degrees at the source's angular resolution (:meth:`~lenslab.lenses.core.base.Lens.
     pixels_per_degree`), from which :func:`default_size` makes the output's size: an equirect's rows, twice a
@@ -114,7 +130,9 @@ def target_rows(spec: str, rows: int) -> int:
     """The rows to give :func:`default_size` so that the output lens ``spec`` has the resolution of ``rows`` rows over
     180 degrees, measured as a source's is (:meth:`~lenslab.lenses.core.base.Lens.pixels_per_degree`: its first
     piece's rows over the degrees its middle column spans): ``rows`` for a 180-degree fisheye, a whole equirect or
-    a cube map; half for a 90-degree perspective view or fisheye, 2/3 for a 120-degree one."""
+    a cube map; half for a 90-degree perspective view or fisheye, 2/3 for a 120-degree one. Where the piece's
+    middle row is coarser in angle than its column (a cylindrical panorama's 360 degrees, a barrel's band), the
+    row's resolution is the one kept: no line through the middle is coarser than the source."""
     import math
 
     from lenslab.errors import LensError
@@ -122,7 +140,10 @@ def target_rows(spec: str, rows: int) -> int:
 
     probe = 3600  # (10 rows a degree: a field of whole degrees takes whole rows)
     try:
-        ppd = make_lens(spec, default_size(spec, probe)).pixels_per_degree()
+        from lenslab.lenses.core.resolution import row_pixels_per_degree
+
+        made = make_lens(spec, default_size(spec, probe))
+        ppd = min(made.pixels_per_degree(), row_pixels_per_degree(made))
     except (LensError, ValueError, ZeroDivisionError):  # (a spec at fault says so where its size is made)
         return rows
     if not (math.isfinite(ppd) and ppd > 0):

@@ -26,13 +26,13 @@ def reference_camera(args, image, meta):
 def source_image(args, ref_cam, settings_count: int):
     """The source to warp: --source (with --from or its recorded camera), else a panorama of --scene
     rendered at the reference camera's eye (the largest of --pano-sizes)."""
-    from lenslab.jobs.warp_cameras import source_camera
+    from lenslab.jobs.warp_cameras import source_camera, stored_frame
     from lenslab.io import read
     from lenslab.validate.run import panorama_camera, parse_size
 
     if args.source:
         image, meta = read(args.source)
-        return image, source_camera(args.source_spec, meta, image.shape), args.source
+        return (*stored_frame(image, meta, source_camera(args.source_spec, meta, image.shape)), args.source)
     from tracer.validate.source import make_source
 
     size = [parse_size(s) for s in args.pano_sizes.split(",") if s.strip()][-1]

@@ -55,6 +55,8 @@ def coefficient_params(names: str, doc: str) -> tuple[Param, ...]:
 class Calibrated(Lens):
     """A calibrated camera: projection, distortion, intrinsics; OpenCV's frames inside."""
 
+    sensor_frame = True  # its intrinsics are the stored image's pixels
+
     #: names of the parameters scaled like ``fx`` (x) and ``fy`` (y) for another image size
     x_scaled: ClassVar[tuple[str, ...]] = ("fx",)
     y_scaled: ClassVar[tuple[str, ...]] = ("fy",)

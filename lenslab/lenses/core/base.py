@@ -317,6 +317,11 @@ class Lens:
     def param_values(self) -> dict[str, Any]:
         return {p.name: getattr(self, p.name) for p in self.params}
 
+    #: whether the lens describes a sensor's pixels as the camera stored them (a calibration's intrinsics): a photo
+    #: shown turned by its EXIF orientation is warped from its stored frame (a lensfun profile, radial about the
+    #: centre and scaled by the shorter side, applies to the photo as shown)
+    sensor_frame: bool = False
+
     #: parameters left out of :meth:`spec` at these values, which mean "derived from the others" (``vfov=0``:
     #: square pixels), so a printed spec is one a user would type
     quiet_defaults: dict[str, Any] = {}

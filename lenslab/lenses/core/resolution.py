@@ -22,15 +22,27 @@ def column_pixels_per_degree(lens) -> float:
     """Rows over degrees down the middle column of ``lens``'s first piece, from its top edge to its bottom,
     counting only steps between two points with rays; the rows over 180 degrees when that column has none (a tile
     with no camera, an image of one row)."""
+    return _line_pixels_per_degree(lens, across=False)
+
+
+def row_pixels_per_degree(lens) -> float:
+    """Columns over degrees along the middle row of ``lens``'s first piece, as :func:`column_pixels_per_degree`
+    measures its column (a cylindrical panorama's width over its 360 degrees, where its column's mean is finer)."""
+    return _line_pixels_per_degree(lens, across=True)
+
+
+def _line_pixels_per_degree(lens, across: bool) -> float:
     piece = lens.pieces()[0]
-    # top edge to bottom edge, but for BOTTOM_NUDGE: a piece's bottom edge is the next piece's top (a tile's, a face's)
-    y = np.linspace(piece.y0, piece.y0 + piece.height - BOTTOM_NUDGE, SAMPLES)
-    xy = np.stack([np.full_like(y, piece.x0 + 0.5 * piece.width), y], axis=-1)
-    d, ok = lens.pixel_to_dir(xy)
+    # one edge to the other, but for BOTTOM_NUDGE: a piece's far edge is the next piece's near one (a tile's, a face's)
+    x0, y0, w, h = (piece.y0, piece.x0, piece.height, piece.width) if across else (piece.x0, piece.y0,
+                                                                                  piece.width, piece.height)
+    y = np.linspace(y0, y0 + h - BOTTOM_NUDGE, SAMPLES)
+    xy = np.stack([np.full_like(y, x0 + 0.5 * w), y], axis=-1)
+    d, ok = lens.pixel_to_dir(xy[..., ::-1] if across else xy)
     both = ok[1:] & ok[:-1]
     chord = np.linalg.norm(d[1:] - d[:-1], axis=-1)
     angle = np.degrees(2.0 * np.arcsin(np.clip(0.5 * chord[both], 0.0, 1.0))).sum()
     rows = float(np.diff(y)[both].sum())
     if not angle > 0.0:
-        return lens.height / 180.0
+        return (lens.width if across else lens.height) / 180.0
     return rows / angle
