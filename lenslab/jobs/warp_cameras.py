@@ -89,8 +89,9 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     from lenslab.errors import LensError
     from lenslab.lenses.core.base import check_size
 
-    rows, full, valid = target_rows(spec, source_rows(lens)), None, False
-    eyes = _eyes(spec) / _eyes(lens)  # a stereo frame of a mono source: two views, each may take the limit
+    probe = _probe_lens(spec)
+    rows, full, valid = target_rows(probe, source_rows(lens)), None, False
+    eyes = _eyes(probe) / _eyes(lens)  # a stereo frame of a mono source: two views, each may take the limit
     limit = DEFAULT_PIXELS_FACTOR * lens.width * lens.height * eyes
     try:
         full = default_size(spec, rows)
@@ -112,43 +113,53 @@ def default_output_size(spec: str, lens) -> tuple[int, int]:
     return size
 
 
-def _eyes(lens) -> int:
-    """The eyes a lens (or a spec, made at a probe size) shows: 2 for a stereo frame's pieces, else 1."""
-    from lenslab.errors import LensError
-
-    if isinstance(lens, str):
-        from lenslab.lenses.registry import make_lens
-
-        try:
-            lens = make_lens(lens, default_size(lens, 3600))
-        except (LensError, ValueError):
-            return 1
-    return max(1, len({p.eye for p in (lens.pieces() or ())} - {None}))
+#: rows of 180 degrees at which an output lens is made to be measured (10 rows a degree: a field of whole degrees
+#: takes whole rows)
+PROBE_ROWS = 3600
 
 
-def target_rows(spec: str, rows: int) -> int:
-    """The rows to give :func:`default_size` so that the output lens ``spec`` has the resolution of ``rows`` rows over
-    180 degrees, measured as a source's is (:meth:`~lenslab.lenses.core.base.Lens.pixels_per_degree`: its first
-    piece's rows over the degrees its middle column spans): ``rows`` for a 180-degree fisheye, a whole equirect or
-    a cube map; half for a 90-degree perspective view or fisheye, 2/3 for a 120-degree one. Where the piece's
-    middle row is coarser in angle than its column (a cylindrical panorama's 360 degrees, a barrel's band), the
-    row's resolution is the one kept: no line through the middle is coarser than the source."""
-    import math
-
+def _probe_lens(spec: str):
+    """The output lens ``spec`` made at :data:`PROBE_ROWS` rows of 180 degrees, to be measured; None for a spec that
+    cannot be made (it says so where its size is made)."""
     from lenslab.errors import LensError
     from lenslab.lenses.registry import make_lens
 
-    probe = 3600  # (10 rows a degree: a field of whole degrees takes whole rows)
+    try:
+        return make_lens(spec, default_size(spec, PROBE_ROWS))
+    except (LensError, ValueError, ZeroDivisionError):
+        return None
+
+
+def _eyes(lens) -> int:
+    """The eyes a lens shows: 2 for a stereo frame's pieces, else 1 (also for no lens)."""
+    if lens is None:
+        return 1
+    return max(1, len({p.eye for p in (lens.pieces() or ())} - {None}))
+
+
+def target_rows(probe, rows: int) -> int:
+    """The rows to give :func:`default_size` so that the output lens (``probe``, made by :func:`_probe_lens`) has the
+    resolution of ``rows`` rows over 180 degrees, measured as a source's is
+    (:meth:`~lenslab.lenses.core.base.Lens.pixels_per_degree`: its first piece's rows over the degrees its middle
+    column spans): ``rows`` for a 180-degree fisheye, a whole equirect or a cube map; half for a 90-degree
+    perspective view or fisheye, 2/3 for a 120-degree one. Where the piece's middle row is coarser in angle than its
+    column (a cylindrical panorama's 360 degrees, a barrel's band), the row's resolution is the one kept: no line
+    through the middle is coarser than the source. ``rows`` itself where there is no probe."""
+    import math
+
+    from lenslab.errors import LensError
+
+    if probe is None:
+        return rows
     try:
         from lenslab.lenses.core.resolution import row_pixels_per_degree
 
-        made = make_lens(spec, default_size(spec, probe))
-        ppd = min(made.pixels_per_degree(), row_pixels_per_degree(made))
-    except (LensError, ValueError, ZeroDivisionError):  # (a spec at fault says so where its size is made)
+        ppd = min(probe.pixels_per_degree(), row_pixels_per_degree(probe))
+    except (LensError, ValueError, ZeroDivisionError):
         return rows
     if not (math.isfinite(ppd) and ppd > 0):
         return rows
-    return max(1, round(rows * probe / (180.0 * ppd)))
+    return max(1, round(rows * PROBE_ROWS / (180.0 * ppd)))
 
 
 def default_size(spec: str, src_h: int) -> tuple[int, int]:
