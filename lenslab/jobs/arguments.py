@@ -143,8 +143,11 @@ class OneFormat(OneCurve):
 
 
 def _curve_key(value) -> list[str]:
-    """Curve names as the tone registry compares them: case-insensitive, ``_`` as ``-``, a list by its commas."""
-    return [name.strip().lower().replace("_", "-") for name in str(value).split(",")]
+    """Curve names as the tone registry compares them (:func:`lenslab.tone.registry.curve_key`), a list by its
+    commas."""
+    from lenslab.tone.registry import curve_key
+
+    return [curve_key(name) for name in str(value).split(",")]
 
 
 def add_tone_mode_option(parser, per_channel_help: str, luminance_help: str) -> None:
