@@ -15,7 +15,8 @@ DEFAULT_CODEC = {".mp4": ("h264", "h265"), ".m4v": ("h264", "h265"), ".mov": ("p
 VIDEO_EXTENSIONS = tuple(DEFAULT_CODEC)
 #: encoders that refuse 4:2:0 frames of an odd width or height (as FFmpeg's libx264 and libx265 do)
 ODD_4_2_0_REFUSED = ("libx264", "libx265")
-#: the smallest side x265 encodes (it refuses 14 and less; 16 x 16 encodes)
+#: the smallest side x265 encodes, across and down (it refuses 14 and less either way; 16 x 16 encodes: tried
+#: through PyAV in tests/io/test_video_x265_min_size.py)
 X265_MIN_SIDE = 16
 #: frames with a side below this are encoded by x265 without its CU-tree (see :func:`x265_params`)
 X265_CUTREE_SIDE = 64
@@ -23,13 +24,19 @@ X265_CUTREE_SIDE = 64
 
 def check_clip_size(size: tuple[int, int], path, codec: str | None) -> None:
     """A :class:`~lenslab.errors.UsageError` for an output size given on the command line that the clip's encoder
-    refuses (an odd side in 4:2:0, which x264 and x265 cannot encode), before any frame is decoded; ``codec``:
+    refuses (an odd side in 4:2:0, which x264 and x265 cannot encode; a side under :data:`X265_MIN_SIDE` with
+    ``--codec h265``), before any frame is decoded; ``codec``:
     ``--codec``, None for the default of ``path``'s extension (H.264 or H.265 in .mp4, both 4:2:0)."""
     from pathlib import Path
 
     from lenslab.errors import UsageError
 
     w, h = size
+    if codec and CODECS[codec][0] == "libx265" and min(w, h) < X265_MIN_SIDE:  # (the default H.265 of an HDR
+        # clip in .mp4 is known only once the clip is probed: the encoder's own refusal then, exit 1)
+        raise UsageError(f"--size {w}x{h}: the libx265 encoder (--codec h265) encodes frames of at least "
+                         f"{X265_MIN_SIDE} x {X265_MIN_SIDE}; give --size {max(w + w % 2, X265_MIN_SIDE)}x"
+                         f"{max(h + h % 2, X265_MIN_SIDE)} or larger, or --codec h264")
     for name in [codec] if codec else DEFAULT_CODEC.get(Path(path).suffix.lower(), ()):
         encoder, pix_fmt, _ = CODECS[name]
         if encoder in ODD_4_2_0_REFUSED and pix_fmt.startswith("yuv420") and (w % 2 or h % 2):
