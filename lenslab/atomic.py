@@ -2,7 +2,8 @@
 
 A reader never sees a half-written file, and a failure (an exception, a full disk, Ctrl-C, SIGTERM)
 leaves nothing behind but what was there before. A temporary is named for the process that owns it
-(``.STEM.tmp-PID-HOST-RANDOM.SUFFIX``): one left by a process that died (SIGKILL, a lost machine) is
+(``.STEM.tmp-PID-HOST-RANDOM.SUFFIX``, the stem shortened where the name would pass 255 bytes, see
+:func:`temporary_parts`): one left by a process that died (SIGKILL, a lost machine) is
 found by :func:`lenslab.staging.sweep` once that process is gone. Only regular files are ever replaced:
 a FIFO or a device node in an output's place is refused.
 
@@ -38,6 +39,64 @@ def _host_tag() -> str:
 
 
 HOST = _host_tag()
+
+#: the longest file name, in bytes, of the file systems lenslab writes to (Linux's, macOS's and Windows' NAME_MAX)
+NAME_MAX = 255
+#: what a temporary's name adds to its target's stem and suffix at most: ``.`` + TEMPORARY_TAG + a process number
+#: (10 digits) + ``-HOST-RANDOM`` (6 and 8 hex digits)
+TEMPORARY_EXTRA = 1 + len(TEMPORARY_TAG) + 10 + 1 + 6 + 1 + 8
+#: a suffix longer than this (in bytes) is no format's extension: a temporary keeps it only within its stem
+LONGEST_SUFFIX = 16
+
+
+def name_bytes(name: str) -> int:
+    """The length of file name ``name`` in bytes, as the file system counts it (UTF-8 on Linux)."""
+    return len(os.fsencode(name))
+
+
+def name_too_long(path: str | os.PathLike) -> str | None:
+    """What is wrong with ``path`` when its file name is longer than :data:`NAME_MAX` bytes (one line, led by the
+    path with the name's first 24 characters, ``...`` and its extension), else None."""
+    path = os.fspath(path)
+    folder, name = os.path.split(path)
+    n = name_bytes(name)
+    if n <= NAME_MAX:
+        return None
+    suffix = Path(name).suffix if name_bytes(Path(name).suffix) <= LONGEST_SUFFIX else ""
+    short = os.path.join(folder, f"{name[:24]}...{suffix}")
+    return f"{short}: its name is too long: {n} bytes, where a file name holds at most {NAME_MAX}; give a shorter name"
+
+
+def temporary_parts(target: Path) -> tuple[str, str]:
+    """The stem and suffix a temporary of ``target`` (and the writability probe of its folder) is named with:
+    ``target``'s own where the name fits :data:`NAME_MAX` with :data:`TEMPORARY_EXTRA` more bytes; else the
+    stem cut (on a character's boundary) to what fits, followed by ``~`` and eight hex digits of the SHA-1 of
+    ``target``'s whole name, so the temporaries of two long names that begin alike stay apart and
+    :func:`temporaries` finds each one's. The suffix is kept (encoders pick the format by it)."""
+    stem, suffix = target.stem, target.suffix
+    if name_bytes(suffix) > LONGEST_SUFFIX:
+        stem, suffix = target.name, ""
+    room = NAME_MAX - TEMPORARY_EXTRA - name_bytes(suffix)
+    if name_bytes(stem) <= room:
+        return stem, suffix
+    try:
+        from _sha1 import sha1
+    except ImportError:  # pragma: no cover  (a Python built without it)
+        from hashlib import sha1
+
+    tag = "~" + sha1(os.fsencode(target.name)).hexdigest()[:8]
+    room -= len(tag)
+    cut = len(stem)
+    while name_bytes(stem[:cut]) > room:
+        cut -= 1
+    return stem[:cut] + tag, suffix
+
+
+def temporary_name(target: Path, owner_: str) -> str:
+    """The name of a temporary (or a probe) of ``target`` for process ``owner_`` (``PID-HOST``): at most
+    :data:`NAME_MAX` bytes whatever ``target``'s name (:func:`temporary_parts`)."""
+    stem, suffix = temporary_parts(target)
+    return f".{stem}{TEMPORARY_TAG}{owner_}-{os.urandom(4).hex()}{suffix}"
 
 
 def owner() -> str:
@@ -92,7 +151,8 @@ def temporaries(path: str | os.PathLike) -> list[Path]:
     target = Path(path)
     if not target.parent.is_dir():
         return []
-    pattern = f".{glob.escape(target.stem)}{TEMPORARY_TAG}*{glob.escape(target.suffix)}"
+    stem, suffix = temporary_parts(target)
+    pattern = f".{glob.escape(stem)}{TEMPORARY_TAG}*{glob.escape(suffix)}"
     return sorted(target.parent.glob(pattern))
 
 
@@ -114,7 +174,7 @@ def atomic_write_path(path: str | os.PathLike, overwrite: bool = True) -> Iterat
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: the directory {parent} does not exist")
     staging = getattr(STAGING, "owner", None)
-    tmp = parent / f".{target.stem}{TEMPORARY_TAG}{staging or owner()}-{os.urandom(4).hex()}{target.suffix}"
+    tmp = parent / temporary_name(target, staging or owner())
     try:
         yield tmp
         if not tmp.exists():

@@ -13,6 +13,7 @@ Standard library only: every command's parser module imports this, and ``--help`
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import re
 import signal
@@ -216,7 +217,10 @@ def one_line(exc: BaseException, limit: int = 400) -> str:
     if isinstance(exc, MemoryError):
         text = "out of memory: the machine could not give what this input needs"
     elif isinstance(exc, OSError) and exc.filename is not None and exc.strerror and type(exc) is not OutputError:
-        text = f"{exc.filename}: {exc.strerror[:1].lower()}{exc.strerror[1:]}"
+        from lenslab.atomic import name_too_long
+
+        text = (exc.errno == errno.ENAMETOOLONG and name_too_long(exc.filename)) or \
+            f"{exc.filename}: {exc.strerror[:1].lower()}{exc.strerror[1:]}"
     else:
         text = " ".join((str(exc).strip() or type(exc).__name__).split("\n")[0].split())
         if not isinstance(exc, (LenslabError, OSError, ValueError)) or isinstance(exc, (RecursionError,)):

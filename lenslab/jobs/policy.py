@@ -56,13 +56,14 @@ def check_output(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = 
     try:
         return _check_output(path, inputs, overwrite)
     except Exception as exc:
-        exc.lenslab_file = str(path)  # (the funnel and a batch's report name this file, and only it)
+        exc.lenslab_file = getattr(exc, "lenslab_file", None) or str(path)  # (the funnel and a batch's report name this file, and only it)
         raise
 
 
 def _check_output(path, inputs, overwrite: bool) -> Path:
     refuse_inputs([path], inputs)
     out = Path(path)
+    check_name_length(out)
     if out.is_dir():
         raise UsageError(f"{out}: is a folder; give a file name to write to")
     if os.path.lexists(out) and not overwrite:
@@ -77,15 +78,27 @@ def _check_output(path, inputs, overwrite: bool) -> Path:
     return out
 
 
+def check_name_length(out: Path) -> None:
+    """An :class:`OutputError` when ``out``'s file name is longer than a file system holds (:data:`~lenslab.atomic.
+    NAME_MAX` bytes, UTF-8), said as such before anything is tried; a name that fits gets temporaries that fit too."""
+    from lenslab.atomic import name_too_long
+
+    why = name_too_long(out)
+    if why:
+        exc = OutputError(why)
+        exc.lenslab_file = why.partition(": ")[0]  # (the line names the file shortened, once)
+        raise exc
+
+
 def check_writable(out: Path) -> None:
     """An :class:`OutputError` naming ``out`` when its folder does not let a file be made in it (read-only, no
     permission, a virtual file system such as /proc): a file of the temporaries' pattern is created there and
     removed at once, so the refusal comes before any input is read, never at the rename of a finished image."""
-    from lenslab.atomic import TEMPORARY_TAG, owner
+    from lenslab.atomic import owner, temporary_name
     from lenslab.errors import stop_signals_held
 
     folder = out.parent
-    probe = folder / f".{out.stem}{TEMPORARY_TAG}{owner()}-{os.urandom(4).hex()}{out.suffix}"
+    probe = folder / temporary_name(out, owner())
     with stop_signals_held():  # a Ctrl-C or SIGTERM landing between the two steps is raised after the removal
         try:
             os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
