@@ -137,14 +137,15 @@ def note_map_bits(fmt, meta: dict, codes: dict) -> None:
     """A note where an ST map is written as 8-bit codes (JPG, or ``--bits 8``): each source position is then kept
     only to 1/255 of the source's size (the width the map's ``lenslab:stmap`` header records), a JPG's lossy coding
     moving it further."""
-    import re
     import warnings
+
+    from lenslab.stmap import recorded_source_size
 
     if codes.get("bits", 16) != 8 and codes.get("sample_type") != "uint8" and 16 in fmt.bit_depths:
         return
-    found = re.search(r"from \S+ (\d+)x(\d+) to", str(meta["attributes"]["lenslab:stmap"]))
-    pixels = f"{int(found[1]) / 255:.2g}" if found else ""
-    step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[1]}-pixel width)" if found else ""
+    found = recorded_source_size(meta)
+    pixels = f"{found[0] / 255:.2g}" if found else ""
+    step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
     lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""
     warnings.warn(f"an ST map at 8 bits places each source position only to 1/255 of the source's size{step}"
                   f"{lossy}; PNG, PPM or TIFF at 16 bits keep 1/65535, EXR the values themselves", UserWarning,

@@ -73,7 +73,7 @@ class WarpJob(Job):
     @property
     def st(self):
         """The ST map of ``stmap``, read once per process."""
-        return st_map(self.stmap)
+        return st_map(self.stmap)[0]
 
     def run(self, src: str, dst: str, progress=None) -> None:
         warp_one(src, Path(dst), self, plans_for(self), progress=progress)
@@ -116,6 +116,13 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         from lenslab.warp.minification import Looked
 
         dst, plan = None, Looked()  # the map's footprints, looked at as a plan's are
+        import numpy as np
+
+        from lenslab.stmap_frame import frame_for_map
+
+        st, recorded = st_map(job.stmap)
+        image = np.ascontiguousarray(frame_for_map(image, meta, (st.shape[1], st.shape[0]), recorded, src_path,
+                                                   job.stmap))  # a turned photo: as stored, if the map says so
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
         named = carries_alpha(meta, image.shape[2])
@@ -203,12 +210,12 @@ SCRATCH_POINTS = 1 << 16
 
 
 def st_map(path: str):
-    """The ST map at ``path``, read once per process."""
+    """The ST map at ``path`` and the source size its mark records (or None), read once per process."""
     key = ("stmap", os.path.abspath(path))
     if key not in _CACHE:
         from lenslab.stmap import read_st_map
 
-        _CACHE[key] = read_st_map(path)
+        _CACHE[key] = read_st_map(path, source_size=True)
     return _CACHE[key]
 
 
