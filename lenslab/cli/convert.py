@@ -185,6 +185,9 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.runner import connect, run_batch
 
     job = ConvertJob.from_options(args, exposure=exposure, **display)
+    from lenslab.jobs.convert import check_maps_look
+
+    check_maps_look(files, args.to, args.bits, job)  # an ST map given a look: a usage error before any file
     args._client = connect(args)  # an unreachable scheduler: one error, before any folder is made
     if args.output is not None and (len(pairs) > 1 or Path(args.output).suffix == ""):
         from lenslab.jobs.policy import make_output_dir

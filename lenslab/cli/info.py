@@ -100,6 +100,10 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         attrs["tiles"] = tiling(tiles, meta["data_window"])[0]
     out["attributes"] = attrs
     out["structure"] = probe(file, fmt.name)
+    if "lenslab:stmap" not in attrs:  # a map another tool made: said, and read as the picture it is stored as
+        from lenslab.stmap_lookalike import looks_like_st_map
+
+        out["looks_like_st_map"] = looks_like_st_map(image, meta["channels"])
     return out
 
 
@@ -248,6 +252,11 @@ def _text(d: dict) -> str:
         lines.append(f"  lens in metadata: {found['found']}")
         lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
                      else f"    lensfun:auto: {found['problem']}")
+    if d.get("looks_like_st_map"):
+        name = d["file"]
+        lines.append(f"  looks like an ST map ({' and '.join(d['channels'][:2])} within [0, 1], monotone along rows and "
+                     f"columns); give --stmap {name} to use it (lenslab warp IMAGE --stmap {name}); its statistics "
+                     "above are of the file read as a picture")
     lines += _structure_lines(d)
     if set(d.get("structure") or {}) <= {"file_bytes"}:  # no structure probe: the reader's attributes
         for k, v in d["attributes"].items():

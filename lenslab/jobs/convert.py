@@ -90,6 +90,7 @@ class ConvertJob(Job):
         # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
         codes = map_codes(fmt, meta, self.bits)
         if codes is not None:  # an ST map holds coordinates, not colours: written as raw codes
+            refuse_look_of_map(src, self)
             note_map_bits(fmt, meta, codes)
             image, write_opts = check_image(image, src), codes
         else:
@@ -131,6 +132,48 @@ def map_codes(fmt, meta: dict, bits: int | None) -> dict | None:
     if "sample_type" in fmt.write_options:
         return {"raw": True, "sample_type": f"uint{bits}"}
     return {"raw": True, **({"bits": bits} if "bits" in fmt.write_options else {})}
+
+
+def check_maps_look(files, to: str, bits: int | None, job) -> None:
+    """Before a batch: :func:`refuse_look_of_map` for every EXR among ``files`` whose header carries the
+    ``lenslab:stmap`` mark, where format ``to`` would write it as codes and ``job`` (a :class:`ConvertJob`'s look
+    fields) names a look; only the headers are read, and only when a look option was given."""
+    from lenslab.io.registry import get
+
+    fmt = get(to)
+    if "raw" not in fmt.write_options or (fmt.hdr and not bits):
+        return
+    if not (job.tone_given or job.exposure not in (0, 0.0) or job.display):
+        return
+    from lenslab.io import split_selector
+    from lenslab.io.registry import sniff
+
+    for f in files:
+        path = split_selector(str(f))[0]
+        try:
+            if sniff(path) != "exr":
+                continue
+            import OpenEXR
+
+            marked = "lenslab:stmap" in OpenEXR.File(str(path), header_only=True).parts[0].header
+        except Exception:  # a file that cannot be read: its own error comes when it is converted
+            continue
+        if marked:
+            refuse_look_of_map(str(f), job)
+
+
+def refuse_look_of_map(src: str, job: ConvertJob) -> None:
+    """A :class:`~lenslab.errors.UsageError` naming the look options given (``--tone``, ``--exposure``, ``--display``
+    and its ``--view``/``--colorspace``) for an ST map written as codes (:func:`map_codes`): its values are source
+    positions, never tone-mapped nor display-encoded, so those options would be ignored."""
+    from lenslab.errors import UsageError
+
+    given = [flag for flag, on in (("--tone", job.tone_given), ("--exposure", job.exposure not in (0, 0.0)),
+                                   ("--display", job.display), ("--view", job.view),
+                                   ("--colorspace", job.colorspace)) if on]
+    if given:
+        raise UsageError(f"{src}: is an ST map (its header's lenslab:stmap mark): its values are source positions, "
+                         f"written as raw codes, never tone-mapped or display-encoded; drop {', '.join(given)}")
 
 
 def note_map_bits(fmt, meta: dict, codes: dict) -> None:
