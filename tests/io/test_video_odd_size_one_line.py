@@ -72,20 +72,14 @@ def test_an_odd_size_to_the_default_codec_is_a_usage_error_before_any_frame(tmp_
     """`lenslab warp pano.mp4 -o f.mp4 --size 513x513`: .mp4's default encoder, x264, refuses 513 x 513 in 4:2:0
     and opens for the even size suggested (FFmpeg's answers, through PyAV); lenslab says so with exit 2 before it
     probes or decodes the clip."""
-    import lenslab.io.video as video
     from lenslab.cli.main import main
 
     assert not encoder_opens("libx264", "yuv420p", 513, 513, str(tmp_path / "probe.mp4"))
     assert encoder_opens("libx264", "yuv420p", 514, 514, str(tmp_path / "probe.mp4"))
     (tmp_path / "probe.mp4").unlink(missing_ok=True)
-    clip = tmp_path / "pano.mp4"
-    _clip(clip)
+    from tests.io.test_video_x265_min_size import unopened_clip
 
-    def untouched(*args, **kwargs):
-        raise AssertionError("the clip was opened")
-
-    monkeypatch.setattr(video, "read_frames", untouched)
-    monkeypatch.setattr(video, "probe_video", untouched)
+    clip = unopened_clip(tmp_path / "pano.mp4", monkeypatch)
     assert main(["warp", str(clip), "-o", str(tmp_path / "f.mp4"), "--to", "fisheye:fov=180",
                  "--size", "513x513"]) == 2
     err = capsys.readouterr().err

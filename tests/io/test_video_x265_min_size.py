@@ -27,9 +27,23 @@ def _smallest_side(tmp_path, across: bool) -> int:
     raise AssertionError("libx265 opened for no side up to 64")
 
 
+def unopened_clip(path, monkeypatch):
+    """A 3-frame H.264 clip at ``path`` that the command must not open: lenslab's probe and decoder fail the test
+    if called (a usage error comes before them)."""
+    import lenslab.io.video as video
+
+    _clip(path)
+
+    def untouched(*args, **kwargs):
+        raise AssertionError("the clip was opened")
+
+    monkeypatch.setattr(video, "read_frames", untouched)
+    monkeypatch.setattr(video, "probe_video", untouched)
+    return path
+
+
 @pytest.mark.parametrize("size", ["8x8", "64x8", "10x64", "9x9"])
 def test_a_size_below_x265s_smallest_is_a_usage_error_before_any_frame(tmp_path, monkeypatch, capsys, size):
-    import lenslab.io.video as video
     from lenslab.cli.main import main
 
     min_w, min_h = _smallest_side(tmp_path, True), _smallest_side(tmp_path, False)
@@ -38,14 +52,7 @@ def test_a_size_below_x265s_smallest_is_a_usage_error_before_any_frame(tmp_path,
     want = (max(w + w % 2, min_w), max(h + h % 2, min_h))
     assert encoder_opens("libx265", "yuv420p10le", *want, str(tmp_path / "probe.mp4"))  # and the one named opens
     (tmp_path / "probe.mp4").unlink(missing_ok=True)
-    clip = tmp_path / "clip.mp4"
-    _clip(clip)
-
-    def untouched(*args, **kwargs):
-        raise AssertionError("the clip was opened")
-
-    monkeypatch.setattr(video, "read_frames", untouched)
-    monkeypatch.setattr(video, "probe_video", untouched)
+    clip = unopened_clip(tmp_path / "clip.mp4", monkeypatch)
     assert main(["warp", str(clip), "-o", str(tmp_path / "out.mp4"), "--from", "equirect", "--to", "fisheye:fov=180",
                  "--codec", "h265", "--size", size]) == 2
     lines = capsys.readouterr().err.strip().splitlines()
