@@ -43,6 +43,8 @@ def looks_like_st_map(image: np.ndarray, channels: Sequence[str]) -> bool:
         return False
     s, t = image[..., 0], image[..., 1]  # (views: a large picture is not copied)
     alpha = image[..., 3] if image.shape[2] == 4 else None
+    if not _lines_agree(s, t, alpha):  # a picture fails on three rows and columns: the whole is not gone through
+        return False
     lo, hi = [np.inf, np.inf], [-np.inf, -np.inf]
     falls, down, seen = False, set(), 0
     for r0 in range(0, s.shape[0], BAND_ROWS):  # bands overlapping by a row, so every pair down a column is seen
@@ -65,6 +67,24 @@ def looks_like_st_map(image: np.ndarray, channels: Sequence[str]) -> bool:
         if falls or len(down) > 1 or lo[0] < 0 or lo[1] < 0 or hi[0] > 1 or hi[1] > 1:
             return False
     return bool(seen >= 4 and hi[0] - lo[0] >= MIN_SPAN and hi[1] - lo[1] >= MIN_SPAN)
+
+
+def _lines_agree(s: np.ndarray, t: np.ndarray, alpha: np.ndarray | None) -> bool:
+    """Whether ``s`` never falls along the first, middle and last rows and ``t`` changes one way only down the
+    first, middle and last columns (their valid pairs): what :func:`looks_like_st_map` asks of every row and column."""
+    h, w = s.shape
+    way = set()
+    for k in sorted({0, h // 2, h - 1}):
+        ok = np.ones(w - 1, dtype=bool) if alpha is None else (alpha[k, 1:] > 0.5) & (alpha[k, :-1] > 0.5)
+        with np.errstate(invalid="ignore"):
+            if (np.diff(s[k].astype(np.float64))[ok] < -TIE).any():
+                return False
+    for k in sorted({0, w // 2, w - 1}):
+        ok = np.ones(h - 1, dtype=bool) if alpha is None else (alpha[1:, k] > 0.5) & (alpha[:-1, k] > 0.5)
+        with np.errstate(invalid="ignore"):
+            d = np.diff(t[:, k].astype(np.float64))[ok]
+        way |= ({1} if (d > TIE).any() else set()) | ({-1} if (d < -TIE).any() else set())
+    return len(way) <= 1
 
 
 __all__ = ["looks_like_st_map"]
