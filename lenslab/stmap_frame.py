@@ -49,7 +49,7 @@ def frame_for_map(image: np.ndarray, meta: dict, map_size: tuple[int, int], reco
 
         return turn(image, {6: 8, 8: 6}.get(orientation, orientation))  # the inverse turn: the stored frame
     if orientation != 1 and fits(size, stored) and fits(size, shown):
-        warnings.warn(f"{src} is shown {_turned(orientation)} (EXIF orientation {orientation}); the ST map's "
+        warnings.warn(f"it is shown {_turned(orientation)} (EXIF orientation {orientation}); the ST map's "
                       f"source size {size[0]}x{size[1]} fits it both as stored and as shown, so the map is applied "
                       "to it as shown", UserWarning, stacklevel=2)
     return image

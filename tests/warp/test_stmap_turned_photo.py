@@ -135,3 +135,23 @@ def test_an_unmarked_map_of_the_stored_size_warps_the_stored_image(photo, tmp_pa
     got = _warp(photo, st_path, tmp_path)
     inside = (x + 10.25 < w) & (y + 3.5 < h)  # (without alpha, entries within [0, 1] count)
     assert np.abs(got[..., :3] - want)[inside].max() <= tol
+
+
+def test_a_half_turn_keeps_the_size_so_the_map_applies_as_shown_with_a_note(tmp_path, capsys):
+    """Orientation 3 (a half turn) keeps 400 x 300: the sizes cannot tell the frames apart, so the map is applied to
+    the photo as shown (Pillow's ``exif_transpose``), and one note says so."""
+    y, x = np.mgrid[0:STORED[1], 0:STORED[0]].astype(np.float64)
+    im = Image.fromarray(np.round(np.stack([x / 399, y / 299, 0.5 + 0 * x], -1) * 255).astype(np.uint8))
+    exif = im.getexif()
+    exif[0x0112] = 3
+    photo = tmp_path / "half.jpg"
+    im.save(photo, quality=100, exif=exif.tobytes())
+    st_path = _make_map(tmp_path, "map.exr", STORED)
+    capsys.readouterr()
+    shown = np.asarray(ImageOps.exif_transpose(Image.open(photo)))
+    want, tol = _expected(shown, _read_exr(st_path))
+    out = tmp_path / "out.exr"
+    assert main(["warp", str(photo), "--stmap", str(st_path), "-o", str(out), "--pixel-type", "float"]) == 0
+    assert np.abs(_read_exr(out)[..., :3] - want).max() <= tol
+    notes = [line for line in capsys.readouterr().err.splitlines() if "EXIF orientation 3" in line]
+    assert len(notes) == 1 and "fits it both as stored and as shown" in notes[0] and "as shown" in notes[0]
