@@ -85,11 +85,14 @@ def test_sizes_x265_refuses_are_one_line(tmp_path, noise_clip, size):
     assert encoder_opens("libx265", "yuv420p10le", 16, 16, str(tmp_path / "probe.mp4"))
     (tmp_path / "probe.mp4").unlink(missing_ok=True)
     expected = f"the libx265 encoder cannot encode {w} x {h} frames in yuv420p10le: x265 encodes frames of at least"
+    # warp's --size is on the command line: a usage error (exit 2) naming the size to give, before the clip is read
+    # (tests/io/test_video_x265_min_size.py); convert's frames bring their size: the encoder's refusal (exit 1)
+    usage = f"--size {w}x{h}: the libx265 encoder (--codec h265) encodes frames of at least 16 x 16; give --size"
     warp = _lenslab("warp", noise_clip, "-o", tmp_path / "w.mp4", "--to", "equirect", "--size", f"{w}x{h}",
                     "--codec", "h265")
     convert = _lenslab("convert", _noise(tmp_path / "frames", w, h, 2), "--to", "mp4", "-o", tmp_path / "c.mp4",
                        "--codec", "h265")
-    for run, command in ((warp, "warp"), (convert, "convert")):
+    for run, command, code, said in ((warp, "warp", 2, usage), (convert, "convert", 1, expected)):
         [line] = run.stderr.strip().splitlines()
-        assert run.returncode == 1 and line.startswith(f"lenslab {command}: error: ") and expected in line, line
+        assert run.returncode == code and line.startswith(f"lenslab {command}: error: ") and said in line, line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames"]  # no output, no temporary
