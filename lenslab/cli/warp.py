@@ -78,7 +78,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--stmap", metavar="MAP",
                         help="warp by an ST map from any tool instead of lenses (Nuke's STMap convention: "
                              "R = x/W, G = 1 - y/H of the source position, A = validity; the output takes "
-                             "the map's size; --filter, --samples and --antialias apply; see 'lenslab stmap')")
+                             "the map's size; --filter, --samples and --antialias apply; a photo turned by its "
+                             "EXIF orientation is read as stored when a lenslab map was made for that size; "
+                             "see 'lenslab stmap')")
     parser.add_argument("--from", dest="source", metavar="SPEC", action=Once, type=non_empty,
                         help="source lens; default: the camera stored in the file, else equirect when the "
                              "image is twice as wide as tall")
