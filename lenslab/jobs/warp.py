@@ -34,9 +34,10 @@ class WarpJob(Job):
     stmap: str | None = None
     source: str | None = None
     size: tuple[int, int] | None = None
-    yaw: float = 0.0
-    pitch: float = 0.0
-    roll: float = 0.0
+    #: the output's turns in degrees; None: not given (0)
+    yaw: float | None = None
+    pitch: float | None = None
+    roll: float | None = None
     look_at: tuple | str | None = None
     eye: tuple | str | None = None
     filter: str = "bilinear"

@@ -209,6 +209,13 @@ def recorded_view(spec):
     return image_camera(split_pick(spec)[0])
 
 
+def given_pose(args, *flags: str) -> list[str]:
+    """The pose options among ``flags`` (default ``--yaw``, ``--pitch``, ``--roll``) given on the command line, whatever
+    their value: they default to None, so ``--yaw 0`` is seen as given as ``--yaw 10`` is."""
+    flags = flags or ("--yaw", "--pitch", "--roll")
+    return [flag for flag in flags if getattr(args, flag.lstrip("-").replace("-", "_"), None) is not None]
+
+
 def check_view_pose(spec, pose_options: list[str]):
     """``--to IMAGE`` takes the view the image records, its orientation too: options that would turn it are a
     usage error (which way they meant, the render's or the world's, cannot be told). Returns the view or None."""
@@ -273,7 +280,8 @@ def output_camera(args, src, size: tuple[int, int]):
             # the top of the image towards -z (up) or +z (down)
             return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
         return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
-    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye, getattr(args, "rotation_order", "ypr")))
+    yaw, pitch, roll = (getattr(args, k, None) or 0.0 for k in ("yaw", "pitch", "roll"))  # (None: not given)
+    return Camera(lens, Pose.from_ypr(yaw, pitch, roll, eye, getattr(args, "rotation_order", "ypr")))
 
 
 def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):

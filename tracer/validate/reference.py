@@ -14,7 +14,7 @@ def reference_camera(args, image, meta):
     from lenslab.lenses import Camera, Pose, make_lens
 
     h, w = image.shape[:2]
-    pose = Pose.from_ypr(args.yaw or 0.0, args.pitch, args.roll, args.eye or (0.0, 0.0, 0.0))
+    pose = Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0, args.eye or (0.0, 0.0, 0.0))
     if args.reference_camera:
         return Camera(make_lens(args.reference_camera, (w, h)), pose)
     cam = meta.get("camera")
