@@ -178,7 +178,7 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     from lenslab.lenses.registry import lens_class
 
-    cls = lens_class(name)
+    cls = lens_class(name, spec)
     if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)
