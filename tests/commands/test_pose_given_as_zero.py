@@ -3,8 +3,8 @@ image that records its camera) is refused as ``--yaw 10`` is (exit 2, naming the
 pass unseen because 0 was the option's default. Left out, the options mean what they meant: no turn, or the
 recorded view's orientation.
 
-Expected orientations are the rotation ``Ry(yaw) Rx(-pitch) Rz(roll)`` of docs/conventions.md, transcribed here in
-float64; expected messages are the exact lines the commands print.
+Expected orientations are the rotation ``Ry(yaw) Rx(-pitch) Rz(roll)`` of docs/conventions.md, transcribed in float64
+by the tests of ``--to render.exr`` (test_warp_to_render_pose); expected messages are the exact lines the commands print.
 """
 
 from __future__ import annotations
@@ -14,19 +14,8 @@ import pytest
 
 from lenslab.cli.main import main as lenslab
 from lenslab.io import read, write
+from tests.commands.test_warp_to_render_pose import PITCH, ROLL, SIZE, YAW, _rotation
 from tracer.cli import main as tracer
-
-YAW, PITCH, ROLL = 30.0, -15.0, 5.0
-SIZE = (32, 24)
-
-
-def _rotation(yaw, pitch, roll) -> np.ndarray:
-    """Camera -> world, degrees: yaw turns right about +y, pitch up about +x, roll about +z (conventions)."""
-    y, p, r = np.radians([yaw, pitch, roll])
-    ry = np.array([[np.cos(y), 0, np.sin(y)], [0, 1, 0], [-np.sin(y), 0, np.cos(y)]])
-    rx = np.array([[1, 0, 0], [0, np.cos(-p), -np.sin(-p)], [0, np.sin(-p), np.cos(-p)]])
-    rz = np.array([[np.cos(r), -np.sin(r), 0], [np.sin(r), np.cos(r), 0], [0, 0, 1]])
-    return ry @ rx @ rz
 
 
 @pytest.fixture(scope="module")
