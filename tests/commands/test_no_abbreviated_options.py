@@ -70,9 +70,11 @@ def test_the_walk_finds_every_command():
     assert {"python tools/speed_table.py", "python tools/budget_ratios.py", "python tools/docs_tables.py"} <= progs
 
 
-@pytest.mark.parametrize("argv,left,meant", [(["tools/speed_table.py", "--read", "t.md", "r.json"], "--read", "--readme"),
-                                             (["tools/docs_tables.py", "--chec"], "--chec", "--check"),
-                                             (["tools/budget_ratios.py", "--view", "1"], "--view 1", "--views")])
+@pytest.mark.parametrize("argv,left,meant", [
+    (["tools/speed_table.py", "--read", "t.md", "r.json"], "--read", "--readme"),
+    (["tools/docs_tables.py", "--chec"], "--chec", "--check"),
+    (["tools/budget_ratios.py", "--view", "1"], "--view 1", "--views"),
+])
 def test_a_tool_run_with_a_prefix_is_a_usage_error(argv, left, meant):
     """The script as a user runs it: exit 2 and one line naming the option meant (plain argparse took the prefix
     for the option, and budget_ratios.py would have started its five-minute run)."""

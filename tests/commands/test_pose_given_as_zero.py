@@ -4,7 +4,8 @@ pass unseen because 0 was the option's default. Left out, the options mean what 
 recorded view's orientation.
 
 Expected orientations are the rotation ``Ry(yaw) Rx(-pitch) Rz(roll)`` of docs/conventions.md, transcribed in float64
-by the tests of ``--to render.exr`` (test_warp_to_render_pose); expected messages are the exact lines the commands print.
+by the tests of ``--to render.exr`` (test_warp_to_render_pose); expected messages are the exact lines the commands
+print.
 """
 
 from __future__ import annotations
@@ -67,8 +68,8 @@ def test_without_pose_options_the_view_is_the_render_s(files):
     np.testing.assert_allclose(read(out)[1]["camera"].pose.rotation, _rotation(YAW, PITCH, ROLL), atol=1e-12)
 
 
-@pytest.mark.parametrize("options,ypr", [([], (0, 0, 0)), (["--yaw", "0"], (0, 0, 0)),
-                                         (["--pitch", "20"], (0, 20, 0)), (["--yaw", "-40", "--roll", "0"], (-40, 0, 0))])
+@pytest.mark.parametrize("options,ypr", [([], (0, 0, 0)), (["--yaw", "0"], (0, 0, 0)), (["--pitch", "20"], (0, 20, 0)),
+                                         (["--yaw", "-40", "--roll", "0"], (-40, 0, 0))])
 def test_a_lens_spec_is_turned_as_before(files, options, ypr):
     """Left out, a turn is 0; given, its value: the output's recorded orientation (``--to`` a lens spec)."""
     folder, _, pano = files
@@ -94,5 +95,6 @@ def test_validate_sees_a_pitch_given_alone(tmp_path, monkeypatch):
 
     monkeypatch.setattr(run, "validate", validate)
     # (the funnel reports the stop as a failure: the target is what is looked at)
-    assert lenslab(["validate", "--scene", "cornell", "--pitch", "10", "--size", "16x16", "-o", str(tmp_path / "v")]) == 1
+    argv = ["validate", "--scene", "cornell", "--pitch", "10", "--size", "16x16", "-o", str(tmp_path / "v")]
+    assert lenslab(argv) == 1
     np.testing.assert_allclose(seen["target"].pose.rotation, _rotation(0, 10, 0), atol=1e-12)

@@ -95,7 +95,8 @@ def test_the_default_size_has_the_lens_s_aspect(name):
     ("cubemap", (3 * 256, 2 * 256)), ("cubemap:layout=6x1", (6 * 256, 256)), ("cubemap:layout=1x6", (256, 6 * 256)),
     ("tiled:3x1", (3 * 256, 256)), ("tiled:2x2", (2 * 256, 2 * 256)),
     # equirect ranges: square pixels, 512 rows over 180 degrees
-    ("equirect", (512 * 360 // 180, 512)), ("equirect:lat_min=-30,lat_max=30", (512 * 360 // 180, round(512 * 60 / 180))),
+    ("equirect", (512 * 360 // 180, 512)),
+    ("equirect:lat_min=-30,lat_max=30", (512 * 360 // 180, round(512 * 60 / 180))),
     ("equirect:lon_min=-90,lon_max=90", (512 * 180 // 180, 512)), ("half-equirect", (512, 512)),
 ])
 def test_grids_and_bands_keep_their_sizes(spec, size):
