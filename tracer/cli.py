@@ -180,7 +180,7 @@ def _recorded_view(args, scene):
     camera at the origin, which places nothing: a panorama lenslab made of a photograph), at its size unless --size
     is given; None for a lens spec or a calibration file. Options that would turn it are a usage error, as with ``lenslab warp --to
     render.exr``: whether they turn the render's view or the world's cannot be told."""
-    from lenslab.jobs.warp_cameras import recorded_view
+    from lenslab.jobs.warp_cameras import recorded_view, refuse_turns
 
     view = recorded_view(args.camera)
     if view is None:
@@ -188,13 +188,7 @@ def _recorded_view(args, scene):
     turns = [flag for flag, value in (("--view", args.view), ("--look-at", args.look_at), ("--up", args.up),
                                       ("--yaw", args.yaw), ("--pitch", args.pitch), ("--roll", args.roll))
              if value is not None]
-    if turns:
-        from lenslab.errors import UsageError
-
-        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
-        raise UsageError(f"{'/'.join(turns)}: --camera {args.camera} takes the view that file records, its lens and "
-                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
-                         f"another way, give it as a spec: --camera {view.lens.spec()}")
+    refuse_turns(turns, "--camera", args.camera, view)
     import numpy as np
 
     from lenslab.lenses import Camera, Pose

@@ -220,14 +220,23 @@ def check_view_pose(spec, pose_options: list[str]):
     """``--to IMAGE`` takes the view the image records, its orientation too: options that would turn it are a
     usage error (which way they meant, the render's or the world's, cannot be told). Returns the view or None."""
     view = recorded_view(spec)
-    if view is not None and pose_options:
-        from lenslab.errors import UsageError
-
-        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
-        raise UsageError(f"{'/'.join(pose_options)}: --to {spec} takes the view that file records, its lens and its "
-                         f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
-                         f"another way, give it as a spec: --to {view.lens.spec()}")
+    if view is not None:
+        refuse_turns(pose_options, "--to", spec, view)
     return view
+
+
+def refuse_turns(flags: list[str], option: str, path, view, spec_option: str | None = None) -> None:
+    """The usage error of options ``flags`` that would turn the view an image records (``option path``: ``--to
+    render.exr``), naming its orientation and the lens spec to give (as ``spec_option``, default ``option``) to turn
+    that lens another way; nothing when none is given."""
+    if not flags:
+        return
+    from lenslab.errors import UsageError
+
+    yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+    raise UsageError(f"{'/'.join(flags)}: {option} {path} takes the view that file records, its lens and its "
+                     f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens another way, give "
+                     f"it as a spec: {spec_option or option} {view.lens.spec()}")
 
 
 def records_place(src, meta: dict) -> bool:

@@ -30,10 +30,10 @@ def files(tmp_path_factory):
     return folder, render, pano
 
 
-def _refusal(command: str, flag: str, option: str, render) -> str:
+def _refusal(command: str, flag: str, option: str, render, spec_option: str | None = None) -> str:
     return (f"{command}: error: {flag}: {option} {render} takes the view that file records, its lens and its "
             f"orientation (yaw 30, pitch -15, roll 5); to turn that lens another way, give it as a spec: "
-            f"{option} perspective:fov=60")
+            f"{spec_option or option} perspective:fov=60")
 
 
 @pytest.mark.parametrize("flag", ["--yaw", "--pitch", "--roll"])
@@ -51,6 +51,19 @@ def test_a_zero_turn_with_a_recorded_view_is_refused(files, capsys, flag, value)
                    str(folder / "again.exr"), flag, value]) == 2
     assert capsys.readouterr().err == _refusal("tracer render", flag, "--camera", render) + "\n"
     assert not out.exists() and not (folder / "map.exr").exists() and not (folder / "again.exr").exists()
+
+
+@pytest.mark.parametrize("flag", ["--yaw", "--pitch", "--roll"])
+def test_validate_refuses_a_turn_of_a_reference_that_records_its_camera(files, capsys, flag):
+    """``lenslab validate --reference render.exr``: the reference's camera is the one its file records, orientation
+    and all; a turn given with it was ignored, whatever its value."""
+    folder, render, pano = files
+    capsys.readouterr()
+    assert lenslab(["validate", "--reference", str(render), "--source", str(pano), "-o", str(folder / "report"),
+                    flag, "0"]) == 2
+    assert capsys.readouterr().err == _refusal("lenslab validate", flag, "--reference", render,
+                                               "--reference-camera") + "\n"
+    assert not (folder / "report").exists()
 
 
 def test_zero_turns_and_look_at_are_one_too_many(files, capsys):
