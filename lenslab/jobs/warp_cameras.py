@@ -174,11 +174,14 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if name == "stereo":  # two eyes of the base's default frame, side by side or one above the other
         base = values.pop("base", "equirect")
         layout = values.pop("layout", "sbs")
-        w, h = default_size(base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1), src_h)
+        w, h = default_size(_base_spec(base, values), src_h)
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     from lenslab.lenses.registry import lens_class
 
     cls = lens_class(name, spec)
+    own = {p.name for p in cls.params}
+    if "base" in own and values.get("base"):  # a bend or optics over a base model, at its size: the base's frame
+        return default_size(_base_spec(values["base"], {k: v for k, v in values.items() if k not in own}), src_h)
     if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)
@@ -187,6 +190,11 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if aspect:
         return max(1, round(src_h * aspect)), src_h
     return src_h, src_h
+
+
+def _base_spec(base: str, values: dict) -> str:
+    """The spec of a base model with the values passed through to it."""
+    return base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1)
 
 
 def note_size(lens) -> None:

@@ -1,7 +1,7 @@
 """``tracer render --camera LENS`` without ``--size`` renders the lens's own frame at 512 rows, as ``lenslab warp``
 makes an output without a source: a Hammer map 1024 x 512, a Pannini view 768 x 512 (they used to be 512 x 512, a
 squashed map); grids and equirect bands keep the sizes they had (square tiles and faces of 256 pixels, square pixels
-over an equirect's ranges).
+over an equirect's ranges). A bend or optics over a base model (``swirl:base=equirect``) takes its base's frame.
 
 Each lens's aspect is worked out here, at its default parameters, from its formula's extent (a world map's width and
 height at the equator and the pole), its layout (cube faces, halves, eyes side by side) or, for the two projections
@@ -88,6 +88,28 @@ def test_every_registered_lens_is_listed():
 def test_the_default_size_has_the_lens_s_aspect(name):
     w, h = default_size(SPECS.get(name, name))
     assert h == ROWS and abs(w / h - EXPECTED[name]) <= 0.5 / h, (w, h)
+
+
+@pytest.mark.parametrize("spec,base", [("swirl:amount=3,base=equirect", "equirect"),
+                                       ("pincushion:k1=0.1,base=cylindrical-equal-area", "cylindrical-equal-area"),
+                                       ("brown:k1=0.05,base=sinusoidal", "sinusoidal"),
+                                       ("optics:tca=1.001/0.999,base=hammer", "hammer"),
+                                       ("distortion:k1=0.1,base=fisheye,fov=180", "fisheye")])
+def test_a_lens_over_a_base_takes_the_base_s_frame(tmp_path, spec, base):
+    """A bend or optics over a base model draws the base at the same size: its frame is the base's (a swirled
+    equirect 2:1, not square), in a render and in a warp's output alike (lenslab warp from an equirect of 512 rows)."""
+    w, h = default_size(spec)
+    assert h == ROWS and abs(w / h - EXPECTED[base]) <= 0.5 / h, (w, h)
+    from lenslab.cli.main import main as lenslab
+    from lenslab.io import write
+
+    write(tmp_path / "pano.exr", np.ones((256, 512, 3), np.float32))
+    out = tmp_path / "view.exr"
+    assert lenslab(["warp", str(tmp_path / "pano.exr"), "--to", spec, "-o", str(out), "-q"]) == 0
+    with OpenEXR.File(str(out)) as f:
+        (x0, y0), (x1, y1) = f.header()["dataWindow"]
+    w, h = int(x1 - x0 + 1), int(y1 - y0 + 1)
+    assert abs(w / h - EXPECTED[base]) <= 0.5 / h, (w, h)
 
 
 @pytest.mark.parametrize("spec,size", [
