@@ -152,13 +152,19 @@ def hostile(folder: Path) -> dict[str, float]:
     return {name: ratio(path) for name, path in made.items()}
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    from lenslab.jobs.arguments import ArgumentParser  # one-line errors, no abbreviated options
+
+    parser = ArgumentParser(prog="python tools/budget_ratios.py", description=__doc__.splitlines()[0])
     parser.add_argument("--hdri", type=Path, default=DATA / "hdri")
     parser.add_argument("--formats", type=Path, default=DATA / "formats")
     parser.add_argument("--views", type=int, default=3, help="views per panorama (yaws spread evenly; 0: none)")
     parser.add_argument("--json", type=Path)
-    args = parser.parse_args()
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="lenslab-ratios-") as d:
         data, bad = dataset(args.formats)
         found = {**(genuine(args.hdri, Path(d), args.views) if args.views else {}), **data}

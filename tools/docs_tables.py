@@ -108,10 +108,16 @@ def stale() -> list[Path]:
     return [p for p, text in expected().items() if not p.is_file() or p.read_text(encoding="utf-8") != text]
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def build_parser() -> argparse.ArgumentParser:
+    from lenslab.jobs.arguments import ArgumentParser  # one-line errors, no abbreviated options
+
+    parser = ArgumentParser(prog="python tools/docs_tables.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("--check", action="store_true", help="only report files that are out of date")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
     if args.check:
         old = stale()
         for p in old:

@@ -61,11 +61,17 @@ def table(records: list[dict]) -> str:
     return "\n".join(lines) + foot + "\n"
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    from lenslab.jobs.arguments import ArgumentParser  # one-line errors, no abbreviated options
+
+    parser = ArgumentParser(prog="python tools/speed_table.py", description=__doc__.splitlines()[0])
     parser.add_argument("files", nargs="+", help="JSON files written by 'lenslab bench TARGET --json FILE'")
     parser.add_argument("--readme", help="replace the table between the markers in this README")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     try:
         records = [json.loads(Path(f).read_text(encoding="utf-8")) for f in args.files]
     except (OSError, ValueError) as exc:

@@ -20,6 +20,8 @@ from lenslab.jobs.arguments import (ArgumentParser, add_tone_option, finite_floa
 from lenslab.jobs.funnel import run_command
 
 DISPLAY_SUFFIXES = (".png", ".jpg", ".jpeg", ".ppm", ".pgm")
+#: rows of 180 degrees of a render without --size (512 rows of a fisheye, a 1024 x 512 equirect)
+DEFAULT_ROWS = 512
 
 
 def _triple(text: str) -> tuple[float, float, float]:
@@ -68,8 +70,10 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
-                        "else 512x512; a cube map or a tiled grid: square faces or tiles of 256 pixels in its layout, "
-                        "768x512 for a 3x2 cube map; an equirect: square pixels, 1024x512 for the whole sphere)")
+                        "else the lens's own frame at 512 rows: 512x512 for a fisheye or perspective view, 1024x512 "
+                        "for a hammer map, 768x512 for pannini; a cube map or a tiled grid: square faces or tiles of "
+                        "256 pixels in its layout, 768x512 for a 3x2 cube map; an equirect: square pixels, 1024x512 "
+                        "for the whole sphere)")
     p.add_argument("--spp", type=positive_int, default=64,
                    help="samples per pixel (default 64); the maximum when --time-budget or --target-error is given")
     p.add_argument("-o", "--output", required=True, metavar="FILE",
@@ -158,16 +162,16 @@ def _camera(args, scene):
 
         raise UsageError(f"--view {args.view!r}: scene {scene.name} has no view of that name; it has "
                          f"{', '.join(scene.views) or 'none'}")
-    own = _calibrated_size(args.camera) if args.size is None else None
-    probe = _grid_probe(args.camera) if args.size is None and own is None else None  # (a size a grid splits)
-    size = args.size or own or probe or (512, 512)
+    size = args.size or _calibrated_size(args.camera)
+    if size is None:
+        from lenslab.jobs.warp_cameras import default_size
+
+        # the lens's own frame (--camera's, else the scene view's) at 512 rows of 180 degrees, as lenslab warp's without
+        # a source: a hammer map 2:1, a cube map's faces of 256 pixels in its layout, an equirect's square pixels
+        size = default_size(args.camera or scene.view(args.view).lens, DEFAULT_ROWS)
     if args.camera:
         make_lens(args.camera, size)  # report a bad spec before anything else
-    camera = scene.camera(args.camera, size, view=args.view, **pose)
-    if args.size is None and own is None and hasattr(camera.lens, "default_frame"):
-        # the default size suits the lens's layout (a cube map: square faces of 256 pixels), as warp's does
-        camera = Camera(camera.lens.with_size(*camera.lens.default_frame(512 if probe else size[1])), camera.pose)
-    return camera
+    return scene.camera(args.camera, size, view=args.view, **pose)
 
 
 def _recorded_view(args, scene):
@@ -176,7 +180,7 @@ def _recorded_view(args, scene):
     camera at the origin, which places nothing: a panorama lenslab made of a photograph), at its size unless --size
     is given; None for a lens spec or a calibration file. Options that would turn it are a usage error, as with ``lenslab warp --to
     render.exr``: whether they turn the render's view or the world's cannot be told."""
-    from lenslab.jobs.warp_cameras import recorded_view
+    from lenslab.jobs.warp_cameras import recorded_view, refuse_turns
 
     view = recorded_view(args.camera)
     if view is None:
@@ -184,13 +188,7 @@ def _recorded_view(args, scene):
     turns = [flag for flag, value in (("--view", args.view), ("--look-at", args.look_at), ("--up", args.up),
                                       ("--yaw", args.yaw), ("--pitch", args.pitch), ("--roll", args.roll))
              if value is not None]
-    if turns:
-        from lenslab.errors import UsageError
-
-        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
-        raise UsageError(f"{'/'.join(turns)}: --camera {args.camera} takes the view that file records, its lens and "
-                         f"its orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
-                         f"another way, give it as a spec: --camera {view.lens.spec()}")
+    refuse_turns(turns, "--camera", args.camera, view)
     import numpy as np
 
     from lenslab.lenses import Camera, Pose
@@ -200,21 +198,6 @@ def _recorded_view(args, scene):
     if args.eye is None and not np.any(eye):
         eye = scene.camera(None, (lens.width, lens.height)).pose.eye
     return Camera(lens, Pose(view.pose.rotation, eye))
-
-
-def _grid_probe(spec: str | None) -> tuple[int, int] | None:
-    """A size the lens ``spec`` can be made at before its :meth:`default_frame` is asked (a tiled grid's, which
-    must split into whole tiles), or None for a lens any size suits."""
-    from lenslab.lenses.registry import lens_class, parse_spec
-
-    if not spec:
-        return None
-    try:
-        name, values = parse_spec(spec)
-        cls = lens_class(name)
-    except Exception:  # (a spec at fault, or a file: said where the lens is made)
-        return None
-    return cls.probe_size(values) if hasattr(cls, "probe_size") else None
 
 
 def _calibrated_size(spec: str | None) -> tuple[int, int] | None:

@@ -144,7 +144,7 @@ class Scene:
         """
         from lenslab.lenses import Camera
 
-        v = self.views.get(view or "default") or (next(iter(self.views.values())) if self.views else self.framing_view())
+        v = self.view(view)
         if any(k in pose for k in ("yaw", "pitch", "roll")) and "look_at" not in pose:
             return Camera.from_spec(lens or v.lens, size, yaw=pose.get("yaw", 0.0), pitch=pose.get("pitch", 0.0),
                                     roll=pose.get("roll", 0.0), eye=pose.get("eye", v.eye))
@@ -152,6 +152,11 @@ class Scene:
         # a new eye alone keeps the view's direction (not its target point)
         at = pose["look_at"] if "look_at" in pose else np.asarray(eye, float) + np.subtract(v.look_at, v.eye)
         return Camera.from_spec(lens or v.lens, size, eye=eye, look_at=at, up=pose.get("up", v.up))
+
+    def view(self, name: str | None = None) -> View:
+        """The view ``name``, else the default one (the first, or one that frames the geometry when none is named)."""
+        return self.views.get(name or "default") or (next(iter(self.views.values())) if self.views else
+                                                     self.framing_view())
 
     def framing_view(self, fov: float = 60.0) -> View:
         """A view from -z that frames the whole geometry (for scenes that name no camera)."""

@@ -71,7 +71,7 @@ def load(spec: str, size: tuple[int, int] | None):
     name, values = parse_spec(spec)
     if size is None:
         if "width" not in values or "height" not in values:
-            if not {p.name for p in lens_class(name).params} >= {"width", "height"}:
+            if not {p.name for p in lens_class(name, spec).params} >= {"width", "height"}:
                 raise LensError(f"{spec}: give the image size with --size WxH")
             raise LensError(f"{spec}: give the calibration size as width=...,height=... (or --size WxH)")
         size = (int(float(values["width"])), int(float(values["height"])))

@@ -31,9 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output (and map) size in pixels")
     parser.add_argument("--source-size", metavar="WxH", type=image_size,
                         help="size of the source footage (default: --size)")
-    parser.add_argument("--yaw", type=finite_float, default=0.0, help="turn the output camera right, degrees")
-    parser.add_argument("--pitch", type=finite_float, default=0.0, help="turn the output camera up, degrees")
-    parser.add_argument("--roll", type=finite_float, default=0.0, help="turn the output camera about its axis, degrees")
+    parser.add_argument("--yaw", type=finite_float, help="turn the output camera right, degrees (default 0)")
+    parser.add_argument("--pitch", type=finite_float, help="turn the output camera up, degrees (default 0)")
+    parser.add_argument("--roll", type=finite_float, help="turn the output camera about its axis, degrees (default 0)")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing map")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
 
@@ -55,12 +55,11 @@ def run(args: argparse.Namespace) -> int:
     size = args.size
     src_size = args.source_size or size
     src = Camera.from_spec(args.source, src_size)
-    from lenslab.jobs.warp_cameras import check_view_pose
+    from lenslab.jobs.warp_cameras import check_view_pose, given_pose
 
-    view = check_view_pose(args.to, [flag for flag, on in (("--yaw", args.yaw), ("--pitch", args.pitch),
-                                                           ("--roll", args.roll)) if on])
-    dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else
-                 Pose.from_ypr(args.yaw, args.pitch, args.roll))  # --to IMAGE: the view it records, turned as it is
+    view = check_view_pose(args.to, given_pose(args))
+    dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else  # --to IMAGE: its view
+                 Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0))
     from lenslab.jobs.warp_cameras import note_size
 
     note_size(dst.lens)  # a cube map at a size off its layout: one note

@@ -95,9 +95,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "more than twice the source's pixels, an eye of a stereo frame (a note then gives the size "
                              "that keeps them)")
     pose = parser.add_argument_group("output camera pose (degrees, world frame: +z forward, +y up)")
-    pose.add_argument("--yaw", type=finite_float, default=0.0, help="turn right about the up axis")
-    pose.add_argument("--pitch", type=finite_float, default=0.0, help="turn up")
-    pose.add_argument("--roll", type=finite_float, default=0.0, help="turn about the viewing axis")
+    pose.add_argument("--yaw", type=finite_float, help="turn right about the up axis (default 0)")
+    pose.add_argument("--pitch", type=finite_float, help="turn up (default 0)")
+    pose.add_argument("--roll", type=finite_float, help="turn about the viewing axis (default 0)")
     pose.add_argument("--rotation-order", choices=("ypr", "yrp", "pyr", "pry", "ryp", "rpy"), default="ypr",
                       metavar="ORDER", help="the order of the turns, last applied first: ypr (default) turns roll, "
                                             "then pitch, then yaw; ffmpeg v360's rorder")
@@ -182,13 +182,12 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import check_view_pose, default_size, note_size
+    from lenslab.jobs.warp_cameras import check_view_pose, default_size, given_pose, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
         note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
-        check_view_pose(args.to, [flag for flag, on in (("--yaw", args.yaw), ("--pitch", args.pitch),
-                                                        ("--roll", args.roll), ("--look-at", args.look_at)) if on])
+        check_view_pose(args.to, given_pose(args, "--yaw", "--pitch", "--roll", "--look-at"))
     from lenslab.lenses.lensfun.exif import is_auto
 
     if args.source and not is_auto(args.source):  # auto: read from each input's metadata
@@ -288,9 +287,10 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.plan import expand_inputs, plan_outputs, skip_existing, sweep_outputs
     from lenslab.jobs.runner import connect, run_batch
     from lenslab.jobs.warp import WarpJob, plans_for, st_map
+    from lenslab.jobs.warp_cameras import given_pose
 
     check_skip_or_overwrite(args)
-    if args.look_at and (args.yaw or args.pitch or args.roll):
+    if args.look_at is not None and given_pose(args):
         raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
     from lenslab.warp.mirror import parse_flips
 
@@ -309,7 +309,7 @@ def run(args: argparse.Namespace) -> int:
                                         ("--source-flip", args.source_flip),
                                         ("--rotation-order", args.rotation_order != "ypr"),
                                         ("--autoscale", args.autoscale), ("--look-at", args.look_at),
-                                        ("--eye", args.eye), ("--yaw/--pitch/--roll", args.yaw or args.pitch or args.roll))
+                                        ("--eye", args.eye), ("--yaw/--pitch/--roll", given_pose(args)))
                  if on]
         if taken:
             raise UsageError(f"--stmap gives the whole geometry; drop {', '.join(taken)}")

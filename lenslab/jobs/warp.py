@@ -34,9 +34,10 @@ class WarpJob(Job):
     stmap: str | None = None
     source: str | None = None
     size: tuple[int, int] | None = None
-    yaw: float = 0.0
-    pitch: float = 0.0
-    roll: float = 0.0
+    #: the output's turns in degrees; None: not given (0)
+    yaw: float | None = None
+    pitch: float | None = None
+    roll: float | None = None
     look_at: tuple | str | None = None
     eye: tuple | str | None = None
     filter: str = "bilinear"
@@ -142,9 +143,13 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         dst = output_camera(job, src, size)
         if job.autoscale:
             dst = autoscale_camera(src, dst, job.autoscale, job.samples, job.quiet, job.verbose)
-        if hasattr(progress, "start"):
-            progress.start(dst.height)
+        if hasattr(progress, "status"):
+            progress.status("making the map")
         plan = cache.plan(src, dst)
+        if hasattr(progress, "start"):  # a bar over the plan's bands (lenslab.jobs.progress), each counted as drawn
+            from lenslab.warp.tiles import band_count
+
+            progress.start(band_count(plan), unit="band")
         colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
                                          alpha=carries_alpha(meta, image.shape[2]), plan=plan)
     if job.antialias:

@@ -174,11 +174,14 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if name == "stereo":  # two eyes of the base's default frame, side by side or one above the other
         base = values.pop("base", "equirect")
         layout = values.pop("layout", "sbs")
-        w, h = default_size(base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1), src_h)
+        w, h = default_size(_base_spec(base, values), src_h)
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     from lenslab.lenses.registry import lens_class
 
-    cls = lens_class(name)
+    cls = lens_class(name, spec)
+    own = {p.name for p in cls.params}
+    if "base" in own and values.get("base"):  # a bend or optics over a base model, at its size: the base's frame
+        return default_size(_base_spec(values["base"], {k: v for k, v in values.items() if k not in own}), src_h)
     if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)
@@ -187,6 +190,11 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if aspect:
         return max(1, round(src_h * aspect)), src_h
     return src_h, src_h
+
+
+def _base_spec(base: str, values: dict) -> str:
+    """The spec of a base model with the values passed through to it."""
+    return base + "".join(f",{k}={v}" for k, v in values.items()).replace(",", ":", 1)
 
 
 def note_size(lens) -> None:
@@ -209,18 +217,34 @@ def recorded_view(spec):
     return image_camera(split_pick(spec)[0])
 
 
+def given_pose(args, *flags: str) -> list[str]:
+    """The pose options among ``flags`` (default ``--yaw``, ``--pitch``, ``--roll``) given on the command line, whatever
+    their value: they default to None, so ``--yaw 0`` is seen as given as ``--yaw 10`` is."""
+    flags = flags or ("--yaw", "--pitch", "--roll")
+    return [flag for flag in flags if getattr(args, flag.lstrip("-").replace("-", "_"), None) is not None]
+
+
 def check_view_pose(spec, pose_options: list[str]):
     """``--to IMAGE`` takes the view the image records, its orientation too: options that would turn it are a
     usage error (which way they meant, the render's or the world's, cannot be told). Returns the view or None."""
     view = recorded_view(spec)
-    if view is not None and pose_options:
-        from lenslab.errors import UsageError
-
-        yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
-        raise UsageError(f"{'/'.join(pose_options)}: --to {spec} takes the view that file records, its lens and its "
-                         f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens "
-                         f"another way, give it as a spec: --to {view.lens.spec()}")
+    if view is not None:
+        refuse_turns(pose_options, "--to", spec, view)
     return view
+
+
+def refuse_turns(flags: list[str], option: str, path, view, spec_option: str | None = None) -> None:
+    """The usage error of options ``flags`` that would turn the view an image records (``option path``: ``--to
+    render.exr``), naming its orientation and the lens spec to give (as ``spec_option``, default ``option``) to turn
+    that lens another way; nothing when none is given."""
+    if not flags:
+        return
+    from lenslab.errors import UsageError
+
+    yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+    raise UsageError(f"{'/'.join(flags)}: {option} {path} takes the view that file records, its lens and its "
+                     f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens another way, give "
+                     f"it as a spec: {spec_option or option} {view.lens.spec()}")
 
 
 def records_place(src, meta: dict) -> bool:
@@ -273,7 +297,8 @@ def output_camera(args, src, size: tuple[int, int]):
             # the top of the image towards -z (up) or +z (down)
             return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
         return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
-    return Camera(lens, Pose.from_ypr(args.yaw, args.pitch, args.roll, eye, getattr(args, "rotation_order", "ypr")))
+    yaw, pitch, roll = (getattr(args, k, None) or 0.0 for k in ("yaw", "pitch", "roll"))  # (None: not given)
+    return Camera(lens, Pose.from_ypr(yaw, pitch, roll, eye, getattr(args, "rotation_order", "ypr")))
 
 
 def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):

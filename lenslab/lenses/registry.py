@@ -141,10 +141,19 @@ def split_items(rest: str, spec: str) -> list[str]:
     return items + ["".join(cur)]
 
 
-def lens_class(name: str) -> type:
-    """The class of a model by name or alias; LensError listing the valid models."""
+def lens_class(name: str, spec: str | None = None) -> type:
+    """The class of a model by name or alias; LensError listing the valid models, the nearest first if one is close.
+    ``spec``: the text the name came from; a bare word (no ``:``), which could have named a file, is said to be
+    neither a model nor a file (a name only a file has, with a folder or an image's extension, is read as a file
+    before it gets here, and a missing one is said missing)."""
     if name not in REGISTRY:
-        raise LensError(f"unknown lens model {name!r}; valid models: {', '.join(sorted(REGISTRY))}")
+        from difflib import get_close_matches
+
+        close = get_close_matches(name, list(REGISTRY), 1, 0.75)  # (the cut-off of the option hints)
+        meant = f" (did you mean {close[0]}?)" if close else ""
+        word = spec.strip() if isinstance(spec, str) and ":" not in spec else None
+        what = f"no lens model and no file named {word!r}" if word else f"unknown lens model {name!r}"
+        raise LensError(f"{what}{meant}; valid models: {', '.join(sorted(REGISTRY))}")
     return REGISTRY[name]
 
 
@@ -197,7 +206,7 @@ def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, *
     else:
         name, values = parse_spec(spec)
     values.update(overrides)
-    cls = lens_class(name)
+    cls = lens_class(name, spec if isinstance(spec, str) else None)
     if size is None:
         size = getattr(cls, "default_size", None)
         if size is None:

@@ -20,6 +20,17 @@ def render_region(plan, src, out, alpha, x0: int, y0: int, progress, alpha_chann
     alpha[y0:y0 + h, x0:x0 + w] = part_alpha
 
 
+def band_count(plan) -> int:
+    """The bands ``plan`` (a :class:`lenslab.warp.WarpPlan`) reports to its ``progress`` as it renders them, one call
+    each: its own, every part's (the tiles or eyes of its output, each with its own bands), or its G plan's (a lens
+    with per-channel optics, whose G plan alone reports)."""
+    if plan.parts is not None:
+        return sum(band_count(part) for _, _, part, _ in plan.parts)
+    if plan.channels is not None:
+        return band_count(plan.channels[1])
+    return len(plan.band_rows())
+
+
 def has_camera_pieces(camera: Camera) -> bool:
     """Whether the camera's image is made of pieces that are cameras of their own (tiles)."""
     pieces = camera.lens.pieces()

@@ -1,9 +1,11 @@
 """No option a user types is read as another: argparse's prefix matching is off on every parser and
-subparser of ``lenslab``, ``tracer`` and ``python -m gallery`` (``--to`` is not ``--tone``, ``--only`` is not
-``--only-threads``), an unknown prefix is a usage error that names the option meant, and every command line
-the README, the docs pages and the commands' own ``--help`` show still parses as written.
+subparser of ``lenslab``, ``tracer``, ``python -m gallery`` and the scripts under ``tools/`` (``--to`` is not
+``--tone``, ``--only`` is not ``--only-threads``, ``--read`` is not ``--readme``), an unknown prefix is a usage error
+that names the option meant, and every command line the README, the docs pages and the commands' own ``--help``
+show still parses as written.
 
-The parsers are walked from the programs' own parser trees, so a command added later is covered too.
+The parsers are walked from the programs' own parser trees, and the tools from the files under ``tools/`` that
+make a parser, so a command or a tool added later is covered too.
 """
 
 from __future__ import annotations
@@ -28,6 +30,24 @@ REPO = Path(__file__).resolve().parents[2]
 PROGRAMS = {"lenslab": build_parser, "tracer": tracer_parser, "python -m gallery": gallery_parser}
 
 
+def _tools() -> dict:
+    """``python tools/NAME.py``: the ``build_parser`` of every script under tools/ that makes an argparse parser."""
+    import importlib.util
+
+    found = {}
+    for path in sorted((REPO / "tools").rglob("*.py")):
+        if "ArgumentParser" in path.read_text(encoding="utf-8"):
+            spec = importlib.util.spec_from_file_location(f"_tool_{path.stem}", path)
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            found[f"python {path.relative_to(REPO).as_posix()}"] = module.build_parser
+    return found
+
+
+TOOLS = _tools()
+PROGRAMS.update(TOOLS)
+
+
 ALL = [p for make in PROGRAMS.values() for p in parsers(make())]
 
 
@@ -47,6 +67,25 @@ def test_the_walk_finds_every_command():
     progs = {p.prog for p in ALL}
     assert {"lenslab tonemap", "lenslab bench warp", "lenslab fit tone", "lenslab camera convert", "lenslab demo",
             "lenslab validate", "tracer render", "tracer bench", "python -m gallery"} <= progs
+    assert {"python tools/speed_table.py", "python tools/budget_ratios.py", "python tools/docs_tables.py"} <= progs
+
+
+@pytest.mark.parametrize("argv,left,meant", [
+    (["tools/speed_table.py", "--read", "t.md", "r.json"], "--read", "--readme"),
+    (["tools/docs_tables.py", "--chec"], "--chec", "--check"),
+    (["tools/budget_ratios.py", "--view", "1"], "--view 1", "--views"),
+])
+def test_a_tool_run_with_a_prefix_is_a_usage_error(argv, left, meant):
+    """The script as a user runs it: exit 2 and one line naming the option meant (plain argparse took the prefix
+    for the option, and budget_ratios.py would have started its five-minute run)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, *argv], cwd=REPO, capture_output=True, text=True)
+    prog, prefix = f"python {argv[0]}", argv[1]
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == (f"{prog}: error: unrecognized arguments: {left}; {prefix} is not an option (options are "
+                           f"never abbreviated): did you mean {meant}? (see '{prog} --help')\n")
 
 
 @pytest.mark.parametrize("parser", ALL, ids=[p.prog for p in ALL])

@@ -13,7 +13,7 @@ def test_an_unknown_lens_model_lists_every_model(tmp_path, capsys):
 
     assert main(["warp", str(tmp_path / "missing.exr"), "-o", str(tmp_path / "x.exr"), "--to", "nosuch"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "unknown lens model 'nosuch'" in err
+    assert err.count("\n") == 1 and "no lens model and no file named 'nosuch'" in err
     listed = err.strip().split("valid models: ", 1)[1].split(", ")
     assert listed == sorted(REGISTRY)  # every name, whole: the registry's own list
     assert len(err) > 400  # longer than other messages may be

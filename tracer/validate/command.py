@@ -80,8 +80,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", type=image_size, default=(512, 512), metavar="WxH",
                         help="target image size (default 512x512)")
     parser.add_argument("--yaw", type=finite_float, default=None, help="target yaw in degrees (default: the scene's view)")
-    parser.add_argument("--pitch", type=finite_float, default=0.0, help="target pitch in degrees")
-    parser.add_argument("--roll", type=finite_float, default=0.0, help="target roll in degrees")
+    parser.add_argument("--pitch", type=finite_float, help="target pitch in degrees (default 0, or the scene's view)")
+    parser.add_argument("--roll", type=finite_float, help="target roll in degrees (default 0, or the scene's view)")
     parser.add_argument("--eye", type=_vec3, default=None, metavar="X,Y,Z",
                         help="target (and panorama) eye point (default: the scene's default view)")
     parser.add_argument("--look-at", type=_vec3, default=None, metavar="X,Y,Z",
@@ -198,8 +198,11 @@ def run(args: argparse.Namespace) -> int:
             look_at = tuple(np.add(eye, np.subtract(view.look_at, view.eye)))
     if args.look_at is not None:
         look_at = args.look_at
-    if args.yaw is not None or look_at is None:
-        target = Camera.from_spec(args.to, size, yaw=args.yaw or 0.0, pitch=args.pitch, roll=args.roll, eye=eye)
+    from lenslab.jobs.warp_cameras import given_pose
+
+    if given_pose(args) or look_at is None:  # any of --yaw/--pitch/--roll given: the view they turn, from +z
+        target = Camera.from_spec(args.to, size, yaw=args.yaw or 0.0, pitch=args.pitch or 0.0, roll=args.roll or 0.0,
+                                  eye=eye)
     else:
         target = Camera.from_spec(args.to, size, eye=eye, look_at=look_at)
 

@@ -10,15 +10,19 @@ REPORT_FILES = ("reference.json", "reference.md")
 
 
 def reference_camera(args, image, meta):
-    """--reference-camera, else the camera the file records, else --to; posed by --yaw/--pitch/--roll."""
+    """--reference-camera, else the camera the file records, else --to; posed by --yaw/--pitch/--roll (refused with
+    the camera the file records, which has its own orientation)."""
     from lenslab.lenses import Camera, Pose, make_lens
 
     h, w = image.shape[:2]
-    pose = Pose.from_ypr(args.yaw or 0.0, args.pitch, args.roll, args.eye or (0.0, 0.0, 0.0))
+    pose = Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0, args.eye or (0.0, 0.0, 0.0))
     if args.reference_camera:
         return Camera(make_lens(args.reference_camera, (w, h)), pose)
     cam = meta.get("camera")
     if cam is not None:
+        from lenslab.jobs.warp_cameras import given_pose, refuse_turns
+
+        refuse_turns(given_pose(args), "--reference", args.reference, cam, "--reference-camera")
         return Camera(cam.lens.with_size(w, h), cam.pose) if cam.size != (w, h) else cam
     return Camera(make_lens(args.to, (w, h)), pose)
 
