@@ -22,6 +22,16 @@ from typing import TYPE_CHECKING, Any
 
 import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it adds itself to lenslab.lens_sources)
 
+
+def _exif_source(spec, size=None, read=False):
+    """``exif`` and ``exif:photo=PATH`` as lens specs (:mod:`lenslab.lenses.exif_view`, loaded when asked)."""
+    from lenslab.lenses import exif_view
+
+    return exif_view.read_exif_lens(spec, size) if read else exif_view.is_exif(spec)
+
+
+lenslab.calibfiles.add_source(_exif_source, lambda spec, size: _exif_source(spec, size, read=True))
+
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time these load on first use

@@ -91,7 +91,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
         from lenslab.lenses.lensfun.match import metadata_report
 
-        out["lens_metadata"] = metadata_report(file)
+        out["lens_metadata"] = metadata_report(file, tuple(meta["size"]))
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
     tiles = (meta.get("exr_header") or {}).get("tiles")
     if "tiles" in attrs and tiles is not None and "data_window" in meta:  # the words convert's note uses
@@ -250,8 +250,15 @@ def _text(d: dict) -> str:
     found = d.get("lens_metadata")
     if found:
         lines.append(f"  lens in metadata: {found['found']}")
-        lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
-                     else f"    lensfun:auto: {found['problem']}")
+        if found["profile"] or found["problem"]:
+            lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
+                         else f"    lensfun:auto: {found['problem']}")
+        if found.get("exif"):  # the pinhole of the photo's focal length: lensfun's profile, where found, is better
+            better = ("; lensfun:auto is the better choice: it also corrects the lens's distortion"
+                      if found["profile"] else "")
+            lines.append(f"    --from exif gives {found['exif']}{better}")
+        elif found.get("exif_problem"):
+            lines.append(f"    --from exif: {found['exif_problem']}")
     if d.get("looks_like_st_map"):
         name = d["file"]
         lines.append(f"  looks like an ST map ({' and '.join(d['channels'][:2])} within [0, 1], monotone along rows and "
