@@ -61,10 +61,8 @@ class ExifView:
 
     @property
     def spec(self) -> str:
-        """``perspective:fov=...``: its fov to a millionth of a degree (a hundredth of a pixel at 8K)."""
-        from lenslab.lenses.core.base import format_number
-
-        return f"perspective:fov={format_number(round(self.fov, 6))}"
+        """``perspective:fov=...``: its fov to 12 significant digits (1e-9 degree)."""
+        return f"perspective:fov={self.fov:.12g}"
 
     def describe(self) -> str:
         return (f"{self.spec} (35 mm equivalent {self.focal35:.4g} mm, from {self.source}: {self.dfov:.1f} degrees "
@@ -101,8 +99,26 @@ def exif_view(path, size: tuple[int, int]) -> ExifView:
     from lenslab.lenses.lensfun.exif import photo_lens
 
     w, h = int(size[0]), int(size[1])
-    focal35, source = equivalent_focal(photo_lens(path), (w, h))
+    info = photo_lens(path)
+    focal35, source = equivalent_focal(info, (w, h))
+    note_crop(info, (w, h))
     return ExifView(focal35, source, (w, h))
+
+
+def note_crop(info, size: tuple[int, int]) -> None:
+    """A note where the frame the EXIF records (PixelXDimension x PixelYDimension) has another shape than the image
+    (either way round: the image may be turned): a crop, whose field is narrower than the frame's."""
+    fw, fh = info.exif_width, info.exif_height
+    if not (fw and fh):
+        return
+    aspect = size[0] / size[1]
+    if min(abs(aspect / (fw / fh) - 1), abs(aspect / (fh / fw) - 1)) <= 0.01:  # 1%: a copy rounded to whole pixels
+        return
+    import warnings
+
+    warnings.warn(f"the image is {size[0]}x{size[1]} and its EXIF records a {fw:g}x{fh:g} frame: it looks "
+                  "cropped, so it sees less than the field its focal length gives; give --from perspective:fov=... "
+                  "if you know it", UserWarning, stacklevel=2)
 
 
 _EXIF = re.compile(r"\s*exif\s*(:.*)?", re.S | re.I)

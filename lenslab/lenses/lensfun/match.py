@@ -125,10 +125,10 @@ def metadata_report(path, size: tuple[int, int] | None = None) -> dict | None:
         except LensError as exc:
             out["problem"] = str(exc)
     if size is not None:
-        from lenslab.lenses.exif_view import ExifView, equivalent_focal
+        from lenslab.lenses.exif_view import exif_view
 
         try:
-            out["exif"] = ExifView(*equivalent_focal(info, size), tuple(size)).describe()
+            out["exif"] = exif_view(path, size).describe()
         except LensError as exc:
             out["exif_problem"] = str(exc)
     return out
