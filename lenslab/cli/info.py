@@ -1,6 +1,8 @@
 """Print what image files hold: format, size, channels, sample type, per-channel min/mean/max (over
 finite values), counts of NaN, infinite and negative values, and the lens model if the file carries
-a camera (EXR files written by lenslab do). Then the file's structure: every EXR part with its
+a camera (EXR files written by lenslab do). A photo that names its camera, lens or focal length in its
+metadata gets the lensfun profile 'lensfun:auto' would use, and the pinhole '--from exif' would give (the
+field of view of its 35 mm equivalent focal length, for the photo as shown). Then the file's structure: every EXR part with its
 storage, compression, data and display windows, layers, channels (pixel type and sampling) and
 attributes; TIFF pages; the Radiance header; the streams of a video; which rendition of an Ultra HDR
 JPEG is read (HDR, or the SDR base with 'file.jpg:sdr') and its gain map's metadata (headroom in stops).
@@ -11,6 +13,7 @@ reads an Ultra HDR JPEG's SDR base image.
 
 examples:
   lenslab info pano.exr
+  lenslab info IMG_0042.jpg          (a photo: its lens, and the --from it gives a warp)
   lenslab info --json renders/*.exr > stats.json
   lenslab info --formats
 """

@@ -110,3 +110,17 @@ def test_stmap_from_exif_photo_takes_the_photos_size(tmp_path, capsys):
     fov = fov_formula(F35, H, W)  # shown 120 x 160
     assert recorded.startswith("from perspective:fov=") and f" {H}x{W} to " in recorded
     assert printed_fov(recorded) == pytest.approx(fov, abs=1e-9)
+
+
+@pytest.mark.shared_data
+def test_a_real_phone_photo_is_offered_its_own_field(shared_data, tmp_path, capsys):
+    """The Pixel 6 Pro's 4080 x 3072 photo (FocalLengthIn35mmFilm 24): the error names --from exif and its field, the
+    formula's for a 4:3 image, and info prints the same spec."""
+    photo = shared_data / "formats" / "oiio-images" / "ultrahdr_sky.jpg"
+    code = main(["warp", str(photo), "-o", str(tmp_path / "o.exr"), "--to", "equirect"])
+    err = capsys.readouterr().err.strip()
+    assert code == 1 and "4080x3072 is not a 2:1 panorama" in err and "--from exif" in err
+    assert printed_fov(err) == pytest.approx(fov_formula(24, 4080, 3072), abs=1e-9)
+    assert main(["info", str(photo)]) == 0
+    line = next(l for l in capsys.readouterr().out.splitlines() if "--from exif gives" in l)
+    assert printed_fov(line) == printed_fov(err)
