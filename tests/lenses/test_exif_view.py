@@ -80,8 +80,10 @@ def test_the_printed_spec_parses_back_to_the_formulas_field(f35, w, h):
     assert corner == pytest.approx(np.degrees(np.arctan(D35 / (2 * f35))), abs=1e-8 * (1 + h / w))
 
 
-def test_jpeg_focal_length_in_35mm_film(tmp_path):
-    path = write_photo(tmp_path / "p.jpg", 160, 120, focal35=24, focal=6.81, quality=95)
+@pytest.mark.parametrize("name", ["p.jpg", "p.png"])
+def test_focal_length_in_35mm_film(tmp_path, name):
+    """JPEG's APP1 and PNG's eXIf chunk, as Pillow writes them."""
+    path = write_photo(tmp_path / name, 160, 120, focal35=24, focal=6.81)
     view = exif_view(path, (160, 120))
     assert view.focal35 == 24
     assert view.fov == pytest.approx(fov_formula(24, 160, 120), abs=1e-12)
@@ -159,3 +161,15 @@ def test_a_photo_of_another_shape_than_its_recorded_frame_is_noted_as_cropped(tm
         warnings.simplefilter("error")
         exif_view(copy, (160, 120))
         exif_view(copy, (120, 160))  # turned by its orientation
+
+
+def test_xmp_alone_gives_it_too(tmp_path):
+    """A TIFF as raw converters write it: the focal length only in an XMP packet (tag 700)."""
+    import tifffile
+
+    xmp = ('<x:xmpmeta xmlns:x="adobe:ns:meta/"><rdf:RDF xmlns:rdf="http://www.w3.org/1999/02/22-rdf-syntax-ns#">'
+           '<rdf:Description xmlns:exif="http://ns.adobe.com/exif/1.0/" exif:FocalLengthIn35mmFilm="35" '
+           'exif:FocalLength="23/1"/></rdf:RDF></x:xmpmeta>').encode()
+    path = tmp_path / "p.tif"
+    tifffile.imwrite(path, np.zeros((120, 160, 3), np.uint8), photometric="rgb", extratags=[(700, "B", 0, xmp, True)])
+    assert exif_view(path, (160, 120)).fov == pytest.approx(fov_formula(35, 160, 120), abs=1e-12)
