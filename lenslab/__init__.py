@@ -23,14 +23,20 @@ from typing import TYPE_CHECKING, Any
 import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it adds itself to lenslab.lens_sources)
 
 
-def _exif_source(spec, size=None, read=False):
-    """``exif`` and ``exif:photo=PATH`` as lens specs (:mod:`lenslab.lenses.exif_view`, loaded when asked)."""
-    from lenslab.lenses import exif_view
+def _is_exif(spec) -> bool:
+    """``exif`` and ``exif:photo=PATH`` are lens specs (:mod:`lenslab.lenses.exif_view`, loaded when asked)."""
+    from lenslab.lenses.exif_view import is_exif
 
-    return exif_view.read_exif_lens(spec, size) if read else exif_view.is_exif(spec)
+    return is_exif(spec)
 
 
-lenslab.calibfiles.add_source(_exif_source, lambda spec, size: _exif_source(spec, size, read=True))
+def _read_exif(spec, size):
+    from lenslab.lenses.exif_view import read_exif_lens
+
+    return read_exif_lens(spec, size)
+
+
+lenslab.calibfiles.add_source(_is_exif, _read_exif)
 
 __version__ = "0.1.0"
 

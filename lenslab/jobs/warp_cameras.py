@@ -60,7 +60,7 @@ def exif_hint(meta: dict, size: tuple[int, int]) -> str:
     from lenslab.lenses.exif_view import exif_view
 
     try:
-        view = exif_view(meta.get("path", ""), size)
+        view = exif_view(meta.get("path", ""), size, crop_note=False)  # (the error is the one line)
     except (LenslabError, OSError):
         return "--from fisheye:fov=180"
     return f"--from exif: its EXIF's 35 mm equivalent {view.focal35:.4g} mm gives {view.spec}"

@@ -93,15 +93,16 @@ def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
                     f"{missing}; give the lens, e.g. --from perspective:fov=DEGREES")
 
 
-def exif_view(path, size: tuple[int, int]) -> ExifView:
+def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
     """The pinhole view of the photo at ``path`` whose image as shown (after its EXIF orientation) is
-    ``size`` (W, H)."""
+    ``size`` (W, H); with ``crop_note``, a note where that image looks cropped from the frame the EXIF records."""
     from lenslab.lenses.lensfun.exif import photo_lens
 
     w, h = int(size[0]), int(size[1])
     info = photo_lens(path)
     focal35, source = equivalent_focal(info, (w, h))
-    note_crop(info, (w, h))
+    if crop_note:
+        note_crop(info, (w, h))
     return ExifView(focal35, source, (w, h))
 
 
@@ -156,5 +157,5 @@ def read_exif_lens(spec: str, size):
 
     if size is None:
         raise LensError(f"exif:photo={photo}: give the size of the image it is the lens of")
-    view = exif_view(photo, size)
+    view = exif_view(photo, size, crop_note=False)  # (any size of the photo's lens: a map's, a check's)
     return make_lens(view.spec, view.size)

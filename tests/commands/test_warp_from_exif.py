@@ -124,3 +124,14 @@ def test_a_real_phone_photo_is_offered_its_own_field(shared_data, tmp_path, caps
     assert main(["info", str(photo)]) == 0
     line = next(l for l in capsys.readouterr().out.splitlines() if "--from exif gives" in l)
     assert printed_fov(line) == printed_fov(err)
+
+
+def test_warp_from_exif_photo_of_the_photo_itself_says_nothing_of_a_crop(tmp_path, capsys):
+    """exif:photo=PHOTO is checked once at a probe size before the warp: that size is no crop of the photo."""
+    from tests.lenses.test_exif_view import IFDRational
+
+    plane = (IFDRational(4000), IFDRational(4000), 3, (4000, 3000))
+    src = write_photo(tmp_path / "p.jpg", W, H, focal35=F35, plane=plane, quality=95)
+    assert main(["warp", str(src), "-o", str(tmp_path / "o.exr"), "--from", f"exif:photo={src}", "--to", "equirect",
+                 "--size", "360x180", "-q"]) == 0
+    assert "cropped" not in capsys.readouterr().err
