@@ -135,3 +135,8 @@ def test_warp_from_exif_photo_of_the_photo_itself_says_nothing_of_a_crop(tmp_pat
     assert main(["warp", str(src), "-o", str(tmp_path / "o.exr"), "--from", f"exif:photo={src}", "--to", "equirect",
                  "--size", "360x180", "-q"]) == 0
     assert "cropped" not in capsys.readouterr().err
+
+
+def test_the_lens_listing_names_a_photos_own_lens(capsys):
+    assert main(["lenses"]) == 0
+    assert "A photo's own lens: --from exif" in capsys.readouterr().out
