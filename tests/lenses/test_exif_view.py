@@ -173,3 +173,10 @@ def test_xmp_alone_gives_it_too(tmp_path):
     path = tmp_path / "p.tif"
     tifffile.imwrite(path, np.zeros((120, 160, 3), np.uint8), photometric="rgb", extratags=[(700, "B", 0, xmp, True)])
     assert exif_view(path, (160, 120)).fov == pytest.approx(fov_formula(35, 160, 120), abs=1e-12)
+
+
+def test_a_zero_focal_length_in_35mm_film_is_unknown(tmp_path):
+    """Exif: FocalLengthIn35mmFilm 0 means unknown, so the focal plane gives the field."""
+    plane = (IFDRational(400000, 96), IFDRational(300000, 72), 3, (4000, 3000))
+    path = write_photo(tmp_path / "p.jpg", 160, 120, focal35=0, focal=6.81, plane=plane, quality=95)
+    assert exif_view(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
