@@ -22,6 +22,22 @@ from typing import TYPE_CHECKING, Any
 
 import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it adds itself to lenslab.lens_sources)
 
+
+def _is_exif(spec) -> bool:
+    """``exif`` and ``exif:photo=PATH`` are lens specs (:mod:`lenslab.lenses.exif_view`, loaded when asked)."""
+    from lenslab.lenses.exif_view import is_exif
+
+    return is_exif(spec)
+
+
+def _read_exif(spec, size):
+    from lenslab.lenses.exif_view import read_exif_lens
+
+    return read_exif_lens(spec, size)
+
+
+lenslab.calibfiles.add_source(_is_exif, _read_exif)
+
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time these load on first use

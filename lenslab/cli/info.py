@@ -1,6 +1,8 @@
 """Print what image files hold: format, size, channels, sample type, per-channel min/mean/max (over
 finite values), counts of NaN, infinite and negative values, and the lens model if the file carries
-a camera (EXR files written by lenslab do). Then the file's structure: every EXR part with its
+a camera (EXR files written by lenslab do). A photo that names its camera, lens or focal length in its
+metadata gets the lensfun profile 'lensfun:auto' would use, and the pinhole '--from exif' would give (the
+field of view of its 35 mm equivalent focal length, for the photo as shown). Then the file's structure: every EXR part with its
 storage, compression, data and display windows, layers, channels (pixel type and sampling) and
 attributes; TIFF pages; the Radiance header; the streams of a video; which rendition of an Ultra HDR
 JPEG is read (HDR, or the SDR base with 'file.jpg:sdr') and its gain map's metadata (headroom in stops).
@@ -11,6 +13,7 @@ reads an Ultra HDR JPEG's SDR base image.
 
 examples:
   lenslab info pano.exr
+  lenslab info IMG_0042.jpg          (a photo: its lens, and the --from it gives a warp)
   lenslab info --json renders/*.exr > stats.json
   lenslab info --formats
 """
@@ -91,7 +94,7 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
         from lenslab.lenses.lensfun.match import metadata_report
 
-        out["lens_metadata"] = metadata_report(file)
+        out["lens_metadata"] = metadata_report(file, tuple(meta["size"]))
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
     tiles = (meta.get("exr_header") or {}).get("tiles")
     if "tiles" in attrs and tiles is not None and "data_window" in meta:  # the words convert's note uses
@@ -250,8 +253,15 @@ def _text(d: dict) -> str:
     found = d.get("lens_metadata")
     if found:
         lines.append(f"  lens in metadata: {found['found']}")
-        lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
-                     else f"    lensfun:auto: {found['problem']}")
+        if found["profile"] or found["problem"]:
+            lines.append(f"    lensfun:auto uses {found['profile']}" if found["profile"]
+                         else f"    lensfun:auto: {found['problem']}")
+        if found.get("exif"):  # the pinhole of the photo's focal length: lensfun's profile, where found, is better
+            better = ("; lensfun:auto is the better choice: it also corrects the lens's distortion"
+                      if found["profile"] else "")
+            lines.append(f"    --from exif gives {found['exif']}{better}")
+        elif found.get("exif_problem"):
+            lines.append(f"    --from exif: {found['exif_problem']}")
     if d.get("looks_like_st_map"):
         name = d["file"]
         lines.append(f"  looks like an ST map ({' and '.join(d['channels'][:2])} within [0, 1], monotone along rows and "

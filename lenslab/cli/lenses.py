@@ -124,4 +124,6 @@ def run(args: argparse.Namespace) -> int:
     if not args.models:
         print("\nSpec syntax: name:key=value,...  e.g. fisheye:fov=180,mapping=equisolid; "
               "'lenslab lenses MODEL' shows the equations.")
+        print("A photo's own lens: --from exif (the pinhole of its EXIF 35 mm equivalent focal length; "
+              "exif:photo=PHOTO elsewhere), --from lensfun:auto (the lensfun profile its metadata names).")
     return 0

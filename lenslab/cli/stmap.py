@@ -11,6 +11,7 @@ examples:
   lenslab stmap --from fisheye:fov=180,mapping=equisolid --to perspective:fov=100 --size 1920x1080 -o undistort.exr
   lenslab stmap --from perspective:fov=100 --to fisheye:fov=180,mapping=equisolid --size 2048x2048 \\
       --source-size 1920x1080 -o distort.exr
+  lenslab stmap --from exif:photo=IMG_0042.jpg --to equirect --size 4096x2048 -o photo-to-pano.exr
   lenslab stmap --from dual-fisheye:fov=190 --source-size 5760x2880 --to equirect --size 5760x2880 -o stitch.exr
 """
 
@@ -25,12 +26,15 @@ from lenslab.jobs.arguments import finite_float, image_size
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", required=True, metavar="MAP.exr", help="the ST map to write (EXR)")
     parser.add_argument("--from", dest="source", required=True, metavar="SPEC",
-                        help="lens of the source footage, e.g. fisheye:fov=180 (see 'lenslab lenses')")
+                        help="lens of the source footage, e.g. fisheye:fov=180 (see 'lenslab lenses'); "
+                             "exif:photo=PHOTO: the pinhole of a photo's EXIF 35 mm equivalent focal length, "
+                             "as 'lenslab warp PHOTO --from exif' takes it")
     parser.add_argument("--to", required=True, metavar="SPEC", help="lens of the output, e.g. perspective:fov=90")
     parser.add_argument("--size", required=True, metavar="WxH", type=image_size,
                         help="output (and map) size in pixels")
     parser.add_argument("--source-size", metavar="WxH", type=image_size,
-                        help="size of the source footage (default: --size)")
+                        help="size of the source footage (default: the photo's as shown for exif:photo=PHOTO, "
+                             "else --size)")
     parser.add_argument("--yaw", type=finite_float, help="turn the output camera right, degrees (default 0)")
     parser.add_argument("--pitch", type=finite_float, help="turn the output camera up, degrees (default 0)")
     parser.add_argument("--roll", type=finite_float, help="turn the output camera about its axis, degrees (default 0)")
@@ -53,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"{out}: an ST map is written as a float EXR; name it .exr")
     check_output(out, [], args.overwrite)
     size = args.size
-    src_size = args.source_size or size
+    src_size = args.source_size or photo_size(args.source) or size
     src = Camera.from_spec(args.source, src_size)
     from lenslab.jobs.warp_cameras import check_view_pose, given_pose
 
@@ -74,3 +78,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {out}: {size[0]}x{size[1]} ST map, {100 * seen:.1f}% of pixels see the source",
               file=sys.stderr)
     return 0
+
+
+def photo_size(spec: str):
+    """The size as shown of the photo an ``exif:photo=PHOTO`` source names, else None."""
+    from lenslab.lenses.exif_view import exif_photo, is_exif
+
+    if not is_exif(spec) or exif_photo(spec) is None:
+        return None
+    from lenslab.io import read
+
+    return tuple(read(exif_photo(spec))[1]["size"])

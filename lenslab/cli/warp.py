@@ -26,6 +26,7 @@ examples:
   lenslab warp pano.exr -o view.jpg --to perspective:fov=70 --size 1280x720 --yaw 30 --pitch -10
   lenslab warp 'frames/*.exr' -o fisheye/ --to fisheye:fov=200,mapping=equisolid --size 2048x2048
   lenslab warp fish.exr -o pano.exr --to equirect --size 4096x2048      (the camera comes from fish.exr)
+  lenslab warp IMG_0042.jpg -o pano.exr --from exif --to equirect     (a phone photo's own field of view)
   lenslab warp plate.exr -o undistorted.exr --stmap undistort.exr --filter bicubic --samples 4
   lenslab warp clip.mp4 -o fish.mp4 --to fisheye:fov=180 --size 1080x1080 --frames 0:240
       (video: every frame with one map; rate, colour tags and audio kept; PQ/HLG stay HDR)
@@ -83,7 +84,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "see 'lenslab stmap')")
     parser.add_argument("--from", dest="source", metavar="SPEC", action=Once, type=non_empty,
                         help="source lens; default: the camera stored in the file, else equirect when the "
-                             "image is twice as wide as tall")
+                             "image is twice as wide as tall. 'exif': a phone or camera photo's own lens, the "
+                             "pinhole (perspective) of its EXIF 35 mm equivalent focal length, by the diagonal, for "
+                             "the photo as shown (after its EXIF orientation; 'lenslab info PHOTO' prints it); "
+                             "'lensfun:auto': the lens its metadata names, with its distortion, from lensfun")
     parser.add_argument("--size", metavar="WxH", type=image_size,
                         help="output size in pixels; default: the source's angular resolution in the output lens's "
                              "own shape, its field at the pixels per degree the source has (an equirect's rows over 180 degrees, "
@@ -190,7 +194,10 @@ def check_once(args) -> None:
         check_view_pose(args.to, given_pose(args, "--yaw", "--pitch", "--roll", "--look-at"))
     from lenslab.lenses.lensfun.exif import is_auto
 
-    if args.source and not is_auto(args.source):  # auto: read from each input's metadata
+    from lenslab.lenses.exif_view import exif_photo, is_exif
+
+    if args.source and not is_auto(args.source) and not (is_exif(args.source) and exif_photo(args.source) is None):
+        # auto and exif: read from each input's metadata
         make_lens(args.source, (512, 256))
     if args.tone:  # the default curve (hable) needs no check, nor the curves loaded
         from lenslab.tone import get_curve
@@ -268,7 +275,7 @@ def check_compat(args: argparse.Namespace) -> None:
     from lenslab.warp.compat_v360 import check_v360
 
     def lens(spec):
-        if not spec or spec.strip().lower() == "auto" or spec.lower().startswith("lensfun:auto"):
+        if not spec or spec.strip().lower() in ("auto", "exif") or spec.lower().startswith("lensfun:auto"):
             return None
         try:
             return make_lens(spec, (64, 32))

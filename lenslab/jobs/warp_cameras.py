@@ -27,6 +27,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
     h, w = shape[:2]
     if spec:
+        from lenslab.lenses.exif_view import exif_photo, exif_view, is_exif
         from lenslab.lenses.lensfun.exif import is_auto
 
         if is_auto(spec) and not (spec.strip().lower() == "auto" and meta.get("camera") is not None):
@@ -36,6 +37,10 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
             print(f"lenslab: source lens from the file's metadata: {spec}", file=sys.stderr)
         elif is_auto(spec):  # auto: the camera the file records
             spec = None
+        elif is_exif(spec) and exif_photo(spec) is None:  # exif: the pinhole of this photo's focal length
+            view = exif_view(meta.get("path", ""), (w, h))
+            spec = view.spec
+            print(f"lenslab: source lens from the file's EXIF: {view.describe()}", file=sys.stderr)
     if spec:
         return Camera.from_spec(spec, (w, h))
     cam = meta.get("camera")
@@ -46,7 +51,19 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
     if w == 2 * h:
         return Camera.from_spec("equirect", (w, h))
     raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
-                    "camera; say what it is with --from SPEC (e.g. --from fisheye:fov=180)")
+                    f"camera; say what it is with --from SPEC (e.g. {exif_hint(meta, (w, h))})")
+
+
+def exif_hint(meta: dict, size: tuple[int, int]) -> str:
+    """The ``--from`` a photo's EXIF gives (``--from exif``, its field of view), else a fisheye's example."""
+    from lenslab.errors import LenslabError
+    from lenslab.lenses.exif_view import exif_view
+
+    try:
+        view = exif_view(meta.get("path", ""), size, crop_note=False)  # (the error is the one line)
+    except (LenslabError, OSError):
+        return "--from fisheye:fov=180"
+    return f"--from exif: its EXIF's 35 mm equivalent {view.focal35:.4g} mm gives {view.spec}"
 
 
 def stored_frame(image, meta: dict, src):

@@ -35,6 +35,11 @@ class PhotoLens:
     aperture: float | None = None  # f-number
     distance: float | None = None  # m
     focal35: float | None = None  # 35 mm equivalent focal length, mm
+    plane_x: float | None = None  # FocalPlaneXResolution: pixels per plane_unit across the stored width
+    plane_y: float | None = None  # FocalPlaneYResolution
+    plane_unit: float | None = None  # FocalPlaneResolutionUnit: 1 none, 2 inch, 3 cm (4 mm, 5 um: exiftool's)
+    exif_width: float | None = None  # PixelXDimension (ExifImageWidth): the stored frame the plane refers to
+    exif_height: float | None = None  # PixelYDimension
     sources: list[str] = field(default_factory=list)  # where the values came from
 
     @property
@@ -103,11 +108,15 @@ def _exif(path: Path, info: PhotoLens) -> None:
     log = logging.getLogger("exifread")
     level = log.level
     log.setLevel(logging.CRITICAL + 1)  # a damaged header is "nothing recorded", not warnings on stderr
+    tags = {}
     try:
-        with open(path, "rb") as f:
-            tags = exifread.process_file(f, details=False)
-    except Exception:  # exifread raises its own errors for damaged headers: nothing recorded
-        tags = {}
+        for find in (_file_exif, _heif_exif):  # a HEIF whose Exif item exifread cannot find: libheif finds it
+            try:
+                tags = find(path, exifread)
+            except Exception:  # exifread raises its own errors for damaged headers: nothing recorded
+                tags = {}
+            if tags:
+                break
     finally:
         log.setLevel(level)
     if not tags:
@@ -121,8 +130,35 @@ def _exif(path: Path, info: PhotoLens) -> None:
         "aperture": _number(getattr(tags.get("EXIF FNumber"), "values", None)),
         "distance": _number(getattr(tags.get("EXIF SubjectDistance"), "values", None)),
         "focal35": _number(getattr(tags.get("EXIF FocalLengthIn35mmFilm"), "values", None)),
+        **{name: _number(getattr(tags.get(f"EXIF {tag}"), "values", None)) for name, tag in PLANE_TAGS.items()},
     }
     _fill(info, got, "EXIF")
+
+
+def _file_exif(path: Path, exifread) -> dict:
+    with open(path, "rb") as f:
+        return exifread.process_file(f, details=False)
+
+
+def _heif_exif(path: Path, exifread) -> dict:
+    """The EXIF tags of a HEIF's primary image as libheif (pillow-heif) finds them; {} for any other file."""
+    import io
+
+    with open(path, "rb") as f:
+        if f.read(8)[4:] != b"ftyp":
+            return {}
+    try:
+        import pillow_heif
+    except ImportError:  # (reading the image says how to install it)
+        return {}
+    data = pillow_heif.open_heif(str(path)).info.get("exif") or b""
+    return exifread.process_file(io.BytesIO(data[6:] if data.startswith(b"Exif\0\0") else data), details=False)
+
+
+#: PhotoLens field -> the EXIF tag (exifread's name, XMP's exif: property) of the focal plane and frame
+PLANE_TAGS = {"plane_x": "FocalPlaneXResolution", "plane_y": "FocalPlaneYResolution",
+              "plane_unit": "FocalPlaneResolutionUnit", "exif_width": "ExifImageWidth",
+              "exif_height": "ExifImageLength"}
 
 
 #: XMP property -> PhotoLens field (attribute or element form)
@@ -130,7 +166,12 @@ XMP_KEYS = {
     "tiff:Make": "camera_maker", "tiff:Model": "camera_model", "exifEX:LensMake": "lens_maker",
     "exifEX:LensModel": "lens_model", "aux:Lens": "lens_model", "exif:FocalLength": "focal",
     "exif:FNumber": "aperture", "exif:SubjectDistance": "distance", "exif:FocalLengthIn35mmFilm": "focal35",
+    "exif:FocalPlaneXResolution": "plane_x", "exif:FocalPlaneYResolution": "plane_y",
+    "exif:FocalPlaneResolutionUnit": "plane_unit", "exif:PixelXDimension": "exif_width",
+    "exif:PixelYDimension": "exif_height",
 }
+#: the fields that hold numbers
+NUMBERS = ("focal", "aperture", "distance", "focal35", "plane_x", "plane_y", "plane_unit", "exif_width", "exif_height")
 
 
 def _xmp(path: Path, info: PhotoLens) -> None:
@@ -148,7 +189,7 @@ def _xmp(path: Path, info: PhotoLens) -> None:
              or re.search(rf"<{k}>\s*(?:<rdf:Alt>\s*<rdf:li[^>]*>)?([^<]*)<", packet))
         if m and name not in got:
             value = m.group(1).strip()
-            got[name] = _number(value) if name in ("focal", "aperture", "distance", "focal35") else (value or None)
+            got[name] = _number(value) if name in NUMBERS else (value or None)
     _fill(info, got, "XMP")
 
 

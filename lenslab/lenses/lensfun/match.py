@@ -108,18 +108,27 @@ def auto_spec(spec: str, path) -> str:
     return match_photo(photo_lens(path), given)
 
 
-def metadata_report(path) -> dict | None:
-    """What ``lenslab info`` shows: the lens the file names and the profile lensfun:auto would use (or
-    why none), or None when the file names no lens."""
+def metadata_report(path, size: tuple[int, int] | None = None) -> dict | None:
+    """What ``lenslab info`` shows: the lens the file names, the profile lensfun:auto would use (or why none),
+    and, for the image as shown at ``size``, the pinhole ``--from exif`` gives (or why none); None when the file
+    names no lens, camera nor focal length."""
     try:
         info = photo_lens(path)
     except (LensError, OSError):
         return None
-    if not (info.lens_model or info.camera_model):
+    if not (info.lens_model or info.camera_model or info.focal or info.focal35):
         return None
-    out = {"found": info.describe(), "profile": None, "problem": None}
-    try:
-        out["profile"] = auto_spec("lensfun:auto", path)
-    except LensError as exc:
-        out["problem"] = str(exc)
+    out = {"found": info.describe(), "profile": None, "problem": None, "exif": None, "exif_problem": None}
+    if info.lens_model or info.camera_model:
+        try:
+            out["profile"] = auto_spec("lensfun:auto", path)
+        except LensError as exc:
+            out["problem"] = str(exc)
+    if size is not None:
+        from lenslab.lenses.exif_view import exif_view
+
+        try:
+            out["exif"] = exif_view(path, size).describe()
+        except LensError as exc:
+            out["exif_problem"] = str(exc)
     return out

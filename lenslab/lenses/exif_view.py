@@ -1,0 +1,161 @@
+"""A photo's own lens from its EXIF: ``--from exif``, the pinhole (``perspective``) view of its 35 mm equivalent
+focal length, for the image as shown (after its EXIF orientation).
+
+The convention (``docs/conventions.md``, "35 mm equivalent focal length"): Exif 2.3's (CIPA DC-008)
+``FocalLengthIn35mmFilm`` is the focal length a 36 x 24 mm frame needs for the photo's angle of view, matched
+across the diagonal, ``D = hypot(36, 24) = 43.27 mm``. So, for a photo of ``W x H`` square pixels as shown::
+
+    tan(dfov / 2) = D / (2 f35)                          the diagonal field of view
+    tan(fov / 2)  = tan(dfov / 2) W / hypot(W, H)         across the width: perspective's fov
+
+Without ``FocalLengthIn35mmFilm``, ``f35 = FocalLength D / d`` with ``d`` the sensor's diagonal in mm: the
+recorded frame (``PixelXDimension`` x ``PixelYDimension``, else the image) over ``FocalPlaneXResolution`` and
+``FocalPlaneYResolution`` (pixels per ``FocalPlaneResolutionUnit``; Y as X when not recorded). A photo without
+either refuses in one line naming the tags it lacks.
+
+>>> round(horizontal_fov(24.0, 3000, 2000), 2), round(diagonal_fov(24.0), 2)
+(73.74, 84.06)
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from lenslab.errors import LensError
+
+#: the diagonal of the 36 x 24 mm frame that the 35 mm equivalent focal length is matched to, mm
+FRAME_DIAGONAL = math.hypot(36.0, 24.0)
+#: FocalPlaneResolutionUnit -> mm: 2 inch, 3 cm (Exif 2.3); 4 mm and 5 um as exiftool reads them. 1 (no unit) has none
+UNIT_MM = {2: 25.4, 3: 10.0, 4: 1.0, 5: 0.001}
+
+
+def diagonal_fov(focal35: float) -> float:
+    """The diagonal field of view, degrees, of a 35 mm equivalent focal length (float64)."""
+    return math.degrees(2.0 * math.atan(FRAME_DIAGONAL / (2.0 * focal35)))
+
+
+def horizontal_fov(focal35: float, width: float, height: float) -> float:
+    """The field of view across the width, degrees, of a ``width x height`` image (square pixels) of the 35 mm
+    equivalent focal length ``focal35``: its diagonal field shared out by the image's own aspect."""
+    return math.degrees(2.0 * math.atan(FRAME_DIAGONAL / (2.0 * focal35) * width / math.hypot(width, height)))
+
+
+@dataclass(frozen=True)
+class ExifView:
+    """The pinhole view a photo's EXIF gives: the 35 mm equivalent focal length, where it came from, and the
+    fields of view of the image as shown (``size``, W x H)."""
+
+    focal35: float
+    source: str
+    size: tuple[int, int]
+
+    @property
+    def fov(self) -> float:
+        return horizontal_fov(self.focal35, *self.size)
+
+    @property
+    def dfov(self) -> float:
+        return diagonal_fov(self.focal35)
+
+    @property
+    def spec(self) -> str:
+        """``perspective:fov=...``: its fov to 12 significant digits (1e-9 degree)."""
+        return f"perspective:fov={self.fov:.12g}"
+
+    def describe(self) -> str:
+        return (f"{self.spec} (35 mm equivalent {self.focal35:.4g} mm, from {self.source}: {self.dfov:.1f} degrees "
+                f"across the diagonal, {self.fov:.1f} across the {self.size[0]}x{self.size[1]} image as shown)")
+
+
+def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
+    """The 35 mm equivalent focal length of the photo described by ``info`` (a
+    :class:`~lenslab.lenses.lensfun.exif.PhotoLens`) whose image as read is ``size``, and the tags it came from;
+    a :class:`LensError` naming the missing tags when the file records neither way to it."""
+    if info.focal35:
+        return float(info.focal35), "FocalLengthIn35mmFilm"
+    unit = UNIT_MM.get(int(info.plane_unit or 2))  # Exif's default unit is the inch
+    if info.focal and info.plane_x and unit:
+        w, h = ((info.exif_width, info.exif_height) if info.exif_width and info.exif_height else size)
+        sensor = (w / info.plane_x * unit, h / (info.plane_y or info.plane_x) * unit)
+        focal35 = info.focal * FRAME_DIAGONAL / math.hypot(*sensor)
+        return focal35, (f"FocalLength {info.focal:g} mm on a {sensor[0]:.4g} x {sensor[1]:.4g} mm sensor "
+                         "(FocalPlaneXResolution)")
+    if not info.focal:
+        missing = "no FocalLengthIn35mmFilm nor FocalLength"
+    elif not info.plane_x:
+        missing = f"no FocalLengthIn35mmFilm, nor FocalPlaneXResolution to go with FocalLength {info.focal:g} mm"
+    else:
+        missing = (f"no FocalLengthIn35mmFilm, and its FocalPlaneResolutionUnit {info.plane_unit:g} is no length "
+                   "to go with FocalLength")
+    raise LensError(f"{info.path}: --from exif needs the photo's 35 mm equivalent focal length; its EXIF has "
+                    f"{missing}; give the lens, e.g. --from perspective:fov=DEGREES")
+
+
+def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
+    """The pinhole view of the photo at ``path`` whose image as shown (after its EXIF orientation) is
+    ``size`` (W, H); with ``crop_note``, a note where that image looks cropped from the frame the EXIF records."""
+    from lenslab.lenses.lensfun.exif import photo_lens
+
+    w, h = int(size[0]), int(size[1])
+    info = photo_lens(path)
+    focal35, source = equivalent_focal(info, (w, h))
+    if crop_note:
+        note_crop(info, (w, h))
+    return ExifView(focal35, source, (w, h))
+
+
+def note_crop(info, size: tuple[int, int]) -> None:
+    """A note where the frame the EXIF records (PixelXDimension x PixelYDimension) has another shape than the image
+    (either way round: the image may be turned): a crop, whose field is narrower than the frame's."""
+    fw, fh = info.exif_width, info.exif_height
+    if not (fw and fh):
+        return
+    aspect = size[0] / size[1]
+    if min(abs(aspect / (fw / fh) - 1), abs(aspect / (fh / fw) - 1)) <= 0.01:  # 1%: a copy rounded to whole pixels
+        return
+    import warnings
+
+    warnings.warn(f"the image is {size[0]}x{size[1]} and its EXIF records a {fw:g}x{fh:g} frame: it looks "
+                  "cropped, so it sees less than the field its focal length gives; give --from perspective:fov=... "
+                  "if you know it", UserWarning, stacklevel=2)
+
+
+_EXIF = re.compile(r"\s*exif\s*(:.*)?", re.S | re.I)
+
+
+def is_exif(spec) -> bool:
+    """``exif`` (the photo a command reads) or ``exif:photo=PATH``."""
+    return isinstance(spec, str) and _EXIF.fullmatch(spec) is not None
+
+
+def exif_photo(spec: str) -> str | None:
+    """The ``photo=`` of an ``exif:`` spec, or None for plain ``exif``."""
+    rest = _EXIF.fullmatch(spec).group(1)
+    if not rest or not rest[1:].strip():
+        return None
+    from lenslab.lenses.registry import split_items
+
+    values = {}
+    for item in split_items(rest[1:], spec):
+        key, eq, value = item.partition("=")
+        if key.strip() != "photo" or not eq or not value.strip():
+            raise LensError(f"lens spec {spec!r}: exif takes photo=PATH alone (the photo whose EXIF gives the lens)")
+        values["photo"] = value.strip()
+    return values["photo"]
+
+
+def read_exif_lens(spec: str, size):
+    """``make_lens`` of ``exif:photo=PATH``: the pinhole of that photo's 35 mm equivalent focal length for an
+    image of ``size`` (the photo's as shown, or a copy of its shape); plain ``exif`` names no photo here."""
+    photo = exif_photo(spec)
+    if photo is None:
+        raise LensError("exif reads the lens from a photo's EXIF: give it as the --from of a command that reads the "
+                        "photo (lenslab warp PHOTO --from exif), or name it: exif:photo=PHOTO")
+    from lenslab.lenses.registry import make_lens
+
+    if size is None:
+        raise LensError(f"exif:photo={photo}: give the size of the image it is the lens of")
+    view = exif_view(photo, size, crop_note=False)  # (any size of the photo's lens: a map's, a check's)
+    return make_lens(view.spec, view.size)
