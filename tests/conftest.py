@@ -14,7 +14,7 @@ SHARED_DATA = REPO.parent / "shared" / "data"
 
 #: programs from the system that some tests run (the README's quick start installs them)
 SYSTEM_TOOLS = {"ffmpeg": ("ffmpeg",), "chromium": ("chromium", "chromium-browser", "google-chrome"),
-                "C++ compiler": ("c++", "g++", "clang++"), "cmake": ("cmake",)}
+                "C++ compiler": ("c++", "g++", "clang++"), "cmake": ("cmake",), "exiftool": ("exiftool",)}
 
 # Hypothesis times each example (a 200 ms deadline, and health checks that stop "too slow" data
 # generation): on a busy machine those fail tests that are right. The suite tests values, never speed.
