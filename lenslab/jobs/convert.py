@@ -182,11 +182,11 @@ def note_map_bits(fmt, meta: dict, codes: dict) -> None:
     moving it further."""
     import warnings
 
-    from lenslab.stmap import recorded_source_size
+    from lenslab.stmap_frame import recorded_source
 
     if codes.get("bits", 16) != 8 and codes.get("sample_type") != "uint8" and 16 in fmt.bit_depths:
         return
-    found = recorded_source_size(meta)
+    found = (recorded_source(meta) or (None, None))[1]
     pixels = f"{found[0] / 255:.2g}" if found else ""
     step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
     lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""
