@@ -16,14 +16,7 @@ import numpy as np
 import OpenEXR
 
 from lenslab.cli.main import main
-
-
-def _read_exr(path) -> np.ndarray:
-    with OpenEXR.File(str(path)) as f:
-        ch = f.channels()
-        if "RGBA" in ch:
-            return np.asarray(ch["RGBA"].pixels, dtype=np.float64)
-        return np.stack([np.asarray(ch[c].pixels, dtype=np.float64) for c in "RGBA"], -1)
+from tests.warp.test_stmap_turned_photo import _read_exr
 
 
 def _panorama(path, w: int = 128, h: int = 64) -> np.ndarray:
