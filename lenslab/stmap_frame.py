@@ -8,8 +8,8 @@ refused (it would stretch the image). A size fits a frame of the same shape: the
 in width and height to within a pixel (an ST map holds fractions of its source's size, so a map of a plate
 applies to the plate's proxy too), or any size where the source lens reads the same directions at the same
 fractions of its frame (an equirect, a cube map: a map made with ``--size 512x512`` and no ``--source-size`` for
-an equirect source applies to a 2:1 panorama as it is). A map made by another tool records nothing: its own size (an undistortion's
-map has its plate's size) stands in for the source's, only to choose between the two frames of a turned photo;
+an equirect source applies to a 2:1 panorama as it is). A map made by another tool records nothing: its own size
+(an undistortion's map has its plate's size) stands in for the source's, only to choose between the two frames of a turned photo;
 nothing is refused for it. Orientations 2 to 4 (mirrors, a half turn) keep the sizes, so they cannot tell the
 frames apart: the map is applied to the photo as shown, and a note says so.
 """

@@ -29,7 +29,7 @@ def _panorama(path, w: int = 128, h: int = 64) -> np.ndarray:
 
 
 def _assert_warped_as_remap(src, image: np.ndarray, st_path, tmp_path) -> None:
-    """``lenslab warp SRC --stmap MAP`` writes OpenCV's remap of ``image`` at the map's positions, where the map sees."""
+    """``lenslab warp SRC --stmap MAP`` writes OpenCV's remap of ``image`` at the map's positions where it sees."""
     out = tmp_path / "out.exr"
     assert main(["warp", str(src), "--stmap", str(st_path), "-o", str(out), "--pixel-type", "float", "-q"]) == 0
     st = _read_exr(st_path)
