@@ -24,7 +24,7 @@ import numpy as np
 from lenslab.errors import WarpError
 
 #: the mark ``lenslab stmap`` writes: ``from SPEC WxH to SPEC WxH`` (a spec may hold spaces: a lensfun lens's name)
-MARK = re.compile(r"from (.+?) (\d+)x(\d+) to (.+) (\d+)x(\d+)")
+MARK = re.compile(r"from (.+?) ([1-9]\d*)x([1-9]\d*) to (.+) (\d+)x(\d+)")
 #: fractions per side at which a source lens's directions are compared in two frames (:func:`same_fractions`)
 GRID = 17
 #: directions closer than this (radians; a pixel of a 360-degree 8K frame is 7.7e-4) are the same
@@ -33,7 +33,7 @@ SAME_DIRECTION = 1e-6
 
 def recorded_source(meta: dict) -> tuple[str, tuple[int, int]] | None:
     """The source lens spec and size ``(SPEC, (W, H))`` that the ``lenslab:stmap`` mark of a map's header records;
-    None for a map without it (one made by another tool).
+    None for a map without it (one made by another tool), or whose source has no pixels (a damaged header).
 
     >>> recorded_source({"attributes": {"lenslab:stmap": "from lensfun:lens=A B,focal=15 300x200 to equirect 64x32"}})
     ('lensfun:lens=A B,focal=15', (300, 200))

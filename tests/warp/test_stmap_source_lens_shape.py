@@ -14,6 +14,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import OpenEXR
+import pytest
 
 from lenslab.cli.main import main
 from tests.warp.test_stmap_turned_photo import _read_exr
@@ -89,3 +90,20 @@ def test_a_lensfun_source_whose_name_holds_spaces_is_read_from_the_mark(tmp_path
     assert main(["warp", str(square), "--stmap", str(st_path), "-o", str(tmp_path / "out.exr")]) == 1
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and "made for a 96x64 source" in lines[0] and "this image is 64x64" in lines[0]
+
+
+@pytest.mark.parametrize("recorded", ["0x0", "0x64", "128x0"])
+def test_a_mark_recording_no_pixels_is_read_as_no_mark(tmp_path, recorded):
+    """A header whose mark records a source of no pixels (written by hand, or damaged) says nothing of the source: the
+    map applies by its values, as another tool's does, never a division by zero."""
+    pano = tmp_path / "pano.exr"
+    image = _panorama(pano)
+    h, w = 32, 32
+    y, x = np.mgrid[0:h, 0:w] + 0.5
+    s, t = (x / w).astype(np.float32), (1.0 - y / h).astype(np.float32)
+    st_path = tmp_path / "map.exr"
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+              "lenslab:stmap": f"from equirect {recorded} to equirect 32x32"}
+    with OpenEXR.File(header, {"R": s, "G": t, "B": np.zeros_like(s), "A": np.ones_like(s)}) as f:
+        f.write(str(st_path))
+    _assert_warped_as_remap(pano, image, st_path, tmp_path)
