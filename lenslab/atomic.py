@@ -56,14 +56,14 @@ def name_bytes(name: str) -> int:
 
 def name_too_long(path: str | os.PathLike) -> str | None:
     """What is wrong with ``path`` when its file name is longer than :data:`NAME_MAX` bytes (one line, led by the
-    path with the name's first 24 characters, ``...`` and its extension), else None."""
+    path with the name's first 24 characters, ``...`` and its last 16: a clip's frame ``NAME.000042.exr`` shows
+    its number), else None."""
     path = os.fspath(path)
     folder, name = os.path.split(path)
     n = name_bytes(name)
     if n <= NAME_MAX:
         return None
-    suffix = Path(name).suffix if name_bytes(Path(name).suffix) <= LONGEST_SUFFIX else ""
-    short = os.path.join(folder, f"{name[:24]}...{suffix}")
+    short = os.path.join(folder, f"{name[:24]}...{name[-16:]}")
     return f"{short}: its name is too long: {n} bytes, where a file name holds at most {NAME_MAX}; give a shorter name"
 
 

@@ -141,19 +141,9 @@ def write_st_map(path: str | os.PathLike, st: np.ndarray, overwrite: bool = Fals
                  channels=["R", "G", "B", "A"], attributes=attributes or {})
 
 
-def recorded_source_size(meta: dict) -> tuple[int, int] | None:
-    """The source size ``(W, H)`` that the ``lenslab:stmap`` mark of a map's header records (``lenslab stmap``
-    writes ``from SPEC WxH to SPEC WxH``); None for a map without it (one made by another tool)."""
-    import re
-
-    found = re.search(r"from \S+ (\d+)x(\d+) to", str((meta.get("attributes") or {}).get("lenslab:stmap", "")))
-    return (int(found[1]), int(found[2])) if found else None
-
-
-def read_st_map(path: str | os.PathLike,
-                source_size: bool = False) -> np.ndarray | tuple[np.ndarray, tuple[int, int] | None]:
-    """Read an ST map made by any tool (with ``source_size``: and the source size its mark records, see
-    :func:`recorded_source_size`).
+def read_st_map(path: str | os.PathLike, source: bool = False) -> np.ndarray | tuple[np.ndarray, tuple | None]:
+    """Read an ST map made by any tool (with ``source``: and the source its mark records, see
+    :func:`lenslab.stmap_frame.recorded_source`).
 
     Parameters
     ----------
@@ -162,14 +152,14 @@ def read_st_map(path: str | os.PathLike,
         and, if present, validity in the fourth (``A > 1/2``). Without alpha, every pixel whose ``s, t``
         is finite and inside [0, 1] counts. A map of integer codes (8- or 16-bit PNG, TIFF, PPM) holds
         coordinates, not colours: its codes over their maximum, never sRGB-decoded.
-    source_size : bool
-        Also return the source size the map's ``lenslab:stmap`` mark records.
+    source : bool
+        Also return the source lens spec and size ``(SPEC, (W, H))`` the map's ``lenslab:stmap`` mark records.
 
     Returns
     -------
     numpy.ndarray
         float32 ``H x W x 4`` (s, t, 0, A), ``A`` in {0, 1} and ``s = t = 0`` where it is 0; with
-        ``source_size``, a pair of it and the recorded ``(W, H)`` of the source (or None).
+        ``source``, a pair of it and the recorded ``(SPEC, (W, H))`` of the source (or None).
 
     Raises
     ------
@@ -201,7 +191,11 @@ def read_st_map(path: str | os.PathLike,
     st[..., 0] = np.where(ok, s, 0.0)
     st[..., 1] = np.where(ok, t, 0.0)
     st[..., 3] = ok
-    return (st, recorded_source_size(meta)) if source_size else st
+    if source:
+        from lenslab.stmap_frame import recorded_source
+
+        return st, recorded_source(meta)
+    return st
 
 
 def source_positions(st: np.ndarray, src_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -83,7 +83,8 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="camera(s) in TOML as written by lenslab (one camera, or tables of cameras picked by --view); "
                         "replaces --camera and the pose options; --size still resizes it")
     p.add_argument("--eye", type=_triple, metavar="X,Y,Z", help="camera position (default: the view's; a new eye keeps the view's direction)")
-    p.add_argument("--look-at", type=_triple, metavar="X,Y,Z", help="point the camera looks at")
+    p.add_argument("--look-at", type=_triple, metavar="X,Y,Z",
+                   help="point the camera looks at (not with --yaw/--pitch/--roll)")
     p.add_argument("--up", type=_triple, metavar="X,Y,Z", help="up direction for --look-at (default 0,1,0)")
     p.add_argument("--yaw", type=finite_float, help="camera heading in degrees, turned right from the world's +z (instead of the view's "
                         "target); with --pitch and --roll a full orientation")
@@ -147,6 +148,12 @@ def _camera(args, scene):
     recorded = _recorded_view(args, scene)
     if recorded is not None:
         return recorded
+    from lenslab.jobs.warp_cameras import given_pose
+
+    if args.look_at is not None and given_pose(args):  # (which of the two to drop cannot be told)
+        from lenslab.errors import UsageError
+
+        raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
     pose = {}
     if args.eye is not None:
         pose["eye"] = args.eye

@@ -89,8 +89,9 @@ class ConvertJob(Job):
                                                               f"view {meta['view']} is written alone, as a plain image")
         # the image read is this job's own: the exposure and the writer's narrowing reuse its memory
         codes = map_codes(fmt, meta, self.bits)
+        if "lenslab:stmap" in (meta.get("attributes") or {}):  # coordinates, not colours: no look applies
+            refuse_look_of_map(src, self, codes is not None)
         if codes is not None:  # an ST map holds coordinates, not colours: written as raw codes
-            refuse_look_of_map(src, self)
             note_map_bits(fmt, meta, codes)
             image, write_opts = check_image(image, src), codes
         else:
@@ -136,13 +137,12 @@ def map_codes(fmt, meta: dict, bits: int | None) -> dict | None:
 
 def check_maps_look(files, to: str, bits: int | None, job) -> None:
     """Before a batch: :func:`refuse_look_of_map` for every EXR among ``files`` whose header carries the
-    ``lenslab:stmap`` mark, where format ``to`` would write it as codes and ``job`` (a :class:`ConvertJob`'s look
-    fields) names a look; only the headers are read, and only when a look option was given."""
+    ``lenslab:stmap`` mark, whatever format ``to`` writes it in, where ``job`` (a :class:`ConvertJob`'s look fields)
+    names a look; only the headers are read, and only when a look option was given."""
     from lenslab.io.registry import get
 
     fmt = get(to)
-    if "raw" not in fmt.write_options or (fmt.hdr and not bits):
-        return
+    codes = "raw" in fmt.write_options and not (fmt.hdr and not bits)  # (as :func:`map_codes` writes it)
     if not (job.tone_given or job.exposure not in (0, 0.0) or job.display):
         return
     from lenslab.io import split_selector
@@ -159,21 +159,23 @@ def check_maps_look(files, to: str, bits: int | None, job) -> None:
         except Exception:  # a file that cannot be read: its own error comes when it is converted
             continue
         if marked:
-            refuse_look_of_map(str(f), job)
+            refuse_look_of_map(str(f), job, codes)
 
 
-def refuse_look_of_map(src: str, job: ConvertJob) -> None:
+def refuse_look_of_map(src: str, job: ConvertJob, codes: bool = True) -> None:
     """A :class:`~lenslab.errors.UsageError` naming the look options given (``--tone``, ``--exposure``, ``--display``
-    and its ``--view``/``--colorspace``) for an ST map written as codes (:func:`map_codes`): its values are source
-    positions, never tone-mapped nor display-encoded, so those options would be ignored."""
+    and its ``--view``/``--colorspace``) for an ST map, written as codes (``codes``, :func:`map_codes`) or as floats:
+    its values are source positions, never tone-mapped, exposed nor display-encoded (an exposure of a float map
+    would move every position and keep the mark)."""
     from lenslab.errors import UsageError
 
     given = [flag for flag, on in (("--tone", job.tone_given), ("--exposure", job.exposure not in (0, 0.0)),
                                    ("--display", job.display), ("--view", job.view),
                                    ("--colorspace", job.colorspace)) if on]
     if given:
+        how = "written as raw codes" if codes else "not colours"
         raise UsageError(f"{src}: is an ST map (its header's lenslab:stmap mark): its values are source positions, "
-                         f"written as raw codes, never tone-mapped or display-encoded; drop {', '.join(given)}")
+                         f"{how}, never tone-mapped or display-encoded; drop {', '.join(given)}")
 
 
 def note_map_bits(fmt, meta: dict, codes: dict) -> None:
@@ -182,11 +184,11 @@ def note_map_bits(fmt, meta: dict, codes: dict) -> None:
     moving it further."""
     import warnings
 
-    from lenslab.stmap import recorded_source_size
+    from lenslab.stmap_frame import recorded_source
 
     if codes.get("bits", 16) != 8 and codes.get("sample_type") != "uint8" and 16 in fmt.bit_depths:
         return
-    found = recorded_source_size(meta)
+    found = (recorded_source(meta) or (None, None))[1]
     pixels = f"{found[0] / 255:.2g}" if found else ""
     step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
     lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""

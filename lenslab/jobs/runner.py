@@ -66,7 +66,7 @@ def _stopped(name: str) -> bool:
 def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = False) -> list[tuple]:
     """Run ``job`` on every pair, ``jobs`` files at once on threads of this process (0: one per core, as
     many as the memory holds judging by the first file). ``progress``: a bar by files, or by rows of the
-    image when there is one file."""
+    image when there is one file (a clip's own, by frames, when it is a clip)."""
     from lenslab.cluster.threads import default_jobs, run_threads
 
     one = len(pairs) == 1
@@ -78,8 +78,10 @@ def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = Fals
 
     def work(pair):
         from lenslab.jobs.progress import RowBar
+        from lenslab.jobs.warp_video import is_video
 
-        rows = RowBar(os.path.basename(str(pair[0]))) if progress and one else None
+        # one image: a bar of its rows or bands; a clip has its own bar, by frames
+        rows = RowBar(os.path.basename(str(pair[0]))) if progress and one and not is_video(pair[0]) else None
         try:
             return execute(job, pair[0], str(pair[1]), progress=rows)
         finally:

@@ -215,12 +215,12 @@ SCRATCH_POINTS = 1 << 16
 
 
 def st_map(path: str):
-    """The ST map at ``path`` and the source size its mark records (or None), read once per process."""
+    """The ST map at ``path`` and the source spec and size its mark records (or None), read once per process."""
     key = ("stmap", os.path.abspath(path))
     if key not in _CACHE:
         from lenslab.stmap import read_st_map
 
-        _CACHE[key] = read_st_map(path, source_size=True)
+        _CACHE[key] = read_st_map(path, source=True)
     return _CACHE[key]
 
 

@@ -179,8 +179,9 @@ def target_rows(probe, rows: int) -> int:
     return max(1, round(rows * PROBE_ROWS / (180.0 * ppd)))
 
 
-def default_size(spec: str, src_h: int) -> tuple[int, int]:
-    """The output's size without --size: ``src_h`` rows of 180 degrees (:func:`source_rows`) in the lens's shape."""
+def default_size(spec: str, src_h: int, nested: bool = False) -> tuple[int, int]:
+    """The output's size without --size: ``src_h`` rows of 180 degrees (:func:`source_rows`) in the lens's shape.
+    ``nested``: ``spec`` is the base model of another's (``stereo:base=...``), which names a model, never a file."""
     from lenslab.calibfiles import is_camera_file
     from lenslab.lenses.registry import make_lens, parse_spec
 
@@ -191,14 +192,15 @@ def default_size(spec: str, src_h: int) -> tuple[int, int]:
     if name == "stereo":  # two eyes of the base's default frame, side by side or one above the other
         base = values.pop("base", "equirect")
         layout = values.pop("layout", "sbs")
-        w, h = default_size(_base_spec(base, values), src_h)
+        w, h = default_size(_base_spec(base, values), src_h, nested=True)
         return (2 * w, h) if layout == "sbs" else (w, 2 * h)
     from lenslab.lenses.registry import lens_class
 
-    cls = lens_class(name, spec)
+    cls = lens_class(name, None if nested else spec)
     own = {p.name for p in cls.params}
     if "base" in own and values.get("base"):  # a bend or optics over a base model, at its size: the base's frame
-        return default_size(_base_spec(values["base"], {k: v for k, v in values.items() if k not in own}), src_h)
+        return default_size(_base_spec(values["base"], {k: v for k, v in values.items() if k not in own}), src_h,
+                            nested=True)
     if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)

@@ -79,13 +79,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="target lens spec (default fisheye:fov=180,mapping=equisolid)")
     parser.add_argument("--size", type=image_size, default=(512, 512), metavar="WxH",
                         help="target image size (default 512x512)")
-    parser.add_argument("--yaw", type=finite_float, default=None, help="target yaw in degrees (default: the scene's view)")
+    parser.add_argument("--yaw", type=finite_float, default=None,
+                        help="target yaw in degrees (default: the scene's view; 0 where --pitch or --roll is given)")
     parser.add_argument("--pitch", type=finite_float, help="target pitch in degrees (default 0, or the scene's view)")
     parser.add_argument("--roll", type=finite_float, help="target roll in degrees (default 0, or the scene's view)")
     parser.add_argument("--eye", type=_vec3, default=None, metavar="X,Y,Z",
                         help="target (and panorama) eye point (default: the scene's default view)")
     parser.add_argument("--look-at", type=_vec3, default=None, metavar="X,Y,Z",
-                        help="point the target looks at (default: the scene's default view)")
+                        help="point the target looks at (default: the scene's default view); not with "
+                             "--yaw/--pitch/--roll")
     parser.add_argument("--pano-sizes", default="1024x512,2048x1024,4096x2048", metavar="LIST",
                         help="panorama sizes to render and warp from (default 1024x512,2048x1024,4096x2048)")
     parser.add_argument("--filters", default="bilinear,bilinear@2x2,antialias,lanczos", metavar="LIST",
@@ -151,7 +153,10 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output, check_output_dir
+    from lenslab.jobs.warp_cameras import given_pose
 
+    if args.look_at is not None and given_pose(args):  # (which of the two to drop cannot be told)
+        raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
     if args.reference:  # the user's own render or photograph (tracer.validate.reference)
         from tracer.validate.reference import run_reference
 
@@ -198,8 +203,6 @@ def run(args: argparse.Namespace) -> int:
             look_at = tuple(np.add(eye, np.subtract(view.look_at, view.eye)))
     if args.look_at is not None:
         look_at = args.look_at
-    from lenslab.jobs.warp_cameras import given_pose
-
     if given_pose(args) or look_at is None:  # any of --yaw/--pitch/--roll given: the view they turn, from +z
         target = Camera.from_spec(args.to, size, yaw=args.yaw or 0.0, pitch=args.pitch or 0.0, roll=args.roll or 0.0,
                                   eye=eye)
