@@ -43,6 +43,27 @@ def per_channel(codes: np.ndarray, meta: GainMapMetadata) -> bool:
                                                                  meta.offset_sdr, meta.offset_hdr))
 
 
+def application_matrix(gain, profile: bytes | None, channels: int, where: str) -> np.ndarray | None:
+    """The 3 x 3 matrix from the linear RGB the gain of ``gain`` (a :class:`lenslab.io.gainmap.GainMap`) applies
+    in to Rec.709, or None for Rec.709 itself or where the space does not matter (a gain common to the channels).
+    That space is the base's (its ICC ``profile``; sRGB's primaries without one), or, where ISO 21496-1 metadata
+    says the gain applies in the alternate image's colour space, the gain map image's ICC profile's (the base's
+    where it has none or one lenslab does not apply, as libultrahdr takes the base's gamut for an unspecified
+    one: ``JpegR::applyGainMap``)."""
+    if channels != 3 or not per_channel(gain.codes, gain.meta):
+        return None
+    from lenslab.io.colour.icc import plan
+
+    if gain.profile is not None:
+        how = plan(gain.profile, 3, f"{where} (its gain map image)")
+        if how.kind in ("matrix", "srgb"):
+            return how.matrix if how.kind == "matrix" else None
+    if profile is None:
+        return None
+    how = plan(profile, channels, where)
+    return how.matrix if how.kind == "matrix" else None
+
+
 def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxval: int = 255,
                to_rec709: np.ndarray | None = None) -> np.ndarray:
     """Make ``image`` (float32 ``H x W x C``, C 1 or 3, linear, SDR white 1.0) its HDR rendition in place.
