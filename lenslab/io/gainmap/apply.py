@@ -77,7 +77,7 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
     back = None
     if to_rec709 is not None and image.shape[2] == 3 and per_channel(codes, meta):
         to_rec709 = np.asarray(to_rec709, np.float64)
-        back = (np.linalg.inv(to_rec709).T.astype(np.float32), to_rec709.T.astype(np.float32))
+        back = (np.linalg.inv(to_rec709).astype(np.float32), to_rec709.astype(np.float32))  # (cv2.transform: M x)
     import cv2
 
     height, width, channels = image.shape
@@ -102,13 +102,15 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
         r = cv2.resize(band, (width, band.shape[0]), interpolation=cv2.INTER_LINEAR).reshape(band.shape[0], width, -1)
         if not np.all(inverse_gamma == 1.0):
             r = r ** inverse_gamma.astype(np.float32)
-        boost = np.exp2(lo + span * r)
-        out = image[rows] if back is None else image[rows] @ back[0]
+        boost = np.multiply(r, span)  # (a grey map with metadata per channel broadcasts to three channels)
+        boost += lo
+        np.exp2(boost, out=boost)
+        out = image[rows] if back is None else cv2.transform(image[rows], back[0])
         if off_sdr.any():
             out += off_sdr
         out *= boost
         if off_hdr.any():
             out -= off_hdr
         if back is not None:
-            image[rows] = out @ back[1]
+            image[rows] = cv2.transform(out, back[1])
     return image
