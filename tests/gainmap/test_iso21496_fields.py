@@ -90,3 +90,13 @@ def test_xmp_that_agrees_is_said_to(tmp_path):
     path.write_bytes(_file(1, iso_21496(**COMMON, flags=0x40), xmp=xmp))
     assert lio.read(path)[1]["attributes"]["gain_map"].endswith("metadata from its ISO 21496-1 block; its hdrgm "
                                                                 "XMP agrees")
+
+
+def test_the_pixel_photo_has_no_iso_block_and_reads_from_its_xmp(shared_data):
+    """The corpus photo (formats/oiio-images/ultrahdr_sky.jpg) holds ``hdrgm`` XMP only: its note is the XMP's
+    values as printed in the file (GainMapMax 2.205275, offsets 0, no Gamma), with no word of another source."""
+    path = shared_data / "formats/oiio-images/ultrahdr_sky.jpg"
+    assert b"urn:iso:std:iso:ts:21496" not in path.read_bytes()
+    assert lio.read(path)[1]["attributes"]["gain_map"] == (
+        "1020 x 768, 1 channel(s); GainMapMin 0, GainMapMax 2.205 (log2), Gamma 1, OffsetSDR 0, OffsetHDR 0, "
+        "HDRCapacityMin 0, HDRCapacityMax 2.205: headroom 2.21 stops (4.61x SDR white)")

@@ -5,7 +5,6 @@
 from __future__ import annotations
 
 import struct
-import warnings
 
 import numpy as np
 import pytest
@@ -13,11 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import lenslab.io as lio
-from lenslab.errors import FormatError
 from lenslab.io.gainmap import iso
 from lenslab.io.gainmap.metadata import MetadataError
 from tests.gainmap.files import iso_21496, jpeg, ultrahdr
-from tests.gainmap.test_ultrahdr_hostile import GOOD, _base, _read_noted
+from tests.gainmap.test_ultrahdr_hostile import GOOD, _base, _read_noted, read_or_refused
 
 VALUES = dict(gmin=0.0, gmax=2.0, gamma=1.0, off_sdr=1 / 64, off_hdr=1 / 64, cap_min=0.0, cap_max=2.0)
 #: a good block, one denominator per value (0x40: the base's colour space): 5 + 16 + 40 bytes
@@ -127,12 +125,5 @@ def test_any_damage_to_the_block_reads_or_is_refused(tmp_path_factory, changes):
             blob[start + at] = value
     path = tmp_path_factory.mktemp("iso") / "d.jpg"
     path.write_bytes(bytes(blob))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            image, meta = lio.read(path)
-        except FormatError as exc:
-            assert "\n" not in str(exc)
-            return
-    assert image.dtype == np.float32 and np.isfinite(image).all()
-    assert meta["attributes"]["rendition"].split(":")[0] in ("HDR", "SDR base image", "HDR base image")
+    attributes = read_or_refused(path)
+    assert attributes is None or attributes["rendition"].split(":")[0] in ("HDR", "SDR base image", "HDR base image")
