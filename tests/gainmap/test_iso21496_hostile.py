@@ -85,6 +85,18 @@ def test_a_damaged_block_beside_good_xmp_is_refused_as_libultrahdr_refuses_it(tm
     assert "cut short" in _read_noted(path)[1] and _libultrahdr_refuses(path.read_bytes())
 
 
+def test_a_damaged_icc_profile_of_the_alternate_colour_space_leaves_the_base_with_a_note(tmp_path):
+    """Flags 0x80 (values per channel, the gain applies in the alternate image's colour space): the gain map
+    image's ICC profile names that space; one that is 64 bytes of nothing is refused."""
+    rgb = jpeg(np.random.default_rng(4).integers(0, 256, (8, 16, 3)))
+    icc = b"ICC_PROFILE\x00\x01\x01" + bytes(64)
+    damaged = rgb[:2] + b"\xff\xe2" + struct.pack(">H", len(icc) + 2) + icc + rgb[2:]
+    block = iso_21496(**{**VALUES, "gmax": [2.0, 2.5, 3.0]}, flags=0x80)
+    path = tmp_path / "icc.jpg"
+    path.write_bytes(ultrahdr(_base(), damaged, None, iso=block, iso_version=b"\x00\x00\x00\x00"))
+    assert "its gain map image: the embedded ICC profile" in _read_noted(path)[1]
+
+
 def test_the_primary_images_version_block_must_allow_version_0(tmp_path):
     path = tmp_path / "v.jpg"
     path.write_bytes(_file(BLOCK, version=b"\x00\x02\x00\x05"))

@@ -130,6 +130,9 @@ def test_libultrahdrs_iso_only_files_read_with_its_gain(tmp_path, case):
     assert (diff <= tolerance)[keep].all(), diff[keep].max()
     assert np.ptp(ours_log[keep]) > 2.0  # gains over stops, not a flat one
     assert "metadata from its ISO 21496-1 block" in meta["attributes"]["gain_map"]
+    if space == "2020":  # the alternate space, as the gain map image's ICC profile (libultrahdr's) names it
+        assert "applied in the alternate image's colour space (ICC profile 'Rec2020 Gamut with " in \
+            meta["attributes"]["gain_map"]
 
 
 @pytest.mark.parametrize("case", list(CASES))

@@ -49,17 +49,19 @@ class Skipped(ValueError):
 @dataclass
 class GainMap:
     """A gain map ready to apply: its samples (``h x w x c`` uint8) and metadata; ``source``: where the
-    metadata was read, in words ("" for the ``hdrgm`` XMP); ``profile``: the gain map image's ICC profile where
-    the gain applies in the alternate image's colour space."""
+    metadata was read, in words ("" for the ``hdrgm`` XMP); ``space``: the name of the alternate image's colour
+    space and its 3 x 3 matrix to Rec.709 (None: Rec.709 itself), from the gain map image's ICC profile, where
+    the gain differs by channel and applies in that space (None otherwise: the base's)."""
 
     codes: np.ndarray
     meta: GainMapMetadata
     source: str = ""
-    profile: bytes | None = None
+    space: tuple[str, np.ndarray | None] | None = None
 
     def describe(self) -> str:
         h, w, c = self.codes.shape
-        return f"{w} x {h}, {c} channel(s); {self.meta.describe()}" + (f"; {self.source}" if self.source else "")
+        meta = self.meta.describe() + (f" (ICC profile '{self.space[0]}')" if self.space else "")
+        return f"{w} x {h}, {c} channel(s); {meta}" + (f"; {self.source}" if self.source else "")
 
 
 def present(data: bytes) -> bool:
@@ -161,16 +163,32 @@ def prepare(data: bytes, base: tuple[int, int, int]) -> GainMap:
     if codes is None or codes.dtype != np.uint8 or codes.shape[:2] != (h, w):
         raise Skipped("OpenCV cannot decode its image; it is damaged")
     codes = codes[..., None] if codes.ndim == 2 else np.ascontiguousarray(codes[..., 2::-1])
-    profile = None
-    if not meta.base_colour_space:
-        from lenslab.errors import FormatError
-        from lenslab.io.colour.icc_chunks import jpeg_profile
+    return GainMap(codes, meta, source, _alternate_space(blob, codes, meta))
 
-        try:
-            profile = jpeg_profile(blob, "its gain map image")
-        except FormatError as exc:
-            raise Skipped(str(exc)) from None
-    return GainMap(codes, meta, source, profile)
+
+def _alternate_space(blob: bytes, codes: np.ndarray, meta: GainMapMetadata):
+    """:attr:`GainMap.space` of a gain map image ``blob``: its ICC profile's name and matrix to Rec.709 where
+    the gain differs by channel and applies in the alternate image's colour space; None where it applies in the
+    base's, or the gain map image has no profile lenslab applies (libultrahdr then takes the base's gamut:
+    ``JpegR::applyGainMap``). A damaged profile is :class:`Skipped`."""
+    from lenslab.io.gainmap.apply import per_channel
+
+    if meta.base_colour_space or not per_channel(codes, meta):
+        return None
+    from lenslab.errors import FormatError
+    from lenslab.io.colour.icc import check, plan
+    from lenslab.io.colour.icc_chunks import jpeg_profile
+
+    where = "its gain map image"
+    try:
+        profile = jpeg_profile(blob, where)
+        if profile is None:
+            return None
+        check(profile, where)
+        how = plan(profile, 3, where)
+    except FormatError as exc:
+        raise Skipped(str(exc)) from None
+    return (how.name, how.matrix if how.kind == "matrix" else None) if how.kind in ("matrix", "srgb") else None
 
 
 #: how the ``rendition`` attribute of a file read as its HDR rendition begins (``lenslab info`` looks for it)

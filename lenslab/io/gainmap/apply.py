@@ -46,20 +46,16 @@ def per_channel(codes: np.ndarray, meta: GainMapMetadata) -> bool:
 def application_matrix(gain, profile: bytes | None, channels: int, where: str) -> np.ndarray | None:
     """The 3 x 3 matrix from the linear RGB the gain of ``gain`` (a :class:`lenslab.io.gainmap.GainMap`) applies
     in to Rec.709, or None for Rec.709 itself or where the space does not matter (a gain common to the channels).
-    That space is the base's (its ICC ``profile``; sRGB's primaries without one), or, where ISO 21496-1 metadata
-    says the gain applies in the alternate image's colour space, the gain map image's ICC profile's (the base's
-    where it has none or one lenslab does not apply, as libultrahdr takes the base's gamut for an unspecified
-    one: ``JpegR::applyGainMap``)."""
+    That space is the alternate image's where ISO 21496-1 metadata says so and the gain map image's ICC profile
+    names it (``gain.space``), else the base's: its ICC ``profile``'s, sRGB's primaries without one."""
     if channels != 3 or not per_channel(gain.codes, gain.meta):
+        return None
+    if gain.space is not None:
+        return gain.space[1]
+    if profile is None:
         return None
     from lenslab.io.colour.icc import plan
 
-    if gain.profile is not None:
-        how = plan(gain.profile, 3, f"{where} (its gain map image)")
-        if how.kind in ("matrix", "srgb"):
-            return how.matrix if how.kind == "matrix" else None
-    if profile is None:
-        return None
     how = plan(profile, channels, where)
     return how.matrix if how.kind == "matrix" else None
 
