@@ -21,7 +21,9 @@ places in ``lib/src/jpegr.cpp``, ``JpegR::appendGainMap``).
                           ``u32``), base offset (``s32``, ``u32``), alternate offset (``s32``, ``u32``)
   ======================  =====================================================================================
 
-Each value is N / D. They mean what the ``hdrgm`` XMP's do (libultrahdr's
+This is the layout of libultrahdr 1.3 and later; earlier drafts (a one-byte version, flags 0x01 and 0x02, as in
+early libavif and libheif ``tmap`` boxes) mostly read as a minimum version other than 0 and are refused, as
+libultrahdr 1.4 refuses them. Each value is N / D. They mean what the ``hdrgm`` XMP's do (libultrahdr's
 ``gainmapMetadataFractionToFloat``): gain map min and max are ``GainMapMin`` and ``GainMapMax`` (log2), the
 gamma ``Gamma``, the base and alternate offsets ``OffsetSDR`` and ``OffsetHDR``, the base and alternate HDR
 headrooms ``HDRCapacityMin`` and ``HDRCapacityMax`` (log2). Bytes after the last value are ignored, as
