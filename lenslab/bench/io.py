@@ -20,9 +20,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=positive_int, default=3, help="timed runs per figure; the best counts (default 3)")
     parser.add_argument("--images", type=positive_int, default=16, help="EXRs in the convert benchmark (default 16)")
     parser.add_argument("--dir", default=None, help="scratch directory (default: a temporary one)")
-    parser.add_argument("--only", choices=("formats", "codecs", "convert", "deep"), default=None,
+    parser.add_argument("--only", choices=("formats", "codecs", "convert", "deep", "gainmap"), default=None,
                         help="run only the per-format figures, the .hdr/TIFF figures against OpenCV and tifffile, "
-                             "the convert figures, or deep EXR reading against OpenEXR's decoding")
+                             "the convert figures, deep EXR reading against OpenEXR's decoding, or Ultra HDR "
+                             "JPEGs read as HDR (ISO 21496-1 and XMP metadata) against their SDR base")
 
 
 def _test_image(w: int, h: int):
@@ -80,6 +81,10 @@ def run(args: argparse.Namespace) -> int:
             from lenslab.bench.deep import deep_figures
 
             deep_figures(d, rep)
+        if args.only in (None, "gainmap"):
+            from lenslab.bench.gainmap import gainmap_figures
+
+            gainmap_figures(d, rep)
     return 0
 
 

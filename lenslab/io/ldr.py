@@ -126,14 +126,9 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
     image, linear, gamut = decode(codes, maxval, str(path), attributes, profile=profile, points=points,
                                   raw=raw, inks=inks)
     if gain is not None:  # linear light, SDR white 1.0: the HDR rendition
-        from lenslab.io.gainmap.apply import apply_gain, per_channel
+        from lenslab.io.gainmap.apply import application_matrix, apply_gain
 
-        matrix = None
-        if profile is not None and per_channel(gain.codes, gain.meta):  # applied in the base's own primaries
-            from lenslab.io.colour.icc import plan
-
-            how = plan(profile, c, str(path))
-            matrix = how.matrix if how.kind == "matrix" else None
+        matrix = application_matrix(gain, profile, c, str(path))
         image = apply_gain(np.ascontiguousarray(image, dtype=np.float32), gain.codes, gain.meta, to_rec709=matrix)
         linear = True
     if orientation != 1:  # the image as shown (the gain map was applied in the stored frame, as it was coded)

@@ -72,16 +72,44 @@ def _mpf(primary_size: int, gain_size: int, gain_offset: int) -> bytes:
     return b"II*\x00" + struct.pack("<I", 8) + ifd + entries
 
 
+def iso_21496(gmin, gmax, gamma, off_sdr, off_hdr, cap_min: float, cap_max: float, flags: int = 0x40,
+              denominator: int = 1 << 20) -> bytes:
+    """An ISO 21496-1 gain map block (after its signature), laid out as libultrahdr's
+    ``uhdr_gainmap_metadata_frac::encodeGainmapMetadata`` writes it: ``u16`` minimum and writer versions (0), the
+    flags byte (0x80 three channels, 0x40 the base's colour space, 0x04 HDR base, 0x08 a common denominator), then
+    the rationals, big-endian; each value ``v`` as ``round(v * denominator) / denominator``. Per-channel values
+    are written three times where ``flags`` has 0x80, once (the first) otherwise."""
+    channels = 3 if flags & 0x80 else 1
+    per = [np.broadcast_to(np.asarray(v, np.float64), (3,)) for v in (gmin, gmax, gamma, off_sdr, off_hdr)]
+
+    def n(v) -> int:
+        return int(round(float(v) * denominator))
+
+    out = struct.pack(">HHB", 0, 0, flags)
+    if flags & 0x08:
+        out += struct.pack(">III", denominator, n(cap_min), n(cap_max))
+        for c in range(channels):
+            out += struct.pack(">iiIii", *(n(v[c]) for v in per))
+    else:
+        out += struct.pack(">IIII", n(cap_min), denominator, n(cap_max), denominator)
+        for c in range(channels):
+            out += struct.pack(">iIiIIIiIiI", *(x for v in per for x in (n(v[c]), denominator)))
+    return out
+
+
 def ultrahdr(base_jpeg: bytes, gain_jpeg: bytes, metadata: dict | None, offset_shift: int = 0,
-             iso: bytes | None = None) -> bytes:
+             iso: bytes | None = None, iso_version: bytes | None = None) -> bytes:
     """The Ultra HDR file: ``base_jpeg`` with its XMP and MPF index, then ``gain_jpeg`` with ``metadata``
     (``hdrgm`` fields; None: no XMP) in its XMP. ``offset_shift`` is added to the gain map's MPF offset (a damaged
-    index); ``iso``: the payload of an ISO 21496-1 ``APP2`` segment given to the gain map."""
+    index); ``iso``: the payload of an ISO 21496-1 ``APP2`` segment given to the gain map; ``iso_version``: that
+    of the primary image's version block (libultrahdr writes ``00 00 00 00``)."""
     segments = [] if metadata is None else [_segment(0xE1, XMP_SIG + gain_map_xmp(**{"Version": "1.0", **metadata}))]
     if iso is not None:
         segments.append(_segment(0xE2, b"urn:iso:std:iso:ts:21496:-1\x00" + iso))
     gain = _after_soi(gain_jpeg, *segments)
     xmp_segment = _segment(0xE1, XMP_SIG + primary_xmp(len(gain)))
+    if iso_version is not None:
+        xmp_segment += _segment(0xE2, b"urn:iso:std:iso:ts:21496:-1\x00" + iso_version)
     mpf_len = len(_segment(0xE2, b"MPF\x00" + _mpf(0, 0, 0)))
     primary_size = len(base_jpeg) + len(xmp_segment) + mpf_len
     tiff_at = 2 + len(xmp_segment) + 4 + 4  # SOI, the XMP segment, the APP2 marker and length, "MPF\0"

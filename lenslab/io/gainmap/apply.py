@@ -43,6 +43,23 @@ def per_channel(codes: np.ndarray, meta: GainMapMetadata) -> bool:
                                                                  meta.offset_sdr, meta.offset_hdr))
 
 
+def application_matrix(gain, profile: bytes | None, channels: int, where: str) -> np.ndarray | None:
+    """The 3 x 3 matrix from the linear RGB the gain of ``gain`` (a :class:`lenslab.io.gainmap.GainMap`) applies
+    in to Rec.709, or None for Rec.709 itself or where the space does not matter (a gain common to the channels).
+    That space is the alternate image's where ISO 21496-1 metadata says so and the gain map image's ICC profile
+    names it (``gain.space``), else the base's: its ICC ``profile``'s, sRGB's primaries without one."""
+    if channels != 3 or not per_channel(gain.codes, gain.meta):
+        return None
+    if gain.space is not None:
+        return gain.space[1]
+    if profile is None:
+        return None
+    from lenslab.io.colour.icc import plan
+
+    how = plan(profile, channels, where)
+    return how.matrix if how.kind == "matrix" else None
+
+
 def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxval: int = 255,
                to_rec709: np.ndarray | None = None) -> np.ndarray:
     """Make ``image`` (float32 ``H x W x C``, C 1 or 3, linear, SDR white 1.0) its HDR rendition in place.
@@ -56,7 +73,7 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
     back = None
     if to_rec709 is not None and image.shape[2] == 3 and per_channel(codes, meta):
         to_rec709 = np.asarray(to_rec709, np.float64)
-        back = (np.linalg.inv(to_rec709).T.astype(np.float32), to_rec709.T.astype(np.float32))
+        back = (np.linalg.inv(to_rec709).astype(np.float32), to_rec709.astype(np.float32))  # (cv2.transform: M x)
     import cv2
 
     height, width, channels = image.shape
@@ -81,13 +98,15 @@ def apply_gain(image: np.ndarray, codes: np.ndarray, meta: GainMapMetadata, maxv
         r = cv2.resize(band, (width, band.shape[0]), interpolation=cv2.INTER_LINEAR).reshape(band.shape[0], width, -1)
         if not np.all(inverse_gamma == 1.0):
             r = r ** inverse_gamma.astype(np.float32)
-        boost = np.exp2(lo + span * r)
-        out = image[rows] if back is None else image[rows] @ back[0]
+        boost = np.multiply(r, span)  # (a grey map with metadata per channel broadcasts to three channels)
+        boost += lo
+        np.exp2(boost, out=boost)
+        out = image[rows] if back is None else cv2.transform(image[rows], back[0])
         if off_sdr.any():
             out += off_sdr
         out *= boost
         if off_hdr.any():
             out -= off_hdr
         if back is not None:
-            image[rows] = out @ back[1]
+            image[rows] = cv2.transform(out, back[1])
     return image

@@ -41,6 +41,9 @@ class GainMapMetadata:
     hdr_capacity_min: float
     hdr_capacity_max: float
     base_is_hdr: bool = False
+    #: whether the gain applies in the base image's colour space (the ``hdrgm`` XMP's only choice) or in the
+    #: alternate image's (ISO 21496-1 may say so: the gain map image's ICC profile names it)
+    base_colour_space: bool = True
 
     @property
     def headroom_stops(self) -> float:
@@ -56,7 +59,8 @@ class GainMapMetadata:
                 f"OffsetSDR {v(self.offset_sdr)}, OffsetHDR {v(self.offset_hdr)}, HDRCapacityMin "
                 f"{self.hdr_capacity_min:.4g}, HDRCapacityMax {self.hdr_capacity_max:.4g}: headroom "
                 f"{self.headroom_stops:.3g} stops ({2.0 ** self.headroom_stops:.3g}x SDR white)"
-                + (", base rendition is HDR" if self.base_is_hdr else ""))
+                + (", base rendition is HDR" if self.base_is_hdr else "")
+                + ("" if self.base_colour_space else ", applied in the alternate image's colour space"))
 
 
 def has_hdrgm(packet: bytes | None) -> bool:
