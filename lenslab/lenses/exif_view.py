@@ -11,7 +11,8 @@ across the diagonal, ``D = hypot(36, 24) = 43.27 mm``. So, for a photo of ``W x 
 Without ``FocalLengthIn35mmFilm``, ``f35 = FocalLength D / d`` with ``d`` the sensor's diagonal in mm: the
 recorded frame (``PixelXDimension`` x ``PixelYDimension``, else the image) over ``FocalPlaneXResolution`` and
 ``FocalPlaneYResolution`` (pixels per ``FocalPlaneResolutionUnit``; Y as X when not recorded). A photo without
-either refuses in one line naming the tags it lacks.
+either refuses in one line naming the tags it lacks; so does one whose sensor would be under 1 mm or over 100 mm
+across (:data:`SENSOR_DIAGONAL`, as exiftool) or whose equivalent is beyond Exif's 1 to 65535 mm.
 
 >>> round(horizontal_fov(24.0, 3000, 2000), 2), round(diagonal_fov(24.0), 2)
 (73.74, 84.06)
@@ -29,6 +30,12 @@ from lenslab.errors import LensError
 FRAME_DIAGONAL = math.hypot(36.0, 24.0)
 #: FocalPlaneResolutionUnit -> mm: 2 inch, 3 cm (Exif 2.3); 4 mm and 5 um as exiftool reads them. 1 (no unit) has none
 UNIT_MM = {2: 25.4, 3: 10.0, 4: 1.0, 5: 0.001}
+#: the 35 mm equivalents read, mm: Exif's FocalLengthIn35mmFilm is a SHORT (0 unknown); beyond, an XMP value or a
+#: focal plane's gives no pinhole (a field of 180 or 0 degrees)
+FOCAL35_RANGE = (1.0, 65535.0)
+#: the sensor diagonals read from a focal plane, mm (exiftool's CalcScaleFactor35efl keeps 1 to 100 mm): outside,
+#: the frame is not the sensor's (a copy made smaller without PixelXDimension has its own pixels taken for it)
+SENSOR_DIAGONAL = (1.0, 100.0)
 
 
 def diagonal_fov(focal35: float) -> float:
@@ -74,14 +81,19 @@ def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
     :class:`~lenslab.lenses.lensfun.exif.PhotoLens`) whose image as read is ``size``, and the tags it came from;
     a :class:`LensError` naming the missing tags when the file records neither way to it."""
     if info.focal35:
-        return float(info.focal35), "FocalLengthIn35mmFilm"
+        return _in_range(info, float(info.focal35), "FocalLengthIn35mmFilm")
     unit = UNIT_MM.get(int(info.plane_unit or 2))  # Exif's default unit is the inch
     if info.focal and info.plane_x and unit:
         w, h = ((info.exif_width, info.exif_height) if info.exif_width and info.exif_height else size)
         sensor = (w / info.plane_x * unit, h / (info.plane_y or info.plane_x) * unit)
+        if not SENSOR_DIAGONAL[0] < math.hypot(*sensor) < SENSOR_DIAGONAL[1]:
+            raise LensError(f"{info.path}: its focal plane (FocalPlaneXResolution) puts the {w:g}x{h:g} "
+                            f"frame on a {sensor[0]:.4g} x {sensor[1]:.4g} mm sensor, no camera's (1 to 100 mm across "
+                            "the diagonal), so its 35 mm equivalent is unknown (a copy made smaller loses it); give "
+                            "the lens, e.g. --from perspective:fov=DEGREES")
         focal35 = info.focal * FRAME_DIAGONAL / math.hypot(*sensor)
-        return focal35, (f"FocalLength {info.focal:g} mm on a {sensor[0]:.4g} x {sensor[1]:.4g} mm sensor "
-                         "(FocalPlaneXResolution)")
+        return _in_range(info, focal35, f"FocalLength {info.focal:g} mm on a {sensor[0]:.4g} x {sensor[1]:.4g} mm "
+                         "sensor (FocalPlaneXResolution)")
     if not info.focal:
         missing = "no FocalLengthIn35mmFilm nor FocalLength"
     elif not info.plane_x:
@@ -91,6 +103,16 @@ def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
                    "to go with FocalLength")
     raise LensError(f"{info.path}: --from exif needs the photo's 35 mm equivalent focal length; its EXIF has "
                     f"{missing}; give the lens, e.g. --from perspective:fov=DEGREES")
+
+
+def _in_range(info, focal35: float, source: str) -> tuple[float, str]:
+    """``(focal35, source)`` where it is within :data:`FOCAL35_RANGE`, else the one-line :class:`LensError`."""
+    lo, hi = FOCAL35_RANGE
+    if not lo <= focal35 <= hi:
+        raise LensError(f"{info.path}: its 35 mm equivalent focal length of {focal35:.4g} mm (from "
+                        f"{source}) is no lens's (Exif records {lo:g} to {hi:g} mm); give the lens, e.g. --from "
+                        "perspective:fov=DEGREES")
+    return focal35, source
 
 
 def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
