@@ -78,8 +78,9 @@ class ExifView:
 
 def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
     """The 35 mm equivalent focal length of the photo described by ``info`` (a
-    :class:`~lenslab.lenses.lensfun.exif.PhotoLens`) whose image as read is ``size``, and the tags it came from;
-    a :class:`LensError` naming the missing tags when the file records neither way to it."""
+    :class:`~lenslab.lenses.lensfun.exif.PhotoLens`) whose image as stored (before its EXIF orientation: the frame
+    FocalPlaneXResolution counts across) is ``size``, and the tags it came from; a :class:`LensError` naming the
+    missing tags when the file records neither way to it."""
     if info.focal35:
         return _in_range(info, float(info.focal35), "FocalLengthIn35mmFilm")
     unit = UNIT_MM.get(int(info.plane_unit or 2))  # Exif's default unit is the inch
@@ -122,10 +123,23 @@ def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
 
     w, h = int(size[0]), int(size[1])
     info = photo_lens(path)
-    focal35, source = equivalent_focal(info, (w, h))
+    focal35, source = equivalent_focal(info, _stored((w, h), path))
     if crop_note:
         note_crop(info, (w, h))
     return ExifView(focal35, source, (w, h))
+
+
+def _stored(size: tuple[int, int], path) -> tuple[int, int]:
+    """The stored frame of an image shown at ``size``: turned back where a JPEG's EXIF orientation (5 to 8, the
+    orientations lenslab applies) swaps its width and height."""
+    from lenslab.io.exif_orientation import jpeg_orientation
+
+    try:
+        with open(path, "rb") as f:
+            head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
+    except OSError:
+        return size
+    return (size[1], size[0]) if head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5 else size
 
 
 def note_crop(info, size: tuple[int, int]) -> None:

@@ -94,3 +94,20 @@ def test_info_says_why_not_where_it_printed_a_spec_that_fails(tmp_path, capsys):
     assert main(["info", str(path)]) == 0
     out = capsys.readouterr().out
     assert "perspective:fov=180" not in out and "35 mm equivalent" in out
+
+
+@pytest.mark.skipif(EXIFTOOL is None, reason="exiftool (Debian's libimage-exiftool-perl) not installed")
+@pytest.mark.parametrize("orientation", [1, 3, 5, 6, 7, 8])
+def test_a_turned_photos_focal_plane_is_its_stored_frames(tmp_path, orientation):
+    """FocalPlaneXResolution counts pixels across the stored width: a 300 x 200 JPEG at 1000 and 500 pixels per cm
+    has a 3 x 4 mm sensor however its orientation shows it (5 to 8: 200 x 300), so the 35 mm equivalent is
+    exiftool's (from the stored ImageWidth and ImageHeight) for each."""
+    from lenslab.io import read
+
+    plane = (IFDRational(1000), IFDRational(500), 3, None)
+    path = write_photo(tmp_path / "p.jpg", 300, 200, focal=6.81, plane=plane, orientation=orientation, quality=95)
+    shown = tuple(read(path)[1]["size"])
+    assert shown == ((200, 300) if orientation >= 5 else (300, 200))
+    expected = _exiftool_focal35(path)
+    assert expected == pytest.approx(6.81 * np.hypot(36, 24) / 5.0, rel=1e-12)
+    assert exif_view(path, shown).focal35 == pytest.approx(expected, rel=1e-12)
