@@ -26,10 +26,11 @@ early libavif and libheif ``tmap`` boxes) mostly read as a minimum version other
 libultrahdr 1.4 refuses them. Each value is N / D. They mean what the ``hdrgm`` XMP's do (libultrahdr's
 ``gainmapMetadataFractionToFloat``): gain map min and max are ``GainMapMin`` and ``GainMapMax`` (log2), the
 gamma ``Gamma``, the base and alternate offsets ``OffsetSDR`` and ``OffsetHDR``, the base and alternate HDR
-headrooms ``HDRCapacityMin`` and ``HDRCapacityMax`` (log2). Bytes after the last value are ignored, as
-libultrahdr ignores them (a later writer version may append fields). A block cut short, of another minimum
-version, with a denominator of 0 or with values :func:`lenslab.io.gainmap.metadata.check` refuses raises
-:class:`lenslab.io.gainmap.metadata.MetadataError`.
+headrooms ``HDRCapacityMin`` and ``HDRCapacityMax`` (log2), the lower and the higher of the two in the backward
+direction (0x04: the base is HDR, its headroom the higher; ``BaseRenditionIsHDR``, whose map lenslab does not
+apply). Bytes after the last value are ignored, as libultrahdr ignores them (a later writer version may append
+fields). A block cut short, of another minimum version, with a denominator of 0 or with values
+:func:`lenslab.io.gainmap.metadata.check` refuses raises :class:`lenslab.io.gainmap.metadata.MetadataError`.
 """
 
 from __future__ import annotations
@@ -87,6 +88,8 @@ def parse(payload: bytes) -> GainMapMetadata:
         alternate = _ratio(r.take(4), r.take(4), "HDRCapacityMax")
         values = [[_ratio(r.take(4, signed), r.take(4), name) for name, signed in fields] for _ in range(channels)]
     per = tuple(tuple(values[c if channels == 3 else 0][k] for c in range(3)) for k in range(len(fields)))
+    if flags & BACKWARD:  # the base is the HDR rendition: its headroom is the higher one, the map's range below it
+        base, alternate = sorted((base, alternate))
     meta = GainMapMetadata(*per, hdr_capacity_min=base, hdr_capacity_max=alternate,
                            base_is_hdr=bool(flags & BACKWARD), base_colour_space=bool(flags & BASE_COLOUR_SPACE))
     check(meta)
