@@ -180,3 +180,44 @@ def test_a_zero_focal_length_in_35mm_film_is_unknown(tmp_path):
     plane = (IFDRational(400000, 96), IFDRational(300000, 72), 3, (4000, 3000))
     path = write_photo(tmp_path / "p.jpg", 160, 120, focal35=0, focal=6.81, plane=plane, quality=95)
     assert exif_view(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
+
+
+def _xmp_photo(path, props: dict):
+    xmp = ('<x:xmpmeta xmlns:x="adobe:ns:meta/"><rdf:RDF xmlns:rdf="http://www.w3.org/1999/02/22-rdf-syntax-ns#">'
+           '<rdf:Description xmlns:exif="http://ns.adobe.com/exif/1.0/" '
+           + " ".join(f'exif:{k}="{v}"' for k, v in props.items()) + "/></rdf:RDF></x:xmpmeta>")
+    Image.fromarray(np.zeros((100, 150, 3), np.uint8)).save(path, xmp=xmp.encode())
+    return path
+
+
+@pytest.mark.parametrize("props", [
+    {"FocalLengthIn35mmFilm": "1e-300"},  # gave perspective:fov=180, which the lens refused without the photo's name
+    {"FocalLengthIn35mmFilm": "0.5"},
+    {"FocalLengthIn35mmFilm": "1e300"},  # gave perspective:fov=2.06e-297
+    {"FocalLengthIn35mmFilm": "70000"},
+    {"FocalLength": "1e308", "FocalPlaneXResolution": "1", "FocalPlaneResolutionUnit": "4"},  # gave fov=0
+])
+def test_an_equivalent_beyond_exifs_range_is_refused_naming_the_photo(tmp_path, props):
+    """Exif's FocalLengthIn35mmFilm is a SHORT: 1 to 65535 mm. Beyond it (from XMP, or FocalLength over the focal
+    plane), the one-line refusal names the photo and the equivalent."""
+    path = _xmp_photo(tmp_path / "p.jpg", props)
+    with pytest.raises(LensError) as err:
+        exif_view(path, (150, 100))
+    text = str(err.value)
+    assert "\n" not in text and str(path) in text and "35 mm equivalent" in text
+
+
+@pytest.mark.parametrize("f35", ["1", "65535", "26.5"])
+def test_the_ends_of_exifs_range_are_read(tmp_path, f35):
+    """The field across a 3:2 image: 2 atan(18 / f35), the 36 mm side of the 35 mm frame (float64 here)."""
+    path = _xmp_photo(tmp_path / "p.jpg", {"FocalLengthIn35mmFilm": f35})
+    assert exif_view(path, (150, 100)).fov == pytest.approx(np.degrees(2 * np.arctan(18.0 / float(f35))), abs=1e-9)
+
+
+def test_info_says_why_not_where_it_printed_a_spec_that_fails(tmp_path, capsys):
+    from lenslab.cli.main import main
+
+    path = _xmp_photo(tmp_path / "p.jpg", {"FocalLengthIn35mmFilm": "1e-300"})
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "perspective:fov=180" not in out and "35 mm equivalent" in out
