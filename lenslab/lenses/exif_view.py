@@ -9,8 +9,9 @@ across the diagonal, ``D = hypot(36, 24) = 43.27 mm``. So, for a photo of ``W x 
     tan(fov / 2)  = tan(dfov / 2) W / hypot(W, H)         across the width: perspective's fov
 
 Without ``FocalLengthIn35mmFilm``, ``f35 = FocalLength D / d`` with ``d`` the sensor's diagonal in mm: the
-recorded frame (``PixelXDimension`` x ``PixelYDimension``, else the image) over ``FocalPlaneXResolution`` and
-``FocalPlaneYResolution`` (pixels per ``FocalPlaneResolutionUnit``; Y as X when not recorded). A photo without
+recorded frame (``PixelXDimension`` x ``PixelYDimension``, else the photo's stored pixels) over
+``FocalPlaneXResolution`` and ``FocalPlaneYResolution`` (pixels per ``FocalPlaneResolutionUnit``; Y as X when not
+recorded). A photo without
 either refuses in one line naming the tags it lacks; so does one whose sensor would be under 1 mm or over 100 mm
 across (:data:`SENSOR_DIAGONAL`, as exiftool) or whose equivalent is beyond Exif's 1 to 65535 mm.
 
@@ -123,21 +124,28 @@ def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
 
     w, h = int(size[0]), int(size[1])
     info = photo_lens(path)
-    focal35, source = equivalent_focal(info, _stored((w, h), path))
+    focal35, source = equivalent_focal(info, _frame(path, (w, h)))
     if crop_note:
         note_crop(info, (w, h))
     return ExifView(focal35, source, (w, h))
 
 
-def _stored(size: tuple[int, int], path) -> tuple[int, int]:
-    """The stored frame of an image shown at ``size``: turned back where a JPEG's EXIF orientation (5 to 8, the
-    orientations lenslab applies) swaps its width and height."""
+def _frame(path, size: tuple[int, int]) -> tuple[int, int]:
+    """The photo's own stored frame (W, H, before its EXIF orientation: what FocalPlaneXResolution counts across)
+    from its header, whatever size its lens is asked at; where its format declares none, ``size`` (the photo as
+    shown) turned back where a JPEG's EXIF orientation (5 to 8, those lenslab applies) swaps its sides."""
+    from lenslab.errors import LenslabError
     from lenslab.io.exif_orientation import jpeg_orientation
+    from lenslab.io.registry import get, sniff
 
     try:
+        fmt = get(sniff(path))
+        declared = fmt.declare(path) if fmt.declare is not None else None
+        if declared is not None and declared.width > 0 and declared.height > 0:
+            return declared.width, declared.height
         with open(path, "rb") as f:
             head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
-    except OSError:
+    except (LenslabError, OSError, ValueError, EOFError, IndexError, OverflowError, ImportError):  # damaged, unread
         return size
     return (size[1], size[0]) if head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5 else size
 

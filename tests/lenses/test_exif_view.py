@@ -221,3 +221,14 @@ def test_info_says_why_not_where_it_printed_a_spec_that_fails(tmp_path, capsys):
     assert main(["info", str(path)]) == 0
     out = capsys.readouterr().out
     assert "perspective:fov=180" not in out and "35 mm equivalent" in out
+
+
+@pytest.mark.parametrize("size", [(150, 100), (75, 50), (300, 200), (1500, 1000)])
+def test_the_focal_plane_is_the_photos_own_frame_at_any_size_asked(tmp_path, size):
+    """``exif:photo=PHOTO`` at another size than the photo's (a map's, a warp's check): the sensor is still the
+    photo's 150 x 100 pixels over 150 px per 9.6 mm, a 9.6 x 6.4 mm sensor, so FocalLength 6.81 mm sees
+    2 atan(4.8 / 6.81) across a 3:2 image at any size (it gave 38.8 degrees at 75 x 50 and 109.3 at 300 x 200)."""
+    plane = (IFDRational(round(150 / 9.6 * 25.4 * 1000), 1000),) * 2 + (2, None)
+    path = write_photo(tmp_path / "p.jpg", 150, 100, focal=6.81, plane=plane, quality=95)
+    fov = make_lens(f"exif:photo={path}", size).fov
+    assert fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)  # (the spec's 12 digits)
