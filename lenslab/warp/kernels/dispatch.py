@@ -205,6 +205,7 @@ class _Pool:
                 fn()
             except BaseException:  # pragma: no cover - _Run.take hands every error to its caller
                 pass
+            del fn  # (idle, a helper keeps nothing of its last run: the source and output arrays its bands drew)
 
 
 _pool = _Pool()
