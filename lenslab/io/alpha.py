@@ -133,42 +133,24 @@ def with_alpha(colour: np.ndarray, alpha: np.ndarray, channels: tuple[int, ...])
     return np.concatenate([colour, alpha[..., None].astype(F32, copy=False)], axis=-1)
 
 
+
 def room_for_alpha(h: int, w: int, c: int) -> tuple[np.ndarray, np.ndarray]:
-    """``(colour, alpha)`` arrays for a warp's output of ``h x w x c`` that :func:`joined_alpha` makes one
-    ``h x w x (c + 1)`` image without a copy of the image's size: the colour is a C-contiguous view of the first
-    ``c / (c + 1)`` of that image's memory (the rest untouched until joined, so no page of it is used before),
-    alpha an ``h x w`` array of its own."""
-    memory = np.empty(h * w * (c + 1), F32)
-    return memory[:h * w * c].reshape(h, w, c), np.empty((h, w), F32)
+    """``(colour, alpha)`` arrays for a warp's output of ``h x w x c`` that are the channels of one
+    ``h x w x (c + 1)`` image (strided views: the engine draws each band in scratch memory and copies it in),
+    which :func:`joined_alpha` gives back without a copy."""
+    image = np.empty((h, w, c + 1), F32)
+    return image[..., :c], image[..., c]
 
 
-def joined_alpha(colour: np.ndarray, alpha: np.ndarray, rows: int = 64) -> np.ndarray | None:
+def joined_alpha(colour: np.ndarray, alpha: np.ndarray) -> np.ndarray | None:
     """``colour`` (H x W x C) and ``alpha`` (H x W) as one H x W x (C + 1) image (premultiplied colour, alpha
-    last) in the memory that holds ``colour``, or None when it cannot be: ``colour`` from
-    :func:`room_for_alpha` is widened in place (``colour`` is overwritten), and colour and alpha that are
-    views of one such image (a warp of a source with alpha) are that image. The values are those of
-    ``np.concatenate([colour, alpha[..., None]], -1)``.
-
-    In place, a band of rows at a time from the last: a pixel's widened place (float ``(C + 1) i``) lies at or
-    after its own (``C i``), so the rows not yet moved, before the band, are never written over; the band
-    itself is copied out first."""
+    last) without a copy when they are the channels of one such image (:func:`room_for_alpha`, or a warp of a
+    source that carries alpha); None otherwise (they are not)."""
     h, w, c = colour.shape
-    base = colour.base
-    while isinstance(base, np.ndarray) and base.base is not None:
-        base = base.base
-    if not isinstance(base, np.ndarray) or alpha.shape != (h, w) or colour.dtype != F32 or alpha.dtype != F32:
-        return None
     pixel = 4 * (c + 1)
-    if colour.strides == alpha.strides + (4,) == (w * pixel, pixel, 4) and np.shares_memory(alpha, base) and \
-            alpha.ctypes.data == colour.ctypes.data + 4 * c:  # the colour and alpha of one H x W x (C + 1) image
-        return np.lib.stride_tricks.as_strided(colour, (h, w, c + 1), colour.strides)
-    if not (base.ndim == 1 and base.size == h * w * (c + 1) and base.flags.c_contiguous and
-            colour.flags.c_contiguous and colour.ctypes.data == base.ctypes.data):
+    if alpha.shape != (h, w) or colour.dtype != F32 or alpha.dtype != F32 or colour.base is None:
         return None
-    image = base.reshape(h, w, c + 1)
-    for r1 in range(h, 0, -rows):
-        r0 = max(0, r1 - rows)
-        band = colour[r0:r1].copy()
-        image[r0:r1, :, :c] = band
-        image[r0:r1, :, c] = alpha[r0:r1]
-    return image
+    if colour.strides == alpha.strides + (4,) == (w * pixel, pixel, 4) and np.shares_memory(alpha, colour.base) \
+            and alpha.ctypes.data == colour.ctypes.data + 4 * c:
+        return np.lib.stride_tricks.as_strided(colour, (h, w, c + 1), colour.strides)
+    return None

@@ -11,8 +11,8 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     the colour over black. ``camera``: the output's, stored where the format holds one. ``source_alpha``:
     whether the source carried alpha (with ``--compat v360`` a display output has alpha only then, as
     ffmpeg's has: ``tests/warp/test_v360_channels.py``). ``given_up``: the caller keeps neither array (a still
-    image's warp), so the output is developed and encoded in their memory (colour from
-    :func:`output_arrays` and its alpha become one image in place): no other float image of the output's size."""
+    image's warp), so the output is developed and encoded in their memory (colour and alpha drawn into the
+    channels of one image by :func:`output_arrays` are that image): no other float image of the output's size."""
     from lenslab.io import write
     from lenslab.io.alpha import joined_alpha, with_alpha
     from lenslab.jobs.stages import Look, develop, encode_options
@@ -51,8 +51,8 @@ def keeps_output_alpha(fmt, job, meta: dict, source_alpha: bool) -> bool:
 
 
 def output_arrays(shape: tuple[int, int], channels: int, fmt, job, meta: dict, source_alpha: bool):
-    """``into`` arrays for the warp of a still image of ``channels`` channels into ``shape`` (h, w) that
-    :func:`write_warped` joins with their alpha in place (:func:`lenslab.io.alpha.room_for_alpha`), or None
+    """``into`` arrays for the warp of a still image of ``channels`` channels into ``shape`` (h, w): the channels
+    of the one image :func:`write_warped` writes (:func:`lenslab.io.alpha.room_for_alpha`), or None
     (the engine's own: an output without alpha, or a source whose alpha the warp carries as its last channel)."""
     from lenslab.io.alpha import room_for_alpha
 
