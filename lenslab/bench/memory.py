@@ -18,7 +18,12 @@ Aims:
   (SIDE * SIDE * 3 * 4 bytes) plus 200 MB. Read: ``lenslab.io.read``; convert: to EXR; warp: into a
   1024 x 1024 fisheye, the source taken as a 90-degree perspective view. The test images are a
   smooth gradient with noise (files of realistic size), written by a child process before they are
-  measured.
+  measured;
+- a warp whose output is much larger than its source (``memory.enlarge_*``: a 1024 x 512 panorama made in the
+  bench, warped into an 8192 x 4096 equirect as EXR and PNG, what a user who enlarges a panorama or sends a
+  photo into one asks) peaks at most 1.5 times the output's float32 RGBA image (537 MB) plus the source's
+  decoded image plus 200 MB beyond the baseline: the output once, its alpha while it joins the colour, a
+  bounded working set (OpenCV's modules, a band's scratch) and no second copy of the output.
 """
 
 from __future__ import annotations
@@ -37,9 +42,9 @@ FORMATS = {"hdr": ("big.hdr", {}), "tiff": ("big.tif", {}), "exr": ("big.exr", {
 
 MAKE = """
 import sys, numpy as np, lenslab.io as lio
-side, path, opts = int(sys.argv[1]), sys.argv[2], eval(sys.argv[3])
-y = np.linspace(0.0, 4.0, side, dtype=np.float32)[:, None, None]
-x = np.linspace(0.0, 1.0, side, dtype=np.float32)[None, :, None]
+size, path, opts = sys.argv[1].split("x"), sys.argv[2], eval(sys.argv[3])  # SIDE or WIDTHxHEIGHT
+y = np.linspace(0.0, 4.0, int(size[-1]), dtype=np.float32)[:, None, None]
+x = np.linspace(0.0, 1.0, int(size[0]), dtype=np.float32)[None, :, None]
 img = y * (0.5 + x) * np.array([1.0, 0.8, 0.6], np.float32)
 img += np.random.default_rng(0).random(img.shape, dtype=np.float32) * 0.01
 lio.write(path, img, **opts)
@@ -52,6 +57,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--side", type=positive_int, default=8192, help="side of the large valid images (default 8192)")
     parser.add_argument("--no-valid", dest="valid", action="store_false",
                         help="measure the hostile corpus only (no large images)")
+    parser.add_argument("--enlarging-only", dest="enlarging_only", action="store_true",
+                        help="measure the warps into outputs larger than their source only")
 
 
 #: runs ``argv[2:]`` as its child and writes the child's peak RSS (KiB) into the file ``argv[1]``; exits as
@@ -143,6 +150,36 @@ def edge_at_budget(lenslab: list[str], folder: Path, base: float) -> None:
             path.unlink()
 
 
+#: the enlarging warp measured: a source panorama of this size into an equirect of that size, to each format
+ENLARGE_SOURCE, ENLARGE_OUTPUT, ENLARGE_FORMATS = (1024, 512), (8192, 4096), ("exr", "png")
+
+def enlarging_warps(lenslab: list[str], folder: Path, base: float) -> None:
+    """A warp into an output much larger than its source (:data:`ENLARGE_SOURCE` into :data:`ENLARGE_OUTPUT`, to
+    each of :data:`ENLARGE_FORMATS`): the peak beyond the baseline against 1.5 times the output's float32 RGBA
+    image plus the source's decoded float image plus 200 MB (``memory.enlarge_{format}``)."""
+    from lenslab.bench.results import figure, mark
+
+    (sw, sh), (ow, oh) = ENLARGE_SOURCE, ENLARGE_OUTPUT
+    path = folder / "pano.exr"
+    subprocess.run([sys.executable, "-c", MAKE, f"{sw}x{sh}", str(path), "{}"], check=True)
+    source_mb, output_mb = sw * sh * 3 * 4 / 1e6, ow * oh * 4 * 4 / 1e6
+    aim = AIM_FACTOR * output_mb + source_mb + AIM_EXTRA_MB
+    print(f"a {sw} x {sh} panorama ({source_mb:.0f} MB decoded) warped into {ow} x {oh} ({output_mb:.0f} MB of float32 "
+          f"RGBA): aim peak beyond the baseline <= {aim:.0f} MB")
+    for ext in ENLARGE_FORMATS:
+        out = folder / f"enlarged.{ext}"
+        mb, status = peak_mb(lenslab + ["warp", str(path), "-o", str(out), "--to", "equirect", "--size", f"{ow}x{oh}",
+                                        "--overwrite"])
+        extra = max(mb - base, 0.0)
+        ok = figure(f"memory.enlarge_{ext}", f"warp a {sw}x{sh} panorama into {ow}x{oh} {ext}: peak beyond the "
+                    "baseline", extra, "MB", aim=aim, note=f"exit {status}; {extra / output_mb:.2f} x the output's "
+                    "float32 RGBA")
+        print(f"  {ext:4s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  "
+              f"({extra / output_mb:.2f} x the output)  {mark(ok)}")
+        out.unlink(missing_ok=True)
+    path.unlink()
+
+
 def peak_mb(argv: list[str], cwd=None) -> tuple[float, int]:
     """(peak RSS in MB, exit status) of a command, as its own (see :data:`LAUNCHER`)."""
     with tempfile.TemporaryDirectory(prefix="lenslab-peak-") as d:
@@ -160,6 +197,9 @@ def run(args) -> int:
         d = Path(d)
         base, _ = peak_mb(lenslab + ["info", "--formats"])
         print(f"baseline: lenslab info --formats peaks at {base:.0f} MB")
+        if args.enlarging_only:
+            enlarging_warps(lenslab, d, base)
+            return 0
         worst, worst_name = 0.0, ""
         corpus = d / "corpus"
         for case in cases(corpus):
@@ -179,6 +219,7 @@ def run(args) -> int:
         edge_at_budget(lenslab, d, base)
         if not args.valid:
             return 0
+        enlarging_warps(lenslab, d, base)
         side = args.side
         image_mb = side * side * 12 / 1e6
         aim = AIM_FACTOR * image_mb + AIM_EXTRA_MB

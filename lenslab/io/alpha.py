@@ -131,3 +131,26 @@ def with_alpha(colour: np.ndarray, alpha: np.ndarray, channels: tuple[int, ...])
     if colour.shape[2] + 1 not in channels and colour.shape[2] == 1:
         colour = np.repeat(colour, 3, axis=2)
     return np.concatenate([colour, alpha[..., None].astype(F32, copy=False)], axis=-1)
+
+
+
+def room_for_alpha(h: int, w: int, c: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(colour, alpha)`` arrays for a warp's output of ``h x w x c`` that are the channels of one
+    ``h x w x (c + 1)`` image (strided views: the engine draws each band in scratch memory and copies it in),
+    which :func:`joined_alpha` gives back without a copy."""
+    image = np.empty((h, w, c + 1), F32)
+    return image[..., :c], image[..., c]
+
+
+def joined_alpha(colour: np.ndarray, alpha: np.ndarray) -> np.ndarray | None:
+    """``colour`` (H x W x C) and ``alpha`` (H x W) as one H x W x (C + 1) image (premultiplied colour, alpha
+    last) without a copy when they are the channels of one such image (:func:`room_for_alpha`, or a warp of a
+    source that carries alpha); None otherwise (they are not)."""
+    h, w, c = colour.shape
+    pixel = 4 * (c + 1)
+    if alpha.shape != (h, w) or colour.dtype != F32 or alpha.dtype != F32 or colour.base is None:
+        return None
+    if colour.strides == alpha.strides + (4,) == (w * pixel, pixel, 4) and np.shares_memory(alpha, colour.base) \
+            and alpha.ctypes.data == colour.ctypes.data + 4 * c:
+        return np.lib.stride_tricks.as_strided(colour, (h, w, c + 1), colour.strides)
+    return None

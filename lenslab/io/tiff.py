@@ -160,7 +160,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     dtype = SAMPLE_TYPES[sample_type]
     alpha = c in (2, 4)
     if np.dtype(dtype).kind == "f":
-        data = image.astype(dtype)
+        data = image.astype(dtype, copy=False)  # (float32: the image itself, not a copy of its size)
     else:
         from lenslab.io.encode import encode_codes
 

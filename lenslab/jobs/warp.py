@@ -127,7 +127,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
         named = carries_alpha(meta, image.shape[2])
-        colour, alpha = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
+        warped = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
                                                       progress=progress, alpha_channel=named, looked=plan),
                                     alpha=named)
     else:
@@ -150,8 +150,13 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             from lenslab.warp.tiles import band_count
 
             progress.start(band_count(plan), unit="band")
-        colour, alpha = cache.warp_frame(image, src, dst, progress=progress,  # as every video frame is
-                                         alpha=carries_alpha(meta, image.shape[2]), plan=plan)
+        from lenslab.jobs.warp_output import output_arrays
+
+        source_alpha = carries_alpha(meta, image.shape[2])  # (the output's memory ready to take its alpha)
+        into = output_arrays(plan.out_shape, image.shape[2], fmt, job, meta, source_alpha)
+        warped = cache.warp_frame(image, src, dst, progress=progress, into=into,  # as every video frame is
+                                  alpha=source_alpha, plan=plan)
+        del into
     if job.antialias:
         from lenslab.jobs.warp_output import note_softening
 
@@ -160,7 +165,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     del image  # (the source is not kept while the output is developed and written)
     from lenslab.jobs.warp_output import write_warped
 
-    write_warped(dst_path, colour, alpha, meta, fmt, job, dst, source_alpha)
+    warped = list(warped)  # handed over: no array of the output's size kept here while it is written
+    write_warped(dst_path, warped.pop(0), warped.pop(0), meta, fmt, job, dst, source_alpha, given_up=True)
 
 
 def _other_views(src_path: str, meta: dict, target: str = "") -> tuple[list[str], str, str]:

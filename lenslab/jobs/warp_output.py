@@ -4,20 +4,25 @@ for the output format, keep or drop alpha, write."""
 from __future__ import annotations
 
 
-def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_alpha: bool = False) -> None:
+def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_alpha: bool = False,
+                 given_up: bool = False) -> None:
     """Develop a warped image (premultiplied ``colour`` and its ``alpha``: the source's own, warped like colour,
     or the coverage) for format record ``fmt`` as ``job`` says and write it; an output that keeps no alpha gets
     the colour over black. ``camera``: the output's, stored where the format holds one. ``source_alpha``:
     whether the source carried alpha (with ``--compat v360`` a display output has alpha only then, as
-    ffmpeg's has: ``tests/warp/test_v360_channels.py``)."""
+    ffmpeg's has: ``tests/warp/test_v360_channels.py``). ``given_up``: the caller keeps neither array (a still
+    image's warp), so the output is developed and encoded in their memory (colour and alpha drawn into the
+    channels of one image by :func:`output_arrays` are that image): no other float image of the output's size."""
     from lenslab.io import write
-    from lenslab.io.alpha import with_alpha
-    from lenslab.jobs.stages import Look, develop, encode_options, keeps_alpha
+    from lenslab.io.alpha import joined_alpha, with_alpha
+    from lenslab.jobs.stages import Look, develop, encode_options
 
-    keep = keeps_alpha(fmt, not job.no_alpha)
+    keep = keeps_output_alpha(fmt, job, meta, source_alpha)
     bits = v360_bits(fmt, meta) if job.compat == "v360" else None
-    if keep and job.compat == "v360" and (not fmt.hdr or bits):  # v360 keeps its input's pixel format (ffmpeg
-        keep = source_alpha  # 5.1): an RGB source, an RGB PNG or TIFF, black where v360 writes zeros (colour over black)
+    if keep:
+        joined = joined_alpha(colour, alpha) if given_up and colour.shape[2] + 1 in fmt.channels else None
+        colour = with_alpha(colour, alpha, fmt.channels) if joined is None else joined
+    alpha = None  # (joined, or not written: its memory goes here when the caller gave it up)
     look = Look(tone=job.tone, tone_given=job.tone_given, exposure=job.exposure, display=job.display, view=job.view,
                 colorspace=job.colorspace, ocio=job.ocio)
     # with alpha, the image developed is a new array of this function's own: the look may work in its memory
@@ -26,11 +31,34 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     # a note on colours outside sRGB counts the warped image's pixels, not the input's; negatives past a
     # codec's undershoot are the resampling filter's lobes
     with from_input(resampled=True):
-        result, shown = develop(with_alpha(colour, alpha, fmt.channels) if keep else colour, meta, fmt, look,
-                                in_place=keep, of=f"the warped image {dst_path}")
+        result, shown = develop(colour, meta, fmt, look, in_place=keep or given_up, of=f"the warped image {dst_path}")
+    del colour
     opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type, "bits": bits},
                           camera=camera, channels=result.shape[2])
+    if (keep or given_up) and "in_place" in fmt.write_options:  # the codes or halves made in its memory
+        opts["in_place"] = True
     write(dst_path, result, format=fmt.name, overwrite=job.overwrite, **{**opts, **shown})
+
+
+def keeps_output_alpha(fmt, job, meta: dict, source_alpha: bool) -> bool:
+    """Whether the warped image is written with alpha to format record ``fmt`` (see :func:`write_warped`)."""
+    from lenslab.jobs.stages import keeps_alpha
+
+    keep = keeps_alpha(fmt, not job.no_alpha)
+    if keep and job.compat == "v360" and (not fmt.hdr or v360_bits(fmt, meta)):  # v360 keeps its input's pixel
+        keep = source_alpha  # format (ffmpeg 5.1): an RGB source, an RGB PNG or TIFF, black where v360 writes zeros
+    return keep
+
+
+def output_arrays(shape: tuple[int, int], channels: int, fmt, job, meta: dict, source_alpha: bool):
+    """``into`` arrays for the warp of a still image of ``channels`` channels into ``shape`` (h, w): the channels
+    of the one image :func:`write_warped` writes (:func:`lenslab.io.alpha.room_for_alpha`), or None
+    (the engine's own: an output without alpha, or a source whose alpha the warp carries as its last channel)."""
+    from lenslab.io.alpha import room_for_alpha
+
+    if source_alpha or not keeps_output_alpha(fmt, job, meta, source_alpha) or channels + 1 not in fmt.channels:
+        return None
+    return room_for_alpha(shape[0], shape[1], channels)
 
 
 def v360_bits(fmt, meta: dict) -> int | None:
@@ -58,4 +86,4 @@ def note_softening(job, plan) -> None:
         warnings.warn(CommandNote(NOTE), stacklevel=2)
 
 
-__all__ = ["write_warped", "v360_bits", "note_softening"]
+__all__ = ["write_warped", "keeps_output_alpha", "output_arrays", "v360_bits", "note_softening"]

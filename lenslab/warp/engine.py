@@ -24,7 +24,7 @@ from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
 from lenslab.warp import antialias as aa
-from lenslab.warp.kernels.dispatch import run_bands, scratch, threads
+from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands, scratch, threads
 from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, finite_output,  # noqa: F401
                                  settle_checked)
 from lenslab.warp.filters import all_finite, sample
@@ -267,18 +267,18 @@ class WarpPlan:
         pyramid = aa.pyramid(src, self.border, lazy=True) if self.antialias else None
 
         def draw(band):
-            sl = slice(band.r0, band.r1)
-            said = None  # what the sampler says of the rows it drew (None: the checks scan them)
-            if isinstance(band, TapBand):
-                sample_taps(src, band, self.border, out[sl], alpha[sl])
-            elif isinstance(band, ViewBand):
-                sample_views(src, band, self.border, self.filter, out[sl], alpha[sl])
-            elif self.antialias:
-                aa.draw_footprints(self, pyramid, band, out[sl], alpha[sl])
-            else:
-                said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, out[sl], alpha[sl])
-            if checks is not None:
-                checks.band(out[sl], alpha[sl], sl, said)
+            sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
+            with contiguous_rows(out[sl], alpha[sl]) as (o, a):  # (a strided output's band: drawn in scratch)
+                if isinstance(band, TapBand):
+                    sample_taps(src, band, self.border, o, a)
+                elif isinstance(band, ViewBand):
+                    sample_views(src, band, self.border, self.filter, o, a)
+                elif self.antialias:
+                    aa.draw_footprints(self, pyramid, band, o, a)
+                else:
+                    said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, o, a)
+                if checks is not None:
+                    checks.band(o, a, sl, said)
             return band
 
         def done(band):

@@ -125,6 +125,9 @@ def all_finite(a: np.ndarray) -> bool:
 
     if a.dtype != np.float32:
         return bool(np.isfinite(a).all())
+    if not a.flags.c_contiguous and a.ndim > 1 and a.shape[0] > 1:  # (strided: rows at a time, not a copy)
+        rows = max(1, (16 << 20) // max(1, a[:1].size * 4))
+        return all(all_finite(np.ascontiguousarray(a[i:i + rows])) for i in range(0, a.shape[0], rows))
     flat = np.ascontiguousarray(a).reshape(-1)
     check = native.kernels().all_finite
     step = max(1 << 22, -(-flat.size // 8))

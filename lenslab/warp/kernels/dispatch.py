@@ -205,6 +205,7 @@ class _Pool:
                 fn()
             except BaseException:  # pragma: no cover - _Run.take hands every error to its caller
                 pass
+            del fn  # (idle, a helper keeps nothing of its last run: the source and output arrays its bands drew)
 
 
 _pool = _Pool()
@@ -256,3 +257,32 @@ class scratch:
             if len(_scratch) > SCRATCH_KEPT:
                 _scratch.pop(min(range(len(_scratch)), key=lambda i: _scratch[i].nbytes))
         self.buf = None
+
+
+class contiguous_rows:
+    """``with contiguous_rows(out, alpha) as (o, a):`` C-contiguous arrays for a sampler to draw a band into:
+    ``out`` and ``alpha`` themselves, or (a band of a strided output: the colour and alpha of one RGBA image)
+    :class:`scratch` copies of them, written back when the block ends without an error."""
+
+    def __init__(self, out, alpha):
+        self.out, self.alpha, self.copies = out, alpha, None
+
+    def __enter__(self):
+        import numpy as np
+
+        if self.out.flags.c_contiguous and self.alpha.flags.c_contiguous:
+            return self.out, self.alpha
+        self.copies = (scratch(self.out.shape, np.float32), scratch(self.alpha.shape, np.float32))
+        o, a = (c.__enter__() for c in self.copies)
+        o[...], a[...] = self.out, self.alpha  # (what the sampler leaves undrawn stays as it was)
+        self.drawn = (o, a)
+        return o, a
+
+    def __exit__(self, kind, *exc):
+        if self.copies is None:
+            return
+        if kind is None:
+            self.out[...], self.alpha[...] = self.drawn
+        for c in self.copies:
+            c.__exit__(kind, *exc)
+        self.copies = self.drawn = None
