@@ -5,28 +5,13 @@ fresh open decodes them. A file replaced after its probe is decoded from the new
 from __future__ import annotations
 
 import os
-from fractions import Fraction
 
 import numpy as np
 import pytest
 
 av = pytest.importorskip("av")
 
-
-def _clip(path, w=64, h=32, frames=6):
-    """An H.264 clip whose frames differ (a ramp moving by 7 codes a frame), by PyAV."""
-    with av.open(str(path), "w") as c:
-        s = c.add_stream("libx264", rate=Fraction(24))
-        s.width, s.height, s.pix_fmt = w, h, "yuv420p"
-        ramp = (np.arange(w)[None, :, None] * 3 + np.arange(h)[:, None, None]).astype(np.int64)
-        for i in range(frames):
-            rgb = ((ramp + 7 * i) % 200 + 20).repeat(3, axis=2).astype(np.uint8)
-            f = av.VideoFrame.from_ndarray(rgb, format="rgb24").reformat(format="yuv420p")
-            f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+from tests.warp.test_video_warp_imports import _clip  # noqa: E402  (an H.264 clip whose frames differ, by PyAV)
 
 
 def _planes_by_pyav(path):
@@ -42,6 +27,14 @@ def opens(monkeypatch):
     real = av.open
     monkeypatch.setattr(av, "open", lambda *a, **k: count.append(a[0]) or real(*a, **k))
     return count
+
+
+def _same_as_pyav(clip, index, planes, frames) -> None:
+    """The frames read are the clip's ``frames`` frames, each Y' plane PyAV's own of the file, bit for bit."""
+    expected = _planes_by_pyav(clip)
+    assert index == list(range(frames)) and len(planes) == len(expected) == frames
+    for got, want in zip(planes, expected):
+        np.testing.assert_array_equal(got, want)
 
 
 def _read_y(path, window):
@@ -63,15 +56,12 @@ def test_an_admitted_clip_is_opened_once_and_decoded_from_its_first_frame(tmp_pa
     from lenslab.io.budget import admit_clip
 
     clip = tmp_path / "clip.mp4"
-    _clip(clip)
-    expected = _planes_by_pyav(clip)
+    _clip(clip, frames=5)
     opens.clear()
     admit_clip(clip)
     index, planes = _read_y(clip, lambda: None)
     assert len(opens) == 1
-    assert index == list(range(6)) and len(planes) == len(expected) == 6
-    for got, want in zip(planes, expected):
-        np.testing.assert_array_equal(got, want)
+    _same_as_pyav(clip, index, planes, 5)
 
 
 def test_a_clip_replaced_after_its_probe_is_decoded_from_the_new_file(tmp_path, opens):
@@ -81,15 +71,12 @@ def test_a_clip_replaced_after_its_probe_is_decoded_from_the_new_file(tmp_path, 
     _clip(clip, frames=4)
     probe_video(clip)
     other = tmp_path / "other.mp4"
-    _clip(other, frames=6)
+    _clip(other, frames=5)
     os.replace(other, clip)  # same path, another file: another inode
-    expected = _planes_by_pyav(clip)
     opens.clear()
     index, planes = _read_y(clip, lambda: None)
     assert len(opens) == 1  # the new file probed, and its container decoded; the old file's was not taken
-    assert index == list(range(6))
-    for got, want in zip(planes, expected):
-        np.testing.assert_array_equal(got, want)
+    _same_as_pyav(clip, index, planes, 5)
 
 
 def test_a_second_read_of_one_clip_opens_it_again(tmp_path, opens):
@@ -101,6 +88,5 @@ def test_a_second_read_of_one_clip_opens_it_again(tmp_path, opens):
     first, _ = _read_y(clip, lambda: None)
     opens.clear()
     second, planes = _read_y(clip, lambda: None)
-    assert first == second == [0, 1, 2] and len(opens) == 1
-    for got, want in zip(planes, _planes_by_pyav(clip)):
-        np.testing.assert_array_equal(got, want)
+    assert first == [0, 1, 2] and len(opens) == 1
+    _same_as_pyav(clip, second, planes, 3)
