@@ -23,10 +23,22 @@ MAX_MAP_BYTES = 1 << 30  # 1 GiB of cached maps at most
 
 
 def geometry_key(src: Camera, dst: Camera) -> str:
-    """A string identifying a (source camera, destination camera) pair, sizes and poses included."""
-    import json
+    """A string identifying a (source camera, destination camera) pair, sizes and poses included: their
+    descriptions (``to_dict``) with every table's keys sorted, each number as a Python float or int, anything else
+    by ``str`` (without JSON's encoder: a clip's warp does not load it)."""
+    return repr(_canonical([src.to_dict(), dst.to_dict()]))
 
-    return json.dumps([src.to_dict(), dst.to_dict()], sort_keys=True, default=str)
+
+def _canonical(value):
+    if isinstance(value, dict):
+        return "table", tuple(sorted((str(k), _canonical(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return "list", tuple(_canonical(v) for v in value)
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, int):
+        return int(value)
+    return float(value) if isinstance(value, float) else str(value)
 
 
 def map_bytes_estimate(dst: Camera, samples: int, antialias: bool, filter: str = "bilinear") -> int:

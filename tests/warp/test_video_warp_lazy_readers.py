@@ -51,3 +51,39 @@ def test_spec_kinds_tell_metadata_lenses_apart_as_the_readers_do(spec, exif, aut
     assert bool(re.fullmatch(r"\s*exif\s*(:.*)?", spec, re.S | re.I)) is exif
     assert is_exif(spec) is reader_is_exif(spec) is exif
     assert is_auto(spec) is reader_is_auto(spec) is auto
+
+
+def test_a_clip_warp_loads_no_json_encoder(tmp_path):
+    """The plan cache's key is made without JSON's encoder (checked without the other tests' JSON reporting)."""
+    import subprocess
+    import sys
+
+    clip = tmp_path / "clip.mp4"
+    _clip(clip)
+    argv = ["warp", str(clip), "-o", str(tmp_path / "fish.mp4"), "--to", "fisheye:fov=180", "--from", "equirect",
+            "--size", "64x64", "-q"]
+    code = f"import sys\nfrom lenslab.cli.main import main\nstatus = main({argv!r})\nprint(status, 'json' in sys.modules)"
+    done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+    assert done.stdout.split()[-2:] == ["0", "False"]
+
+
+@pytest.mark.parametrize("other", ["fisheye:fov=180.0000001", "fisheye:fov=180,mapping=equisolid", "fisheye:fov=170"])
+def test_the_plan_key_tells_geometries_apart_as_their_json_descriptions_do(other):
+    """The key's equality against the cameras' JSON descriptions with sorted keys (the plan cache's earlier key,
+    transcribed here): equal for cameras made twice, different for another lens, size or pose."""
+    import json
+
+    from lenslab.lenses import Camera
+    from lenslab.warp.batch import geometry_key
+
+    def described(a, b):
+        return json.dumps([a.to_dict(), b.to_dict()], sort_keys=True, default=str)
+
+    src = Camera.from_spec("equirect", (64, 32))
+    cams = [Camera.from_spec("fisheye:fov=180", (32, 32)), Camera.from_spec("fisheye:fov=180", (32, 32)),
+            Camera.from_spec(other, (32, 32)), Camera.from_spec("fisheye:fov=180", (32, 30)),
+            Camera.from_spec("fisheye:fov=180", (32, 32), yaw=1e-9)]
+    for a in cams:
+        for b in cams:
+            assert (geometry_key(src, a) == geometry_key(src, b)) is (described(src, a) == described(src, b))
+    assert len({geometry_key(src, c) for c in cams}) == 4
