@@ -53,8 +53,9 @@ def test_spec_kinds_tell_metadata_lenses_apart_as_the_readers_do(spec, exif, aut
     assert is_auto(spec) is reader_is_auto(spec) is auto
 
 
-def test_a_clip_warp_loads_no_json_encoder(tmp_path):
-    """The plan cache's key is made without JSON's encoder (checked without the other tests' JSON reporting)."""
+def test_a_clip_warp_loads_neither_json_nor_the_import_abcs(tmp_path):
+    """The plan cache's key is made without JSON's encoder, and the finder of the lens modules' old names needs no
+    ``importlib.abc`` (checked without the other tests' JSON reporting)."""
     import subprocess
     import sys
 
@@ -62,9 +63,10 @@ def test_a_clip_warp_loads_no_json_encoder(tmp_path):
     _clip(clip)
     argv = ["warp", str(clip), "-o", str(tmp_path / "fish.mp4"), "--to", "fisheye:fov=180", "--from", "equirect",
             "--size", "64x64", "-q"]
-    code = f"import sys\nfrom lenslab.cli.main import main\nstatus = main({argv!r})\nprint(status, 'json' in sys.modules)"
+    code = (f"import sys\nfrom lenslab.cli.main import main\nstatus = main({argv!r})\n"
+            "print(status, 'json' in sys.modules, 'importlib.abc' in sys.modules)")
     done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
-    assert done.stdout.split()[-2:] == ["0", "False"]
+    assert done.stdout.split()[-3:] == ["0", "False", "False"]
 
 
 @pytest.mark.parametrize("other", ["fisheye:fov=180.0000001", "fisheye:fov=180,mapping=equisolid", "fisheye:fov=170"])
