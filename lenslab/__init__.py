@@ -25,7 +25,7 @@ import lenslab.calibfiles  # noqa: F401,E402  (camera files as lens specs: it ad
 
 def _is_exif(spec) -> bool:
     """``exif`` and ``exif:photo=PATH`` are lens specs (:mod:`lenslab.lenses.exif_view`, loaded when asked)."""
-    from lenslab.lenses.exif_view import is_exif
+    from lenslab.lenses.spec_kinds import is_exif
 
     return is_exif(spec)
 

@@ -192,9 +192,7 @@ def check_once(args) -> None:
     if args.to:
         note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
         check_view_pose(args.to, given_pose(args, "--yaw", "--pitch", "--roll", "--look-at"))
-    from lenslab.lenses.lensfun.exif import is_auto
-
-    from lenslab.lenses.exif_view import exif_photo, is_exif
+    from lenslab.lenses.spec_kinds import exif_photo, is_auto, is_exif
 
     if args.source and not is_auto(args.source) and not (is_exif(args.source) and exif_photo(args.source) is None):
         # auto and exif: read from each input's metadata

@@ -27,8 +27,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
     h, w = shape[:2]
     if spec:
-        from lenslab.lenses.exif_view import exif_photo, exif_view, is_exif
-        from lenslab.lenses.lensfun.exif import is_auto
+        from lenslab.lenses.spec_kinds import exif_photo, is_auto, is_exif
 
         if is_auto(spec) and not (spec.strip().lower() == "auto" and meta.get("camera") is not None):
             from lenslab.lenses.lensfun.match import auto_spec
@@ -38,6 +37,8 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
         elif is_auto(spec):  # auto: the camera the file records
             spec = None
         elif is_exif(spec) and exif_photo(spec) is None:  # exif: the pinhole of this photo's focal length
+            from lenslab.lenses.exif_view import exif_view
+
             view = exif_view(meta.get("path", ""), (w, h))
             spec = view.spec
             print(f"lenslab: source lens from the file's EXIF: {view.describe()}", file=sys.stderr)

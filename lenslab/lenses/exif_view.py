@@ -26,6 +26,7 @@ import re
 from dataclasses import dataclass
 
 from lenslab.errors import LensError
+from lenslab.lenses.spec_kinds import exif_photo, is_exif  # noqa: F401 (this module's names too)
 
 #: the diagonal of the 36 x 24 mm frame that the 35 mm equivalent focal length is matched to, mm
 FRAME_DIAGONAL = math.hypot(36.0, 24.0)
@@ -164,30 +165,6 @@ def note_crop(info, size: tuple[int, int]) -> None:
     warnings.warn(f"the image is {size[0]}x{size[1]} and its EXIF records a {fw:g}x{fh:g} frame: it looks "
                   "cropped, so it sees less than the field its focal length gives; give --from perspective:fov=... "
                   "if you know it", UserWarning, stacklevel=2)
-
-
-_EXIF = re.compile(r"\s*exif\s*(:.*)?", re.S | re.I)
-
-
-def is_exif(spec) -> bool:
-    """``exif`` (the photo a command reads) or ``exif:photo=PATH``."""
-    return isinstance(spec, str) and _EXIF.fullmatch(spec) is not None
-
-
-def exif_photo(spec: str) -> str | None:
-    """The ``photo=`` of an ``exif:`` spec, or None for plain ``exif``."""
-    rest = _EXIF.fullmatch(spec).group(1)
-    if not rest or not rest[1:].strip():
-        return None
-    from lenslab.lenses.registry import split_items
-
-    values = {}
-    for item in split_items(rest[1:], spec):
-        key, eq, value = item.partition("=")
-        if key.strip() != "photo" or not eq or not value.strip():
-            raise LensError(f"lens spec {spec!r}: exif takes photo=PATH alone (the photo whose EXIF gives the lens)")
-        values["photo"] = value.strip()
-    return values["photo"]
 
 
 def read_exif_lens(spec: str, size):

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from concurrent.futures import Future
 
 from lenslab.lenses import Camera
 from lenslab.warp.engine import WarpPlan
@@ -23,10 +22,22 @@ MAX_MAP_BYTES = 1 << 30  # 1 GiB of cached maps at most
 
 
 def geometry_key(src: Camera, dst: Camera) -> str:
-    """A string identifying a (source camera, destination camera) pair, sizes and poses included."""
-    import json
+    """A string identifying a (source camera, destination camera) pair, sizes and poses included: their
+    descriptions (``to_dict``) with every table's keys sorted, each number as a Python float or int, anything else
+    by ``str`` (without JSON's encoder: a clip's warp does not load it)."""
+    return repr(_canonical([src.to_dict(), dst.to_dict()]))
 
-    return json.dumps([src.to_dict(), dst.to_dict()], sort_keys=True, default=str)
+
+def _canonical(value):
+    if isinstance(value, dict):
+        return "table", tuple(sorted((str(k), _canonical(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return "list", tuple(_canonical(v) for v in value)
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, int):
+        return int(value)
+    return float(value) if isinstance(value, float) else str(value)
 
 
 def map_bytes_estimate(dst: Camera, samples: int, antialias: bool, filter: str = "bilinear") -> int:
@@ -46,6 +57,34 @@ def _own(exc: BaseException) -> BaseException:
     except Exception:  # noqa: BLE001 - an exception whose class does not rebuild from its args
         return exc
     return clone if type(clone) is type(exc) and str(clone) == str(exc) else exc
+
+
+class Future:
+    """A geometry's plan, built or being built: the threads that ask for it meanwhile wait for the builder's plan or
+    error (the part of ``concurrent.futures.Future`` the cache uses, without loading that package at a command's
+    start)."""
+
+    def __init__(self):
+        self._done = threading.Event()
+        self._plan = self._error = None
+
+    def set_result(self, plan) -> None:
+        self._plan = plan
+        self._done.set()
+
+    def set_exception(self, exc: BaseException) -> None:
+        self._error = exc
+        self._done.set()
+
+    def done(self) -> bool:
+        return self._done.is_set()
+
+    def result(self, timeout: float | None = None):
+        if not self._done.wait(timeout):
+            raise TimeoutError("the plan is still being built")
+        if self._error is not None:
+            raise self._error
+        return self._plan
 
 
 class PlanCache:

@@ -15,15 +15,15 @@ of a band. A plan made with ``cache=True`` keeps every band's map (for many imag
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
-from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands, scratch, threads
 from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, finite_output,  # noqa: F401
                                  settle_checked)
@@ -36,8 +36,11 @@ from lenslab.warp.taps import TapBand, eligible, sample_taps, source_spans, sour
 from lenslab.warp.tiles import has_camera_pieces, render_region, tile_cameras
 from lenslab.warp.views import ViewBand, has_views, sample_views, view_band
 
-if TYPE_CHECKING:
-    from numpy.typing import ArrayLike
+
+def _aa():  # the footprint prefilter (lenslab.warp.antialias), loaded by the first plan that antialiases
+    from lenslab.warp import antialias
+    return antialias
+
 
 BAND_POINTS = 1 << 18  # output samples per band
 
@@ -53,8 +56,7 @@ class WarpPlan:
 
     def __init__(self, src_camera: Camera, dst_camera: Camera, filter: str = "bilinear", samples: int = 1,
                  antialias: bool = False, seed: int | None = None, allow_parallax: bool = False,
-                 exact_map: bool = False, cache: bool = False, band_points: int = BAND_POINTS,
-                 optics: bool = True):
+                 exact_map: bool = False, cache: bool = False, band_points: int = BAND_POINTS, optics: bool = True):
         for name, cam in (("source", src_camera), ("destination", dst_camera)):
             if not isinstance(cam, Camera):
                 raise WarpError(f"the {name} camera must be a lenslab Camera, got {type(cam).__name__}; "
@@ -121,7 +123,7 @@ class WarpPlan:
 
     def band_rows(self) -> list[tuple[int, int]]:
         w, h = self.dst.size
-        per = self.samples * (aa.JACOBIAN_POINTS if self.antialias and self.samples > 1 else 1)
+        per = self.samples * (_aa().JACOBIAN_POINTS if self.antialias and self.samples > 1 else 1)
         rows = max(1, self.band_points // max(1, w * per))
         rows = min(rows, -(-h // threads()))  # at least one band per thread
         return [(r, min(h, r + rows)) for r in range(0, h, rows)]
@@ -140,7 +142,7 @@ class WarpPlan:
         if self.views:
             return view_band(self.mapper, r0, r1, self._offsets(r0, r1))
         if self.antialias:
-            return aa.footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
+            return _aa().footprint_band(self.mapper, r0, r1, self._offsets(r0, r1))
         return self.mapper.map_band(r0, r1, self._offsets(r0, r1), out)
 
     def _kept_band(self, r0: int, r1: int):
@@ -264,7 +266,8 @@ class WarpPlan:
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
                       checks: OutputChecks | None = None) -> None:
-        pyramid = aa.pyramid(src, self.border, lazy=True) if self.antialias else None
+        aa = _aa() if self.antialias else None
+        pyramid = aa.pyramid(src, self.border, lazy=True) if aa else None
 
         def draw(band):
             sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
@@ -281,9 +284,7 @@ class WarpPlan:
                     checks.band(o, a, sl, said)
             return band
 
-        def done(band):
-            if progress is not None:
-                progress(band.r1 - band.r0)
+        done = None if progress is None else (lambda band: progress(band.r1 - band.r0))
 
         if self._bands is not None:
             run_bands(self._bands, draw, done)
@@ -305,7 +306,6 @@ class WarpPlan:
 
 class _Rows:
     """The rows a band covered, without its map (what a plan that does not cache keeps of a band)."""
-
     __slots__ = ("r0", "r1")
     def __init__(self, band):
         self.r0, self.r1 = band.r0, band.r1

@@ -16,13 +16,13 @@ from numpy.typing import ArrayLike
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
-from lenslab.warp import antialias as aa
 from lenslab.warp.kernels.dispatch import run_bands
 from lenslab.warp.minification import watch
 from lenslab.warp.filters import sample
 from lenslab.warp.seam import Border, border_of
 
 if TYPE_CHECKING:
+    from lenslab.warp.antialias import FootprintBand
     from lenslab.lenses import Camera, Lens
     from lenslab.warp.minification import Looked
 
@@ -112,6 +112,8 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
     alpha = np.zeros((h, w), dtype=np.float32)
     rows = max(1, BAND_ROWS_POINTS // max(1, w))
+    from lenslab.warp import antialias as aa  # (loaded by the warps that antialias)
+
     pyr = aa.pyramid(src, border) if antialias else None
 
     def draw(rows_):
@@ -134,11 +136,13 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     return out, alpha
 
 
-def footprint_of_map(xs, ys, ok, r0: int, r1: int, wrap: float) -> aa.FootprintBand:
+def footprint_of_map(xs, ys, ok, r0: int, r1: int, wrap: float) -> FootprintBand:
     """The footprint band of rows ``r0:r1`` of a given map (index coordinates, (h, w) float32; ``wrap``
     the source's period in x, 0 for none): sides
     from the differences between neighbouring pixels; no pixel is split at the edge of the valid
     region (there is no lens to map its sub-samples), so coverage there is 0 or 1."""
+    from lenslab.warp import antialias as aa
+
     h, w = r1 - r0, xs.shape[1]
     foot = np.empty((h, w, 1, 4), dtype=np.float32)
     edge = np.empty((h, w, 1), dtype=np.bool_)

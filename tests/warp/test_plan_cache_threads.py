@@ -6,7 +6,6 @@ fails fails both files with its error."""
 from __future__ import annotations
 
 import threading
-from concurrent.futures import Future
 
 import numpy as np
 import pytest
@@ -33,7 +32,7 @@ class _Held:
         self.lock = threading.Lock()
         outer = self
 
-        class Watched(Future):
+        class Watched(batch.Future):
             def result(self, timeout=None):
                 if not self.done():
                     outer.asked.set()  # a second caller waits for the build in progress

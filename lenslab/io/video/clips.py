@@ -34,6 +34,7 @@ import numpy as np
 from lenslab.errors import FormatError, cause
 from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS, x265_params  # noqa: F401  (re-exported)
 from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
+from lenslab.io.video.opened import identity, probing, take
 from lenslab.io.video.ycbcr import RowsToYCbCr, exact, ycbcr_frame, ycbcr_to_linear
 from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table, is_wide,  # noqa: F401  (re-exported)
                                      codes16_to_linear, codes16_to_linear_compiled, from_linear,
@@ -108,16 +109,11 @@ _PROBED: dict = {}
 
 def probe_video(path) -> VideoInfo:
     """What the video stream of ``path`` holds (a new :class:`VideoInfo` each call)."""
-    import os
     from dataclasses import replace
 
-    try:
-        st = os.stat(path)
-        key = (os.path.abspath(path), st.st_size, st.st_mtime_ns, st.st_ino)
-    except (OSError, TypeError, ValueError):
-        key = None
+    key = identity(path)
     if key is None or key not in _PROBED:
-        info = _probe(path)
+        info = _probe(path, key)
         if key is None:
             return info
         if len(_PROBED) >= 8:
@@ -127,8 +123,8 @@ def probe_video(path) -> VideoInfo:
     return replace(info, extra=dict(info.extra))
 
 
-def _probe(path) -> VideoInfo:
-    with _open(path) as c:
+def _probe(path, key=None) -> VideoInfo:
+    with probing(_open(path), key) as c:  # the open clip is then held for its decoder
         if not c.streams.video:
             raise FormatError(f"{path}: the file holds no video stream")
         s = c.streams.video[0]
@@ -184,8 +180,10 @@ def read_frames(path, start: int = 0, stop: int | None = None, prefetch: int = 3
     if info.curve != "hlg":  # the table is built here, so that an error in it surfaces in this thread
         decode_table(info.curve, is_wide(info.primaries))
 
+    held = take(identity(path))  # the probe's open clip, decoded from its first packet
+
     def frames():  # on the decoding thread
-        with _open(path) as c:
+        with held or _open(path) as c:
             stream = c.streams.video[0]
             stream.thread_type = "AUTO"
             frames = c.decode(stream)

@@ -10,7 +10,6 @@ is :mod:`lenslab.lenses.distortion.division`).
 from __future__ import annotations
 
 import importlib
-import importlib.abc
 import importlib.util
 import sys
 
@@ -53,8 +52,9 @@ MOVED = {
 }
 
 
-class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolves ``lenslab.lenses.<old name>`` to the module that now holds it."""
+class MovedModuleFinder:
+    """Resolves ``lenslab.lenses.<old name>`` to the module that now holds it: a meta path finder and its loader, by
+    the methods the import system calls (``importlib.abc``'s classes, which a start-up would load, are not needed)."""
 
     PREFIX = "lenslab.lenses."
 

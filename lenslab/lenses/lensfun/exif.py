@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from lenslab.errors import LensError
+from lenslab.lenses.spec_kinds import is_auto  # noqa: F401 (this module's name too)
 
 #: bytes of a file searched for an XMP packet (JPEG puts it in the first 64 KiB; TIFF near the start)
 XMP_SCAN = 4 << 20
@@ -238,7 +239,4 @@ def photo_lens(path) -> PhotoLens:
     return info
 
 
-def is_auto(spec) -> bool:
-    """``lensfun:auto`` or ``auto`` (with or without more values after a comma)."""
-    return isinstance(spec, str) and re.fullmatch(r"\s*(lensfun:)?auto\s*(,.*)?", spec, re.S | re.I) is not None
 
