@@ -31,9 +31,10 @@ def _is_exif(spec) -> bool:
 
 
 def _read_exif(spec, size):
+    from lenslab.io.exif_orientation import stored_size  # (lenses never read files through lenslab.io)
     from lenslab.lenses.exif_view import read_exif_lens
 
-    return read_exif_lens(spec, size)
+    return read_exif_lens(spec, size, stored_size)
 
 
 lenslab.calibfiles.add_source(_is_exif, _read_exif)

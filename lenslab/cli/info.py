@@ -92,9 +92,11 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
         if key in meta:
             out[key] = meta[key]
     if camera is None:  # the lens the photo's metadata names, and the lensfun profile lensfun:auto uses
+        from lenslab.io.exif_orientation import stored_size
         from lenslab.lenses.lensfun.match import metadata_report
 
-        out["lens_metadata"] = metadata_report(file, tuple(meta["size"]))
+        size = tuple(meta["size"])
+        out["lens_metadata"] = metadata_report(file, size, stored_size(file, size))
     attrs = {k: v for k, v in meta["attributes"].items() if k != "lenslab.camera"}
     tiles = (meta.get("exr_header") or {}).get("tiles")
     if "tiles" in attrs and tiles is not None and "data_window" in meta:  # the words convert's note uses

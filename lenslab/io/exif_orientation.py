@@ -63,3 +63,22 @@ def turn(image: np.ndarray, orientation: int) -> np.ndarray:
         image = image.transpose(1, 0, 2)
     rows, cols = {2: (1, -1), 3: (-1, -1), 4: (-1, 1), 6: (1, -1), 7: (-1, -1), 8: (-1, 1)}.get(orientation, (1, 1))
     return image[::rows, ::cols]
+
+
+def stored_size(path, size: tuple[int, int]) -> tuple[int, int]:
+    """A photo's own stored frame (W, H, before its EXIF orientation: what EXIF's FocalPlaneXResolution counts
+    across) from its header, whatever size its lens is asked at; where its format declares none, ``size`` (the
+    photo as shown) turned back where a JPEG's EXIF orientation (5 to 8, those lenslab applies) swaps its sides."""
+    from lenslab.errors import LenslabError
+    from lenslab.io.registry import get, sniff
+
+    try:
+        fmt = get(sniff(path))
+        declared = fmt.declare(path) if fmt.declare is not None else None
+        if declared is not None and declared.width > 0 and declared.height > 0:
+            return declared.width, declared.height
+        with open(path, "rb") as f:
+            head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
+    except (LenslabError, OSError, ValueError, EOFError, IndexError, OverflowError, ImportError):  # damaged, unread
+        return size
+    return (size[1], size[0]) if head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5 else size

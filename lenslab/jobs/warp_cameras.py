@@ -37,9 +37,10 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
         elif is_auto(spec):  # auto: the camera the file records
             spec = None
         elif is_exif(spec) and exif_photo(spec) is None:  # exif: the pinhole of this photo's focal length
+            from lenslab.io.exif_orientation import stored_size
             from lenslab.lenses.exif_view import exif_view
 
-            view = exif_view(meta.get("path", ""), (w, h))
+            view = exif_view(meta.get("path", ""), (w, h), stored_size(meta.get("path", ""), (w, h)))
             spec = view.spec
             print(f"lenslab: source lens from the file's EXIF: {view.describe()}", file=sys.stderr)
     if spec:
@@ -58,10 +59,11 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 def exif_hint(meta: dict, size: tuple[int, int]) -> str:
     """The ``--from`` a photo's EXIF gives (``--from exif``, its field of view), else a fisheye's example."""
     from lenslab.errors import LenslabError
+    from lenslab.io.exif_orientation import stored_size
     from lenslab.lenses.exif_view import exif_view
 
     try:
-        view = exif_view(meta.get("path", ""), size, crop_note=False)  # (the error is the one line)
+        view = exif_view(meta.get("path", ""), size, stored_size(meta.get("path", ""), size), crop_note=False)
     except (LenslabError, OSError):
         return "--from fisheye:fov=180"
     return f"--from exif: its EXIF's 35 mm equivalent {view.focal35:.4g} mm gives {view.spec}"

@@ -118,37 +118,19 @@ def _in_range(info, focal35: float, source: str) -> tuple[float, str]:
     return focal35, source
 
 
-def exif_view(path, size: tuple[int, int], crop_note: bool = True) -> ExifView:
+def exif_view(path, size: tuple[int, int], frame: tuple[int, int], crop_note: bool = True) -> ExifView:
     """The pinhole view of the photo at ``path`` whose image as shown (after its EXIF orientation) is
-    ``size`` (W, H); with ``crop_note``, a note where that image looks cropped from the frame the EXIF records."""
+    ``size`` (W, H) and whose stored frame is ``frame`` (W, H, before its orientation: what the focal plane's
+    resolution counts across; :func:`lenslab.io.exif_orientation.stored_size` reads it); with ``crop_note``, a
+    note where that image looks cropped from the frame the EXIF records."""
     from lenslab.lenses.lensfun.exif import photo_lens
 
     w, h = int(size[0]), int(size[1])
     info = photo_lens(path)
-    focal35, source = equivalent_focal(info, _frame(path, (w, h)))
+    focal35, source = equivalent_focal(info, (int(frame[0]), int(frame[1])))
     if crop_note:
         note_crop(info, (w, h))
     return ExifView(focal35, source, (w, h))
-
-
-def _frame(path, size: tuple[int, int]) -> tuple[int, int]:
-    """The photo's own stored frame (W, H, before its EXIF orientation: what FocalPlaneXResolution counts across)
-    from its header, whatever size its lens is asked at; where its format declares none, ``size`` (the photo as
-    shown) turned back where a JPEG's EXIF orientation (5 to 8, those lenslab applies) swaps its sides."""
-    from lenslab.errors import LenslabError
-    from lenslab.io.exif_orientation import jpeg_orientation
-    from lenslab.io.registry import get, sniff
-
-    try:
-        fmt = get(sniff(path))
-        declared = fmt.declare(path) if fmt.declare is not None else None
-        if declared is not None and declared.width > 0 and declared.height > 0:
-            return declared.width, declared.height
-        with open(path, "rb") as f:
-            head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
-    except (LenslabError, OSError, ValueError, EOFError, IndexError, OverflowError, ImportError):  # damaged, unread
-        return size
-    return (size[1], size[0]) if head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5 else size
 
 
 def note_crop(info, size: tuple[int, int]) -> None:
@@ -167,9 +149,10 @@ def note_crop(info, size: tuple[int, int]) -> None:
                   "if you know it", UserWarning, stacklevel=2)
 
 
-def read_exif_lens(spec: str, size):
+def read_exif_lens(spec: str, size, frame_of):
     """``make_lens`` of ``exif:photo=PATH``: the pinhole of that photo's 35 mm equivalent focal length for an
-    image of ``size`` (the photo's as shown, or a copy of its shape); plain ``exif`` names no photo here."""
+    image of ``size`` (the photo's as shown, or a copy of its shape); ``frame_of(path, size)`` gives the photo's
+    stored frame (:func:`lenslab.io.exif_orientation.stored_size`); plain ``exif`` names no photo here."""
     photo = exif_photo(spec)
     if photo is None:
         raise LensError("exif reads the lens from a photo's EXIF: give it as the --from of a command that reads the "
@@ -178,5 +161,5 @@ def read_exif_lens(spec: str, size):
 
     if size is None:
         raise LensError(f"exif:photo={photo}: give the size of the image it is the lens of")
-    view = exif_view(photo, size, crop_note=False)  # (any size of the photo's lens: a map's, a check's)
+    view = exif_view(photo, size, frame_of(photo, size), crop_note=False)  # (any size: a map's, a check's)
     return make_lens(view.spec, view.size)

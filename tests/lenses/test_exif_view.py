@@ -20,6 +20,12 @@ from PIL.TiffImagePlugin import IFDRational  # noqa: E402
 
 D35 = np.hypot(np.float64(36.0), np.float64(24.0))  # the 35 mm frame's diagonal, mm (43.2666)
 
+def view_of(path, size, **kw):
+    """The photo lens of ``path`` shown at ``size``, its stored frame read from its header as the commands do."""
+    from lenslab.io.exif_orientation import stored_size
+
+    return exif_view(path, size, stored_size(path, size), **kw)
+
 
 def fov_formula(f35, w, h) -> float:
     """The field across the width of a w x h image whose diagonal sees what a 36 x 24 mm frame's does at f35."""
@@ -84,7 +90,7 @@ def test_the_printed_spec_parses_back_to_the_formulas_field(f35, w, h):
 def test_focal_length_in_35mm_film(tmp_path, name):
     """JPEG's APP1 and PNG's eXIf chunk, as Pillow writes them."""
     path = write_photo(tmp_path / name, 160, 120, focal35=24, focal=6.81)
-    view = exif_view(path, (160, 120))
+    view = view_of(path, (160, 120))
     assert view.focal35 == 24
     assert view.fov == pytest.approx(fov_formula(24, 160, 120), abs=1e-12)
 
@@ -96,7 +102,7 @@ def test_a_portrait_photo_gives_the_narrower_field_across(tmp_path):
     path = write_photo(tmp_path / "p.jpg", 160, 120, focal35=26, orientation=6, quality=95)
     shown = tuple(read(path)[1]["size"])
     assert shown == (120, 160)
-    view = exif_view(path, shown)
+    view = view_of(path, shown)
     assert view.fov == pytest.approx(fov_formula(26, 120, 160), abs=1e-12)
     assert view.fov < fov_formula(26, 160, 120) - 10
 
@@ -106,7 +112,7 @@ def test_focal_plane_resolution_gives_the_sensor_pinhole(tmp_path):
     pixels per cm) sees 2 atan(4.8 / 6.81) across: the pinhole's own formula, no 35 mm frame in it."""
     plane = (IFDRational(400000, 96), IFDRational(300000, 72), 3, (4000, 3000))
     path = write_photo(tmp_path / "p.jpg", 160, 120, focal=6.81, plane=plane, quality=95)
-    view = exif_view(path, (160, 120))  # the file is a 160 x 120 copy of the 4000 x 3000 frame
+    view = view_of(path, (160, 120))  # the file is a 160 x 120 copy of the 4000 x 3000 frame
     assert view.fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
     assert view.focal35 == pytest.approx(6.81 * float(D35) / 12.0, rel=1e-12)
 
@@ -115,14 +121,14 @@ def test_focal_plane_in_inches_by_default_and_the_image_as_the_frame(tmp_path):
     """Unit 2 (inches, Exif's default) and no PixelXDimension: the image itself is the frame."""
     plane = (IFDRational(160 * 254, 96), IFDRational(120 * 254, 72), 2, None)  # 160 px over 9.6 mm
     path = write_photo(tmp_path / "p.jpg", 160, 120, focal=6.81, plane=plane, quality=95)
-    assert exif_view(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
+    assert view_of(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
 
 
 def test_heic_exif(tmp_path):
     pillow_heif = pytest.importorskip("pillow_heif")
     pillow_heif.register_heif_opener()
     path = write_photo(tmp_path / "p.heic", 160, 120, focal35=26, focal=5.1, quality=90)
-    assert exif_view(path, (160, 120)).fov == pytest.approx(fov_formula(26, 160, 120), abs=1e-12)
+    assert view_of(path, (160, 120)).fov == pytest.approx(fov_formula(26, 160, 120), abs=1e-12)
 
 
 @pytest.mark.parametrize("tags, missing", [
@@ -133,7 +139,7 @@ def test_heic_exif(tmp_path):
 def test_a_photo_without_the_tags_refuses_in_one_line_naming_them(tmp_path, tags, missing):
     path = write_photo(tmp_path / "p.jpg", **tags)
     with pytest.raises(LensError) as err:
-        exif_view(path, (160, 120))
+        view_of(path, (160, 120))
     text = str(err.value)
     assert "\n" not in text and missing in text and str(path) in text
 
@@ -153,14 +159,14 @@ def test_a_photo_of_another_shape_than_its_recorded_frame_is_noted_as_cropped(tm
     plane = (IFDRational(4000), IFDRational(4000), 3, (4000, 3000))
     square = write_photo(tmp_path / "sq.jpg", 160, 160, focal35=24, plane=plane, quality=95)
     with pytest.warns(UserWarning, match="4000x3000 frame: it looks cropped"):
-        exif_view(square, (160, 160))
+        view_of(square, (160, 160))
     copy = write_photo(tmp_path / "copy.jpg", 160, 120, focal35=24, plane=plane, quality=95)
     import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        exif_view(copy, (160, 120))
-        exif_view(copy, (120, 160))  # turned by its orientation
+        view_of(copy, (160, 120))
+        view_of(copy, (120, 160))  # turned by its orientation
 
 
 def test_xmp_alone_gives_it_too(tmp_path):
@@ -172,14 +178,14 @@ def test_xmp_alone_gives_it_too(tmp_path):
            'exif:FocalLength="23/1"/></rdf:RDF></x:xmpmeta>').encode()
     path = tmp_path / "p.tif"
     tifffile.imwrite(path, np.zeros((120, 160, 3), np.uint8), photometric="rgb", extratags=[(700, "B", 0, xmp, True)])
-    assert exif_view(path, (160, 120)).fov == pytest.approx(fov_formula(35, 160, 120), abs=1e-12)
+    assert view_of(path, (160, 120)).fov == pytest.approx(fov_formula(35, 160, 120), abs=1e-12)
 
 
 def test_a_zero_focal_length_in_35mm_film_is_unknown(tmp_path):
     """Exif: FocalLengthIn35mmFilm 0 means unknown, so the focal plane gives the field."""
     plane = (IFDRational(400000, 96), IFDRational(300000, 72), 3, (4000, 3000))
     path = write_photo(tmp_path / "p.jpg", 160, 120, focal35=0, focal=6.81, plane=plane, quality=95)
-    assert exif_view(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
+    assert view_of(path, (160, 120)).fov == pytest.approx(math.degrees(2 * math.atan(4.8 / 6.81)), abs=1e-9)
 
 
 def _xmp_photo(path, props: dict):
@@ -202,7 +208,7 @@ def test_an_equivalent_beyond_exifs_range_is_refused_naming_the_photo(tmp_path, 
     plane), the one-line refusal names the photo and the equivalent."""
     path = _xmp_photo(tmp_path / "p.jpg", props)
     with pytest.raises(LensError) as err:
-        exif_view(path, (150, 100))
+        view_of(path, (150, 100))
     text = str(err.value)
     assert "\n" not in text and str(path) in text and "35 mm equivalent" in text
 
@@ -211,7 +217,7 @@ def test_an_equivalent_beyond_exifs_range_is_refused_naming_the_photo(tmp_path, 
 def test_the_ends_of_exifs_range_are_read(tmp_path, f35):
     """The field across a 3:2 image: 2 atan(18 / f35), the 36 mm side of the 35 mm frame (float64 here)."""
     path = _xmp_photo(tmp_path / "p.jpg", {"FocalLengthIn35mmFilm": f35})
-    assert exif_view(path, (150, 100)).fov == pytest.approx(np.degrees(2 * np.arctan(18.0 / float(f35))), abs=1e-9)
+    assert view_of(path, (150, 100)).fov == pytest.approx(np.degrees(2 * np.arctan(18.0 / float(f35))), abs=1e-9)
 
 
 def test_info_says_why_not_where_it_printed_a_spec_that_fails(tmp_path, capsys):

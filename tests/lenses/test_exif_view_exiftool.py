@@ -16,12 +16,11 @@ from pathlib import Path
 import pytest
 
 from lenslab.errors import LensError
-from lenslab.lenses.exif_view import exif_view
 
 pytest.importorskip("PIL.Image")
 from PIL.TiffImagePlugin import IFDRational  # noqa: E402
 
-from tests.lenses.test_exif_view import fov_formula, write_photo  # noqa: E402
+from tests.lenses.test_exif_view import fov_formula, view_of, write_photo  # noqa: E402
 
 EXIFTOOL = shutil.which("exiftool")
 pytestmark = pytest.mark.skipif(EXIFTOOL is None, reason="exiftool (Debian's libimage-exiftool-perl) not installed")
@@ -44,7 +43,7 @@ def exiftool_fov(tags: dict) -> float:
 @pytest.mark.parametrize("f35", [14, 24, 50, 200])
 def test_focal_length_in_35mm_film_on_a_3_2_photo_matches_exiftool(tmp_path, f35):
     path = write_photo(tmp_path / "p.jpg", 150, 100, focal35=f35, focal=6.81, quality=95)
-    tags, view = exiftool(path), exif_view(path, (150, 100))
+    tags, view = exiftool(path), view_of(path, (150, 100))
     assert view.focal35 == pytest.approx(float(tags["FocalLength35efl"]), rel=1e-12)
     # exiftool prints 15 digits: the two agree to 1e-9 degree
     assert view.fov == pytest.approx(exiftool_fov(tags), abs=1e-9)
@@ -56,7 +55,7 @@ def test_the_focal_plane_route_matches_exiftool(tmp_path, unit, per_mm):
     (its ScaleFactor35efl from the focal plane) and its FOV."""
     xres = IFDRational(round(4000 / 9.6 * per_mm * 1000), 1000)
     path = write_photo(tmp_path / "p.jpg", 150, 100, focal=6.81, plane=(xres, xres, unit, (4000, 2667)), quality=95)
-    tags, view = exiftool(path), exif_view(path, (150, 100))
+    tags, view = exiftool(path), view_of(path, (150, 100))
     assert view.focal35 == pytest.approx(float(tags["FocalLength35efl"]), rel=1e-9)
     # the 150 x 100 copy is 1.5:1, the 4000 x 2667 frame 1.49981:1: exiftool's field is across that frame's 36 mm
     # equivalent width, this one across the copy's; they differ by the frames' shapes, < 1e-4 degree here
@@ -68,7 +67,7 @@ def test_a_real_pixel_photo_has_exiftools_equivalent_and_its_own_aspect(shared_d
     """The Pixel 6 Pro's 4080 x 3072 photo: the 35 mm equivalent exiftool reads (24 mm), and the field across its
     4:3 width, narrower than exiftool's across a 3:2 frame's 36 mm by the formula's W / hypot(W, H) against 36/43.27."""
     photo = shared_data / PIXEL_PHOTO
-    tags, view = exiftool(photo), exif_view(photo, (4080, 3072))
+    tags, view = exiftool(photo), view_of(photo, (4080, 3072))
     assert view.focal35 == float(tags["FocalLength35efl"]) == 24
     assert view.fov == pytest.approx(fov_formula(24, 4080, 3072), abs=1e-9)
     half = math.tan(math.radians(exiftool_fov(tags)) / 2) * math.hypot(36, 24) / 36 * 4080 / math.hypot(4080, 3072)
@@ -77,7 +76,7 @@ def test_a_real_pixel_photo_has_exiftools_equivalent_and_its_own_aspect(shared_d
 
 def _refusal(path, size) -> str:
     with pytest.raises(LensError) as err:
-        exif_view(path, size)
+        view_of(path, size)
     text = str(err.value)
     assert "\n" not in text and str(path) in text and "--from perspective:fov=" in text
     return text
@@ -95,7 +94,7 @@ def test_a_focal_plane_of_no_cameras_sensor_is_refused_where_exiftool_reads_no_e
     tags = exiftool(path)
     known = "FOV" in tags  # (exiftool's FOV needs its ScaleFactor35efl; FocalLength35efl is FocalLength without it)
     if known:
-        assert exif_view(path, (150, 100)).focal35 == pytest.approx(float(tags["FocalLength35efl"]), rel=1e-9)
+        assert view_of(path, (150, 100)).focal35 == pytest.approx(float(tags["FocalLength35efl"]), rel=1e-9)
     else:
         assert "sensor" in _refusal(path, (150, 100))
     assert known == (1.0 < diagonal_mm < 100.0)
@@ -114,4 +113,4 @@ def test_a_turned_photos_focal_plane_is_its_stored_frames(tmp_path, orientation)
     assert shown == ((200, 300) if orientation >= 5 else (300, 200))
     expected = float(exiftool(path)["FocalLength35efl"])
     assert expected == pytest.approx(6.81 * math.hypot(36, 24) / 5.0, rel=1e-12)
-    assert exif_view(path, shown).focal35 == pytest.approx(expected, rel=1e-12)
+    assert view_of(path, shown).focal35 == pytest.approx(expected, rel=1e-12)

@@ -108,10 +108,10 @@ def auto_spec(spec: str, path) -> str:
     return match_photo(photo_lens(path), given)
 
 
-def metadata_report(path, size: tuple[int, int] | None = None) -> dict | None:
+def metadata_report(path, size: tuple[int, int] | None = None, frame: tuple[int, int] | None = None) -> dict | None:
     """What ``lenslab info`` shows: the lens the file names, the profile lensfun:auto would use (or why none),
-    and, for the image as shown at ``size``, the pinhole ``--from exif`` gives (or why none); None when the file
-    names no lens, camera nor focal length."""
+    and, for the image as shown at ``size`` (stored as ``frame``, before its EXIF orientation), the pinhole
+    ``--from exif`` gives (or why none); None when the file names no lens, camera nor focal length."""
     try:
         info = photo_lens(path)
     except (LensError, OSError):
@@ -128,7 +128,7 @@ def metadata_report(path, size: tuple[int, int] | None = None) -> dict | None:
         from lenslab.lenses.exif_view import exif_view
 
         try:
-            out["exif"] = exif_view(path, size).describe()
+            out["exif"] = exif_view(path, size, frame or size).describe()
         except LensError as exc:
             out["exif_problem"] = str(exc)
     return out
