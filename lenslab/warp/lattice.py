@@ -123,14 +123,22 @@ def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarra
     for c in centre:
         c /= norm
     cos_r = np.full((ncy, ncx), 1.0)
+    dot, part = np.empty((ncy, ncx)), np.empty((ncy, ncx))  # (reused: fresh pages cost more than the arithmetic)
     for i in range(4):
         for j in range(4):
-            np.minimum(cos_r, centre[0] * at(planes[0], i, j) + centre[1] * at(planes[1], i, j)
-                       + centre[2] * at(planes[2], i, j), out=cos_r)
-    radius = np.arccos(np.clip(cos_r, -1.0, 1.0))
+            np.multiply(centre[0], at(planes[0], i, j), out=dot)
+            for k in (1, 2):
+                dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
+            np.minimum(cos_r, dot, out=cos_r)
+    radius = np.arccos(np.clip(cos_r, -1.0, 1.0, out=cos_r), out=cos_r)
+    radius += FIELD_SLACK
     for axis, angle in zip(np.asarray(field.axes, np.float64), np.asarray(field.angles, np.float64)):
-        off = np.arccos(np.clip(centre[0] * axis[0] + centre[1] * axis[1] + centre[2] * axis[2], -1.0, 1.0))
-        out |= off > angle + radius + FIELD_SLACK
+        np.multiply(centre[0], axis[0], out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], axis[k], out=part)
+        off = np.arccos(np.clip(dot, -1.0, 1.0, out=dot), out=dot)
+        off -= radius
+        out |= off > angle
     out &= cand
     return out
 
