@@ -86,6 +86,10 @@ def place(at, xy, v, xs, ys, valid) -> None:
                            np.ascontiguousarray(v, np.bool_), xs, ys, valid)
 
 
+#: a cell's bound over its farthest corner's angle from its centre: a cell's samples lie within its corners'
+#: quadrilateral, whose edges bow out of it by the map's curvature over 8 pixels (a far smaller fraction wherever
+#: the lattice interpolates at all); 2 leaves the whole corner distance again for it
+CELL_BOUND = 2.0
 #: radians beyond a cell's bound and the source's field before the cell counts as outside it (rounding of the
 #: directions moves them by about 1e-16)
 FIELD_SLACK = 1e-9
@@ -96,22 +100,21 @@ def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarra
 
     ``dirs`` float64 ``(ncy + 3, ncx + 3, 3)`` are the nodes' output rays in the source's camera space,
     ``have_ray`` whether each exists and ``seen`` whether the source sees it. A cell's bound is the cone around
-    the mean of its four corners' rays that holds its 16 stencil nodes (one cell beyond its own on every side,
-    so it holds the cell's samples with room to spare); a cell is outside when no corner is seen, all 16 rays
-    exist, and that cone lies wholly beyond one of the ``field``'s cones
+    the mean of its four corners' rays, :data:`CELL_BOUND` times as wide as the farthest corner; a cell is outside
+    when its four rays exist, none is seen, and that cone lies wholly beyond one of the ``field``'s cones
     (:class:`~lenslab.lenses.core.protocol.Field`): ``angle(centre, axis) > angle + radius``."""
     if field is None:
         return None
     ny, nx = have_ray.shape
     ncy, ncx = ny - 3, nx - 3
+    quad = ((1, 1), (1, 2), (2, 1), (2, 2))
 
     def at(m, i, j):
         return m[i:i + ncy, j:j + ncx]
 
-    cand = ~(at(seen, 1, 1) | at(seen, 1, 2) | at(seen, 2, 1) | at(seen, 2, 2))
-    for i in range(4):
-        for j in range(4):
-            cand &= at(have_ray, i, j)
+    cand = np.ones((ncy, ncx), dtype=np.bool_)
+    for i, j in quad:
+        cand &= at(have_ray, i, j) & ~at(seen, i, j)
     out = np.zeros((ncy, ncx), dtype=np.bool_)
     if not cand.any():
         return out
@@ -124,13 +127,13 @@ def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarra
         c /= norm
     cos_r = np.full((ncy, ncx), 1.0)
     dot, part = np.empty((ncy, ncx)), np.empty((ncy, ncx))  # (reused: fresh pages cost more than the arithmetic)
-    for i in range(4):
-        for j in range(4):
-            np.multiply(centre[0], at(planes[0], i, j), out=dot)
-            for k in (1, 2):
-                dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
-            np.minimum(cos_r, dot, out=cos_r)
+    for i, j in quad:
+        np.multiply(centre[0], at(planes[0], i, j), out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
+        np.minimum(cos_r, dot, out=cos_r)
     radius = np.arccos(np.clip(cos_r, -1.0, 1.0, out=cos_r), out=cos_r)
+    radius *= CELL_BOUND
     radius += FIELD_SLACK
     for axis, angle in zip(np.asarray(field.axes, np.float64), np.asarray(field.angles, np.float64)):
         np.multiply(centre[0], axis[0], out=dot)
