@@ -343,7 +343,8 @@ class Mapper:
                 lattice_rows(coef, state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid, need, dirs)
             else:
                 lattice_eval(coef, state, cb0, float(self.step), r0, offsets, xs, ys, valid, need, dirs)
-            for code in (NEED_PROJECT, NEED_EXACT):
+            rows = state[cb0:cb1]
+            for code in (c for c, st in ((NEED_PROJECT, 2), (NEED_EXACT, 0)) if (rows == st).any()):
                 flat = np.flatnonzero(need == code)
                 if len(flat):
                     self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
