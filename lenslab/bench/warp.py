@@ -5,6 +5,9 @@ fisheye. The baseline is cv2.remap (bilinear, float32 maps computed beforehand) 
 same run, timed interleaved with the cases; figures are ratios to it (aims: one-shot bilinear, map
 included, within 2x; cached map within 1.2x; --antialias within 4x; 2x2 and 4x4 supersampling without aim).
 
+A photo into a panorama (:mod:`lenslab.bench.warp_photo`): a 2040x1536 pinhole into a 3540x1770 equirect, one
+thread, one-shot against cv2.remap of the same map (aim: 2x).
+
 Threads: the same source into a 4096x4096 output, one-shot and --antialias, two threads against one
 (aim: at least 1.7x).
 
@@ -314,6 +317,9 @@ def run(args: argparse.Namespace) -> int:
         from lenslab.bench.warp_filters import filter_speed
 
         filter_speed(args, lambda: _source(args))
+        from lenslab.bench.warp_photo import photo_speed
+
+        photo_speed(args, lambda: _source(args))
         if not args.skip_threads:
             thread_scaling(args)
     if not args.skip_accuracy:

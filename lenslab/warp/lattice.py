@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.warp.kernels import native
+from lenslab.warp.kernels.dispatch import run_bands
 
 NEED_DONE, NEED_EXACT, NEED_PROJECT = 0, 1, 2  # what a sample still needs after the lattice kernels
 
@@ -83,3 +84,103 @@ def place(at, xy, v, xs, ys, valid) -> None:
     gets ``v`` (one compiled pass, no temporaries; reference :func:`lenslab.warp.kernels.lattice_reference.place`)."""
     native.kernels().place(np.ascontiguousarray(at, np.int64), np.ascontiguousarray(xy, np.float64),
                            np.ascontiguousarray(v, np.bool_), xs, ys, valid)
+
+
+#: a cell's bound over its farthest corner's angle from its centre: a cell's samples lie within its corners'
+#: quadrilateral, whose edges bow out of it by the map's curvature over 8 pixels (a far smaller fraction wherever
+#: the lattice interpolates at all); 2 leaves the whole corner distance again for it
+CELL_BOUND = 2.0
+#: radians beyond a cell's bound and the source's field before the cell counts as outside it (rounding of the
+#: directions moves them by about 1e-16)
+FIELD_SLACK = 1e-9
+
+
+def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarray) -> np.ndarray | None:
+    """The lattice cells (bool ``(ncy, ncx)``) none of whose samples the source can see, or None without a field.
+
+    ``dirs`` float64 ``(ncy + 3, ncx + 3, 3)`` are the nodes' output rays in the source's camera space,
+    ``have_ray`` whether each exists and ``seen`` whether the source sees it. A cell's bound is the cone around
+    the mean of its four corners' rays, :data:`CELL_BOUND` times as wide as the farthest corner; a cell is outside
+    when its four rays exist, none is seen, and that cone lies wholly beyond one of the ``field``'s cones
+    (:class:`~lenslab.lenses.core.protocol.Field`): ``angle(centre, axis) > angle + radius``."""
+    if field is None:
+        return None
+    ny, nx = have_ray.shape
+    ncy, ncx = ny - 3, nx - 3
+    quad = ((1, 1), (1, 2), (2, 1), (2, 2))
+
+    def at(m, i, j):
+        return m[i:i + ncy, j:j + ncx]
+
+    cand = np.ones((ncy, ncx), dtype=np.bool_)
+    for i, j in quad:
+        cand &= at(have_ray, i, j) & ~at(seen, i, j)
+    out = np.zeros((ncy, ncx), dtype=np.bool_)
+    if not cand.any():
+        return out
+    planes = [np.ascontiguousarray(dirs[..., k]) for k in range(3)]
+    centre = [at(p, 1, 1) + at(p, 1, 2) + at(p, 2, 1) + at(p, 2, 2) for p in planes]
+    norm = np.sqrt(centre[0] ** 2 + centre[1] ** 2 + centre[2] ** 2)
+    cand &= norm > 1.0  # four rays that nearly cancel (a cell spanning half the sphere) have no bound
+    norm[~cand] = 1.0
+    for c in centre:
+        c /= norm
+    cos_r = np.full((ncy, ncx), 1.0)
+    dot, part = np.empty((ncy, ncx)), np.empty((ncy, ncx))  # (reused: fresh pages cost more than the arithmetic)
+    for i, j in quad:
+        np.multiply(centre[0], at(planes[0], i, j), out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
+        np.minimum(cos_r, dot, out=cos_r)
+    radius = np.arccos(np.clip(cos_r, -1.0, 1.0, out=cos_r), out=cos_r)
+    radius *= CELL_BOUND
+    radius += FIELD_SLACK
+    for axis, angle in zip(np.asarray(field.axes, np.float64), np.asarray(field.angles, np.float64)):
+        np.multiply(centre[0], axis[0], out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], axis[k], out=part)
+        off = np.arccos(np.clip(dot, -1.0, 1.0, out=dot), out=dot)
+        off -= radius
+        out |= off > angle
+    out &= cand
+    return out
+
+
+EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
+
+
+def exact_grids(evaluate, grids: list[tuple[np.ndarray, np.ndarray, bool]],
+                 keep: np.ndarray | None = None) -> list[tuple]:
+    """``evaluate(points, with_dirs)`` (:func:`lenslab.warp.maps.exact_map_parts` of two cameras) over each grid ``(xs, ys, with_dirs)`` (the points ``(xs[j], ys[i])``, row ``i``
+    and column ``j``), about ``EXACT_CHUNK`` points at a time: the chunks of every grid are shared by the engine's
+    threads (so that they finish together), and each makes its own points (none are made beforehand in one thread).
+    With ``keep`` (bool ``(len(ys), len(xs))``) only those points are evaluated; the others are invalid, zero."""
+    # each chunk writes its points of its grid's arrays: (x, y) float64, validity, the output ray's validity
+    # and, with_dirs, the direction float64
+    new = np.empty if keep is None else np.zeros
+    out = [(new((len(ys), len(xs), 2)), new((len(ys), len(xs)), bool), new((len(ys), len(xs)), bool))
+           + ((new((len(ys), len(xs), 3)),) if with_dirs else ()) for xs, ys, with_dirs in grids]
+    at = None if keep is None else np.flatnonzero(keep)
+    jobs = [(g, r, min(len(ys), r + step)) for g, (xs, ys, _) in enumerate(grids)
+            for step in (max(1, EXACT_CHUNK // max(1, len(xs))),) for r in range(0, len(ys), step)] \
+        if at is None else [(g, i, min(len(at), i + EXACT_CHUNK)) for g in range(len(grids))
+                            for i in range(0, len(at), EXACT_CHUNK)]
+
+    def one(job):
+        g, r0, r1 = job
+        xs, ys, with_dirs = grids[g]
+        if at is None:
+            pts = np.empty((r1 - r0, len(xs), 2))
+            pts[..., 0] = xs
+            pts[..., 1] = ys[r0:r1, None]
+        else:
+            iy, ix = np.divmod(at[r0:r1], len(xs))
+            pts = np.stack([xs[ix], ys[iy]], axis=-1)
+        for dest, part in zip(out[g], evaluate(pts, with_dirs)):
+            if at is None:
+                dest[r0:r1] = part
+            else:
+                dest.reshape((-1,) + dest.shape[2:])[at[r0:r1]] = part
+
+    run_bands(jobs, one)
+    return out

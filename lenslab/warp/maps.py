@@ -41,8 +41,8 @@ from lenslab.errors import WarpError
 from lenslab.lenses import Camera, rotation_between, sample_offsets
 from lenslab.lenses.core.native import project_kernel
 from lenslab.warp.kernels.dispatch import run_bands, scratch
-from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, ghost_nodes_into, lattice_eval,
-                                  lattice_grid, lattice_rows, place)
+from lenslab.warp.lattice import (NEED_EXACT, NEED_PROJECT, cell_coefficients, exact_grids, ghost_nodes_into,
+                                  lattice_eval, lattice_grid, lattice_rows, outside_field, place)
 
 LATTICE_STEP = 8  # output pixels between lattice nodes
 #: where each lattice cell's interpolation is checked against the exact map (fractions of the cell)
@@ -215,8 +215,13 @@ class Mapper:
         yn = (np.arange(ncy + 3, dtype=np.float64) - 1.0) * s
         # the exact map at the nodes and at the four check points of every cell, in chunks shared by the threads
         checks = [((np.arange(ncx) + tx) * s, (np.arange(ncy) + ty) * s, False) for tx, ty in CHECK_POINTS]
-        exact = _exact_grids(self.src, self.dst, [(xn, yn, True)] + checks)
+        # a source with a field bound: the nodes first, then the checks of the cells not wholly outside it
+        field = self.src.lens.field()
+        exact = exact_grids(self._exact_parts, [(xn, yn, True)] + ([] if field else checks))
         xy, v, vd, dirs = exact[0]
+        outside = outside_field(field, dirs, vd, v)
+        if outside is not None:
+            exact += exact_grids(self._exact_parts, checks, ~outside)
         # the nodes' components (x, y and, for a sphere, the direction) as planes of one array, filled in place
         stacked = np.empty((5 if self.sphere else 2,) + v.shape)
         nx, ny = stacked[0], stacked[1]
@@ -246,6 +251,8 @@ class Mapper:
         for passed, (_, _, evd) in zip(run_bands(list(zip(CHECK_POINTS, exact[1:])), check), exact[1:]):
             ok &= passed
             dead &= ~evd
+        if outside is not None:
+            dead |= outside
         state = np.where(ok, 1, np.where(dead, -1, 0)).astype(np.int8)
         cand = state == 0
         if self.sphere and cand.any():
@@ -270,6 +277,9 @@ class Mapper:
                 ok_dir &= passed
             state.reshape(-1)[np.flatnonzero(cand)[ok_dir]] = 2
         return nodes, state
+
+    def _exact_parts(self, pts, with_dirs):
+        return exact_map_parts(self.src, self.dst, pts, with_dirs)
 
     def _close(self, ix, iy, exy) -> np.ndarray:
         """Interpolated positions within ``tol`` of the exact ones (measured on the sphere)."""
@@ -333,7 +343,8 @@ class Mapper:
                 lattice_rows(coef, state, cb0, 1.0 / self.step, r0, offsets, xs, ys, valid, need, dirs)
             else:
                 lattice_eval(coef, state, cb0, float(self.step), r0, offsets, xs, ys, valid, need, dirs)
-            for code in (NEED_PROJECT, NEED_EXACT):
+            rows = state[cb0:cb1]
+            for code in (c for c, st in ((NEED_PROJECT, 2), (NEED_EXACT, 0)) if (rows == st).any()):
                 flat = np.flatnonzero(need == code)
                 if len(flat):
                     self.fill(flat, code, dirs, offsets, r0, need.shape, xs.reshape(-1), ys.reshape(-1),
@@ -358,33 +369,6 @@ class Mapper:
             np.add(r0 + r, o[..., 1], out=pts[:, 1])
             xy, v = exact_map(self.src, self.dst, pts)
         place(at, xy.reshape(-1, 2), v.reshape(-1), xs, ys, valid)
-
-
-EXACT_CHUNK = 1 << 16  # points per call of the lens models while building a lattice (bounds the working set)
-
-
-def _exact_grids(src: Camera, dst: Camera, grids: list[tuple[np.ndarray, np.ndarray, bool]]) -> list[tuple]:
-    """:func:`exact_map_parts` over each grid ``(xs, ys, with_dirs)`` (the points ``(xs[j], ys[i])``, row ``i``
-    and column ``j``), about ``EXACT_CHUNK`` points at a time: the chunks of every grid are shared by the engine's
-    threads (so that they finish together), and each makes its own points (none are made beforehand in one thread)."""
-    # each chunk writes its rows of its grid's arrays: (x, y) float64, validity, the output ray's validity
-    # and, with_dirs, the direction float64
-    out = [(np.empty((len(ys), len(xs), 2)), np.empty((len(ys), len(xs)), bool), np.empty((len(ys), len(xs)), bool))
-           + ((np.empty((len(ys), len(xs), 3)),) if with_dirs else ()) for xs, ys, with_dirs in grids]
-    jobs = [(g, r, min(len(ys), r + step)) for g, (xs, ys, _) in enumerate(grids)
-            for step in (max(1, EXACT_CHUNK // max(1, len(xs))),) for r in range(0, len(ys), step)]
-
-    def one(job):
-        g, r0, r1 = job
-        xs, ys, with_dirs = grids[g]
-        pts = np.empty((r1 - r0, len(xs), 2))
-        pts[..., 0] = xs
-        pts[..., 1] = ys[r0:r1, None]
-        for dest, part in zip(out[g], exact_map_parts(src, dst, pts, with_dirs)):
-            dest[r0:r1] = part
-
-    run_bands(jobs, one)
-    return out
 
 
 def sample_pattern(samples: int) -> np.ndarray:

@@ -279,6 +279,13 @@ void lattice_rows(const LatticeBand& b, double inv) {
                         vr[cc * n] = true;
                         nr[cc * n] = NEED_DONE;
                     }
+                } else if (st < 0) {  // unseen (store_cell's values): a photo's panorama is mostly such runs
+                    for (int64_t cc = c; cc < c1; ++cc) {
+                        xr[cc * n] = 0.0f;
+                        yr[cc * n] = 0.0f;
+                        vr[cc * n] = false;
+                        nr[cc * n] = NEED_DONE;
+                    }
                 } else {
                     for (int64_t cc = c; cc < c1; ++cc) {
                         const double tx = (double(cc) + ox) * inv - dca;

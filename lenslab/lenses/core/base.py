@@ -23,7 +23,7 @@ from lenslab.errors import LensError
 from lenslab.params import Param  # noqa: F401  (the one parameter type; lens modules import it from here)
 from lenslab.lenses.core.arrays import FLOAT, as_points, clean, normalize  # noqa: F401  (lens modules import them from here)
 from lenslab.lenses.core.protocol import (  # noqa: F401  (the records the hooks return)
-    Across, DirKernel, Piece, PixelKernel, ReferencePoint, Seams)
+    Across, DirKernel, Field, Piece, PixelKernel, ReferencePoint, Seams)
 
 def _one_point(method, last: int):
     """``method`` taking ``(..., last)`` points, also for a single point of shape ``(last,)``: a model's
@@ -115,6 +115,11 @@ class Lens:
     def dir_kernel(self) -> DirKernel | None:
         """A compiled ``pixel -> dir`` (:class:`~lenslab.lenses.core.protocol.DirKernel`) that :meth:`pixel_to_dir`
         runs, or None (the default: the NumPy steps, :meth:`pixel_to_uv` then :meth:`uv_to_dir`)."""
+        return None
+
+    def field(self) -> Field | None:
+        """Cones holding every direction the lens sees (:class:`~lenslab.lenses.core.protocol.Field`), or None
+        (the default: no bound, it may see any direction)."""
         return None
 
     def source_view_count(self) -> int:

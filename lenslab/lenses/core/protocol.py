@@ -11,6 +11,8 @@ knows better. The engine asks these hooks and never reads a model's name:
 - :meth:`~lenslab.lenses.core.base.Lens.pixel_kernel` -> :class:`PixelKernel` or None: a compiled
   ``dir -> pixel``; :meth:`~lenslab.lenses.core.base.Lens.dir_kernel` -> :class:`DirKernel` or None: a compiled
   ``pixel -> dir``;
+- :meth:`~lenslab.lenses.core.base.Lens.field` -> :class:`Field` or None: cones that hold every direction the
+  lens sees (the warp marks output regions wholly outside them unseen without evaluating their pixels);
 - :meth:`~lenslab.lenses.core.base.Lens.column_scale`: the length on the sphere of one column, per row;
 - :meth:`~lenslab.lenses.core.base.Lens.channel_lenses` and :meth:`~lenslab.lenses.core.base.Lens.falloff`:
   chromatic aberration (one lens per R, G, B) and vignetting.
@@ -123,6 +125,17 @@ class DirKernel:
 
     fn: Callable
     params: np.ndarray
+
+
+@dataclass(frozen=True)
+class Field:
+    """Where a lens can see: every direction it sees (inside its image, edge slack included) lies within
+    ``angles[i]`` radians of the unit vector ``axes[i]``, for every ``i`` (float64 ``(k, 3)`` and ``(k,)``). A cone
+    of ``pi/2`` is a half-space: a pinhole's frame is four of them. It is a bound, never a test of a pixel: a
+    direction inside every cone may still be unseen."""
+
+    axes: np.ndarray
+    angles: np.ndarray
 
 
 class ReferencePoint(NamedTuple):

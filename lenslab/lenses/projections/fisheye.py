@@ -6,7 +6,7 @@ import numpy as np
 
 from lenslab.errors import LensError
 from lenslab.lenses.core import v360
-from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint, clean
+from lenslab.lenses.core.base import DirKernel, Field, Lens, Param, PixelKernel, ReferencePoint, clean
 from lenslab.lenses.formulas import azimuthal
 from lenslab.lenses.registry import register
 
@@ -195,6 +195,16 @@ class Fisheye(Lens):
         if not kernel_holds(self, Fisheye, ("_from_local",)):
             return None
         return PixelKernel(lens_kernels().fisheye_pixels, self.pixel_params())
+
+    def field(self):
+        """A lens whose ``fov`` spans its image circle sees no further than ``fov/2`` from its axis (+z): one cone,
+        a micro-radian wider (the rim test's slack is 1e-12 of the radius). With ``vfov`` or ``dfov`` the circle
+        reaches as far as the mapping does, and the bound is the frame's: none is given."""
+        from lenslab.lenses.core.native import kernel_holds
+
+        if self.vfov > 0 or self.dfov > 0 or not kernel_holds(self, Fisheye, ("_from_local",)):
+            return None
+        return Field(np.array([[0.0, 0.0, 1.0]]), np.array([self.F + 1e-6]))
 
     def pixel_params(self, turn=None) -> np.ndarray:
         """The parameters of ``fisheye_pixels`` for this lens, seeing ``turn @ d`` (a 3 x 3 rotation; None: ``d``)."""

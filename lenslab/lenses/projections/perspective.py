@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lenslab.lenses.core.base import DirKernel, Lens, Param, PixelKernel, ReferencePoint
+from lenslab.lenses.core.base import DirKernel, Field, Lens, Param, PixelKernel, ReferencePoint
 from lenslab.lenses.registry import register
 
 
@@ -112,6 +112,27 @@ class Perspective(Lens):
             return None
         return PixelKernel(lens_kernels().perspective_pixels, np.array(
             [self.width, self.height, self.t, self.tv, self.aspect, self.edge_slack], dtype=np.float64))
+
+    #: pixels beyond the image (and its edge slack) that :meth:`field`'s frame still holds: rounding moves an
+    #: edge by far less, so the frame is a bound whatever the last bits of a projection
+    FIELD_MARGIN = 1.0
+
+    def field(self):
+        """The frame's four half-spaces (planes through the eye past each image edge, :attr:`FIELD_MARGIN` pixels
+        beyond it): a direction seen satisfies ``a0 <= dx/dz <= a1`` and ``b0 <= dy/dz <= b1``, with the edges'
+        ``u t`` and ``v t_v``; and the cone about +z through the frame's farthest corner (the planes of a narrow
+        view meet far behind the eye: the cone bounds the back)."""
+        from lenslab.lenses.core.native import kernel_holds
+
+        if not kernel_holds(self, Perspective):
+            return None
+        m = self.edge_slack + self.FIELD_MARGIN
+        (u0, v1), (u1, v0) = self.pixel_to_uv(np.array([[-m, -m], [self.width + m, self.height + m]]))
+        a0, a1, b0, b1 = u0 * self.t, u1 * self.t, v0 * self.tv, v1 * self.tv
+        axes = np.array([[1.0, 0.0, -a0], [-1.0, 0.0, a1], [0.0, 1.0, -b0], [0.0, -1.0, b1], [0.0, 0.0, 1.0]])
+        axes /= np.linalg.norm(axes, axis=1)[:, None]
+        corner = np.arctan(np.hypot(max(-a0, a1), max(-b0, b1)))  # and the cone about the axis through the corners
+        return Field(axes, np.array([np.pi / 2] * 4 + [corner]))
 
     def dir_to_uv(self, d):
         z = d[..., 2]
