@@ -22,7 +22,6 @@ across (:data:`SENSOR_DIAGONAL`, as exiftool) or whose equivalent is beyond Exif
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 from lenslab.errors import LensError

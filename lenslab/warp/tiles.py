@@ -9,15 +9,14 @@ from lenslab.lenses import Camera, Pose
 
 
 def render_region(plan, src, out, alpha, x0: int, y0: int, progress, alpha_channel: bool | None = None) -> None:
-    """Render ``plan`` (a :class:`lenslab.warp.WarpPlan`) into the region of ``out``/``alpha`` at (x0, y0),
-    through contiguous buffers (the compiled samplers are built for contiguous arrays); ``alpha_channel``:
-    whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`)."""
+    """Render ``plan`` (a :class:`lenslab.warp.WarpPlan`) into the region of ``out``/``alpha`` at (x0, y0) (zeros, or
+    what undrawn pixels are to keep), into those pixels themselves: a band of a region narrower than the output is
+    drawn in scratch memory and copied in (:class:`lenslab.warp.kernels.dispatch.contiguous_rows`), so no buffer of
+    the region's size is made (a stereo output's eye is half the output). ``alpha_channel``: whether the image
+    carries alpha (:func:`lenslab.io.alpha.alpha_last`)."""
     h, w = plan.out_shape
-    part = np.zeros((h, w, out.shape[2]), dtype=np.float32)
-    part_alpha = np.zeros((h, w), dtype=np.float32)
-    plan.render(src, part, part_alpha, progress, alpha_channel=alpha_channel)
-    out[y0:y0 + h, x0:x0 + w] = part
-    alpha[y0:y0 + h, x0:x0 + w] = part_alpha
+    region = slice(y0, y0 + h), slice(x0, x0 + w)
+    plan.render(src, out[region], alpha[region], progress, alpha_channel=alpha_channel)
 
 
 def band_count(plan) -> int:

@@ -90,3 +90,22 @@ def test_a_second_read_of_one_clip_opens_it_again(tmp_path, opens):
     second, planes = _read_y(clip, lambda: None)
     assert first == [0, 1, 2] and len(opens) == 1
     _same_as_pyav(clip, second, planes, 3)
+
+
+def test_a_clip_rewritten_in_place_with_its_time_kept_is_decoded_from_what_it_now_holds(tmp_path):
+    # rsync -t or cp -p over a clip: the same inode, the same size, the modification time set back; only the
+    # status-change time tells the file changed (the kernel sets it on every write and no user can set it back)
+    from lenslab.io.video import probe_video
+
+    clip, other = tmp_path / "clip.mkv", tmp_path / "other.mkv"  # FFV1: flat frames 40, 60, ... and 120, 140, ...
+    _clip(clip, 64, 32, 4, codec="ffv1", first=40, step=20)
+    _clip(other, 64, 32, 4, codec="ffv1", first=120, step=20)
+    assert clip.stat().st_size == other.stat().st_size  # (else the size alone would tell them apart)
+    probe_video(clip)
+    before = clip.stat()
+    with open(clip, "r+b") as f:
+        f.write(other.read_bytes())
+    os.utime(clip, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert (clip.stat().st_ino, clip.stat().st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
+    index, planes = _read_y(clip, lambda: None)
+    _same_as_pyav(clip, index, planes, 4)

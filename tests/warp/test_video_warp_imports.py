@@ -23,12 +23,13 @@ HEAVY = ("numba", "llvmlite", "scipy", "colour", "cv2", "dask", "distributed", "
          "lenslab.tone", "lenslab.fit", "lenslab.lenses.lensfun.database", "lenslab.warp.pyramid_levels")
 
 
-def _clip(path, w=128, h=64, frames=3):
+def _clip(path, w=128, h=64, frames=3, codec="libx264", first=60, step=40):
+    """A clip of flat grey frames ``first``, ``first + step``, ... (8-bit codes), encoded by PyAV."""
     with av.open(str(path), "w") as c:
-        s = c.add_stream("libx264", rate=Fraction(24))
+        s = c.add_stream(codec, rate=Fraction(24))
         s.width, s.height, s.pix_fmt = w, h, "yuv420p"
         for i in range(frames):
-            f = av.VideoFrame.from_ndarray(np.full((h, w, 3), 40 * i + 60, np.uint8), format="rgb24")
+            f = av.VideoFrame.from_ndarray(np.full((h, w, 3), step * i + first, np.uint8), format="rgb24")
             f = f.reformat(format="yuv420p")
             f.pts = i
             for p in s.encode(f):

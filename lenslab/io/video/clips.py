@@ -102,8 +102,9 @@ def _open(path):
         raise FormatError(f"{path}: FFmpeg cannot open it as a video ({cause(exc)})") from None
 
 
-#: the streams of the last few files probed, by path, size, modification time and inode: a command probes its input
-#: for the budget, for the warp and for decoding, and FFmpeg's probe decodes frames (50 ms for a 4K H.264 clip)
+#: the streams of the last few files probed, by path, size, modification and status-change times and inode: a command
+#: probes its input for the budget, for the warp and for decoding, and FFmpeg's probe decodes frames (50 ms for a 4K
+#: H.264 clip)
 _PROBED: dict = {}
 
 

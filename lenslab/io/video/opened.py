@@ -3,9 +3,9 @@
 A clip's warp probes its input (the budget's check, :func:`lenslab.io.video.clips.probe_video`) and then decodes it
 (:func:`lenslab.io.video.clips.read_frames`). Opening a clip runs FFmpeg's probe of its streams, which reads and
 decodes its first packets. The probe's open container is held here, one at a time, by the file's identity (path,
-size, modification time, inode); the decoder takes it when it reads that same file and decodes from its first
-packet, as from a fresh open (the probe's packets are buffered in it). A container nobody takes is closed when the
-next is held."""
+size, modification time, inode, status-change time); the decoder takes it when it reads that same file and decodes
+from its first packet, as from a fresh open (the probe's packets are buffered in it). A container nobody takes is
+closed when the next is held."""
 
 from __future__ import annotations
 
@@ -18,12 +18,14 @@ _lock = threading.Lock()
 
 
 def identity(path):
-    """``(absolute path, size, modification time in ns, inode)`` of a file; None when it cannot be read."""
+    """``(absolute path, size, modification time in ns, inode, status-change time in ns)`` of a file; None when it
+    cannot be read. The status-change time tells a file rewritten in place whose size and modification time were
+    kept (``rsync -t``, ``cp -p``): every write sets it, and it cannot be set back."""
     try:
         st = os.stat(path)
     except (OSError, TypeError, ValueError):
         return None
-    return os.path.abspath(path), st.st_size, st.st_mtime_ns, st.st_ino
+    return os.path.abspath(path), st.st_size, st.st_mtime_ns, st.st_ino, st.st_ctime_ns
 
 
 @contextmanager

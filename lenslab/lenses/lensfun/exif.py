@@ -237,6 +237,3 @@ def photo_lens(path) -> PhotoLens:
         _exif(path, info)
     _xmp(path, info)
     return info
-
-
-
