@@ -60,8 +60,8 @@ _AS_TYPE = {"pixelAspectRatio": float, "screenWindowWidth": float,
             "screenWindowCenter": lambda v: np.asarray(v, np.float32).reshape(2)}
 
 
-#: threads the OpenEXR codec may use per file (the bindings default to none; 0 = decode in the calling
-#: thread); batch conversion with several worker processes sets it to 0 in each
+#: threads the OpenEXR codec may use per file, decoding and compressing (the bindings default to none; 0 = in the
+#: calling thread); batch conversion with several worker processes sets it to 0 in each
 THREADS = os.cpu_count() or 1
 
 
@@ -367,8 +367,11 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half"
             raise FormatError(f"channel {clip(name)} is {plane.shape[1]} x {plane.shape[0]}, not the image's {w} x {h}")
         chans[name] = np.ascontiguousarray(plane if plane.dtype in (np.float16, np.float32, np.uint32)
                                            else plane.astype(np.float32))
+    threads = THREADS if threads is None else int(threads)
+    if OpenEXR.global_thread_count() != threads:  # the bindings compress on OpenEXR's global pool: the
+        OpenEXR.set_global_thread_count(threads)  # File's own count reaches reading only
     try:
         with quiet_library():
-            OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
+            OpenEXR.File(header, chans, threads).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
         raise FormatError(f"OpenEXR could not write the image ({cause(exc)})") from None
