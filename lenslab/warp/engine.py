@@ -235,9 +235,8 @@ class WarpPlan:
         return out, alpha
 
     def _draws_every_pixel(self) -> bool:
-        """Whether rendering sets every output pixel (kept taps draw each or set it empty): no zeroing first."""
-        return self.parts is None and self.channels is None and bool(self._bands) and \
-            all(isinstance(b, TapBand) for b in self._bands)
+        """Whether rendering sets every output pixel (a plain map's bands: taps and :func:`sample`): no zeroing first."""
+        return self.parts is None and self.channels is None and not self.views and not self.antialias
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,
@@ -265,10 +264,11 @@ class WarpPlan:
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
                       checks: OutputChecks | None = None) -> None:
         pyramid = aa.pyramid(src, self.border, lazy=True) if self.antialias else None
+        whole = self._draws_every_pixel()  # (a strided output's band: drawn in scratch, given its rows unless whole)
 
         def draw(band):
             sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
-            with contiguous_rows(out[sl], alpha[sl]) as (o, a):  # (a strided output's band: drawn in scratch)
+            with contiguous_rows(out[sl], alpha[sl], drawn_over=whole) as (o, a):
                 if isinstance(band, TapBand):
                     sample_taps(src, band, self.border, o, a)
                 elif isinstance(band, ViewBand):
