@@ -205,8 +205,8 @@ class WarpPlan:
             alpha_channel: bool | None = None, on_band: Callable | None = None):
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
 
-        ``into``: ``(image, alpha)`` arrays of those shapes to write into, zeroed first (a clip's frames reuse a
-        few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit.
+        ``into``: ``(image, alpha)`` arrays of those shapes to write into, drawn over (zeroed first where the bands
+        may leave pixels, :meth:`_draws_every_pixel`; a clip's frames reuse a few); new arrays when they do not fit.
         ``alpha_channel=False``: the image holds data channels only (none settled as alpha). ``on_band(rows,
         sl)``: called with the output's final rows ``sl`` (``rows`` = ``image[sl]``) as each band is drawn, on its
         thread while they are in cache (a clip's encoder takes them there), or once with every row after a
