@@ -207,8 +207,8 @@ class WarpPlan:
             alpha_channel: bool | None = None, on_band: Callable | None = None):
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
 
-        ``into``: ``(image, alpha)`` arrays of those shapes to write into, zeroed first (a clip's frames reuse a
-        few: a 4K frame's output is 60 MB of fresh pages otherwise); new arrays when they do not fit.
+        ``into``: ``(image, alpha)`` arrays of those shapes to write into, drawn over (zeroed first where the bands
+        may leave pixels, :meth:`_draws_every_pixel`; a clip's frames reuse a few); new arrays when they do not fit.
         ``alpha_channel=False``: the image holds data channels only (none settled as alpha). ``on_band(rows,
         sl)``: called with the output's final rows ``sl`` (``rows`` = ``image[sl]``) as each band is drawn, on its
         thread while they are in cache (a clip's encoder takes them there), or once with every row after a
@@ -237,9 +237,8 @@ class WarpPlan:
         return out, alpha
 
     def _draws_every_pixel(self) -> bool:
-        """Whether rendering sets every output pixel (kept taps draw each or set it empty): no zeroing first."""
-        return self.parts is None and self.channels is None and bool(self._bands) and \
-            all(isinstance(b, TapBand) for b in self._bands)
+        """Whether rendering sets every output pixel (a plain map's bands: taps and :func:`sample`): no zeroing first."""
+        return self.parts is None and self.channels is None and not self.views and not self.antialias
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,
@@ -268,10 +267,11 @@ class WarpPlan:
                       checks: OutputChecks | None = None) -> None:
         aa = _aa() if self.antialias else None
         pyramid = aa.pyramid(src, self.border, lazy=True) if aa else None
+        whole = self._draws_every_pixel()  # (a strided output's band: drawn in scratch, given its rows unless whole)
 
         def draw(band):
             sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
-            with contiguous_rows(out[sl], alpha[sl]) as (o, a):  # (a strided output's band: drawn in scratch)
+            with contiguous_rows(out[sl], alpha[sl], drawn_over=whole) as (o, a):
                 if isinstance(band, TapBand):
                     sample_taps(src, band, self.border, o, a)
                 elif isinstance(band, ViewBand):

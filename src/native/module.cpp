@@ -42,6 +42,7 @@ void register_footprint(nb::module_& m);  // src/native/footprint_runs.cpp
 void register_secants(nb::module_& m);  // src/native/secants.cpp
 void register_pyramid(nb::module_& m);  // src/native/pyramid.cpp: the pyramid's levels and the rows footprints read
 void register_lens_dirs(nb::module_& m);  // lens_dirs.cpp: pixel -> direction of the closed-form lenses
+void register_halves(nb::module_& m);  // halves.cpp: float32 -> float16 for the EXR writer
 
 NB_MODULE(cxx_kernels, m) {
     register_video(m);
@@ -51,6 +52,7 @@ NB_MODULE(cxx_kernels, m) {
     register_lens_kernels(m);
     register_tone(m);
     register_lens_dirs(m);
+    register_halves(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
                           bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

@@ -170,10 +170,11 @@ def _bradford_to_d50(white) -> np.ndarray:
 def _is_srgb(curves, matrix) -> bool:
     from lenslab import srgb
 
+    if np.abs(matrix - np.eye(3)).max() > SRGB_MATRIX_TOLERANCE:  # (other primaries: the curves need no look)
+        return False
     x = np.linspace(0.0, 1.0, 4097)
-    reference = srgb.eotf(x)
-    return bool(np.abs(matrix - np.eye(3)).max() <= SRGB_MATRIX_TOLERANCE and all(
-        np.abs(np.clip(fn(x), 0.0, 1.0) - reference).max() <= SRGB_CURVE_TOLERANCE for fn in curves))
+    reference = srgb.cached_table("eotf-4097", 4097, np.float64, lambda: srgb.eotf(x))  # (no colour-science import)
+    return all(np.abs(np.clip(fn(x), 0.0, 1.0) - reference).max() <= SRGB_CURVE_TOLERANCE for fn in curves)
 
 
 def plan(data: bytes, channels: int, where: str) -> Plan:

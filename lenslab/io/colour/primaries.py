@@ -37,13 +37,25 @@ def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) ->
     """float64 3 x 3 from linear RGB on ``chromaticities`` (x, y of R, G, B and white, OpenEXR's order)
     to linear Rec.709, by colour-science without chromatic adaptation (the file's XYZ, unchanged), or with
     colour-science's ``adaptation`` transform from the file's white to D65 (``"Bradford"``: an ICC profile's
-    white becomes Rec.709's, :mod:`lenslab.io.colour.icc`)."""
-    import colour
+    white becomes Rec.709's, :mod:`lenslab.io.colour.icc`); kept in lenslab's cache directory
+    (:func:`lenslab.srgb.cached_table`), as the H.273 matrices are."""
+    import hashlib
 
-    c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)
-    space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
-                                   use_derived_matrix_XYZ_to_RGB=True)
-    return matrix_between(space, adaptation=adaptation)
+    from lenslab.srgb import cached_table
+
+    c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)[:8]
+
+    def build():
+        import colour
+
+        space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
+                                       use_derived_matrix_XYZ_to_RGB=True)
+        return matrix_between(space, adaptation=adaptation).reshape(-1)
+
+    # kept in lenslab's cache directory under the chromaticities' exact bits: a file of the same primaries (an
+    # ICC profile's, an EXR's attribute) is read again without the import of colour-science (about 1 s of CPU)
+    key = hashlib.sha256(np.ascontiguousarray(c).tobytes() + str(adaptation).encode()).hexdigest()[:24]
+    return cached_table(f"chromaticities-{key}", 9, np.float64, build, prefix=CACHE_PREFIX).reshape(3, 3)
 
 
 def check_chromaticities(path, chromaticities) -> None:

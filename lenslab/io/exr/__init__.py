@@ -60,8 +60,8 @@ _AS_TYPE = {"pixelAspectRatio": float, "screenWindowWidth": float,
             "screenWindowCenter": lambda v: np.asarray(v, np.float32).reshape(2)}
 
 
-#: threads the OpenEXR codec may use per file (the bindings default to none; 0 = decode in the calling
-#: thread); batch conversion with several worker processes sets it to 0 in each
+#: threads the OpenEXR codec may use per file, decoding and compressing (the bindings default to none; 0 = in the
+#: calling thread); batch conversion with several worker processes sets it to 0 in each
 THREADS = os.cpu_count() or 1
 
 
@@ -254,17 +254,34 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
 
 
 def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) -> np.ndarray:
-    """float32 -> float16 with finite values beyond half's range clamped (warned with their count); a
-    block of rows at a time (None: about 2 MB of float32), so the only full-size allocation is the result. ``in_place``: the result
-    is made in the first half of ``image``'s own memory (no allocation of the image's size; ``image`` is
-    overwritten) when ``image`` is a C-contiguous, writable float32 array."""
-    own = (in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable
-           and image.size > 0)
-    if own:  # element i of the result lies at byte 2i, before element i of the source (byte 4i): blocks
-        # taken from the start never overwrite a value not yet read (NumPy buffers each block's overlap)
+    """float32 -> float16 with finite values beyond half's range clamped (warned with their count); one compiled
+    pass over a C-contiguous float32 image (``lenslab.cxx_kernels.to_half``), else :func:`to_half_reference`'s
+    blocks of ``rows`` rows (None: about 2 MB of float32): the only full-size allocation is the result.
+    ``in_place``: the result is made in the first half of ``image``'s own memory (no allocation of the image's
+    size; ``image`` is overwritten) when ``image`` is a C-contiguous, writable float32 array."""
+    from lenslab.native import extension
+
+    contiguous = image.dtype == np.float32 and image.flags.c_contiguous and image.size > 0
+    own = in_place and contiguous and image.flags.writeable
+    if own:  # element i of the result lies at byte 2i, before element i of the source (byte 4i)
         out = image.reshape(-1).view(np.float16)[:image.size].reshape(image.shape)
     else:
         out = np.empty(image.shape, np.float16)
+    if contiguous:  # (in order on one thread: a half written never reaches a float not yet read)
+        n = extension(FormatError).to_half(image.reshape(-1), out.reshape(-1).view(np.uint16))
+    else:
+        n = to_half_reference(image, out, rows)
+    if n:
+        clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
+        warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
+                                          f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
+    return out
+
+
+def to_half_reference(image: np.ndarray, out: np.ndarray, rows: int | None = None) -> int:
+    """NumPy's :func:`to_half` of ``image`` into ``out`` (float16, its shape; it may be the first half of a
+    C-contiguous ``image``'s memory: blocks taken from the start never overwrite a value not yet read, as
+    NumPy buffers each block's overlap), ``rows`` rows at a time; the count of values clamped."""
     n = 0
     rows = rows or max(1, (2 << 20) // max(1, image[:1].nbytes))
     for y in range(0, image.shape[0], rows):
@@ -276,12 +293,8 @@ def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) 
             if count:
                 n += count
                 block = np.where(big, np.copysign(np.float32(HALF_MAX), block), block)
-        out[y:y + rows] = block.astype(np.float16) if own else block
-    if n:
-        clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
-        warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
-                                          f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
-    return out
+        out[y:y + rows] = block.astype(np.float16) if np.shares_memory(out, image) else block
+    return n
 
 
 def _planes(image: np.ndarray, kinds: list[str]) -> list[np.ndarray]:
@@ -367,8 +380,11 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half"
             raise FormatError(f"channel {clip(name)} is {plane.shape[1]} x {plane.shape[0]}, not the image's {w} x {h}")
         chans[name] = np.ascontiguousarray(plane if plane.dtype in (np.float16, np.float32, np.uint32)
                                            else plane.astype(np.float32))
+    threads = THREADS if threads is None else int(threads)
+    if OpenEXR.global_thread_count() != threads:  # the bindings compress on OpenEXR's global pool: the
+        OpenEXR.set_global_thread_count(threads)  # File's own count reaches reading only
     try:
         with quiet_library():
-            OpenEXR.File(header, chans, THREADS if threads is None else int(threads)).write(str(tmp))
+            OpenEXR.File(header, chans, threads).write(str(tmp))
     except (TypeError, ValueError, RuntimeError) as exc:
         raise FormatError(f"OpenEXR could not write the image ({cause(exc)})") from None

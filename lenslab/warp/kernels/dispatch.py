@@ -262,10 +262,11 @@ class scratch:
 class contiguous_rows:
     """``with contiguous_rows(out, alpha) as (o, a):`` C-contiguous arrays for a sampler to draw a band into:
     ``out`` and ``alpha`` themselves, or (a band of a strided output: the colour and alpha of one RGBA image)
-    :class:`scratch` copies of them, written back when the block ends without an error."""
+    :class:`scratch` copies of them, written back when the block ends without an error. ``drawn_over``: the
+    sampler writes every pixel of the rows, so the scratch arrays are not given the rows' values first."""
 
-    def __init__(self, out, alpha):
-        self.out, self.alpha, self.copies = out, alpha, None
+    def __init__(self, out, alpha, drawn_over: bool = False):
+        self.out, self.alpha, self.copies, self.drawn_over = out, alpha, None, drawn_over
 
     def __enter__(self):
         import numpy as np
@@ -274,7 +275,8 @@ class contiguous_rows:
             return self.out, self.alpha
         self.copies = (scratch(self.out.shape, np.float32), scratch(self.alpha.shape, np.float32))
         o, a = (c.__enter__() for c in self.copies)
-        o[...], a[...] = self.out, self.alpha  # (what the sampler leaves undrawn stays as it was)
+        if not self.drawn_over:
+            o[...], a[...] = self.out, self.alpha  # (what the sampler leaves undrawn stays as it was)
         self.drawn = (o, a)
         return o, a
 
