@@ -91,6 +91,8 @@ class ConvertJob(Job):
         codes = map_codes(fmt, meta, self.bits)
         if "lenslab:stmap" in (meta.get("attributes") or {}):  # coordinates, not colours: no look applies
             refuse_look_of_map(src, self, codes is not None)
+        if "lenslab:stmap" in (meta.get("attributes") or {}) and not fmt.alpha:
+            note_map_validity(fmt, image)
         if codes is not None:  # an ST map holds coordinates, not colours: written as raw codes
             note_map_bits(fmt, meta, codes)
             image, write_opts = check_image(image, src), codes
@@ -193,7 +195,25 @@ def note_map_bits(fmt, meta: dict, codes: dict) -> None:
     step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
     lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""
     warnings.warn(f"an ST map at 8 bits places each source position only to 1/255 of the source's size{step}"
-                  f"{lossy}; PNG, PPM or TIFF at 16 bits keep 1/65535, EXR the values themselves", UserWarning,
+                  f"{lossy}; PNG or TIFF at 16 bits keep 1/65535, EXR the values themselves", UserWarning,
+                  stacklevel=2)
+
+
+def note_map_validity(fmt, image) -> None:
+    """A note where an ST map goes to a format without alpha (PPM, PFM, Radiance HDR, JPG): its A, which pixels see
+    the source, is lost, and each pixel that sees nothing (s = t = 0 there) would read the source's bottom-left corner
+    as a map without A is read (:func:`lenslab.stmap.read_st_map`): how many of them there are."""
+    import warnings
+
+    if image.ndim != 3 or image.shape[2] != 4:
+        return
+    blind = int((image[..., 3] <= 0.5).sum())
+    if not blind:
+        return
+    total = image.shape[0] * image.shape[1]
+    warnings.warn(f"{fmt.title} keeps no alpha: the ST map's A channel (which pixels see the source) is dropped, and "
+                  f"its {blind} of {total} pixels that see nothing ({100 * blind / total:.3g}%) would read the "
+                  "source's bottom-left corner when the map is applied; PNG, TIFF or EXR keep A", UserWarning,
                   stacklevel=2)
 
 
