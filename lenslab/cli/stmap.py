@@ -45,8 +45,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from tqdm import tqdm
-
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output
     from lenslab.lenses import Camera, Pose, make_lens
@@ -67,12 +65,21 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.warp_cameras import note_size
 
     note_size(dst.lens)  # a cube map at a size off its layout: one note
-    show = not args.quiet and sys.stderr.isatty()
-    with tqdm(total=size[1], unit="row", disable=not show, file=sys.stderr, leave=False) as bar:
-        st = st_map(src, dst, progress=bar.update)
-    write_st_map(out, st, overwrite=args.overwrite,
-                 attributes={"lenslab:stmap": f"from {src.lens.spec()} {src_size[0]}x{src_size[1]} "
-                                               f"to {dst.lens.spec()} {size[0]}x{size[1]}"})
+    from lenslab.jobs.progress import RowBar
+
+    bar = RowBar(out.name) if not args.quiet and sys.stderr.isatty() else None
+    try:
+        if bar is not None:
+            bar.start(size[1])
+        st = st_map(src, dst, progress=bar)
+        if bar is not None:  # the full bar names the writing, should it outlast the patience
+            bar.status(f"writing {out.name}")
+        write_st_map(out, st, overwrite=args.overwrite,
+                     attributes={"lenslab:stmap": f"from {src.lens.spec()} {src_size[0]}x{src_size[1]} "
+                                                   f"to {dst.lens.spec()} {size[0]}x{size[1]}"})
+    finally:
+        if bar is not None:
+            bar.close()
     if not args.quiet:
         seen = float(st[..., 3].mean())
         print(f"wrote {out}: {size[0]}x{size[1]} ST map, {100 * seen:.1f}% of pixels see the source",
