@@ -226,4 +226,12 @@ def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, *
         size = getattr(cls, "default_size", None)
         if size is None:
             raise LensError(f"lens {name}: an image size (width, height) is needed")
-    return cls.from_values(size[0], size[1], values) if hasattr(cls, "from_values") else cls(size[0], size[1], **values)
+    if hasattr(cls, "from_values"):
+        return cls.from_values(size[0], size[1], values)
+    # the image's size, which only a calibrated model's spec holds (as its parameters)
+    sized = sorted({"width", "height"} & set(values) - {p.name for p in cls.params})
+    if sized:
+        known = ", ".join(p.name for p in cls.params) or "none"
+        raise LensError(f"{cls.name}: unknown parameter(s) {', '.join(sized)}; valid: {known} (the image's size is "
+                        "given apart: --size WxH)")
+    return cls(size[0], size[1], **values)
