@@ -170,6 +170,9 @@ def _structure_lines(d: dict) -> list[str]:
         lines.append(f"  page {i}: {p['axes']} {p['shape']} {p['dtype']}, {p['compression']} compression, "
                      f"{p['photometric']}, {p['planar']}" + (f", extra samples {p['extrasamples']}"
                                                               if p["extrasamples"] else ""))
+    more = st.get("page_count", 0) - len(st.get("pages", []))
+    if more > 0:
+        lines.append(f"  ... and {more} more page(s) (lenslab reads page 0)")
     if "resolution" in st:
         lines.append(f"  resolution line: {st['resolution']}")
     return lines
