@@ -78,6 +78,8 @@ class ConvertJob(Job):
 
         same = fmt.name == "exr" and sniff(src_file) == "exr"  # EXR to EXR: the data window stays as stored
         image, meta = read(src, data_window=self.data_window or same, extra_channels=keeps_extra)
+        if hasattr(progress, "status"):  # the steps after the reading, named should one outlast the patience
+            progress.status("converting")
         from lenslab.jobs.stages import check_data_channels
 
         check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
@@ -118,6 +120,10 @@ class ConvertJob(Job):
             from lenslab.io.exr.extra import warn_dropped
 
             warn_dropped(src, meta.get("extra_channels") or [], fmt.title)
+        if hasattr(progress, "status"):
+            from pathlib import Path
+
+            progress.status(f"writing {Path(dst).name}")  # (encoding a large PNG takes seconds)
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 
