@@ -15,21 +15,24 @@ from tests.warp.test_warp_progress import on_terminal
 HANG_GUARD = 60.0  # seconds: only a hung machine takes this long for a timer of no delay to fire
 
 
-def _held_until_said(monkeypatch, module, name):
-    """Make ``module.name`` (the writer) wait until the bar's timer has said the step under way: the test then
-    reads the terminal in the state the user sees while a large file is written, whatever the machine's load."""
+def _held_until_said(monkeypatch, module, name, step="", output=""):
+    """Make ``module.name`` (the writer) wait until the bar's timer has said the step under way (one beginning with
+    ``step``): the test then reads the terminal in the state the user sees while a large file is written, whatever
+    the machine's load. ``output``: only a write to a path ending so waits."""
     said = threading.Event()
     say = progress.RowBar._say
 
     def _say(self):
         say(self)
-        said.set()
+        if self.step.startswith(step):
+            said.set()
 
     monkeypatch.setattr(progress.RowBar, "_say", _say)
     write = getattr(module, name)
 
     def held(*args, **kwargs):
-        assert said.wait(HANG_GUARD)
+        if str(args[0] if args else "").endswith(output):
+            assert said.wait(HANG_GUARD)
         return write(*args, **kwargs)
 
     monkeypatch.setattr(module, name, held)
