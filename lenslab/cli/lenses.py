@@ -108,8 +108,8 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.lenses.registry import lens_class
 
     names = [n.strip().lower() for n in args.models] or sorted(REGISTRY)
-    if names == ["exif"]:  # no model: the spec that reads a photo's own lens
-        print(f"exif: {PHOTO_LENS}\n  {EXIF_FORMULA}")
+    if len(names) == 1 and names[0] in ("exif", "lensfun:auto", "auto"):  # no model: specs of a photo's own lens
+        print(f"{names[0]}: {PHOTO_LENS}" + (f"\n  {EXIF_FORMULA}" if names[0] == "exif" else ""))
         return 0
     classes = [lens_class(n) for n in names]  # unknown names raise, listing the valid ones
     if args.json:

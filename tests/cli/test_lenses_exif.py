@@ -18,6 +18,11 @@ def test_lenses_exif_says_what_it_is(capsys):
     assert abs(half - math.hypot(36.0, 24.0) / 2) < 0.005
 
 
+def test_lenses_lensfun_auto_says_what_it_is(capsys):
+    assert main(["lenses", "lensfun:auto"]) == 0
+    assert capsys.readouterr().out.startswith("lensfun:auto: A photo's own lens: --from exif")
+
+
 def test_an_unknown_model_is_still_refused(capsys):
     assert main(["lenses", "exiff"]) == 2
     assert "unknown lens model 'exiff'" in capsys.readouterr().err
