@@ -50,3 +50,10 @@ def test_the_8bit_note_no_longer_offers_ppm(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "1/255" in err and "PPM" not in err, err
     assert np.isfinite(oiio.ImageBuf(str(tmp_path / "st8.png")).get_pixels(oiio.FLOAT)).all()
+
+
+def test_a_jpg_says_both_losses_in_one_note(tmp_path, capsys):
+    st, blind, total = _map(tmp_path)
+    assert main(["convert", str(st), "-o", str(tmp_path / "st.jpg"), "-q"]) == 0
+    notes = [line for line in capsys.readouterr().err.splitlines() if "ST map" in line]
+    assert len(notes) == 1 and "1/255" in notes[0] and f"its {blind} of {total} pixels" in notes[0], notes
