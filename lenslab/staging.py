@@ -19,7 +19,9 @@ _TEMPORARY = re.compile(r"^\..+" + re.escape(TEMPORARY_TAG) + r"(\d+)-(?:([0-9a-
 
 
 def owner_alive(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a process of another user counts as running)."""
+    """Whether process ``pid`` runs on this machine (a process of another user counts as running). A zombie, a
+    process that has ended but that its parent has not yet waited for (a killed command whose parent is a
+    container's first process that reaps no child), runs no more: it writes nothing."""
     if pid <= 0:
         return False
     try:
@@ -28,7 +30,18 @@ def owner_alive(pid: int) -> bool:
         return False
     except PermissionError:
         return True
-    return True
+    return not _zombie(pid)
+
+
+def _zombie(pid: int) -> bool:
+    """Whether ``pid`` is a zombie, as Linux's ``/proc/PID/stat`` says (its state, the field after the name in
+    parentheses, is ``Z``); False where there is no such file (another system, a process gone meanwhile)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            stat = f.read(4096)
+    except OSError:
+        return False
+    return stat[stat.rfind(b")") + 1:].split()[:1] == [b"Z"]
 
 
 def sweep(folders) -> list[Path]:

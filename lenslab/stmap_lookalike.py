@@ -36,15 +36,28 @@ def looks_like_st_map(image: np.ndarray, channels: Sequence[str]) -> bool:
     >>> looks_like_st_map(np.stack([x / w, y / h * (x % 2)], -1), ["R", "G"])
     False
     """
+    return st_map_way(image, channels) is not None
+
+
+def st_map_way(image: np.ndarray, channels: Sequence[str]) -> int | None:
+    """How the second coordinate of an image that looks like an ST map goes down each column: -1 falling, as Nuke's
+    ``t = 1 - y / H`` does, +1 growing (``y / H``: a remap grid normalised as OpenCV counts rows, which ``--stmap``
+    would read upside down); None when the image does not look like an ST map.
+
+    >>> h, w = 4, 6
+    >>> y, x = np.mgrid[0:h, 0:w] + 0.5
+    >>> st_map_way(np.stack([x / w, 1 - y / h], -1), ["s", "t"]), st_map_way(np.stack([x / w, y / h], -1), ["R", "G"])
+    (-1, 1)
+    """
     if image.ndim != 3 or not 2 <= image.shape[2] <= 4 or min(image.shape[:2]) < 2 or len(channels) < 2:
-        return False
+        return None
     names = tuple(str(c).rsplit(".", 1)[-1].lower() for c in channels[:2])
     if names not in PAIRS:
-        return False
+        return None
     s, t = image[..., 0], image[..., 1]  # (views: a large picture is not copied)
     alpha = image[..., 3] if image.shape[2] == 4 else None
     if not _lines_agree(s, t, alpha):  # a picture fails on three rows and columns: the whole is not gone through
-        return False
+        return None
     lo, hi = [np.inf, np.inf], [-np.inf, -np.inf]
     falls, down, seen = False, set(), 0
     for r0 in range(0, s.shape[0], BAND_ROWS):  # bands overlapping by a row, so every pair down a column is seen
@@ -55,7 +68,7 @@ def looks_like_st_map(image: np.ndarray, channels: Sequence[str]) -> bool:
         with np.errstate(invalid="ignore"):
             for k, v in enumerate((bs[rows][ok[rows]], bt[rows][ok[rows]])):
                 if v.size and not np.isfinite(v).all():
-                    return False
+                    return None
                 if v.size:
                     lo[k], hi[k] = min(lo[k], v.min()), max(hi[k], v.max())
             seen += int(ok[rows].sum())
@@ -65,8 +78,10 @@ def looks_like_st_map(image: np.ndarray, channels: Sequence[str]) -> bool:
         down |= {1} if (dt > TIE).any() else set()
         down |= {-1} if (dt < -TIE).any() else set()
         if falls or len(down) > 1 or lo[0] < 0 or lo[1] < 0 or hi[0] > 1 or hi[1] > 1:
-            return False
-    return bool(seen >= 4 and hi[0] - lo[0] >= MIN_SPAN and hi[1] - lo[1] >= MIN_SPAN)
+            return None
+    if seen >= 4 and hi[0] - lo[0] >= MIN_SPAN and hi[1] - lo[1] >= MIN_SPAN and down:
+        return down.pop()
+    return None
 
 
 def _lines_agree(s: np.ndarray, t: np.ndarray, alpha: np.ndarray | None) -> bool:
@@ -87,4 +102,4 @@ def _lines_agree(s: np.ndarray, t: np.ndarray, alpha: np.ndarray | None) -> bool
     return len(way) <= 1
 
 
-__all__ = ["looks_like_st_map"]
+__all__ = ["looks_like_st_map", "st_map_way"]

@@ -106,9 +106,12 @@ def describe(path: str, raw: bool = False, data_window: bool = False) -> dict:
     out["attributes"] = attrs
     out["structure"] = probe(file, fmt.name)
     if "lenslab:stmap" not in attrs:  # a map another tool made: said, and read as the picture it is stored as
-        from lenslab.stmap_lookalike import looks_like_st_map
+        from lenslab.stmap_lookalike import st_map_way
 
-        out["looks_like_st_map"] = looks_like_st_map(image, meta["channels"])
+        way = st_map_way(image, meta["channels"])
+        out["looks_like_st_map"] = way is not None
+        if way == 1:  # its second coordinate grows downward: --stmap would read it upside down
+            out["st_map_upside_down"] = True
     return out
 
 
@@ -167,6 +170,9 @@ def _structure_lines(d: dict) -> list[str]:
         lines.append(f"  page {i}: {p['axes']} {p['shape']} {p['dtype']}, {p['compression']} compression, "
                      f"{p['photometric']}, {p['planar']}" + (f", extra samples {p['extrasamples']}"
                                                               if p["extrasamples"] else ""))
+    more = st.get("page_count", 0) - len(st.get("pages", []))
+    if more > 0:
+        lines.append(f"  ... and {more} more page(s) (lenslab reads page 0)")
     if "resolution" in st:
         lines.append(f"  resolution line: {st['resolution']}")
     return lines
@@ -264,7 +270,13 @@ def _text(d: dict) -> str:
             lines.append(f"    --from exif gives {found['exif']}{better}")
         elif found.get("exif_problem"):
             lines.append(f"    --from exif: {found['exif_problem']}")
-    if d.get("looks_like_st_map"):
+    if d.get("st_map_upside_down"):
+        name, (s, t) = d["file"], d["channels"][:2]
+        lines.append(f"  looks like an ST map ({s} and {t} within [0, 1], monotone along rows and columns) but for its "
+                     f"{t}, which grows down the image (y / H, as a remap grid normalised in OpenCV's rows): --stmap "
+                     f"reads it as Nuke's t = 1 - y / H, so the warp by {name} would come out upside down; store "
+                     f"1 - {t} in it first")
+    elif d.get("looks_like_st_map"):
         name = d["file"]
         lines.append(f"  looks like an ST map ({' and '.join(d['channels'][:2])} within [0, 1], monotone along rows and "
                      f"columns); give --stmap {name} to use it (lenslab warp IMAGE --stmap {name}); its statistics "

@@ -90,6 +90,13 @@ def run_lensfun(args: argparse.Namespace) -> int:
     return 0
 
 
+#: what ``lenslab lenses`` says of a photo's own lens (``exif`` names no model of its own)
+PHOTO_LENS = ("A photo's own lens: --from exif (the pinhole of its EXIF 35 mm equivalent focal length; "
+              "exif:photo=PHOTO elsewhere), --from lensfun:auto (the lensfun profile its metadata names).")
+EXIF_FORMULA = ("perspective:fov=FOV, tan(FOV/2) = 21.63 mm / f35 * W / hypot(W, H) for the W x H photo as shown (the "
+                "36 x 24 mm frame's diagonal, 43.27 mm, seeing what the photo's does); 'lenslab info PHOTO' prints it")
+
+
 def run(args: argparse.Namespace) -> int:
     if args.lensfun is not None or args.lensfun_db or args.lensfun_db_only:
         if args.lensfun is None:
@@ -101,6 +108,9 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.lenses.registry import lens_class
 
     names = [n.strip().lower() for n in args.models] or sorted(REGISTRY)
+    if len(names) == 1 and names[0] in ("exif", "lensfun:auto", "auto"):  # no model: specs of a photo's own lens
+        print(f"{names[0]}: {PHOTO_LENS}" + (f"\n  {EXIF_FORMULA}" if names[0] == "exif" else ""))
+        return 0
     classes = [lens_class(n) for n in names]  # unknown names raise, listing the valid ones
     if args.json:
         print(json.dumps([_describe(c) for c in classes], indent=2, default=str))
@@ -124,6 +134,5 @@ def run(args: argparse.Namespace) -> int:
     if not args.models:
         print("\nSpec syntax: name:key=value,...  e.g. fisheye:fov=180,mapping=equisolid; "
               "'lenslab lenses MODEL' shows the equations.")
-        print("A photo's own lens: --from exif (the pinhole of its EXIF 35 mm equivalent focal length; "
-              "exif:photo=PHOTO elsewhere), --from lensfun:auto (the lensfun profile its metadata names).")
+        print(PHOTO_LENS)
     return 0

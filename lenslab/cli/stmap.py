@@ -30,8 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "exif:photo=PHOTO: the pinhole of a photo's EXIF 35 mm equivalent focal length, "
                              "as 'lenslab warp PHOTO --from exif' takes it")
     parser.add_argument("--to", required=True, metavar="SPEC", help="lens of the output, e.g. perspective:fov=90")
-    parser.add_argument("--size", required=True, metavar="WxH", type=image_size,
-                        help="output (and map) size in pixels")
+    parser.add_argument("--size", metavar="WxH", type=image_size,
+                        help="output (and map) size in pixels (default, with --to IMAGE that records its camera: "
+                             "the size it was rendered at; else needed)")
     parser.add_argument("--source-size", metavar="WxH", type=image_size,
                         help="size of the source footage (default: the photo's as shown for exif:photo=PHOTO, "
                              "else --size)")
@@ -45,8 +46,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from tqdm import tqdm
-
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output
     from lenslab.lenses import Camera, Pose, make_lens
@@ -56,23 +55,35 @@ def run(args: argparse.Namespace) -> int:
     if out.suffix.lower() != ".exr":
         raise UsageError(f"{out}: an ST map is written as a float EXR; name it .exr")
     check_output(out, [], args.overwrite)
-    size = args.size
-    src_size = args.source_size or photo_size(args.source) or size
-    src = Camera.from_spec(args.source, src_size)
     from lenslab.jobs.warp_cameras import check_view_pose, given_pose
 
     view = check_view_pose(args.to, given_pose(args))
+    size = args.size or (tuple(view.size) if view is not None else None)  # --to render.exr: its own size
+    if size is None:
+        raise UsageError("give the map's size: --size WxH (only --to IMAGE, an image that records its camera, has "
+                         "its own)")
+    src_size = args.source_size or photo_size(args.source) or size
+    src = Camera.from_spec(args.source, src_size)
     dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else  # --to IMAGE: its view
                  Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0))
     from lenslab.jobs.warp_cameras import note_size
 
     note_size(dst.lens)  # a cube map at a size off its layout: one note
-    show = not args.quiet and sys.stderr.isatty()
-    with tqdm(total=size[1], unit="row", disable=not show, file=sys.stderr, leave=False) as bar:
-        st = st_map(src, dst, progress=bar.update)
-    write_st_map(out, st, overwrite=args.overwrite,
-                 attributes={"lenslab:stmap": f"from {src.lens.spec()} {src_size[0]}x{src_size[1]} "
-                                               f"to {dst.lens.spec()} {size[0]}x{size[1]}"})
+    from lenslab.jobs.progress import RowBar
+
+    bar = RowBar(out.name) if not args.quiet and sys.stderr.isatty() else None
+    try:
+        if bar is not None:
+            bar.start(size[1])
+        st = st_map(src, dst, progress=bar)
+        if bar is not None:  # the full bar names the writing, should it outlast the patience
+            bar.status(f"writing {out.name}")
+        write_st_map(out, st, overwrite=args.overwrite,
+                     attributes={"lenslab:stmap": f"from {src.lens.spec()} {src_size[0]}x{src_size[1]} "
+                                                   f"to {dst.lens.spec()} {size[0]}x{size[1]}"})
+    finally:
+        if bar is not None:
+            bar.close()
     if not args.quiet:
         seen = float(st[..., 3].mean())
         print(f"wrote {out}: {size[0]}x{size[1]} ST map, {100 * seen:.1f}% of pixels see the source",

@@ -157,9 +157,26 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"-o {args.output}: the name says {named} but the output format asked is {args.format}; "
                          f"give a name with the format's extension, or leave {typed} out")
     from lenslab.jobs.funnel import working_on
+    from lenslab.jobs.progress import RowBar
 
-    with working_on(args.input):
-        image, meta = io.read(args.input)
+    # each step that outlasts the patience is named on a terminal: reading, then tone-mapping and writing
+    steps = RowBar(Path(args.input).name) if not args.quiet and sys.stderr.isatty() else None
+    try:
+        with working_on(args.input):
+            image, meta = io.read(args.input)
+        return _develop(args, image, meta, curve, params, exposure, display, steps)
+    finally:
+        if steps is not None:
+            steps.close()
+
+
+def _develop(args, image, meta, curve, params, exposure, display, steps) -> int:
+    """The single image's tone mapping and writing, ``steps`` (a :class:`~lenslab.jobs.progress.RowBar` or None)
+    told each step."""
+    from lenslab.jobs.primaries import applied_primaries
+
+    if steps is not None:  # (the exposure measured, the curve applied, the file encoded: one step to the user)
+        steps.status(f"tone-mapping and writing {Path(args.output).name}")
     from lenslab.jobs.tonemap import TonemapJob
 
     with repairs_reported("lenslab tonemap", args.input):  # a file read onto Rec.709: sRGB's weights, said

@@ -4,7 +4,9 @@ Reading: the first image of the file (``meta["attributes"]["pages"]`` counts the
 Float samples (32-bit, 16-bit half, 64-bit) are linear light; 8- and 16-bit unsigned integer samples
 are sRGB-encoded like PNG's and decoded to linear (``raw=True`` gives code / maxval), with alpha
 (an extra sample) kept linear. Alpha tagged associated (ExtraSamples 1) is read as it is; tagged
-unassociated (2) or unspecified (0), its colour is straight and is premultiplied after decoding.
+unassociated (2), its colour is straight and is premultiplied after decoding; an extra sample of unspecified
+data (0: tifffile's default for grey plus one, a coordinate pair, a depth) is no alpha and every value is read as
+stored, as OpenImageIO reads it.
 Photometric interpretations other than grey (min-is-black) and RGB
 (palette, YCbCr, CMYK, min-is-white) are refused with a FormatError.
 
@@ -27,8 +29,9 @@ from lenslab.errors import FormatError, cause, clip
 from lenslab.inputs.limits import check_size
 from lenslab.io.alpha import premultiply
 
-#: TIFF ExtraSamples: 1 associated alpha (premultiplied colour), 2 unassociated (straight colour)
+#: TIFF ExtraSamples: 1 associated alpha (premultiplied colour), 2 unassociated (straight colour); 0 is unspecified data
 ASSOCIATED = 1
+UNASSOCIATED = 2
 SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "uint8": np.uint8}
 COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}
 
@@ -123,8 +126,9 @@ def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     else:
         raise FormatError(f"{path}: TIFF with {data.dtype} samples is not supported; lenslab reads float "
                           "(16, 32, 64-bit) and unsigned 8- and 16-bit samples")
-    if c in (2, 4) and not raw and attrs["extrasamples"][:1] != [ASSOCIATED]:
-        premultiply(image)  # unassociated (or unspecified) alpha: straight colour in the file
+    if c in (2, 4) and not raw and attrs["extrasamples"][:1] == [UNASSOCIATED]:
+        premultiply(image)  # unassociated alpha: straight colour in the file. Unspecified data (0) is no alpha to
+        # premultiply by (a second coordinate, a depth): its values as stored, as OpenImageIO reads them
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[c]
     meta = {"format": "tiff", "bit_depth": bits, "sample_type": sample, "channels": names,
             "display_encoded": encoded, "attributes": attrs}

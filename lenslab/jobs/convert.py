@@ -78,6 +78,8 @@ class ConvertJob(Job):
 
         same = fmt.name == "exr" and sniff(src_file) == "exr"  # EXR to EXR: the data window stays as stored
         image, meta = read(src, data_window=self.data_window or same, extra_channels=keeps_extra)
+        if hasattr(progress, "status"):  # the steps after the reading, named should one outlast the patience
+            progress.status("converting")
         from lenslab.jobs.stages import check_data_channels
 
         check_data_channels(src, meta, image.shape[-1] if image.ndim == 3 else 1, fmt)
@@ -91,8 +93,12 @@ class ConvertJob(Job):
         codes = map_codes(fmt, meta, self.bits)
         if "lenslab:stmap" in (meta.get("attributes") or {}):  # coordinates, not colours: no look applies
             refuse_look_of_map(src, self, codes is not None)
+        notes = map_notes(fmt, meta, image, codes)  # an ST map's precision and validity lost: one note
+        if notes:
+            import warnings
+
+            warnings.warn("; ".join(notes), UserWarning, stacklevel=2)
         if codes is not None:  # an ST map holds coordinates, not colours: written as raw codes
-            note_map_bits(fmt, meta, codes)
             image, write_opts = check_image(image, src), codes
         else:
             image, write_opts = self.develop(check_image(image, src), meta, in_place=True)
@@ -116,6 +122,10 @@ class ConvertJob(Job):
             from lenslab.io.exr.extra import warn_dropped
 
             warn_dropped(src, meta.get("extra_channels") or [], fmt.title)
+        if hasattr(progress, "status"):
+            from pathlib import Path
+
+            progress.status(f"writing {Path(dst).name}")  # (encoding a large PNG takes seconds)
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
 
 
@@ -178,23 +188,32 @@ def refuse_look_of_map(src: str, job: ConvertJob, codes: bool = True) -> None:
                          f"{how}, never tone-mapped or display-encoded; drop {', '.join(given)}")
 
 
-def note_map_bits(fmt, meta: dict, codes: dict) -> None:
-    """A note where an ST map is written as 8-bit codes (JPG, or ``--bits 8``): each source position is then kept
-    only to 1/255 of the source's size (the width the map's ``lenslab:stmap`` header records), a JPG's lossy coding
-    moving it further."""
-    import warnings
+def map_notes(fmt, meta: dict, image, codes: dict | None) -> list[str]:
+    """What an ST map (an EXR whose header holds ``lenslab:stmap``) loses in format ``fmt``, said in one note: written
+    as 8-bit codes (``codes``: JPG, or ``--bits 8``), each source position kept only to 1/255 of the source's size
+    (the width the header records), a JPG's lossy coding moving it further; in a format without alpha (PPM, PFM,
+    Radiance HDR, JPG), its A (which pixels see the source), each pixel that sees nothing (s = t = 0 there) then read
+    as the source's bottom-left corner, as a map without A is (:func:`lenslab.stmap.read_st_map`)."""
+    if "lenslab:stmap" not in (meta.get("attributes") or {}):
+        return []
+    notes = []
+    if codes is not None and (codes.get("bits") == 8 or codes.get("sample_type") == "uint8"
+                              or 16 not in fmt.bit_depths):
+        from lenslab.stmap_frame import recorded_source
 
-    from lenslab.stmap_frame import recorded_source
-
-    if codes.get("bits", 16) != 8 and codes.get("sample_type") != "uint8" and 16 in fmt.bit_depths:
-        return
-    found = (recorded_source(meta) or (None, None))[1]
-    pixels = f"{found[0] / 255:.2g}" if found else ""
-    step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
-    lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""
-    warnings.warn(f"an ST map at 8 bits places each source position only to 1/255 of the source's size{step}"
-                  f"{lossy}; PNG, PPM or TIFF at 16 bits keep 1/65535, EXR the values themselves", UserWarning,
-                  stacklevel=2)
+        found = (recorded_source(meta) or (None, None))[1]
+        pixels = f"{found[0] / 255:.2g}" if found else ""
+        step = f" ({pixels} pixel{'' if pixels == '1' else 's'} of its {found[0]}-pixel width)" if found else ""
+        lossy = ", and JPG's lossy coding moves them further" if fmt.name == "jpg" else ""
+        notes.append(f"an ST map at 8 bits places each source position only to 1/255 of the source's size{step}"
+                     f"{lossy}; PNG or TIFF at 16 bits keep 1/65535, EXR the values themselves")
+    blind = int((image[..., 3] <= 0.5).sum()) if image.ndim == 3 and image.shape[2] == 4 and not fmt.alpha else 0
+    if blind:
+        total = image.shape[0] * image.shape[1]
+        notes.append(f"{fmt.title} keeps no alpha: the ST map's A channel (which pixels see the source) is dropped, "
+                     f"and its {blind} of {total} pixels that see nothing ({100 * blind / total:.3g}%) would read the "
+                     "source's bottom-left corner when the map is applied; PNG, TIFF or EXR keep A")
+    return notes
 
 
 def kept_bits(fmt, meta: dict) -> int | None:

@@ -29,7 +29,20 @@ def frame_output(dst, index: int, src, overwrite: bool) -> Path:
     frame file is replaced only with ``overwrite``, and the error names that file alone."""
     from lenslab.jobs.policy import check_output
 
-    return check_output(frame_path(dst, index), [src], overwrite)
+    path = frame_path(dst, index)
+    if not FRAME_NUMBER.search(Path(dst).name):  # a name made of the clip's or -o's, longer by the frame number
+        from lenslab.atomic import name_too_long
+
+        why = name_too_long(path)
+        if why:
+            from lenslab.errors import OutputError
+
+            numbered = Path(dst).parent / f"%06d{Path(dst).suffix}"
+            exc = OutputError(f"{why.rsplit('; ', 1)[0]} (a frame is named NAME.NUMBER{Path(dst).suffix}); name the "
+                              f"frames by their number alone: -o '{numbered}'")
+            exc.lenslab_file = why.partition(": ")[0]
+            raise exc
+    return check_output(path, [src], overwrite)
 
 
 def names_output(line: str, dst) -> bool:

@@ -1,6 +1,6 @@
 """A progress bar over one image's work (the bands of a warp, the rows of an ST map) that has its total from the
 moment it appears, shown only once the work has lasted longer than a second, and says what the command is doing
-when a step takes longer than that (reading a large file, making the map)."""
+when a step takes longer than that (reading a large file, making the map, writing the output once the bar is full)."""
 
 from __future__ import annotations
 
@@ -44,7 +44,7 @@ class RowBar:
                 return
             if self.bar is None:
                 print(f"{self.desc}: {self.step}...", file=self.stream, flush=True)
-            elif self.bar.n == 0:
+            elif self.bar.n == 0 or self.bar.n >= self.bar.total:  # before the work, or after it (the writing)
                 self.bar.set_postfix_str(self.step, refresh=True)
 
     def status(self, step: str) -> None:

@@ -60,6 +60,12 @@ class TonemapJob(Job):
         from lenslab.jobs.stages import check_data_channels, develop, encode_options
 
         where = source or meta.get("path", "the image")
+        if "lenslab:stmap" in (meta.get("attributes") or {}):
+            from lenslab.errors import InputError
+
+            raise InputError(f"{where}: is an ST map (its header's lenslab:stmap mark): its values are source "
+                             "positions, never tone-mapped; apply it with 'lenslab warp IMAGE --stmap MAP', or write "
+                             "it as codes with 'lenslab convert MAP -o map.png'")
         check_data_channels(where, meta, image.shape[-1] if image.ndim == 3 else 1)
         fmt = get(format_for_path(dst, None))
         from lenslab.io.exr.extra import warn_dropped

@@ -163,6 +163,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         note_softening(job, plan)
     source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
+    if hasattr(progress, "status"):  # the full bar names the writing, should it outlast the patience
+        progress.status(f"writing {dst_path.name}")
     from lenslab.jobs.warp_output import write_warped
 
     warped = list(warped)  # handed over: no array of the output's size kept here while it is written

@@ -33,7 +33,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
             from lenslab.lenses.lensfun.match import auto_spec
 
             spec = auto_spec(spec, meta.get("path", ""))  # the lens the photo's metadata names
-            print(f"lenslab: source lens from the file's metadata: {spec}", file=sys.stderr)
+            _note(f"source lens from the file's metadata: {spec}")
         elif is_auto(spec):  # auto: the camera the file records
             spec = None
         elif is_exif(spec) and exif_photo(spec) is None:  # exif: the pinhole of this photo's focal length
@@ -42,7 +42,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
             view = exif_view(meta.get("path", ""), (w, h), stored_size(meta.get("path", ""), (w, h)))
             spec = view.spec
-            print(f"lenslab: source lens from the file's EXIF: {view.describe()}", file=sys.stderr)
+            _note(f"source lens from the file's EXIF: {view.describe()}")
     if spec:
         return Camera.from_spec(spec, (w, h))
     cam = meta.get("camera")
@@ -54,6 +54,14 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
         return Camera.from_spec("equirect", (w, h))
     raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
                     f"camera; say what it is with --from SPEC (e.g. {exif_hint(meta, (w, h))})")
+
+
+def _note(text: str) -> None:
+    """A note of the file being warped: the command prints it led by that file's name, once per file, in a batch too
+    (``lenslab warp: note: IMG_1.jpg: ...``)."""
+    import warnings
+
+    warnings.warn(text, UserWarning, stacklevel=3)
 
 
 def exif_hint(meta: dict, size: tuple[int, int]) -> str:

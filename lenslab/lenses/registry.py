@@ -149,12 +149,27 @@ def lens_class(name: str, spec: str | None = None) -> type:
     if name not in REGISTRY:
         from difflib import get_close_matches
 
-        close = get_close_matches(name, list(REGISTRY), 1, 0.75)  # (the cut-off of the option hints)
+        close = get_close_matches(name, list(REGISTRY), 1, 0.75) or _named_otherwise(name)  # (option hints' cut-off)
         meant = f" (did you mean {close[0]}?)" if close else ""
         word = spec.strip() if isinstance(spec, str) and ":" not in spec else None
         what = f"no lens model and no file named {word!r}" if word else f"unknown lens model {name!r}"
         raise LensError(f"{what}{meant}; valid models: {', '.join(sorted(REGISTRY))}")
     return REGISTRY[name]
+
+
+def _named_otherwise(name: str) -> list[str]:
+    """The spec a name that is no model may mean, where no model's name is close to it: a model's parameter that takes
+    it as a value (``stereographic``: ``fisheye:mapping=stereographic``, the model of the shortest name first), else a
+    model whose name begins it or that it begins (``equirectangular``: ``equirect``); [] if none."""
+    key = name.strip().lower().replace("_", "-")
+    if len(key) < 4:
+        return []
+    for model in sorted(REGISTRY, key=lambda m: (len(m), m)):
+        for p in getattr(REGISTRY[model], "params", ()):
+            if p.choices and key in p.choices:
+                return [f"{model}:{p.name}={key}"]
+    begun = sorted((m for m in REGISTRY if len(m) >= 4 and (key.startswith(m) or m.startswith(key))), key=len)
+    return begun[-1:]
 
 
 def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, **overrides: Any) -> "Lens":
@@ -211,4 +226,12 @@ def make_lens(spec: str | dict[str, Any], size: tuple[int, int] | None = None, *
         size = getattr(cls, "default_size", None)
         if size is None:
             raise LensError(f"lens {name}: an image size (width, height) is needed")
-    return cls.from_values(size[0], size[1], values) if hasattr(cls, "from_values") else cls(size[0], size[1], **values)
+    if hasattr(cls, "from_values"):
+        return cls.from_values(size[0], size[1], values)
+    # the image's size, which only a calibrated model's spec holds (as its parameters)
+    sized = sorted({"width", "height"} & set(values) - {p.name for p in cls.params})
+    if sized:
+        known = ", ".join(p.name for p in cls.params) or "none"
+        raise LensError(f"{cls.name}: unknown parameter(s) {', '.join(sized)}; valid: {known} (the image's size is "
+                        "given apart: --size WxH)")
+    return cls(size[0], size[1], **values)

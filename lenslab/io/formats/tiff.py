@@ -23,15 +23,24 @@ def _declare(path, **options):
     return declare_tiff(path, **options)
 
 
+#: pages a probe describes (a stack of thousands is counted, its first pages described)
+PAGES_LISTED = 16
+
+
 def _probe(path) -> dict:
-    """Every page: shape, axes, dtype, compression, photometric, planar configuration, extra samples."""
+    """The first :data:`PAGES_LISTED` pages: shape, axes, dtype, compression, photometric, planar configuration,
+    extra samples; and how many pages the file holds (``page_count``)."""
+    import itertools
+
     import tifffile
 
     with tifffile.TiffFile(path) as tif:
         return {"pages": [{"shape": list(page.shape), "axes": page.axes, "dtype": str(page.dtype),
                            "compression": page.compression.name.lower(), "photometric": page.photometric.name.lower(),
                            "planar": "separate" if int(page.planarconfig) == 2 else "contig",
-                           "extrasamples": [int(v) for v in page.extrasamples]} for page in tif.pages]}
+                           "extrasamples": [int(v) for v in page.extrasamples]}
+                          for page in itertools.islice(tif.pages, PAGES_LISTED)],
+                "page_count": len(tif.pages)}
 
 
 FORMATS = (Format(

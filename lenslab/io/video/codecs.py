@@ -82,7 +82,8 @@ def open_encoder(container, stream) -> None:
         # refused here, not by opening it: x265 would print its own lines on standard error first
         refuse(f"its {need[0]} chroma needs {need[1]}")
     if cc.name == "libx265" and min(cc.width, cc.height) < X265_MIN_SIDE:
-        refuse(f"x265 encodes frames of at least {X265_MIN_SIDE} x {X265_MIN_SIDE}")
+        refuse(f"x265 encodes frames of at least {X265_MIN_SIDE} x {X265_MIN_SIDE}; give another codec (--codec h264) "
+               f"or, for a warp, a larger --size (at least {X265_MIN_SIDE}x{X265_MIN_SIDE})")
     try:
         cc.open(strict=False)  # what the first encode would do, with the same options
     except av.error.FFmpegError as exc:

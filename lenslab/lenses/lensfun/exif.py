@@ -226,8 +226,12 @@ def _fill(info: PhotoLens, got: dict, source: str) -> None:
 def photo_lens(path) -> PhotoLens:
     """The camera and lens ``path``'s metadata records (fields not recorded stay None)."""
     path = Path(path)
-    if not path.is_file():
-        raise LensError(f"{path}: no such file to read the lens from")
+    if not path.is_file():  # a missing input, as a missing image is (exit 1), not a mistyped spec
+        import errno
+        import os
+
+        code = errno.EISDIR if path.is_dir() else errno.ENOENT
+        raise (IsADirectoryError if path.is_dir() else FileNotFoundError)(code, os.strerror(code), str(path))
     info = PhotoLens(str(path))
     with open(path, "rb") as f:
         magic = f.read(4)
