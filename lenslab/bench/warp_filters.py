@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 
 
-def _cpu_best(cases, repeat: int) -> dict[str, float]:
+def cpu_best(cases, repeat: int) -> dict[str, float]:
     """Least CPU time in seconds of each ``(label, fn)``, every round timing each case once."""
     best = {label: float("inf") for label, _ in cases}
     for _ in range(max(1, repeat)):
@@ -50,7 +50,7 @@ def filter_speed(args, source) -> None:
         cases.append((f"one-shot {name}", lambda n=name: warp(img, src, dst, filter=n)))
     warp(img[:64, :128], Camera.from_spec("equirect", (128, 64)), Camera.from_spec(args.dst, (64, 64)),
          filter="lanczos")  # first call outside the timings
-    best = _cpu_best(cases, min(args.repeat, 5))
+    best = cpu_best(cases, min(args.repeat, 5))
     print(f"filters: 4096x2048 float RGB equirect -> 1024x1024 {args.dst}, one thread, CPU time, best of "
           f"{min(args.repeat, 5)}; cv2.remap with float32 maps computed beforehand, lenslab one-shot (map included)")
     for name, _, flag_name in pairs:

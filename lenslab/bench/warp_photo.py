@@ -20,7 +20,7 @@ def photo_speed(args, source) -> None:
     import numpy as np
 
     from lenslab.bench.results import figure, mark
-    from lenslab.bench.warp_filters import _cpu_best
+    from lenslab.bench.warp_filters import cpu_best
     from lenslab.lenses import Camera
     from lenslab.warp import exact_map, warp
     from lenslab.warp.kernels.dispatch import default_threads, set_threads
@@ -37,7 +37,7 @@ def photo_speed(args, source) -> None:
     try:
         cases = [("cv2.remap", lambda: cv2.remap(img, mx, my, cv2.INTER_LINEAR)),
                  ("one-shot bilinear (map included)", lambda: warp(img, src, dst))]
-        best = _cpu_best(cases, args.repeat)
+        best = cpu_best(cases, args.repeat)
     finally:
         cv2.setNumThreads(default_threads())
         set_threads(default_threads())

@@ -84,6 +84,7 @@ void fisheye_loop(const double* xy, int64_t n, const double* p, double* d, bool*
             k = std::sqrt(at_least0(1.0 - qq));
             dz = qq * -2.0;
             dz += 1.0;
+            dz = dz < -1.0 ? -1.0 : dz;  // s^2/4 a rounding past 1 at the back pole: still unit
         } else if constexpr (KIND == STEREOGRAPHIC) {
             const double q2 = 0.25 * q.s2;
             k = 1.0 / (1.0 + q2);

@@ -102,6 +102,20 @@ def test_rim_of_a_360_degree_fisheye_is_the_back_pole_and_fov_near_0_stays_on_th
     np.testing.assert_allclose(d, [[math.sin(half), 0.0, math.cos(half)], [0.0, 0.0, 1.0]], rtol=0, atol=ULPS)
 
 
+def test_the_rim_of_a_360_degree_equisolid_fisheye_is_the_unit_back_pole_whatever_its_rounding():
+    # 1 x 9: the plane scale's square rounds s^2 / 4 to 1 + 2 ulps at the rim, where 1 - s^2 / 2 fell below -1
+    # (a direction of length 1 + 1.8e-15); the back pole is (0, 0, -1) exactly, in NumPy and in the kernel
+    lens = make_lens("fisheye:fov=360,mapping=equisolid", (1, 9))
+    xy = np.array([[0.5, 5.0], [0.5, 4.0], [0.5, 4.5]])
+    d, ok = lens.pixel_to_dir(xy)
+    want, want_ok = _numpy_steps(lens, xy)
+    assert ok.all() and want_ok.all()
+    np.testing.assert_array_equal(np.abs(d[:2]), [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_array_equal(d[:2, 2], [-1.0, -1.0])
+    np.testing.assert_array_equal(d, want)
+    np.testing.assert_array_equal(d[2], [0.0, 0.0, 1.0])  # the centre: the axis
+
+
 def test_equidistant_matches_opencv_fisheye_undistort_points():
     cv2 = pytest.importorskip("cv2")
     w = h = 1024

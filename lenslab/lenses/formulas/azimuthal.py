@@ -78,6 +78,7 @@ def plane_to_dir(kind: int, x, y, out=None):
             k = np.sqrt(np.maximum(1.0 - q, 0.0))
             np.multiply(q, -2.0, out=d[..., 2])
             d[..., 2] += 1.0
+            np.maximum(d[..., 2], -1.0, out=d[..., 2])  # s^2/4 a rounding past 1 at the back pole: still unit
         elif kind == STEREOGRAPHIC:  # q = s/2 = tan(theta/2): sin = 2q/(1+q^2), cos = (1-q^2)/(1+q^2)
             q2 = 0.25 * s2
             k = 1.0 / (1.0 + q2)
