@@ -44,7 +44,7 @@ class RowBar:
                 return
             if self.bar is None:
                 print(f"{self.desc}: {self.step}...", file=self.stream, flush=True)
-            elif self.bar.n == 0:
+            elif self.bar.n == 0 or self.bar.n >= self.bar.total:  # before the first band, or after the last (writing)
                 self.bar.set_postfix_str(self.step, refresh=True)
 
     def status(self, step: str) -> None:
