@@ -99,9 +99,10 @@ def h273_matrix(primaries: int, to_709: bool = True) -> np.ndarray | None:
     return m
 
 
-#: ITU-T H.273 matrix coefficients lenslab's Y'CbCr passes take (colour-science's ``WEIGHTS_YCBCR`` names): BT.709
-#: (also 2, unspecified, as swscale's default), BT.601 (5 BT.470BG, 6 SMPTE 170M), BT.2020 non-constant luminance
-H273_YCBCR = {1: "ITU-R BT.709", 2: "ITU-R BT.709", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
+#: ITU-T H.273 matrix coefficients lenslab's Y'CbCr passes take (colour-science's ``WEIGHTS_YCBCR`` names): BT.709,
+#: BT.601 (5 BT.470BG, 6 SMPTE 170M; also 2, unspecified: what FFmpeg codes an untagged clip made from RGB images
+#: with and decodes it with, swscale's ``SWS_CS_DEFAULT``), BT.2020 non-constant luminance
+H273_YCBCR = {1: "ITU-R BT.709", 2: "ITU-R BT.601", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
 
 
 @lru_cache(maxsize=8)
