@@ -33,7 +33,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
             from lenslab.lenses.lensfun.match import auto_spec
 
             spec = auto_spec(spec, meta.get("path", ""))  # the lens the photo's metadata names
-            print(f"lenslab: source lens from the file's metadata: {spec}", file=sys.stderr)
+            print(f"lenslab: {meta.get('path', '')}: source lens from the file's metadata: {spec}", file=sys.stderr)
         elif is_auto(spec):  # auto: the camera the file records
             spec = None
         elif is_exif(spec) and exif_photo(spec) is None:  # exif: the pinhole of this photo's focal length
@@ -42,7 +42,8 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
 
             view = exif_view(meta.get("path", ""), (w, h), stored_size(meta.get("path", ""), (w, h)))
             spec = view.spec
-            print(f"lenslab: source lens from the file's EXIF: {view.describe()}", file=sys.stderr)
+            print(f"lenslab: {meta.get('path', '')}: source lens from the file's EXIF: {view.describe()}",
+                  file=sys.stderr)
     if spec:
         return Camera.from_spec(spec, (w, h))
     cam = meta.get("camera")
