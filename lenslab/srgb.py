@@ -25,8 +25,10 @@ The standard's constants (:data:`KNEE` ...) are here too, for the ``gamma`` tone
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -46,14 +48,16 @@ _CACHE_VERSION = 2
 
 def eotf(code) -> np.ndarray:
     """sRGB code values -> linear light, float64 (colour-science's ``eotf_sRGB``)."""
-    import colour
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     return np.asarray(colour.models.eotf_sRGB(np.asarray(code, dtype=np.float64)), dtype=np.float64)
 
 
 def eotf_inverse(linear) -> np.ndarray:
     """Linear light -> sRGB code values, float64 (colour-science's ``eotf_inverse_sRGB``)."""
-    import colour
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     return np.asarray(colour.models.eotf_inverse_sRGB(np.asarray(linear, dtype=np.float64)), dtype=np.float64)
 
@@ -86,6 +90,25 @@ def cached_table(name: str, length: int, dtype, build, prefix: str = f"srgb-v{_C
     except OSError:
         pass  # a read-only home: the table is rebuilt next time
     return table
+
+
+@contextlib.contextmanager
+def matplotlib_quiet():
+    """Within the block, matplotlib's warnings are not printed (only its errors): where the cache folder cannot be
+    made, colour-science's import of matplotlib would print two lines of its own on each command (a folder it could
+    not make, and the temporary one it used instead). The logger's level is put back after the block."""
+    if "matplotlib" in sys.modules:  # (imported already: nothing more it says on import)
+        yield
+        return
+    import logging
+
+    log = logging.getLogger("matplotlib")
+    level = log.level
+    log.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
 
 
 @functools.lru_cache(maxsize=8)

@@ -178,6 +178,20 @@ def _structure_lines(d: dict) -> list[str]:
     return lines
 
 
+def _frames(stream: dict, duration: float | None) -> str:
+    """A video stream's frame count as its header gives it, or (a container that counts none, Matroska's) the count
+    its duration and rate make, said as such."""
+    from fractions import Fraction
+
+    if stream["frames"]:
+        return f"{stream['frames']} frames"
+    try:
+        return f"about {round(duration * Fraction(stream['frame_rate']))} frames (from its duration; the container " \
+               "does not count them)"
+    except (TypeError, ValueError, ZeroDivisionError):  # no duration or no rate: nothing to count from
+        return "frames not counted by the container"
+
+
 def _video_text(d: dict) -> str:
     v = d["video"]
     dur = f", {v['duration_s']:.3f} s" if v["duration_s"] is not None else ""
@@ -185,7 +199,7 @@ def _video_text(d: dict) -> str:
     for s in v["streams"]:
         if s["kind"] == "video":
             lines.append(f"  stream {s['index']}: video {s['codec']} {s['width']} x {s['height']} {s['pixel_format']}, "
-                         f"{s['frame_rate']} fps, {s['frames']} frames, primaries {s['colour_primaries']}, "
+                         f"{s['frame_rate']} fps, {_frames(s, v['duration_s'])}, primaries {s['colour_primaries']}, "
                          f"transfer {s['transfer']}, matrix {s['matrix']}, range {s['range']}")
         elif s["kind"] == "audio":
             lines.append(f"  stream {s['index']}: audio {s['codec']} {s['sample_rate']} Hz, {s['channels']} channel(s)")

@@ -46,7 +46,10 @@ def srgb_encode(x: np.ndarray) -> np.ndarray:
 
 def lab(rgb_linear: np.ndarray) -> np.ndarray:
     """CIE Lab (D65) of linear sRGB values (..., 3)."""
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     cs = colour.RGB_COLOURSPACES["sRGB"]
     rgb = np.clip(np.asarray(rgb_linear, dtype=np.float64), 0.0, None)
@@ -55,7 +58,10 @@ def lab(rgb_linear: np.ndarray) -> np.ndarray:
 
 def ciede2000(a_linear: np.ndarray, b_linear: np.ndarray) -> np.ndarray:
     """Per-pixel CIEDE2000 between two linear sRGB images (..., 3)."""
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     return np.asarray(colour.delta_E(lab(a_linear), lab(b_linear), method="CIE 2000"), dtype=np.float64)
 

@@ -168,6 +168,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.jobs.warp_output import write_warped
 
     warped = list(warped)  # handed over: no array of the output's size kept here while it is written
+    if hasattr(progress, "status"):  # a large output takes longer to write than to warp: the full bar says so
+        progress.status(f"writing {Path(dst_path).name}")
     write_warped(dst_path, warped.pop(0), warped.pop(0), meta, fmt, job, dst, source_alpha, given_up=True)
 
 

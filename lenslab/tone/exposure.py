@@ -41,7 +41,10 @@ def _luminance_row(xy: np.ndarray) -> np.ndarray:
 def _weights_by_name(name: str) -> tuple[float, float, float]:
     if name in _KNOWN_WEIGHTS:  # no colour-science import (a second) for the common case
         return _KNOWN_WEIGHTS[name]
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     if name not in colour.RGB_COLOURSPACES:
         close = [n for n in colour.RGB_COLOURSPACES if name.lower() in n.lower()][:8]

@@ -82,9 +82,10 @@ def test_the_compiled_ycbcr_passes_get_colour_sciences_matrices(fresh):
     enc = ycbcr._encode_args(info, "yuv420p10le", False)
     np.testing.assert_array_equal(dec[5], colour.matrix_RGB_to_RGB(SPACES["ITU-R BT.2020"], SPACES["ITU-R BT.709"], None))
     np.testing.assert_array_equal(enc[3], colour.matrix_RGB_to_RGB(SPACES["ITU-R BT.709"], SPACES["ITU-R BT.2020"], None))
-    # the Y'CbCr matrices: colour-science's for BT.709 (1, 2), BT.601 (5, 6) and BT.2020 (9), from its weights
+    # the Y'CbCr matrices: colour-science's for BT.709 (1), BT.601 (5, 6; and 2, unspecified, as FFmpeg decodes it)
+    # and BT.2020 (9), from its weights
     primaries.ycbcr_weights.cache_clear()
-    for tag, name in ((1, "ITU-R BT.709"), (2, "ITU-R BT.709"), (5, "ITU-R BT.601"), (6, "ITU-R BT.601"),
+    for tag, name in ((1, "ITU-R BT.709"), (2, "ITU-R BT.601"), (5, "ITU-R BT.601"), (6, "ITU-R BT.601"),
                       (9, "ITU-R BT.2020")):
         assert primaries.ycbcr_weights(tag) == tuple(colour.WEIGHTS_YCBCR[name])
         to_rgb = colour.matrix_YCbCr(K=colour.WEIGHTS_YCBCR[name], bits=1, is_legal=False, is_int=False)

@@ -10,7 +10,9 @@ from __future__ import annotations
 import colour
 import numpy as np
 
-WEIGHTS = {1: "ITU-R BT.709", 2: "ITU-R BT.709", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
+#: H.273 matrix tags: 2 (unspecified) is BT.601, as FFmpeg codes and decodes an untagged clip (swscale's default;
+#: tests/io/test_video_untagged_matrix.py holds lenslab to the ffmpeg command's own decode)
+WEIGHTS = {1: "ITU-R BT.709", 2: "ITU-R BT.601", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
 LAYOUTS = {"yuv420p": (8, 1, 1), "yuv422p": (8, 1, 0), "yuv444p": (8, 0, 0), "yuv420p10le": (10, 1, 1),
            "yuv422p10le": (10, 1, 0), "yuv444p10le": (10, 0, 0)}
 

@@ -160,7 +160,10 @@ def _to_rec709(pcs: np.ndarray, chad: np.ndarray, where: str) -> np.ndarray:
 
 
 def _bradford_to_d50(white) -> np.ndarray:
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     if white is None:
         return np.eye(3)

@@ -37,7 +37,10 @@ def _mluc(text: str) -> bytes:
 
 
 def _tags(name: str) -> list[tuple[bytes, bytes]]:
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     space = colour.RGB_COLOURSPACES[SPACES[name]]
     white = colour.xy_to_XYZ(space.whitepoint)

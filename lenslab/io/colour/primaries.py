@@ -25,7 +25,10 @@ def matrix_between(source, target=REC709, adaptation: str | None = None) -> np.n
     """float64 3 x 3 from linear RGB in ``source`` to linear RGB in ``target`` (colour-science colourspace names
     or ``RGB_Colourspace`` objects): ``colour.matrix_RGB_to_RGB``, without chromatic adaptation unless
     ``adaptation`` names colour-science's transform (``"Bradford"``)."""
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     spaces = colour.RGB_COLOURSPACES
     source = spaces[source] if isinstance(source, str) else source
@@ -46,7 +49,10 @@ def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) ->
     c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)[:8]
 
     def build():
-        import colour
+        from lenslab.srgb import matplotlib_quiet
+
+        with matplotlib_quiet():  # (colour-science imports matplotlib)
+            import colour
 
         space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
                                        use_derived_matrix_XYZ_to_RGB=True)
@@ -99,9 +105,10 @@ def h273_matrix(primaries: int, to_709: bool = True) -> np.ndarray | None:
     return m
 
 
-#: ITU-T H.273 matrix coefficients lenslab's Y'CbCr passes take (colour-science's ``WEIGHTS_YCBCR`` names): BT.709
-#: (also 2, unspecified, as swscale's default), BT.601 (5 BT.470BG, 6 SMPTE 170M), BT.2020 non-constant luminance
-H273_YCBCR = {1: "ITU-R BT.709", 2: "ITU-R BT.709", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
+#: ITU-T H.273 matrix coefficients lenslab's Y'CbCr passes take (colour-science's ``WEIGHTS_YCBCR`` names): BT.709,
+#: BT.601 (5 BT.470BG, 6 SMPTE 170M; also 2, unspecified: what FFmpeg codes an untagged clip made from RGB images
+#: with and decodes it with, swscale's ``SWS_CS_DEFAULT``), BT.2020 non-constant luminance
+H273_YCBCR = {1: "ITU-R BT.709", 2: "ITU-R BT.601", 5: "ITU-R BT.601", 6: "ITU-R BT.601", 9: "ITU-R BT.2020"}
 
 
 @lru_cache(maxsize=8)
@@ -113,7 +120,10 @@ def ycbcr_weights(matrix: int) -> tuple[float, float]:
     name = H273_YCBCR[int(matrix)]
 
     def build():
-        import colour
+        from lenslab.srgb import matplotlib_quiet
+
+        with matplotlib_quiet():  # (colour-science imports matplotlib)
+            import colour
 
         return np.asarray(colour.WEIGHTS_YCBCR[name], dtype=np.float64)
 

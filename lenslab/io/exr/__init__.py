@@ -372,7 +372,10 @@ def write_exr(tmp: Path, image: np.ndarray, pixel_type: str | list[str] = "half"
     elif "".join(channels) in ("RGB", "RGBA"):  # one interleaved array: the bindings split it without a copy
         chans = {"".join(channels): np.ascontiguousarray(data)}
     else:  # the bindings need each channel contiguous (they write strided arrays wrongly)
-        chans = {name: np.ascontiguousarray(data[..., i]) for i, name in enumerate(channels)}
+        from lenslab.io.exr.planes import planes_after
+
+        chans = dict(zip(channels, planes_after(data, image) if in_place else
+                         (np.ascontiguousarray(data[..., i]) for i in range(c))))
     for name, plane in (extra or {}).items():
         if name in channels or name in chans:
             continue  # a channel of the image itself

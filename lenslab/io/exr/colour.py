@@ -31,7 +31,10 @@ def upsample(a: np.ndarray, xs: int, ys: int, w: int, h: int, x0: int, y0: int) 
 
 def primary_matrix(chromaticities) -> np.ndarray:
     """RGB -> XYZ matrix of the primaries and white point (x, y pairs; Y of white = 1)."""
-    import colour
+    from lenslab.srgb import matplotlib_quiet
+
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
 
     c = np.asarray(chromaticities, dtype=np.float64)
     return colour.normalised_primary_matrix(c[:6].reshape(3, 2), c[6:8])

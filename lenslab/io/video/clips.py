@@ -42,7 +42,7 @@ from lenslab.io.video.colour import (REFERENCE_WHITE, BT2020, decode_table, is_w
 
 # FFmpeg's enum values (libavutil/pixfmt.h)
 _TRC = {1: "bt1886", 6: "bt1886", 14: "bt1886", 15: "bt1886", 2: "bt1886", 13: "srgb", 16: "pq", 18: "hlg"}
-_SWS = {1: "itu709", 5: "itu601", 6: "smpte170m", 9: "bt2020", 10: "bt2020"}
+_SWS = {1: "itu709", 2: "itu601", 5: "itu601", 6: "smpte170m", 9: "bt2020", 10: "bt2020"}  # 2: as FFmpeg (H273_YCBCR)
 _RGB_MATRIX = 0  # AVCOL_SPC_RGB: the planes are G, B, R
 _RGB_PIXELS = ("gbr", "bgr", "rgb", "argb", "abgr", "0rgb", "0bgr")  # FFmpeg's RGB pixel formats
 _THREADS = 2  # swscale's threads for a frame's matrix and range (the decoder and encoder have their own)
