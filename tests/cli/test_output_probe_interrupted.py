@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import signal
+import threading
 
 import pytest
 
@@ -15,13 +16,24 @@ from lenslab.jobs import policy
 from lenslab.jobs.funnel import stop_signals
 
 
+def _names_a_file_in(fd: int, folder) -> bool:
+    """Whether descriptor ``fd`` is open on a file in ``folder`` (as Linux's /proc names it)."""
+    try:
+        return os.path.dirname(os.readlink(f"/proc/self/fd/{fd}")) == str(folder)
+    except OSError:
+        return False
+
+
 def test_a_ctrl_c_between_making_and_removing_the_probe_leaves_no_file(tmp_path, monkeypatch):
     real_close = os.close
     sent = []
 
     def close_then_interrupt(fd):
+        # the probe's descriptor, closed by the main thread: os.close is patched for every thread, and a thread an
+        # earlier test left (a decoder, a pool) closing a descriptor of its own must not send the signal instead
+        probe = not sent and threading.current_thread() is threading.main_thread() and _names_a_file_in(fd, tmp_path)
         real_close(fd)
-        if not sent:  # once: the probe's descriptor is the first closed
+        if probe:  # once
             sent.append(fd)
             os.kill(os.getpid(), signal.SIGINT)  # handled at the next bytecode: before the probe's removal
 
