@@ -97,6 +97,11 @@ def photo_size(spec: str):
 
     if not is_exif(spec) or exif_photo(spec) is None:
         return None
-    from lenslab.io import read
+    from lenslab.io.exif_orientation import shown_size
 
-    return tuple(read(exif_photo(spec))[1]["size"])
+    size = shown_size(exif_photo(spec))  # from its header: the photo (and its gain map) is not decoded
+    if size is None:
+        from lenslab.io import read
+
+        size = tuple(read(exif_photo(spec))[1]["size"])
+    return size

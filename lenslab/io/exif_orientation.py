@@ -65,20 +65,41 @@ def turn(image: np.ndarray, orientation: int) -> np.ndarray:
     return image[::rows, ::cols]
 
 
-def stored_size(path, size: tuple[int, int]) -> tuple[int, int]:
-    """A photo's own stored frame (W, H, before its EXIF orientation: what EXIF's FocalPlaneXResolution counts
-    across) from its header, whatever size its lens is asked at; where its format declares none, ``size`` (the
-    photo as shown) turned back where a JPEG's EXIF orientation (5 to 8, those lenslab applies) swaps its sides."""
+def _header(path):
+    """``(declared (W, H) or None, whether its EXIF orientation swaps its sides)`` from a photo's header, None where
+    it cannot be read: the format's declared frame (as stored) and a JPEG's orientation (5 to 8, those lenslab
+    applies)."""
     from lenslab.errors import LenslabError
     from lenslab.io.registry import get, sniff
 
     try:
         fmt = get(sniff(path))
         declared = fmt.declare(path) if fmt.declare is not None else None
-        if declared is not None and declared.width > 0 and declared.height > 0:
-            return declared.width, declared.height
+        frame = (declared.width, declared.height) if declared is not None and declared.width > 0 < declared.height \
+            else None
         with open(path, "rb") as f:
             head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
     except (LenslabError, OSError, ValueError, EOFError, IndexError, OverflowError, ImportError):  # damaged, unread
+        return None
+    return frame, head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5
+
+
+def stored_size(path, size: tuple[int, int]) -> tuple[int, int]:
+    """A photo's own stored frame (W, H, before its EXIF orientation: what EXIF's FocalPlaneXResolution counts
+    across) from its header, whatever size its lens is asked at; where its format declares none, ``size`` (the
+    photo as shown) turned back where a JPEG's EXIF orientation (5 to 8, those lenslab applies) swaps its sides."""
+    header = _header(path)
+    if header is None:
         return size
-    return (size[1], size[0]) if head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5 else size
+    frame, swaps = header
+    return frame if frame is not None else (size[1], size[0]) if swaps else size
+
+
+def shown_size(path) -> tuple[int, int] | None:
+    """A photo's size as shown (W, H, after its EXIF orientation, as :func:`lenslab.io.read` gives it) from its
+    header alone, None where its format declares no frame."""
+    header = _header(path)
+    if header is None or header[0] is None:
+        return None
+    (w, h), swaps = header
+    return (h, w) if swaps else (w, h)
