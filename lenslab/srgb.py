@@ -111,6 +111,14 @@ def matplotlib_quiet():
         log.setLevel(level)
 
 
+def colour_science():
+    """The ``colour`` module (colour-science), imported inside :func:`matplotlib_quiet`: every lenslab module that
+    needs it calls this rather than importing it."""
+    with matplotlib_quiet():  # (colour-science imports matplotlib)
+        import colour
+    return colour
+
+
 @functools.lru_cache(maxsize=8)
 def decode_table(maxval: int) -> np.ndarray:
     """float32 table: code value 0..maxval -> linear light (the EOTF of code / maxval)."""

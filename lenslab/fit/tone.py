@@ -46,10 +46,9 @@ def srgb_encode(x: np.ndarray) -> np.ndarray:
 
 def lab(rgb_linear: np.ndarray) -> np.ndarray:
     """CIE Lab (D65) of linear sRGB values (..., 3)."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     cs = colour.RGB_COLOURSPACES["sRGB"]
     rgb = np.clip(np.asarray(rgb_linear, dtype=np.float64), 0.0, None)
@@ -58,10 +57,9 @@ def lab(rgb_linear: np.ndarray) -> np.ndarray:
 
 def ciede2000(a_linear: np.ndarray, b_linear: np.ndarray) -> np.ndarray:
     """Per-pixel CIEDE2000 between two linear sRGB images (..., 3)."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     return np.asarray(colour.delta_E(lab(a_linear), lab(b_linear), method="CIE 2000"), dtype=np.float64)
 

@@ -41,10 +41,9 @@ def _luminance_row(xy: np.ndarray) -> np.ndarray:
 def _weights_by_name(name: str) -> tuple[float, float, float]:
     if name in _KNOWN_WEIGHTS:  # no colour-science import (a second) for the common case
         return _KNOWN_WEIGHTS[name]
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     if name not in colour.RGB_COLOURSPACES:
         close = [n for n in colour.RGB_COLOURSPACES if name.lower() in n.lower()][:8]

@@ -160,10 +160,9 @@ def _to_rec709(pcs: np.ndarray, chad: np.ndarray, where: str) -> np.ndarray:
 
 
 def _bradford_to_d50(white) -> np.ndarray:
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     if white is None:
         return np.eye(3)

@@ -37,10 +37,9 @@ def _mluc(text: str) -> bytes:
 
 
 def _tags(name: str) -> list[tuple[bytes, bytes]]:
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     space = colour.RGB_COLOURSPACES[SPACES[name]]
     white = colour.xy_to_XYZ(space.whitepoint)

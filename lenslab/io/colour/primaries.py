@@ -25,10 +25,9 @@ def matrix_between(source, target=REC709, adaptation: str | None = None) -> np.n
     """float64 3 x 3 from linear RGB in ``source`` to linear RGB in ``target`` (colour-science colourspace names
     or ``RGB_Colourspace`` objects): ``colour.matrix_RGB_to_RGB``, without chromatic adaptation unless
     ``adaptation`` names colour-science's transform (``"Bradford"``)."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     spaces = colour.RGB_COLOURSPACES
     source = spaces[source] if isinstance(source, str) else source
@@ -49,10 +48,9 @@ def matrix_from_chromaticities(chromaticities, adaptation: str | None = None) ->
     c = np.asarray(chromaticities, dtype=np.float64).reshape(-1)[:8]
 
     def build():
-        from lenslab.srgb import matplotlib_quiet
+        from lenslab.srgb import colour_science
 
-        with matplotlib_quiet():  # (colour-science imports matplotlib)
-            import colour
+        colour = colour_science()
 
         space = colour.RGB_Colourspace("file", c[:6].reshape(3, 2), c[6:8], use_derived_matrix_RGB_to_XYZ=True,
                                        use_derived_matrix_XYZ_to_RGB=True)
@@ -120,10 +118,9 @@ def ycbcr_weights(matrix: int) -> tuple[float, float]:
     name = H273_YCBCR[int(matrix)]
 
     def build():
-        from lenslab.srgb import matplotlib_quiet
+        from lenslab.srgb import colour_science
 
-        with matplotlib_quiet():  # (colour-science imports matplotlib)
-            import colour
+        colour = colour_science()
 
         return np.asarray(colour.WEIGHTS_YCBCR[name], dtype=np.float64)
 

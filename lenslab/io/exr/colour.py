@@ -31,10 +31,9 @@ def upsample(a: np.ndarray, xs: int, ys: int, w: int, h: int, x0: int, y0: int) 
 
 def primary_matrix(chromaticities) -> np.ndarray:
     """RGB -> XYZ matrix of the primaries and white point (x, y pairs; Y of white = 1)."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     c = np.asarray(chromaticities, dtype=np.float64)
     return colour.normalised_primary_matrix(c[:6].reshape(3, 2), c[6:8])

@@ -168,10 +168,9 @@ def to_linear(codes: np.ndarray, info) -> np.ndarray:
 
 def _eotf(v: np.ndarray, curve: str) -> np.ndarray:
     """Code values (float64, ..., 3) -> display light (float64) by the stream's transfer function."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     if curve == "pq":
         lin = colour.models.eotf_ST2084(v) / REFERENCE_WHITE
@@ -195,10 +194,9 @@ def from_linear(image: np.ndarray, info) -> np.ndarray:
 def _eotf_inverse(lin: np.ndarray, curve: str, bounded: bool = True) -> np.ndarray:
     """Finite linear light (float64, ..., 3, in the stream's primaries) -> code values in [0, 1] (``bounded``
     False: the curve continued past its ends, for a table whose interpolation must not straddle a clamp)."""
-    from lenslab.srgb import matplotlib_quiet
+    from lenslab.srgb import colour_science
 
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
+    colour = colour_science()
 
     lin = np.maximum(lin, 0.0)
     top = 1.0 if bounded else np.inf
