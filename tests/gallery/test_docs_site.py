@@ -94,3 +94,24 @@ def test_the_quick_start_installs_every_system_tool_the_tests_look_for():
     packages = {"exiftool": "libimage-exiftool-perl"}  # Debian's package of a command named otherwise
     for name, commands in SYSTEM_TOOLS.items():  # each tool the header reports comes from a package named
         assert packages.get(name) in line or any(c in line or c.replace("c++", "g++") in line for c in commands), name
+
+
+def test_every_link_to_a_heading_names_one_python_markdown_gives_that_page():
+    """Python-Markdown (the renderer mkdocs uses) gives each heading its id; a link to page.md#anchor must
+    name one of them. A code fence closed with text on its line does not close, swallows the headings
+    after it and fails here, as it fails the strict build."""
+    import markdown
+    pages = {p: p.read_text() for p in (REPO / "docs").rglob("*.md") if "examples" not in p.parts}
+    ids: dict = {}
+    for page, text in pages.items():
+        html = markdown.markdown(text, extensions=["fenced_code", "toc", "tables", "attr_list", "admonition"])
+        ids[page.resolve()] = set(re.findall(r'<h[1-6] id="([^"]+)"', html))
+    checked = 0
+    for page, text in pages.items():
+        prose = re.sub(r"^```.*?^```$", "", text, flags=re.M | re.S)
+        for target, anchor in re.findall(r"\]\(([^)#\s]*\.md|)#([^)\s]+)\)", prose):
+            path = (page.parent / target).resolve() if target else page.resolve()
+            if path in ids:
+                assert anchor in ids[path], f"{page.relative_to(REPO)}: {target}#{anchor}"
+                checked += 1
+    assert checked >= 5
