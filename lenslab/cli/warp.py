@@ -102,12 +102,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pose.add_argument("--yaw", type=finite_float, help="turn right about the up axis (default 0)")
     pose.add_argument("--pitch", type=finite_float, help="turn up (default 0)")
     pose.add_argument("--roll", type=finite_float, help="turn about the viewing axis (default 0)")
-    pose.add_argument("--rotation-order", choices=("ypr", "yrp", "pyr", "pry", "ryp", "rpy"), default="ypr",
+    pose.add_argument("--rotation-order", choices=("ypr", "yrp", "pyr", "pry", "ryp", "rpy"), default=None,
                       metavar="ORDER", help="the order of the turns, last applied first: ypr (default) turns roll, "
-                                            "then pitch, then yaw; ffmpeg v360's rorder")
+                                            "then pitch, then yaw; ffmpeg v360's rorder; only with --yaw/--pitch/--roll")
     pose.add_argument("--flip", metavar="h,v,d", default=None,
                       help="mirror the output's rays: h left-right, v up-down, d front-back (v360's h_flip, "
-                           "v_flip, d_flip)")
+                           "v_flip, d_flip); not with --to IMAGE, whose view is the file's")
     pose.add_argument("--source-flip", metavar="h,v", default=None,
                       help="the source was stored mirrored left-right (h) and/or top-bottom (v) within each "
                            "face, half or eye (v360's ih_flip, iv_flip)")
@@ -152,7 +152,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="MODE",
                         help="scale the output lens's field of view: 'fill' (the default mode) takes the widest "
                              "field with no empty pixel, 'cover' the narrowest that shows all of the source; "
-                             "put it after the input files")
+                             "put it after the input files; not with --to IMAGE, whose view is the file's")
     parser.add_argument("--compat", choices=("v360",), default=None,
                         help="map pixels as ffmpeg's v360 filter does (how it reads each projection, no pole "
                              "continuation, one sample per pixel; docs/v360.md lists the projections and options "
@@ -186,12 +186,14 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import check_view_pose, default_size, given_pose, note_size
+    from lenslab.jobs.warp_cameras import check_turn_order, check_view_pose, default_size, given_pose, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
         note_size(make_lens(args.to, args.size or default_size(args.to, 256)))  # (the default size has no note)
-        check_view_pose(args.to, given_pose(args, "--yaw", "--pitch", "--roll", "--look-at"))
+        check_view_pose(args.to, given_pose(args, "--yaw", "--pitch", "--roll", "--look-at", "--rotation-order",
+                                            "--flip", "--autoscale"))
+    check_turn_order(args)
     from lenslab.lenses.spec_kinds import exif_photo, is_auto, is_exif
 
     if args.source and not is_auto(args.source) and not (is_exif(args.source) and exif_photo(args.source) is None):
@@ -312,7 +314,7 @@ def run(args: argparse.Namespace) -> int:
         taken = [flag for flag, on in (("--to", args.to), ("--from", args.source), ("--size", args.size),
                                         ("--compat", args.compat), ("--flip", args.flip),
                                         ("--source-flip", args.source_flip),
-                                        ("--rotation-order", args.rotation_order != "ypr"),
+                                        ("--rotation-order", args.rotation_order),
                                         ("--autoscale", args.autoscale), ("--look-at", args.look_at),
                                         ("--eye", args.eye), ("--yaw/--pitch/--roll", given_pose(args)))
                  if on]

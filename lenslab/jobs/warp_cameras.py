@@ -272,9 +272,26 @@ def refuse_turns(flags: list[str], option: str, path, view, spec_option: str | N
     from lenslab.errors import UsageError
 
     yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
+    what = " or ".join(dict.fromkeys(VIEW_CHANGES.get(flag, "turn that lens another way") for flag in flags))
     raise UsageError(f"{'/'.join(flags)}: {option} {path} takes the view that file records, its lens and its "
-                     f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to turn that lens another way, give "
+                     f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to {what}, give "
                      f"it as a spec: {spec_option or option} {view.lens.spec()}")
+
+
+#: what the options other than turns (and --rotation-order, the order of turns) would do to a view an image records:
+#: each makes the output another view than the file's, so :func:`refuse_turns` names the spec to give instead
+VIEW_CHANGES = {"--flip": "mirror that lens's rays", "--autoscale": "scale that lens's field of view"}
+
+
+def check_turn_order(args) -> None:
+    """``--rotation-order`` orders the turns --yaw/--pitch/--roll give: without any of them it changes nothing, a
+    usage error as every option that cannot apply (``--look-at`` is a direction, in no order)."""
+    if getattr(args, "rotation_order", None) is None or given_pose(args):
+        return
+    from lenslab.errors import UsageError
+
+    raise UsageError(f"--rotation-order {args.rotation_order} orders the turns of --yaw, --pitch and --roll, and none "
+                     "is given: it would change nothing; drop it, or give the turns it orders")
 
 
 def records_place(src, meta: dict) -> bool:
@@ -328,7 +345,7 @@ def output_camera(args, src, size: tuple[int, int]):
             return Camera(lens, Pose.from_ypr(0.0, 90.0 if d[1] > 0 else -90.0, 0.0, eye))
         return Camera(lens, Pose.look_at(eye, np.add(eye, d)))
     yaw, pitch, roll = (getattr(args, k, None) or 0.0 for k in ("yaw", "pitch", "roll"))  # (None: not given)
-    return Camera(lens, Pose.from_ypr(yaw, pitch, roll, eye, getattr(args, "rotation_order", "ypr")))
+    return Camera(lens, Pose.from_ypr(yaw, pitch, roll, eye, getattr(args, "rotation_order", None) or "ypr"))
 
 
 def autoscale_camera(src, dst, mode="fill", samples=1, quiet=False, verbose=False):
