@@ -96,15 +96,36 @@ def equivalent_focal(info, size: tuple[int, int]) -> tuple[float, str]:
         focal35 = info.focal * FRAME_DIAGONAL / math.hypot(*sensor)
         return _in_range(info, focal35, f"FocalLength {info.focal:g} mm on a {sensor[0]:.4g} x {sensor[1]:.4g} mm "
                          "sensor (FocalPlaneXResolution)")
+    held = [text for text in (_held(info, "focal35"), None if info.focal else _held(info, "focal")) if text]
+    absent = [tag for name, tag in (("focal35", "FocalLengthIn35mmFilm"), ("focal", "FocalLength"))
+              if name not in info.held and not (name == "focal" and info.focal)]
     if not info.focal:
-        missing = "no FocalLengthIn35mmFilm nor FocalLength"
-    elif not info.plane_x:
-        missing = f"no FocalLengthIn35mmFilm, nor FocalPlaneXResolution to go with FocalLength {info.focal:g} mm"
+        missing = " and ".join(held + (["no " + " nor ".join(absent)] if absent else []))
     else:
-        missing = (f"no FocalLengthIn35mmFilm, and its FocalPlaneResolutionUnit {info.plane_unit:g} is no length "
-                   "to go with FocalLength")
+        first, plane = (held[0] if held else "no FocalLengthIn35mmFilm"), _held(info, "plane_x")
+        if plane or not info.plane_x:
+            plane = f"and {plane}" if plane else "and no FocalPlaneXResolution" if held else "nor FocalPlaneXResolution"
+            missing = f"{first}, {plane} to go with FocalLength {info.focal:g} mm"
+        else:
+            missing = f"{first}, and its FocalPlaneResolutionUnit {info.plane_unit:g} is no length to go with FocalLength"
     raise LensError(f"{info.path}: --from exif needs the photo's 35 mm equivalent focal length; its EXIF has "
                     f"{missing}; give the lens, e.g. --from perspective:fov=DEGREES")
+
+
+#: what a recorded number that is no value means, by field (Exif 2.3: FocalLengthIn35mmFilm 0 is "unknown")
+HELD = {"focal35": ("FocalLengthIn35mmFilm", ""), "focal": ("FocalLength", " mm"),
+        "plane_x": ("FocalPlaneXResolution", "")}
+
+
+def _held(info, name: str) -> str | None:
+    """The text of a number the file records for ``name`` that is no value (``FocalLength 0 mm, no lens's``), as
+    :attr:`~lenslab.lenses.lensfun.exif.PhotoLens.held` keeps it; None when the file records none."""
+    shown = getattr(info, "held", {}).get(name)
+    if shown is None:
+        return None
+    tag, unit = HELD[name]
+    why = "Exif's 'unknown'" if name == "focal35" and shown == "0" else "no lens's" if name != "plane_x" else "no resolution"
+    return f"{tag} {shown}{unit} ({why})"
 
 
 def _in_range(info, focal35: float, source: str) -> tuple[float, str]:

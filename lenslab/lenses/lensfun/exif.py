@@ -42,6 +42,9 @@ class PhotoLens:
     exif_width: float | None = None  # PixelXDimension (ExifImageWidth): the stored frame the plane refers to
     exif_height: float | None = None  # PixelYDimension
     sources: list[str] = field(default_factory=list)  # where the values came from
+    #: numbers the file records that are no value (0, negative, 0/0: FocalLengthIn35mmFilm 0 is Exif's "unknown"), as
+    #: the file writes them, by field: their field stays None, and an error can say what the file holds
+    held: dict[str, str] = field(default_factory=dict)
 
     @property
     def camera(self) -> str | None:
@@ -93,6 +96,35 @@ def _number(value) -> float | None:
     return v if v > 0 and v == v and v != float("inf") else None
 
 
+def _shown(value) -> str | None:
+    """A recorded number as the file writes it ("0", "-5", "0/0"), for one that :func:`_number` finds no value; None
+    when nothing (or no number) is recorded."""
+    while isinstance(value, (list, tuple)):
+        value = value[0] if value else None
+    num, den = getattr(value, "numerator", None), getattr(value, "denominator", None)
+    if isinstance(num, int) and isinstance(den, int) and den == 0:
+        return f"{num}/0"
+    try:
+        if isinstance(value, str):  # XMP: "24", "0/0"
+            a, slash, b = value.strip().partition("/")
+            return value.strip() if slash and float(a) == float(a) and float(b) == 0 else f"{float(value):g}"
+        return f"{float(value):g}"
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+
+
+def _numbers(info: PhotoLens, raw: dict) -> dict:
+    """``raw`` (field -> recorded value) as numbers (:func:`_number`); a recorded one that is no value is kept in
+    ``info.held`` as written (the first source's)."""
+    got = {}
+    for name, value in raw.items():
+        got[name] = _number(value)
+        shown = _shown(value) if got[name] is None else None
+        if shown is not None:
+            info.held.setdefault(name, shown)
+    return got
+
+
 def _text(value) -> str | None:
     if value is None:
         return None
@@ -127,11 +159,8 @@ def _exif(path: Path, info: PhotoLens) -> None:
         "camera_model": _text(tags.get("Image Model")),
         "lens_maker": _text(tags.get("EXIF LensMake")),
         "lens_model": _text(tags.get("EXIF LensModel")),
-        "focal": _number(getattr(tags.get("EXIF FocalLength"), "values", None)),
-        "aperture": _number(getattr(tags.get("EXIF FNumber"), "values", None)),
-        "distance": _number(getattr(tags.get("EXIF SubjectDistance"), "values", None)),
-        "focal35": _number(getattr(tags.get("EXIF FocalLengthIn35mmFilm"), "values", None)),
-        **{name: _number(getattr(tags.get(f"EXIF {tag}"), "values", None)) for name, tag in PLANE_TAGS.items()},
+        **_numbers(info, {name: getattr(tags.get(f"EXIF {tag}"), "values", None)
+                          for name, tag in {**NUMBER_TAGS, **PLANE_TAGS}.items()}),
     }
     _fill(info, got, "EXIF")
 
@@ -156,6 +185,9 @@ def _heif_exif(path: Path, exifread) -> dict:
     return exifread.process_file(io.BytesIO(data[6:] if data.startswith(b"Exif\0\0") else data), details=False)
 
 
+#: PhotoLens field -> the EXIF tag (exifread's name) of the lens's numbers
+NUMBER_TAGS = {"focal": "FocalLength", "aperture": "FNumber", "distance": "SubjectDistance",
+               "focal35": "FocalLengthIn35mmFilm"}
 #: PhotoLens field -> the EXIF tag (exifread's name, XMP's exif: property) of the focal plane and frame
 PLANE_TAGS = {"plane_x": "FocalPlaneXResolution", "plane_y": "FocalPlaneYResolution",
               "plane_unit": "FocalPlaneResolutionUnit", "exif_width": "ExifImageWidth",
@@ -190,7 +222,7 @@ def _xmp(path: Path, info: PhotoLens) -> None:
              or re.search(rf"<{k}>\s*(?:<rdf:Alt>\s*<rdf:li[^>]*>)?([^<]*)<", packet))
         if m and name not in got:
             value = m.group(1).strip()
-            got[name] = _number(value) if name in NUMBERS else (value or None)
+            got[name] = _numbers(info, {name: value})[name] if name in NUMBERS else (value or None)
     _fill(info, got, "XMP")
 
 
