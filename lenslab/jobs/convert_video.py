@@ -105,10 +105,10 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
                 if writer is None:
                     h, w = image.shape[:2]
                     info = VideoInfo(w, h, Fraction(str(rate)), len(files), "", "", primaries, transfer, matrix, 1)
-                    writer = VideoWriter(tmp, info, codec=options.get("codec"), audio_from=audio)
                     from lenslab.io.video.codecs import open_encoder
 
-                    try:  # a size the encoder refuses: one line now (it closes the writer's container)
+                    try:  # a size the encoder refuses: one line now, before the clip's file is made (or it is closed)
+                        writer = VideoWriter(tmp, info, codec=options.get("codec"), audio_from=audio)
                         open_encoder(writer.container, writer.stream)
                     except FormatError as exc:
                         writer = None

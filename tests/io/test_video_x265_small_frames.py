@@ -84,9 +84,11 @@ def test_sizes_x265_refuses_are_one_line(tmp_path, noise_clip, size):
     assert not encoder_opens("libx265", "yuv420p10le", w, h, str(tmp_path / "probe.mp4"))
     assert encoder_opens("libx265", "yuv420p10le", 16, 16, str(tmp_path / "probe.mp4"))
     (tmp_path / "probe.mp4").unlink(missing_ok=True)
-    expected = f"the libx265 encoder cannot encode {w} x {h} frames in yuv420p10le: x265 encodes frames of at least"
+    expected = (f"the libx265 encoder (--codec h265) encodes frames of at least 16 x 16, not {w} x {h}: give frames "
+                f"of {max(w, 16)} x {max(h, 16)} or larger, or --codec h264")
     # warp's --size is on the command line: a usage error (exit 2) naming the size to give, before the clip is read
-    # (tests/io/test_video_x265_min_size.py); convert's frames bring their size: the encoder's refusal (exit 1)
+    # (tests/io/test_video_x265_min_size.py); convert's frames bring their size: a failed input (exit 1), before the
+    # clip's file is made
     usage = f"--size {w}x{h}: the libx265 encoder (--codec h265) encodes frames of at least 16 x 16; give --size"
     warp = _lenslab("warp", noise_clip, "-o", tmp_path / "w.mp4", "--to", "equirect", "--size", f"{w}x{h}",
                     "--codec", "h265")

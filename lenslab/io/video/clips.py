@@ -241,10 +241,10 @@ class VideoWriter:
     def __init__(self, path, info: VideoInfo, codec: str | None = None, size: tuple[int, int] | None = None,
                  audio_from=None):
         av = _av()
-        ext = Path(path).suffix.lower()
-        if codec is None:
-            sdr, hdr = DEFAULT_CODEC.get(ext, ("h264", "h265"))
-            codec = hdr if info.hdr else sdr
+        from lenslab.io.video.codecs import check_encodes, chosen_codec
+
+        check_encodes(size or (info.width, info.height), path, codec, info.curve)  # before the file is made
+        codec = chosen_codec(path, codec, info.curve)
         if codec not in CODECS:
             raise FormatError(f"unknown video codec {codec!r}; choose one of {', '.join(CODECS)}")
         encoder, pix_fmt, bits = CODECS[codec]

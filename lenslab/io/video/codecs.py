@@ -45,6 +45,38 @@ def check_clip_size(size: tuple[int, int], path, codec: str | None) -> None:
                              "--codec ffv1 (4:4:4)")
 
 
+def chosen_codec(path, codec: str | None, curve: str | None) -> str:
+    """The codec a clip written to ``path`` is encoded with: ``codec`` (--codec), else its extension's default
+    (:data:`DEFAULT_CODEC`) for SDR frames, or for HDR ones where ``curve`` is ``"pq"`` or ``"hlg"``."""
+    from pathlib import Path
+
+    if codec:
+        return codec
+    sdr, hdr = DEFAULT_CODEC.get(Path(path).suffix.lower(), ("h264", "h265"))
+    return hdr if curve in ("pq", "hlg") else sdr
+
+
+def check_encodes(size: tuple[int, int], path, codec: str | None, curve: str | None, larger: str = "frames of") -> None:
+    """A :class:`~lenslab.errors.FormatError` in one line where the encoder :func:`chosen_codec` picks refuses frames
+    of ``size`` (W, H): H.265 under :data:`X265_MIN_SIDE` a side, whether ``--codec h265`` asked for it or the
+    extension picked it for a PQ/HLG clip (``curve``), known once the clip is probed. Called before the output (or its
+    temporary) is made and before any frame is decoded; ``larger`` leads the size to give (``--size``)."""
+    from pathlib import Path
+
+    from lenslab.errors import FormatError
+
+    w, h = (int(v) for v in size)
+    if CODECS.get(chosen_codec(path, codec, curve), ("",))[0] != "libx265" or min(w, h) >= X265_MIN_SIDE:
+        return
+    hdr = curve in ("pq", "hlg")
+    chosen = "--codec h265" if codec else (f"H.265, {Path(path).suffix.lower()}'s codec for "
+                                                 f"{'an' if curve == 'hlg' else 'a'} {str(curve).upper()} clip")
+    other = ("-o NAME.mov (ProRes) or NAME.mkv (FFV1), which keep its 10 bits" if hdr else "--codec h264")
+    wanted = ("x" if larger == "--size" else " x ").join(str(max(v + v % 2, X265_MIN_SIDE)) for v in (w, h))
+    raise FormatError(f"the libx265 encoder ({chosen}) encodes frames of at least {X265_MIN_SIDE} x {X265_MIN_SIDE}, "
+                      f"not {w} x {h}: give {larger} {wanted} or larger, or {other}")
+
+
 def x265_params(width: int, height: int) -> str:
     """The ``x265-params`` lenslab gives libx265 for ``width`` x ``height`` frames.
 
