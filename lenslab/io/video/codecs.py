@@ -33,7 +33,7 @@ def check_clip_size(size: tuple[int, int], path, codec: str | None) -> None:
 
     w, h = size
     if codec and CODECS[codec][0] == "libx265" and min(w, h) < X265_MIN_SIDE:  # (the default H.265 of an HDR
-        # clip in .mp4 is known only once the clip is probed: the encoder's own refusal then, exit 1)
+        # clip in .mp4 is known only once the clip is probed: check_encodes then, exit 1)
         raise UsageError(f"--size {w}x{h}: the libx265 encoder (--codec h265) encodes frames of at least "
                          f"{X265_MIN_SIDE} x {X265_MIN_SIDE}; give --size {max(w + w % 2, X265_MIN_SIDE)}x"
                          f"{max(h + h % 2, X265_MIN_SIDE)} or larger, or --codec h264")
@@ -113,9 +113,6 @@ def open_encoder(container, stream) -> None:
     if cc.name in ODD_4_2_0_REFUSED and need and need[0] == "4:2:0" and need[2]:
         # refused here, not by opening it: x265 would print its own lines on standard error first
         refuse(f"its {need[0]} chroma needs {need[1]}")
-    if cc.name == "libx265" and min(cc.width, cc.height) < X265_MIN_SIDE:
-        refuse(f"x265 encodes frames of at least {X265_MIN_SIDE} x {X265_MIN_SIDE}; give another codec (--codec h264) "
-               f"or, for a warp, a larger --size (at least {X265_MIN_SIDE}x{X265_MIN_SIDE})")
     try:
         cc.open(strict=False)  # what the first encode would do, with the same options
     except av.error.FFmpegError as exc:
