@@ -71,7 +71,7 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "
                         "else the lens's own frame at 512 rows: 512x512 for a fisheye or perspective view, 1024x512 "
-                        "for a hammer map, 768x512 for pannini; a cube map or a tiled grid: square faces or tiles of "
+                        "for a hammer map, 768x512 for pannini, a lensfun lens its calibration sensor's shape (768x512 for 3:2); a cube map or a tiled grid: square faces or tiles of "
                         "256 pixels in its layout, 768x512 for a 3x2 cube map; an equirect: square pixels, 1024x512 "
                         "for the whole sphere)")
     p.add_argument("--spp", type=positive_int, default=64,

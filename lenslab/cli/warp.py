@@ -94,7 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "a cube map's faces or a grid's tiles over 90, an eye's of a stereo frame, a perspective "
                              "view's rows over its vertical field; along its middle row where that is coarser, as a cylindrical panorama's 360 degrees): a 180-degree fisheye as many rows as 180 degrees of "
                              "the source, a 90-degree fisheye or perspective view half as many; square for a fisheye or "
-                             "perspective view, 2:1 for a whole equirect (square pixels over its ranges for part of one); a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
+                             "perspective view, a lensfun lens's calibration sensor's shape (3:2, 4:3), 2:1 for a whole equirect (square pixels over its ranges for part of one); a cube map: square faces of 90 degrees, 3:2 for a 3x2 "
                              "cube map; a tiled grid: square tiles, a 90-degree tile half those rows; each eye of a stereo frame; a camera file: the size it was calibrated at; never "
                              "more than twice the source's pixels, an eye of a stereo frame (a note then gives the size "
                              "that keeps them)")

@@ -210,6 +210,12 @@ class LensfunLens(Lens):
         self.f = p.real_focal / (HALF_DIAGONAL_MM / arc / p.cal_crop)  # focal in normalised units
         self.dist = distortion_radial(*p.distortion) if "distortion" in self.active else None
 
+    def default_frame(self, rows: int) -> tuple[int, int]:
+        """Its own frame ``rows`` high, where no size is given: the calibration sensor's shape, landscape, long side
+        over short the profile's aspect ratio (lensfun's ``aspect-ratio``, 1.5 where the profile gives none)."""
+        aspect = max(self.profile.aspect, 1.0 / self.profile.aspect)
+        return max(1, round(rows * aspect)), rows
+
     def spec(self) -> str:
         """Only the values that differ from the defaults; a value holding a comma is quoted."""
         parts = []
