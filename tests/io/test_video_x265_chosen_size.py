@@ -41,12 +41,9 @@ def pq_clip(path, w=32, h=32, frames=3):
         cc.options = {"x265-params": "log-level=error"}
         for i in range(frames):
             f = av.VideoFrame.from_ndarray(np.full((h, w, 3), 100 + 40 * i, np.uint8), format="rgb24")
-            f = f.reformat(format="yuv420p10le")
             f.pts = i
-            for p in s.encode(f):
-                c.mux(p)
-        for p in s.encode():
-            c.mux(p)
+            c.mux(s.encode(f.reformat(format="yuv420p10le")))  # (a list of packets: each muxed)
+        c.mux(s.encode())  # the frames the encoder still holds
     with av.open(str(path)) as c:
         assert int(c.streams.video[0].codec_context.color_trc) == PQ
     return path
