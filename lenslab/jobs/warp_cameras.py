@@ -212,7 +212,8 @@ def default_size(spec: str, src_h: int, nested: bool = False) -> tuple[int, int]
     if "base" in own and values.get("base"):  # a bend or optics over a base model, at its size: the base's frame
         return default_size(_base_spec(values["base"], {k: v for k, v in values.items() if k not in own}), src_h,
                             nested=True)
-    if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges
+    if hasattr(cls, "default_frame"):  # square pieces of whole pixels (cube faces, tiles), an equirect's ranges, a
+        # lensfun profile's calibration sensor
         probe = cls.probe_size(values) if hasattr(cls, "probe_size") else (src_h, src_h)  # (a size its grid splits)
         return make_lens(spec, probe).default_frame(src_h)
 
