@@ -291,8 +291,9 @@ def check_turn_order(args) -> None:
         return
     from lenslab.errors import UsageError
 
+    look = " (--look-at gives a direction, in no order)" if getattr(args, "look_at", None) is not None else ""
     raise UsageError(f"--rotation-order {args.rotation_order} orders the turns of --yaw, --pitch and --roll, and none "
-                     "is given: it would change nothing; drop it, or give the turns it orders")
+                     f"is given{look}: it would change nothing; drop it, or give the turns it orders")
 
 
 def records_place(src, meta: dict) -> bool:
