@@ -82,10 +82,6 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     source_flips = parse_flips(getattr(args, "source_flip", None), "hv", "--source-flip")
     src = mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
     size = args.size or default_output_size(args.to, src.lens)
-    if image is None:  # a size the clip's encoder refuses (H.265 for a PQ/HLG clip in .mp4): before any file or frame
-        from lenslab.io.video.codecs import check_encodes
-
-        check_encodes(size, dst_path, getattr(args, "codec", None), info.curve, "--size")
     src = place_source(args.to, src, False, args.eye)  # (a video records no camera)
     dst = output_camera(args, src, size)
     if args.autoscale:
@@ -104,6 +100,11 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         name = processor(display, args.view, args.colorspace, args.ocio)[1][0]
         primaries, transfer, matrix = display_tags(name)
         info = replace(info, primaries=primaries, transfer=transfer, matrix=matrix)
+    from lenslab.io.video.codecs import check_encodes
+
+    # a size the encoder of the clip's (or the display's) transfer refuses, H.265 for PQ/HLG in .mp4: before the output's
+    # temporary is made and any frame decoded
+    check_encodes(size, dst_path, getattr(args, "codec", None), info.curve, "--size")
     from lenslab.io.registry import formats
     from lenslab.jobs.stages import Look, develop
 

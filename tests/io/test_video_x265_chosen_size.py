@@ -115,3 +115,36 @@ def test_frames_below_16_converted_to_h265_are_refused_before_any_is_encoded(tmp
         f"lenslab convert: error: {frames[0]}: the libx265 encoder ({chosen}) encodes frames of at least 16 x 16, not "
         f"14 x 14: give frames of 16 x 16 or larger, or {other}\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f0.exr", "f1.exr", "f2.exr"]  # no clip, no temporary
+
+
+def test_a_pq_clip_shown_on_an_sdr_display_is_h264_at_14(tmp_path):
+    """--display sRGB: the clip written holds the display's codes and tags, SDR, so .mp4 picks H.264, which encodes
+    14 x 14 (PyAV reads it back so); the codec is chosen for the transfer written, not the one read."""
+    pytest.importorskip("PyOpenColorIO")
+    from lenslab.cli.main import main
+
+    clip = pq_clip(tmp_path / "pq.mp4")
+    out = tmp_path / "out.mp4"
+    assert main(["warp", str(clip), "-o", str(out), "--from", "equirect", "--to", "fisheye:fov=180", "--size",
+                 "14x14", "--display", "sRGB - Display", "-q"]) == 0
+    with av.open(str(out)) as c:
+        cc = c.streams.video[0].codec_context
+        assert (cc.name, cc.width, cc.height) == ("h264", 14, 14) and int(cc.color_trc) != PQ
+
+
+def test_an_sdr_clip_shown_on_a_pq_display_below_16_is_refused_before_any_frame(tmp_path, monkeypatch, capsys):
+    pytest.importorskip("PyOpenColorIO")
+    from lenslab.cli.main import main
+    from tests.warp.test_video_warp_imports import _clip
+
+    clip = tmp_path / "sdr.mp4"
+    _clip(clip, 32, 32)
+    untouched(monkeypatch)
+    capsys.readouterr()
+    assert main(["warp", str(clip), "-o", str(tmp_path / "out.mp4"), "--from", "equirect", "--to", "fisheye:fov=180",
+                 "--size", "14x14", "--display", "Rec.2100-PQ - Display", "--view",
+                 "ACES 2.0 - HDR 1000 nits (Rec.2020)"]) == 1
+    assert capsys.readouterr().err.startswith(
+        f"lenslab warp: error: {clip}: the libx265 encoder (H.265, .mp4's codec for a PQ clip) encodes frames of at "
+        "least 16 x 16, not 14 x 14: give --size 16x16 or larger")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sdr.mp4"]
