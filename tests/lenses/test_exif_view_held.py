@@ -94,3 +94,17 @@ def test_the_warp_says_it_in_one_line_as_a_failed_input(tmp_path, capsys):
         f"lenslab warp: error: {path}: --from exif needs the photo's 35 mm equivalent focal length; its EXIF has "
         "FocalLength 0 mm (no lens's) and no FocalLengthIn35mmFilm; give the lens, e.g. --from perspective:fov=DEGREES\n")
     assert not out.exists()
+
+
+def test_an_xmp_packets_focal_lengths_of_no_lens_are_named(tmp_path):
+    """The same tags in an XMP packet (exif: properties, written as text: FocalLength "0/1", a rational of 0)."""
+    import numpy as np
+    from PIL import Image
+
+    xmp = ('<x:xmpmeta xmlns:x="adobe:ns:meta/"><rdf:RDF xmlns:rdf="http://www.w3.org/1999/02/22-rdf-syntax-ns#">'
+           '<rdf:Description rdf:about="" xmlns:exif="http://ns.adobe.com/exif/1.0/" exif:FocalLength="0/1" '
+           'exif:FocalLengthIn35mmFilm="0"/></rdf:RDF></x:xmpmeta>')
+    path = tmp_path / "p.jpg"
+    Image.fromarray(np.zeros((100, 150, 3), np.uint8)).save(path, xmp=xmp.encode(), quality=95)
+    assert recorded(path) == {"FocalLength": 0, "FocalLengthIn35mmFilm": 0}
+    assert "FocalLengthIn35mmFilm 0 (Exif's 'unknown') and FocalLength 0 mm (no lens's);" in refusal(path)

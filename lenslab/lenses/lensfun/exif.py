@@ -105,9 +105,10 @@ def _shown(value) -> str | None:
     if isinstance(num, int) and isinstance(den, int) and den == 0:
         return f"{num}/0"
     try:
-        if isinstance(value, str):  # XMP: "24", "0/0"
+        if isinstance(value, str):  # XMP: "24", "0/1", "0/0"
             a, slash, b = value.strip().partition("/")
-            return value.strip() if slash and float(a) == float(a) and float(b) == 0 else f"{float(value):g}"
+            num, den = float(a), float(b) if slash else 1.0
+            return value.strip() if den == 0 else f"{num / den:g}"
         return f"{float(value):g}"
     except (TypeError, ValueError, ZeroDivisionError):
         return None
