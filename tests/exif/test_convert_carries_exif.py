@@ -95,3 +95,25 @@ def test_tonemap_keeps_the_camera_too(tmp_path, capsys, ext):
     assert (tags["Model"], tags["FocalLengthIn35mmFormat"], tags["Orientation"]) == ("Turned One", 26, 1)
     no_private_tags(out)
     assert from_exif_fov(capsys, out, tmp_path) == pytest.approx(shown_fov(original, 40, 60), abs=1e-9)
+
+
+def test_a_heic_photos_camera_reaches_a_jpeg(tmp_path, capsys):
+    """A HEIC (pillow-heif's encoder, its EXIF from Pillow) converted to JPEG: exiftool reads the same camera and
+    35 mm equivalent in both, and --from exif on the JPEG gives exiftool's field of the HEIC."""
+    pillow_heif = pytest.importorskip("pillow_heif")
+    import numpy as np
+    from PIL import Image
+    from PIL.TiffImagePlugin import IFDRational
+
+    exif = Image.Exif()
+    exif[0x010F], exif[0x0110] = "Acme", "Heic Three"
+    exif.get_ifd(0x8769)[0xA405], exif.get_ifd(0x8769)[0x920A] = 26, IFDRational(681, 100)
+    pillow_heif.from_pillow(Image.fromarray(np.full((48, 64, 3), 120, np.uint8))).save(
+        tmp_path / "p.heic", exif=exif.tobytes(), quality=90)
+    original = exiftool(tmp_path / "p.heic", "Model", "FocalLengthIn35mmFormat", "FOV")
+    code, err = run(capsys, "convert", tmp_path / "p.heic", "-o", tmp_path / "p.jpg", "-q")
+    assert code == 0, err
+    tags = tags_of_output(tmp_path / "p.jpg")
+    assert (tags["Model"], tags["FocalLengthIn35mmFormat"]) == (original["Model"], original["FocalLengthIn35mmFormat"])
+    assert (tags["ExifImageWidth"], tags["ExifImageHeight"]) == (64, 48)
+    assert from_exif_fov(capsys, tmp_path / "p.jpg", tmp_path) == pytest.approx(shown_fov(original, 64, 48), abs=1e-9)
