@@ -28,25 +28,10 @@ def _of_bytes(block: bytes) -> tuple[dict, list[str]]:
 
 
 def _jpeg(path) -> bytes | None:
+    from lenslab.io.exif_orientation import jpeg_exif
+
     with open(path, "rb") as f:
-        data = f.read(JPEG_HEAD)
-    pos = 2
-    while pos + 4 <= len(data) and data[pos] == 0xFF:
-        marker = data[pos + 1]
-        if marker == 0xFF or marker == 0x01 or 0xD0 <= marker <= 0xD7:
-            pos += 1 if marker == 0xFF else 2
-            continue
-        if marker in (0xD9, 0xDA):
-            return None
-        length = int.from_bytes(data[pos + 2:pos + 4], "big")
-        if length < 2:
-            raise Damaged(f"a JPEG segment at byte {pos} has length {length}")
-        if marker == 0xE1 and data[pos + 4:pos + 10] == b"Exif\0\0":
-            if pos + 2 + length > len(data):
-                raise Damaged("its APP1 Exif segment is cut short")
-            return data[pos + 10:pos + 2 + length]
-        pos += 2 + length
-    return None
+        return jpeg_exif(f.read(JPEG_HEAD))
 
 
 def _png(path) -> bytes | None:
