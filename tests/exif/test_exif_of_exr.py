@@ -57,10 +57,9 @@ def test_convert_carries_an_openimageio_exr_s_camera_to_a_jpeg(tmp_path, capsys)
     assert back["FOV"] == original["FOV"]
 
 
-def test_an_exr_data_window_written_alone_keeps_the_pixel_pitch(tmp_path, capsys):
-    """A 40 x 30 data window inside a 60 x 40 frame of FocalLength 6.81 mm, 80 pixels per cm on the focal plane:
-    written alone it is a 4 x 3 mm part of the sensor, whose field across its width is 2 atan(2 / 6.81), with
-    OpenImageIO's float FocalLength; its FocalLengthIn35mmFilm (the whole frame's) is left out."""
+def windowed_exr(path):
+    """An EXR OpenImageIO writes: a 40 x 30 data window at (10, 5) inside a 60 x 40 frame of FocalLength 6.81 mm and
+    a 26 mm equivalent, 80 pixels per cm on the focal plane."""
     spec = oiio.ImageSpec(40, 30, 3, oiio.HALF)
     spec.x, spec.y = 10, 5
     spec.full_x, spec.full_y, spec.full_width, spec.full_height = 0, 0, 60, 40
@@ -71,7 +70,15 @@ def test_an_exr_data_window_written_alone_keeps_the_pixel_pitch(tmp_path, capsys
         spec.attribute(name, value)
     buf = oiio.ImageBuf(spec)
     oiio.ImageBufAlgo.fill(buf, (0.5, 0.5, 0.5))
-    assert buf.write(str(tmp_path / "crop.exr")), oiio.geterror()
+    assert buf.write(str(path)), oiio.geterror()
+    return path
+
+
+def test_an_exr_data_window_written_alone_keeps_the_pixel_pitch(tmp_path, capsys):
+    """The data window written alone is a 4 x 3 mm part of the sensor, whose field across its width is
+    2 atan(2 / 6.81), with OpenImageIO's float FocalLength; its FocalLengthIn35mmFilm (the whole frame's) is left
+    out."""
+    windowed_exr(tmp_path / "crop.exr")
     focal = oiio_attribute(tmp_path / "crop.exr", "Exif:FocalLength")
     code, err = run(capsys, "convert", tmp_path / "crop.exr", "--data-window", "-o", tmp_path / "part.png", "-q")
     assert code == 0, err
@@ -81,3 +88,16 @@ def test_an_exr_data_window_written_alone_keeps_the_pixel_pitch(tmp_path, capsys
     sensor_width = 40 / 80 * 10.0  # mm
     expected = math.degrees(2 * math.atan(sensor_width / (2 * focal)))
     assert from_exif_fov(capsys, tmp_path / "part.png", tmp_path) == pytest.approx(expected, abs=1e-9)
+
+
+def test_exr_to_exr_keeps_the_whole_frame_s_tags(tmp_path, capsys):
+    """EXR to EXR keeps the data window inside its display window: the frame is the whole 60 x 40 one, so its 35 mm
+    equivalent holds and OpenImageIO reads the source's values back (the focal length as the double it was read)."""
+    windowed_exr(tmp_path / "w.exr")
+    code, err = run(capsys, "convert", tmp_path / "w.exr", "-o", tmp_path / "copy.exr", "-q")
+    assert code == 0, err
+    for name in ("Exif:FocalLengthIn35mmFilm", "Exif:PixelXDimension", "Exif:PixelYDimension", "Make",
+                 "Exif:FocalLength", "Exif:FocalPlaneXResolution"):
+        assert oiio_attribute(tmp_path / "copy.exr", name) == oiio_attribute(tmp_path / "w.exr", name), name
+    spec = oiio.ImageInput.open(str(tmp_path / "copy.exr")).spec()
+    assert (spec.x, spec.y, spec.width, spec.full_width) == (10, 5, 40, 60)
