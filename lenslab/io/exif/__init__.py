@@ -103,7 +103,12 @@ def carried(path, meta: dict, out: tuple[int, int], fmt, full: tuple[int, int] |
     format has no place for it or the photo holds none."""
     if "exif" not in fmt.write_options:
         return {}
-    tags = camera_tags(path)
+    if meta.get("format") == "exr" and "attributes" in meta:  # the header read with the pixels (the part read)
+        from lenslab.exif_tags import exr_tags
+
+        tags = exr_tags(meta["attributes"])
+    else:
+        tags = camera_tags(path)
     if not tags:
         return {}
     from lenslab.io.exif_orientation import stored_size
