@@ -261,7 +261,7 @@ def _tagged(encoded: bytes, fmt: str, cicp, icc, exif=None) -> bytes:
         if exif:
             from lenslab.io.exif.outputs import jpeg_with_exif, png_with_exif
 
-            out = png_with_exif(out, exif) if fmt == "png" else jpeg_with_exif(out, exif)
+            out = png_with_exif(out, exif) if fmt == "png" else jpeg_with_exif(out, exif, srgb=icc is None)
         return out
     except ValueError as exc:
         raise FormatError(str(exc)) from None

@@ -184,4 +184,4 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     if exif:
         from lenslab.io.exif.outputs import append_exif_ifd
 
-        append_exif_ifd(tmp, exif)
+        append_exif_ifd(tmp, exif, srgb=np.dtype(dtype).kind != "f" and not raw and icc is None)

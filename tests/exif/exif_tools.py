@@ -92,4 +92,13 @@ def tags_of_output(path) -> dict:
                  "FocalPlaneYResolution": "Exif:FocalPlaneYResolution"}
         return {k: v for k, n in names.items() if (v := oiio_attribute(path, n)) is not None}
     return exiftool(path, "Model", "FocalLengthIn35mmFormat", "Orientation", "ExifImageWidth", "ExifImageHeight",
-                    "FocalPlaneXResolution", "FocalPlaneYResolution", "GPS:all", "ThumbnailImage", "MakerNote")
+                    "FocalPlaneXResolution", "FocalPlaneYResolution", "ImageWidth", "ImageHeight")
+
+
+def recorded_frame(tags: dict, path) -> tuple[int, int]:
+    """The frame an output's EXIF records: PixelXDimension x PixelYDimension, which Exif gives compressed images
+    only; a TIFF's is its own ImageWidth x ImageLength (and it must not hold the others)."""
+    if str(path).endswith(".tif"):
+        assert "ExifImageWidth" not in tags and "ExifImageHeight" not in tags, tags
+        return tags["ImageWidth"], tags["ImageHeight"]
+    return tags["ExifImageWidth"], tags["ExifImageHeight"]

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import pytest
 
-from tests.exif.exif_tools import OUTPUTS, exiftool, from_exif_fov, needs_exiftool, photo, run, shown_fov, \
-    tags_of_output
+from tests.exif.exif_tools import OUTPUTS, exiftool, from_exif_fov, needs_exiftool, photo, recorded_frame, run, \
+    shown_fov, tags_of_output
 
 pytestmark = needs_exiftool
 PIXEL_PHOTO = ("formats", "oiio-images", "ultrahdr_sky.jpg")  # in ../shared/data: a Pixel 6 Pro's Ultra HDR photo
@@ -40,7 +40,7 @@ def test_a_phone_photo_keeps_its_camera_in_every_format(shared_data, tmp_path, c
     assert tags["Model"] == original["Model"] == "Pixel 6 Pro"
     assert tags["FocalLengthIn35mmFormat"] == original["FocalLengthIn35mmFormat"] == 24
     assert tags["Orientation"] == 1
-    assert (tags["ExifImageWidth"], tags["ExifImageHeight"]) == (4080, 3072)
+    assert recorded_frame(tags, out) == (4080, 3072)
     no_private_tags(out)
     assert from_exif_fov(capsys, out, tmp_path) == pytest.approx(shown_fov(original, 4080, 3072), abs=1e-9)
 
@@ -62,7 +62,7 @@ def test_a_turned_photo_is_written_upright_with_its_35mm_equivalent(tmp_path, ca
     assert code == 0, err
     tags = tags_of_output(out)
     assert (tags["Model"], tags["FocalLengthIn35mmFormat"], tags["Orientation"]) == ("Turned One", 26, 1)
-    assert (tags["ExifImageWidth"], tags["ExifImageHeight"]) == (40, 60)
+    assert recorded_frame(tags, out) == (40, 60)
     no_private_tags(out)
     assert from_exif_fov(capsys, out, tmp_path) == pytest.approx(shown_fov(original, 40, 60), abs=1e-9)
 
@@ -115,5 +115,28 @@ def test_a_heic_photos_camera_reaches_a_jpeg(tmp_path, capsys):
     assert code == 0, err
     tags = tags_of_output(tmp_path / "p.jpg")
     assert (tags["Model"], tags["FocalLengthIn35mmFormat"]) == (original["Model"], original["FocalLengthIn35mmFormat"])
-    assert (tags["ExifImageWidth"], tags["ExifImageHeight"]) == (64, 48)
+    assert recorded_frame(tags, tmp_path / "p.jpg") == (64, 48)
     assert from_exif_fov(capsys, tmp_path / "p.jpg", tmp_path) == pytest.approx(shown_fov(original, 64, 48), abs=1e-9)
+
+
+@pytest.mark.parametrize("ext, options", [("jpg", ()), ("jpg", ("--display", "Display P3")), ("png", ()),
+                                          ("tif", ()), ("tif", ("--bits", "16"))])
+def test_exiftool_finds_every_tag_exif_requires(tmp_path, capsys, ext, options):
+    """exiftool's -validate: no required tag missing, none where Exif forbids it (PixelXDimension in a TIFF), and a
+    ColorSpace that says what the samples are (1 sRGB; 0xFFFF uncalibrated: Display P3's profile, a TIFF's linear
+    floats). Its one other warning, a TIFF's compression 8 (Adobe Deflate, tifffile's zlib), is no EXIF's."""
+    import subprocess
+
+    from tests.exif.exif_tools import EXIFTOOL
+
+    source = photo(tmp_path / "turned.jpg", 60, 40, *TURNED_SHOT, "-FocalLengthIn35mmFormat=26")
+    out = tmp_path / f"copy.{ext}"
+    code, err = run(capsys, "convert", source, "-o", out, "-q", *options)
+    assert code == 0, err
+    said = subprocess.run([EXIFTOOL, "-validate", "-warning", "-a", "-s", str(out)], capture_output=True, text=True,
+                          check=True, timeout=60).stdout
+    warnings = [w for w in said.splitlines() if w.startswith("Warning") and "0x0103 Compression" not in w]
+    assert warnings == [], said
+    assert exiftool(out, "Model").get("Model") == "Turned One"  # (the block is there to be validated)
+    srgb = not options and ext != "tif" or options == ("--bits", "16")
+    assert exiftool(out, "ColorSpace").get("ColorSpace") == (None if ext == "png" else 1 if srgb else 0xFFFF)

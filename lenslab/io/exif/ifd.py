@@ -121,18 +121,19 @@ def ifd_bytes(entries: list[tuple[int, int, int, bytes]], at: int) -> bytes:
     return struct.pack("<H", len(entries)) + b"".join(fields) + b"\0\0\0\0" + data
 
 
-def exif_ifd(tags: dict, at: int) -> bytes:
-    """The Exif IFD of ``tags`` (those of the Exif IFD, with ExifVersion 0232) at offset ``at``."""
+def exif_ifd(tags: dict, at: int, extra=()) -> bytes:
+    """The Exif IFD of ``tags`` (those of the Exif IFD, with ExifVersion 0232, and the raw ``extra`` entries) at
+    offset ``at``."""
     entries = [(TAGS[n].tag, *encode(n, v)) for n, v in tags.items() if TAGS[n].ifd == "exif"]
-    return ifd_bytes(entries + [(EXIF_VERSION, 7, 4, b"0232")], at)
+    return ifd_bytes(entries + [(EXIF_VERSION, 7, 4, b"0232"), *extra], at)
 
 
-def build(tags: dict) -> bytes:
-    """A whole little-endian Exif block (``II*``, the first IFD, then the Exif IFD) of ``tags``; Orientation 1 unless
-    ``tags`` says otherwise."""
+def build(tags: dict, first_extra=(), exif_extra=()) -> bytes:
+    """A whole little-endian Exif block (``II*``, the first IFD, then the Exif IFD) of ``tags`` and the raw entries
+    ``first_extra`` and ``exif_extra`` (tag, type, count, bytes); Orientation 1 unless ``tags`` says otherwise."""
     tags = {"Orientation": 1, **tags}
-    first = [(TAGS[n].tag, *encode(n, v)) for n, v in tags.items() if TAGS[n].ifd == "0"]
+    first = [(TAGS[n].tag, *encode(n, v)) for n, v in tags.items() if TAGS[n].ifd == "0"] + list(first_extra)
     size = len(ifd_bytes(first + [(EXIF_POINTER, 4, 1, b"\0" * 4)], 8))
     at = 8 + size + size % 2
     head = ifd_bytes(first + [(EXIF_POINTER, 4, 1, struct.pack("<I", at))], 8)
-    return b"II*\0" + struct.pack("<I", 8) + head + b"\0" * (size % 2) + exif_ifd(tags, at)
+    return b"II*\0" + struct.pack("<I", 8) + head + b"\0" * (size % 2) + exif_ifd(tags, at, exif_extra)
