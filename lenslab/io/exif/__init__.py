@@ -18,8 +18,10 @@ is left out; the focal plane's resolution keeps its pixel pitch, and with FocalL
 ``--from exif`` on the output so gives the field of view it gives on the photo.
 
 **Where it goes**: JPEG (an ``APP1 Exif`` segment), PNG (an ``eXIf`` chunk), TIFF (the first IFD's Make, Model and
-Orientation, and an Exif IFD) and EXR (header attributes under OpenImageIO's names: ``Make``, ``Model``,
-``Exif:FocalLengthIn35mmFilm``...). Radiance HDR, PFM and PPM have no place for it.
+Orientation, and an Exif IFD without PixelXDimension and PixelYDimension, which Exif gives compressed images only)
+and EXR (header attributes under OpenImageIO's names: ``Make``, ``Model``, ``Exif:FocalLengthIn35mmFilm``...), each
+with the tags Exif 2.32 requires of it (:mod:`lenslab.io.exif.outputs`). Radiance HDR, PFM and PPM have no place
+for it.
 
 **A damaged or huge block** (over :data:`lenslab.io.exif.sources.MAX_BYTES`) is left out with one note; the image
 is written all the same. Tags of a type or value no camera writes are left out and named in that note.
