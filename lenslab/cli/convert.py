@@ -9,7 +9,10 @@ HDR sources written to display formats (PPM/PGM, JPG, PNG, TIFF with --bits) go 
 first (--tone, --exposure), then the sRGB encoding, or through an OpenColorIO
 display transform instead (--display, --view). EXR to EXR keeps each channel's pixel type (half colour
 beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input (or a 10- or 12-bit HEIC)
-stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit).
+stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit). A photo's camera EXIF (maker,
+model, lens, focal length and focal plane, exposure, date; never GPS, the thumbnail or maker notes) goes
+with it into JPG, PNG, TIFF and EXR outputs, fitted to the image written (upright, its own size), so
+'lenslab warp copy.exr --from exif' sees the photo's lens; a damaged EXIF is left out with a note.
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name
 and renamed, so an interrupted run leaves no partial file. A failing input is reported with its

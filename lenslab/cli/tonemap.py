@@ -5,7 +5,8 @@ brightest percent, goes to middle grey), then the curve, per channel or on lumin
 NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr; the colours of
 a Display P3 or Adobe RGB file outside sRGB are clipped per channel, with a note counting the pixels.
 LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (dithered unless
---no-dither); float outputs (EXR, PFM) keep the display-linear values.
+--no-dither); float outputs (EXR, PFM) keep the display-linear values. A photo's camera EXIF (maker,
+model, lens, focal length, exposure, date; never GPS) goes with it into JPG, PNG, TIFF and EXR outputs.
 
 Examples:
   lenslab tonemap pano.exr -o pano.jpg

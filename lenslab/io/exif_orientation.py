@@ -18,6 +18,13 @@ TURNS = {2: "mirrored left to right", 3: "turned 180 degrees", 4: "mirrored top 
 
 def jpeg_orientation(data: bytes) -> int:
     """The EXIF ``Orientation`` (1 to 8) of the JPEG ``data``; 1 where none is recorded or it cannot be read."""
+    block = jpeg_exif(data)
+    return 1 if block is None else _tiff_orientation(block)
+
+
+def jpeg_exif(data: bytes) -> bytes | None:
+    """The TIFF structure of the JPEG ``data``'s first ``APP1 Exif`` segment (before its scan; cut short where the
+    segment runs past ``data``), or None where it holds none."""
     pos, n = 2, len(data)
     while pos + 4 <= n and data[pos] == 0xFF:
         marker = data[pos + 1]
@@ -33,9 +40,9 @@ def jpeg_orientation(data: bytes) -> int:
         if length < 2:
             break
         if marker == 0xE1 and data[pos + 4:pos + 10] == b"Exif\x00\x00":
-            return _tiff_orientation(data[pos + 10:pos + 2 + length])
+            return data[pos + 10:pos + 2 + length]
         pos += 2 + length
-    return 1
+    return None
 
 
 def _tiff_orientation(tiff: bytes) -> int:

@@ -191,15 +191,17 @@ def _gain_map(data: bytes, path, raw: bool, sdr: bool) -> tuple:
 
 def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95,
                subsampling: str | None = None, bits: int = 8, dither: bool = False,
-               compression: int = 1, cicp=None, in_place: bool = False, icc: bytes | None = None):
+               compression: int = 1, cicp=None, in_place: bool = False, icc: bytes | None = None,
+               exif: dict | None = None):
     """Encode a float image (C = 1, 2 (grey and alpha), 3 or 4 for PNG; 1 or 3 for JPG) to JPG or PNG bytes
     (a bytes-like object: the encoder's own buffer, not copied).
 
     PNG ``compression`` is zlib's level 0..9; 1 (the default) is twice as fast as 3 for files about
     6 % larger. PNG ``cicp``: four H.273 code points written as a ``cICP`` chunk (an HDR display's
     encoding, :mod:`lenslab.io.colour.png_cicp`). ``icc``: an ICC profile's bytes, written as PNG's ``iCCP`` chunk or
-    JPEG's ``APP2`` segments (:mod:`lenslab.io.colour.icc_chunks`). ``in_place``: the code values are made in the image's own
-    memory (the caller gives it up; :func:`lenslab.io.encode.encode_codes`), so encoding holds no other
+    JPEG's ``APP2`` segments (:mod:`lenslab.io.colour.icc_chunks`). ``exif``: camera tags (:mod:`lenslab.io.exif`),
+    written as PNG's ``eXIf`` chunk or JPEG's ``APP1 Exif`` segment. ``in_place``: the code values are made in the
+    image's own memory (the caller gives it up; :func:`lenslab.io.encode.encode_codes`), so encoding holds no other
     array of the image's size than the file's bytes.
     """
     import cv2
@@ -219,7 +221,7 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     if c == 2 and fmt == "png":  # grey and alpha: a file OpenCV cannot write
         from lenslab.io.png_grey_alpha import encode_grey_alpha
 
-        return _tagged(encode_grey_alpha(codes, compression), fmt, cicp, icc)
+        return _tagged(encode_grey_alpha(codes, compression), fmt, cicp, icc, exif)
     if c in (3, 4):  # OpenCV's order, B G R (A): red and blue swapped in place, a band of rows at a time
         swap = cv2.COLOR_RGB2BGR if c == 3 else cv2.COLOR_RGBA2BGRA
         for r in range(0, codes.shape[0], 64):
@@ -240,13 +242,13 @@ def encode_ldr(image: np.ndarray, fmt: str, raw: bool = False, quality: int = 95
     if not ok:
         raise FormatError(f"OpenCV could not encode the image as {fmt.upper()}")
     del codes
-    if cicp is not None or icc is not None:
-        return _tagged(buf.tobytes(), fmt, cicp, icc)
+    if cicp is not None or icc is not None or exif:
+        return _tagged(buf.tobytes(), fmt, cicp, icc, exif)
     return memoryview(buf).cast("B")
 
 
-def _tagged(encoded: bytes, fmt: str, cicp, icc) -> bytes:
-    """``encoded`` with its ``cICP`` chunk (PNG only) and its ICC profile."""
+def _tagged(encoded: bytes, fmt: str, cicp, icc, exif=None) -> bytes:
+    """``encoded`` with its ``cICP`` chunk (PNG only), its ICC profile and its camera tags (before the profile)."""
     from lenslab.io.colour.icc_chunks import jpeg_with_profile, png_with_profile
     from lenslab.io.colour.png_cicp import with_cicp
 
@@ -256,6 +258,10 @@ def _tagged(encoded: bytes, fmt: str, cicp, icc) -> bytes:
         out = encoded if cicp is None else with_cicp(encoded, cicp)
         if icc is not None:
             out = png_with_profile(out, icc) if fmt == "png" else jpeg_with_profile(out, icc)
+        if exif:
+            from lenslab.io.exif.outputs import jpeg_with_exif, png_with_exif
+
+            out = png_with_exif(out, exif) if fmt == "png" else jpeg_with_exif(out, exif, srgb=icc is None)
         return out
     except ValueError as exc:
         raise FormatError(str(exc)) from None

@@ -152,7 +152,10 @@ def _profile(page, path) -> bytes | None:
 
 
 def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compression: str = "zlib",
-               predictor: bool = True, raw: bool = False, dither: bool = False, icc: bytes | None = None) -> None:
+               predictor: bool = True, raw: bool = False, dither: bool = False, icc: bytes | None = None,
+               exif: dict | None = None) -> None:
+    """``exif``: camera tags (:mod:`lenslab.io.exif`): Make, Model and Orientation in the first IFD, the rest in an
+    Exif IFD written after the image."""
     import tifffile
 
     if sample_type not in SAMPLE_TYPES:
@@ -178,3 +181,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     if predictor and COMPRESSIONS[comp] is not None:
         options["predictor"] = "floatingpoint" if np.dtype(dtype).kind == "f" else "horizontal"
     tifffile.imwrite(tmp, data if c > 1 else data[..., 0], **options)
+    if exif:
+        from lenslab.io.exif.outputs import append_exif_ifd
+
+        append_exif_ifd(tmp, exif, srgb=np.dtype(dtype).kind != "f" and not raw and icc is None)

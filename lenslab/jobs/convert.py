@@ -122,11 +122,24 @@ class ConvertJob(Job):
             from lenslab.io.exr.extra import warn_dropped
 
             warn_dropped(src, meta.get("extra_channels") or [], fmt.title)
+        write_opts.update(carried_exif(src_file, meta, image, fmt, same))  # the photo's camera tags, if kept
         if hasattr(progress, "status"):
             from pathlib import Path
 
             progress.status(f"writing {Path(dst).name}")  # (encoding a large PNG takes seconds)
         write(dst, image, format=self.to, overwrite=self.overwrite, **write_opts)
+
+
+def carried_exif(path, meta: dict, image, fmt, same: bool) -> dict:
+    """The write option that carries the camera EXIF of the photo at ``path`` (:mod:`lenslab.io.exif`) to ``image``
+    written in format record ``fmt``: the image as read is the photo's whole frame, unless it is an EXR's data window
+    read alone (``--data-window``; EXR to EXR (``same``) keeps the display window, so the frame)."""
+    from lenslab.io.exif import carried
+
+    h, w = image.shape[:2]
+    window = meta.get("display_window")
+    full = (window[2] - window[0] + 1, window[3] - window[1] + 1) if window is not None else (w, h)
+    return carried(path, meta, full if same else (w, h), fmt, full=full)
 
 
 def map_codes(fmt, meta: dict, bits: int | None) -> dict | None:

@@ -80,6 +80,10 @@ class TonemapJob(Job):
         dither = None if self.display else self.dither  # display code values are rounded, never dithered
         opts = encode_options(fmt, {"camera": meta.get("camera")}, {"bits": self.bits, "dither": dither},
                               channels=out.shape[-1])
+        if source or meta.get("path"):  # the photo's camera tags, where the format keeps them (the same frame)
+            from lenslab.io.exif import carried
+
+            opts.update(carried(io.split_selector(source or meta["path"])[0], meta, out.shape[1::-1], fmt))
         if in_place and "in_place" in fmt.write_options:  # (out is the image given up, or develop's own)
             opts["in_place"] = True
         io.write(dst, out, overwrite=self.overwrite, **{**opts, **shown})

@@ -93,8 +93,8 @@ def _first_part_note(path, parts) -> None:
 
 def plain_value(value):
     """Header attribute -> plain Python (lists, numbers, strings) for meta and JSON."""
-    if isinstance(value, np.ndarray):
-        return value.tolist()
+    if isinstance(value, np.ndarray):  # (a double attribute: the bindings' 1-element float64 array, a number)
+        return float(value[0]) if value.shape == (1,) and value.dtype == np.float64 else value.tolist()
     if isinstance(value, (tuple, list)):
         return [plain_value(v) for v in value]
     if isinstance(value, (str, int, float, bool)) or value is None:

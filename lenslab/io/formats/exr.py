@@ -12,8 +12,13 @@ def _read(path, selector=None, data_window=False, rec709=True, extra_channels=Fa
                     layout=parsed)
 
 
-def _write(tmp, image, **options):
+def _write(tmp, image, exif=None, **options):
     from lenslab.io.exr import write_exr
+
+    if exif:  # camera tags as header attributes, under OpenImageIO's names
+        from lenslab.exif_tags import exr_attributes
+
+        options["attributes"] = {**(options.get("attributes") or {}), **exr_attributes(exif)}
 
     write_exr(tmp, image, **options)
 
@@ -92,6 +97,7 @@ FORMATS = (Format(
                    "compression": "zip (default), piz, zips, rle, none, pxr24, b44, b44a, dwaa, dwab, zstd, ...",
                    "channels": "channel names, for images that are not Y, RGB or RGBA",
                    "attributes": "header attributes {name: value}",
+                   "exif": "camera tags {name: value} (lenslab.io.exif) under OpenImageIO's names",
                    "extra": "more channels {name: H x W plane} (depth, normals...), written in their own type",
                    "window": "(data window, display window), each (x0, y0, x1, y1): where the pixels lie "
                              "(default: both the image, at 0, 0)",

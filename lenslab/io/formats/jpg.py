@@ -19,6 +19,7 @@ FORMATS = (Format(
     probe=header_only, write=_write, read_options=("raw",), selectors=True,
     write_options={"quality": "0..100 (default 95)", "subsampling": "444, 422 or 420 (default 444 at quality >= 90)",
                    "raw": "True: code values / 255, no sRGB encoding", "dither": "True: TPDF dither",
+                   "exif": "camera tags {name: value} (lenslab.io.exif), written as an APP1 Exif segment",
                    "bits": "8 only",
                    "icc": "an ICC profile (bytes) written as APP2 segments (the Display P3 display writes one)",
                    "in_place": "True: the code values are made in the image's own memory (the array is overwritten; "

@@ -15,6 +15,7 @@ FORMATS = (Format(
     write=_write, read_options=("raw",),
     write_options={"bits": "8 (default) or 16", "compression": "zlib level 0..9 (default 1)",
                    "raw": "True: code values / maxval, no sRGB encoding", "dither": "True: TPDF dither",
+                   "exif": "camera tags {name: value} (lenslab.io.exif), written as an eXIf chunk",
                    "cicp": "4 H.273 code points for a cICP chunk, e.g. (9, 16, 0, 1): Rec.2100 PQ",
                    "icc": "an ICC profile (bytes) written as an iCCP chunk (the Display P3 display writes one)",
                    "in_place": "True: the code values are made in the image's own memory (the array is overwritten; "

@@ -3,8 +3,10 @@
 :func:`photo_lens` reads the camera maker and model, the lens maker and model, focal length,
 f-number and focus distance of a file: EXIF through exifread (JPEG, TIFF and DNG-derived TIFF, PNG's
 eXIf chunk, WebP, HEIC), XMP packets (``aux:Lens``, ``exifEX:LensModel``...) where EXIF lacks a field,
-and OpenEXR's standard attributes (``cameraMake``, ``lensModel``, ``nominalFocalLength``, ``aperture``,
-``focus``) for EXR. Only headers are read: at most :data:`XMP_SCAN` bytes of the file for XMP.
+and for EXR the attributes OpenImageIO writes (``Make``, ``Model``, ``Exif:FocalLength``,
+``Exif:FocalLengthIn35mmFilm``, ``Exif:FocalPlaneXResolution``..., as ``lenslab convert`` writes them too), else
+OpenEXR's standard ones (``cameraMake``, ``lensModel``, ``nominalFocalLength``, ``aperture``, ``focus``). Only
+headers are read: at most :data:`XMP_SCAN` bytes of the file for XMP.
 :func:`lenslab.lenses.lensfun.match.auto_spec` turns them into the explicit ``lensfun:`` spec, so
 ``lensfun:auto`` is exactly that spec.
 """
@@ -195,6 +197,14 @@ PLANE_TAGS = {"plane_x": "FocalPlaneXResolution", "plane_y": "FocalPlaneYResolut
               "exif_height": "ExifImageLength"}
 
 
+#: PhotoLens field -> the Exif tag it holds (lenslab.exif_tags.TAGS), as an EXR's header names them
+FIELD_TAGS = {"camera_maker": "Make", "camera_model": "Model", "lens_maker": "LensMake", "lens_model": "LensModel",
+              "focal": "FocalLength", "aperture": "FNumber", "distance": "SubjectDistance",
+              "focal35": "FocalLengthIn35mmFilm", "plane_x": "FocalPlaneXResolution",
+              "plane_y": "FocalPlaneYResolution", "plane_unit": "FocalPlaneResolutionUnit",
+              "exif_width": "PixelXDimension", "exif_height": "PixelYDimension"}
+
+
 #: XMP property -> PhotoLens field (attribute or element form)
 XMP_KEYS = {
     "tiff:Make": "camera_maker", "tiff:Model": "camera_model", "exifEX:LensMake": "lens_maker",
@@ -237,12 +247,11 @@ def _exr(path: Path, info: PhotoLens) -> None:
             header = OpenEXR.File(str(path), header_only=True).parts[0].header
     except Exception:
         raise LensError(f"{path}: OpenEXR cannot read the header; the file is damaged") from None
-    got = {
-        "camera_maker": _text(header.get("cameraMake")), "camera_model": _text(header.get("cameraModel")),
-        "lens_maker": _text(header.get("lensMake")), "lens_model": _text(header.get("lensModel")),
-        "focal": _number(header.get("nominalFocalLength")), "aperture": _number(header.get("aperture")),
-        "distance": _number(header.get("focus")),
-    }
+    from lenslab.exif_tags import exr_tags
+
+    tags = exr_tags(header)  # OpenImageIO's names (Make, Exif:FocalLength...), else OpenEXR's (cameraMake...)
+    got = {field: (_number(tags[tag]) if field in NUMBERS else _text(tags[tag])) if tag in tags else None
+           for field, tag in FIELD_TAGS.items()}
     _fill(info, got, "EXR attributes")
 
 

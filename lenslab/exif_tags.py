@@ -1,0 +1,124 @@
+"""The camera EXIF tags lenslab carries from a photo to the images made of it (:mod:`lenslab.io.exif`), where each
+lives in an Exif block (CIPA DC-008, Exif 2.32: the first IFD or the Exif IFD), and the names OpenImageIO gives them
+in an EXR's header, which ``--from exif`` reads too (:mod:`lenslab.lenses.lensfun.exif`): one table for both, that
+imports nothing of lenslab.
+
+Values are held as Python values of three kinds: ``text`` (str), ``int`` and ``ratio`` (a
+:class:`fractions.Fraction`, so that a rational read from a file is written back exactly).
+
+>>> TAGS["FocalLengthIn35mmFilm"].tag, TAGS["FocalLengthIn35mmFilm"].exr
+(41989, 'Exif:FocalLengthIn35mmFilm')
+>>> sorted(exr_tags({"Exif:FocalLength": 6.5, "Make": "Acme", "expTime": 0.5}).items())
+[('ExposureTime', Fraction(1, 2)), ('FocalLength', Fraction(13, 2)), ('Make', 'Acme')]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+#: the longest text value carried (a maker's or a lens's name); a longer one is not a camera's
+TEXT_MAX = 255
+
+
+@dataclass(frozen=True)
+class Tag:
+    """One carried tag: its IFD (0: the first, ``exif``: the Exif IFD), number, kind (``text``, ``int``, ``ratio``),
+    its TIFF type when written (2 ASCII, 3 SHORT, 4 LONG, 5 RATIONAL) and its EXR attribute (OpenImageIO's name)."""
+
+    ifd: str
+    tag: int
+    kind: str
+    type: int
+    exr: str
+
+
+def _t(ifd, tag, kind, exr, type_=None) -> Tag:
+    return Tag(ifd, tag, kind, type_ or {"text": 2, "int": 3, "ratio": 5}[kind], exr)
+
+
+#: the carried tags by their Exif names (the EXR names are those OpenImageIO reads and writes: ExposureTime and
+#: FNumber as OpenEXR's standard expTime and aperture, Make, Model and Orientation bare, the rest Exif:NAME)
+TAGS = {
+    "Make": _t("0", 0x010F, "text", "Make"),
+    "Model": _t("0", 0x0110, "text", "Model"),
+    "Orientation": _t("0", 0x0112, "int", "Orientation"),
+    "ExposureTime": _t("exif", 0x829A, "ratio", "expTime"),
+    "FNumber": _t("exif", 0x829D, "ratio", "aperture"),
+    "PhotographicSensitivity": _t("exif", 0x8827, "int", "Exif:PhotographicSensitivity"),
+    "DateTimeOriginal": _t("exif", 0x9003, "text", "Exif:DateTimeOriginal"),
+    "OffsetTimeOriginal": _t("exif", 0x9011, "text", "Exif:OffsetTimeOriginal"),
+    "SubjectDistance": _t("exif", 0x9206, "ratio", "Exif:SubjectDistance"),
+    "FocalLength": _t("exif", 0x920A, "ratio", "Exif:FocalLength"),
+    "PixelXDimension": _t("exif", 0xA002, "int", "Exif:PixelXDimension", 4),
+    "PixelYDimension": _t("exif", 0xA003, "int", "Exif:PixelYDimension", 4),
+    "FocalPlaneXResolution": _t("exif", 0xA20E, "ratio", "Exif:FocalPlaneXResolution"),
+    "FocalPlaneYResolution": _t("exif", 0xA20F, "ratio", "Exif:FocalPlaneYResolution"),
+    "FocalPlaneResolutionUnit": _t("exif", 0xA210, "int", "Exif:FocalPlaneResolutionUnit"),
+    "FocalLengthIn35mmFilm": _t("exif", 0xA405, "int", "Exif:FocalLengthIn35mmFilm"),
+    "LensMake": _t("exif", 0xA433, "text", "Exif:LensMake"),
+    "LensModel": _t("exif", 0xA434, "text", "Exif:LensModel"),
+}
+#: (IFD, number) -> name
+BY_NUMBER = {(t.ifd, t.tag): name for name, t in TAGS.items()}
+#: the first IFD's pointer to the Exif IFD; the Exif IFD's version (written 0232: Exif 2.32)
+EXIF_POINTER, EXIF_VERSION = 0x8769, 0x9000
+#: OpenEXR's standard attributes read where OpenImageIO's names are absent (files of other writers)
+EXR_FALLBACK = {"Make": "cameraMake", "Model": "cameraModel", "LensMake": "lensMake", "LensModel": "lensModel",
+                "FocalLength": "nominalFocalLength", "SubjectDistance": "focus",
+                "PhotographicSensitivity": "isoSpeed"}
+
+
+def checked(name: str, value):
+    """``value`` as tag ``name``'s kind holds it, or None where it is not one (a text over :data:`TEXT_MAX`
+    characters, a negative or non-finite number, an integer beyond its type)."""
+    kind = TAGS[name].kind
+    if kind == "text":
+        text = value.decode("utf-8", "replace") if isinstance(value, bytes) else value
+        if not isinstance(text, str):
+            return None
+        text = text.split("\0", 1)[0].strip()
+        return text if 0 < len(text) <= TEXT_MAX else None
+    try:
+        number = Fraction(value) if not isinstance(value, Fraction) else value
+    except (TypeError, ValueError, OverflowError, ZeroDivisionError):  # NaN, infinity, text
+        return None
+    if number < 0:
+        return None
+    if kind == "int":
+        limit = 0xFFFFFFFF if TAGS[name].type == 4 else 0xFFFF
+        return int(number) if number.denominator == 1 and number <= limit else None
+    return number
+
+
+def _plain(value):
+    """An EXR attribute's value as a number or text (OpenEXR's bindings give a double as a 1-element array)."""
+    import numpy as np
+
+    if isinstance(value, np.ndarray):
+        return value.reshape(-1)[0].item() if value.size == 1 else None
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def exr_tags(header: dict) -> dict:
+    """The carried tags an EXR header holds under OpenImageIO's names (or OpenEXR's standard ones), checked."""
+    out = {}
+    for name, tag in TAGS.items():
+        value = header.get(tag.exr, header.get(EXR_FALLBACK.get(name, "")))
+        value = checked(name, _plain(value)) if value is not None else None
+        if value is not None:
+            out[name] = value
+    return out
+
+
+def exr_attributes(tags: dict) -> dict:
+    """Tags as EXR header attributes under OpenImageIO's names: text as strings, integers as ints, rationals as
+    doubles (a float would move a field of view by 1e-6 degree; OpenImageIO reads both)."""
+    import numpy as np
+
+    out = {}
+    for name, value in tags.items():
+        kind = TAGS[name].kind
+        out[TAGS[name].exr] = (np.array([float(value)], np.float64) if kind == "ratio"
+                               else int(value) if kind == "int" else str(value))
+    return out

@@ -1,0 +1,72 @@
+"""Carried tags put where each format keeps them: a JPEG's ``APP1 Exif`` segment (after JFIF's ``APP0``, before
+everything else: CIPA DC-008 section 4.5.4), a PNG's ``eXIf`` chunk (PNG 3rd edition, before the image data), a
+TIFF's first IFD (Make, Model, Orientation: TIFF's own tags) and an Exif IFD it points to, an EXR's header
+(:func:`lenslab.exif_tags.exr_attributes`)."""
+
+from __future__ import annotations
+
+import struct
+
+from lenslab.io.exif.ifd import build, encode, exif_ifd, ifd_bytes
+from lenslab.exif_tags import EXIF_POINTER, TAGS
+
+
+#: the first-IFD tags Exif 2.32 requires of a JPEG: 72 pixels per inch (the conventional value, where nothing says
+#: how large to print), YCbCr samples centred (as JFIF's and libjpeg's are)
+JPEG_FIRST = ((0x011A, 5, 1, struct.pack("<II", 72, 1)), (0x011B, 5, 1, struct.pack("<II", 72, 1)),
+              (0x0128, 3, 1, struct.pack("<H", 2)), (0x0213, 3, 1, struct.pack("<H", 1)))
+
+
+def colour_entries(srgb: bool, jpeg: bool = False) -> tuple:
+    """The Exif IFD's FlashpixVersion (0100), ColorSpace (1: sRGB codes; 0xFFFF uncalibrated: another profile's, or
+    linear floats) and, for a JPEG, ComponentsConfiguration (Y, Cb, Cr): tags Exif 2.32 requires."""
+    out = ((0xA000, 7, 4, b"0100"), (0xA001, 3, 1, struct.pack("<H", 1 if srgb else 0xFFFF)))
+    return out + (((0x9101, 7, 4, b"\1\2\3\0"),) if jpeg else ())
+
+
+def jpeg_with_exif(jpg: bytes, tags: dict, srgb: bool = True) -> bytes:
+    """``jpg`` with an ``APP1 Exif`` segment of ``tags`` after its start and its ``APP0`` (JFIF); ``srgb``: its
+    codes are sRGB's (no other ICC profile)."""
+    block = b"Exif\0\0" + build(tags, JPEG_FIRST, colour_entries(srgb, jpeg=True))
+    if len(block) + 2 > 0xFFFF:
+        raise ValueError(f"an Exif block of {len(block)} bytes does not fit in a JPEG segment")
+    at = 4 + int.from_bytes(jpg[4:6], "big") if jpg[2:4] == b"\xff\xe0" else 2  # JFIF's APP0 stays first
+    return bytes(jpg[:at]) + b"\xff\xe1" + struct.pack(">H", len(block) + 2) + block + bytes(jpg[at:])
+
+
+def png_with_exif(png: bytes, tags: dict) -> bytes:
+    """``png`` with an ``eXIf`` chunk of ``tags`` right after its ``IHDR``."""
+    from lenslab.io.colour.png_cicp import after_ihdr
+
+    return after_ihdr(png, b"eXIf", build(tags))
+
+
+def append_exif_ifd(path, tags: dict, srgb: bool = True) -> None:
+    """Give the little-endian classic TIFF at ``path`` (one image, as tifffile writes it) the first-IFD tags of
+    ``tags`` (Make, Model, Orientation) and an Exif IFD: both written at the end of the file, a copy of its first
+    IFD with them then named first in its header (tifffile writes neither the Exif IFD nor its pointer; an IFD may
+    lie anywhere in the file, and its values keep their offsets). PixelXDimension and PixelYDimension are left out:
+    Exif gives them to compressed images only (a TIFF's frame is its own ImageWidth and ImageLength). ``srgb``: its
+    samples are sRGB codes."""
+    tags = {n: v for n, v in tags.items() if n not in ("PixelXDimension", "PixelYDimension")}
+    with open(path, "r+b") as f:
+        head = f.read(8)
+        if head[:4] != b"II*\0":
+            raise ValueError("an Exif IFD is written into little-endian classic TIFF only")
+        first = struct.unpack("<I", head[4:8])[0]
+        f.seek(first)
+        count = struct.unpack("<H", f.read(2))[0]
+        raw = f.read(12 * count)
+        ours = {TAGS[n].tag: n for n, v in tags.items() if TAGS[n].ifd == "0"}
+        kept = [(*struct.unpack("<HHI", raw[12 * k:12 * k + 8]), raw[12 * k + 8:12 * k + 12]) for k in range(count)]
+        kept = [e for e in kept if e[0] not in ours and e[0] != EXIF_POINTER]
+        entries = kept + [(TAGS[n].tag, *encode(n, tags[n])) for n in ours.values()]
+        f.seek(0, 2)
+        end = f.tell()
+        at = end + end % 2
+        size = len(ifd_bytes(entries + [(EXIF_POINTER, 4, 1, b"\0" * 4)], at))
+        exif_at = at + size + size % 2
+        block = ifd_bytes(entries + [(EXIF_POINTER, 4, 1, struct.pack("<I", exif_at))], at)
+        f.write(b"\0" * (end % 2) + block + b"\0" * (size % 2) + exif_ifd(tags, exif_at, colour_entries(srgb)))
+        f.seek(4)
+        f.write(struct.pack("<I", at))
