@@ -101,3 +101,16 @@ def test_exr_to_exr_keeps_the_whole_frame_s_tags(tmp_path, capsys):
         assert oiio_attribute(tmp_path / "copy.exr", name) == oiio_attribute(tmp_path / "w.exr", name), name
     spec = oiio.ImageInput.open(str(tmp_path / "copy.exr")).spec()
     assert (spec.x, spec.y, spec.width, spec.full_width) == (10, 5, 40, 60)
+
+
+def test_an_exr_s_zero_focal_lengths_are_named_with_their_values(tmp_path, capsys):
+    """A zero the header holds is named as the file holds it (exiftool reads the JPEG's the same), not as missing."""
+    source = photo(tmp_path / "p.jpg", 64, 48, "-FocalLength=0", "-FocalLengthIn35mmFormat=0")
+    shot = exiftool(source, "FocalLength", "FocalLengthIn35mmFormat")
+    assert (shot["FocalLength"], shot["FocalLengthIn35mmFormat"]) == (0, 0)
+    buf = oiio.ImageBuf(str(source))
+    assert buf.write(str(tmp_path / "zero.exr")), oiio.geterror()
+    assert oiio_attribute(tmp_path / "zero.exr", "Exif:FocalLengthIn35mmFilm") == 0
+    code, err = run(capsys, "warp", tmp_path / "zero.exr", "-o", tmp_path / "o.exr", "--from", "exif",
+                    "--to", "equirect", "--size", "64x32")
+    assert code == 1 and "FocalLengthIn35mmFilm 0 (Exif's 'unknown')" in err and "FocalLength 0 mm" in err, err

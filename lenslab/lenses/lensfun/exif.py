@@ -250,8 +250,8 @@ def _exr(path: Path, info: PhotoLens) -> None:
     from lenslab.exif_tags import exr_tags
 
     tags = exr_tags(header)  # OpenImageIO's names (Make, Exif:FocalLength...), else OpenEXR's (cameraMake...)
-    got = {field: (_number(tags[tag]) if field in NUMBERS else _text(tags[tag])) if tag in tags else None
-           for field, tag in FIELD_TAGS.items()}
+    got = {field: _text(tags[tag]) if tag in tags else None for field, tag in FIELD_TAGS.items() if field not in NUMBERS}
+    got.update(_numbers(info, {field: tags.get(tag) for field, tag in FIELD_TAGS.items() if field in NUMBERS}))
     _fill(info, got, "EXR attributes")
 
 
