@@ -49,7 +49,7 @@ class WarpJob(Job):
     tone: str = "hable"
     tone_given: bool = False
     exposure: float | str = 0.0
-    pixel_type: str = "half"
+    pixel_type: str | None = None  # --pixel-type (lenslab.jobs.pixel_types); None: half in EXR, the format's own
     no_alpha: bool = False
     allow_parallax: bool = False
     autoscale: str | None = None
