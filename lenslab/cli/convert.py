@@ -100,9 +100,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="PNG/PPM/PGM bits per sample (default: 16 for an input of 9 to 16 bits, else 8); TIFF: "
                              "8- or 16-bit display-encoded integers instead of floats (default: 16-bit integers "
                              "for an input of 9 to 16 bits, else floats)")
-    parser.add_argument("--pixel-type", choices=("half", "float"), default=None,
-                        help="EXR/TIFF float type of the colour and alpha (default: each channel's stored type "
-                             "for EXR to EXR, else half for EXR, float for TIFF); other EXR channels keep theirs")
+    from lenslab.jobs.pixel_types import pixel_type_choices
+
+    parser.add_argument("--pixel-type", choices=pixel_type_choices(), default=None,
+                        help="the output's samples: half or float for EXR and TIFF colour and alpha (default: each "
+                             "channel's stored type for EXR to EXR, else half for EXR, float for TIFF; other EXR "
+                             "channels keep theirs); uint8 or uint16 for PNG, PPM and TIFF (as --bits); a type the "
+                             "format cannot hold is refused")
     parser.add_argument("--compression", default=None,
                         help="EXR compression (default zip, readable everywhere; also piz, zips, rle, none, "
                              "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")
@@ -147,6 +151,11 @@ def run(args: argparse.Namespace) -> int:
     args.to = args.to or format_from_output(args.output)
     exposure = parse_exposure(args.exposure)
     display = display_options(args)  # bad display names: one usage error before any folder is made
+    from lenslab.jobs.pixel_types import check_pixel_type, integer_bits
+
+    check_pixel_type(args.pixel_type, get("video" if args.to in VIDEO else args.to), args.bits)
+    if integer_bits(args.pixel_type):  # integers are --bits (a TIFF's, a PNG's depth)
+        args.bits, args.pixel_type = integer_bits(args.pixel_type), None
     if args.to not in VIDEO:
         fmt = get(args.to)
         if args.bits and (args.bits not in fmt.bit_depths or not {"bits", "sample_type"} & set(fmt.write_options)):

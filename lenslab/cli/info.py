@@ -139,10 +139,13 @@ def _recorded_tiles(lens) -> list[str] | None:
 def _pose_words(camera: dict) -> str:
     """``yaw 30, pitch -10, roll 0 degrees; eye (0, 1.5, 0)`` of a camera's :meth:`~lenslab.Camera.to_dict`."""
     def num(v: float) -> str:
-        return f"{float(v) + 0.0:.6g}"  # (+ 0.0: no "-0")
+        return f"{round(float(v), 9) + 0.0:.6g}"  # (+ 0.0: no "-0"; 1e-16 of a matrix's rounding: 0)
 
     turn = (f"yaw {num(camera['yaw'])}, pitch {num(camera['pitch'])}, roll {num(camera['roll'])} degrees"
             if "yaw" in camera else "rotation " + str([[float(num(v)) for v in row] for row in camera["rotation"]]))
+    if camera.get("mirror"):  # a mirrored view (warp --flip): the lens's rays reflected, then turned
+        sides = {"h": "left-right", "v": "up-down", "d": "front-back"}
+        turn = f"mirrored {' and '.join(sides[c] for c in camera['mirror'])} ({camera['mirror']}), then {turn}"
     return f"{turn}; eye ({', '.join(num(v) for v in camera['eye'])})"
 
 

@@ -142,7 +142,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          "output that keeps linear light (EXR, TIFF, PFM, HDR, video) and with --display "
                          "(a display transform maps scene light itself)")
     out.add_argument("--exposure", default="0", metavar="EV", help="exposure in stops before the curve, or 'auto'")
-    out.add_argument("--pixel-type", choices=("half", "float"), default="half", help="EXR sample type (default half)")
+    from lenslab.jobs.pixel_types import pixel_type_choices
+
+    out.add_argument("--pixel-type", choices=pixel_type_choices(), default=None,
+                     help="the output's samples: half or float (EXR, default half; TIFF, default float), uint8 or "
+                          "uint16 (PNG, PPM, TIFF; default uint8); a type the format cannot hold is refused")
     out.add_argument("--no-alpha", action="store_true", help="do not write the alpha channel")
     out.add_argument("--overwrite", action="store_true", help="replace existing output files")
     parser.add_argument("--allow-parallax", action="store_true",
@@ -225,9 +229,14 @@ def check_options_apply(args, pairs) -> None:
 
     # a clip to a clip (or to a name the warp refuses); a clip to image files is developed as still images are
     clips = [v and image_format(dst) is None for (_, dst), v in zip(pairs, videos)]
+    from lenslab.jobs.pixel_types import check_pixel_type, integer_bits
+
+    for (_, dst), v in zip(pairs, clips):  # a type the output cannot hold: one line, before any file is read
+        check_pixel_type(args.pixel_type, get("video" if v else output_format(dst)))
+    codes = integer_bits(args.pixel_type)  # a TIFF of integer samples holds display codes, as a PNG does
     linear = [(dst, "a video keeps linear light through its transfer") if v
               else (dst, f"{get(output_format(dst)).title} holds linear light")
-              for (_, dst), v in zip(pairs, clips) if v or get(output_format(dst)).hdr]
+              for (_, dst), v in zip(pairs, clips) if v or (get(output_format(dst)).hdr and not codes)]
     check_tone_applies(typed(args, "tone", "--tone"), tone_given, getattr(args, "display", None), linear)
     from lenslab.jobs.display import check_display_outputs
     from lenslab.jobs.stages import check_channels_fit

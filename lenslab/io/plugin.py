@@ -72,6 +72,19 @@ class Format:
     #: a float format whose files cannot hold a negative sample (Radiance RGBE: unsigned mantissas), written
     #: as 0: a wide-gamut image's colours outside sRGB are clipped for it as for a display format
     clips_negatives: bool = False
+    #: the sample types a written file holds, as ``--pixel-type`` names them, where :attr:`pixel_types` cannot pair
+    #: them from ``bit_depths`` and ``sample_types`` (EXR: half and float; its 32-bit uint is read, and kept per channel)
+    written_types: tuple[str, ...] = ()
+
+    @property
+    def pixel_types(self) -> tuple[str, ...]:
+        """The sample types a written file of this format holds, as ``--pixel-type`` names them: ``uint8`` and
+        ``uint16`` for integers of those depths, ``half``, ``float`` (32-bit), or the format's own (``rgbe``);
+        :attr:`written_types` where given."""
+        if self.written_types:
+            return self.written_types
+        ints = tuple(f"uint{b}" for b in self.bit_depths if "uint" in self.sample_types and b <= 16)
+        return ints + tuple(t for t in self.sample_types if t != "uint")
 
     def holds_straight(self, sample_type: str = "uint") -> bool:
         """Whether a file of this format, written with ``sample_type`` samples, holds straight colour."""

@@ -49,7 +49,7 @@ class WarpJob(Job):
     tone: str = "hable"
     tone_given: bool = False
     exposure: float | str = 0.0
-    pixel_type: str = "half"
+    pixel_type: str | None = None  # --pixel-type (lenslab.jobs.pixel_types); None: half in EXR, the format's own
     no_alpha: bool = False
     allow_parallax: bool = False
     autoscale: str | None = None
@@ -133,6 +133,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     else:
         src = source_camera(job.source, meta, image.shape)
         image, src = stored_frame(image, meta, src)
+        true_src = src
         if job.flip or job.source_flip:
             from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
 
@@ -170,6 +171,10 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     warped = list(warped)  # handed over: no array of the output's size kept here while it is written
     if hasattr(progress, "status"):  # a large output takes longer to write than to warp: the full bar says so
         progress.status(f"writing {Path(dst_path).name}")
+    if not job.stmap:  # the view the pixels show: a mirrored one recorded as mirrored
+        from lenslab.warp.mirror import shown_camera
+
+        dst = shown_camera(true_src, src, dst)
     write_warped(dst_path, warped.pop(0), warped.pop(0), meta, fmt, job, dst, source_alpha, given_up=True)
 
 

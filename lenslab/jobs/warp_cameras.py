@@ -274,8 +274,9 @@ def refuse_turns(flags: list[str], option: str, path, view, spec_option: str | N
 
     yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
     what = " or ".join(dict.fromkeys(VIEW_CHANGES.get(flag, "turn that lens another way") for flag in flags))
+    mirror = f"mirrored {view.pose.mirror}, then " if view.pose.mirror else ""  # (a view warp --flip made)
     raise UsageError(f"{'/'.join(flags)}: {option} {path} takes the view that file records, its lens and its "
-                     f"orientation (yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to {what}, give "
+                     f"orientation ({mirror}yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to {what}, give "
                      f"it as a spec: {spec_option or option} {view.lens.spec()}")
 
 

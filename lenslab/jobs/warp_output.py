@@ -17,14 +17,17 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     from lenslab.io.alpha import joined_alpha, with_alpha
     from lenslab.jobs.stages import Look, develop, encode_options
 
+    from lenslab.jobs.pixel_types import pixel_type_options
+
     keep = keeps_output_alpha(fmt, job, meta, source_alpha)
-    bits = v360_bits(fmt, meta) if job.compat == "v360" else None
+    samples = pixel_type_options(job.pixel_type, "half")  # --pixel-type, checked against fmt by the command
+    bits = samples.pop("bits", None) or (v360_bits(fmt, meta) if job.compat == "v360" else None)
     if keep:
         joined = joined_alpha(colour, alpha) if given_up and colour.shape[2] + 1 in fmt.channels else None
         colour = with_alpha(colour, alpha, fmt.channels) if joined is None else joined
     alpha = None  # (joined, or not written: its memory goes here when the caller gave it up)
     look = Look(tone=job.tone, tone_given=job.tone_given, exposure=job.exposure, display=job.display, view=job.view,
-                colorspace=job.colorspace, ocio=job.ocio)
+                colorspace=job.colorspace, ocio=job.ocio, bits=bits)
     # with alpha, the image developed is a new array of this function's own: the look may work in its memory
     from lenslab.current_input import from_input
 
@@ -33,7 +36,7 @@ def write_warped(dst_path, colour, alpha, meta: dict, fmt, job, camera, source_a
     with from_input(resampled=True):
         result, shown = develop(colour, meta, fmt, look, in_place=keep or given_up, of=f"the warped image {dst_path}")
     del colour
-    opts = encode_options(fmt, {**meta, "camera": None}, {"pixel_type": job.pixel_type, "bits": bits},
+    opts = encode_options(fmt, {**meta, "camera": None}, {**samples, "bits": bits},
                           camera=camera, channels=result.shape[2])
     if (keep or given_up) and "in_place" in fmt.write_options:  # the codes or halves made in its memory
         opts["in_place"] = True

@@ -77,10 +77,10 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     info = probe_video(src_path)
     total = max(0, (info.frames if stop is None else min(stop, info.frames or stop)) - start)
     src = source_camera(args.source, {"path": src_path}, (info.height, info.width))
-    from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips
+    from lenslab.warp.mirror import mirror_frames, mirror_source_pose, parse_flips, shown_camera
 
     source_flips = parse_flips(getattr(args, "source_flip", None), "hv", "--source-flip")
-    src = mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
+    true_src, src = src, mirror_source_pose(src, parse_flips(getattr(args, "flip", None)))
     size = args.size or default_output_size(args.to, src.lens)
     src = place_source(args.to, src, False, args.eye)  # (a video records no camera)
     dst = output_camera(args, src, size)
@@ -88,7 +88,8 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
         dst = autoscale_camera(src, dst, args.autoscale, args.samples, args.quiet, args.verbose)
     show = not args.quiet and sys.stderr.isatty()
     if image is not None:
-        return _to_files(src_path, dst_path, image, args, cache, (src, dst, info), (start, stop, total),
+        shown = shown_camera(true_src, src, dst)  # the view each frame's pixels show, which it records
+        return _to_files(src_path, dst_path, image, args, cache, (src, dst, info, shown), (start, stop, total),
                          source_flips, show)
     display = getattr(args, "display", None)
     if display:  # code values of an OpenColorIO display, tagged as that display
@@ -163,7 +164,8 @@ def image_format(path):
 
 def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips, show) -> None:
     """Every frame (of ``frames``: start, stop, total) warped from camera ``src`` to ``dst`` (``cameras``: src,
-    dst and the clip's info) and written as an image of format record ``fmt``, developed as a still image is,
+    dst, the clip's info and the camera each frame records, :func:`~lenslab.warp.mirror.shown_camera`) and written
+    as an image of format record ``fmt``, developed as a still image is,
     numbered as in the clip; all or none."""
     from lenslab.errors import FormatError
     from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
@@ -173,7 +175,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     from lenslab.io.video import read_frames
     from lenslab.warp.mirror import mirror_frames
 
-    src, dst, info = cameras
+    src, dst, info, shown = cameras
     start, stop, total = frames
     # SDR frames are display light already (no tone curve for display outputs); PQ/HLG frames are HDR
     meta = {"format": "video", "display_encoded": not info.hdr, "sample_type": "uint", "camera": None,
@@ -187,7 +189,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
                 colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
                 last = frame_output(dst_path, i, src_path, job.overwrite)
-                write_warped(last, colour, alpha, meta, fmt, job, dst)
+                write_warped(last, colour, alpha, meta, fmt, job, shown)  # (the view the pixels show)
                 written, pixels, first = written + 1, colour.shape[0] * colour.shape[1], first or last
                 bar.update()
         if written == 0:

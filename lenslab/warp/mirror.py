@@ -15,9 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import WarpError
-
-AXES = {"h": 0, "v": 1, "d": 2}
-
+from lenslab.lenses.core.pose import mirror_matrix
 
 def parse_flips(text: str | None, allowed: str = "hvd", what: str = "--flip") -> str:
     """``"h,v"`` (or ``"hv"``) -> ``"hv"``; letters outside ``allowed`` are a WarpError."""
@@ -31,14 +29,6 @@ def parse_flips(text: str | None, allowed: str = "hvd", what: str = "--flip") ->
     return "".join(c for c in allowed if c in letters)
 
 
-def mirror_matrix(flips: str) -> np.ndarray:
-    """The reflection ``diag(+-1, +-1, +-1)`` of the axes named in ``flips`` (float64 3x3)."""
-    m = np.ones(3)
-    for c in flips:
-        m[AXES[c]] = -1.0
-    return np.diag(m)
-
-
 def mirror_source_pose(src_camera, flips: str):
     """The source camera whose pose reflects the rays named in ``flips`` in its own frame: a ray the
     output sends along ``d`` (in the world) is read from the source along ``M R_src^T d``."""
@@ -48,6 +38,21 @@ def mirror_source_pose(src_camera, flips: str):
         return src_camera
     pose = src_camera.pose
     return Camera(src_camera.lens, Pose(pose.rotation @ mirror_matrix(flips), pose.eye))
+
+
+def shown_camera(true_src, src, dst):
+    """The camera whose rays the pixels of a warp from ``src`` (``true_src`` with its rays mirrored by
+    :func:`mirror_source_pose`) into ``dst`` show, in ``true_src``'s world: a ray ``d`` of ``dst`` reads the source
+    along ``R_true R_src^T d``, ``R_true M R_true^T d`` for the mirror ``M``. A mirrored view's pose has a determinant
+    of -1 (a turn after a mirror, :attr:`lenslab.lenses.Pose.mirror`), which the output records, so that ``--to`` the
+    output, ``tracer render`` of its camera and ``lenslab info`` see the view its pixels hold. ``dst`` itself when
+    nothing was mirrored."""
+    from lenslab.lenses import Camera, Pose
+
+    if src.pose.rotation is true_src.pose.rotation or np.array_equal(src.pose.rotation, true_src.pose.rotation):
+        return dst
+    turn = true_src.pose.rotation @ src.pose.rotation.T @ dst.pose.rotation
+    return Camera(dst.lens, Pose(turn, dst.pose.eye))
 
 
 def mirror_frames(image: np.ndarray, lens, flips: str) -> np.ndarray:
@@ -69,4 +74,4 @@ def mirror_frames(image: np.ndarray, lens, flips: str) -> np.ndarray:
     return out
 
 
-__all__ = ["parse_flips", "mirror_matrix", "mirror_source_pose", "mirror_frames"]
+__all__ = ["parse_flips", "mirror_matrix", "mirror_source_pose", "shown_camera", "mirror_frames"]

@@ -57,7 +57,7 @@ def test_a_size_below_x265s_smallest_is_a_usage_error_before_any_frame(tmp_path,
                  "--codec", "h265", "--size", size]) == 2
     lines = capsys.readouterr().err.strip().splitlines()
     assert lines == [f"lenslab warp: error: --size {size}: the libx265 encoder (--codec h265) encodes frames of at "
-                     f"least {min_w} x {min_h}; give --size {want[0]}x{want[1]} or larger, or --codec h264"]
+                     f"least {min_w} x {min_h}; give --size {want[0]}x{want[1]} or larger, or --codec h264 for an SDR clip"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4"]  # no output, no temporary
 
 

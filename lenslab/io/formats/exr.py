@@ -91,6 +91,7 @@ def _probe(path) -> dict:
 FORMATS = (Format(
     name="exr", title="OpenEXR", extensions=(".exr",), magic=lambda head: head.startswith(b"\x76\x2f\x31\x01"),
     hdr=True, alpha=True, channels=(1, 2, 3, 4), bit_depths=(16, 32), sample_types=("half", "float", "uint"),
+    written_types=("half", "float"),
     read=_read, declare=_declare, write=_write, probe=_probe, channel_names=_channel_names,
     read_options=("data_window", "rec709", "extra_channels"),
     write_options={"pixel_type": "half or float (default half)",

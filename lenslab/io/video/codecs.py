@@ -36,7 +36,8 @@ def check_clip_size(size: tuple[int, int], path, codec: str | None) -> None:
         # clip in .mp4 is known only once the clip is probed: check_encodes then, exit 1)
         raise UsageError(f"--size {w}x{h}: the libx265 encoder (--codec h265) encodes frames of at least "
                          f"{X265_MIN_SIDE} x {X265_MIN_SIDE}; give --size {max(w + w % 2, X265_MIN_SIDE)}x"
-                         f"{max(h + h % 2, X265_MIN_SIDE)} or larger, or --codec h264")
+                         f"{max(h + h % 2, X265_MIN_SIDE)} or larger, or --codec h264 for an SDR clip")  # (before the probe:
+        # whether the clip is PQ/HLG, which H.264 in .mp4 would not keep as HDR, is not known yet)
     for name in [codec] if codec else DEFAULT_CODEC.get(Path(path).suffix.lower(), ()):
         encoder, pix_fmt, _ = CODECS[name]
         if encoder in ODD_4_2_0_REFUSED and pix_fmt.startswith("yuv420") and (w % 2 or h % 2):

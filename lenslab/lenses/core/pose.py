@@ -40,6 +40,32 @@ def rotate_rows(v: np.ndarray, r: np.ndarray) -> np.ndarray:
 
 ORDERS = ("ypr", "yrp", "pyr", "pry", "ryp", "rpy")
 
+#: the camera axis a mirror letter reflects: ``h`` x (left-right), ``v`` y (up-down), ``d`` z (front-back), as
+#: ffmpeg v360's ``h_flip``, ``v_flip`` and ``d_flip``
+MIRROR_AXES = {"h": 0, "v": 1, "d": 2}
+
+
+def mirror_matrix(flips: str) -> np.ndarray:
+    """The reflection ``diag(+-1, +-1, +-1)`` of the axes named in ``flips`` (letters of :data:`MIRROR_AXES`),
+    float64 3x3."""
+    m = np.ones(3)
+    for c in flips:
+        m[MIRROR_AXES[c]] = -1.0
+    return np.diag(m)
+
+
+def _mirror_letter(r: np.ndarray) -> str:
+    """For an improper ``r`` (determinant -1): the one mirror letter whose reflection, applied first, leaves the
+    turn with the least roll, then the least pitch (``--flip v`` of a yaw is that yaw mirrored up-down, not a yaw
+    rolled half a turn and mirrored left-right); "" for a rotation."""
+    if np.linalg.det(r) > 0:
+        return ""
+
+    def bent(c):
+        _, pitch, roll = matrix_to_ypr(r @ mirror_matrix(c))
+        return round(abs(roll), 9), round(abs(pitch), 9)
+    return min("hvd", key=bent)
+
 
 def ypr_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0, order: str = "ypr") -> np.ndarray:
     """Rotation camera -> world from yaw, pitch, roll in degrees.
@@ -146,7 +172,8 @@ class Pose:
     Parameters
     ----------
     rotation : array_like
-        3x3 orthonormal rotation camera -> world (stored as float64).
+        3x3 orthonormal rotation camera -> world (stored as float64); a determinant of -1 is a mirrored view
+        (:attr:`mirror`: a turn after a reflection of the camera's axes, as ``lenslab warp --flip`` makes).
     eye : array_like
         The eye point in the world (3 values).
 
@@ -186,26 +213,42 @@ class Pose:
         return cls(look_at_matrix(eye, at, up), np.asarray(eye, dtype=np.float64))
 
     @property
+    def mirror(self) -> str:
+        """The mirror letter of a mirrored view (``h``, ``v`` or ``d``; see :func:`mirror_matrix`): its rays are the
+        turn :attr:`ypr`'s applied to the lens's rays reflected on that camera axis; "" for a rotation."""
+        return _mirror_letter(self.rotation)
+
+    @property
     def ypr(self) -> tuple[float, float, float]:
-        """(yaw, pitch, roll) in degrees, pitch in [-90, 90] (:func:`matrix_to_ypr`)."""
-        return matrix_to_ypr(self.rotation)
+        """(yaw, pitch, roll) in degrees, pitch in [-90, 90] (:func:`matrix_to_ypr`): of the turn after the
+        :attr:`mirror` of a mirrored view."""
+        return matrix_to_ypr(self.rotation @ mirror_matrix(self.mirror))
 
     def to_dict(self) -> dict:
-        """``yaw``, ``pitch``, ``roll`` and ``eye`` (or ``rotation`` when angles would not give it back
-        to 1e-12), as camera files store them."""
+        """``yaw``, ``pitch``, ``roll`` (with ``mirror`` for a mirrored view) and ``eye``, or ``rotation`` when
+        angles would not give it back to 1e-12, as camera files store them."""
         yaw, pitch, roll = self.ypr
-        out = {"yaw": yaw, "pitch": pitch, "roll": roll, "eye": [float(v) for v in self.eye]}
-        if not np.allclose(ypr_matrix(yaw, pitch, roll), self.rotation, atol=1e-12):
+        mirror = self.mirror
+        out = {"yaw": yaw, "pitch": pitch, "roll": roll, **({"mirror": mirror} if mirror else {}),
+               "eye": [float(v) for v in self.eye]}
+        if not np.allclose(ypr_matrix(yaw, pitch, roll) @ mirror_matrix(mirror), self.rotation, atol=1e-12):
             out = {"rotation": [[float(v) for v in row] for row in self.rotation], "eye": out["eye"]}
         return out
 
     @classmethod
     def from_dict(cls, d: dict) -> "Pose":
         """The pose a camera file describes: ``rotation``, ``at``/``look_at`` (with ``up``), or
-        ``yaw``/``pitch``/``roll``; each with an optional ``eye``."""
+        ``yaw``/``pitch``/``roll``; each with an optional ``eye``, and an optional ``mirror`` (letters h, v, d:
+        the camera's axes reflected before the turn)."""
         eye = d.get("eye", (0.0, 0.0, 0.0))
+        mirror = d.get("mirror", "")
+        if not isinstance(mirror, str) or any(c not in MIRROR_AXES for c in mirror) or len(set(mirror)) < len(mirror):
+            raise LensError(f"pose: mirror must be letters among h (left-right), v (up-down) and d (front-back), "
+                            f"each once, got {mirror!r}")
         if "rotation" in d:
-            return cls(np.asarray(d["rotation"], dtype=np.float64), eye)
-        if "at" in d or "look_at" in d:
-            return cls.look_at(eye, d.get("at", d.get("look_at")), d.get("up", (0.0, 1.0, 0.0)))
-        return cls.from_ypr(d.get("yaw", 0.0), d.get("pitch", 0.0), d.get("roll", 0.0), eye)
+            pose = cls(np.asarray(d["rotation"], dtype=np.float64), eye)
+        elif "at" in d or "look_at" in d:
+            pose = cls.look_at(eye, d.get("at", d.get("look_at")), d.get("up", (0.0, 1.0, 0.0)))
+        else:
+            pose = cls.from_ypr(d.get("yaw", 0.0), d.get("pitch", 0.0), d.get("roll", 0.0), eye)
+        return cls(pose.rotation @ mirror_matrix(mirror), pose.eye) if mirror else pose
