@@ -290,9 +290,9 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None,
                      alpha_channel: bool | None = None, looked: Looked | None = None,
-                     into=None) -> tuple[np.ndarray, np.ndarray]:
+                     into: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an ST map (made by lenslab or any other tool); ``alpha_channel=False``: data
-    channels only, none settled as alpha; ``into``: arrays to draw into (:func:`lenslab.warp.given.draw_rows`).
+    channels only, none settled as alpha.
 
     One sample per pixel goes through the engine's :func:`~lenslab.warp.given.warp_with_map`
     (lenslab's filters, and its footprint prefilter with ``antialias``); ``samples`` > 1 takes that
@@ -321,6 +321,9 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     looked : lenslab.warp.minification.Looked, optional
         With ``antialias``: what the map's footprints show (whether it shrinks the source anywhere, as
         :func:`lenslab.warp.minification.shrinks` says).
+    into : tuple of numpy.ndarray, optional
+        ``(image, alpha)`` float32 arrays of the output's shapes to draw into (the channels of one RGBA image,
+        :func:`lenslab.io.alpha.room_for_alpha`); ``(image or None, None)``: no coverage kept, returned as None.
 
     Returns
     -------

@@ -34,10 +34,10 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
                   antialias: bool = False, source: Lens | Camera | None = None,
                   progress: Callable[[int], None] | None = None,
                   alpha_channel: bool | None = None, looked: Looked | None = None,
-                  into=None) -> tuple[np.ndarray, np.ndarray]:
+                  into: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
     ``alpha_channel=False``: the image holds data channels only (the last of 2 or 4 is not settled as
-    alpha; :func:`lenslab.io.carries_alpha`). ``into``: arrays to draw into (:func:`draw_rows`).
+    alpha; :func:`lenslab.io.carries_alpha`).
 
     Parameters
     ----------
@@ -68,6 +68,9 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     looked : lenslab.warp.minification.Looked, optional
         With ``antialias``: the footprints are looked at for it as they are drawn, and
         :func:`lenslab.warp.minification.shrinks` then says whether the map shrinks its source anywhere.
+    into : tuple of numpy.ndarray, optional
+        ``(image, alpha)`` float32 arrays of the output's shapes to draw into (the channels of one RGBA image,
+        :func:`lenslab.io.alpha.room_for_alpha`); ``(image or None, None)``: no coverage kept, returned as None.
 
     Returns
     -------
@@ -129,7 +132,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
 
 
 def draw_rows(src: np.ndarray, shape: tuple[int, int], draw, progress=None, alpha_channel: bool | None = None,
-              into=None, drawn_over: bool = True, per_pixel: int = 1,
+              into: tuple | None = None, drawn_over: bool = True, per_pixel: int = 1,
               points: int = BAND_ROWS_POINTS) -> tuple[np.ndarray, np.ndarray | None]:
     """The output (float32 h x W x C, the source's C) and coverage of a warp by a given map, drawn in bands of rows
     on the engine's threads by ``draw(r0, r1, out_rows, alpha_rows)`` (C-contiguous arrays of those rows) and

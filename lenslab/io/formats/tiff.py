@@ -53,7 +53,9 @@ FORMATS = (Format(
                    "predictor": "True (default): horizontal or floating-point predictor",
                    "raw": "True: integer codes = value * maxval, no sRGB encoding",
                    "dither": "True: TPDF dither before rounding to integers",
-                   "icc": "an ICC profile (bytes) written as tag 34675 (the Display P3 display writes one)"},
+                   "icc": "an ICC profile (bytes) written as tag 34675 (the Display P3 display writes one)",
+                   "in_place": "True: half floats or integer codes are made in the image's own memory (the array is "
+                               "overwritten; the caller gives it up)"},
     compressions=("zlib", "deflate", "lzw", "zstd", "none"),
     note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file",
     straight_alpha=("uint",)),)
