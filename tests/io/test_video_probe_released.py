@@ -42,7 +42,7 @@ def test_a_job_that_probed_a_clip_and_failed_before_decoding_closes_it(clip, tmp
 
     # the job API takes a size the command line would refuse before probing: the encoder refuses it after the probe
     _, _, error, _ = execute(WarpJob(to="equirect", size=(7, 5)), str(clip), str(tmp_path / "out.mp4"))
-    assert error is not None and "7 x 5" in error
+    assert error is not None and "7 x 5" in error  # (the encoder's words for the size it refuses)
     assert _descriptors(clip) == 0
     assert not (tmp_path / "out.mp4").exists()
 
