@@ -177,7 +177,6 @@ def read_st_map(path: str | os.PathLike, source: bool = False) -> np.ndarray | t
     img, meta = read(path, rec709=False, raw=True)
     if img.shape[2] < 2:
         raise WarpError(f"{path}: an ST map needs s and t in its first two channels; this image has one")
-    st = np.zeros(img.shape[:2] + (4,), dtype=np.float32)
     s, t = img[..., 0], img[..., 1]
     finite = np.isfinite(s) & np.isfinite(t)
     if img.shape[2] >= 4:
@@ -188,8 +187,13 @@ def read_st_map(path: str | os.PathLike, source: bool = False) -> np.ndarray | t
         which = "its alpha is 0 (or s, t not finite) everywhere" if img.shape[2] >= 4 else \
             "no pixel has finite s and t within [0, 1]"
         raise WarpError(f"{path}: no pixel of this image points into the source ({which}); is it an ST map?")
-    st[..., 0] = np.where(ok, s, 0.0)
-    st[..., 1] = np.where(ok, t, 0.0)
+    # in the image's own memory when it is one (a map of a large output: no second image of its size)
+    own = img.dtype == np.float32 and img.shape[2] == 4 and img.flags.c_contiguous and img.flags.writeable
+    st = img if own else np.zeros(img.shape[:2] + (4,), dtype=np.float32)
+    for c, v in ((0, s), (1, t)):
+        st[..., c] = v
+        np.copyto(st[..., c], np.float32(0.0), where=~ok)
+    st[..., 2] = 0.0
     st[..., 3] = ok
     if source:
         from lenslab.stmap_frame import recorded_source
@@ -278,10 +282,15 @@ def map_samples(st: np.ndarray | MapGrid, src_size: tuple[int, int], offsets: np
     return xs, ys, valid
 
 
+#: output pixels per band of a one-sample warp, whose source positions are made band by band: a few MB a thread
+BAND_POINTS = 1 << 16
+
+
 def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear", samples: int = 1,
                      antialias: bool = False,
                      progress: Callable[[int], None] | None = None,
-                     alpha_channel: bool | None = None, looked: Looked | None = None) -> tuple[np.ndarray, np.ndarray]:
+                     alpha_channel: bool | None = None, looked: Looked | None = None,
+                     into: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an ST map (made by lenslab or any other tool); ``alpha_channel=False``: data
     channels only, none settled as alpha.
 
@@ -295,7 +304,8 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     image : numpy.ndarray
         The source, ``H x W x C`` or ``H x W``, linear values.
     st : numpy.ndarray
-        The map, ``h x w x 4`` (s, t, 0, A), as :func:`st_map` or :func:`read_st_map` give it.
+        The map, ``h x w x 4`` (s, t, 0, A), as :func:`st_map` or :func:`read_st_map` give it, or ``h x w x 2``
+        as a warp holds it (:func:`lenslab.stmap_rows.packed`).
     filter : str
         A filter of :data:`lenslab.warp.FILTERS` (``nearest``, ``bilinear``, ``bicubic``, ``lanczos``).
     samples : int
@@ -311,6 +321,9 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     looked : lenslab.warp.minification.Looked, optional
         With ``antialias``: what the map's footprints show (whether it shrinks the source anywhere, as
         :func:`lenslab.warp.minification.shrinks` says).
+    into : tuple of numpy.ndarray, optional
+        ``(image, alpha)`` float32 arrays of the output's shapes to draw into (the channels of one RGBA image,
+        :func:`lenslab.io.alpha.room_for_alpha`); ``(image or None, None)``: no coverage kept, returned as None.
 
     Returns
     -------
@@ -337,9 +350,11 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     >>> bool(np.array_equal(out, image)), float(alpha.min())
     (True, 1.0)
     """
+    from lenslab.errors import check_image_shape
     from lenslab.filters import filter_named
+    from lenslab.stmap_rows import band_positions, unpacked
     from lenslab.warp.filters import sample
-    from lenslab.warp.given import warp_with_map
+    from lenslab.warp.given import draw_rows, warp_with_map
     from lenslab.warp.maps import sample_pattern
     from lenslab.warp.seam import Border
 
@@ -347,26 +362,20 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     if antialias and samples != 1:
         raise WarpError("with an ST map, give either --antialias or --samples, not both")
     size = (image.shape[1], image.shape[0])
-    if samples == 1:
-        x, y, ok = source_positions(st, size)
+    if antialias:
+        x, y, ok = source_positions(unpacked(st), size)
         return warp_with_map(image, np.stack([x, y], axis=-1), ok, filter=filter, antialias=antialias,
-                             progress=progress, alpha_channel=alpha_channel, looked=looked)
-    src = np.ascontiguousarray(image[..., None] if image.ndim == 2 else image, dtype=np.float32)
-    h, w = st.shape[:2]
-    out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
-    alpha = np.zeros((h, w), dtype=np.float32)
+                             progress=progress, alpha_channel=alpha_channel, looked=looked, into=into)
+    img = check_image_shape(image, channels=None)
+    src = np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32)
     offsets = sample_pattern(int(samples))
-    grid = MapGrid(st, size)
-    rows = max(1, (1 << 18) // max(1, w * len(offsets)))
-    for r0 in range(0, h, rows):
-        r1 = min(h, r0 + rows)
-        xs, ys, valid = map_samples(grid, size, offsets, r0, r1)
-        sample(src, xs, ys, valid, Border(), filter, out[r0:r1], alpha[r0:r1])
-        if progress is not None:
-            progress(r1 - r0)
-    from lenslab.io.alpha import settle
+    grid = None if samples == 1 else MapGrid(unpacked(st), size)
 
-    settle(out, alpha, alpha_channel)
-    if image.ndim == 2:
-        out = out[..., 0]
-    return out, alpha
+    def draw(r0, r1, o, a):  # each band's source positions made as it is drawn (lenslab.stmap_rows)
+        xs, ys, ok = map_samples(grid, size, offsets, r0, r1) if grid else \
+            (p[..., None] for p in band_positions(st, size, r0, r1))
+        sample(src, xs, ys, ok, Border(), filter, o, a)
+
+    out, alpha = draw_rows(src, st.shape[:2], draw, progress, alpha_channel, into, per_pixel=len(offsets),
+                           points=(1 << 18) if grid else BAND_POINTS)
+    return (out[..., 0] if img.ndim == 2 else out), alpha

@@ -23,7 +23,10 @@ Aims:
   bench, warped into an 8192 x 4096 equirect as EXR and PNG, what a user who enlarges a panorama or sends a
   photo into one asks) peaks at most 1.5 times the output's float32 RGBA image (537 MB) plus the source's
   decoded image plus 200 MB beyond the baseline: the output once, its alpha while it joins the colour, a
-  bounded working set (OpenCV's modules, a band's scratch) and no second copy of the output.
+  bounded working set (OpenCV's modules, a band's scratch) and no second copy of the output; the same aim for
+  an RGBA panorama (``memory.enlarge_rgba_exr``: its alpha warped as the output's, no coverage plane beside it)
+  and for the panorama warped through an ST map of the output's size (``memory.enlarge_stmap_exr``: the map held
+  as its s and t, half the output, within the aim's half).
 """
 
 from __future__ import annotations
@@ -47,6 +50,9 @@ y = np.linspace(0.0, 4.0, int(size[-1]), dtype=np.float32)[:, None, None]
 x = np.linspace(0.0, 1.0, int(size[0]), dtype=np.float32)[None, :, None]
 img = y * (0.5 + x) * np.array([1.0, 0.8, 0.6], np.float32)
 img += np.random.default_rng(0).random(img.shape, dtype=np.float32) * 0.01
+if opts.pop("alpha", False):  # premultiplied by an alpha that falls from 1 to 0 across the image
+    a = np.broadcast_to(1.0 - x, img.shape[:2] + (1,)).astype(np.float32)
+    img = np.concatenate([img * a, a], axis=2)
 lio.write(path, img, **opts)
 """
 
@@ -156,7 +162,9 @@ ENLARGE_SOURCE, ENLARGE_OUTPUT, ENLARGE_FORMATS = (1024, 512), (8192, 4096), ("e
 def enlarging_warps(lenslab: list[str], folder: Path, base: float) -> None:
     """A warp into an output much larger than its source (:data:`ENLARGE_SOURCE` into :data:`ENLARGE_OUTPUT`, to
     each of :data:`ENLARGE_FORMATS`): the peak beyond the baseline against 1.5 times the output's float32 RGBA
-    image plus the source's decoded float image plus 200 MB (``memory.enlarge_{format}``)."""
+    image plus the source's decoded float image plus 200 MB (``memory.enlarge_{format}``); the same warp of an RGBA
+    panorama and through an ST map of the output's size, to EXR, against the same aim (``memory.enlarge_rgba_exr``,
+    ``memory.enlarge_stmap_exr``)."""
     from lenslab.bench.results import figure, mark
 
     (sw, sh), (ow, oh) = ENLARGE_SOURCE, ENLARGE_OUTPUT
@@ -177,7 +185,22 @@ def enlarging_warps(lenslab: list[str], folder: Path, base: float) -> None:
         print(f"  {ext:4s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  "
               f"({extra / output_mb:.2f} x the output)  {mark(ok)}")
         out.unlink(missing_ok=True)
-    path.unlink()
+    rgba, st = folder / "pano-rgba.exr", folder / "enlarge-st.exr"
+    subprocess.run([sys.executable, "-c", MAKE, f"{sw}x{sh}", str(rgba), "{'alpha': True}"], check=True)
+    subprocess.run(lenslab + ["stmap", "--from", "equirect", "--to", "equirect", "--size", f"{ow}x{oh}", "--source-size",
+                              f"{sw}x{sh}", "-o", str(st), "--quiet"], check=True)
+    out = folder / "enlarged.exr"
+    for key, what, argv in (("rgba_exr", "an RGBA panorama", [str(rgba), "--to", "equirect", "--size", f"{ow}x{oh}"]),
+                            ("stmap_exr", "a panorama through an ST map", [str(path), "--stmap", str(st)])):
+        mb, status = peak_mb(lenslab + ["warp", *argv, "-o", str(out), "--overwrite"])
+        extra = max(mb - base, 0.0)
+        ok = figure(f"memory.enlarge_{key}", f"warp {what} ({sw}x{sh}) into {ow}x{oh} exr: peak beyond the baseline",
+                    extra, "MB", aim=aim, note=f"exit {status}; {extra / output_mb:.2f} x the output's float32 RGBA")
+        print(f"  {key:9s} exit {status}  peak {mb:6.0f} MB  beyond baseline {extra:6.0f} MB  "
+              f"({extra / output_mb:.2f} x the output)  {mark(ok)}")
+        out.unlink(missing_ok=True)
+    for p in (path, rgba, st):
+        p.unlink()
 
 
 def peak_mb(argv: list[str], cwd=None) -> tuple[float, int]:

@@ -153,9 +153,11 @@ def _profile(page, path) -> bytes | None:
 
 def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compression: str = "zlib",
                predictor: bool = True, raw: bool = False, dither: bool = False, icc: bytes | None = None,
-               exif: dict | None = None) -> None:
-    """``exif``: camera tags (:mod:`lenslab.io.exif`): Make, Model and Orientation in the first IFD, the rest in an
-    Exif IFD written after the image."""
+               exif: dict | None = None, in_place: bool = False) -> None:
+    """Write ``image`` (float32 H x W x C) to ``tmp``; ``in_place``: the caller gives ``image`` up, and half floats or
+    integer codes are made in its own memory (:func:`halves`, :func:`lenslab.io.encode.encode_codes`). ``exif``:
+    camera tags (:mod:`lenslab.io.exif`): Make, Model and Orientation in the first IFD, the rest in an Exif IFD
+    written after the image."""
     import tifffile
 
     if sample_type not in SAMPLE_TYPES:
@@ -166,12 +168,14 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     c = image.shape[2]
     dtype = SAMPLE_TYPES[sample_type]
     alpha = c in (2, 4)
-    if np.dtype(dtype).kind == "f":
+    if dtype is np.float16:
+        data = halves(image, in_place)
+    elif np.dtype(dtype).kind == "f":
         data = image.astype(dtype, copy=False)  # (float32: the image itself, not a copy of its size)
     else:
         from lenslab.io.encode import encode_codes
 
-        data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither, straight=not raw)
+        data = encode_codes(image, np.dtype(dtype).itemsize * 8, raw, dither, straight=not raw, in_place=in_place)
     options = {"photometric": "rgb" if c >= 3 else "minisblack", "compression": COMPRESSIONS[comp],
                "software": "lenslab", "metadata": None}
     if icc is not None:  # tag 34675: what the integer codes mean (a display's profile, lenslab.io.colour.icc_build)
@@ -185,3 +189,27 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
         from lenslab.io.exif.outputs import append_exif_ifd
 
         append_exif_ifd(tmp, exif, srgb=np.dtype(dtype).kind != "f" and not raw and icc is None)
+
+
+#: rows of an image cast to half floats at a time in its own memory (a few MB of float32)
+HALF_BYTES = 4 << 20
+
+
+def halves(image: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """``image`` as float16, NumPy's cast (round to nearest even; beyond +-65504: infinite, as TIFF files from lenslab
+    have always held them): a new array, or with ``in_place`` (a C-contiguous, writable float32 ``image`` the caller
+    gives up) in the first half of its own memory, a band of rows at a time (a band's halves land on floats of that
+    band or earlier ones, read before: each band is cast into a buffer of its own first).
+
+    >>> image = np.array([[[1.0, 70000.0, 1.0 / 3.0]]], np.float32)
+    >>> halves(image, in_place=True).tolist(), bool(np.shares_memory(halves(image, True), image))
+    ([[[1.0, inf, 0.333251953125]]], True)
+    """
+    own = in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable and image.size
+    if not own:
+        return image.astype(np.float16)
+    out = image.reshape(-1).view(np.float16)[:image.size].reshape(image.shape)
+    rows = max(1, HALF_BYTES // max(1, image[:1].nbytes))
+    for y in range(0, image.shape[0], rows):
+        out[y:y + rows] = image[y:y + rows].astype(np.float16)
+    return out

@@ -148,6 +148,9 @@ def run_command(prog: str, func: Callable[[], int | None], debug: bool = False) 
             return exit_code(exc)
         finally:  # a later call of the library in this process (a notebook) starts with no signal received
             RECEIVED_SIGNALS.clear()
+            opened = sys.modules.get("lenslab.io.video.opened")
+            if opened is not None:  # a clip probed and not decoded: its file closed with the command
+                opened.release(every=True)
 
 
 def _forget_repairs() -> None:

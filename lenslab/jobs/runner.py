@@ -31,6 +31,10 @@ def execute(job: Job, src: str, dst: str, progress=None) -> tuple[str, str, str 
             if stop_signal(exc) is not None:  # Ctrl-C that surfaced as another error: it stops the batch
                 raise
             error = one_line(exc)
+        finally:  # a clip this job probed and did not decode: its file closed now, not at the next probe
+            opened = sys.modules.get("lenslab.io.video.opened")
+            if opened is not None:
+                opened.release()
     return src, dst, error, user_notes(caught)
 
 

@@ -127,9 +127,14 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
         named = carries_alpha(meta, image.shape[2])
-        warped = split_alpha(*warp_with_st_map(image, job.st, job.filter, job.samples, job.antialias,
-                                                      progress=progress, alpha_channel=named, looked=plan),
-                                    alpha=named)
+        from lenslab.jobs.warp_output import output_arrays
+
+        into = output_arrays(st.shape[:2], image.shape[2], fmt, job, meta, named)  # (the one image written)
+        warped = split_alpha(*warp_with_st_map(image, st, job.filter, job.samples, job.antialias, progress=progress,
+                                               alpha_channel=named, looked=plan, into=into), alpha=named)
+        del into, st
+        if not job.keep_maps:  # one still image: the map goes before its output is written
+            _CACHE.pop(("stmap", os.path.abspath(job.stmap)), None)
     else:
         src = source_camera(job.source, meta, image.shape)
         image, src = stored_frame(image, meta, src)
@@ -230,12 +235,15 @@ SCRATCH_POINTS = 1 << 16
 
 
 def st_map(path: str):
-    """The ST map at ``path`` and the source spec and size its mark records (or None), read once per process."""
+    """The ST map at ``path`` (its s and t, :func:`lenslab.stmap_rows.packed`: half the memory of the image it is
+    read as) and the source spec and size its mark records (or None), read once per process."""
     key = ("stmap", os.path.abspath(path))
     if key not in _CACHE:
         from lenslab.stmap import read_st_map
+        from lenslab.stmap_rows import packed
 
-        _CACHE[key] = read_st_map(path, source=True)
+        st, recorded = read_st_map(path, source=True)
+        _CACHE[key] = packed(st), recorded
     return _CACHE[key]
 
 

@@ -54,12 +54,16 @@ def keeps_output_alpha(fmt, job, meta: dict, source_alpha: bool) -> bool:
 
 
 def output_arrays(shape: tuple[int, int], channels: int, fmt, job, meta: dict, source_alpha: bool):
-    """``into`` arrays for the warp of a still image of ``channels`` channels into ``shape`` (h, w): the channels
-    of the one image :func:`write_warped` writes (:func:`lenslab.io.alpha.room_for_alpha`), or None
-    (the engine's own: an output without alpha, or a source whose alpha the warp carries as its last channel)."""
+    """``into`` arrays for the warp of an image of ``channels`` channels into ``shape`` (h, w): the channels of the
+    one image :func:`write_warped` writes (:func:`lenslab.io.alpha.room_for_alpha`); or ``(None, None)``, the
+    engine's own image and no coverage kept (a source whose alpha the warp carries as its last channel, which is
+    the output's alpha, or an output without alpha); or None (the engine's own: a format that takes no channel
+    more)."""
     from lenslab.io.alpha import room_for_alpha
 
-    if source_alpha or not keeps_output_alpha(fmt, job, meta, source_alpha) or channels + 1 not in fmt.channels:
+    if source_alpha or not keeps_output_alpha(fmt, job, meta, source_alpha):
+        return None, None
+    if channels + 1 not in fmt.channels:
         return None
     return room_for_alpha(shape[0], shape[1], channels)
 

@@ -171,7 +171,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
     from lenslab.io.video.colour import gamut_name
     from lenslab.jobs.frame_files import all_or_none, frame_output, note_frames
-    from lenslab.jobs.warp_output import write_warped
+    from lenslab.jobs.warp_output import output_arrays, write_warped
     from lenslab.io.video import read_frames
     from lenslab.warp.mirror import mirror_frames
 
@@ -187,10 +187,15 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
         written, pixels, first, last = 0, 0, None, None
         with _frame_bar(show, total, Path(src_path).name) as bar, tallied() as gamut:  # one note on the frames
             for i, frame in read_frames(src_path, start, stop, prefetch=2, window=window):
-                colour, alpha = cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, plan=plan())
+                # drawn into the channels of the one image written, developed and encoded in its memory
+                into = output_arrays((dst.size[1], dst.size[0]), 3, fmt, job, meta, False)
+                warped = list(cache.warp_frame(mirror_frames(frame, src.lens, source_flips), src, dst, into=into,
+                                               plan=plan()))
+                del into
                 last = frame_output(dst_path, i, src_path, job.overwrite)
-                write_warped(last, colour, alpha, meta, fmt, job, shown)  # (the view the pixels show)
-                written, pixels, first = written + 1, colour.shape[0] * colour.shape[1], first or last
+                write_warped(last, warped.pop(0), warped.pop(0), meta, fmt, job, shown,  # (the view the pixels show)
+                             given_up=True)
+                written, pixels, first = written + 1, dst.size[0] * dst.size[1], first or last
                 bar.update()
         if written == 0:
             raise FormatError(f"{src_path}: no frame in the range {start}:{'' if stop is None else stop}")

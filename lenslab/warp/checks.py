@@ -91,17 +91,45 @@ class EmptyViewWarning(UserWarning):
     """A warp's output sees nothing of its source: every pixel has zero coverage."""
 
 
-def settle_checked(out: np.ndarray, alpha: np.ndarray, alpha_channel, checks: "OutputChecks | None") -> None:
+def settle_checked(out: np.ndarray, alpha: np.ndarray | None, alpha_channel, checks: "OutputChecks | None",
+                   covered: bool | None = None) -> None:
     """Settle alpha (:func:`lenslab.io.alpha.settle`) unless the bands' ``checks`` (None: none cover the
-    whole output) found it in range, and warn (:class:`EmptyViewWarning`) when nothing is covered."""
+    whole output) found it in range, and warn (:class:`EmptyViewWarning`) when nothing is covered: ``covered``
+    (what the bands' checks saw of every band, None: not known), else what the coverage ``alpha`` holds
+    (None: no coverage kept, which only a warp whose bands were all checked leaves)."""
     vouched = checks is not None and checks.in_range
     if not vouched:
         settle(out, alpha, alpha_channel)
-    if not (checks.covered if vouched else alpha.any()):
-        h, w = alpha.shape[:2]
+    if covered is None:
+        covered = checks.covered if vouched else (alpha is None or bool(alpha.any()))
+    if not covered:
+        h, w = out.shape[:2]
         warnings.warn(EmptyViewWarning(
             f"the {w}x{h} view sees nothing of the source (0% coverage): every pixel is empty; check the "
             "lenses, the pose and the source's field of view"), stacklevel=3)
+
+
+def drawn_into(into, shape: tuple[int, int, int], draws_all: bool, checked: bool):
+    """``(image, coverage)`` a warp of output ``shape`` (h, w, C) draws into: ``into``'s when they fit (zeroed
+    unless the bands draw every pixel, ``draws_all``), else new zeros. ``into = (image or None, None)``: the caller
+    keeps no coverage (a source that carries its own alpha, an output without alpha): where every band's checks
+    say whether any pixel is covered (``checked``) it is drawn a band at a time in scratch memory and never held
+    (a plane whose rows are one row, :class:`lenslab.warp.kernels.dispatch.contiguous_rows`), and given back as
+    None; elsewhere a plane of zeros as before."""
+    h, w, _ = shape
+    image, coverage = into if into is not None else (None, np.zeros((h, w), np.float32))
+    fits = image is not None and image.shape == shape and image.dtype == np.float32
+    if coverage is None:  # none kept
+        coverage = np.lib.stride_tricks.as_strided(np.zeros(w, np.float32), (h, w), (0, 4), writeable=True) \
+            if checked else np.zeros((h, w), np.float32)
+    elif into is not None and not (fits and coverage.shape == (h, w) and coverage.dtype == np.float32):
+        fits, coverage = False, np.zeros((h, w), np.float32)  # (the caller's two are taken together or not at all)
+    if not fits:
+        return np.zeros(shape, np.float32), coverage
+    if not draws_all:
+        image.fill(0.0)
+        coverage.fill(0.0)
+    return image, coverage
 
 
 def checked_source(image, camera) -> np.ndarray:

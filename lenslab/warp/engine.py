@@ -25,8 +25,8 @@ from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
 from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands, scratch, threads
-from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, finite_output,  # noqa: F401
-                                 settle_checked)
+from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, drawn_into,  # noqa: F401
+                                 finite_output, settle_checked)
 from lenslab.warp.filters import all_finite, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
@@ -208,33 +208,30 @@ class WarpPlan:
         """Warp one image: ``(image float32 H x W x C, alpha float32 H x W)`` of the destination size.
 
         ``into``: ``(image, alpha)`` arrays of those shapes to write into, drawn over (zeroed first where the bands
-        may leave pixels, :meth:`_draws_every_pixel`; a clip's frames reuse a few); new arrays when they do not fit.
+        may leave pixels, :meth:`_draws_every_pixel`; a clip's frames reuse a few); new arrays when they do not fit;
+        ``(image or None, None)``: no coverage kept (returned as None; :func:`~lenslab.warp.checks.drawn_into`).
         ``alpha_channel=False``: the image holds data channels only (none settled as alpha). ``on_band(rows,
         sl)``: called with the output's final rows ``sl`` (``rows`` = ``image[sl]``) as each band is drawn, on its
         thread while they are in cache (a clip's encoder takes them there), or once with every row after a
         warp whose pixels changed after its bands (alpha settled, values made finite, a falloff, pieces)."""
         src = self.check_image(image)
         h, w = self.out_shape
-        if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
-                and into[0].dtype == into[1].dtype == np.float32:
-            out, alpha = into
-            if not self._draws_every_pixel():
-                out.fill(0.0)
-                alpha.fill(0.0)
-        else:
-            out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
-            alpha = np.zeros((h, w), dtype=np.float32)
+        whole = self._draws_every_pixel()
+        out, alpha = drawn_into(into, (h, w, src.shape[2]), whole, whole and self.dst_falloff is None)
+        kept = into is None or into[1] is not None
         checks = OutputChecks.of(src.shape[2], alpha_channel, on_band)  # made by the bands when they draw it all
         drawn = self.render(src, out, alpha, progress, checks, alpha_channel)
+        covered = checks.covered if drawn else None  # (every band seen: whether any pixel is covered)
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
             drawn = False  # drawn again or clamped: the bands' checks no longer hold
-        settle_checked(out, alpha, alpha_channel, checks if drawn else None)
+        held = alpha if alpha.strides[0] or h == 1 else None  # (not a plane drawn a band at a time and dropped)
+        settle_checked(out, held, alpha_channel, checks if drawn else None, covered)
         if on_band is not None and not (drawn and checks.in_range):  # changed after the bands gave their rows
             on_band(out, slice(0, h))
         if np.ndim(image) == 2:
             out = out[..., 0]
-        return out, alpha
+        return out, alpha if kept else None
 
     def _draws_every_pixel(self) -> bool:
         """Whether rendering sets every output pixel (a plain map's bands: taps and :func:`sample`): no zeroing first."""

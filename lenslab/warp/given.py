@@ -16,7 +16,8 @@ from numpy.typing import ArrayLike
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
-from lenslab.warp.kernels.dispatch import run_bands
+from lenslab.warp.checks import drawn_into
+from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands
 from lenslab.warp.minification import watch
 from lenslab.warp.filters import sample
 from lenslab.warp.seam import Border, border_of
@@ -32,7 +33,8 @@ BAND_ROWS_POINTS = 1 << 18  # output pixels per band
 def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None = None, filter: str = "bilinear",
                   antialias: bool = False, source: Lens | Camera | None = None,
                   progress: Callable[[int], None] | None = None,
-                  alpha_channel: bool | None = None, looked: Looked | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  alpha_channel: bool | None = None, looked: Looked | None = None,
+                  into: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Warp ``image`` by an inverse map: each output pixel reads the source where the map says.
     ``alpha_channel=False``: the image holds data channels only (the last of 2 or 4 is not settled as
     alpha; :func:`lenslab.io.carries_alpha`).
@@ -66,6 +68,9 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     looked : lenslab.warp.minification.Looked, optional
         With ``antialias``: the footprints are looked at for it as they are drawn, and
         :func:`lenslab.warp.minification.shrinks` then says whether the map shrinks its source anywhere.
+    into : tuple of numpy.ndarray, optional
+        ``(image, alpha)`` float32 arrays of the output's shapes to draw into (the channels of one RGBA image,
+        :func:`lenslab.io.alpha.room_for_alpha`); ``(image or None, None)``: no coverage kept, returned as None.
 
     Returns
     -------
@@ -109,31 +114,46 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     xs[~ok] = 0.0
     ys[~ok] = 0.0
     border = Border() if source is None else border_of(getattr(source, "lens", source))
-    out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
-    alpha = np.zeros((h, w), dtype=np.float32)
-    rows = max(1, BAND_ROWS_POINTS // max(1, w))
     from lenslab.warp import antialias as aa  # (loaded by the warps that antialias)
 
     pyr = aa.pyramid(src, border) if antialias else None
 
-    def draw(rows_):
-        r0, r1 = rows_
+    def draw(r0, r1, o, a):
         if antialias:
             band = footprint_of_map(xs, ys, ok, r0, r1, float(src.shape[1]) if border.wrap else 0.0)
             if looked is not None:
                 watch(looked, band)
-            aa.sample_footprint(pyr, band, border, out[r0:r1], alpha[r0:r1])
+            aa.sample_footprint(pyr, band, border, o, a)
         else:
-            sample(src, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], border, filter,
-                   out[r0:r1], alpha[r0:r1])
+            sample(src, xs[r0:r1, :, None], ys[r0:r1, :, None], ok[r0:r1, :, None], border, filter, o, a)
+
+    out, alpha = draw_rows(src, (h, w), draw, progress, alpha_channel, into, drawn_over=not antialias)
+    return (out[..., 0] if img.ndim == 2 else out), alpha
+
+
+def draw_rows(src: np.ndarray, shape: tuple[int, int], draw, progress=None, alpha_channel: bool | None = None,
+              into: tuple | None = None, drawn_over: bool = True, per_pixel: int = 1,
+              points: int = BAND_ROWS_POINTS) -> tuple[np.ndarray, np.ndarray | None]:
+    """The output (float32 h x W x C, the source's C) and coverage of a warp by a given map, drawn in bands of rows
+    on the engine's threads by ``draw(r0, r1, out_rows, alpha_rows)`` (C-contiguous arrays of those rows) and
+    settled (:func:`lenslab.io.alpha.settle`). ``into``: arrays to draw into, as
+    :meth:`lenslab.warp.WarpPlan.run` takes them (the channels of one RGBA image; ``(image or None, None)``: no
+    coverage kept, returned as None); ``drawn_over``: ``draw`` sets every pixel of its rows; ``per_pixel``: the
+    samples it takes per pixel (a band holds about ``points`` of them)."""
+    h, w = shape
+    out, alpha = drawn_into(into, (h, w, src.shape[2]), drawn_over, drawn_over)
+    rows = max(1, points // max(1, w * per_pixel))
+
+    def band(rows_):
+        with contiguous_rows(out[rows_[0]:rows_[1]], alpha[rows_[0]:rows_[1]], drawn_over=drawn_over) as (o, a):
+            draw(*rows_, o, a)
         return rows_
 
     done = None if progress is None else (lambda rows_: progress(rows_[1] - rows_[0]))
-    run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], draw, done)
-    settle(out, alpha, alpha_channel)
-    if img.ndim == 2:
-        out = out[..., 0]
-    return out, alpha
+    run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], band, done)
+    held = alpha if alpha.strides[0] or h == 1 else None  # (not a plane drawn a band at a time and dropped)
+    settle(out, held, alpha_channel)
+    return out, alpha if into is None or into[1] is not None else None
 
 
 def footprint_of_map(xs, ys, ok, r0: int, r1: int, wrap: float) -> FootprintBand:

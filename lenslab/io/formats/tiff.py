@@ -54,7 +54,9 @@ FORMATS = (Format(
                    "raw": "True: integer codes = value * maxval, no sRGB encoding",
                    "dither": "True: TPDF dither before rounding to integers",
                    "icc": "an ICC profile (bytes) written as tag 34675 (the Display P3 display writes one)",
-                   "exif": "camera tags {name: value} (lenslab.io.exif): Make, Model, Orientation and an Exif IFD"},
+                   "exif": "camera tags {name: value} (lenslab.io.exif): Make, Model, Orientation and an Exif IFD",
+                   "in_place": "True: half floats or integer codes are made in the image's own memory (the array is "
+                               "overwritten; the caller gives it up)"},
     compressions=("zlib", "deflate", "lzw", "zstd", "none"),
     note="float samples are linear, 8/16-bit samples sRGB-encoded; the first image of a multi-page file",
     straight_alpha=("uint",)),)

@@ -13,7 +13,7 @@ import os
 import threading
 from contextlib import contextmanager
 
-_held: dict = {}  # identity -> open container (at most one)
+_held: dict = {}  # identity -> (open container, the thread whose probe opened it) (at most one)
 _lock = threading.Lock()
 
 
@@ -43,15 +43,26 @@ def probing(container, key):
     with _lock:
         old = list(_held.values())
         _held.clear()
-        _held[key] = container
-    for c in old:
+        _held[key] = container, threading.get_ident()
+    for c, _ in old:
         c.close()
 
 
 def take(key):
     """The container held for ``key``, now the caller's to close; None when none is held for it."""
     with _lock:
-        return None if key is None else _held.pop(key, None)
+        held = None if key is None else _held.pop(key, None)
+    return None if held is None else held[0]
 
 
-__all__ = ["identity", "probing", "take"]
+def release(every: bool = False) -> None:
+    """Close the container held for a decoder that did not come: the one the calling thread's probe opened (its job
+    has ended), or with ``every`` any (the command has ended)."""
+    me = threading.get_ident()
+    with _lock:
+        gone = [_held.pop(k)[0] for k, (_, thread) in list(_held.items()) if every or thread == me]
+    for c in gone:
+        c.close()
+
+
+__all__ = ["identity", "probing", "take", "release"]

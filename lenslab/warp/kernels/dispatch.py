@@ -261,30 +261,35 @@ class scratch:
 
 class contiguous_rows:
     """``with contiguous_rows(out, alpha) as (o, a):`` C-contiguous arrays for a sampler to draw a band into:
-    ``out`` and ``alpha`` themselves, or (a band of a strided output: the colour and alpha of one RGBA image)
-    :class:`scratch` copies of them, written back when the block ends without an error. ``drawn_over``: the
-    sampler writes every pixel of the rows, so the scratch arrays are not given the rows' values first."""
+    ``out`` and ``alpha`` themselves, or for either that is not (a band of a strided output: the colour and alpha of
+    one RGBA image) a :class:`scratch` copy, written back when the block ends without an error; a plane whose rows
+    are all one row (a coverage nobody keeps, :func:`lenslab.warp.checks.drawn_into`) is drawn in scratch and not
+    written back. ``drawn_over``: the sampler writes every pixel of the rows, so the scratch arrays are not given
+    the rows' values first."""
 
     def __init__(self, out, alpha, drawn_over: bool = False):
-        self.out, self.alpha, self.copies, self.drawn_over = out, alpha, None, drawn_over
+        self.given, self.copies, self.drawn_over = (out, alpha), None, drawn_over
 
     def __enter__(self):
         import numpy as np
 
-        if self.out.flags.c_contiguous and self.alpha.flags.c_contiguous:
-            return self.out, self.alpha
-        self.copies = (scratch(self.out.shape, np.float32), scratch(self.alpha.shape, np.float32))
-        o, a = (c.__enter__() for c in self.copies)
+        if all(a.flags.c_contiguous for a in self.given):
+            return self.given
+        self.copies = [None if a.flags.c_contiguous else scratch(a.shape, np.float32) for a in self.given]
+        self.drawn = tuple(a if c is None else c.__enter__() for a, c in zip(self.given, self.copies))
         if not self.drawn_over:
-            o[...], a[...] = self.out, self.alpha  # (what the sampler leaves undrawn stays as it was)
-        self.drawn = (o, a)
-        return o, a
+            for a, d, c in zip(self.given, self.drawn, self.copies):
+                if c is not None:
+                    d[...] = a  # (what the sampler leaves undrawn stays as it was)
+        return self.drawn
 
     def __exit__(self, kind, *exc):
         if self.copies is None:
             return
-        if kind is None:
-            self.out[...], self.alpha[...] = self.drawn
-        for c in self.copies:
+        for a, d, c in zip(self.given, self.drawn, self.copies):
+            if c is None:
+                continue
+            if kind is None and (a.strides[0] != 0 or a.shape[0] < 2):
+                a[...] = d
             c.__exit__(kind, *exc)
         self.copies = self.drawn = None
