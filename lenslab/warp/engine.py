@@ -218,14 +218,13 @@ class WarpPlan:
         if into is not None and into[0].shape == (h, w, src.shape[2]) and into[1].shape == (h, w) \
                 and into[0].dtype == into[1].dtype == np.float32:
             out, alpha = into
-            if not self._draws_every_pixel():
+            if zeroed := not self._draws_every_pixel():
                 out.fill(0.0)
                 alpha.fill(0.0)
-        else:
-            out = np.zeros((h, w, src.shape[2]), dtype=np.float32)
-            alpha = np.zeros((h, w), dtype=np.float32)
+        else:  # (fresh zeroed pages: the samplers leave the pixels without a source, and most of their pages, alone)
+            out, alpha, zeroed = np.zeros((h, w, src.shape[2]), np.float32), np.zeros((h, w), np.float32), True
         checks = OutputChecks.of(src.shape[2], alpha_channel, on_band)  # made by the bands when they draw it all
-        drawn = self.render(src, out, alpha, progress, checks, alpha_channel)
+        drawn = self.render(src, out, alpha, progress, checks, alpha_channel, zeroed)
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
             drawn = False  # drawn again or clamped: the bands' checks no longer hold
@@ -242,7 +241,7 @@ class WarpPlan:
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,
-               alpha_channel: bool | None = None) -> bool:
+               alpha_channel: bool | None = None, zeroed: bool = False) -> bool:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size);
         ``alpha_channel``: whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`). True when
         this plan's bands drew the whole output as it stands and gave each band to ``checks``."""
@@ -258,20 +257,20 @@ class WarpPlan:
             render_channels(self.channels, src, out, alpha, progress)
             checks = None
         else:
-            self._render_bands(src, out, alpha, progress, checks)
+            self._render_bands(src, out, alpha, progress, checks, zeroed)
         if self.dst_falloff is not None:
             out[..., colour_channels(out.shape[2], alpha_channel)] *= self.dst_falloff[..., None]
         return checks is not None
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
-                      checks: OutputChecks | None = None) -> None:
+                      checks: OutputChecks | None = None, zeroed: bool = False) -> None:
         aa = _aa() if self.antialias else None
         pyramid = aa.pyramid(src, self.border, lazy=True) if aa else None
         whole = self._draws_every_pixel()  # (a strided output's band: drawn in scratch, given its rows unless whole)
 
         def draw(band):
             sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
-            with contiguous_rows(out[sl], alpha[sl], drawn_over=whole) as (o, a):
+            with contiguous_rows(rows := out[sl], alpha[sl], drawn_over=whole) as (o, a):
                 if isinstance(band, TapBand):
                     sample_taps(src, band, self.border, o, a)
                 elif isinstance(band, ViewBand):
@@ -279,7 +278,8 @@ class WarpPlan:
                 elif self.antialias:
                     aa.draw_footprints(self, pyramid, band, o, a)
                 else:
-                    said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, o, a)
+                    said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, o, a,
+                                  zeroed=zeroed and o is rows)
                 if checks is not None:
                     checks.band(o, a, sl, said)
             return band
