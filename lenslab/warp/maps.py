@@ -32,6 +32,7 @@ altogether.
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass
 
@@ -379,5 +380,13 @@ class Mapper:
 
 
 def sample_pattern(samples: int) -> np.ndarray:
-    """Fixed stratified sub-pixel offsets, shape (S, 2): strata centres of a k x k grid (or n-rooks)."""
-    return sample_offsets(int(samples), (), None)
+    """Fixed stratified sub-pixel offsets, shape (S, 2): strata centres of a k x k grid (or n-rooks); read-only, made
+    once per count (every band of a warp asks for them)."""
+    return _pattern(int(samples))
+
+
+@functools.lru_cache(maxsize=64)
+def _pattern(samples: int) -> np.ndarray:
+    offsets = sample_offsets(samples, (), None)
+    offsets.setflags(write=False)
+    return offsets
