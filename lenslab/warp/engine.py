@@ -219,8 +219,10 @@ class WarpPlan:
         whole = self._draws_every_pixel()
         out, alpha = drawn_into(into, (h, w, src.shape[2]), whole, whole and self.dst_falloff is None)
         kept = into is None or into[1] is not None
+        # zeros to begin with (filled, or new pages) and a plane of coverage a pixel: samples without a source left alone
+        zeroed = (not whole or out is not (into[0] if into is not None else None)) and alpha.strides[0] != 0
         checks = OutputChecks.of(src.shape[2], alpha_channel, on_band)  # made by the bands when they draw it all
-        drawn = self.render(src, out, alpha, progress, checks, alpha_channel)
+        drawn = self.render(src, out, alpha, progress, checks, alpha_channel, zeroed)
         covered = checks.covered if drawn else None  # (every band seen: whether any pixel is covered)
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
@@ -239,7 +241,7 @@ class WarpPlan:
 
     def render(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray,
                progress: Callable[[int], None] | None = None, checks: OutputChecks | None = None,
-               alpha_channel: bool | None = None) -> bool:
+               alpha_channel: bool | None = None, zeroed: bool = False) -> bool:
         """Warp the checked float32 H x W x C source into ``out``/``alpha`` (views of the output size);
         ``alpha_channel``: whether the image carries alpha (:func:`lenslab.io.alpha.alpha_last`). True when
         this plan's bands drew the whole output as it stands and gave each band to ``checks``."""
@@ -255,20 +257,20 @@ class WarpPlan:
             render_channels(self.channels, src, out, alpha, progress)
             checks = None
         else:
-            self._render_bands(src, out, alpha, progress, checks)
+            self._render_bands(src, out, alpha, progress, checks, zeroed)
         if self.dst_falloff is not None:
             out[..., colour_channels(out.shape[2], alpha_channel)] *= self.dst_falloff[..., None]
         return checks is not None
 
     def _render_bands(self, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, progress,
-                      checks: OutputChecks | None = None) -> None:
+                      checks: OutputChecks | None = None, zeroed: bool = False) -> None:
         aa = _aa() if self.antialias else None
         pyramid = aa.pyramid(src, self.border, lazy=True) if aa else None
         whole = self._draws_every_pixel()  # (a strided output's band: drawn in scratch, given its rows unless whole)
 
         def draw(band):
             sl, said = slice(band.r0, band.r1), None  # said: what the sampler says of its rows (None: scan them)
-            with contiguous_rows(out[sl], alpha[sl], drawn_over=whole) as (o, a):
+            with contiguous_rows(rows := out[sl], alpha[sl], drawn_over=whole) as (o, a):
                 if isinstance(band, TapBand):
                     sample_taps(src, band, self.border, o, a)
                 elif isinstance(band, ViewBand):
@@ -276,7 +278,8 @@ class WarpPlan:
                 elif self.antialias:
                     aa.draw_footprints(self, pyramid, band, o, a)
                 else:
-                    said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, o, a)
+                    said = sample(src, band.xs, band.ys, band.valid, self.border, self.filter, o, a,
+                                  zeroed=zeroed and o is rows)
                 if checks is not None:
                     checks.band(o, a, sl, said)
             return band

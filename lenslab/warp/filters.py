@@ -43,7 +43,7 @@ F32_MAX = float(np.finfo(np.float32).max)
 
 
 def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, border: Border, filter: str,
-           out: np.ndarray, alpha: np.ndarray) -> None:
+           out: np.ndarray, alpha: np.ndarray, zeroed: bool = False) -> None:
     """Read ``src`` at a band of map positions with one of :data:`FILTERS`, in place.
 
     A source whose pieces have neighbours (``border.has_pieces``, a cube map) is read through the
@@ -66,6 +66,9 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
         float32 ``h x w x C``, filled with the sum of the valid samples over ``S`` (premultiplied).
     alpha : numpy.ndarray
         float32 ``h x w``, filled with the share of valid samples.
+    zeroed : bool
+        ``out`` and ``alpha`` hold +0 already (fresh zeroed memory): the single-sample bilinear kernel then leaves
+        the pixels without a valid sample alone, so the pages of an output a photo leaves unseen are never touched.
 
     Returns
     -------
@@ -104,7 +107,7 @@ def sample(src: np.ndarray, xs: np.ndarray, ys: np.ndarray, valid: np.ndarray, b
         sh, sw, nc = src.shape
         if xs.shape[2] == 1:
             return k.bilinear1(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out,
-                               alpha)
+                               alpha, bool(zeroed))
         k.bilinear_n(src.reshape(-1), sw, sh, nc, c32(xs), c32(ys), cbool(valid), wrap, top, bottom, out, alpha)
     else:  # float64 weights, taps folded into the neighbouring piece where the source has pieces
         cw, ch = border.cell

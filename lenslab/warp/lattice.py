@@ -102,47 +102,18 @@ def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarra
     ``have_ray`` whether each exists and ``seen`` whether the source sees it. A cell's bound is the cone around
     the mean of its four corners' rays, :data:`CELL_BOUND` times as wide as the farthest corner; a cell is outside
     when its four rays exist, none is seen, and that cone lies wholly beyond one of the ``field``'s cones
-    (:class:`~lenslab.lenses.core.protocol.Field`): ``angle(centre, axis) > angle + radius``."""
+    (:class:`~lenslab.lenses.core.protocol.Field`): ``angle(centre, axis) > angle + radius``. One compiled pass
+    (``src/native/lattice.cpp``); its NumPy reference is
+    :func:`lenslab.warp.kernels.lattice_reference.outside_field`."""
     if field is None:
         return None
     ny, nx = have_ray.shape
-    ncy, ncx = ny - 3, nx - 3
-    quad = ((1, 1), (1, 2), (2, 1), (2, 2))
-
-    def at(m, i, j):
-        return m[i:i + ncy, j:j + ncx]
-
-    cand = np.ones((ncy, ncx), dtype=np.bool_)
-    for i, j in quad:
-        cand &= at(have_ray, i, j) & ~at(seen, i, j)
-    out = np.zeros((ncy, ncx), dtype=np.bool_)
-    if not cand.any():
-        return out
-    planes = [np.ascontiguousarray(dirs[..., k]) for k in range(3)]
-    centre = [at(p, 1, 1) + at(p, 1, 2) + at(p, 2, 1) + at(p, 2, 2) for p in planes]
-    norm = np.sqrt(centre[0] ** 2 + centre[1] ** 2 + centre[2] ** 2)
-    cand &= norm > 1.0  # four rays that nearly cancel (a cell spanning half the sphere) have no bound
-    norm[~cand] = 1.0
-    for c in centre:
-        c /= norm
-    cos_r = np.full((ncy, ncx), 1.0)
-    dot, part = np.empty((ncy, ncx)), np.empty((ncy, ncx))  # (reused: fresh pages cost more than the arithmetic)
-    for i, j in quad:
-        np.multiply(centre[0], at(planes[0], i, j), out=dot)
-        for k in (1, 2):
-            dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
-        np.minimum(cos_r, dot, out=cos_r)
-    radius = np.arccos(np.clip(cos_r, -1.0, 1.0, out=cos_r), out=cos_r)
-    radius *= CELL_BOUND
-    radius += FIELD_SLACK
-    for axis, angle in zip(np.asarray(field.axes, np.float64), np.asarray(field.angles, np.float64)):
-        np.multiply(centre[0], axis[0], out=dot)
-        for k in (1, 2):
-            dot += np.multiply(centre[k], axis[k], out=part)
-        off = np.arccos(np.clip(dot, -1.0, 1.0, out=dot), out=dot)
-        off -= radius
-        out |= off > angle
-    out &= cand
+    out = np.empty((ny - 3, nx - 3), dtype=np.bool_)
+    native.kernels().outside_field(np.ascontiguousarray(dirs, np.float64), np.ascontiguousarray(have_ray, np.bool_),
+                                   np.ascontiguousarray(seen, np.bool_),
+                                   np.ascontiguousarray(field.axes, np.float64).reshape(-1, 3),
+                                   np.ascontiguousarray(field.angles, np.float64).reshape(-1), CELL_BOUND,
+                                   FIELD_SLACK, out)
     return out
 
 

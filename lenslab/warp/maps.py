@@ -32,6 +32,7 @@ altogether.
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass
 
@@ -243,10 +244,17 @@ class Mapper:
         nodes = stacked[:2]
         # check at four interior points of each cell (the centre alone is a blind spot: Catmull-Rom's
         # error is odd about it), the four on the engine's threads
+        kept = None if outside is None else np.flatnonzero(~outside)  # (the checks of the others are invalid)
+
         def check(job):
             (tx, ty), (exy, ev, _) = job
             ix, iy = lattice_grid(nx, ny, tx, ty, self.wrap)
-            return ev & self._close(ix, iy, exy)
+            if kept is None:
+                return ev & self._close(ix, iy, exy)
+            passed = np.zeros(ev.shape, bool)
+            passed.reshape(-1)[kept] = ev.reshape(-1)[kept] & self._close(
+                ix.reshape(-1)[kept], iy.reshape(-1)[kept], exy.reshape(-1, 2)[kept])
+            return passed
 
         for passed, (_, _, evd) in zip(run_bands(list(zip(CHECK_POINTS, exact[1:])), check), exact[1:]):
             ok &= passed
@@ -372,5 +380,13 @@ class Mapper:
 
 
 def sample_pattern(samples: int) -> np.ndarray:
-    """Fixed stratified sub-pixel offsets, shape (S, 2): strata centres of a k x k grid (or n-rooks)."""
-    return sample_offsets(int(samples), (), None)
+    """Fixed stratified sub-pixel offsets, shape (S, 2): strata centres of a k x k grid (or n-rooks); read-only, made
+    once per count (every band of a warp asks for them)."""
+    return _pattern(int(samples))
+
+
+@functools.lru_cache(maxsize=64)
+def _pattern(samples: int) -> np.ndarray:
+    offsets = sample_offsets(samples, (), None)
+    offsets.setflags(write=False)
+    return offsets

@@ -138,6 +138,17 @@ void bind_map_kernels(nb::module_& m) {
        nb::arg("xs").noconvert(), nb::arg("ys").noconvert(), nb::arg("valid").noconvert(), nb::arg("need").noconvert(),
        nb::arg("dirs").noconvert(), nb::call_guard<nb::gil_scoped_release>());
 
+    m.def("outside_field", [](In<double> dirs, In<bool> have, In<bool> seen, In<double> axes, In<double> angles,
+                              double bound, double slack, Out<bool> out) {
+        const size_t ny = dirs.ndim() == 3 ? dirs.shape(0) : 0, nx = dirs.ndim() == 3 ? dirs.shape(1) : 0;
+        need(ny >= 3 && nx >= 3 && dirs.shape(2) == 3 && have.size() == ny * nx && seen.size() == ny * nx,
+             "outside_field: rays (ny, nx, 3) and their flags (ny, nx)");
+        need(axes.size() == 3 * angles.size() && out.size() == (ny - 3) * (nx - 3), "outside_field: cones and cells");
+        outside_field(dirs.data(), have.data(), seen.data(), int64_t(ny), int64_t(nx), axes.data(), angles.data(),
+                      int64_t(angles.size()), bound, slack, out.data());
+    }, nb::arg("dirs"), nb::arg("have"), nb::arg("seen"), nb::arg("axes"), nb::arg("angles"), nb::arg("bound"),
+       nb::arg("slack"), nb::arg("out").noconvert(), nb::call_guard<nb::gil_scoped_release>());
+
     m.def("place", [](In<int64_t> at, In<double> xy, In<bool> v, Out<float> xs, Out<float> ys, Out<bool> valid) {
         const size_t n = at.size(), size = xs.size();
         need(xy.size() == 2 * n && v.size() == n, "place: xy (n, 2) and v (n,) for n positions");

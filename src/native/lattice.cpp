@@ -241,9 +241,29 @@ void lattice_rows(const LatticeBand& b, double inv) {
             float* yr = b.ys + r * w * n + k;
             bool* vr = b.valid + r * w * n + k;
             int8_t* nr = b.need + r * w * n + k;
-            for (const Run& run : runs[size_t(k)]) {
-                const int64_t c = run.c, c1 = run.c1, ca = run.ca;
+            const std::vector<Run>& row_runs = runs[size_t(k)];
+            for (size_t i = 0; i < row_runs.size(); ++i) {
+                const Run& run = row_runs[i];
+                const int64_t c = run.c, ca = run.ca;
+                int64_t c1 = run.c1;
                 const int st = b.state[cb * b.ncx + ca];
+                if (st < 0) {  // unseen (store_cell's values), with the unseen cells after it: one run to fill
+                    while (i + 1 < row_runs.size() && b.state[cb * b.ncx + row_runs[i + 1].ca] < 0) c1 = row_runs[++i].c1;
+                    if (n == 1) {  // contiguous: a photo's panorama is mostly such runs
+                        std::fill(xr + c, xr + c1, 0.0f);
+                        std::fill(yr + c, yr + c1, 0.0f);
+                        std::memset(vr + c, 0, size_t(c1 - c));  // false
+                        std::memset(nr + c, NEED_DONE, size_t(c1 - c));
+                        continue;
+                    }
+                    for (int64_t cc = c; cc < c1; ++cc) {
+                        xr[cc * n] = 0.0f;
+                        yr[cc * n] = 0.0f;
+                        vr[cc * n] = false;
+                        nr[cc * n] = NEED_DONE;
+                    }
+                    continue;
+                }
                 const double* cf = b.coef + ((cb - b.cb0) * b.ncx + ca) * b.nk * 16;
                 if (st > 0) {  // each component's bicubic along this row: a cubic in tx
                     const int q0 = st == 1 ? 0 : 2, q1 = st == 1 ? 2 : 5;
@@ -277,13 +297,6 @@ void lattice_rows(const LatticeBand& b, double inv) {
                         xr[cc * n] = float((((a3 * tx + a2) * tx + a1) * tx + a0) - 0.5);
                         yr[cc * n] = float((((b3 * tx + b2) * tx + b1) * tx + b0) - 0.5);
                         vr[cc * n] = true;
-                        nr[cc * n] = NEED_DONE;
-                    }
-                } else if (st < 0) {  // unseen (store_cell's values): a photo's panorama is mostly such runs
-                    for (int64_t cc = c; cc < c1; ++cc) {
-                        xr[cc * n] = 0.0f;
-                        yr[cc * n] = 0.0f;
-                        vr[cc * n] = false;
                         nr[cc * n] = NEED_DONE;
                     }
                 } else {

@@ -45,6 +45,10 @@ void lattice_eval(const LatticeBand& b, double step);
 // The same for offsets shared by every pixel, walked cell by cell along each row (lattice_rows); inv = 1/step.
 void lattice_rows(const LatticeBand& b, double inv);
 
+// The lattice cells none of whose samples the source sees (lenslab.warp.lattice.outside_field): dirs (ny, nx, 3) the
+// nodes' rays, have/seen (ny, nx); the field's m cones (axes (m, 3), angles (m,)); out (ny - 3, nx - 3)
+void outside_field(const double* dirs, const bool* have, const bool* seen, int64_t ny, int64_t nx, const double* axes,
+                   const double* angles, int64_t m, double bound, double slack, bool* out);
 // Place n mapped samples at flat positions at[] of a band's maps: index coordinates xy - 0.5 rounded to float32
 // where valid, 0 where not (lenslab.warp.lattice.place; xy (n, 2) float64).
 void place(const int64_t* at, const double* xy, const bool* v, int64_t n, float* xs, float* ys, bool* valid);

@@ -1,10 +1,11 @@
 // Pixel -> direction of the lens models with a closed form (their DirKernel, lenslab.lenses.core.protocol), and
 // the bindings, registered into lenslab.cxx_kernels by register_lens_dirs(). The same operations in the same order
 // as the models' NumPy steps (Lens.pixel_to_dir: pixel_to_uv, the model's uv_to_dir, the finiteness tests and
-// clean; equidistant's sine and cosine from glibc's vector maths where it has them, within 4 ulps), so a warp's
-// exact map costs a fraction of the NumPy one; NumPy references in
-// lenslab/lenses/formulas/reference.py (fisheye_dirs), held to them by tests/lenses/test_native_pixel_dirs.py. The
-// equi-angular cube map's (eac_dirs) is in lens_cubemap.cpp, bound here.
+// clean; the equirect's and equidistant's sines and cosines from glibc's vector maths where it has them, within 4
+// ulps), so a warp's exact map costs a fraction of the NumPy one; NumPy references in
+// lenslab/lenses/formulas/reference.py (fisheye_dirs) and the models' own steps (Equirect._pixel_to_dir), held to
+// them by tests/lenses/test_native_pixel_dirs.py and test_native_equirect_dirs.py. The equi-angular cube map's
+// (eac_dirs) is in lens_cubemap.cpp, bound here.
 // Built with every multiply and add rounded as written (CMakeLists.txt), as the NumPy code rounds them.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -212,6 +213,57 @@ void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool*
     }
 }
 
+// Equirect._pixel_to_dir, four pixels at a time: the longitude and latitude linear in x and y (the whole sphere in
+// the conventions' exact forms and order), d = (sin lon cos lat, sin lat, cos lon cos lat) with the sines and cosines
+// from glibc's vector maths (a short block is padded: every element the same way wherever it falls), the exact
+// poles at the top and bottom edges, then Lens.in_image and clean. p = W, H, whole sphere (0 or 1), lon0, lon1,
+// lat0, lat1 (radians), pole at the top (0 or 1), pole at the bottom (0 or 1)
+void equirect_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
+    const double W = p[0], H = p[1], lon0 = p[3], lon1 = p[4], lat0 = p[5], lat1 = p[6];
+    const bool whole = p[2] != 0.0, top = p[7] != 0.0, bottom = p[8] != 0.0;
+    for (int64_t i0 = 0; i0 < n; i0 += 4) {
+        const int64_t m = std::min<int64_t>(4, n - i0);
+        double phi[4] = {0.0, 0.0, 0.0, 0.0}, theta[4] = {0.0, 0.0, 0.0, 0.0}, sp[4], cp[4], st[4], ct[4];
+        for (int64_t j = 0; j < m; ++j) {
+            const double x = xy[2 * (i0 + j)], y = xy[2 * (i0 + j) + 1];
+            if (whole) {
+                phi[j] = 2.0 * x;
+                phi[j] /= W;
+                phi[j] -= 1.0;
+                phi[j] *= PI;
+                theta[j] = 2.0 * y;
+                theta[j] /= H;
+                theta[j] = 1.0 - theta[j];
+                theta[j] *= PI / 2;
+            } else {
+                phi[j] = x / W;
+                phi[j] *= lon1 - lon0;
+                phi[j] += lon0;
+                theta[j] = y / H;
+                theta[j] *= lat1 - lat0;
+                theta[j] = lat1 - theta[j];
+            }
+        }
+        sin_cos4(phi, sp, cp);
+        sin_cos4(theta, st, ct);
+        for (int64_t j = 0; j < m; ++j) {
+            const double x = xy[2 * (i0 + j)], y = xy[2 * (i0 + j) + 1];
+            double dx = sp[j] * ct[j], dy = st[j], dz = cp[j] * ct[j];
+            if ((top && y == 0.0) || (bottom && y == H)) {  // exact poles, whatever cos(pi/2) rounds to
+                dx = 0.0;
+                dy = y == 0.0 && top ? 1.0 : -1.0;
+                dz = 0.0;
+            }
+            const bool good = x >= 0.0 && x <= W && y >= 0.0 && y <= H && finite(dx * dx + dy * dy + dz * dz);
+            double* o = d + 3 * (i0 + j);
+            ok[i0 + j] = good;
+            o[0] = good ? dx : 0.0;
+            o[1] = good ? dy : 0.0;
+            o[2] = good ? dz : 0.0;
+        }
+    }
+}
+
 // cylinder pixels -> unit directions (0 and false where the lens has no ray)
 void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok) {
     with_cylinder_kind(int64_t(p[3]), "cylinder_dirs",
@@ -304,6 +356,9 @@ void register_lens_dirs(nb::module_& m) {
     bind_dirs<lenslab::lens::pannini_dirs, 9>(
         m, "pannini_dirs",
         "Pannini pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
+    bind_dirs<lenslab::lens::equirect_dirs, 9>(
+        m, "equirect_dirs",
+        "Equirect pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");
     bind_dirs<lenslab::lens::cylinder_dirs, 7>(
         m, "cylinder_dirs",
         "Cylinder pixels (any length; non-finite ones invalid) -> unit directions (the lens's DirKernel).");

@@ -35,6 +35,8 @@ void hammer_pixels(const double* d, int64_t n, const double* p, double* xy, bool
 void fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 void turned_fisheye_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 void cylinder_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
+// of an equirect: p = W, H, whole sphere (0 or 1), lon0, lon1, lat0, lat1 (radians), pole at the top, at the bottom
+void equirect_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 // of Pannini: p = W, H, H / W, d, x_f, (d + 1)^2, 1 - d^2, the largest |longitude| (with its slack), 1 - vcomp
 void pannini_dirs(const double* xy, int64_t n, const double* p, double* d, bool* ok);
 

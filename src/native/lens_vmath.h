@@ -9,6 +9,7 @@
 #ifdef LENSLAB_MVEC
 #include <immintrin.h>
 extern "C" __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+extern "C" __m256d _ZGVdN4v_acos(__m256d);
 extern "C" __m256d _ZGVdN4v_sin(__m256d);
 extern "C" __m256d _ZGVdN4v_cos(__m256d);
 extern "C" __m256d _ZGVdN4v_log(__m256d);
@@ -24,6 +25,15 @@ inline void atan2_4(double* out, const double* y, const double* x) {
     _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
 #else
     for (int j = 0; j < 4; ++j) out[j] = std::atan2(y[j], x[j]);
+#endif
+}
+
+// arc cosine of four values, into out (the map lattice's field test, lattice.cpp)
+inline void acos4(double* out, const double* a) {
+#ifdef LENSLAB_MVEC
+    _mm256_storeu_pd(out, _ZGVdN4v_acos(_mm256_loadu_pd(a)));
+#else
+    for (int j = 0; j < 4; ++j) out[j] = std::acos(a[j]);
 #endif
 }
 

@@ -55,14 +55,14 @@ NB_MODULE(cxx_kernels, m) {
     register_halves(m);
 
     m.def("bilinear1", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys, In<bool> valid,
-                          bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {
+                          bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha, bool zeroed) {
         size_t n = xs.size();
         need(holds(src.size(), sw, sh, nc), "source size");
         need(ys.size() == n && valid.size() == n && alpha.size() == n && out.size() == n * nc, "band shapes differ");
         return bilinear1(src.data(), sw, sh, nc, xs.data(), ys.data(), valid.data(), int64_t(n), {wrap, top, bottom},
-                         out.data(), alpha.data());
+                         out.data(), alpha.data(), zeroed);
     }, nb::arg("src"), nb::arg("sw"), nb::arg("sh"), nb::arg("nc"), nb::arg("xs"), nb::arg("ys"), nb::arg("valid"), nb::arg("wrap"), nb::arg("top"), nb::arg("bottom"), nb::arg("out").noconvert(), nb::arg("alpha").noconvert(),
-          nb::call_guard<nb::gil_scoped_release>());
+          nb::arg("zeroed") = false, nb::call_guard<nb::gil_scoped_release>());
 
     m.def("bilinear_n", [](In<float> src, int64_t sw, int64_t sh, int64_t nc, In<float> xs, In<float> ys,
                            In<bool> valid, bool wrap, bool top, bool bottom, Out<float> out, Out<float> alpha) {

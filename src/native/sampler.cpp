@@ -74,7 +74,7 @@ void from_taps_t(const float* __restrict__ flat, int64_t sw, int64_t nc_, const 
 template <int NC>
 int bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t nc_, const float* __restrict__ xs,
                 const float* __restrict__ ys, const bool* __restrict__ valid, int64_t n, Border b,
-                float* __restrict__ out, float* __restrict__ alpha) {
+                float* __restrict__ out, float* __restrict__ alpha, bool zeroed) {
     const int64_t nc = NC > 0 ? NC : nc_;
     uint64_t p[4];
     uint32_t bad = 0;  // a value written is NaN or infinite (all exponent bits set)
@@ -90,8 +90,10 @@ int bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t 
         }
         float* o = out + q * nc;
         if (!valid[q]) {
-            for (int64_t ch = 0; ch < nc; ++ch) o[ch] = 0.0f;
-            alpha[q] = 0.0f;
+            if (!zeroed) {  // (zeroed: +0 is there already, and a page only ever read as zeros is never touched)
+                for (int64_t ch = 0; ch < nc; ++ch) o[ch] = 0.0f;
+                alpha[q] = 0.0f;
+            }
             continue;
         }
         float x = clamp_pos(xs[q]), y = clamp_pos(ys[q]);
@@ -112,12 +114,12 @@ int bilinear1_t(const float* __restrict__ flat, int64_t sw, int64_t sh, int64_t 
 }  // namespace
 
 int bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
-              const bool* valid, int64_t n, Border b, float* out, float* alpha) {
+              const bool* valid, int64_t n, Border b, float* out, float* alpha, bool zeroed) {
     switch (nc) {
-        case 1: return bilinear1_t<1>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
-        case 3: return bilinear1_t<3>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
-        case 4: return bilinear1_t<4>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
-        default: return bilinear1_t<0>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha);
+        case 1: return bilinear1_t<1>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha, zeroed);
+        case 3: return bilinear1_t<3>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha, zeroed);
+        case 4: return bilinear1_t<4>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha, zeroed);
+        default: return bilinear1_t<0>(flat, sw, sh, nc, xs, ys, valid, n, b, out, alpha, zeroed);
     }
 }
 

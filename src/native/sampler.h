@@ -10,9 +10,10 @@ constexpr uint32_t TAP_FOLDED = 0xFFFFFFFEu;   // taps across an edge: the foldi
 // what bilinear1 says of the values it wrote (alpha is 0 or 1, always in range)
 constexpr int SAMPLED_NON_FINITE = 1;  // some value is NaN or infinite
 constexpr int SAMPLED_COVERED = 2;     // some sample is valid (alpha 1)
-// n pixels, one sample each: out (n, nc), alpha (n,); returns SAMPLED_* flags
+// n pixels, one sample each: out (n, nc), alpha (n,); returns SAMPLED_* flags. zeroed: out and alpha hold +0 already
+// (fresh zeroed memory), so the samples without a source are not written (their pages are not touched)
 int bilinear1(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
-               const bool* valid, int64_t n, Border b, float* out, float* alpha);
+               const bool* valid, int64_t n, Border b, float* out, float* alpha, bool zeroed = false);
 // npix pixels of ns samples each (xs (npix, ns)); nc <= 64
 void bilinear_n(const float* flat, int64_t sw, int64_t sh, int64_t nc, const float* xs, const float* ys,
                 const bool* valid, int64_t npix, int64_t ns, Border b, float* out, float* alpha);

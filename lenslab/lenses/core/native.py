@@ -8,9 +8,9 @@ models (their :class:`~lenslab.lenses.core.protocol.PixelKernel`, which the warp
 projection, the lensfun profiles' direction -> pixel and the solved sides of the division, Brown and tan-fold
 fisheye models. Each has a NumPy reference in :mod:`lenslab.lenses.formulas.reference` that the tests hold it to.
 
-Pixel -> direction of the fisheye, the little planet, the cylinders, Pannini, the perspective and the equi-angular
-cube map (their :class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs, so the
-warp's exact map does): ``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
+Pixel -> direction of the equirect, the fisheye, the little planet, the cylinders, Pannini, the perspective and the
+equi-angular cube map (their :class:`~lenslab.lenses.core.protocol.DirKernel`, which :meth:`Lens.pixel_to_dir` runs,
+so the warp's exact map does): ``src/native/lens_dirs.cpp`` (the cube map's in ``lens_cubemap.cpp``).
 
 Every model calls them the same way: :func:`run_rows` passes the points as float64 rows and shapes the outputs back,
 and :func:`dir_to_pixel_through` and :func:`pixel_to_dir_through` choose between a model's kernel and its NumPy steps.

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.errors import LensError
-from lenslab.lenses.core.base import FLOAT, Lens, Param, PixelKernel, ReferencePoint, Seams, as_points, clean
+from lenslab.lenses.core.base import (FLOAT, DirKernel, Lens, Param, PixelKernel, ReferencePoint, Seams, as_points,
+                                     clean)
 from lenslab.lenses.formulas import lonlat
 from lenslab.lenses.registry import register
 
@@ -115,8 +116,24 @@ class Equirect(Lens):
         return self.pixel_to_uv(xy), valid
 
     def pixel_to_dir(self, xy):
-        with np.errstate(all="ignore"):  # non-finite or absurd pixels are flagged, not warned about
-            return self._pixel_to_dir(as_points(xy, 2, "pixel coordinates"))
+        """Unit directions of pixels: the compiled :meth:`dir_kernel` when it still describes this lens, else the
+        NumPy steps of :meth:`_pixel_to_dir` (non-finite or absurd pixels are flagged, not warned about)."""
+        from lenslab.lenses.core.native import pixel_to_dir_through
+
+        return pixel_to_dir_through(self, xy, self._pixel_to_dir)
+
+    def dir_kernel(self):
+        """The compiled ``pixel -> dir`` (``equirect_dirs``: the steps of :meth:`_pixel_to_dir` in their order, the
+        sines and cosines from glibc's vector maths, within a few ulps of NumPy's own; the NumPy steps stay its
+        reference) with (W, H, whole sphere, lon/lat range in radians, pole at the top, pole at the bottom)."""
+        from lenslab.lenses.core.native import dir_kernel_holds, lens_kernels
+
+        if not dir_kernel_holds(self, Equirect, ("_pixel_to_dir", "in_image", "full_sphere")):
+            return None
+        return DirKernel(lens_kernels().equirect_dirs, np.array(
+            [self.width, self.height, float(self.full_sphere), np.radians(self.lon_min), np.radians(self.lon_max),
+             np.radians(self.lat_min), np.radians(self.lat_max), float(self.lat_max == 90.0),
+             float(self.lat_min == -90.0)], dtype=FLOAT))
 
     def _pixel_to_dir(self, xy):
         lon0, lon1 = np.radians(self.lon_min), np.radians(self.lon_max)

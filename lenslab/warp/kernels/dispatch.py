@@ -15,6 +15,7 @@ run on. Asking for it imports nothing: a plain warp never loads numba.
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 
@@ -237,7 +238,7 @@ class scratch:
 
         self.dtype = np.dtype(dtype)
         self.shape = tuple(int(v) for v in shape)
-        self.nbytes = int(np.prod(self.shape)) * self.dtype.itemsize
+        self.nbytes = math.prod(self.shape) * self.dtype.itemsize
         self.buf = None
 
     def __enter__(self):

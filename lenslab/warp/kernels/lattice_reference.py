@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from lenslab.warp import lattice
+
 #: Catmull-Rom basis: weight_i(t) = sum_a CR_BASIS[i, a] t^a
 CR_BASIS = np.array([[0.0, -0.5, 1.0, -0.5], [1.0, 0.0, -2.5, 1.5], [0.0, 0.5, 2.0, -1.5], [0.0, 0.0, -0.5, 0.5]])
 
@@ -174,3 +176,50 @@ def place(at, xy, v, xs, ys, valid) -> None:
     xs[at] = np.where(v, xy[:, 0] - 0.5, 0.0)
     ys[at] = np.where(v, xy[:, 1] - 0.5, 0.0)
     valid[at] = v
+
+
+def outside_field(field, dirs: np.ndarray, have_ray: np.ndarray, seen: np.ndarray) -> np.ndarray | None:
+    """:func:`lenslab.warp.lattice.outside_field` in NumPy, the same steps in the same order (its arc cosines from
+    NumPy's own loops, the kernel's from glibc's vector maths, each within a few ulps: the same cells unless a bound
+    falls within a few ulps of a cone's edge, beyond the 1e-9 rad of slack both add)."""
+    if field is None:
+        return None
+    ny, nx = have_ray.shape
+    ncy, ncx = ny - 3, nx - 3
+    quad = ((1, 1), (1, 2), (2, 1), (2, 2))
+
+    def at(m, i, j):
+        return m[i:i + ncy, j:j + ncx]
+
+    cand = np.ones((ncy, ncx), dtype=np.bool_)
+    for i, j in quad:
+        cand &= at(have_ray, i, j) & ~at(seen, i, j)
+    out = np.zeros((ncy, ncx), dtype=np.bool_)
+    if not cand.any():
+        return out
+    planes = [np.ascontiguousarray(dirs[..., k]) for k in range(3)]
+    centre = [at(p, 1, 1) + at(p, 1, 2) + at(p, 2, 1) + at(p, 2, 2) for p in planes]
+    norm = np.sqrt(centre[0] ** 2 + centre[1] ** 2 + centre[2] ** 2)
+    cand &= norm > 1.0  # four rays that nearly cancel (a cell spanning half the sphere) have no bound
+    norm[~cand] = 1.0
+    for c in centre:
+        c /= norm
+    cos_r = np.full((ncy, ncx), 1.0)
+    dot, part = np.empty((ncy, ncx)), np.empty((ncy, ncx))  # (reused: fresh pages cost more than the arithmetic)
+    for i, j in quad:
+        np.multiply(centre[0], at(planes[0], i, j), out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], at(planes[k], i, j), out=part)
+        np.minimum(cos_r, dot, out=cos_r)
+    radius = np.arccos(np.clip(cos_r, -1.0, 1.0, out=cos_r), out=cos_r)
+    radius *= lattice.CELL_BOUND
+    radius += lattice.FIELD_SLACK
+    for axis, angle in zip(np.asarray(field.axes, np.float64), np.asarray(field.angles, np.float64)):
+        np.multiply(centre[0], axis[0], out=dot)
+        for k in (1, 2):
+            dot += np.multiply(centre[k], axis[k], out=part)
+        off = np.arccos(np.clip(dot, -1.0, 1.0, out=dot), out=dot)
+        off -= radius
+        out |= off > angle
+    out &= cand
+    return out
