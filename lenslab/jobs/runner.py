@@ -44,9 +44,10 @@ def execute_staged(job: Job, src: str, dst: str, owner: str, stop: str) -> tuple
     stop event ``stop`` is set (or the scheduler cannot say), the temporaries are removed instead."""
     from lenslab.staging import discard, staged
     from lenslab.cluster.tasks import limit_threads
+    from lenslab.cluster.threads import routed_warnings
 
     limit_threads()
-    with staged(owner) as written:
+    with staged(owner) as written, routed_warnings():  # a worker of several threads runs several files at once
         result = execute(job, src, dst)
     if written and _stopped(stop):
         discard(written)
