@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Rebuild the docs' tables from the registries, so that the docs list exactly what lenslab has.
 
-    python tools/docs_tables.py           # rewrite docs/lenses.md and the curve and filter lists in docs/conventions.md
+    python tools/docs_tables.py           # rewrite docs/lenses.md and the curve, filter and format lists of
+                                          # docs/conventions.md
     python tools/docs_tables.py --check   # exit 1 (naming the files) when a generated part is out of date
 
 ``docs/lenses.md`` is generated whole from the lens registry (model, other names, family, what it is,
 where its numbers come from). In ``docs/conventions.md`` the list of tone curves sits between
 ``<!-- curves:start -->`` and ``<!-- curves:end -->``, the warp filters between ``<!-- filters:start -->`` and
-``<!-- filters:end -->``. The tests run ``--check``'s comparison.
+``<!-- filters:end -->``, the file formats with the ``--pixel-type``s each is written with between
+``<!-- formats:start -->`` and ``<!-- formats:end -->``. The tests run ``--check``'s comparison.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ LENSES_MD = ROOT / "docs" / "lenses.md"
 CONVENTIONS_MD = ROOT / "docs" / "conventions.md"
 START, END = "<!-- curves:start -->", "<!-- curves:end -->"
 FILTERS_START, FILTERS_END = "<!-- filters:start -->", "<!-- filters:end -->"
+FORMATS_START, FORMATS_END = "<!-- formats:start -->", "<!-- formats:end -->"
 
 #: the model sub-packages in the words of the docs
 FAMILIES = {"projections": "projection", "panoramas": "360 format", "multiview": "multi-view",
@@ -86,6 +89,19 @@ def filter_list() -> str:
     return "\n".join(lines)
 
 
+def format_list() -> str:
+    from lenslab.cli.info import written_types
+    from lenslab.io.registry import formats
+
+    lines = ["| format | reads | writes | `--pixel-type` (written) | extensions |", "|---|---|---|---|---|"]
+    for f in formats().values():
+        types = written_types(f)
+        lines.append(f"| `{f.name}` | {'yes' if f.readable else '-'} | {'yes' if f.writable else '-'} | "
+                     f"{', '.join(f'`{t}`' for t in types.split('/')) if types != '-' else '-'} | "
+                     f"{' '.join(f.extensions)} |")
+    return "\n".join(lines)
+
+
 def between(text: str, start: str, end: str, body: str) -> str:
     """``text`` with what lies between the markers ``start`` and ``end`` replaced by ``body``."""
     head, found, rest = text.partition(start)
@@ -96,7 +112,8 @@ def between(text: str, start: str, end: str, body: str) -> str:
 
 
 def conventions_page(text: str) -> str:
-    return between(between(text, START, END, curve_list()), FILTERS_START, FILTERS_END, filter_list())
+    text = between(between(text, START, END, curve_list()), FILTERS_START, FILTERS_END, filter_list())
+    return between(text, FORMATS_START, FORMATS_END, format_list())
 
 
 def expected() -> dict[Path, str]:

@@ -9,7 +9,8 @@ JPEG is read (HDR, or the SDR base with 'file.jpg:sdr') and its gain map's metad
 
 EXR selectors work here too: 'file.exr:left' (a layer), 'file.exr:2' or 'file.exr:NAME' (a part); 'photo.jpg:sdr'
 reads an Ultra HDR JPEG's SDR base image.
-'lenslab info --formats' lists every format lenslab reads and writes, with what each holds.
+'lenslab info --formats' lists every format lenslab reads and writes, with what each holds and the --pixel-type
+samples each is written with.
 
 examples:
   lenslab info pano.exr
@@ -29,7 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("files", nargs="*", metavar="FILE",
                         help="image or video files (see --formats for the formats lenslab knows)")
     parser.add_argument("--formats", action="store_true",
-                        help="list the formats lenslab reads and writes, with what each holds")
+                        help="list the formats lenslab reads and writes, with what each holds "
+                             "and the --pixel-type samples each is written with")
     parser.add_argument("--json", action="store_true", help="print one JSON list with an object per file")
     parser.add_argument("--raw", action="store_true",
                         help="statistics of the stored code values (scaled to 0..1) instead of linear light")
@@ -212,18 +214,28 @@ def _video_text(d: dict) -> str:
 
 
 def formats_text() -> str:
-    """The table printed by ``lenslab info --formats``, from the format plugins."""
+    """The table printed by ``lenslab info --formats``, from the format plugins: what each format holds, and the
+    ``--pixel-type``s a file of it is written with (:attr:`~lenslab.io.plugin.Format.pixel_types`)."""
     from lenslab.io.registry import formats
 
     rows = [(f, ("linear HDR" if f.hdr else "display-encoded") + (", alpha" if f.alpha else "")
-             + f", {'/'.join(str(b) for b in f.bit_depths)}-bit", " ".join(f.extensions)) for f in formats().values()]
-    wh = max([len("holds")] + [len(h) for _, h, _ in rows])  # columns as wide as their longest entry
-    we = max([len("extensions")] + [len(e) for _, _, e in rows])
-    lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<{wh}s} {'extensions':<{we}s} notes"]
-    for f, holds, ext in rows:
+             + f", {'/'.join(str(b) for b in f.bit_depths)}-bit", written_types(f), " ".join(f.extensions))
+            for f in formats().values()]
+    widths = [max([len(head)] + [len(r[i]) for r in rows]) for i, head in ((1, "holds"), (2, "--pixel-type"),
+                                                                           (3, "extensions"))]
+    wh, wt, we = widths  # columns as wide as their longest entry
+    lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<{wh}s} {'--pixel-type':<{wt}s} "
+             f"{'extensions':<{we}s} notes"]
+    for f, holds, types, ext in rows:
         lines.append(f"{f.name:<7s} {'yes' if f.readable else '-':<5s} {'yes' if f.writable else '-':<6s} "
-                     f"{holds:<{wh}s} {ext:<{we}s} {f.note}".rstrip())
+                     f"{holds:<{wh}s} {types:<{wt}s} {ext:<{we}s} {f.note}".rstrip())
     return "\n".join(lines)
+
+
+def written_types(fmt) -> str:
+    """The ``--pixel-type``s format record ``fmt`` is written with, as ``uint8/uint16``; ``-`` where none applies (a
+    format lenslab only reads, a clip, whose samples are its codec's)."""
+    return "/".join(fmt.pixel_types) if fmt.writable and fmt.kind == "image" else "-"
 
 
 def _text(d: dict) -> str:

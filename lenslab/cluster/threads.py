@@ -40,6 +40,48 @@ def recorded_warnings() -> Iterator[list]:
         _TLS.caught = outer
 
 
+_ROUTING = threading.Lock()
+_ROUTED = [0, None]  # the blocks inside routed_warnings, and what they replaced (filters, showwarning)
+
+
+@contextlib.contextmanager
+def routed_warnings() -> Iterator[None]:
+    """Within the block, each thread's warnings go to its own :func:`recorded_warnings` (each of them, also when
+    repeated: a file's notes are its own), those of other threads where they went before. Blocks may run at once
+    in several threads (the files of a batch here, the tasks of a many-threaded cluster worker): the first to
+    enter routes, the last to leave puts back what was there."""
+    from lenslab.errors import NUMPY_NOTES
+
+    with _ROUTING:
+        if _ROUTED[0] == 0:
+            shown = warnings.showwarning
+            _ROUTED[1] = (warnings.filters[:], shown)
+            warnings.simplefilter("always")
+            warnings.filterwarnings("ignore", message=NUMPY_NOTES, category=RuntimeWarning)
+
+            def route(message, category, filename, lineno, file=None, line=None):
+                caught = getattr(_TLS, "caught", None)
+                if caught is None:
+                    shown(message, category, filename, lineno, file, line)
+                else:
+                    caught.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
+
+            warnings.showwarning = route
+            _HOOKED.set()
+        _ROUTED[0] += 1
+    try:
+        yield
+    finally:
+        with _ROUTING:
+            _ROUTED[0] -= 1
+            if _ROUTED[0] == 0:
+                _HOOKED.clear()
+                warnings.filters[:], warnings.showwarning = _ROUTED[1]
+                warnings.simplefilter("default", append=True)  # (a change made so, to refresh Python's cache)
+                warnings.filters[:] = _ROUTED[1][0]
+                _ROUTED[1] = None
+
+
 def default_jobs(files: int) -> int:
     """Files at once when the user does not say: one per core, no more than there are files."""
     return max(1, min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1,
@@ -117,7 +159,6 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
 
     import lenslab.io.exr
     from lenslab.atomic import STOPPING
-    from lenslab.errors import NUMPY_NOTES
     from lenslab.warp.kernels.dispatch import default_threads, set_threads
 
     cores = default_jobs(1 << 30)
@@ -128,20 +169,7 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
 
     codec_threads = lenslab.io.exr.THREADS
     results: dict[int, object] = {}
-    with warnings.catch_warnings():
-        warnings.simplefilter("always")  # each file's repeated warnings are its own notes
-        warnings.filterwarnings("ignore", message=NUMPY_NOTES, category=RuntimeWarning)
-        shown = warnings.showwarning
-
-        def route(message, category, filename, lineno, file=None, line=None):
-            caught = getattr(_TLS, "caught", None)
-            if caught is None:
-                shown(message, category, filename, lineno, file, line)
-            else:
-                caught.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
-
-        warnings.showwarning = route
-        _HOOKED.set()
+    with routed_warnings():
         lenslab.io.exr.THREADS = 0  # the files already fill the cores: no codec pool on top
         pool = cf.ThreadPoolExecutor(threads, initializer=start, thread_name_prefix="lenslab-file")
         try:
@@ -156,9 +184,8 @@ def run_threads(work: Callable, jobs: Sequence, threads: int, on_done: Callable 
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
             STOPPING.clear()
-            _HOOKED.clear()
             lenslab.io.exr.THREADS = codec_threads
     return [results[i] for i in range(len(jobs))]
 
 
-__all__ = ["recorded_warnings", "run_threads", "default_jobs", "memory_bound", "available_memory"]
+__all__ = ["recorded_warnings", "routed_warnings", "run_threads", "default_jobs", "memory_bound", "available_memory"]

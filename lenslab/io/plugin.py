@@ -105,6 +105,7 @@ class Format:
                 "sample_types": list(self.sample_types), "read": self.readable, "write": self.writable,
                 "write_options": dict(self.write_options), "selectors": self.selectors, "camera": self.camera,
                 "compressions": list(self.compressions),
+                "pixel_types": list(self.pixel_types) if self.writable and self.kind == "image" else [],
                 "note": self.note, "kind": self.kind, "straight_alpha": list(self.straight_alpha)}
 
 

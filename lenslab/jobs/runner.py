@@ -42,12 +42,15 @@ def execute_staged(job: Job, src: str, dst: str, owner: str, stop: str) -> tuple
     """What runs on a cluster worker: :func:`execute` with the outputs left as temporaries named for the
     process ``owner`` (the command), listed in the result's fifth item for it to rename. When the batch's
     stop event ``stop`` is set (or the scheduler cannot say), the temporaries are removed instead."""
+    from contextlib import nullcontext
+
     from lenslab.staging import discard, staged
     from lenslab.cluster.tasks import limit_threads
+    from lenslab.cluster.threads import routed_warnings
 
     limit_threads()
-    with staged(owner) as written:
-        result = execute(job, src, dst)
+    with staged(owner) as written, routed_warnings() if _worker_threads() > 1 else nullcontext():
+        result = execute(job, src, dst)  # (a worker of several threads runs several files at once: notes by thread)
     if written and _stopped(stop):
         discard(written)
         return src, dst, "not written: the command was stopped", [], []
@@ -56,6 +59,16 @@ def execute_staged(job: Job, src: str, dst: str, owner: str, stop: str) -> tuple
 
         result = (*result[:3], result[3] + [n for n in (take_note(),) if n])
     return (*result, list(written))
+
+
+def _worker_threads() -> int:
+    """The tasks the Dask worker running this one runs at once (1 where no worker can say)."""
+    try:
+        from distributed import get_worker
+
+        return int(get_worker().state.nthreads)
+    except Exception:  # noqa: BLE001 - not on a worker
+        return 1
 
 
 def _stopped(name: str) -> bool:
@@ -158,7 +171,7 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
                         discard(written)
                 except OSError as exc:
                     error = one_line(exc)
-            done[i] = (src, dst, error and error.replace(os.path.abspath(src), src), notes)
+            done[i] = (src, dst, error and as_given(error, src), [as_given(n, src, dst) for n in notes])
             if workers is not None and error is None:
                 w = workers.setdefault(worker, [0, 0.0])
                 w[0] += 1
@@ -178,6 +191,14 @@ def run_on_cluster(client, job: Job, pairs: list[tuple], progress: bool = False,
     by_pair = {(r[0], r[1]): r for r in done.values()}
     return [by_pair.get((str(src), str(dst)), (str(src), str(dst), refused.get((str(src), str(dst))), []))
             for src, dst in pairs]
+
+
+def as_given(text: str, *paths: str) -> str:
+    """``text`` of a worker, which had the absolute ``paths``, naming them as the command was given them (as a run
+    on this machine names them)."""
+    for path in paths:
+        text = text.replace(os.path.abspath(path), path)
+    return text
 
 
 def _set_stop(client, name: str) -> None:

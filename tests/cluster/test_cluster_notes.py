@@ -105,5 +105,31 @@ def test_the_gamut_note_comes_once_per_file_on_the_cluster_as_here(tmp_path, sch
         assert re.search(rf"\b{n} of {16 * 24} pixels\b", line), line
 
 
+
+def test_a_warps_gamut_note_names_the_output_as_given_on_the_cluster_as_here(tmp_path, scheduler, capsys, monkeypatch):
+    """The workers get absolute paths; the notes name the files as the command was given them, as here (before, the
+    warped image was named by its absolute path on the cluster)."""
+    monkeypatch.chdir(tmp_path)
+    Path("in").mkdir()
+    rng = np.random.default_rng(9)
+    counts = {}
+    for i in range(3):
+        rgb = np.repeat(rng.integers(0, 256, (16, 32, 1), dtype=np.uint8), 3, axis=-1)  # greys: inside any gamut
+        rgb[: 2 + i, :, :] = (0, 255, 0)  # saturated P3 green: outside sRGB, in rows of a different count
+        _p3_png(Path("in") / f"p3_{i}.png", rgb)
+        counts[f"p3_{i}"] = _outside_srgb(rgb)
+    # the identity warp with the nearest pixel: each output pixel is its source pixel, the counts the source's
+    cmd = ["warp", "in", "-o", "out", "--from", "equirect", "--to", "equirect", "--size", "32x16", "--filter",
+           "nearest", "--format", "jpg", "--overwrite"]
+    assert lenslab(cmd + ["--scheduler", scheduler]) == 0
+    remote = _notes(capsys.readouterr().err)
+    assert lenslab(cmd) == 0
+    local = _notes(capsys.readouterr().err)
+    assert sorted(remote) == sorted(local) and len(remote) == 3, remote
+    for name, n in counts.items():
+        line, = (r for r in remote if f"{name}.png:" in r)
+        assert re.search(rf"\b{n} of {16 * 32} pixels of the warped image out/{name}.jpg ", line), line
+
+
 if __name__ == "__main__":  # pragma: no cover
     raise SystemExit(pytest.main([__file__, "-q"]))
