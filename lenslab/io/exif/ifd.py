@@ -105,27 +105,29 @@ def encode(name: str, value) -> tuple[int, int, bytes]:
     return tag.type, 1, struct.pack("<I" if tag.type == 4 else "<H", int(value))
 
 
-def ifd_bytes(entries: list[tuple[int, int, int, bytes]], at: int) -> bytes:
+def ifd_bytes(entries: list[tuple[int, int, int, bytes]], at: int, big: bool = False) -> bytes:
     """One little-endian IFD at offset ``at`` of its TIFF structure (``entries``: tag, type, count, value bytes),
-    its values longer than 4 bytes after it (each at an even offset), and no next IFD."""
+    its values longer than its value field after it (each at an even offset), and no next IFD. ``big``: a BigTIFF's
+    IFD (an 8-byte entry count, 20-byte entries, 8-byte value fields and offsets), else a classic TIFF's."""
     entries = sorted(entries)
-    data_at = at + 2 + 12 * len(entries) + 4
+    head, entry, inline = ("<Q", "<HHQ", 8) if big else ("<H", "<HHI", 4)
+    data_at = at + struct.calcsize(head) + (struct.calcsize(entry) + inline) * len(entries) + inline
     fields, data = [], b""
     for number, kind, count, value in entries:
-        if len(value) <= 4:
-            field = value.ljust(4, b"\0")
+        if len(value) <= inline:
+            field = value.ljust(inline, b"\0")
         else:
-            field = struct.pack("<I", data_at + len(data))
+            field = struct.pack("<Q" if big else "<I", data_at + len(data))
             data += value + b"\0" * (len(value) % 2)
-        fields.append(struct.pack("<HHI", number, kind, count) + field)
-    return struct.pack("<H", len(entries)) + b"".join(fields) + b"\0\0\0\0" + data
+        fields.append(struct.pack(entry, number, kind, count) + field)
+    return struct.pack(head, len(entries)) + b"".join(fields) + b"\0" * inline + data
 
 
-def exif_ifd(tags: dict, at: int, extra=()) -> bytes:
+def exif_ifd(tags: dict, at: int, extra=(), big: bool = False) -> bytes:
     """The Exif IFD of ``tags`` (those of the Exif IFD, with ExifVersion 0232, and the raw ``extra`` entries) at
-    offset ``at``."""
+    offset ``at`` (of a BigTIFF where ``big``)."""
     entries = [(TAGS[n].tag, *encode(n, v)) for n, v in tags.items() if TAGS[n].ifd == "exif"]
-    return ifd_bytes(entries + [(EXIF_VERSION, 7, 4, b"0232"), *extra], at)
+    return ifd_bytes(entries + [(EXIF_VERSION, 7, 4, b"0232"), *extra], at, big)
 
 
 def build(tags: dict, first_extra=(), exif_extra=()) -> bytes:
