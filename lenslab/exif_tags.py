@@ -142,13 +142,24 @@ def exr_tags(header: dict) -> dict:
 
 
 def exr_attributes(tags: dict) -> dict:
-    """Tags as EXR header attributes under OpenImageIO's names: text as strings, integers as ints, rationals as
-    doubles (a float would move a field of view by 1e-6 degree; OpenImageIO reads both)."""
+    """Tags as EXR header attributes under OpenImageIO's names: text as strings, integers as ints, rationals as 32-bit
+    floats, the type OpenImageIO writes and the only one its JPEG writer carries on, where the float gives the
+    rational back (:func:`single_ratio`: 681/100, 1/250), else as doubles (a float would move a field of view by
+    1e-6 degree).
+
+    >>> from fractions import Fraction as F
+    >>> {k: type(v).__name__ for k, v in exr_attributes({"FocalLength": F(681, 100), "FNumber": F(1000001, 300000),
+    ...                                                  "Make": "Acme", "FocalLengthIn35mmFilm": 24}).items()}
+    {'Exif:FocalLength': 'float', 'aperture': 'ndarray', 'Make': 'str', 'Exif:FocalLengthIn35mmFilm': 'int'}
+    """
     import numpy as np
 
     out = {}
     for name, value in tags.items():
         kind = TAGS[name].kind
-        out[TAGS[name].exr] = (np.array([float(value)], np.float64) if kind == "ratio"
-                               else int(value) if kind == "int" else str(value))
+        if kind == "ratio":
+            single = float(np.float32(value))
+            out[TAGS[name].exr] = single if single_ratio(single) == value else np.array([float(value)], np.float64)
+        else:
+            out[TAGS[name].exr] = int(value) if kind == "int" else str(value)
     return out

@@ -64,3 +64,21 @@ def test_from_exif_on_an_openimageio_exr_gives_the_photo_s_field(tmp_path, capsy
     sensor_width = 64 / 100 * 10.0  # mm: 64 pixels at 100 a centimetre
     expected = math.degrees(2 * math.atan(sensor_width / (2 * 6.81)))  # (the photo's 6.81 mm, in float64)
     assert from_exif_fov(capsys, exr, tmp_path) == pytest.approx(expected, abs=1e-9)
+
+
+def test_openimageio_carries_lenslab_s_exr_rationals_on_to_a_jpeg(tmp_path, capsys):
+    """lenslab's EXR of a photo holds its rationals as OpenImageIO's floats: OpenImageIO's JPEG writer drops an
+    ``Exif:FocalLength`` held as a double, so ``oiiotool lenslab.exr -o copy.jpg`` lost the focal length, exposure
+    and f-number; it keeps them now, and lenslab reads the EXR's rationals back as the photo's."""
+    source = photo(tmp_path / "p.jpg", 64, 48, *SHOT)
+    exr = tmp_path / "lenslab.exr"
+    assert run(capsys, "convert", source, "-o", exr, "-q")[0] == 0
+    types = {a.name: str(a.type) for a in oiio.ImageInput.open(str(exr)).spec().extra_attribs}
+    assert types["Exif:FocalLength"] == types["ExposureTime"] == types["FNumber"] == "float"
+    theirs = tmp_path / "oiio.jpg"
+    assert oiio.ImageBuf(str(exr)).write(str(theirs), "uint8"), oiio.geterror()
+    original, copied = exiftool(source, *NUMBERS[:3]), exiftool(theirs, *NUMBERS[:3])
+    assert [copied[n] for n in NUMBERS[:3]] == [original[n] for n in NUMBERS[:3]] == [6.81, 0.004, 1.85]
+    back = tmp_path / "back.tif"
+    assert run(capsys, "convert", exr, "-o", back, "-q")[0] == 0
+    assert exiftool(back, *NUMBERS) == {**exiftool(source, *NUMBERS), "SourceFile": str(back)}

@@ -94,16 +94,13 @@ def test_an_exr_data_window_written_alone_keeps_the_pixel_pitch(tmp_path, capsys
 
 def test_exr_to_exr_keeps_the_whole_frame_s_tags(tmp_path, capsys):
     """EXR to EXR keeps the data window inside its display window: the frame is the whole 60 x 40 one, so its 35 mm
-    equivalent holds and OpenImageIO reads the source's values back (the focal length as the 6.81 its float stands
-    for)."""
+    equivalent holds and OpenImageIO reads the source's values back (the focal length as the float it was)."""
     windowed_exr(tmp_path / "w.exr")
     code, err = run(capsys, "convert", tmp_path / "w.exr", "-o", tmp_path / "copy.exr", "-q")
     assert code == 0, err
     for name in ("Exif:FocalLengthIn35mmFilm", "Exif:PixelXDimension", "Exif:PixelYDimension", "Make",
-                 "Exif:FocalPlaneXResolution"):
+                 "Exif:FocalLength", "Exif:FocalPlaneXResolution"):
         assert oiio_attribute(tmp_path / "copy.exr", name) == oiio_attribute(tmp_path / "w.exr", name), name
-    assert oiio_attribute(tmp_path / "w.exr", "Exif:FocalLength") == float(np.float32(6.81))
-    assert oiio_attribute(tmp_path / "copy.exr", "Exif:FocalLength") == 6.81
     spec = oiio.ImageInput.open(str(tmp_path / "copy.exr")).spec()
     assert (spec.x, spec.y, spec.width, spec.full_width) == (10, 5, 40, 60)
 
