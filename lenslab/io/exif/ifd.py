@@ -23,7 +23,8 @@ from lenslab.exif_tags import BY_NUMBER, EXIF_POINTER, EXIF_VERSION, TAGS, TEXT_
 #: 10 SRATIONAL, 13 IFD)
 SIZES = {1: 1, 2: 1, 3: 2, 4: 4, 5: 8, 6: 1, 7: 1, 8: 2, 9: 4, 10: 8, 11: 4, 12: 8, 13: 4}
 #: the TIFF types each kind of tag is read from
-READ_TYPES = {"text": (2,), "int": (1, 3, 4, 13), "ratio": (5, 10)}
+#: (a rational also from FLOAT and DOUBLE, 11 and 12, as Pillow writes a float: written back as a RATIONAL)
+READ_TYPES = {"text": (2,), "int": (1, 3, 4, 13), "ratio": (5, 10, 11, 12)}
 
 
 class Damaged(ValueError):
@@ -59,6 +60,11 @@ def _value(read, size: int, order: str, name: str, kind: int, count: int, field:
     if kind in (5, 10):
         num, den = struct.unpack(order + ("II" if kind == 5 else "ii"), data)
         return checked(name, Fraction(num, den)) if den else None
+    if kind in (11, 12):  # (NaN and infinity: no value, as checked says)
+        from lenslab.exif_tags import single_ratio
+
+        number = struct.unpack(order + ("f" if kind == 11 else "d"), data)[0]
+        return checked(name, single_ratio(number) if kind == 11 else number)
     return checked(name, struct.unpack(order + {1: "B", 3: "H", 4: "I", 13: "I"}[kind], data)[0])
 
 
