@@ -62,3 +62,20 @@ def test_exiftool_reads_a_bigtiff_output_s_exif(tmp_path, bigtiff):
     tags = exiftool(out, "Make", "Model", "FocalLength", "ExposureTime", "FocalLengthIn35mmFormat", "Orientation")
     assert tags == {"SourceFile": str(out), "Make": "Acme", "Model": "Giga Pan", "FocalLength": 6.81,
                     "ExposureTime": 0.004, "FocalLengthIn35mmFormat": 24, "Orientation": 1}
+
+
+@needs_exiftool
+def test_a_bigtiff_photo_s_exif_goes_with_its_copy(tmp_path, capsys, bigtiff):
+    """A BigTIFF's own IFDs (and its Exif IFD) are read as a classic TIFF's: its camera reaches a JPEG made of it
+    (it was left behind without a word)."""
+    from lenslab.io import write
+    from tests.exif.exif_tools import run
+
+    source = tmp_path / "big.tif"
+    write(source, np.full((16, 24, 3), 0.5, np.float32), exif=TAGS)
+    assert tifffile.TiffFile(source).is_bigtiff
+    code, err = run(capsys, "convert", source, "-o", tmp_path / "copy.jpg", "-q")
+    assert code == 0, err
+    tags = exiftool(tmp_path / "copy.jpg", "Make", "Model", "FocalLength", "ExposureTime", "FocalLengthIn35mmFormat")
+    assert tags == {"SourceFile": str(tmp_path / "copy.jpg"), "Make": "Acme", "Model": "Giga Pan", "FocalLength": 6.81,
+                    "ExposureTime": 0.004, "FocalLengthIn35mmFormat": 24}

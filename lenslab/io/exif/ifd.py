@@ -31,15 +31,16 @@ class Damaged(ValueError):
     """An Exif block whose structure cannot be followed (a header, an IFD or a value beyond its end)."""
 
 
-def _entries(read, size: int, at: int, order: str) -> list[tuple[int, int, int, bytes]]:
-    """Every entry (tag, type, count, 4-byte value field) of the IFD at ``at``."""
-    if at < 8 or at + 2 > size:
+def _entries(read, size: int, at: int, order: str, big: bool = False) -> list[tuple[int, int, int, bytes]]:
+    """Every entry (tag, type, count, value field: 4 bytes, a BigTIFF's 8) of the IFD at ``at``."""
+    head, entry, layout = (8, 20, "HHQ8s") if big else (2, 12, "HHI4s")
+    if at < 2 * head or at + head > size:
         raise Damaged(f"an IFD at byte {at} lies outside its {size} bytes")
-    count = struct.unpack(order + "H", read(at, 2))[0]
-    if at + 2 + 12 * count > size:
+    count = struct.unpack(order + ("Q" if big else "H"), read(at, head))[0]
+    if at + head + entry * count > size:
         raise Damaged(f"the IFD at byte {at} declares {count} entries, more than its {size} bytes hold")
-    raw = read(at + 2, 12 * count)
-    return [struct.unpack(order + "HHI4s", raw[12 * k:12 * k + 12]) for k in range(count)]
+    raw = read(at + head, entry * count)
+    return [struct.unpack(order + layout, raw[entry * k:entry * (k + 1)]) for k in range(count)]
 
 
 def _value(read, size: int, order: str, name: str, kind: int, count: int, field: bytes):
@@ -48,10 +49,10 @@ def _value(read, size: int, order: str, name: str, kind: int, count: int, field:
     if kind not in READ_TYPES[tag.kind] or count < 1 or (tag.kind == "text" and count > TEXT_MAX + 1):
         return None
     n = SIZES[kind] * (count if tag.kind == "text" else 1)  # (a number: its first value, as exiftool shows it)
-    if SIZES[kind] * count <= 4:
+    if SIZES[kind] * count <= len(field):
         data = field[:n]
     else:
-        at = struct.unpack(order + "I", field)[0]
+        at = struct.unpack(order + ("Q" if len(field) == 8 else "I"), field)[0]
         if at + n > size:
             raise Damaged(f"{name}'s value at byte {at} lies outside its {size} bytes")
         data = read(at, n)
@@ -70,16 +71,20 @@ def _value(read, size: int, order: str, name: str, kind: int, count: int, field:
 
 def parse(read, size: int) -> tuple[dict, list[str]]:
     """(the carried tags the block holds, the names of those whose type, count or value is none the tag takes)."""
-    head = read(0, 8) if size >= 8 else b""
+    head = read(0, 16) if size >= 16 else read(0, 8) if size >= 8 else b""
     order = {b"II": "<", b"MM": ">"}.get(head[:2])
-    if order is None or struct.unpack(order + "H", head[2:4])[0] != 42:
-        raise Damaged("no TIFF header (II or MM, 42)")
+    magic = struct.unpack(order + "H", head[2:4])[0] if order else None
+    big = magic == 43 and struct.unpack(order + "HH", head[4:8]) == (8, 0)  # BigTIFF: 8-byte offsets
+    if not (magic == 42 or big) or (big and len(head) < 16):
+        raise Damaged("no TIFF header (II or MM, 42; or BigTIFF's 43)")
     tags, odd = {}, []
-    ifds = [("0", struct.unpack(order + "I", head[4:8])[0])]
+    ifds = [("0", struct.unpack(order + ("Q" if big else "I"), head[8:16] if big else head[4:8])[0])]
     for ifd, at in ifds:
-        for number, kind, count, field in _entries(read, size, at, order):
-            if ifd == "0" and number == EXIF_POINTER and kind in (4, 13) and count == 1 and len(ifds) == 1:
-                ifds.append(("exif", struct.unpack(order + "I", field)[0]))  # (followed once: no loop)
+        for number, kind, count, field in _entries(read, size, at, order, big):
+            wide = big and kind in (16, 18)  # (LONG8, IFD8: a BigTIFF's)
+            if ifd == "0" and number == EXIF_POINTER and (kind in (4, 13) or wide) and count == 1 and len(ifds) == 1:
+                pointer = struct.unpack(order + ("Q" if wide else "I"), field[:8 if wide else 4])[0]
+                ifds.append(("exif", pointer))  # (followed once: no loop)
             name = BY_NUMBER.get((ifd, number))
             if name is None or name in tags:
                 continue

@@ -59,8 +59,6 @@ def _png(path) -> bytes | None:
 def _tiff(path) -> tuple[dict, list[str]] | None:
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-        if f.read(4)[2:4] in (b"+\0", b"\0+"):  # BigTIFF: 8-byte offsets, a structure Exif blocks never use
-            return None
 
         def read(at: int, n: int) -> bytes:
             f.seek(at)
