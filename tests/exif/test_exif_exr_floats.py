@@ -58,8 +58,9 @@ def test_a_tiff_of_an_openimageio_exr_holds_the_photo_s_rational_terms(tmp_path,
 
 
 def test_from_exif_on_an_openimageio_exr_gives_the_photo_s_field(tmp_path, capsys):
-    """No 35 mm equivalent: the field comes from FocalLength and the focal plane (100 pixels a centimetre: a 6.4 x 4.8 mm sensor), so a
-    float's 6.8099999 mm moved it by 4e-7 degree (lenslab's note gives 12 significant digits: 1e-10 degree here)."""
+    """No 35 mm equivalent: the field comes from FocalLength and the focal plane (100 pixels a centimetre: a 6.4 x 4.8
+    mm sensor), so a float's 6.8099999 mm moved it by 4e-7 degree (lenslab's note gives 12 significant digits: 1e-10
+    degree here)."""
     source, exr = oiio_exr(tmp_path)
     sensor_width = 64 / 100 * 10.0  # mm: 64 pixels at 100 a centimetre
     expected = math.degrees(2 * math.atan(sensor_width / (2 * 6.81)))  # (the photo's 6.81 mm, in float64)

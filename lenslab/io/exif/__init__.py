@@ -117,7 +117,11 @@ def carried(path, meta: dict, out: tuple[int, int], fmt, full: tuple[int, int] |
 
     shown = tuple(full or out)
     frame = tuple(stored_size(path, shown))
-    turned = int(meta.get("exif_orientation") or 1) >= 5 or (frame != shown and frame == shown[::-1])
+    recorded = (tags.get("PixelXDimension"), tags.get("PixelYDimension"))  # the frame the focal plane describes
+    # turned: shown turned a quarter from the frame stored, or from the one its EXIF records (a JPEG turned losslessly,
+    # its Orientation reset to 1; a HEIC whose irot libheif applies)
+    turned = int(meta.get("exif_orientation") or 1) >= 5 or any(f != shown and f == shown[::-1]
+                                                                 for f in (frame, recorded))
     return {"exif": fitted(tags, frame, turned, out, whole=tuple(out) == shown)}
 
 
