@@ -28,8 +28,10 @@ def sensor(path) -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("ext", ["jpg", "png", "tif"])
-def test_a_losslessly_turned_photo_s_copy_turns_its_sensor(tmp_path, capsys, ext):
-    source = photo(tmp_path / "turned.jpg", 40, 60, "-Orientation#=1", *PLANE)  # 40 x 60 pixels, a 60 x 40 frame
+@pytest.mark.parametrize("stored", [(40, 60), (30, 45)], ids=["turned", "turned-and-smaller"])
+def test_a_losslessly_turned_photo_s_copy_turns_its_sensor(tmp_path, capsys, ext, stored):
+    """40 x 60 pixels under a 60 x 40 frame; or 30 x 45, the same made smaller by a tool that keeps the EXIF."""
+    source = photo(tmp_path / "turned.jpg", *stored, "-Orientation#=1", *PLANE)
     assert sensor(source) == pytest.approx((60 / 1000, 40 / 2000), rel=1e-12)  # (as exiftool reads it)
     out = tmp_path / f"copy.{ext}"
     code, err = run(capsys, "convert", source, "-o", out, "-q")

@@ -119,10 +119,18 @@ def carried(path, meta: dict, out: tuple[int, int], fmt, full: tuple[int, int] |
     frame = tuple(stored_size(path, shown))
     recorded = (tags.get("PixelXDimension"), tags.get("PixelYDimension"))  # the frame the focal plane describes
     # turned: shown turned a quarter from the frame stored, or from the one its EXIF records (a JPEG turned losslessly,
-    # its Orientation reset to 1; a HEIC whose irot libheif applies)
-    turned = int(meta.get("exif_orientation") or 1) >= 5 or any(f != shown and f == shown[::-1]
-                                                                 for f in (frame, recorded))
+    # its Orientation reset to 1; a HEIC whose irot libheif applies; such a photo made smaller keeping its EXIF)
+    turned = int(meta.get("exif_orientation") or 1) >= 5 or _crosswise(frame, shown) or _crosswise(recorded, shown)
     return {"exif": fitted(tags, frame, turned, out, whole=tuple(out) == shown)}
+
+
+def _crosswise(frame, shown) -> bool:
+    """Whether ``frame`` (W, H; None or 0 where unknown) is ``shown`` (W, H) turned a quarter: its shape nearer the
+    turned shape than the shown one (a frame of the same shape, or a square one, is not)."""
+    if not all(frame) or frame[0] == frame[1] or shown[0] == shown[1]:
+        return False
+    aspect = frame[0] / frame[1]
+    return abs(aspect - shown[1] / shown[0]) < abs(aspect - shown[0] / shown[1])
 
 
 __all__ = ["ExifNote", "camera_tags", "carried", "fitted"]
