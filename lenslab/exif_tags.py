@@ -91,13 +91,43 @@ def checked(name: str, value):
     return number
 
 
-def _plain(value):
-    """An EXR attribute's value as a number or text (OpenEXR's bindings give a double as a 1-element array)."""
+def _plain(value, ratio: bool = False):
+    """An EXR attribute's value as a number or text (OpenEXR's bindings give a double as a 1-element array, a float as
+    a Python float). ``ratio``: a float is the rational it stands for (:func:`single_ratio`)."""
     import numpy as np
 
     if isinstance(value, np.ndarray):
         return value.reshape(-1)[0].item() if value.size == 1 else None
-    return value.item() if isinstance(value, np.generic) else value
+    value = value.item() if isinstance(value, np.generic) else value
+    return single_ratio(value) if ratio and isinstance(value, float) else value
+
+
+def _simplest(lo: Fraction, hi: Fraction) -> Fraction:
+    """The fraction of smallest denominator in ``[lo, hi]`` (0 <= lo <= hi): continued fractions."""
+    whole = lo.numerator // lo.denominator
+    if whole == lo or whole + 1 <= hi:
+        return Fraction(whole if whole == lo else whole + 1)
+    return whole + 1 / _simplest(1 / (hi - whole), 1 / (lo - whole))
+
+
+def single_ratio(value: float):
+    """A 32-bit float (OpenImageIO writes an EXR's rationals so, and OpenEXR's ``expTime`` and ``aperture`` are
+    floats) as the simplest fraction that rounds to it: 6.81 stored as 6.8099999428 is 681/100, as the photo had it.
+    A value no float32 holds exactly (a double's) is returned as it is.
+
+    >>> import numpy as np
+    >>> single_ratio(float(np.float32(6.81))), single_ratio(float(np.float32(1 / 250))), single_ratio(0.1)
+    (Fraction(681, 100), Fraction(1, 250), 0.1)
+    """
+    import numpy as np
+
+    single = np.float32(value)
+    if not (np.isfinite(single) and single > 0 and float(single) == value):
+        return value
+    below, above = (Fraction(float(np.nextafter(single, np.float32(t)))) for t in (0.0, np.inf))
+    exact = Fraction(value)
+    found = _simplest((below + exact) / 2, (exact + above) / 2)
+    return found if np.float32(found.numerator / found.denominator) == single else exact
 
 
 def exr_tags(header: dict) -> dict:
@@ -105,20 +135,31 @@ def exr_tags(header: dict) -> dict:
     out = {}
     for name, tag in TAGS.items():
         value = header.get(tag.exr, header.get(EXR_FALLBACK.get(name, "")))
-        value = checked(name, _plain(value)) if value is not None else None
+        value = checked(name, _plain(value, tag.kind == "ratio")) if value is not None else None
         if value is not None:
             out[name] = value
     return out
 
 
 def exr_attributes(tags: dict) -> dict:
-    """Tags as EXR header attributes under OpenImageIO's names: text as strings, integers as ints, rationals as
-    doubles (a float would move a field of view by 1e-6 degree; OpenImageIO reads both)."""
+    """Tags as EXR header attributes under OpenImageIO's names: text as strings, integers as ints, rationals as 32-bit
+    floats, the type OpenImageIO writes and the only one its JPEG writer carries on, where the float gives the
+    rational back (:func:`single_ratio`: 681/100, 1/250), else as doubles (a float would move a field of view by
+    1e-6 degree).
+
+    >>> from fractions import Fraction as F
+    >>> {k: type(v).__name__ for k, v in exr_attributes({"FocalLength": F(681, 100), "FNumber": F(1000001, 300000),
+    ...                                                  "Make": "Acme", "FocalLengthIn35mmFilm": 24}).items()}
+    {'Exif:FocalLength': 'float', 'aperture': 'ndarray', 'Make': 'str', 'Exif:FocalLengthIn35mmFilm': 'int'}
+    """
     import numpy as np
 
     out = {}
     for name, value in tags.items():
         kind = TAGS[name].kind
-        out[TAGS[name].exr] = (np.array([float(value)], np.float64) if kind == "ratio"
-                               else int(value) if kind == "int" else str(value))
+        if kind == "ratio":
+            single = float(np.float32(value))
+            out[TAGS[name].exr] = single if single_ratio(single) == value else np.array([float(value)], np.float64)
+        else:
+            out[TAGS[name].exr] = int(value) if kind == "int" else str(value)
     return out

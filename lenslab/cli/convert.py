@@ -11,7 +11,7 @@ display transform instead (--display, --view). EXR to EXR keeps each channel's p
 beside a float depth stays half and float), and a 16-bit PNG, PPM/PGM or TIFF input (or a 10- or 12-bit HEIC)
 stays 16-bit in PNG, PPM/PGM and TIFF outputs (--bits 8 makes it 8-bit). A photo's camera EXIF (maker,
 model, lens, focal length and focal plane, exposure, date; never GPS, the thumbnail or maker notes) goes
-with it into JPG, PNG, TIFF and EXR outputs, fitted to the image written (upright, its own size), so
+with it into JPG, PNG, TIFF and EXR outputs, fitted to the image written (its own size and orientation), so
 'lenslab warp copy.exr --from exif' sees the photo's lens; a damaged EXIF is left out with a note.
 
 An existing output is never replaced without --overwrite. Every file is written to a temporary name

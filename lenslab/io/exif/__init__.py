@@ -8,8 +8,10 @@ was taken: private, and no lens or colour depends on it), the thumbnail (a pictu
 changed), maker notes (opaque, and their offsets break when moved), and everything else. A whitelist also bounds
 what a hostile block can put into an output.
 
-**The frame the tags describe is the output's.** The pixels written are the image as shown (a JPEG's EXIF
-orientation applied on reading), so Orientation is 1 and PixelXDimension x PixelYDimension the output's size. The
+**The frame the tags describe is the output's.** The pixels written are the image as read: a JPEG's and a HEIC's
+as shown (their orientation applied on reading), so Orientation is 1; an EXR's, a TIFF's and a PNG's as stored, so
+the photo's Orientation stays and the copy is shown as the photo is. PixelXDimension x PixelYDimension are the
+output's size. The
 focal plane's resolution counts pixels per unit across the stored frame: for a turned photo X and Y change places,
 and for an output of another size (a resize of the whole frame) it is scaled with the pixels, so the sensor it
 gives stays the same size; FocalLengthIn35mmFilm, a field of view across the whole frame, stays as it is. For an
@@ -71,10 +73,12 @@ def camera_tags(path) -> dict:
     return tags
 
 
-def fitted(tags: dict, frame: tuple[int, int], turned: bool, out: tuple[int, int], whole: bool = True) -> dict:
+def fitted(tags: dict, frame: tuple[int, int], turned: bool, out: tuple[int, int], whole: bool = True,
+           upright: bool = True) -> dict:
     """``tags`` (of a photo whose stored frame is ``frame``, W x H; ``turned``: shown turned a quarter, its EXIF
     orientation 5 to 8) for an output of ``out`` (W x H) pixels as shown, stored upright: the whole frame resized
-    (``whole``), or a part of it at the same pixel pitch.
+    (``whole``), or a part of it at the same pixel pitch. ``upright``: the pixels were read with the photo's
+    orientation applied (a JPEG's, a HEIC's), so the output's is 1; else they are as stored, and it keeps the photo's.
 
     >>> from fractions import Fraction as F
     >>> t = fitted({"FocalPlaneXResolution": F(400), "FocalPlaneYResolution": F(300), "FocalLengthIn35mmFilm": 26},
@@ -95,7 +99,7 @@ def fitted(tags: dict, frame: tuple[int, int], turned: bool, out: tuple[int, int
         tags["FocalPlaneXResolution"], tags["FocalPlaneYResolution"] = px * scale[0], py * scale[1]
     if not whole:
         tags.pop("FocalLengthIn35mmFilm", None)
-    tags.update(Orientation=1, PixelXDimension=w, PixelYDimension=h)
+    tags.update(PixelXDimension=w, PixelYDimension=h, **({"Orientation": 1} if upright else {}))
     return tags
 
 
@@ -117,8 +121,25 @@ def carried(path, meta: dict, out: tuple[int, int], fmt, full: tuple[int, int] |
 
     shown = tuple(full or out)
     frame = tuple(stored_size(path, shown))
-    turned = int(meta.get("exif_orientation") or 1) >= 5 or (frame != shown and frame == shown[::-1])
-    return {"exif": fitted(tags, frame, turned, out, whole=tuple(out) == shown)}
+    recorded = (tags.get("PixelXDimension"), tags.get("PixelYDimension"))  # the frame the focal plane describes
+    # turned: shown turned a quarter from the frame stored, or from the one its EXIF records (a JPEG turned losslessly,
+    # its Orientation reset to 1; a HEIC whose irot libheif applies; such a photo made smaller keeping its EXIF)
+    turned = int(meta.get("exif_orientation") or 1) >= 5 or _crosswise(frame, shown) or _crosswise(recorded, shown)
+    upright = meta.get("format") in ORIENTED  # (an EXR, TIFF or PNG is read as stored: its Orientation stays)
+    return {"exif": fitted(tags, frame, turned, out, whole=tuple(out) == shown, upright=upright)}
+
+
+#: the formats lenslab reads with their orientation applied: a JPEG's EXIF Orientation, a HEIC's irot (libheif)
+ORIENTED = ("jpg", "heif")
+
+
+def _crosswise(frame, shown) -> bool:
+    """Whether ``frame`` (W, H; None or 0 where unknown) is ``shown`` (W, H) turned a quarter: its shape nearer the
+    turned shape than the shown one (a frame of the same shape, or a square one, is not)."""
+    if not all(frame) or frame[0] == frame[1] or shown[0] == shown[1]:
+        return False
+    aspect = frame[0] / frame[1]
+    return abs(aspect - shown[1] / shown[0]) < abs(aspect - shown[0] / shown[1])
 
 
 __all__ = ["ExifNote", "camera_tags", "carried", "fitted"]

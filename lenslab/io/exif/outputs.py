@@ -42,31 +42,37 @@ def png_with_exif(png: bytes, tags: dict) -> bytes:
 
 
 def append_exif_ifd(path, tags: dict, srgb: bool = True) -> None:
-    """Give the little-endian classic TIFF at ``path`` (one image, as tifffile writes it) the first-IFD tags of
-    ``tags`` (Make, Model, Orientation) and an Exif IFD: both written at the end of the file, a copy of its first
-    IFD with them then named first in its header (tifffile writes neither the Exif IFD nor its pointer; an IFD may
-    lie anywhere in the file, and its values keep their offsets). PixelXDimension and PixelYDimension are left out:
-    Exif gives them to compressed images only (a TIFF's frame is its own ImageWidth and ImageLength). ``srgb``: its
+    """Give the little-endian TIFF at ``path`` (one image, as tifffile writes it: classic, or BigTIFF for more than
+    4 GB) the first-IFD tags of ``tags`` (Make, Model, Orientation) and an Exif IFD: both written at the end of the
+    file, a copy of its first IFD with them then named first in its header (tifffile writes neither the Exif IFD nor
+    its pointer; an IFD may lie anywhere in the file, and its values keep their offsets). A BigTIFF's IFDs are
+    BigTIFF's, its pointer an IFD8 (as libtiff writes it). PixelXDimension and PixelYDimension are left out: Exif
+    gives them to compressed images only (a TIFF's frame is its own ImageWidth and ImageLength). ``srgb``: its
     samples are sRGB codes."""
     tags = {n: v for n, v in tags.items() if n not in ("PixelXDimension", "PixelYDimension")}
     with open(path, "r+b") as f:
-        head = f.read(8)
-        if head[:4] != b"II*\0":
-            raise ValueError("an Exif IFD is written into little-endian classic TIFF only")
-        first = struct.unpack("<I", head[4:8])[0]
+        head = f.read(16)
+        big = head[:4] == b"II+\0" and head[4:8] == b"\x08\0\0\0"
+        if head[:4] != b"II*\0" and not big:
+            raise ValueError("an Exif IFD is written into little-endian TIFF only")
+        offset, count_of, entry, pointer_type = ("<Q", "<Q", 20, 18) if big else ("<I", "<H", 12, 4)
+        first = struct.unpack(offset, head[8:16] if big else head[4:8])[0]
         f.seek(first)
-        count = struct.unpack("<H", f.read(2))[0]
-        raw = f.read(12 * count)
+        count = struct.unpack(count_of, f.read(struct.calcsize(count_of)))[0]
+        raw = f.read(entry * count)
         ours = {TAGS[n].tag: n for n, v in tags.items() if TAGS[n].ifd == "0"}
-        kept = [(*struct.unpack("<HHI", raw[12 * k:12 * k + 8]), raw[12 * k + 8:12 * k + 12]) for k in range(count)]
+        layout = "<HHQ" if big else "<HHI"  # (tag, type, count), then the value field
+        fields = [raw[entry * k:entry * (k + 1)] for k in range(count)]
+        kept = [(*struct.unpack(layout, e[:entry - struct.calcsize(offset)]), e[-struct.calcsize(offset):])
+                for e in fields]
         kept = [e for e in kept if e[0] not in ours and e[0] != EXIF_POINTER]
         entries = kept + [(TAGS[n].tag, *encode(n, tags[n])) for n in ours.values()]
         f.seek(0, 2)
         end = f.tell()
         at = end + end % 2
-        size = len(ifd_bytes(entries + [(EXIF_POINTER, 4, 1, b"\0" * 4)], at))
+        size = len(ifd_bytes(entries + [(EXIF_POINTER, pointer_type, 1, b"")], at, big))
         exif_at = at + size + size % 2
-        block = ifd_bytes(entries + [(EXIF_POINTER, 4, 1, struct.pack("<I", exif_at))], at)
-        f.write(b"\0" * (end % 2) + block + b"\0" * (size % 2) + exif_ifd(tags, exif_at, colour_entries(srgb)))
-        f.seek(4)
-        f.write(struct.pack("<I", at))
+        block = ifd_bytes(entries + [(EXIF_POINTER, pointer_type, 1, struct.pack(offset, exif_at))], at, big)
+        f.write(b"\0" * (end % 2) + block + b"\0" * (size % 2) + exif_ifd(tags, exif_at, colour_entries(srgb), big))
+        f.seek(8 if big else 4)
+        f.write(struct.pack(offset, at))

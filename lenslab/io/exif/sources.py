@@ -22,6 +22,8 @@ class TooLarge(ValueError):
 
 
 def _of_bytes(block: bytes) -> tuple[dict, list[str]]:
+    if block.startswith(b"Exif\0\0"):  # (JPEG's APP1 signature, which some writers put in a PNG's eXIf chunk)
+        block = block[6:]
     if len(block) > MAX_BYTES:
         raise TooLarge(f"its Exif block holds {len(block)} bytes, more than the {MAX_BYTES >> 20} MiB read")
     return parse(lambda at, n: block[at:at + n], len(block))
@@ -59,8 +61,6 @@ def _png(path) -> bytes | None:
 def _tiff(path) -> tuple[dict, list[str]] | None:
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-        if f.read(4)[2:4] in (b"+\0", b"\0+"):  # BigTIFF: 8-byte offsets, a structure Exif blocks never use
-            return None
 
         def read(at: int, n: int) -> bytes:
             f.seek(at)
@@ -74,9 +74,7 @@ def _heif(path) -> bytes | None:
         import pillow_heif
     except ImportError:  # (reading the image says how to install it)
         return None
-    block = pillow_heif.open_heif(str(path)).info.get("exif") or b""
-    block = block[6:] if block.startswith(b"Exif\0\0") else block
-    return block or None
+    return pillow_heif.open_heif(str(path)).info.get("exif") or None
 
 
 def _exr(path) -> tuple[dict, list[str]]:
