@@ -50,3 +50,10 @@ def test_warp_from_a_flop_unmirrors_its_pixels(tmp_path):
     pixels = read(flop)[0]
     # each output pixel centre reads the mirror pixel centre: bilinear at a centre is that pixel, to float32's rounding
     np.testing.assert_allclose(read(out)[0][..., :3], pixels[:, ::-1, :3], rtol=1e-5, atol=1e-6)
+
+
+def test_the_repr_of_a_flops_camera_names_its_mirror(tmp_path):
+    # a flop of no turn: the recorded camera is the reflection diag(-1, 1, 1) alone (docs/guide/lens-effects.md)
+    camera = read(_flop(tmp_path))[1]["camera"]
+    np.testing.assert_array_equal(camera.pose.rotation, np.diag([-1.0, 1.0, 1.0]))
+    assert repr(camera).startswith(f"Camera(<{SPEC} {W}x{H}>, mirror='h', yaw=0, pitch=0, roll=0")
