@@ -63,9 +63,13 @@ def lens_camera(spec: str, size: tuple[int, int]):
     from lenslab.lenses import Camera, Pose
     from lenslab.lenses.core.pose import mirror_matrix
 
-    cam = Camera.from_spec(spec, size)
-    view = recorded_view(spec)
-    return Camera(cam.lens, Pose(mirror_matrix(view.pose.mirror))) if view is not None and view.pose.mirror else cam
+    from lenslab.calibfiles import split_pick
+
+    view = recorded_view(spec)  # (an image read once, for its lens and its mirror)
+    if view is None or split_pick(spec)[1] not in (None, "0"):  # (an image's one camera is #0: another, refused)
+        return Camera.from_spec(spec, size)
+    lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
+    return Camera(lens, Pose(mirror_matrix(view.pose.mirror)))
 
 
 def _note(text: str) -> None:
