@@ -1,5 +1,5 @@
 """``--from IMAGE`` of an image that records a mirrored camera (a ``lenslab warp --flip`` output) takes its lens with
-that mirror, in ``lenslab warp`` and ``lenslab stmap``: its lens alone would read the flop's pixels back mirrored, a
+that mirror, in ``lenslab warp``, ``lenslab stmap`` and ``lenslab fit points --source``: its lens alone would read the flop's pixels back mirrored, a
 world no turn undoes.
 
 Outside values: a flop (``--flip h``, no turn: the recorded camera is the mirror alone) read as its own lens
@@ -57,3 +57,19 @@ def test_the_repr_of_a_flops_camera_names_its_mirror(tmp_path):
     camera = read(_flop(tmp_path))[1]["camera"]
     np.testing.assert_array_equal(camera.pose.rotation, np.diag([-1.0, 1.0, 1.0]))
     assert repr(camera).startswith(f"Camera(<{SPEC} {W}x{H}>, mirror='h', yaw=0, pitch=0, roll=0")
+
+
+def test_fit_points_from_a_flop_finds_the_unmirrored_view(tmp_path, capsys):
+    # a feature at flop pixel (sx, sy) is at (W - sx, sy) in the unmirrored view of the same lens and pose (the flop
+    # is that view read right to left): written out here, the fit must find that lens (fov 70) and no turn
+    flop = _flop(tmp_path)
+    rows = ["src_x,src_y,x,y"] + [f"{sx},{sy},{W - sx},{sy}" for sx in (3.5, 9.0, 20.0, 27.5, 36.5)
+                                  for sy in (2.5, 8.0, 15.0, 22.5, 27.5)]
+    csv = tmp_path / "points.csv"
+    csv.write_text("\n".join(rows) + "\n")
+    assert main(["fit", "points", str(csv), "--model", "perspective", "--size", f"{W}x{H}", "--source", str(flop),
+                 "--pose", "--brief"]) == 0
+    out = capsys.readouterr().out
+    assert "outliers 0" in out
+    fov = float(out.split("perspective:fov=")[1].split()[0])
+    assert abs(fov - 70.0) < 1e-3  # (nlopt's tolerance on exact points)
