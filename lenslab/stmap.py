@@ -354,6 +354,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
     from lenslab.filters import filter_named
     from lenslab.stmap_rows import band_positions, unpacked
     from lenslab.warp.filters import sample
+    from lenslab.warp.checks import finite_given
     from lenslab.warp.given import draw_rows, warp_with_map
     from lenslab.warp.maps import sample_pattern
     from lenslab.warp.seam import Border
@@ -367,7 +368,7 @@ def warp_with_st_map(image: np.ndarray, st: np.ndarray, filter: str = "bilinear"
         return warp_with_map(image, np.stack([x, y], axis=-1), ok, filter=filter, antialias=antialias,
                              progress=progress, alpha_channel=alpha_channel, looked=looked, into=into)
     img = check_image_shape(image, channels=None)
-    src = np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32)
+    src = finite_given(np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32))
     offsets = sample_pattern(int(samples))
     grid = None if samples == 1 else MapGrid(unpacked(st), size)
 

@@ -149,11 +149,12 @@ def _run_lens(args, FitError) -> int:
 
 def _run_points(args, FitError) -> int:
     from lenslab.fit.points import fit_points, read_points
-    from lenslab.lenses import Camera
 
     source = None
     if args.source:
-        source = Camera.from_spec(args.source, args.source_size or args.size)
+        from lenslab.jobs.warp_cameras import lens_camera
+
+        source = lens_camera(args.source, args.source_size or args.size)  # (a flop's: with its mirror)
     pts = read_points(args.csv, source)
     result = fit_points(pts, args.model, args.size, free=args.free, bounds=args.bounds, pose=args.pose,
                         loss=args.loss, scale=args.scale, outlier=args.outlier,

@@ -63,7 +63,9 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give the map's size: --size WxH (only --to IMAGE, an image that records its camera, has "
                          "its own)")
     src_size = args.source_size or photo_size(args.source) or size
-    src = Camera.from_spec(args.source, src_size)
+    from lenslab.jobs.warp_cameras import lens_camera
+
+    src = lens_camera(args.source, src_size)  # (an image that records a mirrored camera: with its mirror)
     dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else  # --to IMAGE: its view
                  Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0))
     from lenslab.jobs.warp_cameras import note_size

@@ -44,7 +44,7 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
             spec = view.spec
             _note(f"source lens from the file's EXIF: {view.describe()}")
     if spec:
-        return Camera.from_spec(spec, (w, h))
+        return lens_camera(spec, (w, h))
     cam = meta.get("camera")
     if cam is not None:
         if cam.size != (w, h):
@@ -54,6 +54,22 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
         return Camera.from_spec("equirect", (w, h))
     raise WarpError(f"{meta.get('path', 'the input')}: {w}x{h} is not a 2:1 panorama and the file records no "
                     f"camera; say what it is with --from SPEC (e.g. {exif_hint(meta, (w, h))})")
+
+
+def lens_camera(spec: str, size: tuple[int, int]):
+    """The unturned camera of ``--from SPEC`` at ``size``: its lens, or for an image that records a mirrored camera
+    (``lenslab warp --flip`` wrote it) its lens and that mirror (:attr:`lenslab.lenses.Pose.mirror`), not its turn:
+    its pixels show the world mirrored, which no turn undoes, so its lens alone would read it back mirrored."""
+    from lenslab.lenses import Camera, Pose
+    from lenslab.lenses.core.pose import mirror_matrix
+
+    from lenslab.calibfiles import split_pick
+
+    view = recorded_view(spec)  # (an image read once, for its lens and its mirror)
+    if view is None or split_pick(spec)[1] not in (None, "0"):  # (an image's one camera is #0: another, refused)
+        return Camera.from_spec(spec, size)
+    lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
+    return Camera(lens, Pose(mirror_matrix(view.pose.mirror)))
 
 
 def _note(text: str) -> None:

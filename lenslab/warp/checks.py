@@ -70,6 +70,20 @@ class OutputChecks:
             self.covered = True
 
 
+#: what a warp says of a source that holds NaN or inf, which it reads as finite values
+NON_FINITE_SOURCE = "the source has {bad} non-finite values: NaN read as 0, +-inf as the largest float32"
+
+
+def finite_given(src: np.ndarray) -> np.ndarray:
+    """``src`` as a warp by a given map (an ST map, :func:`lenslab.warp.warp_with_map`) reads it, as a lens-to-lens
+    warp does (:func:`finite_output`): itself when all finite, else a copy with NaN read as 0 and +-inf as the
+    largest float32, said in a RuntimeWarning (a map's taps would carry them into the output as NaN and inf)."""
+    src, bad = finite_source(src)
+    if bad:
+        warnings.warn(NON_FINITE_SOURCE.format(bad=bad), RuntimeWarning, stacklevel=3)
+    return src
+
+
 def finite_output(render, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, alpha_channel) -> str:
     """Make an output with NaN or inf finite, and say what happened: non-finite source values (NaN read as 0,
     +-inf as the largest float32, and the warp drawn again by ``render``, a plan's), or finite ones whose
@@ -79,7 +93,7 @@ def finite_output(render, src: np.ndarray, out: np.ndarray, alpha: np.ndarray, a
         render(src, out, alpha, None, None, alpha_channel)
     over = clamp_non_finite(out)
     big = f"{np.finfo(np.float32).max:.3g}"
-    said = f"the source has {bad} non-finite values: NaN read as 0, +-inf as the largest float32" if bad else ""
+    said = NON_FINITE_SOURCE.format(bad=bad) if bad else ""
     if over:
         why = (f"{over} output values passed float32's range (+-{big}) in the warp's arithmetic (a filter's "
                f"weighted sum, the removal of vignetting); they were clamped to +-{big} (NaN: 0)")

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
-from lenslab.warp.checks import drawn_into
+from lenslab.warp.checks import drawn_into, finite_given
 from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands
 from lenslab.warp.minification import watch
 from lenslab.warp.filters import sample
@@ -75,8 +75,8 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     Returns
     -------
     image : numpy.ndarray
-        float32 ``h x w x C`` (``h x w`` for a 2-D input), 0 where invalid; never NaN from a finite
-        source.
+        float32 ``h x w x C`` (``h x w`` for a 2-D input), 0 where invalid; a source's NaN read as 0 and its
+        +-inf as the largest float32 (:func:`lenslab.warp.checks.finite_given`, a RuntimeWarning says so).
     alpha : numpy.ndarray
         float32 ``h x w``: 1 where valid, 0 elsewhere.
 
@@ -97,7 +97,7 @@ def warp_with_map(image: ArrayLike, src_xy: ArrayLike, valid: ArrayLike | None =
     from lenslab.errors import check_image_shape
 
     img = check_image_shape(image, channels=None)
-    src = np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32)
+    src = finite_given(np.ascontiguousarray(img[..., None] if img.ndim == 2 else img, dtype=np.float32))
     xy = np.asarray(src_xy)
     if xy.ndim != 3 or xy.shape[2] != 2:
         raise WarpError(f"the map must have shape (h, w, 2) (a source x, y per output pixel), got {xy.shape}")

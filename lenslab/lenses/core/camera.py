@@ -198,8 +198,10 @@ class Camera:
         return cls.from_dict(load_toml(text, "camera TOML", LensError))
 
     def __repr__(self) -> str:
-        yaw, pitch, roll = self.pose.ypr
-        return f"Camera({self.lens!r}, yaw={yaw:g}, pitch={pitch:g}, roll={roll:g}, eye={self.pose.eye.tolist()})"
+        yaw, pitch, roll = self.pose.ypr  # (of the turn after the mirror of a mirrored view, which is named first)
+        mirror = f"mirror={self.pose.mirror!r}, " if self.pose.mirror else ""
+        return (f"Camera({self.lens!r}, {mirror}yaw={yaw:g}, pitch={pitch:g}, roll={roll:g}, "
+                f"eye={self.pose.eye.tolist()})")
 
 
 def rotation_between(src: Camera, dst: Camera) -> np.ndarray:
