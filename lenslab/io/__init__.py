@@ -58,7 +58,7 @@ CAMERA_ATTRIBUTE = "lenslab.camera"
 
 def __getattr__(name):  # the EXR codec (and NumPy) load only when used: commands start at once
     if name == "HalfOverflowWarning":
-        from lenslab.io.exr import HalfOverflowWarning
+        from lenslab.io.halves import HalfOverflowWarning
 
         return HalfOverflowWarning
     raise AttributeError(f"module 'lenslab.io' has no attribute {name!r}")

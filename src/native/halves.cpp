@@ -1,7 +1,8 @@
-// float32 -> float16 for the EXR writer (lenslab.io.exr.to_half, registered by register_halves): one pass, finite
-// values beyond half's range clamped to +-65504 (and counted), infinities kept, NaN as NumPy's cast makes it.
+// float32 -> float16 for every half-float writer, EXR and TIFF (lenslab.io.halves.to_half, registered by
+// register_halves): one pass, finite values beyond half's range clamped to +-65504 (and counted), infinities kept,
+// NaN as NumPy's cast makes it.
 // The output may be the input's own memory (half i at byte 2i, float i at byte 4i): written in order on one
-// thread, a store never reaches a float not yet read. NumPy reference: lenslab.io.exr.to_half_reference.
+// thread, a store never reaches a float not yet read. NumPy reference: lenslab.io.halves.to_half_reference.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 

@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lenslab.io.exr import HalfOverflowWarning, to_half, to_half_reference
+from lenslab.io.halves import HalfOverflowWarning, to_half, to_half_reference
 
 HALF_MAX = 65504.0  # the largest finite IEEE 754 binary16 value
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import lenslab.io as lio
-from lenslab.io.exr import to_half
+from lenslab.io.halves import to_half
 
 oiio = pytest.importorskip("OpenImageIO")
 

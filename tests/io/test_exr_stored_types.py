@@ -83,7 +83,7 @@ def test_mixed_types_clamp_half_channels_in_one_note(tmp_path):
     import warnings
 
     import lenslab
-    from lenslab.io.exr import HalfOverflowWarning
+    from lenslab.io.halves import HalfOverflowWarning
 
     image = np.full((3, 4, 3), 1e5, np.float32)  # beyond half's 65504 in every channel
     with warnings.catch_warnings(record=True) as caught:

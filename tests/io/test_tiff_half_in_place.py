@@ -1,6 +1,8 @@
 """A half-float TIFF is made in the memory of the image its command gives up (``convert``, ``warp``): its peak is the
-float TIFF's, not the float image and a float16 copy of it; the samples are NumPy's cast of the float32 image, as
-tifffile reads them back.
+float TIFF's, not the float image and a float16 copy of it; the samples are NumPy's cast of the float32 image with
+finite values beyond half's range clamped to +-65504 (as a half EXR's: ``np.clip(x, -65504, 65504)`` then the cast),
+as tifffile reads them back. Half TIFFs held +-inf for those values before (NumPy's bare cast, silently); they now
+hold +-65504 and the command says how many in one note, as an EXR writer always has.
 
 Measured as :mod:`tests.jobs.test_warp_enlarging_memory` does (each command in a child process under the
 address-space limit, its peak resident memory by the kernel's ``getrusage``, beyond the same command on a 64 x 32
@@ -52,9 +54,9 @@ def test_a_half_tiff_peaks_as_the_float_tiff_does(tmp_path):
         assert tif.pages[0].dtype == np.float16 and tif.pages[0].shape == (H, W, 3)
 
 
-def test_half_samples_are_numpys_cast_of_the_image(tmp_path):
+def test_half_samples_are_numpys_clipped_cast_of_the_image(tmp_path, capsys):
     image = _image(48, 80)
-    image[0, 0] = [70000.0, -70000.0, 65519.0]  # past half's range: infinite, as NumPy casts them
+    image[0, 0] = [70000.0, -70000.0, 65519.0]  # past half's range: clamped to +-65504 and counted (3)
     image[1, 1] = [1.0 / 3.0, 6e-8, -2.0 ** -24]  # rounded to nearest even, subnormals
     lio.write(tmp_path / "in.exr", image, pixel_type="float")
     out = tmp_path / "out.tif"
@@ -63,7 +65,7 @@ def test_half_samples_are_numpys_cast_of_the_image(tmp_path):
     assert main(["convert", str(tmp_path / "in.exr"), "-o", str(out), "--pixel-type", "half", "-q"]) == 0
     got = tifffile.imread(out)
     assert got.dtype == np.float16
-    with np.errstate(over="ignore"):
-        want = image.astype(np.float16)
+    want = np.clip(image, -65504.0, 65504.0).astype(np.float16)  # 65504: the largest finite half
     np.testing.assert_array_equal(got.view(np.uint16), want.view(np.uint16))
-    assert np.isinf(got[0, 0, :2]).all() and float(got[1, 1, 0]) == 0.333251953125
+    assert got[0, 0].tolist() == [65504.0, -65504.0, 65504.0] and float(got[1, 1, 0]) == 0.333251953125
+    assert "3 value(s) beyond half's range were clamped to +-65504 in the half TIFF" in capsys.readouterr().err

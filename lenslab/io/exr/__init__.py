@@ -29,8 +29,8 @@ Reading
   subsampled and luminance-chroma channels take OpenEXR's whole-file read (:mod:`lenslab.io.exr.whole`).
 
 Writing: half (default) or float, ZIP compression by default, the camera as a TOML string attribute
-``lenslab.camera``. Values beyond half's range are clamped to +-65504 and counted in a
-:class:`HalfOverflowWarning`; infinities and NaN are kept.
+``lenslab.camera``. Half floats are made by :mod:`lenslab.io.halves`, as a half TIFF's are: values beyond
+half's range are clamped to +-65504 and counted in a :class:`HalfOverflowWarning`; infinities and NaN are kept.
 """
 
 from __future__ import annotations
@@ -47,9 +47,9 @@ from lenslab.io.exr.colour import REC709, luminance_weights, primary_matrix, ups
 from lenslab.io.exr.keep import PartHeader
 from lenslab.io.exr.select import (channel_names, find_part, image_types, layer_channels, part_label, parts_listing,
                                    select_channels, split_part_layer, view_of, views, without_view)
+from lenslab.io.halves import HalfOverflowWarning, to_half  # noqa: F401 (the note, as lenslab.io names it)
 from lenslab.library_output import library_call, quiet_library
 
-HALF_MAX = 65504.0
 CAMERA_ATTRIBUTE = "lenslab.camera"
 COMPRESSIONS = ("none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab", "zstd", "htj2k256",
                 "htj2k32")
@@ -63,16 +63,6 @@ _AS_TYPE = {"pixelAspectRatio": float, "screenWindowWidth": float,
 #: threads the OpenEXR codec may use per file, decoding and compressing (the bindings default to none; 0 = in the
 #: calling thread); batch conversion with several worker processes sets it to 0 in each
 THREADS = os.cpu_count() or 1
-
-
-class HalfOverflowWarning(UserWarning):
-    """Values beyond the range of half floats were clamped to +-65504 when writing an EXR.
-
-    ``command_line`` is the same note in the words of lenslab's commands, which show that one."""
-
-    def __init__(self, message: str, command_line: str | None = None):
-        super().__init__(message)
-        self.command_line = command_line or message
 
 
 class MultiPartWarning(UserWarning):
@@ -253,53 +243,9 @@ def read_exr(path: Path, selector: str | None = None, data_window: bool = False,
     return image, meta
 
 
-def to_half(image: np.ndarray, rows: int | None = None, in_place: bool = False) -> np.ndarray:
-    """float32 -> float16 with finite values beyond half's range clamped (warned with their count); one compiled
-    pass over a C-contiguous float32 image (``lenslab.cxx_kernels.to_half``), else :func:`to_half_reference`'s
-    blocks of ``rows`` rows (None: about 2 MB of float32): the only full-size allocation is the result.
-    ``in_place``: the result is made in the first half of ``image``'s own memory (no allocation of the image's
-    size; ``image`` is overwritten) when ``image`` is a C-contiguous, writable float32 array."""
-    from lenslab.native import extension
-
-    contiguous = image.dtype == np.float32 and image.flags.c_contiguous and image.size > 0
-    own = in_place and contiguous and image.flags.writeable
-    if own:  # element i of the result lies at byte 2i, before element i of the source (byte 4i)
-        out = image.reshape(-1).view(np.float16)[:image.size].reshape(image.shape)
-    else:
-        out = np.empty(image.shape, np.float16)
-    if contiguous:  # (in order on one thread: a half written never reaches a float not yet read)
-        n = extension(FormatError).to_half(image.reshape(-1), out.reshape(-1).view(np.uint16))
-    else:
-        n = to_half_reference(image, out, rows)
-    if n:
-        clamped = f"{n} value(s) beyond half's range were clamped to +-{HALF_MAX:g}"
-        warnings.warn(HalfOverflowWarning(f"{clamped}; write with pixel_type='float' to keep them",
-                                          f"{clamped}; write with --pixel-type float to keep them"), stacklevel=4)
-    return out
-
-
-def to_half_reference(image: np.ndarray, out: np.ndarray, rows: int | None = None) -> int:
-    """NumPy's :func:`to_half` of ``image`` into ``out`` (float16, its shape; it may be the first half of a
-    C-contiguous ``image``'s memory: blocks taken from the start never overwrite a value not yet read, as
-    NumPy buffers each block's overlap), ``rows`` rows at a time; the count of values clamped."""
-    n = 0
-    rows = rows or max(1, (2 << 20) // max(1, image[:1].nbytes))
-    for y in range(0, image.shape[0], rows):
-        block = image[y:y + rows]
-        big = np.abs(block) > HALF_MAX  # NaN compares False; infinities are kept as they are, below
-        if big.any():
-            big &= np.isfinite(block)
-            count = int(np.count_nonzero(big))
-            if count:
-                n += count
-                block = np.where(big, np.copysign(np.float32(HALF_MAX), block), block)
-        out[y:y + rows] = block.astype(np.float16) if np.shares_memory(out, image) else block
-    return n
-
-
 def _planes(image: np.ndarray, kinds: list[str]) -> list[np.ndarray]:
     """Each channel of a float32 ``H x W x C`` image as a contiguous plane of its EXR pixel type: half
-    (clamped as :func:`to_half` does, in one call for every half channel: one note), float, or uint
+    (clamped as :func:`lenslab.io.halves.to_half` does, in one call for every half channel: one note), float, or uint
     (rounded, clipped to 0 .. 2**32 - 1, NaN as 0)."""
     halves = [i for i, k in enumerate(kinds) if k == "half"]
     half = to_half(image[..., halves]) if halves else None

@@ -7,7 +7,7 @@ import numpy as np
 
 
 def planes_after(halves: np.ndarray, image: np.ndarray) -> list[np.ndarray]:
-    """The channels of ``halves`` (H x W x C float16 made by :func:`lenslab.io.exr.to_half` in place: the first
+    """The channels of ``halves`` (H x W x C float16 made by :func:`lenslab.io.halves.to_half` in place: the first
     half of the float32 ``image``'s memory) as contiguous planes in the second half of that memory, which holds
     exactly C planes of halves (no allocation of the image's size); planes of their own where ``halves`` is not so
     made."""
