@@ -1,5 +1,5 @@
-"""The EXR writer's float32 -> float16 pass, compiled (``to_half``: F16C where the CPU has it, scalar steps for NaN,
-values past half's range and the tail), gives NumPy's IEEE 754 cast bit for bit: round to nearest even, subnormal
+"""The float32 -> float16 pass of every half-float writer (EXR, TIFF: ``lenslab.io.halves``), compiled (``to_half``:
+F16C where the CPU has it, scalar steps for NaN, values past half's range and the tail), gives NumPy's IEEE 754 cast bit for bit: round to nearest even, subnormal
 halves, ties, NaN payloads as NumPy keeps them; finite values beyond +-65504 clamped there and counted (the
 expected values: NumPy's ``astype(float16)`` after ``np.clip``-style clamping in the test, and its count of
 ``isfinite & |x| > 65504``). Its NumPy reference (``to_half_reference``) gives the same.

@@ -9,7 +9,8 @@ the clip. Each write that clamps gives one note naming the count and the format.
 
 from __future__ import annotations
 
-import sys
+import contextlib
+import io
 import warnings
 
 import numpy as np
@@ -22,7 +23,6 @@ tifffile = pytest.importorskip("tifffile")
 oiio = pytest.importorskip("OpenImageIO")
 
 HALF_MAX = 65504.0  # the largest finite IEEE 754 binary16 value
-LENSLAB = [sys.executable, "-m", "lenslab"]
 
 
 def _finite_image() -> np.ndarray:
@@ -101,9 +101,6 @@ def test_commands_clamp_a_half_tiff_with_one_note(tmp_path, command):
     args = [command, str(tmp_path / "in.exr"), "-o", str(out), "--pixel-type", "half"]
     if command == "warp":
         args += ["--to", "equirect", "--size", "8x4", "--no-alpha"]
-    import contextlib
-    import io
-
     err = io.StringIO()
     with contextlib.redirect_stderr(err):
         assert main(args) == 0
