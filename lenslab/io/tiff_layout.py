@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from lenslab.errors import FormatError
-from lenslab.io.tiff_walk import CODES, Loop, Outside, chain, header, value_bytes
+from lenslab.io.tiff_walk import CODES, Loop, Outside, chain, file_read, header, value_bytes
 
 #: pages followed before a chain is called runaway
 MAX_PAGES = 1 << 16
@@ -29,11 +29,7 @@ def layout(path) -> dict:
     """``{"pages", "tags"}``: the number of pages and the first page's tags of interest (arrays)."""
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-        def read(at, n):
-            f.seek(at)
-            return f.read(n)
-
-        head = f.read(16)
+        read, head = file_read(f), f.read(16)
         found = header(head)
         if found is None:
             raise FormatError(f"{path}: not a TIFF (its first bytes are {head[:4]!r})")

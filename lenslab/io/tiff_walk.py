@@ -15,7 +15,7 @@ the TIFF 6.0 specification and the BigTIFF design note lay them out.
 from __future__ import annotations
 
 import struct
-from typing import NamedTuple
+from collections import namedtuple
 
 #: the struct code of one value of each TIFF type (1 BYTE, 2 ASCII, 3 SHORT, 4 LONG, 5 RATIONAL, 6 SBYTE,
 #: 7 UNDEFINED, 8 SSHORT, 9 SLONG, 10 SRATIONAL, 11 FLOAT, 12 DOUBLE, 13 IFD; BigTIFF's 16 LONG8, 17 SLONG8, 18 IFD8)
@@ -35,15 +35,9 @@ class Loop(ValueError):
     past the IFDs followed."""
 
 
-class Header(NamedTuple):
-    """Byte order (``<``, ``>``), version (42; 43 BigTIFF), the first IFD's offset (None: a BigTIFF header cut short),
-    whether it is a standard header (42, or 43 with 8-byte offsets) and whether it is BigTIFF's."""
-
-    order: str
-    version: int
-    first: int | None
-    standard: bool
-    big: bool
+#: a TIFF header: byte order (``<``, ``>``), version (42; 43 BigTIFF), the first IFD's offset (None: a BigTIFF header
+#: cut short), whether it is a standard one (42, or 43 with 8-byte offsets), whether it is BigTIFF's
+Header = namedtuple("Header", "order version first standard big")
 
 
 def header(head: bytes) -> Header | None:
@@ -58,16 +52,26 @@ def header(head: bytes) -> Header | None:
     return Header(order, 43, first, first is not None and struct.unpack(order + "HH", head[4:8]) == (8, 0), True)
 
 
-def entries(read, size: int, at: int, order: str, big: bool = False, chained: bool = False, lowest: int = 0):
+def file_read(f):
+    """``read(offset, n)`` of the open binary file ``f``."""
+    return lambda at, n: (f.seek(at), f.read(n))[1]
+
+
+def entries(read, size: int, at: int, order: str, big: bool = False, chained: bool = False, lowest: int = 0,
+            held: bool = False):
     """``(entries, next)`` of the IFD at ``at``: each entry as (tag, type, count, value field: 4 bytes, a BigTIFF's 8),
     and the offset of the next IFD where ``chained`` (None otherwise, and its field need not be held). Raises
-    :class:`Outside` where the IFD begins before ``lowest`` or it runs past ``size``."""
+    :class:`Outside` where the IFD begins before ``lowest`` or it runs past ``size`` (``held``: its entries that
+    ``size`` holds are given instead)."""
     head, entry, layout, offset = (8, 20, "HHQ8s", "Q") if big else (2, 12, "HHI4s", "I")
     if at < lowest or at + head > size:
         raise Outside("count", at, None)
     count = struct.unpack(order + ("Q" if big else "H"), read(at, head))[0]
     n = entry * count + (struct.calcsize(offset) if chained else 0)
-    if at + head + n > size:
+    if at + head + n > size and held:
+        count = (size - at - head) // entry
+        n = entry * count
+    elif at + head + n > size:
         raise Outside("entries", at + head, count)
     raw = read(at + head, n)
     found = list(struct.iter_unpack(order + layout, raw[:entry * count]))

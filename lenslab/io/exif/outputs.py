@@ -10,7 +10,7 @@ import struct
 
 from lenslab.io.exif.ifd import build, encode, exif_ifd, ifd_bytes
 from lenslab.exif_tags import EXIF_POINTER, TAGS
-from lenslab.io.tiff_walk import entries, header
+from lenslab.io.tiff_walk import entries, file_read, header
 
 
 #: the first-IFD tags Exif 2.32 requires of a JPEG: 72 pixels per inch (the conventional value, where nothing says
@@ -59,7 +59,7 @@ def append_exif_ifd(path, tags: dict, srgb: bool = True) -> None:
         big = found.big
         offset, pointer_type = ("<Q", 18) if big else ("<I", 4)
         ours = {TAGS[n].tag: n for n, v in tags.items() if TAGS[n].ifd == "0"}
-        walked = entries(lambda at, n: (f.seek(at), f.read(n))[1], os.fstat(f.fileno()).st_size, found.first, "<", big)
+        walked = entries(file_read(f), os.fstat(f.fileno()).st_size, found.first, "<", big)
         kept = [e for e in walked[0] if e[0] not in ours and e[0] != EXIF_POINTER]
         carried = kept + [(TAGS[n].tag, *encode(n, tags[n])) for n in ours.values()]
         f.seek(0, 2)
