@@ -8,7 +8,7 @@ the TIFF 6.0 specification and the BigTIFF design note lay them out.
 
 >>> block = b"II*\\0" + bytes([8, 0, 0, 0, 1, 0, 0x0F, 1, 2, 0, 4, 0, 0, 0]) + b"Big\\0" + bytes(4)
 >>> found = header(block[:16])
->>> found.order, found.big, found.first, entries(lambda at, n: block[at:at + n], len(block), found.first, "<")[0]
+>>> found.order, found.big, found.first, list(entries(lambda at, n: block[at:at + n], len(block), found.first, "<")[0])
 ('<', False, 8, [(271, 2, 4, b'Big\\x00')])
 """
 
@@ -59,10 +59,10 @@ def file_read(f):
 
 def entries(read, size: int, at: int, order: str, big: bool = False, chained: bool = False, lowest: int = 0,
             held: bool = False):
-    """``(entries, next)`` of the IFD at ``at``: each entry as (tag, type, count, value field: 4 bytes, a BigTIFF's 8),
-    and the offset of the next IFD where ``chained`` (None otherwise, and its field need not be held). Raises
-    :class:`Outside` where the IFD begins before ``lowest`` or it runs past ``size`` (``held``: its entries that
-    ``size`` holds are given instead)."""
+    """``(entries, next)`` of the IFD at ``at``: an iterator of its entries, each (tag, type, count, value field: 4
+    bytes, a BigTIFF's 8), and the offset of the next IFD where ``chained`` (None otherwise, and its field need not be
+    held). Raises :class:`Outside` where the IFD begins before ``lowest`` or it runs past ``size`` (``held``: its
+    entries that ``size`` holds are given instead)."""
     head, entry, layout, offset = (8, 20, "HHQ8s", "Q") if big else (2, 12, "HHI4s", "I")
     if at < lowest or at + head > size:
         raise Outside("count", at, None)
@@ -74,7 +74,7 @@ def entries(read, size: int, at: int, order: str, big: bool = False, chained: bo
     elif at + head + n > size:
         raise Outside("entries", at + head, count)
     raw = read(at + head, n)
-    found = list(struct.iter_unpack(order + layout, raw[:entry * count]))
+    found = struct.iter_unpack(order + layout, memoryview(raw)[:entry * count])  # (unpacked as it is walked)
     return found, struct.unpack(order + offset, raw[entry * count:])[0] if chained else None
 
 
