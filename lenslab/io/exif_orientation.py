@@ -46,22 +46,20 @@ def jpeg_exif(data: bytes) -> bytes | None:
 
 
 def _tiff_orientation(tiff: bytes) -> int:
-    """The ``Orientation`` SHORT of the first IFD of an Exif segment's TIFF structure, or 1."""
-    order = {b"II": "little", b"MM": "big"}.get(tiff[:2])
-    if order is None or len(tiff) < 8 or int.from_bytes(tiff[2:4], order) != 42:
+    """The ``Orientation`` SHORT of the first IFD of an Exif segment's TIFF structure (of its entries the segment
+    holds), or 1."""
+    from lenslab.io.tiff_walk import Outside, entries, header
+
+    found = header(tiff[:8])
+    if found is None or found.version != 42:
         return 1
-    ifd = int.from_bytes(tiff[4:8], order)
-    if ifd + 2 > len(tiff):
+    try:
+        walked = entries(lambda at, n: tiff[at:at + n], len(tiff), found.first, found.order, held=True)[0]
+    except Outside:
         return 1
-    for k in range(int.from_bytes(tiff[ifd:ifd + 2], order)):
-        entry = ifd + 2 + 12 * k
-        if entry + 12 > len(tiff):
-            break
-        if int.from_bytes(tiff[entry:entry + 2], order) == 0x0112 and int.from_bytes(tiff[entry + 2:entry + 4],
-                                                                                      order) == 3:
-            value = int.from_bytes(tiff[entry + 8:entry + 10], order)
-            return value if 1 <= value <= 8 else 1
-    return 1
+    value = next((int.from_bytes(f[:2], {"<": "little", ">": "big"}[found.order]) for tag, kind, _, f in walked
+                  if tag == 0x0112 and kind == 3), 1)
+    return value if 1 <= value <= 8 else 1
 
 
 def turn(image: np.ndarray, orientation: int) -> np.ndarray:

@@ -1,19 +1,16 @@
 """The layout of a TIFF read before tifffile sees it: the page chain (loops and runaway chains refused)
-and the first page's size, samples and strip or tile tables against the bytes the file holds.
-
-Classic TIFF (``II*\\0``/``MM\\0*``: 2-byte entry counts, 12-byte entries, 4-byte offsets) and BigTIFF
-(``+``: 8-byte counts, 20-byte entries, 8-byte offsets), as the TIFF 6.0 specification and the BigTIFF
-design note lay them out.
+and the first page's size, samples and strip or tile tables against the bytes the file holds, read by
+:mod:`lenslab.io.tiff_walk` (classic TIFF and BigTIFF, both byte orders).
 """
 
 from __future__ import annotations
 
 import os
-import struct
 
 import numpy as np
 
 from lenslab.errors import FormatError
+from lenslab.io.tiff_walk import CODES, Loop, Outside, chain, file_read, header, value_bytes
 
 #: pages followed before a chain is called runaway
 MAX_PAGES = 1 << 16
@@ -23,72 +20,44 @@ MAX_PAGES = 1 << 16
 #: WebP, JPEG XL...) 32768, zstd's one-byte run blocks
 MAX_RATIO = {1: 1, 32773: 64, 5: 1400, 8: 1100, 32946: 1100, 7: 1024, 6: 1024}
 _OTHER_RATIO = 32768
-_TYPES = {1: "B", 2: "B", 3: "H", 4: "I", 6: "b", 7: "B", 8: "h", 9: "i", 11: "f", 12: "d", 16: "Q", 17: "q",
-          18: "Q", 13: "I"}
+#: the types whose values are read (checked against the file's bytes): all but the rationals
+_NUMBERS = {kind: code for kind, code in CODES.items() if kind not in (5, 10)}
 _TAGS = {256, 257, 258, 259, 273, 277, 278, 279, 284, 322, 323, 324, 325, 32997}
-
-
-def _read_at(f, size, offset, n, what):
-    if offset < 0 or n < 0 or offset + n > size:
-        raise FormatError(f"{f.name}: the {what} at byte {offset} runs past the end of the file ({size} bytes); "
-                          "the file is truncated or damaged")
-    f.seek(offset)
-    return f.read(n)
-
-
-def _values(f, size, bo, big, entry):
-    tag, typ = struct.unpack(bo + "HH", entry[:4])
-    count = struct.unpack(bo + ("Q" if big else "I"), entry[4:12 if big else 8])[0]
-    code = _TYPES.get(typ)
-    if code is None:
-        return tag, None
-    nbytes = count * struct.calcsize(code)
-    inline = 8 if big else 4
-    if nbytes <= inline:
-        raw = entry[(12 if big else 8):(12 if big else 8) + nbytes]
-    else:
-        off = struct.unpack(bo + ("Q" if big else "I"), entry[12:20] if big else entry[8:12])[0]
-        raw = _read_at(f, size, off, nbytes, f"values of tag {tag}")
-    return tag, np.frombuffer(raw, np.dtype(code).newbyteorder("<" if bo == "<" else ">"))
 
 
 def layout(path) -> dict:
     """``{"pages", "tags"}``: the number of pages and the first page's tags of interest (arrays)."""
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-        head = f.read(16)
-        if len(head) < 8 or head[:2] not in (b"II", b"MM"):
+        read, head = file_read(f), f.read(16)
+        found = header(head)
+        if found is None:
             raise FormatError(f"{path}: not a TIFF (its first bytes are {head[:4]!r})")
-        bo = "<" if head[:2] == b"II" else ">"
-        version = struct.unpack(bo + "H", head[2:4])[0]
-        big = version == 43
-        if big:
-            if len(head) < 16:
-                raise FormatError(f"{path}: the BigTIFF header is cut short")
-            offset = struct.unpack(bo + "Q", head[8:16])[0]
-        else:
-            offset = struct.unpack(bo + "I", head[4:8])[0]
-        count_fmt, count_n, entry_n, off_fmt, off_n = (("Q", 8, 20, "Q", 8) if big else ("H", 2, 12, "I", 4))
-        seen: dict[int, int] = {}
-        tags: dict[int, np.ndarray] = {}
-        while offset:
-            if offset in seen:
-                raise FormatError(f"{path}: the page chain loops (page {len(seen) + 1} points back to page "
-                                  f"{seen[offset] + 1}); the file is damaged or hostile")
-            if len(seen) >= MAX_PAGES:
-                raise FormatError(f"{path}: the page chain runs past {MAX_PAGES} pages; the file is damaged")
-            seen[offset] = len(seen)
-            n = struct.unpack(bo + count_fmt, _read_at(f, size, offset, count_n, "page directory"))[0]
-            table = _read_at(f, size, offset + count_n, n * entry_n + off_n, f"directory of page {len(seen)}")
-            if len(seen) == 1:
-                for i in range(n):
-                    tag, vals = _values(f, size, bo, big, table[i * entry_n:(i + 1) * entry_n])
-                    if tag in _TAGS and vals is not None:
-                        tags[tag] = vals
-            offset = struct.unpack(bo + off_fmt, table[n * entry_n:])[0]
-    if not seen:
+        if found.first is None:
+            raise FormatError(f"{path}: the BigTIFF header is cut short")
+        pages, tags, what = 0, {}, ""
+        try:
+            for ifd in chain(read, size, found, MAX_PAGES):
+                pages += 1
+                for tag, kind, count, field in ifd if pages == 1 else ():
+                    if kind in _NUMBERS:
+                        what = f"values of tag {tag}"
+                        raw = value_bytes(read, size, found.order, kind, count, field)
+                        if tag in _TAGS:
+                            tags[tag] = np.frombuffer(raw, np.dtype(_NUMBERS[kind]).newbyteorder(found.order))
+        except Outside as exc:
+            part, at, _ = exc.args
+            what = {"count": "page directory", "entries": f"directory of page {pages + 1}"}.get(part, what)
+            raise FormatError(f"{path}: the {what} at byte {at} runs past the end of the file ({size} bytes); "
+                              "the file is truncated or damaged") from None
+        except Loop as exc:
+            page, back_to = exc.args
+            raise FormatError(f"{path}: the page chain loops (page {page} points back to page {back_to}); the file is "
+                              "damaged or hostile" if back_to else f"{path}: the page chain runs past {MAX_PAGES} pages; "
+                              "the file is damaged") from None
+    if not pages:
         raise FormatError(f"{path}: the TIFF holds no image")
-    return {"pages": len(seen), "tags": tags, "size": size}
+    return {"pages": pages, "tags": tags, "size": size}
 
 
 def _one(tags, tag, default=None):

@@ -105,9 +105,12 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
                 if writer is None:
                     h, w = image.shape[:2]
                     info = VideoInfo(w, h, Fraction(str(rate)), len(files), "", "", primaries, transfer, matrix, 1)
-                    from lenslab.io.video.codecs import open_encoder
+                    from lenslab.io.video.codecs import check_encodes, open_encoder
+                    from lenslab.jobs.warp_video import is_video
 
                     try:  # a size the encoder refuses: one line now, before the clip's file is made (or it is closed)
+                        if is_video(f):  # (a clip's size is not convert's to give: warp's --size is the way out)
+                            check_encodes((w, h), tmp, options.get("codec"), info.curve, "clip")
                         writer = VideoWriter(tmp, info, codec=options.get("codec"), audio_from=audio)
                         open_encoder(writer.container, writer.stream)
                     except FormatError as exc:

@@ -2,9 +2,9 @@
 built.
 
 Reading goes through ``read(offset, n)`` over a block of ``size`` bytes (a JPEG's APP1 payload, a PNG's eXIf chunk,
-a TIFF file itself), so a TIFF's tags are read without loading its pixels. Only the first IFD and the Exif IFD it
-points to are walked; every offset and count is checked against ``size`` before it is followed, so a damaged or
-hostile block raises :class:`Damaged` and never reads past its end nor loops.
+a TIFF file itself) by :mod:`lenslab.io.tiff_walk`. Only the first IFD and the Exif IFD it points to are walked; every
+offset and count is checked against ``size`` before it is followed, so a damaged or hostile block raises
+:class:`Damaged` and never reads past its end nor loops.
 
 >>> block = build({"Make": "Acme", "FocalLengthIn35mmFilm": 26})
 >>> tags, odd = parse(lambda at, n: block[at:at + n], len(block))
@@ -18,10 +18,8 @@ import struct
 from fractions import Fraction
 
 from lenslab.exif_tags import BY_NUMBER, EXIF_POINTER, EXIF_VERSION, TAGS, TEXT_MAX, checked
+from lenslab.io.tiff_walk import CODES, SIZES, Outside, entries, header, value_bytes
 
-#: bytes of one value of each TIFF type (1 BYTE, 2 ASCII, 3 SHORT, 4 LONG, 5 RATIONAL, 7 UNDEFINED, 9 SLONG,
-#: 10 SRATIONAL, 13 IFD)
-SIZES = {1: 1, 2: 1, 3: 2, 4: 4, 5: 8, 6: 1, 7: 1, 8: 2, 9: 4, 10: 8, 11: 4, 12: 8, 13: 4}
 #: the TIFF types each kind of tag is read from
 #: (a rational also from FLOAT and DOUBLE, 11 and 12, as Pillow writes a float: written back as a RATIONAL)
 READ_TYPES = {"text": (2,), "int": (1, 3, 4, 13), "ratio": (5, 10, 11, 12)}
@@ -31,60 +29,45 @@ class Damaged(ValueError):
     """An Exif block whose structure cannot be followed (a header, an IFD or a value beyond its end)."""
 
 
-def _entries(read, size: int, at: int, order: str, big: bool = False) -> list[tuple[int, int, int, bytes]]:
-    """Every entry (tag, type, count, value field: 4 bytes, a BigTIFF's 8) of the IFD at ``at``."""
-    head, entry, layout = (8, 20, "HHQ8s") if big else (2, 12, "HHI4s")
-    if at < 2 * head or at + head > size:
-        raise Damaged(f"an IFD at byte {at} lies outside its {size} bytes")
-    count = struct.unpack(order + ("Q" if big else "H"), read(at, head))[0]
-    if at + head + entry * count > size:
-        raise Damaged(f"the IFD at byte {at} declares {count} entries, more than its {size} bytes hold")
-    raw = read(at + head, entry * count)
-    return [struct.unpack(order + layout, raw[entry * k:entry * (k + 1)]) for k in range(count)]
-
-
 def _value(read, size: int, order: str, name: str, kind: int, count: int, field: bytes):
     """The checked value of carried tag ``name``, or None where its type or count is not one the tag takes."""
     tag = TAGS[name]
     if kind not in READ_TYPES[tag.kind] or count < 1 or (tag.kind == "text" and count > TEXT_MAX + 1):
         return None
     n = SIZES[kind] * (count if tag.kind == "text" else 1)  # (a number: its first value, as exiftool shows it)
-    if SIZES[kind] * count <= len(field):
-        data = field[:n]
-    else:
-        at = struct.unpack(order + ("Q" if len(field) == 8 else "I"), field)[0]
-        if at + n > size:
-            raise Damaged(f"{name}'s value at byte {at} lies outside its {size} bytes")
-        data = read(at, n)
+    try:
+        data = value_bytes(read, size, order, kind, count, field, n)
+    except Outside as exc:
+        raise Damaged(f"{name}'s value at byte {exc.args[1]} lies outside its {size} bytes") from None
     if tag.kind == "text":
         return checked(name, data)
+    number = struct.unpack(order + CODES[kind], data)
     if kind in (5, 10):
-        num, den = struct.unpack(order + ("II" if kind == 5 else "ii"), data)
-        return checked(name, Fraction(num, den)) if den else None
-    if kind in (11, 12):  # (NaN and infinity: no value, as checked says)
+        return checked(name, Fraction(*number)) if number[1] else None
+    if kind == 11:  # (NaN and infinity: no value, as checked says)
         from lenslab.exif_tags import single_ratio
 
-        number = struct.unpack(order + ("f" if kind == 11 else "d"), data)[0]
-        return checked(name, single_ratio(number) if kind == 11 else number)
-    return checked(name, struct.unpack(order + {1: "B", 3: "H", 4: "I", 13: "I"}[kind], data)[0])
+        return checked(name, single_ratio(number[0]))
+    return checked(name, number[0])
 
 
 def parse(read, size: int) -> tuple[dict, list[str]]:
     """(the carried tags the block holds, the names of those whose type, count or value is none the tag takes)."""
-    head = read(0, 16) if size >= 16 else read(0, 8) if size >= 8 else b""
-    order = {b"II": "<", b"MM": ">"}.get(head[:2])
-    magic = struct.unpack(order + "H", head[2:4])[0] if order else None
-    big = magic == 43 and struct.unpack(order + "HH", head[4:8]) == (8, 0)  # BigTIFF: 8-byte offsets
-    if not (magic == 42 or big) or (big and len(head) < 16):
+    found = header(read(0, 16) if size >= 16 else read(0, 8) if size >= 8 else b"")
+    if found is None or not found.standard:
         raise Damaged("no TIFF header (II or MM, 42; or BigTIFF's 43)")
-    tags, odd = {}, []
-    ifds = [("0", struct.unpack(order + ("Q" if big else "I"), head[8:16] if big else head[4:8])[0])]
+    order, big, tags, odd = found.order, found.big, {}, []
+    ifds = [("0", found.first)]
     for ifd, at in ifds:
-        for number, kind, count, field in _entries(read, size, at, order, big):
+        try:
+            walked = entries(read, size, at, order, big, lowest=16 if big else 4)[0]
+        except Outside as exc:
+            raise Damaged(f"an IFD at byte {at} lies outside its {size} bytes" if exc.args[2] is None else f"the IFD "
+                          f"at byte {at} declares {exc.args[2]} entries, more than its {size} bytes hold") from None
+        for number, kind, count, field in walked:
             wide = big and kind in (16, 18)  # (LONG8, IFD8: a BigTIFF's)
             if ifd == "0" and number == EXIF_POINTER and (kind in (4, 13) or wide) and count == 1 and len(ifds) == 1:
-                pointer = struct.unpack(order + ("Q" if wide else "I"), field[:8 if wide else 4])[0]
-                ifds.append(("exif", pointer))  # (followed once: no loop)
+                ifds.append(("exif", struct.unpack(order + CODES[kind], field[:SIZES[kind]])[0]))  # (followed once)
             name = BY_NUMBER.get((ifd, number))
             if name is None or name in tags:
                 continue

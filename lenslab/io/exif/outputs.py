@@ -5,10 +5,12 @@ TIFF's first IFD (Make, Model, Orientation: TIFF's own tags) and an Exif IFD it 
 
 from __future__ import annotations
 
+import os
 import struct
 
 from lenslab.io.exif.ifd import build, encode, exif_ifd, ifd_bytes
 from lenslab.exif_tags import EXIF_POINTER, TAGS
+from lenslab.io.tiff_walk import entries, file_read, header
 
 
 #: the first-IFD tags Exif 2.32 requires of a JPEG: 72 pixels per inch (the conventional value, where nothing says
@@ -51,28 +53,21 @@ def append_exif_ifd(path, tags: dict, srgb: bool = True) -> None:
     samples are sRGB codes."""
     tags = {n: v for n, v in tags.items() if n not in ("PixelXDimension", "PixelYDimension")}
     with open(path, "r+b") as f:
-        head = f.read(16)
-        big = head[:4] == b"II+\0" and head[4:8] == b"\x08\0\0\0"
-        if head[:4] != b"II*\0" and not big:
+        found = header(f.read(16))
+        if found is None or found.order != "<" or not found.standard:
             raise ValueError("an Exif IFD is written into little-endian TIFF only")
-        offset, count_of, entry, pointer_type = ("<Q", "<Q", 20, 18) if big else ("<I", "<H", 12, 4)
-        first = struct.unpack(offset, head[8:16] if big else head[4:8])[0]
-        f.seek(first)
-        count = struct.unpack(count_of, f.read(struct.calcsize(count_of)))[0]
-        raw = f.read(entry * count)
+        big = found.big
+        offset, pointer_type = ("<Q", 18) if big else ("<I", 4)
         ours = {TAGS[n].tag: n for n, v in tags.items() if TAGS[n].ifd == "0"}
-        layout = "<HHQ" if big else "<HHI"  # (tag, type, count), then the value field
-        fields = [raw[entry * k:entry * (k + 1)] for k in range(count)]
-        kept = [(*struct.unpack(layout, e[:entry - struct.calcsize(offset)]), e[-struct.calcsize(offset):])
-                for e in fields]
-        kept = [e for e in kept if e[0] not in ours and e[0] != EXIF_POINTER]
-        entries = kept + [(TAGS[n].tag, *encode(n, tags[n])) for n in ours.values()]
+        walked = entries(file_read(f), os.fstat(f.fileno()).st_size, found.first, "<", big)
+        kept = [e for e in walked[0] if e[0] not in ours and e[0] != EXIF_POINTER]
+        carried = kept + [(TAGS[n].tag, *encode(n, tags[n])) for n in ours.values()]
         f.seek(0, 2)
         end = f.tell()
         at = end + end % 2
-        size = len(ifd_bytes(entries + [(EXIF_POINTER, pointer_type, 1, b"")], at, big))
+        size = len(ifd_bytes(carried + [(EXIF_POINTER, pointer_type, 1, b"")], at, big))
         exif_at = at + size + size % 2
-        block = ifd_bytes(entries + [(EXIF_POINTER, pointer_type, 1, struct.pack(offset, exif_at))], at, big)
+        block = ifd_bytes(carried + [(EXIF_POINTER, pointer_type, 1, struct.pack(offset, exif_at))], at, big)
         f.write(b"\0" * (end % 2) + block + b"\0" * (size % 2) + exif_ifd(tags, exif_at, colour_entries(srgb), big))
         f.seek(8 if big else 4)
         f.write(struct.pack(offset, at))

@@ -8,6 +8,7 @@ import os
 import struct
 
 from lenslab.io.exif.ifd import Damaged, parse
+from lenslab.io.tiff_walk import file_read
 
 #: the largest Exif block read, bytes (a camera file's limit; a JPEG's APP1 holds at most 64 KiB)
 MAX_BYTES = 4 << 20
@@ -61,12 +62,7 @@ def _png(path) -> bytes | None:
 def _tiff(path) -> tuple[dict, list[str]] | None:
     size = os.path.getsize(path)
     with open(path, "rb") as f:
-
-        def read(at: int, n: int) -> bytes:
-            f.seek(at)
-            return f.read(n)
-
-        return parse(read, size)
+        return parse(file_read(f), size)
 
 
 def _heif(path) -> bytes | None:

@@ -61,7 +61,8 @@ def check_encodes(size: tuple[int, int], path, codec: str | None, curve: str | N
     """A :class:`~lenslab.errors.FormatError` in one line where the encoder :func:`chosen_codec` picks refuses frames
     of ``size`` (W, H): H.265 under :data:`X265_MIN_SIDE` a side, whether ``--codec h265`` asked for it or the
     extension picked it for a PQ/HLG clip (``curve``), known once the clip is probed. Called before the output (or its
-    temporary) is made and before any frame is decoded; ``larger`` leads the size to give (``--size``)."""
+    temporary) is made and before any frame is decoded; ``larger`` leads the size to give (``--size``); ``"clip"``:
+    the frames are a clip's, whose size convert keeps (``lenslab warp --size`` enlarges it)."""
     from pathlib import Path
 
     from lenslab.errors import FormatError
@@ -73,9 +74,11 @@ def check_encodes(size: tuple[int, int], path, codec: str | None, curve: str | N
     chosen = "--codec h265" if codec else (f"H.265, {Path(path).suffix.lower()}'s codec for "
                                                  f"{'an' if curve == 'hlg' else 'a'} {str(curve).upper()} clip")
     other = ("-o NAME.mov (ProRes) or NAME.mkv (FFV1), which keep its 10 bits" if hdr else "--codec h264")
-    wanted = ("x" if larger == "--size" else " x ").join(str(max(v + v % 2, X265_MIN_SIDE)) for v in (w, h))
+    wanted = (" x " if larger == "frames of" else "x").join(str(max(v + v % 2, X265_MIN_SIDE)) for v in (w, h))
+    way = (f"convert keeps a clip's size: give {other}, or enlarge it with lenslab warp --to SPEC --size {wanted}"
+           if larger == "clip" else f"give {larger} {wanted} or larger, or {other}")
     raise FormatError(f"the libx265 encoder ({chosen}) encodes frames of at least {X265_MIN_SIDE} x {X265_MIN_SIDE}, "
-                      f"not {w} x {h}: give {larger} {wanted} or larger, or {other}")
+                      f"not {w} x {h}: {way}")
 
 
 def x265_params(width: int, height: int) -> str:
