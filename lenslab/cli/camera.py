@@ -112,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
         # the file read named as an output (OUT or the residual map)
         refuse_inputs([args.output] + ([args.residual_map] if args.residual_map else []),
                       [split_pick(args.camera)[0]])
+        _refuse_mirror(args.camera)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         lens = load(args.camera, args.size)
@@ -144,6 +145,19 @@ def run(args: argparse.Namespace) -> int:
         raise LensError(msg if msg.startswith(str(out)) else f"{out}: {msg}") from None
     print(f"{out}: {lens.name} {lens.width}x{lens.height}")
     return 0
+
+
+def _refuse_mirror(spec: str) -> None:
+    """An image that records a mirrored camera (``lenslab warp --flip`` wrote it) converts to no calibration file:
+    each holds a lens and no mirror, so the file written would read the image's pixels back mirrored."""
+    from lenslab.errors import LensError
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(spec)
+    if view is not None and view.pose.mirror:
+        raise LensError(f"{spec}: records a mirrored camera (mirror {view.pose.mirror}, as warp --flip writes it), "
+                        f"which a camera file holds no place for: its lens alone would see the image mirrored; "
+                        f"name the image itself where a camera goes (--from/--to {spec})")
 
 
 def _convert_model(args, lens, inputs):

@@ -16,8 +16,11 @@ def reference_camera(args, image, meta):
 
     h, w = image.shape[:2]
     pose = Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0, args.eye or (0.0, 0.0, 0.0))
-    if args.reference_camera:
-        return Camera(make_lens(args.reference_camera, (w, h)), pose)
+    if args.reference_camera:  # an image named as the camera: its lens and the mirror it records (warp --flip)
+        from lenslab.jobs.warp_cameras import lens_camera
+
+        cam = lens_camera(args.reference_camera, (w, h))
+        return Camera(cam.lens, Pose(pose.rotation @ cam.pose.rotation, pose.eye))
     cam = meta.get("camera")
     if cam is not None:
         from lenslab.jobs.warp_cameras import given_pose, refuse_turns
