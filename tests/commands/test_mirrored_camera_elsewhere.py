@@ -1,5 +1,5 @@
 """An image that records a mirrored camera (a ``lenslab warp --flip`` output) named as a camera outside ``warp``:
-``lenslab camera convert`` refuses it in one line (a calibration file holds a lens and no mirror, so the file would
+``lenslab camera convert`` refuses it in one line (``camera show`` names its mirror) (a calibration file holds a lens and no mirror, so the file would
 read the flop's pixels back mirrored), and ``lenslab validate --reference-camera`` takes its lens with its mirror.
 
 Outside values: a flop (``--flip h``, no turn) is the unflipped warp of the same lens read right to left (NumPy's
@@ -46,6 +46,9 @@ def test_camera_convert_refuses_a_flop_in_one_line(tmp_path, capsys):
     # the unmirrored view converts: its lens is all its camera
     assert main(["camera", "convert", str(views["plain"]), "-o", str(out)]) == 0
     assert "[lens]" in out.read_text() and "mirror" not in out.read_text()
+    # show names the mirror its lens cannot carry
+    assert main(["camera", "show", str(views["flop"])]) == 0
+    assert "  mirror   h " in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("name", ["flop", "plain"])

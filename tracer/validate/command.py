@@ -125,8 +125,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help="your render or photograph of the view: warps are measured against it instead of a "
                           "direct render (writes DIR/reference.json and DIR/reference.md)")
     own.add_argument("--reference-camera", metavar="SPEC",
-                     help="the lens of --reference (default: the camera its file records, else --to); posed "
-                          "by --yaw/--pitch/--roll and --eye")
+                     help="the lens of --reference (default: the camera its file records, else --to; an image "
+                          "named here gives its lens and the mirror warp --flip recorded); posed by "
+                          "--yaw/--pitch/--roll and --eye")
     own.add_argument("--source", metavar="FILE",
                      help="the image to warp into it (default: a panorama of --scene at the largest "
                           "--pano-sizes, rendered from the reference's eye)")
