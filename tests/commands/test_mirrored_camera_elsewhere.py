@@ -63,3 +63,16 @@ def test_validate_reference_camera_keeps_the_mirror_of_an_image(tmp_path, name):
     (row,) = data["settings"]
     # the same rays, the same bilinear taps, float32 pixels: a few ulps of values near 2
     assert row["max_error"] < 1e-5
+
+
+def test_validate_to_an_image_keeps_its_mirror_for_a_reference_without_camera(tmp_path):
+    pano, views = _views(tmp_path)
+    bare = tmp_path / "bare.exr"  # the flop's pixels in a file that records no camera
+    write(bare, read(views["flop"])[0], pixel_type="float")
+    report = tmp_path / "report"
+    main(["validate", "--reference", str(bare), "--to", str(views["flop"]), "--source", str(pano),
+          "--from", "equirect", "--filters", "bilinear", "-o", str(report), "-q"])
+    data = json.loads((report / "reference.json").read_text())
+    assert data["reference_pose"]["mirror"] == "h"
+    (row,) = data["settings"]
+    assert row["max_error"] < 1e-5  # as above: the same rays and taps, float32 pixels
