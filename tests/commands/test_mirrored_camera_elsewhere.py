@@ -1,5 +1,5 @@
 """An image that records a mirrored camera (a ``lenslab warp --flip`` output) named as a camera outside ``warp``:
-``lenslab camera convert`` refuses it in one line (``camera show`` names its mirror) (a calibration file holds a lens and no mirror, so the file would
+``lenslab camera convert`` and a scene's ``lenslab validate --to`` refuse it in one line (``camera show`` names its mirror) (a calibration file holds a lens and no mirror, so the file would
 read the flop's pixels back mirrored), and ``lenslab validate --reference-camera`` takes its lens with its mirror.
 
 Outside values: a flop (``--flip h``, no turn) is the unflipped warp of the same lens read right to left (NumPy's
@@ -76,3 +76,13 @@ def test_validate_to_an_image_keeps_its_mirror_for_a_reference_without_camera(tm
     assert data["reference_pose"]["mirror"] == "h"
     (row,) = data["settings"]
     assert row["max_error"] < 1e-5  # as above: the same rays and taps, float32 pixels
+
+
+def test_validate_of_a_scene_refuses_to_a_flop_in_one_line(tmp_path, capsys):
+    # a scene's render and its warps take --to's lens posed by the scene: a flop's view would not be the one validated
+    _, views = _views(tmp_path)
+    report = tmp_path / "report"
+    assert main(["validate", "--to", str(views["flop"]), "--size", "32x32", "-o", str(report), "-q"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "mirror h" in err and f"--to {SPEC}" in err
+    assert not report.exists()

@@ -179,6 +179,7 @@ def run(args: argparse.Namespace) -> int:
 
         check_scene_argument(args.scene)
     Camera.from_spec(args.to, size)  # a bad lens spec is a usage error, before anything is rendered
+    _refuse_mirrored_target(args.to)
     check_output_dir(args.output)
     if Path(args.output).is_dir():
         for name in REPORT_FILES:
@@ -242,3 +243,17 @@ def run(args: argparse.Namespace) -> int:
           f"({100 * best.get('l1_interior', float('nan')):.3f}% away from edges)")
     print(f"report written to {out}/report.md")
     return 0
+
+
+def _refuse_mirrored_target(spec: str) -> None:
+    """``--to IMAGE`` of an image that records a mirrored camera (``lenslab warp --flip`` wrote it): the scene's render
+    and its warps take the lens of --to, posed by the scene's view or --yaw/--pitch/--roll, and no mirror, so that
+    image's view is not the one validated; said in one line (a usage error) rather than validating another view."""
+    from lenslab.errors import UsageError
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(spec)
+    if view is not None and view.pose.mirror:
+        raise UsageError(f"--to {spec}: records a mirrored camera (mirror {view.pose.mirror}, as warp --flip writes "
+                         f"it), and a scene's validation renders no mirrored view; give its lens: --to "
+                         f"{view.lens.spec()}")
