@@ -1,6 +1,8 @@
 """An image that records a mirrored camera (a ``lenslab warp --flip`` output) named as a camera outside ``warp``:
-``lenslab camera convert`` and a scene's ``lenslab validate --to`` refuse it in one line (``camera show`` names its mirror) (a calibration file holds a lens and no mirror, so the file would
-read the flop's pixels back mirrored), and ``lenslab validate --reference-camera`` takes its lens with its mirror.
+``lenslab camera convert`` refuses it in one line (a calibration file holds a lens and no mirror, so the file would
+read the flop's pixels back mirrored) and ``camera show`` names its mirror; ``lenslab validate --reference-camera``
+(and ``--to`` for a reference without a camera) takes its lens with its mirror; a scene's ``validate --to`` refuses
+it in one line (its render would be of the unmirrored view).
 
 Outside values: a flop (``--flip h``, no turn) is the unflipped warp of the same lens read right to left (NumPy's
 ``[:, ::-1]``), so a reference camera that keeps the mirror sees the flop exactly (bilinear at pixel centres of the
