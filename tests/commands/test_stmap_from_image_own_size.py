@@ -11,21 +11,11 @@ from __future__ import annotations
 import numpy as np
 
 from lenslab.cli.main import main
-from lenslab.io import read, write
+from lenslab.io import read
+from tests.warp.test_from_mirrored_image import H, SPEC, W, _flop  # a 40x30 perspective:fov=70 flop (--flip h)
 
-W, H = 40, 30
 OW, OH = 96, 48
-SPEC = "perspective:fov=70"
-
-
-def _flop(tmp_path):
-    y, x = np.mgrid[0:128, 0:256].astype(np.float64)
-    img = np.stack([1.5 + np.sin(x / 9.0), 1.5 + np.cos(y / 7.0), 0.2 + (x + 3 * y) / 640.0], axis=-1)
-    write(tmp_path / "pano.exr", img.astype(np.float32), pixel_type="float")
-    flop = tmp_path / "flop.exr"
-    assert main(["warp", str(tmp_path / "pano.exr"), "-o", str(flop), "--to", SPEC, "--size", f"{W}x{H}",
-                 "--flip", "h", "--pixel-type", "float", "-q"]) == 0
-    return flop
+assert SPEC == "perspective:fov=70"  # the f of the formula above
 
 
 def test_stmap_from_an_image_reads_it_at_its_own_size(tmp_path):
