@@ -112,6 +112,11 @@ def run(args: argparse.Namespace) -> int:
         # the file read named as an output (OUT or the residual map)
         refuse_inputs([args.output] + ([args.residual_map] if args.residual_map else []),
                       [split_pick(args.camera)[0]])
+    mirror = recorded_mirror(args.camera)
+    if mirror and args.action == "convert":
+        raise LensError(f"{args.camera}: records a mirrored camera (mirror {mirror}, as warp --flip writes it), and a "
+                        f"camera file gives a lens without its mirror, which would see the image mirrored; name the "
+                        f"image itself where a camera goes (--from/--to {args.camera})")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         lens = load(args.camera, args.size)
@@ -129,6 +134,8 @@ def run(args: argparse.Namespace) -> int:
         text = lambda a: "beyond the image" if math.isnan(a) else f"{a:.2f} deg"  # noqa: E731
         print(f"  field across the width {text(hfov)}, across the height {text(vfov)} (through the centre)")
         print(f"  spec: {lens.spec()}")
+        if mirror:
+            print(f"  mirror   {mirror} (its pixels show the world mirrored, as warp --flip wrote them)")
         return 0
     from lenslab.calibfiles import split_pick, write_lens
     from lenslab.jobs.policy import check_output
@@ -144,6 +151,16 @@ def run(args: argparse.Namespace) -> int:
         raise LensError(msg if msg.startswith(str(out)) else f"{out}: {msg}") from None
     print(f"{out}: {lens.name} {lens.width}x{lens.height}")
     return 0
+
+
+def recorded_mirror(spec: str) -> str:
+    """The mirror (``h``, ``v``, ``d``) of the camera an image named as CAMERA records (``lenslab warp --flip`` wrote
+    it), else "": no calibration file holds one, so such an image converts to none (its lens alone would read its
+    pixels back mirrored)."""
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(spec)
+    return view.pose.mirror if view is not None else ""
 
 
 def _convert_model(args, lens, inputs):

@@ -125,8 +125,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help="your render or photograph of the view: warps are measured against it instead of a "
                           "direct render (writes DIR/reference.json and DIR/reference.md)")
     own.add_argument("--reference-camera", metavar="SPEC",
-                     help="the lens of --reference (default: the camera its file records, else --to); posed "
-                          "by --yaw/--pitch/--roll and --eye")
+                     help="the lens of --reference (default: the camera its file records, else --to; an image "
+                          "named here gives its lens and the mirror warp --flip recorded); posed by "
+                          "--yaw/--pitch/--roll and --eye")
     own.add_argument("--source", metavar="FILE",
                      help="the image to warp into it (default: a panorama of --scene at the largest "
                           "--pano-sizes, rendered from the reference's eye)")
@@ -178,6 +179,7 @@ def run(args: argparse.Namespace) -> int:
 
         check_scene_argument(args.scene)
     Camera.from_spec(args.to, size)  # a bad lens spec is a usage error, before anything is rendered
+    _refuse_mirrored_target(args.to)
     check_output_dir(args.output)
     if Path(args.output).is_dir():
         for name in REPORT_FILES:
@@ -241,3 +243,17 @@ def run(args: argparse.Namespace) -> int:
           f"({100 * best.get('l1_interior', float('nan')):.3f}% away from edges)")
     print(f"report written to {out}/report.md")
     return 0
+
+
+def _refuse_mirrored_target(spec: str) -> None:
+    """``--to IMAGE`` of an image that records a mirrored camera (``lenslab warp --flip`` wrote it): the scene's render
+    and its warps take the lens of --to, posed by the scene's view or --yaw/--pitch/--roll, and no mirror, so that
+    image's view is not the one validated; said in one line (a usage error) rather than validating another view."""
+    from lenslab.errors import UsageError
+    from lenslab.jobs.warp_cameras import recorded_view
+
+    view = recorded_view(spec)
+    if view is not None and view.pose.mirror:
+        raise UsageError(f"--to {spec}: records a mirrored camera (mirror {view.pose.mirror}, as warp --flip writes "
+                         f"it), and a scene's validation renders no mirrored view; give its lens: --to "
+                         f"{view.lens.spec()}")

@@ -12,19 +12,18 @@ REPORT_FILES = ("reference.json", "reference.md")
 def reference_camera(args, image, meta):
     """--reference-camera, else the camera the file records, else --to; posed by --yaw/--pitch/--roll (refused with
     the camera the file records, which has its own orientation)."""
-    from lenslab.lenses import Camera, Pose, make_lens
+    from lenslab.jobs.warp_cameras import given_pose, lens_camera, refuse_turns
+    from lenslab.lenses import Camera, Pose
 
     h, w = image.shape[:2]
+    recorded = meta.get("camera")
+    if recorded is not None and not args.reference_camera:
+        refuse_turns(given_pose(args), "--reference", args.reference, recorded, "--reference-camera")
+        return Camera(recorded.lens.with_size(w, h), recorded.pose) if recorded.size != (w, h) else recorded
     pose = Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0, args.eye or (0.0, 0.0, 0.0))
-    if args.reference_camera:
-        return Camera(make_lens(args.reference_camera, (w, h)), pose)
-    cam = meta.get("camera")
-    if cam is not None:
-        from lenslab.jobs.warp_cameras import given_pose, refuse_turns
-
-        refuse_turns(given_pose(args), "--reference", args.reference, cam, "--reference-camera")
-        return Camera(cam.lens.with_size(w, h), cam.pose) if cam.size != (w, h) else cam
-    return Camera(make_lens(args.to, (w, h)), pose)
+    # a lens spec or calibration file, or an image named as the camera: its lens and the mirror it records (warp --flip)
+    cam = lens_camera(args.reference_camera or args.to, (w, h))
+    return Camera(cam.lens, Pose(pose.rotation @ cam.pose.rotation, pose.eye))
 
 
 def source_image(args, ref_cam, settings_count: int):
