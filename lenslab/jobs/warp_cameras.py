@@ -56,10 +56,11 @@ def source_camera(spec: str | None, meta: dict, shape: tuple[int, ...]):
                     f"camera; say what it is with --from SPEC (e.g. {exif_hint(meta, (w, h))})")
 
 
-def lens_camera(spec: str, size: tuple[int, int]):
+def lens_camera(spec: str, size: tuple[int, int], own_size: bool = False):
     """The unturned camera of ``--from SPEC`` at ``size``: its lens, or for an image that records a mirrored camera
     (``lenslab warp --flip`` wrote it) its lens and that mirror (:attr:`lenslab.lenses.Pose.mirror`), not its turn:
-    its pixels show the world mirrored, which no turn undoes, so its lens alone would read it back mirrored."""
+    its pixels show the world mirrored, which no turn undoes, so its lens alone would read it back mirrored.
+    ``own_size``: an image's camera keeps the image's own size (no ``--source-size`` given), ``size`` is for a spec."""
     from lenslab.lenses import Camera, Pose
     from lenslab.lenses.core.pose import mirror_matrix
 
@@ -68,7 +69,7 @@ def lens_camera(spec: str, size: tuple[int, int]):
     view = recorded_view(spec)  # (an image read once, for its lens and its mirror)
     if view is None or split_pick(spec)[1] not in (None, "0"):  # (an image's one camera is #0: another, refused)
         return Camera.from_spec(spec, size)
-    lens = view.lens if tuple(size) == view.size else view.lens.with_size(*size)
+    lens = view.lens if own_size or tuple(size) == view.size else view.lens.with_size(*size)
     return Camera(lens, Pose(mirror_matrix(view.pose.mirror)))
 
 
