@@ -111,10 +111,11 @@ def open_encoder(container, stream) -> None:
         raise FormatError(f"the {cc.name} encoder cannot encode {cc.width} x {cc.height} frames in {cc.pix_fmt}: "
                           f"{why}") from None
 
+    way_out = "; --codec ffv1 (4:4:4) encodes them"  # (frames that bring their own size: no --size changes it)
     if cc.name in ODD_4_2_0_REFUSED and need and need[0] == "4:2:0" and need[2]:
         # refused here, not by opening it: x265 would print its own lines on standard error first
-        refuse(f"its {need[0]} chroma needs {need[1]}")
+        refuse(f"its {need[0]} chroma needs {need[1]}{way_out}")
     try:
         cc.open(strict=False)  # what the first encode would do, with the same options
     except av.error.FFmpegError as exc:
-        refuse(f"its {need[0]} chroma needs {need[1]}" if need and need[2] else cause(exc))
+        refuse(f"its {need[0]} chroma needs {need[1]}{way_out}" if need and need[2] else cause(exc))
