@@ -345,7 +345,7 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             from lenslab.io.registry import formats
 
-            print(json.dumps([f.describe() for f in formats().values()], indent=2))
+            print(json.dumps([{**f.describe(), "write": written(f) == "yes"} for f in formats().values()], indent=2))
         else:
             print(formats_text())
         return 0

@@ -26,6 +26,11 @@ def test_the_listing_says_clips_are_written(capsys, tmp_path):
     video = next(row for row in rows if row.split()[0] == "video")
     assert video[start:end].strip() == "yes"
     assert "write" in video[end:]  # (the note says which commands write them)
+    assert main(["info", "--formats", "--json"]) == 0
+    import json
+
+    described = {d["name"]: d for d in json.loads(capsys.readouterr().out)}
+    assert described["video"]["write"] is True and described["heif"]["write"] is False
     table = (ROOT / "docs" / "conventions.md").read_text(encoding="utf-8").split("<!-- formats:start -->")[1]
     cells = next(line for line in table.splitlines() if line.startswith("| `video`")).split("|")
     assert cells[3].strip() == "yes"
