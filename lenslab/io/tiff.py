@@ -155,7 +155,7 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
                predictor: bool = True, raw: bool = False, dither: bool = False, icc: bytes | None = None,
                exif: dict | None = None, in_place: bool = False) -> None:
     """Write ``image`` (float32 H x W x C) to ``tmp``; ``in_place``: the caller gives ``image`` up, and half floats or
-    integer codes are made in its own memory (:func:`lenslab.io.exr.to_half`, :func:`lenslab.io.encode.encode_codes`). ``exif``:
+    integer codes are made in its own memory (:func:`halves`, :func:`lenslab.io.encode.encode_codes`). ``exif``:
     camera tags (:mod:`lenslab.io.exif`): Make, Model and Orientation in the first IFD, the rest in an Exif IFD
     written after the image."""
     import tifffile
@@ -168,10 +168,8 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
     c = image.shape[2]
     dtype = SAMPLE_TYPES[sample_type]
     alpha = c in (2, 4)
-    if dtype is np.float16:  # (clamped to +-65504 with a note, as an EXR's halves: never infinities)
-        from lenslab.io.exr import to_half
-
-        data = to_half(image.astype(np.float32, copy=False), in_place=in_place)
+    if dtype is np.float16:
+        data = halves(image, in_place)
     elif np.dtype(dtype).kind == "f":
         data = image.astype(dtype, copy=False)  # (float32: the image itself, not a copy of its size)
     else:
@@ -191,3 +189,27 @@ def write_tiff(tmp: Path, image: np.ndarray, sample_type: str = "float", compres
         from lenslab.io.exif.outputs import append_exif_ifd
 
         append_exif_ifd(tmp, exif, srgb=np.dtype(dtype).kind != "f" and not raw and icc is None)
+
+
+#: rows of an image cast to half floats at a time in its own memory (a few MB of float32)
+HALF_BYTES = 4 << 20
+
+
+def halves(image: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """``image`` as float16, NumPy's cast (round to nearest even; beyond +-65504: infinite, as TIFF files from lenslab
+    have always held them): a new array, or with ``in_place`` (a C-contiguous, writable float32 ``image`` the caller
+    gives up) in the first half of its own memory, a band of rows at a time (a band's halves land on floats of that
+    band or earlier ones, read before: each band is cast into a buffer of its own first).
+
+    >>> image = np.array([[[1.0, 70000.0, 1.0 / 3.0]]], np.float32)
+    >>> halves(image, in_place=True).tolist(), bool(np.shares_memory(halves(image, True), image))
+    ([[[1.0, inf, 0.333251953125]]], True)
+    """
+    own = in_place and image.dtype == np.float32 and image.flags.c_contiguous and image.flags.writeable and image.size
+    if not own:
+        return image.astype(np.float16)
+    out = image.reshape(-1).view(np.float16)[:image.size].reshape(image.shape)
+    rows = max(1, HALF_BYTES // max(1, image[:1].nbytes))
+    for y in range(0, image.shape[0], rows):
+        out[y:y + rows] = image[y:y + rows].astype(np.float16)
+    return out
