@@ -35,7 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the size it was rendered at; else needed)")
     parser.add_argument("--source-size", metavar="WxH", type=image_size,
                         help="size of the source footage (default: the photo's as shown for exif:photo=PHOTO, "
-                             "the image's own for --from IMAGE that records its camera, else --size)")
+                             "else --size)")
     parser.add_argument("--yaw", type=finite_float, help="turn the output camera right, degrees (default 0)")
     parser.add_argument("--pitch", type=finite_float, help="turn the output camera up, degrees (default 0)")
     parser.add_argument("--roll", type=finite_float, help="turn the output camera about its axis, degrees (default 0)")
@@ -62,12 +62,10 @@ def run(args: argparse.Namespace) -> int:
     if size is None:
         raise UsageError("give the map's size: --size WxH (only --to IMAGE, an image that records its camera, has "
                          "its own)")
-    src_size = args.source_size or photo_size(args.source)
+    src_size = args.source_size or photo_size(args.source) or size
     from lenslab.jobs.warp_cameras import lens_camera
 
-    # (an image that records its camera: at its own size unless --source-size; a mirrored one with its mirror)
-    src = lens_camera(args.source, src_size or size, own_size=src_size is None)
-    src_size = (src.lens.width, src.lens.height)
+    src = lens_camera(args.source, src_size)  # (an image that records a mirrored camera: with its mirror)
     dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else  # --to IMAGE: its view
                  Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0))
     from lenslab.jobs.warp_cameras import note_size

@@ -60,7 +60,7 @@ def lens_camera(spec: str, size: tuple[int, int], own_size: bool = False):
     """The unturned camera of ``--from SPEC`` at ``size``: its lens, or for an image that records a mirrored camera
     (``lenslab warp --flip`` wrote it) its lens and that mirror (:attr:`lenslab.lenses.Pose.mirror`), not its turn:
     its pixels show the world mirrored, which no turn undoes, so its lens alone would read it back mirrored.
-    ``own_size``: an image's camera keeps the image's own size (no ``--source-size`` given), ``size`` is for a spec."""
+    ``own_size``: an image at its own size, not ``size`` (which a lens spec or a calibration file takes)."""
     from lenslab.lenses import Camera, Pose
     from lenslab.lenses.core.pose import mirror_matrix
 
