@@ -90,13 +90,13 @@ def filter_list() -> str:
 
 
 def format_list() -> str:
-    from lenslab.cli.info import written_types
+    from lenslab.cli.info import written, written_types
     from lenslab.io.registry import formats
 
     lines = ["| format | reads | writes | `--pixel-type` (written) | extensions |", "|---|---|---|---|---|"]
     for f in formats().values():
         types = written_types(f)
-        lines.append(f"| `{f.name}` | {'yes' if f.readable else '-'} | {'yes' if f.writable else '-'} | "
+        lines.append(f"| `{f.name}` | {'yes' if f.readable else '-'} | {written(f)} | "
                      f"{', '.join(f'`{t}`' for t in types.split('/')) if types != '-' else '-'} | "
                      f"{' '.join(f.extensions)} |")
     return "\n".join(lines)

@@ -65,8 +65,10 @@ def add_render_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera", metavar="SPEC", type=non_empty,
                    help="lenslab lens spec, e.g. perspective:fov=60, equirect, fisheye:fov=180,mapping=equisolid "
                         "(default: the scene's own camera lens); an EXR that records its camera (a tracer render, a "
-                        "lenslab warp) renders that view again: its lens, orientation, eye (unless --eye) and size "
-                        "(unless --size); --yaw, --pitch, --roll, --look-at, --up and --view are refused with it")
+                        "lenslab warp) renders that view again: its lens, orientation, eye (unless --eye; the "
+                        "scene's own for an image that records its camera at the origin, as a lenslab warp of a "
+                        "photograph does) and size (unless --size); --yaw, --pitch, --roll, --look-at, --up and "
+                        "--view are refused with it")
     p.add_argument("--size", type=image_size, metavar="WxH",
                    help="image size in pixels (default: a calibrated --camera's own (a camera file, an image that "
                         "records its camera, a spec with width= and height=) or the size stored in --camera-file, "

@@ -75,7 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument("--model", required=True, metavar="MODEL", help="the model to fit (a spec; given values stay fixed)")
     p.add_argument("--size", type=_size, required=True, metavar="WxH", help="size of the unknown camera's image")
     p.add_argument("--source", metavar="SPEC", help="the known camera of src_x,src_y pixel pairs")
-    p.add_argument("--source-size", type=_size, metavar="WxH", help="its image size (default: --size)")
+    p.add_argument("--source-size", type=_size, metavar="WxH",
+                   help="its image size (default: the image's own for --source IMAGE that records its camera, "
+                        "else --size)")
     p.add_argument("--pose", action="store_true", help="also fit yaw, pitch and roll (directions are world directions)")
     p.add_argument("--loss", default="cauchy", choices=("cauchy", "huber", "soft_l1", "arctan", "linear"),
                    help="robust loss for the first pass (default cauchy: far outliers pull with almost no force)")
@@ -154,7 +156,8 @@ def _run_points(args, FitError) -> int:
     if args.source:
         from lenslab.jobs.warp_cameras import lens_camera
 
-        source = lens_camera(args.source, args.source_size or args.size)  # (a flop's: with its mirror)
+        # (an image's camera at its own size unless --source-size; a flop's with its mirror)
+        source = lens_camera(args.source, args.source_size or args.size, own_size=args.source_size is None)
     pts = read_points(args.csv, source)
     result = fit_points(pts, args.model, args.size, free=args.free, bounds=args.bounds, pose=args.pose,
                         loss=args.loss, scale=args.scale, outlier=args.outlier,

@@ -227,9 +227,15 @@ def formats_text() -> str:
     lines = [f"{'format':<7s} {'read':<5s} {'write':<6s} {'holds':<{wh}s} {'--pixel-type':<{wt}s} "
              f"{'extensions':<{we}s} notes"]
     for f, holds, types, ext in rows:
-        lines.append(f"{f.name:<7s} {'yes' if f.readable else '-':<5s} {'yes' if f.writable else '-':<6s} "
+        lines.append(f"{f.name:<7s} {'yes' if f.readable else '-':<5s} {written(f):<6s} "
                      f"{holds:<{wh}s} {types:<{wt}s} {ext:<{we}s} {f.note}".rstrip())
     return "\n".join(lines)
+
+
+def written(fmt) -> str:
+    """``yes`` where lenslab writes files of format record ``fmt``: an image format's writer, or a clip
+    (``lenslab warp`` and ``lenslab convert`` encode it; no image writer does), else ``-``."""
+    return "yes" if fmt.writable or fmt.kind == "video" else "-"
 
 
 def written_types(fmt) -> str:
@@ -339,7 +345,7 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             from lenslab.io.registry import formats
 
-            print(json.dumps([f.describe() for f in formats().values()], indent=2))
+            print(json.dumps([{**f.describe(), "write": written(f) == "yes"} for f in formats().values()], indent=2))
         else:
             print(formats_text())
         return 0

@@ -5,7 +5,8 @@ brightest percent, goes to middle grey), then the curve, per channel or on lumin
 NaN, +inf and negative input values are repaired (to 0, white, 0) and counted on stderr; the colours of
 a Display P3 or Adobe RGB file outside sRGB are clipped per channel, with a note counting the pixels.
 LDR outputs (JPG, PNG, PPM/PGM) are sRGB-encoded and quantised with rounding (dithered unless
---no-dither); float outputs (EXR, PFM) keep the display-linear values. A photo's camera EXIF (maker,
+--no-dither); float outputs (EXR, PFM, and TIFF without --bits) keep the display-linear values; a TIFF
+with --bits 8 or 16 holds sRGB-encoded integers of that depth. A photo's camera EXIF (maker,
 model, lens, focal length, exposure, date; never GPS) goes with it into JPG, PNG, TIFF and EXR outputs.
 
 Examples:
@@ -62,7 +63,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--dither", action=argparse.BooleanOptionalAction, default=True,
                         help="dither when quantising to 8/16-bit to avoid banding in smooth skies (default on)")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
-                        help="bit depth for PNG/PPM/PGM output (default 8)")
+                        help="bit depth for PNG/PPM/PGM output (default 8), and for TIFF: sRGB-encoded "
+                             "integers instead of floats")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace an existing output file (never the input)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors and repairs")

@@ -22,7 +22,7 @@ def pixel_type_choices() -> tuple[str, ...]:
 def check_pixel_type(value: str | None, fmt, bits: int | None = None) -> None:
     """A :class:`~lenslab.errors.UsageError` where ``--pixel-type value`` cannot be written to format record ``fmt``:
     a type it does not hold (the line names what it holds and which formats hold ``value``), a clip (its samples are
-    its codec's), or ``--bits`` asking for another depth. None: nothing asked."""
+    its codec's), or ``--bits`` asking for another depth or for integers beside a float type. None: nothing asked."""
     from lenslab.errors import UsageError
 
     if value is None:
@@ -39,6 +39,9 @@ def check_pixel_type(value: str | None, fmt, bits: int | None = None) -> None:
     depth = integer_bits(value)
     if bits and depth and bits != depth:
         raise UsageError(f"--pixel-type {value} and --bits {bits} ask for two depths; give one of them")
+    if bits and not depth:  # (--bits writes integers: a float type beside it is another sample type)
+        raise UsageError(f"--pixel-type {value} asks for {value} samples and --bits {bits} for {bits}-bit integers; "
+                         "give one of them")
 
 
 def integer_bits(value: str | None) -> int | None:

@@ -228,14 +228,17 @@ def report_results(command: str, results: list[tuple], summary: str | None, tota
     from lenslab.jobs.funnel import command_note, said
 
     told: set = set()
+    given = None  # a worker's absolute paths -> the inputs as given, for the files of a worker's tally
     for src, _, _, notes in results:
         if notes:  # the tone package only for notes to absorb
             from lenslab.tone.repairs import absorb_note
+
+            given = given or {os.path.abspath(str(r[0])): str(r[0]) for r in results}
         for note in notes:  # repaired values, clamped halves: reported, never hidden
             once = command_note(note)
             if said(note):  # printed once already, as the command read its options (a camera file's note)
                 continue
-            if once is None and absorb_note(note):  # a worker's slight negatives: in the command's one summary line
+            if once is None and absorb_note(note, given):  # a worker's slight negatives: in the command's one line
                 continue
             if once is not None:
                 if once in told:

@@ -292,9 +292,24 @@ def refuse_turns(flags: list[str], option: str, path, view, spec_option: str | N
     yaw, pitch, roll = (round(a, 6) + 0.0 for a in view.pose.ypr)  # (1e-16 of a matrix's rounding: 0)
     what = " or ".join(dict.fromkeys(VIEW_CHANGES.get(flag, "turn that lens another way") for flag in flags))
     mirror = f"mirrored {view.pose.mirror}, then " if view.pose.mirror else ""  # (a view warp --flip made)
+    # (an option that is no turn mirrors or scales the file's own view: the options that give that view go with it)
+    turns = "" if any(flag not in VIEW_CHANGES for flag in flags) else view_turns(view.pose)
     raise UsageError(f"{'/'.join(flags)}: {option} {path} takes the view that file records, its lens and its "
                      f"orientation ({mirror}yaw {yaw:g}, pitch {pitch:g}, roll {roll:g}); to {what}, give "
-                     f"it as a spec: {spec_option or option} {view.lens.spec()}")
+                     f"it as a spec: {spec_option or option} {view.lens.spec()}{turns}")
+
+
+def view_turns(pose) -> str:
+    """The ``--yaw``, ``--pitch``, ``--roll`` (and a mirrored view's ``--flip``) that give ``pose``'s orientation from a
+    lens spec, those that are not 0, each led by a space. ``--flip`` mirrors the rays after the turns
+    (``M R_flags``), so a pose recorded as a mirror then a turn (``R = turn M``) has the turns of ``M R``."""
+    from lenslab.lenses.core.pose import matrix_to_ypr, mirror_matrix
+
+    letter = pose.mirror
+    angles = matrix_to_ypr(mirror_matrix(letter) @ pose.rotation) if letter else pose.ypr
+    named = [f" --{name} {round(a, 9) + 0.0:.12g}" for name, a in zip(("yaw", "pitch", "roll"), angles)
+             if round(a, 9) != 0]
+    return "".join(named) + (f" --flip {letter}" if letter else "")
 
 
 #: what the options other than turns (and --rotation-order, the order of turns) would do to a view an image records:

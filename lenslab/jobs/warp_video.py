@@ -17,8 +17,8 @@ def add_video_arguments(parser: argparse.ArgumentParser) -> None:
                    help="only frames A to B-1, counted from 0 (e.g. 10:20, :50, 100:); audio is kept only for "
                         "the whole clip")
     g.add_argument("--codec", choices=tuple(CODECS), default=None,
-                   help="video codec (default: by the output's extension: .mp4 h264, or h265 10-bit for PQ/HLG "
-                        "input; .mov prores; .mkv ffv1)")
+                   help="video codec (default: by the output's extension: .mp4 h264, or h265 10-bit for a clip "
+                        "written PQ or HLG (its input's transfer, or --display's); .mov prores; .mkv ffv1)")
 
 
 def parse_frames(text: str | None) -> tuple[int, int | None]:

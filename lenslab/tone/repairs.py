@@ -165,13 +165,16 @@ def take_note() -> str | None:
         if t["values"] else None
 
 
-def absorb_note(note: str) -> bool:
-    """Add a worker's :func:`take_note` to this process's tally; False for any other note."""
+def absorb_note(note: str, names: dict | None = None) -> bool:
+    """Add a worker's :func:`take_note` to this process's tally, its files named through ``names`` (a worker's absolute
+    path -> the path as the command was given it: a task may hand back the tally of another task of its worker);
+    False for any other note."""
     import json
 
     if not note.startswith(_NOTE):
         return False
     values, images, lowest, files, lobes = json.loads(note[len(_NOTE):])
+    files = [(names or {}).get(f, f) for f in files]
     with _lock:
         _merge(int(values), int(images), float(lowest), files, lobes)
     return True

@@ -37,9 +37,11 @@ def files(tmp_path_factory):
 
 
 def _refusal(flags: str, what: str, render) -> str:
+    # (an option that is no turn makes another view of the render's own: the line names the turns that give it)
+    turns = "" if "turn" in what else f" --yaw {YAW} --pitch {PITCH} --roll {ROLL}"
     return (f"lenslab warp: error: {flags}: --to {render} takes the view that file records, its lens and its "
             f"orientation (yaw {YAW}, pitch {PITCH}, roll {ROLL}); to {what}, give it as a spec: "
-            "--to perspective:fov=60\n")
+            f"--to perspective:fov=60{turns}\n")
 
 
 @pytest.mark.parametrize("options,flags,what", [

@@ -64,7 +64,7 @@ def test_frames_of_an_odd_size_to_a_clip_are_one_error_line(tmp_path, codec):
     encoder, pix = {"h264": ("libx264", "yuv420p"), "h265": ("libx265", "yuv420p10le")}[codec]
     assert run.stderr.strip().splitlines() == [
         f"lenslab convert: error: {frames / 'f0.exr'}: the {encoder} encoder cannot encode 33 x 31 frames in {pix}: "
-        "its 4:2:0 chroma needs an even width and height"]
+        "its 4:2:0 chroma needs an even width and height; --codec ffv1 (4:4:4) encodes them"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames"]  # no clip, no temporary
 
 

@@ -94,5 +94,6 @@ def _probe(path) -> dict:
 FORMATS = (Format(
     name="video", title="video (MP4, MOV, MKV)", extensions=VIDEO_EXTENSIONS, magic=_magic,
     hdr=False, alpha=False, channels=(3,), bit_depths=(8, 10), sample_types=("uint",), read=_read, declare=_declare, probe=_probe,
-    note="H.264, H.265 10-bit, ProRes, FFV1; SDR, PQ and HLG decoded to linear; warp and convert take whole clips",
+    note="H.264, H.265 10-bit, ProRes, FFV1; SDR, PQ and HLG decoded to linear; warp and convert read and write "
+         "whole clips (--codec, --transfer)",
     kind="video"),)

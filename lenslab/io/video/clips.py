@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from lenslab.errors import FormatError, cause
-from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS, x265_params  # noqa: F401  (re-exported)
+from lenslab.io.video.codecs import CODECS, DEFAULT_CODEC, VIDEO_EXTENSIONS, mux_video, x265_params  # noqa: F401
 from lenslab.io.video.colour import DISPLAY_TAGS, display_tags  # noqa: F401  (re-exported)
 from lenslab.io.video.opened import identity, probing, take
 from lenslab.io.video.ycbcr import RowsToYCbCr, exact, ycbcr_frame, ycbcr_to_linear
@@ -271,6 +271,7 @@ class VideoWriter:
         if encoder == "libx265":
             cc.options = {"x265-params": x265_params(w, h)}
         self.count = self.encoded = 0  # frames written, frames given to the encoder
+        self._dts: list = [None]  # the last dts muxed (lenslab.io.video.codecs.mux_video)
         self._thread = self._queue = self._error = self._planes = None
         self.audio_from = audio_from
         self.audio: dict = {}
@@ -357,8 +358,7 @@ class VideoWriter:
         frame.color_trc, frame.color_primaries = self.info.transfer, self.info.primaries
         frame.pts = self.encoded  # in the encoder's time base, 1 / rate
         self.encoded += 1
-        for packet in self.stream.encode(frame):
-            self.container.mux(packet)
+        mux_video(self.container, self.stream.encode(frame), self._dts)  # (an undefined dts repaired)
 
     def _swscale(self, av, image: np.ndarray, encoded: bool):
         """Linear (or ``encoded``) frame -> 16-bit codes -> swscale's matrix and range: RGB streams, HLG."""
@@ -374,8 +374,7 @@ class VideoWriter:
     def close(self) -> None:
         self._stop()
         self._check()
-        for packet in self.stream.encode():
-            self.container.mux(packet)
+        mux_video(self.container, self.stream.encode(), self._dts)
         if self.audio_from is not None:
             self._copy_audio()
         self.container.close()

@@ -114,10 +114,35 @@ def open_encoder(container, stream) -> None:
         raise FormatError(f"the {cc.name} encoder cannot encode {cc.width} x {cc.height} frames in {cc.pix_fmt}: "
                           f"{why}") from None
 
+    way_out = "; --codec ffv1 (4:4:4) encodes them"  # (frames that bring their own size: no --size changes it)
     if cc.name in ODD_4_2_0_REFUSED and need and need[0] == "4:2:0" and need[2]:
         # refused here, not by opening it: x265 would print its own lines on standard error first
-        refuse(f"its {need[0]} chroma needs {need[1]}")
+        refuse(f"its {need[0]} chroma needs {need[1]}{way_out}")
     try:
         cc.open(strict=False)  # what the first encode would do, with the same options
     except av.error.FFmpegError as exc:
-        refuse(f"its {need[0]} chroma needs {need[1]}" if need and need[2] else cause(exc))
+        refuse(f"its {need[0]} chroma needs {need[1]}{way_out}" if need and need[2] else cause(exc))
+
+
+#: the widest a dts may trail its pts, in frames (x265 reorders at most 16 B-frames, in a pyramid): a dts further back
+#: is no encoder's reordering but a value it left undefined
+DTS_REORDER_SPAN = 64
+
+
+def mux_video(container, packets, last: list) -> None:
+    """Mux ``packets`` of a video encoder into ``container``, each decoding time (dts) that is undefined (None, after
+    its pts, further back than :data:`DTS_REORDER_SPAN` frames, or not after the previous one) set to the packet's pts
+    (kept after the previous dts): libx265 flushing one or two frames hands its first packet back with an uninitialised
+    dts, which the MP4 muxer refuses ("pts/dts pair unsupported"). ``last``: a one-item list, the last dts muxed (None
+    before the first packet), carried from one call to the next."""
+    for packet in packets:
+        pts, dts = packet.pts, packet.dts
+        if pts is not None and (dts is None or dts > pts or dts < pts - DTS_REORDER_SPAN
+                                or (last[0] is not None and dts <= last[0])):
+            repaired = pts if last[0] is None else min(pts, last[0] + 1)
+            if last[0] is None or repaired > last[0]:
+                packet.dts = repaired
+        if packet.dts is not None:
+            last[0] = packet.dts
+        container.mux(packet)
+
