@@ -35,6 +35,21 @@ def test_a_ten_megabyte_mirror_reads_in_memory_bounded_by_its_bytes(tmp_path):
     assert done.peak_mb < BUDGET_MB, f"{done.peak_mb:.0f} MB for a {STRING >> 20} MiB string"
 
 
+def test_a_camera_attribute_not_read_is_one_note_naming_the_file_once(tmp_path):
+    import subprocess
+
+    import OpenEXR
+
+    path = tmp_path / "flop.exr"
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+              "lenslab.camera": 'mirror = "x"\n[lens]\nmodel = "perspective"\nsize = [8, 4]\nfov = 60.0\n'}
+    OpenEXR.File(header, {"RGB": np.zeros((4, 8, 3), np.float32)}).write(str(path))
+    done = subprocess.run([sys.executable, "-m", "lenslab", "convert", str(path), "-o", str(tmp_path / "o.exr")],
+                          capture_output=True, text=True)
+    notes = [line for line in done.stderr.splitlines() if "note:" in line]
+    assert done.returncode == 0 and len(notes) == 1 and notes[0].count("flop.exr") == 1, done.stderr
+
+
 def test_a_long_mirror_is_named_in_a_short_error():
     import pytest
 
