@@ -23,7 +23,8 @@ TEXT_MAX = 255
 #: a number given as text (an EXR attribute of type string under a number's name): a decimal, its exponent of at
 #: most 3 digits, or a fraction of integers; at most 64 characters. Read exactly (6.81 is 681/100), and only where a
 #: double holds it: an exponent of 10**9 digits would build an integer of that many digits from a few bytes
-TEXT_NUMBER = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?\s*|\s*[+-]?\d+/\d+\s*")
+TEXT_NUMBER = re.compile(r"[ \t]*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]{1,3})?[ \t]*"
+                         r"|[ \t]*[+-]?[0-9]+/[0-9]+[ \t]*")  # (ASCII: \s and \d take characters float() does not)
 
 
 @dataclass(frozen=True)

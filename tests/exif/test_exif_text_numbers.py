@@ -14,7 +14,7 @@ from lenslab.exif_tags import checked, exr_tags
 
 
 @pytest.mark.parametrize("text", ["1e999999", "1e-999999", "-1e999999", "9" * 5000, "1" + "0" * 70,
-                                  "1e99999/1", "1/1e99999", "nan", "inf", "0x10"])
+                                  "1e99999/1", "1/1e99999", "nan", "inf", "0x10", "\x1f999"])
 def test_text_no_double_holds_is_no_value(text):
     # (float() is the outside reading: each text is either no decimal Python's float reads, or one it reads as
     # infinity, zero from an exponent beyond a double's range, or a number of more digits than a camera writes)
