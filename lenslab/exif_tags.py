@@ -14,11 +14,17 @@ Values are held as Python values of three kinds: ``text`` (str), ``int`` and ``r
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from fractions import Fraction
 
 #: the longest text value carried (a maker's or a lens's name); a longer one is not a camera's
 TEXT_MAX = 255
+#: a number given as text (an EXR attribute of type string under a number's name): a decimal, its exponent of at
+#: most 3 digits, or a fraction of integers; at most 64 characters. Read exactly (6.81 is 681/100), and only where a
+#: double holds it: an exponent of 10**9 digits would build an integer of that many digits from a few bytes
+TEXT_NUMBER = re.compile(r"[ \t]*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]{1,3})?[ \t]*"
+                         r"|[ \t]*[+-]?[0-9]+/[0-9]+[ \t]*")  # (ASCII: \s and \d take characters float() does not)
 
 
 @dataclass(frozen=True)
@@ -79,6 +85,8 @@ def checked(name: str, value):
             return None
         text = text.split("\0", 1)[0].strip()
         return text if 0 < len(text) <= TEXT_MAX else None
+    if isinstance(value, str) and not _double_text(value):
+        return None
     try:
         number = Fraction(value) if not isinstance(value, Fraction) else value
     except (TypeError, ValueError, OverflowError, ZeroDivisionError):  # NaN, infinity, text
@@ -89,6 +97,18 @@ def checked(name: str, value):
         limit = 0xFFFFFFFF if TAGS[name].type == 4 else 0xFFFF
         return int(number) if number.denominator == 1 and number <= limit else None
     return number
+
+
+def _double_text(text: str) -> bool:
+    """Whether ``text`` is a number :data:`TEXT_NUMBER` reads whose value a double holds, finite and not lost to
+    zero (``1e-999`` is no camera's value)."""
+    import math
+
+    if len(text) > 64 or not TEXT_NUMBER.fullmatch(text):
+        return False
+    num, _, den = text.partition("/")
+    value = float(num) / float(den) if den and float(den) else float(num)
+    return bool(den == "" or float(den)) and math.isfinite(value) and (value != 0 or not re.search(r"[1-9]", num))
 
 
 def _plain(value, ratio: bool = False):

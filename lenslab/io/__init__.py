@@ -123,8 +123,10 @@ def _camera(path, text):
     try:
         return Camera.from_toml(str(text))
     except (LensError, KeyError, TypeError, ValueError) as exc:
-        warnings.warn(f"{path}: the {CAMERA_ATTRIBUTE} attribute is not a camera this lenslab understands "
-                      f"({cause(exc)}); meta['camera'] is None", CameraAttributeWarning, stacklevel=3)
+        note = f"the {CAMERA_ATTRIBUTE} attribute is not a camera this lenslab understands ({cause(exc)})"
+        warning = CameraAttributeWarning(f"{path}: {note}; meta['camera'] is None")
+        warning.command_line = note  # (a command's note names the file)
+        warnings.warn(warning, stacklevel=3)
         return None
 
 

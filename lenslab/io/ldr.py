@@ -33,6 +33,31 @@ def _jpg_size(data: bytes) -> tuple[int, int] | None:
     return None if frame is None else frame[:2]
 
 
+def _decode(path, data: bytes, fmt: str):
+    """OpenCV's decoding of ``data``; for a PNG with an eXIf chunk, what libpng says of it (a warning per repeated or
+    damaged eXIf chunk: 999 lines for 1000 chunks) in one note. (Only there: the capture of standard error is
+    process-wide, one decode at a time, and a batch decodes its PNGs on threads.)"""
+    import warnings
+
+    import cv2
+
+    from lenslab.library_output import quiet_library
+
+    said: list[str] = []
+    if fmt != "png" or data.find(b"eXIf") < 0:
+        return cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    with quiet_library(said):
+        codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    if said:
+        first = said[0].split(": ", 1)[-1]
+        more = f" (and {len(said) - 1} more of its warnings)" if len(said) > 1 else ""
+        note = f"libpng: {first}{more}"
+        warning = UserWarning(f"{path}: {note}")
+        warning.command_line = note  # (a command's note names the file)
+        warnings.warn(warning, stacklevel=3)
+    return codes
+
+
 def _jpg_frame(data: bytes) -> tuple[int, int, int] | None:
     """Width, height and component count (3 YCbCr or RGB, 4 CMYK or YCCK) of the first start-of-frame."""
     pos, n = 2, len(data)
@@ -102,7 +127,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
         from lenslab.io.exif_orientation import jpeg_orientation
 
         orientation = jpeg_orientation(data)
-    codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    codes = _decode(path, data, fmt)
     del data  # the file's bytes are not kept while the floats are made
     if codes is None:
         raise FormatError(f"{path}: OpenCV cannot decode this {fmt.upper()}; the file is damaged")

@@ -37,6 +37,34 @@ SAMPLE_TYPES = {"float": np.float32, "half": np.float16, "uint16": np.uint16, "u
 COMPRESSIONS = {"zlib": "adobe_deflate", "deflate": "adobe_deflate", "lzw": "lzw", "zstd": "zstd", "none": None}
 
 
+class TiffNote(UserWarning):
+    """What tifffile logged while reading a TIFF (a tag it skipped: an offset beyond the file...); ``command_line``:
+    the note as a command prints it after the file's name."""
+
+
+def tifffile_notes() -> None:
+    """Turn tifffile's log lines into notes (:class:`TiffNote`; a command prints the same one once) rather than
+    lines of tifffile's own on standard error."""
+    import logging
+    import warnings
+
+    log = logging.getLogger("tifffile")
+    if any(getattr(h, "lenslab_notes", False) for h in log.handlers):
+        return
+
+    class Notes(logging.Handler):
+        lenslab_notes = True
+
+        def emit(self, record):
+            message = record.getMessage()
+            warning = TiffNote(f"tifffile: {(message.splitlines() or [''])[0][:200]}")
+            warning.command_line = str(warning)
+            warnings.warn(warning, stacklevel=2)
+
+    log.addHandler(Notes())
+    log.propagate = False
+
+
 def _name(value) -> str:
     """A tifffile enum's name (an unknown code comes back as a plain int)."""
     return getattr(value, "name", None) or f"code {clip(value)}"
@@ -54,6 +82,7 @@ def read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
 def _read_tiff(path: Path, raw: bool = False) -> tuple[np.ndarray, dict]:
     import tifffile
 
+    tifffile_notes()
     try:
         tif = tifffile.TiffFile(path)
     except (tifffile.TiffFileError, ValueError, OSError) as exc:

@@ -77,8 +77,10 @@ def _exr(path) -> tuple[dict, list[str]]:
     import OpenEXR
 
     from lenslab.exif_tags import exr_tags
+    from lenslab.io.exr.chunks import parse_header
     from lenslab.library_output import quiet_library
 
+    parse_header(path)  # (its budget: a header the bindings would build in memory many times its bytes)
     with quiet_library():
         header = OpenEXR.File(str(path), header_only=True).parts[0].header
     return exr_tags(header), []

@@ -29,6 +29,11 @@ TILED, NON_IMAGE, MULTIPART = 0x200, 0x800, 0x1000
 #: scanlines per chunk by the compression attribute's value (NONE, RLE, ZIPS, ZIP, PIZ, PXR24, B44, B44A,
 #: DWAA, DWAB)
 LINES_PER_CHUNK = (1, 1, 1, 16, 32, 16, 32, 32, 32, 256)
+#: the most bytes of a header attribute read as a list of values (``floatvector``, ``stringvector``): OpenEXR's
+#: Python bindings build a Python object per value, 8 times the bytes and more (a 32 MB ``floatvector`` took
+#: 426 MB); 1 MiB is 262144 floats, more than any camera or tool writes in one attribute
+VECTOR_BYTES = 1 << 20
+VECTORS = (b"floatvector", b"stringvector")
 
 
 def _cstring(f, limit: int = 256) -> bytes:
@@ -101,6 +106,10 @@ def _headers(f, size) -> tuple[list[dict], int]:
             (n,) = struct.unpack("<i", f.read(4))
             if n < 0 or f.tell() + n > size:
                 raise EOFError
+            if kind in VECTORS and n > VECTOR_BYTES:
+                raise FormatError(f"{f.name}: its header attribute {name[:64].decode('utf-8', 'replace')!r} holds "
+                                  f"{n} bytes of {kind.decode()}, more than the {VECTOR_BYTES >> 20} MiB lenslab "
+                                  "reads of one; the file is damaged or not a camera's")
             value = f.read(n)
             if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
                 part[name.decode()] = struct.unpack("<iiii", value)

@@ -34,6 +34,9 @@ def _probe(path) -> dict:
 
     import tifffile
 
+    from lenslab.io.tiff import tifffile_notes
+
+    tifffile_notes()
     with tifffile.TiffFile(path) as tif:
         return {"pages": [{"shape": list(page.shape), "axes": page.axes, "dtype": str(page.dtype),
                            "compression": page.compression.name.lower(), "photometric": page.photometric.name.lower(),

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lenslab.errors import LensError
+from lenslab.errors import LensError, clip
 
 
 def _rx(a: float) -> np.ndarray:
@@ -244,7 +244,7 @@ class Pose:
         mirror = d.get("mirror", "")
         if not isinstance(mirror, str) or any(c not in MIRROR_AXES for c in mirror) or len(set(mirror)) < len(mirror):
             raise LensError(f"pose: mirror must be letters among h (left-right), v (up-down) and d (front-back), "
-                            f"each once, got {mirror!r}")
+                            f"each once, got {clip(mirror)}")
         if "rotation" in d:
             pose = cls(np.asarray(d["rotation"], dtype=np.float64), eye)
         elif "at" in d or "look_at" in d:
