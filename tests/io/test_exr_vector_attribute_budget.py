@@ -28,10 +28,12 @@ def vector_exr(tmp_path_factory):
     return path
 
 
-@pytest.mark.parametrize("command", ["info", "warp"])
+@pytest.mark.parametrize("command", ["info", "warp", "stmap"])
 def test_a_huge_vector_attribute_is_one_line_in_bounded_memory(vector_exr, command, tmp_path):
-    extra = ["--from", "exif", "--to", "equirect", "--size", "16x8", "-o", str(tmp_path / "o.exr")]
-    done = run([sys.executable, "-m", "lenslab", command, str(vector_exr), *(extra if command == "warp" else [])])
+    out = ["--to", "equirect", "--size", "16x8", "-o", str(tmp_path / "o.exr")]
+    argv = {"info": [str(vector_exr)], "warp": [str(vector_exr), "--from", "exif", *out],
+            "stmap": ["--from", f"exif:photo={vector_exr}", *out]}[command]  # (the photo's lens alone: no pixels read)
+    done = run([sys.executable, "-m", "lenslab", command, *argv])
     assert done.returncode == 1, done.stderr[-500:]
     assert len(done.stderr.splitlines()) == 1 and "Exif:FocalLength" in done.stderr, done.stderr[-500:]
     assert done.peak_mb < BUDGET_MB, f"{done.peak_mb:.0f} MB"

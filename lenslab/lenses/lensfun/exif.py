@@ -240,10 +240,8 @@ def _xmp(path: Path, info: PhotoLens) -> None:
 def _exr(path: Path, info: PhotoLens) -> None:
     import OpenEXR
 
-    from lenslab.io.exr.chunks import parse_header
     from lenslab.library_output import quiet_library
 
-    parse_header(path)  # (its budget: a header the bindings would build in memory many times its bytes)
     try:
         with quiet_library():
             header = OpenEXR.File(str(path), header_only=True).parts[0].header
