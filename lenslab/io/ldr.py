@@ -50,7 +50,8 @@ def _one_exif(data: bytes) -> tuple[bytes, int]:
         if kind == b"eXIf":
             seen += 1
             if seen > 1:
-                parts.append(data[start:pos])
+                if pos > start:  # (only the chunks between: a run of eXIf chunks adds nothing)
+                    parts.append(data[start:pos])
                 start = end
         pos = end
     if seen < 2:
