@@ -28,9 +28,8 @@ import threading
 
 from lenslab.errors import stop_signals_held
 
-#: lines OpenEXR prints (its C core's error handler and its Python bindings' reading warning) and libpng's, through
-#: OpenCV (a warning per damaged or repeated chunk: a PNG of 1000 eXIf chunks printed 999)
-LIBRARY_LINE = re.compile(r"\((EXR_ERR_\w+)\)|^Warning: Exception raised (reading|writing)|^libpng (?:warning|error): ")
+#: lines OpenEXR prints: its C core's error handler and its Python bindings' reading warning
+LIBRARY_LINE = re.compile(r"\((EXR_ERR_\w+)\)|^Warning: Exception raised (reading|writing)")
 
 _lock = threading.RLock()  # held for a whole capture: one thread's library calls at a time
 _state: dict = {"depth": 0, "saved": None}

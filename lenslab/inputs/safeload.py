@@ -21,11 +21,14 @@ MAX_DEPTH = 64
 MAX_ALIASES = 256
 MAX_NODES = 100_000
 
-#: a quoted string as an unrolled loop (runs of plain characters, each escape between): an alternation repeated per
-#: character would cost Python's regex engine a backtracking frame per character, 120 bytes each (1.2 GB for a
-#: 10 MB string)
-_JSON_STRING = re.compile(r'"[^"\\\n]*(?:\\.[^"\\\n]*)*"')
-_TOML_STRING = re.compile(r'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"[^"\\\n]*(?:\\.[^"\\\n]*)*"|\'[^\'\n]*\'|#[^\n]*')
+#: a quoted string as an unrolled loop (runs of plain characters, each escape between), every repeat possessive: an
+#: alternation repeated per character, or a repeat that may give characters back, costs Python's regex engine a
+#: backtracking frame per character or escape, 120 bytes each (1.2 GB for a 10 MB string; 390 MB for 10 MB of escapes)
+_JSON_STRING = re.compile(r'"[^"\\\n]*+(?:\\.[^"\\\n]*+)*+"')
+#: TOML's strings the same way; in a multi-line one an escaped quote (basic) or a quote or two not followed by a third
+#: are its text, and up to two quotes before the closing three are its last characters
+_TOML_STRING = re.compile(r'"""[^"\\]*+(?:(?:\\[\s\S]|"(?!""))[^"\\]*+)*+"{3,5}|\'\'\'[^\']*+(?:\'(?!\'\')[^\']*+)*+\'{3,5}'
+                          r'|"[^"\\\n]*+(?:\\.[^"\\\n]*+)*+"|\'[^\'\n]*+\'|#[^\n]*+')
 
 
 def text_depth(text: str, strings=_JSON_STRING) -> int:

@@ -33,29 +33,47 @@ def _jpg_size(data: bytes) -> tuple[int, int] | None:
     return None if frame is None else frame[:2]
 
 
-def _decode(path, data: bytes, fmt: str):
-    """OpenCV's decoding of ``data``; for a PNG with an eXIf chunk, what libpng says of it (a warning per repeated or
-    damaged eXIf chunk: 999 lines for 1000 chunks) in one note. (Only there: the capture of standard error is
-    process-wide, one decode at a time, and a batch decodes its PNGs on threads.)"""
-    import warnings
+def _one_exif(data: bytes) -> tuple[bytes, int]:
+    """``data`` (a PNG) without its eXIf chunks after the first, and how many there were: the PNG specification (3rd
+    edition, 11.3.6) allows one, and libpng keeps the first and prints a warning per other on standard error. (Dropped
+    before decoding, not captured: a capture of standard error is process-wide, and would take the lines of the other
+    PNGs a batch decodes on threads at once.) Walked only where the bytes name eXIf twice."""
+    first = data.find(b"eXIf")
+    if first < 0 or data.find(b"eXIf", first + 4) < 0:
+        return data, 0
+    pos, n, parts, start, seen = 8, len(data), [], 8, 0
+    while pos + 12 <= n:
+        end = pos + 12 + int.from_bytes(data[pos:pos + 4], "big")
+        kind = data[pos + 4:pos + 8]
+        if end > n or kind == b"IEND":
+            break
+        if kind == b"eXIf":
+            seen += 1
+            if seen > 1:
+                if pos > start:  # (only the chunks between: a run of eXIf chunks adds nothing)
+                    parts.append(data[start:pos])
+                start = end
+        pos = end
+    if seen < 2:
+        return data, 0
+    parts.append(data[start:])
+    return data[:8] + b"".join(parts), seen - 1
 
+
+def _decode(path, data: bytes, fmt: str):
+    """OpenCV's decoding of ``data``; a PNG's repeated eXIf chunks dropped first, in one note."""
     import cv2
 
-    from lenslab.library_output import quiet_library
+    if fmt == "png":
+        data, dropped = _one_exif(data)
+        if dropped:
+            import warnings
 
-    said: list[str] = []
-    if fmt != "png" or data.find(b"eXIf") < 0:
-        return cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
-    with quiet_library(said):
-        codes = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
-    if said:
-        first = said[0].split(": ", 1)[-1]
-        more = f" (and {len(said) - 1} more of its warnings)" if len(said) > 1 else ""
-        note = f"libpng: {first}{more}"
-        warning = UserWarning(f"{path}: {note}")
-        warning.command_line = note  # (a command's note names the file)
-        warnings.warn(warning, stacklevel=3)
-    return codes
+            note = f"{dropped} duplicate eXIf chunks after the first are ignored (a PNG holds one)"
+            warning = UserWarning(f"{path}: {note}")
+            warning.command_line = note  # (a command's note names the file)
+            warnings.warn(warning, stacklevel=3)
+    return cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
 
 
 def _jpg_frame(data: bytes) -> tuple[int, int, int] | None:

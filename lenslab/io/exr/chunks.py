@@ -23,6 +23,7 @@ from collections import OrderedDict
 from dataclasses import dataclass
 
 from lenslab.errors import FormatError
+from lenslab.inputs.limits import env_int
 
 MAGIC = 20000630
 TILED, NON_IMAGE, MULTIPART = 0x200, 0x800, 0x1000
@@ -31,8 +32,9 @@ TILED, NON_IMAGE, MULTIPART = 0x200, 0x800, 0x1000
 LINES_PER_CHUNK = (1, 1, 1, 16, 32, 16, 32, 32, 32, 256)
 #: the most bytes of a header attribute read as a list of values (``floatvector``, ``stringvector``): OpenEXR's
 #: Python bindings build a Python object per value, 8 times the bytes and more (a 32 MB ``floatvector`` took
-#: 426 MB); 1 MiB is 262144 floats, more than any camera or tool writes in one attribute
-VECTOR_BYTES = 1 << 20
+#: 426 MB); 1 MiB is 262144 floats, more than any camera writes in one attribute. A valid file may hold more (a LUT
+#: kept as a vector): the environment variable ``LENSLAB_EXR_VECTOR_BYTES`` raises it, as the refusal says
+VECTOR_BYTES = env_int("LENSLAB_EXR_VECTOR_BYTES", 1 << 20)
 VECTORS = (b"floatvector", b"stringvector")
 
 
@@ -108,8 +110,8 @@ def _headers(f, size) -> tuple[list[dict], int]:
                 raise EOFError
             if kind in VECTORS and n > VECTOR_BYTES:
                 raise FormatError(f"{f.name}: its header attribute {name[:64].decode('utf-8', 'replace')!r} holds "
-                                  f"{n} bytes of {kind.decode()}, more than the {VECTOR_BYTES >> 20} MiB lenslab "
-                                  "reads of one; the file is damaged or not a camera's")
+                                  f"{n:,} bytes of {kind.decode()}, more than the {VECTOR_BYTES:,} lenslab reads of "
+                                  "one (OpenEXR's bindings take 13 times its bytes); LENSLAB_EXR_VECTOR_BYTES raises it")
             value = f.read(n)
             if kind == b"box2i" and n == 16 and name in (b"dataWindow", b"displayWindow"):
                 part[name.decode()] = struct.unpack("<iiii", value)
