@@ -150,7 +150,7 @@ def _camera(args, scene):
     recorded = _recorded_view(args, scene)
     if recorded is not None:
         return recorded
-    from lenslab.jobs.warp_cameras import given_pose
+    from lenslab.jobs.warp.cameras import given_pose
 
     if args.look_at is not None and given_pose(args):  # (which of the two to drop cannot be told)
         from lenslab.errors import UsageError
@@ -173,7 +173,7 @@ def _camera(args, scene):
                          f"{', '.join(scene.views) or 'none'}")
     size = args.size or _calibrated_size(args.camera)
     if size is None:
-        from lenslab.jobs.warp_cameras import default_size
+        from lenslab.jobs.warp.cameras import default_size
 
         # the lens's own frame (--camera's, else the scene view's) at 512 rows of 180 degrees, as lenslab warp's without
         # a source: a hammer map 2:1, a cube map's faces of 256 pixels in its layout, an equirect's square pixels
@@ -189,7 +189,7 @@ def _recorded_view(args, scene):
     camera at the origin, which places nothing: a panorama lenslab made of a photograph), at its size unless --size
     is given; None for a lens spec or a calibration file. Options that would turn it are a usage error, as with ``lenslab warp --to
     render.exr``: whether they turn the render's view or the world's cannot be told."""
-    from lenslab.jobs.warp_cameras import recorded_view, refuse_turns
+    from lenslab.jobs.warp.cameras import recorded_view, refuse_turns
 
     view = recorded_view(args.camera)
     if view is None:
@@ -300,7 +300,7 @@ def _render(args) -> int:
         print(f"tracer render: {scene.dropped} degenerate (zero-area) triangles dropped from {args.scene}",
               file=sys.stderr)
     camera = _camera(args, scene)
-    from lenslab.jobs.warp_cameras import note_size
+    from lenslab.jobs.warp.cameras import note_size
 
     note_size(camera.lens)  # a size off the lens's layout (a cube map's faces not square): one note
     from tracer.tiles import render_on_cluster

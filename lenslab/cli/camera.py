@@ -157,7 +157,7 @@ def recorded_mirror(spec: str) -> str:
     """The mirror (``h``, ``v``, ``d``) of the camera an image named as CAMERA records (``lenslab warp --flip`` wrote
     it), else "": no calibration file holds one, so such an image converts to none (its lens alone would read its
     pixels back mirrored)."""
-    from lenslab.jobs.warp_cameras import recorded_view
+    from lenslab.jobs.warp.cameras import recorded_view
 
     view = recorded_view(spec)
     return view.pose.mirror if view is not None else ""

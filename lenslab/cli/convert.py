@@ -50,7 +50,7 @@ def check_convert_options(args, files, display) -> None:
     """--tone and --frames where they cannot apply: usage errors (see lenslab.jobs.arguments)."""
     from lenslab.io.registry import get
     from lenslab.jobs.arguments import check_frames_apply, check_tone_applies, typed
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     given, args.tone = args.tone is not None, args.tone or "hable"
     args.tone_given = given
@@ -112,7 +112,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "pxr24, b44, dwaa, dwab, zstd, htj2k256); TIFF: zlib (default), lzw, zstd, none")
     parser.add_argument("--recursive", "-r", action="store_true",
                         help="walk directories into their sub-folders and mirror the tree under -o")
-    from lenslab.jobs.warp_video import parse_frames
+    from lenslab.jobs.warp.video import parse_frames
 
     parser.add_argument("--frames", metavar="A:B", default=None, type=parse_frames,
                         help="video inputs: only frames A to B-1 (e.g. 10:20), written as NAME.000010.exr, ... "
@@ -210,7 +210,7 @@ def run(args: argparse.Namespace) -> int:
     sweep_outputs(pairs)  # temporaries of killed runs
     pairs, skipped = skip_existing(pairs, args.skip_existing)
     from lenslab.jobs.frame_files import in_sequence_folder
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     # a clip to 'frames/%04d.png': the folder made as -o DIR is
     status = in_sequence_folder(pairs, is_video, lambda: run_batch(

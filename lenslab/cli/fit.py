@@ -154,7 +154,7 @@ def _run_points(args, FitError) -> int:
 
     source = None
     if args.source:
-        from lenslab.jobs.warp_cameras import lens_camera
+        from lenslab.jobs.warp.cameras import lens_camera
 
         # (an image's camera at its own size unless --source-size; a flop's with its mirror)
         source = lens_camera(args.source, args.source_size or args.size, own_size=args.source_size is None)

@@ -55,21 +55,21 @@ def run(args: argparse.Namespace) -> int:
     if out.suffix.lower() != ".exr":
         raise UsageError(f"{out}: an ST map is written as a float EXR; name it .exr")
     check_output(out, [], args.overwrite)
-    from lenslab.jobs.warp_cameras import check_view_pose, given_pose
+    from lenslab.jobs.warp.cameras import check_view_pose, given_pose
 
     view = check_view_pose(args.to, given_pose(args))
     size = args.size or (tuple(view.size) if view is not None else None)  # --to render.exr: its own size
     if size is None:
         raise UsageError("give the map's size: --size WxH (only --to IMAGE, an image that records its camera, has "
                          "its own)")
-    from lenslab.jobs.warp_cameras import lens_camera
+    from lenslab.jobs.warp.cameras import lens_camera
 
     given = args.source_size or photo_size(args.source)  # else --from IMAGE: the image's own size, which the map reads
     src = lens_camera(args.source, given or size, own_size=given is None)  # (an image's mirror kept)
     src_size = (src.lens.width, src.lens.height)
     dst = Camera(make_lens(args.to, size), Pose(view.pose.rotation) if view is not None else  # --to IMAGE: its view
                  Pose.from_ypr(args.yaw or 0.0, args.pitch or 0.0, args.roll or 0.0))
-    from lenslab.jobs.warp_cameras import note_size
+    from lenslab.jobs.warp.cameras import note_size
 
     note_size(dst.lens)  # a cube map at a size off its layout: one note
     from lenslab.jobs.progress import RowBar

@@ -166,7 +166,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also print how --autoscale searched (scale, evaluations, the optimiser's check)")
     from lenslab.jobs.arguments import add_jobs_option, add_scheduler_options
     from lenslab.cli.display import add_display_arguments
-    from lenslab.jobs.warp_video import add_video_arguments
+    from lenslab.jobs.warp.video import add_video_arguments
 
     add_display_arguments(parser)
     add_video_arguments(parser)
@@ -190,7 +190,7 @@ def parse_size(text: str) -> tuple[int, int]:
 def check_once(args) -> None:
     """What does not depend on one input, checked before any file is read or folder made: the lenses,
     the tone curve for display outputs, the display."""
-    from lenslab.jobs.warp_cameras import check_turn_order, check_view_pose, default_size, given_pose, note_size
+    from lenslab.jobs.warp.cameras import check_turn_order, check_view_pose, default_size, given_pose, note_size
     from lenslab.lenses.registry import make_lens
 
     if args.to:
@@ -217,7 +217,7 @@ def check_options_apply(args, pairs) -> None:
     from lenslab.io.registry import get
     from lenslab.jobs.policy import output_format  # a name lenslab does not write: a usage error
     from lenslab.jobs.arguments import check_frames_apply, check_tone_applies, typed
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     tone_given, args.tone = args.tone is not None, args.tone or "hable"
     args.tone_given = tone_given
@@ -225,7 +225,7 @@ def check_options_apply(args, pairs) -> None:
     check_video_output(pairs, videos)
     if getattr(args, "frames", None) is not None:
         check_frames_apply(args.frames, [src for (src, _), v in zip(pairs, videos) if not v])
-    from lenslab.jobs.warp_video import image_format
+    from lenslab.jobs.warp.video import image_format
 
     # a clip to a clip (or to a name the warp refuses); a clip to image files is developed as still images are
     clips = [v and image_format(dst) is None for (_, dst), v in zip(pairs, videos)]
@@ -270,7 +270,7 @@ def check_video_output(pairs, videos) -> None:
 def output_extension(fmt: str | None):
     """The extension of each output in an -o folder: ``--format``'s (default EXR); a clip stays a clip."""
     from lenslab.io.registry import get
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     ext = get(fmt or "exr").extensions[0]
     return lambda src: src.suffix.lower() if fmt is None and is_video(src) else ext
@@ -303,7 +303,7 @@ def run(args: argparse.Namespace) -> int:
     from lenslab.jobs.plan import expand_inputs, plan_outputs, skip_existing, sweep_outputs
     from lenslab.jobs.runner import connect, run_batch
     from lenslab.jobs.warp import WarpJob, plans_for, st_map
-    from lenslab.jobs.warp_cameras import given_pose
+    from lenslab.jobs.warp.cameras import given_pose
 
     check_skip_or_overwrite(args)
     if args.look_at is not None and given_pose(args):
@@ -356,7 +356,7 @@ def run(args: argparse.Namespace) -> int:
 
         refuse_inputs([dst for _, dst in pairs], [args.stmap])
     check_options_apply(args, pairs)
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     if args.size and not args.autoscale:  # a size a clip's encoder refuses: a usage error before any frame
         from lenslab.io.video.codecs import VIDEO_EXTENSIONS, check_clip_size

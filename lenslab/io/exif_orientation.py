@@ -48,7 +48,7 @@ def jpeg_exif(data: bytes) -> bytes | None:
 def _tiff_orientation(tiff: bytes) -> int:
     """The ``Orientation`` SHORT of the first IFD of an Exif segment's TIFF structure (of its entries the segment
     holds), or 1."""
-    from lenslab.io.tiff_walk import Outside, entries, header
+    from lenslab.io.tiff.walk import Outside, entries, header
 
     found = header(tiff[:8])
     if found is None or found.version != 42:

@@ -188,7 +188,7 @@ def read_ldr(path: Path, fmt: str, raw: bool = False, selector: str | None = Non
         "display_encoded": not raw and not linear,
         "attributes": attributes,
     }
-    if orientation != 1:  # (a lens of the sensor's pixels warps the stored frame: lenslab.jobs.warp_cameras)
+    if orientation != 1:  # (a lens of the sensor's pixels warps the stored frame: lenslab.jobs.warp.cameras)
         meta["exif_orientation"] = orientation
     if gamut:
         from lenslab.io.colour.gamut import WIDE_GAMUT

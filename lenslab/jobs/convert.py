@@ -61,7 +61,7 @@ class ConvertJob(Job):
         from lenslab.io import read, split_selector, write
         from lenslab.jobs.policy import check_output
         from lenslab.jobs.stages import check_image
-        from lenslab.jobs.warp_video import is_video
+        from lenslab.jobs.warp.video import is_video
 
         src_file, _ = split_selector(src)
         check_output(dst, [src_file], self.overwrite)

@@ -106,7 +106,7 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
                     h, w = image.shape[:2]
                     info = VideoInfo(w, h, Fraction(str(rate)), len(files), "", "", primaries, transfer, matrix, 1)
                     from lenslab.io.video.codecs import check_encodes, open_encoder
-                    from lenslab.jobs.warp_video import is_video
+                    from lenslab.jobs.warp.video import is_video
 
                     try:  # a size the encoder refuses: one line now, before the clip's file is made (or it is closed)
                         if is_video(f):  # (a clip's size is not convert's to give: warp's --size is the way out)
@@ -132,7 +132,7 @@ def files_to_video(files: list[str], dst: str, options: dict) -> int:
 def _audio_kept(files: list[str], frames) -> str | None:
     """The clip whose audio packets are copied into the output: the one input, when it is a clip with audio
     written whole (as ``lenslab warp`` keeps it); None otherwise, with a note when a clip's audio is left out."""
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     clips = [f for f in files if is_video(f)]
     if not clips:
@@ -153,7 +153,7 @@ def _audio_kept(files: list[str], frames) -> str | None:
 
 def _first_rate(files: list[str]):
     """The frame rate of the first clip among ``files`` (a Fraction), or None when they are all still images."""
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     clip = next((f for f in files if is_video(f)), None)
     if clip is None:
@@ -167,7 +167,7 @@ def _inputs_frames(files: list[str], frames=None):
     """``(path, linear image, meta)`` of every frame a clip made of ``files`` gets: an image file's one, each
     frame of a clip (within ``frames``, ``(start, stop)``), read as :func:`frames_to_files` reads them."""
     from lenslab.io import read
-    from lenslab.jobs.warp_video import is_video
+    from lenslab.jobs.warp.video import is_video
 
     for f in files:
         if not is_video(f):

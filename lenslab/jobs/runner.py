@@ -95,7 +95,7 @@ def run_local(job: Job, pairs: list[tuple], jobs: int = 0, progress: bool = Fals
 
     def work(pair):
         from lenslab.jobs.progress import RowBar
-        from lenslab.jobs.warp_video import is_video
+        from lenslab.jobs.warp.video import is_video
 
         # one image: a bar of its rows or bands; a clip has its own bar, by frames
         rows = RowBar(os.path.basename(str(pair[0]))) if progress and one and not is_video(pair[0]) else None

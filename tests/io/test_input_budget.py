@@ -21,7 +21,7 @@ def image():
 def test_tiff_declaration_matches_tifffile(tmp_path, image):
     import tifffile
 
-    from lenslab.io.tiff_layout import declare_tiff
+    from lenslab.io.tiff.layout import declare_tiff
 
     path = tmp_path / "a.tif"
     tifffile.imwrite(path, image, compression="zlib", rowsperstrip=8, photometric="rgb")

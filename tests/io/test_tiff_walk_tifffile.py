@@ -1,4 +1,4 @@
-"""The TIFF walker that the TIFF reader's pre-check and the Exif parser share (:mod:`lenslab.io.tiff_walk`) reads the
+"""The TIFF walker that the TIFF reader's pre-check and the Exif parser share (:mod:`lenslab.io.tiff.walk`) reads the
 first IFD of any small TIFF tifffile writes (classic and BigTIFF, both byte orders, extra tags of every numeric and
 text type, held in the value field or at an offset) as tifffile reads it.
 
@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 tifffile = pytest.importorskip("tifffile")
 
-from lenslab.io.tiff_walk import CODES, SIZES as CODES_SIZE, chain, header, value_bytes  # noqa: E402
+from lenslab.io.tiff.walk import CODES, SIZES as CODES_SIZE, chain, header, value_bytes  # noqa: E402
 
 _INT = {1: (0, 255), 3: (0, 0xFFFF), 4: (0, 0xFFFFFFFF), 5: (0, 0xFFFFFFFF), 6: (-128, 127), 8: (-32768, 32767),
         9: (-(1 << 31), (1 << 31) - 1), 10: (-(1 << 31), (1 << 31) - 1), 16: (0, (1 << 64) - 1)}

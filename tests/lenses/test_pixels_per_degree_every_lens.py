@@ -15,7 +15,7 @@ from math import asin, atan, atan2, cos, degrees, hypot, pi, radians, sin, sqrt,
 import numpy as np
 import pytest
 
-from lenslab.jobs.warp_cameras import source_rows
+from lenslab.jobs.warp.cameras import source_rows
 from lenslab.lenses import REGISTRY, make_lens
 
 #: the lens sums its column's angles as chords over 4096 steps (exact on a great circle, 1e-8 off a swirl's curve),

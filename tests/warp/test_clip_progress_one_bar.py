@@ -49,7 +49,7 @@ def _wrapped(monkeypatch, module, name: str, settle) -> None:
 
 
 def test_a_warped_clip_shows_its_frames_bar_alone(tmp_path, monkeypatch, timers_settled):
-    from lenslab.jobs import warp_video
+    import lenslab.jobs.warp.video as warp_video
     from tests.warp.test_video_warp_imports import _clip
 
     _clip(tmp_path / "clip.mp4")

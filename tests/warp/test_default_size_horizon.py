@@ -11,7 +11,7 @@ import warnings
 
 import pytest
 
-from lenslab.jobs.warp_cameras import default_output_size
+from lenslab.jobs.warp.cameras import default_output_size
 from lenslab.lenses.registry import make_lens
 
 SOURCE = make_lens("equirect", (1024, 512))  # 1024 / 360 pixels per degree along every row

@@ -39,7 +39,7 @@ def _held_until_said(monkeypatch, module, name, step="", output=""):
 
 
 def test_a_full_warp_bar_names_the_writing(tmp_path, monkeypatch):
-    import lenslab.jobs.warp_output as warp_output
+    import lenslab.jobs.warp.output as warp_output
 
     monkeypatch.setattr(progress, "PATIENCE", 0.0)
     lio.write(tmp_path / "p.exr", np.ones((64, 128, 3), np.float32))

@@ -154,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
 
     from lenslab.errors import UsageError
     from lenslab.jobs.policy import check_output, check_output_dir
-    from lenslab.jobs.warp_cameras import given_pose
+    from lenslab.jobs.warp.cameras import given_pose
 
     if args.look_at is not None and given_pose(args):  # (which of the two to drop cannot be told)
         raise UsageError("give either --look-at or --yaw/--pitch/--roll, not both")
@@ -250,7 +250,7 @@ def _refuse_mirrored_target(spec: str) -> None:
     and its warps take the lens of --to, posed by the scene's view or --yaw/--pitch/--roll, and no mirror, so that
     image's view is not the one validated; said in one line (a usage error) rather than validating another view."""
     from lenslab.errors import UsageError
-    from lenslab.jobs.warp_cameras import recorded_view
+    from lenslab.jobs.warp.cameras import recorded_view
 
     view = recorded_view(spec)
     if view is not None and view.pose.mirror:

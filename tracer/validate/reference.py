@@ -12,7 +12,7 @@ REPORT_FILES = ("reference.json", "reference.md")
 def reference_camera(args, image, meta):
     """--reference-camera, else the camera the file records, else --to; posed by --yaw/--pitch/--roll (refused with
     the camera the file records, which has its own orientation)."""
-    from lenslab.jobs.warp_cameras import given_pose, lens_camera, refuse_turns
+    from lenslab.jobs.warp.cameras import given_pose, lens_camera, refuse_turns
     from lenslab.lenses import Camera, Pose
 
     h, w = image.shape[:2]
@@ -29,7 +29,7 @@ def reference_camera(args, image, meta):
 def source_image(args, ref_cam, settings_count: int):
     """The source to warp: --source (with --from or its recorded camera), else a panorama of --scene
     rendered at the reference camera's eye (the largest of --pano-sizes)."""
-    from lenslab.jobs.warp_cameras import source_camera, stored_frame
+    from lenslab.jobs.warp.cameras import source_camera, stored_frame
     from lenslab.io import read
     from lenslab.validate.run import panorama_camera, parse_size
 

@@ -2,7 +2,7 @@
 built.
 
 Reading goes through ``read(offset, n)`` over a block of ``size`` bytes (a JPEG's APP1 payload, a PNG's eXIf chunk,
-a TIFF file itself) by :mod:`lenslab.io.tiff_walk`. Only the first IFD and the Exif IFD it points to are walked; every
+a TIFF file itself) by :mod:`lenslab.io.tiff.walk`. Only the first IFD and the Exif IFD it points to are walked; every
 offset and count is checked against ``size`` before it is followed, so a damaged or hostile block raises
 :class:`Damaged` and never reads past its end nor loops.
 
@@ -18,7 +18,7 @@ import struct
 from fractions import Fraction
 
 from lenslab.exif_tags import BY_NUMBER, EXIF_POINTER, EXIF_VERSION, TAGS, TEXT_MAX, checked
-from lenslab.io.tiff_walk import CODES, SIZES, Outside, entries, header, value_bytes
+from lenslab.io.tiff.walk import CODES, SIZES, Outside, entries, header, value_bytes
 
 #: the TIFF types each kind of tag is read from
 #: (a rational also from FLOAT and DOUBLE, 11 and 12, as Pillow writes a float: written back as a RATIONAL)

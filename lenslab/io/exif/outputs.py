@@ -10,7 +10,7 @@ import struct
 
 from lenslab.io.exif.ifd import build, encode, exif_ifd, ifd_bytes
 from lenslab.exif_tags import EXIF_POINTER, TAGS
-from lenslab.io.tiff_walk import entries, file_read, header
+from lenslab.io.tiff.walk import entries, file_read, header
 
 
 #: the first-IFD tags Exif 2.32 requires of a JPEG: 72 pixels per inch (the conventional value, where nothing says

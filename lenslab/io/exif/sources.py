@@ -8,7 +8,7 @@ import os
 import struct
 
 from lenslab.io.exif.ifd import Damaged, parse
-from lenslab.io.tiff_walk import file_read
+from lenslab.io.tiff.walk import file_read
 
 #: the largest Exif block read, bytes (a camera file's limit; a JPEG's APP1 holds at most 64 KiB)
 MAX_BYTES = 4 << 20

@@ -18,7 +18,7 @@ def _write(tmp, image, **options):
 
 
 def _declare(path, **options):
-    from lenslab.io.tiff_layout import declare_tiff
+    from lenslab.io.tiff.layout import declare_tiff
 
     return declare_tiff(path, **options)
 

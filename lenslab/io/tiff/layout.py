@@ -1,6 +1,6 @@
 """The layout of a TIFF read before tifffile sees it: the page chain (loops and runaway chains refused)
 and the first page's size, samples and strip or tile tables against the bytes the file holds, read by
-:mod:`lenslab.io.tiff_walk` (classic TIFF and BigTIFF, both byte orders).
+:mod:`lenslab.io.tiff.walk` (classic TIFF and BigTIFF, both byte orders).
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from lenslab.errors import FormatError
-from lenslab.io.tiff_walk import CODES, Loop, Outside, chain, file_read, header, value_bytes
+from lenslab.io.tiff.walk import CODES, Loop, Outside, chain, file_read, header, value_bytes
 
 #: pages followed before a chain is called runaway
 MAX_PAGES = 1 << 16

@@ -1,5 +1,5 @@
 """The warp job: one file warped as ``lenslab warp`` does it, here or on a cluster worker: an image (read,
-warp through the plan cache, develop for the output format, write) or a clip (:mod:`lenslab.jobs.warp_video`).
+warp through the plan cache, develop for the output format, write) or a clip (:mod:`lenslab.jobs.warp.video`).
 
 The maps of a batch are made once per process and geometry (:func:`plans_for`): a local batch shares them
 between its threads, a cluster worker keeps them for every later frame it gets (building a map on the
@@ -91,9 +91,9 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
     from lenslab.jobs.policy import check_output
     from lenslab.io.alpha import split_alpha
     from lenslab.jobs.stages import check_image
-    from lenslab.jobs.warp_cameras import (autoscale_camera, default_output_size, output_camera, place_source,
+    from lenslab.jobs.warp.cameras import (autoscale_camera, default_output_size, output_camera, place_source,
                                             records_place, source_camera, stored_frame)
-    from lenslab.jobs.warp_video import is_video, warp_video
+    from lenslab.jobs.warp.video import is_video, warp_video
 
     if is_video(src_path):  # every frame with one map, to a video
         return warp_video(src_path, dst_path, job, cache)
@@ -127,7 +127,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
             progress.start(job.st.shape[0])
         named = carries_alpha(meta, image.shape[2])
-        from lenslab.jobs.warp_output import output_arrays
+        from lenslab.jobs.warp.output import output_arrays
 
         into = output_arrays(st.shape[:2], image.shape[2], fmt, job, meta, named)  # (the one image written)
         warped = split_alpha(*warp_with_st_map(image, st, job.filter, job.samples, job.antialias, progress=progress,
@@ -156,7 +156,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
             from lenslab.warp.tiles import band_count
 
             progress.start(band_count(plan), unit="band")
-        from lenslab.jobs.warp_output import output_arrays
+        from lenslab.jobs.warp.output import output_arrays
 
         source_alpha = carries_alpha(meta, image.shape[2])  # (the output's memory ready to take its alpha)
         into = output_arrays(plan.out_shape, image.shape[2], fmt, job, meta, source_alpha)
@@ -164,14 +164,14 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
                                   alpha=source_alpha, plan=plan)
         del into
     if job.antialias:
-        from lenslab.jobs.warp_output import note_softening
+        from lenslab.jobs.warp.output import note_softening
 
         note_softening(job, plan)
     source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
     if hasattr(progress, "status"):  # the full bar names the writing, should it outlast the patience
         progress.status(f"writing {dst_path.name}")
-    from lenslab.jobs.warp_output import write_warped
+    from lenslab.jobs.warp.output import write_warped
 
     warped = list(warped)  # handed over: no array of the output's size kept here while it is written
     if hasattr(progress, "status"):  # a large output takes longer to write than to warp: the full bar says so

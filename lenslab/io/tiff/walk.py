@@ -1,4 +1,4 @@
-"""The low-level reading of a TIFF structure, shared by the TIFF reader's pre-check (:mod:`lenslab.io.tiff_layout`),
+"""The low-level reading of a TIFF structure, shared by the TIFF reader's pre-check (:mod:`lenslab.io.tiff.layout`),
 the Exif block parser (:mod:`lenslab.io.exif.ifd`) and its TIFF writer: the header and byte order, an IFD's entries, an
 entry's values (in its value field or at its offset), each checked against the ``size`` bytes held before it is read
 (through ``read(offset, n)``: no pixel is loaded), and a chain of IFDs with loops and runaway chains refused. What

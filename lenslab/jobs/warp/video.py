@@ -54,7 +54,7 @@ def warp_video(src_path: str, dst_path: Path, args, cache) -> None:
     import numpy as np
 
     from lenslab.jobs.policy import check_output
-    from lenslab.jobs.warp_cameras import (autoscale_camera, default_output_size, output_camera, place_source,
+    from lenslab.jobs.warp.cameras import (autoscale_camera, default_output_size, output_camera, place_source,
                                             source_camera)
     from lenslab.errors import FormatError
     from lenslab.atomic import atomic_write_path
@@ -171,7 +171,7 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
     from lenslab.io.colour.gamut import WIDE_GAMUT, tallied
     from lenslab.io.video.colour import gamut_name
     from lenslab.jobs.frame_files import all_or_none, frame_output, note_frames
-    from lenslab.jobs.warp_output import output_arrays, write_warped
+    from lenslab.jobs.warp.output import output_arrays, write_warped
     from lenslab.io.video import read_frames
     from lenslab.warp.mirror import mirror_frames
 
@@ -207,9 +207,9 @@ def _to_files(src_path, dst_path, fmt, job, cache, cameras, frames, source_flips
 
 
 def _note_softening(job, plan) -> None:
-    """The note of a clip warped with --antialias whose view shrinks the source nowhere (:mod:`lenslab.jobs.warp_output`)."""
+    """The note of a clip warped with --antialias whose view shrinks the source nowhere (:mod:`lenslab.jobs.warp.output`)."""
     if job.antialias:
-        from lenslab.jobs.warp_output import note_softening
+        from lenslab.jobs.warp.output import note_softening
 
         note_softening(job, plan)
 
