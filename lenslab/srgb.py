@@ -48,17 +48,13 @@ _CACHE_VERSION = 2
 
 def eotf(code) -> np.ndarray:
     """sRGB code values -> linear light, float64 (colour-science's ``eotf_sRGB``)."""
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
-
+    colour = colour_science()
     return np.asarray(colour.models.eotf_sRGB(np.asarray(code, dtype=np.float64)), dtype=np.float64)
 
 
 def eotf_inverse(linear) -> np.ndarray:
     """Linear light -> sRGB code values, float64 (colour-science's ``eotf_inverse_sRGB``)."""
-    with matplotlib_quiet():  # (colour-science imports matplotlib)
-        import colour
-
+    colour = colour_science()
     return np.asarray(colour.models.eotf_inverse_sRGB(np.asarray(linear, dtype=np.float64)), dtype=np.float64)
 
 

@@ -83,7 +83,9 @@ def _header(path):
         frame = (declared.width, declared.height) if declared is not None and declared.width > 0 < declared.height \
             else None
         with open(path, "rb") as f:
-            head = f.read(1 << 20)  # the header segments before the scan (each at most 64 KiB)
+            head = f.read(2)
+            if head == b"\xff\xd8":  # (only a JPEG's orientation is read: its segments before the scan)
+                head += f.read((1 << 20) - 2)
     except (LenslabError, OSError, ValueError, EOFError, IndexError, OverflowError, ImportError):  # damaged, unread
         return None
     return frame, head[:2] == b"\xff\xd8" and jpeg_orientation(head) >= 5

@@ -123,6 +123,12 @@ def settle_checked(out: np.ndarray, alpha: np.ndarray | None, alpha_channel, che
             "lenses, the pose and the source's field of view"), stacklevel=3)
 
 
+def held_coverage(alpha: np.ndarray) -> np.ndarray | None:
+    """The coverage plane a warp drew into, or None for the plane of one row that :func:`drawn_into` gives when
+    none is kept (drawn a band at a time in scratch memory and dropped)."""
+    return alpha if alpha.strides[0] or alpha.shape[0] == 1 else None
+
+
 def drawn_into(into, shape: tuple[int, int, int], draws_all: bool, checked: bool):
     """``(image, coverage)`` a warp of output ``shape`` (h, w, C) draws into: ``into``'s when they fit (zeroed
     unless the bands draw every pixel, ``draws_all``), else new zeros. ``into = (image or None, None)``: the caller

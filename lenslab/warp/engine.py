@@ -26,7 +26,7 @@ from lenslab.io.alpha import colour_channels
 from lenslab.lenses import Camera
 from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands, scratch, threads
 from lenslab.warp.checks import (EmptyViewWarning, OutputChecks, checked_source, drawn_into,  # noqa: F401
-                                 finite_output, settle_checked)
+                                 finite_output, held_coverage, settle_checked)
 from lenslab.warp.filters import all_finite, sample
 from lenslab.warp.maps import MapBand, Mapper, check_eyes, sample_pattern
 from lenslab.warp.eyes import crop_source, eye_pairs
@@ -227,8 +227,7 @@ class WarpPlan:
         if not (checks.finite if drawn else all_finite(out)):
             warnings.warn(finite_output(self.render, src, out, alpha, alpha_channel), RuntimeWarning, stacklevel=2)
             drawn = False  # drawn again or clamped: the bands' checks no longer hold
-        held = alpha if alpha.strides[0] or h == 1 else None  # (not a plane drawn a band at a time and dropped)
-        settle_checked(out, held, alpha_channel, checks if drawn else None, covered)
+        settle_checked(out, held_coverage(alpha), alpha_channel, checks if drawn else None, covered)
         if on_band is not None and not (drawn and checks.in_range):  # changed after the bands gave their rows
             on_band(out, slice(0, h))
         if np.ndim(image) == 2:

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from lenslab.errors import WarpError
 from lenslab.filters import check_filter_with_antialias, filter_named
 from lenslab.io.alpha import settle
-from lenslab.warp.checks import drawn_into, finite_given
+from lenslab.warp.checks import drawn_into, finite_given, held_coverage
 from lenslab.warp.kernels.dispatch import contiguous_rows, run_bands
 from lenslab.warp.minification import watch
 from lenslab.warp.filters import sample
@@ -151,8 +151,7 @@ def draw_rows(src: np.ndarray, shape: tuple[int, int], draw, progress=None, alph
 
     done = None if progress is None else (lambda rows_: progress(rows_[1] - rows_[0]))
     run_bands([(r, min(h, r + rows)) for r in range(0, h, rows)], band, done)
-    held = alpha if alpha.strides[0] or h == 1 else None  # (not a plane drawn a band at a time and dropped)
-    settle(out, held, alpha_channel)
+    settle(out, held_coverage(alpha), alpha_channel)
     return out, alpha if into is None or into[1] is not None else None
 
 

@@ -125,8 +125,8 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         image = np.ascontiguousarray(frame_for_map(image, meta, (st.shape[1], st.shape[0]), recorded, src_path,
                                                    job.stmap))  # a turned photo: as stored, if the map says so
         if hasattr(progress, "start"):  # a bar with the output's rows as its total (lenslab.jobs.progress)
-            progress.start(job.st.shape[0])
-        named = carries_alpha(meta, image.shape[2])
+            progress.start(st.shape[0])
+        named = source_alpha = carries_alpha(meta, image.shape[2])
         from lenslab.jobs.warp.output import output_arrays
 
         into = output_arrays(st.shape[:2], image.shape[2], fmt, job, meta, named)  # (the one image written)
@@ -167,10 +167,7 @@ def warp_one(src_path: str, dst_path: Path, job: WarpJob, cache, progress=None) 
         from lenslab.jobs.warp.output import note_softening
 
         note_softening(job, plan)
-    source_alpha = carries_alpha(meta, image.shape[2])
     del image  # (the source is not kept while the output is developed and written)
-    if hasattr(progress, "status"):  # the full bar names the writing, should it outlast the patience
-        progress.status(f"writing {dst_path.name}")
     from lenslab.jobs.warp.output import write_warped
 
     warped = list(warped)  # handed over: no array of the output's size kept here while it is written

@@ -227,8 +227,8 @@ class Pose:
     def to_dict(self) -> dict:
         """``yaw``, ``pitch``, ``roll`` (with ``mirror`` for a mirrored view) and ``eye``, or ``rotation`` when
         angles would not give it back to 1e-12, as camera files store them."""
-        yaw, pitch, roll = self.ypr
         mirror = self.mirror
+        yaw, pitch, roll = matrix_to_ypr(self.rotation @ mirror_matrix(mirror))  # (:attr:`ypr`, the mirror found once)
         out = {"yaw": yaw, "pitch": pitch, "roll": roll, **({"mirror": mirror} if mirror else {}),
                "eye": [float(v) for v in self.eye]}
         if not np.allclose(ypr_matrix(yaw, pitch, roll) @ mirror_matrix(mirror), self.rotation, atol=1e-12):
